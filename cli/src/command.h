@@ -1,0 +1,23 @@
+#pragma once
+// One subcommand of `hcpf`. Each cmd_<name>.cc defines an Add<Name>Command()
+// that creates its CLI11 subcommand (options bound to state it owns) and
+// returns the function to run when that subcommand was chosen.
+//
+// The function returns the process exit code: 0 success, 1 the run failed.
+// Bad input is reported by throwing hcpf::InputError (main maps it to exit 2);
+// any other exception becomes exit 1.
+
+#include <CLI/CLI.hpp>
+#include <functional>
+
+namespace hcpf::cli {
+
+struct Command {
+  CLI::App* app = nullptr;
+  std::function<int()> run;
+};
+
+Command AddValidateCommand(CLI::App& parent);
+Command AddRunCommand(CLI::App& parent);
+
+}  // namespace hcpf::cli

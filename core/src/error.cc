@@ -1,0 +1,43 @@
+#include "hcpf/core/error.h"
+
+#include <cstdio>
+#include <cstdlib>
+
+#include "hcpf/core/check.h"
+
+namespace hcpf {
+
+std::string FormatInputError(const SourceLocation& where, const std::string& expected,
+                             const std::string& found, const std::string& hint) {
+  std::string out = where.file.empty() ? std::string("<input>") : where.file;
+  if (where.line > 0) {
+    out += ":" + std::to_string(where.line);
+    if (where.column > 0) out += ":" + std::to_string(where.column);
+  }
+  out += ": ";
+  if (!where.key.empty()) out += where.key + ": ";
+  out += "expected " + expected + ", found " + found;
+  if (!hint.empty()) out += " (" + hint + ")";
+  return out;
+}
+
+InputError::InputError(SourceLocation where, std::string expected, std::string found,
+                       std::string hint)
+    : Error(FormatInputError(where, expected, found, hint)),
+      where_(std::move(where)),
+      expected_(std::move(expected)),
+      found_(std::move(found)) {}
+
+InputError::InputError(const std::string& message) : Error(message) {}
+
+namespace internal {
+
+void CheckFailed(const char* file, int line, const char* condition, const std::string& message) {
+  std::fprintf(stderr, "HCPF_CHECK failed at %s:%d: %s%s%s\n", file, line, condition,
+               message.empty() ? "" : ": ", message.c_str());
+  std::fflush(stderr);
+  std::abort();
+}
+
+}  // namespace internal
+}  // namespace hcpf

@@ -1,0 +1,110 @@
+#include "hcpf/core/ground_truth.h"
+
+#include <algorithm>
+#include <limits>
+
+namespace hcpf {
+
+BoxPx ProjectBox(const CameraState& camera, const OrientedBox& box, bool* all_in_front) {
+  double x0 = std::numeric_limits<double>::infinity();
+  double y0 = x0;
+  double x1 = -x0;
+  double y1 = -x0;
+  bool ok = true;
+  for (const Eigen::Vector3d& corner : box.Corners()) {
+    const auto p = camera.Project(corner);
+    if (!p) {
+      ok = false;
+      continue;
+    }
+    x0 = std::min(x0, p->x());
+    y0 = std::min(y0, p->y());
+    x1 = std::max(x1, p->x());
+    y1 = std::max(y1, p->y());
+  }
+  if (all_in_front != nullptr) *all_in_front = ok;
+  if (!ok) return {};
+  return BoxPx::FromCorners(x0, y0, x1, y1);
+}
+
+FrameGroundTruth ComputeGroundTruth(const WorldSpec& world, int frame,
+                                    const AnalyticVisibilityOptions& options) {
+  FrameGroundTruth gt;
+  gt.frame = frame;
+  gt.camera = EvaluateCamera(world.camera, frame);
+  gt.image_from_ground = gt.camera.ImageFromGround(0.0);
+
+  std::vector<OrientedBox> occluders;
+  for (const OccluderSpec& o : world.occluders) {
+    for (const OrientedBox& b : o.Boxes(world.terrain)) occluders.push_back(b);
+  }
+  struct Present {
+    const TargetSpec* spec;
+    TargetPose pose;
+    OrientedBox box;
+  };
+  std::vector<Present> present;
+  for (const TargetSpec& t : world.targets) {
+    const TargetPose pose = EvaluateTarget(t, world.terrain, frame, world.fps);
+    if (pose.present) present.push_back({&t, pose, pose.Box(t.dimensions_m)});
+  }
+
+  const BoxPx image{0.0, 0.0, static_cast<double>(gt.camera.intrinsics.width_px),
+                    static_cast<double>(gt.camera.intrinsics.height_px)};
+  const Eigen::Vector3d origin = gt.camera.pose.position_m;
+  const int n = std::max(1, options.grid);
+  for (size_t i = 0; i < present.size(); ++i) {
+    const Present& p = present[i];
+    GroundTruthObject obj;
+    obj.id = p.spec->id;
+    obj.position_m = p.pose.position_m;
+    obj.heading_deg = p.pose.heading_deg;
+    obj.dimensions_m = p.spec->dimensions_m;
+    bool in_front = false;
+    obj.amodal_box = ProjectBox(gt.camera, p.box, &in_front);
+    const BoxPx clipped = Intersect(obj.amodal_box, image);
+    obj.in_frame = in_front && !clipped.empty();
+    if (obj.in_frame) {
+      obj.truncation = 1.0 - clipped.area() / obj.amodal_box.area();
+      // Cast a ray through the centre of each lattice cell of the clipped box.
+      const double cw = clipped.width / n;
+      const double ch = clipped.height / n;
+      int target_hits = 0;
+      int visible_hits = 0;
+      BoxPx visible;
+      for (int gy = 0; gy < n; ++gy) {
+        for (int gx = 0; gx < n; ++gx) {
+          const double u = clipped.left + (gx + 0.5) * cw;
+          const double v = clipped.top + (gy + 0.5) * ch;
+          const Eigen::Vector3d dir = gt.camera.RayDirection(u, v);
+          const auto t_hit = p.box.Intersect(origin, dir);
+          if (!t_hit) continue;
+          ++target_hits;
+          bool blocked = false;
+          for (const OrientedBox& o : occluders) {
+            const auto t_occ = o.Intersect(origin, dir);
+            if (t_occ && *t_occ < *t_hit) {
+              blocked = true;
+              break;
+            }
+          }
+          for (size_t j = 0; j < present.size() && !blocked; ++j) {
+            if (j == i) continue;
+            const auto t_other = present[j].box.Intersect(origin, dir);
+            if (t_other && *t_other < *t_hit) blocked = true;
+          }
+          if (blocked) continue;
+          ++visible_hits;
+          visible = Union(visible, BoxPx{clipped.left + gx * cw, clipped.top + gy * ch, cw, ch});
+        }
+      }
+      obj.visible_fraction =
+          target_hits > 0 ? static_cast<double>(visible_hits) / target_hits : 0.0;
+      obj.visible_box = visible;
+    }
+    gt.objects.push_back(obj);
+  }
+  return gt;
+}
+
+}  // namespace hcpf

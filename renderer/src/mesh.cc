@@ -1,0 +1,224 @@
+#include "hcpf/renderer/mesh.h"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <numbers>
+
+#include "hcpf/core/check.h"
+#include "hcpf/core/error.h"
+#include "mesh_import.h"
+
+namespace hcpf::renderer {
+
+Eigen::AlignedBox3f MeshData::Bounds() const {
+  Eigen::AlignedBox3f box;  // default-constructed = empty
+  for (const Eigen::Vector3f& p : positions) box.extend(p);
+  return box;
+}
+
+void MeshData::Append(const MeshData& other) {
+  const auto offset = static_cast<uint32_t>(positions.size());
+  positions.insert(positions.end(), other.positions.begin(), other.positions.end());
+  normals.insert(normals.end(), other.normals.begin(), other.normals.end());
+  uvs.insert(uvs.end(), other.uvs.begin(), other.uvs.end());
+  colors.insert(colors.end(), other.colors.begin(), other.colors.end());
+  indices.reserve(indices.size() + other.indices.size());
+  for (uint32_t i : other.indices) indices.push_back(i + offset);
+}
+
+void MeshData::Transform(const Eigen::Vector3f& scale, const Eigen::Vector3f& offset) {
+  for (Eigen::Vector3f& p : positions) p = scale.cwiseProduct(p) + offset;
+  // Normals transform with the inverse transpose: divide by the scale.
+  const Eigen::Vector3f inv = scale.cwiseInverse();
+  for (Eigen::Vector3f& n : normals) {
+    n = inv.cwiseProduct(n);
+    const float len = n.norm();
+    if (len > 0.0f) n /= len;
+  }
+  // A mirroring scale flips the winding; keep triangles front-facing.
+  if (scale.x() * scale.y() * scale.z() < 0.0f) {
+    for (size_t t = 0; t + 2 < indices.size(); t += 3) std::swap(indices[t + 1], indices[t + 2]);
+  }
+}
+
+void MeshData::Validate(const std::string& source) const {
+  const size_t n = positions.size();
+  if (normals.size() != n || uvs.size() != n || colors.size() != n) {
+    throw InputError(fmt::format("{}: mesh attributes disagree in length (positions {}, "
+                                 "normals {}, uvs {}, colors {})",
+                                 source, n, normals.size(), uvs.size(), colors.size()));
+  }
+  if (indices.empty() || indices.size() % 3 != 0) {
+    throw InputError(fmt::format("{}: expected a mesh with triangles, found {} indices", source,
+                                 indices.size()));
+  }
+  for (uint32_t i : indices) {
+    if (i >= n) {
+      throw InputError(
+          fmt::format("{}: index {} out of range for {} vertices", source, i, n));
+    }
+  }
+  for (const Eigen::Vector3f& p : positions) {
+    if (!p.allFinite()) throw InputError(fmt::format("{}: non-finite vertex position", source));
+  }
+}
+
+Eigen::Vector3d MeshDimensions(const MeshData& mesh) {
+  if (mesh.positions.empty()) return Eigen::Vector3d::Zero();
+  const Eigen::AlignedBox3f b = mesh.Bounds();
+  return (b.max() - b.min()).cast<double>();
+}
+
+MeshData LoadMesh(const std::string& path) {
+  if (!std::filesystem::exists(path)) {
+    throw InputError(fmt::format("{}: model file not found", path));
+  }
+  std::string ext = std::filesystem::path(path).extension().string();
+  std::transform(ext.begin(), ext.end(), ext.begin(),
+                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  MeshData mesh;
+  if (ext == ".glb" || ext == ".gltf") {
+    mesh = internal::LoadGltf(path);
+  } else if (ext == ".obj" || ext == ".fbx" || ext == ".dae" || ext == ".ply" || ext == ".stl") {
+    mesh = internal::LoadWithAssimp(path);
+  } else {
+    throw InputError(fmt::format(
+        "{}: expected a model file ending in .glb, .gltf, .obj, .fbx, .dae, .ply or .stl, "
+        "found extension \"{}\"",
+        path, ext));
+  }
+  mesh.Validate(path);
+  return mesh;
+}
+
+// ---------------------------------------------------------------------------
+// MeshBuilder
+
+namespace {
+
+// Appends a convex planar polygon as a triangle fan whose winding matches
+// `normal` (counter-clockwise seen from the side `normal` points to).
+void AddPolygon(MeshData& mesh, const std::vector<Eigen::Vector3f>& points,
+                const std::vector<Eigen::Vector2f>& uvs, const Eigen::Vector3f& normal,
+                const Eigen::Vector3f& color) {
+  HCPF_CHECK(points.size() >= 3 && uvs.size() == points.size());
+  const auto base = static_cast<uint32_t>(mesh.positions.size());
+  for (size_t i = 0; i < points.size(); ++i) {
+    mesh.positions.push_back(points[i]);
+    mesh.normals.push_back(normal);
+    mesh.uvs.push_back(uvs[i]);
+    mesh.colors.push_back(color);
+  }
+  const Eigen::Vector3f geometric = (points[1] - points[0]).cross(points[2] - points[0]);
+  const bool flip = geometric.dot(normal) < 0.0f;
+  for (uint32_t i = 1; i + 1 < points.size(); ++i) {
+    mesh.indices.push_back(base);
+    mesh.indices.push_back(base + (flip ? i + 1 : i));
+    mesh.indices.push_back(base + (flip ? i : i + 1));
+  }
+}
+
+}  // namespace
+
+MeshBuilder& MeshBuilder::AddQuad(const Eigen::Vector3f& p0, const Eigen::Vector3f& p1,
+                                  const Eigen::Vector3f& p2, const Eigen::Vector3f& p3,
+                                  const Eigen::Vector3f& color) {
+  const Eigen::Vector3f normal = (p1 - p0).cross(p2 - p0).normalized();
+  AddPolygon(mesh_, {p0, p1, p2, p3}, {{0, 0}, {1, 0}, {1, 1}, {0, 1}}, normal, color);
+  return *this;
+}
+
+MeshBuilder& MeshBuilder::AddOrientedBox(const Eigen::Vector3f& centre,
+                                         const Eigen::Vector3f& half_size, float yaw_rad,
+                                         const Eigen::Vector3f& color) {
+  const float c = std::cos(yaw_rad);
+  const float s = std::sin(yaw_rad);
+  Eigen::Matrix3f r;
+  r << c, -s, 0, s, c, 0, 0, 0, 1;
+  const auto corner = [&](int sx, int sy, int sz) -> Eigen::Vector3f {
+    return centre + r * Eigen::Vector3f(sx * half_size.x(), sy * half_size.y(),
+                                        sz * half_size.z());
+  };
+  // Each face: its outward axis and the four corners around it.
+  for (int axis = 0; axis < 3; ++axis) {
+    for (int sign : {-1, 1}) {
+      std::vector<Eigen::Vector3f> pts;
+      const int a1 = (axis + 1) % 3;
+      const int a2 = (axis + 2) % 3;
+      for (auto [u, v] : {std::pair{-1, -1}, std::pair{1, -1}, std::pair{1, 1}, std::pair{-1, 1}}) {
+        int sgn[3];
+        sgn[axis] = sign;
+        sgn[a1] = u;
+        sgn[a2] = v;
+        pts.push_back(corner(sgn[0], sgn[1], sgn[2]));
+      }
+      Eigen::Vector3f n = Eigen::Vector3f::Zero();
+      n[axis] = static_cast<float>(sign);
+      AddPolygon(mesh_, pts, {{0, 0}, {1, 0}, {1, 1}, {0, 1}}, r * n, color);
+    }
+  }
+  return *this;
+}
+
+MeshBuilder& MeshBuilder::AddBox(const Eigen::Vector3f& min, const Eigen::Vector3f& max,
+                                 const Eigen::Vector3f& color) {
+  return AddOrientedBox(0.5f * (min + max), 0.5f * (max - min), 0.0f, color);
+}
+
+MeshBuilder& MeshBuilder::AddCylinder(const Eigen::Vector3f& a, const Eigen::Vector3f& b,
+                                      float radius, int segments, const Eigen::Vector3f& color) {
+  HCPF_CHECK(segments >= 3 && radius > 0.0f);
+  const Eigen::Vector3f axis = (b - a).normalized();
+  const Eigen::Vector3f helper =
+      std::abs(axis.z()) < 0.9f ? Eigen::Vector3f::UnitZ() : Eigen::Vector3f::UnitX();
+  const Eigen::Vector3f u = axis.cross(helper).normalized();
+  const Eigen::Vector3f v = axis.cross(u);
+  const auto dir = [&](float t) { return std::cos(t) * u + std::sin(t) * v; };
+  const float step = 2.0f * std::numbers::pi_v<float> / static_cast<float>(segments);
+  std::vector<Eigen::Vector3f> cap_a, cap_b;
+  std::vector<Eigen::Vector2f> cap_uv;
+  for (int i = 0; i < segments; ++i) {
+    const float t0 = step * static_cast<float>(i);
+    const float t1 = t0 + step;
+    const Eigen::Vector3f n = dir(0.5f * (t0 + t1));
+    AddPolygon(mesh_, {a + radius * dir(t0), a + radius * dir(t1), b + radius * dir(t1),
+                       b + radius * dir(t0)},
+               {{0, 0}, {1, 0}, {1, 1}, {0, 1}}, n, color);
+    cap_a.push_back(a + radius * dir(t0));
+    cap_b.push_back(b + radius * dir(t0));
+    cap_uv.emplace_back(0.5f + 0.5f * std::cos(t0), 0.5f + 0.5f * std::sin(t0));
+  }
+  AddPolygon(mesh_, cap_a, cap_uv, -axis, color);
+  AddPolygon(mesh_, cap_b, cap_uv, axis, color);
+  return *this;
+}
+
+}  // namespace hcpf::renderer
+
+namespace hcpf::renderer::internal {
+
+void ComputeFlatNormals(MeshData& mesh) {
+  MeshData flat;
+  const size_t n = mesh.indices.size();
+  flat.positions.reserve(n);
+  for (size_t t = 0; t + 2 < n; t += 3) {
+    const uint32_t i[3] = {mesh.indices[t], mesh.indices[t + 1], mesh.indices[t + 2]};
+    const Eigen::Vector3f& p0 = mesh.positions[i[0]];
+    Eigen::Vector3f normal = (mesh.positions[i[1]] - p0).cross(mesh.positions[i[2]] - p0);
+    const float len = normal.norm();
+    normal = len > 0.0f ? Eigen::Vector3f(normal / len) : Eigen::Vector3f::UnitZ();
+    for (uint32_t k : i) {
+      flat.indices.push_back(static_cast<uint32_t>(flat.positions.size()));
+      flat.positions.push_back(mesh.positions[k]);
+      flat.normals.push_back(normal);
+      flat.uvs.push_back(k < mesh.uvs.size() ? mesh.uvs[k] : Eigen::Vector2f::Zero());
+      flat.colors.push_back(k < mesh.colors.size() ? mesh.colors[k] : Eigen::Vector3f::Ones());
+    }
+  }
+  mesh = std::move(flat);
+}
+
+}  // namespace hcpf::renderer::internal

@@ -1,0 +1,170 @@
+// Mesh import/export without GL (label unit).
+
+#include <gtest/gtest.h>
+
+#include <fmt/format.h>
+
+#include <cstdint>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+
+#include "hcpf/core/error.h"
+#include "hcpf/renderer/mesh.h"
+
+namespace hcpf::renderer {
+namespace {
+
+std::filesystem::path TempDir() {
+  const auto dir = std::filesystem::temp_directory_path() /
+                   fmt::format("hcpf_mesh_test_{}", ::testing::UnitTest::GetInstance()->random_seed());
+  std::filesystem::create_directories(dir);
+  return dir;
+}
+
+std::string Asset(const std::string& name) {
+  return std::string(HCPF_SOURCE_DIR) + "/assets/vehicles/" + name;
+}
+
+// Writes an OBJ in the y-up file convention, written here independently of
+// the library: file (X, Y, Z) = model (y, z, x).
+void WriteObj(const MeshData& mesh, const std::string& path) {
+  std::ofstream out(path);
+  for (const Eigen::Vector3f& p : mesh.positions) {
+    out << fmt::format("v {:.7g} {:.7g} {:.7g}\n", p.y(), p.z(), p.x());
+  }
+  for (size_t t = 0; t < mesh.indices.size(); t += 3) {
+    out << fmt::format("f {} {} {}\n", mesh.indices[t] + 1, mesh.indices[t + 1] + 1,
+                       mesh.indices[t + 2] + 1);
+  }
+}
+
+MeshData Box4x2x15() {
+  // 4 m long (x), 2 m wide (y), 1.5 m high (z), standing on z = 0.
+  return MeshBuilder().AddBox({-2.0f, -1.0f, 0.0f}, {2.0f, 1.0f, 1.5f}, {1, 1, 1}).Take();
+}
+
+TEST(MeshBuilder, BoxHasTwelveTrianglesAndOutwardWinding) {
+  const MeshData box = Box4x2x15();
+  EXPECT_EQ(box.triangle_count(), 12u);  // 6 faces x 2
+  EXPECT_EQ(box.vertex_count(), 24u);    // 4 per face (flat normals)
+  for (size_t t = 0; t < box.indices.size(); t += 3) {
+    const Eigen::Vector3f& a = box.positions[box.indices[t]];
+    const Eigen::Vector3f g =
+        (box.positions[box.indices[t + 1]] - a).cross(box.positions[box.indices[t + 2]] - a);
+    const Eigen::Vector3f centre(0.0f, 0.0f, 0.75f);
+    // Counter-clockwise seen from outside: the geometric normal points away
+    // from the box centre, and agrees with the stored normal.
+    EXPECT_GT(g.dot(a - centre), 0.0f);
+    EXPECT_GT(g.dot(box.normals[box.indices[t]]), 0.0f);
+  }
+}
+
+TEST(MeshBuilder, CylinderWindingIsOutward) {
+  const MeshData c =
+      MeshBuilder().AddCylinder({0, 0, 0}, {0, 0, 2}, 1.0f, 8, {1, 1, 1}).Take();
+  // 8 side quads (16 triangles) + two octagon fans (6 triangles each).
+  EXPECT_EQ(c.triangle_count(), 28u);
+  for (size_t t = 0; t < c.indices.size(); t += 3) {
+    const Eigen::Vector3f& a = c.positions[c.indices[t]];
+    const Eigen::Vector3f g =
+        (c.positions[c.indices[t + 1]] - a).cross(c.positions[c.indices[t + 2]] - a);
+    EXPECT_GT(g.dot(c.normals[c.indices[t]]), 0.0f);
+  }
+}
+
+TEST(MeshIo, GlbRoundTripKeepsDimensions) {
+  const std::string path = (TempDir() / "box.glb").string();
+  WriteGlb(Box4x2x15(), path);
+  const MeshData loaded = LoadMesh(path);
+  EXPECT_EQ(loaded.triangle_count(), 12u);
+  const Eigen::Vector3d d = MeshDimensions(loaded);
+  EXPECT_NEAR(d.x(), 4.0, 1e-6);
+  EXPECT_NEAR(d.y(), 2.0, 1e-6);
+  EXPECT_NEAR(d.z(), 1.5, 1e-6);
+}
+
+TEST(MeshIo, GlbIsWrittenYUp) {
+  // Reads the GLB's JSON chunk directly: the POSITION accessor's max must be
+  // (X, Y, Z)_gltf = (y, z, x)_model = (1, 1.5, 2) for the 4 x 2 x 1.5 box.
+  const std::string path = (TempDir() / "box_axes.glb").string();
+  WriteGlb(Box4x2x15(), path);
+  std::ifstream in(path, std::ios::binary);
+  std::vector<char> bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  ASSERT_GT(bytes.size(), 20u);
+  uint32_t json_length = 0;
+  std::memcpy(&json_length, bytes.data() + 12, 4);  // header 12 bytes, then chunk length
+  ASSERT_LE(20u + json_length, bytes.size());
+  const auto json = nlohmann::json::parse(std::string(bytes.data() + 20, json_length));
+  const int pos = json["meshes"][0]["primitives"][0]["attributes"]["POSITION"];
+  const auto& max = json["accessors"][pos]["max"];
+  EXPECT_NEAR(max[0].get<double>(), 1.0, 1e-6);
+  EXPECT_NEAR(max[1].get<double>(), 1.5, 1e-6);
+  EXPECT_NEAR(max[2].get<double>(), 2.0, 1e-6);
+}
+
+TEST(MeshIo, SameModelAsGlbAndObjHasSameTrianglesAndBounds) {
+  const MeshData glb = LoadMesh(Asset("tank.glb"));
+  const std::string obj_path = (TempDir() / "tank.obj").string();
+  WriteObj(glb, obj_path);
+  const MeshData obj = LoadMesh(obj_path);
+  EXPECT_EQ(obj.triangle_count(), glb.triangle_count());
+  const Eigen::AlignedBox3f a = glb.Bounds();
+  const Eigen::AlignedBox3f b = obj.Bounds();
+  // The OBJ stores 7 significant digits: 1e-5 m covers the rounding.
+  EXPECT_TRUE(a.min().isApprox(b.min(), 1e-5f)) << a.min().transpose() << " vs " << b.min().transpose();
+  EXPECT_TRUE(a.max().isApprox(b.max(), 1e-5f)) << a.max().transpose() << " vs " << b.max().transpose();
+}
+
+TEST(MeshIo, StockVehiclesHaveTheirDesignedDimensions) {
+  // Worked out from the part lists in renderer/tools/make_vehicles.cc:
+  // tank  x: track rear -3.4 .. barrel tip 3.5 = 6.9; y: tracks +-1.8 = 3.6;
+  //       z: track bottom 0 .. hatch top 2.3.
+  // truck x: -4.0 .. 4.0 = 8.0; y: cab/cargo +-1.25 = 2.5; z: wheel bottom
+  //       0.5 - 0.5 = 0 .. cargo top 3.2.
+  // car   x: +-2.25 = 4.5; y: wheels +-0.92 = 1.84; z: wheel bottom 0 .. roof 1.5.
+  struct Case {
+    const char* file;
+    Eigen::Vector3d dims;
+  };
+  for (const Case& c : {Case{"tank.glb", {6.9, 3.6, 2.3}}, Case{"truck.glb", {8.0, 2.5, 3.2}},
+                        Case{"car.glb", {4.5, 1.84, 1.5}}}) {
+    const MeshData mesh = LoadMesh(Asset(c.file));
+    const Eigen::Vector3d d = MeshDimensions(mesh);
+    EXPECT_NEAR(d.x(), c.dims.x(), 1e-5) << c.file;
+    EXPECT_NEAR(d.y(), c.dims.y(), 1e-5) << c.file;
+    EXPECT_NEAR(d.z(), c.dims.z(), 1e-5) << c.file;
+    // Origin at the centre of the base.
+    const Eigen::AlignedBox3f b = mesh.Bounds();
+    EXPECT_NEAR(b.min().z(), 0.0, 1e-5) << c.file;
+    EXPECT_NEAR(b.center().x(), 0.0, 1e-5) << c.file;
+    EXPECT_NEAR(b.center().y(), 0.0, 1e-5) << c.file;
+  }
+}
+
+TEST(MeshIo, MissingFileIsAnInputErrorNamingTheFile) {
+  try {
+    LoadMesh("/nonexistent/model.glb");
+    FAIL() << "expected InputError";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("/nonexistent/model.glb"), std::string::npos);
+  }
+}
+
+TEST(MeshIo, CorruptFilesAndUnknownExtensionsAreInputErrors) {
+  const auto dir = TempDir();
+  for (const char* name : {"bad.glb", "bad.gltf", "bad.obj", "bad.xyz"}) {
+    const std::string path = (dir / name).string();
+    std::ofstream(path) << "this is not a model";
+    try {
+      LoadMesh(path);
+      FAIL() << "expected InputError for " << name;
+    } catch (const InputError& e) {
+      EXPECT_NE(std::string(e.what()).find(path), std::string::npos) << e.what();
+    }
+  }
+}
+
+}  // namespace
+}  // namespace hcpf::renderer

@@ -169,6 +169,13 @@ MotFile ParseMotText(const std::string& text, const std::string& path, MotFileKi
                        "an integer id within 64 bits", fmt::format("{}", v[1]));
     }
     row.id = static_cast<int64_t>(std::trunc(v[1]));
+    {
+      // Integer literals are taken exactly (ids above 2^53 stay distinct).
+      int64_t exact = 0;
+      const std::string_view f = fields[1];
+      const auto [ptr, ec] = std::from_chars(f.data(), f.data() + f.size(), exact);
+      if (ec == std::errc() && ptr == f.data() + f.size()) row.id = exact;
+    }
     row.box = BoxPx{v[2], v[3], v[4], v[5]};
     if (count >= 7) row.conf = v[6];
     if (count >= 8) row.col8 = v[7];

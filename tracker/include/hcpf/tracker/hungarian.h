@@ -1,0 +1,17 @@
+#pragma once
+// Minimum-cost rectangular assignment (the Hungarian method in its shortest
+// augmenting path form: Kuhn 1955, Munkres 1957; O(R^2 C) for R <= C after
+// transposition).
+
+#include <vector>
+
+namespace hcpf::tracker {
+
+// `cost` is row-major rows x cols. Entries may be +infinity (forbidden).
+// Returns, per row, the assigned column or -1. Among all assignments it
+// first maximises the number of rows matched through finite entries and then
+// minimises their total cost. Finite costs must be >= 0 and < 1e12
+// (HCPF_CHECK). Ties are broken deterministically.
+std::vector<int> SolveAssignment(const std::vector<double>& cost, int rows, int cols);
+
+}  // namespace hcpf::tracker

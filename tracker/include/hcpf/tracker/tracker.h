@@ -1,0 +1,180 @@
+#pragma once
+// The multi-target tracker: a bank of per-target particle filters assembled
+// from injected components (dynamics, likelihood, interaction, resampler,
+// associator) plus track management (birth, M-of-N confirmation, coasting,
+// deletion). Library API: Options in, per-frame reports out; no YAML, no files,
+// no ground truth (the run pipeline calls BirthTrack when a scenario asks for
+// `init: ground_truth`).
+
+#include <cstdint>
+#include <memory>
+#include <optional>
+#include <string_view>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "hcpf/core/rng.h"
+#include "hcpf/core/types.h"
+#include "hcpf/tracker/associator.h"
+#include "hcpf/tracker/dynamics.h"
+#include "hcpf/tracker/interaction.h"
+#include "hcpf/tracker/likelihood.h"
+#include "hcpf/tracker/particle_set.h"
+#include "hcpf/tracker/resampler.h"
+
+namespace hcpf::tracker {
+
+enum class InitMode {
+  kGroundTruth,  // "ground_truth": the pipeline calls BirthTrack(id, box)
+  kDetections,   // "detections": M-of-N confirmation from unassigned detections
+};
+std::string_view ToString(InitMode mode);
+std::optional<InitMode> ParseInitMode(std::string_view name);
+std::vector<std::string_view> InitModeNames();
+
+struct TrackManagementOptions {
+  // init = detections: a tentative track is confirmed (a filter is born) once
+  // it has confirm_hits detections in its last confirm_window frames (M of N).
+  int confirm_hits = 3;
+  int confirm_window = 5;
+  // init = detections: an unassigned detection continues a tentative track
+  // when its centre is within this distance of the tentative's last centre, px.
+  double tentative_gate_px = 20.0;
+  // Delete a filter after this many consecutive frames without support
+  // (no assigned/gated evidence). 0 = never delete.
+  int max_missed_frames = 30;
+  // Occlusion coasting: while a filter has no support it only predicts (no
+  // likelihood, no interaction, no resampling). When false the likelihood is
+  // applied anyway (the detections_mixture then pulls it to whatever is near).
+  bool coast_without_support = true;
+  // Spread of a newborn filter's particles about the birth box: centre (px),
+  // velocity (px/frame) and log-scale (dimensionless) standard deviations.
+  double birth_sigma_px = 2.0;
+  double birth_sigma_vel_px = 0.5;
+  double birth_sigma_log_scale = 0.05;
+
+  void Validate(std::string_view prefix = "tracker.management") const;
+};
+
+struct TrackerOptions {
+  // Particles per filter.
+  int particles = 500;
+  InitMode init = InitMode::kGroundTruth;
+  DynamicsOptions dynamics;
+  LikelihoodOptions likelihood;
+  ResamplerOptions resampling;
+  InteractionOptions interaction;
+  AssociationOptions association;
+  TrackManagementOptions management;
+  // Particle clouds kept per filter per frame in the report, decimated to at
+  // most this many particles (0 = none).
+  int keep_particles = 0;
+  // Worker threads for the per-filter stages (1 = the calling thread only).
+  // Results are identical for every value: each filter draws from its own
+  // stream "tracker/filter/<id>" and all filters see the same summaries.
+  int threads = 1;
+
+  // Validates every nested Options and the combinations; throws InputError
+  // naming the dotted key ("tracker.resampling.beta").
+  void Validate() const;
+};
+
+// One particle of a decimated cloud.
+struct ParticlePoint {
+  float x_px = 0.0F;
+  float y_px = 0.0F;
+  float weight = 0.0F;  // normalised posterior weight before resampling
+  friend bool operator==(const ParticlePoint&, const ParticlePoint&) = default;
+};
+
+// One filter in one frame (posterior, before resampling).
+struct FilterReport {
+  TrackId id{};
+  BoxPx box;                                       // weighted-mean centre, base size * mean scale
+  Eigen::Vector2d mean = Eigen::Vector2d::Zero();  // px
+  Eigen::Matrix2d cov = Eigen::Matrix2d::Zero();   // px^2
+  double ess = 0.0;                                // effective sample size, [1, N]
+  int64_t rejections = 0;                          // charged resampling rejections
+  bool recovered_degenerate = false;               // all weights vanished; reset (docs)
+  bool coasting = false;                           // predicted only this frame
+  bool resampled = false;
+  int assigned_detection = -1;                     // index into Observation::detections
+  int missed_frames = 0;                           // consecutive frames without support
+  std::vector<ParticlePoint> particles;            // decimated cloud (keep_particles)
+};
+
+struct FrameReport {
+  int frame = 0;
+  std::vector<FilterReport> filters;  // every filter that ran this frame, by TrackId
+  std::vector<TrackId> born;          // filters born at the end of this frame
+  std::vector<TrackId> deleted;       // filters deleted at the end of this frame
+  int64_t degenerate_filters = 0;     // filters whose weights were reset this frame
+};
+
+// Estimates for the MOT output: one per reported filter (confidence = ESS / N).
+std::vector<TrackEstimate> ToTrackEstimates(const FrameReport& report, int particles);
+
+// Components the tracker is assembled from (all shared, const, stateless).
+struct TrackerComponents {
+  std::unique_ptr<Dynamics> dynamics;
+  std::unique_ptr<Likelihood> likelihood;
+  std::unique_ptr<Interaction> interaction;
+  std::unique_ptr<Resampler> resampler;
+  std::unique_ptr<Associator> associator;
+};
+
+class MultiTargetTracker {
+ public:
+  // `rng` is the tracker's root stream; filter k draws from
+  // rng.Fork("tracker/filter/<k>").
+  MultiTargetTracker(const TrackerOptions& options, TrackerComponents components, Rng rng);
+  ~MultiTargetTracker();
+  MultiTargetTracker(const MultiTargetTracker&) = delete;
+  MultiTargetTracker& operator=(const MultiTargetTracker&) = delete;
+
+  // Births a filter for `id` at `initial_box` (centre, size; velocity
+  // `velocity_px` per frame). The filter joins the next Step without a predict
+  // (its particles already describe that frame). HCPF_CHECKs that `id` is new
+  // and the box is non-empty.
+  void BirthTrack(TrackId id, const BoxPx& initial_box,
+                  Eigen::Vector2d velocity_px = Eigen::Vector2d::Zero());
+
+  // Processes one frame: (camera motion +) predict, associate, update, resample,
+  // manage tracks. Returns the per-filter report.
+  FrameReport Step(const Observation& observation,
+                   const std::optional<SimilarityMotion>& camera_motion = std::nullopt);
+
+  size_t num_filters() const;
+  std::vector<TrackId> track_ids() const;
+  // Read access to a filter's particles (tests, overlays); nullptr if unknown.
+  const ParticleSet* particles(TrackId id) const;
+  const TrackerOptions& options() const { return options_; }
+
+ private:
+  struct Filter;
+  struct Tentative;
+
+  void Predict(const std::optional<SimilarityMotion>& camera_motion);
+  std::vector<TrackPrediction> Predictions() const;
+  std::vector<FilterSummary> Summaries() const;
+  void Update(const Observation& observation, const std::vector<int>& assignment,
+              const std::vector<FilterSummary>& predicted, FrameReport& report);
+  void Resample(const std::vector<FilterSummary>& posterior, FrameReport& report);
+  void ManageTracks(const Observation& observation, const std::vector<int>& assignment,
+                    const std::vector<TrackPrediction>& predictions, FrameReport& report);
+  template <typename Fn>
+  void ForEachFilter(Fn&& fn);
+
+  TrackerOptions options_;
+  TrackerComponents components_;
+  Rng rng_;
+  std::vector<std::unique_ptr<Filter>> filters_;  // sorted by TrackId
+  std::vector<Tentative> tentatives_;
+  int32_t next_track_id_ = 1;
+};
+
+// Validates the options, builds every component and the tracker.
+std::unique_ptr<MultiTargetTracker> MakeTracker(const TrackerOptions& options, Rng rng);
+
+}  // namespace hcpf::tracker

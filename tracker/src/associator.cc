@@ -1,0 +1,143 @@
+#include "hcpf/tracker/associator.h"
+
+#include <algorithm>
+#include <limits>
+#include <tuple>
+
+#include "hcpf/core/check.h"
+#include "hcpf/tracker/hungarian.h"
+#include "option_checks.h"
+
+namespace hcpf::tracker {
+
+std::string_view ToString(AssociationMethod method) {
+  switch (method) {
+    case AssociationMethod::kGlobalNearestNeighbour: return "gnn";
+    case AssociationMethod::kNearestNeighbour: return "nearest";
+    case AssociationMethod::kNone: return "none";
+  }
+  return "?";
+}
+
+std::optional<AssociationMethod> ParseAssociationMethod(std::string_view name) {
+  for (auto m : {AssociationMethod::kGlobalNearestNeighbour, AssociationMethod::kNearestNeighbour,
+                 AssociationMethod::kNone}) {
+    if (ToString(m) == name) return m;
+  }
+  return std::nullopt;
+}
+
+std::vector<std::string_view> AssociationMethodNames() { return {"gnn", "nearest", "none"}; }
+
+std::string_view ToString(GateKind kind) {
+  switch (kind) {
+    case GateKind::kMahalanobis: return "mahalanobis";
+    case GateKind::kIou: return "iou";
+  }
+  return "?";
+}
+
+std::optional<GateKind> ParseGateKind(std::string_view name) {
+  for (auto k : {GateKind::kMahalanobis, GateKind::kIou}) {
+    if (ToString(k) == name) return k;
+  }
+  return std::nullopt;
+}
+
+std::vector<std::string_view> GateKindNames() { return {"mahalanobis", "iou"}; }
+
+void AssociationOptions::Validate(std::string_view prefix) const {
+  internal::RequirePositive(prefix, "gate_mahalanobis_sq", gate_mahalanobis_sq);
+  internal::RequirePositive(prefix, "measurement_sigma_px", measurement_sigma_px);
+  internal::RequireInRange(prefix, "min_iou", min_iou, 0.0, 1.0);
+}
+
+std::optional<double> GatedCost(const TrackPrediction& track, const Detection& detection,
+                                const AssociationOptions& options) {
+  if (options.gate == GateKind::kIou) {
+    const double iou = Iou(track.box, detection.box);
+    if (iou < options.min_iou || iou <= 0.0) return std::nullopt;
+    return 1.0 - iou;
+  }
+  const double r2 = options.measurement_sigma_px * options.measurement_sigma_px;
+  const double sxx = track.cov(0, 0) + r2;
+  const double sxy = 0.5 * (track.cov(0, 1) + track.cov(1, 0));
+  const double syy = track.cov(1, 1) + r2;
+  const double det = sxx * syy - sxy * sxy;
+  if (!(det > 0.0) || !std::isfinite(det)) return std::nullopt;
+  const double dx = detection.box.centre_x() - track.mean.x();
+  const double dy = detection.box.centre_y() - track.mean.y();
+  // d^T S^-1 d with S^-1 = [[syy, -sxy], [-sxy, sxx]] / det.
+  const double d2 = (syy * dx * dx - 2.0 * sxy * dx * dy + sxx * dy * dy) / det;
+  if (!(d2 <= options.gate_mahalanobis_sq)) return std::nullopt;
+  return d2;
+}
+
+namespace {
+
+std::vector<double> CostMatrix(std::span<const TrackPrediction> tracks,
+                               std::span<const Detection> detections,
+                               const AssociationOptions& options) {
+  std::vector<double> cost(tracks.size() * detections.size(),
+                           std::numeric_limits<double>::infinity());
+  for (size_t t = 0; t < tracks.size(); ++t) {
+    for (size_t d = 0; d < detections.size(); ++d) {
+      if (auto c = GatedCost(tracks[t], detections[d], options)) {
+        cost[t * detections.size() + d] = *c;
+      }
+    }
+  }
+  return cost;
+}
+
+}  // namespace
+
+GnnAssociator::GnnAssociator(const AssociationOptions& options) : options_(options) {
+  options_.Validate();
+}
+
+std::vector<int> GnnAssociator::Associate(std::span<const TrackPrediction> tracks,
+                                          std::span<const Detection> detections) const {
+  const std::vector<double> cost = CostMatrix(tracks, detections, options_);
+  return SolveAssignment(cost, static_cast<int>(tracks.size()),
+                         static_cast<int>(detections.size()));
+}
+
+NearestNeighbourAssociator::NearestNeighbourAssociator(const AssociationOptions& options)
+    : options_(options) {
+  options_.Validate();
+}
+
+std::vector<int> NearestNeighbourAssociator::Associate(
+    std::span<const TrackPrediction> tracks, std::span<const Detection> detections) const {
+  std::vector<std::tuple<double, size_t, size_t>> pairs;
+  for (size_t t = 0; t < tracks.size(); ++t) {
+    for (size_t d = 0; d < detections.size(); ++d) {
+      if (auto c = GatedCost(tracks[t], detections[d], options_)) pairs.emplace_back(*c, t, d);
+    }
+  }
+  std::sort(pairs.begin(), pairs.end());
+  std::vector<int> assignment(tracks.size(), -1);
+  std::vector<char> taken(detections.size(), 0);
+  for (const auto& [c, t, d] : pairs) {
+    if (assignment[t] != -1 || taken[d]) continue;
+    assignment[t] = static_cast<int>(d);
+    taken[d] = 1;
+  }
+  return assignment;
+}
+
+std::unique_ptr<Associator> MakeAssociator(const AssociationOptions& options) {
+  options.Validate();
+  switch (options.method) {
+    case AssociationMethod::kGlobalNearestNeighbour:
+      return std::make_unique<GnnAssociator>(options);
+    case AssociationMethod::kNearestNeighbour:
+      return std::make_unique<NearestNeighbourAssociator>(options);
+    case AssociationMethod::kNone: return std::make_unique<NoAssociator>();
+  }
+  HCPF_CHECK(false) << "unknown association method";
+  return nullptr;
+}
+
+}  // namespace hcpf::tracker

@@ -1,0 +1,422 @@
+#include "hcpf/tracker/resampler.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <numeric>
+
+#include "fast_math.h"
+#include "hcpf/core/check.h"
+#include "option_checks.h"
+
+namespace hcpf::tracker {
+
+std::string_view ToString(ResamplingMethod method) {
+  switch (method) {
+    case ResamplingMethod::kMultinomial: return "multinomial";
+    case ResamplingMethod::kSystematic: return "systematic";
+    case ResamplingMethod::kStratified: return "stratified";
+    case ResamplingMethod::kResidual: return "residual";
+    case ResamplingMethod::kCharged: return "charged";
+  }
+  return "?";
+}
+
+std::optional<ResamplingMethod> ParseResamplingMethod(std::string_view name) {
+  for (auto m : {ResamplingMethod::kMultinomial, ResamplingMethod::kSystematic,
+                 ResamplingMethod::kStratified, ResamplingMethod::kResidual,
+                 ResamplingMethod::kCharged}) {
+    if (ToString(m) == name) return m;
+  }
+  return std::nullopt;
+}
+
+std::vector<std::string_view> ResamplingMethodNames() {
+  return {"multinomial", "systematic", "stratified", "residual", "charged"};
+}
+
+std::string_view ToString(ChargePotential potential) {
+  switch (potential) {
+    case ChargePotential::kGaussian: return "gaussian";
+    case ChargePotential::kCoulomb: return "coulomb";
+  }
+  return "?";
+}
+
+std::optional<ChargePotential> ParseChargePotential(std::string_view name) {
+  for (auto p : {ChargePotential::kGaussian, ChargePotential::kCoulomb}) {
+    if (ToString(p) == name) return p;
+  }
+  return std::nullopt;
+}
+
+std::vector<std::string_view> ChargePotentialNames() { return {"gaussian", "coulomb"}; }
+
+void ResamplerOptions::Validate(std::string_view prefix) const {
+  internal::RequireInRange(prefix, "ess_threshold", ess_threshold, 0.0, 1.0);
+  internal::RequireNonNegative(prefix, "charge", charge);
+  internal::RequireNonNegative(prefix, "beta", beta);
+  // eps > 0 keeps (Sigma_j + eps^2 I) invertible for a collapsed neighbour and
+  // the coulomb potential finite at the neighbour's mean.
+  internal::RequirePositive(prefix, "softening_px", softening_px);
+  if (max_tries < 0 || max_tries > 1000000) {
+    internal::FailOption(prefix, "max_tries", "an integer in [0, 1000000]", max_tries);
+  }
+  if (candidates == ResamplingMethod::kCharged) {
+    internal::FailOption(prefix, "candidates",
+                         "one of multinomial, systematic, stratified, residual", "charged");
+  }
+}
+
+namespace {
+
+void CheckInputs(const ParticleSet& set, std::span<int32_t> ancestors) {
+  HCPF_CHECK(set.size() >= 1) << "resampling an empty particle set";
+  HCPF_CHECK(set.w.size() == set.size());
+  HCPF_CHECK(ancestors.size() == set.size())
+      << ancestors.size() << " ancestor slots for " << set.size() << " particles";
+}
+
+// Index of the last particle with positive weight (0 if none): the merge never
+// walks past it, so rounding in the cumulative sum (which may end a few ulp
+// below 1) cannot select a trailing zero-weight particle.
+size_t LastPositive(std::span<const double> w) {
+  for (size_t j = w.size(); j-- > 0;) {
+    if (w[j] > 0.0) return j;
+  }
+  return 0;
+}
+
+// Merges sorted points u (ascending, in [0, 1)) with the cumulative weights:
+// point u selects the particle j with cum_{j-1} <= u < cum_j. Zero-weight
+// particles own an empty interval and are skipped by the >= comparison.
+template <typename PointFn>
+void MergeSortedPoints(std::span<const double> w, size_t count, PointFn point, int32_t* out) {
+  const size_t last = LastPositive(w);
+  size_t j = 0;
+  double cum = w[0];
+  for (size_t i = 0; i < count; ++i) {
+    const double u = point(i);
+    while (u >= cum && j < last) {
+      ++j;
+      cum += w[j];
+    }
+    out[i] = static_cast<int32_t>(j);
+  }
+}
+
+// `count` sorted uniforms in [0, 1) by normalised exponential spacings, merged
+// with weights w into out[0..count). O(count + w.size()).
+void SortedUniformMultinomial(std::span<const double> w, size_t count, Rng& rng, int32_t* out) {
+  if (count == 0) return;
+  std::vector<double> points(count);
+  // E_k = -log U_k, U_k in (0, 1]; partial sums S_1..S_count and a final
+  // spacing E_{count+1}: S_k / S_{count+1} are the order statistics of count
+  // uniforms (Devroye 1986, Theorem V.2.2).
+  double total = 0.0;
+  for (size_t k = 0; k < count; ++k) {
+    total += -internal::FastLog(rng.UniformOpenZero());
+    points[k] = total;
+  }
+  total += -internal::FastLog(rng.UniformOpenZero());
+  const double inv_total = 1.0 / total;
+  MergeSortedPoints(w, count, [&](size_t i) { return points[i] * inv_total; }, out);
+}
+
+// Walker's alias table (Vose's O(N) construction) for O(1) single draws.
+class AliasTable {
+ public:
+  explicit AliasTable(std::span<const double> w) : prob_(w.size()), alias_(w.size()) {
+    const size_t n = w.size();
+    std::vector<double> scaled(n);
+    std::vector<int32_t> small, large;
+    small.reserve(n);
+    large.reserve(n);
+    double total = 0.0;
+    for (const double v : w) total += v;
+    for (size_t i = 0; i < n; ++i) {
+      scaled[i] = w[i] * static_cast<double>(n) / total;
+      (scaled[i] < 1.0 ? small : large).push_back(static_cast<int32_t>(i));
+    }
+    while (!small.empty() && !large.empty()) {
+      const int32_t s = small.back();
+      small.pop_back();
+      const int32_t l = large.back();
+      prob_[s] = scaled[s];
+      alias_[s] = l;
+      scaled[l] = (scaled[l] + scaled[s]) - 1.0;
+      if (scaled[l] < 1.0) {
+        large.pop_back();
+        small.push_back(l);
+      }
+    }
+    // Leftovers have scaled weight 1 up to rounding. A zero-weight leftover
+    // (possible only through rounding) must never be selected: alias it to
+    // the last positive-weight particle with probability 0.
+    const auto fallback = static_cast<int32_t>(LastPositive(w));
+    for (auto* list : {&small, &large}) {
+      for (const int32_t i : *list) {
+        prob_[i] = w[i] > 0.0 ? 1.0 : 0.0;
+        alias_[i] = w[i] > 0.0 ? i : fallback;
+      }
+    }
+  }
+
+  int32_t Draw(Rng& rng) const {
+    const auto i = static_cast<size_t>(rng.UniformInt(prob_.size()));
+    return rng.Uniform() < prob_[i] ? static_cast<int32_t>(i) : alias_[i];
+  }
+
+ private:
+  std::vector<double> prob_;
+  std::vector<int32_t> alias_;
+};
+
+}  // namespace
+
+ResampleResult MultinomialResampler::Resample(const ParticleSet& set, const ResampleContext&,
+                                              Rng& rng, std::span<int32_t> ancestors) const {
+  CheckInputs(set, ancestors);
+  SortedUniformMultinomial(set.w, set.size(), rng, ancestors.data());
+  return {};
+}
+
+ResampleResult SystematicResampler::Resample(const ParticleSet& set, const ResampleContext&,
+                                             Rng& rng, std::span<int32_t> ancestors) const {
+  CheckInputs(set, ancestors);
+  const size_t n = set.size();
+  const double inv_n = 1.0 / static_cast<double>(n);
+  const double u0 = rng.Uniform() * inv_n;
+  MergeSortedPoints(
+      set.w, n, [&](size_t i) { return u0 + static_cast<double>(i) * inv_n; }, ancestors.data());
+  return {};
+}
+
+ResampleResult StratifiedResampler::Resample(const ParticleSet& set, const ResampleContext&,
+                                             Rng& rng, std::span<int32_t> ancestors) const {
+  CheckInputs(set, ancestors);
+  const size_t n = set.size();
+  const double inv_n = 1.0 / static_cast<double>(n);
+  MergeSortedPoints(
+      set.w, n, [&](size_t i) { return (static_cast<double>(i) + rng.Uniform()) * inv_n; },
+      ancestors.data());
+  return {};
+}
+
+ResampleResult ResidualResampler::Resample(const ParticleSet& set, const ResampleContext&,
+                                           Rng& rng, std::span<int32_t> ancestors) const {
+  CheckInputs(set, ancestors);
+  const size_t n = set.size();
+  const auto nd = static_cast<double>(n);
+  std::vector<double> residual(n);
+  size_t filled = 0;
+  double residual_total = 0.0;
+  for (size_t i = 0; i < n; ++i) {
+    const double expected = nd * set.w[i];
+    auto copies = static_cast<size_t>(std::floor(expected));
+    copies = std::min(copies, n - filled);  // rounding can push the sum of floors past N
+    for (size_t c = 0; c < copies; ++c) ancestors[filled++] = static_cast<int32_t>(i);
+    residual[i] = std::max(0.0, expected - static_cast<double>(copies));
+    residual_total += residual[i];
+  }
+  const size_t remaining = n - filled;
+  if (remaining > 0) {
+    if (residual_total > 0.0) {
+      for (double& r : residual) r /= residual_total;
+      SortedUniformMultinomial(residual, remaining, rng, ancestors.data() + filled);
+    } else {
+      // Only reachable through rounding (floors summing to < N with zero
+      // residual): fall back to multinomial on the weights themselves.
+      SortedUniformMultinomial(set.w, remaining, rng, ancestors.data() + filled);
+    }
+  }
+  return {};
+}
+
+EssGatedResampler::EssGatedResampler(std::unique_ptr<Resampler> inner, double threshold)
+    : inner_(std::move(inner)), threshold_(threshold) {
+  HCPF_CHECK(inner_ != nullptr);
+  HCPF_CHECK(threshold_ >= 0.0 && threshold_ <= 1.0) << "threshold=" << threshold_;
+}
+
+ResampleResult EssGatedResampler::Resample(const ParticleSet& set, const ResampleContext& context,
+                                           Rng& rng, std::span<int32_t> ancestors) const {
+  CheckInputs(set, ancestors);
+  const double ess = EffectiveSampleSize(set.w);
+  if (ess >= threshold_ * static_cast<double>(set.size())) {
+    std::iota(ancestors.begin(), ancestors.end(), 0);
+    return {.resampled = false, .rejections = 0};
+  }
+  return inner_->Resample(set, context, rng, ancestors);
+}
+
+namespace {
+
+// One other filter's charge, precomputed: mean and the symmetric matrix
+// M = (Sigma + eps^2 I)^-1 = [[a, b], [b, c]] (gaussian only).
+struct Charge {
+  double mx, my, a, b, c;
+};
+
+std::vector<Charge> MakeCharges(std::span<const FilterSummary> others, double eps) {
+  std::vector<Charge> charges;
+  charges.reserve(others.size());
+  const double eps2 = eps * eps;
+  for (const FilterSummary& o : others) {
+    const double sxx = o.cov(0, 0) + eps2;
+    const double sxy = 0.5 * (o.cov(0, 1) + o.cov(1, 0));
+    const double syy = o.cov(1, 1) + eps2;
+    const double det = sxx * syy - sxy * sxy;
+    Charge ch{o.mean.x(), o.mean.y(), 1.0 / eps2, 0.0, 1.0 / eps2};
+    // Sigma is positive semi-definite, so det >= eps^4 > 0; the guard only
+    // catches a NaN covariance, which then counts as eps^2 I.
+    if (det > 0.0 && std::isfinite(det)) {
+      ch.a = syy / det;
+      ch.b = -sxy / det;
+      ch.c = sxx / det;
+    }
+    charges.push_back(ch);
+  }
+  return charges;
+}
+
+inline double GaussianTerm(const Charge& ch, double x, double y) {
+  const double dx = x - ch.mx;
+  const double dy = y - ch.my;
+  return internal::FastExp(-0.5 * (ch.a * dx * dx + 2.0 * ch.b * dx * dy + ch.c * dy * dy));
+}
+
+inline double CoulombTerm(const Charge& ch, double x, double y, double eps2) {
+  const double dx = x - ch.mx;
+  const double dy = y - ch.my;
+  return 1.0 / (dx * dx + dy * dy + eps2);
+}
+
+double PotentialAt(const std::vector<Charge>& charges, ChargePotential potential, double q,
+                   double eps2, double x, double y) {
+  double u = 0.0;
+  if (potential == ChargePotential::kGaussian) {
+    for (const Charge& ch : charges) u += GaussianTerm(ch, x, y);
+  } else {
+    for (const Charge& ch : charges) u += CoulombTerm(ch, x, y, eps2);
+  }
+  return q * u;
+}
+
+// Vectorised pass: acceptance probability exp(-beta U) of every candidate.
+// Charge-outer, candidate-inner so the inner loop is a plain map.
+__attribute__((target_clones("avx2", "default"))) void AcceptanceProbabilities(
+    const Charge* charges, size_t num_charges, bool gaussian, double q, double beta, double eps2,
+    const double* x, const double* y, double* u, double* accept, size_t n) {
+  for (size_t i = 0; i < n; ++i) u[i] = 0.0;
+  for (size_t k = 0; k < num_charges; ++k) {
+    const Charge ch = charges[k];
+    if (gaussian) {
+      for (size_t i = 0; i < n; ++i) u[i] += GaussianTerm(ch, x[i], y[i]);
+    } else {
+      for (size_t i = 0; i < n; ++i) u[i] += CoulombTerm(ch, x[i], y[i], eps2);
+    }
+  }
+  for (size_t i = 0; i < n; ++i) {
+    u[i] *= q;
+    accept[i] = internal::FastExp(-beta * u[i]);
+  }
+}
+
+}  // namespace
+
+ChargedResampler::ChargedResampler(const ResamplerOptions& options) : options_(options) {
+  options_.Validate();
+  ResamplerOptions base = options_;
+  base.method = options_.candidates;
+  base.ess_threshold = 0.0;
+  candidates_ = MakeResampler(base);
+}
+
+double ChargedResampler::Potential(double x_px, double y_px,
+                                   std::span<const FilterSummary> others) const {
+  const std::vector<Charge> charges = MakeCharges(others, options_.softening_px);
+  const double eps2 = options_.softening_px * options_.softening_px;
+  return PotentialAt(charges, options_.potential, options_.charge, eps2, x_px, y_px);
+}
+
+ResampleResult ChargedResampler::Resample(const ParticleSet& set, const ResampleContext& context,
+                                          Rng& rng, std::span<int32_t> ancestors) const {
+  CheckInputs(set, ancestors);
+  ResampleResult result = candidates_->Resample(set, {}, rng, ancestors);
+  if (context.others.empty() || options_.charge == 0.0 || options_.beta == 0.0) {
+    return result;  // every acceptance probability is exactly 1
+  }
+  const size_t n = set.size();
+  const double eps2 = options_.softening_px * options_.softening_px;
+  const double q = options_.charge;
+  const double beta = options_.beta;
+  const bool gaussian = options_.potential == ChargePotential::kGaussian;
+  const std::vector<Charge> charges = MakeCharges(context.others, options_.softening_px);
+
+  std::vector<double> cx(n), cy(n), pot(n), accept(n);
+  for (size_t i = 0; i < n; ++i) {
+    cx[i] = set.px[static_cast<size_t>(ancestors[i])];
+    cy[i] = set.py[static_cast<size_t>(ancestors[i])];
+  }
+  AcceptanceProbabilities(charges.data(), charges.size(), gaussian, q, beta, eps2, cx.data(),
+                          cy.data(), pot.data(), accept.data(), n);
+
+  std::optional<AliasTable> alias;  // built on the first rejection only
+  int64_t rejections = 0;
+  for (size_t i = 0; i < n; ++i) {
+    if (rng.Uniform() < accept[i]) continue;
+    ++rejections;
+    int32_t best = ancestors[i];
+    double best_u = pot[i];
+    bool accepted = false;
+    if (options_.max_tries > 0 && !alias) alias.emplace(set.w);
+    for (int t = 0; t < options_.max_tries; ++t) {
+      const int32_t j = alias->Draw(rng);
+      const auto ju = static_cast<size_t>(j);
+      const double u = PotentialAt(charges, options_.potential, q, eps2, set.px[ju], set.py[ju]);
+      if (rng.Uniform() < internal::FastExp(-beta * u)) {
+        ancestors[i] = j;
+        accepted = true;
+        break;
+      }
+      ++rejections;
+      if (u < best_u) {
+        best_u = u;
+        best = j;
+      }
+    }
+    if (!accepted) ancestors[i] = best;
+  }
+  result.rejections = rejections;
+  return result;
+}
+
+std::unique_ptr<Resampler> MakeResampler(const ResamplerOptions& options) {
+  options.Validate();
+  std::unique_ptr<Resampler> resampler;
+  switch (options.method) {
+    case ResamplingMethod::kMultinomial:
+      resampler = std::make_unique<MultinomialResampler>();
+      break;
+    case ResamplingMethod::kSystematic:
+      resampler = std::make_unique<SystematicResampler>();
+      break;
+    case ResamplingMethod::kStratified:
+      resampler = std::make_unique<StratifiedResampler>();
+      break;
+    case ResamplingMethod::kResidual:
+      resampler = std::make_unique<ResidualResampler>();
+      break;
+    case ResamplingMethod::kCharged:
+      resampler = std::make_unique<ChargedResampler>(options);
+      break;
+  }
+  HCPF_CHECK(resampler != nullptr) << "unknown resampling method";
+  if (options.ess_threshold > 0.0) {
+    return std::make_unique<EssGatedResampler>(std::move(resampler), options.ess_threshold);
+  }
+  return resampler;
+}
+
+}  // namespace hcpf::tracker

@@ -1,0 +1,453 @@
+#include "hcpf/tracker/tracker.h"
+
+#include <algorithm>
+#include <array>
+#include <bit>
+#include <cmath>
+#include <limits>
+#include <thread>
+
+#include <spdlog/spdlog.h>
+
+#include "hcpf/core/check.h"
+#include "hcpf/tracker/hungarian.h"
+#include "hcpf/tracker/normal.h"
+#include "option_checks.h"
+
+namespace hcpf::tracker {
+
+std::string_view ToString(InitMode mode) {
+  switch (mode) {
+    case InitMode::kGroundTruth: return "ground_truth";
+    case InitMode::kDetections: return "detections";
+  }
+  return "?";
+}
+
+std::optional<InitMode> ParseInitMode(std::string_view name) {
+  for (auto m : {InitMode::kGroundTruth, InitMode::kDetections}) {
+    if (ToString(m) == name) return m;
+  }
+  return std::nullopt;
+}
+
+std::vector<std::string_view> InitModeNames() { return {"ground_truth", "detections"}; }
+
+void TrackManagementOptions::Validate(std::string_view prefix) const {
+  if (confirm_window < 1 || confirm_window > 32) {
+    internal::FailOption(prefix, "confirm_window", "an integer in [1, 32]", confirm_window);
+  }
+  if (confirm_hits < 1 || confirm_hits > confirm_window) {
+    internal::FailOption(prefix, "confirm_hits",
+                         fmt::format("an integer in [1, confirm_window = {}]", confirm_window),
+                         confirm_hits);
+  }
+  internal::RequirePositive(prefix, "tentative_gate_px", tentative_gate_px);
+  if (max_missed_frames < 0) {
+    internal::FailOption(prefix, "max_missed_frames", "an integer >= 0 (0 = never delete)",
+                         max_missed_frames);
+  }
+  internal::RequireNonNegative(prefix, "birth_sigma_px", birth_sigma_px);
+  internal::RequireNonNegative(prefix, "birth_sigma_vel_px", birth_sigma_vel_px);
+  internal::RequireNonNegative(prefix, "birth_sigma_log_scale", birth_sigma_log_scale);
+}
+
+void TrackerOptions::Validate() const {
+  if (particles < 1 || particles > 10'000'000) {
+    internal::FailOption("tracker", "particles", "an integer in [1, 10000000]", particles);
+  }
+  if (keep_particles < 0) {
+    internal::FailOption("tracker", "keep_particles", "an integer >= 0", keep_particles);
+  }
+  if (threads < 1 || threads > 256) {
+    internal::FailOption("tracker", "threads", "an integer in [1, 256]", threads);
+  }
+  dynamics.Validate("tracker.dynamics");
+  likelihood.Validate("tracker.likelihood");
+  resampling.Validate("tracker.resampling");
+  interaction.Validate("tracker.interaction");
+  association.Validate("tracker.association");
+  management.Validate("tracker.management");
+  if (likelihood.model == LikelihoodModel::kAssociated &&
+      association.method == AssociationMethod::kNone) {
+    internal::FailOption("tracker.association", "method",
+                         "gnn or nearest (tracker.likelihood.model is associated)", "none");
+  }
+  if (dynamics.model == DynamicsModel::kConstantVelocityScale &&
+      likelihood.model != LikelihoodModel::kMap && likelihood.sigma_log_size == 0.0) {
+    internal::FailOption(
+        "tracker.likelihood", "sigma_log_size",
+        "> 0 when tracker.dynamics.model is constant_velocity_scale (else the scale is unobserved)",
+        likelihood.sigma_log_size);
+  }
+}
+
+std::vector<TrackEstimate> ToTrackEstimates(const FrameReport& report, int particles) {
+  std::vector<TrackEstimate> out;
+  out.reserve(report.filters.size());
+  for (const FilterReport& f : report.filters) {
+    out.push_back({.id = f.id, .box = f.box, .confidence = f.ess / std::max(1, particles)});
+  }
+  return out;
+}
+
+struct MultiTargetTracker::Filter {
+  TrackId id{};
+  Rng rng;
+  ParticleSet set;
+  ParticleSet scratch;
+  std::vector<int32_t> ancestors;
+  double base_w_px = 1.0;
+  double base_h_px = 1.0;
+  bool just_born = true;
+  int missed_frames = 0;
+  // This frame:
+  bool supported = false;
+  bool coasting = false;
+};
+
+struct MultiTargetTracker::Tentative {
+  BoxPx box;
+  uint32_t hits = 0;  // bit k set = hit k frames ago (bit 0 = this frame)
+  int hit_count_total = 0;
+  Eigen::Vector2d first_centre = Eigen::Vector2d::Zero();
+  int first_frame = 0;
+  int last_frame = 0;
+};
+
+MultiTargetTracker::MultiTargetTracker(const TrackerOptions& options, TrackerComponents components,
+                                       Rng rng)
+    : options_(options), components_(std::move(components)), rng_(rng) {
+  options_.Validate();
+  HCPF_CHECK(components_.dynamics && components_.likelihood && components_.interaction &&
+             components_.resampler && components_.associator)
+      << "every tracker component must be set";
+}
+
+MultiTargetTracker::~MultiTargetTracker() = default;
+
+size_t MultiTargetTracker::num_filters() const { return filters_.size(); }
+
+std::vector<TrackId> MultiTargetTracker::track_ids() const {
+  std::vector<TrackId> ids;
+  for (const auto& f : filters_) ids.push_back(f->id);
+  return ids;
+}
+
+const ParticleSet* MultiTargetTracker::particles(TrackId id) const {
+  for (const auto& f : filters_) {
+    if (f->id == id) return &f->set;
+  }
+  return nullptr;
+}
+
+void MultiTargetTracker::BirthTrack(TrackId id, const BoxPx& initial_box,
+                                    Eigen::Vector2d velocity_px) {
+  HCPF_CHECK(!initial_box.empty()) << "birth box must have positive size";
+  HCPF_CHECK(particles(id) == nullptr) << "track " << Value(id) << " already exists";
+  auto f = std::make_unique<Filter>();
+  f->id = id;
+  f->rng = rng_.Fork("tracker/filter", Value(id));
+  f->base_w_px = initial_box.width;
+  f->base_h_px = initial_box.height;
+  const auto n = static_cast<size_t>(options_.particles);
+  f->set.Resize(n);
+  f->ancestors.resize(n);
+  const TrackManagementOptions& m = options_.management;
+  std::vector<double> noise(5 * n);
+  FillStandardNormal(f->rng, noise);
+  const double cx = initial_box.centre_x();
+  const double cy = initial_box.centre_y();
+  for (size_t i = 0; i < n; ++i) {
+    f->set.px[i] = cx + m.birth_sigma_px * noise[i];
+    f->set.py[i] = cy + m.birth_sigma_px * noise[n + i];
+    f->set.vx[i] = velocity_px.x() + m.birth_sigma_vel_px * noise[2 * n + i];
+    f->set.vy[i] = velocity_px.y() + m.birth_sigma_vel_px * noise[3 * n + i];
+    f->set.s[i] = std::exp(m.birth_sigma_log_scale * noise[4 * n + i]);
+  }
+  const auto pos = std::lower_bound(filters_.begin(), filters_.end(), id,
+                                    [](const auto& a, TrackId b) { return Value(a->id) < Value(b); });
+  filters_.insert(pos, std::move(f));
+}
+
+template <typename Fn>
+void MultiTargetTracker::ForEachFilter(Fn&& fn) {
+  const size_t k = filters_.size();
+  const size_t workers = std::min(static_cast<size_t>(options_.threads), k);
+  if (workers <= 1) {
+    for (size_t i = 0; i < k; ++i) fn(i);
+    return;
+  }
+  // Filter i runs on worker i % workers; each filter touches only its own
+  // state and stream, so the split never changes the numbers.
+  std::vector<std::jthread> pool;
+  pool.reserve(workers - 1);
+  for (size_t w = 1; w < workers; ++w) {
+    pool.emplace_back([&, w] {
+      for (size_t i = w; i < k; i += workers) fn(i);
+    });
+  }
+  for (size_t i = 0; i < k; i += workers) fn(i);
+}
+
+FrameReport MultiTargetTracker::Step(const Observation& observation,
+                                     const std::optional<SimilarityMotion>& camera_motion) {
+  FrameReport report;
+  report.frame = observation.frame;
+  Predict(camera_motion);
+  const std::vector<TrackPrediction> predictions = Predictions();
+  const std::vector<int> assignment =
+      components_.associator->Associate(predictions, observation.detections);
+  Update(observation, assignment, Summaries(), report);
+  std::vector<FilterSummary> posterior;
+  for (const FilterReport& f : report.filters) posterior.push_back({f.id, f.mean, f.cov, 1.0, f.ess});
+  Resample(posterior, report);
+  ManageTracks(observation, assignment, predictions, report);
+  return report;
+}
+
+void MultiTargetTracker::Predict(const std::optional<SimilarityMotion>& camera_motion) {
+  ForEachFilter([&](size_t i) {
+    Filter& f = *filters_[i];
+    if (f.just_born) return;  // born for this frame: already describes it
+    if (camera_motion) ApplyCameraMotion(*camera_motion, f.set);
+    components_.dynamics->Predict(f.set, f.rng);
+  });
+}
+
+std::vector<FilterSummary> MultiTargetTracker::Summaries() const {
+  std::vector<FilterSummary> out;
+  out.reserve(filters_.size());
+  for (const auto& f : filters_) out.push_back(Summarise(f->set, f->id));
+  return out;
+}
+
+std::vector<TrackPrediction> MultiTargetTracker::Predictions() const {
+  std::vector<TrackPrediction> out;
+  out.reserve(filters_.size());
+  for (const auto& f : filters_) {
+    const FilterSummary s = Summarise(f->set, f->id);
+    out.push_back({.id = f->id,
+                   .mean = s.mean,
+                   .cov = s.cov,
+                   .box = BoxPx::FromCentre(s.mean.x(), s.mean.y(), f->base_w_px * s.mean_scale,
+                                            f->base_h_px * s.mean_scale)});
+  }
+  return out;
+}
+
+namespace {
+
+std::vector<FilterSummary> Others(const std::vector<FilterSummary>& all, size_t self) {
+  std::vector<FilterSummary> others;
+  others.reserve(all.size());
+  for (size_t j = 0; j < all.size(); ++j) {
+    if (j != self) others.push_back(all[j]);
+  }
+  return others;
+}
+
+std::vector<ParticlePoint> Decimate(const ParticleSet& set, int keep) {
+  std::vector<ParticlePoint> out;
+  if (keep <= 0 || set.size() == 0) return out;
+  const size_t n = set.size();
+  const size_t stride = (n + static_cast<size_t>(keep) - 1) / static_cast<size_t>(keep);
+  out.reserve(n / stride + 1);
+  for (size_t i = 0; i < n; i += stride) {
+    out.push_back({static_cast<float>(set.px[i]), static_cast<float>(set.py[i]),
+                   static_cast<float>(set.w[i])});
+  }
+  return out;
+}
+
+}  // namespace
+
+void MultiTargetTracker::Update(const Observation& observation, const std::vector<int>& assignment,
+                                const std::vector<FilterSummary>& predicted, FrameReport& report) {
+  const bool map_model = options_.likelihood.model == LikelihoodModel::kMap;
+  const bool no_association = options_.association.method == AssociationMethod::kNone;
+  report.filters.resize(filters_.size());
+  ForEachFilter([&](size_t i) {
+    Filter& f = *filters_[i];
+    const int assigned = assignment[i];
+    // Support: is there evidence for this filter this frame?
+    if (map_model) {
+      f.supported = observation.likelihood.has_value();
+    } else if (!no_association) {
+      f.supported = assigned >= 0;
+    } else {
+      const TrackPrediction pred{.id = f.id,
+                                 .mean = predicted[i].mean,
+                                 .cov = predicted[i].cov,
+                                 .box = BoxPx::FromCentre(
+                                     predicted[i].mean.x(), predicted[i].mean.y(),
+                                     f.base_w_px * predicted[i].mean_scale,
+                                     f.base_h_px * predicted[i].mean_scale)};
+      f.supported = std::any_of(observation.detections.begin(), observation.detections.end(),
+                                [&](const Detection& d) {
+                                  return GatedCost(pred, d, options_.association).has_value();
+                                });
+    }
+    f.coasting = !f.supported && options_.management.coast_without_support;
+    if (!f.coasting) {
+      const LikelihoodInput input{
+          .observation = &observation,
+          .assigned = assigned >= 0 ? &observation.detections[static_cast<size_t>(assigned)]
+                                    : nullptr,
+          .base_w_px = f.base_w_px,
+          .base_h_px = f.base_h_px};
+      components_.likelihood->AddLogLikelihood(f.set, input);
+      components_.interaction->Apply(f.set, Others(predicted, i));
+    }
+    const NormaliseResult normalised = NormaliseLogWeights(f.set);
+    const FilterSummary s = Summarise(f.set, f.id);
+    FilterReport& r = report.filters[i];
+    r.id = f.id;
+    r.mean = s.mean;
+    r.cov = s.cov;
+    r.ess = s.ess;
+    r.box = BoxPx::FromCentre(s.mean.x(), s.mean.y(), f.base_w_px * s.mean_scale,
+                              f.base_h_px * s.mean_scale);
+    r.recovered_degenerate = normalised.recovered_degenerate;
+    r.coasting = f.coasting;
+    r.assigned_detection = assigned;
+    r.particles = Decimate(f.set, options_.keep_particles);
+  });
+  for (const FilterReport& r : report.filters) {
+    if (r.recovered_degenerate) ++report.degenerate_filters;
+  }
+  if (report.degenerate_filters > 0) {
+    spdlog::debug("tracker: frame {}: {} filter(s) with vanished weights reset to uniform",
+                  observation.frame, report.degenerate_filters);
+  }
+}
+
+void MultiTargetTracker::Resample(const std::vector<FilterSummary>& posterior,
+                                  FrameReport& report) {
+  ForEachFilter([&](size_t i) {
+    Filter& f = *filters_[i];
+    FilterReport& r = report.filters[i];
+    if (f.coasting) return;  // predict only while the evidence is gone
+    const std::vector<FilterSummary> others = Others(posterior, i);
+    const ResampleResult result =
+        components_.resampler->Resample(f.set, ResampleContext{others}, f.rng, f.ancestors);
+    r.resampled = result.resampled;
+    r.rejections = result.rejections;
+    if (result.resampled) ApplyAncestors(f.set, f.ancestors, f.scratch);
+  });
+}
+
+void MultiTargetTracker::ManageTracks(const Observation& observation,
+                                      const std::vector<int>& assignment,
+                                      const std::vector<TrackPrediction>& predictions,
+                                      FrameReport& report) {
+  const TrackManagementOptions& m = options_.management;
+  // Support counters and deletion.
+  std::vector<std::unique_ptr<Filter>> kept;
+  kept.reserve(filters_.size());
+  for (size_t i = 0; i < filters_.size(); ++i) {
+    Filter& f = *filters_[i];
+    f.just_born = false;
+    f.missed_frames = f.supported ? 0 : f.missed_frames + 1;
+    report.filters[i].missed_frames = f.missed_frames;
+    if (m.max_missed_frames > 0 && f.missed_frames >= m.max_missed_frames) {
+      report.deleted.push_back(f.id);
+    } else {
+      kept.push_back(std::move(filters_[i]));
+    }
+  }
+  filters_ = std::move(kept);
+  if (options_.init != InitMode::kDetections) return;
+
+  // M-of-N confirmation from detections no filter claims: not assigned and
+  // not inside any filter's gate (so association = none does not spawn
+  // duplicates of existing tracks).
+  std::vector<size_t> free_detections;
+  for (size_t d = 0; d < observation.detections.size(); ++d) {
+    const bool assigned = std::find(assignment.begin(), assignment.end(),
+                                    static_cast<int>(d)) != assignment.end();
+    if (assigned) continue;
+    const bool gated = std::any_of(predictions.begin(), predictions.end(), [&](const auto& p) {
+      return GatedCost(p, observation.detections[d], options_.association).has_value();
+    });
+    if (!gated) free_detections.push_back(d);
+  }
+  // Tentatives age by one frame.
+  const uint32_t window_mask =
+      m.confirm_window >= 32 ? 0xFFFFFFFFU : ((1U << m.confirm_window) - 1U);
+  for (Tentative& t : tentatives_) t.hits = (t.hits << 1) & window_mask;
+  // Match free detections to tentatives by centre distance (optimal, gated).
+  const double gate2 = m.tentative_gate_px * m.tentative_gate_px;
+  const int rows = static_cast<int>(tentatives_.size());
+  const int cols = static_cast<int>(free_detections.size());
+  std::vector<double> cost(static_cast<size_t>(rows) * cols,
+                           std::numeric_limits<double>::infinity());
+  for (int r = 0; r < rows; ++r) {
+    for (int c = 0; c < cols; ++c) {
+      const BoxPx& b = observation.detections[free_detections[c]].box;
+      const double dx = b.centre_x() - tentatives_[r].box.centre_x();
+      const double dy = b.centre_y() - tentatives_[r].box.centre_y();
+      const double d2 = dx * dx + dy * dy;
+      if (d2 <= gate2) cost[static_cast<size_t>(r) * cols + c] = d2;
+    }
+  }
+  const std::vector<int> match = SolveAssignment(cost, rows, cols);
+  std::vector<char> used(static_cast<size_t>(cols), 0);
+  for (int r = 0; r < rows; ++r) {
+    if (match[r] < 0) continue;
+    Tentative& t = tentatives_[r];
+    t.box = observation.detections[free_detections[match[r]]].box;
+    t.hits |= 1U;
+    t.last_frame = observation.frame;
+    used[match[r]] = 1;
+  }
+  for (int c = 0; c < cols; ++c) {
+    if (used[c]) continue;
+    Tentative t;
+    t.box = observation.detections[free_detections[c]].box;
+    t.hits = 1U;
+    t.first_centre = {t.box.centre_x(), t.box.centre_y()};
+    t.first_frame = t.last_frame = observation.frame;
+    tentatives_.push_back(t);
+  }
+  // Confirm (M hits in the window) or drop (M hits no longer reachable:
+  // misses in the window exceed N - M, counting frames since creation).
+  std::vector<Tentative> remaining;
+  for (Tentative& t : tentatives_) {
+    const int hits = std::popcount(t.hits);
+    const int age = observation.frame - t.first_frame + 1;
+    const int window_frames = std::min(age, m.confirm_window);
+    const int misses = window_frames - hits;
+    if (hits >= m.confirm_hits) {
+      const TrackId id{next_track_id_++};
+      Eigen::Vector2d velocity = Eigen::Vector2d::Zero();
+      if (t.last_frame > t.first_frame) {
+        velocity = (Eigen::Vector2d(t.box.centre_x(), t.box.centre_y()) - t.first_centre) /
+                   static_cast<double>(t.last_frame - t.first_frame);
+      }
+      BirthTrack(id, t.box, velocity);
+      // Born from this frame's detection, so it describes this frame and must
+      // predict at the next Step (unlike a BirthTrack before a Step).
+      for (auto& f : filters_) {
+        if (f->id == id) f->just_born = false;
+      }
+      report.born.push_back(id);
+    } else if (misses <= m.confirm_window - m.confirm_hits) {
+      remaining.push_back(t);
+    }
+  }
+  tentatives_ = std::move(remaining);
+}
+
+std::unique_ptr<MultiTargetTracker> MakeTracker(const TrackerOptions& options, Rng rng) {
+  options.Validate();
+  TrackerComponents components{
+      .dynamics = MakeDynamics(options.dynamics),
+      .likelihood = MakeLikelihood(options.likelihood),
+      .interaction = MakeInteraction(options.interaction),
+      .resampler = MakeResampler(options.resampling),
+      .associator = MakeAssociator(options.association)};
+  return std::make_unique<MultiTargetTracker>(options, std::move(components), rng);
+}
+
+}  // namespace hcpf::tracker

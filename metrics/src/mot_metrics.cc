@@ -238,11 +238,12 @@ ClearMetrics ClearOf(const Prepared& p, std::vector<MotEvent>* events) {
   return r;
 }
 
-IdentityMetrics IdentityOf(const Prepared& p) {
+IdentityMetrics IdentityOf(const Prepared& p, double threshold = kMotIouThreshold,
+                           std::vector<std::pair<int64_t, int64_t>>* matching = nullptr) {
   IdentityMetrics r;
   std::vector<int> count(p.pair_gt.size(), 0);
   for (const Overlap& o : p.overlaps) {
-    if (o.iou >= kMotIouThreshold) ++count[o.pair];  // exact >= 0.5 (no epsilon)
+    if (o.iou >= threshold) ++count[o.pair];  // exact >= 0.5 (no epsilon)
   }
   std::vector<WeightedEdge> edges;
   for (size_t k = 0; k < count.size(); ++k) {
@@ -251,7 +252,11 @@ IdentityMetrics IdentityOf(const Prepared& p) {
   SparseMatcher matcher;
   std::vector<int> chosen;
   matcher.Solve(edges, p.num_gt_ids, p.num_hyp_ids, &chosen);
-  for (int k : chosen) r.idtp += static_cast<int64_t>(edges[k].weight);
+  for (int k : chosen) {
+    r.idtp += static_cast<int64_t>(edges[k].weight);
+    if (matching) matching->emplace_back(p.gt_original[edges[k].row], p.hyp_original[edges[k].col]);
+  }
+  if (matching) std::sort(matching->begin(), matching->end());
   r.idfn = p.num_gt_dets() - r.idtp;
   r.idfp = p.num_hyp_dets() - r.idtp;
   r.Finalize();
@@ -434,6 +439,12 @@ ClearMetrics ComputeClear(const Sequence& seq, std::vector<MotEvent>* events) {
 IdentityMetrics ComputeIdentity(const Sequence& seq) { return IdentityOf(Prepare(seq)); }
 
 HotaMetrics ComputeHota(const Sequence& seq) { return HotaOf(Prepare(seq)); }
+
+std::vector<std::pair<int64_t, int64_t>> IdentityMatching(const Sequence& seq, double iou_threshold) {
+  std::vector<std::pair<int64_t, int64_t>> matching;
+  IdentityOf(Prepare(seq), iou_threshold, &matching);
+  return matching;
+}
 
 MotSummary ComputeAll(const Sequence& seq, std::vector<MotEvent>* events) {
   if (events) events->clear();

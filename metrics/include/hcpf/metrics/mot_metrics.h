@@ -97,6 +97,12 @@ HotaMetrics ComputeHota(const Sequence& seq);
 // All three, plus the counts; IoUs computed once. `events` as in ComputeClear.
 MotSummary ComputeAll(const Sequence& seq, std::vector<MotEvent>* events = nullptr);
 
+// The Identity (IDF1) matching itself: the (gt id, hyp id) pairs of the global
+// one-to-one assignment maximising the number of frames with IoU >= iou_threshold.
+// Pairs are sorted by gt id. Used to map tracks/filters to targets.
+std::vector<std::pair<int64_t, int64_t>> IdentityMatching(const Sequence& seq,
+                                                          double iou_threshold = kMotIouThreshold);
+
 // TrackEval's combination of sequences: counts summed, ratios recomputed from
 // the sums (MOTP TP-weighted), HOTA AssA/AssRe/AssPr/LocA per alpha weighted
 // by each sequence's HOTA TP.

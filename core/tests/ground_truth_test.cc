@@ -1,0 +1,85 @@
+#include "hcpf/core/ground_truth.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <numbers>
+
+namespace hcpf {
+namespace {
+
+// A nadir camera at `altitude` with horizontal field of view 20 deg on a
+// 640-pixel-wide image: f = 320 / tan(10 deg) = 1814.8 px.
+WorldSpec NadirWorld(double altitude, Eigen::Vector3d dims) {
+  WorldSpec w;
+  w.frames = 1;
+  w.camera.width_px = 640;
+  w.camera.height_px = 480;
+  w.camera.hfov_deg = 20.0;
+  w.camera.path = {{0, {0, 0, altitude}, {0, 0, 0}}};
+  TargetSpec t;
+  t.id = ObjectId{1};
+  t.dimensions_m = dims;
+  t.path.waypoints_m = {{0, 0}};
+  w.targets.push_back(t);
+  return w;
+}
+
+TEST(ComputeGroundTruth, NadirTargetSpansFocalTimesLengthOverAltitude) {
+  const double h = 100.0;
+  const double length = 4.0;
+  // A flat (1 cm) target so its top face is at the altitude of the ground.
+  const WorldSpec w = NadirWorld(h, {length, 2.0, 0.01});
+  const FrameGroundTruth gt = ComputeGroundTruth(w, 0);
+  ASSERT_EQ(gt.objects.size(), 1u);
+  const double f = 320.0 / std::tan(10.0 * std::numbers::pi / 180.0);
+  EXPECT_NEAR(gt.objects[0].amodal_box.width, f * length / h, 0.5);
+  EXPECT_NEAR(gt.objects[0].amodal_box.height, f * 2.0 / h, 0.5);
+  EXPECT_NEAR(gt.objects[0].amodal_box.centre_x(), 320.0, 1e-6);
+  EXPECT_NEAR(gt.objects[0].visible_fraction, 1.0, 1e-12);
+  EXPECT_TRUE(gt.objects[0].in_frame);
+  EXPECT_EQ(gt.objects[0].truncation, 0.0);
+}
+
+TEST(ComputeGroundTruth, BuildingCoveringHalfTheVehicle) {
+  WorldSpec w = NadirWorld(100.0, {4.0, 2.0, 0.01});
+  OccluderSpec building;
+  building.kind = OccluderKind::kBuilding;
+  building.at_m = {5.0, 0.0};  // covers x in [0, 10]: the east half of the target
+  building.size_m = {10.0, 10.0, 5.0};
+  w.occluders.push_back(building);
+  const FrameGroundTruth gt = ComputeGroundTruth(w, 0);
+  const GroundTruthObject& o = gt.objects[0];
+  // Rays to points with x < 0 pass west of the building (x * 95/100 < 0 at its
+  // roof), rays to x > 0 hit the roof: half the lattice is visible.
+  EXPECT_NEAR(o.visible_fraction, 0.5, 0.05);
+  // The visible box lies inside the amodal box and covers its west half.
+  EXPECT_GE(o.visible_box.left, o.amodal_box.left - 1e-9);
+  EXPECT_LE(o.visible_box.right(), o.amodal_box.right() + 1e-9);
+  EXPECT_NEAR(o.visible_box.width, 0.5 * o.amodal_box.width, 0.05 * o.amodal_box.width);
+}
+
+TEST(ComputeGroundTruth, TruncationAndOutOfFrame) {
+  WorldSpec w = NadirWorld(100.0, {4.0, 2.0, 0.01});
+  // Half-width of the view at 100 m: 100 * tan(10 deg) = 17.63 m. A target
+  // centred on the right edge is cut in half.
+  w.targets[0].path.waypoints_m = {{100.0 * std::tan(10.0 * std::numbers::pi / 180.0), 0.0}};
+  FrameGroundTruth gt = ComputeGroundTruth(w, 0);
+  EXPECT_TRUE(gt.objects[0].in_frame);
+  EXPECT_NEAR(gt.objects[0].truncation, 0.5, 0.01);
+  EXPECT_NEAR(gt.objects[0].visible_fraction, 1.0, 1e-12);
+  w.targets[0].path.waypoints_m = {{60.0, 0.0}};
+  gt = ComputeGroundTruth(w, 0);
+  EXPECT_FALSE(gt.objects[0].in_frame);
+}
+
+TEST(ComputeGroundTruth, AbsentTargetsAreNotListed) {
+  WorldSpec w = NadirWorld(100.0, {4.0, 2.0, 1.5});
+  w.frames = 10;
+  w.targets[0].path.start_frame = 5;
+  EXPECT_TRUE(ComputeGroundTruth(w, 4).objects.empty());
+  EXPECT_EQ(ComputeGroundTruth(w, 5).objects.size(), 1u);
+}
+
+}  // namespace
+}  // namespace hcpf

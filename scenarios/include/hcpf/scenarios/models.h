@@ -1,0 +1,29 @@
+#pragma once
+// Model files named in scenarios: where they are looked for, and the
+// dimensions of the vehicle or occluder they hold.
+
+#include <Eigen/Core>
+#include <string>
+
+#include "hcpf/core/error.h"
+
+namespace hcpf::scenarios {
+
+// Resolves a model path as written in a scenario: an absolute path; else
+// relative to the current directory; else to the scenario file's folder; else
+// to the project's source folder (so shipped scenarios run from anywhere).
+// Returns the canonical absolute path of the first candidate that exists;
+// throws InputError at `where` naming every place looked at when none exists.
+std::string ResolveModelPath(const std::string& written, const std::string& scenario_file,
+                             const SourceLocation& where);
+
+// The path written to resolved scenarios: relative to the project's source
+// folder when the file is inside it (shipped assets stay portable), else absolute.
+std::string PortableModelPath(const std::string& resolved);
+
+// Length (along +x), width and height of a model file's bounding box, in
+// metres, read with the renderer's mesh importer. Throws InputError at `where`
+// when the file cannot be read as a mesh.
+Eigen::Vector3d ModelDimensions(const std::string& path, const SourceLocation& where);
+
+}  // namespace hcpf::scenarios

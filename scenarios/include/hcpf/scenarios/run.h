@@ -1,0 +1,35 @@
+#pragma once
+// One run of a scenario: world -> ground truth -> observations -> tracker ->
+// metrics, written to an output folder (layout in docs/outputs.md).
+//
+// The folder appears complete or not at all: everything is written to a
+// sibling "<out>.partial-<pid>" folder that is renamed into place at the end,
+// so a failed or killed run never leaves a folder that looks finished.
+
+#include <string>
+
+#include "hcpf/scenarios/scenario.h"
+
+namespace hcpf::scenarios {
+
+struct RunOptions {
+  std::string out_dir;
+  bool video = false;  // also write overlay.mp4
+};
+
+struct RunSummary {
+  std::string out_dir;
+  int frames = 0;
+  int gt_boxes = 0;
+  int detections = 0;
+  bool tracked = false;
+  bool scored = false;
+  double wall_time_s = 0.0;
+};
+
+// Runs `scenario` and writes its outputs. Throws InputError when `out_dir`
+// exists and is neither empty nor an earlier run's folder; RunError when
+// writing fails.
+RunSummary RunScenario(const Scenario& scenario, const RunOptions& options);
+
+}  // namespace hcpf::scenarios

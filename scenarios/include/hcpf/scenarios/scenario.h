@@ -1,0 +1,174 @@
+#pragma once
+// A scenario: everything one run needs, validated, with every default and
+// every seed filled in. Loaded from YAML (docs/scenario.md is the schema).
+
+#include <cstdint>
+#include <map>
+#include <string>
+#include <vector>
+
+#include "hcpf/core/world.h"
+
+namespace hcpf::scenarios {
+
+// Seeds of the named sub-streams. Each defaults to a value derived from the
+// scenario seed and its name, and may be pinned in YAML (`seeds.<name>`), so a
+// sweep can vary the tracker's randomness while keeping the observations fixed.
+struct Seeds {
+  uint64_t world = 0;        // terrain relief, camera shake
+  uint64_t observation = 0;  // simulated detections and clutter
+  uint64_t tracker = 0;      // particle filters
+  uint64_t renderer = 0;     // sensor noise, procedural textures
+};
+
+// The simulated (oracle) detector of detection-level mode.
+struct SimulatedObservationOptions {
+  double sigma_px = 2.0;            // std. dev. of the detected centre, pixels
+  double size_sigma = 0.05;         // std. dev. of log box size (relative)
+  double p_detect = 0.95;           // detection probability of a fully visible target
+  double visibility_exponent = 1.0; // p = p_detect * visible_fraction^exponent
+  double min_visible = 0.05;        // no detection below this visible fraction
+  double clutter_per_frame = 1.0;   // Poisson mean of false detections per frame
+  std::map<int32_t, double> strength;  // per target id; absent = 1.0
+  bool likelihood_map = false;      // also produce a likelihood map
+  double map_cell_px = 4.0;         // map resolution: image pixels per cell
+  double map_blob_scale = 0.5;      // blob std. dev. = scale * mean(box w, h) / 2
+  double map_noise = 0.05;          // noise floor: max of uniform noise per cell
+
+  double StrengthOf(int32_t id) const {
+    const auto it = strength.find(id);
+    return it == strength.end() ? 1.0 : it->second;
+  }
+};
+
+enum class ObservationSource { kSimulated, kRendered };
+
+struct ObservationOptions {
+  ObservationSource source = ObservationSource::kSimulated;
+  std::string detector = "oracle";  // rendered mode: which detector; simulated: oracle
+  SimulatedObservationOptions simulated;
+};
+
+struct SensorOptions {
+  double noise_sigma = 0.0;  // Gaussian noise, 8-bit grey levels
+  double blur_px = 0.0;      // Gaussian blur std. dev., pixels
+  int jpeg_quality = 100;    // 100 = no JPEG round trip
+  double exposure = 1.0;     // multiplies linear intensity
+};
+
+struct RendererConfig {
+  std::string backend = "auto";  // auto | osmesa | egl
+  int shadow_map_size = 1024;
+  int pcf_radius = 1;            // PCF kernel (2r+1)^2 taps
+  bool write_frames = false;     // `hcpf run`: also write frames/*.png
+  bool write_depth = false;
+  bool write_instance_ids = false;
+};
+
+struct DynamicsConfig {
+  std::string model = "constant_velocity";  // random_walk | constant_velocity | constant_velocity_scale
+  double sigma_pos_px = 1.5;
+  double sigma_vel_px = 0.3;
+  double sigma_scale = 0.01;
+};
+
+struct LikelihoodConfig {
+  std::string model = "detections_mixture";  // detections_mixture | associated | map
+  double sigma_px = 3.0;
+  double clutter_weight = 0.01;  // relative floor of the mixture
+};
+
+struct ResamplingConfig {
+  std::string method = "systematic";  // multinomial | systematic | stratified | residual | charged
+  std::string base = "systematic";    // charged / ess_gated: the underlying resampler
+  double ess_threshold = 1.0;         // resample when ESS/N < threshold (1 = always)
+  std::string potential = "gaussian";  // gaussian | coulomb
+  double charge = 1.0;
+  double softening_px = 6.0;
+  double beta = 1.0;
+  int max_tries = 20;
+};
+
+struct InteractionConfig {
+  std::string model = "none";  // none | mrf (Khan–Balch–Dellaert)
+  double strength = 1.0;
+  double radius_px = 10.0;
+};
+
+struct HierarchicalConfig {
+  bool enabled = false;
+  int scene_particles = 200;
+  std::string motion = "similarity";
+};
+
+struct AssociationConfig {
+  std::string method = "none";  // gnn | nearest | none
+  std::string gate = "mahalanobis";  // mahalanobis | iou
+  double gate_value = 9.21;      // chi-square 2 dof at 99 %, or min IoU
+};
+
+struct TrackManagementConfig {
+  std::string init = "ground_truth";  // ground_truth | detections
+  int confirm_m = 3;
+  int confirm_n = 5;
+  int delete_after = 15;  // frames without support
+};
+
+struct TrackerConfig {
+  int particles = 500;
+  DynamicsConfig dynamics;
+  LikelihoodConfig likelihood;
+  ResamplingConfig resampling;
+  InteractionConfig interaction;
+  HierarchicalConfig hierarchical;
+  AssociationConfig association;
+  TrackManagementConfig management;
+  int keep_particles = 0;  // particles per filter kept per frame for overlays (0 = none)
+};
+
+struct MetricsConfig {
+  double iou_threshold = 0.5;
+  double gate_factor = 1.0;
+  double encounter_factor = 2.0;
+  int post_window = 10;
+  double min_visible = 0.2;
+  double ospa_cutoff_px = 50.0;
+  double ospa_order = 1.0;
+};
+
+struct Scenario {
+  std::string source_file;  // where it was loaded from (for messages)
+  std::string name;
+  uint64_t seed = 1;
+  Seeds seeds;
+  WorldSpec world;
+  ObservationOptions observation;
+  SensorOptions sensor;
+  RendererConfig renderer;
+  TrackerConfig tracker;
+  MetricsConfig metrics;
+};
+
+// One `--set key=value` override: a dotted key (list items by index, e.g.
+// `targets.0.path.speed_mps`) and a YAML value (`1000`, `[320, 240]`, `charged`).
+struct Override {
+  std::string key;
+  std::string value;
+};
+// Parses "key=value"; throws InputError when there is no '=' or no key.
+Override ParseOverride(const std::string& text);
+
+// Loads, applies overrides, validates and resolves a scenario. Throws
+// InputError naming file, line, column, key, expected and found.
+Scenario LoadScenarioFile(const std::string& path, const std::vector<Override>& overrides = {});
+Scenario LoadScenarioText(const std::string& text, const std::string& file_name,
+                          const std::vector<Override>& overrides = {});
+
+// The resolved scenario as YAML: every key with its value, seeds included.
+// Loading this text gives back an identical Scenario (and the same text).
+std::string ToResolvedYaml(const Scenario& scenario);
+
+// Stable 64-bit hash (hex) of the resolved YAML: the run's identity.
+std::string ConfigHash(const Scenario& scenario);
+
+}  // namespace hcpf::scenarios

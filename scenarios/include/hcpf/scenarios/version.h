@@ -1,0 +1,18 @@
+#pragma once
+// Version and build provenance of HCPF Bench, for `hcpf --version` and run manifests.
+
+#include <map>
+#include <string>
+
+namespace hcpf::scenarios {
+
+// "hcpf 0.1.0 (git abcdef123456)"
+std::string VersionString();
+std::string ProjectVersion();
+// Git revision of the source tree at build time ("unknown" outside a checkout),
+// with "-dirty" when it had uncommitted changes.
+std::string GitRevision();
+// Versions of the libraries built against (OpenCV, assimp, yaml-cpp, Mesa, ...).
+std::map<std::string, std::string> LibraryVersions();
+
+}  // namespace hcpf::scenarios

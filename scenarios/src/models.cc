@@ -1,0 +1,65 @@
+#include "hcpf/scenarios/models.h"
+
+#include <fmt/format.h>
+
+#include <filesystem>
+#include <map>
+#include <mutex>
+
+#include "hcpf/renderer/mesh.h"
+
+namespace hcpf::scenarios {
+
+namespace fs = std::filesystem;
+
+std::string ResolveModelPath(const std::string& written, const std::string& scenario_file,
+                             const SourceLocation& where) {
+  std::vector<fs::path> candidates;
+  const fs::path p(written);
+  if (p.is_absolute()) {
+    candidates.push_back(p);
+  } else {
+    candidates.push_back(fs::current_path() / p);
+    if (!scenario_file.empty() && scenario_file.rfind("--set", 0) != 0) {
+      candidates.push_back(fs::absolute(fs::path(scenario_file)).parent_path() / p);
+    }
+    candidates.push_back(fs::path(HCPF_PROJECT_SOURCE_DIR) / p);
+  }
+  std::string looked;
+  for (const fs::path& c : candidates) {
+    std::error_code ec;
+    if (fs::is_regular_file(c, ec)) return fs::weakly_canonical(c).string();
+    looked += (looked.empty() ? "" : ", ") + c.lexically_normal().string();
+  }
+  throw InputError(where, "the path of an existing model file",
+                   fmt::format("\"{}\", which does not exist (looked at {})", written, looked));
+}
+
+std::string PortableModelPath(const std::string& resolved) {
+  const fs::path root = fs::weakly_canonical(fs::path(HCPF_PROJECT_SOURCE_DIR));
+  const fs::path rel = fs::path(resolved).lexically_relative(root);
+  if (!rel.empty() && *rel.begin() != "..") return rel.generic_string();
+  return resolved;
+}
+
+Eigen::Vector3d ModelDimensions(const std::string& path, const SourceLocation& where) {
+  // Scenario files name the same few models many times (sweeps load one
+  // scenario per run): keep the dimensions of each file once read.
+  static std::mutex mutex;
+  static std::map<std::string, Eigen::Vector3d> cache;
+  {
+    std::lock_guard lock(mutex);
+    if (auto it = cache.find(path); it != cache.end()) return it->second;
+  }
+  Eigen::Vector3d dims;
+  try {
+    dims = renderer::MeshDimensions(renderer::LoadMesh(path));
+  } catch (const InputError& e) {
+    throw InputError(where, "a readable mesh file", fmt::format("\"{}\": {}", path, e.what()));
+  }
+  std::lock_guard lock(mutex);
+  cache[path] = dims;
+  return dims;
+}
+
+}  // namespace hcpf::scenarios

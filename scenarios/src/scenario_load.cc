@@ -1,0 +1,485 @@
+// Scenario YAML -> Scenario. Every key read here is documented in
+// docs/scenario.md with its type, unit, default and range; keep them in step.
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <charconv>
+#include <filesystem>
+#include <set>
+
+#include "hcpf/core/rng.h"
+#include "hcpf/scenarios/models.h"
+#include "hcpf/scenarios/scenario.h"
+#include "yaml_reader.h"
+
+namespace hcpf::scenarios {
+namespace {
+
+constexpr double kBig = 1e6;  // generous bound for world coordinates, metres
+
+Eigen::Vector2d V2(const Eigen::VectorXd& v) { return {v[0], v[1]}; }
+Eigen::Vector3d V3(const Eigen::VectorXd& v) { return {v[0], v[1], v[2]}; }
+Eigen::VectorXd Vx(std::initializer_list<double> values) {
+  Eigen::VectorXd v(static_cast<int>(values.size()));
+  int i = 0;
+  for (double x : values) v[i++] = x;
+  return v;
+}
+
+uint64_t DeriveSeed(uint64_t seed, const char* name) { return Rng(seed).Fork(name).identity(); }
+
+void ReadTerrain(YamlReader r, TerrainSpec* t) {
+  r.ExpectMap();
+  t->size_m = V2(r.Vector("size_m", 2, Vx({400, 400}), 1.0, kBig));
+  t->relief_m = r.Number("relief_m", 0.0, 0.0, 1000.0);
+  t->texture = r.Enum("texture", "grass", {"grass", "dirt", "asphalt", "sand"});
+  t->roads = r.Bool("roads", false);
+  r.Finish();
+}
+
+void ReadSun(YamlReader r, SunSpec* s) {
+  r.ExpectMap();
+  s->azimuth_deg = r.Number("azimuth_deg", 135.0, 0.0, 360.0);
+  s->elevation_deg = r.Number("elevation_deg", 35.0, 1.0, 90.0);
+  s->shadows = r.Bool("shadows", true);
+  r.Finish();
+}
+
+OccluderSpec ReadOccluder(YamlReader r, const std::string& scenario_file) {
+  r.ExpectMap();
+  OccluderSpec o;
+  const std::string kind = r.Enum("kind", std::nullopt, {"bridge", "building", "tree", "mesh"});
+  if (kind == "bridge") {
+    o.kind = OccluderKind::kBridge;
+    o.from_m = V2(r.Vector("from", 2, std::nullopt, -kBig, kBig));
+    o.to_m = V2(r.Vector("to", 2, std::nullopt, -kBig, kBig));
+    if ((o.to_m - o.from_m).norm() < 0.1) {
+      r.Child("to").Fail("an end point at least 0.1 m from \"from\"");
+    }
+    o.width_m = r.Number("width_m", 8.0, 0.1, 1000.0);
+    o.height_m = r.Number("height_m", 6.0, 1.5, 1000.0);
+  } else if (kind == "building") {
+    o.kind = OccluderKind::kBuilding;
+    o.at_m = V2(r.Vector("at", 2, std::nullopt, -kBig, kBig));
+    o.size_m = V3(r.Vector("size_m", 3, Vx({10, 10, 10}), 0.1, 10000.0));
+    o.yaw_deg = r.Number("yaw_deg", 0.0, -360.0, 360.0);
+  } else if (kind == "tree") {
+    o.kind = OccluderKind::kTree;
+    o.at_m = V2(r.Vector("at", 2, std::nullopt, -kBig, kBig));
+    o.height_m = r.Number("height_m", 9.0, 0.5, 200.0);
+  } else {
+    o.kind = OccluderKind::kMesh;
+    YamlReader model = r.Child("model");
+    o.model = ResolveModelPath(r.String("model", std::nullopt), scenario_file, model.Where());
+    o.at_m = V2(r.Vector("at", 2, std::nullopt, -kBig, kBig));
+    o.yaw_deg = r.Number("yaw_deg", 0.0, -360.0, 360.0);
+    o.scale = r.Number("scale", 1.0, 1e-3, 1e3);
+    o.size_m = ModelDimensions(o.model, model.Where());
+  }
+  r.Finish();
+  return o;
+}
+
+TargetPathSpec ReadPath(YamlReader r, int frames) {
+  r.ExpectMap();
+  TargetPathSpec p;
+  const std::string type = r.Enum("type", "waypoints", {"waypoints", "constant_turn"});
+  p.start_frame = static_cast<int>(r.Integer("start_frame", 0, 0, frames - 1));
+  p.end_frame = static_cast<int>(r.Integer("end_frame", -1, -1, frames - 1));
+  if (p.end_frame >= 0 && p.end_frame < p.start_frame) {
+    r.Child("end_frame").Fail(fmt::format("-1 or a frame >= start_frame ({})", p.start_frame));
+  }
+  p.speed_mps = r.Number("speed_mps", 5.0, 0.0, 1000.0);
+  p.heading_deg = r.Number("heading_deg", 0.0, -360.0, 360.0);
+  if (type == "waypoints") {
+    p.kind = PathKind::kWaypoints;
+    YamlReader waypoints = r.Child("waypoints");
+    for (const YamlReader& w : waypoints.Items()) p.waypoints_m.push_back(V2(w.AsVector(2, -kBig, kBig)));
+    if (p.waypoints_m.empty()) waypoints.Fail("a list of at least one [x, y] point");
+    p.vanish_at_end = r.Enum("at_end", "stay", {"stay", "vanish"}) == "vanish";
+    if (auto stops = r.Optional("stops")) {
+      double last = -1.0;
+      for (YamlReader s : stops->Items()) {
+        PathStop stop;
+        stop.at_m = s.Number("at_m", std::nullopt, 0.0, kBig);
+        stop.duration_s = s.Number("duration_s", std::nullopt, 0.0, 1e5);
+        if (stop.at_m < last) s.Child("at_m").Fail("stops in increasing order of at_m");
+        last = stop.at_m;
+        s.Finish();
+        p.stops.push_back(stop);
+      }
+    }
+    if (p.waypoints_m.size() > 1 && p.speed_mps <= 0.0) {
+      r.Child("speed_mps").Fail("a speed > 0 for a path of several waypoints");
+    }
+  } else {
+    p.kind = PathKind::kConstantTurn;
+    p.start_m = V2(r.Vector("start", 2, std::nullopt, -kBig, kBig));
+    p.turn_rate_deg_s = r.Number("turn_rate_deg_s", 0.0, -360.0, 360.0);
+  }
+  r.Finish();
+  return p;
+}
+
+TargetSpec ReadTarget(YamlReader r, int frames, const std::string& scenario_file) {
+  r.ExpectMap();
+  TargetSpec t;
+  t.id = ObjectId{static_cast<int32_t>(r.Integer("id", std::nullopt, 1, 1'000'000'000))};
+  if (r.Has("model")) {
+    YamlReader model = r.Child("model");
+    t.model = ResolveModelPath(r.String("model", std::nullopt), scenario_file, model.Where());
+  }
+  if (r.Has("dimensions_m")) {
+    t.dimensions_m = V3(r.Vector("dimensions_m", 3, std::nullopt, 0.05, 1000.0));
+  } else if (!t.model.empty()) {
+    t.dimensions_m = ModelDimensions(t.model, r.Child("model").Where());
+  } else {
+    r.Child("dimensions_m");  // neither a model nor dimensions: report the missing key
+  }
+  t.tint = V3(r.Vector("tint", 3, Vx({0.5, 0.5, 0.5}), 0.0, 1.0));
+  t.path = ReadPath(r.Child("path"), frames);
+  r.Finish();
+  return t;
+}
+
+void ReadCamera(YamlReader r, int frames, CameraSpec* c) {
+  r.ExpectMap();
+  YamlReader res = r.Child("resolution");
+  const Eigen::VectorXd resolution = res.AsVector(2, 16, 8192);
+  if (resolution[0] != std::floor(resolution[0]) || resolution[1] != std::floor(resolution[1])) {
+    res.Fail("two whole numbers [width, height] in [16, 8192]");
+  }
+  c->width_px = static_cast<int>(resolution[0]);
+  c->height_px = static_cast<int>(resolution[1]);
+  c->hfov_deg = r.Number("fov_deg", 40.0, 1.0, 170.0);
+  c->shake_px = r.Number("shake_px", 0.0, 0.0, 100.0);
+  YamlReader path = r.Child("path");
+  for (YamlReader k : path.Items()) {
+    CameraKeyframe key;
+    key.frame = static_cast<int>(k.Integer("frame", std::nullopt, 0, frames - 1));
+    if (!c->path.empty() && key.frame <= c->path.back().frame) {
+      k.Child("frame").Fail(fmt::format("a frame after the previous keyframe's ({})",
+                                        c->path.back().frame));
+    }
+    key.position_m = V3(k.Vector("position", 3, std::nullopt, -kBig, kBig));
+    key.look_at_m = V3(k.Vector("look_at", 3, std::nullopt, -kBig, kBig));
+    if ((key.position_m - key.look_at_m).norm() < 1e-6) {
+      k.Child("look_at").Fail("a point different from the camera position");
+    }
+    k.Finish();
+    c->path.push_back(key);
+  }
+  if (c->path.empty()) path.Fail("a list of at least one keyframe");
+  r.Finish();
+}
+
+void ReadSimulated(YamlReader r, const std::set<int32_t>& ids, SimulatedObservationOptions* s) {
+  r.ExpectMap();
+  s->sigma_px = r.Number("sigma_px", s->sigma_px, 0.0, 1000.0);
+  s->size_sigma = r.Number("size_sigma", s->size_sigma, 0.0, 2.0);
+  s->p_detect = r.Number("p_detect", s->p_detect, 0.0, 1.0);
+  s->visibility_exponent = r.Number("visibility_exponent", s->visibility_exponent, 0.0, 10.0);
+  s->min_visible = r.Number("min_visible", s->min_visible, 0.0, 1.0);
+  s->clutter_per_frame = r.Number("clutter_per_frame", s->clutter_per_frame, 0.0, 1000.0);
+  s->likelihood_map = r.Bool("likelihood_map", s->likelihood_map);
+  s->map_cell_px = r.Number("map_cell_px", s->map_cell_px, 1.0, 64.0);
+  s->map_blob_scale = r.Number("map_blob_scale", s->map_blob_scale, 0.01, 10.0);
+  s->map_noise = r.Number("map_noise", s->map_noise, 0.0, 10.0);
+  if (auto strength = r.Optional("strength")) {
+    strength->ExpectMap();
+    for (const auto& entry : strength->node()) {
+      const std::string text = entry.first.Scalar();
+      const int64_t id = strength->Key(entry.first).AsInteger(1, 1'000'000'000);
+      if (ids.count(static_cast<int32_t>(id)) == 0) {
+        strength->Key(entry.first)
+            .Fail("the id of one of the targets", fmt::format("there is no target with id {}", id));
+      }
+      s->strength[static_cast<int32_t>(id)] = strength->Number(text, std::nullopt, 0.0, 100.0);
+    }
+  }
+  r.Finish();
+}
+
+void ReadTracker(YamlReader r, TrackerConfig* t) {
+  r.ExpectMap();
+  t->particles = static_cast<int>(r.Integer("particles", t->particles, 1, 10'000'000));
+  t->keep_particles = static_cast<int>(r.Integer("keep_particles", t->keep_particles, 0, 100'000));
+  if (auto d = r.Optional("dynamics")) {
+    d->ExpectMap();
+    t->dynamics.model = d->Enum("model", t->dynamics.model,
+                                {"random_walk", "constant_velocity", "constant_velocity_scale"});
+    t->dynamics.sigma_pos_px = d->Number("sigma_pos_px", t->dynamics.sigma_pos_px, 0.0, 1000.0);
+    t->dynamics.sigma_vel_px = d->Number("sigma_vel_px", t->dynamics.sigma_vel_px, 0.0, 1000.0);
+    t->dynamics.sigma_scale = d->Number("sigma_scale", t->dynamics.sigma_scale, 0.0, 1.0);
+    d->Finish();
+  }
+  if (auto l = r.Optional("likelihood")) {
+    l->ExpectMap();
+    t->likelihood.model =
+        l->Enum("model", t->likelihood.model, {"detections_mixture", "associated", "map"});
+    t->likelihood.sigma_px = l->Number("sigma_px", t->likelihood.sigma_px, 1e-3, 1000.0);
+    t->likelihood.clutter_weight =
+        l->Number("clutter_weight", t->likelihood.clutter_weight, 0.0, 1.0);
+    l->Finish();
+  }
+  if (auto s = r.Optional("resampling")) {
+    s->ExpectMap();
+    auto& rs = t->resampling;
+    rs.method = s->Enum("method", rs.method,
+                        {"multinomial", "systematic", "stratified", "residual", "charged"});
+    rs.ess_threshold = s->Number("ess_threshold", rs.ess_threshold, 0.0, 1.0);
+    rs.potential = s->Enum("potential", rs.potential, {"gaussian", "coulomb"});
+    rs.charge = s->Number("charge", rs.charge, 0.0, 1e6);
+    rs.softening_px = s->Number("softening_px", rs.softening_px, 1e-3, 1e4);
+    rs.beta = s->Number("beta", rs.beta, 0.0, 1e6);
+    rs.max_tries = static_cast<int>(s->Integer("max_tries", rs.max_tries, 0, 10'000));
+    s->Finish();
+  }
+  if (auto i = r.Optional("interaction")) {
+    i->ExpectMap();
+    t->interaction.model = i->Enum("model", t->interaction.model, {"none", "mrf"});
+    t->interaction.strength = i->Number("strength", t->interaction.strength, 0.0, 1e6);
+    t->interaction.radius_px = i->Number("radius_px", t->interaction.radius_px, 1e-3, 1e4);
+    i->Finish();
+  }
+  if (auto h = r.Optional("hierarchical")) {
+    h->ExpectMap();
+    t->hierarchical.enabled = h->Bool("enabled", t->hierarchical.enabled);
+    t->hierarchical.scene_particles =
+        static_cast<int>(h->Integer("scene_particles", t->hierarchical.scene_particles, 1, 1'000'000));
+    t->hierarchical.motion =
+        h->Enum("motion", t->hierarchical.motion, {"similarity", "translation"});
+    h->Finish();
+  }
+  if (auto a = r.Optional("association")) {
+    const std::vector<std::string> methods = {"gnn", "nearest", "none"};
+    if (a->node().IsScalar()) {
+      t->association.method = r.Enum("association", std::nullopt, methods);
+    } else {
+      a->ExpectMap();
+      t->association.method = a->Enum("method", t->association.method, methods);
+      t->association.gate = a->Enum("gate", t->association.gate, {"mahalanobis", "iou"});
+      t->association.gate_value = a->Number("gate_value", t->association.gate_value, 0.0, 1e6);
+      a->Finish();
+    }
+  }
+  t->management.init = r.Enum("init", t->management.init, {"ground_truth", "detections"});
+  if (auto m = r.Optional("track_management")) {
+    m->ExpectMap();
+    t->management.confirm_n = static_cast<int>(m->Integer("confirm_n", t->management.confirm_n, 1, 1000));
+    t->management.confirm_m =
+        static_cast<int>(m->Integer("confirm_m", t->management.confirm_m, 1, t->management.confirm_n));
+    t->management.delete_after =
+        static_cast<int>(m->Integer("delete_after", t->management.delete_after, 1, 100000));
+    m->Finish();
+  }
+  r.Finish();
+}
+
+void ReadMetrics(YamlReader r, MetricsConfig* m) {
+  r.ExpectMap();
+  m->iou_threshold = r.Number("iou_threshold", m->iou_threshold, 0.0, 1.0);
+  m->gate_factor = r.Number("gate_factor", m->gate_factor, 0.01, 100.0);
+  m->encounter_factor = r.Number("encounter_factor", m->encounter_factor, 0.01, 100.0);
+  m->post_window = static_cast<int>(r.Integer("post_window", m->post_window, 0, 100000));
+  m->min_visible = r.Number("min_visible", m->min_visible, 0.0, 1.0);
+  m->ospa_cutoff_px = r.Number("ospa_cutoff_px", m->ospa_cutoff_px, 1e-3, 1e6);
+  m->ospa_order = r.Number("ospa_order", m->ospa_order, 1.0, 100.0);
+  r.Finish();
+}
+
+Scenario ReadScenario(YamlReader root, const std::string& file) {
+  root.ExpectMap();
+  if (!root.node().IsDefined() || root.node().IsNull()) root.Fail("a scenario mapping");
+  Scenario s;
+  s.source_file = file;
+  s.name = root.String("name", std::filesystem::path(file).stem().string());
+  s.seed = root.Seed("seed", 1);
+  s.seeds.world = DeriveSeed(s.seed, "world");
+  s.seeds.observation = DeriveSeed(s.seed, "observation");
+  s.seeds.tracker = DeriveSeed(s.seed, "tracker");
+  s.seeds.renderer = DeriveSeed(s.seed, "renderer");
+  if (auto seeds = root.Optional("seeds")) {
+    seeds->ExpectMap();
+    s.seeds.world = seeds->Seed("world", s.seeds.world);
+    s.seeds.observation = seeds->Seed("observation", s.seeds.observation);
+    s.seeds.tracker = seeds->Seed("tracker", s.seeds.tracker);
+    s.seeds.renderer = seeds->Seed("renderer", s.seeds.renderer);
+    seeds->Finish();
+  }
+  const int frames = static_cast<int>(root.Integer("frames", std::nullopt, 1, 1'000'000));
+  s.world.frames = frames;
+  s.world.fps = root.Number("fps", 30.0, 0.1, 10000.0);
+
+  if (auto world = root.Optional("world")) {
+    world->ExpectMap();
+    if (auto t = world->Optional("terrain")) ReadTerrain(*t, &s.world.terrain);
+    if (auto sun = world->Optional("sun")) ReadSun(*sun, &s.world.sun);
+    if (auto occ = world->Optional("occluders")) {
+      for (YamlReader o : occ->Items()) s.world.occluders.push_back(ReadOccluder(o, file));
+    }
+    world->Finish();
+  }
+  s.world.terrain.seed = s.seeds.world;
+  ReadCamera(root.Child("camera"), frames, &s.world.camera);
+  s.world.camera.shake_seed = s.seeds.world;
+
+  YamlReader targets = root.Child("targets");
+  std::set<int32_t> ids;
+  for (YamlReader t : targets.Items()) {
+    TargetSpec target = ReadTarget(t, frames, file);
+    if (!ids.insert(Value(target.id)).second) {
+      t.Child("id").Fail("an id used by no other target");
+    }
+    s.world.targets.push_back(std::move(target));
+  }
+  if (s.world.targets.empty()) targets.Fail("a list of at least one target");
+
+  if (auto sensor = root.Optional("sensor")) {
+    sensor->ExpectMap();
+    s.sensor.noise_sigma = sensor->Number("noise_sigma", s.sensor.noise_sigma, 0.0, 255.0);
+    s.sensor.blur_px = sensor->Number("blur_px", s.sensor.blur_px, 0.0, 100.0);
+    s.sensor.jpeg_quality =
+        static_cast<int>(sensor->Integer("jpeg_quality", s.sensor.jpeg_quality, 1, 100));
+    s.sensor.exposure = sensor->Number("exposure", s.sensor.exposure, 0.01, 100.0);
+    sensor->Finish();
+  }
+  if (auto obs = root.Optional("observation")) {
+    obs->ExpectMap();
+    s.observation.source = obs->Enum("source", "simulated", {"simulated", "rendered"}) == "rendered"
+                               ? ObservationSource::kRendered
+                               : ObservationSource::kSimulated;
+    s.observation.detector = obs->Enum("detector", "oracle", {"oracle"});
+    if (auto sim = obs->Optional("simulated")) ReadSimulated(*sim, ids, &s.observation.simulated);
+    obs->Finish();
+  }
+  if (auto r = root.Optional("renderer")) {
+    r->ExpectMap();
+    s.renderer.backend = r->Enum("backend", s.renderer.backend, {"auto", "osmesa", "egl"});
+    s.renderer.shadow_map_size =
+        static_cast<int>(r->Integer("shadow_map_size", s.renderer.shadow_map_size, 64, 8192));
+    s.renderer.pcf_radius = static_cast<int>(r->Integer("pcf_radius", s.renderer.pcf_radius, 0, 4));
+    s.renderer.write_frames = r->Bool("write_frames", s.renderer.write_frames);
+    s.renderer.write_depth = r->Bool("write_depth", s.renderer.write_depth);
+    s.renderer.write_instance_ids = r->Bool("write_instance_ids", s.renderer.write_instance_ids);
+    r->Finish();
+  }
+  if (auto t = root.Optional("tracker")) ReadTracker(*t, &s.tracker);
+  if (auto m = root.Optional("metrics")) ReadMetrics(*m, &s.metrics);
+  root.Finish();
+  return s;
+}
+
+// Sets `value` at the dotted `key` below `root`, creating mappings on the way;
+// numeric segments index into lists.
+void ApplyOverride(YAML::Node root, const Override& o, const std::string& origin) {
+  YAML::Node value = YamlReader::Parse(o.value, origin);
+  std::vector<std::string> parts;
+  size_t start = 0;
+  while (true) {
+    const size_t dot = o.key.find('.', start);
+    parts.push_back(o.key.substr(start, dot - start));
+    if (dot == std::string::npos) break;
+    start = dot + 1;
+  }
+  std::vector<YAML::Node> chain{root};
+  for (size_t i = 0; i < parts.size(); ++i) {
+    const std::string& part = parts[i];
+    if (part.empty()) {
+      throw InputError(SourceLocation{origin, 0, 0, o.key}, "a dotted key such as tracker.particles",
+                       "an empty segment");
+    }
+    YAML::Node current = chain.back();
+    const bool last = i + 1 == parts.size();
+    if (current.IsSequence()) {
+      size_t index = 0;
+      auto [ptr, ec] = std::from_chars(part.data(), part.data() + part.size(), index);
+      if (ec != std::errc() || ptr != part.data() + part.size() || index >= current.size()) {
+        throw InputError(SourceLocation{origin, 0, 0, o.key},
+                         fmt::format("a list index in [0, {})", current.size()), "\"" + part + "\"");
+      }
+      if (last) {
+        current[index] = value;
+      } else {
+        chain.push_back(current[index]);
+      }
+      continue;
+    }
+    if (!current.IsMap() && !current.IsNull() && current.IsDefined()) {
+      throw InputError(SourceLocation{origin, 0, 0, o.key}, "a mapping on the way to the key",
+                       "a value at \"" + part + "\"");
+    }
+    if (last) {
+      current[part] = value;
+    } else {
+      YAML::Node next = current[part];
+      if (!next.IsDefined() || next.IsNull()) {
+        current[part] = YAML::Node(YAML::NodeType::Map);
+        next = current[part];
+      }
+      chain.push_back(next);
+    }
+  }
+}
+
+std::string OverridePath(const std::string& key) {
+  // "targets.0.path" -> "targets[0].path", matching the reader's dotted paths.
+  std::string out;
+  size_t start = 0;
+  while (start <= key.size()) {
+    const size_t dot = key.find('.', start);
+    const std::string part = key.substr(start, dot == std::string::npos ? dot : dot - start);
+    const bool numeric = !part.empty() && std::all_of(part.begin(), part.end(), ::isdigit);
+    if (numeric) {
+      out += "[" + part + "]";
+    } else {
+      out += (out.empty() ? "" : ".") + part;
+    }
+    if (dot == std::string::npos) break;
+    start = dot + 1;
+  }
+  return out;
+}
+
+Scenario LoadFromNode(YAML::Node root, const std::string& file,
+                      const std::vector<Override>& overrides) {
+  auto context = std::make_shared<YamlContext>();
+  context->file = file;
+  if (!root.IsDefined() || root.IsNull()) root = YAML::Node(YAML::NodeType::Map);
+  if (!root.IsMap()) {
+    throw InputError(SourceLocation{file, 1, 1, ""}, "a scenario mapping (key: value lines)",
+                     "a " + std::string(root.IsSequence() ? "list" : "single value"));
+  }
+  for (const Override& o : overrides) {
+    const std::string origin = "--set " + o.key + "=" + o.value;
+    ApplyOverride(root, o, origin);
+    context->overrides[OverridePath(o.key)] = origin;
+  }
+  return ReadScenario(YamlReader(root, "", context), file);
+}
+
+}  // namespace
+
+Override ParseOverride(const std::string& text) {
+  const size_t eq = text.find('=');
+  if (eq == std::string::npos || eq == 0) {
+    throw InputError(SourceLocation{"--set " + text, 0, 0, ""}, "key=value, e.g. tracker.particles=1000",
+                     "\"" + text + "\"");
+  }
+  return {text.substr(0, eq), text.substr(eq + 1)};
+}
+
+Scenario LoadScenarioText(const std::string& text, const std::string& file_name,
+                          const std::vector<Override>& overrides) {
+  return LoadFromNode(YamlReader::Parse(text, file_name), file_name, overrides);
+}
+
+Scenario LoadScenarioFile(const std::string& path, const std::vector<Override>& overrides) {
+  if (std::filesystem::is_directory(path)) {
+    throw InputError(SourceLocation{path, 0, 0, ""}, "a scenario YAML file", "a directory");
+  }
+  return LoadFromNode(YamlReader::ParseFile(path), path, overrides);
+}
+
+}  // namespace hcpf::scenarios

@@ -1,0 +1,337 @@
+#include "yaml_reader.h"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cerrno>
+#include <charconv>
+#include <cmath>
+#include <cstring>
+#include <fstream>
+#include <sstream>
+
+namespace hcpf::scenarios {
+namespace {
+
+std::string Quote(const std::string& s) { return "\"" + s + "\""; }
+
+bool ParseDouble(const std::string& text, double* out) {
+  if (text.empty()) return false;
+  // YAML spellings of infinity/NaN are not accepted anywhere in the schema.
+  const char* begin = text.data();
+  const char* end = text.data() + text.size();
+  if (*begin == '+') ++begin;
+  auto [ptr, ec] = std::from_chars(begin, end, *out);
+  return ec == std::errc() && ptr == end && std::isfinite(*out);
+}
+
+bool ParseInt(const std::string& text, int64_t* out) {
+  if (text.empty()) return false;
+  const char* begin = text.data();
+  const char* end = text.data() + text.size();
+  if (*begin == '+') ++begin;
+  auto [ptr, ec] = std::from_chars(begin, end, *out);
+  return ec == std::errc() && ptr == end;
+}
+
+std::string RangeText(double lo, double hi) {
+  return fmt::format("[{}, {}]", FormatNumber(lo), FormatNumber(hi));
+}
+
+}  // namespace
+
+std::string FormatNumber(double value) {
+  if (value == std::floor(value) && std::abs(value) < 1e15) {
+    return fmt::format("{}", static_cast<int64_t>(value));
+  }
+  return fmt::format("{}", value);
+}
+
+int EditDistance(const std::string& a, const std::string& b) {
+  std::vector<int> prev(b.size() + 1);
+  std::vector<int> cur(b.size() + 1);
+  for (size_t j = 0; j <= b.size(); ++j) prev[j] = static_cast<int>(j);
+  for (size_t i = 1; i <= a.size(); ++i) {
+    cur[0] = static_cast<int>(i);
+    for (size_t j = 1; j <= b.size(); ++j) {
+      const int cost = a[i - 1] == b[j - 1] ? 0 : 1;
+      cur[j] = std::min({prev[j] + 1, cur[j - 1] + 1, prev[j - 1] + cost});
+    }
+    std::swap(prev, cur);
+  }
+  return prev[b.size()];
+}
+
+std::string ClosestMatch(const std::string& word, const std::vector<std::string>& candidates) {
+  std::string best;
+  // Up to a third of the word's length may differ (at least 1, at most 3 edits):
+  // enough for a transposition or a dropped letter, not for an unrelated key.
+  const int limit = std::clamp(static_cast<int>(word.size()) / 3, 1, 3);
+  int best_distance = limit + 1;
+  for (const std::string& c : candidates) {
+    const int d = EditDistance(word, c);
+    if (d < best_distance) {
+      best_distance = d;
+      best = c;
+    }
+  }
+  return best;
+}
+
+YamlReader::YamlReader(YAML::Node node, std::string path,
+                       std::shared_ptr<const YamlContext> context)
+    : node_(std::move(node)),
+      path_(std::move(path)),
+      context_(std::move(context)),
+      asked_(std::make_shared<std::set<std::string>>()) {}
+
+YAML::Node YamlReader::Parse(const std::string& text, const std::string& file) {
+  try {
+    return YAML::Load(text);
+  } catch (const YAML::ParserException& e) {
+    SourceLocation where{file, e.mark.line + 1, e.mark.column + 1, ""};
+    throw InputError(where, "valid YAML", "a syntax error: " + e.msg);
+  }
+}
+
+YAML::Node YamlReader::ParseFile(const std::string& file) {
+  std::ifstream in(file, std::ios::binary);
+  if (!in) {
+    throw InputError(SourceLocation{file, 0, 0, ""}, "a readable YAML file",
+                     fmt::format("it cannot be opened ({})", std::strerror(errno)));
+  }
+  std::stringstream buffer;
+  buffer << in.rdbuf();
+  return Parse(buffer.str(), file);
+}
+
+SourceLocation YamlReader::Where() const {
+  SourceLocation where{context_->file, 0, 0, path_};
+  // A value set on the command line is reported there.
+  for (const auto& [prefix, origin] : context_->overrides) {
+    if (path_ == prefix || path_.rfind(prefix + ".", 0) == 0) {
+      where.file = origin;
+      return where;
+    }
+  }
+  if (node_.IsDefined()) {
+    const YAML::Mark mark = node_.Mark();
+    if (mark.line >= 0) {
+      where.line = mark.line + 1;
+      where.column = mark.column + 1;
+    }
+  }
+  return where;
+}
+
+SourceLocation YamlReader::WhereKey(const std::string& key) const {
+  SourceLocation where = Where();
+  // A missing key is reported where its mapping's own key is written
+  // ("camera:"), which is more useful than the mapping's first entry.
+  if (where.file == context_->file && key_mark_.line >= 0) {
+    where.line = key_mark_.line + 1;
+    where.column = key_mark_.column + 1;
+  }
+  where.key = ChildPath(key);
+  return where;
+}
+
+void YamlReader::Fail(const std::string& expected, const std::string& hint) const {
+  throw InputError(Where(), expected, Describe(), hint);
+}
+
+std::string YamlReader::Describe() const {
+  if (!node_.IsDefined() || node_.IsNull()) return "nothing";
+  if (node_.IsMap()) return "a mapping";
+  if (node_.IsSequence()) return fmt::format("a list of {} item(s)", node_.size());
+  return Quote(node_.Scalar());
+}
+
+std::string YamlReader::ChildPath(const std::string& key) const {
+  return path_.empty() ? key : path_ + "." + key;
+}
+
+void YamlReader::ExpectMap() const {
+  if (node_.IsDefined() && !node_.IsNull() && !node_.IsMap()) Fail("a mapping of keys");
+}
+
+bool YamlReader::Has(const std::string& key) {
+  ExpectMap();
+  asked_->insert(key);
+  if (!node_.IsDefined() || node_.IsNull()) return false;
+  const YAML::Node child = node_[key];
+  return child.IsDefined() && !child.IsNull();
+}
+
+YamlReader YamlReader::Child(const std::string& key) {
+  if (!Has(key)) {
+    throw InputError(WhereKey(key), fmt::format("the required key \"{}\"", key),
+                     "nothing (the key is missing)");
+  }
+  return MakeChild(key);
+}
+
+YamlReader YamlReader::MakeChild(const std::string& key) const {
+  YamlReader child(node_[key], ChildPath(key), context_);
+  for (const auto& entry : node_) {
+    if (entry.first.Scalar() == key) {
+      child.key_mark_ = entry.first.Mark();
+      break;
+    }
+  }
+  return child;
+}
+
+std::optional<YamlReader> YamlReader::Optional(const std::string& key) {
+  if (!Has(key)) return std::nullopt;
+  return MakeChild(key);
+}
+
+std::vector<YamlReader> YamlReader::Items() const {
+  if (!node_.IsSequence()) Fail("a list");
+  std::vector<YamlReader> items;
+  for (size_t i = 0; i < node_.size(); ++i) {
+    items.emplace_back(node_[i], path_ + "[" + std::to_string(i) + "]", context_);
+  }
+  return items;
+}
+
+double YamlReader::AsNumber(double lo, double hi) const {
+  double value = 0.0;
+  if (!node_.IsScalar() || !ParseDouble(node_.Scalar(), &value)) {
+    Fail("a number in " + RangeText(lo, hi));
+  }
+  if (value < lo || value > hi) Fail("a number in " + RangeText(lo, hi));
+  return value;
+}
+
+int64_t YamlReader::AsInteger(int64_t lo, int64_t hi) const {
+  int64_t value = 0;
+  const std::string expected = fmt::format("an integer in [{}, {}]", lo, hi);
+  if (!node_.IsScalar() || !ParseInt(node_.Scalar(), &value)) Fail(expected);
+  if (value < lo || value > hi) Fail(expected);
+  return value;
+}
+
+Eigen::VectorXd YamlReader::AsVector(int n, double lo, double hi) const {
+  const std::string expected =
+      fmt::format("a list of {} numbers in {}", n, RangeText(lo, hi));
+  if (!node_.IsSequence() || static_cast<int>(node_.size()) != n) Fail(expected);
+  Eigen::VectorXd v(n);
+  for (int i = 0; i < n; ++i) {
+    YamlReader item(node_[i], path_ + "[" + std::to_string(i) + "]", context_);
+    double value = 0.0;
+    if (!item.node_.IsScalar() || !ParseDouble(item.node_.Scalar(), &value) || value < lo ||
+        value > hi) {
+      item.Fail(fmt::format("a number in {}", RangeText(lo, hi)));
+    }
+    v[i] = value;
+  }
+  return v;
+}
+
+double YamlReader::Number(const std::string& key, std::optional<double> fallback, double lo,
+                          double hi) {
+  if (!Has(key)) {
+    if (fallback) return *fallback;
+    Child(key);  // throws "required"
+  }
+  return Child(key).AsNumber(lo, hi);
+}
+
+int64_t YamlReader::Integer(const std::string& key, std::optional<int64_t> fallback, int64_t lo,
+                            int64_t hi) {
+  if (!Has(key)) {
+    if (fallback) return *fallback;
+    Child(key);
+  }
+  return Child(key).AsInteger(lo, hi);
+}
+
+uint64_t YamlReader::Seed(const std::string& key, std::optional<uint64_t> fallback) {
+  if (!Has(key)) {
+    if (fallback) return *fallback;
+    Child(key);
+  }
+  YamlReader child = Child(key);
+  uint64_t value = 0;
+  const std::string& text = child.node_.IsScalar() ? child.node_.Scalar() : std::string();
+  auto [ptr, ec] = std::from_chars(text.data(), text.data() + text.size(), value);
+  if (text.empty() || ec != std::errc() || ptr != text.data() + text.size()) {
+    child.Fail("a non-negative integer seed below 2^64");
+  }
+  return value;
+}
+
+bool YamlReader::Bool(const std::string& key, std::optional<bool> fallback) {
+  if (!Has(key)) {
+    if (fallback) return *fallback;
+    Child(key);
+  }
+  YamlReader child = Child(key);
+  const std::string text = child.node_.IsScalar() ? child.node_.Scalar() : "";
+  if (text == "true") return true;
+  if (text == "false") return false;
+  child.Fail("true or false");
+}
+
+std::string YamlReader::String(const std::string& key, std::optional<std::string> fallback) {
+  if (!Has(key)) {
+    if (fallback) return *fallback;
+    Child(key);
+  }
+  YamlReader child = Child(key);
+  if (!child.node_.IsScalar()) child.Fail("a text value");
+  return child.node_.Scalar();
+}
+
+std::string YamlReader::Enum(const std::string& key, std::optional<std::string> fallback,
+                             const std::vector<std::string>& choices) {
+  if (!Has(key)) {
+    if (fallback) return *fallback;
+    Child(key);
+  }
+  YamlReader child = Child(key);
+  std::string joined;
+  for (const auto& c : choices) joined += (joined.empty() ? "" : " | ") + c;
+  if (!child.node_.IsScalar()) child.Fail("one of " + joined);
+  const std::string value = child.node_.Scalar();
+  if (std::find(choices.begin(), choices.end(), value) == choices.end()) {
+    const std::string near = ClosestMatch(value, choices);
+    child.Fail("one of " + joined, near.empty() ? "" : "did you mean \"" + near + "\"?");
+  }
+  return value;
+}
+
+Eigen::VectorXd YamlReader::Vector(const std::string& key, int n,
+                                   std::optional<Eigen::VectorXd> fallback, double lo,
+                                   double hi) {
+  if (!Has(key)) {
+    if (fallback) return *fallback;
+    Child(key);
+  }
+  return Child(key).AsVector(n, lo, hi);
+}
+
+void YamlReader::Finish() const {
+  if (!node_.IsDefined() || node_.IsNull() || !node_.IsMap()) return;
+  std::vector<std::string> known(asked_->begin(), asked_->end());
+  std::set<std::string> seen;
+  for (const auto& entry : node_) {
+    const std::string key = entry.first.Scalar();
+    YamlReader key_reader(entry.first, ChildPath(key), context_);
+    if (!seen.insert(key).second) {
+      throw InputError(key_reader.Where(), "each key once", "a second \"" + key + "\"");
+    }
+    if (asked_->count(key) == 0) {
+      const std::string near = ClosestMatch(key, known);
+      std::string hint = near.empty() ? "" : "did you mean \"" + near + "\"?";
+      std::string all;
+      for (const auto& k : known) all += (all.empty() ? "" : ", ") + k;
+      throw InputError(key_reader.Where(), "one of the keys " + all,
+                       "the unknown key \"" + key + "\"", hint);
+    }
+  }
+}
+
+}  // namespace hcpf::scenarios

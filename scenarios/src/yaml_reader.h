@@ -1,0 +1,94 @@
+#pragma once
+// A yaml-cpp wrapper that knows where it is: the file, the dotted key path and
+// the line/column of every node. Every key a reader asks about is recorded, so
+// Finish() can reject the keys nobody asked about with a "did you mean".
+// Private to scenarios/: library modules never see YAML.
+
+#include <yaml-cpp/yaml.h>
+
+#include <Eigen/Core>
+#include <map>
+#include <memory>
+#include <optional>
+#include <set>
+#include <string>
+#include <vector>
+
+#include "hcpf/core/error.h"
+
+namespace hcpf::scenarios {
+
+// Shared by every node read from one document.
+struct YamlContext {
+  std::string file;
+  // Dotted path prefix -> the `--set` text that put it there, for locations
+  // of values that came from the command line rather than the file.
+  std::map<std::string, std::string> overrides;
+};
+
+class YamlReader {
+ public:
+  YamlReader(YAML::Node node, std::string path, std::shared_ptr<const YamlContext> context);
+
+  // Parses `text` (already read from `file`); throws InputError on a syntax
+  // error with the parser's line and column.
+  static YAML::Node Parse(const std::string& text, const std::string& file);
+  static YAML::Node ParseFile(const std::string& file);
+
+  const std::string& path() const { return path_; }
+  const YAML::Node& node() const { return node_; }
+  SourceLocation Where() const;
+  SourceLocation WhereKey(const std::string& key) const;
+  [[noreturn]] void Fail(const std::string& expected, const std::string& hint = {}) const;
+
+  // This node must be a mapping (an absent/null node counts as empty).
+  void ExpectMap() const;
+  bool Has(const std::string& key);
+  // Child mapping/list/scalar; required ones throw naming the missing key.
+  YamlReader Child(const std::string& key);
+  std::optional<YamlReader> Optional(const std::string& key);
+  std::vector<YamlReader> Items() const;  // this node must be a list
+  // A reader for a key node of this mapping (to validate keys as values).
+  YamlReader Key(const YAML::Node& key_node) const {
+    return YamlReader(key_node, ChildPath(key_node.Scalar()), context_);
+  }
+
+  double Number(const std::string& key, std::optional<double> fallback, double lo, double hi);
+  int64_t Integer(const std::string& key, std::optional<int64_t> fallback, int64_t lo, int64_t hi);
+  uint64_t Seed(const std::string& key, std::optional<uint64_t> fallback);
+  bool Bool(const std::string& key, std::optional<bool> fallback);
+  std::string String(const std::string& key, std::optional<std::string> fallback);
+  std::string Enum(const std::string& key, std::optional<std::string> fallback,
+                   const std::vector<std::string>& choices);
+  // A list of exactly N numbers in [lo, hi].
+  Eigen::VectorXd Vector(const std::string& key, int n, std::optional<Eigen::VectorXd> fallback,
+                         double lo, double hi);
+
+  // Value accessors on this node itself (for list items).
+  double AsNumber(double lo, double hi) const;
+  int64_t AsInteger(int64_t lo, int64_t hi) const;
+  Eigen::VectorXd AsVector(int n, double lo, double hi) const;
+
+  // Rejects keys of this mapping that no reader asked about.
+  void Finish() const;
+
+ private:
+  std::string ChildPath(const std::string& key) const;
+  YamlReader MakeChild(const std::string& key) const;
+  std::string Describe() const;  // what this node is, for "found ..."
+
+  YAML::Node node_;
+  YAML::Mark key_mark_ = YAML::Mark::null_mark();  // where this node's key is written
+  std::string path_;
+  std::shared_ptr<const YamlContext> context_;
+  std::shared_ptr<std::set<std::string>> asked_;
+};
+
+// Levenshtein distance (for "did you mean").
+int EditDistance(const std::string& a, const std::string& b);
+// The closest candidate within a small distance, or "".
+std::string ClosestMatch(const std::string& word, const std::vector<std::string>& candidates);
+// Shortest text that parses back to the same double.
+std::string FormatNumber(double value);
+
+}  // namespace hcpf::scenarios

@@ -1,0 +1,128 @@
+// Bad input: every case must be rejected with an InputError whose message
+// names the file, the line (and column), the dotted key, what was expected and
+// what was found. Each case lists substrings that must all be in the message.
+
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <string>
+#include <vector>
+
+#include "hcpf/core/error.h"
+#include "hcpf/scenarios/scenario.h"
+#include "test_scenarios.h"
+
+namespace hcpf::scenarios {
+namespace {
+
+using testing::kMinimal;
+
+struct BadCase {
+  std::string name;
+  std::string text;                 // scenario text (file "bad.yaml")
+  std::vector<Override> overrides;
+  std::vector<std::string> must_contain;
+};
+
+void PrintTo(const BadCase& c, std::ostream* os) { *os << c.name; }
+
+std::string Replace(std::string text, const std::string& from, const std::string& to) {
+  const size_t at = text.find(from);
+  if (at == std::string::npos) throw std::logic_error("test text lacks: " + from);
+  return text.replace(at, from.size(), to);
+}
+
+std::vector<BadCase> Cases() {
+  const std::string m = kMinimal;
+  return {
+      {"UnknownTopLevelKey", m + "tracer: {particles: 5}\n", {},
+       {"bad.yaml:19:1:", "tracer", "unknown key", "did you mean \"tracker\"?"}},
+      {"UnknownNestedKey", Replace(m, "beta: 2.0", "betta: 2.0"), {},
+       {"bad.yaml:18:", "tracker.resampling.betta", "did you mean \"beta\"?"}},
+      {"WrongTypeForInteger", Replace(m, "frames: 20", "frames: many"), {},
+       {"bad.yaml:3:9:", "frames", "expected an integer", "found \"many\""}},
+      {"OutOfRange", Replace(m, "particles: 100", "particles: 0"), {},
+       {"bad.yaml:17:14:", "tracker.particles", "[1, 10000000]", "found \"0\""}},
+      {"MissingRequiredTopLevel", Replace(m, "frames: 20\n", ""), {},
+       {"bad.yaml:", "frames", "required key \"frames\"", "missing"}},
+      {"MissingRequiredNested", Replace(m, "  resolution: [320, 240]\n", ""), {},
+       {"bad.yaml:4:", "camera.resolution", "required key"}},
+      {"EnumTypo", Replace(m, "method: charged", "method: charge"), {},
+       {"bad.yaml:18:", "tracker.resampling.method", "one of", "found \"charge\"",
+        "did you mean \"charged\"?"}},
+      {"WrongListLength", Replace(m, "resolution: [320, 240]", "resolution: [320]"), {},
+       {"bad.yaml:5:", "camera.resolution", "a list of 2 numbers", "a list of 1 item"}},
+      {"ListItemNotANumber", Replace(m, "position: [0, -20, 120]", "position: [0, x, 120]"), {},
+       {"bad.yaml:8:", "camera.path[0].position[1]", "expected a number", "found \"x\""}},
+      {"ModelDoesNotExist", Replace(m, "    dimensions_m: [4.5, 2.0, 1.6]\n", "    model: no/such/tank.glb\n"), {},
+       {"bad.yaml:11:", "targets[0].model", "existing model file", "no/such/tank.glb"}},
+      {"DuplicateTargetId", Replace(m, "  - id: 2\n", "  - id: 1\n"), {},
+       {"bad.yaml:13:", "targets[1].id", "an id used by no other target"}},
+      {"StrengthForUnknownTarget", m + "observation: {simulated: {strength: {1: 1.0, 7: 0.4}}}\n", {},
+       {"bad.yaml:19:", "observation.simulated.strength.7", "there is no target with id 7"}},
+      {"KeyframesNotIncreasing",
+       Replace(m, "    - {frame: 0, position: [0, -20, 120], look_at: [0, 0, 0]}\n",
+               "    - {frame: 5, position: [0, -20, 120], look_at: [0, 0, 0]}\n"
+               "    - {frame: 3, position: [0, -20, 150], look_at: [0, 0, 0]}\n"),
+       {},
+       {"bad.yaml:9:", "camera.path[1].frame", "after the previous keyframe"}},
+      {"YamlSyntaxError", Replace(m, "  fov_deg: 40\n", "  fov_deg: [40\n"), {},
+       {"bad.yaml:", "valid YAML", "syntax error"}},
+      {"DuplicateKey", Replace(m, "seed: 7\n", "seed: 7\nseed: 8\n"), {},
+       {"bad.yaml:3:1:", "seed", "each key once"}},
+      {"BoolNotTrueFalse", m + "world: {sun: {shadows: yes}}\n", {},
+       {"bad.yaml:19:", "world.sun.shadows", "true or false", "found \"yes\""}},
+      {"EndBeforeStart", Replace(m, "start_frame: 2}", "start_frame: 5, end_frame: 3}"), {},
+       {"bad.yaml:15:", "targets[1].path.end_frame", ">= start_frame (5)"}},
+      {"NeitherModelNorDimensions", Replace(m, "    dimensions_m: [5, 2.2, 2]\n", ""), {},
+       {"bad.yaml:13:", "targets[1].dimensions_m", "required key"}},
+      {"OverrideUnknownKey", m, {{"tracker.particels", "10"}},
+       {"--set tracker.particels=10", "tracker.particels", "did you mean \"particles\"?"}},
+      {"OverrideWrongType", m, {{"tracker.particles", "lots"}},
+       {"--set tracker.particles=lots", "tracker.particles", "expected an integer", "found \"lots\""}},
+      {"FrameOutOfRange", Replace(m, "start_frame: 2}", "start_frame: 20}"), {},
+       {"bad.yaml:15:", "targets[1].path.start_frame", "[0, 19]", "found \"20\""}},
+      {"TopLevelNotAMapping", "- a\n- b\n", {}, {"bad.yaml:1:1:", "a scenario mapping", "found a list"}},
+  };
+}
+
+class BadInput : public ::testing::TestWithParam<BadCase> {};
+
+TEST_P(BadInput, IsRejectedWithLocationKeyExpectedAndFound) {
+  const BadCase& c = GetParam();
+  try {
+    LoadScenarioText(c.text, "bad.yaml", c.overrides);
+    FAIL() << "accepted: " << c.name;
+  } catch (const InputError& e) {
+    const std::string message = e.what();
+    for (const std::string& part : c.must_contain) {
+      EXPECT_NE(message.find(part), std::string::npos)
+          << "message lacks \"" << part << "\"\n  message: " << message;
+    }
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(Scenario, BadInput, ::testing::ValuesIn(Cases()),
+                         [](const auto& info) { return info.param.name; });
+
+TEST(BadInputFile, UnreadableFileNamesThePath) {
+  try {
+    LoadScenarioFile("/nonexistent/dir/scenario.yaml");
+    FAIL();
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("/nonexistent/dir/scenario.yaml"), std::string::npos);
+    EXPECT_NE(std::string(e.what()).find("cannot be opened"), std::string::npos);
+  }
+}
+
+TEST(BadInputFile, OverrideWithoutEquals) {
+  EXPECT_THROW(ParseOverride("tracker.particles"), InputError);
+  EXPECT_THROW(ParseOverride("=5"), InputError);
+  const Override o = ParseOverride("a.b=c=d");
+  EXPECT_EQ(o.key, "a.b");
+  EXPECT_EQ(o.value, "c=d");
+}
+
+}  // namespace
+}  // namespace hcpf::scenarios

@@ -1,0 +1,84 @@
+#include <gtest/gtest.h>
+
+#include "hcpf/scenarios/scenario.h"
+#include "test_scenarios.h"
+
+namespace hcpf::scenarios {
+namespace {
+
+using testing::kMinimal;
+
+TEST(LoadScenario, ReadsValuesAndFillsDefaults) {
+  const Scenario s = LoadScenarioText(kMinimal, "minimal.yaml");
+  EXPECT_EQ(s.name, "minimal");
+  EXPECT_EQ(s.seed, 7u);
+  EXPECT_EQ(s.world.frames, 20);
+  EXPECT_EQ(s.world.fps, 30.0);  // default
+  EXPECT_EQ(s.world.camera.width_px, 320);
+  ASSERT_EQ(s.world.targets.size(), 2u);
+  EXPECT_EQ(s.world.targets[1].path.start_frame, 2);
+  EXPECT_EQ(s.tracker.particles, 100);
+  EXPECT_EQ(s.tracker.resampling.method, "charged");
+  EXPECT_EQ(s.tracker.resampling.beta, 2.0);
+  EXPECT_EQ(s.tracker.resampling.max_tries, 20);  // default
+  EXPECT_EQ(s.observation.source, ObservationSource::kSimulated);
+}
+
+TEST(LoadScenario, SeedsAreDerivedPerStreamAndCanBePinned) {
+  const Scenario a = LoadScenarioText(kMinimal, "a.yaml");
+  EXPECT_NE(a.seeds.observation, a.seeds.tracker);
+  EXPECT_EQ(a.world.terrain.seed, a.seeds.world);
+  const Scenario b = LoadScenarioText(std::string(kMinimal) + "seeds: {tracker: 99}\n", "b.yaml");
+  EXPECT_EQ(b.seeds.tracker, 99u);
+  EXPECT_EQ(b.seeds.observation, a.seeds.observation);
+  const Scenario c = LoadScenarioText(kMinimal, "c.yaml", {{"seed", "8"}});
+  EXPECT_NE(c.seeds.observation, a.seeds.observation);
+}
+
+TEST(LoadScenario, ResolvedYamlRoundTrips) {
+  const Scenario s = LoadScenarioText(kMinimal, "minimal.yaml");
+  const std::string first = ToResolvedYaml(s);
+  const Scenario again = LoadScenarioText(first, "scenario.resolved.yaml");
+  EXPECT_EQ(ToResolvedYaml(again), first);
+  EXPECT_EQ(ConfigHash(again), ConfigHash(s));
+  // Every section is written out.
+  for (const char* key : {"seeds:", "world:", "camera:", "targets:", "sensor:", "observation:",
+                          "renderer:", "tracker:", "metrics:", "max_tries: 20", "beta: 2"}) {
+    EXPECT_NE(first.find(key), std::string::npos) << key;
+  }
+}
+
+TEST(LoadScenario, OverridesApplyWithDottedKeysAndIndices) {
+  const Scenario s = LoadScenarioText(kMinimal, "minimal.yaml",
+                                      {{"tracker.particles", "1000"},
+                                       {"targets.1.path.speed_mps", "3.5"},
+                                       {"camera.resolution", "[640, 480]"},
+                                       {"observation.simulated.strength", "{1: 1.0, 2: 0.3}"}});
+  EXPECT_EQ(s.tracker.particles, 1000);
+  EXPECT_EQ(s.world.targets[1].path.speed_mps, 3.5);
+  EXPECT_EQ(s.world.camera.width_px, 640);
+  EXPECT_EQ(s.observation.simulated.StrengthOf(2), 0.3);
+  EXPECT_NE(ConfigHash(s), ConfigHash(LoadScenarioText(kMinimal, "minimal.yaml")));
+}
+
+TEST(LoadScenario, AssociationShorthand) {
+  const Scenario s = LoadScenarioText(kMinimal, "m.yaml", {{"tracker.association", "gnn"}});
+  EXPECT_EQ(s.tracker.association.method, "gnn");
+}
+
+TEST(LoadScenario, ModelDimensionsComeFromTheModelFile) {
+  const std::string text = std::string(kMinimal) +
+                           "world: {occluders: [{kind: bridge, from: [-20, 10], to: [20, 10]}]}\n";
+  Scenario s = LoadScenarioText(text, "m.yaml",
+                                {{"targets.0", "{id: 1, model: assets/vehicles/tank.glb, "
+                                               "path: {waypoints: [[0, 0]]}}"}});
+  const Eigen::Vector3d d = s.world.targets[0].dimensions_m;
+  // The generated tank is several metres long, longer than wide, lower than long.
+  EXPECT_GT(d.x(), 3.0);
+  EXPECT_GT(d.x(), d.y());
+  EXPECT_GT(d.x(), d.z());
+  EXPECT_EQ(s.world.occluders.size(), 1u);
+}
+
+}  // namespace
+}  // namespace hcpf::scenarios

@@ -1,0 +1,245 @@
+#include "hcpf/metrics/filter_metrics.h"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <unordered_map>
+
+#include "hcpf/core/error.h"
+#include "hcpf/metrics/mot_metrics.h"
+
+namespace hcpf::metrics {
+namespace {
+
+double Size(const TargetState& t) { return std::max(t.width, t.height); }
+
+// Index of the target whose gate contains (x, y), nearest first; -1 when none.
+int CoveredTarget(const std::vector<TargetState>& targets, double x, double y, double gate_factor) {
+  int best = -1;
+  double best_d = 0.0;
+  for (size_t i = 0; i < targets.size(); ++i) {
+    const TargetState& t = targets[i];
+    const double d = std::hypot(x - t.centre_x, y - t.centre_y);
+    if (d <= gate_factor * Size(t) / 2.0 && (best < 0 || d < best_d)) {
+      best = static_cast<int>(i);
+      best_d = d;
+    }
+  }
+  return best;
+}
+
+std::vector<std::pair<int64_t, int64_t>> MapFilters(const FilterSequence& seq, double iou_threshold) {
+  if (seq.birth_target) return *seq.birth_target;
+  Sequence boxes;
+  boxes.frames.resize(seq.frames.size());
+  for (size_t t = 0; t < seq.frames.size(); ++t) {
+    for (const TargetState& o : seq.frames[t].targets) {
+      boxes.frames[t].gt.push_back({o.id, BoxPx::FromCentre(o.centre_x, o.centre_y, o.width, o.height)});
+    }
+    for (const FilterEstimate& f : seq.frames[t].filters) boxes.frames[t].hyp.push_back({f.id, f.box});
+  }
+  std::vector<std::pair<int64_t, int64_t>> mapping;
+  for (const auto& [target, filter] : IdentityMatching(boxes, iou_threshold)) mapping.emplace_back(filter, target);
+  std::sort(mapping.begin(), mapping.end());
+  return mapping;
+}
+
+}  // namespace
+
+const char* FilterStateName(FilterState state) {
+  switch (state) {
+    case FilterState::kCorrect: return "CORRECT";
+    case FilterState::kSwapped: return "SWAPPED";
+    case FilterState::kHijacked: return "HIJACKED";
+    case FilterState::kStrayed: return "STRAYED";
+    case FilterState::kLost: return "LOST";
+    case FilterState::kCoasting: return "COASTING";
+  }
+  return "?";
+}
+
+void FilterMetricsOptions::Validate() const {
+  auto fail = [](const char* key, const char* expected, double found) {
+    throw InputError(SourceLocation{{}, 0, 0, key}, expected, fmt::format("{}", found));
+  };
+  if (!(gate_factor > 0.0) || !std::isfinite(gate_factor)) fail("metrics.gate_factor", "a number > 0", gate_factor);
+  if (!(encounter_factor > 0.0) || !std::isfinite(encounter_factor)) {
+    fail("metrics.encounter_factor", "a number > 0", encounter_factor);
+  }
+  if (post_window < 0) fail("metrics.post_window", "an integer >= 0", post_window);
+  if (!(min_visible >= 0.0 && min_visible <= 1.0)) fail("metrics.min_visible", "a number in [0, 1]", min_visible);
+  if (!(iou_threshold > 0.0 && iou_threshold <= 1.0)) {
+    fail("metrics.iou_threshold", "a number in (0, 1]", iou_threshold);
+  }
+  if (visible_bins < 1) fail("metrics.visible_bins", "an integer >= 1", visible_bins);
+}
+
+FilterMetrics ComputeFilterMetrics(const FilterSequence& seq, const FilterMetricsOptions& options) {
+  options.Validate();
+  FilterMetrics out;
+  out.mapping = MapFilters(seq, options.iou_threshold);
+  std::unordered_map<int64_t, int64_t> target_of;        // filter -> g(k)
+  std::unordered_map<int64_t, std::vector<int64_t>> filters_of;  // target -> its own filters
+  for (const auto& [filter, target] : out.mapping) {
+    target_of[filter] = target;
+    filters_of[target].push_back(filter);
+  }
+  const int bins = options.visible_bins;
+  out.da_by_visibility.resize(bins);
+  for (int b = 0; b < bins; ++b) {
+    out.da_by_visibility[b].lo = static_cast<double>(b) / bins;
+    out.da_by_visibility[b].hi = static_cast<double>(b + 1) / bins;
+  }
+  const int num_frames = static_cast<int>(seq.frames.size());
+  // Per frame: filter id -> state, for the encounter evaluation.
+  std::vector<std::unordered_map<int64_t, FilterState>> state_at(num_frames);
+  double mass_sum = 0.0;
+  int64_t hijacked_total = 0;
+  std::vector<int> covered;
+  for (int t = 0; t < num_frames; ++t) {
+    const FilterFrame& f = seq.frames[t];
+    std::unordered_map<int64_t, int> target_index;
+    for (size_t i = 0; i < f.targets.size(); ++i) target_index[f.targets[i].id] = static_cast<int>(i);
+    // Which target each filter covers, and which filters cover each target.
+    covered.assign(f.filters.size(), -1);
+    std::unordered_map<int64_t, std::vector<int64_t>> covering;  // target id -> filters covering it
+    for (size_t k = 0; k < f.filters.size(); ++k) {
+      const BoxPx& b = f.filters[k].box;
+      covered[k] = CoveredTarget(f.targets, b.centre_x(), b.centre_y(), options.gate_factor);
+      if (covered[k] >= 0) covering[f.targets[covered[k]].id].push_back(f.filters[k].id);
+    }
+    auto covers = [&](int64_t filter, int64_t target) {
+      const auto it = covering.find(target);
+      return it != covering.end() && std::find(it->second.begin(), it->second.end(), filter) != it->second.end();
+    };
+    int64_t scored_now = 0;
+    int64_t hijacked_now = 0;
+    for (size_t k = 0; k < f.filters.size(); ++k) {
+      const FilterEstimate& filter = f.filters[k];
+      FilterFrameRecord rec;
+      rec.frame = t;
+      rec.filter = filter.id;
+      const auto g_it = target_of.find(filter.id);
+      rec.target = g_it == target_of.end() ? -1 : g_it->second;
+      const auto own_it = rec.target >= 0 ? target_index.find(rec.target) : target_index.end();
+      const bool own_present = own_it != target_index.end();
+      const double own_visible = own_present ? f.targets[own_it->second].visible_fraction : 0.0;
+      const bool coasting = !own_present || own_visible < options.min_visible;
+      rec.covered = covered[k] >= 0 ? f.targets[covered[k]].id : -1;
+      if (rec.covered >= 0 && rec.covered == rec.target) {
+        rec.state = coasting ? FilterState::kCoasting : FilterState::kCorrect;
+      } else if (rec.covered >= 0) {
+        // Covers another target o: SWAPPED when o's own filter covers g(k),
+        // HIJACKED when o's own filter covers o, STRAYED otherwise.
+        bool swapped = false, hijacked = false;
+        const auto own_filters = filters_of.find(rec.covered);
+        if (own_filters != filters_of.end()) {
+          for (int64_t other : own_filters->second) {
+            if (other == filter.id) continue;
+            if (own_present && covers(other, rec.target)) swapped = true;
+            if (covers(other, rec.covered)) hijacked = true;
+          }
+        }
+        rec.state = swapped && !coasting ? FilterState::kSwapped
+                    : hijacked           ? FilterState::kHijacked
+                                         : FilterState::kStrayed;
+      } else {
+        rec.state = coasting ? FilterState::kCoasting : FilterState::kLost;
+      }
+      if (filter.particles) {
+        const ParticleCloud& cloud = *filter.particles;
+        double total = 0.0, other = 0.0;
+        for (size_t i = 0; i < cloud.x.size(); ++i) {
+          const double w = cloud.weight.empty() ? 1.0 : cloud.weight[i];
+          total += w;
+          const int on = CoveredTarget(f.targets, cloud.x[i], cloud.y[i], options.gate_factor);
+          if (on >= 0 && f.targets[on].id != rec.target) other += w;
+        }
+        rec.mass_on_other = total > 0.0 ? other / total : 0.0;
+        mass_sum += rec.mass_on_other;
+        ++out.frames_with_cloud;
+      }
+      ++out.state_counts[static_cast<int>(rec.state)];
+      if (rec.state != FilterState::kCoasting) {
+        ++scored_now;
+        const bool correct = rec.state == FilterState::kCorrect;
+        const int bin = std::clamp(static_cast<int>(own_visible * bins), 0, bins - 1);
+        ++out.da_by_visibility[bin].scored;
+        out.da_by_visibility[bin].correct += correct;
+      }
+      if (rec.state == FilterState::kHijacked) ++hijacked_now;
+      state_at[t][filter.id] = rec.state;
+      out.records.push_back(rec);
+    }
+    out.scored += scored_now;
+    hijacked_total += hijacked_now;
+    out.hijacked_fraction.push_back(scored_now > 0 ? static_cast<double>(hijacked_now) / scored_now : 0.0);
+  }
+  const int64_t correct = out.state_counts[static_cast<int>(FilterState::kCorrect)];
+  out.da_accuracy = out.scored > 0 ? static_cast<double>(correct) / out.scored : 0.0;
+  out.hijacked_fraction_overall = out.scored > 0 ? static_cast<double>(hijacked_total) / out.scored : 0.0;
+  for (VisibilityBin& b : out.da_by_visibility) {
+    b.accuracy = b.scored > 0 ? static_cast<double>(b.correct) / b.scored : 0.0;
+  }
+  out.mean_mass_on_other = out.frames_with_cloud > 0 ? mass_sum / out.frames_with_cloud : 0.0;
+
+  // Encounters: maximal runs of frames in which two targets are both present and
+  // closer than encounter_factor * their mean size (size = max(w, h)).
+  std::map<std::pair<int64_t, int64_t>, int> open;  // pair -> first frame of the running interval
+  auto close_encounter = [&](const std::pair<int64_t, int64_t>& pair, int first, int last) {
+    Encounter e{pair.first, pair.second, first, last, std::min(last + options.post_window, num_frames - 1)};
+    const auto fa = filters_of.find(pair.first);
+    const auto fb = filters_of.find(pair.second);
+    if (fa == filters_of.end() || fb == filters_of.end()) return;  // a target without a filter
+    auto state_of = [&](int64_t filter) {
+      const auto it = state_at[e.eval_frame].find(filter);
+      return it == state_at[e.eval_frame].end() ? FilterState::kLost : it->second;  // gone = LOST
+    };
+    bool all_swapped = true;
+    for (const auto* list : {&fa->second, &fb->second}) {
+      for (int64_t filter : *list) {
+        const FilterState s = state_of(filter);
+        if (s == FilterState::kHijacked || s == FilterState::kStrayed || s == FilterState::kLost) e.hijacked = true;
+        if (s != FilterState::kSwapped) all_swapped = false;
+      }
+    }
+    e.swapped = all_swapped;
+    out.hijacked_encounters += e.hijacked;
+    out.swaps += e.swapped;
+    out.encounters.push_back(e);
+  };
+  for (int t = 0; t < num_frames; ++t) {
+    const auto& targets = seq.frames[t].targets;
+    std::map<std::pair<int64_t, int64_t>, bool> close_now;
+    for (size_t i = 0; i < targets.size(); ++i) {
+      for (size_t j = i + 1; j < targets.size(); ++j) {
+        const TargetState& a = targets[i];
+        const TargetState& b = targets[j];
+        const double mean_size = 0.5 * (Size(a) + Size(b));
+        if (std::hypot(a.centre_x - b.centre_x, a.centre_y - b.centre_y) < options.encounter_factor * mean_size) {
+          close_now[{std::min(a.id, b.id), std::max(a.id, b.id)}] = true;
+        }
+      }
+    }
+    for (auto it = open.begin(); it != open.end();) {
+      if (!close_now.count(it->first)) {
+        close_encounter(it->first, it->second, t - 1);
+        it = open.erase(it);
+      } else {
+        ++it;
+      }
+    }
+    for (const auto& [pair, unused] : close_now) open.try_emplace(pair, t);
+  }
+  for (const auto& [pair, first] : open) close_encounter(pair, first, num_frames - 1);
+  std::sort(out.encounters.begin(), out.encounters.end(), [](const Encounter& a, const Encounter& b) {
+    return std::tie(a.first_frame, a.target_a, a.target_b) < std::tie(b.first_frame, b.target_a, b.target_b);
+  });
+  out.hijack_rate = out.encounters.empty() ? 0.0
+                                           : static_cast<double>(out.hijacked_encounters) / out.encounters.size();
+  return out;
+}
+
+}  // namespace hcpf::metrics

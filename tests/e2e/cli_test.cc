@@ -1,0 +1,148 @@
+// End-to-end tests of the `hcpf` command: exit codes, outputs, determinism,
+// and every shipped scenario.
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <filesystem>
+#include <fstream>
+#include <string>
+
+#include "support/process.h"
+
+namespace hcpf {
+namespace {
+
+namespace fs = std::filesystem;
+using testing::FreshDir;
+using testing::ReadFile;
+using testing::RunCommand;
+
+const std::string kHcpf = HCPF_EXE;
+const fs::path kSource = HCPF_SOURCE_DIR;
+
+std::string Scenario(const std::string& name) {
+  return (kSource / "scenarios" / "library" / (name + ".yaml")).string();
+}
+
+TEST(Cli, VersionAndHelp) {
+  auto r = RunCommand(kHcpf + " --version");
+  EXPECT_EQ(r.exit_code, 0);
+  EXPECT_NE(r.output.find("hcpf 0."), std::string::npos) << r.output;
+  r = RunCommand(kHcpf + " run --help");
+  EXPECT_EQ(r.exit_code, 0);
+  EXPECT_NE(r.output.find("--set"), std::string::npos);
+  EXPECT_NE(r.output.find("--out"), std::string::npos);
+}
+
+TEST(Cli, NoOrUnknownSubcommandIsBadInput) {
+  EXPECT_EQ(RunCommand(kHcpf).exit_code, 2);
+  EXPECT_EQ(RunCommand(kHcpf + " frobnicate").exit_code, 2);
+  EXPECT_EQ(RunCommand(kHcpf + " run").exit_code, 2);  // missing scenario and --out
+}
+
+TEST(Cli, RunWritesEveryOutputAndSucceeds) {
+  const fs::path out = FreshDir("run") / "crossing";
+  const auto r = RunCommand(kHcpf + " run " + Scenario("crossing") + " --out " + out.string());
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  for (const char* f : {"scenario.resolved.yaml", "gt/gt.txt", "seqinfo.ini", "gt.json",
+                        "detections.txt", "manifest.json"}) {
+    EXPECT_TRUE(fs::exists(out / f)) << f;
+  }
+  EXPECT_NE(r.output.find(out.string()), std::string::npos) << "the output folder is named";
+  // MOT17 ground truth: 9 comma-separated columns, 1-based frames.
+  const std::string gt = ReadFile(out / "gt" / "gt.txt");
+  const std::string first = gt.substr(0, gt.find('\n'));
+  EXPECT_EQ(std::count(first.begin(), first.end(), ','), 8) << first;
+  EXPECT_EQ(first.rfind("1,", 0), 0u) << first;
+  const std::string seqinfo = ReadFile(out / "seqinfo.ini");
+  EXPECT_NE(seqinfo.find("seqLength=240"), std::string::npos);
+  EXPECT_NE(seqinfo.find("imWidth=640"), std::string::npos);
+  EXPECT_FALSE(fs::exists(out.string() + ".partial-" + std::to_string(0)));
+}
+
+TEST(Cli, SameScenarioGivesByteIdenticalOutputs) {
+  const fs::path dir = FreshDir("determinism");
+  for (const char* name : {"a", "b"}) {
+    const auto r = RunCommand(kHcpf + " run " + Scenario("climb") + " --out " + (dir / name).string());
+    ASSERT_EQ(r.exit_code, 0) << r.output;
+  }
+  // manifest.json differs only in its "timings" (documented); every other file is identical.
+  for (const auto& entry : fs::recursive_directory_iterator(dir / "a")) {
+    if (!entry.is_regular_file() || entry.path().filename() == "manifest.json") continue;
+    const fs::path rel = fs::relative(entry.path(), dir / "a");
+    EXPECT_EQ(ReadFile(entry.path()), ReadFile(dir / "b" / rel)) << rel;
+  }
+}
+
+TEST(Cli, ResolvedScenarioReproducesTheRun) {
+  const fs::path dir = FreshDir("resolved");
+  auto r = RunCommand(kHcpf + " run " + Scenario("bridge-three") + " --set tracker.particles=300 --out " +
+                      (dir / "first").string());
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  r = RunCommand(kHcpf + " run " + (dir / "first" / "scenario.resolved.yaml").string() + " --out " +
+                 (dir / "second").string());
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  for (const char* f : {"scenario.resolved.yaml", "gt/gt.txt", "detections.txt", "gt.json"}) {
+    EXPECT_EQ(ReadFile(dir / "first" / f), ReadFile(dir / "second" / f)) << f;
+  }
+  EXPECT_NE(ReadFile(dir / "first" / "scenario.resolved.yaml").find("particles: 300"), std::string::npos);
+}
+
+TEST(Cli, BadInputExitsTwoAndWritesNothing) {
+  const fs::path dir = FreshDir("bad");
+  const fs::path bad = dir / "bad.yaml";
+  std::ofstream(bad) << "frames: 10\ncamera:\n  resolution: [320, 240]\n  path: [{frame: 0, position: [0, 0, 50], look_at: [0, 0.1, 0]}]\n"
+                        "targets:\n  - {id: 1, dimensions_m: [4, 2, 1.5], path: {waypoints: [[0, 0]]}}\n"
+                        "trakcer: {particles: 10}\n";
+  auto r = RunCommand(kHcpf + " run " + bad.string() + " --out " + (dir / "out").string());
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_NE(r.output.find("bad.yaml:7:1"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("did you mean \"tracker\""), std::string::npos) << r.output;
+  EXPECT_FALSE(fs::exists(dir / "out"));
+  r = RunCommand(kHcpf + " validate " + bad.string());
+  EXPECT_EQ(r.exit_code, 2);
+  r = RunCommand(kHcpf + " run " + Scenario("crossing") + " --set tracker.particles=-3 --out " +
+                 (dir / "out").string());
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.output.find("--set tracker.particles=-3"), std::string::npos) << r.output;
+  EXPECT_FALSE(fs::exists(dir / "out"));
+  // An existing folder that is not an earlier run is not clobbered.
+  fs::create_directories(dir / "mine");
+  std::ofstream(dir / "mine" / "thesis.tex") << "precious";
+  r = RunCommand(kHcpf + " run " + Scenario("crossing") + " --out " + (dir / "mine").string());
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_TRUE(fs::exists(dir / "mine" / "thesis.tex"));
+}
+
+TEST(Cli, FailingRunExitsOneAndLeavesNoFolder) {
+  const fs::path dir = FreshDir("failing");
+  // The parent of --out is a regular file: the run cannot create its folder.
+  std::ofstream(dir / "file") << "x";
+  const auto r = RunCommand(kHcpf + " run " + Scenario("crossing") + " --out " + (dir / "file" / "out").string());
+  EXPECT_EQ(r.exit_code, 1) << r.output;
+  EXPECT_NE(r.output.find("run failed"), std::string::npos) << r.output;
+}
+
+class ShippedScenario : public ::testing::TestWithParam<std::string> {};
+
+TEST_P(ShippedScenario, ValidatesAndRuns) {
+  auto r = RunCommand(kHcpf + " validate " + Scenario(GetParam()));
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  const fs::path out = FreshDir("shipped-" + GetParam()) / "run";
+  r = RunCommand(kHcpf + " run " + Scenario(GetParam()) + " --out " + out.string());
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_GT(fs::file_size(out / "gt" / "gt.txt"), 0u);
+}
+
+INSTANTIATE_TEST_SUITE_P(Library, ShippedScenario,
+                         ::testing::Values("crossing", "crossing-dominant", "parallel",
+                                           "dominant-passes-weak", "bridge-three", "climb"),
+                         [](const auto& info) {
+                           std::string n = info.param;
+                           std::replace(n.begin(), n.end(), '-', '_');
+                           return n;
+                         });
+
+}  // namespace
+}  // namespace hcpf

@@ -1,0 +1,85 @@
+#pragma once
+// Scoring entry points used by `hcpf score` and by the `hcpf run` pipeline:
+// files -> sequences -> every metric -> a readable table and JSON.
+//
+//   ScoredSequence s = ScoreFiles({.gt_path = "gt.txt", .hyp_path = "tracks.txt"});
+//   std::string json = MotSummariesToJson({s.summary}, nullptr);
+//
+//   RunMetrics m = ComputeRunMetrics({.sequence = seq, .filters = filter_seq});
+//   std::string json = RunMetricsToJson(m);   // metrics.json of one run
+//
+// JSON stays out of this header (strings in, strings out).
+
+#include <optional>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "hcpf/metrics/filter_metrics.h"
+#include "hcpf/metrics/mot_io.h"
+#include "hcpf/metrics/mot_metrics.h"
+#include "hcpf/metrics/point_metrics.h"
+
+namespace hcpf::metrics {
+
+struct ScoreFilesOptions {
+  std::string gt_path;
+  std::string hyp_path;
+  // seqinfo.ini; when empty: <gt dir>/seqinfo.ini, then <gt dir>/../seqinfo.ini, else the
+  // sequence length is the largest frame in either file (logged as a warning).
+  std::string seqinfo_path;
+  Benchmark benchmark = Benchmark::kAuto;
+  PreprocessOptions preprocess;
+  std::string name;  // defaults to the seqinfo name, else the gt file's stem
+  bool keep_events = false;
+};
+
+struct ScoredSequence {
+  MotSummary summary;
+  std::vector<MotEvent> events;  // filled when keep_events
+  Benchmark benchmark = Benchmark::kMot15;
+  int seq_length = 0;
+};
+
+// Reads, preprocesses and scores one gt/hyp pair. Bad files throw hcpf::InputError.
+ScoredSequence ScoreFiles(const ScoreFilesOptions& options);
+
+// TrackEval's folder layout under `root`:
+//   gt/mot_challenge/<bench>/<seq>/gt/gt.txt and <seq>/seqinfo.ini
+//   trackers/mot_challenge/<bench>/<tracker>/data/<seq>.txt
+// One result per (bench, tracker): every sequence (sorted by name) plus COMBINED.
+// The benchmark rules come from <bench>'s prefix (MOT15 / MOT16, MOT17, MOT20)
+// unless `benchmark` is not kAuto.
+struct TrackEvalResult {
+  std::string bench;
+  std::string tracker;
+  std::vector<MotSummary> sequences;
+  MotSummary combined;
+};
+std::vector<TrackEvalResult> ScoreTrackEvalRoot(const std::string& root,
+                                                Benchmark benchmark = Benchmark::kAuto);
+
+// A fixed-width table, one row per summary (ratios in percent, as MOTChallenge shows them).
+std::string FormatMotTable(std::span<const MotSummary> rows);
+
+// {"sequences": {name: {every ToNamedMetrics value}}, "combined": {...}} (combined omitted
+// when null). Non-finite numbers are written as the strings "nan", "inf", "-inf".
+std::string MotSummariesToJson(std::span<const MotSummary> sequences, const MotSummary* combined);
+
+// Everything one run of the pipeline scores.
+struct RunMetricsInput {
+  Sequence sequence;                      // gt and tracker boxes per frame
+  std::optional<FilterSequence> filters;  // filter-level inputs, when available
+  PointMetricsOptions point_options;      // OSPA / GOSPA
+  FilterMetricsOptions filter_options;
+};
+struct RunMetrics {
+  MotSummary mot;
+  PointMetrics points;
+  std::optional<FilterMetrics> filters;
+};
+RunMetrics ComputeRunMetrics(const RunMetricsInput& input);
+// {"mot": {...}, "ospa": {...}, "gospa": {...}, "filters": {...}} with per-frame arrays.
+std::string RunMetricsToJson(const RunMetrics& metrics);
+
+}  // namespace hcpf::metrics

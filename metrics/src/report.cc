@@ -1,0 +1,236 @@
+#include "hcpf/metrics/report.h"
+
+#include <fmt/format.h>
+#include <spdlog/spdlog.h>
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <nlohmann/json.hpp>
+
+#include "hcpf/core/error.h"
+
+namespace hcpf::metrics {
+namespace {
+
+namespace fs = std::filesystem;
+using nlohmann::json;
+
+json Number(double v) {
+  if (std::isnan(v)) return "nan";
+  if (std::isinf(v)) return v > 0 ? "inf" : "-inf";
+  return v;
+}
+
+json SummaryJson(const MotSummary& s) {
+  json j = json::object();
+  const NamedMetrics named = ToNamedMetrics(s);
+  for (const auto& [name, value] : named.scalars) {
+    j[name] = IsCountMetric(name) ? json(static_cast<int64_t>(value)) : Number(value);
+  }
+  for (const auto& [name, values] : named.arrays) {
+    json a = json::array();
+    for (double v : values) a.push_back(IsCountMetric(name) ? json(static_cast<int64_t>(v)) : Number(v));
+    j[name] = a;
+  }
+  return j;
+}
+
+int MaxFrame(const MotFile& f) {
+  int m = 0;
+  for (const MotRow& r : f.rows) m = std::max(m, r.frame);
+  return m;
+}
+
+}  // namespace
+
+ScoredSequence ScoreFiles(const ScoreFilesOptions& options) {
+  std::optional<SeqInfo> info;
+  if (!options.seqinfo_path.empty()) {
+    info = ReadSeqInfo(options.seqinfo_path);
+  } else {
+    const fs::path dir = fs::path(options.gt_path).parent_path();
+    for (const fs::path& candidate : {dir / "seqinfo.ini", dir.parent_path() / "seqinfo.ini"}) {
+      if (fs::exists(candidate)) {
+        info = ReadSeqInfo(candidate.string());
+        break;
+      }
+    }
+  }
+  ScoredSequence out;
+  std::optional<int> length;
+  if (info) length = info->seq_length;
+  const MotFile gt = ReadMotFile(options.gt_path, MotFileKind::kGroundTruth, length);
+  const MotFile hyp = ReadMotFile(options.hyp_path, MotFileKind::kTracks, length);
+  if (!length) {
+    length = std::max(MaxFrame(gt), MaxFrame(hyp));
+    spdlog::warn("no seqinfo.ini next to {}: sequence length taken as the last frame in the files ({})",
+                 options.gt_path, *length);
+  }
+  out.seq_length = *length;
+  out.benchmark = ResolveBenchmark(options.benchmark, gt);
+  std::string name = options.name;
+  if (name.empty()) name = info && !info->name.empty() ? info->name : fs::path(options.gt_path).stem().string();
+  const Sequence seq = BuildSequence(gt, hyp, out.seq_length, out.benchmark, options.preprocess, name);
+  out.summary = ComputeAll(seq, options.keep_events ? &out.events : nullptr);
+  return out;
+}
+
+std::vector<TrackEvalResult> ScoreTrackEvalRoot(const std::string& root, Benchmark benchmark) {
+  const fs::path gt_root = fs::path(root) / "gt" / "mot_challenge";
+  const fs::path trackers_root = fs::path(root) / "trackers" / "mot_challenge";
+  if (!fs::is_directory(gt_root) || !fs::is_directory(trackers_root)) {
+    throw InputError(SourceLocation{root, 0, 0, {}},
+                     "a TrackEval folder with gt/mot_challenge/<bench>/ and trackers/mot_challenge/<bench>/",
+                     "no such folders");
+  }
+  std::vector<TrackEvalResult> results;
+  std::vector<fs::path> benches;
+  for (const auto& e : fs::directory_iterator(gt_root)) {
+    if (e.is_directory()) benches.push_back(e.path());
+  }
+  std::sort(benches.begin(), benches.end());
+  for (const fs::path& bench_dir : benches) {
+    const std::string bench = bench_dir.filename().string();
+    Benchmark rules = benchmark;
+    if (rules == Benchmark::kAuto) {
+      if (bench.rfind("MOT15", 0) == 0 || bench.rfind("2D_MOT_2015", 0) == 0) rules = Benchmark::kMot15;
+      if (bench.rfind("MOT16", 0) == 0 || bench.rfind("MOT17", 0) == 0 || bench.rfind("MOT20", 0) == 0) {
+        rules = Benchmark::kMot17;
+      }
+    }
+    std::vector<fs::path> seqs;
+    for (const auto& e : fs::directory_iterator(bench_dir)) {
+      if (e.is_directory() && fs::exists(e.path() / "gt" / "gt.txt")) seqs.push_back(e.path());
+    }
+    std::sort(seqs.begin(), seqs.end());
+    const fs::path bench_trackers = trackers_root / bench;
+    if (!fs::is_directory(bench_trackers)) continue;
+    std::vector<fs::path> trackers;
+    for (const auto& e : fs::directory_iterator(bench_trackers)) {
+      if (e.is_directory()) trackers.push_back(e.path());
+    }
+    std::sort(trackers.begin(), trackers.end());
+    for (const fs::path& tracker_dir : trackers) {
+      TrackEvalResult r;
+      r.bench = bench;
+      r.tracker = tracker_dir.filename().string();
+      for (const fs::path& seq_dir : seqs) {
+        const std::string seq = seq_dir.filename().string();
+        const fs::path hyp = tracker_dir / "data" / (seq + ".txt");
+        if (!fs::exists(hyp)) {
+          throw InputError(SourceLocation{hyp.string(), 0, 0, {}},
+                           fmt::format("tracker output for sequence {}", seq), "no file");
+        }
+        const fs::path seqinfo = seq_dir / "seqinfo.ini";
+        ScoreFilesOptions o;
+        o.gt_path = (seq_dir / "gt" / "gt.txt").string();
+        o.hyp_path = hyp.string();
+        o.seqinfo_path = fs::exists(seqinfo) ? seqinfo.string() : std::string();
+        o.benchmark = rules;
+        o.name = seq;
+        r.sequences.push_back(ScoreFiles(o).summary);
+      }
+      r.combined = Pool(r.sequences, "COMBINED");
+      results.push_back(std::move(r));
+    }
+  }
+  return results;
+}
+
+std::string FormatMotTable(std::span<const MotSummary> rows) {
+  size_t width = 8;
+  for (const MotSummary& s : rows) width = std::max(width, s.name.size());
+  std::string out = fmt::format("{:<{}} {:>6} {:>6} {:>6} {:>6} {:>7} {:>6} {:>6} {:>6} {:>6} {:>7} {:>7} {:>5} {:>4} {:>4} {:>4}\n",
+                                "sequence", width, "HOTA", "DetA", "AssA", "LocA", "MOTA", "MOTP", "IDF1",
+                                "IDP", "IDR", "FP", "FN", "IDSW", "MT", "PT", "ML");
+  for (const MotSummary& s : rows) {
+    out += fmt::format("{:<{}} {:>6.2f} {:>6.2f} {:>6.2f} {:>6.2f} {:>7.2f} {:>6.2f} {:>6.2f} {:>6.2f} {:>6.2f} {:>7} {:>7} {:>5} {:>4} {:>4} {:>4}\n",
+                       s.name, width, 100 * s.hota.hota_mean, 100 * s.hota.deta_mean,
+                       100 * s.hota.assa_mean, 100 * s.hota.loca_mean, 100 * s.clear.mota,
+                       100 * s.clear.motp, 100 * s.identity.idf1, 100 * s.identity.idp,
+                       100 * s.identity.idr, s.clear.fp, s.clear.fn, s.clear.idsw, s.clear.mt,
+                       s.clear.pt, s.clear.ml);
+  }
+  return out;
+}
+
+std::string MotSummariesToJson(std::span<const MotSummary> sequences, const MotSummary* combined) {
+  json j;
+  j["sequences"] = json::object();
+  for (const MotSummary& s : sequences) j["sequences"][s.name] = SummaryJson(s);
+  if (combined) j["combined"] = SummaryJson(*combined);
+  return j.dump(1) + "\n";
+}
+
+RunMetrics ComputeRunMetrics(const RunMetricsInput& input) {
+  RunMetrics m;
+  m.mot = ComputeAll(input.sequence);
+  m.points = ComputePointMetrics(PointFramesFromSequence(input.sequence), input.point_options);
+  if (input.filters) m.filters = ComputeFilterMetrics(*input.filters, input.filter_options);
+  return m;
+}
+
+std::string RunMetricsToJson(const RunMetrics& m) {
+  json j;
+  j["mot"] = SummaryJson(m.mot);
+  json ospa;
+  ospa["mean"] = Number(m.points.mean_ospa);
+  ospa["per_frame"] = json::array();
+  for (double v : m.points.ospa) ospa["per_frame"].push_back(Number(v));
+  j["ospa"] = ospa;
+  json gospa;
+  gospa["mean"] = Number(m.points.mean_gospa);
+  gospa["total_switches"] = m.points.total_switches;
+  gospa["per_frame"] = json::array();
+  for (const GospaTerms& g : m.points.gospa) {
+    gospa["per_frame"].push_back({{"distance", Number(g.distance)}, {"localisation", g.localisation},
+                                  {"missed", g.missed}, {"false", g.false_alarm},
+                                  {"switching", g.switching}, {"switches", g.switches}});
+  }
+  j["gospa"] = gospa;
+  if (m.filters) {
+    const FilterMetrics& f = *m.filters;
+    json fj;
+    fj["da_accuracy"] = f.da_accuracy;
+    fj["scored"] = f.scored;
+    json counts;
+    for (int s = 0; s < kNumFilterStates; ++s) counts[FilterStateName(static_cast<FilterState>(s))] = f.state_counts[s];
+    fj["states"] = counts;
+    fj["encounters"] = static_cast<int64_t>(f.encounters.size());
+    fj["hijacked_encounters"] = f.hijacked_encounters;
+    fj["swaps"] = f.swaps;
+    fj["hijack_rate"] = f.hijack_rate;
+    fj["hijacked_fraction"] = f.hijacked_fraction_overall;
+    fj["hijacked_fraction_per_frame"] = f.hijacked_fraction;
+    fj["mean_mass_on_other"] = f.mean_mass_on_other;
+    fj["frames_with_cloud"] = f.frames_with_cloud;
+    json mapping = json::array();
+    for (const auto& [filter, target] : f.mapping) mapping.push_back({{"filter", filter}, {"target", target}});
+    fj["mapping"] = mapping;
+    json bins = json::array();
+    for (const VisibilityBin& b : f.da_by_visibility) {
+      bins.push_back({{"lo", b.lo}, {"hi", b.hi}, {"scored", b.scored}, {"correct", b.correct}, {"accuracy", b.accuracy}});
+    }
+    fj["da_by_visibility"] = bins;
+    json enc = json::array();
+    for (const Encounter& e : f.encounters) {
+      enc.push_back({{"targets", {e.target_a, e.target_b}}, {"first_frame", e.first_frame},
+                     {"last_frame", e.last_frame}, {"eval_frame", e.eval_frame},
+                     {"hijacked", e.hijacked}, {"swapped", e.swapped}});
+    }
+    fj["encounter_list"] = enc;
+    json states = json::array();
+    for (const FilterFrameRecord& r : f.records) {
+      json rec = {{"frame", r.frame}, {"filter", r.filter}, {"target", r.target},
+                  {"covered", r.covered}, {"state", FilterStateName(r.state)}};
+      if (r.mass_on_other >= 0.0) rec["mass_on_other"] = r.mass_on_other;
+      states.push_back(rec);
+    }
+    fj["per_frame_states"] = states;
+    j["filters"] = fj;
+  }
+  return j.dump(1) + "\n";
+}
+
+}  // namespace hcpf::metrics

@@ -1,0 +1,98 @@
+#include "hcpf/metrics/report.h"
+
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+
+#include "hcpf/core/error.h"
+
+namespace hcpf::metrics {
+namespace {
+
+namespace fs = std::filesystem;
+
+std::string DataPath(const std::string& name) {
+  return std::string(HCPF_SOURCE_DIR) + "/metrics/tests/data/" + name;
+}
+
+void WriteText(const fs::path& path, const std::string& text) {
+  fs::create_directories(path.parent_path());
+  std::ofstream(path) << text;
+}
+
+// The switch micro-sequence (values by hand in micro_sequences_test.cc: MOTA 2/3,
+// IDSW 1) scored through the file entry point, table and JSON.
+TEST(Report, ScoreFilesTableAndJson) {
+  ScoreFilesOptions o;
+  o.gt_path = DataPath("switch_gt.txt");
+  o.hyp_path = DataPath("switch_hyp.txt");
+  o.keep_events = true;
+  const ScoredSequence s = ScoreFiles(o);
+  EXPECT_EQ(s.seq_length, 3);  // no seqinfo: last frame in the files
+  EXPECT_EQ(s.benchmark, Benchmark::kMot15);
+  EXPECT_EQ(s.summary.name, "switch_gt");
+  EXPECT_EQ(s.summary.clear.idsw, 1);
+  EXPECT_EQ(s.events.size(), 4u);
+  const std::string table = FormatMotTable({&s.summary, 1});
+  EXPECT_NE(table.find("switch_gt"), std::string::npos);
+  EXPECT_NE(table.find("66.67"), std::string::npos) << table;  // MOTA in percent
+  const auto j = nlohmann::json::parse(MotSummariesToJson({&s.summary, 1}, &s.summary));
+  EXPECT_EQ(j["sequences"]["switch_gt"]["IDSW"], 1);
+  EXPECT_NEAR(j["combined"]["MOTA"].get<double>(), 2.0 / 3.0, 1e-12);
+  EXPECT_EQ(j["combined"]["HOTA_alpha"].size(), 19u);
+}
+
+// TrackEval layout with two copies of the switch sequence: each row as above, COMBINED
+// sums the counts (IDSW 2, TP 6) and keeps MOTA (6-0-2)/6 = 2/3.
+TEST(Report, TrackEvalRootWithCombinedRow) {
+  const fs::path root = fs::temp_directory_path() / "hcpf_metrics_trackeval_root";
+  fs::remove_all(root);
+  std::ifstream gt_in(DataPath("switch_gt.txt")), hyp_in(DataPath("switch_hyp.txt"));
+  const std::string gt((std::istreambuf_iterator<char>(gt_in)), {});
+  const std::string hyp((std::istreambuf_iterator<char>(hyp_in)), {});
+  for (const std::string seq : {"SEQ-A", "SEQ-B"}) {
+    WriteText(root / "gt/mot_challenge/MOT15-train" / seq / "gt/gt.txt", gt);
+    WriteText(root / "gt/mot_challenge/MOT15-train" / seq / "seqinfo.ini",
+              "[Sequence]\nname=" + seq + "\nseqLength=3\n");
+    WriteText(root / "trackers/mot_challenge/MOT15-train/mine/data" / (seq + ".txt"), hyp);
+  }
+  const auto results = ScoreTrackEvalRoot(root.string());
+  ASSERT_EQ(results.size(), 1u);
+  EXPECT_EQ(results[0].tracker, "mine");
+  ASSERT_EQ(results[0].sequences.size(), 2u);
+  EXPECT_EQ(results[0].sequences[1].name, "SEQ-B");
+  EXPECT_EQ(results[0].combined.clear.idsw, 2);
+  EXPECT_EQ(results[0].combined.clear.tp, 6);
+  EXPECT_NEAR(results[0].combined.clear.mota, 2.0 / 3.0, 1e-12);
+  // A missing tracker file is bad input.
+  fs::remove(root / "trackers/mot_challenge/MOT15-train/mine/data/SEQ-B.txt");
+  EXPECT_THROW(ScoreTrackEvalRoot(root.string()), InputError);
+  EXPECT_THROW(ScoreTrackEvalRoot((root / "nope").string()), InputError);
+}
+
+TEST(Report, RunMetricsJsonHasEveryFamily) {
+  RunMetricsInput in;
+  in.sequence.frames.resize(2);
+  for (auto& f : in.sequence.frames) {
+    f.gt.push_back({1, {0, 0, 10, 10}});
+    f.hyp.push_back({5, {0, 0, 10, 10}});
+  }
+  FilterSequence filters;
+  filters.birth_target = {{{5, 1}}};
+  for (int t = 0; t < 2; ++t) {
+    filters.frames.push_back({{{1, 5, 5, 10, 10, 1.0}}, {{5, BoxPx{0, 0, 10, 10}, std::nullopt}}});
+  }
+  in.filters = filters;
+  const RunMetrics m = ComputeRunMetrics(in);
+  const auto j = nlohmann::json::parse(RunMetricsToJson(m));
+  EXPECT_EQ(j["mot"]["TP"], 2);
+  EXPECT_EQ(j["ospa"]["mean"], 0.0);  // identical centres
+  EXPECT_EQ(j["filters"]["da_accuracy"], 1.0);
+  EXPECT_EQ(j["filters"]["states"]["CORRECT"], 2);
+  EXPECT_EQ(j["filters"]["per_frame_states"].size(), 2u);
+}
+
+}  // namespace
+}  // namespace hcpf::metrics

@@ -1,0 +1,69 @@
+#pragma once
+// An off-screen OpenGL 4.5 (or at least 3.3) core-profile context, from one of
+// two backends:
+//   kOsMesa: OSMesaCreateContextAttribs (Mesa's off-screen library; Debian 12
+//            ships it, Mesa >= 25.1 no longer does);
+//   kEgl:    EGL on the surfaceless platform (EGL_MESA_platform_surfaceless),
+//            falling back to the device platform, context without a surface;
+//   kAuto:   OSMesa, then EGL.
+// All drawing goes to the renderer's own framebuffer objects, so the context
+// needs no window or default framebuffer. Creating a context logs GL_VENDOR,
+// GL_RENDERER and GL_VERSION (spdlog logger "renderer") and warns loudly on
+// softpipe, which is about 20x slower than llvmpipe.
+//
+// One context per thread: MakeCurrent() binds it to the calling thread.
+
+#include <memory>
+#include <string>
+#include <string_view>
+
+namespace hcpf::renderer {
+
+namespace internal {
+struct GlApi;
+}
+
+enum class GlBackend { kAuto, kOsMesa, kEgl };
+
+std::string_view ToString(GlBackend backend);
+// "auto" | "osmesa" | "egl"; throws hcpf::InputError naming the value otherwise.
+GlBackend ParseGlBackend(std::string_view text);
+
+struct GlInfo {
+  std::string backend;   // "osmesa" | "egl"
+  std::string vendor;    // GL_VENDOR
+  std::string renderer;  // GL_RENDERER, e.g. "llvmpipe (LLVM 15.0.6, 256 bits)"
+  std::string version;   // GL_VERSION
+  bool softpipe = false;
+};
+
+class GlContext {
+ public:
+  virtual ~GlContext();
+  GlContext(const GlContext&) = delete;
+  GlContext& operator=(const GlContext&) = delete;
+
+  // Creates a context and makes it current on the calling thread. Throws
+  // hcpf::InputError (CLI exit 2) when no requested backend works, with
+  // each backend's failure in the message.
+  static std::unique_ptr<GlContext> Create(GlBackend backend = GlBackend::kAuto);
+
+  virtual void MakeCurrent() = 0;
+  // Throws hcpf::RunError naming `where` if a GL error is pending (tests call
+  // it after each case).
+  void CheckNoError(const char* where) const;
+  const GlInfo& info() const { return info_; }
+  // The loaded GL entry points (private type; see src/gl_api.h).
+  const internal::GlApi& api() const { return *api_; }
+
+ protected:
+  GlContext();
+  // Loads the API through `loader`, fills info_ and logs it; throws on failure.
+  void Initialise(const std::string& backend, void* (*loader)(const char*));
+
+ private:
+  GlInfo info_;
+  std::unique_ptr<internal::GlApi> api_;
+};
+
+}  // namespace hcpf::renderer

@@ -1,0 +1,159 @@
+#pragma once
+// Renders a WorldSpec off-screen into 8-bit RGB frames with pixel-exact ground
+// truth (OpenGL core profile on Mesa's llvmpipe through OSMesa or EGL).
+//
+// Camera model: exactly hcpf::CameraState (core/camera.h): OpenCV intrinsics,
+// including the per-frame shaken principal point, pixel (0,0) covering
+// [0,1)x[0,1). The GL projection is built from K, so a world point projects to
+// the same pixel here as in CameraState::Project(); pixel (u, v) of a frame is
+// covered by a triangle when its centre (u + 0.5, v + 0.5) is (GL rasterisation).
+//
+// Ground truth per present target (hcpf::GroundTruthObject), from an
+// instance-id pass in the same frame:
+//   pixels_visible   pixels whose id is the target in the full render;
+//   pixels_total     pixels the target covers rendered alone (no occluders, no
+//                    other targets, same rasterisation), inside the image;
+//   visible_fraction pixels_visible / pixels_total (0 when pixels_total = 0);
+//   visible_box      pixel bounding box of the visible pixels [u0, u1+1) x [v0, v1+1);
+//   amodal_box       pixel bounding box of the unoccluded render, extended by
+//                    the projected mesh vertices where the target leaves the
+//                    image (so it is unclipped and contains visible_box);
+//   truncation       fraction of the amodal box's area outside the image;
+//   in_frame         some of the amodal box is inside the image.
+// Up to 255 targets per scene (the id is stored in the colour buffer's alpha).
+
+#include <cstdint>
+#include <filesystem>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "hcpf/core/ground_truth.h"
+#include "hcpf/core/rng.h"
+#include "hcpf/core/world.h"
+#include "hcpf/renderer/gl_context.h"
+
+namespace hcpf::renderer {
+
+// Effects applied to the rendered 8-bit image, in this order: exposure,
+// blur, noise, JPEG. Randomness from Rng::Fork("renderer/sensor", frame).
+struct SensorOptions {
+  double exposure = 1.0;     // gain on pixel values, (0, 16]
+  double blur_px = 0.0;      // Gaussian blur sigma in pixels, [0, 20]; 0 = off
+  double noise_sigma = 0.0;  // additive Gaussian noise std. dev. in grey levels, [0, 100]
+  int jpeg_quality = 0;      // JPEG encode/decode round trip quality, 1..100; 0 = off
+  // Throws hcpf::InputError naming the field ("sensor.<field>") and the constraint.
+  void Validate() const;
+  bool active() const {
+    return exposure != 1.0 || blur_px > 0.0 || noise_sigma > 0.0 || jpeg_quality > 0;
+  }
+};
+
+struct RendererOptions {
+  GlBackend backend = GlBackend::kAuto;
+  bool shadows = true;          // also needs world.sun.shadows
+  int shadow_map_size = 1024;   // texels per side, [64, 8192]
+  int pcf_radius = 1;           // shadow filter: (2r+1)^2 bilinear taps, [0, 4]
+  int terrain_grid = 96;        // height-field cells per side when relief > 0, [1, 1024]
+  int texture_size = 256;       // procedural texture size (power of two, [16, 2048])
+  double texture_tile_m = 12.0; // ground texture repeat length (m), > 0
+  double road_width_m = 7.0;    // width of roads along target paths (terrain.roads), > 0
+  // Hint for llvmpipe's rasteriser threads: sets LP_NUM_THREADS before the
+  // first context is created unless the environment already sets it; 0 = leave.
+  int lp_num_threads = 0;
+  bool ground_truth = true;          // run the instance-id / count passes
+  bool output_depth = false;         // fill RenderedFrame::depth
+  bool output_instance_ids = false;  // fill RenderedFrame::instance_ids
+  SensorOptions sensor;
+  // Throws hcpf::InputError naming the field ("renderer.<field>").
+  void Validate() const;
+};
+
+// 8-bit RGB, row-major, top row first, 3 bytes per pixel.
+struct RgbImage {
+  int width = 0;
+  int height = 0;
+  std::vector<uint8_t> pixels;
+  uint8_t* at(int x, int y) { return pixels.data() + 3 * (static_cast<size_t>(y) * width + x); }
+  const uint8_t* at(int x, int y) const {
+    return pixels.data() + 3 * (static_cast<size_t>(y) * width + x);
+  }
+  friend bool operator==(const RgbImage&, const RgbImage&) = default;
+};
+
+// Camera-frame depth (z along the optical axis) in metres; +inf where nothing
+// was drawn.
+struct DepthImage {
+  int width = 0;
+  int height = 0;
+  std::vector<float> depth_m;
+};
+
+// Per pixel the ObjectId value of the visible target, or -1.
+struct InstanceImage {
+  int width = 0;
+  int height = 0;
+  std::vector<int32_t> ids;
+};
+
+struct RenderedFrame {
+  int frame = 0;
+  RgbImage rgb;
+  std::optional<DepthImage> depth;
+  std::optional<InstanceImage> instance_ids;
+  FrameGroundTruth ground_truth;
+};
+
+class SceneRenderer {
+ public:
+  virtual ~SceneRenderer();
+
+  // Loads models, builds and uploads the scene, generates textures (seeded
+  // from rng.Fork("renderer/textures")). Uses `context` when given (it must
+  // outlive the renderer and be used from this thread), else creates one for
+  // options.backend. Throws hcpf::InputError for bad options, missing or
+  // unreadable models, more than 255 targets, or no GL context.
+  static std::unique_ptr<SceneRenderer> Create(const WorldSpec& world,
+                                               const RendererOptions& options, Rng rng,
+                                               std::shared_ptr<GlContext> context = nullptr);
+
+  // Renders frame `frame` (0-based) of the world. Deterministic: the same
+  // world, options, seed and driver give byte-identical frames.
+  virtual RenderedFrame Render(int frame) = 0;
+  virtual const GlInfo& gl_info() const = 0;
+
+ protected:
+  SceneRenderer() = default;
+};
+
+// Applies the sensor effects to `image` in place (no GL needed).
+void ApplySensorEffects(const SensorOptions& options, Rng rng, RgbImage& image);
+
+// Hex digest of everything that affects the pixels and ground truth of a
+// rendered frame: the world (including model file contents), the options
+// that change pixels (not backend, threads or output flags), the seed and the
+// renderer's shading version.
+std::string PixelHash(const WorldSpec& world, const RendererOptions& options, uint64_t seed);
+
+// PNG frames + ground truth on disk under DIR/<hash>/: a second run of the
+// same scene with other tracker settings reads frames instead of rendering.
+// Depth and instance images are not cached.
+class FrameCache {
+ public:
+  FrameCache(std::filesystem::path root, std::string hash);
+  // The frame if it is cached (and readable), else nullopt.
+  std::optional<RenderedFrame> Load(int frame) const;
+  // Writes the frame atomically (temp file + rename); throws hcpf::RunError.
+  void Store(const RenderedFrame& frame) const;
+  const std::filesystem::path& dir() const { return dir_; }
+
+ private:
+  std::filesystem::path dir_;
+};
+
+// PNG I/O for RGB images (OpenCV inside). ReadPng throws hcpf::InputError.
+void WritePng(const RgbImage& image, const std::string& path);
+RgbImage ReadPng(const std::string& path);
+
+}  // namespace hcpf::renderer

@@ -1,0 +1,252 @@
+#include "hcpf/renderer/gl_context.h"
+
+// EGL and OSMesa headers only here; GL calls go through GlApi (gl_api.h).
+#include <EGL/egl.h>
+#include <EGL/eglext.h>
+#include <GL/osmesa.h>
+#include <fmt/format.h>
+#include <spdlog/spdlog.h>
+
+#include <cstring>
+#include <vector>
+
+#include "gl_api.h"
+#include "hcpf/core/error.h"
+#include "logging.h"
+
+namespace hcpf::renderer {
+
+namespace internal {
+
+std::string GlApi::Load(ProcLoader loader) {
+#define HCPF_GL_LOAD(type, member, name)                    \
+  member = reinterpret_cast<type>(loader(name));           \
+  if (member == nullptr) return name;
+  HCPF_GL_FUNCTIONS(HCPF_GL_LOAD)
+#undef HCPF_GL_LOAD
+  return {};
+}
+
+void GlApi::CheckError(const char* where) const {
+  const GLenum error = GetError();
+  if (error != GL_NO_ERROR) {
+    throw RunError(fmt::format("OpenGL error 0x{:04x} in {}", error, where));
+  }
+}
+
+}  // namespace internal
+
+std::string_view ToString(GlBackend backend) {
+  switch (backend) {
+    case GlBackend::kAuto:
+      return "auto";
+    case GlBackend::kOsMesa:
+      return "osmesa";
+    case GlBackend::kEgl:
+      return "egl";
+  }
+  return "?";
+}
+
+GlBackend ParseGlBackend(std::string_view text) {
+  if (text == "auto") return GlBackend::kAuto;
+  if (text == "osmesa") return GlBackend::kOsMesa;
+  if (text == "egl") return GlBackend::kEgl;
+  throw InputError(SourceLocation{.key = "renderer.backend"}, "one of auto, osmesa, egl",
+                   fmt::format("\"{}\"", text));
+}
+
+GlContext::GlContext() = default;
+
+void GlContext::CheckNoError(const char* where) const { api_->CheckError(where); }
+GlContext::~GlContext() = default;
+
+void GlContext::Initialise(const std::string& backend, void* (*loader)(const char*)) {
+  api_ = std::make_unique<internal::GlApi>();
+  const std::string missing = api_->Load(loader);
+  if (!missing.empty()) {
+    throw InputError(fmt::format("{}: GL entry point {} not available", backend, missing));
+  }
+  const auto str = [&](GLenum name) {
+    const auto* s = reinterpret_cast<const char*>(api_->GetString(name));
+    return std::string(s != nullptr ? s : "");
+  };
+  info_.backend = backend;
+  info_.vendor = str(GL_VENDOR);
+  info_.renderer = str(GL_RENDERER);
+  info_.version = str(GL_VERSION);
+  info_.softpipe = info_.renderer.find("softpipe") != std::string::npos;
+  Logger()->info("GL context ({}): vendor \"{}\", renderer \"{}\", version \"{}\"", backend,
+                 info_.vendor, info_.renderer, info_.version);
+  if (info_.softpipe) {
+    Logger()->warn(
+        "GL driver is SOFTPIPE: rendering will be about 20x slower than llvmpipe. "
+        "Unset GALLIUM_DRIVER or set GALLIUM_DRIVER=llvmpipe.");
+  }
+  GLint major = 0;
+  GLint minor = 0;
+  api_->GetIntegerv(GL_MAJOR_VERSION, &major);
+  api_->GetIntegerv(GL_MINOR_VERSION, &minor);
+  if (major * 10 + minor < 33) {
+    throw InputError(fmt::format("{}: OpenGL {}.{} context, need at least 3.3 core", backend,
+                                 major, minor));
+  }
+}
+
+namespace {
+
+// ---------------------------------------------------------------------------
+// OSMesa
+
+void* OsMesaLoader(const char* name) {
+  return reinterpret_cast<void*>(OSMesaGetProcAddress(name));
+}
+
+class OsMesaContext final : public GlContext {
+ public:
+  OsMesaContext() {
+    // Ask for 4.5 core; llvmpipe on Mesa 22.3 gives it. 3.3 core is enough
+    // for our shaders, so fall back to it.
+    for (int minor_version : {5, 3}) {
+      const int major_version = minor_version == 5 ? 4 : 3;
+      const int attribs[] = {OSMESA_FORMAT,
+                             OSMESA_RGBA,
+                             OSMESA_DEPTH_BITS,
+                             0,
+                             OSMESA_STENCIL_BITS,
+                             0,
+                             OSMESA_PROFILE,
+                             OSMESA_CORE_PROFILE,
+                             OSMESA_CONTEXT_MAJOR_VERSION,
+                             major_version,
+                             OSMESA_CONTEXT_MINOR_VERSION,
+                             minor_version,
+                             0};
+      context_ = OSMesaCreateContextAttribs(attribs, nullptr);
+      if (context_ != nullptr) break;
+    }
+    if (context_ == nullptr) throw InputError("OSMesaCreateContextAttribs failed (no core profile)");
+    MakeCurrent();
+    Initialise("osmesa", &OsMesaLoader);
+  }
+  ~OsMesaContext() override {
+    if (context_ != nullptr) OSMesaDestroyContext(context_);
+  }
+  void MakeCurrent() override {
+    // OSMesa needs a colour buffer to make a context current; ours is a
+    // dummy, all rendering goes to framebuffer objects.
+    if (OSMesaMakeCurrent(context_, dummy_, GL_UNSIGNED_BYTE, kDummySize, kDummySize) == 0) {
+      throw InputError("OSMesaMakeCurrent failed");
+    }
+  }
+
+ private:
+  static constexpr int kDummySize = 4;
+  OSMesaContext context_ = nullptr;
+  unsigned char dummy_[kDummySize * kDummySize * 4] = {};
+};
+
+// ---------------------------------------------------------------------------
+// EGL
+
+void* EglLoader(const char* name) { return reinterpret_cast<void*>(eglGetProcAddress(name)); }
+
+class EglContext final : public GlContext {
+ public:
+  EglContext() {
+    auto get_platform_display = reinterpret_cast<PFNEGLGETPLATFORMDISPLAYEXTPROC>(
+        eglGetProcAddress("eglGetPlatformDisplayEXT"));
+    if (get_platform_display == nullptr) throw InputError("EGL: no eglGetPlatformDisplayEXT");
+    std::string errors;
+    display_ = TryInitialise(get_platform_display(EGL_PLATFORM_SURFACELESS_MESA,
+                                                  EGL_DEFAULT_DISPLAY, nullptr));
+    if (display_ == EGL_NO_DISPLAY) {
+      errors += "surfaceless platform failed; ";
+      auto query_devices = reinterpret_cast<PFNEGLQUERYDEVICESEXTPROC>(
+          eglGetProcAddress("eglQueryDevicesEXT"));
+      if (query_devices != nullptr) {
+        EGLDeviceEXT devices[16];
+        EGLint count = 0;
+        if (query_devices(16, devices, &count) == EGL_TRUE) {
+          for (EGLint i = 0; i < count && display_ == EGL_NO_DISPLAY; ++i) {
+            display_ = TryInitialise(
+                get_platform_display(EGL_PLATFORM_DEVICE_EXT, devices[i], nullptr));
+          }
+        }
+      }
+      if (display_ == EGL_NO_DISPLAY) {
+        throw InputError(fmt::format("EGL: {}device platform failed (error 0x{:x})", errors,
+                                     eglGetError()));
+      }
+    }
+    if (eglBindAPI(EGL_OPENGL_API) != EGL_TRUE) throw InputError("EGL: eglBindAPI(OpenGL) failed");
+    for (int minor_version : {5, 3}) {
+      const EGLint major_version = minor_version == 5 ? 4 : 3;
+      const EGLint attribs[] = {EGL_CONTEXT_MAJOR_VERSION,
+                                major_version,
+                                EGL_CONTEXT_MINOR_VERSION,
+                                minor_version,
+                                EGL_CONTEXT_OPENGL_PROFILE_MASK,
+                                EGL_CONTEXT_OPENGL_CORE_PROFILE_BIT,
+                                EGL_NONE};
+      // EGL_KHR_no_config_context: a context for FBO rendering needs no config.
+      context_ = eglCreateContext(display_, EGL_NO_CONFIG_KHR, EGL_NO_CONTEXT, attribs);
+      if (context_ != EGL_NO_CONTEXT) break;
+    }
+    if (context_ == EGL_NO_CONTEXT) {
+      throw InputError(fmt::format("EGL: eglCreateContext failed (error 0x{:x})", eglGetError()));
+    }
+    MakeCurrent();
+    Initialise("egl", &EglLoader);
+  }
+  ~EglContext() override {
+    if (display_ != EGL_NO_DISPLAY) {
+      eglMakeCurrent(display_, EGL_NO_SURFACE, EGL_NO_SURFACE, EGL_NO_CONTEXT);
+      if (context_ != EGL_NO_CONTEXT) eglDestroyContext(display_, context_);
+      eglTerminate(display_);
+    }
+  }
+  void MakeCurrent() override {
+    if (eglMakeCurrent(display_, EGL_NO_SURFACE, EGL_NO_SURFACE, context_) != EGL_TRUE) {
+      throw InputError(fmt::format("EGL: eglMakeCurrent failed (error 0x{:x})", eglGetError()));
+    }
+  }
+
+ private:
+  static EGLDisplay TryInitialise(EGLDisplay display) {
+    if (display == EGL_NO_DISPLAY) return EGL_NO_DISPLAY;
+    EGLint major = 0;
+    EGLint minor = 0;
+    return eglInitialize(display, &major, &minor) == EGL_TRUE ? display : EGL_NO_DISPLAY;
+  }
+
+  EGLDisplay display_ = EGL_NO_DISPLAY;
+  EGLContext context_ = EGL_NO_CONTEXT;
+};
+
+}  // namespace
+
+std::unique_ptr<GlContext> GlContext::Create(GlBackend backend) {
+  std::string failures;
+  if (backend == GlBackend::kAuto || backend == GlBackend::kOsMesa) {
+    try {
+      return std::make_unique<OsMesaContext>();
+    } catch (const Error& e) {
+      failures += fmt::format("osmesa: {}; ", e.what());
+      Logger()->debug("OSMesa backend failed: {}", e.what());
+    }
+  }
+  if (backend == GlBackend::kAuto || backend == GlBackend::kEgl) {
+    try {
+      return std::make_unique<EglContext>();
+    } catch (const Error& e) {
+      failures += fmt::format("egl: {}; ", e.what());
+    }
+  }
+  throw InputError(fmt::format(
+      "renderer.backend {}: no OpenGL 3.3+ core context could be created ({}). Install Mesa's "
+      "OSMesa or EGL (llvmpipe needs no GPU), or choose another backend.",
+      ToString(backend), failures));
+}
+
+}  // namespace hcpf::renderer

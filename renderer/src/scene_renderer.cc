@@ -1,0 +1,1034 @@
+// The GL scene renderer: terrain, occluders and vehicles; a sun shadow map
+// with PCF; a colour pass whose alpha channel carries the instance id; a
+// per-target count pass for the unoccluded pixel totals.
+
+#include <fmt/format.h>
+
+#include <Eigen/Geometry>
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstdlib>
+#include <limits>
+#include <map>
+#include <numbers>
+
+#include "gl_api.h"
+#include "hcpf/core/check.h"
+#include "hcpf/core/error.h"
+#include "hcpf/renderer/mesh.h"
+#include "hcpf/renderer/renderer.h"
+#include "logging.h"
+#include "shaders.h"
+#include "textures.h"
+
+namespace hcpf::renderer {
+
+SceneRenderer::~SceneRenderer() = default;
+
+namespace {
+
+using internal::GlApi;
+
+constexpr double kDegToRad = std::numbers::pi / 180.0;
+constexpr double kNearM = 0.5;
+constexpr int kMaxTargets = 255;
+// Lighting (linear units; albedo * (ambient + sun * N.L * lit)).
+const Eigen::Vector3f kSunColor{0.95f, 0.92f, 0.85f};
+const Eigen::Vector3f kSkyAmbient{0.36f, 0.40f, 0.46f};
+const Eigen::Vector3f kGroundAmbient{0.22f, 0.21f, 0.18f};
+const Eigen::Vector3f kSkyClear{0.62f, 0.72f, 0.85f};
+// Occluder colours.
+const Eigen::Vector3f kConcrete{0.62f, 0.61f, 0.58f};
+const Eigen::Vector3f kBuilding{0.72f, 0.66f, 0.56f};
+const Eigen::Vector3f kTrunk{0.35f, 0.25f, 0.16f};
+const Eigen::Vector3f kCanopy{0.16f, 0.32f, 0.12f};
+// Shadow depth bias in metres along the light direction, on top of the
+// slope-scaled polygon offset: removes acne on sunlit faces of occluders
+// without visibly detaching shadows from their casters (~1 texel).
+constexpr double kShadowBiasM = 0.12;
+
+struct GpuMesh {
+  GLuint vao = 0;
+  GLuint vbo = 0;
+  GLuint ibo = 0;
+  GLsizei index_count = 0;
+};
+
+// A block of terrain cells drawn or culled together.
+struct TerrainTile {
+  size_t first = 0;  // first index
+  GLsizei count = 0;
+  Eigen::Vector3f lo;
+  Eigen::Vector3f hi;
+};
+
+constexpr int kTerrainTileCells = 8;
+// Shadow occupancy: a coarse light-space grid marking where any caster can
+// put a shadow, so the PCF taps run only there (most of the ground is lit).
+constexpr int kOccupancySize = 64;
+
+struct VehicleModel {
+  GpuMesh gpu;
+  std::vector<Eigen::Vector3f> positions;  // base-centred model frame
+  Eigen::Vector3f dims = Eigen::Vector3f::Ones();
+};
+
+// Moves a mesh so that its base centre is at the origin; returns its size.
+Eigen::Vector3f BaseCentre(MeshData& mesh) {
+  const Eigen::AlignedBox3f b = mesh.Bounds();
+  mesh.Transform(Eigen::Vector3f::Ones(),
+                 Eigen::Vector3f(-0.5f * (b.min().x() + b.max().x()),
+                                 -0.5f * (b.min().y() + b.max().y()), -b.min().z()));
+  return (b.max() - b.min()).cwiseMax(Eigen::Vector3f::Constant(1e-4f));
+}
+
+Eigen::Matrix3f RotZ(double yaw_rad) {
+  return Eigen::AngleAxisf(static_cast<float>(yaw_rad), Eigen::Vector3f::UnitZ())
+      .toRotationMatrix();
+}
+
+class GlSceneRenderer final : public SceneRenderer {
+ public:
+  GlSceneRenderer(const WorldSpec& world, const RendererOptions& options, Rng rng,
+                  std::shared_ptr<GlContext> context)
+      : world_(world), options_(options), rng_(rng), context_(std::move(context)),
+        gl_(context_->api()) {
+    if (world_.targets.size() > static_cast<size_t>(kMaxTargets)) {
+      throw InputError(SourceLocation{.key = "targets"},
+                       fmt::format("at most {} targets for the renderer", kMaxTargets),
+                       fmt::format("{}", world_.targets.size()));
+    }
+    HCPF_CHECK(!world_.camera.path.empty());
+    width_ = world_.camera.width_px;
+    height_ = world_.camera.height_px;
+    shadows_ = options_.shadows && world_.sun.shadows;
+    context_->MakeCurrent();
+    BuildPrograms();
+    BuildFramebuffers();
+    BuildTextures();
+    BuildTerrain();
+    BuildOccluders();
+    BuildVehicles();
+    gl_.CheckError("scene upload");
+  }
+
+  ~GlSceneRenderer() override {
+    try {
+      context_->MakeCurrent();
+    } catch (const std::exception&) {
+      return;  // the context is gone; its objects went with it
+    }
+    const auto drop = [&](GpuMesh& m) {
+      gl_.DeleteVertexArrays(1, &m.vao);
+      gl_.DeleteBuffers(1, &m.vbo);
+      gl_.DeleteBuffers(1, &m.ibo);
+    };
+    drop(terrain_);
+    drop(occluders_);
+    for (VehicleModel& v : models_) drop(v.gpu);
+    const GLuint textures[] = {shadow_tex_, ground_tex_, road_tex_, mask_tex_, occupancy_tex_};
+    gl_.DeleteTextures(5, textures);
+    gl_.DeleteFramebuffers(1, &shadow_fbo_);
+    gl_.DeleteFramebuffers(1, &main_fbo_);
+    const GLuint rbs[] = {color_rb_, depth_rb_};
+    gl_.DeleteRenderbuffers(2, rbs);
+    gl_.DeleteProgram(scene_program_);
+    gl_.DeleteProgram(shadow_program_);
+  }
+
+  const GlInfo& gl_info() const override { return context_->info(); }
+
+  RenderedFrame Render(int frame) override;
+
+ private:
+  struct TargetInstance {
+    size_t slot = 0;  // index in world.targets
+    TargetPose pose;
+    Eigen::Matrix4f model = Eigen::Matrix4f::Identity();
+  };
+
+  GLuint Compile(GLenum type, const char* source);
+  GLuint Link(const char* vs, const char* fs);
+  void BuildPrograms();
+  void BuildFramebuffers();
+  void BuildTextures();
+  void BuildTerrain();
+  void DrawTerrain(const Eigen::Matrix4f& view_proj) const;
+  void UpdateOccupancy(const Eigen::Matrix4f& light_view_proj,
+                       const std::vector<Eigen::Matrix4f>& vehicle_models,
+                       const std::vector<size_t>& vehicle_slots);
+  void BuildOccluders();
+  void BuildVehicles();
+  GpuMesh Upload(const MeshData& mesh);
+  GLuint UploadTexture(const internal::Texture8& t, bool repeat);
+  void Draw(const GpuMesh& mesh) const {
+    gl_.BindVertexArray(mesh.vao);
+    gl_.DrawElements(GL_TRIANGLES, mesh.index_count, GL_UNSIGNED_INT, nullptr);
+  }
+  void SetModel(const Eigen::Matrix4f& model) const;
+  Eigen::Matrix4f LightViewProj(const CameraState& camera, double* depth_range_m) const;
+  Eigen::Matrix4f ViewProj(const CameraState& camera, double* far_m) const;
+  FrameGroundTruth GroundTruth(int frame, const CameraState& camera,
+                               const std::vector<TargetInstance>& targets,
+                               const std::vector<uint8_t>& rgba);
+
+  WorldSpec world_;
+  RendererOptions options_;
+  Rng rng_;
+  std::shared_ptr<GlContext> context_;
+  const GlApi& gl_;
+  int width_ = 0;
+  int height_ = 0;
+  bool shadows_ = true;
+  double scene_top_m_ = 0.0;  // highest point of anything drawn
+  double scene_bottom_m_ = 0.0;
+
+  GLuint scene_program_ = 0;
+  GLuint shadow_program_ = 0;
+  std::map<std::string, GLint> uniforms_;
+  GLint shadow_model_loc_ = -1;
+  GLint shadow_vp_loc_ = -1;
+  GLuint shadow_fbo_ = 0;
+  GLuint shadow_tex_ = 0;
+  int shadow_size_ = 1;
+  GLuint main_fbo_ = 0;
+  GLuint color_rb_ = 0;
+  GLuint depth_rb_ = 0;
+  GLuint ground_tex_ = 0;
+  GLuint road_tex_ = 0;
+  GLuint mask_tex_ = 0;
+  GLuint occupancy_tex_ = 0;
+  std::vector<uint8_t> occupancy_;
+  GpuMesh terrain_;
+  std::vector<TerrainTile> tiles_;
+  // Corners of every static caster's bounding boxes (world frame).
+  std::vector<std::array<Eigen::Vector3f, 8>> static_caster_boxes_;
+  GpuMesh occluders_;
+  std::vector<VehicleModel> models_;
+  std::vector<size_t> target_model_;  // per target: index into models_
+  std::vector<uint8_t> rgba_;
+  std::vector<uint8_t> region_;
+
+  GLint U(const char* name) const {
+    const auto it = uniforms_.find(name);
+    HCPF_CHECK(it != uniforms_.end()) << "uniform " << name;
+    return it->second;
+  }
+};
+
+GLuint GlSceneRenderer::Compile(GLenum type, const char* source) {
+  const GLuint shader = gl_.CreateShader(type);
+  gl_.ShaderSource(shader, 1, &source, nullptr);
+  gl_.CompileShader(shader);
+  GLint ok = 0;
+  gl_.GetShaderiv(shader, GL_COMPILE_STATUS, &ok);
+  if (ok == 0) {
+    char log[4096] = {};
+    gl_.GetShaderInfoLog(shader, sizeof(log), nullptr, log);
+    throw RunError(fmt::format("renderer: shader compilation failed: {}", log));
+  }
+  return shader;
+}
+
+GLuint GlSceneRenderer::Link(const char* vs, const char* fs) {
+  const GLuint v = Compile(GL_VERTEX_SHADER, vs);
+  const GLuint f = Compile(GL_FRAGMENT_SHADER, fs);
+  const GLuint program = gl_.CreateProgram();
+  gl_.AttachShader(program, v);
+  gl_.AttachShader(program, f);
+  gl_.LinkProgram(program);
+  gl_.DeleteShader(v);
+  gl_.DeleteShader(f);
+  GLint ok = 0;
+  gl_.GetProgramiv(program, GL_LINK_STATUS, &ok);
+  if (ok == 0) {
+    char log[4096] = {};
+    gl_.GetProgramInfoLog(program, sizeof(log), nullptr, log);
+    throw RunError(fmt::format("renderer: program link failed: {}", log));
+  }
+  return program;
+}
+
+void GlSceneRenderer::BuildPrograms() {
+  scene_program_ = Link(internal::kSceneVertexShader, internal::kSceneFragmentShader);
+  shadow_program_ = Link(internal::kShadowVertexShader, internal::kShadowFragmentShader);
+  for (const char* name :
+       {"u_model", "u_normal_matrix", "u_view_proj", "u_light_view_proj", "u_id_only", "u_id",
+        "u_material", "u_tint", "u_sun_dir", "u_sun_color", "u_sky_color", "u_ground_color",
+        "u_shadows", "u_pcf", "u_shadow_texel", "u_shadow_bias", "u_shadow_map", "u_ground_tex",
+        "u_road_tex", "u_road_mask", "u_occupancy", "u_terrain_min", "u_terrain_size", "u_tile_m", "u_roads"}) {
+    uniforms_[name] = gl_.GetUniformLocation(scene_program_, name);
+  }
+  shadow_model_loc_ = gl_.GetUniformLocation(shadow_program_, "u_model");
+  shadow_vp_loc_ = gl_.GetUniformLocation(shadow_program_, "u_light_view_proj");
+  gl_.UseProgram(scene_program_);
+  gl_.Uniform1i(U("u_shadow_map"), 0);
+  gl_.Uniform1i(U("u_ground_tex"), 1);
+  gl_.Uniform1i(U("u_road_tex"), 2);
+  gl_.Uniform1i(U("u_road_mask"), 3);
+  gl_.Uniform1i(U("u_occupancy"), 4);
+  gl_.CheckError("program setup");
+}
+
+void GlSceneRenderer::BuildFramebuffers() {
+  // Shadow map: depth texture with hardware comparison (bilinear PCF taps).
+  shadow_size_ = shadows_ ? options_.shadow_map_size : 1;
+  gl_.GenTextures(1, &shadow_tex_);
+  gl_.ActiveTexture(GL_TEXTURE0);
+  gl_.BindTexture(GL_TEXTURE_2D, shadow_tex_);
+  gl_.TexImage2D(GL_TEXTURE_2D, 0, GL_DEPTH_COMPONENT24, shadow_size_, shadow_size_, 0,
+                 GL_DEPTH_COMPONENT, GL_UNSIGNED_INT, nullptr);
+  gl_.TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
+  gl_.TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+  gl_.TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+  gl_.TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+  gl_.TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_COMPARE_MODE, GL_COMPARE_REF_TO_TEXTURE);
+  gl_.TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_COMPARE_FUNC, GL_LEQUAL);
+  gl_.GenFramebuffers(1, &shadow_fbo_);
+  gl_.BindFramebuffer(GL_FRAMEBUFFER, shadow_fbo_);
+  gl_.FramebufferTexture2D(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_TEXTURE_2D, shadow_tex_, 0);
+  gl_.DrawBuffer(GL_NONE);
+  gl_.ReadBuffer(GL_NONE);
+  if (gl_.CheckFramebufferStatus(GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE) {
+    throw RunError("renderer: shadow framebuffer incomplete");
+  }
+  // Colour pass: RGBA8 (alpha = instance id) + 32-bit float depth.
+  gl_.GenRenderbuffers(1, &color_rb_);
+  gl_.BindRenderbuffer(GL_RENDERBUFFER, color_rb_);
+  gl_.RenderbufferStorage(GL_RENDERBUFFER, GL_RGBA8, width_, height_);
+  gl_.GenRenderbuffers(1, &depth_rb_);
+  gl_.BindRenderbuffer(GL_RENDERBUFFER, depth_rb_);
+  gl_.RenderbufferStorage(GL_RENDERBUFFER, GL_DEPTH_COMPONENT32F, width_, height_);
+  gl_.GenFramebuffers(1, &main_fbo_);
+  gl_.BindFramebuffer(GL_FRAMEBUFFER, main_fbo_);
+  gl_.FramebufferRenderbuffer(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_RENDERBUFFER, color_rb_);
+  gl_.FramebufferRenderbuffer(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER, depth_rb_);
+  if (gl_.CheckFramebufferStatus(GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE) {
+    throw RunError("renderer: colour framebuffer incomplete");
+  }
+  gl_.CheckError("framebuffers");
+}
+
+GLuint GlSceneRenderer::UploadTexture(const internal::Texture8& t, bool repeat) {
+  GLuint tex = 0;
+  gl_.GenTextures(1, &tex);
+  gl_.BindTexture(GL_TEXTURE_2D, tex);
+  gl_.PixelStorei(GL_UNPACK_ALIGNMENT, 1);
+  const GLenum format = t.channels == 3 ? GL_RGB : GL_RED;
+  const GLint internal_format = t.channels == 3 ? GL_RGB8 : GL_R8;
+  gl_.TexImage2D(GL_TEXTURE_2D, 0, internal_format, t.size, t.size, 0, format, GL_UNSIGNED_BYTE,
+                 t.texels.data());
+  gl_.GenerateMipmap(GL_TEXTURE_2D);
+  gl_.TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER,
+                    repeat ? GL_LINEAR_MIPMAP_NEAREST : GL_LINEAR);
+  gl_.TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+  const GLint wrap = repeat ? GL_REPEAT : GL_CLAMP_TO_EDGE;
+  gl_.TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, wrap);
+  gl_.TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, wrap);
+  return tex;
+}
+
+void GlSceneRenderer::BuildTextures() {
+  Rng tex_rng = rng_.Fork("renderer/textures");
+  gl_.ActiveTexture(GL_TEXTURE1);
+  ground_tex_ = UploadTexture(
+      internal::GroundTexture(world_.terrain.texture, options_.texture_size,
+                              tex_rng.Fork("ground")),
+      true);
+  gl_.ActiveTexture(GL_TEXTURE2);
+  road_tex_ = UploadTexture(
+      internal::GroundTexture("asphalt", options_.texture_size, tex_rng.Fork("road")), true);
+  gl_.ActiveTexture(GL_TEXTURE3);
+  const int mask_size = world_.terrain.roads ? 1024 : 1;
+  mask_tex_ = UploadTexture(internal::RoadMask(world_, mask_size, options_.road_width_m), false);
+  gl_.ActiveTexture(GL_TEXTURE4);
+  gl_.GenTextures(1, &occupancy_tex_);
+  gl_.BindTexture(GL_TEXTURE_2D, occupancy_tex_);
+  occupancy_.assign(kOccupancySize * kOccupancySize, 0);
+  gl_.TexImage2D(GL_TEXTURE_2D, 0, GL_R8, kOccupancySize, kOccupancySize, 0, GL_RED,
+                 GL_UNSIGNED_BYTE, occupancy_.data());
+  gl_.TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+  gl_.TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+  gl_.ActiveTexture(GL_TEXTURE0);
+  gl_.CheckError("textures");
+}
+
+GpuMesh GlSceneRenderer::Upload(const MeshData& mesh) {
+  GpuMesh gpu;
+  std::vector<float> interleaved;
+  interleaved.reserve(mesh.vertex_count() * 11);
+  for (size_t i = 0; i < mesh.vertex_count(); ++i) {
+    const auto& p = mesh.positions[i];
+    const auto& n = mesh.normals[i];
+    const auto& t = mesh.uvs[i];
+    const auto& c = mesh.colors[i];
+    interleaved.insert(interleaved.end(),
+                       {p.x(), p.y(), p.z(), n.x(), n.y(), n.z(), t.x(), t.y(), c.x(), c.y(), c.z()});
+  }
+  gl_.GenVertexArrays(1, &gpu.vao);
+  gl_.BindVertexArray(gpu.vao);
+  gl_.GenBuffers(1, &gpu.vbo);
+  gl_.BindBuffer(GL_ARRAY_BUFFER, gpu.vbo);
+  gl_.BufferData(GL_ARRAY_BUFFER, static_cast<GLsizeiptr>(interleaved.size() * sizeof(float)),
+                 interleaved.data(), GL_STATIC_DRAW);
+  gl_.GenBuffers(1, &gpu.ibo);
+  gl_.BindBuffer(GL_ELEMENT_ARRAY_BUFFER, gpu.ibo);
+  gl_.BufferData(GL_ELEMENT_ARRAY_BUFFER,
+                 static_cast<GLsizeiptr>(mesh.indices.size() * sizeof(uint32_t)),
+                 mesh.indices.data(), GL_STATIC_DRAW);
+  constexpr GLsizei kStride = 11 * sizeof(float);
+  const int sizes[4] = {3, 3, 2, 3};
+  size_t offset = 0;
+  for (GLuint a = 0; a < 4; ++a) {
+    gl_.EnableVertexAttribArray(a);
+    gl_.VertexAttribPointer(a, sizes[a], GL_FLOAT, GL_FALSE, kStride,
+                            reinterpret_cast<const void*>(offset * sizeof(float)));
+    offset += static_cast<size_t>(sizes[a]);
+  }
+  gl_.BindVertexArray(0);
+  gpu.index_count = static_cast<GLsizei>(mesh.indices.size());
+  return gpu;
+}
+
+void GlSceneRenderer::BuildTerrain() {
+  const TerrainSpec& t = world_.terrain;
+  const int grid = t.relief_m > 0.0 ? options_.terrain_grid : 1;
+  MeshData mesh;
+  const double sx = t.size_m.x();
+  const double sy = t.size_m.y();
+  // Normals from central differences of the analytic height field; 0.5 m is
+  // well below the shortest wavelength (10 m).
+  constexpr double kEps = 0.5;
+  for (int j = 0; j <= grid; ++j) {
+    for (int i = 0; i <= grid; ++i) {
+      const double x = -0.5 * sx + sx * i / grid;
+      const double y = -0.5 * sy + sy * j / grid;
+      mesh.positions.emplace_back(static_cast<float>(x), static_cast<float>(y),
+                                  static_cast<float>(t.HeightAt(x, y)));
+      const double dx = (t.HeightAt(x + kEps, y) - t.HeightAt(x - kEps, y)) / (2 * kEps);
+      const double dy = (t.HeightAt(x, y + kEps) - t.HeightAt(x, y - kEps)) / (2 * kEps);
+      mesh.normals.push_back(Eigen::Vector3d(-dx, -dy, 1.0).normalized().cast<float>());
+      mesh.uvs.emplace_back(static_cast<float>(i) / grid, static_cast<float>(j) / grid);
+      mesh.colors.emplace_back(1.0f, 1.0f, 1.0f);
+    }
+  }
+  const auto v = [&](int i, int j) { return static_cast<uint32_t>(j * (grid + 1) + i); };
+  // Indices grouped by tile so that tiles outside the view can be skipped
+  // (llvmpipe's geometry stage is single-threaded: unseen triangles cost).
+  for (int tj = 0; tj < grid; tj += kTerrainTileCells) {
+    for (int ti = 0; ti < grid; ti += kTerrainTileCells) {
+      TerrainTile tile;
+      tile.first = mesh.indices.size();
+      tile.lo = Eigen::Vector3f::Constant(std::numeric_limits<float>::max());
+      tile.hi = -tile.lo;
+      for (int j = tj; j < std::min(grid, tj + kTerrainTileCells); ++j) {
+        for (int i = ti; i < std::min(grid, ti + kTerrainTileCells); ++i) {
+          const uint32_t quad[6] = {v(i, j), v(i + 1, j), v(i + 1, j + 1),
+                                    v(i, j), v(i + 1, j + 1), v(i, j + 1)};
+          for (uint32_t q : quad) {
+            mesh.indices.push_back(q);
+            tile.lo = tile.lo.cwiseMin(mesh.positions[q]);
+            tile.hi = tile.hi.cwiseMax(mesh.positions[q]);
+          }
+        }
+      }
+      tile.count = static_cast<GLsizei>(mesh.indices.size() - tile.first);
+      tiles_.push_back(tile);
+    }
+  }
+  terrain_ = Upload(mesh);
+  scene_bottom_m_ = -0.5 * t.relief_m;
+  scene_top_m_ = 0.5 * t.relief_m;
+}
+
+void GlSceneRenderer::BuildOccluders() {
+  MeshBuilder builder;
+  MeshData mesh;
+  for (size_t k = 0; k < world_.occluders.size(); ++k) {
+    const OccluderSpec& o = world_.occluders[k];
+    if (o.kind == OccluderKind::kMesh) {
+      MeshData m = LoadMesh(o.model);
+      BaseCentre(m);
+      const Eigen::Matrix3f r = RotZ(o.yaw_deg * kDegToRad);
+      const auto s = static_cast<float>(o.scale);
+      const Eigen::Vector3f at(static_cast<float>(o.at_m.x()), static_cast<float>(o.at_m.y()),
+                               static_cast<float>(world_.terrain.HeightAt(o.at_m.x(), o.at_m.y())));
+      for (auto& p : m.positions) p = r * (s * p) + at;
+      for (auto& n : m.normals) n = r * n;
+      mesh.Append(m);
+      const Eigen::AlignedBox3f bounds = m.Bounds();
+      std::array<Eigen::Vector3f, 8> corners;
+      for (int c = 0; c < 8; ++c) {
+        corners[static_cast<size_t>(c)] =
+            bounds.corner(static_cast<Eigen::AlignedBox3f::CornerType>(c));
+      }
+      static_caster_boxes_.push_back(corners);
+      scene_top_m_ = std::max(scene_top_m_, double{bounds.max().z()});
+      continue;
+    }
+    // Primitive occluders are drawn as exactly the boxes the analytic ground
+    // truth uses (world.h OccluderSpec::Boxes).
+    const std::vector<OrientedBox> boxes = o.Boxes(world_.terrain);
+    for (size_t b = 0; b < boxes.size(); ++b) {
+      Eigen::Vector3f color = kBuilding;
+      if (o.kind == OccluderKind::kBridge) color = kConcrete;
+      if (o.kind == OccluderKind::kTree) color = b == 0 ? kTrunk : kCanopy;
+      builder.AddOrientedBox(boxes[b].centre_m.cast<float>(), boxes[b].half_size_m.cast<float>(),
+                             static_cast<float>(boxes[b].yaw_deg * kDegToRad), color);
+      scene_top_m_ = std::max(scene_top_m_, boxes[b].centre_m.z() + boxes[b].half_size_m.z());
+      const auto corners = boxes[b].Corners();
+      std::array<Eigen::Vector3f, 8> fc;
+      for (size_t c = 0; c < 8; ++c) fc[c] = corners[c].cast<float>();
+      static_caster_boxes_.push_back(fc);
+    }
+  }
+  mesh.Append(builder.mesh());
+  if (!mesh.empty()) occluders_ = Upload(mesh);
+}
+
+void GlSceneRenderer::BuildVehicles() {
+  std::map<std::string, size_t> by_path;
+  for (const TargetSpec& target : world_.targets) {
+    auto it = by_path.find(target.model);
+    if (it == by_path.end()) {
+      MeshData mesh = target.model.empty()
+                          ? MeshBuilder()
+                                .AddBox({-0.5f, -0.5f, 0.0f}, {0.5f, 0.5f, 1.0f}, {1, 1, 1})
+                                .Take()
+                          : LoadMesh(target.model);
+      VehicleModel model;
+      model.dims = BaseCentre(mesh);
+      model.positions = mesh.positions;
+      model.gpu = Upload(mesh);
+      models_.push_back(std::move(model));
+      it = by_path.emplace(target.model, models_.size() - 1).first;
+    }
+    target_model_.push_back(it->second);
+    scene_top_m_ = std::max(scene_top_m_, 0.5 * world_.terrain.relief_m + target.dimensions_m.z());
+  }
+}
+
+void GlSceneRenderer::SetModel(const Eigen::Matrix4f& model) const {
+  gl_.UniformMatrix4fv(U("u_model"), 1, GL_FALSE, model.data());
+  const Eigen::Matrix3f normal = model.topLeftCorner<3, 3>().inverse().transpose();
+  gl_.UniformMatrix3fv(U("u_normal_matrix"), 1, GL_FALSE, normal.data());
+}
+
+Eigen::Matrix4f GlSceneRenderer::ViewProj(const CameraState& camera, double* far_m) const {
+  const CameraIntrinsics& k = camera.intrinsics;
+  // Far plane: beyond the farthest corner of the scene's bounding box.
+  double far = 10.0;
+  const Eigen::Vector2d half = 0.5 * world_.terrain.size_m;
+  for (int i = 0; i < 8; ++i) {
+    const Eigen::Vector3d corner((i & 1) ? half.x() : -half.x(), (i & 2) ? half.y() : -half.y(),
+                                 (i & 4) ? scene_top_m_ : scene_bottom_m_);
+    far = std::max(far, camera.ToCamera(corner).z() + 10.0);
+  }
+  *far_m = far;
+  const double n = kNearM;
+  const double f = far;
+  // Maps camera (OpenCV) coordinates to clip space so that window x = u and
+  // window y = v: glReadPixels row v is image row v, no flip needed.
+  Eigen::Matrix4d p = Eigen::Matrix4d::Zero();
+  p(0, 0) = 2.0 * k.fx_px / k.width_px;
+  p(0, 2) = 2.0 * k.cx_px / k.width_px - 1.0;
+  p(1, 1) = 2.0 * k.fy_px / k.height_px;
+  p(1, 2) = 2.0 * k.cy_px / k.height_px - 1.0;
+  p(2, 2) = (f + n) / (f - n);
+  p(2, 3) = -2.0 * f * n / (f - n);
+  p(3, 2) = 1.0;
+  Eigen::Matrix4d view = Eigen::Matrix4d::Identity();
+  view.topLeftCorner<3, 3>() = camera.pose.camera_from_world();
+  view.topRightCorner<3, 1>() = -camera.pose.camera_from_world() * camera.pose.position_m;
+  return (p * view).cast<float>();
+}
+
+Eigen::Matrix4f GlSceneRenderer::LightViewProj(const CameraState& camera,
+                                               double* depth_range_m) const {
+  const Eigen::Vector3d sun = world_.sun.Direction().normalized();
+  const Eigen::Vector3d forward = -sun;
+  const Eigen::Vector3d up_hint =
+      std::abs(sun.z()) > 0.99 ? Eigen::Vector3d::UnitY() : Eigen::Vector3d::UnitZ();
+  const Eigen::Vector3d right = forward.cross(up_hint).normalized();
+  const Eigen::Vector3d up = right.cross(forward);
+  Eigen::Matrix3d rows;
+  rows.row(0) = right;
+  rows.row(1) = up;
+  rows.row(2) = sun;  // GL eye space looks down -z
+  const Eigen::Vector2d half = 0.5 * world_.terrain.size_m;
+  const auto clamp_xy = [&](Eigen::Vector3d p) {
+    p.x() = std::clamp(p.x(), -half.x(), half.x());
+    p.y() = std::clamp(p.y(), -half.y(), half.y());
+    return p;
+  };
+  // Receivers: the part of the terrain the camera sees (rays through a 5x5
+  // lattice of image points hitting the bottom and top planes of the scene),
+  // clamped to the terrain. Fitting the map to the view instead of the whole
+  // terrain keeps shadow texels small when the camera sees a small area.
+  Eigen::Vector2d lo = Eigen::Vector2d::Constant(std::numeric_limits<double>::max());
+  Eigen::Vector2d hi = -lo;
+  const int w = camera.intrinsics.width_px;
+  const int h = camera.intrinsics.height_px;
+  for (int a = 0; a <= 4; ++a) {
+    for (int b = 0; b <= 4; ++b) {
+      const Eigen::Vector3d d = camera.RayDirection(w * a / 4.0, h * b / 4.0).normalized();
+      for (double z : {scene_bottom_m_, scene_top_m_}) {
+        Eigen::Vector3d p;
+        const double t = d.z() < -1e-9 ? (z - camera.pose.position_m.z()) / d.z() : -1.0;
+        if (t > 0.0) {
+          p = camera.pose.position_m + t * d;
+        } else {
+          p = camera.pose.position_m + 1e6 * Eigen::Vector3d(d.x(), d.y(), 0.0);
+          p.z() = z;
+        }
+        const Eigen::Vector3d e = rows * clamp_xy(p);
+        lo = lo.cwiseMin(e.head<2>());
+        hi = hi.cwiseMax(e.head<2>());
+      }
+    }
+  }
+  lo.array() -= 1.0;
+  hi.array() += 1.0;
+  // Depth: every caster in the scene box, so casters outside the view still
+  // shadow what is seen.
+  double zmin = std::numeric_limits<double>::max();
+  double zmax = -zmin;
+  for (int i = 0; i < 8; ++i) {
+    const Eigen::Vector3d corner((i & 1) ? half.x() : -half.x(), (i & 2) ? half.y() : -half.y(),
+                                 (i & 4) ? scene_top_m_ + 1.0 : scene_bottom_m_ - 1.0);
+    const double z = (rows * corner).z();
+    zmin = std::min(zmin, z);
+    zmax = std::max(zmax, z);
+  }
+  const double near = -zmax;
+  const double far = -zmin;
+  *depth_range_m = far - near;
+  Eigen::Matrix4d ortho = Eigen::Matrix4d::Identity();
+  ortho(0, 0) = 2.0 / (hi.x() - lo.x());
+  ortho(0, 3) = -(hi.x() + lo.x()) / (hi.x() - lo.x());
+  ortho(1, 1) = 2.0 / (hi.y() - lo.y());
+  ortho(1, 3) = -(hi.y() + lo.y()) / (hi.y() - lo.y());
+  ortho(2, 2) = -2.0 / (far - near);
+  ortho(2, 3) = -(far + near) / (far - near);
+  Eigen::Matrix4d view = Eigen::Matrix4d::Identity();
+  view.topLeftCorner<3, 3>() = rows;
+  return (ortho * view).cast<float>();
+}
+
+void GlSceneRenderer::DrawTerrain(const Eigen::Matrix4f& view_proj) const {
+  gl_.BindVertexArray(terrain_.vao);
+  // Clip-space test of each tile's box: culled when all 8 corners lie
+  // outside the same frustum plane. Adjacent visible tiles are merged.
+  size_t run_first = 0;
+  GLsizei run_count = 0;
+  const auto flush = [&] {
+    if (run_count > 0) {
+      gl_.DrawElements(GL_TRIANGLES, run_count, GL_UNSIGNED_INT,
+                       reinterpret_cast<const void*>(run_first * sizeof(uint32_t)));
+    }
+    run_count = 0;
+  };
+  for (const TerrainTile& tile : tiles_) {
+    int outside[6] = {0, 0, 0, 0, 0, 0};
+    for (int c = 0; c < 8; ++c) {
+      const Eigen::Vector4f p((c & 1) ? tile.hi.x() : tile.lo.x(), (c & 2) ? tile.hi.y() : tile.lo.y(),
+                              (c & 4) ? tile.hi.z() : tile.lo.z(), 1.0f);
+      const Eigen::Vector4f q = view_proj * p;
+      outside[0] += q.x() < -q.w();
+      outside[1] += q.x() > q.w();
+      outside[2] += q.y() < -q.w();
+      outside[3] += q.y() > q.w();
+      outside[4] += q.z() < -q.w();
+      outside[5] += q.z() > q.w();
+    }
+    const bool culled = std::any_of(std::begin(outside), std::end(outside),
+                                    [](int n) { return n == 8; });
+    if (culled) {
+      flush();
+      continue;
+    }
+    if (run_count == 0) run_first = tile.first;
+    run_count += tile.count;
+  }
+  flush();
+}
+
+void GlSceneRenderer::UpdateOccupancy(const Eigen::Matrix4f& light_view_proj,
+                                      const std::vector<Eigen::Matrix4f>& vehicle_models,
+                                      const std::vector<size_t>& vehicle_slots) {
+  std::fill(occupancy_.begin(), occupancy_.end(), 0);
+  // A receiver is shadowed only where some caster covers the same light-space
+  // point, i.e. inside a caster's light-space footprint. Footprints are grown
+  // by the PCF kernel, the depth bias and a cell for rounding.
+  const float margin =
+      static_cast<float>(options_.pcf_radius + 2) / static_cast<float>(shadow_size_) +
+      1.0f / kOccupancySize;
+  const auto mark = [&](const std::array<Eigen::Vector3f, 8>& corners, const Eigen::Matrix4f& m) {
+    Eigen::Vector2f lo = Eigen::Vector2f::Constant(std::numeric_limits<float>::max());
+    Eigen::Vector2f hi = -lo;
+    for (const Eigen::Vector3f& c : corners) {
+      const Eigen::Vector4f q = light_view_proj * (m * Eigen::Vector4f(c.x(), c.y(), c.z(), 1.0f));
+      const Eigen::Vector2f uv = (q.head<2>() / q.w()).array() * 0.5f + 0.5f;
+      lo = lo.cwiseMin(uv);
+      hi = hi.cwiseMax(uv);
+    }
+    const auto cell = [](float x) {
+      return std::clamp(static_cast<int>(std::floor(x * kOccupancySize)), 0, kOccupancySize - 1);
+    };
+    if (hi.x() + margin < 0.0f || hi.y() + margin < 0.0f || lo.x() - margin > 1.0f ||
+        lo.y() - margin > 1.0f) {
+      return;
+    }
+    for (int y = cell(lo.y() - margin); y <= cell(hi.y() + margin); ++y) {
+      for (int x = cell(lo.x() - margin); x <= cell(hi.x() + margin); ++x) {
+        occupancy_[static_cast<size_t>(y) * kOccupancySize + x] = 255;
+      }
+    }
+  };
+  const Eigen::Matrix4f identity = Eigen::Matrix4f::Identity();
+  for (const auto& corners : static_caster_boxes_) mark(corners, identity);
+  for (size_t i = 0; i < vehicle_models.size(); ++i) {
+    const Eigen::Vector3f d = models_[target_model_[vehicle_slots[i]]].dims;
+    std::array<Eigen::Vector3f, 8> corners;
+    for (int c = 0; c < 8; ++c) {
+      corners[static_cast<size_t>(c)] = {(c & 1) ? 0.5f * d.x() : -0.5f * d.x(),
+                                         (c & 2) ? 0.5f * d.y() : -0.5f * d.y(),
+                                         (c & 4) ? d.z() : 0.0f};
+    }
+    mark(corners, vehicle_models[i]);
+  }
+  gl_.ActiveTexture(GL_TEXTURE4);
+  gl_.BindTexture(GL_TEXTURE_2D, occupancy_tex_);
+  gl_.PixelStorei(GL_UNPACK_ALIGNMENT, 1);
+  gl_.TexImage2D(GL_TEXTURE_2D, 0, GL_R8, kOccupancySize, kOccupancySize, 0, GL_RED,
+                 GL_UNSIGNED_BYTE, occupancy_.data());
+  gl_.ActiveTexture(GL_TEXTURE0);
+}
+
+RenderedFrame GlSceneRenderer::Render(int frame) {
+  context_->MakeCurrent();
+  RenderedFrame out;
+  out.frame = frame;
+  const CameraState camera = EvaluateCamera(world_.camera, frame);
+  HCPF_CHECK(camera.intrinsics.width_px == width_ && camera.intrinsics.height_px == height_);
+
+  std::vector<TargetInstance> targets;
+  for (size_t i = 0; i < world_.targets.size(); ++i) {
+    const TargetSpec& spec = world_.targets[i];
+    TargetInstance t;
+    t.slot = i;
+    t.pose = EvaluateTarget(spec, world_.terrain, frame, world_.fps);
+    if (!t.pose.present) continue;
+    const VehicleModel& model = models_[target_model_[i]];
+    Eigen::Affine3f m = Eigen::Affine3f::Identity();
+    m.translate(t.pose.position_m.cast<float>());
+    m.rotate(RotZ(t.pose.heading_deg * kDegToRad));
+    m.scale(spec.dimensions_m.cast<float>().cwiseQuotient(model.dims));
+    t.model = m.matrix();
+    targets.push_back(t);
+  }
+
+  double far_m = 0.0;
+  const Eigen::Matrix4f view_proj = ViewProj(camera, &far_m);
+  Eigen::Matrix4f light_view_proj = Eigen::Matrix4f::Identity();
+  double light_depth_m = 1.0;
+
+  // Shadow pass: occluders and vehicles cast; the terrain only receives
+  // (its relief is gentle, and skipping it keeps the pass cheap).
+  if (shadows_) {
+    light_view_proj = LightViewProj(camera, &light_depth_m);
+    gl_.BindFramebuffer(GL_FRAMEBUFFER, shadow_fbo_);
+    gl_.Viewport(0, 0, shadow_size_, shadow_size_);
+    gl_.Disable(GL_SCISSOR_TEST);
+    gl_.Enable(GL_DEPTH_TEST);
+    gl_.DepthFunc(GL_LESS);
+    gl_.DepthMask(GL_TRUE);
+    gl_.Disable(GL_CULL_FACE);
+    gl_.ClearDepth(1.0);
+    gl_.Clear(GL_DEPTH_BUFFER_BIT);
+    gl_.Enable(GL_POLYGON_OFFSET_FILL);
+    gl_.PolygonOffset(1.5f, 2.0f);
+    gl_.UseProgram(shadow_program_);
+    gl_.UniformMatrix4fv(shadow_vp_loc_, 1, GL_FALSE, light_view_proj.data());
+    const Eigen::Matrix4f identity = Eigen::Matrix4f::Identity();
+    if (occluders_.index_count > 0) {
+      gl_.UniformMatrix4fv(shadow_model_loc_, 1, GL_FALSE, identity.data());
+      Draw(occluders_);
+    }
+    for (const TargetInstance& t : targets) {
+      gl_.UniformMatrix4fv(shadow_model_loc_, 1, GL_FALSE, t.model.data());
+      Draw(models_[target_model_[t.slot]].gpu);
+    }
+    gl_.Disable(GL_POLYGON_OFFSET_FILL);
+    std::vector<Eigen::Matrix4f> vehicle_models;
+    std::vector<size_t> vehicle_slots;
+    for (const TargetInstance& t : targets) {
+      vehicle_models.push_back(t.model);
+      vehicle_slots.push_back(t.slot);
+    }
+    UpdateOccupancy(light_view_proj, vehicle_models, vehicle_slots);
+    gl_.CheckError("shadow pass");
+  }
+
+  // Colour pass; alpha = instance id / 255.
+  gl_.BindFramebuffer(GL_FRAMEBUFFER, main_fbo_);
+  gl_.Viewport(0, 0, width_, height_);
+  gl_.Disable(GL_SCISSOR_TEST);
+  gl_.Enable(GL_DEPTH_TEST);
+  gl_.DepthFunc(GL_LESS);
+  gl_.DepthMask(GL_TRUE);
+  gl_.Enable(GL_CULL_FACE);
+  gl_.CullFace(GL_BACK);
+  // The projection maps image rows to window rows top-down (a y flip), so
+  // counter-clockwise triangles appear clockwise in window coordinates.
+  gl_.FrontFace(GL_CW);
+  gl_.ClearColor(kSkyClear.x(), kSkyClear.y(), kSkyClear.z(), 0.0f);
+  gl_.ClearDepth(1.0);
+  gl_.Clear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+  gl_.UseProgram(scene_program_);
+  gl_.ActiveTexture(GL_TEXTURE0);
+  gl_.BindTexture(GL_TEXTURE_2D, shadow_tex_);
+  gl_.ActiveTexture(GL_TEXTURE1);
+  gl_.BindTexture(GL_TEXTURE_2D, ground_tex_);
+  gl_.ActiveTexture(GL_TEXTURE2);
+  gl_.BindTexture(GL_TEXTURE_2D, road_tex_);
+  gl_.ActiveTexture(GL_TEXTURE3);
+  gl_.BindTexture(GL_TEXTURE_2D, mask_tex_);
+  gl_.ActiveTexture(GL_TEXTURE4);
+  gl_.BindTexture(GL_TEXTURE_2D, occupancy_tex_);
+  gl_.UniformMatrix4fv(U("u_view_proj"), 1, GL_FALSE, view_proj.data());
+  gl_.UniformMatrix4fv(U("u_light_view_proj"), 1, GL_FALSE, light_view_proj.data());
+  const Eigen::Vector3f sun = world_.sun.Direction().normalized().cast<float>();
+  gl_.Uniform3f(U("u_sun_dir"), sun.x(), sun.y(), sun.z());
+  // Below the horizon the sun contributes nothing (N.L clamps per face, but
+  // the terrain would still be lit from below the horizon otherwise).
+  const float sun_scale = world_.sun.elevation_deg > 0.0 ? 1.0f : 0.0f;
+  gl_.Uniform3f(U("u_sun_color"), sun_scale * kSunColor.x(), sun_scale * kSunColor.y(),
+                sun_scale * kSunColor.z());
+  gl_.Uniform3f(U("u_sky_color"), kSkyAmbient.x(), kSkyAmbient.y(), kSkyAmbient.z());
+  gl_.Uniform3f(U("u_ground_color"), kGroundAmbient.x(), kGroundAmbient.y(), kGroundAmbient.z());
+  gl_.Uniform1i(U("u_shadows"), shadows_ ? 1 : 0);
+  gl_.Uniform1i(U("u_pcf"), options_.pcf_radius);
+  const float texel = 1.0f / static_cast<float>(shadow_size_);
+  gl_.Uniform2f(U("u_shadow_texel"), texel, texel);
+  gl_.Uniform1f(U("u_shadow_bias"), static_cast<float>(kShadowBiasM / light_depth_m));
+  gl_.Uniform2f(U("u_terrain_min"), static_cast<float>(-0.5 * world_.terrain.size_m.x()),
+                static_cast<float>(-0.5 * world_.terrain.size_m.y()));
+  gl_.Uniform2f(U("u_terrain_size"), static_cast<float>(world_.terrain.size_m.x()),
+                static_cast<float>(world_.terrain.size_m.y()));
+  gl_.Uniform1f(U("u_tile_m"), static_cast<float>(options_.texture_tile_m));
+  gl_.Uniform1i(U("u_roads"), world_.terrain.roads ? 1 : 0);
+  gl_.Uniform1i(U("u_id_only"), 0);
+  gl_.Uniform1f(U("u_id"), 0.0f);
+  gl_.Uniform3f(U("u_tint"), 1.0f, 1.0f, 1.0f);
+  SetModel(Eigen::Matrix4f::Identity());
+  gl_.Uniform1i(U("u_material"), 1);
+  DrawTerrain(view_proj);
+  gl_.Uniform1i(U("u_material"), 0);
+  if (occluders_.index_count > 0) Draw(occluders_);
+  for (const TargetInstance& t : targets) {
+    const Eigen::Vector3f tint = world_.targets[t.slot].tint.cast<float>();
+    gl_.Uniform3f(U("u_tint"), tint.x(), tint.y(), tint.z());
+    gl_.Uniform1f(U("u_id"), static_cast<float>(t.slot + 1) / 255.0f);
+    SetModel(t.model);
+    Draw(models_[target_model_[t.slot]].gpu);
+  }
+  gl_.CheckError("colour pass");
+
+  const size_t pixels = static_cast<size_t>(width_) * height_;
+  rgba_.resize(4 * pixels);
+  gl_.PixelStorei(GL_PACK_ALIGNMENT, 1);
+  gl_.ReadBuffer(GL_COLOR_ATTACHMENT0);
+  gl_.ReadPixels(0, 0, width_, height_, GL_RGBA, GL_UNSIGNED_BYTE, rgba_.data());
+  if (options_.output_depth) {
+    DepthImage depth;
+    depth.width = width_;
+    depth.height = height_;
+    depth.depth_m.resize(pixels);
+    gl_.ReadPixels(0, 0, width_, height_, GL_DEPTH_COMPONENT, GL_FLOAT, depth.depth_m.data());
+    const double n = kNearM;
+    const double f = far_m;
+    for (float& d : depth.depth_m) {
+      if (d >= 1.0f) {
+        d = std::numeric_limits<float>::infinity();
+      } else {
+        const double ndc = 2.0 * d - 1.0;
+        d = static_cast<float>(2.0 * f * n / (f + n - ndc * (f - n)));
+      }
+    }
+    out.depth = std::move(depth);
+  }
+  gl_.CheckError("readback");
+
+  out.rgb.width = width_;
+  out.rgb.height = height_;
+  out.rgb.pixels.resize(3 * pixels);
+  for (size_t i = 0; i < pixels; ++i) {
+    out.rgb.pixels[3 * i] = rgba_[4 * i];
+    out.rgb.pixels[3 * i + 1] = rgba_[4 * i + 1];
+    out.rgb.pixels[3 * i + 2] = rgba_[4 * i + 2];
+  }
+  if (options_.output_instance_ids) {
+    InstanceImage ids;
+    ids.width = width_;
+    ids.height = height_;
+    ids.ids.resize(pixels);
+    for (size_t i = 0; i < pixels; ++i) {
+      const uint8_t a = rgba_[4 * i + 3];
+      ids.ids[i] = a == 0 ? -1 : Value(world_.targets[a - 1].id);
+    }
+    out.instance_ids = std::move(ids);
+  }
+  if (options_.ground_truth) {
+    out.ground_truth = GroundTruth(frame, camera, targets, rgba_);
+  } else {
+    out.ground_truth.frame = frame;
+    out.ground_truth.camera = camera;
+    out.ground_truth.image_from_ground = camera.ImageFromGround(0.0);
+  }
+  if (options_.sensor.active()) {
+    ApplySensorEffects(options_.sensor, rng_.Fork("renderer/sensor", frame), out.rgb);
+  }
+  return out;
+}
+
+FrameGroundTruth GlSceneRenderer::GroundTruth(int frame, const CameraState& camera,
+                                              const std::vector<TargetInstance>& targets,
+                                              const std::vector<uint8_t>& rgba) {
+  FrameGroundTruth gt;
+  gt.frame = frame;
+  gt.camera = camera;
+  gt.image_from_ground = camera.ImageFromGround(0.0);
+  const size_t n = world_.targets.size();
+  // Visible pixels and their bounds per slot, from the colour pass's ids.
+  std::vector<int64_t> count(n + 1, 0);
+  std::vector<int> x0(n + 1, width_), y0(n + 1, height_), x1(n + 1, -1), y1(n + 1, -1);
+  for (int y = 0; y < height_; ++y) {
+    const uint8_t* row = rgba.data() + 4 * static_cast<size_t>(y) * width_;
+    for (int x = 0; x < width_; ++x) {
+      const uint8_t id = row[4 * x + 3];
+      if (id == 0) continue;
+      ++count[id];
+      x0[id] = std::min(x0[id], x);
+      x1[id] = std::max(x1[id], x);
+      y0[id] = std::min(y0[id], y);
+      y1[id] = std::max(y1[id], y);
+    }
+  }
+
+  // Count pass: each target alone (same program, same vertex stage) inside
+  // a scissor around its projected vertices.
+  gl_.BindFramebuffer(GL_FRAMEBUFFER, main_fbo_);
+  gl_.Uniform1i(U("u_id_only"), 1);
+  gl_.Enable(GL_SCISSOR_TEST);
+  gl_.ClearColor(0.0f, 0.0f, 0.0f, 0.0f);
+  const Eigen::Matrix3d r = camera.pose.camera_from_world();
+  const CameraIntrinsics& k = camera.intrinsics;
+  for (const TargetInstance& t : targets) {
+    const size_t id = t.slot + 1;
+    const TargetSpec& spec = world_.targets[t.slot];
+    GroundTruthObject obj;
+    obj.id = spec.id;
+    obj.position_m = t.pose.position_m;
+    obj.heading_deg = t.pose.heading_deg;
+    obj.dimensions_m = spec.dimensions_m;
+    // Projected vertex bounds (continuous pixel coordinates).
+    double u_lo = std::numeric_limits<double>::max();
+    double v_lo = u_lo;
+    double u_hi = -u_lo;
+    double v_hi = -u_lo;
+    bool behind = false;
+    bool any_in_front = false;
+    for (const Eigen::Vector3f& p : models_[target_model_[t.slot]].positions) {
+      const Eigen::Vector4f w = t.model * Eigen::Vector4f(p.x(), p.y(), p.z(), 1.0f);
+      const Eigen::Vector3d c = r * (w.head<3>().cast<double>() - camera.pose.position_m);
+      if (c.z() <= kNearM) {
+        behind = true;
+        continue;
+      }
+      any_in_front = true;
+      const double u = k.fx_px * c.x() / c.z() + k.cx_px;
+      const double v = k.fy_px * c.y() / c.z() + k.cy_px;
+      u_lo = std::min(u_lo, u);
+      u_hi = std::max(u_hi, u);
+      v_lo = std::min(v_lo, v);
+      v_hi = std::max(v_hi, v);
+    }
+    // Scissor: the whole image when part of the target is behind the near
+    // plane, else the projected bounds grown by a pixel.
+    int sx0 = 0, sy0 = 0, sx1 = width_, sy1 = height_;
+    if (!behind && any_in_front) {
+      sx0 = std::clamp(static_cast<int>(std::floor(u_lo)) - 1, 0, width_);
+      sy0 = std::clamp(static_cast<int>(std::floor(v_lo)) - 1, 0, height_);
+      sx1 = std::clamp(static_cast<int>(std::ceil(u_hi)) + 1, 0, width_);
+      sy1 = std::clamp(static_cast<int>(std::ceil(v_hi)) + 1, 0, height_);
+    }
+    int64_t total = 0;
+    int ax0 = width_, ay0 = height_, ax1 = -1, ay1 = -1;
+    if (any_in_front && sx1 > sx0 && sy1 > sy0) {
+      const int sw = sx1 - sx0;
+      const int sh = sy1 - sy0;
+      gl_.Scissor(sx0, sy0, sw, sh);
+      gl_.Clear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+      gl_.Uniform1f(U("u_id"), static_cast<float>(id) / 255.0f);
+      SetModel(t.model);
+      Draw(models_[target_model_[t.slot]].gpu);
+      region_.resize(4 * static_cast<size_t>(sw) * sh);
+      gl_.ReadPixels(sx0, sy0, sw, sh, GL_RGBA, GL_UNSIGNED_BYTE, region_.data());
+      for (int y = 0; y < sh; ++y) {
+        for (int x = 0; x < sw; ++x) {
+          if (region_[4 * (static_cast<size_t>(y) * sw + x) + 3] == 0) continue;
+          ++total;
+          ax0 = std::min(ax0, sx0 + x);
+          ax1 = std::max(ax1, sx0 + x);
+          ay0 = std::min(ay0, sy0 + y);
+          ay1 = std::max(ay1, sy0 + y);
+        }
+      }
+    }
+    obj.pixels_total = total;
+    obj.pixels_visible = count[id];
+    obj.visible_fraction = total > 0 ? static_cast<double>(count[id]) / total : 0.0;
+    if (count[id] > 0) {
+      obj.visible_box = BoxPx::FromCorners(x0[id], y0[id], x1[id] + 1, y1[id] + 1);
+    }
+    BoxPx amodal;
+    if (total > 0) amodal = BoxPx::FromCorners(ax0, ay0, ax1 + 1, ay1 + 1);
+    // Extend by the projected vertices where the target leaves the image.
+    if (any_in_front && !behind &&
+        (u_lo < 0.0 || v_lo < 0.0 || u_hi > width_ || v_hi > height_)) {
+      amodal = Union(amodal, BoxPx::FromCorners(u_lo, v_lo, u_hi, v_hi));
+    }
+    obj.amodal_box = amodal;
+    const BoxPx image{0.0, 0.0, static_cast<double>(width_), static_cast<double>(height_)};
+    const double inside = Intersect(amodal, image).area();
+    obj.in_frame = inside > 0.0;
+    obj.truncation = amodal.area() > 0.0 ? 1.0 - inside / amodal.area() : 0.0;
+    gt.objects.push_back(obj);
+  }
+  gl_.Disable(GL_SCISSOR_TEST);
+  gl_.Uniform1i(U("u_id_only"), 0);
+  gl_.CheckError("ground-truth pass");
+  return gt;
+}
+
+}  // namespace
+
+std::unique_ptr<SceneRenderer> SceneRenderer::Create(const WorldSpec& world,
+                                                     const RendererOptions& options, Rng rng,
+                                                     std::shared_ptr<GlContext> context) {
+  options.Validate();
+  if (world.camera.path.empty()) {
+    throw InputError(SourceLocation{.key = "camera.path"}, "at least one keyframe", "none");
+  }
+  if (!context) {
+    if (options.lp_num_threads > 0 && std::getenv("LP_NUM_THREADS") == nullptr) {
+      setenv("LP_NUM_THREADS", std::to_string(options.lp_num_threads).c_str(), 0);
+    }
+    context = GlContext::Create(options.backend);
+  }
+  return std::make_unique<GlSceneRenderer>(world, options, rng, std::move(context));
+}
+
+}  // namespace hcpf::renderer

@@ -1,0 +1,180 @@
+// Options validation, sensor effects and the frame cache (no GL).
+
+#include <gtest/gtest.h>
+
+#include <filesystem>
+
+#include "hcpf/core/error.h"
+#include "hcpf/renderer/renderer.h"
+
+namespace hcpf::renderer {
+namespace {
+
+TEST(RendererOptions, DefaultsValidate) { EXPECT_NO_THROW(RendererOptions().Validate()); }
+
+TEST(RendererOptions, BadFieldsAreNamed) {
+  const auto message = [](const RendererOptions& o) {
+    try {
+      o.Validate();
+    } catch (const InputError& e) {
+      return std::string(e.what());
+    }
+    return std::string("no error");
+  };
+  RendererOptions o;
+  o.shadow_map_size = 10;
+  EXPECT_NE(message(o).find("renderer.shadow_map_size"), std::string::npos);
+  o = {};
+  o.pcf_radius = -1;
+  EXPECT_NE(message(o).find("renderer.pcf_radius"), std::string::npos);
+  o = {};
+  o.texture_size = 100;  // not a power of two
+  EXPECT_NE(message(o).find("renderer.texture_size"), std::string::npos);
+  o = {};
+  o.sensor.jpeg_quality = 101;
+  EXPECT_NE(message(o).find("sensor.jpeg_quality"), std::string::npos);
+  o = {};
+  o.sensor.exposure = 0.0;
+  EXPECT_NE(message(o).find("sensor.exposure"), std::string::npos);
+}
+
+TEST(GlBackend, ParsesNamesAndRejectsOthers) {
+  EXPECT_EQ(ParseGlBackend("auto"), GlBackend::kAuto);
+  EXPECT_EQ(ParseGlBackend("osmesa"), GlBackend::kOsMesa);
+  EXPECT_EQ(ParseGlBackend("egl"), GlBackend::kEgl);
+  EXPECT_THROW(ParseGlBackend("vulkan"), InputError);
+}
+
+RgbImage Flat(int w, int h, uint8_t v) {
+  RgbImage img;
+  img.width = w;
+  img.height = h;
+  img.pixels.assign(static_cast<size_t>(w) * h * 3, v);
+  return img;
+}
+
+TEST(SensorEffects, NoiseHasTheRequestedSigmaAndIsSeeded) {
+  SensorOptions s;
+  s.noise_sigma = 5.0;
+  RgbImage a = Flat(200, 100, 128);
+  RgbImage b = Flat(200, 100, 128);
+  RgbImage c = Flat(200, 100, 128);
+  ApplySensorEffects(s, Rng(1), a);
+  ApplySensorEffects(s, Rng(1), b);
+  ApplySensorEffects(s, Rng(2), c);
+  EXPECT_EQ(a, b);
+  EXPECT_NE(a, c);
+  double sum = 0.0, sum2 = 0.0;
+  for (uint8_t v : a.pixels) {
+    sum += v - 128.0;
+    sum2 += (v - 128.0) * (v - 128.0);
+  }
+  const double n = static_cast<double>(a.pixels.size());  // 60000 samples
+  // Rounding adds variance 1/12: expected sd = sqrt(25 + 1/12) = 5.008.
+  // The sample sd of 60000 normals has std. error sd/sqrt(2n) = 0.0145; the
+  // mean has std. error 5/sqrt(n) = 0.020. Tolerances are about 5 std. errors.
+  EXPECT_NEAR(sum / n, 0.0, 0.1);
+  EXPECT_NEAR(std::sqrt(sum2 / n), 5.008, 0.075);
+}
+
+TEST(SensorEffects, ExposureScalesAndSaturates) {
+  SensorOptions s;
+  s.exposure = 1.5;
+  RgbImage a = Flat(4, 4, 100);
+  ApplySensorEffects(s, Rng(1), a);
+  EXPECT_EQ(a.pixels[0], 150);  // 100 * 1.5
+  RgbImage b = Flat(4, 4, 200);
+  ApplySensorEffects(s, Rng(1), b);
+  EXPECT_EQ(b.pixels[0], 255);  // 300 saturates
+}
+
+TEST(SensorEffects, BlurSpreadsAnEdgeAndKeepsFlatAreas) {
+  SensorOptions s;
+  s.blur_px = 2.0;
+  RgbImage a = Flat(40, 10, 0);
+  for (int y = 0; y < 10; ++y) {
+    for (int x = 20; x < 40; ++x) a.at(x, y)[0] = a.at(x, y)[1] = a.at(x, y)[2] = 200;
+  }
+  ApplySensorEffects(s, Rng(1), a);
+  EXPECT_EQ(a.at(2, 5)[0], 0);     // 18 px (9 sigma) from the edge
+  EXPECT_EQ(a.at(37, 5)[0], 200);
+  // At the edge, a Gaussian-blurred step is half way: pixels 19 and 20
+  // straddle it, so one is below and one above 100, both strictly between.
+  EXPECT_GT(a.at(19, 5)[0], 0);
+  EXPECT_LT(a.at(19, 5)[0], 100);
+  EXPECT_GT(a.at(20, 5)[0], 100);
+  EXPECT_LT(a.at(20, 5)[0], 200);
+}
+
+TEST(SensorEffects, JpegRoundTripChangesDetailButKeepsMeanLevel) {
+  SensorOptions s;
+  s.jpeg_quality = 10;
+  RgbImage a = Flat(64, 64, 0);
+  for (int y = 0; y < 64; ++y) {
+    for (int x = 0; x < 64; ++x) a.at(x, y)[1] = ((x / 2 + y / 2) % 2) ? 255 : 0;  // checker
+  }
+  const RgbImage before = a;
+  ApplySensorEffects(s, Rng(1), a);
+  EXPECT_NE(a, before);
+  double mean = 0.0;
+  for (int y = 0; y < 64; ++y) {
+    for (int x = 0; x < 64; ++x) mean += a.at(x, y)[1];
+  }
+  // A 2-px checker is half 255: mean 127.5; JPEG keeps block means (the DC
+  // coefficient) to within a few levels even at quality 10.
+  EXPECT_NEAR(mean / (64.0 * 64.0), 127.5, 12.0);
+}
+
+TEST(PixelHash, ChangesWithPixelsNotWithOutputFlags) {
+  WorldSpec w;
+  w.frames = 10;
+  w.camera.path.push_back({0, {0, 0, 100}, {0, 0, 0}});
+  RendererOptions o;
+  const std::string h = PixelHash(w, o, 7);
+  EXPECT_EQ(h.size(), 32u);
+  EXPECT_EQ(h, PixelHash(w, o, 7));
+  EXPECT_NE(h, PixelHash(w, o, 8));
+  RendererOptions o2 = o;
+  o2.output_depth = true;
+  o2.backend = GlBackend::kEgl;
+  EXPECT_EQ(h, PixelHash(w, o2, 7));
+  o2.sensor.noise_sigma = 1.0;
+  EXPECT_NE(h, PixelHash(w, o2, 7));
+  WorldSpec w2 = w;
+  w2.sun.azimuth_deg += 1.0;
+  EXPECT_NE(h, PixelHash(w2, o, 7));
+}
+
+TEST(FrameCache, StoresAndLoadsFramesExactly) {
+  const auto root = std::filesystem::temp_directory_path() / "hcpf_frame_cache_test";
+  std::filesystem::remove_all(root);
+  FrameCache cache(root, "abc");
+  EXPECT_FALSE(cache.Load(3).has_value());
+  RenderedFrame f;
+  f.frame = 3;
+  f.rgb = Flat(8, 6, 0);
+  f.rgb.at(7, 5)[2] = 250;
+  f.ground_truth.frame = 3;
+  f.ground_truth.camera.intrinsics = CameraIntrinsics::FromHorizontalFov(8, 6, 40.0);
+  f.ground_truth.camera.intrinsics.cx_px += 0.1234567890123;
+  GroundTruthObject obj;
+  obj.id = ObjectId{4};
+  obj.amodal_box = {1.5, 2.25, 3.0, 1.0 / 3.0};
+  obj.visible_fraction = 2.0 / 3.0;
+  obj.pixels_visible = 2;
+  obj.pixels_total = 3;
+  f.ground_truth.objects.push_back(obj);
+  cache.Store(f);
+  const auto loaded = cache.Load(3);
+  ASSERT_TRUE(loaded.has_value());
+  EXPECT_EQ(loaded->rgb, f.rgb);
+  EXPECT_EQ(loaded->ground_truth.camera.intrinsics, f.ground_truth.camera.intrinsics);
+  ASSERT_EQ(loaded->ground_truth.objects.size(), 1u);
+  EXPECT_EQ(loaded->ground_truth.objects[0].amodal_box, obj.amodal_box);
+  EXPECT_EQ(loaded->ground_truth.objects[0].visible_fraction, obj.visible_fraction);
+  EXPECT_EQ(loaded->ground_truth.objects[0].pixels_total, 3);
+  std::filesystem::remove_all(root);
+}
+
+}  // namespace
+}  // namespace hcpf::renderer

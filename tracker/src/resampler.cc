@@ -185,10 +185,38 @@ ResampleResult SystematicResampler::Resample(const ParticleSet& set, const Resam
                                              Rng& rng, std::span<int32_t> ancestors) const {
   CheckInputs(set, ancestors);
   const size_t n = set.size();
-  const double inv_n = 1.0 / static_cast<double>(n);
-  const double u0 = rng.Uniform() * inv_n;
-  MergeSortedPoints(
-      set.w, n, [&](size_t i) { return u0 + static_cast<double>(i) * inv_n; }, ancestors.data());
+  const auto nd = static_cast<double>(n);
+  const double u0 = rng.Uniform() / nd;  // the points are u0 + i / N, i = 0..N-1
+  // Branch-free form of the merge (the data-dependent while loop of
+  // MergeSortedPoints mispredicts about once per particle). F_j = number of
+  // points below cum_j = clamp(ceil((cum_j - u0) N), 0, N) is monotone in j;
+  // particle j owns points [F_{j-1}, F_j). Writing marker[F_{j-1}] = j for
+  // every j in increasing order leaves at each start position the particle
+  // that owns it (zero-count particles write there first and are overwritten
+  // by the owner, who comes later), so a running maximum over the marker
+  // array yields the ancestors. The last positive-weight particle ends at N
+  // exactly, whatever the rounding of the cumulative sum.
+  // The marker array is `ancestors` itself; a start at position N belongs to
+  // a particle owning no point and is dropped.
+  std::fill(ancestors.begin(), ancestors.end(), 0);
+  const size_t last = LastPositive(set.w);
+  double cum = 0.0;
+  size_t f_prev = 0;
+  for (size_t j = 0; j < last; ++j) {
+    cum += set.w[j];
+    if (f_prev < n) ancestors[f_prev] = static_cast<int32_t>(j);
+    // ceil(max(x, 0)) by truncation (std::ceil is a libm call without SSE4.1).
+    const double x = std::max((cum - u0) * nd, 0.0);
+    const auto t = static_cast<int64_t>(x);
+    const auto f = static_cast<size_t>(t + (static_cast<double>(t) < x ? 1 : 0));
+    f_prev = std::clamp(f, f_prev, n);
+  }
+  if (f_prev < n) ancestors[f_prev] = static_cast<int32_t>(last);
+  int32_t running = 0;
+  for (size_t i = 0; i < n; ++i) {
+    running = std::max(running, ancestors[i]);
+    ancestors[i] = running;
+  }
   return {};
 }
 

@@ -1,0 +1,159 @@
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <functional>
+#include <limits>
+
+#include "hcpf/core/rng.h"
+#include "hcpf/tracker/associator.h"
+#include "hcpf/tracker/hungarian.h"
+#include "hcpf/tracker/interaction.h"
+
+namespace hcpf::tracker {
+namespace {
+
+constexpr double kInf = std::numeric_limits<double>::infinity();
+
+// Brute force over every partial injective row -> column map using finite
+// entries only; best = most pairs, then least total cost.
+void BruteForce(const std::vector<double>& cost, int rows, int cols, int row,
+                std::vector<char>& used, int pairs, double total, int* best_pairs,
+                double* best_total) {
+  if (row == rows) {
+    if (pairs > *best_pairs || (pairs == *best_pairs && total < *best_total)) {
+      *best_pairs = pairs;
+      *best_total = total;
+    }
+    return;
+  }
+  BruteForce(cost, rows, cols, row + 1, used, pairs, total, best_pairs, best_total);  // unassigned
+  for (int c = 0; c < cols; ++c) {
+    const double v = cost[static_cast<size_t>(row) * cols + c];
+    if (used[c] || !std::isfinite(v)) continue;
+    used[c] = 1;
+    BruteForce(cost, rows, cols, row + 1, used, pairs + 1, total + v, best_pairs, best_total);
+    used[c] = 0;
+  }
+}
+
+TEST(SolveAssignment, MatchesBruteForceOnRandomSmallCases) {
+  Rng rng(2024);
+  for (int trial = 0; trial < 400; ++trial) {
+    const int rows = 1 + static_cast<int>(rng.UniformInt(6));
+    const int cols = 1 + static_cast<int>(rng.UniformInt(6));
+    std::vector<double> cost(static_cast<size_t>(rows) * cols);
+    for (double& c : cost) c = rng.Uniform() < 0.3 ? kInf : std::floor(rng.Uniform(0.0, 20.0));
+    const std::vector<int> a = SolveAssignment(cost, rows, cols);
+    ASSERT_EQ(a.size(), static_cast<size_t>(rows));
+    std::vector<char> seen(static_cast<size_t>(cols), 0);
+    int pairs = 0;
+    double total = 0.0;
+    for (int r = 0; r < rows; ++r) {
+      if (a[r] < 0) continue;
+      ASSERT_LT(a[r], cols);
+      ASSERT_FALSE(seen[a[r]]) << "column used twice";
+      seen[a[r]] = 1;
+      const double v = cost[static_cast<size_t>(r) * cols + a[r]];
+      ASSERT_TRUE(std::isfinite(v)) << "forbidden pair assigned";
+      ++pairs;
+      total += v;
+    }
+    std::vector<char> used(static_cast<size_t>(cols), 0);
+    int best_pairs = -1;
+    double best_total = kInf;
+    BruteForce(cost, rows, cols, 0, used, 0, 0.0, &best_pairs, &best_total);
+    EXPECT_EQ(pairs, best_pairs) << "trial " << trial;
+    EXPECT_NEAR(total, best_total, 1e-9) << "trial " << trial;
+  }
+}
+
+TEST(SolveAssignment, HandCase) {
+  // [[4, 1, 3], [2, 0, 5], [3, 2, 2]]: optimum 1 + 2 + 2 = 5 by
+  // (0->1, 1->0, 2->2); the alternatives are 6 or more.
+  const std::vector<int> a = SolveAssignment({4, 1, 3, 2, 0, 5, 3, 2, 2}, 3, 3);
+  EXPECT_EQ(a, (std::vector<int>{1, 0, 2}));
+}
+
+TEST(SolveAssignment, EmptyInputs) {
+  EXPECT_EQ(SolveAssignment({}, 0, 3), std::vector<int>{});
+  EXPECT_EQ(SolveAssignment({}, 2, 0), (std::vector<int>{-1, -1}));
+}
+
+TrackPrediction Track(double x, double y) {
+  TrackPrediction t;
+  t.mean = {x, y};
+  t.box = BoxPx::FromCentre(x, y, 10, 10);
+  return t;
+}
+Detection Det(double x, double y) { return {.box = BoxPx::FromCentre(x, y, 10, 10)}; }
+
+TEST(GnnAssociator, BeatsGreedyWhereGreedyLosesAPair) {
+  // Zero covariance, measurement sigma 1: cost = squared distance, gate 9.21.
+  // T1 (0,0), T2 (3,0); D1 (1,0): costs 1 and 4; D2 (-1.5,0): 2.25 and 20.25
+  // (outside T2's gate). Greedy takes T1-D1 first and strands T2; GNN pairs
+  // T1-D2 and T2-D1.
+  AssociationOptions o;
+  o.measurement_sigma_px = 1.0;
+  const std::vector<TrackPrediction> tracks = {Track(0, 0), Track(3, 0)};
+  const std::vector<Detection> dets = {Det(1, 0), Det(-1.5, 0)};
+  EXPECT_EQ(GnnAssociator(o).Associate(tracks, dets), (std::vector<int>{1, 0}));
+  EXPECT_EQ(NearestNeighbourAssociator(o).Associate(tracks, dets), (std::vector<int>{0, -1}));
+  EXPECT_EQ(NoAssociator().Associate(tracks, dets), (std::vector<int>{-1, -1}));
+}
+
+TEST(GatedCost, MahalanobisUsesCovariancePlusMeasurementNoise) {
+  // cov diag(5, 0) + sigma 2 -> S = diag(9, 4); d = (3, 2): d^2 = 1 + 1 = 2.
+  AssociationOptions o;
+  o.measurement_sigma_px = 2.0;
+  TrackPrediction t = Track(0, 0);
+  t.cov << 5, 0, 0, 0;
+  const auto c = GatedCost(t, Det(3, 2), o);
+  ASSERT_TRUE(c.has_value());
+  EXPECT_NEAR(*c, 2.0, 1e-12);
+  EXPECT_FALSE(GatedCost(t, Det(30, 2), o).has_value());
+}
+
+TEST(GatedCost, IouGate) {
+  // Boxes 10x10 offset by 5 px in x: intersection 50, union 150, IoU 1/3.
+  AssociationOptions o;
+  o.gate = GateKind::kIou;
+  o.min_iou = 0.3;
+  const auto c = GatedCost(Track(0, 0), Det(5, 0), o);
+  ASSERT_TRUE(c.has_value());
+  EXPECT_NEAR(*c, 1.0 - 1.0 / 3.0, 1e-12);
+  o.min_iou = 0.4;
+  EXPECT_FALSE(GatedCost(Track(0, 0), Det(5, 0), o).has_value());
+}
+
+TEST(MrfInteraction, HandComputedPenalty) {
+  // lambda 2, r 10, particle 10 px from the other filter's mean:
+  // log w -= 2 exp(-100 / 200) = 2 e^-0.5 = 1.2130613.
+  ParticleSet set;
+  set.Resize(2);
+  set.px = {10.0, 1000.0};
+  std::fill(set.log_w.begin(), set.log_w.end(), 0.0);
+  FilterSummary other;
+  other.mean = {0.0, 0.0};
+  MrfInteraction(2.0, 10.0).Apply(set, std::vector<FilterSummary>{other});
+  EXPECT_NEAR(set.log_w[0], -1.2130613194252668, 1e-14);
+  EXPECT_EQ(set.log_w[1], 0.0);
+}
+
+TEST(AssociationMethod, NamesRoundTrip) {
+  for (const auto name : AssociationMethodNames()) {
+    const auto m = ParseAssociationMethod(name);
+    ASSERT_TRUE(m.has_value());
+    AssociationOptions o;
+    o.method = *m;
+    EXPECT_EQ(MakeAssociator(o)->name(), name);
+  }
+  for (const auto name : GateKindNames()) EXPECT_EQ(ToString(*ParseGateKind(name)), name);
+  for (const auto name : InteractionModelNames()) {
+    InteractionOptions o;
+    o.model = *ParseInteractionModel(name);
+    EXPECT_EQ(MakeInteraction(o)->name(), name);
+  }
+}
+
+}  // namespace
+}  // namespace hcpf::tracker

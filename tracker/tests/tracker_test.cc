@@ -1,0 +1,244 @@
+#include "hcpf/tracker/tracker.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <string>
+
+#include "hcpf/core/error.h"
+
+namespace hcpf::tracker {
+namespace {
+
+void ExpectKeyInError(const TrackerOptions& o, const std::string& key) {
+  try {
+    o.Validate();
+    FAIL() << "expected InputError naming " << key;
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find(key), std::string::npos) << e.what();
+  }
+}
+
+TEST(TrackerOptions, DefaultsValidate) { EXPECT_NO_THROW(TrackerOptions{}.Validate()); }
+
+TEST(TrackerOptions, ErrorsNameTheField) {
+  TrackerOptions o;
+  o.particles = 0;
+  ExpectKeyInError(o, "tracker.particles");
+  o = {};
+  o.likelihood.sigma_px = -1;
+  ExpectKeyInError(o, "tracker.likelihood.sigma_px");
+  o = {};
+  o.management.confirm_hits = 6;  // > confirm_window 5
+  ExpectKeyInError(o, "tracker.management.confirm_hits");
+  o = {};
+  o.likelihood.model = LikelihoodModel::kAssociated;
+  o.association.method = AssociationMethod::kNone;
+  ExpectKeyInError(o, "tracker.association.method");
+  o = {};
+  o.dynamics.model = DynamicsModel::kConstantVelocityScale;
+  ExpectKeyInError(o, "tracker.likelihood.sigma_log_size");
+  o.likelihood.sigma_log_size = 0.2;
+  EXPECT_NO_THROW(o.Validate());
+  o = {};
+  o.interaction.radius_px = 0;
+  ExpectKeyInError(o, "tracker.interaction.radius_px");
+  o = {};
+  o.association.min_iou = 2;
+  ExpectKeyInError(o, "tracker.association.min_iou");
+  o = {};
+  o.threads = 0;
+  ExpectKeyInError(o, "tracker.threads");
+}
+
+TEST(InitMode, NamesRoundTrip) {
+  for (const auto name : InitModeNames()) EXPECT_EQ(ToString(*ParseInitMode(name)), name);
+  EXPECT_FALSE(ParseInitMode("gt").has_value());
+}
+
+Observation Frame(int frame, std::vector<std::pair<BoxPx, double>> dets) {
+  Observation obs;
+  obs.frame = frame;
+  for (const auto& [box, score] : dets) obs.detections.push_back({.box = box, .score = score});
+  return obs;
+}
+
+TEST(MultiTargetTracker, FollowsAMovingTarget) {
+  // One target moving (+2, +1) px/frame, exact detections. After 40 frames
+  // the estimate must lie within 2 px of the truth: the posterior sd with
+  // sigma 3 and ~10 frames of memory is ~1 px, so 2 px is a loose bound.
+  TrackerOptions o;
+  o.particles = 400;
+  o.management.birth_sigma_log_scale = 0.0;  // s = 1 exactly, so the width stays 16
+  auto tracker = MakeTracker(o, Rng(1));
+  tracker->BirthTrack(TrackId{5}, BoxPx::FromCentre(100, 100, 16, 16));
+  FrameReport last;
+  for (int t = 0; t < 40; ++t) {
+    last = tracker->Step(Frame(t, {{BoxPx::FromCentre(100 + 2 * t, 100 + t, 16, 16), 1.0}}));
+  }
+  ASSERT_EQ(last.filters.size(), 1U);
+  const FilterReport& f = last.filters[0];
+  EXPECT_EQ(f.id, TrackId{5});
+  EXPECT_NEAR(f.box.centre_x(), 178.0, 2.0);
+  EXPECT_NEAR(f.box.centre_y(), 139.0, 2.0);
+  EXPECT_NEAR(f.box.width, 16.0, 1e-6);  // constant_velocity: scale unchanged
+  EXPECT_GT(f.ess, 1.0);
+  EXPECT_LE(f.ess, 400.0);
+  EXPECT_FALSE(f.coasting);
+  EXPECT_TRUE(f.resampled);
+  const auto estimates = ToTrackEstimates(last, o.particles);
+  ASSERT_EQ(estimates.size(), 1U);
+  EXPECT_EQ(estimates[0].box, f.box);
+}
+
+// Runs three targets 15 px apart (close enough for charged rejections) for
+// 15 frames and returns every report.
+std::vector<FrameReport> RunThree(TrackerOptions o, bool reverse_births) {
+  auto tracker = MakeTracker(o, Rng(42));
+  std::vector<int> ids = {1, 2, 3};
+  if (reverse_births) std::reverse(ids.begin(), ids.end());
+  for (const int id : ids) tracker->BirthTrack(TrackId{id}, BoxPx::FromCentre(100.0 + 15.0 * id, 80, 16, 16));
+  std::vector<FrameReport> out;
+  for (int t = 0; t < 15; ++t) {
+    std::vector<std::pair<BoxPx, double>> dets;
+    for (int id = 1; id <= 3; ++id) dets.push_back({BoxPx::FromCentre(100.0 + 15.0 * id + t, 80 + 0.5 * t, 16, 16), 0.3 * id});
+    out.push_back(tracker->Step(Frame(t, dets)));
+  }
+  return out;
+}
+
+void ExpectSameReports(const std::vector<FrameReport>& a, const std::vector<FrameReport>& b) {
+  ASSERT_EQ(a.size(), b.size());
+  for (size_t t = 0; t < a.size(); ++t) {
+    ASSERT_EQ(a[t].filters.size(), b[t].filters.size());
+    for (size_t k = 0; k < a[t].filters.size(); ++k) {
+      const FilterReport& x = a[t].filters[k];
+      const FilterReport& y = b[t].filters[k];
+      EXPECT_EQ(x.id, y.id);
+      EXPECT_EQ(x.box, y.box);
+      EXPECT_EQ(x.ess, y.ess);
+      EXPECT_EQ(x.rejections, y.rejections);
+      EXPECT_EQ(x.particles, y.particles);
+    }
+  }
+}
+
+TEST(MultiTargetTracker, ResultsDoNotDependOnThreadsOrBirthOrder) {
+  TrackerOptions o;
+  o.particles = 300;
+  o.resampling.method = ResamplingMethod::kCharged;
+  o.association.method = AssociationMethod::kNone;
+  o.keep_particles = 20;
+  const auto base = RunThree(o, false);
+  ExpectSameReports(base, RunThree(o, true));
+  o.threads = 2;
+  ExpectSameReports(base, RunThree(o, false));
+  o.threads = 3;
+  ExpectSameReports(base, RunThree(o, true));
+  // And the charged resampler did reject something (the test is not vacuous).
+  int64_t rejections = 0;
+  for (const auto& r : base) {
+    for (const auto& f : r.filters) rejections += f.rejections;
+  }
+  EXPECT_GT(rejections, 0);
+  EXPECT_EQ(base.back().filters[0].particles.size(), 20U);  // 300 / stride 15
+}
+
+TEST(MultiTargetTracker, CoastsWithoutEvidenceAndDeletesAfterKFrames) {
+  // GNN association: with no detections the filter is unsupported, predicts
+  // only (coasting) and is deleted when 4 consecutive frames lack support.
+  TrackerOptions o;
+  o.particles = 100;
+  o.management.max_missed_frames = 4;
+  auto tracker = MakeTracker(o, Rng(3));
+  tracker->BirthTrack(TrackId{1}, BoxPx::FromCentre(50, 50, 10, 10));
+  FrameReport r = tracker->Step(Frame(0, {{BoxPx::FromCentre(50, 50, 10, 10), 1.0}}));
+  EXPECT_FALSE(r.filters[0].coasting);
+  EXPECT_EQ(r.filters[0].assigned_detection, 0);
+  for (int t = 1; t <= 3; ++t) {
+    r = tracker->Step(Frame(t, {}));
+    ASSERT_EQ(r.filters.size(), 1U);
+    EXPECT_TRUE(r.filters[0].coasting);
+    EXPECT_FALSE(r.filters[0].resampled);
+    EXPECT_EQ(r.filters[0].missed_frames, t);
+    EXPECT_TRUE(r.deleted.empty());
+  }
+  r = tracker->Step(Frame(4, {}));
+  EXPECT_EQ(r.deleted, std::vector<TrackId>{TrackId{1}});
+  EXPECT_EQ(tracker->num_filters(), 0U);
+}
+
+TEST(MultiTargetTracker, ReacquiresAfterOcclusion) {
+  // Target moving +1 px/frame; detections missing on frames 10..17 (coasting
+  // on the constant-velocity prediction), back from 18. At frame 30 the
+  // estimate must be within 3 px of the truth (130, 60).
+  TrackerOptions o;
+  o.particles = 500;
+  auto tracker = MakeTracker(o, Rng(4));
+  tracker->BirthTrack(TrackId{1}, BoxPx::FromCentre(100, 60, 16, 16), Eigen::Vector2d(1.0, 0.0));
+  FrameReport r;
+  int coasting_frames = 0;
+  for (int t = 0; t <= 30; ++t) {
+    const bool occluded = t >= 10 && t <= 17;
+    r = tracker->Step(occluded ? Frame(t, {})
+                               : Frame(t, {{BoxPx::FromCentre(100 + t, 60, 16, 16), 1.0}}));
+    coasting_frames += r.filters[0].coasting ? 1 : 0;
+  }
+  EXPECT_EQ(coasting_frames, 8);
+  EXPECT_NEAR(r.filters[0].box.centre_x(), 130.0, 3.0);
+  EXPECT_NEAR(r.filters[0].box.centre_y(), 60.0, 3.0);
+}
+
+TEST(MultiTargetTracker, MOfNConfirmationFromDetections) {
+  // confirm 3 of 5: a detection seen on frames 0, 1, 2 (moving +2 px/frame)
+  // is born at the end of frame 2 with velocity (2, 0); a one-frame clutter
+  // detection at frame 1 is never born.
+  TrackerOptions o;
+  o.init = InitMode::kDetections;
+  o.particles = 100;
+  auto tracker = MakeTracker(o, Rng(5));
+  EXPECT_TRUE(tracker->Step(Frame(0, {{BoxPx::FromCentre(50, 50, 10, 10), 1.0}})).born.empty());
+  EXPECT_TRUE(tracker
+                  ->Step(Frame(1, {{BoxPx::FromCentre(52, 50, 10, 10), 1.0},
+                                   {BoxPx::FromCentre(300, 300, 10, 10), 1.0}}))
+                  .born.empty());
+  const FrameReport r = tracker->Step(Frame(2, {{BoxPx::FromCentre(54, 50, 10, 10), 1.0}}));
+  ASSERT_EQ(r.born.size(), 1U);
+  EXPECT_EQ(r.born[0], TrackId{1});
+  const ParticleSet* p = tracker->particles(TrackId{1});
+  ASSERT_NE(p, nullptr);
+  double mean_vx = 0.0;
+  for (const double v : p->vx) mean_vx += v / static_cast<double>(p->size());
+  // 100 particles with birth velocity sd 0.5: standard error 0.05; 5 sd = 0.25.
+  EXPECT_NEAR(mean_vx, 2.0, 0.25);
+  // Frames 3, 4: the clutter tentative (1 hit) can no longer reach 3 hits and
+  // must never be born; the track keeps being supported.
+  for (int t = 3; t < 8; ++t) {
+    const FrameReport q = tracker->Step(Frame(t, {{BoxPx::FromCentre(50 + 2 * t, 50, 10, 10), 1.0}}));
+    EXPECT_TRUE(q.born.empty()) << t;
+  }
+  EXPECT_EQ(tracker->num_filters(), 1U);
+}
+
+TEST(MultiTargetTracker, VanishedWeightsAreRecoveredAndCounted) {
+  // map likelihood with an all-zero map and no floor: every log-weight is
+  // -inf. The frame is recovered (uniform weights), flagged and counted; no
+  // NaN reaches the estimate.
+  TrackerOptions o;
+  o.particles = 50;
+  o.likelihood.model = LikelihoodModel::kMap;
+  o.likelihood.map_floor = 0.0;
+  auto tracker = MakeTracker(o, Rng(6));
+  tracker->BirthTrack(TrackId{1}, BoxPx::FromCentre(20, 20, 8, 8));
+  Observation obs;
+  obs.likelihood = LikelihoodMap{.width = 4, .height = 4, .cell_px = 10.0,
+                                 .values = std::vector<float>(16, 0.0F)};
+  const FrameReport r = tracker->Step(obs);
+  EXPECT_EQ(r.degenerate_filters, 1);
+  EXPECT_TRUE(r.filters[0].recovered_degenerate);
+  EXPECT_TRUE(std::isfinite(r.filters[0].box.left));
+  EXPECT_NEAR(r.filters[0].ess, 50.0, 1e-9);
+}
+
+}  // namespace
+}  // namespace hcpf::tracker

@@ -19,5 +19,6 @@ struct Command {
 
 Command AddValidateCommand(CLI::App& parent);
 Command AddRunCommand(CLI::App& parent);
+Command AddScoreCommand(CLI::App& parent);
 
 }  // namespace hcpf::cli

@@ -1,0 +1,106 @@
+// hcpf score GT HYP [--seqinfo FILE] [--benchmark MOT15|MOT17|auto] [--json FILE] [--events FILE]
+// hcpf score --trackeval-root DIR [--benchmark ...] [--json FILE]
+//
+// Scores MOTChallenge files with CLEAR MOT, Identity and HOTA (TrackEval's
+// rules, see docs/metrics.md): a table on stdout, every value with --json.
+
+#include <spdlog/spdlog.h>
+
+#include <cstdio>
+#include <fstream>
+#include <iostream>
+#include <memory>
+
+#include "command.h"
+#include "hcpf/core/error.h"
+
+#if __has_include("hcpf/metrics/report.h")
+#include "hcpf/metrics/report.h"
+#define HCPF_CLI_HAS_METRICS 1
+#endif
+
+namespace hcpf::cli {
+
+Command AddScoreCommand(CLI::App& parent) {
+  struct Options {
+    std::string gt;
+    std::string hyp;
+    std::string seqinfo;
+    std::string benchmark = "auto";
+    std::string json;
+    std::string events;
+    std::string trackeval_root;
+  };
+  auto options = std::make_shared<Options>();
+  CLI::App* app = parent.add_subcommand(
+      "score", "Score tracker output against ground truth (MOTChallenge files): HOTA, CLEAR MOT, IDF1");
+  app->add_option("gt", options->gt, "Ground-truth file (MOT15 6/10 or MOT16/17 9 columns)");
+  app->add_option("hyp", options->hyp, "Tracker output (MOT 10 columns)");
+  app->add_option("--seqinfo", options->seqinfo,
+                  "seqinfo.ini giving seqLength (default: next to GT or in its parent folder)");
+  app->add_option("--benchmark", options->benchmark,
+                  "Preprocessing rules: MOT15, MOT17 (also MOT16/MOT20) or auto (9-column gt = MOT17)")
+      ->check(CLI::IsMember({"MOT15", "MOT16", "MOT17", "MOT20", "auto"}))
+      ->capture_default_str();
+  app->add_option("--json", options->json, "Write every metric value to this JSON file");
+  app->add_option("--events", options->events,
+                  "Write the per-frame event log (MATCH, SWITCH, ...) as JSON lines to this file");
+  app->add_option("--trackeval-root", options->trackeval_root,
+                  "Score a TrackEval folder (gt/mot_challenge/<bench>/<seq>, "
+                  "trackers/mot_challenge/<bench>/<tracker>/data) instead of GT HYP");
+  return {app, [options]() -> int {
+#ifdef HCPF_CLI_HAS_METRICS
+            using namespace hcpf::metrics;
+            const Benchmark benchmark = *ParseBenchmark(options->benchmark);
+            auto write_file = [](const std::string& path, const std::string& text) {
+              std::ofstream out(path, std::ios::binary);
+              out << text;
+              if (!out) throw RunError("cannot write " + path);
+            };
+            if (!options->trackeval_root.empty()) {
+              if (!options->gt.empty() || !options->hyp.empty()) {
+                throw InputError(SourceLocation{{}, 0, 0, "score"},
+                                 "either GT HYP or --trackeval-root DIR", "both");
+              }
+              const auto results = ScoreTrackEvalRoot(options->trackeval_root, benchmark);
+              std::string json = "[\n";
+              for (size_t i = 0; i < results.size(); ++i) {
+                const TrackEvalResult& r = results[i];
+                std::vector<MotSummary> rows = r.sequences;
+                rows.push_back(r.combined);
+                std::cout << r.bench << " / " << r.tracker << "\n" << FormatMotTable(rows) << "\n";
+                json += "{\"bench\":\"" + r.bench + "\",\"tracker\":\"" + r.tracker + "\",\"metrics\":" +
+                        MotSummariesToJson(r.sequences, &r.combined) + "}" +
+                        (i + 1 < results.size() ? ",\n" : "\n");
+              }
+              json += "]\n";
+              if (results.empty()) spdlog::warn("{}: no tracker folders found", options->trackeval_root);
+              if (!options->json.empty()) write_file(options->json, json);
+              return 0;
+            }
+            if (options->gt.empty() || options->hyp.empty()) {
+              throw InputError(SourceLocation{{}, 0, 0, "score"}, "GT and HYP files (or --trackeval-root DIR)",
+                               "missing arguments");
+            }
+            ScoreFilesOptions o;
+            o.gt_path = options->gt;
+            o.hyp_path = options->hyp;
+            o.seqinfo_path = options->seqinfo;
+            o.benchmark = benchmark;
+            o.keep_events = !options->events.empty();
+            const ScoredSequence s = ScoreFiles(o);
+            std::cout << FormatMotTable({&s.summary, 1});
+            if (!options->json.empty()) write_file(options->json, MotSummariesToJson({&s.summary, 1}, nullptr));
+            if (!options->events.empty()) {
+              std::ofstream out(options->events, std::ios::binary);
+              WriteEventsJsonLines(out, s.events);
+              if (!out) throw RunError("cannot write " + options->events);
+            }
+            return 0;
+#else
+            throw RunError("this hcpf was built without hcpf::metrics linked into the executable");
+#endif
+          }};
+}
+
+}  // namespace hcpf::cli

@@ -92,6 +92,19 @@ void BM_ResampleAndGather(benchmark::State& state) {
 }
 BENCHMARK(BM_ResampleAndGather)->Arg(100000);
 
+// Calibration: the raw xoshiro256** draw every variate is built from (compare
+// its ns/item with the others to see how loaded the machine is).
+void BM_RawU64(benchmark::State& state) {
+  std::vector<uint64_t> out(4096);
+  Rng rng(3);
+  for (auto _ : state) {
+    for (uint64_t& v : out) v = rng.NextU64();
+    benchmark::DoNotOptimize(out.data());
+  }
+  state.SetItemsProcessed(static_cast<int64_t>(state.iterations() * out.size()));
+}
+BENCHMARK(BM_RawU64);
+
 void BM_Normals(benchmark::State& state) {
   std::vector<double> out(4096);
   Rng rng(3);
@@ -103,14 +116,20 @@ void BM_Normals(benchmark::State& state) {
 }
 BENCHMARK(BM_Normals);
 
-// K - 1 neighbour summaries spread around the cloud (the charged resampler's
-// context for a bank of K filters).
-std::vector<FilterSummary> Neighbours(int k) {
+// K - 1 neighbour summaries around the cloud (the charged resampler's context
+// for a bank of K filters): all within 25 px (worst case, every charge acts on
+// every particle) or spread 60 px apart over the image (typical: only the
+// nearest few are within range).
+std::vector<FilterSummary> Neighbours(int k, bool spread) {
   std::vector<FilterSummary> others;
   for (int j = 1; j < k; ++j) {
     FilterSummary s;
     s.id = TrackId{j};
-    s.mean = {320.0 + 25.0 * std::cos(j), 240.0 + 25.0 * std::sin(j)};
+    if (spread) {
+      s.mean = {320.0 + 60.0 * ((j % 5) - 2), 240.0 + 60.0 * (j / 5 + 1)};
+    } else {
+      s.mean = {320.0 + 25.0 * std::cos(j), 240.0 + 25.0 * std::sin(j)};
+    }
     s.cov << 25.0, 3.0, 3.0, 16.0;
     others.push_back(s);
   }
@@ -119,7 +138,8 @@ std::vector<FilterSummary> Neighbours(int k) {
 
 // One filter step: constant-velocity predict, detections_mixture over 10
 // detections, normalise, resample (systematic, or charged against K-1
-// neighbours), gather. state.range(0) = N, state.range(1) = K (0 = systematic).
+// neighbours), gather. state.range(0) = N, state.range(1) = K (0 = systematic),
+// state.range(2) = 1 for spread neighbours.
 void BM_FilterStep(benchmark::State& state) {
   const auto n = static_cast<size_t>(state.range(0));
   const int k = static_cast<int>(state.range(1));
@@ -132,7 +152,7 @@ void BM_FilterStep(benchmark::State& state) {
   ResamplerOptions ro;
   ro.method = k > 0 ? ResamplingMethod::kCharged : ResamplingMethod::kSystematic;
   const auto resampler = MakeResampler(ro);
-  const std::vector<FilterSummary> others = k > 0 ? Neighbours(k) : std::vector<FilterSummary>{};
+  const std::vector<FilterSummary> others = k > 0 ? Neighbours(k, state.range(2) != 0) : std::vector<FilterSummary>{};
   std::vector<int32_t> ancestors(n);
   Rng rng(5);
   const ParticleSet start = set;
@@ -153,8 +173,9 @@ void BM_FilterStep(benchmark::State& state) {
   state.counters["rejections_per_step"] =
       benchmark::Counter(static_cast<double>(rejections), benchmark::Counter::kAvgIterations);
 }
-BENCHMARK(BM_FilterStep)->Args({10000, 0})->Name("BM_FilterStep/systematic");
-BENCHMARK(BM_FilterStep)->Args({10000, 10})->Name("BM_FilterStep/charged_k10");
+BENCHMARK(BM_FilterStep)->Args({10000, 0, 0})->Name("BM_FilterStep/systematic");
+BENCHMARK(BM_FilterStep)->Args({10000, 10, 0})->Name("BM_FilterStep/charged_k10_close");
+BENCHMARK(BM_FilterStep)->Args({10000, 10, 1})->Name("BM_FilterStep/charged_k10_spread");
 
 // Components alone at N = 1e4 (to see where the step's time goes).
 void BM_PredictCv(benchmark::State& state) {

@@ -110,19 +110,36 @@ double ExactLogMixture(std::span<const Component> comps, double log_clutter, dou
 // The hot loop: detection-outer, particle-inner so the inner loop is a plain
 // vectorisable map over particles. GCC emits an AVX2 clone and a baseline clone;
 // both compute identical bits (no FMA, per-particle sums in detection order).
-__attribute__((target_clones("avx2", "default"))) void MixtureChunk(
-    const Component* comps, size_t num_comps, const double* px, const double* py,
-    const double* log_s, double inv_2s2, double inv_2ss2, double* sum, size_t m) {
+// kSize: whether the log-size term is on (a compile-time switch keeps the
+// position-only loop free of the three extra operations per component).
+template <bool kSize>
+__attribute__((always_inline)) inline void MixtureKernel(const Component* comps, size_t num_comps,
+                                                         const double* px, const double* py,
+                                                         const double* log_s, double inv_2s2,
+                                                         double inv_2ss2, double* sum, size_t m) {
   for (size_t i = 0; i < m; ++i) sum[i] = 0.0;
   for (size_t d = 0; d < num_comps; ++d) {
     const Component c = comps[d];
     for (size_t i = 0; i < m; ++i) {
       const double dx = px[i] - c.cx;
       const double dy = py[i] - c.cy;
-      const double dl = log_s[i] + c.log_size_offset;
-      const double e = -(dx * dx + dy * dy) * inv_2s2 - dl * dl * inv_2ss2;
+      double e = -(dx * dx + dy * dy) * inv_2s2;
+      if constexpr (kSize) {
+        const double dl = log_s[i] + c.log_size_offset;
+        e -= dl * dl * inv_2ss2;
+      }
       sum[i] += c.weight * internal::FastExp(e);
     }
+  }
+}
+
+__attribute__((target_clones("avx2", "default"))) void MixtureChunk(
+    const Component* comps, size_t num_comps, const double* px, const double* py,
+    const double* log_s, double inv_2s2, double inv_2ss2, double* sum, size_t m) {
+  if (inv_2ss2 > 0.0) {
+    MixtureKernel<true>(comps, num_comps, px, py, log_s, inv_2s2, inv_2ss2, sum, m);
+  } else {
+    MixtureKernel<false>(comps, num_comps, px, py, log_s, inv_2s2, inv_2ss2, sum, m);
   }
 }
 

@@ -60,28 +60,42 @@ bool SlowPath(Rng& rng, int i, double u, double* value) {
   return false;
 }
 
-inline double Draw(Rng& rng) {
+// Draws one variate. `local` is a private copy of the caller's stream, never
+// address-taken on the fast path, so its state stays in registers; the rare
+// slow path syncs it through `home` (which SlowPath may advance).
+inline double Draw(Rng& local, Rng& home) {
   for (;;) {
-    const uint64_t bits = rng.NextU64();
+    const uint64_t bits = local.NextU64();
     const int i = static_cast<int>(bits & 0xFF);
     const bool negative = (bits & 0x100) != 0;
-    const double u = static_cast<double>(bits >> 11) * 0x1.0p-53;
-    double value = 0.0;
+    // Through int64: the value is < 2^53, and the signed conversion is one
+    // instruction where the unsigned one is a branchy sequence without AVX-512.
+    const double u = static_cast<double>(static_cast<int64_t>(bits >> 11)) * 0x1.0p-53;
     if (u < kTables.k[i]) {
-      value = u * kTables.x[i];
-    } else if (!SlowPath(rng, i, u, &value)) {
-      continue;
+      const double value = u * kTables.x[i];
+      return negative ? -value : value;
     }
-    return negative ? -value : value;
+    home = local;
+    double value = 0.0;
+    const bool accepted = SlowPath(home, i, u, &value);
+    local = home;
+    if (accepted) return negative ? -value : value;
   }
 }
 
 }  // namespace
 
-double ZigguratNormal(Rng& rng) { return Draw(rng); }
+double ZigguratNormal(Rng& rng) {
+  Rng local = rng;
+  const double v = Draw(local, rng);
+  rng = local;
+  return v;
+}
 
 void FillStandardNormal(Rng& rng, std::span<double> out) {
-  for (double& v : out) v = Draw(rng);
+  Rng local = rng;
+  for (double& v : out) v = Draw(local, rng);
+  rng = local;
 }
 
 }  // namespace hcpf::tracker

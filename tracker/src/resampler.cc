@@ -308,6 +308,39 @@ std::vector<Charge> MakeCharges(std::span<const FilterSummary> others, double ep
   return charges;
 }
 
+// Gaussian charges whose exponent is below -kCutoffExponent at every particle
+// of this filter contribute less than e^-40 ~ 4e-18 to U and are dropped: a
+// particle set far from a neighbour then pays nothing for it (a bank of K
+// filters spread over the image costs ~O(N) per filter instead of O(N K)).
+// Bound: d^T (Sigma + eps^2 I)^-1 d >= |d|^2 / lambda_max(Sigma + eps^2 I),
+// with |d| the distance from the charge to the particles' bounding box.
+constexpr double kCutoffExponent = 40.0;
+
+void DropNegligibleCharges(const ParticleSet& set, std::span<const FilterSummary> others,
+                           double eps2, std::vector<Charge>* charges) {
+  double x0 = set.px[0], x1 = set.px[0], y0 = set.py[0], y1 = set.py[0];
+  for (size_t i = 1; i < set.size(); ++i) {
+    x0 = std::min(x0, set.px[i]);
+    x1 = std::max(x1, set.px[i]);
+    y0 = std::min(y0, set.py[i]);
+    y1 = std::max(y1, set.py[i]);
+  }
+  std::vector<Charge> kept;
+  for (size_t j = 0; j < charges->size(); ++j) {
+    const Charge& ch = (*charges)[j];
+    const double sxx = others[j].cov(0, 0) + eps2;
+    const double syy = others[j].cov(1, 1) + eps2;
+    const double sxy = 0.5 * (others[j].cov(0, 1) + others[j].cov(1, 0));
+    const double half_diff = 0.5 * (sxx - syy);
+    const double lambda_max = 0.5 * (sxx + syy) + std::sqrt(half_diff * half_diff + sxy * sxy);
+    const double dx = std::max({x0 - ch.mx, 0.0, ch.mx - x1});
+    const double dy = std::max({y0 - ch.my, 0.0, ch.my - y1});
+    const double bound = 0.5 * (dx * dx + dy * dy) / lambda_max;
+    if (!(bound > kCutoffExponent)) kept.push_back(ch);  // NaN keeps the charge
+  }
+  *charges = std::move(kept);
+}
+
 inline double GaussianTerm(const Charge& ch, double x, double y) {
   const double dx = x - ch.mx;
   const double dy = y - ch.my;
@@ -380,7 +413,14 @@ ResampleResult ChargedResampler::Resample(const ParticleSet& set, const Resample
   const double q = options_.charge;
   const double beta = options_.beta;
   const bool gaussian = options_.potential == ChargePotential::kGaussian;
-  const std::vector<Charge> charges = MakeCharges(context.others, options_.softening_px);
+  std::vector<Charge> charges = MakeCharges(context.others, options_.softening_px);
+  if (gaussian) DropNegligibleCharges(set, context.others, eps2, &charges);
+  if (charges.empty()) {
+    // Every neighbour is out of range: exp(-beta U) = 1 to double precision;
+    // the uniforms are still drawn so the stream does not depend on geometry.
+    for (size_t i = 0; i < n; ++i) (void)rng.Uniform();
+    return result;
+  }
 
   std::vector<double> cx(n), cy(n), pot(n), accept(n);
   for (size_t i = 0; i < n; ++i) {

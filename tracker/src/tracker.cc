@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <array>
-#include <bit>
 #include <cmath>
 #include <limits>
 #include <thread>
@@ -34,8 +33,8 @@ std::optional<InitMode> ParseInitMode(std::string_view name) {
 std::vector<std::string_view> InitModeNames() { return {"ground_truth", "detections"}; }
 
 void TrackManagementOptions::Validate(std::string_view prefix) const {
-  if (confirm_window < 1 || confirm_window > 32) {
-    internal::FailOption(prefix, "confirm_window", "an integer in [1, 32]", confirm_window);
+  if (confirm_window < 1 || confirm_window > 1000) {
+    internal::FailOption(prefix, "confirm_window", "an integer in [1, 1000]", confirm_window);
   }
   if (confirm_hits < 1 || confirm_hits > confirm_window) {
     internal::FailOption(prefix, "confirm_hits",
@@ -108,8 +107,7 @@ struct MultiTargetTracker::Filter {
 
 struct MultiTargetTracker::Tentative {
   BoxPx box;
-  uint32_t hits = 0;  // bit k set = hit k frames ago (bit 0 = this frame)
-  int hit_count_total = 0;
+  std::vector<int> hit_frames;  // frames with a detection, oldest first
   Eigen::Vector2d first_centre = Eigen::Vector2d::Zero();
   int first_frame = 0;
   int last_frame = 0;
@@ -372,10 +370,6 @@ void MultiTargetTracker::ManageTracks(const Observation& observation,
     });
     if (!gated) free_detections.push_back(d);
   }
-  // Tentatives age by one frame.
-  const uint32_t window_mask =
-      m.confirm_window >= 32 ? 0xFFFFFFFFU : ((1U << m.confirm_window) - 1U);
-  for (Tentative& t : tentatives_) t.hits = (t.hits << 1) & window_mask;
   // Match free detections to tentatives by centre distance (optimal, gated).
   const double gate2 = m.tentative_gate_px * m.tentative_gate_px;
   const int rows = static_cast<int>(tentatives_.size());
@@ -397,7 +391,7 @@ void MultiTargetTracker::ManageTracks(const Observation& observation,
     if (match[r] < 0) continue;
     Tentative& t = tentatives_[r];
     t.box = observation.detections[free_detections[match[r]]].box;
-    t.hits |= 1U;
+    t.hit_frames.push_back(observation.frame);
     t.last_frame = observation.frame;
     used[match[r]] = 1;
   }
@@ -405,7 +399,7 @@ void MultiTargetTracker::ManageTracks(const Observation& observation,
     if (used[c]) continue;
     Tentative t;
     t.box = observation.detections[free_detections[c]].box;
-    t.hits = 1U;
+    t.hit_frames = {observation.frame};
     t.first_centre = {t.box.centre_x(), t.box.centre_y()};
     t.first_frame = t.last_frame = observation.frame;
     tentatives_.push_back(t);
@@ -414,7 +408,10 @@ void MultiTargetTracker::ManageTracks(const Observation& observation,
   // misses in the window exceed N - M, counting frames since creation).
   std::vector<Tentative> remaining;
   for (Tentative& t : tentatives_) {
-    const int hits = std::popcount(t.hits);
+    // Hits within the last confirm_window frames (this one included).
+    const int window_start = observation.frame - m.confirm_window + 1;
+    std::erase_if(t.hit_frames, [&](int f) { return f < window_start; });
+    const int hits = static_cast<int>(t.hit_frames.size());
     const int age = observation.frame - t.first_frame + 1;
     const int window_frames = std::min(age, m.confirm_window);
     const int misses = window_frames - hits;

@@ -35,7 +35,8 @@ std::vector<std::string_view> InitModeNames();
 
 struct TrackManagementOptions {
   // init = detections: a tentative track is confirmed (a filter is born) once
-  // it has confirm_hits detections in its last confirm_window frames (M of N).
+  // it has confirm_hits detections in its last confirm_window frames (M of N),
+  // 1 <= M <= N <= 1000.
   int confirm_hits = 3;
   int confirm_window = 5;
   // init = detections: an unassigned detection continues a tentative track

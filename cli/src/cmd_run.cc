@@ -15,7 +15,7 @@ Command AddRunCommand(CLI::App& parent) {
     std::string file;
     std::string out;
     std::vector<std::string> sets;
-    bool video = false;
+    int threads = 1;
   };
   auto options = std::make_shared<Options>();
   CLI::App* app = parent.add_subcommand(
@@ -26,18 +26,24 @@ Command AddRunCommand(CLI::App& parent) {
       ->required();
   app->add_option("--set", options->sets,
                   "Override a key, e.g. --set tracker.particles=1000 (repeatable)");
-  app->add_flag("--video", options->video, "Also write overlay.mp4");
+  app->add_option("--threads", options->threads,
+                  "Threads for the tracker's per-filter stages (outputs identical for any value)")
+      ->check(CLI::Range(1, 256))
+      ->capture_default_str();
   return {app, [options] {
             std::vector<scenarios::Override> overrides;
             for (const auto& s : options->sets) overrides.push_back(scenarios::ParseOverride(s));
             const scenarios::Scenario scenario = scenarios::LoadScenarioFile(options->file, overrides);
             scenarios::RunOptions run_options;
             run_options.out_dir = options->out;
-            run_options.video = options->video;
+            run_options.threads = options->threads;
             const scenarios::RunSummary summary = scenarios::RunScenario(scenario, run_options);
             spdlog::info("run \"{}\" finished in {:.2f} s: {} frames, {} ground-truth boxes, {} detections",
                          scenario.name, summary.wall_time_s, summary.frames, summary.gt_boxes,
                          summary.detections);
+            spdlog::info("MOTA {:.3f}  IDF1 {:.3f}  HOTA {:.3f}  DA accuracy {:.3f}  hijack rate {:.3f}",
+                         summary.mota, summary.idf1, summary.hota, summary.da_accuracy,
+                         summary.hijack_rate);
             spdlog::info("outputs in {}", summary.out_dir);
             return 0;
           }};

@@ -14,10 +14,7 @@
 #include "command.h"
 #include "hcpf/core/error.h"
 
-#if __has_include("hcpf/metrics/report.h")
 #include "hcpf/metrics/report.h"
-#define HCPF_CLI_HAS_METRICS 1
-#endif
 
 namespace hcpf::cli {
 
@@ -49,7 +46,6 @@ Command AddScoreCommand(CLI::App& parent) {
                   "Score a TrackEval folder (gt/mot_challenge/<bench>/<seq>, "
                   "trackers/mot_challenge/<bench>/<tracker>/data) instead of GT HYP");
   return {app, [options]() -> int {
-#ifdef HCPF_CLI_HAS_METRICS
             using namespace hcpf::metrics;
             const Benchmark benchmark = *ParseBenchmark(options->benchmark);
             auto write_file = [](const std::string& path, const std::string& text) {
@@ -97,9 +93,6 @@ Command AddScoreCommand(CLI::App& parent) {
               if (!out) throw RunError("cannot write " + options->events);
             }
             return 0;
-#else
-            throw RunError("this hcpf was built without hcpf::metrics linked into the executable");
-#endif
           }};
 }
 

@@ -2,7 +2,10 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <cerrno>
+#include <cmath>
+#include <set>
 #include <cstring>
 #include <fstream>
 #include <nlohmann/json.hpp>
@@ -11,14 +14,94 @@
 
 namespace hcpf::scenarios {
 
-std::string FormatGroundTruthMot(const std::vector<FrameGroundTruth>& frames) {
-  std::string out;
+std::vector<metrics::MotRow> GroundTruthRows(const std::vector<FrameGroundTruth>& frames) {
+  std::vector<metrics::MotRow> rows;
   for (const FrameGroundTruth& f : frames) {
     for (const GroundTruthObject& o : f.objects) {
       if (!o.in_frame) continue;
-      const BoxPx& b = o.amodal_box;
-      out += fmt::format("{},{},{:.3f},{:.3f},{:.3f},{:.3f},1,1,{:.4f}\n", f.frame + 1, Value(o.id),
-                         b.left + 1.0, b.top + 1.0, b.width, b.height, o.visible_fraction);
+      metrics::MotRow row;
+      row.frame = f.frame + 1;
+      row.id = Value(o.id);
+      row.box = metrics::PxToMotBox(o.amodal_box);
+      row.conf = 1.0;
+      row.col8 = 1.0;
+      row.col9 = o.visible_fraction;
+      rows.push_back(row);
+    }
+  }
+  return rows;
+}
+
+std::vector<metrics::MotRow> TrackRows(const std::vector<tracker::FrameReport>& reports,
+                                       int particles) {
+  std::vector<metrics::MotRow> rows;
+  for (const tracker::FrameReport& report : reports) {
+    for (const TrackEstimate& e : tracker::ToTrackEstimates(report, particles)) {
+      metrics::MotRow row;
+      row.frame = report.frame + 1;
+      row.id = Value(e.id);
+      row.box = metrics::PxToMotBox(e.box);
+      row.conf = e.confidence;
+      rows.push_back(row);
+    }
+  }
+  return rows;
+}
+
+metrics::FilterSequence FilterInputs(const std::vector<FrameGroundTruth>& truth,
+                                     const std::vector<tracker::FrameReport>& reports,
+                                     tracker::InitMode init) {
+  metrics::FilterSequence seq;
+  std::set<int64_t> filter_ids;
+  for (size_t f = 0; f < truth.size(); ++f) {
+    metrics::FilterFrame frame;
+    for (const GroundTruthObject& o : truth[f].objects) {
+      if (!o.in_frame) continue;
+      frame.targets.push_back({Value(o.id), o.amodal_box.centre_x(), o.amodal_box.centre_y(),
+                               o.amodal_box.width, o.amodal_box.height, o.visible_fraction});
+    }
+    for (const tracker::FilterReport& r : reports[f].filters) {
+      metrics::FilterEstimate e;
+      e.id = Value(r.id);
+      e.box = r.box;
+      if (!r.particles.empty()) {
+        metrics::ParticleCloud cloud;
+        for (const tracker::ParticlePoint& p : r.particles) {
+          cloud.x.push_back(p.x_px);
+          cloud.y.push_back(p.y_px);
+          cloud.weight.push_back(p.weight);
+        }
+        e.particles = std::move(cloud);
+      }
+      filter_ids.insert(e.id);
+      frame.filters.push_back(std::move(e));
+    }
+    seq.frames.push_back(std::move(frame));
+  }
+  if (init == tracker::InitMode::kGroundTruth) {
+    std::vector<std::pair<int64_t, int64_t>> birth;
+    for (int64_t id : filter_ids) birth.emplace_back(id, id);
+    seq.birth_target = std::move(birth);
+  }
+  return seq;
+}
+
+std::string FormatFiltersCsv(const std::vector<tracker::FrameReport>& reports,
+                             const std::optional<metrics::FilterMetrics>& filter_metrics) {
+  std::string out = "frame,filter,cx,cy,w,h,spread_px,ess,rejections,coasting,degenerate,state\n";
+  size_t record = 0;
+  for (const tracker::FrameReport& report : reports) {
+    for (const tracker::FilterReport& r : report.filters) {
+      std::string state = "-";
+      // Records are frame-major with filters in report order (FilterInputs).
+      if (filter_metrics && record < filter_metrics->records.size()) {
+        state = metrics::FilterStateName(filter_metrics->records[record].state);
+      }
+      ++record;
+      out += fmt::format("{},{},{:.3f},{:.3f},{:.3f},{:.3f},{:.3f},{:.2f},{},{},{},{}\n",
+                         report.frame + 1, Value(r.id), r.box.centre_x(), r.box.centre_y(),
+                         r.box.width, r.box.height, std::sqrt(std::max(0.0, r.cov.trace())), r.ess,
+                         r.rejections, r.coasting ? 1 : 0, r.recovered_degenerate ? 1 : 0, state);
     }
   }
   return out;

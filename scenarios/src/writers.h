@@ -7,14 +7,30 @@
 
 #include "hcpf/core/ground_truth.h"
 #include "hcpf/core/types.h"
+#include "hcpf/metrics/filter_metrics.h"
+#include "hcpf/metrics/mot_io.h"
+#include "hcpf/tracker/tracker.h"
 #include "hcpf/scenarios/scenario.h"
 
 namespace hcpf::scenarios {
 
-// MOT17 ground truth, 9 columns: frame,id,left,top,w,h,consider,class,visibility
-// (1-based frames and pixel coordinates; class 1 = evaluated target; visibility
-// = visible fraction). Targets entirely outside the image are not written.
-std::string FormatGroundTruthMot(const std::vector<FrameGroundTruth>& frames);
+// MOT17 ground-truth rows (written by metrics::FormatMotGroundTruth): one per
+// in-frame target per frame, 1-based frames and coordinates, consider 1,
+// class 1 (evaluated), visibility = visible fraction. Targets entirely outside
+// the image are not listed.
+std::vector<metrics::MotRow> GroundTruthRows(const std::vector<FrameGroundTruth>& frames);
+// Tracker output rows (10 columns): every filter reported in each frame, its
+// estimate box, confidence = ESS / N.
+std::vector<metrics::MotRow> TrackRows(const std::vector<tracker::FrameReport>& reports, int particles);
+// Filter-level metric inputs: in-frame targets and the filters' estimates per
+// frame (with their particle clouds when kept); filters born from ground truth
+// map to the target of the same id.
+metrics::FilterSequence FilterInputs(const std::vector<FrameGroundTruth>& truth,
+                                     const std::vector<tracker::FrameReport>& reports,
+                                     tracker::InitMode init);
+// filters.csv: frame,filter,cx,cy,w,h,spread_px,ess,rejections,coasting,degenerate,state.
+std::string FormatFiltersCsv(const std::vector<tracker::FrameReport>& reports,
+                             const std::optional<metrics::FilterMetrics>& filter_metrics);
 // MOT detections: frame,-1,left,top,w,h,score,-1,-1,-1.
 std::string FormatDetectionsMot(const std::vector<Observation>& observations);
 // seqinfo.ini for TrackEval's MOTChallenge loader.

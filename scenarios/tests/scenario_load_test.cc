@@ -18,7 +18,7 @@ TEST(LoadScenario, ReadsValuesAndFillsDefaults) {
   ASSERT_EQ(s.world.targets.size(), 2u);
   EXPECT_EQ(s.world.targets[1].path.start_frame, 2);
   EXPECT_EQ(s.tracker.particles, 100);
-  EXPECT_EQ(s.tracker.resampling.method, "charged");
+  EXPECT_EQ(s.tracker.resampling.method, tracker::ResamplingMethod::kCharged);
   EXPECT_EQ(s.tracker.resampling.beta, 2.0);
   EXPECT_EQ(s.tracker.resampling.max_tries, 20);  // default
   EXPECT_EQ(s.observation.source, ObservationSource::kSimulated);
@@ -62,8 +62,8 @@ TEST(LoadScenario, OverridesApplyWithDottedKeysAndIndices) {
 }
 
 TEST(LoadScenario, AssociationShorthand) {
-  const Scenario s = LoadScenarioText(kMinimal, "m.yaml", {{"tracker.association", "gnn"}});
-  EXPECT_EQ(s.tracker.association.method, "gnn");
+  const Scenario s = LoadScenarioText(kMinimal, "m.yaml", {{"tracker.association", "nearest"}});
+  EXPECT_EQ(s.tracker.association.method, tracker::AssociationMethod::kNearestNeighbour);
 }
 
 TEST(LoadScenario, ModelDimensionsComeFromTheModelFile) {

@@ -14,7 +14,9 @@ namespace hcpf::scenarios {
 
 struct RunOptions {
   std::string out_dir;
-  bool video = false;  // also write overlay.mp4
+  // Worker threads of the tracker's per-filter stages; outputs are identical
+  // for every value.
+  int threads = 1;
 };
 
 struct RunSummary {
@@ -24,6 +26,11 @@ struct RunSummary {
   int detections = 0;
   bool tracked = false;
   bool scored = false;
+  double mota = 0.0;
+  double idf1 = 0.0;
+  double hota = 0.0;
+  double da_accuracy = 0.0;
+  double hijack_rate = 0.0;
   double wall_time_s = 0.0;
 };
 

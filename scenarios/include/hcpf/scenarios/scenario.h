@@ -8,6 +8,9 @@
 #include <vector>
 
 #include "hcpf/core/world.h"
+#include "hcpf/metrics/filter_metrics.h"
+#include "hcpf/metrics/point_metrics.h"
+#include "hcpf/tracker/tracker.h"
 
 namespace hcpf::scenarios {
 
@@ -65,75 +68,10 @@ struct RendererConfig {
   bool write_instance_ids = false;
 };
 
-struct DynamicsConfig {
-  std::string model = "constant_velocity";  // random_walk | constant_velocity | constant_velocity_scale
-  double sigma_pos_px = 1.5;
-  double sigma_vel_px = 0.3;
-  double sigma_scale = 0.01;
-};
-
-struct LikelihoodConfig {
-  std::string model = "detections_mixture";  // detections_mixture | associated | map
-  double sigma_px = 3.0;
-  double clutter_weight = 0.01;  // relative floor of the mixture
-};
-
-struct ResamplingConfig {
-  std::string method = "systematic";  // multinomial | systematic | stratified | residual | charged
-  std::string base = "systematic";    // charged / ess_gated: the underlying resampler
-  double ess_threshold = 1.0;         // resample when ESS/N < threshold (1 = always)
-  std::string potential = "gaussian";  // gaussian | coulomb
-  double charge = 1.0;
-  double softening_px = 6.0;
-  double beta = 1.0;
-  int max_tries = 20;
-};
-
-struct InteractionConfig {
-  std::string model = "none";  // none | mrf (Khan–Balch–Dellaert)
-  double strength = 1.0;
-  double radius_px = 10.0;
-};
-
-struct HierarchicalConfig {
-  bool enabled = false;
-  int scene_particles = 200;
-  std::string motion = "similarity";
-};
-
-struct AssociationConfig {
-  std::string method = "none";  // gnn | nearest | none
-  std::string gate = "mahalanobis";  // mahalanobis | iou
-  double gate_value = 9.21;      // chi-square 2 dof at 99 %, or min IoU
-};
-
-struct TrackManagementConfig {
-  std::string init = "ground_truth";  // ground_truth | detections
-  int confirm_m = 3;
-  int confirm_n = 5;
-  int delete_after = 15;  // frames without support
-};
-
-struct TrackerConfig {
-  int particles = 500;
-  DynamicsConfig dynamics;
-  LikelihoodConfig likelihood;
-  ResamplingConfig resampling;
-  InteractionConfig interaction;
-  HierarchicalConfig hierarchical;
-  AssociationConfig association;
-  TrackManagementConfig management;
-  int keep_particles = 0;  // particles per filter kept per frame for overlays (0 = none)
-};
-
+// Scoring options of a run (metrics/ Options, filled from `metrics.*`).
 struct MetricsConfig {
-  double iou_threshold = 0.5;
-  double gate_factor = 1.0;
-  double encounter_factor = 2.0;
-  int post_window = 10;
-  double min_visible = 0.2;
-  double ospa_cutoff_px = 50.0;
-  double ospa_order = 1.0;
+  metrics::FilterMetricsOptions filters;
+  metrics::PointMetricsOptions points;
 };
 
 struct Scenario {
@@ -145,7 +83,7 @@ struct Scenario {
   ObservationOptions observation;
   SensorOptions sensor;
   RendererConfig renderer;
-  TrackerConfig tracker;
+  tracker::TrackerOptions tracker;  // `tracker.*` (threads: a run option, not a key)
   MetricsConfig metrics;
 };
 

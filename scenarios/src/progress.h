@@ -1,0 +1,42 @@
+#pragma once
+// Progress of long work on stderr. On a terminal: one line redrawn in place
+// (done/total, percent, failures, elapsed, ETA) at most 10 times a second. When
+// stderr is not a terminal (CI, logs): a plain log line at most every 5 s.
+// Quiet work (under a second) prints nothing.
+
+#include <chrono>
+#include <cstdint>
+#include <string>
+
+namespace hcpf::scenarios {
+
+class Progress {
+ public:
+  Progress(std::string label, int64_t total);
+  ~Progress();
+  Progress(const Progress&) = delete;
+  Progress& operator=(const Progress&) = delete;
+
+  void Advance(int64_t done = 1, int64_t failed = 0);
+  // Prints the final state (if anything was printed before) and ends the line.
+  void Finish();
+
+  // The line as shown, e.g. "sweep 12/40 (30%) 1 failed, 0:12 elapsed, ETA 0:28".
+  static std::string Format(const std::string& label, int64_t done, int64_t total, int64_t failed,
+                            double elapsed_s);
+
+ private:
+  void Print(bool final);
+
+  std::string label_;
+  int64_t total_;
+  int64_t done_ = 0;
+  int64_t failed_ = 0;
+  bool tty_;
+  bool printed_ = false;
+  bool finished_ = false;
+  std::chrono::steady_clock::time_point start_;
+  std::chrono::steady_clock::time_point last_print_;
+};
+
+}  // namespace hcpf::scenarios

@@ -171,6 +171,15 @@ bool DetectionsMixtureLikelihood::AddLogLikelihood(ParticleSet& set,
   const double clutter = options_.clutter_density;
   const double log_clutter =
       clutter > 0.0 ? std::log(clutter) : -std::numeric_limits<double>::infinity();
+  // A component whose largest possible term in a chunk is below 2^-60 times
+  // the clutter floor changes no particle's L = sum + clutter by more than
+  // 2^-60 relative (below double resolution, 2^-53) and is skipped; with no
+  // clutter only exact zeros are skipped (FastExp flushes exponents < -708).
+  // Far detections of other targets then cost nothing.
+  const double negligible_log = clutter > 0.0 ? log_clutter - 60.0 * std::numbers::ln2
+                                              : -std::numeric_limits<double>::infinity();
+  std::vector<Component> active;
+  active.reserve(comps.size());
   std::array<double, kChunk> sum;
   std::array<double, kChunk> log_s;
   const size_t n = set.size();
@@ -184,7 +193,26 @@ bool DetectionsMixtureLikelihood::AddLogLikelihood(ParticleSet& set,
     } else {
       std::fill_n(log_s.data(), m, 0.0);
     }
-    MixtureChunk(comps.data(), comps.size(), px, py, log_s.data(), inv_2s2, inv_2ss2,
+    // Components that cannot matter anywhere in this chunk are skipped (see
+    // kNegligibleLog below); the decision depends only on the data, so the
+    // result stays deterministic.
+    double x0 = px[0], x1 = px[0], y0 = py[0], y1 = py[0];
+    for (size_t i = 1; i < m; ++i) {
+      x0 = std::min(x0, px[i]);
+      x1 = std::max(x1, px[i]);
+      y0 = std::min(y0, py[i]);
+      y1 = std::max(y1, py[i]);
+    }
+    active.clear();
+    for (const Component& c : comps) {
+      const double dx = std::max({x0 - c.cx, 0.0, c.cx - x1});
+      const double dy = std::max({y0 - c.cy, 0.0, c.cy - y1});
+      const double max_exponent = -(dx * dx + dy * dy) * inv_2s2;  // the size term is <= 0
+      if (max_exponent >= -708.0 && c.log_weight + max_exponent >= negligible_log) {
+        active.push_back(c);
+      }
+    }
+    MixtureChunk(active.data(), active.size(), px, py, log_s.data(), inv_2s2, inv_2ss2,
                  sum.data(), m);
     double* log_w = set.log_w.data() + begin;
     bool any_tiny = false;

@@ -123,55 +123,6 @@ void SortedUniformMultinomial(std::span<const double> w, size_t count, Rng& rng,
   MergeSortedPoints(w, count, [&](size_t i) { return points[i] * inv_total; }, out);
 }
 
-// Walker's alias table (Vose's O(N) construction) for O(1) single draws.
-class AliasTable {
- public:
-  explicit AliasTable(std::span<const double> w) : prob_(w.size()), alias_(w.size()) {
-    const size_t n = w.size();
-    std::vector<double> scaled(n);
-    std::vector<int32_t> small, large;
-    small.reserve(n);
-    large.reserve(n);
-    double total = 0.0;
-    for (const double v : w) total += v;
-    for (size_t i = 0; i < n; ++i) {
-      scaled[i] = w[i] * static_cast<double>(n) / total;
-      (scaled[i] < 1.0 ? small : large).push_back(static_cast<int32_t>(i));
-    }
-    while (!small.empty() && !large.empty()) {
-      const int32_t s = small.back();
-      small.pop_back();
-      const int32_t l = large.back();
-      prob_[s] = scaled[s];
-      alias_[s] = l;
-      scaled[l] = (scaled[l] + scaled[s]) - 1.0;
-      if (scaled[l] < 1.0) {
-        large.pop_back();
-        small.push_back(l);
-      }
-    }
-    // Leftovers have scaled weight 1 up to rounding. A zero-weight leftover
-    // (possible only through rounding) must never be selected: alias it to
-    // the last positive-weight particle with probability 0.
-    const auto fallback = static_cast<int32_t>(LastPositive(w));
-    for (auto* list : {&small, &large}) {
-      for (const int32_t i : *list) {
-        prob_[i] = w[i] > 0.0 ? 1.0 : 0.0;
-        alias_[i] = w[i] > 0.0 ? i : fallback;
-      }
-    }
-  }
-
-  int32_t Draw(Rng& rng) const {
-    const auto i = static_cast<size_t>(rng.UniformInt(prob_.size()));
-    return rng.Uniform() < prob_[i] ? static_cast<int32_t>(i) : alias_[i];
-  }
-
- private:
-  std::vector<double> prob_;
-  std::vector<int32_t> alias_;
-};
-
 }  // namespace
 
 ResampleResult MultinomialResampler::Resample(const ParticleSet& set, const ResampleContext&,
@@ -401,6 +352,39 @@ double ChargedResampler::Potential(double x_px, double y_px,
   return PotentialAt(charges, options_.potential, options_.charge, eps2, x_px, y_px);
 }
 
+namespace {
+
+// Per-thread work buffers of the charged resampler. Allocating ~10 arrays of
+// N doubles per call made glibc return the memory to the OS on free and fault
+// it back in on the next call (page faults were a tenth of the step); the
+// buffers carry no information from one call to the next.
+struct ChargedScratch {
+  std::vector<double> x, y, pot, accept, cum, best_u;
+  std::vector<int32_t> slot, draw, best;
+};
+
+ChargedScratch& Scratch() {
+  thread_local ChargedScratch scratch;
+  return scratch;
+}
+
+// One multinomial draw from the cumulative weights cum (cum.back() = total):
+// the first j with cum_j > u * total, by a branch-free binary search (the
+// comparison becomes a conditional move), never past the last positive weight.
+inline int32_t DrawFromCumulative(const std::vector<double>& cum, size_t last, Rng& rng) {
+  const double u = rng.Uniform() * cum.back();
+  size_t lo = 0;
+  size_t len = cum.size();
+  while (len > 1) {
+    const size_t half = len / 2;
+    lo = cum[lo + half - 1] <= u ? lo + half : lo;
+    len -= half;
+  }
+  return static_cast<int32_t>(std::min(lo, last));
+}
+
+}  // namespace
+
 ResampleResult ChargedResampler::Resample(const ParticleSet& set, const ResampleContext& context,
                                           Rng& rng, std::span<int32_t> ancestors) const {
   CheckInputs(set, ancestors);
@@ -422,40 +406,73 @@ ResampleResult ChargedResampler::Resample(const ParticleSet& set, const Resample
     return result;
   }
 
-  std::vector<double> cx(n), cy(n), pot(n), accept(n);
+  ChargedScratch& s = Scratch();
+  s.x.resize(n);
+  s.y.resize(n);
+  s.pot.resize(n);
+  s.accept.resize(n);
+  s.slot.resize(n);
+  s.draw.resize(n);
+  s.best.resize(n);
+  s.best_u.resize(n);
+  // Round 0: the candidates. Potentials in one vectorised pass, then one
+  // uniform per slot in slot order; rejected slots are compacted into
+  // `slot` without branches.
   for (size_t i = 0; i < n; ++i) {
-    cx[i] = set.px[static_cast<size_t>(ancestors[i])];
-    cy[i] = set.py[static_cast<size_t>(ancestors[i])];
+    s.x[i] = set.px[static_cast<size_t>(ancestors[i])];
+    s.y[i] = set.py[static_cast<size_t>(ancestors[i])];
   }
-  AcceptanceProbabilities(charges.data(), charges.size(), gaussian, q, beta, eps2, cx.data(),
-                          cy.data(), pot.data(), accept.data(), n);
-
-  std::optional<AliasTable> alias;  // built on the first rejection only
-  int64_t rejections = 0;
+  AcceptanceProbabilities(charges.data(), charges.size(), gaussian, q, beta, eps2, s.x.data(),
+                          s.y.data(), s.pot.data(), s.accept.data(), n);
+  size_t pending = 0;
   for (size_t i = 0; i < n; ++i) {
-    if (rng.Uniform() < accept[i]) continue;
-    ++rejections;
-    int32_t best = ancestors[i];
-    double best_u = pot[i];
-    bool accepted = false;
-    if (options_.max_tries > 0 && !alias) alias.emplace(set.w);
-    for (int t = 0; t < options_.max_tries; ++t) {
-      const int32_t j = alias->Draw(rng);
-      const auto ju = static_cast<size_t>(j);
-      const double u = PotentialAt(charges, options_.potential, q, eps2, set.px[ju], set.py[ju]);
-      if (rng.Uniform() < internal::FastExp(-beta * u)) {
-        ancestors[i] = j;
-        accepted = true;
-        break;
-      }
-      ++rejections;
-      if (u < best_u) {
-        best_u = u;
-        best = j;
-      }
+    const bool rejected = !(rng.Uniform() < s.accept[i]);
+    s.slot[pending] = static_cast<int32_t>(i);
+    s.best[pending] = ancestors[i];
+    s.best_u[pending] = s.pot[i];
+    pending += rejected ? 1 : 0;
+  }
+  int64_t rejections = static_cast<int64_t>(pending);
+  if (pending > 0 && options_.max_tries > 0) {
+    // Replacement draws are made in rounds: in round t every still-rejected
+    // slot (in slot order) draws its t-th replacement, multinomially from
+    // this filter's weights; the potentials of a round are one vectorised
+    // pass, then one uniform per slot decides. Each slot still sees i.i.d.
+    // replacements tested one at a time, exactly as DESIGN.md specifies.
+    s.cum.resize(n);
+    double total = 0.0;
+    for (size_t i = 0; i < n; ++i) {
+      total += set.w[i];
+      s.cum[i] = total;
     }
-    if (!accepted) ancestors[i] = best;
+    const size_t last = LastPositive(set.w);
+    for (int t = 0; t < options_.max_tries && pending > 0; ++t) {
+      for (size_t k = 0; k < pending; ++k) {
+        const int32_t j = DrawFromCumulative(s.cum, last, rng);
+        s.draw[k] = j;
+        s.x[k] = set.px[static_cast<size_t>(j)];
+        s.y[k] = set.py[static_cast<size_t>(j)];
+      }
+      AcceptanceProbabilities(charges.data(), charges.size(), gaussian, q, beta, eps2,
+                              s.x.data(), s.y.data(), s.pot.data(), s.accept.data(), pending);
+      size_t still = 0;
+      for (size_t k = 0; k < pending; ++k) {
+        if (rng.Uniform() < s.accept[k]) {
+          ancestors[static_cast<size_t>(s.slot[k])] = s.draw[k];
+          continue;
+        }
+        // Rejected again: keep the lowest-U draw seen so far (the earlier on ties).
+        const bool better = s.pot[k] < s.best_u[k];
+        s.slot[still] = s.slot[k];
+        s.best[still] = better ? s.draw[k] : s.best[k];
+        s.best_u[still] = better ? s.pot[k] : s.best_u[k];
+        ++still;
+      }
+      rejections += static_cast<int64_t>(still);
+      pending = still;
+    }
   }
+  for (size_t k = 0; k < pending; ++k) ancestors[static_cast<size_t>(s.slot[k])] = s.best[k];
   result.rejections = rejections;
   return result;
 }

@@ -148,13 +148,18 @@ class EssGatedResampler final : public Resampler {
 //   2. U(p) = sum over the other filters j of the potential of j at p;
 //      accept candidate p with probability exp(-beta U(p)) (one uniform);
 //   3. a rejected candidate is replaced by a fresh multinomial draw from this
-//      filter's weights (O(1) per draw through a Walker alias table built on
-//      first need), up to max_tries replacements; if all are rejected the draw
-//      with the lowest U is kept.
+//      filter's weights, up to max_tries replacements; if all are rejected the
+//      draw with the lowest U is kept.
+// Implementation: candidate potentials in one vectorised pass; replacements
+// drawn in rounds (round t: every still-rejected slot, in slot order, draws
+// its t-th replacement by a branch-free binary search of the cumulative
+// weights), each round's potentials again one vectorised pass. Each slot sees
+// i.i.d. replacements tested one at a time, as specified.
 // With no other filter (or q = 0 or beta = 0) every acceptance probability is
 // 1: no uniform is drawn and the output equals the candidate resampler's.
-// Cost O(N K) per filter for K others (plus O(N) for the alias table when a
-// rejection happens).
+// Gaussian charges that are negligible for every particle (exponent < -40)
+// are skipped. Cost O(N K) per filter for K others, plus O(R log N) for R
+// replacement draws.
 class ChargedResampler final : public Resampler {
  public:
   explicit ChargedResampler(const ResamplerOptions& options);

@@ -42,12 +42,19 @@ ParticleSet MakeCloud(size_t n, uint64_t seed) {
   return set;
 }
 
-Observation MakeObservation(int detections) {
+// `detections` detections: dense = all within +-40 px of the cloud (worst
+// case: every detection contributes to every particle); spread = one on the
+// cloud and the others on a grid over a 640x480 image (a typical frame: the
+// others are skipped by the likelihood's negligible-component cut-off).
+Observation MakeObservation(int detections, bool spread = false) {
   Observation obs;
   for (int d = 0; d < detections; ++d) {
-    // Ten detections spread over +-40 px around the cloud.
-    const double cx = 300.0 + 40.0 * std::cos(0.7 * d);
-    const double cy = 240.0 + 40.0 * std::sin(0.9 * d);
+    double cx = 300.0 + 40.0 * std::cos(0.7 * d);
+    double cy = 240.0 + 40.0 * std::sin(0.9 * d);
+    if (spread) {
+      cx = d == 0 ? 322.0 : 64.0 + 128.0 * (d % 5);
+      cy = d == 0 ? 238.0 : (d < 5 ? 60.0 : 420.0);
+    }
     obs.detections.push_back({.box = BoxPx::FromCentre(cx, cy, 20, 12), .score = 0.5 + 0.05 * d});
   }
   return obs;
@@ -139,7 +146,8 @@ std::vector<FilterSummary> Neighbours(int k, bool spread) {
 // One filter step: constant-velocity predict, detections_mixture over 10
 // detections, normalise, resample (systematic, or charged against K-1
 // neighbours), gather. state.range(0) = N, state.range(1) = K (0 = systematic),
-// state.range(2) = 1 for spread neighbours.
+// state.range(2) = 1 for spread neighbours, state.range(3) = 1 for spread
+// detections.
 void BM_FilterStep(benchmark::State& state) {
   const auto n = static_cast<size_t>(state.range(0));
   const int k = static_cast<int>(state.range(1));
@@ -148,7 +156,7 @@ void BM_FilterStep(benchmark::State& state) {
   ConstantVelocityDynamics dynamics(1.5, 0.3);
   LikelihoodOptions lo;
   DetectionsMixtureLikelihood likelihood(lo);
-  const Observation obs = MakeObservation(10);
+  const Observation obs = MakeObservation(10, state.range(3) != 0);
   ResamplerOptions ro;
   ro.method = k > 0 ? ResamplingMethod::kCharged : ResamplingMethod::kSystematic;
   const auto resampler = MakeResampler(ro);
@@ -173,9 +181,10 @@ void BM_FilterStep(benchmark::State& state) {
   state.counters["rejections_per_step"] =
       benchmark::Counter(static_cast<double>(rejections), benchmark::Counter::kAvgIterations);
 }
-BENCHMARK(BM_FilterStep)->Args({10000, 0, 0})->Name("BM_FilterStep/systematic");
-BENCHMARK(BM_FilterStep)->Args({10000, 10, 0})->Name("BM_FilterStep/charged_k10_close");
-BENCHMARK(BM_FilterStep)->Args({10000, 10, 1})->Name("BM_FilterStep/charged_k10_spread");
+BENCHMARK(BM_FilterStep)->Args({10000, 0, 0, 0})->Name("BM_FilterStep/systematic_dense");
+BENCHMARK(BM_FilterStep)->Args({10000, 10, 0, 0})->Name("BM_FilterStep/charged_k10_close_dense");
+BENCHMARK(BM_FilterStep)->Args({10000, 0, 0, 1})->Name("BM_FilterStep/systematic_spread");
+BENCHMARK(BM_FilterStep)->Args({10000, 10, 1, 1})->Name("BM_FilterStep/charged_k10_spread");
 
 // Components alone at N = 1e4 (to see where the step's time goes).
 void BM_PredictCv(benchmark::State& state) {

@@ -157,3 +157,46 @@ TEST(AssociationMethod, NamesRoundTrip) {
 
 }  // namespace
 }  // namespace hcpf::tracker
+
+namespace hcpf::tracker {
+namespace {
+
+// Contract suite over every associator: one entry per track, each detection
+// used at most once, only gated pairs, deterministic.
+class AssociatorContract : public ::testing::TestWithParam<AssociationMethod> {};
+
+TEST_P(AssociatorContract, AssignsOnlyGatedPairsAndEachDetectionOnce) {
+  AssociationOptions o;
+  o.method = GetParam();
+  o.measurement_sigma_px = 2.0;
+  const auto assoc = MakeAssociator(o);
+  Rng rng(31);
+  for (int trial = 0; trial < 200; ++trial) {
+    std::vector<TrackPrediction> tracks(rng.UniformInt(6));
+    for (auto& t : tracks) {
+      t = Track(rng.Uniform(0, 40), rng.Uniform(0, 40));
+      t.cov << rng.Uniform(0, 9), 0, 0, rng.Uniform(0, 9);
+    }
+    std::vector<Detection> dets(rng.UniformInt(6));
+    for (auto& d : dets) d = Det(rng.Uniform(0, 40), rng.Uniform(0, 40));
+    const std::vector<int> a = assoc->Associate(tracks, dets);
+    ASSERT_EQ(a.size(), tracks.size());
+    std::vector<int> used(dets.size(), 0);
+    for (size_t t = 0; t < a.size(); ++t) {
+      if (a[t] < 0) continue;
+      ASSERT_LT(a[t], static_cast<int>(dets.size()));
+      ASSERT_EQ(used[a[t]]++, 0) << "detection assigned twice";
+      ASSERT_TRUE(GatedCost(tracks[t], dets[a[t]], o).has_value()) << "ungated pair";
+    }
+    EXPECT_EQ(a, assoc->Associate(tracks, dets));
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(AllAssociators, AssociatorContract,
+                         ::testing::Values(AssociationMethod::kGlobalNearestNeighbour,
+                                           AssociationMethod::kNearestNeighbour,
+                                           AssociationMethod::kNone),
+                         [](const auto& info) { return std::string(ToString(info.param)); });
+
+}  // namespace
+}  // namespace hcpf::tracker

@@ -133,3 +133,50 @@ TEST(DynamicsModel, NamesRoundTrip) {
 
 }  // namespace
 }  // namespace hcpf::tracker
+
+namespace hcpf::tracker {
+namespace {
+
+// Contract suite over every dynamics model: weights untouched, deterministic
+// given the Rng state, zero noise moves by the model's deterministic part only.
+class DynamicsContract : public ::testing::TestWithParam<DynamicsModel> {};
+
+TEST_P(DynamicsContract, LeavesWeightsAndIsDeterministic) {
+  DynamicsOptions o;
+  o.model = GetParam();
+  const auto dyn = MakeDynamics(o);
+  ParticleSet a = Cloud(513, 1.0, 2.0, 0.5, -0.5);
+  a.log_w[7] = -3.0;
+  const std::vector<double> log_w = a.log_w;
+  ParticleSet b = a;
+  Rng ra(4), rb(4);
+  dyn->Predict(a, ra);
+  dyn->Predict(b, rb);
+  EXPECT_EQ(a, b);
+  EXPECT_EQ(a.log_w, log_w);
+  EXPECT_EQ(ra.NextU64(), rb.NextU64());
+}
+
+TEST_P(DynamicsContract, ZeroNoiseIsDeterministicMotion) {
+  DynamicsOptions o;
+  o.model = GetParam();
+  o.sigma_pos_px = 0.0;
+  o.sigma_vel_px = 0.0;
+  o.sigma_log_scale = 0.0;
+  ParticleSet set = Cloud(3, 10.0, 20.0, 2.0, 1.0);
+  Rng rng(5);
+  MakeDynamics(o)->Predict(set, rng);
+  const bool moves = GetParam() != DynamicsModel::kRandomWalk;
+  EXPECT_EQ(set.px[2], moves ? 12.0 : 10.0);
+  EXPECT_EQ(set.py[2], moves ? 21.0 : 20.0);
+  EXPECT_EQ(set.s[2], 1.0);
+}
+
+INSTANTIATE_TEST_SUITE_P(AllDynamics, DynamicsContract,
+                         ::testing::Values(DynamicsModel::kRandomWalk,
+                                           DynamicsModel::kConstantVelocity,
+                                           DynamicsModel::kConstantVelocityScale),
+                         [](const auto& info) { return std::string(ToString(info.param)); });
+
+}  // namespace
+}  // namespace hcpf::tracker

@@ -66,7 +66,7 @@ struct TerrainTile {
 constexpr int kTerrainTileCells = 8;
 // Shadow occupancy: a coarse light-space grid marking where any caster can
 // put a shadow, so the PCF taps run only there (most of the ground is lit).
-constexpr int kOccupancySize = 64;
+constexpr int kOccupancySize = 128;
 
 struct VehicleModel {
   GpuMesh gpu;
@@ -155,6 +155,9 @@ class GlSceneRenderer final : public SceneRenderer {
   void BuildTextures();
   void BuildTerrain();
   void DrawTerrain(const Eigen::Matrix4f& view_proj) const;
+  // Height of the rendered terrain mesh (the triangles, not the analytic
+  // field) at (x, y): vehicles stand on what is drawn.
+  double MeshHeightAt(double x_m, double y_m) const;
   void UpdateOccupancy(const Eigen::Matrix4f& light_view_proj,
                        const std::vector<Eigen::Matrix4f>& vehicle_models,
                        const std::vector<size_t>& vehicle_slots);
@@ -202,6 +205,8 @@ class GlSceneRenderer final : public SceneRenderer {
   std::vector<uint8_t> occupancy_;
   GpuMesh terrain_;
   std::vector<TerrainTile> tiles_;
+  int terrain_cells_ = 1;
+  std::vector<float> terrain_heights_;  // (cells+1)^2 vertex heights, row-major
   // Corners of every static caster's bounding boxes (world frame).
   std::vector<std::array<Eigen::Vector3f, 8>> static_caster_boxes_;
   GpuMesh occluders_;
@@ -394,6 +399,7 @@ GpuMesh GlSceneRenderer::Upload(const MeshData& mesh) {
 void GlSceneRenderer::BuildTerrain() {
   const TerrainSpec& t = world_.terrain;
   const int grid = t.relief_m > 0.0 ? options_.terrain_grid : 1;
+  terrain_cells_ = grid;
   MeshData mesh;
   const double sx = t.size_m.x();
   const double sy = t.size_m.y();
@@ -406,6 +412,7 @@ void GlSceneRenderer::BuildTerrain() {
       const double y = -0.5 * sy + sy * j / grid;
       mesh.positions.emplace_back(static_cast<float>(x), static_cast<float>(y),
                                   static_cast<float>(t.HeightAt(x, y)));
+      terrain_heights_.push_back(mesh.positions.back().z());
       const double dx = (t.HeightAt(x + kEps, y) - t.HeightAt(x - kEps, y)) / (2 * kEps);
       const double dy = (t.HeightAt(x, y + kEps) - t.HeightAt(x, y - kEps)) / (2 * kEps);
       mesh.normals.push_back(Eigen::Vector3d(-dx, -dy, 1.0).normalized().cast<float>());
@@ -469,7 +476,17 @@ void GlSceneRenderer::BuildOccluders() {
     }
     // Primitive occluders are drawn as exactly the boxes the analytic ground
     // truth uses (world.h OccluderSpec::Boxes).
-    const std::vector<OrientedBox> boxes = o.Boxes(world_.terrain);
+    std::vector<OrientedBox> boxes = o.Boxes(world_.terrain);
+    if (world_.terrain.relief_m > 0.0) {
+      // Boxes standing on the ground (building, trunk, bridge piers) reach
+      // 1 m below it, so the mesh's interpolation never shows a gap under them.
+      for (size_t b = 0; b < boxes.size(); ++b) {
+        const bool grounded = o.kind == OccluderKind::kBridge ? b > 0 : b == 0;
+        if (!grounded) continue;
+        boxes[b].centre_m.z() -= 0.5;
+        boxes[b].half_size_m.z() += 0.5;
+      }
+    }
     for (size_t b = 0; b < boxes.size(); ++b) {
       Eigen::Vector3f color = kBuilding;
       if (o.kind == OccluderKind::kBridge) color = kConcrete;
@@ -616,6 +633,22 @@ Eigen::Matrix4f GlSceneRenderer::LightViewProj(const CameraState& camera,
   return (ortho * view).cast<float>();
 }
 
+double GlSceneRenderer::MeshHeightAt(double x_m, double y_m) const {
+  const int g = terrain_cells_;
+  const double fx_all = (x_m / world_.terrain.size_m.x() + 0.5) * g;
+  const double fy_all = (y_m / world_.terrain.size_m.y() + 0.5) * g;
+  const int i = std::clamp(static_cast<int>(std::floor(fx_all)), 0, g - 1);
+  const int j = std::clamp(static_cast<int>(std::floor(fy_all)), 0, g - 1);
+  const double fx = std::clamp(fx_all - i, 0.0, 1.0);
+  const double fy = std::clamp(fy_all - j, 0.0, 1.0);
+  const auto h = [&](int a, int b) {
+    return double{terrain_heights_[static_cast<size_t>(b) * (g + 1) + static_cast<size_t>(a)]};
+  };
+  // Cells are split along the (i, j)-(i+1, j+1) diagonal (BuildTerrain).
+  if (fx >= fy) return h(i, j) + fx * (h(i + 1, j) - h(i, j)) + fy * (h(i + 1, j + 1) - h(i + 1, j));
+  return h(i, j) + fy * (h(i, j + 1) - h(i, j)) + fx * (h(i + 1, j + 1) - h(i, j + 1));
+}
+
 void GlSceneRenderer::DrawTerrain(const Eigen::Matrix4f& view_proj) const {
   gl_.BindVertexArray(terrain_.vao);
   // Clip-space test of each tile's box: culled when all 8 corners lie
@@ -722,7 +755,12 @@ RenderedFrame GlSceneRenderer::Render(int frame) {
     if (!t.pose.present) continue;
     const VehicleModel& model = models_[target_model_[i]];
     Eigen::Affine3f m = Eigen::Affine3f::Identity();
-    m.translate(t.pose.position_m.cast<float>());
+    // On the drawn terrain surface; equals the analytic height when the
+    // terrain is flat and differs by the mesh's interpolation error (a few
+    // centimetres at the default grid) otherwise.
+    const Eigen::Vector3d base(t.pose.position_m.x(), t.pose.position_m.y(),
+                               MeshHeightAt(t.pose.position_m.x(), t.pose.position_m.y()));
+    m.translate(base.cast<float>());
     m.rotate(RotZ(t.pose.heading_deg * kDegToRad));
     m.scale(spec.dimensions_m.cast<float>().cwiseQuotient(model.dims));
     t.model = m.matrix();
@@ -822,11 +860,9 @@ RenderedFrame GlSceneRenderer::Render(int frame) {
   gl_.Uniform1i(U("u_id_only"), 0);
   gl_.Uniform1f(U("u_id"), 0.0f);
   gl_.Uniform3f(U("u_tint"), 1.0f, 1.0f, 1.0f);
-  SetModel(Eigen::Matrix4f::Identity());
-  gl_.Uniform1i(U("u_material"), 1);
-  DrawTerrain(view_proj);
+  // Front to back-ish: vehicles and occluders first, so that the depth test
+  // rejects the terrain fragments they cover before shading them.
   gl_.Uniform1i(U("u_material"), 0);
-  if (occluders_.index_count > 0) Draw(occluders_);
   for (const TargetInstance& t : targets) {
     const Eigen::Vector3f tint = world_.targets[t.slot].tint.cast<float>();
     gl_.Uniform3f(U("u_tint"), tint.x(), tint.y(), tint.z());
@@ -834,6 +870,12 @@ RenderedFrame GlSceneRenderer::Render(int frame) {
     SetModel(t.model);
     Draw(models_[target_model_[t.slot]].gpu);
   }
+  gl_.Uniform3f(U("u_tint"), 1.0f, 1.0f, 1.0f);
+  gl_.Uniform1f(U("u_id"), 0.0f);
+  SetModel(Eigen::Matrix4f::Identity());
+  if (occluders_.index_count > 0) Draw(occluders_);
+  gl_.Uniform1i(U("u_material"), 1);
+  DrawTerrain(view_proj);
   gl_.CheckError("colour pass");
 
   const size_t pixels = static_cast<size_t>(width_) * height_;
@@ -917,91 +959,139 @@ FrameGroundTruth GlSceneRenderer::GroundTruth(int frame, const CameraState& came
     }
   }
 
-  // Count pass: each target alone (same program, same vertex stage) inside
-  // a scissor around its projected vertices.
+  // Count pass: each target alone (same program, same vertex stage, so the
+  // same pixels as in the colour pass) inside a scissor around its projected
+  // vertices. Targets whose scissors do not overlap share one layer: one
+  // flush and one readback per layer instead of per target.
+  const Eigen::Matrix3d r = camera.pose.camera_from_world();
+  const CameraIntrinsics& k = camera.intrinsics;
+  struct Pending {
+    GroundTruthObject obj;
+    const TargetInstance* target = nullptr;
+    double u_lo, v_lo, u_hi, v_hi;
+    bool behind = false;
+    bool any_in_front = false;
+    int sx0 = 0, sy0 = 0, sx1 = 0, sy1 = 0;  // scissor [sx0, sx1) x [sy0, sy1)
+    int64_t total = 0;
+    int ax0, ay0, ax1 = -1, ay1 = -1;
+  };
+  std::vector<Pending> pending(targets.size());
+  for (size_t i = 0; i < targets.size(); ++i) {
+    const TargetInstance& t = targets[i];
+    Pending& p = pending[i];
+    p.target = &t;
+    const TargetSpec& spec = world_.targets[t.slot];
+    p.obj.id = spec.id;
+    p.obj.position_m = t.pose.position_m;
+    p.obj.heading_deg = t.pose.heading_deg;
+    p.obj.dimensions_m = spec.dimensions_m;
+    p.u_lo = p.v_lo = std::numeric_limits<double>::max();
+    p.u_hi = p.v_hi = -std::numeric_limits<double>::max();
+    p.ax0 = width_;
+    p.ay0 = height_;
+    for (const Eigen::Vector3f& q : models_[target_model_[t.slot]].positions) {
+      const Eigen::Vector4f w = t.model * Eigen::Vector4f(q.x(), q.y(), q.z(), 1.0f);
+      const Eigen::Vector3d c = r * (w.head<3>().cast<double>() - camera.pose.position_m);
+      if (c.z() <= kNearM) {
+        p.behind = true;
+        continue;
+      }
+      p.any_in_front = true;
+      const double u = k.fx_px * c.x() / c.z() + k.cx_px;
+      const double v = k.fy_px * c.y() / c.z() + k.cy_px;
+      p.u_lo = std::min(p.u_lo, u);
+      p.u_hi = std::max(p.u_hi, u);
+      p.v_lo = std::min(p.v_lo, v);
+      p.v_hi = std::max(p.v_hi, v);
+    }
+    // The whole image when part of the target is behind the near plane,
+    // else the projected bounds grown by a pixel.
+    p.sx1 = width_;
+    p.sy1 = height_;
+    if (!p.behind && p.any_in_front) {
+      p.sx0 = std::clamp(static_cast<int>(std::floor(p.u_lo)) - 1, 0, width_);
+      p.sy0 = std::clamp(static_cast<int>(std::floor(p.v_lo)) - 1, 0, height_);
+      p.sx1 = std::clamp(static_cast<int>(std::ceil(p.u_hi)) + 1, 0, width_);
+      p.sy1 = std::clamp(static_cast<int>(std::ceil(p.v_hi)) + 1, 0, height_);
+    }
+  }
+  std::vector<size_t> todo;
+  for (size_t i = 0; i < pending.size(); ++i) {
+    const Pending& p = pending[i];
+    if (p.any_in_front && p.sx1 > p.sx0 && p.sy1 > p.sy0) todo.push_back(i);
+  }
   gl_.BindFramebuffer(GL_FRAMEBUFFER, main_fbo_);
   gl_.Uniform1i(U("u_id_only"), 1);
   gl_.Enable(GL_SCISSOR_TEST);
   gl_.ClearColor(0.0f, 0.0f, 0.0f, 0.0f);
-  const Eigen::Matrix3d r = camera.pose.camera_from_world();
-  const CameraIntrinsics& k = camera.intrinsics;
-  for (const TargetInstance& t : targets) {
-    const size_t id = t.slot + 1;
-    const TargetSpec& spec = world_.targets[t.slot];
-    GroundTruthObject obj;
-    obj.id = spec.id;
-    obj.position_m = t.pose.position_m;
-    obj.heading_deg = t.pose.heading_deg;
-    obj.dimensions_m = spec.dimensions_m;
-    // Projected vertex bounds (continuous pixel coordinates).
-    double u_lo = std::numeric_limits<double>::max();
-    double v_lo = u_lo;
-    double u_hi = -u_lo;
-    double v_hi = -u_lo;
-    bool behind = false;
-    bool any_in_front = false;
-    for (const Eigen::Vector3f& p : models_[target_model_[t.slot]].positions) {
-      const Eigen::Vector4f w = t.model * Eigen::Vector4f(p.x(), p.y(), p.z(), 1.0f);
-      const Eigen::Vector3d c = r * (w.head<3>().cast<double>() - camera.pose.position_m);
-      if (c.z() <= kNearM) {
-        behind = true;
-        continue;
+  while (!todo.empty()) {
+    // Greedy layer: targets in scenario order whose scissors are disjoint.
+    std::vector<size_t> layer;
+    std::vector<size_t> rest;
+    for (size_t i : todo) {
+      const Pending& p = pending[i];
+      bool overlaps = false;
+      for (size_t j : layer) {
+        const Pending& q = pending[j];
+        if (p.sx0 < q.sx1 && q.sx0 < p.sx1 && p.sy0 < q.sy1 && q.sy0 < p.sy1) {
+          overlaps = true;
+          break;
+        }
       }
-      any_in_front = true;
-      const double u = k.fx_px * c.x() / c.z() + k.cx_px;
-      const double v = k.fy_px * c.y() / c.z() + k.cy_px;
-      u_lo = std::min(u_lo, u);
-      u_hi = std::max(u_hi, u);
-      v_lo = std::min(v_lo, v);
-      v_hi = std::max(v_hi, v);
+      (overlaps ? rest : layer).push_back(i);
     }
-    // Scissor: the whole image when part of the target is behind the near
-    // plane, else the projected bounds grown by a pixel.
-    int sx0 = 0, sy0 = 0, sx1 = width_, sy1 = height_;
-    if (!behind && any_in_front) {
-      sx0 = std::clamp(static_cast<int>(std::floor(u_lo)) - 1, 0, width_);
-      sy0 = std::clamp(static_cast<int>(std::floor(v_lo)) - 1, 0, height_);
-      sx1 = std::clamp(static_cast<int>(std::ceil(u_hi)) + 1, 0, width_);
-      sy1 = std::clamp(static_cast<int>(std::ceil(v_hi)) + 1, 0, height_);
-    }
-    int64_t total = 0;
-    int ax0 = width_, ay0 = height_, ax1 = -1, ay1 = -1;
-    if (any_in_front && sx1 > sx0 && sy1 > sy0) {
-      const int sw = sx1 - sx0;
-      const int sh = sy1 - sy0;
-      gl_.Scissor(sx0, sy0, sw, sh);
+    int lx0 = width_, ly0 = height_, lx1 = 0, ly1 = 0;
+    for (size_t i : layer) {
+      const Pending& p = pending[i];
+      gl_.Scissor(p.sx0, p.sy0, p.sx1 - p.sx0, p.sy1 - p.sy0);
       gl_.Clear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
-      gl_.Uniform1f(U("u_id"), static_cast<float>(id) / 255.0f);
-      SetModel(t.model);
-      Draw(models_[target_model_[t.slot]].gpu);
-      region_.resize(4 * static_cast<size_t>(sw) * sh);
-      gl_.ReadPixels(sx0, sy0, sw, sh, GL_RGBA, GL_UNSIGNED_BYTE, region_.data());
-      for (int y = 0; y < sh; ++y) {
-        for (int x = 0; x < sw; ++x) {
-          if (region_[4 * (static_cast<size_t>(y) * sw + x) + 3] == 0) continue;
-          ++total;
-          ax0 = std::min(ax0, sx0 + x);
-          ax1 = std::max(ax1, sx0 + x);
-          ay0 = std::min(ay0, sy0 + y);
-          ay1 = std::max(ay1, sy0 + y);
+      gl_.Uniform1f(U("u_id"), static_cast<float>(p.target->slot + 1) / 255.0f);
+      SetModel(p.target->model);
+      Draw(models_[target_model_[p.target->slot]].gpu);
+      lx0 = std::min(lx0, p.sx0);
+      ly0 = std::min(ly0, p.sy0);
+      lx1 = std::max(lx1, p.sx1);
+      ly1 = std::max(ly1, p.sy1);
+    }
+    const int lw = lx1 - lx0;
+    const int lh = ly1 - ly0;
+    region_.resize(4 * static_cast<size_t>(lw) * lh);
+    gl_.ReadPixels(lx0, ly0, lw, lh, GL_RGBA, GL_UNSIGNED_BYTE, region_.data());
+    for (size_t i : layer) {
+      Pending& p = pending[i];
+      const auto id = static_cast<uint8_t>(p.target->slot + 1);
+      for (int y = p.sy0; y < p.sy1; ++y) {
+        const uint8_t* row = region_.data() + 4 * (static_cast<size_t>(y - ly0) * lw);
+        for (int x = p.sx0; x < p.sx1; ++x) {
+          if (row[4 * (x - lx0) + 3] != id) continue;
+          ++p.total;
+          p.ax0 = std::min(p.ax0, x);
+          p.ax1 = std::max(p.ax1, x);
+          p.ay0 = std::min(p.ay0, y);
+          p.ay1 = std::max(p.ay1, y);
         }
       }
     }
-    obj.pixels_total = total;
+    todo = std::move(rest);
+  }
+  const BoxPx image{0.0, 0.0, static_cast<double>(width_), static_cast<double>(height_)};
+  for (Pending& p : pending) {
+    GroundTruthObject& obj = p.obj;
+    const size_t id = p.target->slot + 1;
+    obj.pixels_total = p.total;
     obj.pixels_visible = count[id];
-    obj.visible_fraction = total > 0 ? static_cast<double>(count[id]) / total : 0.0;
+    obj.visible_fraction = p.total > 0 ? static_cast<double>(count[id]) / p.total : 0.0;
     if (count[id] > 0) {
       obj.visible_box = BoxPx::FromCorners(x0[id], y0[id], x1[id] + 1, y1[id] + 1);
     }
     BoxPx amodal;
-    if (total > 0) amodal = BoxPx::FromCorners(ax0, ay0, ax1 + 1, ay1 + 1);
+    if (p.total > 0) amodal = BoxPx::FromCorners(p.ax0, p.ay0, p.ax1 + 1, p.ay1 + 1);
     // Extend by the projected vertices where the target leaves the image.
-    if (any_in_front && !behind &&
-        (u_lo < 0.0 || v_lo < 0.0 || u_hi > width_ || v_hi > height_)) {
-      amodal = Union(amodal, BoxPx::FromCorners(u_lo, v_lo, u_hi, v_hi));
+    if (p.any_in_front && !p.behind &&
+        (p.u_lo < 0.0 || p.v_lo < 0.0 || p.u_hi > width_ || p.v_hi > height_)) {
+      amodal = Union(amodal, BoxPx::FromCorners(p.u_lo, p.v_lo, p.u_hi, p.v_hi));
     }
     obj.amodal_box = amodal;
-    const BoxPx image{0.0, 0.0, static_cast<double>(width_), static_cast<double>(height_)};
     const double inside = Intersect(amodal, image).area();
     obj.in_frame = inside > 0.0;
     obj.truncation = amodal.area() > 0.0 ? 1.0 - inside / amodal.area() : 0.0;

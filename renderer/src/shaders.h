@@ -51,7 +51,7 @@ uniform sampler2DShadow u_shadow_map;
 uniform sampler2D u_ground_tex;
 uniform sampler2D u_road_tex;
 uniform sampler2D u_road_mask;
-uniform sampler2D u_occupancy;   // 64 x 64, nearest: 0 = no caster can shadow here
+uniform sampler2D u_occupancy;   // 128 x 128, nearest: 0 = no caster can shadow here
 uniform vec2 u_terrain_min;
 uniform vec2 u_terrain_size;
 uniform float u_tile_m;
@@ -61,14 +61,19 @@ out vec4 o_color;
 float Lit() {
   vec3 p = v_light.xyz / v_light.w * 0.5 + 0.5;
   if (p.z >= 1.0 || p.x <= 0.0 || p.y <= 0.0 || p.x >= 1.0 || p.y >= 1.0) return 1.0;
-  if (texelFetch(u_occupancy, ivec2(p.xy * 64.0), 0).r == 0.0) return 1.0;
+  if (texelFetch(u_occupancy, ivec2(p.xy * 128.0), 0).r == 0.0) return 1.0;
+  if (u_pcf == 0) return texture(u_shadow_map, vec3(p.xy, p.z - u_shadow_bias));
+  // (2r)^2 hardware-bilinear comparison taps at half-texel offsets: a
+  // (2r+1)^2-texel tent-weighted footprint for (2r)^2 instead of (2r+1)^2
+  // lookups (shadow lookups dominate llvmpipe's fragment cost).
   float sum = 0.0;
-  for (int i = -u_pcf; i <= u_pcf; ++i) {
-    for (int j = -u_pcf; j <= u_pcf; ++j) {
-      sum += texture(u_shadow_map, vec3(p.xy + vec2(i, j) * u_shadow_texel, p.z - u_shadow_bias));
+  for (int i = -u_pcf; i < u_pcf; ++i) {
+    for (int j = -u_pcf; j < u_pcf; ++j) {
+      sum += texture(u_shadow_map,
+                     vec3(p.xy + (vec2(i, j) + 0.5) * u_shadow_texel, p.z - u_shadow_bias));
     }
   }
-  float n = float(2 * u_pcf + 1);
+  float n = float(2 * u_pcf);
   return sum / (n * n);
 }
 

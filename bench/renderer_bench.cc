@@ -1,0 +1,120 @@
+// Renderer speed: a 640x480 frame with terrain, 20 occluders, 5 vehicles and
+// sun shadows, with and without the ground-truth passes.
+//
+//   LP_NUM_THREADS=1 build/<dir>/bench/renderer_bench
+//
+// "BM_RenderFrame/gt:1" is a full frame (colour + ground truth + readback);
+// "gt:0" skips the ground-truth passes, so the difference is their cost.
+
+#include <benchmark/benchmark.h>
+
+#include <cstdlib>
+#include <string>
+
+#include "hcpf/renderer/renderer.h"
+
+namespace {
+
+using hcpf::ObjectId;
+using hcpf::OccluderKind;
+using hcpf::OccluderSpec;
+using hcpf::TargetSpec;
+using hcpf::WorldSpec;
+
+WorldSpec BenchWorld() {
+  WorldSpec w;
+  w.frames = 300;
+  w.fps = 30.0;
+  w.terrain.relief_m = 2.0;
+  w.terrain.roads = true;
+  w.terrain.seed = 9;
+  w.sun.azimuth_deg = 135.0;
+  w.sun.elevation_deg = 35.0;
+  // 20 occluders: 8 buildings, 10 trees, 2 bridges, spread over the view.
+  for (int i = 0; i < 8; ++i) {
+    OccluderSpec b;
+    b.kind = OccluderKind::kBuilding;
+    b.at_m = {-50.0 + 14.0 * i, (i % 2 == 0) ? 35.0 : -38.0};
+    b.size_m = {10.0, 8.0, 6.0 + 2.0 * i};
+    b.yaw_deg = 10.0 * i;
+    w.occluders.push_back(b);
+  }
+  for (int i = 0; i < 10; ++i) {
+    OccluderSpec t;
+    t.kind = OccluderKind::kTree;
+    t.at_m = {-45.0 + 10.0 * i, (i % 2 == 0) ? 15.0 : -18.0};
+    t.height_m = 7.0 + (i % 3);
+    w.occluders.push_back(t);
+  }
+  for (int i = 0; i < 2; ++i) {
+    OccluderSpec br;
+    br.kind = OccluderKind::kBridge;
+    br.from_m = {-20.0 + 40.0 * i, -25.0};
+    br.to_m = {-20.0 + 40.0 * i, 25.0};
+    br.width_m = 8.0;
+    br.height_m = 6.0;
+    w.occluders.push_back(br);
+  }
+  const std::string dir = std::string(HCPF_SOURCE_DIR) + "/assets/vehicles/";
+  const char* models[] = {"tank.glb", "truck.glb", "car.glb", "tank.glb", "truck.glb"};
+  const Eigen::Vector3d dims[] = {{6.9, 3.6, 2.3}, {8.0, 2.5, 3.2}, {4.5, 1.84, 1.5},
+                                  {6.9, 3.6, 2.3}, {8.0, 2.5, 3.2}};
+  for (int i = 0; i < 5; ++i) {
+    TargetSpec t;
+    t.id = ObjectId{i + 1};
+    t.model = dir + models[i];
+    t.dimensions_m = dims[i];
+    t.tint = {0.2 + 0.15 * i, 0.5 - 0.07 * i, 0.3};
+    const double y = -30.0 + 15.0 * i;
+    t.path.waypoints_m = {{-70.0, y}, {70.0, y + (i % 2 == 0 ? 10.0 : -10.0)}};
+    t.path.speed_mps = 6.0 + i;
+    w.targets.push_back(t);
+  }
+  w.camera.width_px = 640;
+  w.camera.height_px = 480;
+  w.camera.hfov_deg = 60.0;
+  w.camera.path.push_back({0, {0.0, -90.0, 110.0}, {0.0, 0.0, 0.0}});
+  w.camera.path.push_back({299, {10.0, -60.0, 140.0}, {5.0, 0.0, 0.0}});
+  w.camera.shake_px = 0.5;
+  w.camera.shake_seed = 3;
+  return w;
+}
+
+std::shared_ptr<hcpf::renderer::GlContext> Context() {
+  static std::shared_ptr<hcpf::renderer::GlContext> context = [] {
+    // One llvmpipe thread unless the caller chose otherwise (must be set
+    // before the first context is created).
+    setenv("LP_NUM_THREADS", "1", 0);
+    return std::shared_ptr<hcpf::renderer::GlContext>(hcpf::renderer::GlContext::Create());
+  }();
+  return context;
+}
+
+void BM_RenderFrame(benchmark::State& state) {
+  hcpf::renderer::RendererOptions options;
+  options.ground_truth = state.range(0) != 0;
+  options.shadows = state.range(1) != 0;
+  auto renderer =
+      hcpf::renderer::SceneRenderer::Create(BenchWorld(), options, hcpf::Rng(1), Context());
+  int frame = 0;
+  for (auto _ : state) {
+    hcpf::renderer::RenderedFrame f = renderer->Render(frame);
+    benchmark::DoNotOptimize(f.rgb.pixels.data());
+    frame = (frame + 1) % 300;
+  }
+  state.counters["fps"] = benchmark::Counter(static_cast<double>(state.iterations()),
+                                             benchmark::Counter::kIsRate);
+  state.counters["pcf_radius"] = options.pcf_radius;
+  state.SetLabel(Context()->info().renderer);
+}
+BENCHMARK(BM_RenderFrame)
+    ->ArgNames({"gt", "shadows"})
+    ->Args({1, 1})
+    ->Args({0, 1})
+    ->Args({1, 0})
+    ->Args({0, 0})
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime()  // llvmpipe rasterises on its own threads: wall time is the cost
+    ->MinTime(3.0);
+
+}  // namespace

@@ -17,8 +17,11 @@ namespace hcpf::tracker::internal {
 
 // exp(x) for any finite x: returns 0 for x < -708 (where exp is subnormal or
 // zero anyway) and clamps at x = 709. Reduction x = k ln2 + r, |r| <= ln2/2,
-// then a degree-12 Taylor polynomial: the truncation error is
-// r^13/13! <= 0.3466^13 / 6.2e9 ~ 1.7e-16 relative.
+// then a degree-10 polynomial: the Chebyshev fit of exp on [-ln2/2, ln2/2]
+// (mpmath 1.3 chebyfit at 40 digits, coefficients rounded to double; fit
+// error 2.2e-16, 4.6e-16 relative measured with double Horner evaluation at
+// 2e5 points). Two degrees fewer than the Taylor polynomial of the same
+// accuracy: this function is the cost of the mixture likelihood.
 inline double FastExp(double x) {
   const bool underflow = x < -708.0;
   x = x > 709.0 ? 709.0 : x;
@@ -31,18 +34,16 @@ inline double FastExp(double x) {
   const uint64_t ki = std::bit_cast<uint64_t>(kd);
   kd -= kShift;
   const double r = (x - kd * kLn2Hi) - kd * kLn2Lo;
-  double p = 1.0 / 479001600.0;  // 1/12!
-  p = p * r + 1.0 / 39916800.0;
-  p = p * r + 1.0 / 3628800.0;
-  p = p * r + 1.0 / 362880.0;
-  p = p * r + 1.0 / 40320.0;
-  p = p * r + 1.0 / 5040.0;
-  p = p * r + 1.0 / 720.0;
-  p = p * r + 1.0 / 120.0;
-  p = p * r + 1.0 / 24.0;
-  p = p * r + 1.0 / 6.0;
-  p = p * r + 0.5;
-  p = p * r + 1.0;
+  double p = 2.7626357241447223e-07;
+  p = p * r + 2.764018079620985e-06;
+  p = p * r + 2.4801504346997686e-05;
+  p = p * r + 0.00019841170270440067;
+  p = p * r + 0.0013888888932488599;
+  p = p * r + 0.008333333385667782;
+  p = p * r + 0.04166666666657314;
+  p = p * r + 0.16666666666554406;
+  p = p * r + 0.5000000000000006;
+  p = p * r + 1.0000000000000067;
   p = p * r + 1.0;
   // The low bits of ki hold k (two's complement); shifting (k + 1023) into the
   // exponent field builds 2^k for k in [-1021, 1023].

@@ -1,0 +1,29 @@
+#pragma once
+// Image outputs of the renderer (OpenCV inside, not in this header).
+
+#include <string>
+#include <vector>
+
+#include "hcpf/renderer/renderer.h"
+
+namespace hcpf::renderer {
+
+// Depth as a 16-bit PNG in millimetres (0 = nothing drawn or beyond 65.535 m
+// is clamped to 65535). Throws hcpf::RunError.
+void WriteDepthPng(const DepthImage& depth, const std::string& path);
+// Instance ids as a 16-bit PNG: ObjectId value + 1, 0 = no target. Throws
+// hcpf::RunError.
+void WriteInstancePng(const InstanceImage& ids, const std::string& path);
+
+struct ContactSheetOptions {
+  int columns = 4;           // thumbnails per row, >= 1
+  int thumb_width_px = 320;  // thumbnails keep the frame's aspect ratio
+};
+
+// A grid of frames (in the given order) with their ground truth drawn:
+// amodal boxes yellow, visible boxes green, the target id and the visible
+// fraction beside each box, the 1-based frame number in the corner.
+RgbImage MakeContactSheet(const std::vector<RenderedFrame>& frames,
+                          const ContactSheetOptions& options = {});
+
+}  // namespace hcpf::renderer

@@ -1,0 +1,100 @@
+#include "hcpf/renderer/image_io.h"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+#include <opencv2/core.hpp>
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
+
+#include "hcpf/core/check.h"
+#include "hcpf/core/error.h"
+
+namespace hcpf::renderer {
+namespace {
+
+void Write16(const cv::Mat& mat, const std::string& path) {
+  bool ok = false;
+  try {
+    ok = cv::imwrite(path, mat);
+  } catch (const cv::Exception& e) {
+    throw RunError(fmt::format("cannot write {}: {}", path, e.what()));
+  }
+  if (!ok) throw RunError(fmt::format("cannot write {}", path));
+}
+
+}  // namespace
+
+void WriteDepthPng(const DepthImage& depth, const std::string& path) {
+  cv::Mat mat(depth.height, depth.width, CV_16UC1);
+  for (int y = 0; y < depth.height; ++y) {
+    for (int x = 0; x < depth.width; ++x) {
+      const float d = depth.depth_m[static_cast<size_t>(y) * depth.width + x];
+      const double mm = std::isfinite(d) ? std::round(d * 1000.0) : 0.0;
+      mat.at<uint16_t>(y, x) = static_cast<uint16_t>(std::clamp(mm, 0.0, 65535.0));
+    }
+  }
+  Write16(mat, path);
+}
+
+void WriteInstancePng(const InstanceImage& ids, const std::string& path) {
+  cv::Mat mat(ids.height, ids.width, CV_16UC1);
+  for (int y = 0; y < ids.height; ++y) {
+    for (int x = 0; x < ids.width; ++x) {
+      const int32_t id = ids.ids[static_cast<size_t>(y) * ids.width + x];
+      mat.at<uint16_t>(y, x) = static_cast<uint16_t>(std::clamp(id + 1, 0, 65535));
+    }
+  }
+  Write16(mat, path);
+}
+
+RgbImage MakeContactSheet(const std::vector<RenderedFrame>& frames,
+                          const ContactSheetOptions& options) {
+  HCPF_CHECK(options.columns >= 1 && options.thumb_width_px >= 16);
+  RgbImage sheet;
+  if (frames.empty()) return sheet;
+  const int w = frames[0].rgb.width;
+  const int h = frames[0].rgb.height;
+  const int tw = options.thumb_width_px;
+  const int th = std::max(1, static_cast<int>(std::lround(static_cast<double>(h) * tw / w)));
+  const double scale = static_cast<double>(tw) / w;
+  const int cols = std::min<int>(options.columns, static_cast<int>(frames.size()));
+  const int rows = (static_cast<int>(frames.size()) + cols - 1) / cols;
+  constexpr int kGap = 4;
+  cv::Mat canvas(rows * (th + kGap) + kGap, cols * (tw + kGap) + kGap, CV_8UC3,
+                 cv::Scalar(40, 40, 40));
+  for (size_t i = 0; i < frames.size(); ++i) {
+    const RenderedFrame& f = frames[i];
+    HCPF_CHECK(f.rgb.width == w && f.rgb.height == h) << "frames of different sizes";
+    const cv::Mat rgb(h, w, CV_8UC3, const_cast<uint8_t*>(f.rgb.pixels.data()));
+    cv::Mat thumb;
+    cv::resize(rgb, thumb, cv::Size(tw, th), 0, 0, cv::INTER_AREA);
+    const auto to = [&](double v) { return static_cast<int>(std::lround(v * scale)); };
+    for (const GroundTruthObject& o : f.ground_truth.objects) {
+      if (!o.in_frame) continue;
+      const BoxPx& a = o.amodal_box;
+      cv::rectangle(thumb, cv::Point(to(a.left), to(a.top)), cv::Point(to(a.right()), to(a.bottom())),
+                    cv::Scalar(255, 220, 0), 1);
+      if (!o.visible_box.empty()) {
+        const BoxPx& v = o.visible_box;
+        cv::rectangle(thumb, cv::Point(to(v.left), to(v.top)),
+                      cv::Point(to(v.right()), to(v.bottom())), cv::Scalar(0, 255, 0), 1);
+      }
+      cv::putText(thumb, fmt::format("{} {:.2f}", Value(o.id), o.visible_fraction),
+                  cv::Point(to(a.left), std::max(8, to(a.top) - 2)), cv::FONT_HERSHEY_PLAIN, 0.8,
+                  cv::Scalar(255, 255, 255), 1);
+    }
+    cv::putText(thumb, fmt::format("{}", f.frame + 1), cv::Point(4, 14), cv::FONT_HERSHEY_PLAIN,
+                1.0, cv::Scalar(255, 255, 255), 1);
+    const int r = static_cast<int>(i) / cols;
+    const int c = static_cast<int>(i) % cols;
+    thumb.copyTo(canvas(cv::Rect(kGap + c * (tw + kGap), kGap + r * (th + kGap), tw, th)));
+  }
+  sheet.width = canvas.cols;
+  sheet.height = canvas.rows;
+  sheet.pixels.assign(canvas.datastart, canvas.dataend);
+  return sheet;
+}
+
+}  // namespace hcpf::renderer

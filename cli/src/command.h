@@ -20,5 +20,6 @@ struct Command {
 Command AddValidateCommand(CLI::App& parent);
 Command AddRunCommand(CLI::App& parent);
 Command AddScoreCommand(CLI::App& parent);
+Command AddRenderCommand(CLI::App& parent);
 
 }  // namespace hcpf::cli

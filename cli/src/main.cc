@@ -29,6 +29,7 @@ int main(int argc, char** argv) {
 
   std::vector<hcpf::cli::Command> commands = {
       hcpf::cli::AddValidateCommand(app),
+      hcpf::cli::AddRenderCommand(app),
       hcpf::cli::AddRunCommand(app),
       hcpf::cli::AddScoreCommand(app),
   };

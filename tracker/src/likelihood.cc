@@ -77,6 +77,9 @@ std::vector<Component> MakeComponents(std::span<const Detection> detections,
   for (const Detection& d : detections) {
     const double a = o.use_scores ? d.score : 1.0;
     if (!(a > 0.0) || !std::isfinite(a)) continue;
+    // A detection with a non-finite box carries no usable position (a broken
+    // detector output): it is ignored rather than poisoning every weight.
+    if (!std::isfinite(d.box.centre_x()) || !std::isfinite(d.box.centre_y())) continue;
     Component c;
     c.cx = d.box.centre_x();
     c.cy = d.box.centre_y();
@@ -240,6 +243,7 @@ AssociatedLikelihood::AssociatedLikelihood(const LikelihoodOptions& options) : o
 bool AssociatedLikelihood::AddLogLikelihood(ParticleSet& set, const LikelihoodInput& input) const {
   if (input.assigned == nullptr) return false;
   const Detection& d = *input.assigned;
+  if (!std::isfinite(d.box.centre_x()) || !std::isfinite(d.box.centre_y())) return false;
   const double cx = d.box.centre_x();
   const double cy = d.box.centre_y();
   const double inv_2s2 = 1.0 / (2.0 * options_.sigma_px * options_.sigma_px);

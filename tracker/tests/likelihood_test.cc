@@ -94,6 +94,30 @@ TEST(DetectionsMixtureLikelihood, FarParticleWithoutClutterStaysFinite) {
   EXPECT_TRUE(std::isfinite(set.log_w[1]));
 }
 
+TEST(DetectionsMixtureLikelihood, NonFiniteDetectionsAreIgnored) {
+  // A NaN or infinite box must not turn weights into NaN: the mixture of the
+  // remaining detection equals the single-detection value, and a frame of only
+  // broken detections is flat.
+  LikelihoodOptions o;
+  o.sigma_px = 1.0;
+  o.clutter_density = 0.01;
+  DetectionsMixtureLikelihood lik(o);
+  ParticleSet with_bad = At({{1.0, 0.0}});
+  ParticleSet clean = At({{1.0, 0.0}});
+  Observation bad;
+  bad.detections = {Det(std::nan(""), 0.0), Det(0.0, 0.0), Det(INFINITY, 3.0)};
+  Observation good;
+  good.detections = {Det(0.0, 0.0)};
+  lik.AddLogLikelihood(with_bad, {.observation = &bad});
+  lik.AddLogLikelihood(clean, {.observation = &good});
+  EXPECT_EQ(with_bad.log_w[0], clean.log_w[0]);
+  Observation only_bad;
+  only_bad.detections = {Det(std::nan(""), 1.0)};
+  ParticleSet set = At({{1.0, 0.0}});
+  EXPECT_FALSE(lik.AddLogLikelihood(set, {.observation = &only_bad}));
+  EXPECT_EQ(set.log_w[0], 0.0);
+}
+
 TEST(DetectionsMixtureLikelihood, NoDetectionsIsFlat) {
   DetectionsMixtureLikelihood lik(LikelihoodOptions{});
   ParticleSet set = At({{1.0, 0.0}});

@@ -42,7 +42,7 @@ struct Outcome {
 };
 
 // Runs a thesis scenario (TC2: systematic, TC3: the same scene with charged
-// resampling, beta 3) over `seeds` seeds, with extra overrides.
+// resampling, beta 2) over `seeds` seeds, with extra overrides.
 Outcome RunSeeds(const std::string& name, int seeds, const std::string& extra) {
   const fs::path scenario =
       fs::path(HCPF_SOURCE_DIR) / "scenarios" / "library" / "thesis" / (name + ".yaml");

@@ -220,6 +220,33 @@ TEST(MultiTargetTracker, MOfNConfirmationFromDetections) {
   EXPECT_EQ(tracker->num_filters(), 1U);
 }
 
+TEST(MultiTargetTracker, CameraMotionIsAppliedBeforeDynamicsButNotToNewborns) {
+  // Noise-free random walk and birth spread 0: all particles sit on the box
+  // centre. Frame 0: born this frame, no predict, so the motion is ignored.
+  // Frame 1: camera moved by (+5, -2) -> the estimate is (55, 48); scale
+  // log 2 at frame 2 -> (110, 96) and the box doubles to 20 x 12.
+  TrackerOptions o;
+  o.particles = 20;
+  o.dynamics.model = DynamicsModel::kRandomWalk;
+  o.dynamics.sigma_pos_px = 0.0;
+  o.management.birth_sigma_px = 0.0;
+  o.management.birth_sigma_log_scale = 0.0;
+  o.management.max_missed_frames = 0;
+  auto tracker = MakeTracker(o, Rng(8));
+  tracker->BirthTrack(TrackId{1}, BoxPx::FromCentre(50, 50, 10, 6));
+  const SimilarityMotion shift{.tx_px = 5.0, .ty_px = -2.0};
+  FrameReport r = tracker->Step(Frame(0, {}), shift);
+  EXPECT_NEAR(r.filters[0].mean.x(), 50.0, 1e-12);
+  r = tracker->Step(Frame(1, {}), shift);
+  EXPECT_NEAR(r.filters[0].mean.x(), 55.0, 1e-12);
+  EXPECT_NEAR(r.filters[0].mean.y(), 48.0, 1e-12);
+  r = tracker->Step(Frame(2, {}), SimilarityMotion{.log_scale = std::log(2.0)});
+  EXPECT_NEAR(r.filters[0].mean.x(), 110.0, 1e-9);
+  EXPECT_NEAR(r.filters[0].mean.y(), 96.0, 1e-9);
+  EXPECT_NEAR(r.filters[0].box.width, 20.0, 1e-9);
+  EXPECT_NEAR(r.filters[0].box.height, 12.0, 1e-9);
+}
+
 TEST(MultiTargetTracker, VanishedWeightsAreRecoveredAndCounted) {
   // map likelihood with an all-zero map and no floor: every log-weight is
   // -inf. The frame is recovered (uniform weights), flagged and counted; no

@@ -193,13 +193,12 @@ FrameReport MultiTargetTracker::Step(const Observation& observation,
   FrameReport report;
   report.frame = observation.frame;
   Predict(camera_motion);
-  const std::vector<TrackPrediction> predictions = Predictions();
+  const std::vector<FilterSummary> predicted = Summaries();
+  const std::vector<TrackPrediction> predictions = Predictions(predicted);
   const std::vector<int> assignment =
       components_.associator->Associate(predictions, observation.detections);
-  Update(observation, assignment, Summaries(), report);
-  std::vector<FilterSummary> posterior;
-  for (const FilterReport& f : report.filters) posterior.push_back({f.id, f.mean, f.cov, 1.0, f.ess});
-  Resample(posterior, report);
+  Update(observation, assignment, predicted, report);
+  Resample(PosteriorSummaries(report), report);
   ManageTracks(observation, assignment, predictions, report);
   return report;
 }
@@ -220,16 +219,27 @@ std::vector<FilterSummary> MultiTargetTracker::Summaries() const {
   return out;
 }
 
-std::vector<TrackPrediction> MultiTargetTracker::Predictions() const {
+std::vector<TrackPrediction> MultiTargetTracker::Predictions(
+    const std::vector<FilterSummary>& predicted) const {
   std::vector<TrackPrediction> out;
   out.reserve(filters_.size());
-  for (const auto& f : filters_) {
-    const FilterSummary s = Summarise(f->set, f->id);
-    out.push_back({.id = f->id,
+  for (size_t i = 0; i < filters_.size(); ++i) {
+    const Filter& f = *filters_[i];
+    const FilterSummary& s = predicted[i];
+    out.push_back({.id = f.id,
                    .mean = s.mean,
                    .cov = s.cov,
-                   .box = BoxPx::FromCentre(s.mean.x(), s.mean.y(), f->base_w_px * s.mean_scale,
-                                            f->base_h_px * s.mean_scale)});
+                   .box = BoxPx::FromCentre(s.mean.x(), s.mean.y(), f.base_w_px * s.mean_scale,
+                                            f.base_h_px * s.mean_scale)});
+  }
+  return out;
+}
+
+std::vector<FilterSummary> MultiTargetTracker::PosteriorSummaries(const FrameReport& report) {
+  std::vector<FilterSummary> out;
+  out.reserve(report.filters.size());
+  for (const FilterReport& f : report.filters) {
+    out.push_back({.id = f.id, .mean = f.mean, .cov = f.cov, .ess = f.ess});
   }
   return out;
 }

@@ -157,8 +157,9 @@ class MultiTargetTracker {
   struct Tentative;
 
   void Predict(const std::optional<SimilarityMotion>& camera_motion);
-  std::vector<TrackPrediction> Predictions() const;
   std::vector<FilterSummary> Summaries() const;
+  std::vector<TrackPrediction> Predictions(const std::vector<FilterSummary>& predicted) const;
+  static std::vector<FilterSummary> PosteriorSummaries(const FrameReport& report);
   void Update(const Observation& observation, const std::vector<int>& assignment,
               const std::vector<FilterSummary>& predicted, FrameReport& report);
   void Resample(const std::vector<FilterSummary>& posterior, FrameReport& report);

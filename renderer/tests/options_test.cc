@@ -5,6 +5,7 @@
 #include <filesystem>
 
 #include "hcpf/core/error.h"
+#include "hcpf/renderer/image_io.h"
 #include "hcpf/renderer/renderer.h"
 
 namespace hcpf::renderer {
@@ -174,6 +175,30 @@ TEST(FrameCache, StoresAndLoadsFramesExactly) {
   EXPECT_EQ(loaded->ground_truth.objects[0].visible_fraction, obj.visible_fraction);
   EXPECT_EQ(loaded->ground_truth.objects[0].pixels_total, 3);
   std::filesystem::remove_all(root);
+}
+
+}  // namespace
+}  // namespace hcpf::renderer
+
+namespace hcpf::renderer {
+namespace {
+
+TEST(ContactSheet, GridOfThumbnailsWithGap) {
+  std::vector<RenderedFrame> frames(5);
+  for (int i = 0; i < 5; ++i) {
+    frames[i].frame = i;
+    frames[i].rgb = Flat(64, 48, static_cast<uint8_t>(40 * i));
+  }
+  ContactSheetOptions o;
+  o.columns = 3;
+  o.thumb_width_px = 32;
+  const RgbImage sheet = MakeContactSheet(frames, o);
+  // 3 columns x 2 rows of 32 x 24 thumbnails with 4 px gaps around them:
+  // width 3 * (32 + 4) + 4 = 112, height 2 * (24 + 4) + 4 = 60.
+  EXPECT_EQ(sheet.width, 112);
+  EXPECT_EQ(sheet.height, 60);
+  // The fifth frame (value 160) sits in row 1, column 1; probe its centre.
+  EXPECT_EQ(sheet.at(4 + 36 + 16, 4 + 28 + 18)[1], 160);
 }
 
 }  // namespace

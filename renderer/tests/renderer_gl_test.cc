@@ -467,6 +467,27 @@ TEST_F(RendererGl, SameSceneRendersByteIdenticalFramesTwice) {
   EXPECT_NE(Make(w, options, 43)->Render(5).rgb, first->Render(5).rgb);
 }
 
+TEST_F(RendererGl, FrameCacheGivesBackTheRenderedFrame) {
+  const WorldSpec w = GoldenWorld();
+  const RendererOptions options;
+  const RenderedFrame f = Make(w, options)->Render(3);
+  const auto root = std::filesystem::temp_directory_path() /
+                    (std::string("hcpf_gl_cache_test_") + HCPF_TEST_GL_BACKEND);
+  std::filesystem::remove_all(root);
+  const FrameCache cache(root, PixelHash(w, options, 1));
+  cache.Store(f);
+  const auto loaded = cache.Load(3);
+  ASSERT_TRUE(loaded.has_value());
+  EXPECT_EQ(loaded->rgb, f.rgb);  // PNG is lossless
+  ASSERT_EQ(loaded->ground_truth.objects.size(), f.ground_truth.objects.size());
+  for (size_t i = 0; i < f.ground_truth.objects.size(); ++i) {
+    EXPECT_EQ(loaded->ground_truth.objects[i].amodal_box, f.ground_truth.objects[i].amodal_box);
+    EXPECT_EQ(loaded->ground_truth.objects[i].visible_fraction,
+              f.ground_truth.objects[i].visible_fraction);
+  }
+  std::filesystem::remove_all(root);
+}
+
 TEST_F(RendererGl, MissingModelIsAnInputError) {
   WorldSpec w = NadirWorld(100.0);
   w.targets.push_back(BoxTarget(1, {0.0, 0.0}));

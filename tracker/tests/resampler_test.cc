@@ -191,6 +191,43 @@ TEST(SystematicResampler, HandComputedAncestors) {
   }
 }
 
+TEST(ResidualResampler, DeterministicCopiesComeFirst) {
+  // Weights (0.5, 0.3, 0.2), N = 3: N w = (1.5, 0.9, 0.6) -> one sure copy of
+  // particle 0 in slot 0; the other two slots are multinomial draws on the
+  // residuals (0.5, 0.9, 0.6) / 2. Over 3000 repetitions the residual slots
+  // select particle 1 with probability 0.45: 6000 draws, sd sqrt(6000 * 0.45
+  // * 0.55) = 38.5, tolerance 5 sd.
+  ParticleSet set;
+  set.Resize(3);
+  set.log_w = {std::log(0.5), std::log(0.3), std::log(0.2)};
+  NormaliseLogWeights(set);
+  ResidualResampler r;
+  Rng rng(21);
+  std::vector<int32_t> a(3);
+  int64_t ones = 0;
+  for (int rep = 0; rep < 3000; ++rep) {
+    r.Resample(set, {}, rng, a);
+    ASSERT_EQ(a[0], 0);
+    ones += (a[1] == 1) + (a[2] == 1);
+  }
+  EXPECT_NEAR(static_cast<double>(ones), 6000 * 0.45, 5 * 38.5);
+}
+
+TEST(StratifiedResampler, EachPointStaysInItsStratum) {
+  // Weights (0.5, 0.5), N = 2: point 0 in [0, 0.5) -> particle 0, point 1 in
+  // [0.5, 1) -> particle 1, whatever the uniforms: the output is always (0, 1).
+  ParticleSet set;
+  set.Resize(2);
+  NormaliseLogWeights(set);
+  StratifiedResampler r;
+  Rng rng(22);
+  std::vector<int32_t> a(2);
+  for (int rep = 0; rep < 1000; ++rep) {
+    r.Resample(set, {}, rng, a);
+    ASSERT_EQ(a, (std::vector<int32_t>{0, 1}));
+  }
+}
+
 TEST(EssGatedResampler, SkipsWhenEssHighAndDrawsNothing) {
   // Weights (0.3, 0.7): ESS = 1 / (0.09 + 0.49) = 1.724 = 0.862 N.
   ParticleSet set;

@@ -20,6 +20,10 @@ struct Command {
 Command AddValidateCommand(CLI::App& parent);
 Command AddRunCommand(CLI::App& parent);
 Command AddScoreCommand(CLI::App& parent);
+Command AddSweepCommand(CLI::App& parent);
+Command AddMergeCommand(CLI::App& parent);
+Command AddReportCommand(CLI::App& parent);
+Command AddRegressCommand(CLI::App& parent);
 Command AddRenderCommand(CLI::App& parent);
 
 }  // namespace hcpf::cli

@@ -32,6 +32,10 @@ int main(int argc, char** argv) {
       hcpf::cli::AddRenderCommand(app),
       hcpf::cli::AddRunCommand(app),
       hcpf::cli::AddScoreCommand(app),
+      hcpf::cli::AddSweepCommand(app),
+      hcpf::cli::AddMergeCommand(app),
+      hcpf::cli::AddReportCommand(app),
+      hcpf::cli::AddRegressCommand(app),
   };
 
   try {

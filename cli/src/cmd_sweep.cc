@@ -1,0 +1,76 @@
+// hcpf sweep SWEEP.yaml --out DIR [--jobs N] [--shard i/n]
+
+#include <fmt/format.h>
+#include <spdlog/spdlog.h>
+
+#include <charconv>
+#include <memory>
+#include <thread>
+
+#include "command.h"
+#include "hcpf/core/error.h"
+#include "hcpf/scenarios/sweep.h"
+
+namespace hcpf::cli {
+
+namespace {
+
+// "i/n" -> (i, n); throws InputError.
+std::pair<int, int> ParseShard(const std::string& text) {
+  const size_t slash = text.find('/');
+  int i = -1, n = -1;
+  bool ok = slash != std::string::npos;
+  if (ok) {
+    const auto a = std::from_chars(text.data(), text.data() + slash, i);
+    const auto b = std::from_chars(text.data() + slash + 1, text.data() + text.size(), n);
+    ok = a.ec == std::errc() && a.ptr == text.data() + slash && b.ec == std::errc() &&
+         b.ptr == text.data() + text.size() && n >= 1 && i >= 0 && i < n;
+  }
+  if (!ok) {
+    throw InputError(SourceLocation{"hcpf sweep", 0, 0, "--shard"}, "i/n with 0 <= i < n, e.g. 0/4",
+                     "\"" + text + "\"");
+  }
+  return {i, n};
+}
+
+}  // namespace
+
+Command AddSweepCommand(CLI::App& parent) {
+  struct Options {
+    std::string file;
+    std::string out;
+    int jobs = 0;
+    std::string shard;
+  };
+  auto options = std::make_shared<Options>();
+  CLI::App* app = parent.add_subcommand(
+      "sweep", "Run a sweep (base scenario x grid x zip x seeds) into --out: results.sqlite + runs/");
+  app->add_option("sweep", options->file, "Sweep YAML file (docs/sweeps.md)")->required();
+  app->add_option("--out", options->out, "Output folder; re-running resumes (finished runs are reused)")
+      ->required();
+  app->add_option("--jobs", options->jobs, "Parallel runs (default: all cores)")->check(CLI::Range(0, 1024));
+  app->add_option("--shard", options->shard, "Run only runs with index % n == i (i/n), for batch arrays");
+  return {app, [options] {
+            scenarios::SweepOptions sweep_options;
+            sweep_options.out_dir = options->out;
+            sweep_options.jobs = options->jobs > 0
+                                     ? options->jobs
+                                     : static_cast<int>(std::max(1U, std::thread::hardware_concurrency()));
+            if (!options->shard.empty()) {
+              std::tie(sweep_options.shard_index, sweep_options.shard_count) = ParseShard(options->shard);
+            }
+            sweep_options.Validate();
+            const scenarios::SweepSpec spec = scenarios::LoadSweepFile(options->file);
+            const std::vector<scenarios::SweepRun> runs = scenarios::ExpandSweep(spec);
+            const scenarios::SweepResult r = scenarios::RunSweep(spec, runs, sweep_options);
+            spdlog::info("sweep finished: {} runs, {} reused, {} computed, {} failed; results in {}/results.sqlite",
+                         r.total, r.reused, r.computed, r.failed, options->out);
+            if (r.failed > 0) {
+              spdlog::error("{} run(s) failed (see the error column of results.sqlite)", r.failed);
+              return 1;
+            }
+            return 0;
+          }};
+}
+
+}  // namespace hcpf::cli

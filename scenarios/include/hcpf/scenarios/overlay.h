@@ -1,0 +1,35 @@
+#pragma once
+// overlay.mp4 of a run: per frame the image (rendered frame, or a plain
+// background at detection level), ground-truth boxes (white, "gt <id>"),
+// each filter's estimate box and particle cloud in the filter's colour, and
+// the filter's state (CORRECT / HIJACKED / ...) as a label.
+//
+//   WriteOverlayVideo(out / "overlay.mp4", scenario, truth, reports, scores.filters, nullptr);
+//
+// Particles are drawn only when the tracker kept them (tracker.keep_particles > 0).
+
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "hcpf/core/ground_truth.h"
+#include "hcpf/metrics/filter_metrics.h"
+#include "hcpf/renderer/renderer.h"
+#include "hcpf/scenarios/scenario.h"
+#include "hcpf/tracker/tracker.h"
+
+namespace hcpf::scenarios {
+
+// Writes `path` with OpenCV's VideoWriter (MPEG-4 Part 2, fourcc mp4v) at the
+// scenario's fps and camera resolution, one video frame per entry of `truth`.
+// `reports` (same length as truth, or empty) and `filters` (states; nullopt =
+// no labels) are optional content. `frames`, when given, must hold one image
+// per frame of the camera's size. Throws RunError when the writer cannot be
+// opened; HCPF_CHECK on mismatched lengths.
+void WriteOverlayVideo(const std::string& path, const Scenario& scenario,
+                       const std::vector<FrameGroundTruth>& truth,
+                       const std::vector<tracker::FrameReport>& reports,
+                       const std::optional<metrics::FilterMetrics>& filters,
+                       const std::vector<renderer::RgbImage>* frames);
+
+}  // namespace hcpf::scenarios

@@ -1,0 +1,94 @@
+#pragma once
+// The results store of a sweep: DIR/results.sqlite (SQLite, WAL journal).
+//
+//   table meta(name TEXT PRIMARY KEY, value TEXT): sweep_hash, sweep_file,
+//       swept_keys (JSON list), report (JSON), base_resolved (YAML), run_count
+//   table runs: key TEXT PRIMARY KEY (ConfigHash of the resolved scenario),
+//       run_index, seed_index, seed (decimal text: seeds are 64-bit unsigned),
+//       one TEXT column per swept key (named by the key, e.g. "tracker.particles"),
+//       status ('ok' | 'failed'), error, run_dir, one REAL column per
+//       HeadlineMetrics() name (NULL when failed or not a number)
+//
+// Every Put() is one transaction, so a killed process loses at most the runs
+// it had not yet put. Thread-safe (one connection behind a mutex).
+
+#include <cstdint>
+#include <map>
+#include <memory>
+#include <mutex>
+#include <string>
+#include <vector>
+
+#include "hcpf/scenarios/sweep.h"
+
+struct sqlite3;
+
+namespace hcpf::scenarios {
+
+struct StoreMeta {
+  std::string sweep_hash;
+  std::string sweep_file;
+  std::vector<std::string> swept_keys;
+  ReportSpec report;
+  std::string base_resolved;  // the resolved base scenario (YAML)
+  int64_t run_count = 0;      // runs of the whole sweep (all shards)
+};
+
+struct RunRecord {
+  std::string key;
+  int64_t index = 0;
+  int seed_index = 0;
+  uint64_t seed = 0;
+  std::vector<std::string> values;  // per StoreMeta::swept_keys
+  bool ok = false;
+  std::string error;
+  std::string run_dir;  // relative to the store's folder, e.g. "runs/<key>"
+  std::map<std::string, double> metrics;  // HeadlineMetrics() names; NaN = missing
+};
+
+class ResultsStore {
+ public:
+  // Opens an existing store; throws InputError when `path` is missing or not a store.
+  static std::unique_ptr<ResultsStore> Open(const std::string& path);
+  // Opens `path`, creating it with `meta` when absent. Throws InputError when
+  // it exists and holds a different sweep (another sweep_hash).
+  static std::unique_ptr<ResultsStore> OpenOrCreate(const std::string& path, const StoreMeta& meta);
+
+  ~ResultsStore();
+  ResultsStore(const ResultsStore&) = delete;
+  ResultsStore& operator=(const ResultsStore&) = delete;
+
+  const StoreMeta& meta() const { return meta_; }
+  const std::string& path() const { return path_; }
+  // Inserts or replaces the row of record.key in one transaction.
+  void Put(const RunRecord& record);
+  // Every row, sorted by run index.
+  std::vector<RunRecord> Runs() const;
+
+ private:
+  ResultsStore(std::string path, sqlite3* db);
+  void Exec(const std::string& sql) const;
+  void ReadMeta();
+
+  std::string path_;
+  sqlite3* db_ = nullptr;
+  StoreMeta meta_;
+  mutable std::mutex mutex_;
+};
+
+// Reads the headline metrics of a finished run folder from its metrics.json
+// and manifest.json (ms_per_frame = 1000 * timings.tracker_s / frames). Throws
+// RunError when the files are missing or malformed.
+std::map<std::string, double> ReadRunMetrics(const std::string& run_dir);
+
+struct MergeResult {
+  int64_t added = 0;       // rows new to the output store
+  int64_t duplicates = 0;  // rows whose key was already there (not counted twice)
+};
+// Merges the stores (and run folders) of `input_dirs` into `out_dir`. Every
+// store must be of the same sweep (else InputError naming the odd one out).
+// A row already present with status ok is kept; a failed row is replaced by
+// an ok one.
+MergeResult MergeStores(const std::string& out_dir, const std::vector<std::string>& input_dirs);
+
+}  // namespace hcpf::scenarios

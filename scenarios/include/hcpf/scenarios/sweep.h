@@ -1,0 +1,112 @@
+#pragma once
+// A sweep: one base scenario varied over a grid (cartesian product) and zip
+// (parallel lists) of dotted scenario keys, times a number of seeds. Loaded
+// from YAML (docs/sweeps.md is the schema), expanded into runs, each run a
+// validated Scenario keyed by ConfigHash of its resolved YAML.
+//
+//   SweepSpec spec = LoadSweepFile("scenarios/sweeps/default.yaml");
+//   std::vector<SweepRun> runs = ExpandSweep(spec);    // every scenario validated
+//   SweepResult r = RunSweep(spec, runs, {.out_dir = "out", .jobs = 2});
+//
+// Expansion order (the run index): grid keys vary like nested loops in file
+// order, the last grid key fastest; then the zip position; then the seed
+// (innermost). index = ((grid_combination * zip_length) + zip_position) * seeds + seed_index.
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "hcpf/core/error.h"
+#include "hcpf/scenarios/scenario.h"
+
+namespace hcpf::scenarios {
+
+// One swept key with its values as YAML text (flow style), each with the
+// place in the sweep file where it is written.
+struct SweepAxis {
+  std::string key;  // dotted scenario key, e.g. "tracker.particles"
+  std::vector<std::string> values;
+  std::vector<SourceLocation> where;
+};
+
+// What `hcpf report` plots: y metrics against x, one line per series value.
+struct ReportSpec {
+  std::string x;                // a swept key ("" = the first grid key)
+  std::vector<std::string> y;   // metric names (HeadlineMetrics())
+  std::string series;           // a swept key or "" (one line)
+};
+
+struct SweepSpec {
+  std::string file;       // the sweep file ("" for text)
+  std::string base_path;  // the base scenario, resolved to an existing file
+  uint64_t seed = 1;      // root of the derived run seeds
+  int seeds = 0;          // 0 = `seeds` absent: every run keeps the base scenario's seed
+  std::vector<SweepAxis> grid;
+  std::vector<SweepAxis> zip;
+  ReportSpec report;
+
+  // Every swept key in column order: grid keys, then zip keys.
+  std::vector<std::string> SweptKeys() const;
+  // Runs in the expansion: product of grid lengths * zip length * max(seeds, 1).
+  int64_t RunCount() const;
+};
+
+// One run of a sweep.
+struct SweepRun {
+  int64_t index = 0;
+  int seed_index = 0;
+  uint64_t seed = 0;                   // the scenario seed the run uses
+  std::vector<std::string> values;     // per SweptKeys(), YAML text
+  std::vector<Override> overrides;     // swept values, then `seed` (when seeds > 0)
+  Scenario scenario;
+  std::string key;                     // ConfigHash(scenario)
+};
+
+// The metrics every sweep records (column names of the results store and
+// names accepted in `report.y` and by `hcpf regress`).
+const std::vector<std::string>& HeadlineMetrics();
+
+// The derived seed of seed index i: Rng(sweep_seed).Fork("sweep/seed", i).identity().
+uint64_t SweepSeed(uint64_t sweep_seed, int index);
+
+// Loads and validates a sweep file. `base` is looked for relative to the
+// sweep file, then the current directory, then the project root. Throws
+// InputError (file:line:col, key, expected, found, did-you-mean).
+SweepSpec LoadSweepFile(const std::string& path);
+// As LoadSweepFile for text; `dir` is where relative base paths start.
+SweepSpec LoadSweepText(const std::string& text, const std::string& file_name,
+                        const std::string& dir);
+
+// The run list in expansion order (see top). Every run's scenario is loaded
+// and validated; a bad swept value throws InputError naming the sweep file
+// line of that value.
+std::vector<SweepRun> ExpandSweep(const SweepSpec& spec);
+
+// Identity of a sweep: a hash of its run keys in order. Stores of the same
+// sweep (shards, resumed runs) have the same hash.
+std::string SweepHash(const std::vector<SweepRun>& runs);
+
+struct SweepOptions {
+  std::string out_dir;
+  int jobs = 1;        // worker threads, one run each
+  int shard_index = 0; // run only runs with index % shard_count == shard_index
+  int shard_count = 1;
+  bool progress = true;
+  void Validate() const;
+};
+
+struct SweepResult {
+  int64_t total = 0;     // runs of this shard
+  int64_t reused = 0;    // already finished in the store
+  int64_t computed = 0;  // run now, successfully
+  int64_t failed = 0;    // run now, failed (recorded with the message)
+};
+
+// Runs the sweep into options.out_dir: results.sqlite (one row per run,
+// committed as each run finishes) and runs/<key>/ (each run's outputs).
+// Runs already in the store with status ok are skipped. Throws InputError
+// when out_dir holds a store of a different sweep.
+SweepResult RunSweep(const SweepSpec& spec, const std::vector<SweepRun>& runs,
+                     const SweepOptions& options);
+
+}  // namespace hcpf::scenarios

@@ -1,0 +1,115 @@
+#include "hcpf/scenarios/overlay.h"
+
+#include <fmt/format.h>
+
+#include <map>
+#include <opencv2/imgproc.hpp>
+#include <opencv2/videoio.hpp>
+
+#include "hcpf/core/check.h"
+#include "hcpf/core/error.h"
+
+namespace hcpf::scenarios {
+
+namespace {
+
+// Filter colours (BGR), by filter id.
+cv::Scalar FilterColour(int64_t id) {
+  static const cv::Scalar kColours[] = {{255, 128, 0},  {0, 200, 255}, {255, 0, 200}, {0, 255, 128},
+                                        {128, 128, 255}, {255, 255, 0}, {0, 128, 255}, {200, 0, 128}};
+  return kColours[static_cast<size_t>(id < 0 ? -id : id) % std::size(kColours)];
+}
+
+cv::Scalar StateColour(metrics::FilterState state) {
+  switch (state) {
+    case metrics::FilterState::kCorrect: return {80, 220, 80};
+    case metrics::FilterState::kSwapped: return {0, 200, 255};
+    case metrics::FilterState::kHijacked: return {40, 40, 255};
+    case metrics::FilterState::kStrayed: return {0, 140, 255};
+    case metrics::FilterState::kLost: return {160, 160, 160};
+    case metrics::FilterState::kCoasting: return {255, 200, 120};
+  }
+  return {255, 255, 255};
+}
+
+cv::Rect ToRect(const BoxPx& b) {
+  return {static_cast<int>(std::lround(b.left)), static_cast<int>(std::lround(b.top)),
+          static_cast<int>(std::lround(b.width)), static_cast<int>(std::lround(b.height))};
+}
+
+void Label(cv::Mat& image, const std::string& text, cv::Point at, const cv::Scalar& colour) {
+  at.y = std::max(at.y, 12);
+  cv::putText(image, text, at, cv::FONT_HERSHEY_SIMPLEX, 0.4, {0, 0, 0}, 3, cv::LINE_AA);
+  cv::putText(image, text, at, cv::FONT_HERSHEY_SIMPLEX, 0.4, colour, 1, cv::LINE_AA);
+}
+
+}  // namespace
+
+void WriteOverlayVideo(const std::string& path, const Scenario& scenario,
+                       const std::vector<FrameGroundTruth>& truth,
+                       const std::vector<tracker::FrameReport>& reports,
+                       const std::optional<metrics::FilterMetrics>& filters,
+                       const std::vector<renderer::RgbImage>* frames) {
+  HCPF_CHECK(reports.empty() || reports.size() == truth.size())
+      << reports.size() << " reports for " << truth.size() << " frames";
+  HCPF_CHECK(frames == nullptr || frames->size() == truth.size())
+      << frames->size() << " images for " << truth.size() << " frames";
+  const int width = scenario.world.camera.width_px;
+  const int height = scenario.world.camera.height_px;
+  cv::VideoWriter writer(path, cv::VideoWriter::fourcc('m', 'p', '4', 'v'), scenario.world.fps,
+                         cv::Size(width, height), true);
+  if (!writer.isOpened()) {
+    throw RunError(fmt::format("cannot open a video writer (mp4v) for {}", path));
+  }
+  // (frame, filter) -> state.
+  std::map<std::pair<int, int64_t>, metrics::FilterState> states;
+  if (filters) {
+    for (const metrics::FilterFrameRecord& r : filters->records) states[{r.frame, r.filter}] = r.state;
+  }
+  cv::Mat image(height, width, CV_8UC3);
+  for (size_t f = 0; f < truth.size(); ++f) {
+    if (frames != nullptr) {
+      const renderer::RgbImage& rgb = (*frames)[f];
+      HCPF_CHECK(rgb.width == width && rgb.height == height)
+          << "frame " << f << " is " << rgb.width << "x" << rgb.height << ", the camera " << width << "x" << height;
+      const cv::Mat view(height, width, CV_8UC3, const_cast<uint8_t*>(rgb.pixels.data()));
+      cv::cvtColor(view, image, cv::COLOR_RGB2BGR);
+    } else {
+      image.setTo(cv::Scalar(58, 82, 62));  // plain background at detection level
+    }
+    for (const GroundTruthObject& o : truth[f].objects) {
+      if (!o.in_frame) continue;
+      const cv::Rect r = ToRect(o.amodal_box);
+      cv::rectangle(image, r, {255, 255, 255}, 1, cv::LINE_AA);
+      Label(image, fmt::format("gt {}", Value(o.id)), {r.x, r.y + r.height + 12}, {255, 255, 255});
+    }
+    if (!reports.empty()) {
+      for (const tracker::FilterReport& fr : reports[f].filters) {
+        const int64_t id = Value(fr.id);
+        const cv::Scalar colour = FilterColour(id);
+        for (const tracker::ParticlePoint& p : fr.particles) {
+          const cv::Point at(static_cast<int>(std::lround(p.x_px)), static_cast<int>(std::lround(p.y_px)));
+          if (at.x >= 0 && at.y >= 0 && at.x < width && at.y < height) {
+            image.at<cv::Vec3b>(at) = cv::Vec3b(static_cast<uint8_t>(colour[0]), static_cast<uint8_t>(colour[1]),
+                                                static_cast<uint8_t>(colour[2]));
+          }
+        }
+        const cv::Rect r = ToRect(fr.box);
+        cv::rectangle(image, r, colour, 2, cv::LINE_AA);
+        std::string text = fmt::format("F{}", id);
+        cv::Scalar text_colour = colour;
+        const auto it = states.find({static_cast<int>(f), id});
+        if (it != states.end()) {
+          text += std::string(" ") + metrics::FilterStateName(it->second);
+          text_colour = StateColour(it->second);
+        }
+        Label(image, text, {r.x, r.y - 4}, text_colour);
+      }
+    }
+    Label(image, fmt::format("{}  frame {}", scenario.name, truth[f].frame), {6, 16}, {255, 255, 255});
+    writer.write(image);
+  }
+  writer.release();
+}
+
+}  // namespace hcpf::scenarios

@@ -1,0 +1,407 @@
+// `hcpf report DIR`: results.sqlite -> report.html (gnuplot SVG inline) + summary.csv.
+
+#include "hcpf/scenarios/report.h"
+
+#include <fmt/format.h>
+#include <spdlog/spdlog.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <charconv>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <limits>
+#include <map>
+#include <set>
+#include <sstream>
+
+#include "hcpf/core/check.h"
+#include "hcpf/core/error.h"
+#include "hcpf/scenarios/results_store.h"
+#include "writers.h"
+
+namespace hcpf::scenarios {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+
+std::string Html(const std::string& text) {
+  std::string out;
+  for (char c : text) {
+    switch (c) {
+      case '&': out += "&amp;"; break;
+      case '<': out += "&lt;"; break;
+      case '>': out += "&gt;"; break;
+      case '"': out += "&quot;"; break;
+      default: out += c;
+    }
+  }
+  return out;
+}
+
+std::string Csv(const std::string& text) {
+  if (text.find_first_of(",\"\n") == std::string::npos) return text;
+  std::string out = "\"";
+  for (char c : text) out += c == '"' ? std::string("\"\"") : std::string(1, c);
+  return out + "\"";
+}
+
+// gnuplot string literal (single quotes; '' escapes a quote).
+std::string GpString(const std::string& text) {
+  std::string out = "'";
+  for (char c : text) out += c == '\'' ? std::string("''") : std::string(1, c);
+  return out + "'";
+}
+
+std::optional<double> ParseNumber(const std::string& text) {
+  double v = 0.0;
+  const auto [ptr, ec] = std::from_chars(text.data(), text.data() + text.size(), v);
+  if (ec != std::errc() || ptr != text.data() + text.size()) return std::nullopt;
+  return v;
+}
+
+std::string Number(double v) {
+  if (!std::isfinite(v)) return "nan";
+  return fmt::format("{:.6g}", v);
+}
+
+// A cell: one combination of swept values.
+struct Cell {
+  std::vector<std::string> values;
+  std::vector<const RunRecord*> runs;
+  int failures = 0;
+  std::map<std::string, MeanCi> stats;
+};
+
+// Runs gnuplot on `script`; throws RunError with its messages on failure.
+void RunGnuplot(const std::string& gnuplot, const fs::path& script) {
+  const fs::path log = script.string() + ".log";
+  const std::string command =
+      fmt::format("'{}' '{}' > '{}' 2>&1", gnuplot, script.string(), log.string());
+  const int status = std::system(command.c_str());
+  if (status != 0) {
+    std::ifstream in(log);
+    std::stringstream s;
+    s << in.rdbuf();
+    throw RunError(fmt::format("gnuplot failed (status {}) on {}: {}", status, script.string(), s.str()));
+  }
+}
+
+std::string ReadText(const fs::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::stringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+// The SVG element of a gnuplot SVG file (no XML prolog or doctype).
+std::string InlineSvg(const std::string& svg) {
+  const size_t start = svg.find("<svg");
+  return start == std::string::npos ? svg : svg.substr(start);
+}
+
+const char* kColours[] = {"#1f77b4", "#d62728", "#2ca02c", "#ff7f0e", "#9467bd",
+                          "#8c564b", "#e377c2", "#7f7f7f", "#bcbd22", "#17becf"};
+
+}  // namespace
+
+double StudentT975(int dof) {
+  HCPF_CHECK(dof >= 1) << "dof=" << dof;
+  // Two-sided 95 % critical values of Student's t (standard tables).
+  static const double kTable[30] = {12.706, 4.303, 3.182, 2.776, 2.571, 2.447, 2.365, 2.306,
+                                    2.262,  2.228, 2.201, 2.179, 2.160, 2.145, 2.131, 2.120,
+                                    2.110,  2.101, 2.093, 2.086, 2.080, 2.074, 2.069, 2.064,
+                                    2.060,  2.056, 2.052, 2.048, 2.045, 2.042};
+  if (dof <= 30) return kTable[dof - 1];
+  // Cornish–Fisher expansion around z = Φ⁻¹(0.975) (Abramowitz & Stegun 26.7.5).
+  const double z = 1.959963984540054;
+  const double v = dof;
+  const double z3 = z * z * z, z5 = z3 * z * z, z7 = z5 * z * z;
+  return z + (z3 + z) / (4 * v) + (5 * z5 + 16 * z3 + 3 * z) / (96 * v * v) +
+         (3 * z7 + 19 * z5 + 17 * z3 - 15 * z) / (384 * v * v * v);
+}
+
+MeanCi MeanConfidence95(const std::vector<double>& values) {
+  MeanCi r;
+  double sum = 0.0;
+  for (double v : values) {
+    if (!std::isfinite(v)) continue;
+    sum += v;
+    ++r.n;
+  }
+  if (r.n == 0) {
+    r.mean = kNaN;
+    return r;
+  }
+  r.mean = sum / r.n;
+  if (r.n < 2) return r;
+  double ss = 0.0;
+  for (double v : values) {
+    if (std::isfinite(v)) ss += (v - r.mean) * (v - r.mean);
+  }
+  const double s = std::sqrt(ss / (r.n - 1));
+  r.half_width = StudentT975(r.n - 1) * s / std::sqrt(static_cast<double>(r.n));
+  return r;
+}
+
+void ReportOptions::Validate() const {
+  if (dir.empty()) throw InputError(SourceLocation{"hcpf report", 0, 0, "DIR"}, "a sweep folder", "nothing");
+}
+
+ReportResult WriteReport(const ReportOptions& options) {
+  options.Validate();
+  const fs::path dir(options.dir);
+  auto store = ResultsStore::Open((dir / "results.sqlite").string());
+  const StoreMeta& meta = store->meta();
+  const std::vector<RunRecord> runs = store->Runs();
+  const std::vector<std::string>& keys = meta.swept_keys;
+  const auto key_index = [&](const std::string& k) -> int {
+    const auto it = std::find(keys.begin(), keys.end(), k);
+    return it == keys.end() ? -1 : static_cast<int>(it - keys.begin());
+  };
+  const int x_index = key_index(meta.report.x);
+  const int series_index = key_index(meta.report.series);
+
+  // Cells in order of first appearance (run index order = expansion order).
+  std::vector<Cell> cells;
+  std::map<std::vector<std::string>, size_t> cell_of;
+  int64_t ok_runs = 0, failed_runs = 0;
+  for (const RunRecord& r : runs) {
+    auto [it, inserted] = cell_of.emplace(r.values, cells.size());
+    if (inserted) cells.push_back(Cell{r.values, {}, 0, {}});
+    Cell& cell = cells[it->second];
+    cell.runs.push_back(&r);
+    if (r.ok) {
+      ++ok_runs;
+    } else {
+      ++cell.failures;
+      ++failed_runs;
+    }
+  }
+  for (Cell& cell : cells) {
+    for (const std::string& m : HeadlineMetrics()) {
+      std::vector<double> v;
+      for (const RunRecord* r : cell.runs) {
+        if (r->ok) v.push_back(r->metrics.at(m));
+      }
+      cell.stats[m] = MeanConfidence95(v);
+    }
+  }
+
+  // Lines: every combination of the swept keys other than x (the series key
+  // and any other swept key), labelled "value" or "key=value, ...".
+  const auto line_label = [&](const Cell& c) {
+    std::vector<std::string> parts;
+    if (series_index >= 0) parts.push_back(c.values[series_index]);
+    for (size_t k = 0; k < keys.size(); ++k) {
+      if (static_cast<int>(k) == x_index || static_cast<int>(k) == series_index) continue;
+      parts.push_back(keys[k] + "=" + c.values[k]);
+    }
+    return parts.empty() ? std::string("all") : fmt::format("{}", fmt::join(parts, ", "));
+  };
+  std::vector<std::string> lines;
+  std::map<std::string, std::vector<const Cell*>> line_cells;
+  for (const Cell& c : cells) {
+    const std::string label = line_label(c);
+    if (!line_cells.count(label)) lines.push_back(label);
+    line_cells[label].push_back(&c);
+  }
+
+  // x positions: numbers when every x value is one, else category indices.
+  std::vector<std::string> x_values;
+  for (const Cell& c : cells) {
+    const std::string v = x_index >= 0 ? c.values[x_index] : "";
+    if (std::find(x_values.begin(), x_values.end(), v) == x_values.end()) x_values.push_back(v);
+  }
+  bool numeric_x = x_index >= 0;
+  double x_min = std::numeric_limits<double>::infinity(), x_max = -x_min;
+  for (const std::string& v : x_values) {
+    const auto d = ParseNumber(v);
+    if (!d) {
+      numeric_x = false;
+      break;
+    }
+    x_min = std::min(x_min, *d);
+    x_max = std::max(x_max, *d);
+  }
+  // Log axis for particle counts, and for any positive x spanning >= 20x.
+  const bool log_x = numeric_x && x_min > 0 &&
+                     (meta.report.x.ends_with("particles") || x_max / x_min >= 20.0);
+  const auto x_position = [&](const Cell& c) {
+    const std::string v = x_index >= 0 ? c.values[x_index] : "";
+    if (numeric_x) return *ParseNumber(v);
+    return static_cast<double>(std::find(x_values.begin(), x_values.end(), v) - x_values.begin());
+  };
+
+  const fs::path work = dir / ".report-work";
+  std::error_code ec;
+  fs::remove_all(work, ec);
+  fs::create_directories(work, ec);
+  if (ec) throw RunError(fmt::format("cannot create {}: {}", work.string(), ec.message()));
+
+  ReportResult result;
+  std::vector<std::string> svgs;
+  const std::string x_label = meta.report.x.empty() ? "run" : meta.report.x;
+  for (size_t p = 0; p < meta.report.y.size(); ++p) {
+    const std::string& metric = meta.report.y[p];
+    const fs::path data = work / fmt::format("plot_{}.dat", p);
+    const fs::path svg = work / fmt::format("plot_{}.svg", p);
+    const fs::path script = work / fmt::format("plot_{}.gp", p);
+    std::string text;
+    std::vector<bool> has_data(lines.size(), false);
+    for (size_t l = 0; l < lines.size(); ++l) {
+      std::vector<std::pair<double, const Cell*>> points;
+      for (const Cell* c : line_cells[lines[l]]) points.push_back({x_position(*c), c});
+      std::sort(points.begin(), points.end(),
+                [](const auto& a, const auto& b) { return a.first < b.first; });
+      text += fmt::format("# {}\n", lines[l]);
+      for (const auto& [x, c] : points) {
+        const MeanCi& s = c->stats.at(metric);
+        if (s.n == 0) continue;
+        has_data[l] = true;
+        text += fmt::format("{} {} {} {}\n", Number(x), Number(s.mean), Number(s.mean - s.half_width),
+                            Number(s.mean + s.half_width));
+      }
+      // gnuplot needs at least one row per index block.
+      if (!has_data[l]) text += "nan nan nan nan\n";
+      text += "\n\n";
+    }
+    WriteTextFile(data.string(), text);
+
+    std::string gp;
+    gp += "set terminal svg size 820,440 dynamic font 'sans,11' background rgb 'white'\n";
+    gp += fmt::format("set output {}\n", GpString(svg.string()));
+    gp += fmt::format("set title {} noenhanced\n", GpString(metric + " vs " + x_label));
+    gp += fmt::format("set xlabel {} noenhanced\n", GpString(x_label));
+    gp += fmt::format("set ylabel {} noenhanced\n", GpString(metric + " (mean, 95% CI over seeds)"));
+    gp += "set grid\nset key outside right top noenhanced\n";
+    gp += "set style fill transparent solid 0.18 noborder\n";
+    if (log_x) gp += "set logscale x\n";
+    if (!numeric_x) {
+      std::string tics;
+      for (size_t i = 0; i < x_values.size(); ++i) {
+        tics += fmt::format("{}{} {}", i ? ", " : "", GpString(x_values[i]), i);
+      }
+      gp += fmt::format("set xtics ({})\nset xrange [-0.5:{}]\n", tics, x_values.size() - 0.5);
+    } else if (x_min == x_max) {
+      gp += fmt::format("set xrange [{}:{}]\n", Number(log_x ? x_min / 2 : x_min - 1),
+                        Number(log_x ? x_max * 2 : x_max + 1));
+    }
+    std::vector<std::string> plots;
+    for (size_t l = 0; l < lines.size(); ++l) {
+      if (!has_data[l]) continue;
+      const char* colour = kColours[l % std::size(kColours)];
+      plots.push_back(fmt::format("{} index {} using 1:3:4 with filledcurves lc rgb '{}' notitle",
+                                  GpString(data.string()), l, colour));
+      plots.push_back(fmt::format("{} index {} using 1:2 with linespoints lw 2 pt 7 ps 0.6 lc rgb '{}' title {}",
+                                  GpString(data.string()), l, colour, GpString(lines[l])));
+    }
+    if (plots.empty()) {
+      gp += "set label 1 'no finished runs' at graph 0.5, 0.5 center\nplot [0:1] [0:1] NaN notitle\n";
+    } else {
+      gp += "plot " + fmt::format("{}", fmt::join(plots, ", \\\n     ")) + "\n";
+    }
+    WriteTextFile(script.string(), gp);
+    RunGnuplot(options.gnuplot, script);
+    svgs.push_back(InlineSvg(ReadText(svg)));
+    ++result.plots;
+  }
+
+  // summary.csv: one row per cell, every headline metric.
+  {
+    std::string csv;
+    for (const std::string& k : keys) csv += Csv(k) + ",";
+    csv += "runs,failures";
+    for (const std::string& m : HeadlineMetrics()) csv += fmt::format(",{0}_mean,{0}_ci95,{0}_n", m);
+    csv += "\n";
+    for (const Cell& c : cells) {
+      for (const std::string& v : c.values) csv += Csv(v) + ",";
+      csv += fmt::format("{},{}", c.runs.size(), c.failures);
+      for (const std::string& m : HeadlineMetrics()) {
+        const MeanCi& s = c.stats.at(m);
+        csv += fmt::format(",{},{},{}", s.n ? Number(s.mean) : "", s.n >= 2 ? Number(s.half_width) : "", s.n);
+      }
+      csv += "\n";
+    }
+    result.csv_path = (dir / "summary.csv").string();
+    WriteTextFile(result.csv_path, csv);
+  }
+
+  // report.html
+  std::string h;
+  h += "<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\">\n";
+  h += fmt::format("<title>HCPF sweep report: {}</title>\n", Html(meta.sweep_file));
+  h += "<style>body{font-family:sans-serif;margin:1.5em;color:#222}table{border-collapse:collapse;"
+       "font-size:13px}td,th{border:1px solid #ccc;padding:3px 7px;text-align:right}"
+       "th{background:#f3f3f3}td.k{text-align:left}.plot{margin:1em 0}pre{background:#f7f7f7;"
+       "padding:1em;font-size:12px;overflow:auto}.failed{color:#b00}</style>\n</head><body>\n";
+  h += fmt::format("<h1>Sweep report</h1>\n<p>Sweep <code>{}</code> (hash <code>{}</code>): {} of {} runs "
+                   "in the store, {} ok, {} failed. Lines: mean over seeds; "
+                   "bands: 95&nbsp;% confidence interval of the mean (Student t, n&minus;1 degrees of "
+                   "freedom; none when n&nbsp;&lt;&nbsp;2).</p>\n",
+                   Html(meta.sweep_file), Html(meta.sweep_hash), runs.size(), meta.run_count, ok_runs,
+                   failed_runs > 0 ? fmt::format("<span class=\"failed\">{}</span>", failed_runs) : "0");
+  h += "<h2>Plots</h2>\n";
+  for (size_t p = 0; p < svgs.size(); ++p) {
+    h += fmt::format("<div class=\"plot\" id=\"plot-{}\">\n{}\n</div>\n", meta.report.y[p], svgs[p]);
+  }
+  h += "<h2>Cells</h2>\n<table><tr>";
+  for (const std::string& k : keys) h += "<th>" + Html(k) + "</th>";
+  h += "<th>n</th><th>failures</th>";
+  for (const std::string& m : meta.report.y) h += "<th>" + Html(m) + "</th>";
+  h += "</tr>\n";
+  for (const Cell& c : cells) {
+    h += "<tr>";
+    for (const std::string& v : c.values) h += "<td class=\"k\">" + Html(v) + "</td>";
+    h += fmt::format("<td>{}</td><td{}>{}</td>", c.runs.size() - c.failures,
+                     c.failures ? " class=\"failed\"" : "", c.failures);
+    for (const std::string& m : meta.report.y) {
+      const MeanCi& s = c.stats.at(m);
+      if (s.n == 0) {
+        h += "<td>&ndash;</td>";
+      } else if (s.n == 1) {
+        h += fmt::format("<td>{:.4g}</td>", s.mean);
+      } else {
+        h += fmt::format("<td>{:.4g} &plusmn; {:.2g}</td>", s.mean, s.half_width);
+      }
+    }
+    h += "</tr>\n";
+  }
+  h += "</table>\n";
+
+  // Overlay videos of the first seed of each line, when the runs wrote them.
+  std::string videos;
+  for (const std::string& label : lines) {
+    std::string links;
+    for (const Cell* c : line_cells[label]) {
+      for (const RunRecord* r : c->runs) {
+        if (r->seed_index != 0 || !r->ok) continue;
+        if (!fs::exists(dir / r->run_dir / "overlay.mp4", ec)) continue;
+        const std::string x = x_index >= 0 ? c->values[x_index] : "run";
+        links += fmt::format(" <a href=\"{}/overlay.mp4\">{}</a>", Html(r->run_dir), Html(x));
+      }
+    }
+    if (!links.empty()) videos += fmt::format("<li>{}:{}</li>\n", Html(label), links);
+  }
+  if (!videos.empty()) h += "<h2>Overlay videos (first seed)</h2>\n<ul>\n" + videos + "</ul>\n";
+
+  std::string failures;
+  for (const RunRecord& r : runs) {
+    if (!r.ok) failures += fmt::format("<li>run {} (<code>{}</code>): {}</li>\n", r.index, r.key, Html(r.error));
+  }
+  if (!failures.empty()) h += "<h2>Failed runs</h2>\n<ul class=\"failed\">\n" + failures + "</ul>\n";
+  h += "<h2>Base scenario (resolved)</h2>\n<pre>" + Html(meta.base_resolved) + "</pre>\n";
+  h += "</body></html>\n";
+  result.html_path = (dir / "report.html").string();
+  WriteTextFile(result.html_path, h);
+  result.cells = static_cast<int>(cells.size());
+  fs::remove_all(work, ec);
+  return result;
+}
+
+}  // namespace hcpf::scenarios

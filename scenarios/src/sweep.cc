@@ -1,0 +1,298 @@
+// Sweep files: loading, validation and expansion into runs (docs/sweeps.md).
+
+#include "hcpf/scenarios/sweep.h"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <filesystem>
+#include <map>
+#include <set>
+
+#include "hcpf/core/rng.h"
+#include "yaml_reader.h"
+
+namespace hcpf::scenarios {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+// Flow-style YAML text of a node, as an override value (`[320, 240]`, `charged`).
+std::string FlowText(const YAML::Node& node) {
+  YAML::Emitter out;
+  out.SetMapFormat(YAML::Flow);
+  out.SetSeqFormat(YAML::Flow);
+  out << node;
+  return out.c_str();
+}
+
+std::string ResolveBase(const YamlReader& where, const std::string& base, const std::string& dir) {
+  std::vector<fs::path> candidates;
+  const fs::path p(base);
+  if (p.is_absolute()) {
+    candidates.push_back(p);
+  } else {
+    candidates.push_back(fs::path(dir) / p);
+    candidates.push_back(p);
+#ifdef HCPF_PROJECT_SOURCE_DIR
+    candidates.push_back(fs::path(HCPF_PROJECT_SOURCE_DIR) / p);
+#endif
+  }
+  for (const fs::path& c : candidates) {
+    std::error_code ec;
+    if (fs::is_regular_file(c, ec)) return c.lexically_normal().string();
+  }
+  where.Fail("a scenario file (looked next to the sweep file, in the current folder and in the project folder)",
+             "");
+}
+
+// Reads a `grid:`/`zip:` mapping of dotted keys to non-empty lists.
+std::vector<SweepAxis> ReadAxes(YamlReader& parent, const std::string& name) {
+  std::vector<SweepAxis> axes;
+  auto section = parent.Optional(name);
+  if (!section) return axes;
+  section->ExpectMap();
+  std::vector<std::string> keys;
+  for (auto it = section->node().begin(); it != section->node().end(); ++it) {
+    keys.push_back(it->first.Scalar());
+  }
+  for (const std::string& key : keys) {
+    YamlReader list = section->Child(key);
+    if (!list.node().IsSequence() || list.node().size() == 0) {
+      list.Fail("a non-empty list of values for the dotted scenario key");
+    }
+    SweepAxis axis;
+    axis.key = key;
+    for (const YamlReader& item : list.Items()) {
+      if (!item.node().IsScalar() && !item.node().IsSequence() && !item.node().IsMap()) {
+        item.Fail("a value");
+      }
+      axis.values.push_back(FlowText(item.node()));
+      axis.where.push_back(item.Where());
+    }
+    axes.push_back(std::move(axis));
+  }
+  section->Finish();
+  return axes;
+}
+
+SweepSpec ReadSweep(YAML::Node root, const std::string& file, const std::string& dir) {
+  auto context = std::make_shared<YamlContext>();
+  context->file = file;
+  if (!root.IsDefined() || root.IsNull() || !root.IsMap()) {
+    throw InputError(SourceLocation{file, 1, 1, ""}, "a sweep mapping (base:, grid:, zip:, seeds:, report:)",
+                     root.IsSequence() ? "a list" : "no mapping");
+  }
+  YamlReader r(root, "", context);
+  SweepSpec spec;
+  spec.file = file;
+  {
+    YamlReader base = r.Child("base");
+    spec.base_path = ResolveBase(base, r.String("base", std::nullopt), dir);
+  }
+  spec.seed = r.Seed("seed", 1);
+  spec.seeds = static_cast<int>(r.Integer("seeds", 0, 1, 100000));
+  spec.grid = ReadAxes(r, "grid");
+  spec.zip = ReadAxes(r, "zip");
+
+  // Keys are swept once; zip lists have one length; `seed` is not swept with `seeds`.
+  std::set<std::string> seen;
+  for (const auto* axes : {&spec.grid, &spec.zip}) {
+    for (const SweepAxis& a : *axes) {
+      const SourceLocation& at = a.where.front();
+      if (!seen.insert(a.key).second) {
+        throw InputError(SourceLocation{at.file, at.line, at.column, a.key},
+                         "each key swept once (in grid or zip)", "a key swept twice");
+      }
+      if (a.key == "seed" && spec.seeds > 0) {
+        throw InputError(SourceLocation{at.file, at.line, at.column, a.key},
+                         "`seed` swept only without `seeds: N` (which derives the seed)",
+                         "both `seed` swept and `seeds`");
+      }
+    }
+  }
+  for (const SweepAxis& a : spec.zip) {
+    if (a.values.size() != spec.zip.front().values.size()) {
+      const SourceLocation& at = a.where.front();
+      throw InputError(SourceLocation{at.file, at.line, at.column, "zip." + a.key},
+                       fmt::format("a list of {} values, like zip.{}", spec.zip.front().values.size(),
+                                   spec.zip.front().key),
+                       fmt::format("{} values", a.values.size()));
+    }
+  }
+
+  const std::vector<std::string> swept = spec.SweptKeys();
+  spec.report.y = {"da_accuracy", "hijack_rate", "idf1", "hota", "mota", "ms_per_frame"};
+  spec.report.x = swept.empty() ? "" : swept.front();
+  if (auto report = r.Optional("report")) {
+    report->ExpectMap();
+    const auto swept_key = [&](const std::string& key, const std::string& fallback) {
+      const std::string value = report->String(key, fallback);
+      if (!value.empty() && std::find(swept.begin(), swept.end(), value) == swept.end()) {
+        report->Child(key).Fail(
+            swept.empty() ? "nothing (no key is swept)"
+                          : "a swept key (" + fmt::format("{}", fmt::join(swept, ", ")) + ")",
+            ClosestMatch(value, swept).empty() ? "" : "did you mean \"" + ClosestMatch(value, swept) + "\"?");
+      }
+      return value;
+    };
+    spec.report.x = swept_key("x", spec.report.x);
+    spec.report.series = swept_key("series", "");
+    if (auto y = report->Optional("y")) {
+      spec.report.y.clear();
+      std::vector<YamlReader> items;
+      if (y->node().IsSequence()) {
+        items = y->Items();
+      } else {
+        items.push_back(*y);
+      }
+      for (const YamlReader& item : items) {
+        const std::string name = item.node().IsScalar() ? item.node().Scalar() : "";
+        const auto& known = HeadlineMetrics();
+        if (std::find(known.begin(), known.end(), name) == known.end()) {
+          const std::string close = ClosestMatch(name, known);
+          item.Fail("a metric name (" + fmt::format("{}", fmt::join(known, ", ")) + ")",
+                    close.empty() ? "" : "did you mean \"" + close + "\"?");
+        }
+        spec.report.y.push_back(name);
+      }
+      if (spec.report.y.empty()) y->Fail("a non-empty list of metric names");
+    }
+    if (!spec.report.series.empty() && spec.report.series == spec.report.x) {
+      report->Child("series").Fail("a swept key other than report.x");
+    }
+    report->Finish();
+  }
+  r.Finish();
+  return spec;
+}
+
+// Re-locates an InputError raised by a swept value's `--set` text at the
+// sweep file line of that value.
+[[noreturn]] void Relocate(const InputError& e, const SourceLocation& at) {
+  const std::string message = e.what();
+  const std::string prefix = FormatInputError(e.where(), e.expected(), e.found(), "");
+  std::string hint;
+  if (message.size() > prefix.size() + 3 && message.compare(0, prefix.size(), prefix) == 0) {
+    hint = message.substr(prefix.size() + 2, message.size() - prefix.size() - 3);
+  }
+  throw InputError(SourceLocation{at.file, at.line, at.column, e.where().key}, e.expected(), e.found(),
+                   hint);
+}
+
+}  // namespace
+
+std::vector<std::string> SweepSpec::SweptKeys() const {
+  std::vector<std::string> keys;
+  for (const SweepAxis& a : grid) keys.push_back(a.key);
+  for (const SweepAxis& a : zip) keys.push_back(a.key);
+  return keys;
+}
+
+int64_t SweepSpec::RunCount() const {
+  int64_t n = 1;
+  for (const SweepAxis& a : grid) n *= static_cast<int64_t>(a.values.size());
+  if (!zip.empty()) n *= static_cast<int64_t>(zip.front().values.size());
+  return n * std::max(seeds, 1);
+}
+
+const std::vector<std::string>& HeadlineMetrics() {
+  static const std::vector<std::string> kNames = {
+      "da_accuracy", "hijack_rate", "hijacked_fraction", "swaps", "idf1",         "hota", "mota",
+      "motp",        "deta",        "assa",              "ospa",  "ms_per_frame", "wall_time_s"};
+  return kNames;
+}
+
+uint64_t SweepSeed(uint64_t sweep_seed, int index) {
+  return Rng(sweep_seed).Fork("sweep/seed", index).identity();
+}
+
+SweepSpec LoadSweepText(const std::string& text, const std::string& file_name, const std::string& dir) {
+  return ReadSweep(YamlReader::Parse(text, file_name), file_name, dir);
+}
+
+SweepSpec LoadSweepFile(const std::string& path) {
+  if (fs::is_directory(path)) {
+    throw InputError(SourceLocation{path, 0, 0, ""}, "a sweep YAML file", "a directory");
+  }
+  const std::string dir = fs::path(path).parent_path().string();
+  return ReadSweep(YamlReader::ParseFile(path), path, dir.empty() ? "." : dir);
+}
+
+std::vector<SweepRun> ExpandSweep(const SweepSpec& spec) {
+  const int64_t total = spec.RunCount();
+  const int seeds = std::max(spec.seeds, 1);
+  const int64_t zip_length = spec.zip.empty() ? 1 : static_cast<int64_t>(spec.zip.front().values.size());
+  std::vector<SweepRun> runs;
+  runs.reserve(total);
+  for (int64_t index = 0; index < total; ++index) {
+    SweepRun run;
+    run.index = index;
+    run.seed_index = static_cast<int>(index % seeds);
+    int64_t rest = index / seeds;
+    const int64_t zip_position = rest % zip_length;
+    rest /= zip_length;
+    // Grid digits: the last grid key varies fastest.
+    std::vector<int64_t> digits(spec.grid.size());
+    for (size_t g = spec.grid.size(); g-- > 0;) {
+      const auto n = static_cast<int64_t>(spec.grid[g].values.size());
+      digits[g] = rest % n;
+      rest /= n;
+    }
+    std::vector<SourceLocation> where;
+    for (size_t g = 0; g < spec.grid.size(); ++g) {
+      run.values.push_back(spec.grid[g].values[digits[g]]);
+      run.overrides.push_back({spec.grid[g].key, spec.grid[g].values[digits[g]]});
+      where.push_back(spec.grid[g].where[digits[g]]);
+    }
+    for (const SweepAxis& a : spec.zip) {
+      run.values.push_back(a.values[zip_position]);
+      run.overrides.push_back({a.key, a.values[zip_position]});
+      where.push_back(a.where[zip_position]);
+    }
+    if (spec.seeds > 0) {
+      run.seed = SweepSeed(spec.seed, run.seed_index);
+      run.overrides.push_back({"seed", std::to_string(run.seed)});
+      where.push_back(SourceLocation{spec.file, 0, 0, "seeds"});
+    }
+    try {
+      run.scenario = LoadScenarioFile(spec.base_path, run.overrides);
+    } catch (const InputError& e) {
+      for (size_t i = 0; i < run.overrides.size(); ++i) {
+        const Override& o = run.overrides[i];
+        if (e.where().file == "--set " + o.key + "=" + o.value) Relocate(e, where[i]);
+      }
+      throw;
+    }
+    run.seed = run.scenario.seed;
+    run.key = ConfigHash(run.scenario);
+    runs.push_back(std::move(run));
+  }
+  return runs;
+}
+
+std::string SweepHash(const std::vector<SweepRun>& runs) {
+  // FNV-1a 64 over the run keys in order.
+  uint64_t h = 14695981039346656037ULL;
+  for (const SweepRun& r : runs) {
+    for (const char c : r.key + "\n") {
+      h ^= static_cast<unsigned char>(c);
+      h *= 1099511628211ULL;
+    }
+  }
+  return fmt::format("{:016x}", h);
+}
+
+void SweepOptions::Validate() const {
+  if (out_dir.empty()) throw InputError(SourceLocation{"hcpf sweep", 0, 0, "--out"}, "a folder", "nothing");
+  if (jobs < 1) {
+    throw InputError(SourceLocation{"hcpf sweep", 0, 0, "--jobs"}, "an integer >= 1", std::to_string(jobs));
+  }
+  if (shard_count < 1 || shard_index < 0 || shard_index >= shard_count) {
+    throw InputError(SourceLocation{"hcpf sweep", 0, 0, "--shard"}, "i/n with 0 <= i < n",
+                     fmt::format("{}/{}", shard_index, shard_count));
+  }
+}
+
+}  // namespace hcpf::scenarios

@@ -1,0 +1,136 @@
+// Running a sweep: a worker pool over the runs of one shard, each finished
+// run committed to the results store as it completes (docs/sweeps.md).
+
+#include <fmt/format.h>
+#include <signal.h>
+#include <spdlog/spdlog.h>
+
+#include <atomic>
+#include <cerrno>
+#include <exception>
+#include <filesystem>
+#include <map>
+#include <mutex>
+#include <thread>
+
+#include "hcpf/scenarios/results_store.h"
+#include "hcpf/scenarios/run.h"
+#include "hcpf/scenarios/sweep.h"
+#include "progress.h"
+
+namespace hcpf::scenarios {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+// Removes "<key>.partial-<pid>" folders left by killed processes (RunScenario
+// writes there before renaming into place). Folders of live processes stay.
+void RemoveStalePartials(const fs::path& runs_dir) {
+  std::error_code ec;
+  if (!fs::is_directory(runs_dir, ec)) return;
+  for (const auto& entry : fs::directory_iterator(runs_dir, ec)) {
+    const std::string name = entry.path().filename().string();
+    const size_t at = name.rfind(".partial-");
+    if (at == std::string::npos) continue;
+    const std::string pid_text = name.substr(at + 9);
+    const pid_t pid = static_cast<pid_t>(std::strtol(pid_text.c_str(), nullptr, 10));
+    if (pid > 0 && ::kill(pid, 0) == -1 && errno == ESRCH) fs::remove_all(entry.path(), ec);
+  }
+}
+
+}  // namespace
+
+SweepResult RunSweep(const SweepSpec& spec, const std::vector<SweepRun>& runs,
+                     const SweepOptions& options) {
+  options.Validate();
+  const fs::path out(options.out_dir);
+  std::error_code ec;
+  fs::create_directories(out / "runs", ec);
+  if (ec) throw RunError(fmt::format("cannot create {}: {}", (out / "runs").string(), ec.message()));
+  RemoveStalePartials(out / "runs");
+
+  StoreMeta meta;
+  meta.sweep_hash = SweepHash(runs);
+  meta.sweep_file = spec.file;
+  meta.swept_keys = spec.SweptKeys();
+  meta.report = spec.report;
+  meta.base_resolved = ToResolvedYaml(LoadScenarioFile(spec.base_path));
+  meta.run_count = static_cast<int64_t>(runs.size());
+  auto store = ResultsStore::OpenOrCreate((out / "results.sqlite").string(), meta);
+
+  std::map<std::string, bool> finished;  // key -> ok
+  for (const RunRecord& r : store->Runs()) finished[r.key] = r.ok;
+
+  SweepResult result;
+  std::vector<const SweepRun*> todo;
+  for (const SweepRun& run : runs) {
+    if (run.index % options.shard_count != options.shard_index) continue;
+    ++result.total;
+    const auto it = finished.find(run.key);
+    if (it != finished.end() && it->second) {
+      ++result.reused;
+    } else {
+      todo.push_back(&run);
+    }
+  }
+  spdlog::info("sweep: {} runs{}, {} already in {}, {} to compute with {} worker(s)", result.total,
+               options.shard_count > 1
+                   ? fmt::format(" in shard {}/{}", options.shard_index, options.shard_count)
+                   : "",
+               result.reused, (out / "results.sqlite").string(), todo.size(), options.jobs);
+
+  std::mutex mutex;  // guards result and progress
+  Progress progress("sweep", static_cast<int64_t>(todo.size()));
+  std::atomic<size_t> next{0};
+  std::exception_ptr store_error;  // the first failure to record a run stops its worker
+  const auto worker = [&] {
+    while (true) {
+      const size_t i = next.fetch_add(1);
+      if (i >= todo.size()) return;
+      const SweepRun& run = *todo[i];
+      RunRecord record;
+      record.key = run.key;
+      record.index = run.index;
+      record.seed_index = run.seed_index;
+      record.seed = run.seed;
+      record.values = run.values;
+      record.run_dir = "runs/" + run.key;
+      try {
+        RunOptions run_options;
+        run_options.out_dir = (out / record.run_dir).string();
+        run_options.threads = 1;
+        RunScenario(run.scenario, run_options);
+        record.metrics = ReadRunMetrics(run_options.out_dir);
+        record.ok = true;
+      } catch (const std::exception& e) {
+        record.ok = false;
+        record.error = e.what();
+        spdlog::warn("sweep: run {} ({}) failed: {}", run.index, run.key, e.what());
+      }
+      try {
+        store->Put(record);
+      } catch (...) {
+        std::lock_guard lock(mutex);
+        if (!store_error) store_error = std::current_exception();
+        return;
+      }
+      std::lock_guard lock(mutex);
+      if (record.ok) {
+        ++result.computed;
+      } else {
+        ++result.failed;
+      }
+      if (options.progress) progress.Advance(1, record.ok ? 0 : 1);
+    }
+  };
+  std::vector<std::thread> threads;
+  const int workers = std::min<int>(options.jobs, static_cast<int>(std::max<size_t>(todo.size(), 1)));
+  for (int w = 0; w < workers; ++w) threads.emplace_back(worker);
+  for (std::thread& t : threads) t.join();
+  if (options.progress) progress.Finish();
+  if (store_error) std::rethrow_exception(store_error);
+  return result;
+}
+
+}  // namespace hcpf::scenarios

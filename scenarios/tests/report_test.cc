@@ -1,0 +1,128 @@
+// Report statistics (hand-worked t intervals) and the report files of a tiny sweep.
+
+#include "hcpf/scenarios/report.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include "hcpf/scenarios/results_store.h"
+#include "hcpf/scenarios/sweep.h"
+#include "sweep_fixture.h"
+
+namespace hcpf::scenarios {
+namespace {
+
+namespace fs = std::filesystem;
+
+std::string Read(const fs::path& p) {
+  std::ifstream in(p);
+  std::stringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+size_t Count(const std::string& text, const std::string& what) {
+  size_t n = 0;
+  for (size_t at = text.find(what); at != std::string::npos; at = text.find(what, at + 1)) ++n;
+  return n;
+}
+
+TEST(ReportStatistics, StudentQuantilesMatchTables) {
+  // Printed two-sided 95 % t tables: 12.706 (1), 2.228 (10), 2.042 (30),
+  // 2.021 (40), 2.000 (60), 1.980 (120). Above 30 the expansion must agree to 1e-3.
+  EXPECT_DOUBLE_EQ(StudentT975(1), 12.706);
+  EXPECT_DOUBLE_EQ(StudentT975(10), 2.228);
+  EXPECT_NEAR(StudentT975(40), 2.021, 1e-3);
+  EXPECT_NEAR(StudentT975(60), 2.000, 1e-3);
+  EXPECT_NEAR(StudentT975(120), 1.980, 1e-3);
+}
+
+TEST(ReportStatistics, MeanAndHalfWidthByHand) {
+  // {1, 2, 3}: mean 2, s = 1, half-width = t(2) * 1 / sqrt(3) = 4.303 / 1.7320508 = 2.484338.
+  MeanCi a = MeanConfidence95({1.0, 2.0, 3.0});
+  EXPECT_EQ(a.n, 3);
+  EXPECT_DOUBLE_EQ(a.mean, 2.0);
+  EXPECT_NEAR(a.half_width, 2.484338, 1e-6);
+  // NaN values are left out: {4, 6}: mean 5, s = sqrt(2), half-width = 12.706 * sqrt(2)/sqrt(2).
+  MeanCi b = MeanConfidence95({std::nan(""), 4.0, 6.0});
+  EXPECT_EQ(b.n, 2);
+  EXPECT_DOUBLE_EQ(b.mean, 5.0);
+  EXPECT_NEAR(b.half_width, 12.706, 1e-9);
+  MeanCi c = MeanConfidence95({0.5});
+  EXPECT_EQ(c.n, 1);
+  EXPECT_EQ(c.half_width, 0.0);
+  EXPECT_TRUE(std::isnan(MeanConfidence95({}).mean));
+}
+
+TEST(Report, HtmlHasOnePlotWithDataPerMetricAndCsvHasOneRowPerCell) {
+  const auto dir = testing::SweepFolder("report-files");
+  const SweepSpec spec = LoadSweepFile(testing::WriteSweep(
+      dir,
+      "base: base.yaml\nseeds: 3\ngrid:\n  tracker.particles: [20, 200]\n"
+      "  tracker.resampling.method: [systematic, charged]\n"
+      "report: {x: tracker.particles, series: tracker.resampling.method, y: [idf1, hota, ms_per_frame]}\n"));
+  SweepOptions o;
+  o.out_dir = (dir / "out").string();
+  o.jobs = 2;
+  o.progress = false;
+  RunSweep(spec, ExpandSweep(spec), o);
+  const ReportResult r = WriteReport({.dir = o.out_dir});
+  EXPECT_EQ(r.plots, 3);
+  EXPECT_EQ(r.cells, 4);
+  const std::string html = Read(r.html_path);
+  EXPECT_EQ(Count(html, "<svg"), 3U);
+  for (const char* id : {"plot-idf1", "plot-hota", "plot-ms_per_frame"}) {
+    const size_t at = html.find(id);
+    ASSERT_NE(at, std::string::npos) << id;
+    const size_t end = html.find("</svg>", at);
+    const std::string svg = html.substr(at, end - at);
+    // Two lines (systematic, charged), each a <path> through its points, and a legend naming them.
+    EXPECT_GE(Count(svg, "<path"), 4U) << id;
+    EXPECT_NE(svg.find("systematic"), std::string::npos);
+    EXPECT_NE(svg.find("charged"), std::string::npos);
+  }
+  // Self-contained: nothing loaded from elsewhere.
+  EXPECT_EQ(html.find("src=\"http"), std::string::npos);
+  EXPECT_EQ(html.find("<script src"), std::string::npos);
+  EXPECT_EQ(html.find("<link"), std::string::npos);
+  EXPECT_NE(html.find("name: &quot;minimal&quot;"), std::string::npos);  // the resolved base scenario, escaped
+
+  // summary.csv: header + 4 cells; the idf1 mean of cell (200, charged) is the
+  // mean of its three runs' values in the store, computed here independently.
+  const std::string csv = Read(r.csv_path);
+  EXPECT_EQ(Count(csv, "\n"), 5U);
+  double sum = 0.0;
+  int n = 0;
+  for (const RunRecord& rec : ResultsStore::Open(o.out_dir + "/results.sqlite")->Runs()) {
+    if (rec.values[0] == "200" && rec.values[1] == "charged") {
+      sum += rec.metrics.at("idf1");
+      ++n;
+    }
+  }
+  ASSERT_EQ(n, 3);
+  const size_t row = csv.find("200,charged,3,0,");
+  ASSERT_NE(row, std::string::npos) << csv;
+  const std::string header = csv.substr(0, csv.find('\n'));
+  // Column of idf1_mean in the header.
+  int column = 0;
+  for (size_t at = 0, next = 0; (next = header.find(',', at)) != std::string::npos || at < header.size(); at = next + 1) {
+    if (header.substr(at, next == std::string::npos ? std::string::npos : next - at) == "idf1_mean") break;
+    ++column;
+    if (next == std::string::npos) break;
+  }
+  std::stringstream line(csv.substr(row, csv.find('\n', row) - row));
+  std::string cell;
+  for (int i = 0; i <= column; ++i) std::getline(line, cell, ',');
+  EXPECT_NEAR(std::stod(cell), sum / 3.0, 1e-5);  // csv writes 6 significant digits
+}
+
+TEST(Report, MissingStoreIsBadInput) {
+  EXPECT_THROW(WriteReport({.dir = "/nonexistent/hcpf"}), InputError);
+}
+
+}  // namespace
+}  // namespace hcpf::scenarios

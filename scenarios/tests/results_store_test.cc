@@ -1,0 +1,183 @@
+// Results store, RunSweep (parallel = serial, resume, failures, shards + merge).
+
+#include "hcpf/scenarios/results_store.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+
+#include "hcpf/scenarios/sweep.h"
+#include "sweep_fixture.h"
+
+namespace hcpf::scenarios {
+namespace {
+
+namespace fs = std::filesystem;
+using testing::SweepFolder;
+using testing::WriteSweep;
+
+// 2 particle counts x 2 resamplers x 2 seeds = 8 tiny runs (20 frames).
+const char* kSweep =
+    "base: base.yaml\n"
+    "seeds: 2\n"
+    "grid:\n"
+    "  tracker.particles: [20, 60]\n"
+    "  tracker.resampling.method: [systematic, charged]\n"
+    "report: {x: tracker.particles, series: tracker.resampling.method, y: [da_accuracy, idf1]}\n";
+
+// The deterministic part of a row (timings excluded).
+std::string RowText(const RunRecord& r) {
+  std::string s = r.key + " " + std::to_string(r.index) + " " + std::to_string(r.seed) + (r.ok ? " ok" : " failed");
+  for (const auto& v : r.values) s += " " + v;
+  for (const auto& [m, v] : r.metrics) {
+    if (m == "ms_per_frame" || m == "wall_time_s") continue;
+    s += " " + m + "=" + (std::isfinite(v) ? std::to_string(v) : "nan");
+  }
+  return s;
+}
+
+std::vector<std::string> StoreRows(const fs::path& dir) {
+  std::vector<std::string> rows;
+  for (const RunRecord& r : ResultsStore::Open((dir / "results.sqlite").string())->Runs()) rows.push_back(RowText(r));
+  return rows;
+}
+
+SweepOptions Options(const fs::path& out, int jobs) {
+  SweepOptions o;
+  o.out_dir = out.string();
+  o.jobs = jobs;
+  o.progress = false;
+  return o;
+}
+
+TEST(ResultsStore, PutRunsRoundTripAndRefusesAnotherSweep) {
+  const auto dir = SweepFolder("store");
+  StoreMeta meta;
+  meta.sweep_hash = "abc";
+  meta.sweep_file = "s.yaml";
+  meta.swept_keys = {"tracker.particles"};
+  meta.report = {"tracker.particles", {"idf1"}, ""};
+  meta.run_count = 2;
+  const std::string path = (dir / "results.sqlite").string();
+  {
+    auto store = ResultsStore::OpenOrCreate(path, meta);
+    RunRecord r;
+    r.key = "k2";
+    r.index = 1;
+    r.seed = 18446744073709551615ULL;  // 2^64 - 1 survives (stored as text)
+    r.values = {"50"};
+    r.ok = true;
+    r.metrics = {{"idf1", 0.75}, {"hota", std::nan("")}};
+    store->Put(r);
+    r.key = "k1";
+    r.index = 0;
+    r.ok = false;
+    r.error = "boom";
+    r.metrics.clear();
+    store->Put(r);
+  }
+  auto store = ResultsStore::Open(path);
+  EXPECT_EQ(store->meta().report.y, std::vector<std::string>{"idf1"});
+  const auto runs = store->Runs();
+  ASSERT_EQ(runs.size(), 2U);
+  EXPECT_EQ(runs[0].key, "k1");  // sorted by run index
+  EXPECT_FALSE(runs[0].ok);
+  EXPECT_EQ(runs[0].error, "boom");
+  EXPECT_EQ(runs[1].seed, 18446744073709551615ULL);
+  EXPECT_DOUBLE_EQ(runs[1].metrics.at("idf1"), 0.75);
+  EXPECT_TRUE(std::isnan(runs[1].metrics.at("hota")));
+  meta.sweep_hash = "other";
+  EXPECT_THROW(ResultsStore::OpenOrCreate(path, meta), InputError);
+}
+
+TEST(RunSweep, ParallelEqualsSerialAndResumeReusesEverything) {
+  const auto dir = SweepFolder("parallel");
+  const SweepSpec spec = LoadSweepFile(WriteSweep(dir, kSweep));
+  const auto runs = ExpandSweep(spec);
+  const SweepResult serial = RunSweep(spec, runs, Options(dir / "serial", 1));
+  EXPECT_EQ(serial.total, 8);
+  EXPECT_EQ(serial.computed, 8);
+  EXPECT_EQ(serial.failed, 0);
+  const SweepResult parallel = RunSweep(spec, runs, Options(dir / "parallel", 3));
+  EXPECT_EQ(parallel.computed, 8);
+  EXPECT_EQ(StoreRows(dir / "serial"), StoreRows(dir / "parallel"));
+  // Every run has its folder with the run's outputs, named by its key.
+  for (const SweepRun& r : runs) EXPECT_TRUE(fs::exists(dir / "serial" / "runs" / r.key / "metrics.json"));
+  // Metrics in the store are those of the run's metrics.json.
+  const auto stored = ResultsStore::Open((dir / "serial" / "results.sqlite").string())->Runs();
+  EXPECT_EQ(stored[3].metrics.at("idf1"), ReadRunMetrics((dir / "serial" / "runs" / stored[3].key).string()).at("idf1"));
+  const SweepResult again = RunSweep(spec, runs, Options(dir / "serial", 2));
+  EXPECT_EQ(again.reused, 8);
+  EXPECT_EQ(again.computed, 0);
+  EXPECT_EQ(StoreRows(dir / "serial"), StoreRows(dir / "parallel"));
+}
+
+TEST(RunSweep, AFailingRunIsRecordedAndTheOthersFinish) {
+  const auto dir = SweepFolder("failing");
+  const SweepSpec spec = LoadSweepFile(WriteSweep(dir, kSweep));
+  const auto runs = ExpandSweep(spec);
+  // Run 5's folder already holds a file that is not a run's: RunScenario
+  // refuses to overwrite it (a real failure mode, nothing faked).
+  fs::create_directories(dir / "out" / "runs" / runs[5].key);
+  std::ofstream(dir / "out" / "runs" / runs[5].key / "notes.txt") << "mine\n";
+  const SweepResult r = RunSweep(spec, runs, Options(dir / "out", 2));
+  EXPECT_EQ(r.failed, 1);
+  EXPECT_EQ(r.computed, 7);
+  const auto stored = ResultsStore::Open((dir / "out" / "results.sqlite").string())->Runs();
+  ASSERT_EQ(stored.size(), 8U);
+  for (const RunRecord& s : stored) {
+    EXPECT_EQ(s.ok, s.index != 5) << s.index;
+  }
+  EXPECT_NE(stored[5].error.find("a folder with other files in it"), std::string::npos) << stored[5].error;
+  EXPECT_TRUE(std::isnan(stored[5].metrics.at("idf1")));
+  // Resuming retries only the failed run; once the cause is gone it succeeds.
+  fs::remove_all(dir / "out" / "runs" / runs[5].key);
+  const SweepResult resumed = RunSweep(spec, runs, Options(dir / "out", 2));
+  EXPECT_EQ(resumed.reused, 7);
+  EXPECT_EQ(resumed.computed, 1);
+  EXPECT_EQ(resumed.failed, 0);
+}
+
+TEST(RunSweep, ShardsMergedEqualTheUnshardedSweep) {
+  const auto dir = SweepFolder("shards");
+  const SweepSpec spec = LoadSweepFile(WriteSweep(dir, kSweep));
+  const auto runs = ExpandSweep(spec);
+  RunSweep(spec, runs, Options(dir / "all", 2));
+  std::vector<std::string> shard_dirs;
+  int64_t total = 0;
+  for (int i = 0; i < 3; ++i) {
+    SweepOptions o = Options(dir / ("shard" + std::to_string(i)), 1);
+    o.shard_index = i;
+    o.shard_count = 3;
+    const SweepResult r = RunSweep(spec, runs, o);
+    // 8 runs, index % 3: shard 0 has 0,3,6; shard 1 has 1,4,7; shard 2 has 2,5.
+    EXPECT_EQ(r.total, i == 2 ? 2 : 3);
+    for (const RunRecord& s : ResultsStore::Open((dir / ("shard" + std::to_string(i)) / "results.sqlite").string())->Runs()) {
+      EXPECT_EQ(s.index % 3, i);
+    }
+    total += r.total;
+    shard_dirs.push_back((dir / ("shard" + std::to_string(i))).string());
+  }
+  EXPECT_EQ(total, 8);
+  const MergeResult m = MergeStores((dir / "merged").string(), shard_dirs);
+  EXPECT_EQ(m.added, 8);
+  EXPECT_EQ(m.duplicates, 0);
+  EXPECT_EQ(StoreRows(dir / "merged"), StoreRows(dir / "all"));
+  EXPECT_TRUE(fs::exists(dir / "merged" / "runs" / runs[4].key / "tracks.txt"));
+  // Merging again does not double count.
+  const MergeResult again = MergeStores((dir / "merged").string(), shard_dirs);
+  EXPECT_EQ(again.added, 0);
+  EXPECT_EQ(again.duplicates, 8);
+  EXPECT_EQ(StoreRows(dir / "merged"), StoreRows(dir / "all"));
+  // A store of another sweep is refused.
+  const SweepSpec other = LoadSweepFile(WriteSweep(dir, "base: base.yaml\ngrid: {tracker.particles: [30]}\n", "other.yaml"));
+  RunSweep(other, ExpandSweep(other), Options(dir / "other", 1));
+  EXPECT_THROW(MergeStores((dir / "merged2").string(), {shard_dirs[0], (dir / "other").string()}), InputError);
+  // And so is resuming into a folder of another sweep.
+  EXPECT_THROW(RunSweep(other, ExpandSweep(other), Options(dir / "all", 1)), InputError);
+}
+
+}  // namespace
+}  // namespace hcpf::scenarios

@@ -1,0 +1,27 @@
+#pragma once
+// A tiny base scenario and sweep files for the sweep/store/report tests.
+
+#include <filesystem>
+#include <fstream>
+#include <string>
+
+#include "test_scenarios.h"
+
+namespace hcpf::scenarios::testing {
+
+// A fresh folder with base.yaml (kMinimal, 20 frames, 2 targets, 100 particles).
+inline std::filesystem::path SweepFolder(const std::string& name) {
+  const auto dir = std::filesystem::temp_directory_path() / ("hcpf-sweep-test-" + name);
+  std::filesystem::remove_all(dir);
+  std::filesystem::create_directories(dir);
+  std::ofstream(dir / "base.yaml") << kMinimal;
+  return dir;
+}
+
+inline std::string WriteSweep(const std::filesystem::path& dir, const std::string& text,
+                              const std::string& name = "sweep.yaml") {
+  std::ofstream(dir / name) << text;
+  return (dir / name).string();
+}
+
+}  // namespace hcpf::scenarios::testing

@@ -5,6 +5,7 @@
 #include <memory>
 
 #include "command.h"
+#include "hcpf/scenarios/frames.h"
 #include "hcpf/scenarios/run.h"
 #include "hcpf/scenarios/scenario.h"
 
@@ -16,6 +17,8 @@ Command AddRunCommand(CLI::App& parent) {
     std::string out;
     std::vector<std::string> sets;
     int threads = 1;
+    std::string cache = scenarios::DefaultFrameCacheDir();
+    bool no_cache = false;
   };
   auto options = std::make_shared<Options>();
   CLI::App* app = parent.add_subcommand(
@@ -30,6 +33,11 @@ Command AddRunCommand(CLI::App& parent) {
                   "Threads for the tracker's per-filter stages (outputs identical for any value)")
       ->check(CLI::Range(1, 256))
       ->capture_default_str();
+  app->add_option("--cache", options->cache,
+                  "Frame cache for rendered scenarios (frames keyed by a hash of everything "
+                  "that affects pixels)")
+      ->capture_default_str();
+  app->add_flag("--no-cache", options->no_cache, "Render every frame, read and write no cache");
   return {app, [options] {
             std::vector<scenarios::Override> overrides;
             for (const auto& s : options->sets) overrides.push_back(scenarios::ParseOverride(s));
@@ -37,6 +45,7 @@ Command AddRunCommand(CLI::App& parent) {
             scenarios::RunOptions run_options;
             run_options.out_dir = options->out;
             run_options.threads = options->threads;
+            run_options.frame_cache_dir = options->no_cache ? "" : options->cache;
             const scenarios::RunSummary summary = scenarios::RunScenario(scenario, run_options);
             spdlog::info("run \"{}\" finished in {:.2f} s: {} frames, {} ground-truth boxes, {} detections",
                          scenario.name, summary.wall_time_s, summary.frames, summary.gt_boxes,

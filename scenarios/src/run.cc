@@ -15,6 +15,7 @@
 #include "hcpf/metrics/mot_io.h"
 #include "hcpf/metrics/report.h"
 #include "hcpf/tracker/tracker.h"
+#include "hcpf/scenarios/frames.h"
 #include "hcpf/scenarios/observation_simulator.h"
 #include "hcpf/scenarios/version.h"
 #include "progress.h"
@@ -73,13 +74,13 @@ RunSummary RunScenario(const Scenario& scenario, const RunOptions& options) {
   summary.frames = scenario.world.frames;
   nlohmann::json timings;
   try {
-    // 1. Ground truth, frame by frame.
+    // 1. Ground truth, frame by frame: analytic, or pixel-exact from the
+    // renderer (frames cached on disk by pixel hash).
     auto t0 = Clock::now();
-    std::vector<FrameGroundTruth> truth;
-    truth.reserve(scenario.world.frames);
-    for (int f = 0; f < scenario.world.frames; ++f) {
-      truth.push_back(ComputeGroundTruth(scenario.world, f));
-    }
+    FrameSourceOptions frame_options;
+    frame_options.cache_dir = options.frame_cache_dir;
+    SceneFrames scene = ProduceFrames(scenario, frame_options);
+    const std::vector<FrameGroundTruth>& truth = scene.truth;
     timings["ground_truth_s"] = Seconds(t0);
 
     // 2. Observations (detection-level mode: the oracle detector).
@@ -175,12 +176,23 @@ RunSummary RunScenario(const Scenario& scenario, const RunOptions& options) {
         scenario.observation.source == ObservationSource::kRendered ? "rendered" : "simulated";
     manifest["detector"] = scenario.observation.detector + " (noisy ground truth)";
     manifest["libraries"] = LibraryVersions();
-    manifest["gl_renderer"] = nullptr;
+    if (scene.gl) {
+      manifest["gl_renderer"] = {{"backend", scene.gl->backend},
+                                 {"vendor", scene.gl->vendor},
+                                 {"renderer", scene.gl->renderer},
+                                 {"version", scene.gl->version}};
+    } else {
+      manifest["gl_renderer"] = nullptr;
+    }
+    manifest["ground_truth"] = scene.rendered ? "rendered (pixel-exact)" : "analytic";
+    manifest["frames_rendered"] = scene.frames_rendered;
+    manifest["frames_from_cache"] = scene.frames_from_cache;
     manifest["frames"] = scenario.world.frames;
     manifest["gt_boxes"] = summary.gt_boxes;
     manifest["detections"] = summary.detections;
     manifest["timings"] = timings;
-    manifest["nondeterministic_fields"] = {"timings"};
+    manifest["nondeterministic_fields"] = {"timings", "frames_rendered", "frames_from_cache",
+                                          "gl_renderer"};
     // Written last: a folder with a manifest is a finished run.
     WriteTextFile((partial / "manifest.json").string(), manifest.dump(2) + "\n");
     Publish(partial, out);

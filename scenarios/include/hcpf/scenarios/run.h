@@ -17,6 +17,8 @@ struct RunOptions {
   // Worker threads of the tracker's per-filter stages; outputs are identical
   // for every value.
   int threads = 1;
+  // Rendered scenarios: the frame cache folder ("" = render every time).
+  std::string frame_cache_dir;
 };
 
 struct RunSummary {

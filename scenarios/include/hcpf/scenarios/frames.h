@@ -1,0 +1,42 @@
+#pragma once
+// Where a run's ground truth (and pixels) come from: the analytic world model
+// (detection level, `observation.source: simulated`) or the renderer
+// (`observation.source: rendered`, pixel-exact visibility). Rendered frames are
+// cached on disk under a hash of everything that affects pixels
+// (renderer::PixelHash), so runs that differ only in tracker or observation
+// settings render once.
+
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "hcpf/core/ground_truth.h"
+#include "hcpf/renderer/renderer.h"
+#include "hcpf/scenarios/scenario.h"
+
+namespace hcpf::scenarios {
+
+// The renderer's options from the scenario's `renderer.*` and `sensor.*` keys.
+renderer::RendererOptions RendererOptionsOf(const Scenario& scenario);
+
+// $HCPF_CACHE_DIR, else $XDG_CACHE_HOME/hcpf/frames, else $HOME/.cache/hcpf/frames.
+std::string DefaultFrameCacheDir();
+
+struct FrameSourceOptions {
+  bool render = false;        // render even when the scenario is at detection level
+  bool keep_images = false;   // keep the colour frames (videos, `hcpf render`)
+  std::string cache_dir;      // "" = no cache
+};
+
+struct SceneFrames {
+  std::vector<FrameGroundTruth> truth;    // one per frame
+  std::vector<renderer::RgbImage> images;  // when rendered and keep_images
+  bool rendered = false;                  // pixel-exact ground truth
+  int frames_rendered = 0;
+  int frames_from_cache = 0;
+  std::optional<renderer::GlInfo> gl;     // when a GL context was created
+};
+
+SceneFrames ProduceFrames(const Scenario& scenario, const FrameSourceOptions& options);
+
+}  // namespace hcpf::scenarios

@@ -1,0 +1,85 @@
+#include "hcpf/scenarios/frames.h"
+
+#include <spdlog/spdlog.h>
+
+#include <cstdlib>
+#include <memory>
+
+#include "progress.h"
+
+namespace hcpf::scenarios {
+
+renderer::RendererOptions RendererOptionsOf(const Scenario& s) {
+  renderer::RendererOptions o;
+  o.backend = renderer::ParseGlBackend(s.renderer.backend);
+  o.shadows = s.world.sun.shadows;
+  o.shadow_map_size = s.renderer.shadow_map_size;
+  o.pcf_radius = s.renderer.pcf_radius;
+  o.output_depth = s.renderer.write_depth;
+  o.output_instance_ids = s.renderer.write_instance_ids;
+  o.sensor.noise_sigma = s.sensor.noise_sigma;
+  o.sensor.blur_px = s.sensor.blur_px;
+  // The scenario's 100 means "no JPEG round trip"; the renderer's "off" is 0.
+  o.sensor.jpeg_quality = s.sensor.jpeg_quality >= 100 ? 0 : s.sensor.jpeg_quality;
+  o.sensor.exposure = s.sensor.exposure;
+  o.Validate();
+  return o;
+}
+
+std::string DefaultFrameCacheDir() {
+  if (const char* dir = std::getenv("HCPF_CACHE_DIR"); dir != nullptr && *dir != '\0') return dir;
+  if (const char* xdg = std::getenv("XDG_CACHE_HOME"); xdg != nullptr && *xdg != '\0') {
+    return std::string(xdg) + "/hcpf/frames";
+  }
+  if (const char* home = std::getenv("HOME"); home != nullptr && *home != '\0') {
+    return std::string(home) + "/.cache/hcpf/frames";
+  }
+  return ".hcpf-cache/frames";
+}
+
+SceneFrames ProduceFrames(const Scenario& scenario, const FrameSourceOptions& options) {
+  SceneFrames out;
+  const int frames = scenario.world.frames;
+  out.truth.reserve(frames);
+  const bool render = options.render || scenario.observation.source == ObservationSource::kRendered;
+  if (!render) {
+    for (int f = 0; f < frames; ++f) out.truth.push_back(ComputeGroundTruth(scenario.world, f));
+    return out;
+  }
+  out.rendered = true;
+  const renderer::RendererOptions ropts = RendererOptionsOf(scenario);
+  // Depth and instance images are not cached (FrameCache holds colour + truth).
+  std::unique_ptr<renderer::FrameCache> cache;
+  if (!options.cache_dir.empty() && !ropts.output_depth && !ropts.output_instance_ids) {
+    cache = std::make_unique<renderer::FrameCache>(
+        options.cache_dir, renderer::PixelHash(scenario.world, ropts, scenario.seeds.renderer));
+  }
+  std::unique_ptr<renderer::SceneRenderer> scene;  // created on the first cache miss
+  Progress progress("render", frames);
+  for (int f = 0; f < frames; ++f) {
+    std::optional<renderer::RenderedFrame> frame;
+    if (cache) frame = cache->Load(f);
+    if (frame) {
+      ++out.frames_from_cache;
+    } else {
+      if (!scene) {
+        scene = renderer::SceneRenderer::Create(scenario.world, ropts, Rng(scenario.seeds.renderer));
+        out.gl = scene->gl_info();
+      }
+      frame = scene->Render(f);
+      ++out.frames_rendered;
+      if (cache) cache->Store(*frame);
+    }
+    out.truth.push_back(std::move(frame->ground_truth));
+    if (options.keep_images) out.images.push_back(std::move(frame->rgb));
+    progress.Advance();
+  }
+  progress.Finish();
+  if (out.frames_from_cache > 0) {
+    spdlog::info("{} of {} frames read from the frame cache {}", out.frames_from_cache, frames,
+                 cache->dir().string());
+  }
+  return out;
+}
+
+}  // namespace hcpf::scenarios

@@ -1,0 +1,51 @@
+// `hcpf run` on a rendered scenario: pixel-exact ground truth from the
+// renderer, frames cached by pixel hash and reused by a run with other
+// tracker settings.
+
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <nlohmann/json.hpp>
+#include <string>
+
+#include "support/process.h"
+
+namespace hcpf {
+namespace {
+
+namespace fs = std::filesystem;
+using testing::FreshDir;
+using testing::ReadFile;
+using testing::RunCommand;
+
+TEST(RenderedRun, PixelExactTruthAndFrameCacheReuse) {
+  const fs::path dir = FreshDir("rendered-run");
+  const std::string scenario =
+      (fs::path(HCPF_SOURCE_DIR) / "scenarios" / "library" / "crossing.yaml").string();
+  const std::string common = std::string(HCPF_EXE) + " run " + scenario +
+                             " --set observation.source=rendered --set frames=24"
+                             " --set 'camera.resolution=[160, 120]' --cache " +
+                             (dir / "cache").string();
+  auto r = RunCommand(common + " --out " + (dir / "a").string());
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  auto manifest = nlohmann::json::parse(ReadFile(dir / "a" / "manifest.json"));
+  EXPECT_EQ(manifest["ground_truth"], "rendered (pixel-exact)");
+  EXPECT_EQ(manifest["frames_rendered"], 24);
+  EXPECT_NE(manifest["gl_renderer"]["renderer"].get<std::string>(), "");
+  // The renderer counts pixels: gt.json carries pixels_visible and pixels_total.
+  const auto gt = nlohmann::json::parse(ReadFile(dir / "a" / "gt.json"));
+  EXPECT_GT(gt["frames"][0]["objects"][0]["pixels_total"].get<int64_t>(), 0);
+
+  // Other tracker settings: no frame is rendered again, the truth is the same.
+  r = RunCommand(common + " --set tracker.particles=50 --out " + (dir / "b").string());
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  manifest = nlohmann::json::parse(ReadFile(dir / "b" / "manifest.json"));
+  EXPECT_EQ(manifest["frames_rendered"], 0);
+  EXPECT_EQ(manifest["frames_from_cache"], 24);
+  EXPECT_EQ(ReadFile(dir / "a" / "gt" / "gt.txt"), ReadFile(dir / "b" / "gt" / "gt.txt"));
+  EXPECT_EQ(ReadFile(dir / "a" / "detections.txt"), ReadFile(dir / "b" / "detections.txt"));
+  EXPECT_NE(ReadFile(dir / "a" / "tracks.txt"), ReadFile(dir / "b" / "tracks.txt"));
+}
+
+}  // namespace
+}  // namespace hcpf

@@ -109,7 +109,7 @@ Command AddRenderCommand(CLI::App& parent) {
   app->add_option("--out", options->out, "Output folder (created if missing; files replaced)")
       ->required();
   app->add_option("--set", options->sets,
-                  "Override a key, e.g. --set sun.azimuth_deg=90 (repeatable)");
+                  "Override a key, e.g. --set world.sun.azimuth_deg=90 (repeatable)");
   app->add_option("--cache", options->cache,
                   "Frame cache folder: frames already rendered for the same pixels are read, "
                   "new ones stored (keyed by a hash of everything that affects pixels)");

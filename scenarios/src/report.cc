@@ -195,11 +195,16 @@ ReportResult WriteReport(const ReportOptions& options) {
 
   // Lines: every combination of the swept keys other than x (the series key
   // and any other swept key), labelled "value" or "key=value, ...".
+  // Keys swept over a single value do not split lines.
+  std::vector<bool> varies(keys.size(), false);
+  for (const Cell& c : cells) {
+    for (size_t k = 0; k < keys.size(); ++k) varies[k] = varies[k] || c.values[k] != cells.front().values[k];
+  }
   const auto line_label = [&](const Cell& c) {
     std::vector<std::string> parts;
     if (series_index >= 0) parts.push_back(c.values[series_index]);
     for (size_t k = 0; k < keys.size(); ++k) {
-      if (static_cast<int>(k) == x_index || static_cast<int>(k) == series_index) continue;
+      if (static_cast<int>(k) == x_index || static_cast<int>(k) == series_index || !varies[k]) continue;
       parts.push_back(keys[k] + "=" + c.values[k]);
     }
     return parts.empty() ? std::string("all") : fmt::format("{}", fmt::join(parts, ", "));

@@ -1,0 +1,9 @@
+# End-to-end tests of hcpf sweep / merge / report / regress (included from tests/CMakeLists.txt).
+hcpf_add_test(e2e_sweep_tests
+  SOURCES ${CMAKE_CURRENT_LIST_DIR}/sweep_test.cc
+  DEPS hcpf::core SQLite::SQLite3 nlohmann_json::nlohmann_json ${OpenCV_LIBS}
+  LABELS e2e
+  TIMEOUT 600)
+target_include_directories(e2e_sweep_tests PRIVATE ${CMAKE_CURRENT_LIST_DIR}/..)
+target_compile_definitions(e2e_sweep_tests PRIVATE HCPF_EXE="$<TARGET_FILE:hcpf>")
+add_dependencies(e2e_sweep_tests hcpf)

@@ -1,0 +1,286 @@
+// End-to-end tests of hcpf sweep / merge / report / regress through the real
+// executable: resume after SIGKILL and SIGINT, shards + merge, the report in
+// headless Chromium, and the regression gate's exit codes.
+
+#include <fcntl.h>
+#include <gtest/gtest.h>
+#include <signal.h>
+#include <sqlite3.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <opencv2/imgcodecs.hpp>
+#include <regex>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "support/process.h"
+
+namespace hcpf {
+namespace {
+
+namespace fs = std::filesystem;
+using testing::FreshDir;
+using testing::ReadFile;
+using testing::RunCommand;
+
+const std::string kHcpf = HCPF_EXE;
+const fs::path kSource = HCPF_SOURCE_DIR;
+
+// Rows of a results store as text (deterministic columns only: no timings).
+std::vector<std::string> StoreRows(const fs::path& store) {
+  std::vector<std::string> rows;
+  sqlite3* db = nullptr;
+  if (sqlite3_open_v2(store.c_str(), &db, SQLITE_OPEN_READONLY, nullptr) != SQLITE_OK) {
+    sqlite3_close(db);
+    return rows;
+  }
+  sqlite3_busy_timeout(db, 5000);
+  sqlite3_stmt* s = nullptr;
+  const char* sql =
+      "SELECT key, run_index, seed, status, da_accuracy, hijack_rate, idf1, hota, mota, ospa, "
+      "\"tracker.particles\" FROM runs ORDER BY run_index";
+  if (sqlite3_prepare_v2(db, sql, -1, &s, nullptr) == SQLITE_OK) {
+    while (sqlite3_step(s) == SQLITE_ROW) {
+      std::string row;
+      for (int c = 0; c < sqlite3_column_count(s); ++c) {
+        const unsigned char* t = sqlite3_column_text(s, c);
+        row += (t ? reinterpret_cast<const char*>(t) : "NULL") + std::string("|");
+      }
+      rows.push_back(row);
+    }
+  }
+  sqlite3_finalize(s);
+  sqlite3_close(db);
+  return rows;
+}
+
+// A sweep of crossing-dominant (shortened to `frames`): 4 particle counts x 2 resamplers x seeds.
+std::string WriteSweep(const fs::path& dir, int seeds = 4, int frames = 60) {
+  const fs::path base = kSource / "scenarios" / "library" / "crossing-dominant.yaml";
+  std::ofstream(dir / "sweep.yaml") << "base: " << base.string() << "\n"
+                                    << "seeds: " << seeds << "\n"
+                                    << "grid:\n"
+                                    << "  frames: [" << frames << "]\n"
+                                    << "  tracker.particles: [100, 300, 1000, 3000]\n"
+                                    << "  tracker.resampling.method: [systematic, charged]\n"
+                                    << "report: {x: tracker.particles, series: tracker.resampling.method, "
+                                       "y: [da_accuracy, idf1, ms_per_frame]}\n";
+  return (dir / "sweep.yaml").string();
+}
+
+// Starts `hcpf args...` as a child (output to `log`) and returns its pid.
+pid_t Spawn(const std::vector<std::string>& args, const fs::path& log) {
+  const pid_t pid = ::fork();
+  if (pid == 0) {
+    const int fd = ::open(log.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+    ::dup2(fd, STDOUT_FILENO);
+    ::dup2(fd, STDERR_FILENO);
+    std::vector<char*> argv;
+    argv.push_back(const_cast<char*>(kHcpf.c_str()));
+    for (const std::string& a : args) argv.push_back(const_cast<char*>(a.c_str()));
+    argv.push_back(nullptr);
+    ::execv(kHcpf.c_str(), argv.data());
+    ::_exit(127);
+  }
+  return pid;
+}
+
+class SweepResume : public ::testing::TestWithParam<int> {};
+
+TEST_P(SweepResume, KilledMidwayThenResumedLosesAndRepeatsNothing) {
+  const int signal_number = GetParam();
+  const fs::path dir = FreshDir("sweep-resume-" + std::to_string(signal_number));
+  const std::string sweep = WriteSweep(dir);
+  // The uninterrupted reference.
+  auto ref = RunCommand(kHcpf + " sweep " + sweep + " --out " + (dir / "ref").string() + " --jobs 2");
+  ASSERT_EQ(ref.exit_code, 0) << ref.output;
+  const std::vector<std::string> expected = StoreRows(dir / "ref" / "results.sqlite");
+  ASSERT_EQ(expected.size(), 32U);
+
+  // Kill after a few runs are stored.
+  const fs::path out = dir / "out";
+  const pid_t pid = Spawn({"sweep", sweep, "--out", out.string(), "--jobs", "2"}, dir / "first.log");
+  ASSERT_GT(pid, 0);
+  size_t stored = 0;
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(120);
+  while (std::chrono::steady_clock::now() < deadline) {
+    if (fs::exists(out / "results.sqlite")) stored = StoreRows(out / "results.sqlite").size();
+    if (stored >= 4) break;
+    std::this_thread::sleep_for(std::chrono::milliseconds(5));
+  }
+  ::kill(pid, signal_number);
+  int status = 0;
+  ::waitpid(pid, &status, 0);
+  ASSERT_TRUE(WIFSIGNALED(status)) << "the sweep finished before it could be killed; make it longer\n"
+                                   << ReadFile(dir / "first.log");
+  const size_t after_kill = StoreRows(out / "results.sqlite").size();
+  ASSERT_GE(after_kill, 4U);
+  ASSERT_LT(after_kill, 32U) << "the kill came too late to test resuming";
+
+  // Resume: reuses exactly what was stored, computes the rest.
+  auto second = RunCommand(kHcpf + " sweep " + sweep + " --out " + out.string() + " --jobs 2");
+  ASSERT_EQ(second.exit_code, 0) << second.output;
+  const std::regex finished("sweep finished: 32 runs, ([0-9]+) reused, ([0-9]+) computed, 0 failed");
+  std::smatch m;
+  ASSERT_TRUE(std::regex_search(second.output, m, finished)) << second.output;
+  EXPECT_EQ(std::stoul(m[1]), after_kill);
+  EXPECT_EQ(std::stoul(m[2]), 32U - after_kill);
+  // The final store equals the uninterrupted one: nothing lost, nothing twice.
+  EXPECT_EQ(StoreRows(out / "results.sqlite"), expected);
+  // One finished folder per run; no partial folders left behind.
+  int folders = 0;
+  for (const auto& e : fs::directory_iterator(out / "runs")) {
+    EXPECT_EQ(e.path().filename().string().find(".partial-"), std::string::npos) << e.path();
+    EXPECT_TRUE(fs::exists(e.path() / "manifest.json")) << e.path();
+    ++folders;
+  }
+  EXPECT_EQ(folders, 32);
+  // A third invocation computes nothing.
+  auto third = RunCommand(kHcpf + " sweep " + sweep + " --out " + out.string() + " --jobs 2");
+  EXPECT_NE(third.output.find("32 reused, 0 computed"), std::string::npos) << third.output;
+}
+
+INSTANTIATE_TEST_SUITE_P(Signals, SweepResume, ::testing::Values(SIGKILL, SIGINT),
+                         [](const auto& info) { return info.param == SIGKILL ? "SIGKILL" : "SIGINT"; });
+
+TEST(SweepCli, ShardsMergedEqualTheUnshardedSweepAndOtherSweepsAreRefused) {
+  const fs::path dir = FreshDir("sweep-shards");
+  const std::string sweep = WriteSweep(dir, 2);
+  ASSERT_EQ(RunCommand(kHcpf + " sweep " + sweep + " --out " + (dir / "all").string() + " --jobs 2").exit_code, 0);
+  for (int i = 0; i < 2; ++i) {
+    auto r = RunCommand(kHcpf + " sweep " + sweep + " --out " + (dir / ("s" + std::to_string(i))).string() +
+                        " --jobs 2 --shard " + std::to_string(i) + "/2");
+    ASSERT_EQ(r.exit_code, 0) << r.output;
+    EXPECT_NE(r.output.find("8 runs in shard " + std::to_string(i) + "/2"), std::string::npos) << r.output;
+  }
+  auto merge = RunCommand(kHcpf + " merge " + (dir / "merged").string() + " " + (dir / "s0").string() + " " +
+                          (dir / "s1").string());
+  ASSERT_EQ(merge.exit_code, 0) << merge.output;
+  EXPECT_NE(merge.output.find("16 runs added, 0 duplicates"), std::string::npos) << merge.output;
+  EXPECT_EQ(StoreRows(dir / "merged" / "results.sqlite"), StoreRows(dir / "all" / "results.sqlite"));
+  // Bad shard spec and a store of another sweep: bad input.
+  EXPECT_EQ(RunCommand(kHcpf + " sweep " + sweep + " --out " + (dir / "x").string() + " --shard 2/2").exit_code, 2);
+  const std::string other = WriteSweep(FreshDir("sweep-shards-other"), 1);
+  ASSERT_EQ(RunCommand(kHcpf + " sweep " + other + " --out " + (dir / "o").string()).exit_code, 0);
+  EXPECT_EQ(RunCommand(kHcpf + " merge " + (dir / "m2").string() + " " + (dir / "s0").string() + " " +
+                       (dir / "o").string()).exit_code, 2);
+}
+
+// Chromium on PATH, or "".
+std::string FindChromium() {
+  for (const char* name : {"chromium", "chromium-browser"}) {
+    if (RunCommand(std::string("command -v ") + name).exit_code == 0) return name;
+  }
+  return "";
+}
+
+TEST(ReportInChromium, EveryPlotRendersWithData) {
+  const std::string chromium = FindChromium();
+  if (chromium.empty()) GTEST_SKIP() << "chromium is not installed (apt-get install -y chromium): report not rendered";
+  const fs::path dir = FreshDir("sweep-report-chromium");
+  const std::string sweep = WriteSweep(dir, 3, 150);  // the full crossing: the resamplers differ
+  ASSERT_EQ(RunCommand(kHcpf + " sweep " + sweep + " --out " + (dir / "out").string() + " --jobs 2").exit_code, 0);
+  auto report = RunCommand(kHcpf + " report " + (dir / "out").string());
+  ASSERT_EQ(report.exit_code, 0) << report.output;
+  const fs::path html = dir / "out" / "report.html";
+  ASSERT_TRUE(fs::exists(html));
+  EXPECT_NE(report.output.find(html.string()), std::string::npos) << report.output;  // prints the path
+
+  // The screenshot is kept under the build folder as a CI artefact.
+  const fs::path artefacts = fs::path(HCPF_BINARY_DIR) / "artifacts";
+  fs::create_directories(artefacts);
+  const fs::path png = artefacts / "report_screenshot.png";
+  fs::remove(png);
+  const fs::path profile = FreshDir("sweep-report-chromium-profile");
+  auto shot = RunCommand("timeout 120 " + chromium +
+                         " --headless --no-sandbox --disable-gpu --disable-quic --no-first-run"
+                         " --disable-background-networking --disable-component-update --disable-sync"
+                         " --user-data-dir=" + profile.string() + " --screenshot=" + png.string() +
+                         " --window-size=1200,2400 file://" + fs::absolute(html).string());
+  ASSERT_TRUE(fs::exists(png)) << shot.output;
+  const cv::Mat image = cv::imread(png.string(), cv::IMREAD_COLOR);
+  ASSERT_EQ(image.cols, 1200);
+  ASSERT_EQ(image.rows, 2400);
+  // Find each plot's frame: gnuplot draws the axes box in black, so the top
+  // and bottom edges are rows with a long run of dark pixels (grid lines are
+  // dotted grey, table borders light grey). Inside each frame the two series
+  // lines (#1f77b4 blue, #d62728 red) must have been drawn: a legend sample
+  // alone is ~150 such pixels, a line across a ~450 px wide plot ~900 or more.
+  const auto dark = [](const cv::Vec3b& p) { return std::max({p[0], p[1], p[2]}) < 100; };
+  const auto line_colour = [](const cv::Vec3b& p) {
+    const auto d = [&](int b, int g, int r) { return std::abs(p[0] - b) + std::abs(p[1] - g) + std::abs(p[2] - r); };
+    return d(180, 119, 31) < 60 || d(40, 39, 214) < 60;
+  };
+  std::vector<int> edges;  // first row of each cluster of long dark rows
+  int last_edge_row = -10;
+  for (int y = 0; y < image.rows; ++y) {
+    int run = 0, longest = 0;
+    for (int x = 0; x < image.cols; ++x) {
+      run = dark(image.at<cv::Vec3b>(y, x)) ? run + 1 : 0;
+      longest = std::max(longest, run);
+    }
+    if (longest < 300) continue;
+    if (y - last_edge_row > 3) edges.push_back(y);
+    last_edge_row = y;
+  }
+  ASSERT_EQ(edges.size(), 6U) << "expected the top and bottom edges of 3 plot frames in " << png;
+  for (size_t p = 0; p < 3; ++p) {
+    const int top = edges[2 * p], bottom = edges[2 * p + 1];
+    EXPECT_GT(bottom - top, 150) << "plot " << p;
+    int coloured = 0;
+    for (int y = top; y <= bottom; ++y) {
+      for (int x = 0; x < image.cols; ++x) coloured += line_colour(image.at<cv::Vec3b>(y, x));
+    }
+    EXPECT_GT(coloured, 400) << "plot " << p << " (rows " << top << "-" << bottom << ") has no data lines";
+  }
+  // The SVGs carry the data too (a renderer-independent check).
+  const std::string text = ReadFile(html);
+  size_t svgs = 0;
+  for (size_t at = text.find("<svg"); at != std::string::npos; at = text.find("<svg", at + 1)) ++svgs;
+  EXPECT_EQ(svgs, 3U);
+}
+
+TEST(RegressCli, ExitCodesOnTrueAndPlantedBaselines) {
+  const fs::path dir = FreshDir("regress-cli");
+  const fs::path suite = kSource / "scenarios" / "regress" / "suite.yaml";
+  const fs::path baseline = kSource / "scenarios" / "regress" / "baseline.json";
+  auto r = RunCommand(kHcpf + " regress " + suite.string() + " --baseline " + baseline.string() + " --jobs 2 --junit " +
+                      (dir / "ok.xml").string() + " --markdown " + (dir / "ok.md").string());
+  EXPECT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(ReadFile(dir / "ok.xml").find("failures=\"0\""), std::string::npos);
+
+  // Planted regression: the baseline claims a better IDF1 than reality.
+  nlohmann::json b = nlohmann::json::parse(ReadFile(baseline));
+  b["scenes"]["crossing-dominant-charged"]["metrics"]["idf1"] =
+      b["scenes"]["crossing-dominant-charged"]["metrics"]["idf1"].get<double>() + 0.1;
+  std::ofstream(dir / "planted.json") << b.dump(2);
+  r = RunCommand(kHcpf + " regress " + suite.string() + " --baseline " + (dir / "planted.json").string() +
+                 " --jobs 2 --junit " + (dir / "bad.xml").string() + " --markdown " + (dir / "bad.md").string());
+  EXPECT_EQ(r.exit_code, 1) << r.output;
+  EXPECT_NE(r.output.find("WORSE"), std::string::npos) << r.output;
+  EXPECT_NE(ReadFile(dir / "bad.xml").find("failures=\"1\""), std::string::npos);
+  EXPECT_NE(ReadFile(dir / "bad.md").find("**WORSE**"), std::string::npos);
+
+  // A baseline worse than reality: exit 0 with the refresh hint.
+  b["scenes"]["crossing-dominant-charged"]["metrics"]["idf1"] =
+      b["scenes"]["crossing-dominant-charged"]["metrics"]["idf1"].get<double>() - 0.2;
+  std::ofstream(dir / "better.json") << b.dump(2);
+  r = RunCommand(kHcpf + " regress " + suite.string() + " --baseline " + (dir / "better.json").string() + " --jobs 2");
+  EXPECT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("--update-baseline"), std::string::npos) << r.output;
+
+  // Missing baseline, or one lacking a scene: bad input.
+  EXPECT_EQ(RunCommand(kHcpf + " regress " + suite.string() + " --baseline " + (dir / "none.json").string()).exit_code, 2);
+  b["scenes"].erase("climb");
+  std::ofstream(dir / "partial.json") << b.dump(2);
+  EXPECT_EQ(RunCommand(kHcpf + " regress " + suite.string() + " --baseline " + (dir / "partial.json").string()).exit_code, 2);
+}
+
+}  // namespace
+}  // namespace hcpf

@@ -4,11 +4,13 @@
 #include <spdlog/spdlog.h>
 
 #include <charconv>
+#include <cstdlib>
 #include <memory>
 #include <thread>
 
 #include "command.h"
 #include "hcpf/core/error.h"
+#include "hcpf/scenarios/frames.h"
 #include "hcpf/scenarios/sweep.h"
 
 namespace hcpf::cli {
@@ -41,6 +43,8 @@ Command AddSweepCommand(CLI::App& parent) {
     std::string out;
     int jobs = 0;
     std::string shard;
+    std::string cache = scenarios::DefaultFrameCacheDir();
+    bool no_cache = false;
   };
   auto options = std::make_shared<Options>();
   CLI::App* app = parent.add_subcommand(
@@ -50,6 +54,10 @@ Command AddSweepCommand(CLI::App& parent) {
       ->required();
   app->add_option("--jobs", options->jobs, "Parallel runs (default: all cores)")->check(CLI::Range(0, 1024));
   app->add_option("--shard", options->shard, "Run only runs with index % n == i (i/n), for batch arrays");
+  app->add_option("--cache", options->cache,
+                  "Frame cache for rendered scenarios, shared by every run: frames are rendered once")
+      ->capture_default_str();
+  app->add_flag("--no-cache", options->no_cache, "Render every run's frames, read and write no cache");
   return {app, [options] {
             scenarios::SweepOptions sweep_options;
             sweep_options.out_dir = options->out;
@@ -59,7 +67,12 @@ Command AddSweepCommand(CLI::App& parent) {
             if (!options->shard.empty()) {
               std::tie(sweep_options.shard_index, sweep_options.shard_count) = ParseShard(options->shard);
             }
+            sweep_options.frame_cache_dir = options->no_cache ? "" : options->cache;
             sweep_options.Validate();
+            // Rendered runs: one llvmpipe (Mesa software rasteriser) thread per
+            // worker, since the workers already use every core. Must be set
+            // before the first GL context; an explicit setting is kept.
+            if (sweep_options.jobs > 1) ::setenv("LP_NUM_THREADS", "1", 0);
             const scenarios::SweepSpec spec = scenarios::LoadSweepFile(options->file);
             const std::vector<scenarios::SweepRun> runs = scenarios::ExpandSweep(spec);
             const scenarios::SweepResult r = scenarios::RunSweep(spec, runs, sweep_options);

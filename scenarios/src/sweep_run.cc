@@ -100,6 +100,7 @@ SweepResult RunSweep(const SweepSpec& spec, const std::vector<SweepRun>& runs,
         RunOptions run_options;
         run_options.out_dir = (out / record.run_dir).string();
         run_options.threads = 1;
+        run_options.frame_cache_dir = options.frame_cache_dir;
         RunScenario(run.scenario, run_options);
         record.metrics = ReadRunMetrics(run_options.out_dir);
         record.ok = true;

@@ -69,7 +69,13 @@ TEST(Report, HtmlHasOnePlotWithDataPerMetricAndCsvHasOneRowPerCell) {
   o.out_dir = (dir / "out").string();
   o.jobs = 2;
   o.progress = false;
-  RunSweep(spec, ExpandSweep(spec), o);
+  const auto runs = ExpandSweep(spec);
+  RunSweep(spec, runs, o);
+  // A video in the first-seed run of (20, charged) (index 3: ((0*2)+1)*3 + 0) and
+  // in a second-seed run (index 4), which must not be linked.
+  ASSERT_EQ(runs[3].seed_index, 0);
+  std::ofstream(fs::path(o.out_dir) / "runs" / runs[3].key / "overlay.mp4") << "video";
+  std::ofstream(fs::path(o.out_dir) / "runs" / runs[4].key / "overlay.mp4") << "video";
   const ReportResult r = WriteReport({.dir = o.out_dir});
   EXPECT_EQ(r.plots, 3);
   EXPECT_EQ(r.cells, 4);
@@ -90,6 +96,8 @@ TEST(Report, HtmlHasOnePlotWithDataPerMetricAndCsvHasOneRowPerCell) {
   EXPECT_EQ(html.find("<script src"), std::string::npos);
   EXPECT_EQ(html.find("<link"), std::string::npos);
   EXPECT_NE(html.find("name: &quot;minimal&quot;"), std::string::npos);  // the resolved base scenario, escaped
+  EXPECT_NE(html.find("href=\"runs/" + runs[3].key + "/overlay.mp4\""), std::string::npos);
+  EXPECT_EQ(html.find("runs/" + runs[4].key + "/overlay.mp4"), std::string::npos);
 
   // summary.csv: header + 4 cells; the idf1 mean of cell (200, charged) is the
   // mean of its three runs' values in the store, computed here independently.

@@ -92,6 +92,9 @@ struct SweepOptions {
   int shard_index = 0; // run only runs with index % shard_count == shard_index
   int shard_count = 1;
   bool progress = true;
+  // Rendered scenarios: the frame cache shared by all runs ("" = none). Runs
+  // that differ only in tracker settings render their frames once.
+  std::string frame_cache_dir;
   void Validate() const;
 };
 

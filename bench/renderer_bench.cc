@@ -108,6 +108,7 @@ void BM_RenderFrame(benchmark::State& state) {
   hcpf::renderer::RendererOptions options;
   options.ground_truth = state.range(0) != 0;
   options.shadows = state.range(1) != 0;
+  options.pcf_radius = static_cast<int>(state.range(2));
   auto renderer =
       hcpf::renderer::SceneRenderer::Create(BenchWorld(), options, hcpf::Rng(1), Context());
   int frame = 0;
@@ -121,15 +122,15 @@ void BM_RenderFrame(benchmark::State& state) {
                                              benchmark::Counter::kIsRate);
   state.counters["cpu_ms_per_frame"] =
       (ProcessCpuMs() - cpu_start) / static_cast<double>(state.iterations());
-  state.counters["pcf_radius"] = options.pcf_radius;
   state.SetLabel(Context()->info().renderer);
 }
 BENCHMARK(BM_RenderFrame)
-    ->ArgNames({"gt", "shadows"})
-    ->Args({1, 1})
-    ->Args({0, 1})
-    ->Args({1, 0})
-    ->Args({0, 0})
+    ->ArgNames({"gt", "shadows", "pcf"})
+    ->Args({1, 1, 1})
+    ->Args({0, 1, 1})
+    ->Args({1, 1, 0})
+    ->Args({1, 0, 1})
+    ->Args({0, 0, 1})
     ->Unit(benchmark::kMillisecond)
     ->UseRealTime()  // llvmpipe rasterises on its own threads: wall time is the cost
     ->MinTime(3.0);

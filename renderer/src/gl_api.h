@@ -64,6 +64,7 @@ using DrawElementsFn = void(APIENTRYP)(GLenum mode, GLsizei count, GLenum type,
   X(BindTextureFn, BindTexture, "glBindTexture")                        \
   X(PFNGLTEXIMAGE2DPROC, TexImage2D, "glTexImage2D")                           \
   X(PFNGLTEXPARAMETERIPROC, TexParameteri, "glTexParameteri")                  \
+  X(PFNGLTEXPARAMETERFVPROC, TexParameterfv, "glTexParameterfv")               \
   X(PFNGLACTIVETEXTUREPROC, ActiveTexture, "glActiveTexture")                  \
   X(DeleteTexturesFn, DeleteTextures, "glDeleteTextures")               \
   X(PFNGLGENERATEMIPMAPPROC, GenerateMipmap, "glGenerateMipmap")               \

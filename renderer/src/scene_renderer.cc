@@ -64,9 +64,6 @@ struct TerrainTile {
 };
 
 constexpr int kTerrainTileCells = 8;
-// Shadow occupancy: a coarse light-space grid marking where any caster can
-// put a shadow, so the PCF taps run only there (most of the ground is lit).
-constexpr int kOccupancySize = 128;
 
 struct VehicleModel {
   GpuMesh gpu;
@@ -127,13 +124,15 @@ class GlSceneRenderer final : public SceneRenderer {
     drop(terrain_);
     drop(occluders_);
     for (VehicleModel& v : models_) drop(v.gpu);
-    const GLuint textures[] = {shadow_tex_, ground_tex_, road_tex_, mask_tex_, occupancy_tex_};
-    gl_.DeleteTextures(5, textures);
+    const GLuint textures[] = {shadow_tex_, ground_tex_, road_tex_, mask_tex_};
+    gl_.DeleteTextures(4, textures);
     gl_.DeleteFramebuffers(1, &shadow_fbo_);
     gl_.DeleteFramebuffers(1, &main_fbo_);
     const GLuint rbs[] = {color_rb_, depth_rb_};
     gl_.DeleteRenderbuffers(2, rbs);
-    gl_.DeleteProgram(scene_program_);
+    gl_.DeleteProgram(object_program_.id);
+    gl_.DeleteProgram(terrain_program_.id);
+    gl_.DeleteProgram(id_program_.id);
     gl_.DeleteProgram(shadow_program_);
   }
 
@@ -158,9 +157,6 @@ class GlSceneRenderer final : public SceneRenderer {
   // Height of the rendered terrain mesh (the triangles, not the analytic
   // field) at (x, y): vehicles stand on what is drawn.
   double MeshHeightAt(double x_m, double y_m) const;
-  void UpdateOccupancy(const Eigen::Matrix4f& light_view_proj,
-                       const std::vector<Eigen::Matrix4f>& vehicle_models,
-                       const std::vector<size_t>& vehicle_slots);
   void BuildOccluders();
   void BuildVehicles();
   GpuMesh Upload(const MeshData& mesh);
@@ -187,9 +183,24 @@ class GlSceneRenderer final : public SceneRenderer {
   double scene_top_m_ = 0.0;  // highest point of anything drawn
   double scene_bottom_m_ = 0.0;
 
-  GLuint scene_program_ = 0;
+  struct Program {
+    GLuint id = 0;
+    std::map<std::string, GLint> locations;
+  };
+  // Colour-pass variants (see shaders.h) and the count-pass program.
+  Program object_program_;
+  Program terrain_program_;
+  Program id_program_;
+  const Program* current_ = nullptr;
   GLuint shadow_program_ = 0;
-  std::map<std::string, GLint> uniforms_;
+  Program MakeProgram(const std::string& defines);
+  void Use(const Program& program) {
+    gl_.UseProgram(program.id);
+    current_ = &program;
+  }
+  // Sets the per-frame uniforms shared by the colour-pass programs.
+  void SetFrameUniforms(const Eigen::Matrix4f& view_proj, const Eigen::Matrix4f& light_view_proj,
+                        double light_depth_m);
   GLint shadow_model_loc_ = -1;
   GLint shadow_vp_loc_ = -1;
   GLuint shadow_fbo_ = 0;
@@ -201,23 +212,23 @@ class GlSceneRenderer final : public SceneRenderer {
   GLuint ground_tex_ = 0;
   GLuint road_tex_ = 0;
   GLuint mask_tex_ = 0;
-  GLuint occupancy_tex_ = 0;
-  std::vector<uint8_t> occupancy_;
   GpuMesh terrain_;
   std::vector<TerrainTile> tiles_;
   int terrain_cells_ = 1;
   std::vector<float> terrain_heights_;  // (cells+1)^2 vertex heights, row-major
-  // Corners of every static caster's bounding boxes (world frame).
-  std::vector<std::array<Eigen::Vector3f, 8>> static_caster_boxes_;
+
   GpuMesh occluders_;
   std::vector<VehicleModel> models_;
   std::vector<size_t> target_model_;  // per target: index into models_
   std::vector<uint8_t> rgba_;
   std::vector<uint8_t> region_;
 
+  // Location of a uniform in the current program (-1 when the variant does
+  // not use it: glUniform* ignores -1).
   GLint U(const char* name) const {
-    const auto it = uniforms_.find(name);
-    HCPF_CHECK(it != uniforms_.end()) << "uniform " << name;
+    HCPF_CHECK(current_ != nullptr);
+    const auto it = current_->locations.find(name);
+    HCPF_CHECK(it != current_->locations.end()) << "uniform " << name;
     return it->second;
   }
 };
@@ -255,25 +266,63 @@ GLuint GlSceneRenderer::Link(const char* vs, const char* fs) {
   return program;
 }
 
-void GlSceneRenderer::BuildPrograms() {
-  scene_program_ = Link(internal::kSceneVertexShader, internal::kSceneFragmentShader);
-  shadow_program_ = Link(internal::kShadowVertexShader, internal::kShadowFragmentShader);
+GlSceneRenderer::Program GlSceneRenderer::MakeProgram(const std::string& defines) {
+  const std::string fs = "#version 330 core\n" + defines + internal::kSceneFragmentBody;
+  Program program;
+  program.id = Link(internal::kSceneVertexShader, fs.c_str());
   for (const char* name :
-       {"u_model", "u_normal_matrix", "u_view_proj", "u_light_view_proj", "u_id_only", "u_id",
-        "u_material", "u_tint", "u_sun_dir", "u_sun_color", "u_sky_color", "u_ground_color",
-        "u_shadows", "u_pcf", "u_shadow_texel", "u_shadow_bias", "u_shadow_map", "u_ground_tex",
-        "u_road_tex", "u_road_mask", "u_occupancy", "u_terrain_min", "u_terrain_size", "u_tile_m", "u_roads"}) {
-    uniforms_[name] = gl_.GetUniformLocation(scene_program_, name);
+       {"u_model", "u_normal_matrix", "u_view_proj", "u_light_view_proj", "u_id", "u_tint",
+        "u_sun_dir", "u_sun_color", "u_sky_color", "u_ground_color", "u_shadow_texel",
+        "u_shadow_bias", "u_shadow_map", "u_ground_tex", "u_road_tex", "u_road_mask",
+        "u_terrain_min", "u_terrain_size", "u_tile_m"}) {
+    program.locations[name] = gl_.GetUniformLocation(program.id, name);
   }
-  shadow_model_loc_ = gl_.GetUniformLocation(shadow_program_, "u_model");
-  shadow_vp_loc_ = gl_.GetUniformLocation(shadow_program_, "u_light_view_proj");
-  gl_.UseProgram(scene_program_);
+  Use(program);
   gl_.Uniform1i(U("u_shadow_map"), 0);
   gl_.Uniform1i(U("u_ground_tex"), 1);
   gl_.Uniform1i(U("u_road_tex"), 2);
   gl_.Uniform1i(U("u_road_mask"), 3);
-  gl_.Uniform1i(U("u_occupancy"), 4);
+  current_ = nullptr;
+  return program;
+}
+
+void GlSceneRenderer::BuildPrograms() {
+  std::string common;
+  if (shadows_) common += fmt::format("#define SHADOWS\n#define PCF_RADIUS {}\n", options_.pcf_radius);
+  object_program_ = MakeProgram(common);
+  terrain_program_ =
+      MakeProgram(common + "#define TERRAIN\n" + (world_.terrain.roads ? "#define ROADS\n" : ""));
+  id_program_ = MakeProgram("#define ID_ONLY\n");
+  shadow_program_ = Link(internal::kShadowVertexShader, internal::kShadowFragmentShader);
+  shadow_model_loc_ = gl_.GetUniformLocation(shadow_program_, "u_model");
+  shadow_vp_loc_ = gl_.GetUniformLocation(shadow_program_, "u_light_view_proj");
   gl_.CheckError("program setup");
+}
+
+void GlSceneRenderer::SetFrameUniforms(const Eigen::Matrix4f& view_proj,
+                                       const Eigen::Matrix4f& light_view_proj,
+                                       double light_depth_m) {
+  gl_.UniformMatrix4fv(U("u_view_proj"), 1, GL_FALSE, view_proj.data());
+  gl_.UniformMatrix4fv(U("u_light_view_proj"), 1, GL_FALSE, light_view_proj.data());
+  const Eigen::Vector3f sun = world_.sun.Direction().normalized().cast<float>();
+  gl_.Uniform3f(U("u_sun_dir"), sun.x(), sun.y(), sun.z());
+  // Below the horizon the sun contributes nothing (N.L clamps per face, but
+  // the terrain would still be lit from below the horizon otherwise).
+  const float sun_scale = world_.sun.elevation_deg > 0.0 ? 1.0f : 0.0f;
+  gl_.Uniform3f(U("u_sun_color"), sun_scale * kSunColor.x(), sun_scale * kSunColor.y(),
+                sun_scale * kSunColor.z());
+  gl_.Uniform3f(U("u_sky_color"), kSkyAmbient.x(), kSkyAmbient.y(), kSkyAmbient.z());
+  gl_.Uniform3f(U("u_ground_color"), kGroundAmbient.x(), kGroundAmbient.y(), kGroundAmbient.z());
+  const float texel = 1.0f / static_cast<float>(shadow_size_);
+  gl_.Uniform2f(U("u_shadow_texel"), texel, texel);
+  gl_.Uniform1f(U("u_shadow_bias"), static_cast<float>(kShadowBiasM / light_depth_m));
+  gl_.Uniform2f(U("u_terrain_min"), static_cast<float>(-0.5 * world_.terrain.size_m.x()),
+                static_cast<float>(-0.5 * world_.terrain.size_m.y()));
+  gl_.Uniform2f(U("u_terrain_size"), static_cast<float>(world_.terrain.size_m.x()),
+                static_cast<float>(world_.terrain.size_m.y()));
+  gl_.Uniform1f(U("u_tile_m"), static_cast<float>(options_.texture_tile_m));
+  gl_.Uniform1f(U("u_id"), 0.0f);
+  gl_.Uniform3f(U("u_tint"), 1.0f, 1.0f, 1.0f);
 }
 
 void GlSceneRenderer::BuildFramebuffers() {
@@ -286,8 +335,11 @@ void GlSceneRenderer::BuildFramebuffers() {
                  GL_DEPTH_COMPONENT, GL_UNSIGNED_INT, nullptr);
   gl_.TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
   gl_.TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
-  gl_.TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
-  gl_.TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+  // Outside the map nothing casts: the border compares as depth 1 (lit).
+  gl_.TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_BORDER);
+  gl_.TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_BORDER);
+  const GLfloat border[4] = {1.0f, 1.0f, 1.0f, 1.0f};
+  gl_.TexParameterfv(GL_TEXTURE_2D, GL_TEXTURE_BORDER_COLOR, border);
   gl_.TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_COMPARE_MODE, GL_COMPARE_REF_TO_TEXTURE);
   gl_.TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_COMPARE_FUNC, GL_LEQUAL);
   gl_.GenFramebuffers(1, &shadow_fbo_);
@@ -347,14 +399,7 @@ void GlSceneRenderer::BuildTextures() {
   gl_.ActiveTexture(GL_TEXTURE3);
   const int mask_size = world_.terrain.roads ? 1024 : 1;
   mask_tex_ = UploadTexture(internal::RoadMask(world_, mask_size, options_.road_width_m), false);
-  gl_.ActiveTexture(GL_TEXTURE4);
-  gl_.GenTextures(1, &occupancy_tex_);
-  gl_.BindTexture(GL_TEXTURE_2D, occupancy_tex_);
-  occupancy_.assign(kOccupancySize * kOccupancySize, 0);
-  gl_.TexImage2D(GL_TEXTURE_2D, 0, GL_R8, kOccupancySize, kOccupancySize, 0, GL_RED,
-                 GL_UNSIGNED_BYTE, occupancy_.data());
-  gl_.TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
-  gl_.TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+
   gl_.ActiveTexture(GL_TEXTURE0);
   gl_.CheckError("textures");
 }
@@ -465,12 +510,6 @@ void GlSceneRenderer::BuildOccluders() {
       for (auto& n : m.normals) n = r * n;
       mesh.Append(m);
       const Eigen::AlignedBox3f bounds = m.Bounds();
-      std::array<Eigen::Vector3f, 8> corners;
-      for (int c = 0; c < 8; ++c) {
-        corners[static_cast<size_t>(c)] =
-            bounds.corner(static_cast<Eigen::AlignedBox3f::CornerType>(c));
-      }
-      static_caster_boxes_.push_back(corners);
       scene_top_m_ = std::max(scene_top_m_, double{bounds.max().z()});
       continue;
     }
@@ -494,10 +533,7 @@ void GlSceneRenderer::BuildOccluders() {
       builder.AddOrientedBox(boxes[b].centre_m.cast<float>(), boxes[b].half_size_m.cast<float>(),
                              static_cast<float>(boxes[b].yaw_deg * kDegToRad), color);
       scene_top_m_ = std::max(scene_top_m_, boxes[b].centre_m.z() + boxes[b].half_size_m.z());
-      const auto corners = boxes[b].Corners();
-      std::array<Eigen::Vector3f, 8> fc;
-      for (size_t c = 0; c < 8; ++c) fc[c] = corners[c].cast<float>();
-      static_caster_boxes_.push_back(fc);
+
     }
   }
   mesh.Append(builder.mesh());
@@ -687,58 +723,6 @@ void GlSceneRenderer::DrawTerrain(const Eigen::Matrix4f& view_proj) const {
   flush();
 }
 
-void GlSceneRenderer::UpdateOccupancy(const Eigen::Matrix4f& light_view_proj,
-                                      const std::vector<Eigen::Matrix4f>& vehicle_models,
-                                      const std::vector<size_t>& vehicle_slots) {
-  std::fill(occupancy_.begin(), occupancy_.end(), 0);
-  // A receiver is shadowed only where some caster covers the same light-space
-  // point, i.e. inside a caster's light-space footprint. Footprints are grown
-  // by the PCF kernel, the depth bias and a cell for rounding.
-  const float margin =
-      static_cast<float>(options_.pcf_radius + 2) / static_cast<float>(shadow_size_) +
-      1.0f / kOccupancySize;
-  const auto mark = [&](const std::array<Eigen::Vector3f, 8>& corners, const Eigen::Matrix4f& m) {
-    Eigen::Vector2f lo = Eigen::Vector2f::Constant(std::numeric_limits<float>::max());
-    Eigen::Vector2f hi = -lo;
-    for (const Eigen::Vector3f& c : corners) {
-      const Eigen::Vector4f q = light_view_proj * (m * Eigen::Vector4f(c.x(), c.y(), c.z(), 1.0f));
-      const Eigen::Vector2f uv = (q.head<2>() / q.w()).array() * 0.5f + 0.5f;
-      lo = lo.cwiseMin(uv);
-      hi = hi.cwiseMax(uv);
-    }
-    const auto cell = [](float x) {
-      return std::clamp(static_cast<int>(std::floor(x * kOccupancySize)), 0, kOccupancySize - 1);
-    };
-    if (hi.x() + margin < 0.0f || hi.y() + margin < 0.0f || lo.x() - margin > 1.0f ||
-        lo.y() - margin > 1.0f) {
-      return;
-    }
-    for (int y = cell(lo.y() - margin); y <= cell(hi.y() + margin); ++y) {
-      for (int x = cell(lo.x() - margin); x <= cell(hi.x() + margin); ++x) {
-        occupancy_[static_cast<size_t>(y) * kOccupancySize + x] = 255;
-      }
-    }
-  };
-  const Eigen::Matrix4f identity = Eigen::Matrix4f::Identity();
-  for (const auto& corners : static_caster_boxes_) mark(corners, identity);
-  for (size_t i = 0; i < vehicle_models.size(); ++i) {
-    const Eigen::Vector3f d = models_[target_model_[vehicle_slots[i]]].dims;
-    std::array<Eigen::Vector3f, 8> corners;
-    for (int c = 0; c < 8; ++c) {
-      corners[static_cast<size_t>(c)] = {(c & 1) ? 0.5f * d.x() : -0.5f * d.x(),
-                                         (c & 2) ? 0.5f * d.y() : -0.5f * d.y(),
-                                         (c & 4) ? d.z() : 0.0f};
-    }
-    mark(corners, vehicle_models[i]);
-  }
-  gl_.ActiveTexture(GL_TEXTURE4);
-  gl_.BindTexture(GL_TEXTURE_2D, occupancy_tex_);
-  gl_.PixelStorei(GL_UNPACK_ALIGNMENT, 1);
-  gl_.TexImage2D(GL_TEXTURE_2D, 0, GL_R8, kOccupancySize, kOccupancySize, 0, GL_RED,
-                 GL_UNSIGNED_BYTE, occupancy_.data());
-  gl_.ActiveTexture(GL_TEXTURE0);
-}
-
 RenderedFrame GlSceneRenderer::Render(int frame) {
   context_->MakeCurrent();
   RenderedFrame out;
@@ -799,13 +783,6 @@ RenderedFrame GlSceneRenderer::Render(int frame) {
       Draw(models_[target_model_[t.slot]].gpu);
     }
     gl_.Disable(GL_POLYGON_OFFSET_FILL);
-    std::vector<Eigen::Matrix4f> vehicle_models;
-    std::vector<size_t> vehicle_slots;
-    for (const TargetInstance& t : targets) {
-      vehicle_models.push_back(t.model);
-      vehicle_slots.push_back(t.slot);
-    }
-    UpdateOccupancy(light_view_proj, vehicle_models, vehicle_slots);
     gl_.CheckError("shadow pass");
   }
 
@@ -824,7 +801,6 @@ RenderedFrame GlSceneRenderer::Render(int frame) {
   gl_.ClearColor(kSkyClear.x(), kSkyClear.y(), kSkyClear.z(), 0.0f);
   gl_.ClearDepth(1.0);
   gl_.Clear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
-  gl_.UseProgram(scene_program_);
   gl_.ActiveTexture(GL_TEXTURE0);
   gl_.BindTexture(GL_TEXTURE_2D, shadow_tex_);
   gl_.ActiveTexture(GL_TEXTURE1);
@@ -833,36 +809,10 @@ RenderedFrame GlSceneRenderer::Render(int frame) {
   gl_.BindTexture(GL_TEXTURE_2D, road_tex_);
   gl_.ActiveTexture(GL_TEXTURE3);
   gl_.BindTexture(GL_TEXTURE_2D, mask_tex_);
-  gl_.ActiveTexture(GL_TEXTURE4);
-  gl_.BindTexture(GL_TEXTURE_2D, occupancy_tex_);
-  gl_.UniformMatrix4fv(U("u_view_proj"), 1, GL_FALSE, view_proj.data());
-  gl_.UniformMatrix4fv(U("u_light_view_proj"), 1, GL_FALSE, light_view_proj.data());
-  const Eigen::Vector3f sun = world_.sun.Direction().normalized().cast<float>();
-  gl_.Uniform3f(U("u_sun_dir"), sun.x(), sun.y(), sun.z());
-  // Below the horizon the sun contributes nothing (N.L clamps per face, but
-  // the terrain would still be lit from below the horizon otherwise).
-  const float sun_scale = world_.sun.elevation_deg > 0.0 ? 1.0f : 0.0f;
-  gl_.Uniform3f(U("u_sun_color"), sun_scale * kSunColor.x(), sun_scale * kSunColor.y(),
-                sun_scale * kSunColor.z());
-  gl_.Uniform3f(U("u_sky_color"), kSkyAmbient.x(), kSkyAmbient.y(), kSkyAmbient.z());
-  gl_.Uniform3f(U("u_ground_color"), kGroundAmbient.x(), kGroundAmbient.y(), kGroundAmbient.z());
-  gl_.Uniform1i(U("u_shadows"), shadows_ ? 1 : 0);
-  gl_.Uniform1i(U("u_pcf"), options_.pcf_radius);
-  const float texel = 1.0f / static_cast<float>(shadow_size_);
-  gl_.Uniform2f(U("u_shadow_texel"), texel, texel);
-  gl_.Uniform1f(U("u_shadow_bias"), static_cast<float>(kShadowBiasM / light_depth_m));
-  gl_.Uniform2f(U("u_terrain_min"), static_cast<float>(-0.5 * world_.terrain.size_m.x()),
-                static_cast<float>(-0.5 * world_.terrain.size_m.y()));
-  gl_.Uniform2f(U("u_terrain_size"), static_cast<float>(world_.terrain.size_m.x()),
-                static_cast<float>(world_.terrain.size_m.y()));
-  gl_.Uniform1f(U("u_tile_m"), static_cast<float>(options_.texture_tile_m));
-  gl_.Uniform1i(U("u_roads"), world_.terrain.roads ? 1 : 0);
-  gl_.Uniform1i(U("u_id_only"), 0);
-  gl_.Uniform1f(U("u_id"), 0.0f);
-  gl_.Uniform3f(U("u_tint"), 1.0f, 1.0f, 1.0f);
   // Front to back-ish: vehicles and occluders first, so that the depth test
   // rejects the terrain fragments they cover before shading them.
-  gl_.Uniform1i(U("u_material"), 0);
+  Use(object_program_);
+  SetFrameUniforms(view_proj, light_view_proj, light_depth_m);
   for (const TargetInstance& t : targets) {
     const Eigen::Vector3f tint = world_.targets[t.slot].tint.cast<float>();
     gl_.Uniform3f(U("u_tint"), tint.x(), tint.y(), tint.z());
@@ -874,7 +824,9 @@ RenderedFrame GlSceneRenderer::Render(int frame) {
   gl_.Uniform1f(U("u_id"), 0.0f);
   SetModel(Eigen::Matrix4f::Identity());
   if (occluders_.index_count > 0) Draw(occluders_);
-  gl_.Uniform1i(U("u_material"), 1);
+  Use(terrain_program_);
+  SetFrameUniforms(view_proj, light_view_proj, light_depth_m);
+  SetModel(Eigen::Matrix4f::Identity());
   DrawTerrain(view_proj);
   gl_.CheckError("colour pass");
 
@@ -1021,7 +973,13 @@ FrameGroundTruth GlSceneRenderer::GroundTruth(int frame, const CameraState& came
     if (p.any_in_front && p.sx1 > p.sx0 && p.sy1 > p.sy0) todo.push_back(i);
   }
   gl_.BindFramebuffer(GL_FRAMEBUFFER, main_fbo_);
-  gl_.Uniform1i(U("u_id_only"), 1);
+  Use(id_program_);
+  {
+    // Same view-projection as the colour pass (identical vertex stage).
+    double far_m = 0.0;
+    const Eigen::Matrix4f view_proj = ViewProj(camera, &far_m);
+    gl_.UniformMatrix4fv(U("u_view_proj"), 1, GL_FALSE, view_proj.data());
+  }
   gl_.Enable(GL_SCISSOR_TEST);
   gl_.ClearColor(0.0f, 0.0f, 0.0f, 0.0f);
   while (!todo.empty()) {
@@ -1098,7 +1056,6 @@ FrameGroundTruth GlSceneRenderer::GroundTruth(int frame, const CameraState& came
     gt.objects.push_back(obj);
   }
   gl_.Disable(GL_SCISSOR_TEST);
-  gl_.Uniform1i(U("u_id_only"), 0);
   gl_.CheckError("ground-truth pass");
   return gt;
 }

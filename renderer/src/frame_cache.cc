@@ -16,7 +16,7 @@ namespace {
 
 // Bump when shading, geometry or ground-truth rules change, so old caches
 // are not reused.
-constexpr int kRendererVersion = 1;
+constexpr int kRendererVersion = 2;  // 2: shader variants, border-lit shadow map
 
 std::string FileDigest(const std::string& path) {
   std::ifstream in(path, std::ios::binary);

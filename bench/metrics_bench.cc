@@ -24,6 +24,7 @@
 #include "hcpf/core/rng.h"
 #include "hcpf/metrics/mot_io.h"
 #include "hcpf/metrics/mot_metrics.h"
+#include "hcpf/metrics/report.h"
 
 namespace {
 
@@ -146,6 +147,63 @@ void BM_ParseAndScore(benchmark::State& state) {
   }
 }
 BENCHMARK(BM_ParseAndScore)->Unit(benchmark::kMillisecond);
+
+// Parse only: both files' text (already in memory) -> MotFile rows.
+void BM_ParseOnly(benchmark::State& state) {
+  const std::string gt_text = hcpf::metrics::FormatMotGroundTruth(Data().gt);
+  const std::string hyp_text = hcpf::metrics::FormatMotTracks(Data().hyp);
+  for (auto _ : state) {
+    auto gt = hcpf::metrics::ParseMotText(gt_text, "gt.txt", hcpf::metrics::MotFileKind::kGroundTruth, Data().frames);
+    auto hyp = hcpf::metrics::ParseMotText(hyp_text, "tracks.txt", hcpf::metrics::MotFileKind::kTracks, Data().frames);
+    benchmark::DoNotOptimize(gt);
+    benchmark::DoNotOptimize(hyp);
+  }
+  state.SetBytesProcessed(static_cast<int64_t>(state.iterations()) *
+                          static_cast<int64_t>(gt_text.size() + hyp_text.size()));
+}
+BENCHMARK(BM_ParseOnly)->Unit(benchmark::kMillisecond);
+
+// Preprocessing only: MotFiles -> Sequence (per-frame buckets + MOT17 distractor matching).
+void BM_BuildSequence(benchmark::State& state) {
+  const hcpf::metrics::MotFile gt{.path = "gt", .kind = hcpf::metrics::MotFileKind::kGroundTruth, .num_columns = 9, .rows = Data().gt};
+  const hcpf::metrics::MotFile hyp{.path = "hyp", .kind = hcpf::metrics::MotFileKind::kTracks, .num_columns = 10, .rows = Data().hyp};
+  for (auto _ : state) {
+    auto seq = hcpf::metrics::BuildSequence(gt, hyp, Data().frames, hcpf::metrics::Benchmark::kMot17);
+    benchmark::DoNotOptimize(seq);
+  }
+}
+BENCHMARK(BM_BuildSequence)->Unit(benchmark::kMillisecond);
+
+// What `hcpf score GT HYP` does after start-up: ScoreFiles on files written to a
+// temporary folder (read + parse + seqinfo + preprocess + all metrics) and the table.
+void BM_ScoreFiles(benchmark::State& state) {
+  const std::filesystem::path dir = std::filesystem::temp_directory_path() / "hcpf_metrics_bench_sequence";
+  std::filesystem::create_directories(dir / "gt");
+  hcpf::metrics::WriteMotGroundTruth((dir / "gt" / "gt.txt").string(), Data().gt);
+  hcpf::metrics::WriteSeqInfo((dir / "seqinfo.ini").string(),
+                              {.name = "BENCH-2000x30", .seq_length = Data().frames, .im_width = 1920, .im_height = 1080});
+  hcpf::metrics::WriteMotTracks((dir / "tracks.txt").string(), Data().hyp);
+  hcpf::metrics::ScoreFilesOptions options;
+  options.gt_path = (dir / "gt" / "gt.txt").string();
+  options.hyp_path = (dir / "tracks.txt").string();
+  for (auto _ : state) {
+    const hcpf::metrics::ScoredSequence s = hcpf::metrics::ScoreFiles(options);
+    std::string table = hcpf::metrics::FormatMotTable({&s.summary, 1});
+    benchmark::DoNotOptimize(table);
+  }
+  std::filesystem::remove_all(dir);
+}
+BENCHMARK(BM_ScoreFiles)->Unit(benchmark::kMillisecond);
+
+// The --json output of `hcpf score` for one sequence.
+void BM_SummaryJson(benchmark::State& state) {
+  const hcpf::metrics::MotSummary summary = hcpf::metrics::ComputeAll(MakeSequence());
+  for (auto _ : state) {
+    std::string json = hcpf::metrics::MotSummariesToJson({&summary, 1}, nullptr);
+    benchmark::DoNotOptimize(json);
+  }
+}
+BENCHMARK(BM_SummaryJson)->Unit(benchmark::kMicrosecond);
 
 }  // namespace
 

@@ -7,13 +7,16 @@
 #include <charconv>
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 #include <limits>
+#include <span>
 #include <string_view>
 #include <unordered_set>
 
 #include "hcpf/core/check.h"
 #include "hcpf/core/error.h"
 #include "hcpf/metrics/assignment.h"
+#include "mot_io_internal.h"
 
 namespace hcpf::metrics {
 namespace {
@@ -25,7 +28,20 @@ std::string ReadWholeFile(const std::string& path) {
   if (f == nullptr) {
     throw InputError(SourceLocation{path, 0, 0, {}}, "a readable file", "none (cannot open)");
   }
+  // One read of the whole file when its size is known (regular files); then
+  // chunks until EOF (pipes, files that grow while read).
   std::string text;
+  if (std::fseek(f, 0, SEEK_END) == 0) {
+    const long size = std::ftell(f);
+    if (size > 0 && std::fseek(f, 0, SEEK_SET) == 0) {
+      text.resize(static_cast<size_t>(size));
+      text.resize(std::fread(text.data(), 1, text.size(), f));
+    } else {
+      std::rewind(f);
+    }
+  } else {
+    std::clearerr(f);
+  }
   char buffer[1 << 16];
   size_t n = 0;
   while ((n = std::fread(buffer, 1, sizeof(buffer), f)) > 0) text.append(buffer, n);
@@ -128,15 +144,236 @@ double MotIou(const BoxPx& a, const BoxPx& b) {
   return inter / uni;
 }
 
+namespace {
+
+// The numbers of one row as parsed, before the per-row checks.
+struct RowValues {
+  double v[kMaxFields];
+  int count = 0;
+  bool has_exact_id = false;  // column 2 is an integer literal within 64 bits
+  int64_t exact_id = 0;
+};
+
+// General path for one trimmed, non-empty line: splits it (commas or
+// whitespace), reports column-count and number errors with file:line:column.
+void ParseLineGeneral(std::string_view line, const std::string& path, int line_no, MotFileKind kind,
+                      RowValues* out) {
+  std::string_view fields[kMaxFields];
+  const int count = SplitFields(line, fields);
+  if (count < 6) {
+    throw InputError(SourceLocation{path, line_no, 0, {}},
+                     "at least 6 comma-separated columns (frame,id,x,y,w,h,...)",
+                     fmt::format("{} column{}", count, count == 1 ? "" : "s"));
+  }
+  if (count > kMaxFields) {
+    throw InputError(SourceLocation{path, line_no, 0, {}}, "at most 10 columns",
+                     fmt::format("{} columns", count));
+  }
+  for (int c = 0; c < count; ++c) out->v[c] = ParseNumber(fields[c], path, line_no, c + 1, kind);
+  out->count = count;
+  // Integer literals are taken exactly (ids above 2^53 stay distinct).
+  const std::string_view f = fields[1];
+  int64_t exact = 0;
+  const auto [ptr, ec] = std::from_chars(f.data(), f.data() + f.size(), exact);
+  out->has_exact_id = ec == std::errc() && ptr == f.data() + f.size();
+  out->exact_id = exact;
+}
+
+// Fast path for the common well-formed line: comma separated, 6..10 finite
+// numbers, optional blanks around fields, optional trailing comma. Parses in
+// place (no splitting) and returns false for anything else, which then goes
+// through ParseLineGeneral: that path accepts exactly the same lines with the
+// same values (every field is the same std::from_chars call on the same
+// characters) and produces the error messages.
+bool ParseLineFast(const char* p, const char* end, RowValues* out) {
+  int count = 0;
+  while (true) {
+    while (p < end && IsSpace(*p)) ++p;
+    if (count == kMaxFields) return false;
+    double& value = out->v[count];
+    const auto [ptr, ec] = std::from_chars(p, end, value);
+    if (ec != std::errc() || !std::isfinite(value)) return false;
+    if (count == 1) {
+      int64_t exact = 0;
+      const auto [iptr, iec] = std::from_chars(p, ptr, exact);
+      out->has_exact_id = iec == std::errc() && iptr == ptr;
+      out->exact_id = exact;
+    }
+    ++count;
+    p = ptr;
+    while (p < end && IsSpace(*p)) ++p;
+    if (p == end) break;
+    if (*p != ',') return false;
+    ++p;
+    const char* q = p;
+    while (q < end && IsSpace(*q)) ++q;
+    if (q == end) break;  // trailing comma: the empty last field is ignored
+  }
+  if (count < 6) return false;
+  out->count = count;
+  return true;
+}
+
+// The per-row checks and conversion shared by both paths.
+void AppendRow(const RowValues& r, const std::string& path, int line_no, MotFileKind kind,
+               std::optional<int> seq_length, MotFile* file) {
+  const double* v = r.v;
+  const int count = r.count;
+  MotRow row;
+  row.line = line_no;
+  // TrackEval reads frame and id as int(float(text)): truncation.
+  if (v[0] < 1.0 || (seq_length && std::trunc(v[0]) > *seq_length) || v[0] > 1e9) {
+    throw InputError(
+        SourceLocation{path, line_no, 1, "column 1 (frame)"},
+        seq_length ? fmt::format("a frame in 1..{} (seqLength)", *seq_length)
+                   : std::string("a frame >= 1"),
+        fmt::format("{}", v[0]));
+  }
+  row.frame = static_cast<int>(std::trunc(v[0]));
+  if (std::fabs(v[1]) > 9.0e18) {
+    throw InputError(SourceLocation{path, line_no, 2, "column 2 (id)"},
+                     "an integer id within 64 bits", fmt::format("{}", v[1]));
+  }
+  row.id = r.has_exact_id ? r.exact_id : static_cast<int64_t>(std::trunc(v[1]));
+  row.box = BoxPx{v[2], v[3], v[4], v[5]};
+  if (count >= 7) row.conf = v[6];
+  if (count >= 8) row.col8 = v[7];
+  if (count >= 9) row.col9 = v[8];
+  if (count >= 10) row.col10 = v[9];
+  if (kind == MotFileKind::kTracks && count >= 8 && row.col8 > 1.0) {
+    throw InputError(SourceLocation{path, line_no, 8, "column 8"},
+                     "-1 or 1 (only the pedestrian class is evaluated)",
+                     fmt::format("{}", row.col8));
+  }
+  file->num_columns = std::max(file->num_columns, count);
+  file->rows.push_back(row);
+}
+
+[[noreturn]] void ThrowDuplicateId(const std::string& path, const MotRow& first, const MotRow& again) {
+  throw InputError(SourceLocation{path, again.line, 2, "column 2 (id)"},
+                   fmt::format("ids unique within frame {}", again.frame),
+                   fmt::format("id {} again (first on line {})", again.id, first.line));
+}
+
+// Ids must be unique within a frame (TrackEval raises on a duplicate). The
+// error names the smallest (frame, id) that repeats, at its second line, like
+// a scan of the rows sorted by (frame, id, line).
+void CheckUniqueIds(const MotFile& file) {
+  const std::vector<MotRow>& rows = file.rows;
+  const size_t n = rows.size();
+  if (n < 2) return;
+  // Group row indices by frame, keeping file order within a frame.
+  std::vector<int> order;
+  bool sorted = true;
+  int max_frame = rows[0].frame;
+  for (size_t i = 1; i < n; ++i) {
+    sorted = sorted && rows[i - 1].frame <= rows[i].frame;
+    max_frame = std::max(max_frame, rows[i].frame);
+  }
+  if (!sorted) {
+    order.resize(n);
+    if (static_cast<size_t>(max_frame) <= 4 * n + 100000) {
+      std::vector<int> start(static_cast<size_t>(max_frame) + 2, 0);
+      for (const MotRow& r : rows) ++start[r.frame + 1];
+      for (size_t f = 1; f < start.size(); ++f) start[f] += start[f - 1];
+      for (size_t i = 0; i < n; ++i) order[start[rows[i].frame]++] = static_cast<int>(i);
+    } else {
+      for (size_t i = 0; i < n; ++i) order[i] = static_cast<int>(i);
+      std::stable_sort(order.begin(), order.end(),
+                       [&](int a, int b) { return rows[a].frame < rows[b].frame; });
+    }
+  }
+  auto at = [&](size_t k) -> const MotRow& { return sorted ? rows[k] : rows[order[k]]; };
+  std::vector<int64_t> ids;
+  std::vector<std::pair<int64_t, int>> id_rows;  // (id, index into rows)
+  size_t begin = 0;
+  while (begin < n) {
+    const int frame = at(begin).frame;
+    size_t end = begin + 1;
+    while (end < n && at(end).frame == frame) ++end;
+    const size_t size = end - begin;
+    bool duplicate = false;
+    if (size > 1) {
+      ids.clear();
+      for (size_t k = begin; k < end; ++k) ids.push_back(at(k).id);
+      if (size <= 48) {
+        for (size_t a = 1; a < size && !duplicate; ++a) {
+          for (size_t b = 0; b < a; ++b) duplicate = duplicate || ids[a] == ids[b];
+        }
+      } else {
+        std::sort(ids.begin(), ids.end());
+        duplicate = std::adjacent_find(ids.begin(), ids.end()) != ids.end();
+      }
+    }
+    if (duplicate) {
+      // Rows of a frame are in file order, so (id, position) sorts by (id, line).
+      id_rows.clear();
+      for (size_t k = begin; k < end; ++k) {
+        id_rows.emplace_back(at(k).id, sorted ? static_cast<int>(k) : order[k]);
+      }
+      std::sort(id_rows.begin(), id_rows.end());
+      for (size_t k = 1; k < id_rows.size(); ++k) {
+        if (id_rows[k].first == id_rows[k - 1].first) {
+          ThrowDuplicateId(file.path, rows[id_rows[k - 1].second], rows[id_rows[k].second]);
+        }
+      }
+      HCPF_CHECK(false) << "duplicate id detected but not found";
+    }
+    begin = end;
+  }
+}
+
+}  // namespace
+
 MotFile ParseMotText(const std::string& text, const std::string& path, MotFileKind kind,
                      std::optional<int> seq_length) {
   MotFile file;
   file.path = path;
   file.kind = kind;
-  file.rows.reserve(text.size() / 40);
+  {
+    // Exact capacity: one row per line at most (memchr is vectorised, a byte loop is not).
+    size_t lines = 1;
+    const char* q = text.data();
+    const char* const q_end = q + text.size();
+    while ((q = static_cast<const char*>(std::memchr(q, '\n', static_cast<size_t>(q_end - q)))) != nullptr) {
+      ++lines;
+      ++q;
+    }
+    file.rows.reserve(lines);
+  }
+  const char* p = text.data();
+  const char* const text_end = p + text.size();
+  int line_no = 0;
+  RowValues values;
+  while (p < text_end) {
+    const char* nl = static_cast<const char*>(std::memchr(p, '\n', static_cast<size_t>(text_end - p)));
+    const char* line_end = nl == nullptr ? text_end : nl;
+    const char* line_begin = p;
+    p = nl == nullptr ? text_end : nl + 1;
+    ++line_no;
+    while (line_begin < line_end && IsSpace(*line_begin)) ++line_begin;
+    while (line_end > line_begin && IsSpace(line_end[-1])) --line_end;
+    if (line_begin == line_end) continue;
+    if (!ParseLineFast(line_begin, line_end, &values)) {
+      ParseLineGeneral(std::string_view(line_begin, static_cast<size_t>(line_end - line_begin)), path,
+                       line_no, kind, &values);
+    }
+    AppendRow(values, path, line_no, kind, seq_length, &file);
+  }
+  CheckUniqueIds(file);
+  return file;
+}
+
+namespace internal {
+
+MotFile ParseMotTextReference(const std::string& text, const std::string& path, MotFileKind kind,
+                              std::optional<int> seq_length) {
+  MotFile file;
+  file.path = path;
+  file.kind = kind;
   std::string_view rest(text);
   int line_no = 0;
-  std::string_view fields[kMaxFields];
+  RowValues values;
   while (!rest.empty()) {
     const size_t nl = rest.find('\n');
     std::string_view line = rest.substr(0, nl);
@@ -144,55 +381,9 @@ MotFile ParseMotText(const std::string& text, const std::string& path, MotFileKi
     ++line_no;
     line = Trim(line);
     if (line.empty()) continue;
-    const int count = SplitFields(line, fields);
-    if (count < 6) {
-      throw InputError(SourceLocation{path, line_no, 0, {}},
-                       "at least 6 comma-separated columns (frame,id,x,y,w,h,...)",
-                       fmt::format("{} column{}", count, count == 1 ? "" : "s"));
-    }
-    if (count > kMaxFields) {
-      throw InputError(SourceLocation{path, line_no, 0, {}}, "at most 10 columns",
-                       fmt::format("{} columns", count));
-    }
-    double v[kMaxFields];
-    for (int c = 0; c < count; ++c) v[c] = ParseNumber(fields[c], path, line_no, c + 1, kind);
-    MotRow row;
-    row.line = line_no;
-    // TrackEval reads frame and id as int(float(text)): truncation.
-    if (v[0] < 1.0 || (seq_length && std::trunc(v[0]) > *seq_length) || v[0] > 1e9) {
-      throw InputError(
-          SourceLocation{path, line_no, 1, "column 1 (frame)"},
-          seq_length ? fmt::format("a frame in 1..{} (seqLength)", *seq_length)
-                     : std::string("a frame >= 1"),
-          fmt::format("{}", v[0]));
-    }
-    row.frame = static_cast<int>(std::trunc(v[0]));
-    if (std::fabs(v[1]) > 9.0e18) {
-      throw InputError(SourceLocation{path, line_no, 2, "column 2 (id)"},
-                       "an integer id within 64 bits", fmt::format("{}", v[1]));
-    }
-    row.id = static_cast<int64_t>(std::trunc(v[1]));
-    {
-      // Integer literals are taken exactly (ids above 2^53 stay distinct).
-      int64_t exact = 0;
-      const std::string_view f = fields[1];
-      const auto [ptr, ec] = std::from_chars(f.data(), f.data() + f.size(), exact);
-      if (ec == std::errc() && ptr == f.data() + f.size()) row.id = exact;
-    }
-    row.box = BoxPx{v[2], v[3], v[4], v[5]};
-    if (count >= 7) row.conf = v[6];
-    if (count >= 8) row.col8 = v[7];
-    if (count >= 9) row.col9 = v[8];
-    if (count >= 10) row.col10 = v[9];
-    if (kind == MotFileKind::kTracks && count >= 8 && row.col8 > 1.0) {
-      throw InputError(SourceLocation{path, line_no, 8, "column 8"},
-                       "-1 or 1 (only the pedestrian class is evaluated)",
-                       fmt::format("{}", row.col8));
-    }
-    file.num_columns = std::max(file.num_columns, count);
-    file.rows.push_back(row);
+    ParseLineGeneral(line, path, line_no, kind, &values);
+    AppendRow(values, path, line_no, kind, seq_length, &file);
   }
-  // Ids must be unique within a frame (TrackEval raises on a duplicate).
   std::vector<int> order(file.rows.size());
   for (size_t i = 0; i < order.size(); ++i) order[i] = static_cast<int>(i);
   std::sort(order.begin(), order.end(), [&](int a, int b) {
@@ -205,14 +396,12 @@ MotFile ParseMotText(const std::string& text, const std::string& path, MotFileKi
   for (size_t i = 1; i < order.size(); ++i) {
     const MotRow& a = file.rows[order[i - 1]];
     const MotRow& b = file.rows[order[i]];
-    if (a.frame == b.frame && a.id == b.id) {
-      throw InputError(SourceLocation{path, b.line, 2, "column 2 (id)"},
-                       fmt::format("ids unique within frame {}", b.frame),
-                       fmt::format("id {} again (first on line {})", b.id, a.line));
-    }
+    if (a.frame == b.frame && a.id == b.id) ThrowDuplicateId(path, a, b);
   }
   return file;
 }
+
+}  // namespace internal
 
 MotFile ReadMotFile(const std::string& path, MotFileKind kind, std::optional<int> seq_length) {
   return ParseMotText(ReadWholeFile(path), path, kind, seq_length);
@@ -311,6 +500,40 @@ std::optional<Benchmark> ParseBenchmark(const std::string& text) {
   return std::nullopt;
 }
 
+namespace {
+
+// Rows of one file bucketed by frame without a vector per frame: the rows of
+// frame t + 1 are rows[start[t] .. start[t + 1]), in file order.
+struct FrameBuckets {
+  std::vector<int> start;
+  std::vector<const MotRow*> rows;
+  std::span<const MotRow* const> Frame(int t) const {
+    return {rows.data() + start[t], static_cast<size_t>(start[t + 1] - start[t])};
+  }
+};
+
+// Rows out of range were rejected by the reader when it knew seq_length; check
+// again here (first offending row in file order) because callers may build MotFiles.
+FrameBuckets BucketByFrame(const MotFile& file, int seq_length) {
+  FrameBuckets b;
+  b.start.assign(static_cast<size_t>(seq_length) + 1, 0);
+  for (const MotRow& row : file.rows) {
+    if (row.frame < 1 || row.frame > seq_length) {
+      throw InputError(SourceLocation{file.path, row.line, 1, "column 1 (frame)"},
+                       fmt::format("a frame in 1..{} (seqLength)", seq_length),
+                       fmt::format("{}", row.frame));
+    }
+    ++b.start[row.frame];
+  }
+  for (size_t t = 1; t < b.start.size(); ++t) b.start[t] += b.start[t - 1];
+  b.rows.resize(file.rows.size());
+  std::vector<int> fill(b.start.begin(), b.start.end() - 1);
+  for (const MotRow& row : file.rows) b.rows[fill[row.frame - 1]++] = &row;
+  return b;
+}
+
+}  // namespace
+
 Sequence BuildSequence(const MotFile& gt, const MotFile& tracks, int seq_length,
                        Benchmark benchmark, const PreprocessOptions& options, std::string name,
                        int64_t* removed_gt_rows, int64_t* removed_tracker_rows) {
@@ -319,27 +542,19 @@ Sequence BuildSequence(const MotFile& gt, const MotFile& tracks, int seq_length,
   Sequence seq;
   seq.name = std::move(name);
   seq.frames.resize(seq_length);
-  // Bucket rows per frame (rows out of range were rejected by the reader when
-  // it knew seq_length; check again here because callers may build MotFiles).
-  std::vector<std::vector<const MotRow*>> gt_rows(seq_length), hyp_rows(seq_length);
-  auto bucket = [&](const MotFile& file, std::vector<std::vector<const MotRow*>>* out) {
-    for (const MotRow& row : file.rows) {
-      if (row.frame < 1 || row.frame > seq_length) {
-        throw InputError(SourceLocation{file.path, row.line, 1, "column 1 (frame)"},
-                         fmt::format("a frame in 1..{} (seqLength)", seq_length),
-                         fmt::format("{}", row.frame));
-      }
-      (*out)[row.frame - 1].push_back(&row);
-    }
-  };
-  bucket(gt, &gt_rows);
-  bucket(tracks, &hyp_rows);
+  const FrameBuckets gt_rows = BucketByFrame(gt, seq_length);
+  const FrameBuckets hyp_rows = BucketByFrame(tracks, seq_length);
   const bool mot17 = options.preprocess && benchmark == Benchmark::kMot17;
   if (mot17 && gt.num_columns > 0 && gt.num_columns < 8) {
     throw InputError(SourceLocation{gt.path, 0, 0, {}},
                      "MOT17 ground truth with at least 8 columns (class in column 8)",
                      fmt::format("{} columns", gt.num_columns));
   }
+  auto is_distractor = [&](const MotRow* row) {
+    const int cls = static_cast<int>(row->col8);
+    return std::find(options.distractor_classes.begin(), options.distractor_classes.end(), cls) !=
+           options.distractor_classes.end();
+  };
   int64_t removed_gt = 0;
   int64_t removed_hyp = 0;
   SparseMatcher matcher;
@@ -348,14 +563,23 @@ Sequence BuildSequence(const MotFile& gt, const MotFile& tracks, int seq_length,
   std::vector<char> remove_hyp;
   for (int t = 0; t < seq_length; ++t) {
     SequenceFrame& frame = seq.frames[t];
-    const auto& g = gt_rows[t];
-    const auto& h = hyp_rows[t];
+    const std::span<const MotRow* const> g = gt_rows.Frame(t);
+    const std::span<const MotRow* const> h = hyp_rows.Frame(t);
     remove_hyp.assign(h.size(), 0);
-    if (mot17 && !g.empty() && !h.empty()) {
+    // Only a tracker box matched to a distractor gt box is removed, so a frame
+    // without distractor gt needs no matching (the result would remove nothing).
+    if (mot17 && !h.empty() && std::any_of(g.begin(), g.end(), is_distractor)) {
       edges.clear();
       for (size_t i = 0; i < g.size(); ++i) {
+        const BoxPx& a = g[i]->box;
         for (size_t j = 0; j < h.size(); ++j) {
-          const double iou = MotIou(g[i]->box, h[j]->box);
+          const BoxPx& b = h[j]->box;
+          // Boxes that do not overlap have IoU 0 (MotIou's own first test): skip them cheaply.
+          if (std::min(a.left + a.width, b.left + b.width) - std::max(a.left, b.left) <= 0.0 ||
+              std::min(a.top + a.height, b.top + b.height) - std::max(a.top, b.top) <= 0.0) {
+            continue;
+          }
+          const double iou = MotIou(a, b);
           // TrackEval zeroes scores below 0.5 - eps before its Hungarian step.
           if (iou >= 0.5 - kEps) {
             edges.push_back({static_cast<int>(i), static_cast<int>(j), iou});
@@ -366,11 +590,7 @@ Sequence BuildSequence(const MotFile& gt, const MotFile& tracks, int seq_length,
       for (int k : chosen) {
         const WeightedEdge& e = edges[k];
         if (!(e.weight > kEps)) continue;
-        const int cls = static_cast<int>(g[e.row]->col8);
-        if (std::find(options.distractor_classes.begin(), options.distractor_classes.end(), cls) !=
-            options.distractor_classes.end()) {
-          remove_hyp[e.col] = 1;
-        }
+        if (is_distractor(g[e.row])) remove_hyp[e.col] = 1;
       }
     }
     frame.gt.reserve(g.size());

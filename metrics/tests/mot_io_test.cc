@@ -4,8 +4,11 @@
 
 #include <filesystem>
 #include <string>
+#include <vector>
 
 #include "hcpf/core/error.h"
+#include "hcpf/core/rng.h"
+#include "../src/mot_io_internal.h"
 
 namespace hcpf::metrics {
 namespace {
@@ -55,6 +58,128 @@ TEST(MotIo, BadRowsNameFileLineAndColumn) {
   ExpectInputError("1,1,1,1,1,1\n2,1,1,1,1,1\n1,1,5,5,1,1\n", MotFileKind::kTracks, 5,
                    {"f.txt:3:2", "unique within frame 1", "first on line 1"});
   ExpectInputError("1,1,1,1,1,1,0.9,2,-1,-1\n", MotFileKind::kTracks, 5, {"f.txt:1:8", "found 2"});
+}
+
+// The error message of ParseMotText on `text`, or "" when it parses.
+std::string ErrorOf(const std::string& text, MotFileKind kind, std::optional<int> seq_length) {
+  try {
+    ParseMotText(text, "f.txt", kind, seq_length);
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+// Unusual but valid spellings, worked out by hand: blanks and tabs around fields,
+// CRLF line ends, a trailing comma, '+' signs, exponents, a leading '.', an
+// integer id beyond 2^53 (kept exactly), a fractional id (truncated), a
+// whitespace-separated line between comma lines, and a last line without '\n'.
+TEST(MotIo, UnusualSpellingsParseAsWritten) {
+  const std::string text =
+      " 1 , 7 ,\t1.5,2e1, 30 ,40\r\n"           // line 1: 6 columns, blanks, CRLF
+      "2,9007199254740993,+3,.5,1E+2,4,0.9,\n"  // line 2: 7 columns + trailing comma
+      "\n"                                       // line 3: empty
+      "3 8.9 1 2 3 4 1 -1 -1 -1\n"               // line 4: whitespace separated, 10 columns
+      "4,-2,1,2,3,4,1,1,0.5";                    // line 5: no final newline
+  const MotFile f = ParseMotText(text, "t.txt", MotFileKind::kTracks, 4);
+  ASSERT_EQ(f.rows.size(), 4u);
+  EXPECT_EQ(f.num_columns, 10);
+  EXPECT_EQ(f.rows[0], (MotRow{.frame = 1, .id = 7, .box = {1.5, 20, 30, 40}, .line = 1}));
+  EXPECT_EQ(f.rows[1], (MotRow{.frame = 2, .id = 9007199254740993, .box = {3, 0.5, 100, 4}, .conf = 0.9, .line = 2}));
+  EXPECT_EQ(f.rows[2], (MotRow{.frame = 3, .id = 8, .box = {1, 2, 3, 4}, .conf = 1, .line = 4}));
+  EXPECT_EQ(f.rows[3], (MotRow{.frame = 4, .id = -2, .box = {1, 2, 3, 4}, .conf = 1, .col8 = 1, .col9 = 0.5, .line = 5}));
+}
+
+// Duplicate ids: the error names the smallest repeated (frame, id) at its second
+// line, whatever the order of the file. Worked by hand:
+//   unsorted rows, frame 3 has id 1 twice (lines 1, 2), frame 2 has id 6 twice (lines 4, 6)
+//   and id 5 twice (lines 5, 7): smallest frame 2, smallest id 5 -> line 7, first on line 5.
+TEST(MotIo, DuplicateIdErrorIsTheSmallestFrameAndId) {
+  const std::string text =
+      "3,1,0,0,1,1\n3,1,0,0,1,1\n1,5,0,0,1,1\n2,6,0,0,1,1\n2,5,0,0,1,1\n2,6,0,0,1,1\n2,5,0,0,1,1\n";
+  const std::string message = ErrorOf(text, MotFileKind::kTracks, 3);
+  EXPECT_NE(message.find("f.txt:7:2"), std::string::npos) << message;
+  EXPECT_NE(message.find("unique within frame 2"), std::string::npos) << message;
+  EXPECT_NE(message.find("id 5 again (first on line 5)"), std::string::npos) << message;
+  // Huge frame numbers (no seq_length): frame 900000000 with ids 4, 4 on lines 2, 3.
+  const std::string huge = "5,4,0,0,1,1\n900000000,4,0,0,1,1\n900000000,4,0,0,1,1\n5,3,0,0,1,1\n";
+  const std::string m2 = ErrorOf(huge, MotFileKind::kTracks, std::nullopt);
+  EXPECT_NE(m2.find("f.txt:3:2"), std::string::npos) << m2;
+  EXPECT_NE(m2.find("first on line 2"), std::string::npos) << m2;
+  // A frame with 60 rows (ids 0..59) where id 17 comes back on line 61 (first on line 18).
+  std::string big;
+  for (int i = 0; i < 60; ++i) big += "1," + std::to_string(i) + ",0,0,1,1\n";
+  big += "1,17,0,0,1,1\n";
+  const std::string m3 = ErrorOf(big, MotFileKind::kTracks, 1);
+  EXPECT_NE(m3.find("f.txt:61:2"), std::string::npos) << m3;
+  EXPECT_NE(m3.find("first on line 18"), std::string::npos) << m3;
+  EXPECT_EQ(ErrorOf(big.substr(0, big.rfind("1,17")), MotFileKind::kTracks, 1), "");
+}
+
+// ParseMotText (in-place fast path + grouped duplicate check) against the
+// straightforward reference reader on random lines built from valid and invalid
+// pieces: both must give the same rows, or the same error message.
+TEST(MotIo, AgreesWithReferenceReaderOnRandomText) {
+  const char* kNumbers[] = {"1", "2", "3", "0", "-1", "17", "1.5", "2.25e1", ".5", "5.", "+4", "1E2",
+                            "9007199254740993", "123456789012345678901", "1e400", "nan", "inf",
+                            "0x10", "1e", "-", "", "x", "3.14159265358979", "-0", "2.000000000000001"};
+  const char* kBlanks[] = {"", "", "", " ", "\t", "  "};
+  Rng rng(7);
+  int parsed = 0;
+  int failed = 0;
+  for (int trial = 0; trial < 3000; ++trial) {
+    std::string text;
+    const int lines = 1 + static_cast<int>(rng.UniformInt(6));
+    for (int l = 0; l < lines; ++l) {
+      if (rng.Bernoulli(0.1)) {
+        text += rng.Bernoulli(0.5) ? "\n" : "  \r\n";
+        continue;
+      }
+      const bool spaces = rng.Bernoulli(0.1);
+      const int columns = 4 + static_cast<int>(rng.UniformInt(8));
+      for (int c = 0; c < columns; ++c) {
+        if (c > 0) text += spaces ? " " : ",";
+        text += kBlanks[rng.UniformInt(std::size(kBlanks))];
+        // Mostly valid numbers so that many texts parse; frames 1..3, ids 1..4.
+        if (c == 0 && rng.Bernoulli(0.9)) {
+          text += std::to_string(1 + rng.UniformInt(3));
+        } else if (c == 1 && rng.Bernoulli(0.8)) {
+          text += std::to_string(1 + rng.UniformInt(4));
+        } else if (c == 7 && rng.Bernoulli(0.7)) {
+          text += "-1";
+        } else if (rng.Bernoulli(0.85)) {
+          text += kNumbers[rng.UniformInt(13)];
+        } else {
+          text += kNumbers[rng.UniformInt(std::size(kNumbers))];
+        }
+        text += kBlanks[rng.UniformInt(std::size(kBlanks))];
+      }
+      if (rng.Bernoulli(0.1)) text += ",";
+      if (rng.Bernoulli(0.2)) text += "\r";
+      if (l + 1 < lines || rng.Bernoulli(0.5)) text += "\n";
+    }
+    const MotFileKind kind = rng.Bernoulli(0.5) ? MotFileKind::kTracks : MotFileKind::kGroundTruth;
+    const std::optional<int> length = rng.Bernoulli(0.5) ? std::optional<int>(3) : std::nullopt;
+    std::string expected_error;
+    MotFile expected;
+    try {
+      expected = internal::ParseMotTextReference(text, "f.txt", kind, length);
+    } catch (const InputError& e) {
+      expected_error = e.what();
+    }
+    if (expected_error.empty()) {
+      ++parsed;
+      const MotFile got = ParseMotText(text, "f.txt", kind, length);
+      EXPECT_EQ(got.num_columns, expected.num_columns) << text;
+      EXPECT_EQ(got.rows, expected.rows) << text;
+    } else {
+      ++failed;
+      EXPECT_EQ(ErrorOf(text, kind, length), expected_error) << text;
+    }
+  }
+  // Both outcomes must be exercised for the comparison to mean something.
+  EXPECT_GT(parsed, 300);
+  EXPECT_GT(failed, 300);
 }
 
 TEST(MotIo, SeqInfo) {

@@ -50,14 +50,28 @@ void WriteOverlayVideo(const std::string& path, const Scenario& scenario,
                        const std::vector<tracker::FrameReport>& reports,
                        const std::optional<metrics::FilterMetrics>& filters,
                        const std::vector<renderer::RgbImage>* frames) {
-  HCPF_CHECK(reports.empty() || reports.size() == truth.size())
-      << reports.size() << " reports for " << truth.size() << " frames";
   HCPF_CHECK(frames == nullptr || frames->size() == truth.size())
       << frames->size() << " images for " << truth.size() << " frames";
+  OverlayFrameSource source;
+  if (frames != nullptr) {
+    source = [frames](int f) -> std::optional<renderer::RgbImage> { return (*frames)[f]; };
+  }
+  WriteOverlayVideo(path, scenario, truth, reports, filters, source);
+}
+
+void WriteOverlayVideo(const std::string& path, const Scenario& scenario,
+                       const std::vector<FrameGroundTruth>& truth,
+                       const std::vector<tracker::FrameReport>& reports,
+                       const std::optional<metrics::FilterMetrics>& filters,
+                       const OverlayFrameSource& frame_at) {
+  HCPF_CHECK(reports.empty() || reports.size() == truth.size())
+      << reports.size() << " reports for " << truth.size() << " frames";
   const int width = scenario.world.camera.width_px;
   const int height = scenario.world.camera.height_px;
-  cv::VideoWriter writer(path, cv::VideoWriter::fourcc('m', 'p', '4', 'v'), scenario.world.fps,
-                         cv::Size(width, height), true);
+  // FFmpeg backend first (what Debian's OpenCV ships for MP4), then any other.
+  const int fourcc = cv::VideoWriter::fourcc('m', 'p', '4', 'v');
+  cv::VideoWriter writer(path, cv::CAP_FFMPEG, fourcc, scenario.world.fps, cv::Size(width, height), true);
+  if (!writer.isOpened()) writer.open(path, fourcc, scenario.world.fps, cv::Size(width, height), true);
   if (!writer.isOpened()) {
     throw RunError(fmt::format("cannot open a video writer (mp4v) for {}", path));
   }
@@ -68,8 +82,10 @@ void WriteOverlayVideo(const std::string& path, const Scenario& scenario,
   }
   cv::Mat image(height, width, CV_8UC3);
   for (size_t f = 0; f < truth.size(); ++f) {
-    if (frames != nullptr) {
-      const renderer::RgbImage& rgb = (*frames)[f];
+    const std::optional<renderer::RgbImage> frame =
+        frame_at ? frame_at(static_cast<int>(f)) : std::nullopt;
+    if (frame) {
+      const renderer::RgbImage& rgb = *frame;
       HCPF_CHECK(rgb.width == width && rgb.height == height)
           << "frame " << f << " is " << rgb.width << "x" << rgb.height << ", the camera " << width << "x" << height;
       const cv::Mat view(height, width, CV_8UC3, const_cast<uint8_t*>(rgb.pixels.data()));

@@ -85,6 +85,10 @@ sqlite3* OpenDb(const std::string& path, bool create) {
                      "a file SQLite cannot open: " + message);
   }
   sqlite3_busy_timeout(db, 10000);
+  // WAL with synchronous=NORMAL: a committed run survives the process being
+  // killed (SIGKILL included); only an OS crash or power loss can drop the
+  // last commits, which a resumed sweep then recomputes.
+  sqlite3_exec(db, "PRAGMA synchronous=NORMAL", nullptr, nullptr, nullptr);
   return db;
 }
 

@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <filesystem>
+#include <opencv2/imgcodecs.hpp>
 #include <opencv2/videoio.hpp>
 
 #include "hcpf/core/error.h"
@@ -49,6 +50,10 @@ TEST(Overlay, VideoReadsBackWithFrameCountAndSize) {
   cv::Mat image, first;
   while (in.read(image)) {
     if (frames == 0) first = image.clone();
+    if (frames == 10) {  // kept for a look (CI artefact)
+      fs::create_directories(fs::path(HCPF_BINARY_DIR) / "artifacts");
+      cv::imwrite((fs::path(HCPF_BINARY_DIR) / "artifacts" / "overlay_frame10.png").string(), image);
+    }
     ++frames;
   }
   EXPECT_EQ(frames, 20);
@@ -71,6 +76,45 @@ TEST(Overlay, VideoReadsBackWithFrameCountAndSize) {
 TEST(Overlay, UnwritablePathIsARunError) {
   const Scenario scenario = LoadScenarioText(testing::kMinimal, "minimal.yaml");
   EXPECT_THROW(WriteOverlayVideo("/nonexistent/dir/overlay.mp4", scenario, {}, {}, std::nullopt, nullptr), RunError);
+}
+
+}  // namespace
+}  // namespace hcpf::scenarios
+
+namespace hcpf::scenarios {
+namespace {
+
+TEST(Overlay, DrawsOnTheGivenFrames) {
+  const auto dir = testing::SweepFolder("overlay-frames");
+  const Scenario scenario = LoadScenarioText(testing::kMinimal, "minimal.yaml");  // 320x240
+  std::vector<FrameGroundTruth> truth;
+  std::vector<renderer::RgbImage> images;
+  for (int f = 0; f < 5; ++f) {
+    truth.push_back(ComputeGroundTruth(scenario.world, f));
+    renderer::RgbImage image;
+    image.width = 320;
+    image.height = 240;
+    image.pixels.assign(320 * 240 * 3, 0);
+    for (size_t i = 0; i < image.pixels.size(); i += 3) {
+      image.pixels[i] = 200;     // R
+      image.pixels[i + 1] = 100; // G
+      image.pixels[i + 2] = 50;  // B
+    }
+    images.push_back(image);
+  }
+  const std::string path = (dir / "overlay.mp4").string();
+  WriteOverlayVideo(path, scenario, truth, {}, std::nullopt, &images);
+  cv::VideoCapture in(path);
+  cv::Mat image;
+  ASSERT_TRUE(in.read(image));
+  // OpenCV frames are BGR: the RGB (200, 100, 50) image reads back as (50, 100, 200).
+  const cv::Vec3b corner = image.at<cv::Vec3b>(230, 310);
+  EXPECT_NEAR(corner[0], 50, 12);
+  EXPECT_NEAR(corner[1], 100, 12);
+  EXPECT_NEAR(corner[2], 200, 12);
+  int frames = 1;
+  while (in.read(image)) ++frames;
+  EXPECT_EQ(frames, 5);
 }
 
 }  // namespace

@@ -11,8 +11,11 @@
 #include <filesystem>
 #include <map>
 #include <mutex>
+#include <set>
 #include <thread>
 
+#include "hcpf/renderer/renderer.h"
+#include "hcpf/scenarios/frames.h"
 #include "hcpf/scenarios/results_store.h"
 #include "hcpf/scenarios/run.h"
 #include "hcpf/scenarios/sweep.h"
@@ -82,13 +85,30 @@ SweepResult RunSweep(const SweepSpec& spec, const std::vector<SweepRun>& runs,
 
   std::mutex mutex;  // guards result and progress
   Progress progress("sweep", static_cast<int64_t>(todo.size()));
+  // Render once: rendered runs that share frames (same pixel hash) would render
+  // them concurrently; so the first run of each scene goes in a first wave and
+  // the others, which then read every frame from the cache, in a second.
+  std::vector<const SweepRun*> first_wave, second_wave;
+  std::set<std::string> scenes;
+  for (const SweepRun* run : todo) {
+    const bool rendered = run->scenario.observation.source == ObservationSource::kRendered &&
+                          !options.frame_cache_dir.empty();
+    if (rendered && !scenes.insert(renderer::PixelHash(run->scenario.world, RendererOptionsOf(run->scenario),
+                                                       run->scenario.seeds.renderer))
+                         .second) {
+      second_wave.push_back(run);
+    } else {
+      first_wave.push_back(run);
+    }
+  }
+  std::vector<const SweepRun*> wave;
   std::atomic<size_t> next{0};
   std::exception_ptr store_error;  // the first failure to record a run stops its worker
   const auto worker = [&] {
     while (true) {
       const size_t i = next.fetch_add(1);
-      if (i >= todo.size()) return;
-      const SweepRun& run = *todo[i];
+      if (i >= wave.size()) return;
+      const SweepRun& run = *wave[i];
       RunRecord record;
       record.key = run.key;
       record.index = run.index;
@@ -125,10 +145,15 @@ SweepResult RunSweep(const SweepSpec& spec, const std::vector<SweepRun>& runs,
       if (options.progress) progress.Advance(1, record.ok ? 0 : 1);
     }
   };
-  std::vector<std::thread> threads;
-  const int workers = std::min<int>(options.jobs, static_cast<int>(std::max<size_t>(todo.size(), 1)));
-  for (int w = 0; w < workers; ++w) threads.emplace_back(worker);
-  for (std::thread& t : threads) t.join();
+  for (auto* list : {&first_wave, &second_wave}) {
+    wave = *list;
+    next = 0;
+    std::vector<std::thread> threads;
+    const int workers = std::min<int>(options.jobs, static_cast<int>(wave.size()));
+    for (int w = 0; w < workers; ++w) threads.emplace_back(worker);
+    for (std::thread& t : threads) t.join();
+    if (store_error) break;
+  }
   if (options.progress) progress.Finish();
   if (store_error) std::rethrow_exception(store_error);
   return result;

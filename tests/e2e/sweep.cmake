@@ -7,3 +7,14 @@ hcpf_add_test(e2e_sweep_tests
 target_include_directories(e2e_sweep_tests PRIVATE ${CMAKE_CURRENT_LIST_DIR}/..)
 target_compile_definitions(e2e_sweep_tests PRIVATE HCPF_EXE="$<TARGET_FILE:hcpf>")
 add_dependencies(e2e_sweep_tests hcpf)
+
+if(HCPF_GL_TESTS)
+  hcpf_add_test(e2e_sweep_rendered_tests
+    SOURCES ${CMAKE_CURRENT_LIST_DIR}/sweep_rendered_test.cc
+    DEPS hcpf::core
+    LABELS e2e gl
+    TIMEOUT 600)
+  target_include_directories(e2e_sweep_rendered_tests PRIVATE ${CMAKE_CURRENT_LIST_DIR}/..)
+  target_compile_definitions(e2e_sweep_rendered_tests PRIVATE HCPF_EXE="$<TARGET_FILE:hcpf>")
+  add_dependencies(e2e_sweep_rendered_tests hcpf)
+endif()

@@ -9,6 +9,7 @@
 #include <sstream>
 #include <string>
 #include <sys/wait.h>
+#include <unistd.h>
 
 namespace hcpf::testing {
 
@@ -36,9 +37,11 @@ inline std::string ReadFile(const std::filesystem::path& path) {
   return s.str();
 }
 
-// A fresh, empty temporary folder for one test.
+// A fresh, empty temporary folder for one test. The process id is part of the
+// name: CTest runs tests in parallel processes, and two builds may test at once.
 inline std::filesystem::path FreshDir(const std::string& name) {
-  const auto dir = std::filesystem::temp_directory_path() / ("hcpf-test-" + name);
+  const auto dir = std::filesystem::temp_directory_path() /
+                   ("hcpf-test-" + name + "-" + std::to_string(::getpid()));
   std::filesystem::remove_all(dir);
   std::filesystem::create_directories(dir);
   return dir;

@@ -40,25 +40,53 @@ struct Prepared {
   int64_t num_hyp_dets() const { return static_cast<int64_t>(hyp_id.size()); }
 };
 
-std::vector<int64_t> UniqueIds(const Sequence& seq, bool gt) {
-  std::vector<int64_t> ids;
+// Relabels the gt (or hyp) ids of every box, in frame order, to their rank
+// among the distinct ids (`original` = the distinct ids, sorted). A small
+// open-addressing hash of the distinct ids gives one probe per box instead of
+// sorting every box's id and binary-searching it again.
+void RelabelIds(const Sequence& seq, bool gt, std::vector<int64_t>* original, std::vector<int>* relabelled) {
+  std::vector<int64_t> keys;  // distinct ids in order of first appearance
+  std::vector<int> slots(1024, -1);
+  int shift = 64 - 10;
+  auto slot_of = [&](int64_t id) {
+    size_t s = static_cast<size_t>((static_cast<uint64_t>(id) * 0x9E3779B97F4A7C15ull) >> shift);
+    while (slots[s] >= 0 && keys[slots[s]] != id) s = (s + 1) & (slots.size() - 1);
+    return s;
+  };
+  relabelled->clear();
   for (const SequenceFrame& f : seq.frames) {
-    for (const LabelledBox& b : gt ? f.gt : f.hyp) ids.push_back(b.id);
+    for (const LabelledBox& b : gt ? f.gt : f.hyp) {
+      size_t s = slot_of(b.id);
+      if (slots[s] < 0) {
+        if (2 * (keys.size() + 1) > slots.size()) {
+          slots.assign(slots.size() * 2, -1);
+          --shift;
+          for (size_t k = 0; k < keys.size(); ++k) slots[slot_of(keys[k])] = static_cast<int>(k);
+          s = slot_of(b.id);
+        }
+        slots[s] = static_cast<int>(keys.size());
+        keys.push_back(b.id);
+      }
+      relabelled->push_back(slots[s]);
+    }
   }
-  std::sort(ids.begin(), ids.end());
-  ids.erase(std::unique(ids.begin(), ids.end()), ids.end());
-  return ids;
-}
-
-int Relabel(const std::vector<int64_t>& ids, int64_t id) {
-  return static_cast<int>(std::lower_bound(ids.begin(), ids.end(), id) - ids.begin());
+  std::vector<int> order(keys.size());
+  for (size_t k = 0; k < order.size(); ++k) order[k] = static_cast<int>(k);
+  std::sort(order.begin(), order.end(), [&](int a, int b) { return keys[a] < keys[b]; });
+  std::vector<int> rank(keys.size());
+  original->resize(keys.size());
+  for (size_t r = 0; r < order.size(); ++r) {
+    rank[order[r]] = static_cast<int>(r);
+    (*original)[r] = keys[order[r]];
+  }
+  for (int& id : *relabelled) id = rank[id];
 }
 
 Prepared Prepare(const Sequence& seq) {
   Prepared p;
   p.num_frames = static_cast<int>(seq.frames.size());
-  p.gt_original = UniqueIds(seq, true);
-  p.hyp_original = UniqueIds(seq, false);
+  RelabelIds(seq, true, &p.gt_original, &p.gt_id);
+  RelabelIds(seq, false, &p.hyp_original, &p.hyp_id);
   p.num_gt_ids = static_cast<int>(p.gt_original.size());
   p.num_hyp_ids = static_cast<int>(p.hyp_original.size());
   p.gt_begin.reserve(p.num_frames + 1);
@@ -84,22 +112,33 @@ Prepared Prepare(const Sequence& seq) {
     }
     return *slot;
   };
+  std::vector<double> hyp_left, hyp_right;
+  int next_gt0 = 0;  // offset of the frame's first box in gt_id / hyp_id
+  int next_hyp0 = 0;
   for (const SequenceFrame& f : seq.frames) {
-    p.gt_begin.push_back(static_cast<int>(p.gt_id.size()));
-    p.hyp_begin.push_back(static_cast<int>(p.hyp_id.size()));
+    const int gt0 = next_gt0;
+    const int hyp0 = next_hyp0;
+    next_gt0 += static_cast<int>(f.gt.size());
+    next_hyp0 += static_cast<int>(f.hyp.size());
+    p.gt_begin.push_back(gt0);
+    p.hyp_begin.push_back(hyp0);
     p.ov_begin.push_back(static_cast<int>(p.overlaps.size()));
-    for (const LabelledBox& b : f.gt) p.gt_id.push_back(Relabel(p.gt_original, b.id));
-    for (const LabelledBox& b : f.hyp) p.hyp_id.push_back(Relabel(p.hyp_original, b.id));
-    const int gt0 = p.gt_begin.back();
-    const int hyp0 = p.hyp_begin.back();
+    // Left and right edges of the frame's hyp boxes in two flat arrays: the
+    // x test below reads only these (MotIou is 0 whenever its x overlap
+    // min(right) - max(left) is <= 0, the same expression as here).
+    const size_t nh = f.hyp.size();
+    hyp_left.resize(nh);
+    hyp_right.resize(nh);
+    for (size_t j = 0; j < nh; ++j) {
+      hyp_left[j] = f.hyp[j].box.left;
+      hyp_right[j] = f.hyp[j].box.left + f.hyp[j].box.width;
+    }
     for (size_t i = 0; i < f.gt.size(); ++i) {
       const BoxPx& a = f.gt[i].box;
       const double ax2 = a.left + a.width;
-      for (size_t j = 0; j < f.hyp.size(); ++j) {
-        const BoxPx& b = f.hyp[j].box;
-        // Cheap rejection on x before the full IoU.
-        if (b.left >= ax2 || a.left >= b.left + b.width) continue;
-        const double iou = MotIou(a, b);
+      for (size_t j = 0; j < nh; ++j) {
+        if (std::min(ax2, hyp_right[j]) - std::max(a.left, hyp_left[j]) <= 0.0) continue;
+        const double iou = MotIou(a, f.hyp[j].box);
         if (iou <= 0.0) continue;
         const int pair = pair_of(p.gt_id[gt0 + i], p.hyp_id[hyp0 + j]);
         p.overlaps.push_back({static_cast<int>(i), static_cast<int>(j), pair, iou});

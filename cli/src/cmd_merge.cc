@@ -17,13 +17,15 @@ Command AddMergeCommand(CLI::App& parent) {
   auto options = std::make_shared<Options>();
   CLI::App* app = parent.add_subcommand(
       "merge", "Merge the results stores (and run folders) of sweep shards into OUT");
-  app->add_option("out", options->out, "Output folder (created; an existing store of the same sweep is extended)")
+  app->add_option("out", options->out,
+                  "Output folder (created; an existing store of the same sweep is extended)")
       ->required();
   app->add_option("dirs", options->inputs, "Shard folders (each with results.sqlite)")->required();
   return {app, [options] {
             const scenarios::MergeResult r = scenarios::MergeStores(options->out, options->inputs);
-            spdlog::info("merged {} store(s) into {}/results.sqlite: {} runs added, {} duplicates skipped",
-                         options->inputs.size(), options->out, r.added, r.duplicates);
+            spdlog::info(
+                "merged {} store(s) into {}/results.sqlite: {} runs added, {} duplicates skipped",
+                options->inputs.size(), options->out, r.added, r.duplicates);
             return 0;
           }};
 }

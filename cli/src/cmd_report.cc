@@ -14,14 +14,17 @@ namespace hcpf::cli {
 Command AddReportCommand(CLI::App& parent) {
   auto options = std::make_shared<scenarios::ReportOptions>();
   CLI::App* app = parent.add_subcommand(
-      "report", "Write DIR/report.html (plots, table, base scenario) and DIR/summary.csv from a sweep");
+      "report",
+      "Write DIR/report.html (plots, table, base scenario) and DIR/summary.csv from a sweep");
   app->add_option("dir", options->dir, "A sweep's --out folder")->required();
   app->add_option("--gnuplot", options->gnuplot, "The gnuplot executable")->capture_default_str();
   return {app, [options] {
             const auto start = std::chrono::steady_clock::now();
             const scenarios::ReportResult r = scenarios::WriteReport(*options);
-            const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-            spdlog::info("report: {} plots, {} cells in {:.2f} s; {}", r.plots, r.cells, s, r.csv_path);
+            const double s =
+                std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+            spdlog::info("report: {} plots, {} cells in {:.2f} s; {}", r.plots, r.cells, s,
+                         r.csv_path);
             std::printf("%s\n", r.html_path.c_str());
             return 0;
           }};

@@ -48,24 +48,32 @@ Command AddSweepCommand(CLI::App& parent) {
   };
   auto options = std::make_shared<Options>();
   CLI::App* app = parent.add_subcommand(
-      "sweep", "Run a sweep (base scenario x grid x zip x seeds) into --out: results.sqlite + runs/");
+      "sweep",
+      "Run a sweep (base scenario x grid x zip x seeds) into --out: results.sqlite + runs/");
   app->add_option("sweep", options->file, "Sweep YAML file (docs/sweeps.md)")->required();
-  app->add_option("--out", options->out, "Output folder; re-running resumes (finished runs are reused)")
+  app->add_option("--out", options->out,
+                  "Output folder; re-running resumes (finished runs are reused)")
       ->required();
-  app->add_option("--jobs", options->jobs, "Parallel runs (default: all cores)")->check(CLI::Range(0, 1024));
-  app->add_option("--shard", options->shard, "Run only runs with index % n == i (i/n), for batch arrays");
-  app->add_option("--cache", options->cache,
-                  "Frame cache for rendered scenarios, shared by every run: frames are rendered once")
+  app->add_option("--jobs", options->jobs, "Parallel runs (default: all cores)")
+      ->check(CLI::Range(0, 1024));
+  app->add_option("--shard", options->shard,
+                  "Run only runs with index % n == i (i/n), for batch arrays");
+  app->add_option(
+         "--cache", options->cache,
+         "Frame cache for rendered scenarios, shared by every run: frames are rendered once")
       ->capture_default_str();
-  app->add_flag("--no-cache", options->no_cache, "Render every run's frames, read and write no cache");
+  app->add_flag("--no-cache", options->no_cache,
+                "Render every run's frames, read and write no cache");
   return {app, [options] {
             scenarios::SweepOptions sweep_options;
             sweep_options.out_dir = options->out;
-            sweep_options.jobs = options->jobs > 0
-                                     ? options->jobs
-                                     : static_cast<int>(std::max(1U, std::thread::hardware_concurrency()));
+            sweep_options.jobs =
+                options->jobs > 0
+                    ? options->jobs
+                    : static_cast<int>(std::max(1U, std::thread::hardware_concurrency()));
             if (!options->shard.empty()) {
-              std::tie(sweep_options.shard_index, sweep_options.shard_count) = ParseShard(options->shard);
+              std::tie(sweep_options.shard_index, sweep_options.shard_count) =
+                  ParseShard(options->shard);
             }
             sweep_options.frame_cache_dir = options->no_cache ? "" : options->cache;
             sweep_options.Validate();
@@ -76,8 +84,10 @@ Command AddSweepCommand(CLI::App& parent) {
             const scenarios::SweepSpec spec = scenarios::LoadSweepFile(options->file);
             const std::vector<scenarios::SweepRun> runs = scenarios::ExpandSweep(spec);
             const scenarios::SweepResult r = scenarios::RunSweep(spec, runs, sweep_options);
-            spdlog::info("sweep finished: {} runs, {} reused, {} computed, {} failed; results in {}/results.sqlite",
-                         r.total, r.reused, r.computed, r.failed, options->out);
+            spdlog::info(
+                "sweep finished: {} runs, {} reused, {} computed, {} failed; results in "
+                "{}/results.sqlite",
+                r.total, r.reused, r.computed, r.failed, options->out);
             if (r.failed > 0) {
               spdlog::error("{} run(s) failed (see the error column of results.sqlite)", r.failed);
               return 1;

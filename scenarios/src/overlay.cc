@@ -15,19 +15,26 @@ namespace {
 
 // Filter colours (BGR), by filter id.
 cv::Scalar FilterColour(int64_t id) {
-  static const cv::Scalar kColours[] = {{255, 128, 0},  {0, 200, 255}, {255, 0, 200}, {0, 255, 128},
-                                        {128, 128, 255}, {255, 255, 0}, {0, 128, 255}, {200, 0, 128}};
+  static const cv::Scalar kColours[] = {{255, 128, 0}, {0, 200, 255},   {255, 0, 200},
+                                        {0, 255, 128}, {128, 128, 255}, {255, 255, 0},
+                                        {0, 128, 255}, {200, 0, 128}};
   return kColours[static_cast<size_t>(id < 0 ? -id : id) % std::size(kColours)];
 }
 
 cv::Scalar StateColour(metrics::FilterState state) {
   switch (state) {
-    case metrics::FilterState::kCorrect: return {80, 220, 80};
-    case metrics::FilterState::kSwapped: return {0, 200, 255};
-    case metrics::FilterState::kHijacked: return {40, 40, 255};
-    case metrics::FilterState::kStrayed: return {0, 140, 255};
-    case metrics::FilterState::kLost: return {160, 160, 160};
-    case metrics::FilterState::kCoasting: return {255, 200, 120};
+    case metrics::FilterState::kCorrect:
+      return {80, 220, 80};
+    case metrics::FilterState::kSwapped:
+      return {0, 200, 255};
+    case metrics::FilterState::kHijacked:
+      return {40, 40, 255};
+    case metrics::FilterState::kStrayed:
+      return {0, 140, 255};
+    case metrics::FilterState::kLost:
+      return {160, 160, 160};
+    case metrics::FilterState::kCoasting:
+      return {255, 200, 120};
   }
   return {255, 255, 255};
 }
@@ -70,15 +77,18 @@ void WriteOverlayVideo(const std::string& path, const Scenario& scenario,
   const int height = scenario.world.camera.height_px;
   // FFmpeg backend first (what Debian's OpenCV ships for MP4), then any other.
   const int fourcc = cv::VideoWriter::fourcc('m', 'p', '4', 'v');
-  cv::VideoWriter writer(path, cv::CAP_FFMPEG, fourcc, scenario.world.fps, cv::Size(width, height), true);
-  if (!writer.isOpened()) writer.open(path, fourcc, scenario.world.fps, cv::Size(width, height), true);
+  cv::VideoWriter writer(path, cv::CAP_FFMPEG, fourcc, scenario.world.fps, cv::Size(width, height),
+                         true);
+  if (!writer.isOpened())
+    writer.open(path, fourcc, scenario.world.fps, cv::Size(width, height), true);
   if (!writer.isOpened()) {
     throw RunError(fmt::format("cannot open a video writer (mp4v) for {}", path));
   }
   // (frame, filter) -> state.
   std::map<std::pair<int, int64_t>, metrics::FilterState> states;
   if (filters) {
-    for (const metrics::FilterFrameRecord& r : filters->records) states[{r.frame, r.filter}] = r.state;
+    for (const metrics::FilterFrameRecord& r : filters->records)
+      states[{r.frame, r.filter}] = r.state;
   }
   cv::Mat image(height, width, CV_8UC3);
   for (size_t f = 0; f < truth.size(); ++f) {
@@ -87,7 +97,8 @@ void WriteOverlayVideo(const std::string& path, const Scenario& scenario,
     if (frame) {
       const renderer::RgbImage& rgb = *frame;
       HCPF_CHECK(rgb.width == width && rgb.height == height)
-          << "frame " << f << " is " << rgb.width << "x" << rgb.height << ", the camera " << width << "x" << height;
+          << "frame " << f << " is " << rgb.width << "x" << rgb.height << ", the camera " << width
+          << "x" << height;
       const cv::Mat view(height, width, CV_8UC3, const_cast<uint8_t*>(rgb.pixels.data()));
       cv::cvtColor(view, image, cv::COLOR_RGB2BGR);
     } else {
@@ -104,10 +115,12 @@ void WriteOverlayVideo(const std::string& path, const Scenario& scenario,
         const int64_t id = Value(fr.id);
         const cv::Scalar colour = FilterColour(id);
         for (const tracker::ParticlePoint& p : fr.particles) {
-          const cv::Point at(static_cast<int>(std::lround(p.x_px)), static_cast<int>(std::lround(p.y_px)));
+          const cv::Point at(static_cast<int>(std::lround(p.x_px)),
+                             static_cast<int>(std::lround(p.y_px)));
           if (at.x >= 0 && at.y >= 0 && at.x < width && at.y < height) {
-            image.at<cv::Vec3b>(at) = cv::Vec3b(static_cast<uint8_t>(colour[0]), static_cast<uint8_t>(colour[1]),
-                                                static_cast<uint8_t>(colour[2]));
+            image.at<cv::Vec3b>(at) =
+                cv::Vec3b(static_cast<uint8_t>(colour[0]), static_cast<uint8_t>(colour[1]),
+                          static_cast<uint8_t>(colour[2]));
           }
         }
         const cv::Rect r = ToRect(fr.box);
@@ -122,7 +135,8 @@ void WriteOverlayVideo(const std::string& path, const Scenario& scenario,
         Label(image, text, {r.x, r.y - 4}, text_colour);
       }
     }
-    Label(image, fmt::format("{}  frame {}", scenario.name, truth[f].frame), {6, 16}, {255, 255, 255});
+    Label(image, fmt::format("{}  frame {}", scenario.name, truth[f].frame), {6, 16},
+          {255, 255, 255});
     writer.write(image);
   }
   writer.release();

@@ -52,18 +52,29 @@ std::string ResolvePath(const YamlReader& where, const std::string& path, const 
   for (const fs::path& c : candidates) {
     if (fs::is_regular_file(c, ec)) return c.lexically_normal().string();
   }
-  where.Fail("a scenario file (looked next to the suite, in the current folder and in the project folder)");
+  where.Fail(
+      "a scenario file (looked next to the suite, in the current folder and in the project "
+      "folder)");
 }
 
 std::string Xml(const std::string& text) {
   std::string out;
   for (char c : text) {
     switch (c) {
-      case '&': out += "&amp;"; break;
-      case '<': out += "&lt;"; break;
-      case '>': out += "&gt;"; break;
-      case '"': out += "&quot;"; break;
-      default: out += c;
+      case '&':
+        out += "&amp;";
+        break;
+      case '<':
+        out += "&lt;";
+        break;
+      case '>':
+        out += "&gt;";
+        break;
+      case '"':
+        out += "&quot;";
+        break;
+      default:
+        out += c;
     }
   }
   return out;
@@ -72,7 +83,9 @@ std::string Xml(const std::string& text) {
 std::string Num(double v) { return std::isfinite(v) ? fmt::format("{:.6g}", v) : "nan"; }
 
 json JsonNumber(double v) { return std::isfinite(v) ? json(v) : json("nan"); }
-double FromJson(const json& j) { return j.is_number() ? j.get<double>() : std::numeric_limits<double>::quiet_NaN(); }
+double FromJson(const json& j) {
+  return j.is_number() ? j.get<double>() : std::numeric_limits<double>::quiet_NaN();
+}
 
 }  // namespace
 
@@ -81,9 +94,11 @@ RegressSuite LoadRegressSuite(const std::string& path) {
   auto context = std::make_shared<YamlContext>();
   context->file = path;
   if (!root.IsMap()) {
-    throw InputError(SourceLocation{path, 1, 1, ""}, "a suite mapping (scenes:, metrics:)", "no mapping");
+    throw InputError(SourceLocation{path, 1, 1, ""}, "a suite mapping (scenes:, metrics:)",
+                     "no mapping");
   }
-  const std::string dir = fs::path(path).parent_path().empty() ? "." : fs::path(path).parent_path().string();
+  const std::string dir =
+      fs::path(path).parent_path().empty() ? "." : fs::path(path).parent_path().string();
   YamlReader r(root, "", context);
   RegressSuite suite;
   suite.file = path;
@@ -94,7 +109,8 @@ RegressSuite LoadRegressSuite(const std::string& path) {
     YamlReader scenario_node = item.Child("scenario");
     scene.scenario_path = ResolvePath(scenario_node, item.String("scenario", std::nullopt), dir);
     scene.name = item.String("name", fs::path(scene.scenario_path).stem().string());
-    if (!names.insert(scene.name).second) item.Child("name").Fail("a scene name used once in the suite");
+    if (!names.insert(scene.name).second)
+      item.Child("name").Fail("a scene name used once in the suite");
     if (auto set = item.Optional("set")) {
       set->ExpectMap();
       for (auto it = set->node().begin(); it != set->node().end(); ++it) {
@@ -103,7 +119,8 @@ RegressSuite LoadRegressSuite(const std::string& path) {
         scene.overrides.push_back({key, FlowText(it->second)});
       }
     }
-    if (item.Has("seed")) scene.overrides.push_back({"seed", std::to_string(item.Seed("seed", std::nullopt))});
+    if (item.Has("seed"))
+      scene.overrides.push_back({"seed", std::to_string(item.Seed("seed", std::nullopt))});
     item.Finish();
     // Validate now, so a bad override is reported before anything runs.
     try {
@@ -117,21 +134,23 @@ RegressSuite LoadRegressSuite(const std::string& path) {
   YamlReader metrics = r.Child("metrics");
   metrics.ExpectMap();
   std::vector<std::string> keys;
-  for (auto it = metrics.node().begin(); it != metrics.node().end(); ++it) keys.push_back(it->first.Scalar());
+  for (auto it = metrics.node().begin(); it != metrics.node().end(); ++it)
+    keys.push_back(it->first.Scalar());
   const auto& known = HeadlineMetrics();
   for (const std::string& key : keys) {
     YamlReader m = metrics.Child(key);
     if (std::find(known.begin(), known.end(), key) == known.end()) {
       const std::string close = ClosestMatch(key, known);
-      metrics.Key(YAML::Node(key)).Fail(fmt::format("a metric name ({})", fmt::join(known, ", ")),
-                                        close.empty() ? "" : "did you mean \"" + close + "\"?");
+      metrics.Key(YAML::Node(key))
+          .Fail(fmt::format("a metric name ({})", fmt::join(known, ", ")),
+                close.empty() ? "" : "did you mean \"" + close + "\"?");
     }
     m.ExpectMap();
     RegressTolerance t;
     t.metric = key;
     t.tolerance = m.Number("tolerance", std::nullopt, 0.0, 1e12);
-    t.higher_is_better = m.Enum("direction", std::nullopt, {"higher_is_better", "lower_is_better"}) ==
-                         "higher_is_better";
+    t.higher_is_better = m.Enum("direction", std::nullopt,
+                                {"higher_is_better", "lower_is_better"}) == "higher_is_better";
     m.Finish();
     suite.metrics.push_back(t);
   }
@@ -142,9 +161,12 @@ RegressSuite LoadRegressSuite(const std::string& path) {
 
 const char* RegressVerdictName(RegressVerdict verdict) {
   switch (verdict) {
-    case RegressVerdict::kSame: return "ok";
-    case RegressVerdict::kBetter: return "better";
-    case RegressVerdict::kWorse: return "WORSE";
+    case RegressVerdict::kSame:
+      return "ok";
+    case RegressVerdict::kBetter:
+      return "better";
+    case RegressVerdict::kWorse:
+      return "WORSE";
   }
   return "?";
 }
@@ -159,18 +181,22 @@ RegressVerdict CompareMetric(double baseline, double current, const RegressToler
 }
 
 void RegressOptions::Validate() const {
-  if (suite_path.empty()) throw InputError(SourceLocation{"hcpf regress", 0, 0, "SUITE"}, "a suite file", "nothing");
+  if (suite_path.empty())
+    throw InputError(SourceLocation{"hcpf regress", 0, 0, "SUITE"}, "a suite file", "nothing");
   if (baseline_path.empty()) {
-    throw InputError(SourceLocation{"hcpf regress", 0, 0, "--baseline"}, "a baseline JSON path", "nothing");
+    throw InputError(SourceLocation{"hcpf regress", 0, 0, "--baseline"}, "a baseline JSON path",
+                     "nothing");
   }
-  if (jobs < 1) throw InputError(SourceLocation{"hcpf regress", 0, 0, "--jobs"}, "an integer >= 1", std::to_string(jobs));
+  if (jobs < 1)
+    throw InputError(SourceLocation{"hcpf regress", 0, 0, "--jobs"}, "an integer >= 1",
+                     std::to_string(jobs));
 }
 
 std::string FormatRegressTable(const std::vector<RegressRow>& rows) {
   size_t w = 5;
   for (const RegressRow& r : rows) w = std::max(w, r.scene.size());
-  std::string out = fmt::format("{:<{}}  {:<17}  {:>10}  {:>10}  {:>10}  {:>9}  {}\n", "scene", w, "metric",
-                                "baseline", "current", "delta", "tolerance", "verdict");
+  std::string out = fmt::format("{:<{}}  {:<17}  {:>10}  {:>10}  {:>10}  {:>9}  {}\n", "scene", w,
+                                "metric", "baseline", "current", "delta", "tolerance", "verdict");
   for (const RegressRow& r : rows) {
     out += fmt::format("{:<{}}  {:<17}  {:>10}  {:>10}  {:>10}  {:>9}  {}\n", r.scene, w, r.metric,
                        Num(r.baseline), Num(r.current), Num(r.current - r.baseline),
@@ -184,16 +210,19 @@ std::string FormatRegressJunit(const std::vector<RegressRow>& rows) {
   int failures = 0;
   for (const RegressRow& r : rows) failures += r.verdict == RegressVerdict::kWorse;
   std::string out = "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n";
-  out += fmt::format("<testsuites name=\"hcpf regress\" tests=\"{0}\" failures=\"{1}\">\n"
-                     "  <testsuite name=\"hcpf regress\" tests=\"{0}\" failures=\"{1}\" errors=\"0\">\n",
-                     rows.size(), failures);
+  out += fmt::format(
+      "<testsuites name=\"hcpf regress\" tests=\"{0}\" failures=\"{1}\">\n"
+      "  <testsuite name=\"hcpf regress\" tests=\"{0}\" failures=\"{1}\" errors=\"0\">\n",
+      rows.size(), failures);
   for (const RegressRow& r : rows) {
     out += fmt::format("    <testcase classname=\"{}\" name=\"{}\"", Xml(r.scene), Xml(r.metric));
     if (r.verdict == RegressVerdict::kWorse) {
-      const std::string message = fmt::format(
-          "{} {}: {} against baseline {} ({} is better, tolerance {})", r.scene, r.metric, Num(r.current),
-          Num(r.baseline), r.higher_is_better ? "higher" : "lower", Num(r.tolerance));
-      out += fmt::format(">\n      <failure message=\"{0}\">{0}</failure>\n    </testcase>\n", Xml(message));
+      const std::string message =
+          fmt::format("{} {}: {} against baseline {} ({} is better, tolerance {})", r.scene,
+                      r.metric, Num(r.current), Num(r.baseline),
+                      r.higher_is_better ? "higher" : "lower", Num(r.tolerance));
+      out += fmt::format(">\n      <failure message=\"{0}\">{0}</failure>\n    </testcase>\n",
+                         Xml(message));
     } else {
       out += "/>\n";
     }
@@ -205,19 +234,25 @@ std::string FormatRegressJunit(const std::vector<RegressRow>& rows) {
 std::string FormatRegressMarkdown(const RegressResult& result) {
   std::string out = "## hcpf regress\n\n";
   if (result.worse > 0) {
-    out += fmt::format("**{} metric(s) worse than the baseline beyond tolerance.**\n\n", result.worse);
+    out +=
+        fmt::format("**{} metric(s) worse than the baseline beyond tolerance.**\n\n", result.worse);
   } else if (result.better > 0) {
-    out += fmt::format("No regression; {} metric(s) better than the baseline: refresh it with "
-                       "`--update-baseline`.\n\n", result.better);
+    out += fmt::format(
+        "No regression; {} metric(s) better than the baseline: refresh it with "
+        "`--update-baseline`.\n\n",
+        result.better);
   } else {
     out += "No regression: every metric within tolerance of the baseline.\n\n";
   }
-  out += "| scene | metric | baseline | current | delta | tolerance | verdict |\n|---|---|---:|---:|---:|---:|---|\n";
+  out +=
+      "| scene | metric | baseline | current | delta | tolerance | verdict "
+      "|\n|---|---|---:|---:|---:|---:|---|\n";
   for (const RegressRow& r : result.rows) {
-    out += fmt::format("| {} | {} | {} | {} | {} | {}{} | {} |\n", r.scene, r.metric, Num(r.baseline),
-                       Num(r.current), Num(r.current - r.baseline), r.higher_is_better ? "−" : "+",
-                       Num(r.tolerance),
-                       r.verdict == RegressVerdict::kWorse ? "**WORSE**" : RegressVerdictName(r.verdict));
+    out += fmt::format(
+        "| {} | {} | {} | {} | {} | {}{} | {} |\n", r.scene, r.metric, Num(r.baseline),
+        Num(r.current), Num(r.current - r.baseline), r.higher_is_better ? "−" : "+",
+        Num(r.tolerance),
+        r.verdict == RegressVerdict::kWorse ? "**WORSE**" : RegressVerdictName(r.verdict));
   }
   return out;
 }
@@ -236,7 +271,8 @@ RegressResult RunRegress(const RegressOptions& options) {
     try {
       baseline = json::parse(in);
     } catch (const json::exception& e) {
-      throw InputError(SourceLocation{options.baseline_path, 0, 0, ""}, "a baseline JSON file", e.what());
+      throw InputError(SourceLocation{options.baseline_path, 0, 0, ""}, "a baseline JSON file",
+                       e.what());
     }
     if (!baseline.is_object() || !baseline.contains("scenes") || !baseline["scenes"].is_object()) {
       throw InputError(SourceLocation{options.baseline_path, 0, 0, "scenes"},
@@ -247,7 +283,8 @@ RegressResult RunRegress(const RegressOptions& options) {
         const json& s = baseline["scenes"];
         if (!s.contains(scene.name) || !s[scene.name].contains("metrics") ||
             !s[scene.name]["metrics"].contains(t.metric)) {
-          throw InputError(SourceLocation{options.baseline_path, 0, 0, "scenes." + scene.name + ".metrics." + t.metric},
+          throw InputError(SourceLocation{options.baseline_path, 0, 0,
+                                          "scenes." + scene.name + ".metrics." + t.metric},
                            "a baseline value for every scene and metric of the suite", "none",
                            "refresh the baseline with --update-baseline");
         }
@@ -256,8 +293,9 @@ RegressResult RunRegress(const RegressOptions& options) {
   }
 
   const bool temporary = options.work_dir.empty();
-  const fs::path work = temporary ? fs::temp_directory_path() / fmt::format("hcpf-regress-{}", ::getpid())
-                                  : fs::path(options.work_dir);
+  const fs::path work = temporary
+                            ? fs::temp_directory_path() / fmt::format("hcpf-regress-{}", ::getpid())
+                            : fs::path(options.work_dir);
   std::error_code ec;
   fs::create_directories(work, ec);
   if (ec) throw RunError(fmt::format("cannot create {}: {}", work.string(), ec.message()));
@@ -283,11 +321,13 @@ RegressResult RunRegress(const RegressOptions& options) {
     }
   };
   std::vector<std::thread> threads;
-  for (int j = 0; j < std::min<int>(options.jobs, static_cast<int>(suite.scenes.size())); ++j) threads.emplace_back(worker);
+  for (int j = 0; j < std::min<int>(options.jobs, static_cast<int>(suite.scenes.size())); ++j)
+    threads.emplace_back(worker);
   for (std::thread& t : threads) t.join();
   if (temporary) fs::remove_all(work, ec);
   for (size_t i = 0; i < suite.scenes.size(); ++i) {
-    if (!errors[i].empty()) throw RunError(fmt::format("scene \"{}\" failed: {}", suite.scenes[i].name, errors[i]));
+    if (!errors[i].empty())
+      throw RunError(fmt::format("scene \"{}\" failed: {}", suite.scenes[i].name, errors[i]));
   }
 
   RegressResult result;
@@ -298,7 +338,8 @@ RegressResult RunRegress(const RegressOptions& options) {
     out["scenes"] = json::object();
     for (size_t i = 0; i < suite.scenes.size(); ++i) {
       json m = json::object();
-      for (const RegressTolerance& t : suite.metrics) m[t.metric] = JsonNumber(values[i].at(t.metric));
+      for (const RegressTolerance& t : suite.metrics)
+        m[t.metric] = JsonNumber(values[i].at(t.metric));
       out["scenes"][suite.scenes[i].name] = {{"config_hash", hashes[i]}, {"metrics", m}};
     }
     WriteTextFile(options.baseline_path, out.dump(2) + "\n");
@@ -309,8 +350,9 @@ RegressResult RunRegress(const RegressOptions& options) {
     if (!options.update_baseline) {
       const std::string base_hash = baseline["scenes"][name].value("config_hash", "");
       if (!base_hash.empty() && base_hash != hashes[i]) {
-        spdlog::warn("regress: scene \"{}\" resolves to config {} but the baseline was made from {}", name,
-                     hashes[i], base_hash);
+        spdlog::warn(
+            "regress: scene \"{}\" resolves to config {} but the baseline was made from {}", name,
+            hashes[i], base_hash);
       }
     }
     for (const RegressTolerance& t : suite.metrics) {
@@ -318,7 +360,9 @@ RegressResult RunRegress(const RegressOptions& options) {
       row.scene = name;
       row.metric = t.metric;
       row.current = values[i].at(t.metric);
-      row.baseline = options.update_baseline ? row.current : FromJson(baseline["scenes"][name]["metrics"][t.metric]);
+      row.baseline = options.update_baseline
+                         ? row.current
+                         : FromJson(baseline["scenes"][name]["metrics"][t.metric]);
       row.tolerance = t.tolerance;
       row.higher_is_better = t.higher_is_better;
       row.verdict = CompareMetric(row.baseline, row.current, t);
@@ -328,8 +372,10 @@ RegressResult RunRegress(const RegressOptions& options) {
     }
   }
   result.table = FormatRegressTable(result.rows);
-  if (!options.junit_path.empty()) WriteTextFile(options.junit_path, FormatRegressJunit(result.rows));
-  if (!options.markdown_path.empty()) WriteTextFile(options.markdown_path, FormatRegressMarkdown(result));
+  if (!options.junit_path.empty())
+    WriteTextFile(options.junit_path, FormatRegressJunit(result.rows));
+  if (!options.markdown_path.empty())
+    WriteTextFile(options.markdown_path, FormatRegressMarkdown(result));
   return result;
 }
 

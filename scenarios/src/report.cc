@@ -34,11 +34,20 @@ std::string Html(const std::string& text) {
   std::string out;
   for (char c : text) {
     switch (c) {
-      case '&': out += "&amp;"; break;
-      case '<': out += "&lt;"; break;
-      case '>': out += "&gt;"; break;
-      case '"': out += "&quot;"; break;
-      default: out += c;
+      case '&':
+        out += "&amp;";
+        break;
+      case '<':
+        out += "&lt;";
+        break;
+      case '>':
+        out += "&gt;";
+        break;
+      case '"':
+        out += "&quot;";
+        break;
+      default:
+        out += c;
     }
   }
   return out;
@@ -88,7 +97,8 @@ void RunGnuplot(const std::string& gnuplot, const fs::path& script) {
     std::ifstream in(log);
     std::stringstream s;
     s << in.rdbuf();
-    throw RunError(fmt::format("gnuplot failed (status {}) on {}: {}", status, script.string(), s.str()));
+    throw RunError(
+        fmt::format("gnuplot failed (status {}) on {}: {}", status, script.string(), s.str()));
   }
 }
 
@@ -150,7 +160,8 @@ MeanCi MeanConfidence95(const std::vector<double>& values) {
 }
 
 void ReportOptions::Validate() const {
-  if (dir.empty()) throw InputError(SourceLocation{"hcpf report", 0, 0, "DIR"}, "a sweep folder", "nothing");
+  if (dir.empty())
+    throw InputError(SourceLocation{"hcpf report", 0, 0, "DIR"}, "a sweep folder", "nothing");
 }
 
 ReportResult WriteReport(const ReportOptions& options) {
@@ -198,13 +209,15 @@ ReportResult WriteReport(const ReportOptions& options) {
   // Keys swept over a single value do not split lines.
   std::vector<bool> varies(keys.size(), false);
   for (const Cell& c : cells) {
-    for (size_t k = 0; k < keys.size(); ++k) varies[k] = varies[k] || c.values[k] != cells.front().values[k];
+    for (size_t k = 0; k < keys.size(); ++k)
+      varies[k] = varies[k] || c.values[k] != cells.front().values[k];
   }
   const auto line_label = [&](const Cell& c) {
     std::vector<std::string> parts;
     if (series_index >= 0) parts.push_back(c.values[series_index]);
     for (size_t k = 0; k < keys.size(); ++k) {
-      if (static_cast<int>(k) == x_index || static_cast<int>(k) == series_index || !varies[k]) continue;
+      if (static_cast<int>(k) == x_index || static_cast<int>(k) == series_index || !varies[k])
+        continue;
       parts.push_back(keys[k] + "=" + c.values[k]);
     }
     return parts.empty() ? std::string("all") : fmt::format("{}", fmt::join(parts, ", "));
@@ -235,8 +248,8 @@ ReportResult WriteReport(const ReportOptions& options) {
     x_max = std::max(x_max, *d);
   }
   // Log axis for particle counts, and for any positive x spanning >= 20x.
-  const bool log_x = numeric_x && x_min > 0 &&
-                     (meta.report.x.ends_with("particles") || x_max / x_min >= 20.0);
+  const bool log_x =
+      numeric_x && x_min > 0 && (meta.report.x.ends_with("particles") || x_max / x_min >= 20.0);
   const auto x_position = [&](const Cell& c) {
     const std::string v = x_index >= 0 ? c.values[x_index] : "";
     if (numeric_x) return *ParseNumber(v);
@@ -269,8 +282,8 @@ ReportResult WriteReport(const ReportOptions& options) {
         const MeanCi& s = c->stats.at(metric);
         if (s.n == 0) continue;
         has_data[l] = true;
-        text += fmt::format("{} {} {} {}\n", Number(x), Number(s.mean), Number(s.mean - s.half_width),
-                            Number(s.mean + s.half_width));
+        text += fmt::format("{} {} {} {}\n", Number(x), Number(s.mean),
+                            Number(s.mean - s.half_width), Number(s.mean + s.half_width));
       }
       // gnuplot needs at least one row per index block.
       if (!has_data[l]) text += "nan nan nan nan\n";
@@ -283,7 +296,8 @@ ReportResult WriteReport(const ReportOptions& options) {
     gp += fmt::format("set output {}\n", GpString(svg.string()));
     gp += fmt::format("set title {} noenhanced\n", GpString(metric + " vs " + x_label));
     gp += fmt::format("set xlabel {} noenhanced\n", GpString(x_label));
-    gp += fmt::format("set ylabel {} noenhanced\n", GpString(metric + " (mean, 95% CI over seeds)"));
+    gp +=
+        fmt::format("set ylabel {} noenhanced\n", GpString(metric + " (mean, 95% CI over seeds)"));
     gp += "set grid\nset key outside right top noenhanced\n";
     gp += "set style fill transparent solid 0.18 noborder\n";
     if (log_x) gp += "set logscale x\n";
@@ -303,11 +317,13 @@ ReportResult WriteReport(const ReportOptions& options) {
       const char* colour = kColours[l % std::size(kColours)];
       plots.push_back(fmt::format("{} index {} using 1:3:4 with filledcurves lc rgb '{}' notitle",
                                   GpString(data.string()), l, colour));
-      plots.push_back(fmt::format("{} index {} using 1:2 with linespoints lw 2 pt 7 ps 0.6 lc rgb '{}' title {}",
-                                  GpString(data.string()), l, colour, GpString(lines[l])));
+      plots.push_back(fmt::format(
+          "{} index {} using 1:2 with linespoints lw 2 pt 7 ps 0.6 lc rgb '{}' title {}",
+          GpString(data.string()), l, colour, GpString(lines[l])));
     }
     if (plots.empty()) {
-      gp += "set label 1 'no finished runs' at graph 0.5, 0.5 center\nplot [0:1] [0:1] NaN notitle\n";
+      gp +=
+          "set label 1 'no finished runs' at graph 0.5, 0.5 center\nplot [0:1] [0:1] NaN notitle\n";
     } else {
       gp += "plot " + fmt::format("{}", fmt::join(plots, ", \\\n     ")) + "\n";
     }
@@ -322,14 +338,16 @@ ReportResult WriteReport(const ReportOptions& options) {
     std::string csv;
     for (const std::string& k : keys) csv += Csv(k) + ",";
     csv += "runs,failures";
-    for (const std::string& m : HeadlineMetrics()) csv += fmt::format(",{0}_mean,{0}_ci95,{0}_n", m);
+    for (const std::string& m : HeadlineMetrics())
+      csv += fmt::format(",{0}_mean,{0}_ci95,{0}_n", m);
     csv += "\n";
     for (const Cell& c : cells) {
       for (const std::string& v : c.values) csv += Csv(v) + ",";
       csv += fmt::format("{},{}", c.runs.size(), c.failures);
       for (const std::string& m : HeadlineMetrics()) {
         const MeanCi& s = c.stats.at(m);
-        csv += fmt::format(",{},{},{}", s.n ? Number(s.mean) : "", s.n >= 2 ? Number(s.half_width) : "", s.n);
+        csv += fmt::format(",{},{},{}", s.n ? Number(s.mean) : "",
+                           s.n >= 2 ? Number(s.half_width) : "", s.n);
       }
       csv += "\n";
     }
@@ -345,15 +363,17 @@ ReportResult WriteReport(const ReportOptions& options) {
        "font-size:13px}td,th{border:1px solid #ccc;padding:3px 7px;text-align:right}"
        "th{background:#f3f3f3}td.k{text-align:left}.plot{margin:1em 0}pre{background:#f7f7f7;"
        "padding:1em;font-size:12px;overflow:auto}.failed{color:#b00}</style>\n</head><body>\n";
-  h += fmt::format("<h1>Sweep report</h1>\n<p>Sweep <code>{}</code> (hash <code>{}</code>): {} of {} runs "
-                   "in the store, {} ok, {} failed. Lines: mean over seeds; "
-                   "bands: 95&nbsp;% confidence interval of the mean (Student t, n&minus;1 degrees of "
-                   "freedom; none when n&nbsp;&lt;&nbsp;2).</p>\n",
-                   Html(meta.sweep_file), Html(meta.sweep_hash), runs.size(), meta.run_count, ok_runs,
-                   failed_runs > 0 ? fmt::format("<span class=\"failed\">{}</span>", failed_runs) : "0");
+  h += fmt::format(
+      "<h1>Sweep report</h1>\n<p>Sweep <code>{}</code> (hash <code>{}</code>): {} of {} runs "
+      "in the store, {} ok, {} failed. Lines: mean over seeds; "
+      "bands: 95&nbsp;% confidence interval of the mean (Student t, n&minus;1 degrees of "
+      "freedom; none when n&nbsp;&lt;&nbsp;2).</p>\n",
+      Html(meta.sweep_file), Html(meta.sweep_hash), runs.size(), meta.run_count, ok_runs,
+      failed_runs > 0 ? fmt::format("<span class=\"failed\">{}</span>", failed_runs) : "0");
   h += "<h2>Plots</h2>\n";
   for (size_t p = 0; p < svgs.size(); ++p) {
-    h += fmt::format("<div class=\"plot\" id=\"plot-{}\">\n{}\n</div>\n", meta.report.y[p], svgs[p]);
+    h +=
+        fmt::format("<div class=\"plot\" id=\"plot-{}\">\n{}\n</div>\n", meta.report.y[p], svgs[p]);
   }
   h += "<h2>Cells</h2>\n<table><tr>";
   for (const std::string& k : keys) h += "<th>" + Html(k) + "</th>";
@@ -397,9 +417,12 @@ ReportResult WriteReport(const ReportOptions& options) {
 
   std::string failures;
   for (const RunRecord& r : runs) {
-    if (!r.ok) failures += fmt::format("<li>run {} (<code>{}</code>): {}</li>\n", r.index, r.key, Html(r.error));
+    if (!r.ok)
+      failures +=
+          fmt::format("<li>run {} (<code>{}</code>): {}</li>\n", r.index, r.key, Html(r.error));
   }
-  if (!failures.empty()) h += "<h2>Failed runs</h2>\n<ul class=\"failed\">\n" + failures + "</ul>\n";
+  if (!failures.empty())
+    h += "<h2>Failed runs</h2>\n<ul class=\"failed\">\n" + failures + "</ul>\n";
   h += "<h2>Base scenario (resolved)</h2>\n<pre>" + Html(meta.base_resolved) + "</pre>\n";
   h += "</body></html>\n";
   result.html_path = (dir / "report.html").string();

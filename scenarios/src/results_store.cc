@@ -37,7 +37,8 @@ class Statement {
  public:
   Statement(sqlite3* db, const std::string& sql) : db_(db) {
     if (sqlite3_prepare_v2(db, sql.c_str(), -1, &stmt_, nullptr) != SQLITE_OK) {
-      throw RunError(fmt::format("results store: cannot prepare \"{}\": {}", sql, sqlite3_errmsg(db)));
+      throw RunError(
+          fmt::format("results store: cannot prepare \"{}\": {}", sql, sqlite3_errmsg(db)));
     }
   }
   ~Statement() { sqlite3_finalize(stmt_); }
@@ -77,7 +78,8 @@ class Statement {
 
 sqlite3* OpenDb(const std::string& path, bool create) {
   sqlite3* db = nullptr;
-  const int flags = SQLITE_OPEN_READWRITE | SQLITE_OPEN_FULLMUTEX | (create ? SQLITE_OPEN_CREATE : 0);
+  const int flags =
+      SQLITE_OPEN_READWRITE | SQLITE_OPEN_FULLMUTEX | (create ? SQLITE_OPEN_CREATE : 0);
   if (sqlite3_open_v2(path.c_str(), &db, flags, nullptr) != SQLITE_OK) {
     const std::string message = db ? sqlite3_errmsg(db) : "out of memory";
     sqlite3_close(db);
@@ -123,8 +125,8 @@ void ResultsStore::ReadMeta() {
   std::map<std::string, std::string> m;
   while (s.Step()) m[s.Text(0)] = s.Text(1);
   if (!m.count("sweep_hash")) {
-    throw InputError(SourceLocation{path_, 0, 0, "meta.sweep_hash"}, "a results store of hcpf sweep",
-                     "a database without the sweep's hash");
+    throw InputError(SourceLocation{path_, 0, 0, "meta.sweep_hash"},
+                     "a results store of hcpf sweep", "a database without the sweep's hash");
   }
   meta_.sweep_hash = m["sweep_hash"];
   meta_.sweep_file = m["sweep_file"];
@@ -159,10 +161,11 @@ std::unique_ptr<ResultsStore> ResultsStore::OpenOrCreate(const std::string& path
   if (fs::exists(path)) {
     auto store = Open(path);
     if (store->meta().sweep_hash != meta.sweep_hash) {
-      throw InputError(SourceLocation{path, 0, 0, "meta.sweep_hash"},
-                       fmt::format("a store of this sweep (hash {}); use another --out", meta.sweep_hash),
-                       fmt::format("a store of another sweep (hash {}, from {})",
-                                   store->meta().sweep_hash, store->meta().sweep_file));
+      throw InputError(
+          SourceLocation{path, 0, 0, "meta.sweep_hash"},
+          fmt::format("a store of this sweep (hash {}); use another --out", meta.sweep_hash),
+          fmt::format("a store of another sweep (hash {}, from {})", store->meta().sweep_hash,
+                      store->meta().sweep_file));
     }
     return store;
   }
@@ -176,7 +179,8 @@ std::unique_ptr<ResultsStore> ResultsStore::OpenOrCreate(const std::string& path
     store.Exec("BEGIN");
     store.Exec("CREATE TABLE meta(name TEXT PRIMARY KEY, value TEXT NOT NULL)");
     store.Exec(
-        "CREATE TABLE runs(key TEXT PRIMARY KEY, run_index INTEGER NOT NULL, seed_index INTEGER NOT "
+        "CREATE TABLE runs(key TEXT PRIMARY KEY, run_index INTEGER NOT NULL, seed_index INTEGER "
+        "NOT "
         "NULL, seed TEXT NOT NULL, status TEXT NOT NULL, error TEXT, run_dir TEXT" +
         columns + ")");
     const std::vector<std::pair<std::string, std::string>> rows = {
@@ -296,15 +300,16 @@ std::map<std::string, double> ReadRunMetrics(const std::string& run_dir) {
 
 MergeResult MergeStores(const std::string& out_dir, const std::vector<std::string>& input_dirs) {
   if (input_dirs.empty()) {
-    throw InputError(SourceLocation{"hcpf merge", 0, 0, "DIR"}, "at least one shard folder", "none");
+    throw InputError(SourceLocation{"hcpf merge", 0, 0, "DIR"}, "at least one shard folder",
+                     "none");
   }
   std::vector<std::unique_ptr<ResultsStore>> inputs;
   for (const std::string& dir : input_dirs) {
     inputs.push_back(ResultsStore::Open((fs::path(dir) / "results.sqlite").string()));
     if (inputs.back()->meta().sweep_hash != inputs.front()->meta().sweep_hash) {
       throw InputError(SourceLocation{inputs.back()->path(), 0, 0, "meta.sweep_hash"},
-                       fmt::format("a store of the same sweep as {} (hash {})", inputs.front()->path(),
-                                   inputs.front()->meta().sweep_hash),
+                       fmt::format("a store of the same sweep as {} (hash {})",
+                                   inputs.front()->path(), inputs.front()->meta().sweep_hash),
                        fmt::format("hash {} (from {})", inputs.back()->meta().sweep_hash,
                                    inputs.back()->meta().sweep_file));
     }
@@ -322,7 +327,10 @@ MergeResult MergeStores(const std::string& out_dir, const std::vector<std::strin
         ++result.duplicates;
         continue;
       }
-      if (it == present.end()) ++result.added; else ++result.duplicates;
+      if (it == present.end())
+        ++result.added;
+      else
+        ++result.duplicates;
       if (!r.run_dir.empty()) {
         const fs::path from = fs::path(input_dirs[i]) / r.run_dir;
         const fs::path to = fs::path(out_dir) / r.run_dir;
@@ -331,7 +339,9 @@ MergeResult MergeStores(const std::string& out_dir, const std::vector<std::strin
           fs::remove_all(to, ec);
           fs::create_directories(to.parent_path(), ec);
           fs::copy(from, to, fs::copy_options::recursive, ec);
-          if (ec) throw RunError(fmt::format("cannot copy {} to {}: {}", from.string(), to.string(), ec.message()));
+          if (ec)
+            throw RunError(
+                fmt::format("cannot copy {} to {}: {}", from.string(), to.string(), ec.message()));
         }
       }
       out->Put(r);

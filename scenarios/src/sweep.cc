@@ -43,8 +43,10 @@ std::string ResolveBase(const YamlReader& where, const std::string& base, const 
     std::error_code ec;
     if (fs::is_regular_file(c, ec)) return c.lexically_normal().string();
   }
-  where.Fail("a scenario file (looked next to the sweep file, in the current folder and in the project folder)",
-             "");
+  where.Fail(
+      "a scenario file (looked next to the sweep file, in the current folder and in the project "
+      "folder)",
+      "");
 }
 
 // Reads a `grid:`/`zip:` mapping of dotted keys to non-empty lists.
@@ -81,7 +83,8 @@ SweepSpec ReadSweep(YAML::Node root, const std::string& file, const std::string&
   auto context = std::make_shared<YamlContext>();
   context->file = file;
   if (!root.IsDefined() || root.IsNull() || !root.IsMap()) {
-    throw InputError(SourceLocation{file, 1, 1, ""}, "a sweep mapping (base:, grid:, zip:, seeds:, report:)",
+    throw InputError(SourceLocation{file, 1, 1, ""},
+                     "a sweep mapping (base:, grid:, zip:, seeds:, report:)",
                      root.IsSequence() ? "a list" : "no mapping");
   }
   YamlReader r(root, "", context);
@@ -116,8 +119,8 @@ SweepSpec ReadSweep(YAML::Node root, const std::string& file, const std::string&
     if (a.values.size() != spec.zip.front().values.size()) {
       const SourceLocation& at = a.where.front();
       throw InputError(SourceLocation{at.file, at.line, at.column, "zip." + a.key},
-                       fmt::format("a list of {} values, like zip.{}", spec.zip.front().values.size(),
-                                   spec.zip.front().key),
+                       fmt::format("a list of {} values, like zip.{}",
+                                   spec.zip.front().values.size(), spec.zip.front().key),
                        fmt::format("{} values", a.values.size()));
     }
   }
@@ -133,7 +136,9 @@ SweepSpec ReadSweep(YAML::Node root, const std::string& file, const std::string&
         report->Child(key).Fail(
             swept.empty() ? "nothing (no key is swept)"
                           : "a swept key (" + fmt::format("{}", fmt::join(swept, ", ")) + ")",
-            ClosestMatch(value, swept).empty() ? "" : "did you mean \"" + ClosestMatch(value, swept) + "\"?");
+            ClosestMatch(value, swept).empty()
+                ? ""
+                : "did you mean \"" + ClosestMatch(value, swept) + "\"?");
       }
       return value;
     };
@@ -177,8 +182,8 @@ SweepSpec ReadSweep(YAML::Node root, const std::string& file, const std::string&
   if (message.size() > prefix.size() + 3 && message.compare(0, prefix.size(), prefix) == 0) {
     hint = message.substr(prefix.size() + 2, message.size() - prefix.size() - 3);
   }
-  throw InputError(SourceLocation{at.file, at.line, at.column, e.where().key}, e.expected(), e.found(),
-                   hint);
+  throw InputError(SourceLocation{at.file, at.line, at.column, e.where().key}, e.expected(),
+                   e.found(), hint);
 }
 
 }  // namespace
@@ -198,9 +203,11 @@ int64_t SweepSpec::RunCount() const {
 }
 
 const std::vector<std::string>& HeadlineMetrics() {
-  static const std::vector<std::string> kNames = {
-      "da_accuracy", "hijack_rate", "hijacked_fraction", "swaps", "idf1",         "hota", "mota",
-      "motp",        "deta",        "assa",              "ospa",  "ms_per_frame", "wall_time_s"};
+  static const std::vector<std::string> kNames = {"da_accuracy", "hijack_rate", "hijacked_fraction",
+                                                  "swaps",       "idf1",        "hota",
+                                                  "mota",        "motp",        "deta",
+                                                  "assa",        "ospa",        "ms_per_frame",
+                                                  "wall_time_s"};
   return kNames;
 }
 
@@ -208,7 +215,8 @@ uint64_t SweepSeed(uint64_t sweep_seed, int index) {
   return Rng(sweep_seed).Fork("sweep/seed", index).identity();
 }
 
-SweepSpec LoadSweepText(const std::string& text, const std::string& file_name, const std::string& dir) {
+SweepSpec LoadSweepText(const std::string& text, const std::string& file_name,
+                        const std::string& dir) {
   return ReadSweep(YamlReader::Parse(text, file_name), file_name, dir);
 }
 
@@ -223,7 +231,8 @@ SweepSpec LoadSweepFile(const std::string& path) {
 std::vector<SweepRun> ExpandSweep(const SweepSpec& spec) {
   const int64_t total = spec.RunCount();
   const int seeds = std::max(spec.seeds, 1);
-  const int64_t zip_length = spec.zip.empty() ? 1 : static_cast<int64_t>(spec.zip.front().values.size());
+  const int64_t zip_length =
+      spec.zip.empty() ? 1 : static_cast<int64_t>(spec.zip.front().values.size());
   std::vector<SweepRun> runs;
   runs.reserve(total);
   for (int64_t index = 0; index < total; ++index) {
@@ -285,9 +294,11 @@ std::string SweepHash(const std::vector<SweepRun>& runs) {
 }
 
 void SweepOptions::Validate() const {
-  if (out_dir.empty()) throw InputError(SourceLocation{"hcpf sweep", 0, 0, "--out"}, "a folder", "nothing");
+  if (out_dir.empty())
+    throw InputError(SourceLocation{"hcpf sweep", 0, 0, "--out"}, "a folder", "nothing");
   if (jobs < 1) {
-    throw InputError(SourceLocation{"hcpf sweep", 0, 0, "--jobs"}, "an integer >= 1", std::to_string(jobs));
+    throw InputError(SourceLocation{"hcpf sweep", 0, 0, "--jobs"}, "an integer >= 1",
+                     std::to_string(jobs));
   }
   if (shard_count < 1 || shard_index < 0 || shard_index >= shard_count) {
     throw InputError(SourceLocation{"hcpf sweep", 0, 0, "--shard"}, "i/n with 0 <= i < n",

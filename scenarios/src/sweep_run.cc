@@ -50,7 +50,8 @@ SweepResult RunSweep(const SweepSpec& spec, const std::vector<SweepRun>& runs,
   const fs::path out(options.out_dir);
   std::error_code ec;
   fs::create_directories(out / "runs", ec);
-  if (ec) throw RunError(fmt::format("cannot create {}: {}", (out / "runs").string(), ec.message()));
+  if (ec)
+    throw RunError(fmt::format("cannot create {}: {}", (out / "runs").string(), ec.message()));
   RemoveStalePartials(out / "runs");
 
   StoreMeta meta;
@@ -93,9 +94,11 @@ SweepResult RunSweep(const SweepSpec& spec, const std::vector<SweepRun>& runs,
   for (const SweepRun* run : todo) {
     const bool rendered = run->scenario.observation.source == ObservationSource::kRendered &&
                           !options.frame_cache_dir.empty();
-    if (rendered && !scenes.insert(renderer::PixelHash(run->scenario.world, RendererOptionsOf(run->scenario),
-                                                       run->scenario.seeds.renderer))
-                         .second) {
+    if (rendered &&
+        !scenes
+             .insert(renderer::PixelHash(run->scenario.world, RendererOptionsOf(run->scenario),
+                                         run->scenario.seeds.renderer))
+             .second) {
       second_wave.push_back(run);
     } else {
       first_wave.push_back(run);

@@ -18,7 +18,8 @@ namespace fs = std::filesystem;
 
 TEST(Overlay, VideoReadsBackWithFrameCountAndSize) {
   const auto dir = testing::SweepFolder("overlay");
-  const Scenario scenario = LoadScenarioText(testing::kMinimal, "minimal.yaml");  // 20 frames, 320x240
+  const Scenario scenario =
+      LoadScenarioText(testing::kMinimal, "minimal.yaml");  // 20 frames, 320x240
   std::vector<FrameGroundTruth> truth;
   std::vector<tracker::FrameReport> reports;
   for (int f = 0; f < scenario.world.frames; ++f) {
@@ -31,7 +32,8 @@ TEST(Overlay, VideoReadsBackWithFrameCountAndSize) {
       tracker::FilterReport fr;
       fr.id = TrackId{1};
       fr.box = o.amodal_box;
-      fr.particles.push_back({static_cast<float>(o.amodal_box.centre_x()), static_cast<float>(o.amodal_box.centre_y()), 1.0F});
+      fr.particles.push_back({static_cast<float>(o.amodal_box.centre_x()),
+                              static_cast<float>(o.amodal_box.centre_y()), 1.0F});
       report.filters.push_back(fr);
     }
     reports.push_back(report);
@@ -52,7 +54,8 @@ TEST(Overlay, VideoReadsBackWithFrameCountAndSize) {
     if (frames == 0) first = image.clone();
     if (frames == 10) {  // kept for a look (CI artefact)
       fs::create_directories(fs::path(HCPF_BINARY_DIR) / "artifacts");
-      cv::imwrite((fs::path(HCPF_BINARY_DIR) / "artifacts" / "overlay_frame10.png").string(), image);
+      cv::imwrite((fs::path(HCPF_BINARY_DIR) / "artifacts" / "overlay_frame10.png").string(),
+                  image);
     }
     ++frames;
   }
@@ -75,7 +78,9 @@ TEST(Overlay, VideoReadsBackWithFrameCountAndSize) {
 
 TEST(Overlay, UnwritablePathIsARunError) {
   const Scenario scenario = LoadScenarioText(testing::kMinimal, "minimal.yaml");
-  EXPECT_THROW(WriteOverlayVideo("/nonexistent/dir/overlay.mp4", scenario, {}, {}, std::nullopt, nullptr), RunError);
+  EXPECT_THROW(
+      WriteOverlayVideo("/nonexistent/dir/overlay.mp4", scenario, {}, {}, std::nullopt, nullptr),
+      RunError);
 }
 
 }  // namespace
@@ -96,9 +101,9 @@ TEST(Overlay, DrawsOnTheGivenFrames) {
     image.height = 240;
     image.pixels.assign(320 * 240 * 3, 0);
     for (size_t i = 0; i < image.pixels.size(); i += 3) {
-      image.pixels[i] = 200;     // R
-      image.pixels[i + 1] = 100; // G
-      image.pixels[i + 2] = 50;  // B
+      image.pixels[i] = 200;      // R
+      image.pixels[i + 1] = 100;  // G
+      image.pixels[i + 2] = 50;   // B
     }
     images.push_back(image);
   }

@@ -1,4 +1,5 @@
-// Regression gate: verdicts by hand, suite validation, baseline round trip and a planted regression.
+// Regression gate: verdicts by hand, suite validation, baseline round trip and a planted
+// regression.
 
 #include "hcpf/scenarios/regress.h"
 
@@ -22,10 +23,10 @@ TEST(Regress, CompareMetricByHand) {
   const RegressTolerance higher{"idf1", 0.01, true};
   const RegressTolerance lower{"hijack_rate", 0.0, false};
   EXPECT_EQ(CompareMetric(0.80, 0.80, higher), RegressVerdict::kSame);
-  EXPECT_EQ(CompareMetric(0.80, 0.795, higher), RegressVerdict::kSame);   // 0.005 worse, within 0.01
+  EXPECT_EQ(CompareMetric(0.80, 0.795, higher), RegressVerdict::kSame);  // 0.005 worse, within 0.01
   EXPECT_EQ(CompareMetric(0.80, 0.785, higher), RegressVerdict::kWorse);  // 0.015 worse
   EXPECT_EQ(CompareMetric(0.80, 0.815, higher), RegressVerdict::kBetter);
-  EXPECT_EQ(CompareMetric(0.5, 0.6, lower), RegressVerdict::kWorse);      // higher hijack rate is worse
+  EXPECT_EQ(CompareMetric(0.5, 0.6, lower), RegressVerdict::kWorse);  // higher hijack rate is worse
   EXPECT_EQ(CompareMetric(0.5, 0.4, lower), RegressVerdict::kBetter);
   EXPECT_EQ(CompareMetric(0.5, 0.5, lower), RegressVerdict::kSame);
   EXPECT_EQ(CompareMetric(std::nan(""), 0.5, lower), RegressVerdict::kWorse);
@@ -44,25 +45,34 @@ std::string SuiteError(const fs::path& dir, const std::string& text) {
 
 TEST(Regress, BadSuitesAreLocated) {
   const auto dir = testing::SweepFolder("regress-bad");
-  std::string e = SuiteError(dir, "scenes:\n  - {scenario: base.yaml}\nmetrics:\n  idf: {tolerance: 0.1, direction: higher_is_better}\n");
+  std::string e = SuiteError(dir,
+                             "scenes:\n  - {scenario: base.yaml}\nmetrics:\n  idf: {tolerance: "
+                             "0.1, direction: higher_is_better}\n");
   EXPECT_NE(e.find("did you mean \"idf1\""), std::string::npos) << e;
-  e = SuiteError(dir, "scenes:\n  - {scenario: base.yaml}\nmetrics:\n  idf1: {tolerance: 0.1, direction: higher}\n");
+  e = SuiteError(dir,
+                 "scenes:\n  - {scenario: base.yaml}\nmetrics:\n  idf1: {tolerance: 0.1, "
+                 "direction: higher}\n");
   EXPECT_NE(e.find("bad.yaml:4:"), std::string::npos) << e;
   EXPECT_NE(e.find("higher_is_better"), std::string::npos) << e;
-  e = SuiteError(dir, "scenes:\n  - {scenario: base.yaml, set: {tracker.particles: 0}}\nmetrics:\n  idf1: {tolerance: 0.1, direction: higher_is_better}\n");
+  e = SuiteError(dir,
+                 "scenes:\n  - {scenario: base.yaml, set: {tracker.particles: 0}}\nmetrics:\n  "
+                 "idf1: {tolerance: 0.1, direction: higher_is_better}\n");
   EXPECT_NE(e.find("tracker.particles"), std::string::npos) << e;
-  e = SuiteError(dir, "scenes:\n  - {scenario: missing.yaml}\nmetrics:\n  idf1: {tolerance: 0.1, direction: higher_is_better}\n");
+  e = SuiteError(dir,
+                 "scenes:\n  - {scenario: missing.yaml}\nmetrics:\n  idf1: {tolerance: 0.1, "
+                 "direction: higher_is_better}\n");
   EXPECT_NE(e.find("bad.yaml:2:16: scenes[0].scenario"), std::string::npos) << e;
 }
 
 TEST(Regress, BaselineRoundTripAndPlantedRegression) {
   const auto dir = testing::SweepFolder("regress");
-  std::ofstream(dir / "suite.yaml") << "scenes:\n"
-                                       "  - {name: a, scenario: base.yaml, set: {tracker.particles: 50}, seed: 3}\n"
-                                       "  - {name: b, scenario: base.yaml, set: {tracker.resampling.method: systematic}}\n"
-                                       "metrics:\n"
-                                       "  idf1: {tolerance: 0.01, direction: higher_is_better}\n"
-                                       "  hijack_rate: {tolerance: 0, direction: lower_is_better}\n";
+  std::ofstream(dir / "suite.yaml")
+      << "scenes:\n"
+         "  - {name: a, scenario: base.yaml, set: {tracker.particles: 50}, seed: 3}\n"
+         "  - {name: b, scenario: base.yaml, set: {tracker.resampling.method: systematic}}\n"
+         "metrics:\n"
+         "  idf1: {tolerance: 0.01, direction: higher_is_better}\n"
+         "  hijack_rate: {tolerance: 0, direction: lower_is_better}\n";
   RegressOptions o;
   o.suite_path = (dir / "suite.yaml").string();
   o.baseline_path = (dir / "baseline.json").string();

@@ -60,11 +60,12 @@ TEST(ReportStatistics, MeanAndHalfWidthByHand) {
 
 TEST(Report, HtmlHasOnePlotWithDataPerMetricAndCsvHasOneRowPerCell) {
   const auto dir = testing::SweepFolder("report-files");
-  const SweepSpec spec = LoadSweepFile(testing::WriteSweep(
-      dir,
-      "base: base.yaml\nseeds: 3\ngrid:\n  tracker.particles: [20, 200]\n"
-      "  tracker.resampling.method: [systematic, charged]\n"
-      "report: {x: tracker.particles, series: tracker.resampling.method, y: [idf1, hota, ms_per_frame]}\n"));
+  const SweepSpec spec = LoadSweepFile(
+      testing::WriteSweep(dir,
+                          "base: base.yaml\nseeds: 3\ngrid:\n  tracker.particles: [20, 200]\n"
+                          "  tracker.resampling.method: [systematic, charged]\n"
+                          "report: {x: tracker.particles, series: tracker.resampling.method, y: "
+                          "[idf1, hota, ms_per_frame]}\n"));
   SweepOptions o;
   o.out_dir = (dir / "out").string();
   o.jobs = 2;
@@ -95,7 +96,8 @@ TEST(Report, HtmlHasOnePlotWithDataPerMetricAndCsvHasOneRowPerCell) {
   EXPECT_EQ(html.find("src=\"http"), std::string::npos);
   EXPECT_EQ(html.find("<script src"), std::string::npos);
   EXPECT_EQ(html.find("<link"), std::string::npos);
-  EXPECT_NE(html.find("name: &quot;minimal&quot;"), std::string::npos);  // the resolved base scenario, escaped
+  EXPECT_NE(html.find("name: &quot;minimal&quot;"),
+            std::string::npos);  // the resolved base scenario, escaped
   EXPECT_NE(html.find("href=\"runs/" + runs[3].key + "/overlay.mp4\""), std::string::npos);
   EXPECT_EQ(html.find("runs/" + runs[4].key + "/overlay.mp4"), std::string::npos);
 
@@ -117,8 +119,10 @@ TEST(Report, HtmlHasOnePlotWithDataPerMetricAndCsvHasOneRowPerCell) {
   const std::string header = csv.substr(0, csv.find('\n'));
   // Column of idf1_mean in the header.
   int column = 0;
-  for (size_t at = 0, next = 0; (next = header.find(',', at)) != std::string::npos || at < header.size(); at = next + 1) {
-    if (header.substr(at, next == std::string::npos ? std::string::npos : next - at) == "idf1_mean") break;
+  for (size_t at = 0, next = 0;
+       (next = header.find(',', at)) != std::string::npos || at < header.size(); at = next + 1) {
+    if (header.substr(at, next == std::string::npos ? std::string::npos : next - at) == "idf1_mean")
+      break;
     ++column;
     if (next == std::string::npos) break;
   }

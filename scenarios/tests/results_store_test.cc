@@ -29,7 +29,8 @@ const char* kSweep =
 
 // The deterministic part of a row (timings excluded).
 std::string RowText(const RunRecord& r) {
-  std::string s = r.key + " " + std::to_string(r.index) + " " + std::to_string(r.seed) + (r.ok ? " ok" : " failed");
+  std::string s = r.key + " " + std::to_string(r.index) + " " + std::to_string(r.seed) +
+                  (r.ok ? " ok" : " failed");
   for (const auto& v : r.values) s += " " + v;
   for (const auto& [m, v] : r.metrics) {
     if (m == "ms_per_frame" || m == "wall_time_s") continue;
@@ -40,7 +41,8 @@ std::string RowText(const RunRecord& r) {
 
 std::vector<std::string> StoreRows(const fs::path& dir) {
   std::vector<std::string> rows;
-  for (const RunRecord& r : ResultsStore::Open((dir / "results.sqlite").string())->Runs()) rows.push_back(RowText(r));
+  for (const RunRecord& r : ResultsStore::Open((dir / "results.sqlite").string())->Runs())
+    rows.push_back(RowText(r));
   return rows;
 }
 
@@ -104,10 +106,12 @@ TEST(RunSweep, ParallelEqualsSerialAndResumeReusesEverything) {
   EXPECT_EQ(parallel.computed, 8);
   EXPECT_EQ(StoreRows(dir / "serial"), StoreRows(dir / "parallel"));
   // Every run has its folder with the run's outputs, named by its key.
-  for (const SweepRun& r : runs) EXPECT_TRUE(fs::exists(dir / "serial" / "runs" / r.key / "metrics.json"));
+  for (const SweepRun& r : runs)
+    EXPECT_TRUE(fs::exists(dir / "serial" / "runs" / r.key / "metrics.json"));
   // Metrics in the store are those of the run's metrics.json.
   const auto stored = ResultsStore::Open((dir / "serial" / "results.sqlite").string())->Runs();
-  EXPECT_EQ(stored[3].metrics.at("idf1"), ReadRunMetrics((dir / "serial" / "runs" / stored[3].key).string()).at("idf1"));
+  EXPECT_EQ(stored[3].metrics.at("idf1"),
+            ReadRunMetrics((dir / "serial" / "runs" / stored[3].key).string()).at("idf1"));
   const SweepResult again = RunSweep(spec, runs, Options(dir / "serial", 2));
   EXPECT_EQ(again.reused, 8);
   EXPECT_EQ(again.computed, 0);
@@ -130,7 +134,8 @@ TEST(RunSweep, AFailingRunIsRecordedAndTheOthersFinish) {
   for (const RunRecord& s : stored) {
     EXPECT_EQ(s.ok, s.index != 5) << s.index;
   }
-  EXPECT_NE(stored[5].error.find("a folder with other files in it"), std::string::npos) << stored[5].error;
+  EXPECT_NE(stored[5].error.find("a folder with other files in it"), std::string::npos)
+      << stored[5].error;
   EXPECT_TRUE(std::isnan(stored[5].metrics.at("idf1")));
   // Resuming retries only the failed run; once the cause is gone it succeeds.
   fs::remove_all(dir / "out" / "runs" / runs[5].key);
@@ -154,7 +159,9 @@ TEST(RunSweep, ShardsMergedEqualTheUnshardedSweep) {
     const SweepResult r = RunSweep(spec, runs, o);
     // 8 runs, index % 3: shard 0 has 0,3,6; shard 1 has 1,4,7; shard 2 has 2,5.
     EXPECT_EQ(r.total, i == 2 ? 2 : 3);
-    for (const RunRecord& s : ResultsStore::Open((dir / ("shard" + std::to_string(i)) / "results.sqlite").string())->Runs()) {
+    for (const RunRecord& s :
+         ResultsStore::Open((dir / ("shard" + std::to_string(i)) / "results.sqlite").string())
+             ->Runs()) {
       EXPECT_EQ(s.index % 3, i);
     }
     total += r.total;
@@ -172,9 +179,11 @@ TEST(RunSweep, ShardsMergedEqualTheUnshardedSweep) {
   EXPECT_EQ(again.duplicates, 8);
   EXPECT_EQ(StoreRows(dir / "merged"), StoreRows(dir / "all"));
   // A store of another sweep is refused.
-  const SweepSpec other = LoadSweepFile(WriteSweep(dir, "base: base.yaml\ngrid: {tracker.particles: [30]}\n", "other.yaml"));
+  const SweepSpec other = LoadSweepFile(
+      WriteSweep(dir, "base: base.yaml\ngrid: {tracker.particles: [30]}\n", "other.yaml"));
   RunSweep(other, ExpandSweep(other), Options(dir / "other", 1));
-  EXPECT_THROW(MergeStores((dir / "merged2").string(), {shard_dirs[0], (dir / "other").string()}), InputError);
+  EXPECT_THROW(MergeStores((dir / "merged2").string(), {shard_dirs[0], (dir / "other").string()}),
+               InputError);
   // And so is resuming into a folder of another sweep.
   EXPECT_THROW(RunSweep(other, ExpandSweep(other), Options(dir / "all", 1)), InputError);
 }

@@ -35,15 +35,16 @@ std::string ExpandErrorOf(const std::string& path) {
 
 TEST(Sweep, GridZipSeedsExpansionOrder) {
   const auto dir = SweepFolder("expand");
-  const std::string path = WriteSweep(dir,
-                                      "base: base.yaml\n"
-                                      "seeds: 2\n"
-                                      "grid:\n"
-                                      "  tracker.particles: [10, 20]\n"
-                                      "  tracker.resampling.method: [systematic, charged, stratified]\n"
-                                      "zip:\n"
-                                      "  tracker.likelihood.sigma_px: [2, 4]\n"
-                                      "  observation.simulated.sigma_px: [1, 3]\n");
+  const std::string path =
+      WriteSweep(dir,
+                 "base: base.yaml\n"
+                 "seeds: 2\n"
+                 "grid:\n"
+                 "  tracker.particles: [10, 20]\n"
+                 "  tracker.resampling.method: [systematic, charged, stratified]\n"
+                 "zip:\n"
+                 "  tracker.likelihood.sigma_px: [2, 4]\n"
+                 "  observation.simulated.sigma_px: [1, 3]\n");
   const SweepSpec spec = LoadSweepFile(path);
   ASSERT_EQ(spec.RunCount(), 2 * 3 * 2 * 2);
   const std::vector<SweepRun> runs = ExpandSweep(spec);
@@ -58,8 +59,9 @@ TEST(Sweep, GridZipSeedsExpansionOrder) {
     int seed_index;
   };
   const Expected cases[] = {
-      {0, 10, "systematic", 2, 1, 0},  {1, 10, "systematic", 2, 1, 1}, {2, 10, "systematic", 4, 3, 0},
-      {4, 10, "charged", 2, 1, 0},     {11, 10, "stratified", 4, 3, 1}, {12, 20, "systematic", 2, 1, 0},
+      {0, 10, "systematic", 2, 1, 0},  {1, 10, "systematic", 2, 1, 1},
+      {2, 10, "systematic", 4, 3, 0},  {4, 10, "charged", 2, 1, 0},
+      {11, 10, "stratified", 4, 3, 1}, {12, 20, "systematic", 2, 1, 0},
       {23, 20, "stratified", 4, 3, 1},
   };
   for (const Expected& e : cases) {
@@ -72,7 +74,8 @@ TEST(Sweep, GridZipSeedsExpansionOrder) {
     EXPECT_DOUBLE_EQ(r.scenario.observation.simulated.sigma_px, e.obs_sigma);
     EXPECT_EQ(r.seed_index, e.seed_index);
     // The documented derivation, written out independently of SweepSeed.
-    EXPECT_EQ(r.scenario.seed, Rng(1).Fork("sweep/seed/" + std::to_string(e.seed_index)).identity());
+    EXPECT_EQ(r.scenario.seed,
+              Rng(1).Fork("sweep/seed/" + std::to_string(e.seed_index)).identity());
   }
   // Keys: one per run, all different (every run differs in a value or seed).
   std::set<std::string> keys;
@@ -84,12 +87,15 @@ TEST(Sweep, GridZipSeedsExpansionOrder) {
 
 TEST(Sweep, NoSeedsKeepsTheBaseSeedAndSweepSeedChangesDerivedSeeds) {
   const auto dir = SweepFolder("seeds");
-  const auto runs = ExpandSweep(LoadSweepFile(WriteSweep(dir, "base: base.yaml\ngrid: {tracker.particles: [10, 20]}\n")));
+  const auto runs = ExpandSweep(
+      LoadSweepFile(WriteSweep(dir, "base: base.yaml\ngrid: {tracker.particles: [10, 20]}\n")));
   ASSERT_EQ(runs.size(), 2U);
   EXPECT_EQ(runs[0].scenario.seed, 7U);  // kMinimal's seed: 7
   EXPECT_EQ(runs[1].scenario.seed, 7U);
-  const auto a = ExpandSweep(LoadSweepFile(WriteSweep(dir, "base: base.yaml\nseeds: 1\nseed: 5\n", "a.yaml")));
-  const auto b = ExpandSweep(LoadSweepFile(WriteSweep(dir, "base: base.yaml\nseeds: 1\nseed: 6\n", "b.yaml")));
+  const auto a =
+      ExpandSweep(LoadSweepFile(WriteSweep(dir, "base: base.yaml\nseeds: 1\nseed: 5\n", "a.yaml")));
+  const auto b =
+      ExpandSweep(LoadSweepFile(WriteSweep(dir, "base: base.yaml\nseeds: 1\nseed: 6\n", "b.yaml")));
   ASSERT_EQ(a.size(), 1U);
   EXPECT_NE(a[0].scenario.seed, b[0].scenario.seed);
   EXPECT_EQ(a[0].scenario.seed, Rng(5).Fork("sweep/seed/0").identity());
@@ -97,8 +103,10 @@ TEST(Sweep, NoSeedsKeepsTheBaseSeedAndSweepSeedChangesDerivedSeeds) {
 
 TEST(Sweep, ReportDefaultsAndValidation) {
   const auto dir = SweepFolder("report");
-  const SweepSpec spec = LoadSweepFile(WriteSweep(
-      dir, "base: base.yaml\ngrid:\n  tracker.particles: [10]\n  tracker.resampling.method: [charged]\n"));
+  const SweepSpec spec =
+      LoadSweepFile(WriteSweep(dir,
+                               "base: base.yaml\ngrid:\n  tracker.particles: [10]\n  "
+                               "tracker.resampling.method: [charged]\n"));
   EXPECT_EQ(spec.report.x, "tracker.particles");
   EXPECT_EQ(spec.report.series, "");
   EXPECT_EQ(spec.report.y.size(), 6U);
@@ -119,21 +127,26 @@ TEST(Sweep, BadFilesNameLineKeyExpectedFoundAndHint) {
   EXPECT_NE(e.find("2 values"), std::string::npos) << e;
   EXPECT_NE(e.find("found 1 values"), std::string::npos) << e;
   // A swept value the scenario schema rejects: the line and column of that value.
-  e = ExpandErrorOf(WriteSweep(dir, "base: base.yaml\ngrid:\n  tracker.particles: [10, -5]\n", "c.yaml"));
+  e = ExpandErrorOf(
+      WriteSweep(dir, "base: base.yaml\ngrid:\n  tracker.particles: [10, -5]\n", "c.yaml"));
   EXPECT_NE(e.find("c.yaml:3:27"), std::string::npos) << e;
   EXPECT_NE(e.find("tracker.particles"), std::string::npos) << e;
   EXPECT_NE(e.find("-5"), std::string::npos) << e;
   // A misspelt enum value: did-you-mean from the scenario schema, at the sweep line.
   e = ExpandErrorOf(
-      WriteSweep(dir, "base: base.yaml\ngrid:\n  tracker.resampling.method: [systematic, chargd]\n", "d.yaml"));
+      WriteSweep(dir, "base: base.yaml\ngrid:\n  tracker.resampling.method: [systematic, chargd]\n",
+                 "d.yaml"));
   EXPECT_NE(e.find("d.yaml:3:43"), std::string::npos) << e;
   EXPECT_NE(e.find("charged"), std::string::npos) << e;
   // Unknown metric in report.y.
-  e = ErrorOf(WriteSweep(dir, "base: base.yaml\ngrid: {tracker.particles: [10]}\nreport: {y: [hotaa]}\n", "e.yaml"));
+  e = ErrorOf(WriteSweep(
+      dir, "base: base.yaml\ngrid: {tracker.particles: [10]}\nreport: {y: [hotaa]}\n", "e.yaml"));
   EXPECT_NE(e.find("e.yaml:3:14"), std::string::npos) << e;
   EXPECT_NE(e.find("did you mean \"hota\""), std::string::npos) << e;
   // report.x that is not swept.
-  e = ErrorOf(WriteSweep(dir, "base: base.yaml\ngrid: {tracker.particles: [10]}\nreport: {x: tracker.particle}\n", "f.yaml"));
+  e = ErrorOf(WriteSweep(
+      dir, "base: base.yaml\ngrid: {tracker.particles: [10]}\nreport: {x: tracker.particle}\n",
+      "f.yaml"));
   EXPECT_NE(e.find("f.yaml:3"), std::string::npos) << e;
   EXPECT_NE(e.find("did you mean \"tracker.particles\""), std::string::npos) << e;
   // Missing base file; empty list; seed swept with seeds.

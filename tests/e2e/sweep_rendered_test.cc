@@ -17,19 +17,22 @@ namespace fs = std::filesystem;
 
 TEST(RenderedSweep, ScenesRenderOnceAndEveryRunSucceeds) {
   const fs::path dir = testing::FreshDir("sweep-rendered");
-  const fs::path base = fs::path(HCPF_SOURCE_DIR) / "scenarios" / "library" / "crossing-dominant.yaml";
+  const fs::path base =
+      fs::path(HCPF_SOURCE_DIR) / "scenarios" / "library" / "crossing-dominant.yaml";
   std::ofstream(dir / "sweep.yaml") << "base: " << base.string() << "\n"
                                     << "grid:\n"
                                     << "  observation.source: [rendered]\n"
                                     << "  frames: [6]\n"
                                     << "  tracker.particles: [100, 200, 400, 800]\n";
-  const auto r = testing::RunCommand(std::string(HCPF_EXE) + " sweep " + (dir / "sweep.yaml").string() + " --out " +
-                                     (dir / "out").string() + " --jobs 2 --cache " + (dir / "cache").string());
+  const auto r = testing::RunCommand(
+      std::string(HCPF_EXE) + " sweep " + (dir / "sweep.yaml").string() + " --out " +
+      (dir / "out").string() + " --jobs 2 --cache " + (dir / "cache").string());
   ASSERT_EQ(r.exit_code, 0) << r.output;
   EXPECT_NE(r.output.find("4 computed, 0 failed"), std::string::npos) << r.output;
   // One run renders the scene; the other three read all 6 frames from the cache.
   const std::regex cached("6 of 6 frames read from the frame cache");
-  const auto hits = std::distance(std::sregex_iterator(r.output.begin(), r.output.end(), cached), std::sregex_iterator());
+  const auto hits = std::distance(std::sregex_iterator(r.output.begin(), r.output.end(), cached),
+                                  std::sregex_iterator());
   EXPECT_EQ(hits, 3) << r.output;
 }
 

@@ -63,14 +63,15 @@ std::vector<std::string> StoreRows(const fs::path& store) {
 // A sweep of crossing-dominant (shortened to `frames`): 4 particle counts x 2 resamplers x seeds.
 std::string WriteSweep(const fs::path& dir, int seeds = 4, int frames = 60) {
   const fs::path base = kSource / "scenarios" / "library" / "crossing-dominant.yaml";
-  std::ofstream(dir / "sweep.yaml") << "base: " << base.string() << "\n"
-                                    << "seeds: " << seeds << "\n"
-                                    << "grid:\n"
-                                    << "  frames: [" << frames << "]\n"
-                                    << "  tracker.particles: [100, 300, 1000, 3000]\n"
-                                    << "  tracker.resampling.method: [systematic, charged]\n"
-                                    << "report: {x: tracker.particles, series: tracker.resampling.method, "
-                                       "y: [da_accuracy, idf1, ms_per_frame]}\n";
+  std::ofstream(dir / "sweep.yaml")
+      << "base: " << base.string() << "\n"
+      << "seeds: " << seeds << "\n"
+      << "grid:\n"
+      << "  frames: [" << frames << "]\n"
+      << "  tracker.particles: [100, 300, 1000, 3000]\n"
+      << "  tracker.resampling.method: [systematic, charged]\n"
+      << "report: {x: tracker.particles, series: tracker.resampling.method, "
+         "y: [da_accuracy, idf1, ms_per_frame]}\n";
   return (dir / "sweep.yaml").string();
 }
 
@@ -98,14 +99,16 @@ TEST_P(SweepResume, KilledMidwayThenResumedLosesAndRepeatsNothing) {
   const fs::path dir = FreshDir("sweep-resume-" + std::to_string(signal_number));
   const std::string sweep = WriteSweep(dir);
   // The uninterrupted reference.
-  auto ref = RunCommand(kHcpf + " sweep " + sweep + " --out " + (dir / "ref").string() + " --jobs 2");
+  auto ref =
+      RunCommand(kHcpf + " sweep " + sweep + " --out " + (dir / "ref").string() + " --jobs 2");
   ASSERT_EQ(ref.exit_code, 0) << ref.output;
   const std::vector<std::string> expected = StoreRows(dir / "ref" / "results.sqlite");
   ASSERT_EQ(expected.size(), 32U);
 
   // Kill after a few runs are stored.
   const fs::path out = dir / "out";
-  const pid_t pid = Spawn({"sweep", sweep, "--out", out.string(), "--jobs", "2"}, dir / "first.log");
+  const pid_t pid =
+      Spawn({"sweep", sweep, "--out", out.string(), "--jobs", "2"}, dir / "first.log");
   ASSERT_GT(pid, 0);
   size_t stored = 0;
   const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(120);
@@ -117,8 +120,9 @@ TEST_P(SweepResume, KilledMidwayThenResumedLosesAndRepeatsNothing) {
   ::kill(pid, signal_number);
   int status = 0;
   ::waitpid(pid, &status, 0);
-  ASSERT_TRUE(WIFSIGNALED(status)) << "the sweep finished before it could be killed; make it longer\n"
-                                   << ReadFile(dir / "first.log");
+  ASSERT_TRUE(WIFSIGNALED(status))
+      << "the sweep finished before it could be killed; make it longer\n"
+      << ReadFile(dir / "first.log");
   const size_t after_kill = StoreRows(out / "results.sqlite").size();
   ASSERT_GE(after_kill, 4U);
   ASSERT_LT(after_kill, 32U) << "the kill came too late to test resuming";
@@ -126,7 +130,8 @@ TEST_P(SweepResume, KilledMidwayThenResumedLosesAndRepeatsNothing) {
   // Resume: reuses exactly what was stored, computes the rest.
   auto second = RunCommand(kHcpf + " sweep " + sweep + " --out " + out.string() + " --jobs 2");
   ASSERT_EQ(second.exit_code, 0) << second.output;
-  const std::regex finished("sweep finished: 32 runs, ([0-9]+) reused, ([0-9]+) computed, 0 failed");
+  const std::regex finished(
+      "sweep finished: 32 runs, ([0-9]+) reused, ([0-9]+) computed, 0 failed");
   std::smatch m;
   ASSERT_TRUE(std::regex_search(second.output, m, finished)) << second.output;
   EXPECT_EQ(std::stoul(m[1]), after_kill);
@@ -147,29 +152,41 @@ TEST_P(SweepResume, KilledMidwayThenResumedLosesAndRepeatsNothing) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Signals, SweepResume, ::testing::Values(SIGKILL, SIGINT),
-                         [](const auto& info) { return info.param == SIGKILL ? "SIGKILL" : "SIGINT"; });
+                         [](const auto& info) {
+                           return info.param == SIGKILL ? "SIGKILL" : "SIGINT";
+                         });
 
 TEST(SweepCli, ShardsMergedEqualTheUnshardedSweepAndOtherSweepsAreRefused) {
   const fs::path dir = FreshDir("sweep-shards");
   const std::string sweep = WriteSweep(dir, 2);
-  ASSERT_EQ(RunCommand(kHcpf + " sweep " + sweep + " --out " + (dir / "all").string() + " --jobs 2").exit_code, 0);
+  ASSERT_EQ(RunCommand(kHcpf + " sweep " + sweep + " --out " + (dir / "all").string() + " --jobs 2")
+                .exit_code,
+            0);
   for (int i = 0; i < 2; ++i) {
-    auto r = RunCommand(kHcpf + " sweep " + sweep + " --out " + (dir / ("s" + std::to_string(i))).string() +
-                        " --jobs 2 --shard " + std::to_string(i) + "/2");
+    auto r = RunCommand(kHcpf + " sweep " + sweep + " --out " +
+                        (dir / ("s" + std::to_string(i))).string() + " --jobs 2 --shard " +
+                        std::to_string(i) + "/2");
     ASSERT_EQ(r.exit_code, 0) << r.output;
-    EXPECT_NE(r.output.find("8 runs in shard " + std::to_string(i) + "/2"), std::string::npos) << r.output;
+    EXPECT_NE(r.output.find("8 runs in shard " + std::to_string(i) + "/2"), std::string::npos)
+        << r.output;
   }
-  auto merge = RunCommand(kHcpf + " merge " + (dir / "merged").string() + " " + (dir / "s0").string() + " " +
-                          (dir / "s1").string());
+  auto merge = RunCommand(kHcpf + " merge " + (dir / "merged").string() + " " +
+                          (dir / "s0").string() + " " + (dir / "s1").string());
   ASSERT_EQ(merge.exit_code, 0) << merge.output;
   EXPECT_NE(merge.output.find("16 runs added, 0 duplicates"), std::string::npos) << merge.output;
-  EXPECT_EQ(StoreRows(dir / "merged" / "results.sqlite"), StoreRows(dir / "all" / "results.sqlite"));
+  EXPECT_EQ(StoreRows(dir / "merged" / "results.sqlite"),
+            StoreRows(dir / "all" / "results.sqlite"));
   // Bad shard spec and a store of another sweep: bad input.
-  EXPECT_EQ(RunCommand(kHcpf + " sweep " + sweep + " --out " + (dir / "x").string() + " --shard 2/2").exit_code, 2);
+  EXPECT_EQ(
+      RunCommand(kHcpf + " sweep " + sweep + " --out " + (dir / "x").string() + " --shard 2/2")
+          .exit_code,
+      2);
   const std::string other = WriteSweep(FreshDir("sweep-shards-other"), 1);
   ASSERT_EQ(RunCommand(kHcpf + " sweep " + other + " --out " + (dir / "o").string()).exit_code, 0);
-  EXPECT_EQ(RunCommand(kHcpf + " merge " + (dir / "m2").string() + " " + (dir / "s0").string() + " " +
-                       (dir / "o").string()).exit_code, 2);
+  EXPECT_EQ(RunCommand(kHcpf + " merge " + (dir / "m2").string() + " " + (dir / "s0").string() +
+                       " " + (dir / "o").string())
+                .exit_code,
+            2);
 }
 
 // Chromium on PATH, or "".
@@ -182,15 +199,19 @@ std::string FindChromium() {
 
 TEST(ReportInChromium, EveryPlotRendersWithData) {
   const std::string chromium = FindChromium();
-  if (chromium.empty()) GTEST_SKIP() << "chromium is not installed (apt-get install -y chromium): report not rendered";
+  if (chromium.empty())
+    GTEST_SKIP() << "chromium is not installed (apt-get install -y chromium): report not rendered";
   const fs::path dir = FreshDir("sweep-report-chromium");
   const std::string sweep = WriteSweep(dir, 3, 150);  // the full crossing: the resamplers differ
-  ASSERT_EQ(RunCommand(kHcpf + " sweep " + sweep + " --out " + (dir / "out").string() + " --jobs 2").exit_code, 0);
+  ASSERT_EQ(RunCommand(kHcpf + " sweep " + sweep + " --out " + (dir / "out").string() + " --jobs 2")
+                .exit_code,
+            0);
   auto report = RunCommand(kHcpf + " report " + (dir / "out").string());
   ASSERT_EQ(report.exit_code, 0) << report.output;
   const fs::path html = dir / "out" / "report.html";
   ASSERT_TRUE(fs::exists(html));
-  EXPECT_NE(report.output.find(html.string()), std::string::npos) << report.output;  // prints the path
+  EXPECT_NE(report.output.find(html.string()), std::string::npos)
+      << report.output;  // prints the path
 
   // The screenshot is kept under the build folder as a CI artefact.
   const fs::path artefacts = fs::path(HCPF_BINARY_DIR) / "artifacts";
@@ -198,11 +219,13 @@ TEST(ReportInChromium, EveryPlotRendersWithData) {
   const fs::path png = artefacts / "report_screenshot.png";
   fs::remove(png);
   const fs::path profile = FreshDir("sweep-report-chromium-profile");
-  auto shot = RunCommand("timeout 120 " + chromium +
-                         " --headless --no-sandbox --disable-gpu --disable-quic --no-first-run"
-                         " --disable-background-networking --disable-component-update --disable-sync"
-                         " --user-data-dir=" + profile.string() + " --screenshot=" + png.string() +
-                         " --window-size=1200,2400 file://" + fs::absolute(html).string());
+  auto shot =
+      RunCommand("timeout 120 " + chromium +
+                 " --headless --no-sandbox --disable-gpu --disable-quic --no-first-run"
+                 " --disable-background-networking --disable-component-update --disable-sync"
+                 " --user-data-dir=" +
+                 profile.string() + " --screenshot=" + png.string() +
+                 " --window-size=1200,2400 file://" + fs::absolute(html).string());
   ASSERT_TRUE(fs::exists(png)) << shot.output;
   const cv::Mat image = cv::imread(png.string(), cv::IMREAD_COLOR);
   ASSERT_EQ(image.cols, 1200);
@@ -214,7 +237,9 @@ TEST(ReportInChromium, EveryPlotRendersWithData) {
   // alone is ~150 such pixels, a line across a ~450 px wide plot ~900 or more.
   const auto dark = [](const cv::Vec3b& p) { return std::max({p[0], p[1], p[2]}) < 100; };
   const auto line_colour = [](const cv::Vec3b& p) {
-    const auto d = [&](int b, int g, int r) { return std::abs(p[0] - b) + std::abs(p[1] - g) + std::abs(p[2] - r); };
+    const auto d = [&](int b, int g, int r) {
+      return std::abs(p[0] - b) + std::abs(p[1] - g) + std::abs(p[2] - r);
+    };
     return d(180, 119, 31) < 60 || d(40, 39, 214) < 60;
   };
   std::vector<int> edges;  // first row of each cluster of long dark rows
@@ -237,12 +262,14 @@ TEST(ReportInChromium, EveryPlotRendersWithData) {
     for (int y = top; y <= bottom; ++y) {
       for (int x = 0; x < image.cols; ++x) coloured += line_colour(image.at<cv::Vec3b>(y, x));
     }
-    EXPECT_GT(coloured, 400) << "plot " << p << " (rows " << top << "-" << bottom << ") has no data lines";
+    EXPECT_GT(coloured, 400) << "plot " << p << " (rows " << top << "-" << bottom
+                             << ") has no data lines";
   }
   // The SVGs carry the data too (a renderer-independent check).
   const std::string text = ReadFile(html);
   size_t svgs = 0;
-  for (size_t at = text.find("<svg"); at != std::string::npos; at = text.find("<svg", at + 1)) ++svgs;
+  for (size_t at = text.find("<svg"); at != std::string::npos; at = text.find("<svg", at + 1))
+    ++svgs;
   EXPECT_EQ(svgs, 3U);
 }
 
@@ -250,8 +277,9 @@ TEST(RegressCli, ExitCodesOnTrueAndPlantedBaselines) {
   const fs::path dir = FreshDir("regress-cli");
   const fs::path suite = kSource / "scenarios" / "regress" / "suite.yaml";
   const fs::path baseline = kSource / "scenarios" / "regress" / "baseline.json";
-  auto r = RunCommand(kHcpf + " regress " + suite.string() + " --baseline " + baseline.string() + " --jobs 2 --junit " +
-                      (dir / "ok.xml").string() + " --markdown " + (dir / "ok.md").string());
+  auto r = RunCommand(kHcpf + " regress " + suite.string() + " --baseline " + baseline.string() +
+                      " --jobs 2 --junit " + (dir / "ok.xml").string() + " --markdown " +
+                      (dir / "ok.md").string());
   EXPECT_EQ(r.exit_code, 0) << r.output;
   EXPECT_NE(ReadFile(dir / "ok.xml").find("failures=\"0\""), std::string::npos);
 
@@ -260,8 +288,9 @@ TEST(RegressCli, ExitCodesOnTrueAndPlantedBaselines) {
   b["scenes"]["crossing-dominant-charged"]["metrics"]["idf1"] =
       b["scenes"]["crossing-dominant-charged"]["metrics"]["idf1"].get<double>() + 0.1;
   std::ofstream(dir / "planted.json") << b.dump(2);
-  r = RunCommand(kHcpf + " regress " + suite.string() + " --baseline " + (dir / "planted.json").string() +
-                 " --jobs 2 --junit " + (dir / "bad.xml").string() + " --markdown " + (dir / "bad.md").string());
+  r = RunCommand(kHcpf + " regress " + suite.string() + " --baseline " +
+                 (dir / "planted.json").string() + " --jobs 2 --junit " +
+                 (dir / "bad.xml").string() + " --markdown " + (dir / "bad.md").string());
   EXPECT_EQ(r.exit_code, 1) << r.output;
   EXPECT_NE(r.output.find("WORSE"), std::string::npos) << r.output;
   EXPECT_NE(ReadFile(dir / "bad.xml").find("failures=\"1\""), std::string::npos);
@@ -271,15 +300,22 @@ TEST(RegressCli, ExitCodesOnTrueAndPlantedBaselines) {
   b["scenes"]["crossing-dominant-charged"]["metrics"]["idf1"] =
       b["scenes"]["crossing-dominant-charged"]["metrics"]["idf1"].get<double>() - 0.2;
   std::ofstream(dir / "better.json") << b.dump(2);
-  r = RunCommand(kHcpf + " regress " + suite.string() + " --baseline " + (dir / "better.json").string() + " --jobs 2");
+  r = RunCommand(kHcpf + " regress " + suite.string() + " --baseline " +
+                 (dir / "better.json").string() + " --jobs 2");
   EXPECT_EQ(r.exit_code, 0) << r.output;
   EXPECT_NE(r.output.find("--update-baseline"), std::string::npos) << r.output;
 
   // Missing baseline, or one lacking a scene: bad input.
-  EXPECT_EQ(RunCommand(kHcpf + " regress " + suite.string() + " --baseline " + (dir / "none.json").string()).exit_code, 2);
+  EXPECT_EQ(RunCommand(kHcpf + " regress " + suite.string() + " --baseline " +
+                       (dir / "none.json").string())
+                .exit_code,
+            2);
   b["scenes"].erase("climb");
   std::ofstream(dir / "partial.json") << b.dump(2);
-  EXPECT_EQ(RunCommand(kHcpf + " regress " + suite.string() + " --baseline " + (dir / "partial.json").string()).exit_code, 2);
+  EXPECT_EQ(RunCommand(kHcpf + " regress " + suite.string() + " --baseline " +
+                       (dir / "partial.json").string())
+                .exit_code,
+            2);
 }
 
 }  // namespace

@@ -42,7 +42,7 @@ struct RunRecord {
   std::vector<std::string> values;  // per StoreMeta::swept_keys
   bool ok = false;
   std::string error;
-  std::string run_dir;  // relative to the store's folder, e.g. "runs/<key>"
+  std::string run_dir;                    // relative to the store's folder, e.g. "runs/<key>"
   std::map<std::string, double> metrics;  // HeadlineMetrics() names; NaN = missing
 };
 

@@ -31,9 +31,9 @@ struct SweepAxis {
 
 // What `hcpf report` plots: y metrics against x, one line per series value.
 struct ReportSpec {
-  std::string x;                // a swept key ("" = the first grid key)
-  std::vector<std::string> y;   // metric names (HeadlineMetrics())
-  std::string series;           // a swept key or "" (one line)
+  std::string x;               // a swept key ("" = the first grid key)
+  std::vector<std::string> y;  // metric names (HeadlineMetrics())
+  std::string series;          // a swept key or "" (one line)
 };
 
 struct SweepSpec {
@@ -55,11 +55,11 @@ struct SweepSpec {
 struct SweepRun {
   int64_t index = 0;
   int seed_index = 0;
-  uint64_t seed = 0;                   // the scenario seed the run uses
-  std::vector<std::string> values;     // per SweptKeys(), YAML text
-  std::vector<Override> overrides;     // swept values, then `seed` (when seeds > 0)
+  uint64_t seed = 0;                // the scenario seed the run uses
+  std::vector<std::string> values;  // per SweptKeys(), YAML text
+  std::vector<Override> overrides;  // swept values, then `seed` (when seeds > 0)
   Scenario scenario;
-  std::string key;                     // ConfigHash(scenario)
+  std::string key;  // ConfigHash(scenario)
 };
 
 // The metrics every sweep records (column names of the results store and
@@ -88,8 +88,8 @@ std::string SweepHash(const std::vector<SweepRun>& runs);
 
 struct SweepOptions {
   std::string out_dir;
-  int jobs = 1;        // worker threads, one run each
-  int shard_index = 0; // run only runs with index % shard_count == shard_index
+  int jobs = 1;         // worker threads, one run each
+  int shard_index = 0;  // run only runs with index % shard_count == shard_index
   int shard_count = 1;
   bool progress = true;
   // Rendered scenarios: the frame cache shared by all runs ("" = none). Runs

@@ -179,6 +179,53 @@ void ParseLineGeneral(std::string_view line, const std::string& path, int line_n
   out->exact_id = exact;
 }
 
+// A plain decimal number ("-12", "0.9", "1359.25", ".5", "5."): at most 15
+// digits, no exponent. Such a number is m / 10^k with m < 10^15 < 2^53 and
+// k <= 15, both exact doubles, so one IEEE division gives the correctly
+// rounded value: the same double std::from_chars returns (Clinger's fast
+// path). Returns the end of the number, or nullptr when the text is anything
+// else (more digits, an exponent, no digit at all): the caller then uses
+// std::from_chars. A number followed by other characters is left to the caller
+// exactly as std::from_chars would leave it (same end position).
+struct ShortDecimal {
+  double value = 0.0;
+  bool is_integer = false;  // no '.': `integer` holds the exact value
+  int64_t integer = 0;
+};
+inline const char* ParseShortDecimal(const char* p, const char* end, ShortDecimal* out) {
+  static constexpr double kPow10[] = {1e0, 1e1, 1e2,  1e3,  1e4,  1e5,  1e6,  1e7,
+                                      1e8, 1e9, 1e10, 1e11, 1e12, 1e13, 1e14, 1e15};
+  const char* q = p;
+  const bool negative = q < end && *q == '-';
+  if (negative) ++q;
+  uint64_t m = 0;
+  int digits = 0;
+  while (q < end && static_cast<unsigned>(*q - '0') < 10u) {
+    m = m * 10 + static_cast<unsigned>(*q - '0');
+    ++q;
+    ++digits;
+  }
+  int fraction = 0;
+  const bool dot = q < end && *q == '.';
+  if (dot) {
+    ++q;
+    while (q < end && static_cast<unsigned>(*q - '0') < 10u) {
+      m = m * 10 + static_cast<unsigned>(*q - '0');
+      ++q;
+      ++digits;
+      ++fraction;
+    }
+  }
+  if (digits == 0 || digits > 15) return nullptr;
+  if (q < end && (*q == 'e' || *q == 'E')) return nullptr;
+  double v = static_cast<double>(m);
+  if (fraction > 0) v /= kPow10[fraction];
+  out->value = negative ? -v : v;
+  out->is_integer = !dot;
+  out->integer = negative ? -static_cast<int64_t>(m) : static_cast<int64_t>(m);
+  return q;
+}
+
 // Fast path for the common well-formed line: comma separated, 6..10 finite
 // numbers, optional blanks around fields, optional trailing comma. Parses in
 // place (no splitting) and returns false for anything else, which then goes
@@ -191,13 +238,24 @@ bool ParseLineFast(const char* p, const char* end, RowValues* out) {
     while (p < end && IsSpace(*p)) ++p;
     if (count == kMaxFields) return false;
     double& value = out->v[count];
-    const auto [ptr, ec] = std::from_chars(p, end, value);
-    if (ec != std::errc() || !std::isfinite(value)) return false;
-    if (count == 1) {
-      int64_t exact = 0;
-      const auto [iptr, iec] = std::from_chars(p, ptr, exact);
-      out->has_exact_id = iec == std::errc() && iptr == ptr;
-      out->exact_id = exact;
+    ShortDecimal d;
+    const char* ptr = ParseShortDecimal(p, end, &d);
+    if (ptr != nullptr) {
+      value = d.value;
+      if (count == 1) {
+        out->has_exact_id = d.is_integer;
+        out->exact_id = d.integer;
+      }
+    } else {
+      const auto [fptr, ec] = std::from_chars(p, end, value);
+      if (ec != std::errc() || !std::isfinite(value)) return false;
+      ptr = fptr;
+      if (count == 1) {
+        int64_t exact = 0;
+        const auto [iptr, iec] = std::from_chars(p, ptr, exact);
+        out->has_exact_id = iec == std::errc() && iptr == ptr;
+        out->exact_id = exact;
+      }
     }
     ++count;
     p = ptr;

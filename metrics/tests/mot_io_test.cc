@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include <cstring>
 #include <filesystem>
 #include <string>
 #include <vector>
@@ -122,7 +123,9 @@ TEST(MotIo, DuplicateIdErrorIsTheSmallestFrameAndId) {
 TEST(MotIo, AgreesWithReferenceReaderOnRandomText) {
   const char* kNumbers[] = {"1", "2", "3", "0", "-1", "17", "1.5", "2.25e1", ".5", "5.", "+4", "1E2",
                             "9007199254740993", "123456789012345678901", "1e400", "nan", "inf",
-                            "0x10", "1e", "-", "", "x", "3.14159265358979", "-0", "2.000000000000001"};
+                            "0x10", "1e", "-", "", "x", "3.14159265358979", "-0", "2.000000000000001",
+                            "-.5", ".", "-5.", "0.1", "123456789012345", "1234567890123456", "000000000000000001",
+                            "-9223372036854775808", "1e-5", "4.9e-324", "9.87654321098765", "1.2.3", "--1"};
   const char* kBlanks[] = {"", "", "", " ", "\t", "  "};
   Rng rng(7);
   int parsed = 0;
@@ -180,6 +183,36 @@ TEST(MotIo, AgreesWithReferenceReaderOnRandomText) {
   // Both outcomes must be exercised for the comparison to mean something.
   EXPECT_GT(parsed, 300);
   EXPECT_GT(failed, 300);
+}
+
+// Plain decimals of 1..17 digits with the point anywhere (the reader's own
+// short-decimal path below 16 digits, std::from_chars above) must give the same
+// doubles as the reference reader, which parses every field with std::from_chars.
+TEST(MotIo, DecimalsMatchFromChars) {
+  Rng rng(11);
+  std::string text;
+  for (int line = 0; line < 20000; ++line) {
+    text += "1," + std::to_string(line + 1);
+    for (int c = 0; c < 4; ++c) {
+      const int digits = 1 + static_cast<int>(rng.UniformInt(17));
+      std::string number;
+      for (int d = 0; d < digits; ++d) number += static_cast<char>('0' + rng.UniformInt(10));
+      const int point = static_cast<int>(rng.UniformInt(static_cast<uint64_t>(digits) + 2)) - 1;
+      if (point >= 0) number.insert(static_cast<size_t>(point), ".");
+      if (rng.Bernoulli(0.3)) number.insert(0, "-");
+      text += "," + number;
+    }
+    text += "\n";
+  }
+  const MotFile got = ParseMotText(text, "f.txt", MotFileKind::kTracks, 1);
+  const MotFile expected = internal::ParseMotTextReference(text, "f.txt", MotFileKind::kTracks, 1);
+  ASSERT_EQ(got.rows.size(), 20000u);
+  for (size_t i = 0; i < got.rows.size(); ++i) {
+    // Bitwise equality (operator== on doubles would equate 0.0 and -0.0).
+    const BoxPx& a = got.rows[i].box;
+    const BoxPx& b = expected.rows[i].box;
+    ASSERT_EQ(std::memcmp(&a, &b, sizeof(BoxPx)), 0) << "line " << i + 1;
+  }
 }
 
 TEST(MotIo, SeqInfo) {

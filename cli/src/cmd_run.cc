@@ -19,6 +19,7 @@ Command AddRunCommand(CLI::App& parent) {
     int threads = 1;
     std::string cache = scenarios::DefaultFrameCacheDir();
     bool no_cache = false;
+    bool video = false;
   };
   auto options = std::make_shared<Options>();
   CLI::App* app = parent.add_subcommand(
@@ -38,6 +39,9 @@ Command AddRunCommand(CLI::App& parent) {
                   "that affects pixels)")
       ->capture_default_str();
   app->add_flag("--no-cache", options->no_cache, "Render every frame, read and write no cache");
+  app->add_flag("--video", options->video,
+                "Also write overlay.mp4: frames, ground truth, estimates, particles "
+                "(tracker.keep_particles > 0) and each filter's state");
   return {app, [options] {
             std::vector<scenarios::Override> overrides;
             for (const auto& s : options->sets) overrides.push_back(scenarios::ParseOverride(s));
@@ -46,6 +50,7 @@ Command AddRunCommand(CLI::App& parent) {
             run_options.out_dir = options->out;
             run_options.threads = options->threads;
             run_options.frame_cache_dir = options->no_cache ? "" : options->cache;
+            run_options.video = options->video;
             const scenarios::RunSummary summary = scenarios::RunScenario(scenario, run_options);
             spdlog::info("run \"{}\" finished in {:.2f} s: {} frames, {} ground-truth boxes, {} detections",
                          scenario.name, summary.wall_time_s, summary.frames, summary.gt_boxes,

@@ -17,6 +17,7 @@
 #include "hcpf/tracker/tracker.h"
 #include "hcpf/scenarios/frames.h"
 #include "hcpf/scenarios/observation_simulator.h"
+#include "hcpf/scenarios/overlay.h"
 #include "hcpf/scenarios/version.h"
 #include "progress.h"
 #include "writers.h"
@@ -79,6 +80,7 @@ RunSummary RunScenario(const Scenario& scenario, const RunOptions& options) {
     auto t0 = Clock::now();
     FrameSourceOptions frame_options;
     frame_options.cache_dir = options.frame_cache_dir;
+    frame_options.keep_images = options.video;
     SceneFrames scene = ProduceFrames(scenario, frame_options);
     const std::vector<FrameGroundTruth>& truth = scene.truth;
     timings["ground_truth_s"] = Seconds(t0);
@@ -158,6 +160,12 @@ RunSummary RunScenario(const Scenario& scenario, const RunOptions& options) {
     WriteTextFile((partial / "tracks.txt").string(), tracks_text);
     WriteTextFile((partial / "filters.csv").string(), FormatFiltersCsv(reports, scores.filters));
     WriteTextFile((partial / "metrics.json").string(), metrics::RunMetricsToJson(scores));
+    if (options.video) {
+      // At detection level there are no pixels: the overlay is drawn on a
+      // plain background.
+      WriteOverlayVideo((partial / "overlay.mp4").string(), scenario, truth, reports,
+                        scores.filters, scene.rendered ? &scene.images : nullptr);
+    }
     timings["write_s"] = Seconds(t0);
     summary.wall_time_s = Seconds(start);
     timings["total_s"] = summary.wall_time_s;

@@ -17,6 +17,10 @@ struct RunOptions {
   // Worker threads of the tracker's per-filter stages; outputs are identical
   // for every value.
   int threads = 1;
+  // Also write overlay.mp4: frames (or a plain background at detection level),
+  // ground-truth boxes, estimates, particles (tracker.keep_particles > 0) and
+  // each filter's state.
+  bool video = false;
   // Rendered scenarios: the frame cache folder ("" = render every time).
   std::string frame_cache_dir;
 };

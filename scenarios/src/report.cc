@@ -298,7 +298,11 @@ ReportResult WriteReport(const ReportOptions& options) {
     gp += fmt::format("set xlabel {} noenhanced\n", GpString(x_label));
     gp +=
         fmt::format("set ylabel {} noenhanced\n", GpString(metric + " (mean, 95% CI over seeds)"));
-    gp += "set grid\nset key outside right top noenhanced\n";
+    size_t longest_label = 0;
+    for (const std::string& l : lines) longest_label = std::max(longest_label, l.size());
+    // Long line labels go below the plot so they do not squeeze it.
+    gp += longest_label > 24 ? "set grid\nset key below noenhanced\n"
+                             : "set grid\nset key outside right top noenhanced\n";
     gp += "set style fill transparent solid 0.18 noborder\n";
     if (log_x) gp += "set logscale x\n";
     if (!numeric_x) {

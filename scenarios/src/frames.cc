@@ -70,6 +70,7 @@ SceneFrames ProduceFrames(const Scenario& scenario, const FrameSourceOptions& op
       ++out.frames_rendered;
       if (cache) cache->Store(*frame);
     }
+    if (options.on_frame) options.on_frame(*frame);
     out.truth.push_back(std::move(frame->ground_truth));
     if (options.keep_images) out.images.push_back(std::move(frame->rgb));
     progress.Advance();

@@ -19,6 +19,7 @@
 #include "hcpf/scenarios/observation_simulator.h"
 #include "hcpf/scenarios/overlay.h"
 #include "hcpf/scenarios/version.h"
+#include "output_folder.h"
 #include "progress.h"
 #include "writers.h"
 
@@ -34,47 +35,21 @@ double Seconds(Clock::time_point since) {
   return std::chrono::duration<double>(Clock::now() - since).count();
 }
 
-// The output folder must be new, empty, or an earlier run's (it has a
-// manifest.json): never clobber a folder of the user's.
-void CheckOutputFolder(const fs::path& out) {
-  std::error_code ec;
-  if (!fs::exists(out, ec)) return;
-  if (!fs::is_directory(out, ec)) {
-    throw InputError(SourceLocation{out.string(), 0, 0, "--out"}, "a folder for the run's outputs",
-                     "an existing file");
-  }
-  if (fs::is_empty(out, ec) || fs::exists(out / "manifest.json", ec)) return;
-  throw InputError(SourceLocation{out.string(), 0, 0, "--out"},
-                   "a new or empty folder, or an earlier run's folder (with manifest.json)",
-                   "a folder with other files in it");
-}
-
-// Moves the finished temporary folder into place, replacing an earlier run.
-void Publish(const fs::path& partial, const fs::path& out) {
-  std::error_code ec;
-  if (fs::exists(out, ec)) fs::remove_all(out, ec);
-  if (ec) throw RunError(fmt::format("cannot replace {}: {}", out.string(), ec.message()));
-  fs::rename(partial, out, ec);
-  if (ec) throw RunError(fmt::format("cannot move the run to {}: {}", out.string(), ec.message()));
-}
-
 }  // namespace
 
 RunSummary RunScenario(const Scenario& scenario, const RunOptions& options) {
   const auto start = Clock::now();
-  const fs::path out = fs::absolute(options.out_dir).lexically_normal();
-  CheckOutputFolder(out);
-  const fs::path partial = out.string() + fmt::format(".partial-{}", ::getpid());
+  StagedFolder staged(options.out_dir);
+  const fs::path& partial = staged.partial();
   std::error_code ec;
-  fs::remove_all(partial, ec);
   fs::create_directories(partial / "gt", ec);
   if (ec) throw RunError(fmt::format("cannot create {}: {}", partial.string(), ec.message()));
 
   RunSummary summary;
-  summary.out_dir = out.string();
+  summary.out_dir = staged.out().string();
   summary.frames = scenario.world.frames;
   nlohmann::json timings;
-  try {
+  {
     // 1. Ground truth, frame by frame: analytic, or pixel-exact from the
     // renderer (frames cached on disk by pixel hash).
     auto t0 = Clock::now();
@@ -155,7 +130,7 @@ RunSummary RunScenario(const Scenario& scenario, const RunOptions& options) {
     WriteTextFile((partial / "scenario.resolved.yaml").string(), ToResolvedYaml(scenario));
     WriteTextFile((partial / "gt" / "gt.txt").string(), gt_text);
     WriteTextFile((partial / "seqinfo.ini").string(), FormatSeqinfo(scenario));
-    WriteTextFile((partial / "gt.json").string(), FormatGroundTruthJson(scenario, truth));
+    WriteTextFile((partial / "gt.json").string(), FormatGroundTruthJson(scenario, truth, scene.rendered));
     WriteTextFile((partial / "detections.txt").string(), FormatDetectionsMot(observations));
     WriteTextFile((partial / "tracks.txt").string(), tracks_text);
     WriteTextFile((partial / "filters.csv").string(), FormatFiltersCsv(reports, scores.filters));
@@ -203,10 +178,7 @@ RunSummary RunScenario(const Scenario& scenario, const RunOptions& options) {
                                           "gl_renderer"};
     // Written last: a folder with a manifest is a finished run.
     WriteTextFile((partial / "manifest.json").string(), manifest.dump(2) + "\n");
-    Publish(partial, out);
-  } catch (...) {
-    fs::remove_all(partial, ec);
-    throw;
+    staged.Publish();
   }
   return summary;
 }

@@ -142,16 +142,23 @@ nlohmann::json Vec(const Eigen::Vector3d& v) { return {v.x(), v.y(), v.z()}; }
 
 }  // namespace
 
-std::string FormatGroundTruthJson(const Scenario& s, const std::vector<FrameGroundTruth>& frames) {
+std::string FormatGroundTruthJson(const Scenario& s, const std::vector<FrameGroundTruth>& frames,
+                                  bool pixel_exact) {
   nlohmann::json root;
   root["format"] = "hcpf-gt/1";
   root["scenario"] = s.name;
+  root["source"] = pixel_exact ? "rendered" : "analytic";
   root["conventions"] = {
       {"frame", "0-based here; MOT files are 1-based"},
       {"boxes", "[left, top, width, height] in pixels, pixel (0,0) covers [0,1)x[0,1)"},
       {"world", "x east, y north, z up, metres"},
       {"camera", "OpenCV: x right, y down, z forward; world_from_camera columns = camera axes"},
       {"image_from_ground", "homography of the plane z = 0 to homogeneous pixels"},
+      {"visible_fraction",
+       pixel_exact ? "pixel-exact: pixels_visible / pixels_total from the renderer's instance-id "
+                     "pass (not MOTChallenge's box-overlap heuristic); gt.txt's visibility column"
+                   : "analytic estimate: unblocked / target rays of a 24x24 lattice over the "
+                     "amodal box (docs/conventions.md); gt.txt's visibility column"},
   };
   nlohmann::json list = nlohmann::json::array();
   for (const FrameGroundTruth& f : frames) {

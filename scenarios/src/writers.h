@@ -36,7 +36,9 @@ std::string FormatDetectionsMot(const std::vector<Observation>& observations);
 // seqinfo.ini for TrackEval's MOTChallenge loader.
 std::string FormatSeqinfo(const Scenario& scenario);
 // gt.json: every field of every frame's ground truth (see docs/outputs.md).
-std::string FormatGroundTruthJson(const Scenario& scenario, const std::vector<FrameGroundTruth>& frames);
+// `pixel_exact`: the truth came from the renderer's pixel counts.
+std::string FormatGroundTruthJson(const Scenario& scenario, const std::vector<FrameGroundTruth>& frames,
+                                  bool pixel_exact);
 
 // Writes `text` to `path`; throws RunError naming the path on failure.
 void WriteTextFile(const std::string& path, const std::string& text);

@@ -49,3 +49,39 @@ TEST(RenderedRun, PixelExactTruthAndFrameCacheReuse) {
 
 }  // namespace
 }  // namespace hcpf
+
+namespace hcpf {
+namespace {
+
+TEST(RenderCommand, WritesFramesTruthAndContactSheet) {
+  const fs::path dir = testing::FreshDir("render-command");
+  const std::string scenario =
+      (fs::path(HCPF_SOURCE_DIR) / "scenarios" / "library" / "bridge-three.yaml").string();
+  const auto r = testing::RunCommand(std::string(HCPF_EXE) + " render " + scenario +
+                                     " --set frames=30 --set 'camera.resolution=[160, 120]'"
+                                     " --no-cache --sheet-frames 4 --out " + (dir / "r").string());
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  for (const char* f : {"frames/000001.png", "frames/000030.png", "gt/gt.txt", "seqinfo.ini",
+                        "gt.json", "contact_sheet.png", "scenario.resolved.yaml", "manifest.json"}) {
+    EXPECT_TRUE(fs::exists(dir / "r" / f)) << f;
+  }
+  EXPECT_FALSE(fs::exists(dir / "r" / "frames" / "000031.png"));
+  // gt.json says where visibility comes from, and the counts are there.
+  const auto gt = nlohmann::json::parse(testing::ReadFile(dir / "r" / "gt.json"));
+  EXPECT_EQ(gt["source"], "rendered");
+  int64_t visible_pixels = 0;
+  for (const auto& object : gt["frames"][0]["objects"]) {
+    EXPECT_LE(object["pixels_visible"].get<int64_t>(), object["pixels_total"].get<int64_t>());
+    visible_pixels += object["pixels_visible"].get<int64_t>();
+  }
+  EXPECT_GT(visible_pixels, 0);
+  // A bad scenario key is bad input, and nothing is written.
+  const auto bad = testing::RunCommand(std::string(HCPF_EXE) + " render " + scenario +
+                                       " --set renderer.backend=vulkan --out " + (dir / "bad").string());
+  EXPECT_EQ(bad.exit_code, 2) << bad.output;
+  EXPECT_NE(bad.output.find("renderer.backend"), std::string::npos) << bad.output;
+  EXPECT_FALSE(fs::exists(dir / "bad"));
+}
+
+}  // namespace
+}  // namespace hcpf

@@ -6,6 +6,7 @@
 // (renderer::PixelHash), so runs that differ only in tracker or observation
 // settings render once.
 
+#include <functional>
 #include <optional>
 #include <string>
 #include <vector>
@@ -26,6 +27,9 @@ struct FrameSourceOptions {
   bool render = false;        // render even when the scenario is at detection level
   bool keep_images = false;   // keep the colour frames (videos, `hcpf render`)
   std::string cache_dir;      // "" = no cache
+  // Rendered frames: called with every frame, rendered or read from the cache,
+  // in frame order (to write images without keeping them all).
+  std::function<void(const renderer::RenderedFrame&)> on_frame;
 };
 
 struct SceneFrames {

@@ -1,0 +1,95 @@
+#include "hcpf/scenarios/render_folder.h"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <chrono>
+#include <nlohmann/json.hpp>
+
+#include "hcpf/core/error.h"
+#include "hcpf/metrics/mot_io.h"
+#include "hcpf/renderer/image_io.h"
+#include "hcpf/scenarios/frames.h"
+#include "hcpf/scenarios/version.h"
+#include "output_folder.h"
+#include "writers.h"
+
+namespace hcpf::scenarios {
+
+namespace fs = std::filesystem;
+
+RenderFolderSummary RenderToFolder(const Scenario& scenario, const RenderFolderOptions& options) {
+  const auto start = std::chrono::steady_clock::now();
+  StagedFolder staged(options.out_dir);
+  const fs::path& dir = staged.partial();
+  std::error_code ec;
+  fs::create_directories(dir / "frames", ec);
+  fs::create_directories(dir / "gt", ec);
+  if (ec) throw RunError(fmt::format("cannot create {}: {}", dir.string(), ec.message()));
+
+  const int frames = scenario.world.frames;
+  const int sheet_n = std::clamp(options.sheet_frames, 1, frames);
+  std::vector<int> sheet_frames;
+  for (int i = 0; i < sheet_n; ++i) {
+    sheet_frames.push_back(sheet_n == 1 ? 0 : i * (frames - 1) / (sheet_n - 1));
+  }
+  std::vector<renderer::RenderedFrame> sheet;
+  FrameSourceOptions frame_options;
+  frame_options.render = true;
+  frame_options.cache_dir = options.cache_dir;
+  frame_options.on_frame = [&](const renderer::RenderedFrame& frame) {
+    const fs::path stem = dir / "frames" / fmt::format("{:06d}", frame.frame + 1);
+    renderer::WritePng(frame.rgb, stem.string() + ".png");
+    if (frame.depth) renderer::WriteDepthPng(*frame.depth, stem.string() + "_depth.png");
+    if (frame.instance_ids) renderer::WriteInstancePng(*frame.instance_ids, stem.string() + "_ids.png");
+    if (std::find(sheet_frames.begin(), sheet_frames.end(), frame.frame) != sheet_frames.end()) {
+      renderer::RenderedFrame thumb;
+      thumb.frame = frame.frame;
+      thumb.rgb = frame.rgb;
+      thumb.ground_truth = frame.ground_truth;
+      sheet.push_back(std::move(thumb));
+    }
+  };
+  const SceneFrames scene = ProduceFrames(scenario, frame_options);
+
+  WriteTextFile((dir / "scenario.resolved.yaml").string(), ToResolvedYaml(scenario));
+  WriteTextFile((dir / "gt" / "gt.txt").string(),
+                metrics::FormatMotGroundTruth(GroundTruthRows(scene.truth)));
+  WriteTextFile((dir / "seqinfo.ini").string(), FormatSeqinfo(scenario));
+  WriteTextFile((dir / "gt.json").string(), FormatGroundTruthJson(scenario, scene.truth, true));
+  renderer::WritePng(renderer::MakeContactSheet(sheet), (dir / "contact_sheet.png").string());
+
+  RenderFolderSummary summary;
+  summary.out_dir = staged.out().string();
+  summary.frames = frames;
+  summary.frames_rendered = scene.frames_rendered;
+  summary.frames_from_cache = scene.frames_from_cache;
+  summary.wall_time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  nlohmann::json manifest;
+  manifest["format"] = "hcpf-render/1";
+  manifest["hcpf_version"] = ProjectVersion();
+  manifest["git_revision"] = GitRevision();
+  manifest["scenario"] = scenario.name;
+  manifest["config_hash"] = ConfigHash(scenario);
+  manifest["seed"] = scenario.seed;
+  manifest["libraries"] = LibraryVersions();
+  if (scene.gl) {
+    manifest["gl_renderer"] = {{"backend", scene.gl->backend},
+                               {"vendor", scene.gl->vendor},
+                               {"renderer", scene.gl->renderer},
+                               {"version", scene.gl->version}};
+  } else {
+    manifest["gl_renderer"] = nullptr;
+  }
+  manifest["frames"] = frames;
+  manifest["frames_rendered"] = scene.frames_rendered;
+  manifest["frames_from_cache"] = scene.frames_from_cache;
+  manifest["timings"] = {{"total_s", summary.wall_time_s}};
+  manifest["nondeterministic_fields"] = {"timings", "frames_rendered", "frames_from_cache",
+                                         "gl_renderer"};
+  WriteTextFile((dir / "manifest.json").string(), manifest.dump(2) + "\n");
+  staged.Publish();
+  return summary;
+}
+
+}  // namespace hcpf::scenarios

@@ -1,6 +1,10 @@
 #include "hcpf/metrics/mot_io.h"
 
+#include <fcntl.h>
 #include <fmt/format.h>
+#include <sys/mman.h>
+#include <sys/stat.h>
+#include <unistd.h>
 
 #include <algorithm>
 #include <cctype>
@@ -383,7 +387,9 @@ void CheckUniqueIds(const MotFile& file) {
 
 }  // namespace
 
-MotFile ParseMotText(const std::string& text, const std::string& path, MotFileKind kind,
+namespace {
+
+MotFile ParseMotView(std::string_view text, const std::string& path, MotFileKind kind,
                      std::optional<int> seq_length) {
   MotFile file;
   file.path = path;
@@ -420,6 +426,48 @@ MotFile ParseMotText(const std::string& text, const std::string& path, MotFileKi
   }
   CheckUniqueIds(file);
   return file;
+}
+
+// A read-only view of a whole file: mapped when possible (no copy, no zeroed
+// buffer), else read into memory.
+class FileText {
+ public:
+  explicit FileText(const std::string& path) {
+    const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
+    if (fd >= 0) {
+      struct stat st {};
+      if (::fstat(fd, &st) == 0 && S_ISREG(st.st_mode) && st.st_size > 0) {
+        void* map = ::mmap(nullptr, static_cast<size_t>(st.st_size), PROT_READ, MAP_PRIVATE, fd, 0);
+        if (map != MAP_FAILED) {
+          map_ = map;
+          map_size_ = static_cast<size_t>(st.st_size);
+          ::madvise(map_, map_size_, MADV_SEQUENTIAL | MADV_WILLNEED);
+        }
+      }
+      ::close(fd);
+    }
+    if (map_ == nullptr) copy_ = ReadWholeFile(path);  // throws InputError when unreadable
+  }
+  ~FileText() {
+    if (map_ != nullptr) ::munmap(map_, map_size_);
+  }
+  FileText(const FileText&) = delete;
+  FileText& operator=(const FileText&) = delete;
+  std::string_view view() const {
+    return map_ != nullptr ? std::string_view(static_cast<const char*>(map_), map_size_) : std::string_view(copy_);
+  }
+
+ private:
+  void* map_ = nullptr;
+  size_t map_size_ = 0;
+  std::string copy_;
+};
+
+}  // namespace
+
+MotFile ParseMotText(const std::string& text, const std::string& path, MotFileKind kind,
+                     std::optional<int> seq_length) {
+  return ParseMotView(text, path, kind, seq_length);
 }
 
 namespace internal {
@@ -462,7 +510,8 @@ MotFile ParseMotTextReference(const std::string& text, const std::string& path, 
 }  // namespace internal
 
 MotFile ReadMotFile(const std::string& path, MotFileKind kind, std::optional<int> seq_length) {
-  return ParseMotText(ReadWholeFile(path), path, kind, seq_length);
+  const FileText text(path);
+  return ParseMotView(text.view(), path, kind, seq_length);
 }
 
 SeqInfo ParseSeqInfo(const std::string& text, const std::string& path) {

@@ -112,7 +112,7 @@ Prepared Prepare(const Sequence& seq) {
     }
     return *slot;
   };
-  std::vector<double> hyp_left, hyp_right;
+  std::vector<double> hyp_edges;
   int next_gt0 = 0;  // offset of the frame's first box in gt_id / hyp_id
   int next_hyp0 = 0;
   for (const SequenceFrame& f : seq.frames) {
@@ -123,21 +123,29 @@ Prepared Prepare(const Sequence& seq) {
     p.gt_begin.push_back(gt0);
     p.hyp_begin.push_back(hyp0);
     p.ov_begin.push_back(static_cast<int>(p.overlaps.size()));
-    // Left and right edges of the frame's hyp boxes in two flat arrays: the
-    // x test below reads only these (MotIou is 0 whenever its x overlap
-    // min(right) - max(left) is <= 0, the same expression as here).
+    // Edges of the frame's hyp boxes in one flat array: the overlap test below
+    // reads only these (MotIou is 0 whenever its x or y overlap
+    // min(right) - max(left) is <= 0, the same expressions as here).
     const size_t nh = f.hyp.size();
-    hyp_left.resize(nh);
-    hyp_right.resize(nh);
+    hyp_edges.resize(4 * nh);
+    double* const edge = hyp_edges.data();  // left, right, top, bottom of hyp j at 4j
     for (size_t j = 0; j < nh; ++j) {
-      hyp_left[j] = f.hyp[j].box.left;
-      hyp_right[j] = f.hyp[j].box.left + f.hyp[j].box.width;
+      const BoxPx& b = f.hyp[j].box;
+      edge[4 * j] = b.left;
+      edge[4 * j + 1] = b.left + b.width;
+      edge[4 * j + 2] = b.top;
+      edge[4 * j + 3] = b.top + b.height;
     }
     for (size_t i = 0; i < f.gt.size(); ++i) {
       const BoxPx& a = f.gt[i].box;
       const double ax2 = a.left + a.width;
+      const double ay2 = a.top + a.height;
       for (size_t j = 0; j < nh; ++j) {
-        if (std::min(ax2, hyp_right[j]) - std::max(a.left, hyp_left[j]) <= 0.0) continue;
+        const double* e = edge + 4 * j;
+        if (std::min(ax2, e[1]) - std::max(a.left, e[0]) <= 0.0 ||
+            std::min(ay2, e[3]) - std::max(a.top, e[2]) <= 0.0) {
+          continue;
+        }
         const double iou = MotIou(a, f.hyp[j].box);
         if (iou <= 0.0) continue;
         const int pair = pair_of(p.gt_id[gt0 + i], p.hyp_id[hyp0 + j]);

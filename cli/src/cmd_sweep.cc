@@ -45,6 +45,7 @@ Command AddSweepCommand(CLI::App& parent) {
     std::string shard;
     std::string cache = scenarios::DefaultFrameCacheDir();
     bool no_cache = false;
+    bool video = false;
   };
   auto options = std::make_shared<Options>();
   CLI::App* app = parent.add_subcommand(
@@ -62,6 +63,8 @@ Command AddSweepCommand(CLI::App& parent) {
          "--cache", options->cache,
          "Frame cache for rendered scenarios, shared by every run: frames are rendered once")
       ->capture_default_str();
+  app->add_flag("--video", options->video,
+                "Write overlay.mp4 in the first-seed run of every cell (linked from the report)");
   app->add_flag("--no-cache", options->no_cache,
                 "Render every run's frames, read and write no cache");
   return {app, [options] {
@@ -76,6 +79,7 @@ Command AddSweepCommand(CLI::App& parent) {
                   ParseShard(options->shard);
             }
             sweep_options.frame_cache_dir = options->no_cache ? "" : options->cache;
+            sweep_options.video = options->video;
             sweep_options.Validate();
             // Rendered runs: one llvmpipe (Mesa software rasteriser) thread per
             // worker, since the workers already use every core. Must be set

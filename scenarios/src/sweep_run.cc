@@ -124,6 +124,7 @@ SweepResult RunSweep(const SweepSpec& spec, const std::vector<SweepRun>& runs,
         run_options.out_dir = (out / record.run_dir).string();
         run_options.threads = 1;
         run_options.frame_cache_dir = options.frame_cache_dir;
+        run_options.video = options.video && run.seed_index == 0;
         RunScenario(run.scenario, run_options);
         record.metrics = ReadRunMetrics(run_options.out_dir);
         record.ok = true;

@@ -203,7 +203,8 @@ TEST(ReportInChromium, EveryPlotRendersWithData) {
     GTEST_SKIP() << "chromium is not installed (apt-get install -y chromium): report not rendered";
   const fs::path dir = FreshDir("sweep-report-chromium");
   const std::string sweep = WriteSweep(dir, 3, 150);  // the full crossing: the resamplers differ
-  ASSERT_EQ(RunCommand(kHcpf + " sweep " + sweep + " --out " + (dir / "out").string() + " --jobs 2")
+  ASSERT_EQ(RunCommand(kHcpf + " sweep " + sweep + " --out " + (dir / "out").string() +
+                       " --jobs 2 --video")
                 .exit_code,
             0);
   auto report = RunCommand(kHcpf + " report " + (dir / "out").string());
@@ -265,6 +266,14 @@ TEST(ReportInChromium, EveryPlotRendersWithData) {
     EXPECT_GT(coloured, 400) << "plot " << p << " (rows " << top << "-" << bottom
                              << ") has no data lines";
   }
+  // --video: the first-seed run of each of the 8 cells has overlay.mp4, linked from the report.
+  const std::string page = ReadFile(html);
+  size_t links = 0;
+  for (size_t at = page.find("/overlay.mp4\""); at != std::string::npos;
+       at = page.find("/overlay.mp4\"", at + 1)) {
+    ++links;
+  }
+  EXPECT_EQ(links, 8U);
   // The SVGs carry the data too (a renderer-independent check).
   const std::string text = ReadFile(html);
   size_t svgs = 0;

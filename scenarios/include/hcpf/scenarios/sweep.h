@@ -95,6 +95,9 @@ struct SweepOptions {
   // Rendered scenarios: the frame cache shared by all runs ("" = none). Runs
   // that differ only in tracker settings render their frames once.
   std::string frame_cache_dir;
+  // Write overlay.mp4 in the runs of the first seed (seed index 0) of every
+  // cell; `hcpf report` links them.
+  bool video = false;
   void Validate() const;
 };
 

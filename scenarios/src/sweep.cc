@@ -235,6 +235,7 @@ std::vector<SweepRun> ExpandSweep(const SweepSpec& spec) {
       spec.zip.empty() ? 1 : static_cast<int64_t>(spec.zip.front().values.size());
   std::vector<SweepRun> runs;
   runs.reserve(total);
+  std::map<std::string, int64_t> index_of_key;
   for (int64_t index = 0; index < total; ++index) {
     SweepRun run;
     run.index = index;
@@ -276,6 +277,16 @@ std::vector<SweepRun> ExpandSweep(const SweepSpec& spec) {
     }
     run.seed = run.scenario.seed;
     run.key = ConfigHash(run.scenario);
+    // Two runs of one scenario would share a folder and a row: a list that
+    // names a value twice is a mistake in the sweep file.
+    const auto [first, inserted] = index_of_key.emplace(run.key, index);
+    if (!inserted) {
+      const SourceLocation at = where.empty() ? SourceLocation{spec.file, 0, 0, ""} : where.front();
+      throw InputError(SourceLocation{at.file, at.line, at.column, "grid/zip"},
+                       "every run a different scenario (no value listed twice)",
+                       fmt::format("runs {} and {} resolve to the same scenario ({})",
+                                   first->second, index, fmt::join(run.values, ", ")));
+    }
     runs.push_back(std::move(run));
   }
   return runs;

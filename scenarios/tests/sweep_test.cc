@@ -156,6 +156,11 @@ TEST(Sweep, BadFilesNameLineKeyExpectedFoundAndHint) {
   EXPECT_NE(e.find("non-empty list"), std::string::npos) << e;
   e = ErrorOf(WriteSweep(dir, "base: base.yaml\nseeds: 3\ngrid: {seed: [1, 2]}\n", "i.yaml"));
   EXPECT_NE(e.find("i.yaml:3"), std::string::npos) << e;
+  // A value listed twice: two runs of one scenario.
+  e = ExpandErrorOf(
+      WriteSweep(dir, "base: base.yaml\ngrid:\n  tracker.particles: [10, 20, 10]\n", "k.yaml"));
+  EXPECT_NE(e.find("k.yaml:3"), std::string::npos) << e;
+  EXPECT_NE(e.find("runs 0 and 2 resolve to the same scenario"), std::string::npos) << e;
   e = ErrorOf(WriteSweep(dir, "base: base.yaml\nseeds: 0\n", "j.yaml"));
   EXPECT_NE(e.find("j.yaml:2:8: seeds"), std::string::npos) << e;
 }

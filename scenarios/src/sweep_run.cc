@@ -1,12 +1,16 @@
 // Running a sweep: a worker pool over the runs of one shard, each finished
 // run committed to the results store as it completes (docs/sweeps.md).
 
+#include <fcntl.h>
 #include <fmt/format.h>
 #include <signal.h>
 #include <spdlog/spdlog.h>
+#include <sys/file.h>
+#include <unistd.h>
 
 #include <atomic>
 #include <cerrno>
+#include <cstring>
 #include <exception>
 #include <filesystem>
 #include <map>
@@ -52,6 +56,20 @@ SweepResult RunSweep(const SweepSpec& spec, const std::vector<SweepRun>& runs,
   fs::create_directories(out / "runs", ec);
   if (ec)
     throw RunError(fmt::format("cannot create {}: {}", (out / "runs").string(), ec.message()));
+  // One sweep process per folder: an advisory lock, released by the kernel
+  // when the process ends however it ends (SIGKILL included).
+  const std::string lock_path = (out / "sweep.lock").string();
+  const int lock_fd = ::open(lock_path.c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0644);
+  if (lock_fd < 0)
+    throw RunError(fmt::format("cannot open {}: {}", lock_path, std::strerror(errno)));
+  struct LockGuard {
+    int fd;
+    ~LockGuard() { ::close(fd); }
+  } lock_guard{lock_fd};
+  if (::flock(lock_fd, LOCK_EX | LOCK_NB) != 0) {
+    throw InputError(SourceLocation{options.out_dir, 0, 0, "--out"},
+                     "a folder no other hcpf sweep is writing to", "a sweep already running there");
+  }
   RemoveStalePartials(out / "runs");
 
   StoreMeta meta;

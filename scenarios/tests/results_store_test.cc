@@ -2,7 +2,10 @@
 
 #include "hcpf/scenarios/results_store.h"
 
+#include <fcntl.h>
 #include <gtest/gtest.h>
+#include <sys/file.h>
+#include <unistd.h>
 
 #include <cmath>
 #include <filesystem>
@@ -112,6 +115,14 @@ TEST(RunSweep, ParallelEqualsSerialAndResumeReusesEverything) {
   const auto stored = ResultsStore::Open((dir / "serial" / "results.sqlite").string())->Runs();
   EXPECT_EQ(stored[3].metrics.at("idf1"),
             ReadRunMetrics((dir / "serial" / "runs" / stored[3].key).string()).at("idf1"));
+  {
+    // Another sweep writing to the folder (holding its lock) is refused.
+    const int fd = ::open((dir / "serial" / "sweep.lock").c_str(), O_RDWR);
+    ASSERT_GE(fd, 0);
+    ASSERT_EQ(::flock(fd, LOCK_EX | LOCK_NB), 0);
+    EXPECT_THROW(RunSweep(spec, runs, Options(dir / "serial", 2)), InputError);
+    ::close(fd);
+  }
   const SweepResult again = RunSweep(spec, runs, Options(dir / "serial", 2));
   EXPECT_EQ(again.reused, 8);
   EXPECT_EQ(again.computed, 0);

@@ -7,7 +7,13 @@ find_package(yaml-cpp REQUIRED)
 find_package(CLI11 REQUIRED)
 find_package(nlohmann_json 3.10 REQUIRED)
 find_package(SQLite3 REQUIRED)
-find_package(OpenCV REQUIRED COMPONENTS core imgproc imgcodecs videoio features2d)
+# Libraries link opencv_core/opencv_imgproc only: imgcodecs and videoio pull
+# in ~100 shared libraries (GDAL, HDF5, FFmpeg) that cost every process
+# ~60 ms to load; PNG/JPEG go through libpng/libjpeg, video through a plugin.
+find_package(OpenCV REQUIRED COMPONENTS core imgproc imgcodecs videoio)
+find_package(PkgConfig REQUIRED)
+pkg_check_modules(PNG REQUIRED IMPORTED_TARGET libpng)
+pkg_check_modules(JPEG REQUIRED IMPORTED_TARGET libjpeg)
 find_package(Threads REQUIRED)
 if(HCPF_BUILD_RENDERER)
   find_package(TinyGLTF REQUIRED)

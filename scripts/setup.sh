@@ -13,7 +13,7 @@ PACKAGES=(
   # tracker / renderer / videos
   libopencv-dev
   libosmesa6-dev libegl-dev libgl-dev libegl-mesa0 libgles-dev mesa-common-dev
-  libassimp-dev libtinygltf-dev libstb-dev
+  libassimp-dev libtinygltf-dev libstb-dev libpng-dev libjpeg-dev
   # tests and benchmarks
   googletest libgtest-dev libgmock-dev libbenchmark-dev
   # reports: plots

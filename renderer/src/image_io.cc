@@ -5,9 +5,9 @@
 #include <algorithm>
 #include <cmath>
 #include <opencv2/core.hpp>
-#include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
+#include "codecs.h"
 #include "hcpf/core/check.h"
 #include "hcpf/core/error.h"
 
@@ -15,13 +15,7 @@ namespace hcpf::renderer {
 namespace {
 
 void Write16(const cv::Mat& mat, const std::string& path) {
-  bool ok = false;
-  try {
-    ok = cv::imwrite(path, mat);
-  } catch (const cv::Exception& e) {
-    throw RunError(fmt::format("cannot write {}: {}", path, e.what()));
-  }
-  if (!ok) throw RunError(fmt::format("cannot write {}", path));
+  codecs::WritePngGray16(path, mat.cols, mat.rows, mat.ptr<uint16_t>(0));
 }
 
 }  // namespace

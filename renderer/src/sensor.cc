@@ -1,13 +1,13 @@
 // Sensor effects on the 8-bit image (OpenCV, kept out of public headers).
 
 #include <opencv2/core.hpp>
-#include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
 #include <algorithm>
 #include <cmath>
 
 #include "hcpf/core/error.h"
+#include "codecs.h"
 #include "hcpf/renderer/renderer.h"
 
 namespace hcpf::renderer {
@@ -31,12 +31,7 @@ void ApplySensorEffects(const SensorOptions& options, Rng rng, RgbImage& image) 
     }
   }
   if (options.jpeg_quality > 0) {
-    cv::Mat bgr;
-    cv::cvtColor(mat, bgr, cv::COLOR_RGB2BGR);
-    std::vector<uint8_t> encoded;
-    cv::imencode(".jpg", bgr, encoded, {cv::IMWRITE_JPEG_QUALITY, options.jpeg_quality});
-    const cv::Mat decoded = cv::imdecode(encoded, cv::IMREAD_COLOR);
-    cv::cvtColor(decoded, mat, cv::COLOR_BGR2RGB);
+    codecs::JpegRoundTrip(image.width, image.height, options.jpeg_quality, mat.data);
   }
   // Every step above wrote into `mat`, which wraps image.pixels (same size
   // and type, so OpenCV never reallocated it).
@@ -46,27 +41,12 @@ void ApplySensorEffects(const SensorOptions& options, Rng rng, RgbImage& image) 
 }
 
 void WritePng(const RgbImage& image, const std::string& path) {
-  const cv::Mat rgb(image.height, image.width, CV_8UC3, const_cast<uint8_t*>(image.pixels.data()));
-  cv::Mat bgr;
-  cv::cvtColor(rgb, bgr, cv::COLOR_RGB2BGR);
-  bool ok = false;
-  try {
-    ok = cv::imwrite(path, bgr);
-  } catch (const cv::Exception& e) {
-    throw RunError(std::string("cannot write PNG ") + path + ": " + e.what());
-  }
-  if (!ok) throw RunError("cannot write PNG " + path);
+  codecs::WritePngRgb8(path, image.width, image.height, image.pixels.data());
 }
 
 RgbImage ReadPng(const std::string& path) {
-  const cv::Mat bgr = cv::imread(path, cv::IMREAD_COLOR);
-  if (bgr.empty()) throw InputError(path + ": cannot read image");
-  cv::Mat rgb;
-  cv::cvtColor(bgr, rgb, cv::COLOR_BGR2RGB);
   RgbImage image;
-  image.width = rgb.cols;
-  image.height = rgb.rows;
-  image.pixels.assign(rgb.datastart, rgb.dataend);
+  image.pixels = codecs::ReadPngRgb8(path, &image.width, &image.height);
   return image;
 }
 

@@ -4,10 +4,10 @@
 
 #include <map>
 #include <opencv2/imgproc.hpp>
-#include <opencv2/videoio.hpp>
 
 #include "hcpf/core/check.h"
 #include "hcpf/core/error.h"
+#include "video_sink.h"
 
 namespace hcpf::scenarios {
 
@@ -75,15 +75,9 @@ void WriteOverlayVideo(const std::string& path, const Scenario& scenario,
       << reports.size() << " reports for " << truth.size() << " frames";
   const int width = scenario.world.camera.width_px;
   const int height = scenario.world.camera.height_px;
-  // FFmpeg backend first (what Debian's OpenCV ships for MP4), then any other.
-  const int fourcc = cv::VideoWriter::fourcc('m', 'p', '4', 'v');
-  cv::VideoWriter writer(path, cv::CAP_FFMPEG, fourcc, scenario.world.fps, cv::Size(width, height),
-                         true);
-  if (!writer.isOpened())
-    writer.open(path, fourcc, scenario.world.fps, cv::Size(width, height), true);
-  if (!writer.isOpened()) {
-    throw RunError(fmt::format("cannot open a video writer (mp4v) for {}", path));
-  }
+  // OpenCV's VideoWriter, FFmpeg backend first, through the video plugin.
+  const std::unique_ptr<VideoSink> writer =
+      OpenVideoSink(path, scenario.world.fps, width, height);
   // (frame, filter) -> state.
   std::map<std::pair<int, int64_t>, metrics::FilterState> states;
   if (filters) {
@@ -137,9 +131,9 @@ void WriteOverlayVideo(const std::string& path, const Scenario& scenario,
     }
     Label(image, fmt::format("{}  frame {}", scenario.name, truth[f].frame), {6, 16},
           {255, 255, 255});
-    writer.write(image);
+    writer->Write(image);
   }
-  writer.release();
+  writer->Close();
 }
 
 }  // namespace hcpf::scenarios

@@ -8,6 +8,7 @@
 
 #include <algorithm>
 #include <cctype>
+#include <cfloat>
 #include <charconv>
 #include <cmath>
 #include <cstdio>
@@ -183,14 +184,25 @@ void ParseLineGeneral(std::string_view line, const std::string& path, int line_n
   out->exact_id = exact;
 }
 
-// A plain decimal number ("-12", "0.9", "1359.25", ".5", "5."): at most 15
-// digits, no exponent. Such a number is m / 10^k with m < 10^15 < 2^53 and
-// k <= 15, both exact doubles, so one IEEE division gives the correctly
-// rounded value: the same double std::from_chars returns (Clinger's fast
-// path). Returns the end of the number, or nullptr when the text is anything
-// else (more digits, an exponent, no digit at all): the caller then uses
-// std::from_chars. A number followed by other characters is left to the caller
-// exactly as std::from_chars would leave it (same end position).
+// A plain decimal number ("-12", "0.9", "1359.25", ".5", "5.", and the
+// 17-digit shortest forms hcpf writes): at most 18 digits, no exponent, so the
+// value is m / 10^k with integers m < 10^18 and k <= 18. Up to 15 digits, m and
+// 10^k are exact doubles and one IEEE division gives the correctly rounded
+// value (Clinger's fast path). With 16 to 18 digits the division is done in
+// x87 extended precision (m and 10^k exact in its 64-bit significand): the
+// quotient q is x rounded to 64 bits, and rounding q to a double gives x
+// rounded to a double unless q lies exactly halfway between two doubles (a
+// halfway point that separated x from q would be a 64-bit number nearer to x
+// than q); that case goes to std::from_chars. Either way the result is the
+// double std::from_chars returns. Returns the end of the number, or nullptr
+// when the text is anything else (more digits, an exponent, no digit at all):
+// the caller then uses std::from_chars. A number followed by other characters
+// is left to the caller exactly as std::from_chars would leave it.
+#if defined(__x86_64__) && LDBL_MANT_DIG == 64
+#define HCPF_METRICS_X87_DECIMALS 1
+#else
+#define HCPF_METRICS_X87_DECIMALS 0
+#endif
 struct ShortDecimal {
   double value = 0.0;
   bool is_integer = false;  // no '.': `integer` holds the exact value
@@ -199,31 +211,52 @@ struct ShortDecimal {
 inline const char* ParseShortDecimal(const char* p, const char* end, ShortDecimal* out) {
   static constexpr double kPow10[] = {1e0, 1e1, 1e2,  1e3,  1e4,  1e5,  1e6,  1e7,
                                       1e8, 1e9, 1e10, 1e11, 1e12, 1e13, 1e14, 1e15};
+#if HCPF_METRICS_X87_DECIMALS
+  static constexpr int kMaxDigits = 18;
+  static constexpr long double kPow10Long[] = {1e0L,  1e1L,  1e2L,  1e3L,  1e4L,  1e5L,  1e6L,
+                                               1e7L,  1e8L,  1e9L,  1e10L, 1e11L, 1e12L, 1e13L,
+                                               1e14L, 1e15L, 1e16L, 1e17L, 1e18L};
+#else
+  static constexpr int kMaxDigits = 15;
+#endif
   const char* q = p;
   const bool negative = q < end && *q == '-';
   if (negative) ++q;
   uint64_t m = 0;
   int digits = 0;
   while (q < end && static_cast<unsigned>(*q - '0') < 10u) {
+    if (++digits > kMaxDigits) return nullptr;
     m = m * 10 + static_cast<unsigned>(*q - '0');
     ++q;
-    ++digits;
   }
   int fraction = 0;
   const bool dot = q < end && *q == '.';
   if (dot) {
     ++q;
     while (q < end && static_cast<unsigned>(*q - '0') < 10u) {
+      if (++digits > kMaxDigits) return nullptr;
       m = m * 10 + static_cast<unsigned>(*q - '0');
       ++q;
-      ++digits;
       ++fraction;
     }
   }
-  if (digits == 0 || digits > 15) return nullptr;
+  if (digits == 0) return nullptr;
   if (q < end && (*q == 'e' || *q == 'E')) return nullptr;
-  double v = static_cast<double>(m);
-  if (fraction > 0) v /= kPow10[fraction];
+  double v = 0.0;
+  if (digits <= 15) {
+    v = static_cast<double>(m);
+    if (fraction > 0) v /= kPow10[fraction];
+  } else {
+#if HCPF_METRICS_X87_DECIMALS
+    const long double quotient = static_cast<long double>(static_cast<int64_t>(m)) / kPow10Long[fraction];
+    uint64_t significand = 0;  // the low 8 bytes of the x87 format: the explicit 64-bit significand
+    std::memcpy(&significand, &quotient, sizeof(significand));
+    if ((significand & 0x7FF) == 0x400) return nullptr;  // halfway between two doubles
+    v = static_cast<double>(quotient);
+#else
+    return nullptr;
+#endif
+  }
   out->value = negative ? -v : v;
   out->is_integer = !dot;
   out->integer = negative ? -static_cast<int64_t>(m) : static_cast<int64_t>(m);

@@ -309,39 +309,46 @@ bool ParseLineFast(const char* p, const char* end, RowValues* out) {
   return true;
 }
 
+// The errors of AppendRow, out of line (cold).
+[[noreturn]] [[gnu::noinline]] void ThrowBadFrame(const std::string& path, int line_no,
+                                                  std::optional<int> seq_length, double frame) {
+  throw InputError(
+      SourceLocation{path, line_no, 1, "column 1 (frame)"},
+      seq_length ? fmt::format("a frame in 1..{} (seqLength)", *seq_length) : std::string("a frame >= 1"),
+      fmt::format("{}", frame));
+}
+[[noreturn]] [[gnu::noinline]] void ThrowBadId(const std::string& path, int line_no, double id) {
+  throw InputError(SourceLocation{path, line_no, 2, "column 2 (id)"}, "an integer id within 64 bits",
+                   fmt::format("{}", id));
+}
+[[noreturn]] [[gnu::noinline]] void ThrowBadClass(const std::string& path, int line_no, double col8) {
+  throw InputError(SourceLocation{path, line_no, 8, "column 8"},
+                   "-1 or 1 (only the pedestrian class is evaluated)", fmt::format("{}", col8));
+}
+
 // The per-row checks and conversion shared by both paths.
-void AppendRow(const RowValues& r, const std::string& path, int line_no, MotFileKind kind,
-               std::optional<int> seq_length, MotFile* file) {
+inline void AppendRow(const RowValues& r, const std::string& path, int line_no, MotFileKind kind,
+                      std::optional<int> seq_length, MotFile* file) {
   const double* v = r.v;
   const int count = r.count;
-  MotRow row;
-  row.line = line_no;
   // TrackEval reads frame and id as int(float(text)): truncation.
-  if (v[0] < 1.0 || (seq_length && std::trunc(v[0]) > *seq_length) || v[0] > 1e9) {
-    throw InputError(
-        SourceLocation{path, line_no, 1, "column 1 (frame)"},
-        seq_length ? fmt::format("a frame in 1..{} (seqLength)", *seq_length)
-                   : std::string("a frame >= 1"),
-        fmt::format("{}", v[0]));
+  if (v[0] < 1.0 || (seq_length && std::trunc(v[0]) > *seq_length) || v[0] > 1e9) [[unlikely]] {
+    ThrowBadFrame(path, line_no, seq_length, v[0]);
   }
+  if (std::fabs(v[1]) > 9.0e18) [[unlikely]] ThrowBadId(path, line_no, v[1]);
+  if (kind == MotFileKind::kTracks && count >= 8 && v[7] > 1.0) [[unlikely]] {
+    ThrowBadClass(path, line_no, v[7]);
+  }
+  MotRow& row = file->rows.emplace_back();
+  row.line = line_no;
   row.frame = static_cast<int>(std::trunc(v[0]));
-  if (std::fabs(v[1]) > 9.0e18) {
-    throw InputError(SourceLocation{path, line_no, 2, "column 2 (id)"},
-                     "an integer id within 64 bits", fmt::format("{}", v[1]));
-  }
   row.id = r.has_exact_id ? r.exact_id : static_cast<int64_t>(std::trunc(v[1]));
   row.box = BoxPx{v[2], v[3], v[4], v[5]};
   if (count >= 7) row.conf = v[6];
   if (count >= 8) row.col8 = v[7];
   if (count >= 9) row.col9 = v[8];
   if (count >= 10) row.col10 = v[9];
-  if (kind == MotFileKind::kTracks && count >= 8 && row.col8 > 1.0) {
-    throw InputError(SourceLocation{path, line_no, 8, "column 8"},
-                     "-1 or 1 (only the pedestrian class is evaluated)",
-                     fmt::format("{}", row.col8));
-  }
   file->num_columns = std::max(file->num_columns, count);
-  file->rows.push_back(row);
 }
 
 [[noreturn]] void ThrowDuplicateId(const std::string& path, const MotRow& first, const MotRow& again) {

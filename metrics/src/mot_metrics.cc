@@ -1,5 +1,6 @@
 #include "hcpf/metrics/mot_metrics.h"
 
+#include <fmt/compile.h>
 #include <fmt/format.h>
 
 #include <algorithm>
@@ -618,13 +619,18 @@ bool IsCountMetric(const std::string& name) {
 }
 
 void WriteEventsJsonLines(std::ostream& out, std::span<const MotEvent> events) {
-  std::string buffer;
+  // One buffer for many lines, the format compiled once (no parsing per event).
+  fmt::memory_buffer buffer;
   for (const MotEvent& e : events) {
-    buffer.clear();
-    fmt::format_to(std::back_inserter(buffer), "{{\"frame\":{},\"type\":\"{}\",\"gt\":{},\"hyp\":{},\"iou\":{}}}\n",
+    fmt::format_to(std::back_inserter(buffer),
+                   FMT_COMPILE("{{\"frame\":{},\"type\":\"{}\",\"gt\":{},\"hyp\":{},\"iou\":{}}}\n"),
                    e.frame, MotEventName(e.type), e.gt, e.hyp, e.iou);
-    out << buffer;
+    if (buffer.size() >= (size_t{1} << 16)) {
+      out.write(buffer.data(), static_cast<std::streamsize>(buffer.size()));
+      buffer.clear();
+    }
   }
+  out.write(buffer.data(), static_cast<std::streamsize>(buffer.size()));
 }
 
 }  // namespace hcpf::metrics

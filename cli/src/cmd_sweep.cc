@@ -5,6 +5,7 @@
 
 #include <charconv>
 #include <cstdlib>
+#include <filesystem>
 #include <memory>
 #include <thread>
 
@@ -46,6 +47,7 @@ Command AddSweepCommand(CLI::App& parent) {
     std::string cache = scenarios::DefaultFrameCacheDir();
     bool no_cache = false;
     bool video = false;
+    bool isolate = false;
   };
   auto options = std::make_shared<Options>();
   CLI::App* app = parent.add_subcommand(
@@ -65,39 +67,46 @@ Command AddSweepCommand(CLI::App& parent) {
       ->capture_default_str();
   app->add_flag("--video", options->video,
                 "Write overlay.mp4 in the first-seed run of every cell (linked from the report)");
+  app->add_flag("--isolate", options->isolate,
+                "Run each run in a child process: a run that crashes is recorded as failed");
   app->add_flag("--no-cache", options->no_cache,
                 "Render every run's frames, read and write no cache");
-  return {app, [options] {
-            scenarios::SweepOptions sweep_options;
-            sweep_options.out_dir = options->out;
-            sweep_options.jobs =
-                options->jobs > 0
-                    ? options->jobs
-                    : static_cast<int>(std::max(1U, std::thread::hardware_concurrency()));
-            if (!options->shard.empty()) {
-              std::tie(sweep_options.shard_index, sweep_options.shard_count) =
-                  ParseShard(options->shard);
-            }
-            sweep_options.frame_cache_dir = options->no_cache ? "" : options->cache;
-            sweep_options.video = options->video;
-            sweep_options.Validate();
-            // Rendered runs: one llvmpipe (Mesa software rasteriser) thread per
-            // worker, since the workers already use every core. Must be set
-            // before the first GL context; an explicit setting is kept.
-            if (sweep_options.jobs > 1) ::setenv("LP_NUM_THREADS", "1", 0);
-            const scenarios::SweepSpec spec = scenarios::LoadSweepFile(options->file);
-            const std::vector<scenarios::SweepRun> runs = scenarios::ExpandSweep(spec);
-            const scenarios::SweepResult r = scenarios::RunSweep(spec, runs, sweep_options);
-            spdlog::info(
-                "sweep finished: {} runs, {} reused, {} computed, {} failed; results in "
-                "{}/results.sqlite",
-                r.total, r.reused, r.computed, r.failed, options->out);
-            if (r.failed > 0) {
-              spdlog::error("{} run(s) failed (see the error column of results.sqlite)", r.failed);
-              return 1;
-            }
-            return 0;
-          }};
+  return {
+      app, [options] {
+        scenarios::SweepOptions sweep_options;
+        sweep_options.out_dir = options->out;
+        sweep_options.jobs =
+            options->jobs > 0 ? options->jobs
+                              : static_cast<int>(std::max(1U, std::thread::hardware_concurrency()));
+        if (!options->shard.empty()) {
+          std::tie(sweep_options.shard_index, sweep_options.shard_count) =
+              ParseShard(options->shard);
+        }
+        sweep_options.frame_cache_dir = options->no_cache ? "" : options->cache;
+        sweep_options.video = options->video;
+        if (options->isolate) {
+          std::error_code ec;
+          sweep_options.isolate_exe = std::filesystem::read_symlink("/proc/self/exe", ec).string();
+          if (ec) throw RunError("--isolate: cannot find the hcpf executable (/proc/self/exe)");
+        }
+        sweep_options.Validate();
+        // Rendered runs: one llvmpipe (Mesa software rasteriser) thread per
+        // worker, since the workers already use every core. Must be set
+        // before the first GL context; an explicit setting is kept.
+        if (sweep_options.jobs > 1) ::setenv("LP_NUM_THREADS", "1", 0);
+        const scenarios::SweepSpec spec = scenarios::LoadSweepFile(options->file);
+        const std::vector<scenarios::SweepRun> runs = scenarios::ExpandSweep(spec);
+        const scenarios::SweepResult r = scenarios::RunSweep(spec, runs, sweep_options);
+        spdlog::info(
+            "sweep finished: {} runs, {} reused, {} computed, {} failed; results in "
+            "{}/results.sqlite",
+            r.total, r.reused, r.computed, r.failed, options->out);
+        if (r.failed > 0) {
+          spdlog::error("{} run(s) failed (see the error column of results.sqlite)", r.failed);
+          return 1;
+        }
+        return 0;
+      }};
 }
 
 }  // namespace hcpf::cli

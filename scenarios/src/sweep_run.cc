@@ -6,6 +6,7 @@
 #include <signal.h>
 #include <spdlog/spdlog.h>
 #include <sys/file.h>
+#include <sys/wait.h>
 #include <unistd.h>
 
 #include <atomic>
@@ -13,9 +14,11 @@
 #include <cstring>
 #include <exception>
 #include <filesystem>
+#include <fstream>
 #include <map>
 #include <mutex>
 #include <set>
+#include <sstream>
 #include <thread>
 
 #include "hcpf/renderer/renderer.h"
@@ -44,6 +47,70 @@ void RemoveStalePartials(const fs::path& runs_dir) {
     const pid_t pid = static_cast<pid_t>(std::strtol(pid_text.c_str(), nullptr, 10));
     if (pid > 0 && ::kill(pid, 0) == -1 && errno == ESRCH) fs::remove_all(entry.path(), ec);
   }
+}
+
+std::string Tail(const fs::path& log, size_t max_chars) {
+  std::ifstream in(log);
+  std::stringstream text;
+  text << in.rdbuf();
+  std::string t = text.str();
+  while (!t.empty() && (t.back() == '\n' || t.back() == ' ')) t.pop_back();
+  return t.size() > max_chars ? "..." + t.substr(t.size() - max_chars) : t;
+}
+
+// Runs one run as a child process `hcpf run <resolved scenario> --out ...`, so
+// a crash (a signal, an abort) fails that run only. The resolved scenario
+// reproduces the run exactly (docs/outputs.md). Throws RunError naming the
+// exit status or signal with the end of the child's log.
+void RunIsolated(const std::string& exe, const SweepRun& run, const RunOptions& run_options,
+                 const fs::path& runs_dir) {
+  const fs::path input = runs_dir / (run.key + ".input.yaml");
+  const fs::path log = runs_dir / (run.key + ".log");
+  {
+    std::ofstream out(input);
+    out << ToResolvedYaml(run.scenario);
+    if (!out) throw RunError(fmt::format("cannot write {}", input.string()));
+  }
+  std::vector<std::string> args = {exe,     "--log-level",       "warn",      "run", input.string(),
+                                   "--out", run_options.out_dir, "--threads", "1"};
+  if (run_options.video) args.push_back("--video");
+  if (run_options.frame_cache_dir.empty()) {
+    args.push_back("--no-cache");
+  } else {
+    args.push_back("--cache");
+    args.push_back(run_options.frame_cache_dir);
+  }
+  std::vector<char*> argv;
+  for (std::string& a : args) argv.push_back(a.data());
+  argv.push_back(nullptr);
+  const std::string log_path = log.string();
+  // Only async-signal-safe calls between fork and exec (the parent has threads).
+  const pid_t pid = ::fork();
+  if (pid < 0) throw RunError(fmt::format("cannot start {}: {}", exe, std::strerror(errno)));
+  if (pid == 0) {
+    const int fd = ::open(log_path.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+    if (fd >= 0) {
+      ::dup2(fd, STDOUT_FILENO);
+      ::dup2(fd, STDERR_FILENO);
+    }
+    ::execv(argv[0], argv.data());
+    ::_exit(127);
+  }
+  int status = 0;
+  while (::waitpid(pid, &status, 0) < 0 && errno == EINTR) {
+  }
+  std::error_code ec;
+  fs::remove(input, ec);
+  if (WIFEXITED(status) && WEXITSTATUS(status) == 0) {
+    fs::remove(log, ec);
+    return;
+  }
+  const std::string tail = Tail(log, 600);
+  if (WIFSIGNALED(status)) {
+    throw RunError(fmt::format("crashed: killed by signal {} ({}); log {}: {}", WTERMSIG(status),
+                               ::strsignal(WTERMSIG(status)), log.string(), tail));
+  }
+  throw RunError(fmt::format("hcpf run exited with status {}: {}", WEXITSTATUS(status), tail));
 }
 
 }  // namespace
@@ -143,7 +210,11 @@ SweepResult RunSweep(const SweepSpec& spec, const std::vector<SweepRun>& runs,
         run_options.threads = 1;
         run_options.frame_cache_dir = options.frame_cache_dir;
         run_options.video = options.video && run.seed_index == 0;
-        RunScenario(run.scenario, run_options);
+        if (options.isolate_exe.empty()) {
+          RunScenario(run.scenario, run_options);
+        } else {
+          RunIsolated(options.isolate_exe, run, run_options, out / "runs");
+        }
         record.metrics = ReadRunMetrics(run_options.out_dir);
         record.ok = true;
       } catch (const std::exception& e) {

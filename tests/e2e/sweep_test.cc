@@ -9,12 +9,14 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <chrono>
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
 #include <opencv2/imgcodecs.hpp>
 #include <regex>
+#include <sstream>
 #include <string>
 #include <thread>
 #include <vector>
@@ -155,6 +157,73 @@ INSTANTIATE_TEST_SUITE_P(Signals, SweepResume, ::testing::Values(SIGKILL, SIGINT
                          [](const auto& info) {
                            return info.param == SIGKILL ? "SIGKILL" : "SIGINT";
                          });
+
+// Children of `parent` (from /proc/<pid>/stat, field 4 = ppid).
+std::vector<pid_t> ChildrenOf(pid_t parent) {
+  std::vector<pid_t> children;
+  for (const auto& entry : fs::directory_iterator("/proc")) {
+    const std::string name = entry.path().filename().string();
+    if (name.find_first_not_of("0123456789") != std::string::npos) continue;
+    std::ifstream stat(entry.path() / "stat");
+    std::string text;
+    std::getline(stat, text);
+    const size_t close = text.rfind(')');  // the command name may hold spaces
+    if (close == std::string::npos) continue;
+    std::istringstream rest(text.substr(close + 2));
+    char state = 0;
+    pid_t ppid = 0;
+    rest >> state >> ppid;
+    if (ppid == parent) children.push_back(static_cast<pid_t>(std::stol(name)));
+  }
+  return children;
+}
+
+TEST(SweepCli, IsolatedRunThatCrashesIsRecordedAndTheOthersFinish) {
+  const fs::path dir = FreshDir("sweep-isolate-crash");
+  const std::string sweep = WriteSweep(dir);  // 32 runs
+  const fs::path out = dir / "out";
+  const pid_t pid =
+      Spawn({"sweep", sweep, "--out", out.string(), "--jobs", "2", "--isolate"}, dir / "sweep.log");
+  ASSERT_GT(pid, 0);
+  // Crash one run: SIGSEGV to one of the sweep's `hcpf run` children, as a
+  // segfault or the OOM killer would.
+  bool crashed = false;
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(60);
+  while (!crashed && std::chrono::steady_clock::now() < deadline) {
+    for (const pid_t child : ChildrenOf(pid)) {
+      if (::kill(child, SIGSEGV) == 0) {
+        crashed = true;
+        break;
+      }
+    }
+  }
+  int status = 0;
+  ::waitpid(pid, &status, 0);
+  ASSERT_TRUE(crashed) << "no child run was seen";
+  ASSERT_TRUE(WIFEXITED(status)) << ReadFile(dir / "sweep.log");
+  EXPECT_EQ(WEXITSTATUS(status), 1) << ReadFile(dir / "sweep.log");  // some run failed
+  const std::string log = ReadFile(dir / "sweep.log");
+  EXPECT_NE(log.find("31 computed, 1 failed"), std::string::npos) << log;
+  EXPECT_NE(log.find("crashed: killed by signal 11"), std::string::npos) << log;
+  const auto rows = StoreRows(out / "results.sqlite");
+  ASSERT_EQ(rows.size(), 32U);
+  EXPECT_EQ(
+      std::count_if(rows.begin(), rows.end(),
+                    [](const std::string& r) { return r.find("|failed|") != std::string::npos; }),
+      1);
+  // Resuming reruns only the crashed run.
+  const auto again =
+      RunCommand(kHcpf + " sweep " + sweep + " --out " + out.string() + " --jobs 2 --isolate");
+  EXPECT_EQ(again.exit_code, 0) << again.output;
+  EXPECT_NE(again.output.find("31 reused, 1 computed, 0 failed"), std::string::npos)
+      << again.output;
+  // Runs in child processes give the same results as runs in worker threads.
+  ASSERT_EQ(
+      RunCommand(kHcpf + " sweep " + sweep + " --out " + (dir / "threads").string() + " --jobs 2")
+          .exit_code,
+      0);
+  EXPECT_EQ(StoreRows(out / "results.sqlite"), StoreRows(dir / "threads" / "results.sqlite"));
+}
 
 TEST(SweepCli, ShardsMergedEqualTheUnshardedSweepAndOtherSweepsAreRefused) {
   const fs::path dir = FreshDir("sweep-shards");

@@ -98,6 +98,10 @@ struct SweepOptions {
   // Write overlay.mp4 in the runs of the first seed (seed index 0) of every
   // cell; `hcpf report` links them.
   bool video = false;
+  // When set: the `hcpf` executable to run each run in a child process
+  // (`hcpf run <resolved scenario>`), so a run that crashes is recorded as
+  // failed and the sweep goes on. "" = runs in worker threads of this process.
+  std::string isolate_exe;
   void Validate() const;
 };
 

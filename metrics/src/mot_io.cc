@@ -267,8 +267,9 @@ inline const char* ParseShortDecimal(const char* p, const char* end, ShortDecima
 // numbers, optional blanks around fields, optional trailing comma. Parses in
 // place (no splitting) and returns false for anything else, which then goes
 // through ParseLineGeneral: that path accepts exactly the same lines with the
-// same values (every field is the same std::from_chars call on the same
-// characters) and produces the error messages.
+// same values (each field is the same characters, converted by std::from_chars
+// there and by ParseShortDecimal or std::from_chars here, which agree) and
+// produces the error messages.
 bool ParseLineFast(const char* p, const char* end, RowValues* out) {
   int count = 0;
   while (true) {

@@ -55,6 +55,9 @@ void RelabelIds(const Sequence& seq, bool gt, std::vector<int64_t>* original, st
     return s;
   };
   relabelled->clear();
+  size_t total = 0;
+  for (const SequenceFrame& f : seq.frames) total += (gt ? f.gt : f.hyp).size();
+  relabelled->reserve(total);
   for (const SequenceFrame& f : seq.frames) {
     for (const LabelledBox& b : gt ? f.gt : f.hyp) {
       size_t s = slot_of(b.id);

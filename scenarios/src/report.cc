@@ -2,14 +2,17 @@
 
 #include "hcpf/scenarios/report.h"
 
+#include <fcntl.h>
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
 #include <algorithm>
+#include <cerrno>
 #include <charconv>
 #include <cmath>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <limits>
@@ -89,17 +92,36 @@ struct Cell {
 
 // Runs gnuplot on `script`; throws RunError with its messages on failure.
 void RunGnuplot(const std::string& gnuplot, const fs::path& script) {
-  const fs::path log = script.string() + ".log";
-  const std::string command =
-      fmt::format("'{}' '{}' > '{}' 2>&1", gnuplot, script.string(), log.string());
-  const int status = std::system(command.c_str());
-  if (status != 0) {
-    std::ifstream in(log);
-    std::stringstream s;
-    s << in.rdbuf();
-    throw RunError(
-        fmt::format("gnuplot failed (status {}) on {}: {}", status, script.string(), s.str()));
+  const std::string log = script.string() + ".log";
+  std::string program = gnuplot;
+  std::string script_path = script.string();
+  char* argv[] = {program.data(), script_path.data(), nullptr};
+  // fork + execvp (no shell: paths need no quoting); only async-signal-safe
+  // calls in the child.
+  const pid_t pid = ::fork();
+  if (pid < 0) throw RunError(fmt::format("cannot start gnuplot: {}", std::strerror(errno)));
+  if (pid == 0) {
+    const int fd = ::open(log.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+    if (fd >= 0) {
+      ::dup2(fd, STDOUT_FILENO);
+      ::dup2(fd, STDERR_FILENO);
+    }
+    ::execvp(argv[0], argv);
+    ::_exit(127);
   }
+  int status = 0;
+  while (::waitpid(pid, &status, 0) < 0 && errno == EINTR) {
+  }
+  if (WIFEXITED(status) && WEXITSTATUS(status) == 0) return;
+  std::ifstream in(log);
+  std::stringstream s;
+  s << in.rdbuf();
+  if (WIFEXITED(status) && WEXITSTATUS(status) == 127) {
+    throw RunError(fmt::format(
+        "cannot run \"{}\" (install Debian gnuplot-nox, or pass --gnuplot PATH)", gnuplot));
+  }
+  throw RunError(
+      fmt::format("gnuplot failed (status {}) on {}: {}", status, script.string(), s.str()));
 }
 
 std::string ReadText(const fs::path& path) {

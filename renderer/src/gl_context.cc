@@ -7,7 +7,10 @@
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
 
+#include <dlfcn.h>
+
 #include <cstring>
+#include <type_traits>
 #include <vector>
 
 #include "gl_api.h"
@@ -98,8 +101,38 @@ namespace {
 // ---------------------------------------------------------------------------
 // OSMesa
 
+// libOSMesa is opened on first use rather than linked: it pulls in LLVM,
+// whose start-up costs every hcpf process ~20 ms even when nothing renders
+// (e.g. `hcpf score`).
+struct OsMesaLibrary {
+  decltype(&OSMesaCreateContextAttribs) create_context_attribs = nullptr;
+  decltype(&OSMesaMakeCurrent) make_current = nullptr;
+  decltype(&OSMesaDestroyContext) destroy_context = nullptr;
+  decltype(&OSMesaGetProcAddress) get_proc_address = nullptr;
+};
+
+const OsMesaLibrary& OsMesa() {
+  static const OsMesaLibrary library = [] {
+    OsMesaLibrary l;
+    void* handle = ::dlopen("libOSMesa.so.8", RTLD_NOW | RTLD_LOCAL);
+    if (handle == nullptr) {
+      throw InputError(fmt::format("cannot load libOSMesa.so.8 ({})", ::dlerror()));
+    }
+    const auto load = [handle](auto& fn, const char* name) {
+      fn = reinterpret_cast<std::remove_reference_t<decltype(fn)>>(::dlsym(handle, name));
+      if (fn == nullptr) throw InputError(fmt::format("libOSMesa.so.8 lacks {}", name));
+    };
+    load(l.create_context_attribs, "OSMesaCreateContextAttribs");
+    load(l.make_current, "OSMesaMakeCurrent");
+    load(l.destroy_context, "OSMesaDestroyContext");
+    load(l.get_proc_address, "OSMesaGetProcAddress");
+    return l;
+  }();
+  return library;
+}
+
 void* OsMesaLoader(const char* name) {
-  return reinterpret_cast<void*>(OSMesaGetProcAddress(name));
+  return reinterpret_cast<void*>(OsMesa().get_proc_address(name));
 }
 
 class OsMesaContext final : public GlContext {
@@ -122,7 +155,7 @@ class OsMesaContext final : public GlContext {
                              OSMESA_CONTEXT_MINOR_VERSION,
                              minor_version,
                              0};
-      context_ = OSMesaCreateContextAttribs(attribs, nullptr);
+      context_ = OsMesa().create_context_attribs(attribs, nullptr);
       if (context_ != nullptr) break;
     }
     if (context_ == nullptr) throw InputError("OSMesaCreateContextAttribs failed (no core profile)");
@@ -130,12 +163,12 @@ class OsMesaContext final : public GlContext {
     Initialise("osmesa", &OsMesaLoader);
   }
   ~OsMesaContext() override {
-    if (context_ != nullptr) OSMesaDestroyContext(context_);
+    if (context_ != nullptr) OsMesa().destroy_context(context_);
   }
   void MakeCurrent() override {
     // OSMesa needs a colour buffer to make a context current; ours is a
     // dummy, all rendering goes to framebuffer objects.
-    if (OSMesaMakeCurrent(context_, dummy_, GL_UNSIGNED_BYTE, kDummySize, kDummySize) == 0) {
+    if (OsMesa().make_current(context_, dummy_, GL_UNSIGNED_BYTE, kDummySize, kDummySize) == 0) {
       throw InputError("OSMesaMakeCurrent failed");
     }
   }

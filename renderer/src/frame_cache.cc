@@ -11,6 +11,11 @@
 #include "hcpf/core/error.h"
 #include "hcpf/renderer/renderer.h"
 
+#include <unistd.h>
+
+#include <functional>
+#include <thread>
+
 namespace hcpf::renderer {
 namespace {
 
@@ -189,8 +194,13 @@ void FrameCache::Store(const RenderedFrame& frame) const {
   if (ec) throw RunError(fmt::format("cannot create frame cache {}: {}", dir_.string(), ec.message()));
   const auto png = dir_ / fmt::format("{:06d}.png", frame.frame);
   const auto json = dir_ / fmt::format("{:06d}.json", frame.frame);
-  const auto png_tmp = dir_ / fmt::format("{:06d}.tmp.png", frame.frame);
-  const auto json_tmp = dir_ / fmt::format("{:06d}.json.tmp", frame.frame);
+  // Temporary names unique to this process and thread: concurrent runs that
+  // render the same scene each write their own and the last rename wins (the
+  // contents are identical).
+  const std::string unique = fmt::format(
+      "{}-{}", ::getpid(), std::hash<std::thread::id>{}(std::this_thread::get_id()));
+  const auto png_tmp = dir_ / fmt::format("{:06d}.{}.tmp.png", frame.frame, unique);
+  const auto json_tmp = dir_ / fmt::format("{:06d}.{}.json.tmp", frame.frame, unique);
   WritePng(frame.rgb, png_tmp.string());
   {
     std::ofstream out(json_tmp);

@@ -55,7 +55,7 @@ SceneFrames ProduceFrames(const Scenario& scenario, const FrameSourceOptions& op
         options.cache_dir, renderer::PixelHash(scenario.world, ropts, scenario.seeds.renderer));
   }
   std::unique_ptr<renderer::SceneRenderer> scene;  // created on the first cache miss
-  Progress progress("render", frames);
+  Progress progress("render", frames, options.show_progress);
   for (int f = 0; f < frames; ++f) {
     std::optional<renderer::RenderedFrame> frame;
     if (cache) frame = cache->Load(f);

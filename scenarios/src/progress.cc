@@ -17,9 +17,10 @@ std::string Clock(double seconds) {
 
 }  // namespace
 
-Progress::Progress(std::string label, int64_t total)
+Progress::Progress(std::string label, int64_t total, bool enabled)
     : label_(std::move(label)),
       total_(total),
+      enabled_(enabled),
       tty_(::isatty(STDERR_FILENO) == 1),
       start_(std::chrono::steady_clock::now()),
       last_print_(start_) {}
@@ -46,7 +47,7 @@ void Progress::Advance(int64_t done, int64_t failed) {
   const auto now = std::chrono::steady_clock::now();
   const double since_start = std::chrono::duration<double>(now - start_).count();
   const double since_print = std::chrono::duration<double>(now - last_print_).count();
-  if (since_start < 1.0) return;
+  if (!enabled_ || since_start < 1.0) return;
   if ((tty_ && since_print >= 0.1) || (!tty_ && since_print >= 5.0)) {
     last_print_ = now;
     Print(false);

@@ -12,7 +12,8 @@ namespace hcpf::scenarios {
 
 class Progress {
  public:
-  Progress(std::string label, int64_t total);
+  // `enabled` = false prints nothing (work inside a sweep, which shows its own).
+  Progress(std::string label, int64_t total, bool enabled = true);
   ~Progress();
   Progress(const Progress&) = delete;
   Progress& operator=(const Progress&) = delete;
@@ -32,6 +33,7 @@ class Progress {
   int64_t total_;
   int64_t done_ = 0;
   int64_t failed_ = 0;
+  bool enabled_;
   bool tty_;
   bool printed_ = false;
   bool finished_ = false;

@@ -56,6 +56,7 @@ RunSummary RunScenario(const Scenario& scenario, const RunOptions& options) {
     FrameSourceOptions frame_options;
     frame_options.cache_dir = options.frame_cache_dir;
     frame_options.keep_images = options.video;
+    frame_options.show_progress = options.show_progress;
     SceneFrames scene = ProduceFrames(scenario, frame_options);
     const std::vector<FrameGroundTruth>& truth = scene.truth;
     timings["ground_truth_s"] = Seconds(t0);
@@ -81,7 +82,7 @@ RunSummary RunScenario(const Scenario& scenario, const RunOptions& options) {
     std::set<int32_t> born;
     std::vector<tracker::FrameReport> reports;
     reports.reserve(truth.size());
-    Progress progress("run", static_cast<int64_t>(truth.size()));
+    Progress progress("run", static_cast<int64_t>(truth.size()), options.show_progress);
     for (size_t f = 0; f < truth.size(); ++f) {
       if (tracker_options.init == tracker::InitMode::kGroundTruth) {
         for (const GroundTruthObject& o : truth[f].objects) {

@@ -208,6 +208,7 @@ SweepResult RunSweep(const SweepSpec& spec, const std::vector<SweepRun>& runs,
         RunOptions run_options;
         run_options.out_dir = (out / record.run_dir).string();
         run_options.threads = 1;
+        run_options.show_progress = false;
         run_options.frame_cache_dir = options.frame_cache_dir;
         run_options.video = options.video && run.seed_index == 0;
         if (options.isolate_exe.empty()) {

@@ -27,6 +27,7 @@ struct FrameSourceOptions {
   bool render = false;        // render even when the scenario is at detection level
   bool keep_images = false;   // keep the colour frames (videos, `hcpf render`)
   std::string cache_dir;      // "" = no cache
+  bool show_progress = true;
   // Rendered frames: called with every frame, rendered or read from the cache,
   // in frame order (to write images without keeping them all).
   std::function<void(const renderer::RenderedFrame&)> on_frame;

@@ -21,6 +21,8 @@ struct RunOptions {
   // ground-truth boxes, estimates, particles (tracker.keep_particles > 0) and
   // each filter's state.
   bool video = false;
+  // Progress lines for long runs (off inside sweeps, which report their own).
+  bool show_progress = true;
   // Rendered scenarios: the frame cache folder ("" = render every time).
   std::string frame_cache_dir;
 };

@@ -6,6 +6,9 @@ cd "$(dirname "$0")/.."
 bash scripts/setup.sh
 cmake --preset release > /dev/null
 cmake --build --preset release -j "$(nproc)"
-out="out/crossing-dominant"
-./build/release/cli/hcpf run scenarios/library/crossing-dominant.yaml --out "$out"
-echo "outputs: $(pwd)/$out"
+# The main job: the default sweep (crossing with a dominant target, particles x
+# {systematic, charged} x 10 seeds) and its report. Re-running reuses finished runs.
+out="out/default"
+./build/release/cli/hcpf sweep scenarios/sweeps/default.yaml --out "$out"
+./build/release/cli/hcpf report "$out"
+echo "report: $(pwd)/$out/report.html (results: $out/results.sqlite, $out/summary.csv)"

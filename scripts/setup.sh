@@ -16,8 +16,8 @@ PACKAGES=(
   libassimp-dev libtinygltf-dev libstb-dev libpng-dev libjpeg-dev
   # tests and benchmarks
   googletest libgtest-dev libgmock-dev libbenchmark-dev
-  # reports: plots
-  gnuplot-nox
+  # reports: plots; headless Chromium checks the HTML report in the tests
+  gnuplot-nox chromium
 )
 
 missing=()

@@ -7,6 +7,7 @@
 #include <mutex>
 
 #include "hcpf/renderer/mesh.h"
+#include "text.h"
 
 namespace hcpf::scenarios {
 
@@ -14,25 +15,15 @@ namespace fs = std::filesystem;
 
 std::string ResolveModelPath(const std::string& written, const std::string& scenario_file,
                              const SourceLocation& where) {
-  std::vector<fs::path> candidates;
-  const fs::path p(written);
-  if (p.is_absolute()) {
-    candidates.push_back(p);
-  } else {
-    candidates.push_back(fs::current_path() / p);
-    if (!scenario_file.empty() && scenario_file.rfind("--set", 0) != 0) {
-      candidates.push_back(fs::absolute(fs::path(scenario_file)).parent_path() / p);
-    }
-    candidates.push_back(fs::path(HCPF_PROJECT_SOURCE_DIR) / p);
-  }
-  std::string looked;
-  for (const fs::path& c : candidates) {
-    std::error_code ec;
-    if (fs::is_regular_file(c, ec)) return fs::weakly_canonical(c).string();
-    looked += (looked.empty() ? "" : ", ") + c.lexically_normal().string();
-  }
+  const bool from_file = !scenario_file.empty() && scenario_file.rfind("--set", 0) != 0;
+  const std::string beside =
+      from_file ? fs::absolute(fs::path(scenario_file)).parent_path().string() : std::string();
+  std::vector<std::string> looked;
+  if (auto found = FindFile(written, beside, &looked)) return fs::weakly_canonical(*found).string();
+  std::string list;
+  for (const auto& l : looked) list += (list.empty() ? "" : ", ") + l;
   throw InputError(where, "the path of an existing model file",
-                   fmt::format("\"{}\", which does not exist (looked at {})", written, looked));
+                   fmt::format("\"{}\", which does not exist (looked at {})", written, list));
 }
 
 std::string PortableModelPath(const std::string& resolved) {

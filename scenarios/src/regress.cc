@@ -19,6 +19,7 @@
 #include "hcpf/scenarios/results_store.h"
 #include "hcpf/scenarios/run.h"
 #include "hcpf/scenarios/sweep.h"
+#include "text.h"
 #include "writers.h"
 #include "yaml_reader.h"
 
@@ -29,55 +30,11 @@ using nlohmann::json;
 
 namespace {
 
-std::string FlowText(const YAML::Node& node) {
-  YAML::Emitter out;
-  out.SetMapFormat(YAML::Flow);
-  out.SetSeqFormat(YAML::Flow);
-  out << node;
-  return out.c_str();
-}
-
 std::string ResolvePath(const YamlReader& where, const std::string& path, const std::string& dir) {
-  std::vector<fs::path> candidates;
-  if (fs::path(path).is_absolute()) {
-    candidates.push_back(path);
-  } else {
-    candidates.push_back(fs::path(dir) / path);
-    candidates.push_back(path);
-#ifdef HCPF_PROJECT_SOURCE_DIR
-    candidates.push_back(fs::path(HCPF_PROJECT_SOURCE_DIR) / path);
-#endif
-  }
-  std::error_code ec;
-  for (const fs::path& c : candidates) {
-    if (fs::is_regular_file(c, ec)) return c.lexically_normal().string();
-  }
+  if (auto found = FindFile(path, dir)) return *found;
   where.Fail(
       "a scenario file (looked next to the suite, in the current folder and in the project "
       "folder)");
-}
-
-std::string Xml(const std::string& text) {
-  std::string out;
-  for (char c : text) {
-    switch (c) {
-      case '&':
-        out += "&amp;";
-        break;
-      case '<':
-        out += "&lt;";
-        break;
-      case '>':
-        out += "&gt;";
-        break;
-      case '"':
-        out += "&quot;";
-        break;
-      default:
-        out += c;
-    }
-  }
-  return out;
 }
 
 std::string Num(double v) { return std::isfinite(v) ? fmt::format("{:.6g}", v) : "nan"; }
@@ -215,14 +172,14 @@ std::string FormatRegressJunit(const std::vector<RegressRow>& rows) {
       "  <testsuite name=\"hcpf regress\" tests=\"{0}\" failures=\"{1}\" errors=\"0\">\n",
       rows.size(), failures);
   for (const RegressRow& r : rows) {
-    out += fmt::format("    <testcase classname=\"{}\" name=\"{}\"", Xml(r.scene), Xml(r.metric));
+    out += fmt::format("    <testcase classname=\"{}\" name=\"{}\"", EscapeMarkup(r.scene), EscapeMarkup(r.metric));
     if (r.verdict == RegressVerdict::kWorse) {
       const std::string message =
           fmt::format("{} {}: {} against baseline {} ({} is better, tolerance {})", r.scene,
                       r.metric, Num(r.current), Num(r.baseline),
                       r.higher_is_better ? "higher" : "lower", Num(r.tolerance));
       out += fmt::format(">\n      <failure message=\"{0}\">{0}</failure>\n    </testcase>\n",
-                         Xml(message));
+                         EscapeMarkup(message));
     } else {
       out += "/>\n";
     }

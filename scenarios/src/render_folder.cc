@@ -65,22 +65,7 @@ RenderFolderSummary RenderToFolder(const Scenario& scenario, const RenderFolderO
   summary.frames_rendered = scene.frames_rendered;
   summary.frames_from_cache = scene.frames_from_cache;
   summary.wall_time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  nlohmann::json manifest;
-  manifest["format"] = "hcpf-render/1";
-  manifest["hcpf_version"] = ProjectVersion();
-  manifest["git_revision"] = GitRevision();
-  manifest["scenario"] = scenario.name;
-  manifest["config_hash"] = ConfigHash(scenario);
-  manifest["seed"] = scenario.seed;
-  manifest["libraries"] = LibraryVersions();
-  if (scene.gl) {
-    manifest["gl_renderer"] = {{"backend", scene.gl->backend},
-                               {"vendor", scene.gl->vendor},
-                               {"renderer", scene.gl->renderer},
-                               {"version", scene.gl->version}};
-  } else {
-    manifest["gl_renderer"] = nullptr;
-  }
+  nlohmann::json manifest = ManifestProvenance("hcpf-render/1", scenario, scene.gl);
   manifest["frames"] = frames;
   manifest["frames_rendered"] = scene.frames_rendered;
   manifest["frames_from_cache"] = scene.frames_from_cache;

@@ -24,6 +24,7 @@
 #include "hcpf/core/error.h"
 #include "hcpf/scenarios/results_store.h"
 #include "writers.h"
+#include "text.h"
 
 namespace hcpf::scenarios {
 
@@ -32,29 +33,6 @@ namespace fs = std::filesystem;
 namespace {
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
-
-std::string Html(const std::string& text) {
-  std::string out;
-  for (char c : text) {
-    switch (c) {
-      case '&':
-        out += "&amp;";
-        break;
-      case '<':
-        out += "&lt;";
-        break;
-      case '>':
-        out += "&gt;";
-        break;
-      case '"':
-        out += "&quot;";
-        break;
-      default:
-        out += c;
-    }
-  }
-  return out;
-}
 
 std::string Csv(const std::string& text) {
   if (text.find_first_of(",\"\n") == std::string::npos) return text;
@@ -384,7 +362,7 @@ ReportResult WriteReport(const ReportOptions& options) {
   // report.html
   std::string h;
   h += "<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\">\n";
-  h += fmt::format("<title>HCPF sweep report: {}</title>\n", Html(meta.sweep_file));
+  h += fmt::format("<title>HCPF sweep report: {}</title>\n", EscapeMarkup(meta.sweep_file));
   h += "<style>body{font-family:sans-serif;margin:1.5em;color:#222}table{border-collapse:collapse;"
        "font-size:13px}td,th{border:1px solid #ccc;padding:3px 7px;text-align:right}"
        "th{background:#f3f3f3}td.k{text-align:left}.plot{margin:1em 0}pre{background:#f7f7f7;"
@@ -394,7 +372,7 @@ ReportResult WriteReport(const ReportOptions& options) {
       "in the store, {} ok, {} failed. Lines: mean over seeds; "
       "bands: 95&nbsp;% confidence interval of the mean (Student t, n&minus;1 degrees of "
       "freedom; none when n&nbsp;&lt;&nbsp;2).</p>\n",
-      Html(meta.sweep_file), Html(meta.sweep_hash), runs.size(), meta.run_count, ok_runs,
+      EscapeMarkup(meta.sweep_file), EscapeMarkup(meta.sweep_hash), runs.size(), meta.run_count, ok_runs,
       failed_runs > 0 ? fmt::format("<span class=\"failed\">{}</span>", failed_runs) : "0");
   h += "<h2>Plots</h2>\n";
   for (size_t p = 0; p < svgs.size(); ++p) {
@@ -402,13 +380,13 @@ ReportResult WriteReport(const ReportOptions& options) {
         fmt::format("<div class=\"plot\" id=\"plot-{}\">\n{}\n</div>\n", meta.report.y[p], svgs[p]);
   }
   h += "<h2>Cells</h2>\n<table><tr>";
-  for (const std::string& k : keys) h += "<th>" + Html(k) + "</th>";
+  for (const std::string& k : keys) h += "<th>" + EscapeMarkup(k) + "</th>";
   h += "<th>n</th><th>failures</th>";
-  for (const std::string& m : meta.report.y) h += "<th>" + Html(m) + "</th>";
+  for (const std::string& m : meta.report.y) h += "<th>" + EscapeMarkup(m) + "</th>";
   h += "</tr>\n";
   for (const Cell& c : cells) {
     h += "<tr>";
-    for (const std::string& v : c.values) h += "<td class=\"k\">" + Html(v) + "</td>";
+    for (const std::string& v : c.values) h += "<td class=\"k\">" + EscapeMarkup(v) + "</td>";
     h += fmt::format("<td>{}</td><td{}>{}</td>", c.runs.size() - c.failures,
                      c.failures ? " class=\"failed\"" : "", c.failures);
     for (const std::string& m : meta.report.y) {
@@ -434,10 +412,10 @@ ReportResult WriteReport(const ReportOptions& options) {
         if (r->seed_index != 0 || !r->ok) continue;
         if (!fs::exists(dir / r->run_dir / "overlay.mp4", ec)) continue;
         const std::string x = x_index >= 0 ? c->values[x_index] : "run";
-        links += fmt::format(" <a href=\"{}/overlay.mp4\">{}</a>", Html(r->run_dir), Html(x));
+        links += fmt::format(" <a href=\"{}/overlay.mp4\">{}</a>", EscapeMarkup(r->run_dir), EscapeMarkup(x));
       }
     }
-    if (!links.empty()) videos += fmt::format("<li>{}:{}</li>\n", Html(label), links);
+    if (!links.empty()) videos += fmt::format("<li>{}:{}</li>\n", EscapeMarkup(label), links);
   }
   if (!videos.empty()) h += "<h2>Overlay videos (first seed)</h2>\n<ul>\n" + videos + "</ul>\n";
 
@@ -445,11 +423,11 @@ ReportResult WriteReport(const ReportOptions& options) {
   for (const RunRecord& r : runs) {
     if (!r.ok)
       failures +=
-          fmt::format("<li>run {} (<code>{}</code>): {}</li>\n", r.index, r.key, Html(r.error));
+          fmt::format("<li>run {} (<code>{}</code>): {}</li>\n", r.index, r.key, EscapeMarkup(r.error));
   }
   if (!failures.empty())
     h += "<h2>Failed runs</h2>\n<ul class=\"failed\">\n" + failures + "</ul>\n";
-  h += "<h2>Base scenario (resolved)</h2>\n<pre>" + Html(meta.base_resolved) + "</pre>\n";
+  h += "<h2>Base scenario (resolved)</h2>\n<pre>" + EscapeMarkup(meta.base_resolved) + "</pre>\n";
   h += "</body></html>\n";
   result.html_path = (dir / "report.html").string();
   WriteTextFile(result.html_path, h);

@@ -145,29 +145,10 @@ RunSummary RunScenario(const Scenario& scenario, const RunOptions& options) {
     timings["write_s"] = Seconds(t0);
     summary.wall_time_s = Seconds(start);
     timings["total_s"] = summary.wall_time_s;
-    nlohmann::json manifest;
-    manifest["format"] = "hcpf-run/1";
-    manifest["hcpf_version"] = ProjectVersion();
-    manifest["git_revision"] = GitRevision();
-    manifest["scenario"] = scenario.name;
-    manifest["config_hash"] = ConfigHash(scenario);
-    manifest["seed"] = scenario.seed;
-    manifest["seeds"] = {{"world", scenario.seeds.world},
-                         {"observation", scenario.seeds.observation},
-                         {"tracker", scenario.seeds.tracker},
-                         {"renderer", scenario.seeds.renderer}};
+    nlohmann::json manifest = ManifestProvenance("hcpf-run/1", scenario, scene.gl);
     manifest["observation_source"] =
         scenario.observation.source == ObservationSource::kRendered ? "rendered" : "simulated";
     manifest["detector"] = scenario.observation.detector + " (noisy ground truth)";
-    manifest["libraries"] = LibraryVersions();
-    if (scene.gl) {
-      manifest["gl_renderer"] = {{"backend", scene.gl->backend},
-                                 {"vendor", scene.gl->vendor},
-                                 {"renderer", scene.gl->renderer},
-                                 {"version", scene.gl->version}};
-    } else {
-      manifest["gl_renderer"] = nullptr;
-    }
     manifest["ground_truth"] = scene.rendered ? "rendered (pixel-exact)" : "analytic";
     manifest["frames_rendered"] = scene.frames_rendered;
     manifest["frames_from_cache"] = scene.frames_from_cache;

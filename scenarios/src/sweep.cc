@@ -10,6 +10,7 @@
 #include <set>
 
 #include "hcpf/core/rng.h"
+#include "text.h"
 #include "yaml_reader.h"
 
 namespace hcpf::scenarios {
@@ -18,31 +19,8 @@ namespace fs = std::filesystem;
 
 namespace {
 
-// Flow-style YAML text of a node, as an override value (`[320, 240]`, `charged`).
-std::string FlowText(const YAML::Node& node) {
-  YAML::Emitter out;
-  out.SetMapFormat(YAML::Flow);
-  out.SetSeqFormat(YAML::Flow);
-  out << node;
-  return out.c_str();
-}
-
 std::string ResolveBase(const YamlReader& where, const std::string& base, const std::string& dir) {
-  std::vector<fs::path> candidates;
-  const fs::path p(base);
-  if (p.is_absolute()) {
-    candidates.push_back(p);
-  } else {
-    candidates.push_back(fs::path(dir) / p);
-    candidates.push_back(p);
-#ifdef HCPF_PROJECT_SOURCE_DIR
-    candidates.push_back(fs::path(HCPF_PROJECT_SOURCE_DIR) / p);
-#endif
-  }
-  for (const fs::path& c : candidates) {
-    std::error_code ec;
-    if (fs::is_regular_file(c, ec)) return c.lexically_normal().string();
-  }
+  if (auto found = FindFile(base, dir)) return *found;
   where.Fail(
       "a scenario file (looked next to the sweep file, in the current folder and in the project "
       "folder)",

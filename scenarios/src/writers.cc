@@ -11,6 +11,7 @@
 #include <nlohmann/json.hpp>
 
 #include "hcpf/core/error.h"
+#include "hcpf/scenarios/version.h"
 
 namespace hcpf::scenarios {
 
@@ -190,6 +191,31 @@ std::string FormatGroundTruthJson(const Scenario& s, const std::vector<FrameGrou
   }
   root["frames"] = std::move(list);
   return root.dump(1) + "\n";
+}
+
+nlohmann::json ManifestProvenance(const std::string& format, const Scenario& scenario,
+                                  const std::optional<renderer::GlInfo>& gl) {
+  nlohmann::json m;
+  m["format"] = format;
+  m["hcpf_version"] = ProjectVersion();
+  m["git_revision"] = GitRevision();
+  m["scenario"] = scenario.name;
+  m["config_hash"] = ConfigHash(scenario);
+  m["seed"] = scenario.seed;
+  m["seeds"] = {{"world", scenario.seeds.world},
+                {"observation", scenario.seeds.observation},
+                {"tracker", scenario.seeds.tracker},
+                {"renderer", scenario.seeds.renderer}};
+  m["libraries"] = LibraryVersions();
+  if (gl) {
+    m["gl_renderer"] = {{"backend", gl->backend},
+                        {"vendor", gl->vendor},
+                        {"renderer", gl->renderer},
+                        {"version", gl->version}};
+  } else {
+    m["gl_renderer"] = nullptr;
+  }
+  return m;
 }
 
 void WriteTextFile(const std::string& path, const std::string& text) {

@@ -2,11 +2,14 @@
 // Writers of a run's files. Numbers are formatted with fixed precision so the
 // same inputs give byte-identical files.
 
+#include <nlohmann/json.hpp>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "hcpf/core/ground_truth.h"
 #include "hcpf/core/types.h"
+#include "hcpf/renderer/gl_context.h"
 #include "hcpf/metrics/filter_metrics.h"
 #include "hcpf/metrics/mot_io.h"
 #include "hcpf/tracker/tracker.h"
@@ -39,6 +42,11 @@ std::string FormatSeqinfo(const Scenario& scenario);
 // `pixel_exact`: the truth came from the renderer's pixel counts.
 std::string FormatGroundTruthJson(const Scenario& scenario, const std::vector<FrameGroundTruth>& frames,
                                   bool pixel_exact);
+
+// The provenance part of a manifest.json (format, version, git revision,
+// scenario, config hash, seeds, library versions, GL renderer or null).
+nlohmann::json ManifestProvenance(const std::string& format, const Scenario& scenario,
+                                  const std::optional<renderer::GlInfo>& gl);
 
 // Writes `text` to `path`; throws RunError naming the path on failure.
 void WriteTextFile(const std::string& path, const std::string& text);

@@ -47,6 +47,14 @@ std::string FormatNumber(double value) {
   return fmt::format("{}", value);
 }
 
+std::string FlowText(const YAML::Node& node) {
+  YAML::Emitter out;
+  out.SetMapFormat(YAML::Flow);
+  out.SetSeqFormat(YAML::Flow);
+  out << node;
+  return out.c_str();
+}
+
 int EditDistance(const std::string& a, const std::string& b) {
   std::vector<int> prev(b.size() + 1);
   std::vector<int> cur(b.size() + 1);

@@ -88,6 +88,8 @@ class YamlReader {
 int EditDistance(const std::string& a, const std::string& b);
 // The closest candidate within a small distance, or "".
 std::string ClosestMatch(const std::string& word, const std::vector<std::string>& candidates);
+// Flow-style YAML text of a node, usable as an override value (`[320, 240]`).
+std::string FlowText(const YAML::Node& node);
 // Shortest text that parses back to the same double.
 std::string FormatNumber(double value);
 

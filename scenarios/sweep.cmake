@@ -18,3 +18,7 @@ hcpf_add_test(scenarios_sweep_tests
     ${CMAKE_CURRENT_LIST_DIR}/tests/overlay_test.cc
   DEPS hcpf::scenarios ${OpenCV_LIBS}
   LABELS unit)
+if(TARGET scenarios_sweep_tests)
+  # White-box tests of private helpers (src/text.h).
+  target_include_directories(scenarios_sweep_tests PRIVATE ${CMAKE_CURRENT_LIST_DIR}/src)
+endif()

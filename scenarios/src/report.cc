@@ -22,7 +22,10 @@
 
 #include "hcpf/core/check.h"
 #include "hcpf/core/error.h"
+#include "hcpf/renderer/image_io.h"
+#include "hcpf/scenarios/frames.h"
 #include "hcpf/scenarios/results_store.h"
+#include "hcpf/scenarios/scenario.h"
 #include "writers.h"
 #include "text.h"
 
@@ -163,6 +166,44 @@ void ReportOptions::Validate() const {
   if (dir.empty())
     throw InputError(SourceLocation{"hcpf report", 0, 0, "DIR"}, "a sweep folder", "nothing");
 }
+
+namespace {
+
+// For a rendered scenario: a contact sheet of its frames (from the frame
+// cache the sweep filled), embedded as a data: URI so the report stays one
+// self-contained file. Empty for detection-level scenarios.
+std::string SceneContactSheet(const std::string& resolved, const fs::path& dir) {
+  const Scenario scenario = LoadScenarioText(resolved, (dir / "results.sqlite").string());
+  if (scenario.observation.source != ObservationSource::kRendered) return {};
+  const int frames = scenario.world.frames;
+  constexpr int kSheetFrames = 8;
+  std::vector<renderer::RenderedFrame> sheet;
+  FrameSourceOptions frame_options;
+  frame_options.cache_dir = DefaultFrameCacheDir();
+  frame_options.show_progress = false;
+  frame_options.on_frame = [&](const renderer::RenderedFrame& frame) {
+    if (frame.frame % std::max(1, frames / kSheetFrames) != 0 ||
+        static_cast<int>(sheet.size()) >= kSheetFrames) {
+      return;
+    }
+    renderer::RenderedFrame thumb;
+    thumb.frame = frame.frame;
+    thumb.rgb = frame.rgb;
+    thumb.ground_truth = frame.ground_truth;
+    sheet.push_back(std::move(thumb));
+  };
+  ProduceFrames(scenario, frame_options);
+  const fs::path png = dir / "contact_sheet.png";
+  renderer::WritePng(renderer::MakeContactSheet(sheet), png.string());
+  std::ifstream in(png, std::ios::binary);
+  std::stringstream bytes;
+  bytes << in.rdbuf();
+  return "<h2>The scene (base scenario, sampled frames with ground truth)</h2>\n"
+         "<img alt=\"contact sheet\" style=\"max-width:100%\" src=\"data:image/png;base64," +
+         Base64(bytes.str()) + "\">\n";
+}
+
+}  // namespace
 
 ReportResult WriteReport(const ReportOptions& options) {
   options.Validate();
@@ -427,6 +468,19 @@ ReportResult WriteReport(const ReportOptions& options) {
   }
   if (!failures.empty())
     h += "<h2>Failed runs</h2>\n<ul class=\"failed\">\n" + failures + "</ul>\n";
+  // The scene as the runs saw it (a sweep may switch rendering on), else the base.
+  std::string scene_yaml = meta.base_resolved;
+  for (const RunRecord& r : runs) {
+    const fs::path resolved = dir / r.run_dir / "scenario.resolved.yaml";
+    if (r.ok && fs::exists(resolved, ec)) {
+      std::ifstream in(resolved);
+      std::stringstream text;
+      text << in.rdbuf();
+      scene_yaml = text.str();
+      break;
+    }
+  }
+  h += SceneContactSheet(scene_yaml, dir);
   h += "<h2>Base scenario (resolved)</h2>\n<pre>" + EscapeMarkup(meta.base_resolved) + "</pre>\n";
   h += "</body></html>\n";
   result.html_path = (dir / "report.html").string();

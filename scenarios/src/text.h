@@ -11,6 +11,9 @@ namespace hcpf::scenarios {
 // Escapes & < > " for HTML and XML text and attribute values.
 std::string EscapeMarkup(const std::string& text);
 
+// Standard base64 (RFC 4648, with padding), for data: URIs in reports.
+std::string Base64(const std::string& bytes);
+
 // A file named in a YAML file: an absolute path as is; a relative one is
 // looked for next to that file (`beside_dir`), then relative to the current
 // folder, then to the project's source folder. Returns the first that exists

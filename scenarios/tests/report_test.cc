@@ -12,6 +12,7 @@
 #include "hcpf/scenarios/results_store.h"
 #include "hcpf/scenarios/sweep.h"
 #include "sweep_fixture.h"
+#include "text.h"
 
 namespace hcpf::scenarios {
 namespace {
@@ -134,6 +135,28 @@ TEST(Report, HtmlHasOnePlotWithDataPerMetricAndCsvHasOneRowPerCell) {
 
 TEST(Report, MissingStoreIsBadInput) {
   EXPECT_THROW(WriteReport({.dir = "/nonexistent/hcpf"}), InputError);
+}
+
+}  // namespace
+}  // namespace hcpf::scenarios
+
+namespace hcpf::scenarios {
+namespace {
+
+// RFC 4648 section 10 test vectors.
+TEST(Base64, Rfc4648Vectors) {
+  EXPECT_EQ(Base64(""), "");
+  EXPECT_EQ(Base64("f"), "Zg==");
+  EXPECT_EQ(Base64("fo"), "Zm8=");
+  EXPECT_EQ(Base64("foo"), "Zm9v");
+  EXPECT_EQ(Base64("foob"), "Zm9vYg==");
+  EXPECT_EQ(Base64("fooba"), "Zm9vYmE=");
+  EXPECT_EQ(Base64("foobar"), "Zm9vYmFy");
+  EXPECT_EQ(Base64(std::string("\xff\x00\x80", 3)), "/wCA");
+}
+
+TEST(EscapeMarkup, EscapesTheFourCharacters) {
+  EXPECT_EQ(EscapeMarkup("a<b>&\"c'"), "a&lt;b&gt;&amp;&quot;c'");
 }
 
 }  // namespace

@@ -34,6 +34,13 @@ TEST(RenderedSweep, ScenesRenderOnceAndEveryRunSucceeds) {
   const auto hits = std::distance(std::sregex_iterator(r.output.begin(), r.output.end(), cached),
                                   std::sregex_iterator());
   EXPECT_EQ(hits, 3) << r.output;
+  // The report shows the rendered scene: a contact sheet embedded in the page.
+  const auto report = testing::RunCommand("HCPF_CACHE_DIR=" + (dir / "cache").string() + " " +
+                                          std::string(HCPF_EXE) + " report " + (dir / "out").string());
+  ASSERT_EQ(report.exit_code, 0) << report.output;
+  const std::string html = testing::ReadFile(dir / "out" / "report.html");
+  EXPECT_NE(html.find("<img alt=\"contact sheet\""), std::string::npos);
+  EXPECT_NE(html.find("data:image/png;base64,iVBORw0KGgo"), std::string::npos);  // PNG signature
 }
 
 }  // namespace

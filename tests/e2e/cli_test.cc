@@ -129,7 +129,9 @@ class ShippedScenario : public ::testing::TestWithParam<std::string> {};
 TEST_P(ShippedScenario, ValidatesAndRuns) {
   auto r = RunCommand(kHcpf + " validate " + Scenario(GetParam()));
   ASSERT_EQ(r.exit_code, 0) << r.output;
-  const fs::path out = FreshDir("shipped-" + GetParam()) / "run";
+  std::string name = GetParam();
+  std::replace(name.begin(), name.end(), '/', '-');
+  const fs::path out = FreshDir("shipped-" + name) / "run";
   r = RunCommand(kHcpf + " run " + Scenario(GetParam()) + " --out " + out.string());
   ASSERT_EQ(r.exit_code, 0) << r.output;
   EXPECT_GT(fs::file_size(out / "gt" / "gt.txt"), 0u);
@@ -137,10 +139,15 @@ TEST_P(ShippedScenario, ValidatesAndRuns) {
 
 INSTANTIATE_TEST_SUITE_P(Library, ShippedScenario,
                          ::testing::Values("crossing", "crossing-dominant", "parallel",
-                                           "dominant-passes-weak", "bridge-three", "climb"),
+                                           "dominant-passes-weak", "bridge-three", "climb",
+                                           "thesis/tc1-regular-swap", "thesis/tc2-regular-hijack",
+                                           "thesis/tc3-charged", "thesis/tc4-charged-low-variance",
+                                           "thesis/tc5-charged-occlusion",
+                                           "thesis/parallel-close"),
                          [](const auto& info) {
                            std::string n = info.param;
                            std::replace(n.begin(), n.end(), '-', '_');
+                           std::replace(n.begin(), n.end(), '/', '_');
                            return n;
                          });
 

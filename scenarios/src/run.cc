@@ -49,119 +49,115 @@ RunSummary RunScenario(const Scenario& scenario, const RunOptions& options) {
   summary.out_dir = staged.out().string();
   summary.frames = scenario.world.frames;
   nlohmann::json timings;
-  {
-    // 1. Ground truth, frame by frame: analytic, or pixel-exact from the
-    // renderer (frames cached on disk by pixel hash).
-    auto t0 = Clock::now();
-    FrameSourceOptions frame_options;
-    frame_options.cache_dir = options.frame_cache_dir;
-    frame_options.keep_images = options.video;
-    frame_options.show_progress = options.show_progress;
-    SceneFrames scene = ProduceFrames(scenario, frame_options);
-    const std::vector<FrameGroundTruth>& truth = scene.truth;
-    timings["ground_truth_s"] = Seconds(t0);
+  // 1. Ground truth, frame by frame: analytic, or pixel-exact from the
+  // renderer (frames cached on disk by pixel hash).
+  auto t0 = Clock::now();
+  FrameSourceOptions frame_options;
+  frame_options.cache_dir = options.frame_cache_dir;
+  frame_options.keep_images = options.video;
+  frame_options.show_progress = options.show_progress;
+  SceneFrames scene = ProduceFrames(scenario, frame_options);
+  const std::vector<FrameGroundTruth>& truth = scene.truth;
+  timings["ground_truth_s"] = Seconds(t0);
 
-    // 2. Observations (detection-level mode: the oracle detector).
-    t0 = Clock::now();
-    std::vector<Observation> observations;
-    observations.reserve(truth.size());
-    for (const FrameGroundTruth& gt : truth) {
-      observations.push_back(
-          SimulateObservation(gt, scenario.observation.simulated, scenario.seeds.observation));
-      summary.detections += static_cast<int>(observations.back().detections.size());
-    }
-    timings["observations_s"] = Seconds(t0);
+  // 2. Observations (detection-level mode: the oracle detector).
+  t0 = Clock::now();
+  std::vector<Observation> observations;
+  observations.reserve(truth.size());
+  for (const FrameGroundTruth& gt : truth) {
+    observations.push_back(
+        SimulateObservation(gt, scenario.observation.simulated, scenario.seeds.observation));
+    summary.detections += static_cast<int>(observations.back().detections.size());
+  }
+  timings["observations_s"] = Seconds(t0);
 
-    // 3. Tracker. Filters are born from ground truth at each target's first
-    // in-frame appearance when the scenario asks for it (the pipeline passes
-    // the box; the tracker never sees ground truth otherwise).
-    t0 = Clock::now();
-    tracker::TrackerOptions tracker_options = scenario.tracker;
-    tracker_options.threads = options.threads;
-    auto tracker = tracker::MakeTracker(tracker_options, Rng(scenario.seeds.tracker));
-    std::set<int32_t> born;
-    std::vector<tracker::FrameReport> reports;
-    reports.reserve(truth.size());
-    Progress progress("run", static_cast<int64_t>(truth.size()), options.show_progress);
-    for (size_t f = 0; f < truth.size(); ++f) {
-      if (tracker_options.init == tracker::InitMode::kGroundTruth) {
-        for (const GroundTruthObject& o : truth[f].objects) {
-          if (o.in_frame && born.insert(Value(o.id)).second) {
-            tracker->BirthTrack(TrackId{Value(o.id)}, o.amodal_box);
-          }
+  // 3. Tracker. Filters are born from ground truth at each target's first
+  // in-frame appearance when the scenario asks for it (the pipeline passes
+  // the box; the tracker never sees ground truth otherwise).
+  t0 = Clock::now();
+  tracker::TrackerOptions tracker_options = scenario.tracker;
+  tracker_options.threads = options.threads;
+  auto tracker = tracker::MakeTracker(tracker_options, Rng(scenario.seeds.tracker));
+  std::set<int32_t> born;
+  std::vector<tracker::FrameReport> reports;
+  reports.reserve(truth.size());
+  Progress progress("run", static_cast<int64_t>(truth.size()), options.show_progress);
+  for (size_t f = 0; f < truth.size(); ++f) {
+    if (tracker_options.init == tracker::InitMode::kGroundTruth) {
+      for (const GroundTruthObject& o : truth[f].objects) {
+        if (o.in_frame && born.insert(Value(o.id)).second) {
+          tracker->BirthTrack(TrackId{Value(o.id)}, o.amodal_box);
         }
       }
-      reports.push_back(tracker->Step(observations[f]));
-      progress.Advance();
     }
-    progress.Finish();
-    timings["tracker_s"] = Seconds(t0);
-
-    // 4. MOT files, then the metrics computed from exactly those files, so
-    // `hcpf score` on the outputs reproduces metrics.json.
-    t0 = Clock::now();
-    const std::string gt_text = metrics::FormatMotGroundTruth(GroundTruthRows(truth));
-    const std::string tracks_text =
-        metrics::FormatMotTracks(TrackRows(reports, tracker_options.particles));
-    summary.gt_boxes = static_cast<int>(std::count(gt_text.begin(), gt_text.end(), '\n'));
-    const metrics::MotFile gt_file =
-        metrics::ParseMotText(gt_text, "gt/gt.txt", metrics::MotFileKind::kGroundTruth, summary.frames);
-    const metrics::MotFile tracks_file =
-        metrics::ParseMotText(tracks_text, "tracks.txt", metrics::MotFileKind::kTracks, summary.frames);
-    metrics::RunMetricsInput metrics_input;
-    metrics_input.sequence = metrics::BuildSequence(gt_file, tracks_file, summary.frames,
-                                                    metrics::Benchmark::kMot17, {}, scenario.name);
-    metrics_input.filters = FilterInputs(truth, reports, tracker_options.init);
-    metrics_input.point_options = scenario.metrics.points;
-    metrics_input.filter_options = scenario.metrics.filters;
-    const metrics::RunMetrics scores = metrics::ComputeRunMetrics(metrics_input);
-    timings["metrics_s"] = Seconds(t0);
-    summary.tracked = true;
-    summary.scored = true;
-    summary.mota = scores.mot.clear.mota;
-    summary.idf1 = scores.mot.identity.idf1;
-    summary.hota = scores.mot.hota.hota_mean;
-    if (scores.filters) {
-      summary.da_accuracy = scores.filters->da_accuracy;
-      summary.hijack_rate = scores.filters->hijack_rate;
-    }
-
-    // 5. Files.
-    t0 = Clock::now();
-    WriteTextFile((partial / "scenario.resolved.yaml").string(), ToResolvedYaml(scenario));
-    WriteTextFile((partial / "gt" / "gt.txt").string(), gt_text);
-    WriteTextFile((partial / "seqinfo.ini").string(), FormatSeqinfo(scenario));
-    WriteTextFile((partial / "gt.json").string(), FormatGroundTruthJson(scenario, truth, scene.rendered));
-    WriteTextFile((partial / "detections.txt").string(), FormatDetectionsMot(observations));
-    WriteTextFile((partial / "tracks.txt").string(), tracks_text);
-    WriteTextFile((partial / "filters.csv").string(), FormatFiltersCsv(reports, scores.filters));
-    WriteTextFile((partial / "metrics.json").string(), metrics::RunMetricsToJson(scores));
-    if (options.video) {
-      // At detection level there are no pixels: the overlay is drawn on a
-      // plain background.
-      WriteOverlayVideo((partial / "overlay.mp4").string(), scenario, truth, reports,
-                        scores.filters, scene.rendered ? &scene.images : nullptr);
-    }
-    timings["write_s"] = Seconds(t0);
-    summary.wall_time_s = Seconds(start);
-    timings["total_s"] = summary.wall_time_s;
-    nlohmann::json manifest = ManifestProvenance("hcpf-run/1", scenario, scene.gl);
-    manifest["observation_source"] =
-        scenario.observation.source == ObservationSource::kRendered ? "rendered" : "simulated";
-    manifest["detector"] = scenario.observation.detector + " (noisy ground truth)";
-    manifest["ground_truth"] = scene.rendered ? "rendered (pixel-exact)" : "analytic";
-    manifest["frames_rendered"] = scene.frames_rendered;
-    manifest["frames_from_cache"] = scene.frames_from_cache;
-    manifest["frames"] = scenario.world.frames;
-    manifest["gt_boxes"] = summary.gt_boxes;
-    manifest["detections"] = summary.detections;
-    manifest["timings"] = timings;
-    manifest["nondeterministic_fields"] = {"timings", "frames_rendered", "frames_from_cache",
-                                          "gl_renderer"};
-    // Written last: a folder with a manifest is a finished run.
-    WriteTextFile((partial / "manifest.json").string(), manifest.dump(2) + "\n");
-    staged.Publish();
+    reports.push_back(tracker->Step(observations[f]));
+    progress.Advance();
   }
+  progress.Finish();
+  timings["tracker_s"] = Seconds(t0);
+
+  // 4. MOT files, then the metrics computed from exactly those files, so
+  // `hcpf score` on the outputs reproduces metrics.json.
+  t0 = Clock::now();
+  const std::string gt_text = metrics::FormatMotGroundTruth(GroundTruthRows(truth));
+  const std::string tracks_text =
+      metrics::FormatMotTracks(TrackRows(reports, tracker_options.particles));
+  summary.gt_boxes = static_cast<int>(std::count(gt_text.begin(), gt_text.end(), '\n'));
+  const metrics::MotFile gt_file =
+      metrics::ParseMotText(gt_text, "gt/gt.txt", metrics::MotFileKind::kGroundTruth, summary.frames);
+  const metrics::MotFile tracks_file =
+      metrics::ParseMotText(tracks_text, "tracks.txt", metrics::MotFileKind::kTracks, summary.frames);
+  metrics::RunMetricsInput metrics_input;
+  metrics_input.sequence = metrics::BuildSequence(gt_file, tracks_file, summary.frames,
+                                                  metrics::Benchmark::kMot17, {}, scenario.name);
+  metrics_input.filters = FilterInputs(truth, reports, tracker_options.init);
+  metrics_input.point_options = scenario.metrics.points;
+  metrics_input.filter_options = scenario.metrics.filters;
+  const metrics::RunMetrics scores = metrics::ComputeRunMetrics(metrics_input);
+  timings["metrics_s"] = Seconds(t0);
+  summary.mota = scores.mot.clear.mota;
+  summary.idf1 = scores.mot.identity.idf1;
+  summary.hota = scores.mot.hota.hota_mean;
+  if (scores.filters) {
+    summary.da_accuracy = scores.filters->da_accuracy;
+    summary.hijack_rate = scores.filters->hijack_rate;
+  }
+
+  // 5. Files.
+  t0 = Clock::now();
+  WriteTextFile((partial / "scenario.resolved.yaml").string(), ToResolvedYaml(scenario));
+  WriteTextFile((partial / "gt" / "gt.txt").string(), gt_text);
+  WriteTextFile((partial / "seqinfo.ini").string(), FormatSeqinfo(scenario));
+  WriteTextFile((partial / "gt.json").string(), FormatGroundTruthJson(scenario, truth, scene.rendered));
+  WriteTextFile((partial / "detections.txt").string(), FormatDetectionsMot(observations));
+  WriteTextFile((partial / "tracks.txt").string(), tracks_text);
+  WriteTextFile((partial / "filters.csv").string(), FormatFiltersCsv(reports, scores.filters));
+  WriteTextFile((partial / "metrics.json").string(), metrics::RunMetricsToJson(scores));
+  if (options.video) {
+    // At detection level there are no pixels: the overlay is drawn on a
+    // plain background.
+    WriteOverlayVideo((partial / "overlay.mp4").string(), scenario, truth, reports,
+                      scores.filters, scene.rendered ? &scene.images : nullptr);
+  }
+  timings["write_s"] = Seconds(t0);
+  summary.wall_time_s = Seconds(start);
+  timings["total_s"] = summary.wall_time_s;
+  nlohmann::json manifest = ManifestProvenance("hcpf-run/1", scenario, scene.gl);
+  manifest["observation_source"] =
+      scenario.observation.source == ObservationSource::kRendered ? "rendered" : "simulated";
+  manifest["detector"] = scenario.observation.detector + " (noisy ground truth)";
+  manifest["ground_truth"] = scene.rendered ? "rendered (pixel-exact)" : "analytic";
+  manifest["frames_rendered"] = scene.frames_rendered;
+  manifest["frames_from_cache"] = scene.frames_from_cache;
+  manifest["frames"] = scenario.world.frames;
+  manifest["gt_boxes"] = summary.gt_boxes;
+  manifest["detections"] = summary.detections;
+  manifest["timings"] = timings;
+  manifest["nondeterministic_fields"] = {"timings", "frames_rendered", "frames_from_cache",
+                                        "gl_renderer"};
+  // Written last: a folder with a manifest is a finished run.
+  WriteTextFile((partial / "manifest.json").string(), manifest.dump(2) + "\n");
+  staged.Publish();
   return summary;
 }
 

@@ -32,8 +32,6 @@ struct RunSummary {
   int frames = 0;
   int gt_boxes = 0;
   int detections = 0;
-  bool tracked = false;
-  bool scored = false;
   double mota = 0.0;
   double idf1 = 0.0;
   double hota = 0.0;

@@ -55,7 +55,7 @@ RenderFolderSummary RenderToFolder(const Scenario& scenario, const RenderFolderO
   WriteTextFile((dir / "scenario.resolved.yaml").string(), ToResolvedYaml(scenario));
   WriteTextFile((dir / "gt" / "gt.txt").string(),
                 metrics::FormatMotGroundTruth(GroundTruthRows(scene.truth)));
-  WriteTextFile((dir / "seqinfo.ini").string(), FormatSeqinfo(scenario));
+  metrics::WriteSeqInfo((dir / "seqinfo.ini").string(), SeqInfoOf(scenario));
   WriteTextFile((dir / "gt.json").string(), FormatGroundTruthJson(scenario, scene.truth, true));
   renderer::WritePng(renderer::MakeContactSheet(sheet), (dir / "contact_sheet.png").string());
 

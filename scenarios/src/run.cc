@@ -127,7 +127,7 @@ RunSummary RunScenario(const Scenario& scenario, const RunOptions& options) {
   t0 = Clock::now();
   WriteTextFile((partial / "scenario.resolved.yaml").string(), ToResolvedYaml(scenario));
   WriteTextFile((partial / "gt" / "gt.txt").string(), gt_text);
-  WriteTextFile((partial / "seqinfo.ini").string(), FormatSeqinfo(scenario));
+  metrics::WriteSeqInfo((partial / "seqinfo.ini").string(), SeqInfoOf(scenario));
   WriteTextFile((partial / "gt.json").string(), FormatGroundTruthJson(scenario, truth, scene.rendered));
   WriteTextFile((partial / "detections.txt").string(), FormatDetectionsMot(observations));
   WriteTextFile((partial / "tracks.txt").string(), tracks_text);

@@ -119,11 +119,16 @@ std::string FormatDetectionsMot(const std::vector<Observation>& observations) {
   return out;
 }
 
-std::string FormatSeqinfo(const Scenario& s) {
-  return fmt::format(
-      "[Sequence]\nname={}\nimDir=frames\nframeRate={}\nseqLength={}\nimWidth={}\nimHeight={}\n"
-      "imExt=.png\n",
-      s.name, s.world.fps, s.world.frames, s.world.camera.width_px, s.world.camera.height_px);
+metrics::SeqInfo SeqInfoOf(const Scenario& s) {
+  metrics::SeqInfo info;
+  info.name = s.name;
+  info.im_dir = "frames";
+  info.frame_rate = s.world.fps;
+  info.seq_length = s.world.frames;
+  info.im_width = s.world.camera.width_px;
+  info.im_height = s.world.camera.height_px;
+  info.im_ext = ".png";
+  return info;
 }
 
 namespace {

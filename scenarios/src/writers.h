@@ -37,7 +37,7 @@ std::string FormatFiltersCsv(const std::vector<tracker::FrameReport>& reports,
 // MOT detections: frame,-1,left,top,w,h,score,-1,-1,-1.
 std::string FormatDetectionsMot(const std::vector<Observation>& observations);
 // seqinfo.ini for TrackEval's MOTChallenge loader.
-std::string FormatSeqinfo(const Scenario& scenario);
+metrics::SeqInfo SeqInfoOf(const Scenario& scenario);
 // gt.json: every field of every frame's ground truth (see docs/outputs.md).
 // `pixel_exact`: the truth came from the renderer's pixel counts.
 std::string FormatGroundTruthJson(const Scenario& scenario, const std::vector<FrameGroundTruth>& frames,

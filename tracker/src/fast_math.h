@@ -3,8 +3,10 @@
 // double arithmetic and bit operations only, so GCC vectorises loops that call
 // them (SSE2 two-wide on the x86-64 baseline, four-wide in the AVX2 clones) and
 // every lane computes exactly the same bits as the scalar code: results do not
-// depend on which clone runs. No fused multiply-add is used (ISO C++ mode turns
-// contraction off and neither target enables FMA), for the same reason.
+// depend on which clone runs (AVX-512, AVX2 or baseline). No fused multiply-add
+// is used: the project compiles with -ffp-contract=off, because the AVX-512
+// clone has FMA and GCC would otherwise contract a*b+c there. Checked by
+// tests/isa_clones_test.cc.
 //
 // Accuracy (checked in fast_math_test.cc against std::exp/std::log): relative
 // error below 1e-14 over the ranges documented on each function.
@@ -50,6 +52,41 @@ inline double FastExp(double x) {
   const double scale = std::bit_cast<double>((ki + 1023) << 52);
   const double result = p * scale;
   return underflow ? 0.0 : result;
+}
+
+// Single-precision exp for the mixture likelihood, whose terms are weights:
+// a relative error of 1e-7 moves a log-weight by 1e-7, far below any effect
+// of the model's own approximations, and float lanes are twice as many per
+// vector as double lanes. Returns 0 for x < -87 (exp(-87) = 1.6e-38 is the
+// last normal float) and clamps at x = 88. Reduction x = k ln2 + r, |r| <=
+// ln2/2, then exp(r) = 1 + r q(r) with q of degree 5 interpolating
+// expm1(r)/r at the six Chebyshev nodes of [-ln2/2, ln2/2] (coefficients
+// rounded to float). Relative error below 1.5e-7 (2.5 float ulp) over
+// [-87, 88], measured against std::exp in fast_math_test.cc.
+inline float FastExpF(float x) {
+  const bool underflow = x < -87.0f;
+  x = x > 88.0f ? 88.0f : x;
+  x = underflow ? 0.0f : x;
+  constexpr float kLog2e = 1.44269504f;
+  constexpr float kShift = 0x1.8p23f;  // adding it rounds to an integer in the low bits
+  constexpr float kLn2Hi = 0x1.62e4p-1f;  // 16 significant bits: k * kLn2Hi is exact for |k| < 2^8
+  constexpr float kLn2Lo = 1.42860677e-06f;  // ln2 - kLn2Hi
+  float kf = x * kLog2e + kShift;
+  const uint32_t ki = std::bit_cast<uint32_t>(kf);
+  kf -= kShift;
+  const float r = (x - kf * kLn2Hi) - kf * kLn2Lo;
+  float q = 0.0013933641603216529f;
+  q = q * r + 0.008369148708879948f;
+  q = q * r + 0.04166646674275398f;
+  q = q * r + 0.16666504740715027f;
+  q = q * r + 0.5f;
+  q = q * r + 1.0f;
+  const float p = r * q + 1.0f;
+  // The low bits of ki hold k (two's complement); shifting (k + 127) into the
+  // exponent field builds 2^k for k in [-126, 127].
+  const float scale = std::bit_cast<float>((ki + 127u) << 23);
+  const float result = p * scale;
+  return underflow ? 0.0f : result;
 }
 
 // log(x) for normal positive x (x >= DBL_MIN); returns -inf for x <= 0 and

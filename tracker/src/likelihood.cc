@@ -7,6 +7,7 @@
 #include <numbers>
 
 #include "fast_math.h"
+#include "mixture_kernel.h"
 #include "hcpf/core/check.h"
 #include "option_checks.h"
 
@@ -42,19 +43,14 @@ void LikelihoodOptions::Validate(std::string_view prefix) const {
 
 namespace {
 
+using Component = internal::MixtureComponent;
+
 constexpr size_t kChunk = 256;
 // Below this a mixture sum may be subnormal (FastLog is exact only for normal
-// numbers, and FastExp flushes exponents below -708 to zero): such particles
+// numbers, and FastExpF flushes exponents below -87 to zero): such particles
 // are recomputed with the exact log-sum-exp. 1e-300 leaves eight decades of
 // margin above DBL_MIN ~ 2.2e-308.
 constexpr double kTinySum = 1e-300;
-
-struct Component {
-  double cx, cy;
-  double log_weight;   // log of the component's mixture weight times its normaliser
-  double weight;       // exp(log_weight)
-  double log_size_offset;  // log(base_w / detection width), 0 when size is off
-};
 
 // Per-component quadratic exponent of particle i.
 inline double Exponent(const Component& c, double x, double y, double log_s, double inv_2s2,
@@ -110,43 +106,17 @@ double ExactLogMixture(std::span<const Component> comps, double log_clutter, dou
   return max_term + std::log(total);
 }
 
-// The hot loop: detection-outer, particle-inner so the inner loop is a plain
-// vectorisable map over particles. GCC emits an AVX2 clone and a baseline clone;
-// both compute identical bits (no FMA, per-particle sums in detection order).
-// kSize: whether the log-size term is on (a compile-time switch keeps the
-// position-only loop free of the three extra operations per component).
-template <bool kSize>
-__attribute__((always_inline)) inline void MixtureKernel(const Component* comps, size_t num_comps,
-                                                         const double* px, const double* py,
-                                                         const double* log_s, double inv_2s2,
-                                                         double inv_2ss2, double* sum, size_t m) {
-  for (size_t i = 0; i < m; ++i) sum[i] = 0.0;
-  for (size_t d = 0; d < num_comps; ++d) {
-    const Component c = comps[d];
-    for (size_t i = 0; i < m; ++i) {
-      const double dx = px[i] - c.cx;
-      const double dy = py[i] - c.cy;
-      double e = -(dx * dx + dy * dy) * inv_2s2;
-      if constexpr (kSize) {
-        const double dl = log_s[i] + c.log_size_offset;
-        e -= dl * dl * inv_2ss2;
-      }
-      sum[i] += c.weight * internal::FastExp(e);
-    }
-  }
-}
-
-__attribute__((target_clones("avx2", "default"))) void MixtureChunk(
+__attribute__((target_clones("avx512f", "avx2", "default"))) void MixtureChunk(
     const Component* comps, size_t num_comps, const double* px, const double* py,
     const double* log_s, double inv_2s2, double inv_2ss2, double* sum, size_t m) {
   if (inv_2ss2 > 0.0) {
-    MixtureKernel<true>(comps, num_comps, px, py, log_s, inv_2s2, inv_2ss2, sum, m);
+    internal::MixtureKernel<true>(comps, num_comps, px, py, log_s, inv_2s2, inv_2ss2, sum, m);
   } else {
-    MixtureKernel<false>(comps, num_comps, px, py, log_s, inv_2s2, inv_2ss2, sum, m);
+    internal::MixtureKernel<false>(comps, num_comps, px, py, log_s, inv_2s2, inv_2ss2, sum, m);
   }
 }
 
-__attribute__((target_clones("avx2", "default"))) void AddLogOfSum(const double* sum,
+__attribute__((target_clones("avx512f", "avx2", "default"))) void AddLogOfSum(const double* sum,
                                                                    double clutter, double* log_w,
                                                                    size_t m) {
   for (size_t i = 0; i < m; ++i) log_w[i] += internal::FastLog(sum[i] + clutter);
@@ -177,7 +147,7 @@ bool DetectionsMixtureLikelihood::AddLogLikelihood(ParticleSet& set,
   // A component whose largest possible term in a chunk is below 2^-60 times
   // the clutter floor changes no particle's L = sum + clutter by more than
   // 2^-60 relative (below double resolution, 2^-53) and is skipped; with no
-  // clutter only exact zeros are skipped (FastExp flushes exponents < -708).
+  // clutter only exact zeros are skipped (FastExpF flushes exponents < -87).
   // Far detections of other targets then cost nothing.
   const double negligible_log = clutter > 0.0 ? log_clutter - 60.0 * std::numbers::ln2
                                               : -std::numeric_limits<double>::infinity();
@@ -211,7 +181,7 @@ bool DetectionsMixtureLikelihood::AddLogLikelihood(ParticleSet& set,
       const double dx = std::max({x0 - c.cx, 0.0, c.cx - x1});
       const double dy = std::max({y0 - c.cy, 0.0, c.cy - y1});
       const double max_exponent = -(dx * dx + dy * dy) * inv_2s2;  // the size term is <= 0
-      if (max_exponent >= -708.0 && c.log_weight + max_exponent >= negligible_log) {
+      if (max_exponent >= internal::kMixtureUnderflow && c.log_weight + max_exponent >= negligible_log) {
         active.push_back(c);
       }
     }

@@ -1,5 +1,6 @@
 #include "hcpf/tracker/normal.h"
 
+#include <algorithm>
 #include <array>
 #include <bit>
 #include <cmath>
@@ -61,28 +62,45 @@ bool SlowPath(Rng& rng, int i, double u, double* value) {
   return false;
 }
 
+// Bit 8 of a raw draw is the sign, applied by XOR into the IEEE sign bit: a
+// `negative ? -v : v` select compiles to a branch that mispredicts half the
+// time and costs more than the rest of the generator.
+inline uint64_t SignBit(uint64_t bits) { return (bits & 0x100) << 55; }
+
+// The top 53 bits as a uniform in [0, 1). Through int64: the value is < 2^53,
+// and the signed conversion is one instruction where the unsigned one is a
+// branchy sequence without AVX-512.
+inline double Uniform53(uint64_t bits) {
+  return static_cast<double>(static_cast<int64_t>(bits >> 11)) * 0x1.0p-53;
+}
+
+struct Fast {
+  bool accepted;
+  double value;
+};
+
+// The ziggurat's fast path for one raw draw: 8 bits pick the layer, bit 8 the
+// sign, the top 53 bits the uniform; accepted when the point lies in the part
+// of the layer wholly under the density.
+inline Fast FastPath(uint64_t bits) {
+  const int i = static_cast<int>(bits & 0xFF);
+  const double u = Uniform53(bits);
+  return {u < kTables.k[i], std::bit_cast<double>(std::bit_cast<uint64_t>(u * kTables.x[i]) ^ SignBit(bits))};
+}
+
 // Draws one variate. `local` is a private copy of the caller's stream, never
 // address-taken on the fast path, so its state stays in registers; the rare
 // slow path syncs it through `home` (which SlowPath may advance).
 inline double Draw(Rng& local, Rng& home) {
   for (;;) {
     const uint64_t bits = local.NextU64();
-    const int i = static_cast<int>(bits & 0xFF);
-    // Bit 8 is the sign, applied by XOR into the IEEE sign bit: a `negative ?
-    // -v : v` select compiles to a branch that mispredicts half the time and
-    // costs more than the rest of the generator.
-    const uint64_t sign = (bits & 0x100) << 55;
-    // Through int64: the value is < 2^53, and the signed conversion is one
-    // instruction where the unsigned one is a branchy sequence without AVX-512.
-    const double u = static_cast<double>(static_cast<int64_t>(bits >> 11)) * 0x1.0p-53;
-    if (u < kTables.k[i]) {
-      return std::bit_cast<double>(std::bit_cast<uint64_t>(u * kTables.x[i]) ^ sign);
-    }
+    const Fast f = FastPath(bits);
+    if (f.accepted) return f.value;
     home = local;
     double value = 0.0;
-    const bool accepted = SlowPath(home, i, u, &value);
+    const bool accepted = SlowPath(home, static_cast<int>(bits & 0xFF), Uniform53(bits), &value);
     local = home;
-    if (accepted) return std::bit_cast<double>(std::bit_cast<uint64_t>(value) ^ sign);
+    if (accepted) return std::bit_cast<double>(std::bit_cast<uint64_t>(value) ^ SignBit(bits));
   }
 }
 
@@ -96,8 +114,39 @@ double ZigguratNormal(Rng& rng) {
 }
 
 void FillStandardNormal(Rng& rng, std::span<double> out) {
+  // Same numbers and the same final stream state as calling ZigguratNormal
+  // out.size() times, but faster: the generator's recurrence runs alone over
+  // a batch of raw draws (its latency chain is then the only dependency), and
+  // the table lookups follow in a second loop. When a draw needs the slow path
+  // (about 1 in 100), the stream is rewound to just after that draw, which is
+  // where the one-at-a-time code would be, and the batch is restarted there.
+  // A batch never holds more draws than outputs still owed, so the stream is
+  // never advanced past the last draw the sequential code would make.
+  constexpr size_t kBatch = 16;
+  std::array<uint64_t, kBatch> bits;
   Rng local = rng;
-  for (double& v : out) v = Draw(local, rng);
+  size_t done = 0;
+  const size_t n = out.size();
+  while (done < n) {
+    const size_t b = std::min(kBatch, n - done);
+    const Rng start = local;
+    for (size_t j = 0; j < b; ++j) bits[j] = local.NextU64();
+    size_t j = 0;
+    for (; j < b; ++j) {
+      const Fast f = FastPath(bits[j]);
+      if (!f.accepted) break;
+      out[done + j] = f.value;
+    }
+    done += j;
+    if (j == b) continue;
+    local = start;
+    for (size_t t = 0; t <= j; ++t) local.NextU64();
+    const int layer = static_cast<int>(bits[j] & 0xFF);
+    double value = 0.0;
+    if (SlowPath(local, layer, Uniform53(bits[j]), &value)) {
+      out[done++] = std::bit_cast<double>(std::bit_cast<uint64_t>(value) ^ SignBit(bits[j]));
+    }
+  }
   rng = local;
 }
 

@@ -105,7 +105,7 @@ void MergeSortedPoints(std::span<const double> w, size_t count, PointFn point, i
   }
 }
 
-__attribute__((target_clones("avx2", "default"))) void NegLogInPlace(double* v, size_t n) {
+__attribute__((target_clones("avx512f", "avx2", "default"))) void NegLogInPlace(double* v, size_t n) {
   for (size_t i = 0; i < n; ++i) v[i] = -internal::FastLog(v[i]);
 }
 
@@ -325,7 +325,7 @@ double PotentialAt(const std::vector<Charge>& charges, ChargePotential potential
 
 // Vectorised pass: acceptance probability exp(-beta U) of every candidate.
 // Charge-outer, candidate-inner so the inner loop is a plain map.
-__attribute__((target_clones("avx2", "default"))) void AcceptanceProbabilities(
+__attribute__((target_clones("avx512f", "avx2", "default"))) void AcceptanceProbabilities(
     const Charge* charges, size_t num_charges, bool gaussian, double q, double beta, double eps2,
     const double* x, const double* y, double* u, double* accept, size_t n) {
   for (size_t i = 0; i < n; ++i) u[i] = 0.0;

@@ -203,6 +203,29 @@ void ParseLineGeneral(std::string_view line, const std::string& path, int line_n
 #else
 #define HCPF_METRICS_X87_DECIMALS 0
 #endif
+// If the 8 bytes at p are all ASCII digits, sets *value to their decimal
+// value and returns true. SWAR: each byte minus '0' must be below 10 (checked
+// on all lanes at once: no byte has a high nibble other than 3, and adding 6
+// carries none of them out of the low nibble); then adjacent lanes are merged
+// pairwise (x 10), the pairs into fours (x 100) and the fours into eight
+// (x 10^4) with multiplications that keep every partial sum in its own lane.
+inline bool SwarEightDigits(const char* p, uint32_t* value) {
+  uint64_t v = 0;
+  std::memcpy(&v, p, sizeof(v));  // little-endian: p[0] is the low byte
+  constexpr uint64_t kHigh = 0xF0F0F0F0F0F0F0F0ULL;
+  constexpr uint64_t kZeros = 0x3030303030303030ULL;
+  if ((v & kHigh) != kZeros || ((v + 0x0606060606060606ULL) & kHigh) != kZeros) return false;
+  v -= kZeros;  // lanes d0..d7, d0 the most significant digit
+  // Pairs: byte 2k becomes 10 d_{2k} + d_{2k+1} (at most 99: no carry).
+  v = (v * 10 + (v >> 8)) & 0x00FF00FF00FF00FFULL;
+  // Fours: 100 * pair_{k} + pair_{k+1} in 16-bit lanes 0 and 2.
+  v = (v * 100 + (v >> 16)) & 0x0000FFFF0000FFFFULL;
+  // Eight: 10^4 * four_0 + four_1.
+  v = (v * 10000 + (v >> 32)) & 0xFFFFFFFFULL;
+  *value = static_cast<uint32_t>(v);
+  return true;
+}
+
 struct ShortDecimal {
   double value = 0.0;
   bool is_integer = false;  // no '.': `integer` holds the exact value
@@ -224,21 +247,30 @@ inline const char* ParseShortDecimal(const char* p, const char* end, ShortDecima
   if (negative) ++q;
   uint64_t m = 0;
   int digits = 0;
-  while (q < end && static_cast<unsigned>(*q - '0') < 10u) {
-    if (++digits > kMaxDigits) return nullptr;
-    m = m * 10 + static_cast<unsigned>(*q - '0');
-    ++q;
-  }
+  // Eight digits at a time while they fit (SwarEightDigits), then one by one.
+  auto eat_digits = [&](int* counted) -> bool {
+    uint32_t eight = 0;
+    while (digits + 8 <= kMaxDigits && end - q >= 8 && SwarEightDigits(q, &eight)) {
+      m = m * 100000000u + eight;
+      digits += 8;
+      *counted += 8;
+      q += 8;
+    }
+    while (q < end && static_cast<unsigned>(*q - '0') < 10u) {
+      if (++digits > kMaxDigits) return false;
+      m = m * 10 + static_cast<unsigned>(*q - '0');
+      ++q;
+      ++*counted;
+    }
+    return true;
+  };
+  int integer_digits = 0;
+  if (!eat_digits(&integer_digits)) return nullptr;
   int fraction = 0;
   const bool dot = q < end && *q == '.';
   if (dot) {
     ++q;
-    while (q < end && static_cast<unsigned>(*q - '0') < 10u) {
-      if (++digits > kMaxDigits) return nullptr;
-      m = m * 10 + static_cast<unsigned>(*q - '0');
-      ++q;
-      ++fraction;
-    }
+    if (!eat_digits(&fraction)) return nullptr;
   }
   if (digits == 0) return nullptr;
   if (q < end && (*q == 'e' || *q == 'E')) return nullptr;

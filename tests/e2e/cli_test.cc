@@ -61,6 +61,28 @@ TEST(Cli, RunWritesEveryOutputAndSucceeds) {
   EXPECT_FALSE(fs::exists(out.string() + ".partial-" + std::to_string(0)));
 }
 
+// `hcpf score` runs in the thin executable: neither the command library nor
+// OpenCV (nor anything else only the other commands need) is loaded, which is
+// what keeps the whole-process time low (cli/src/main.cc). LD_DEBUG=libs makes
+// the dynamic loader list every library it loads.
+TEST(Cli, ScoreRunsWithoutLoadingTheFullProgram) {
+  const fs::path out = FreshDir("score_thin") / "crossing";
+  ASSERT_EQ(RunCommand(kHcpf + " run " + Scenario("crossing") + " --out " + out.string()).exit_code, 0);
+  for (const std::string args : {" score ", " --log-level warn score "}) {
+    const auto r = RunCommand("LD_DEBUG=libs " + kHcpf + args + (out / "gt" / "gt.txt").string() + " " +
+                              (out / "tracks.txt").string());
+    ASSERT_EQ(r.exit_code, 0) << r.output;
+    EXPECT_NE(r.output.find("HOTA"), std::string::npos) << r.output;
+    EXPECT_NE(r.output.find("libstdc++"), std::string::npos) << "LD_DEBUG had no effect:\n" << r.output;
+    EXPECT_EQ(r.output.find("libhcpf_cli"), std::string::npos) << r.output;
+    EXPECT_EQ(r.output.find("libopencv"), std::string::npos) << r.output;
+  }
+  // Every other command goes through the library.
+  const auto r = RunCommand("LD_DEBUG=libs " + kHcpf + " validate " + Scenario("crossing"));
+  EXPECT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("libhcpf_cli"), std::string::npos) << r.output;
+}
+
 TEST(Cli, SameScenarioGivesByteIdenticalOutputs) {
   const fs::path dir = FreshDir("determinism");
   for (const char* name : {"a", "b"}) {

@@ -1,0 +1,64 @@
+// hcpf: the HCPF Bench command line. Parses arguments, dispatches to the
+// subcommand, maps errors to exit codes (0 ok, 1 run failed, 2 bad input).
+
+#include "app.h"
+
+#include <spdlog/sinks/stdout_color_sinks.h>
+#include <spdlog/spdlog.h>
+
+#include <CLI/CLI.hpp>
+#include <cstdio>
+#include <exception>
+#include <vector>
+
+#include "hcpf/core/error.h"
+
+namespace hcpf::cli {
+
+int RunApp(int argc, char** argv, std::span<const AddCommandFn> adders, const std::string& version) {
+  // Logging goes to stderr; stdout is reserved for requested machine output.
+  auto logger = spdlog::stderr_color_mt("hcpf");
+  spdlog::set_default_logger(logger);
+  spdlog::set_pattern("[%H:%M:%S.%e] [%^%l%$] %v");
+
+  CLI::App app{"HCPF Bench: synthetic-scene evaluation harness for multi-target tracking"};
+  if (!version.empty()) app.set_version_flag("--version", version);
+  app.require_subcommand(1);
+  std::string log_level = "info";
+  app.add_option("--log-level", log_level, "trace, debug, info, warn, error or off")
+      ->check(CLI::IsMember({"trace", "debug", "info", "warn", "error", "off"}))
+      ->capture_default_str();
+
+  std::vector<Command> commands;
+  for (const AddCommandFn add : adders) commands.push_back(add(app));
+
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::CallForHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::CallForAllHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::CallForVersion& e) {
+    return app.exit(e);
+  } catch (const CLI::ParseError& e) {
+    app.exit(e);
+    return 2;
+  }
+  spdlog::set_level(spdlog::level::from_str(log_level));
+
+  for (const auto& command : commands) {
+    if (!command.app->parsed()) continue;
+    try {
+      return command.run();
+    } catch (const hcpf::InputError& e) {
+      spdlog::error("{}", e.what());
+      return 2;
+    } catch (const std::exception& e) {
+      spdlog::error("{} failed: {}", command.app->get_name(), e.what());
+      return 1;
+    }
+  }
+  return 2;
+}
+
+}  // namespace hcpf::cli

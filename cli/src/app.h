@@ -1,0 +1,20 @@
+#pragma once
+// The `hcpf` argument parser and dispatcher, shared by the thin executable
+// (main.cc, which runs `hcpf score` itself) and the library with every
+// command (entry.cc, libhcpf_cli.so). See main.cc for why there are two.
+
+#include <span>
+#include <string>
+
+#include "command.h"
+
+namespace hcpf::cli {
+
+using AddCommandFn = Command (*)(CLI::App&);
+
+// Sets up logging (stderr), parses argv with the given subcommands, runs the
+// chosen one and maps errors to exit codes (0 ok, 1 run failed, 2 bad input).
+// `version` is printed by --version; empty: no --version flag.
+int RunApp(int argc, char** argv, std::span<const AddCommandFn> commands, const std::string& version);
+
+}  // namespace hcpf::cli

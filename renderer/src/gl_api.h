@@ -98,7 +98,8 @@ using DrawElementsFn = void(APIENTRYP)(GLenum mode, GLsizei count, GLenum type,
   X(PFNGLVERTEXATTRIBPOINTERPROC, VertexAttribPointer, "glVertexAttribPointer") \
   X(PFNGLENABLEVERTEXATTRIBARRAYPROC, EnableVertexAttribArray,                 \
     "glEnableVertexAttribArray")                                               \
-  X(DrawElementsFn, DrawElements, "glDrawElements")
+  X(DrawElementsFn, DrawElements, "glDrawElements")                            \
+  X(PFNGLMULTIDRAWELEMENTSPROC, MultiDrawElements, "glMultiDrawElements")
 
 struct GlApi {
 #define HCPF_GL_MEMBER(type, member, name) type member = nullptr;

@@ -443,6 +443,30 @@ TEST_F(RendererGl, GoldenNadirShadows) {
   CompareWithGolden(Make(w, options)->Render(0).rgb, "nadir_shadows.png");
 }
 
+// Terrain cells the road mask cannot touch are drawn without the road
+// lookups (RendererOptions::split_road_cells); that must change no pixel. The
+// golden scene at 320x240 has roads crossing the view, so both kinds of cell
+// are on screen, and a cell wrongly taken as road-free would lose its road.
+TEST_F(RendererGl, RoadFreeCellVariantChangesNoPixel) {
+  WorldSpec w = GoldenWorld();
+  w.camera.width_px = 320;
+  w.camera.height_px = 240;
+  RendererOptions split;
+  RendererOptions whole;
+  whole.split_road_cells = false;
+  auto a = SceneRenderer::Create(w, split, Rng(3), g_context);
+  auto b = SceneRenderer::Create(w, whole, Rng(3), g_context);
+  WorldSpec no_roads = w;
+  no_roads.terrain.roads = false;
+  auto c = SceneRenderer::Create(no_roads, split, Rng(3), g_context);
+  for (int frame = 0; frame < w.frames; frame += 3) {
+    const RgbImage with_split = a->Render(frame).rgb;
+    ASSERT_EQ(with_split.pixels, b->Render(frame).rgb.pixels) << "frame " << frame;
+    // And the roads are there to be kept: without them the frame differs.
+    EXPECT_NE(with_split.pixels, c->Render(frame).rgb.pixels) << "frame " << frame;
+  }
+}
+
 TEST_F(RendererGl, SameSceneRendersByteIdenticalFramesTwice) {
   const WorldSpec w = GoldenWorld();
   RendererOptions options;

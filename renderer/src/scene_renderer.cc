@@ -12,6 +12,7 @@
 #include <limits>
 #include <map>
 #include <numbers>
+#include <optional>
 
 #include "gl_api.h"
 #include "hcpf/core/check.h"
@@ -58,10 +59,10 @@ struct GpuMesh {
 // A block of terrain cells drawn or culled together.
 struct TerrainTile {
   size_t first = 0;  // first index
-  GLsizei count = 0;
-  // The first road_count indices are the tile's cells that a road may touch,
-  // the rest are cells where the road mask is zero (see BuildTerrain).
-  GLsizei road_count = 0;
+  // The tile's cells in three runs (see BuildTerrainIndices): part 0 cells a
+  // road may touch, part 1 other cells a shadow may fall on, part 2 the rest;
+  // part k is [first + start[k], first + start[k + 1]).
+  std::array<GLsizei, 4> start{};
   Eigen::Vector3f lo;
   Eigen::Vector3f hi;
 };
@@ -110,6 +111,7 @@ class GlSceneRenderer final : public SceneRenderer {
     BuildTerrain();
     BuildOccluders();
     BuildVehicles();
+    BuildTerrainIndices();
     gl_.CheckError("scene upload");
   }
 
@@ -135,6 +137,7 @@ class GlSceneRenderer final : public SceneRenderer {
     gl_.DeleteRenderbuffers(2, rbs);
     gl_.DeleteProgram(object_program_.id);
     gl_.DeleteProgram(terrain_program_.id);
+    if (terrain_shadow_program_.id != 0) gl_.DeleteProgram(terrain_shadow_program_.id);
     if (terrain_plain_program_.id != 0) gl_.DeleteProgram(terrain_plain_program_.id);
     gl_.DeleteProgram(id_program_.id);
     gl_.DeleteProgram(shadow_program_);
@@ -157,11 +160,19 @@ class GlSceneRenderer final : public SceneRenderer {
   void BuildFramebuffers();
   void BuildTextures();
   void BuildTerrain();
+  // The terrain's index buffer, cells grouped by tile and by part (needs the
+  // occluders and vehicles: BuildTerrain has uploaded the vertices).
+  void BuildTerrainIndices();
   // Whether the road mask may be non-zero anywhere the shader samples it over
-  // terrain cell (i, j) of a grid x grid terrain (always true without roads).
+  // terrain cell (i, j) of a grid x grid terrain.
   bool RoadMayTouchCell(int i, int j, int grid) const;
-  // Draws the visible tiles' road cells (roads = true) or their other cells.
-  void DrawTerrain(const Eigen::Matrix4f& view_proj, bool roads) const;
+  // Ground rectangles (x0, y0, x1, y1) outside which no shadow falls in any
+  // frame: every caster's box swept along the sun to the terrain, plus the
+  // shadow map's filter footprint. Empty with a full rectangle when the sun
+  // is too low to bound the shadows.
+  std::vector<Eigen::AlignedBox2d> ShadowFootprints() const;
+  // Draws part `part` (0, 1, 2: see TerrainTile) of the visible tiles.
+  void DrawTerrain(const Eigen::Matrix4f& view_proj, int part) const;
   // Height of the rendered terrain mesh (the triangles, not the analytic
   // field) at (x, y): vehicles stand on what is drawn.
   double MeshHeightAt(double x_m, double y_m) const;
@@ -197,9 +208,12 @@ class GlSceneRenderer final : public SceneRenderer {
   };
   // Colour-pass variants (see shaders.h) and the count-pass program.
   Program object_program_;
+  // Terrain variants for the three parts of each tile (TerrainTile): all
+  // features on; without the road lookups (cells the road mask does not
+  // touch); without road and shadow lookups (cells no shadow can reach
+  // either). Ids are 0 when not built (split_road_cells off).
   Program terrain_program_;
-  // The terrain without the road lookups, for cells the road mask does not
-  // touch (0 when roads are off: terrain_program_ has no roads then).
+  Program terrain_shadow_program_;
   Program terrain_plain_program_;
   Program id_program_;
   const Program* current_ = nullptr;
@@ -233,7 +247,9 @@ class GlSceneRenderer final : public SceneRenderer {
   std::vector<size_t> target_model_;  // per target: index into models_
   std::vector<uint8_t> rgba_;
   std::vector<uint8_t> region_;
-  internal::Texture8 road_mask_;  // as uploaded to mask_tex_ (kept for BuildTerrain)
+  internal::Texture8 road_mask_;  // as uploaded to mask_tex_ (kept for BuildTerrainIndices)
+  // World boxes of the occluders, for the cells their shadows may reach.
+  std::vector<Eigen::AlignedBox3d> occluder_boxes_;
 
   // Location of a uniform in the current program (-1 when the variant does
   // not use it: glUniform* ignores -1).
@@ -304,8 +320,9 @@ void GlSceneRenderer::BuildPrograms() {
   object_program_ = MakeProgram(common);
   terrain_program_ =
       MakeProgram(common + "#define TERRAIN\n" + (world_.terrain.roads ? "#define ROADS\n" : ""));
-  if (world_.terrain.roads && options_.split_road_cells) {
-    terrain_plain_program_ = MakeProgram(common + "#define TERRAIN\n");
+  if (options_.split_road_cells) {
+    terrain_shadow_program_ = MakeProgram(common + "#define TERRAIN\n");
+    terrain_plain_program_ = MakeProgram("#define TERRAIN\n");
   }
   id_program_ = MakeProgram("#define ID_ONLY\n");
   shadow_program_ = Link(internal::kShadowVertexShader, internal::kShadowFragmentShader);
@@ -481,46 +498,150 @@ void GlSceneRenderer::BuildTerrain() {
       mesh.colors.emplace_back(1.0f, 1.0f, 1.0f);
     }
   }
-  const auto v = [&](int i, int j) { return static_cast<uint32_t>(j * (grid + 1) + i); };
-  // Indices grouped by tile so that tiles outside the view can be skipped
-  // (llvmpipe's geometry stage is single-threaded: unseen triangles cost).
-  for (int tj = 0; tj < grid; tj += kTerrainTileCells) {
-    for (int ti = 0; ti < grid; ti += kTerrainTileCells) {
-      TerrainTile tile;
-      tile.first = mesh.indices.size();
-      tile.lo = Eigen::Vector3f::Constant(std::numeric_limits<float>::max());
-      tile.hi = -tile.lo;
-      // Road cells first, then the cells the road mask cannot touch: the
-      // latter are drawn without the two road lookups (a fifth of a frame's
-      // cost), which changes no pixel: there the mask samples to exactly 0,
-      // and mix(albedo, road, 0) is albedo.
-      for (const bool road_pass : {true, false}) {
-        for (int j = tj; j < std::min(grid, tj + kTerrainTileCells); ++j) {
-          for (int i = ti; i < std::min(grid, ti + kTerrainTileCells); ++i) {
-            if (RoadMayTouchCell(i, j, grid) != road_pass) continue;
-            const uint32_t quad[6] = {v(i, j), v(i + 1, j), v(i + 1, j + 1),
-                                      v(i, j), v(i + 1, j + 1), v(i, j + 1)};
-            for (uint32_t q : quad) {
-              mesh.indices.push_back(q);
-              tile.lo = tile.lo.cwiseMin(mesh.positions[q]);
-              tile.hi = tile.hi.cwiseMax(mesh.positions[q]);
-            }
-          }
-        }
-        if (road_pass) tile.road_count = static_cast<GLsizei>(mesh.indices.size() - tile.first);
-      }
-      tile.count = static_cast<GLsizei>(mesh.indices.size() - tile.first);
-      tiles_.push_back(tile);
-    }
-  }
   terrain_ = Upload(mesh);
   scene_bottom_m_ = -0.5 * t.relief_m;
   scene_top_m_ = 0.5 * t.relief_m;
 }
 
+void GlSceneRenderer::BuildTerrainIndices() {
+  const int grid = terrain_cells_;
+  const TerrainSpec& t = world_.terrain;
+  const auto v = [&](int i, int j) { return static_cast<uint32_t>(j * (grid + 1) + i); };
+  // Vertex q as BuildTerrain placed it (for the tiles' culling boxes).
+  const auto terrain_vertex = [&](uint32_t q) {
+    const int i = static_cast<int>(q % static_cast<uint32_t>(grid + 1));
+    const int j = static_cast<int>(q / static_cast<uint32_t>(grid + 1));
+    return Eigen::Vector3f(static_cast<float>(-0.5 * t.size_m.x() + t.size_m.x() * i / grid),
+                           static_cast<float>(-0.5 * t.size_m.y() + t.size_m.y() * j / grid),
+                           terrain_heights_[q]);
+  };
+  // Which part each cell belongs to. The cheaper variants change no pixel
+  // where they are used: there the road mask samples to exactly 0 (and
+  // mix(albedo, road, 0) is albedo), and every shadow-map tap reads the
+  // cleared depth 1 or the border (so Lit() is exactly 1). Without the split
+  // every cell is part 0, drawn with every feature.
+  const std::vector<Eigen::AlignedBox2d> shadows =
+      shadows_ ? ShadowFootprints() : std::vector<Eigen::AlignedBox2d>{};
+  const auto part_of = [&](int i, int j) {
+    if (!options_.split_road_cells) return 0;
+    if (t.roads && RoadMayTouchCell(i, j, grid)) return 0;
+    const Eigen::AlignedBox2d cell(
+        Eigen::Vector2d(-0.5 * t.size_m.x() + t.size_m.x() * i / grid,
+                        -0.5 * t.size_m.y() + t.size_m.y() * j / grid),
+        Eigen::Vector2d(-0.5 * t.size_m.x() + t.size_m.x() * (i + 1) / grid,
+                        -0.5 * t.size_m.y() + t.size_m.y() * (j + 1) / grid));
+    for (const Eigen::AlignedBox2d& f : shadows) {
+      if (f.intersects(cell)) return 1;
+    }
+    return 2;
+  };
+  std::vector<uint32_t> indices;
+  std::vector<int> parts(static_cast<size_t>(grid) * grid);
+  for (int j = 0; j < grid; ++j) {
+    for (int i = 0; i < grid; ++i) parts[static_cast<size_t>(j) * grid + i] = part_of(i, j);
+  }
+  // Indices grouped by tile so that tiles outside the view can be skipped
+  // (llvmpipe's geometry stage is single-threaded: unseen triangles cost),
+  // and by part within a tile.
+  for (int tj = 0; tj < grid; tj += kTerrainTileCells) {
+    for (int ti = 0; ti < grid; ti += kTerrainTileCells) {
+      TerrainTile tile;
+      tile.first = indices.size();
+      tile.lo = Eigen::Vector3f::Constant(std::numeric_limits<float>::max());
+      tile.hi = -tile.lo;
+      for (int part = 0; part < 3; ++part) {
+        tile.start[static_cast<size_t>(part)] = static_cast<GLsizei>(indices.size() - tile.first);
+        for (int j = tj; j < std::min(grid, tj + kTerrainTileCells); ++j) {
+          for (int i = ti; i < std::min(grid, ti + kTerrainTileCells); ++i) {
+            if (parts[static_cast<size_t>(j) * grid + i] != part) continue;
+            const uint32_t quad[6] = {v(i, j), v(i + 1, j), v(i + 1, j + 1),
+                                      v(i, j), v(i + 1, j + 1), v(i, j + 1)};
+            for (uint32_t q : quad) {
+              indices.push_back(q);
+              const Eigen::Vector3f p = terrain_vertex(q);
+              tile.lo = tile.lo.cwiseMin(p);
+              tile.hi = tile.hi.cwiseMax(p);
+            }
+          }
+        }
+      }
+      tile.start[3] = static_cast<GLsizei>(indices.size() - tile.first);
+      tiles_.push_back(tile);
+    }
+  }
+  gl_.BindVertexArray(terrain_.vao);
+  gl_.BindBuffer(GL_ELEMENT_ARRAY_BUFFER, terrain_.ibo);
+  gl_.BufferData(GL_ELEMENT_ARRAY_BUFFER, static_cast<GLsizeiptr>(indices.size() * sizeof(uint32_t)),
+                 indices.data(), GL_STATIC_DRAW);
+  gl_.BindVertexArray(0);
+  terrain_.index_count = static_cast<GLsizei>(indices.size());
+}
+
+std::vector<Eigen::AlignedBox2d> GlSceneRenderer::ShadowFootprints() const {
+  const TerrainSpec& t = world_.terrain;
+  const Eigen::Vector3d sun = world_.sun.Direction().normalized();
+  const Eigen::AlignedBox2d everywhere(-0.5 * t.size_m - Eigen::Vector2d::Ones(),
+                                       0.5 * t.size_m + Eigen::Vector2d::Ones());
+  // Below ~3 degrees shadows run for kilometres: no bound worth having.
+  if (sun.z() < 0.05) return {everywhere};
+  // A shadow-map texel is at most the light-space extent of the scene box
+  // over the map size (the map is fitted to the view, never beyond the
+  // terrain), and a texel seen obliquely covers 1 / sin(elevation) of that on
+  // the ground. The filter reads pcf_radius + 1 texels either side of the
+  // point; one more texel and a metre cover rounding.
+  const double bottom = scene_bottom_m_ - 1.0;
+  const double top = 0.5 * t.relief_m + 1.0;  // highest terrain point, + 1 m
+  const double extent = t.size_m.x() + t.size_m.y() + (scene_top_m_ - scene_bottom_m_) + 4.0;
+  const double texel = extent / shadow_size_;
+  const double margin = (options_.pcf_radius + 2) * texel / sun.z() + 1.0;
+  std::vector<Eigen::AlignedBox2d> out;
+  const auto add = [&](const Eigen::AlignedBox3d& box) {
+    Eigen::AlignedBox2d f;
+    for (int c = 0; c < 8; ++c) {
+      const Eigen::Vector3d p = box.corner(static_cast<Eigen::AlignedBox3d::CornerType>(c));
+      f.extend(p.head<2>());
+      // Where the ray from p away from the sun meets the lowest and the
+      // highest terrain: the shadow of p lies between the two.
+      for (const double z : {bottom, top}) {
+        if (p.z() <= z) continue;
+        f.extend((p - (p.z() - z) / sun.z() * sun).head<2>());
+      }
+    }
+    f.min().array() -= margin;
+    f.max().array() += margin;
+    out.push_back(f);
+  };
+  for (const Eigen::AlignedBox3d& box : occluder_boxes_) add(box);
+  // Vehicles: a box around their positions over a few frames (radius: half
+  // the diagonal of the footprint, so any heading; the distance driven
+  // between frames is added), from the ground to roof height.
+  constexpr int kFramesPerBox = 8;
+  for (const TargetSpec& spec : world_.targets) {
+    const double radius = 0.5 * spec.dimensions_m.head<2>().norm();
+    Eigen::AlignedBox3d box;
+    int in_box = 0;
+    std::optional<Eigen::Vector3d> last;
+    for (int f = 0; f < std::max(world_.frames, 1); ++f) {
+      const TargetPose pose = EvaluateTarget(spec, t, f, world_.fps);
+      if (!pose.present) continue;
+      const Eigen::Vector3d at = pose.position_m;
+      const double step = last ? (at - *last).head<2>().norm() : 0.0;
+      last = at;
+      const double r = radius + step + 0.5;
+      box.extend(Eigen::Vector3d(at.x() - r, at.y() - r, bottom));
+      box.extend(Eigen::Vector3d(at.x() + r, at.y() + r, top + spec.dimensions_m.z()));
+      if (++in_box == kFramesPerBox) {
+        add(box);
+        box.setEmpty();
+        in_box = 0;
+      }
+    }
+    if (in_box > 0) add(box);
+  }
+  return out;
+}
+
 bool GlSceneRenderer::RoadMayTouchCell(int i, int j, int grid) const {
-  // Without the split one program draws everything.
-  if (!world_.terrain.roads || !options_.split_road_cells) return true;
   // The cell spans [i, i+1] x [j, j+1] / grid in mask coordinates (the
   // shader's (xy - min) / size); a bilinear lookup at u reads texels
   // floor(u M - 0.5) and the next one, clamped to the edge. Two texels of
@@ -557,6 +678,7 @@ void GlSceneRenderer::BuildOccluders() {
       for (auto& n : m.normals) n = r * n;
       mesh.Append(m);
       const Eigen::AlignedBox3f bounds = m.Bounds();
+      occluder_boxes_.push_back(bounds.cast<double>());
       scene_top_m_ = std::max(scene_top_m_, double{bounds.max().z()});
       continue;
     }
@@ -580,6 +702,9 @@ void GlSceneRenderer::BuildOccluders() {
       builder.AddOrientedBox(boxes[b].centre_m.cast<float>(), boxes[b].half_size_m.cast<float>(),
                              static_cast<float>(boxes[b].yaw_deg * kDegToRad), color);
       scene_top_m_ = std::max(scene_top_m_, boxes[b].centre_m.z() + boxes[b].half_size_m.z());
+      Eigen::AlignedBox3d world_box;
+      for (const Eigen::Vector3d& c : boxes[b].Corners()) world_box.extend(c);
+      occluder_boxes_.push_back(world_box);
 
     }
   }
@@ -732,7 +857,7 @@ double GlSceneRenderer::MeshHeightAt(double x_m, double y_m) const {
   return h(i, j) + fy * (h(i, j + 1) - h(i, j)) + fx * (h(i + 1, j + 1) - h(i, j + 1));
 }
 
-void GlSceneRenderer::DrawTerrain(const Eigen::Matrix4f& view_proj, bool roads) const {
+void GlSceneRenderer::DrawTerrain(const Eigen::Matrix4f& view_proj, int part) const {
   gl_.BindVertexArray(terrain_.vao);
   // Clip-space test of each tile's box: culled when all 8 corners lie
   // outside the same frustum plane. The visible tiles' parts go out in one
@@ -741,8 +866,9 @@ void GlSceneRenderer::DrawTerrain(const Eigen::Matrix4f& view_proj, bool roads) 
   std::vector<const void*> offsets;
   size_t run_end = 0;  // index after the last part added
   for (const TerrainTile& tile : tiles_) {
-    const size_t first = roads ? tile.first : tile.first + static_cast<size_t>(tile.road_count);
-    const GLsizei count = roads ? tile.road_count : tile.count - tile.road_count;
+    const auto k = static_cast<size_t>(part);
+    const size_t first = tile.first + static_cast<size_t>(tile.start[k]);
+    const GLsizei count = tile.start[k + 1] - tile.start[k];
     if (count == 0) continue;
     int outside[6] = {0, 0, 0, 0, 0, 0};
     for (int c = 0; c < 8; ++c) {
@@ -877,12 +1003,16 @@ RenderedFrame GlSceneRenderer::Render(int frame) {
   Use(terrain_program_);
   SetFrameUniforms(view_proj, light_view_proj, light_depth_m);
   SetModel(Eigen::Matrix4f::Identity());
-  DrawTerrain(view_proj, true);
-  if (terrain_plain_program_.id != 0) {
+  DrawTerrain(view_proj, 0);
+  if (options_.split_road_cells) {
+    Use(terrain_shadow_program_);
+    SetFrameUniforms(view_proj, light_view_proj, light_depth_m);
+    SetModel(Eigen::Matrix4f::Identity());
+    DrawTerrain(view_proj, 1);
     Use(terrain_plain_program_);
     SetFrameUniforms(view_proj, light_view_proj, light_depth_m);
     SetModel(Eigen::Matrix4f::Identity());
-    DrawTerrain(view_proj, false);
+    DrawTerrain(view_proj, 2);
   }
   gl_.CheckError("colour pass");
 

@@ -444,10 +444,13 @@ TEST_F(RendererGl, GoldenNadirShadows) {
 }
 
 // Terrain cells the road mask cannot touch are drawn without the road
-// lookups (RendererOptions::split_road_cells); that must change no pixel. The
-// golden scene at 320x240 has roads crossing the view, so both kinds of cell
-// are on screen, and a cell wrongly taken as road-free would lose its road.
-TEST_F(RendererGl, RoadFreeCellVariantChangesNoPixel) {
+// lookups, and those no shadow can reach without the shadow lookup too
+// (RendererOptions::split_road_cells); that must change no pixel. The golden
+// scene at 320x240 has roads crossing the view and shadows of a building, a
+// tree, a bridge and three vehicles, next to cells with neither: a cell
+// wrongly taken as road-free loses its road, one wrongly taken as
+// shadow-free loses its shadow (both checked by breaking the classifier).
+TEST_F(RendererGl, CheaperTerrainVariantsChangeNoPixel) {
   WorldSpec w = GoldenWorld();
   w.camera.width_px = 320;
   w.camera.height_px = 240;

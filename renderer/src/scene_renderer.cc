@@ -520,20 +520,28 @@ void GlSceneRenderer::BuildTerrainIndices() {
   // mix(albedo, road, 0) is albedo), and every shadow-map tap reads the
   // cleared depth 1 or the border (so Lit() is exactly 1). Without the split
   // every cell is part 0, drawn with every feature.
-  const std::vector<Eigen::AlignedBox2d> shadows =
-      shadows_ ? ShadowFootprints() : std::vector<Eigen::AlignedBox2d>{};
+  // Cells a shadow may reach: each footprint marks the cells its rectangle
+  // overlaps (cost: the cells covered, not cells x footprints).
+  std::vector<uint8_t> shaded(static_cast<size_t>(grid) * grid, 0);
+  if (shadows_ && options_.split_road_cells) {
+    const auto cell_range = [&](double lo, double hi, double size) {
+      const double c0 = std::floor((lo + 0.5 * size) / size * grid);
+      const double c1 = std::floor((hi + 0.5 * size) / size * grid);
+      return std::pair(static_cast<int>(std::clamp(c0, 0.0, grid - 1.0)),
+                       static_cast<int>(std::clamp(c1, 0.0, grid - 1.0)));
+    };
+    for (const Eigen::AlignedBox2d& f : ShadowFootprints()) {
+      const auto [i0, i1] = cell_range(f.min().x(), f.max().x(), t.size_m.x());
+      const auto [j0, j1] = cell_range(f.min().y(), f.max().y(), t.size_m.y());
+      for (int j = j0; j <= j1; ++j) {
+        for (int i = i0; i <= i1; ++i) shaded[static_cast<size_t>(j) * grid + i] = 1;
+      }
+    }
+  }
   const auto part_of = [&](int i, int j) {
     if (!options_.split_road_cells) return 0;
     if (t.roads && RoadMayTouchCell(i, j, grid)) return 0;
-    const Eigen::AlignedBox2d cell(
-        Eigen::Vector2d(-0.5 * t.size_m.x() + t.size_m.x() * i / grid,
-                        -0.5 * t.size_m.y() + t.size_m.y() * j / grid),
-        Eigen::Vector2d(-0.5 * t.size_m.x() + t.size_m.x() * (i + 1) / grid,
-                        -0.5 * t.size_m.y() + t.size_m.y() * (j + 1) / grid));
-    for (const Eigen::AlignedBox2d& f : shadows) {
-      if (f.intersects(cell)) return 1;
-    }
-    return 2;
+    return shaded[static_cast<size_t>(j) * grid + i] != 0 ? 1 : 2;
   };
   std::vector<uint32_t> indices;
   std::vector<int> parts(static_cast<size_t>(grid) * grid);

@@ -25,7 +25,7 @@ int RunApp(int argc, char** argv, std::span<const AddCommandFn> adders, const st
   if (!version.empty()) app.set_version_flag("--version", version);
   app.require_subcommand(1);
   std::string log_level = "info";
-  app.add_option("--log-level", log_level, "trace, debug, info, warn, error or off")
+  app.add_option(kLogLevelOption, log_level, "trace, debug, info, warn, error or off")
       ->check(CLI::IsMember({"trace", "debug", "info", "warn", "error", "off"}))
       ->capture_default_str();
 

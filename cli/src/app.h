@@ -12,6 +12,10 @@ namespace hcpf::cli {
 
 using AddCommandFn = Command (*)(CLI::App&);
 
+// The one global option that takes a value (main.cc skips it to find the
+// subcommand before parsing).
+inline constexpr const char* kLogLevelOption = "--log-level";
+
 // Sets up logging (stderr), parses argv with the given subcommands, runs the
 // chosen one and maps errors to exit codes (0 ok, 1 run failed, 2 bad input).
 // `version` is printed by --version; empty: no --version flag.

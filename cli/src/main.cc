@@ -9,25 +9,23 @@
 // target (docs/metrics.md, Performance); the other commands run for seconds
 // to hours, where a millisecond of dlopen is nothing.
 
-#include <dlfcn.h>
-
 #include <array>
 #include <cstdio>
-#include <cstring>
-#include <filesystem>
 #include <string>
 #include <string_view>
 
 #include "app.h"
+#include "hcpf/core/shared_library.h"
 
 namespace {
 
 // The subcommand named on the command line: the first argument that is not an
-// option or the value of --log-level (the only global option taking a value).
+// option or the value of --log-level (the only global option taking a value,
+// see RunApp).
 std::string_view Subcommand(int argc, char** argv) {
   for (int i = 1; i < argc; ++i) {
     const std::string_view arg = argv[i];
-    if (arg == "--log-level") {
+    if (arg == hcpf::cli::kLogLevelOption) {
       ++i;
       continue;
     }
@@ -39,23 +37,10 @@ std::string_view Subcommand(int argc, char** argv) {
 using EntryFn = int (*)(int, char**);
 
 int RunFullCli(int argc, char** argv) {
-  std::error_code ec;
-  const auto exe_dir = std::filesystem::read_symlink("/proc/self/exe", ec).parent_path();
   std::string tried;
-  for (const std::string& path :
-       {(exe_dir / "libhcpf_cli.so").string(), std::string(HCPF_CLI_LIBRARY_PATH)}) {
-    void* handle = dlopen(path.c_str(), RTLD_NOW | RTLD_LOCAL);
-    if (handle == nullptr) {
-      tried += "\n  " + path + ": " + dlerror();
-      continue;
-    }
-    auto entry = reinterpret_cast<EntryFn>(dlsym(handle, "hcpf_cli_main"));
-    if (entry == nullptr) {
-      tried += "\n  " + path + ": no hcpf_cli_main";
-      continue;
-    }
-    return entry(argc, argv);
-  }
+  const auto entry = reinterpret_cast<EntryFn>(hcpf::LoadSymbolNextToExecutable(
+      "libhcpf_cli.so", HCPF_CLI_LIBRARY_PATH, "hcpf_cli_main", &tried));
+  if (entry != nullptr) return entry(argc, argv);
   std::fprintf(stderr, "hcpf: cannot load the command library libhcpf_cli.so:%s\n", tried.c_str());
   return 1;
 }

@@ -1,12 +1,11 @@
 #include "video_sink.h"
 
-#include <dlfcn.h>
 #include <fmt/format.h>
 
-#include <filesystem>
 #include <mutex>
 
 #include "hcpf/core/error.h"
+#include "hcpf/core/shared_library.h"
 
 namespace hcpf::scenarios {
 
@@ -22,21 +21,10 @@ OpenFn LoadPlugin() {
   static OpenFn open = nullptr;
   static std::string failure;
   std::call_once(once, [] {
-    std::error_code ec;
-    const auto exe_dir = std::filesystem::read_symlink("/proc/self/exe", ec).parent_path();
     std::string tried;
-    for (const std::string& candidate :
-         {(exe_dir / "libhcpf_video.so").string(), std::string(HCPF_VIDEO_PLUGIN_PATH)}) {
-      void* handle = ::dlopen(candidate.c_str(), RTLD_NOW | RTLD_LOCAL);
-      if (handle == nullptr) {
-        tried += fmt::format("\n  {}: {}", candidate, ::dlerror());
-        continue;
-      }
-      open = reinterpret_cast<OpenFn>(::dlsym(handle, "hcpf_open_video_sink"));
-      if (open != nullptr) return;
-      tried += fmt::format("\n  {}: no hcpf_open_video_sink", candidate);
-    }
-    failure = "cannot load the video plugin libhcpf_video.so:" + tried;
+    open = reinterpret_cast<OpenFn>(LoadSymbolNextToExecutable(
+        "libhcpf_video.so", HCPF_VIDEO_PLUGIN_PATH, "hcpf_open_video_sink", &tried));
+    if (open == nullptr) failure = "cannot load the video plugin libhcpf_video.so:" + tried;
   });
   if (open == nullptr) throw RunError(failure);
   return open;

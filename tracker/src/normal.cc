@@ -39,29 +39,6 @@ struct Tables {
 
 const Tables kTables;
 
-// Rejection part of the ziggurat for layer i and uniform u (u >= k[i]).
-// Returns true and sets *value when the point is accepted.
-bool SlowPath(Rng& rng, int i, double u, double* value) {
-  if (i == 0) {
-    // Tail beyond r: Marsaglia (1964). a ~ Exp(r)/r accepted with prob exp(-a^2/2).
-    double a = 0.0;
-    double b = 0.0;
-    do {
-      a = -std::log(rng.UniformOpenZero()) / kR;
-      b = -std::log(rng.UniformOpenZero());
-    } while (b + b < a * a);
-    *value = kR + a;
-    return true;
-  }
-  const double xv = u * kTables.x[i];
-  const double y = kTables.f[i] + rng.Uniform() * (kTables.f[i + 1] - kTables.f[i]);
-  if (y < std::exp(-0.5 * xv * xv)) {
-    *value = xv;
-    return true;
-  }
-  return false;
-}
-
 // Bit 8 of a raw draw is the sign, applied by XOR into the IEEE sign bit: a
 // `negative ? -v : v` select compiles to a branch that mispredicts half the
 // time and costs more than the rest of the generator.
@@ -72,6 +49,30 @@ inline uint64_t SignBit(uint64_t bits) { return (bits & 0x100) << 55; }
 // branchy sequence without AVX-512.
 inline double Uniform53(uint64_t bits) {
   return static_cast<double>(static_cast<int64_t>(bits >> 11)) * 0x1.0p-53;
+}
+
+// Rejection part of the ziggurat for a raw draw whose fast path (FastPath
+// below) failed: its layer i and uniform u >= k[i]. Returns true and sets
+// *value (with the draw's sign) when the point is accepted; may advance rng.
+bool SlowPath(Rng& rng, uint64_t bits, double* value) {
+  const int i = static_cast<int>(bits & 0xFF);
+  const auto accept = [&](double magnitude) {
+    *value = std::bit_cast<double>(std::bit_cast<uint64_t>(magnitude) ^ SignBit(bits));
+    return true;
+  };
+  if (i == 0) {
+    // Tail beyond r: Marsaglia (1964). a ~ Exp(r)/r accepted with prob exp(-a^2/2).
+    double a = 0.0;
+    double b = 0.0;
+    do {
+      a = -std::log(rng.UniformOpenZero()) / kR;
+      b = -std::log(rng.UniformOpenZero());
+    } while (b + b < a * a);
+    return accept(kR + a);
+  }
+  const double xv = Uniform53(bits) * kTables.x[i];
+  const double y = kTables.f[i] + rng.Uniform() * (kTables.f[i + 1] - kTables.f[i]);
+  return y < std::exp(-0.5 * xv * xv) && accept(xv);
 }
 
 struct Fast {
@@ -98,9 +99,9 @@ inline double Draw(Rng& local, Rng& home) {
     if (f.accepted) return f.value;
     home = local;
     double value = 0.0;
-    const bool accepted = SlowPath(home, static_cast<int>(bits & 0xFF), Uniform53(bits), &value);
+    const bool accepted = SlowPath(home, bits, &value);
     local = home;
-    if (accepted) return std::bit_cast<double>(std::bit_cast<uint64_t>(value) ^ SignBit(bits));
+    if (accepted) return value;
   }
 }
 
@@ -141,11 +142,7 @@ void FillStandardNormal(Rng& rng, std::span<double> out) {
     if (j == b) continue;
     local = start;
     for (size_t t = 0; t <= j; ++t) local.NextU64();
-    const int layer = static_cast<int>(bits[j] & 0xFF);
-    double value = 0.0;
-    if (SlowPath(local, layer, Uniform53(bits[j]), &value)) {
-      out[done++] = std::bit_cast<double>(std::bit_cast<uint64_t>(value) ^ SignBit(bits[j]));
-    }
+    if (SlowPath(local, bits[j], &out[done])) ++done;
   }
   rng = local;
 }

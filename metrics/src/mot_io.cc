@@ -247,30 +247,30 @@ inline const char* ParseShortDecimal(const char* p, const char* end, ShortDecima
   if (negative) ++q;
   uint64_t m = 0;
   int digits = 0;
-  // Eight digits at a time while they fit (SwarEightDigits), then one by one.
-  auto eat_digits = [&](int* counted) -> bool {
+  // Appends a run of digits to m, eight at a time while they fit
+  // (SwarEightDigits), then one by one; false when there are too many.
+  auto eat_digits = [&]() -> bool {
     uint32_t eight = 0;
     while (digits + 8 <= kMaxDigits && end - q >= 8 && SwarEightDigits(q, &eight)) {
       m = m * 100000000u + eight;
       digits += 8;
-      *counted += 8;
       q += 8;
     }
     while (q < end && static_cast<unsigned>(*q - '0') < 10u) {
       if (++digits > kMaxDigits) return false;
       m = m * 10 + static_cast<unsigned>(*q - '0');
       ++q;
-      ++*counted;
     }
     return true;
   };
-  int integer_digits = 0;
-  if (!eat_digits(&integer_digits)) return nullptr;
+  if (!eat_digits()) return nullptr;
+  const int integer_digits = digits;
   int fraction = 0;
   const bool dot = q < end && *q == '.';
   if (dot) {
     ++q;
-    if (!eat_digits(&fraction)) return nullptr;
+    if (!eat_digits()) return nullptr;
+    fraction = digits - integer_digits;
   }
   if (digits == 0) return nullptr;
   if (q < end && (*q == 'e' || *q == 'E')) return nullptr;

@@ -107,11 +107,13 @@ class GlSceneRenderer final : public SceneRenderer {
     context_->MakeCurrent();
     BuildPrograms();
     BuildFramebuffers();
-    BuildTextures();
+    const internal::Texture8 road_mask =
+        internal::RoadMask(world_, world_.terrain.roads ? 1024 : 1, options_.road_width_m);
+    BuildTextures(road_mask);
     BuildTerrain();
     BuildOccluders();
     BuildVehicles();
-    BuildTerrainIndices();
+    BuildTerrainIndices(road_mask);
     gl_.CheckError("scene upload");
   }
 
@@ -158,18 +160,15 @@ class GlSceneRenderer final : public SceneRenderer {
   GLuint Link(const char* vs, const char* fs);
   void BuildPrograms();
   void BuildFramebuffers();
-  void BuildTextures();
+  void BuildTextures(const internal::Texture8& road_mask);
   void BuildTerrain();
   // The terrain's index buffer, cells grouped by tile and by part (needs the
   // occluders and vehicles: BuildTerrain has uploaded the vertices).
-  void BuildTerrainIndices();
-  // Whether the road mask may be non-zero anywhere the shader samples it over
-  // terrain cell (i, j) of a grid x grid terrain.
-  bool RoadMayTouchCell(int i, int j, int grid) const;
-  // Ground rectangles (x0, y0, x1, y1) outside which no shadow falls in any
-  // frame: every caster's box swept along the sun to the terrain, plus the
-  // shadow map's filter footprint. Empty with a full rectangle when the sun
-  // is too low to bound the shadows.
+  void BuildTerrainIndices(const internal::Texture8& road_mask);
+  // Ground rectangles outside which no shadow falls in any frame: every
+  // caster's box swept along the sun to the terrain, plus the shadow map's
+  // filter footprint. One rectangle over the whole terrain when the sun is
+  // too low to bound the shadows.
   std::vector<Eigen::AlignedBox2d> ShadowFootprints() const;
   // Draws part `part` (0, 1, 2: see TerrainTile) of the visible tiles.
   void DrawTerrain(const Eigen::Matrix4f& view_proj, int part) const;
@@ -247,7 +246,6 @@ class GlSceneRenderer final : public SceneRenderer {
   std::vector<size_t> target_model_;  // per target: index into models_
   std::vector<uint8_t> rgba_;
   std::vector<uint8_t> region_;
-  internal::Texture8 road_mask_;  // as uploaded to mask_tex_ (kept for BuildTerrainIndices)
   // World boxes of the occluders, for the cells their shadows may reach.
   std::vector<Eigen::AlignedBox3d> occluder_boxes_;
 
@@ -418,7 +416,7 @@ GLuint GlSceneRenderer::UploadTexture(const internal::Texture8& t, bool repeat) 
   return tex;
 }
 
-void GlSceneRenderer::BuildTextures() {
+void GlSceneRenderer::BuildTextures(const internal::Texture8& road_mask) {
   Rng tex_rng = rng_.Fork("renderer/textures");
   gl_.ActiveTexture(GL_TEXTURE1);
   ground_tex_ = UploadTexture(
@@ -429,9 +427,7 @@ void GlSceneRenderer::BuildTextures() {
   road_tex_ = UploadTexture(
       internal::GroundTexture("asphalt", options_.texture_size, tex_rng.Fork("road")), true);
   gl_.ActiveTexture(GL_TEXTURE3);
-  const int mask_size = world_.terrain.roads ? 1024 : 1;
-  road_mask_ = internal::RoadMask(world_, mask_size, options_.road_width_m);
-  mask_tex_ = UploadTexture(road_mask_, false);
+  mask_tex_ = UploadTexture(road_mask, false);
 
   gl_.ActiveTexture(GL_TEXTURE0);
   gl_.CheckError("textures");
@@ -503,7 +499,7 @@ void GlSceneRenderer::BuildTerrain() {
   scene_top_m_ = 0.5 * t.relief_m;
 }
 
-void GlSceneRenderer::BuildTerrainIndices() {
+void GlSceneRenderer::BuildTerrainIndices(const internal::Texture8& road_mask) {
   const int grid = terrain_cells_;
   const TerrainSpec& t = world_.terrain;
   const auto v = [&](int i, int j) { return static_cast<uint32_t>(j * (grid + 1) + i); };
@@ -515,15 +511,16 @@ void GlSceneRenderer::BuildTerrainIndices() {
                            static_cast<float>(-0.5 * t.size_m.y() + t.size_m.y() * j / grid),
                            terrain_heights_[q]);
   };
-  // Which part each cell belongs to. The cheaper variants change no pixel
-  // where they are used: there the road mask samples to exactly 0 (and
+  // The part of each cell (see TerrainTile). The cheaper variants change no
+  // pixel where they are used: there the road mask samples to exactly 0 (and
   // mix(albedo, road, 0) is albedo), and every shadow-map tap reads the
   // cleared depth 1 or the border (so Lit() is exactly 1). Without the split
   // every cell is part 0, drawn with every feature.
-  // Cells a shadow may reach: each footprint marks the cells its rectangle
-  // overlaps (cost: the cells covered, not cells x footprints).
-  std::vector<uint8_t> shaded(static_cast<size_t>(grid) * grid, 0);
-  if (shadows_ && options_.split_road_cells) {
+  const auto cell = [&](int i, int j) { return static_cast<size_t>(j) * grid + i; };
+  std::vector<int> parts(static_cast<size_t>(grid) * grid, options_.split_road_cells ? 2 : 0);
+  if (options_.split_road_cells && shadows_) {
+    // Each footprint marks the cells its rectangle overlaps (cost: the cells
+    // covered, not cells x footprints).
     const auto cell_range = [&](double lo, double hi, double size) {
       const double c0 = std::floor((lo + 0.5 * size) / size * grid);
       const double c1 = std::floor((hi + 0.5 * size) / size * grid);
@@ -534,20 +531,39 @@ void GlSceneRenderer::BuildTerrainIndices() {
       const auto [i0, i1] = cell_range(f.min().x(), f.max().x(), t.size_m.x());
       const auto [j0, j1] = cell_range(f.min().y(), f.max().y(), t.size_m.y());
       for (int j = j0; j <= j1; ++j) {
-        for (int i = i0; i <= i1; ++i) shaded[static_cast<size_t>(j) * grid + i] = 1;
+        for (int i = i0; i <= i1; ++i) parts[cell(i, j)] = 1;
       }
     }
   }
-  const auto part_of = [&](int i, int j) {
-    if (!options_.split_road_cells) return 0;
-    if (t.roads && RoadMayTouchCell(i, j, grid)) return 0;
-    return shaded[static_cast<size_t>(j) * grid + i] != 0 ? 1 : 2;
-  };
-  std::vector<uint32_t> indices;
-  std::vector<int> parts(static_cast<size_t>(grid) * grid);
-  for (int j = 0; j < grid; ++j) {
-    for (int i = 0; i < grid; ++i) parts[static_cast<size_t>(j) * grid + i] = part_of(i, j);
+  if (options_.split_road_cells && t.roads) {
+    // A cell is a road cell when the mask may be non-zero anywhere the shader
+    // samples it: the cell spans [i, i+1] x [j, j+1] / grid in mask
+    // coordinates ((xy - min) / size in the shader), and a bilinear lookup at
+    // u reads texels floor(u M - 0.5) and the next one, clamped to the edge.
+    // Two texels of margin cover float rounding in the shader.
+    const int m = road_mask.size;
+    const auto texel_range = [&](int c) {
+      const int lo = static_cast<int>(std::floor(static_cast<double>(c) / grid * m - 0.5)) - 2;
+      const int hi = static_cast<int>(std::floor(static_cast<double>(c + 1) / grid * m - 0.5)) + 3;
+      return std::pair(std::clamp(lo, 0, m - 1), std::clamp(hi, 0, m - 1));
+    };
+    const auto road_may_touch = [&](int i, int j) {
+      const auto [x0, x1] = texel_range(i);
+      const auto [y0, y1] = texel_range(j);
+      for (int y = y0; y <= y1; ++y) {
+        for (int x = x0; x <= x1; ++x) {
+          if (road_mask.texels[static_cast<size_t>(y) * m + x] != 0) return true;
+        }
+      }
+      return false;
+    };
+    for (int j = 0; j < grid; ++j) {
+      for (int i = 0; i < grid; ++i) {
+        if (road_may_touch(i, j)) parts[cell(i, j)] = 0;
+      }
+    }
   }
+  std::vector<uint32_t> indices;
   // Indices grouped by tile so that tiles outside the view can be skipped
   // (llvmpipe's geometry stage is single-threaded: unseen triangles cost),
   // and by part within a tile.
@@ -561,7 +577,7 @@ void GlSceneRenderer::BuildTerrainIndices() {
         tile.start[static_cast<size_t>(part)] = static_cast<GLsizei>(indices.size() - tile.first);
         for (int j = tj; j < std::min(grid, tj + kTerrainTileCells); ++j) {
           for (int i = ti; i < std::min(grid, ti + kTerrainTileCells); ++i) {
-            if (parts[static_cast<size_t>(j) * grid + i] != part) continue;
+            if (parts[cell(i, j)] != part) continue;
             const uint32_t quad[6] = {v(i, j), v(i + 1, j), v(i + 1, j + 1),
                                       v(i, j), v(i + 1, j + 1), v(i, j + 1)};
             for (uint32_t q : quad) {
@@ -647,27 +663,6 @@ std::vector<Eigen::AlignedBox2d> GlSceneRenderer::ShadowFootprints() const {
     if (in_box > 0) add(box);
   }
   return out;
-}
-
-bool GlSceneRenderer::RoadMayTouchCell(int i, int j, int grid) const {
-  // The cell spans [i, i+1] x [j, j+1] / grid in mask coordinates (the
-  // shader's (xy - min) / size); a bilinear lookup at u reads texels
-  // floor(u M - 0.5) and the next one, clamped to the edge. Two texels of
-  // margin cover float rounding in the shader.
-  const int m = road_mask_.size;
-  const auto texel_range = [&](int c) {
-    const int lo = static_cast<int>(std::floor(static_cast<double>(c) / grid * m - 0.5)) - 2;
-    const int hi = static_cast<int>(std::floor(static_cast<double>(c + 1) / grid * m - 0.5)) + 3;
-    return std::pair(std::clamp(lo, 0, m - 1), std::clamp(hi, 0, m - 1));
-  };
-  const auto [x0, x1] = texel_range(i);
-  const auto [y0, y1] = texel_range(j);
-  for (int y = y0; y <= y1; ++y) {
-    for (int x = x0; x <= x1; ++x) {
-      if (road_mask_.texels[static_cast<size_t>(y) * m + x] != 0) return true;
-    }
-  }
-  return false;
 }
 
 void GlSceneRenderer::BuildOccluders() {

@@ -15,15 +15,11 @@ namespace {
 
 namespace fs = std::filesystem;
 using testing::FreshDir;
+using testing::LibraryScenario;
 using testing::ReadFile;
 using testing::RunCommand;
 
 const std::string kHcpf = HCPF_EXE;
-const fs::path kSource = HCPF_SOURCE_DIR;
-
-std::string Scenario(const std::string& name) {
-  return (kSource / "scenarios" / "library" / (name + ".yaml")).string();
-}
 
 TEST(Cli, VersionAndHelp) {
   auto r = RunCommand(kHcpf + " --version");
@@ -43,7 +39,8 @@ TEST(Cli, NoOrUnknownSubcommandIsBadInput) {
 
 TEST(Cli, RunWritesEveryOutputAndSucceeds) {
   const fs::path out = FreshDir("run") / "crossing";
-  const auto r = RunCommand(kHcpf + " run " + Scenario("crossing") + " --out " + out.string());
+  const auto r =
+      RunCommand(kHcpf + " run " + LibraryScenario("crossing") + " --out " + out.string());
   ASSERT_EQ(r.exit_code, 0) << r.output;
   for (const char* f : {"scenario.resolved.yaml", "gt/gt.txt", "seqinfo.ini", "gt.json",
                         "detections.txt", "manifest.json"}) {
@@ -67,7 +64,9 @@ TEST(Cli, RunWritesEveryOutputAndSucceeds) {
 // the dynamic loader list every library it loads.
 TEST(Cli, ScoreRunsWithoutLoadingTheFullProgram) {
   const fs::path out = FreshDir("score_thin") / "crossing";
-  ASSERT_EQ(RunCommand(kHcpf + " run " + Scenario("crossing") + " --out " + out.string()).exit_code, 0);
+  ASSERT_EQ(RunCommand(kHcpf + " run " + LibraryScenario("crossing") + " --out " + out.string())
+                .exit_code,
+            0);
   for (const std::string args : {" score ", " --log-level warn score "}) {
     const auto r = RunCommand("LD_DEBUG=libs " + kHcpf + args + (out / "gt" / "gt.txt").string() + " " +
                               (out / "tracks.txt").string());
@@ -78,7 +77,7 @@ TEST(Cli, ScoreRunsWithoutLoadingTheFullProgram) {
     EXPECT_EQ(r.output.find("libopencv"), std::string::npos) << r.output;
   }
   // Every other command goes through the library.
-  const auto r = RunCommand("LD_DEBUG=libs " + kHcpf + " validate " + Scenario("crossing"));
+  const auto r = RunCommand("LD_DEBUG=libs " + kHcpf + " validate " + LibraryScenario("crossing"));
   EXPECT_EQ(r.exit_code, 0) << r.output;
   EXPECT_NE(r.output.find("libhcpf_cli"), std::string::npos) << r.output;
 }
@@ -86,7 +85,8 @@ TEST(Cli, ScoreRunsWithoutLoadingTheFullProgram) {
 TEST(Cli, SameScenarioGivesByteIdenticalOutputs) {
   const fs::path dir = FreshDir("determinism");
   for (const char* name : {"a", "b"}) {
-    const auto r = RunCommand(kHcpf + " run " + Scenario("climb") + " --out " + (dir / name).string());
+    const auto r =
+        RunCommand(kHcpf + " run " + LibraryScenario("climb") + " --out " + (dir / name).string());
     ASSERT_EQ(r.exit_code, 0) << r.output;
   }
   // manifest.json differs only in its "timings" (documented); every other file is identical.
@@ -99,8 +99,8 @@ TEST(Cli, SameScenarioGivesByteIdenticalOutputs) {
 
 TEST(Cli, ResolvedScenarioReproducesTheRun) {
   const fs::path dir = FreshDir("resolved");
-  auto r = RunCommand(kHcpf + " run " + Scenario("bridge-three") + " --set tracker.particles=300 --out " +
-                      (dir / "first").string());
+  auto r = RunCommand(kHcpf + " run " + LibraryScenario("bridge-three") +
+                      " --set tracker.particles=300 --out " + (dir / "first").string());
   ASSERT_EQ(r.exit_code, 0) << r.output;
   r = RunCommand(kHcpf + " run " + (dir / "first" / "scenario.resolved.yaml").string() + " --out " +
                  (dir / "second").string());
@@ -124,15 +124,16 @@ TEST(Cli, BadInputExitsTwoAndWritesNothing) {
   EXPECT_FALSE(fs::exists(dir / "out"));
   r = RunCommand(kHcpf + " validate " + bad.string());
   EXPECT_EQ(r.exit_code, 2);
-  r = RunCommand(kHcpf + " run " + Scenario("crossing") + " --set tracker.particles=-3 --out " +
-                 (dir / "out").string());
+  r = RunCommand(kHcpf + " run " + LibraryScenario("crossing") +
+                 " --set tracker.particles=-3 --out " + (dir / "out").string());
   EXPECT_EQ(r.exit_code, 2);
   EXPECT_NE(r.output.find("--set tracker.particles=-3"), std::string::npos) << r.output;
   EXPECT_FALSE(fs::exists(dir / "out"));
   // An existing folder that is not an earlier run is not clobbered.
   fs::create_directories(dir / "mine");
   std::ofstream(dir / "mine" / "thesis.tex") << "precious";
-  r = RunCommand(kHcpf + " run " + Scenario("crossing") + " --out " + (dir / "mine").string());
+  r = RunCommand(kHcpf + " run " + LibraryScenario("crossing") + " --out " +
+                 (dir / "mine").string());
   EXPECT_EQ(r.exit_code, 2) << r.output;
   EXPECT_TRUE(fs::exists(dir / "mine" / "thesis.tex"));
 }
@@ -141,7 +142,8 @@ TEST(Cli, FailingRunExitsOneAndLeavesNoFolder) {
   const fs::path dir = FreshDir("failing");
   // The parent of --out is a regular file: the run cannot create its folder.
   std::ofstream(dir / "file") << "x";
-  const auto r = RunCommand(kHcpf + " run " + Scenario("crossing") + " --out " + (dir / "file" / "out").string());
+  const auto r = RunCommand(kHcpf + " run " + LibraryScenario("crossing") + " --out " +
+                            (dir / "file" / "out").string());
   EXPECT_EQ(r.exit_code, 1) << r.output;
   EXPECT_NE(r.output.find("run failed"), std::string::npos) << r.output;
 }
@@ -149,12 +151,12 @@ TEST(Cli, FailingRunExitsOneAndLeavesNoFolder) {
 class ShippedScenario : public ::testing::TestWithParam<std::string> {};
 
 TEST_P(ShippedScenario, ValidatesAndRuns) {
-  auto r = RunCommand(kHcpf + " validate " + Scenario(GetParam()));
+  auto r = RunCommand(kHcpf + " validate " + LibraryScenario(GetParam()));
   ASSERT_EQ(r.exit_code, 0) << r.output;
   std::string name = GetParam();
   std::replace(name.begin(), name.end(), '/', '-');
   const fs::path out = FreshDir("shipped-" + name) / "run";
-  r = RunCommand(kHcpf + " run " + Scenario(GetParam()) + " --out " + out.string());
+  r = RunCommand(kHcpf + " run " + LibraryScenario(GetParam()) + " --out " + out.string());
   ASSERT_EQ(r.exit_code, 0) << r.output;
   EXPECT_GT(fs::file_size(out / "gt" / "gt.txt"), 0u);
 }

@@ -44,13 +44,12 @@ struct Outcome {
 // Runs a thesis scenario (TC2: systematic, TC3: the same scene with charged
 // resampling, beta 2) over `seeds` seeds, with extra overrides.
 Outcome RunSeeds(const std::string& name, int seeds, const std::string& extra) {
-  const fs::path scenario =
-      fs::path(HCPF_SOURCE_DIR) / "scenarios" / "library" / "thesis" / (name + ".yaml");
+  const std::string scenario = testing::LibraryScenario("thesis/" + name);
   const fs::path dir = FreshDir("hijack-" + name);
   Outcome out;
   for (int seed = 1; seed <= seeds; ++seed) {
     const fs::path run = dir / std::to_string(seed);
-    const auto r = RunCommand(std::string(HCPF_EXE) + " run " + scenario.string() + " --set seed=" +
+    const auto r = RunCommand(std::string(HCPF_EXE) + " run " + scenario + " --set seed=" +
                               std::to_string(seed) + " " + extra + " --out " + run.string());
     EXPECT_EQ(r.exit_code, 0) << r.output;
     const auto metrics = nlohmann::json::parse(ReadFile(run / "metrics.json"));

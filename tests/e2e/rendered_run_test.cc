@@ -20,8 +20,7 @@ using testing::RunCommand;
 
 TEST(RenderedRun, PixelExactTruthAndFrameCacheReuse) {
   const fs::path dir = FreshDir("rendered-run");
-  const std::string scenario =
-      (fs::path(HCPF_SOURCE_DIR) / "scenarios" / "library" / "crossing.yaml").string();
+  const std::string scenario = testing::LibraryScenario("crossing");
   const std::string common = std::string(HCPF_EXE) + " run " + scenario +
                              " --set observation.source=rendered --set frames=24"
                              " --set 'camera.resolution=[160, 120]' --cache " +
@@ -55,8 +54,7 @@ namespace {
 
 TEST(RenderCommand, WritesFramesTruthAndContactSheet) {
   const fs::path dir = testing::FreshDir("render-command");
-  const std::string scenario =
-      (fs::path(HCPF_SOURCE_DIR) / "scenarios" / "library" / "bridge-three.yaml").string();
+  const std::string scenario = testing::LibraryScenario("bridge-three");
   const auto r = testing::RunCommand(std::string(HCPF_EXE) + " render " + scenario +
                                      " --set frames=30 --set 'camera.resolution=[160, 120]'"
                                      " --no-cache --sheet-frames 4 --out " + (dir / "r").string());

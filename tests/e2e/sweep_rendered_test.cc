@@ -17,9 +17,8 @@ namespace fs = std::filesystem;
 
 TEST(RenderedSweep, ScenesRenderOnceAndEveryRunSucceeds) {
   const fs::path dir = testing::FreshDir("sweep-rendered");
-  const fs::path base =
-      fs::path(HCPF_SOURCE_DIR) / "scenarios" / "library" / "crossing-dominant.yaml";
-  std::ofstream(dir / "sweep.yaml") << "base: " << base.string() << "\n"
+  const std::string base = testing::LibraryScenario("crossing-dominant");
+  std::ofstream(dir / "sweep.yaml") << "base: " << base << "\n"
                                     << "grid:\n"
                                     << "  observation.source: [rendered]\n"
                                     << "  frames: [6]\n"

@@ -64,9 +64,9 @@ std::vector<std::string> StoreRows(const fs::path& store) {
 
 // A sweep of crossing-dominant (shortened to `frames`): 4 particle counts x 2 resamplers x seeds.
 std::string WriteSweep(const fs::path& dir, int seeds = 4, int frames = 60) {
-  const fs::path base = kSource / "scenarios" / "library" / "crossing-dominant.yaml";
+  const std::string base = testing::LibraryScenario("crossing-dominant");
   std::ofstream(dir / "sweep.yaml")
-      << "base: " << base.string() << "\n"
+      << "base: " << base << "\n"
       << "seeds: " << seeds << "\n"
       << "grid:\n"
       << "  frames: [" << frames << "]\n"

@@ -47,4 +47,11 @@ inline std::filesystem::path FreshDir(const std::string& name) {
   return dir;
 }
 
+// A shipped scenario, scenarios/library/<name>.yaml (name may hold a
+// subfolder: "thesis/tc2-regular-hijack").
+inline std::string LibraryScenario(const std::string& name) {
+  return (std::filesystem::path(HCPF_SOURCE_DIR) / "scenarios" / "library" / (name + ".yaml"))
+      .string();
+}
+
 }  // namespace hcpf::testing

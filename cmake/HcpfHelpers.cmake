@@ -35,6 +35,8 @@ function(hcpf_add_test name)
   endif()
   add_executable(${name} ${ARG_SOURCES})
   target_link_libraries(${name} PRIVATE ${ARG_DEPS} GTest::gtest GTest::gmock GTest::gtest_main)
+  # Shared test helpers: #include "support/..." (tests/support/).
+  target_include_directories(${name} PRIVATE ${PROJECT_SOURCE_DIR}/tests)
   target_compile_definitions(${name} PRIVATE
     HCPF_SOURCE_DIR="${PROJECT_SOURCE_DIR}"
     HCPF_BINARY_DIR="${PROJECT_BINARY_DIR}"

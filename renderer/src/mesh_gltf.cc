@@ -3,9 +3,8 @@
 
 #define TINYGLTF_NO_INCLUDE_STB_IMAGE
 #define TINYGLTF_NO_INCLUDE_STB_IMAGE_WRITE
-#include <tiny_gltf.h>
-
 #include <fmt/format.h>
+#include <tiny_gltf.h>
 
 #include <cstring>
 #include <filesystem>
@@ -17,42 +16,80 @@ namespace hcpf::renderer {
 namespace internal {
 namespace {
 
-// Reads an accessor as floats (count * components), converting normalised
-// integer components to [0, 1] as the spec defines.
-std::vector<float> ReadFloats(const tinygltf::Model& model, int accessor_index,
-                              int expected_components, const std::string& path) {
-  const tinygltf::Accessor& acc = model.accessors.at(static_cast<size_t>(accessor_index));
+// An accessor's elements as located in its buffer: `count` elements of
+// `element_bytes` bytes, `stride` bytes apart, the first at `first`.
+struct AccessorBytes {
+  const unsigned char* first = nullptr;
+  size_t stride = 0;
+  size_t count = 0;
+  int component_size = 0;
+};
+
+// Locates accessor `index`'s bytes, checking (without any sum or product that
+// can wrap: every field is a file's 64-bit value) that the buffer view lies in
+// its buffer and that every element lies in the view. `what` names the
+// accessor's use in messages ("POSITION accessor 0").
+AccessorBytes LocateAccessor(const tinygltf::Model& model, int index, int components,
+                             const std::string& what, const std::string& path) {
+  const tinygltf::Accessor& acc = model.accessors.at(static_cast<size_t>(index));
   if (acc.sparse.isSparse || acc.bufferView < 0) {
-    throw InputError(fmt::format("{}: sparse or buffer-less glTF accessors are not supported",
-                                 path));
-  }
-  const int components = tinygltf::GetNumComponentsInType(static_cast<uint32_t>(acc.type));
-  if (components < expected_components) {
-    throw InputError(fmt::format("{}: accessor {} has {} components, expected at least {}", path,
-                                 accessor_index, components, expected_components));
+    throw InputError(
+        fmt::format("{}: {}: sparse or buffer-less glTF accessors are not supported", path, what));
   }
   const tinygltf::BufferView& view = model.bufferViews.at(static_cast<size_t>(acc.bufferView));
   const tinygltf::Buffer& buffer = model.buffers.at(static_cast<size_t>(view.buffer));
+  const size_t size = buffer.data.size();
+  if (view.byteOffset > size || view.byteLength > size - view.byteOffset) {
+    throw InputError(fmt::format(
+        "{}: {}: buffer view {} (byteOffset {}, byteLength {}) lies outside its buffer of {} bytes",
+        path, what, acc.bufferView, view.byteOffset, view.byteLength, size));
+  }
+  AccessorBytes out;
+  out.component_size = tinygltf::GetComponentSizeInBytes(static_cast<uint32_t>(acc.componentType));
   const int stride = acc.ByteStride(view);
-  const int comp_size =
-      tinygltf::GetComponentSizeInBytes(static_cast<uint32_t>(acc.componentType));
-  if (stride <= 0 || comp_size <= 0) {
-    throw InputError(fmt::format("{}: accessor {} has an invalid layout", path, accessor_index));
+  if (stride <= 0 || out.component_size <= 0) {
+    throw InputError(fmt::format("{}: {} has an invalid layout (componentType {}, type {})", path,
+                                 what, acc.componentType, acc.type));
   }
-  const size_t begin = view.byteOffset + acc.byteOffset;
-  const size_t needed =
-      acc.count == 0 ? 0 : begin + (acc.count - 1) * static_cast<size_t>(stride) +
-                               static_cast<size_t>(components * comp_size);
-  if (needed > buffer.data.size()) {
-    throw InputError(fmt::format("{}: accessor {} reads past the end of its buffer", path,
-                                 accessor_index));
+  out.stride = static_cast<size_t>(stride);
+  out.count = acc.count;
+  const size_t element_bytes =
+      static_cast<size_t>(components) * static_cast<size_t>(out.component_size);
+  // Bytes of the view from the accessor's start; every element must fit.
+  const bool offset_inside = acc.byteOffset <= view.byteLength;
+  const size_t room = offset_inside ? view.byteLength - acc.byteOffset : 0;
+  const bool fits =
+      offset_inside && (acc.count == 0 || (element_bytes <= room &&
+                                           acc.count - 1 <= (room - element_bytes) / out.stride));
+  if (!fits) {
+    throw InputError(fmt::format(
+        "{}: {} (count {}, byteOffset {}, {} bytes apart) reads past the end of buffer view {} "
+        "({} bytes)",
+        path, what, acc.count, acc.byteOffset, out.stride, acc.bufferView, view.byteLength));
   }
+  out.first = buffer.data.data() + view.byteOffset + acc.byteOffset;
+  return out;
+}
+
+// Reads an accessor as floats (count * components), converting normalised
+// integer components to [0, 1] as the spec defines.
+std::vector<float> ReadFloats(const tinygltf::Model& model, int accessor_index,
+                              int expected_components, const std::string& what,
+                              const std::string& path) {
+  const tinygltf::Accessor& acc = model.accessors.at(static_cast<size_t>(accessor_index));
+  const std::string label = fmt::format("{} accessor {}", what, accessor_index);
+  const int components = tinygltf::GetNumComponentsInType(static_cast<uint32_t>(acc.type));
+  if (components < expected_components) {
+    throw InputError(fmt::format("{}: {} has {} components, expected at least {}", path, label,
+                                 components, expected_components));
+  }
+  const AccessorBytes bytes = LocateAccessor(model, accessor_index, components, label, path);
   std::vector<float> out;
-  out.reserve(acc.count * static_cast<size_t>(expected_components));
-  for (size_t i = 0; i < acc.count; ++i) {
-    const unsigned char* element = buffer.data.data() + begin + i * static_cast<size_t>(stride);
+  out.reserve(bytes.count * static_cast<size_t>(expected_components));
+  for (size_t i = 0; i < bytes.count; ++i) {
+    const unsigned char* element = bytes.first + i * bytes.stride;
     for (int c = 0; c < expected_components; ++c) {
-      const unsigned char* p = element + c * comp_size;
+      const unsigned char* p = element + c * bytes.component_size;
       float value = 0.0f;
       switch (acc.componentType) {
         case TINYGLTF_COMPONENT_TYPE_FLOAT:
@@ -68,8 +105,8 @@ std::vector<float> ReadFloats(const tinygltf::Model& model, int accessor_index,
           break;
         }
         default:
-          throw InputError(fmt::format("{}: accessor {} has unsupported component type {}", path,
-                                       accessor_index, acc.componentType));
+          throw InputError(fmt::format("{}: {} has unsupported component type {}", path, label,
+                                       acc.componentType));
       }
       out.push_back(value);
     }
@@ -80,23 +117,11 @@ std::vector<float> ReadFloats(const tinygltf::Model& model, int accessor_index,
 std::vector<uint32_t> ReadIndices(const tinygltf::Model& model, int accessor_index,
                                   const std::string& path) {
   const tinygltf::Accessor& acc = model.accessors.at(static_cast<size_t>(accessor_index));
-  if (acc.bufferView < 0) throw InputError(fmt::format("{}: index accessor without data", path));
-  const tinygltf::BufferView& view = model.bufferViews.at(static_cast<size_t>(acc.bufferView));
-  const tinygltf::Buffer& buffer = model.buffers.at(static_cast<size_t>(view.buffer));
-  const int stride = acc.ByteStride(view);
-  const size_t begin = view.byteOffset + acc.byteOffset;
-  const int comp_size =
-      tinygltf::GetComponentSizeInBytes(static_cast<uint32_t>(acc.componentType));
-  if (stride <= 0 || comp_size <= 0 ||
-      (acc.count > 0 && begin + (acc.count - 1) * static_cast<size_t>(stride) +
-                                static_cast<size_t>(comp_size) >
-                            buffer.data.size())) {
-    throw InputError(fmt::format("{}: index accessor {} reads past its buffer", path,
-                                 accessor_index));
-  }
-  std::vector<uint32_t> out(acc.count);
-  for (size_t i = 0; i < acc.count; ++i) {
-    const unsigned char* p = buffer.data.data() + begin + i * static_cast<size_t>(stride);
+  const std::string label = fmt::format("index accessor {}", accessor_index);
+  const AccessorBytes bytes = LocateAccessor(model, accessor_index, 1, label, path);
+  std::vector<uint32_t> out(bytes.count);
+  for (size_t i = 0; i < bytes.count; ++i) {
+    const unsigned char* p = bytes.first + i * bytes.stride;
     switch (acc.componentType) {
       case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE:
         out[i] = p[0];
@@ -111,7 +136,7 @@ std::vector<uint32_t> ReadIndices(const tinygltf::Model& model, int accessor_ind
         std::memcpy(&out[i], p, 4);
         break;
       default:
-        throw InputError(fmt::format("{}: unsupported index component type {}", path,
+        throw InputError(fmt::format("{}: {} has unsupported component type {}", path, label,
                                      acc.componentType));
     }
   }
@@ -128,8 +153,8 @@ Eigen::Matrix4d NodeTransform(const tinygltf::Node& node) {
   Eigen::Matrix4d r = Eigen::Matrix4d::Identity();
   Eigen::Matrix4d s = Eigen::Matrix4d::Identity();
   if (node.translation.size() == 3) {
-    t.block<3, 1>(0, 3) = Eigen::Vector3d(node.translation[0], node.translation[1],
-                                          node.translation[2]);
+    t.block<3, 1>(0, 3) =
+        Eigen::Vector3d(node.translation[0], node.translation[1], node.translation[2]);
   }
   if (node.rotation.size() == 4) {  // glTF stores (x, y, z, w)
     const Eigen::Quaterniond q(node.rotation[3], node.rotation[0], node.rotation[1],
@@ -147,7 +172,7 @@ void AppendPrimitive(const tinygltf::Model& model, const tinygltf::Primitive& pr
   if (prim.mode != TINYGLTF_MODE_TRIANGLES && prim.mode != -1) return;  // points/lines/strips
   const auto pos_it = prim.attributes.find("POSITION");
   if (pos_it == prim.attributes.end()) return;
-  const std::vector<float> pos = ReadFloats(model, pos_it->second, 3, path);
+  const std::vector<float> pos = ReadFloats(model, pos_it->second, 3, "POSITION", path);
   const size_t n = pos.size() / 3;
   MeshData part;
   part.positions.resize(n);
@@ -159,7 +184,7 @@ void AppendPrimitive(const tinygltf::Model& model, const tinygltf::Primitive& pr
   }
   bool has_normals = false;
   if (auto it = prim.attributes.find("NORMAL"); it != prim.attributes.end()) {
-    const std::vector<float> nrm = ReadFloats(model, it->second, 3, path);
+    const std::vector<float> nrm = ReadFloats(model, it->second, 3, "NORMAL", path);
     if (nrm.size() == pos.size()) {
       has_normals = true;
       const Eigen::Matrix3d normal_matrix = linear.inverse().transpose();
@@ -172,26 +197,26 @@ void AppendPrimitive(const tinygltf::Model& model, const tinygltf::Primitive& pr
   }
   part.uvs.assign(n, Eigen::Vector2f::Zero());
   if (auto it = prim.attributes.find("TEXCOORD_0"); it != prim.attributes.end()) {
-    const std::vector<float> uv = ReadFloats(model, it->second, 2, path);
+    const std::vector<float> uv = ReadFloats(model, it->second, 2, "TEXCOORD_0", path);
     if (uv.size() == 2 * n) {
       for (size_t i = 0; i < n; ++i) part.uvs[i] = {uv[2 * i], uv[2 * i + 1]};
     }
   }
   Eigen::Vector3f base_color = Eigen::Vector3f::Ones();
   if (prim.material >= 0 && static_cast<size_t>(prim.material) < model.materials.size()) {
-    const auto& f = model.materials[static_cast<size_t>(prim.material)]
-                        .pbrMetallicRoughness.baseColorFactor;
-    if (f.size() >= 3) base_color = Eigen::Vector3f(static_cast<float>(f[0]),
-                                                    static_cast<float>(f[1]),
-                                                    static_cast<float>(f[2]));
+    const auto& f =
+        model.materials[static_cast<size_t>(prim.material)].pbrMetallicRoughness.baseColorFactor;
+    if (f.size() >= 3)
+      base_color = Eigen::Vector3f(static_cast<float>(f[0]), static_cast<float>(f[1]),
+                                   static_cast<float>(f[2]));
   }
   part.colors.assign(n, base_color);
   if (auto it = prim.attributes.find("COLOR_0"); it != prim.attributes.end()) {
-    const std::vector<float> col = ReadFloats(model, it->second, 3, path);
+    const std::vector<float> col = ReadFloats(model, it->second, 3, "COLOR_0", path);
     if (col.size() == 3 * n) {
       for (size_t i = 0; i < n; ++i) {
-        part.colors[i] = base_color.cwiseProduct(Eigen::Vector3f(col[3 * i], col[3 * i + 1],
-                                                                 col[3 * i + 2]));
+        part.colors[i] =
+            base_color.cwiseProduct(Eigen::Vector3f(col[3 * i], col[3 * i + 1], col[3 * i + 2]));
       }
     }
   }
@@ -203,7 +228,8 @@ void AppendPrimitive(const tinygltf::Model& model, const tinygltf::Primitive& pr
   }
   part.indices.resize(part.indices.size() / 3 * 3);
   for (uint32_t i : part.indices) {
-    if (i >= n) throw InputError(fmt::format("{}: glTF index {} out of range ({} vertices)", path, i, n));
+    if (i >= n)
+      throw InputError(fmt::format("{}: glTF index {} out of range ({} vertices)", path, i, n));
   }
   // A transform with negative determinant mirrors the mesh and flips winding.
   if (linear.determinant() < 0.0) {
@@ -221,7 +247,8 @@ void VisitNode(const tinygltf::Model& model, int node_index, const Eigen::Matrix
   const tinygltf::Node& node = model.nodes.at(static_cast<size_t>(node_index));
   const Eigen::Matrix4d world = parent * NodeTransform(node);
   if (node.mesh >= 0) {
-    for (const tinygltf::Primitive& prim : model.meshes.at(static_cast<size_t>(node.mesh)).primitives) {
+    for (const tinygltf::Primitive& prim :
+         model.meshes.at(static_cast<size_t>(node.mesh)).primitives) {
       AppendPrimitive(model, prim, world, path, out);
     }
   }
@@ -260,8 +287,8 @@ MeshData LoadGltf(const std::string& path) {
       }
     }
   } catch (const std::out_of_range&) {
-    throw InputError(fmt::format("{}: glTF refers to a missing node, mesh, accessor or buffer",
-                                 path));
+    throw InputError(
+        fmt::format("{}: glTF refers to a missing node, mesh, accessor or buffer", path));
   }
   if (mesh.empty()) throw InputError(fmt::format("{}: glTF file holds no triangles", path));
   return mesh;
@@ -339,9 +366,9 @@ void WriteGlb(const MeshData& mesh, const std::string& path) {
   prim.attributes["COLOR_0"] =
       AddAccessor(model, AddBufferData(model, col, TINYGLTF_TARGET_ARRAY_BUFFER),
                   TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_TYPE_VEC3, n);
-  prim.indices = AddAccessor(
-      model, AddBufferData(model, mesh.indices, TINYGLTF_TARGET_ELEMENT_ARRAY_BUFFER),
-      TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT, TINYGLTF_TYPE_SCALAR, mesh.indices.size());
+  prim.indices =
+      AddAccessor(model, AddBufferData(model, mesh.indices, TINYGLTF_TARGET_ELEMENT_ARRAY_BUFFER),
+                  TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT, TINYGLTF_TYPE_SCALAR, mesh.indices.size());
   tinygltf::Material material;
   material.name = "vertex_colour";
   material.pbrMetallicRoughness.baseColorFactor = {1.0, 1.0, 1.0, 1.0};

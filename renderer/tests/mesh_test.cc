@@ -12,6 +12,7 @@
 
 #include "hcpf/core/error.h"
 #include "hcpf/renderer/mesh.h"
+#include "support/crafted_glb.h"
 
 namespace hcpf::renderer {
 namespace {
@@ -162,6 +163,41 @@ TEST(MeshIo, CorruptFilesAndUnknownExtensionsAreInputErrors) {
       FAIL() << "expected InputError for " << name;
     } catch (const InputError& e) {
       EXPECT_NE(std::string(e.what()).find(path), std::string::npos) << e.what();
+    }
+  }
+}
+
+// Issue 15, item 1: accessor fields chosen so that the old bounds arithmetic
+// (begin + (count - 1) * stride + element size, in 64 bits) wrapped to a small
+// number and passed, then read far outside the buffer (SIGSEGV) or 4 bytes
+// before it. Each must be an InputError naming the file and the accessor.
+TEST(MeshIo, CraftedGlbAccessorsThatWrapTheBoundsAreInputErrors) {
+  const auto dir = TempDir();
+  // Control: the crafted writer makes a valid triangle with sane fields, so
+  // the failures below come from the fields alone.
+  const std::string good = (dir / "good.glb").string();
+  testing::WriteTriangleGlb(good, 3, 0);
+  EXPECT_EQ(LoadMesh(good).triangle_count(), 1u);
+
+  struct Case {
+    const char* name;
+    uint64_t count;
+    uint64_t byte_offset;
+  };
+  for (const Case& c : {Case{"count_wraps.glb", 6148914691236517206ull, 0},  // ~2^64 / 3
+                        Case{"offset_wraps.glb", 1, 18446744073709551612ull},  // 2^64 - 4
+                        Case{"offset_past_view.glb", 1, 36},
+                        Case{"one_too_many.glb", 4, 0}}) {
+    const std::string path = (dir / c.name).string();
+    testing::WriteTriangleGlb(path, c.count, c.byte_offset);
+    try {
+      LoadMesh(path);
+      FAIL() << "expected InputError for " << c.name;
+    } catch (const InputError& e) {
+      const std::string what = e.what();
+      EXPECT_NE(what.find(path), std::string::npos) << what;
+      EXPECT_NE(what.find("POSITION accessor 0"), std::string::npos) << what;
+      EXPECT_NE(what.find("reads past the end of buffer view 0"), std::string::npos) << what;
     }
   }
 }

@@ -1,7 +1,16 @@
 #include "output_folder.h"
 
 #include <fmt/format.h>
+#include <signal.h>
 #include <unistd.h>
+
+#include <algorithm>
+#include <array>
+#include <cerrno>
+#include <charconv>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <string_view>
 
 #include "hcpf/core/error.h"
 
@@ -9,19 +18,122 @@ namespace hcpf::scenarios {
 
 namespace fs = std::filesystem;
 
-StagedFolder::StagedFolder(const fs::path& out) : out_(fs::absolute(out).lexically_normal()) {
+namespace {
+
+// What RunScenario (run.cc) and RenderToFolder (render_folder.cc) write at
+// the top of their folder; gt/ and frames/ are checked file by file below.
+constexpr std::array<std::string_view, 10> kOutputFiles = {
+    "manifest.json",    "scenario.resolved.yaml", "seqinfo.ini",
+    "gt.json",          "detections.txt",         "tracks.txt",
+    "filters.csv",      "metrics.json",           "overlay.mp4",
+    "contact_sheet.png"};
+
+bool IsFrameFile(std::string_view name) {
+  // 000001.png, 000001_depth.png, 000001_ids.png (render_folder.cc).
+  if (name.size() < 10) return false;
+  for (size_t i = 0; i < 6; ++i) {
+    if (name[i] < '0' || name[i] > '9') return false;
+  }
+  const std::string_view rest = name.substr(6);
+  return rest == ".png" || rest == "_depth.png" || rest == "_ids.png";
+}
+
+bool PidIsGone(std::string_view digits) {
+  int pid = 0;
+  const auto [ptr, ec] = std::from_chars(digits.data(), digits.data() + digits.size(), pid);
+  if (ec != std::errc() || ptr != digits.data() + digits.size() || pid <= 0) return false;
+  return ::kill(pid, 0) == -1 && errno == ESRCH;
+}
+
+}  // namespace
+
+std::string WhyNotOurOutput(const fs::path& dir) {
   std::error_code ec;
-  if (fs::exists(out_, ec)) {
-    if (!fs::is_directory(out_, ec)) {
-      throw InputError(SourceLocation{out_.string(), 0, 0, "--out"}, "a folder for the outputs",
-                       "an existing file");
+  const fs::path manifest_path = dir / "manifest.json";
+  if (!fs::is_regular_file(manifest_path, ec)) return "a folder with other files in it";
+  nlohmann::json manifest;
+  try {
+    std::ifstream in(manifest_path);
+    manifest = nlohmann::json::parse(in);
+  } catch (const std::exception&) {
+    return "a folder whose manifest.json is not one of this tool's";
+  }
+  const std::string format =
+      manifest.is_object() && manifest.contains("format") && manifest["format"].is_string()
+          ? manifest["format"].get<std::string>()
+          : std::string();
+  if (format != "hcpf-run/1" && format != "hcpf-render/1") {
+    return "a folder whose manifest.json is not one of this tool's (no \"format\": "
+           "\"hcpf-run/1\" or \"hcpf-render/1\")";
+  }
+  for (const auto& entry : fs::directory_iterator(dir, ec)) {
+    const std::string name = entry.path().filename().string();
+    const bool known_file =
+        std::find(kOutputFiles.begin(), kOutputFiles.end(), name) != kOutputFiles.end() &&
+        entry.is_regular_file(ec) && !entry.is_symlink(ec);
+    if (known_file) continue;
+    bool known_dir =
+        (name == "gt" || name == "frames") && entry.is_directory(ec) && !entry.is_symlink(ec);
+    if (known_dir) {
+      for (const auto& inner : fs::directory_iterator(entry.path(), ec)) {
+        const std::string inner_name = inner.path().filename().string();
+        const bool ok = inner.is_regular_file(ec) && !inner.is_symlink(ec) &&
+                        (name == "gt" ? inner_name == "gt.txt" : IsFrameFile(inner_name));
+        if (!ok) {
+          known_dir = false;
+          break;
+        }
+      }
     }
-    if (!fs::is_empty(out_, ec) && !fs::exists(out_ / "manifest.json", ec)) {
-      throw InputError(SourceLocation{out_.string(), 0, 0, "--out"},
-                       "a new or empty folder, or an earlier output folder (with manifest.json)",
-                       "a folder with other files in it");
+    if (!known_dir) {
+      return fmt::format(
+          "an output folder of this tool that also holds \"{}\", which no run "
+          "writes",
+          name);
     }
   }
+  if (ec) return fmt::format("a folder that cannot be listed ({})", ec.message());
+  return "";
+}
+
+void RemoveStaleStagingFolders(const fs::path& parent, const std::string& prefix) {
+  std::error_code ec;
+  if (!fs::is_directory(parent, ec)) return;
+  for (const auto& entry : fs::directory_iterator(parent, ec)) {
+    const std::string name = entry.path().filename().string();
+    for (const std::string_view marker : {".partial-", ".old-"}) {
+      const size_t at = name.rfind(marker);
+      if (at == std::string::npos) continue;
+      if (!prefix.empty() && name.compare(0, at, prefix) != 0) continue;
+      if (!prefix.empty() && at != prefix.size()) continue;
+      if (PidIsGone(std::string_view(name).substr(at + marker.size()))) {
+        fs::remove_all(entry.path(), ec);
+      }
+      break;
+    }
+  }
+}
+
+StagedFolder::StagedFolder(const fs::path& out) : out_(fs::absolute(out).lexically_normal()) {
+  std::error_code ec;
+  const SourceLocation where{out_.string(), 0, 0, "--out"};
+  if (fs::exists(fs::symlink_status(out_, ec))) {
+    if (!fs::is_directory(fs::symlink_status(out_, ec))) {
+      throw InputError(
+          where, "a folder for the outputs",
+          fs::is_symlink(fs::symlink_status(out_, ec)) ? "a symbolic link" : "an existing file");
+    }
+    if (!fs::is_empty(out_, ec)) {
+      const std::string why = WhyNotOurOutput(out_);
+      if (!why.empty()) {
+        throw InputError(where,
+                         "a new or empty folder, or an earlier output folder of hcpf run or "
+                         "hcpf render",
+                         why, "nothing was changed; name another folder");
+      }
+    }
+  }
+  RemoveStaleStagingFolders(out_.parent_path(), out_.filename().string());
   partial_ = out_.string() + fmt::format(".partial-{}", ::getpid());
   fs::remove_all(partial_, ec);
   fs::create_directories(partial_, ec);
@@ -36,11 +148,24 @@ StagedFolder::~StagedFolder() {
 
 void StagedFolder::Publish() {
   std::error_code ec;
-  if (fs::exists(out_, ec)) fs::remove_all(out_, ec);
-  if (ec) throw RunError(fmt::format("cannot replace {}: {}", out_.string(), ec.message()));
+  const fs::path old = out_.string() + fmt::format(".old-{}", ::getpid());
+  const bool had_old = fs::exists(fs::symlink_status(out_, ec));
+  if (had_old) {
+    fs::remove_all(old, ec);
+    fs::rename(out_, old, ec);
+    if (ec) {
+      throw RunError(
+          fmt::format("cannot move the earlier {} aside: {}", out_.string(), ec.message()));
+    }
+  }
   fs::rename(partial_, out_, ec);
-  if (ec) throw RunError(fmt::format("cannot move the output to {}: {}", out_.string(), ec.message()));
+  if (ec) {
+    const std::string message = ec.message();
+    if (had_old) fs::rename(old, out_, ec);  // put the earlier output back
+    throw RunError(fmt::format("cannot move the output to {}: {}", out_.string(), message));
+  }
   published_ = true;
+  if (had_old) fs::remove_all(old, ec);
 }
 
 }  // namespace hcpf::scenarios

@@ -2,16 +2,21 @@
 // Output folders that appear complete or not at all: work goes into a sibling
 // "<out>.partial-<pid>" folder that is renamed into place at the end. An
 // existing folder is replaced only when it is empty or an earlier output of
-// ours (it has manifest.json), never a folder of the user's.
+// ours: its manifest.json is a run or render manifest of this tool, and it
+// holds nothing a run or render does not write. A folder of the user's is
+// never touched.
 
 #include <filesystem>
+#include <string>
 
 namespace hcpf::scenarios {
 
 class StagedFolder {
  public:
   // Checks `out` (InputError naming --out when it is a file or a foreign
-  // folder) and creates the partial folder (RunError on failure).
+  // folder), removes siblings "<out>.partial-<pid>" / "<out>.old-<pid>" left
+  // by processes that no longer run, and creates the partial folder (RunError
+  // on failure).
   explicit StagedFolder(const std::filesystem::path& out);
   // Removes the partial folder unless Publish() succeeded.
   ~StagedFolder();
@@ -20,7 +25,9 @@ class StagedFolder {
 
   const std::filesystem::path& out() const { return out_; }
   const std::filesystem::path& partial() const { return partial_; }
-  // Replaces `out` with the partial folder.
+  // Replaces `out` with the partial folder without a moment where `out` is
+  // half deleted: an earlier folder is renamed aside to "<out>.old-<pid>",
+  // the partial folder renamed into place, then the old one deleted.
   void Publish();
 
  private:
@@ -28,5 +35,15 @@ class StagedFolder {
   std::filesystem::path partial_;
   bool published_ = false;
 };
+
+// Why `dir` is not an earlier output folder of this tool that may be
+// replaced, or "" when it is one (manifest format hcpf-run/1 or
+// hcpf-render/1, and only the files those write).
+std::string WhyNotOurOutput(const std::filesystem::path& dir);
+
+// Removes "<prefix>.partial-<pid>" and "<prefix>.old-<pid>" entries of
+// `parent` whose process no longer runs; with an empty prefix, every such
+// entry. Folders of live processes stay.
+void RemoveStaleStagingFolders(const std::filesystem::path& parent, const std::string& prefix);
 
 }  // namespace hcpf::scenarios

@@ -26,6 +26,7 @@
 #include "hcpf/scenarios/results_store.h"
 #include "hcpf/scenarios/run.h"
 #include "hcpf/scenarios/sweep.h"
+#include "output_folder.h"
 #include "progress.h"
 
 namespace hcpf::scenarios {
@@ -33,21 +34,6 @@ namespace hcpf::scenarios {
 namespace fs = std::filesystem;
 
 namespace {
-
-// Removes "<key>.partial-<pid>" folders left by killed processes (RunScenario
-// writes there before renaming into place). Folders of live processes stay.
-void RemoveStalePartials(const fs::path& runs_dir) {
-  std::error_code ec;
-  if (!fs::is_directory(runs_dir, ec)) return;
-  for (const auto& entry : fs::directory_iterator(runs_dir, ec)) {
-    const std::string name = entry.path().filename().string();
-    const size_t at = name.rfind(".partial-");
-    if (at == std::string::npos) continue;
-    const std::string pid_text = name.substr(at + 9);
-    const pid_t pid = static_cast<pid_t>(std::strtol(pid_text.c_str(), nullptr, 10));
-    if (pid > 0 && ::kill(pid, 0) == -1 && errno == ESRCH) fs::remove_all(entry.path(), ec);
-  }
-}
 
 std::string Tail(const fs::path& log, size_t max_chars) {
   std::ifstream in(log);
@@ -137,7 +123,8 @@ SweepResult RunSweep(const SweepSpec& spec, const std::vector<SweepRun>& runs,
     throw InputError(SourceLocation{options.out_dir, 0, 0, "--out"},
                      "a folder no other hcpf sweep is writing to", "a sweep already running there");
   }
-  RemoveStalePartials(out / "runs");
+  // Staging folders of runs whose process was killed.
+  RemoveStaleStagingFolders(out / "runs", "");
 
   StoreMeta meta;
   meta.sweep_hash = SweepHash(runs);

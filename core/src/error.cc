@@ -26,7 +26,8 @@ InputError::InputError(SourceLocation where, std::string expected, std::string f
     : Error(FormatInputError(where, expected, found, hint)),
       where_(std::move(where)),
       expected_(std::move(expected)),
-      found_(std::move(found)) {}
+      found_(std::move(found)),
+      hint_(std::move(hint)) {}
 
 InputError::InputError(const std::string& message) : Error(message) {}
 

@@ -37,10 +37,10 @@ void PointMetricsOptions::Validate() const {
   auto fail = [](const char* key, const char* expected, double found) {
     throw InputError(SourceLocation{{}, 0, 0, key}, expected, fmt::format("{}", found));
   };
-  if (!(cutoff_px > 0.0) || !std::isfinite(cutoff_px)) fail("metrics.ospa.cutoff_px", "a number > 0", cutoff_px);
-  if (!(order >= 1.0) || !std::isfinite(order)) fail("metrics.ospa.order", "a number >= 1", order);
+  if (!(cutoff_px > 0.0) || !std::isfinite(cutoff_px)) fail("metrics.ospa_cutoff_px", "a number > 0", cutoff_px);
+  if (!(order >= 1.0) || !std::isfinite(order)) fail("metrics.ospa_order", "a number >= 1", order);
   if (!(switching_penalty >= 0.0) || !std::isfinite(switching_penalty)) {
-    fail("metrics.ospa.switching_penalty", "a number >= 0", switching_penalty);
+    fail("metrics.gospa_switching_penalty", "a number >= 0", switching_penalty);
   }
 }
 

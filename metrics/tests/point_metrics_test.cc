@@ -76,7 +76,7 @@ TEST(PointMetricsOptions, DefaultsValidateAndBadFieldsAreNamed) {
     PointMetricsOptions{.order = 0.5}.Validate();
     ADD_FAILURE();
   } catch (const InputError& e) {
-    EXPECT_NE(std::string(e.what()).find("metrics.ospa.order"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("metrics.ospa_order"), std::string::npos) << e.what();
   }
   EXPECT_THROW(PointMetricsOptions{.cutoff_px = 0}.Validate(), InputError);
   EXPECT_THROW(PointMetricsOptions{.switching_penalty = -1}.Validate(), InputError);

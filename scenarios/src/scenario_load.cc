@@ -9,6 +9,7 @@
 #include <set>
 
 #include "hcpf/core/rng.h"
+#include "hcpf/scenarios/frames.h"
 #include "hcpf/scenarios/models.h"
 #include "hcpf/scenarios/scenario.h"
 #include "yaml_reader.h"
@@ -293,13 +294,6 @@ void ReadTracker(YamlReader r, tracker::TrackerOptions* t) {
     m->Finish();
   }
   r.Finish();
-  // Cross-field constraints the component Options know about; their messages
-  // name the dotted key, the location is the tracker section.
-  try {
-    t->Validate();
-  } catch (const InputError& e) {
-    r.Fail("a consistent tracker configuration", e.what());
-  }
 }
 
 void ReadMetrics(YamlReader r, MetricsConfig* m) {
@@ -367,11 +361,13 @@ Scenario ReadScenario(YamlReader root, const std::string& file) {
 
   if (auto sensor = root.Optional("sensor")) {
     sensor->ExpectMap();
-    s.sensor.noise_sigma = sensor->Number("noise_sigma", s.sensor.noise_sigma, 0.0, 255.0);
-    s.sensor.blur_px = sensor->Number("blur_px", s.sensor.blur_px, 0.0, 100.0);
+    // The ranges are the renderer's (renderer::SensorOptions::Validate, run
+    // below): validate accepts exactly what a rendered run accepts.
+    s.sensor.noise_sigma = sensor->Number("noise_sigma", s.sensor.noise_sigma, 0.0, 100.0);
+    s.sensor.blur_px = sensor->Number("blur_px", s.sensor.blur_px, 0.0, 20.0);
     s.sensor.jpeg_quality =
         static_cast<int>(sensor->Integer("jpeg_quality", s.sensor.jpeg_quality, 1, 100));
-    s.sensor.exposure = sensor->Number("exposure", s.sensor.exposure, 0.01, 100.0);
+    s.sensor.exposure = sensor->Number("exposure", s.sensor.exposure, 0.0, 16.0);
     sensor->Finish();
   }
   if (auto obs = root.Optional("observation")) {
@@ -397,6 +393,15 @@ Scenario ReadScenario(YamlReader root, const std::string& file) {
   if (auto t = root.Optional("tracker")) ReadTracker(*t, &s.tracker);
   if (auto m = root.Optional("metrics")) ReadMetrics(*m, &s.metrics);
   root.Finish();
+  // Every module's own checks (ranges and cross-field rules), run at load
+  // time so `hcpf validate` and `hcpf run` accept the same scenarios; an error
+  // is reported at the line of the key it names.
+  root.Relocate([&s] {
+    RendererOptionsOf(s);  // renderer and sensor options (validates)
+    s.tracker.Validate();
+    s.metrics.filters.Validate();
+    s.metrics.points.Validate();
+  });
   return s;
 }
 

@@ -321,6 +321,29 @@ Eigen::VectorXd YamlReader::Vector(const std::string& key, int n,
   return Child(key).AsVector(n, lo, hi);
 }
 
+void YamlReader::Relocate(const std::function<void()>& validate) const {
+  try {
+    validate();
+  } catch (const InputError& e) {
+    const std::string& dotted = e.where().key;
+    const std::string prefix = path_.empty() ? "" : path_ + ".";
+    if (dotted.empty() || dotted.rfind(prefix, 0) != 0) throw;
+    YamlReader at = *this;
+    size_t start = prefix.size();
+    while (start <= dotted.size()) {
+      const size_t dot = dotted.find('.', start);
+      const std::string part = dotted.substr(start, dot == std::string::npos ? dot : dot - start);
+      if (!at.node_.IsMap() || !at.node_[part].IsDefined()) break;
+      at = at.MakeChild(part);
+      if (dot == std::string::npos) break;
+      start = dot + 1;
+    }
+    SourceLocation where = at.Where();
+    where.key = dotted;
+    throw InputError(where, e.expected(), e.found(), e.hint());
+  }
+}
+
 void YamlReader::Finish() const {
   if (!node_.IsDefined() || node_.IsNull() || !node_.IsMap()) return;
   std::vector<std::string> known(asked_->begin(), asked_->end());

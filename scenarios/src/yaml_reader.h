@@ -7,6 +7,7 @@
 #include <yaml-cpp/yaml.h>
 
 #include <Eigen/Core>
+#include <functional>
 #include <map>
 #include <memory>
 #include <optional>
@@ -68,6 +69,13 @@ class YamlReader {
   double AsNumber(double lo, double hi) const;
   int64_t AsInteger(int64_t lo, int64_t hi) const;
   Eigen::VectorXd AsVector(int n, double lo, double hi) const;
+
+  // Runs `validate` (a module's Validate(), whose InputError names a dotted
+  // key below this node, e.g. "sensor.exposure") and rethrows its error at
+  // the file line and column of that key, or of its nearest written ancestor
+  // when the key was left at its default. The error's fields are kept as they
+  // are; only the location changes.
+  void Relocate(const std::function<void()>& validate) const;
 
   // Rejects keys of this mapping that no reader asked about.
   void Finish() const;

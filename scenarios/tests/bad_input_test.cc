@@ -83,6 +83,22 @@ std::vector<BadCase> Cases() {
        {"--set tracker.particles=lots", "tracker.particles", "expected an integer", "found \"lots\""}},
       {"FrameOutOfRange", Replace(m, "start_frame: 2}", "start_frame: 20}"), {},
        {"bad.yaml:15:", "targets[1].path.start_frame", "[0, 19]", "found \"20\""}},
+      // Issue 15, item 3: the renderer's ranges, located at the key (validate
+      // accepted these; a rendered run then failed without a location).
+      {"SensorExposureAboveRendererRange", m + "sensor:\n  exposure: 50\n", {},
+       {"bad.yaml:20:13:", "sensor.exposure", "found \"50\""}},
+      {"SensorExposureZero", m + "sensor:\n  exposure: 0\n", {},
+       {"bad.yaml:20:13:", "sensor.exposure", "(0, 16]", "found 0"}},
+      {"SensorNoiseAboveRendererRange", m + "sensor:\n  noise_sigma: 255\n", {},
+       {"bad.yaml:20:16:", "sensor.noise_sigma", "found \"255\""}},
+      {"SensorBlurAboveRendererRange", m + "sensor:\n  blur_px: 100\n", {},
+       {"bad.yaml:20:12:", "sensor.blur_px", "found \"100\""}},
+      {"SensorValueFromOverride", m, {{"sensor.exposure", "50"}},
+       {"--set sensor.exposure=50", "sensor.exposure"}},
+      // A module's cross-field rule, reported at the line of the key it names.
+      {"CrossFieldRuleAtItsKey",
+       m + "  likelihood: {model: associated}\n  association: {method: none}\n", {},
+       {"bad.yaml:20:", "tracker.association.method", "gnn or nearest"}},
       {"TopLevelNotAMapping", "- a\n- b\n", {}, {"bad.yaml:1:1:", "a scenario mapping", "found a list"}},
   };
 }

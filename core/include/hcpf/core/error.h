@@ -33,11 +33,13 @@ class InputError : public Error {
   const SourceLocation& where() const { return where_; }
   const std::string& expected() const { return expected_; }
   const std::string& found() const { return found_; }
+  const std::string& hint() const { return hint_; }
 
  private:
   SourceLocation where_;
   std::string expected_;
   std::string found_;
+  std::string hint_;
 };
 
 // A run that could not complete (I/O failure while writing, a component failed).

@@ -1,0 +1,186 @@
+// The reproducers of the bad-input campaign (issue 15), run against the real
+// `hcpf` executable: each must end in exit 2 (bad input) or 1 (I/O) with a
+// located message, and never touch data outside the tool's own output.
+
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+
+#include <filesystem>
+#include <fstream>
+#include <string>
+
+#include "support/crafted_glb.h"
+#include "support/process.h"
+
+namespace hcpf {
+namespace {
+
+namespace fs = std::filesystem;
+using testing::FreshDir;
+using testing::LibraryScenario;
+using testing::ReadFile;
+using testing::RunCommand;
+
+const std::string kHcpf = HCPF_EXE;
+
+// A small detection-level scenario; `extra` is appended as more top-level
+// keys, `model` (when set) replaces the target's box by a model file.
+std::string SmallScenario(const std::string& model = {}, const std::string& extra = {}) {
+  const std::string shape = model.empty() ? "dimensions_m: [4, 2, 1.5]" : "model: " + model;
+  return "frames: 10\n"
+         "camera:\n"
+         "  resolution: [320, 240]\n"
+         "  path: [{frame: 0, position: [0, 0, 50], look_at: [0, 0.1, 0]}]\n"
+         "targets:\n"
+         "  - id: 1\n"
+         "    " +
+         shape +
+         "\n"
+         "    path: {waypoints: [[0, 0]]}\n" +
+         extra;
+}
+
+fs::path Write(const fs::path& path, const std::string& text) {
+  std::ofstream(path) << text;
+  return path;
+}
+
+// A process id that no process has: a shell that has already exited.
+std::string DeadPid() {
+  const auto r = RunCommand("sh -c 'echo $$'");
+  std::string pid = r.output;
+  while (!pid.empty() && (pid.back() == '\n' || pid.back() == '\r')) pid.pop_back();
+  return pid;
+}
+
+// Item 1: accessor fields that wrapped the loader's bounds arithmetic crashed
+// validate, run and the sweep expansion with SIGSEGV.
+TEST(Reliability, CraftedGlbIsBadInputForValidateRunAndSweep) {
+  const fs::path dir = FreshDir("crafted-glb");
+  struct Case {
+    const char* file;
+    uint64_t count;
+    uint64_t byte_offset;
+  };
+  for (const Case& c : {Case{"count.glb", 6148914691236517206ull, 0},
+                        Case{"offset.glb", 1, 18446744073709551612ull}}) {
+    testing::WriteTriangleGlb(dir / c.file, c.count, c.byte_offset);
+    const fs::path scenario =
+        Write(dir / (std::string(c.file) + ".yaml"), SmallScenario((dir / c.file).string()));
+    for (const std::string& command :
+         {kHcpf + " validate " + scenario.string(),
+          kHcpf + " run " + scenario.string() + " --out " + (dir / "out").string()}) {
+      const auto r = RunCommand(command);
+      EXPECT_EQ(r.exit_code, 2) << command << "\n" << r.output;
+      EXPECT_NE(r.output.find(scenario.string() + ":7:"), std::string::npos) << r.output;
+      EXPECT_NE(r.output.find("targets[0].model"), std::string::npos) << r.output;
+      EXPECT_NE(r.output.find("POSITION accessor 0"), std::string::npos) << r.output;
+      EXPECT_FALSE(fs::exists(dir / "out"));
+    }
+    const fs::path sweep =
+        Write(dir / (std::string(c.file) + ".sweep.yaml"),
+              "base: " + scenario.string() + "\nseeds: 2\ngrid:\n  tracker.particles: [10, 20]\n");
+    const auto r = RunCommand(kHcpf + " sweep " + sweep.string() + " --isolate --out " +
+                              (dir / "sweep").string());
+    EXPECT_EQ(r.exit_code, 2) << r.output;
+    EXPECT_NE(r.output.find("POSITION accessor 0"), std::string::npos) << r.output;
+  }
+}
+
+// Item 2: a folder that merely holds a file called manifest.json was wiped.
+TEST(Reliability, OutNeverReplacesAFolderThatIsNotOurOutput) {
+  const fs::path dir = FreshDir("foreign-out");
+  const fs::path scenario = Write(dir / "small.yaml", SmallScenario());
+  const fs::path app = dir / "app";
+  fs::create_directories(app / "precious");
+  Write(app / "manifest.json", "{\"name\":\"my web app\"}\n");
+  Write(app / "precious" / "data.txt", "precious");
+  for (const std::string& command :
+       {kHcpf + " run " + scenario.string() + " --out " + app.string(),
+        kHcpf + " render " + scenario.string() + " --out " + app.string()}) {
+    const auto r = RunCommand(command);
+    EXPECT_EQ(r.exit_code, 2) << command << "\n" << r.output;
+    EXPECT_NE(r.output.find("--out"), std::string::npos) << r.output;
+    EXPECT_EQ(ReadFile(app / "precious" / "data.txt"), "precious");
+    EXPECT_EQ(ReadFile(app / "manifest.json"), "{\"name\":\"my web app\"}\n");
+  }
+
+  // A genuine earlier run is replaced...
+  const fs::path out = dir / "out";
+  ASSERT_EQ(RunCommand(kHcpf + " run " + scenario.string() + " --out " + out.string()).exit_code,
+            0);
+  auto r = RunCommand(kHcpf + " run " + scenario.string() + " --out " + out.string());
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_TRUE(fs::exists(out / "metrics.json"));
+  // ...but not once a file of the user's is put into it.
+  Write(out / "notes.txt", "my notes");
+  r = RunCommand(kHcpf + " run " + scenario.string() + " --out " + out.string());
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_NE(r.output.find("notes.txt"), std::string::npos) << r.output;
+  EXPECT_EQ(ReadFile(out / "notes.txt"), "my notes");
+  EXPECT_TRUE(fs::exists(out / "metrics.json"));
+  // Nor when the user's file sits inside a folder a run writes.
+  fs::remove(out / "notes.txt");
+  Write(out / "gt" / "mine.txt", "mine");
+  r = RunCommand(kHcpf + " run " + scenario.string() + " --out " + out.string());
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_EQ(ReadFile(out / "gt" / "mine.txt"), "mine");
+}
+
+// Items 6 and 21: the earlier folder is renamed aside, never half deleted in
+// place, and staging folders of processes that no longer run are removed.
+TEST(Reliability, ReplacingAnOutputLeavesNoStagingFolders) {
+  const fs::path dir = FreshDir("staging");
+  const fs::path scenario = Write(dir / "small.yaml", SmallScenario());
+  const fs::path out = dir / "out";
+  ASSERT_EQ(RunCommand(kHcpf + " run " + scenario.string() + " --out " + out.string()).exit_code,
+            0);
+  const std::string dead = DeadPid();
+  ASSERT_FALSE(dead.empty());
+  fs::create_directories(dir / ("out.partial-" + dead) / "gt");
+  fs::create_directories(dir / ("out.old-" + dead) / "gt");
+  // A staging folder of another output name and one of a live process stay.
+  fs::create_directories(dir / ("other.partial-" + dead));
+  fs::create_directories(dir / "out.partial-1");  // pid 1 always runs
+  const auto r = RunCommand(kHcpf + " run " + scenario.string() + " --out " + out.string());
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_TRUE(fs::exists(out / "manifest.json"));
+  EXPECT_FALSE(fs::exists(dir / ("out.partial-" + dead)));
+  EXPECT_FALSE(fs::exists(dir / ("out.old-" + dead)));
+  EXPECT_TRUE(fs::exists(dir / ("other.partial-" + dead)));
+  EXPECT_TRUE(fs::exists(dir / "out.partial-1"));
+  for (const auto& entry : fs::directory_iterator(dir)) {
+    const std::string name = entry.path().filename().string();
+    EXPECT_EQ(name.find("out.old-"), std::string::npos) << name;
+  }
+}
+
+// Item 3: sensor values a rendered run rejects were accepted by validate;
+// both commands must reject them at the key's own line and column.
+TEST(Reliability, SensorValuesOutsideTheRenderersRangeAreRejectedByValidateAndRun) {
+  const fs::path dir = FreshDir("sensor");
+  struct Case {
+    const char* key;
+    const char* value;
+  };
+  for (const Case& c : {Case{"exposure", "50"}, Case{"exposure", "0"}, Case{"noise_sigma", "255"},
+                        Case{"blur_px", "100"}}) {
+    const fs::path scenario =
+        Write(dir / (std::string(c.key) + c.value + ".yaml"),
+              SmallScenario({}, "sensor:\n  " + std::string(c.key) + ": " + c.value + "\n"));
+    const std::string located = scenario.string() + ":10:";
+    const std::string dotted = "sensor." + std::string(c.key);
+    for (const std::string& command :
+         {kHcpf + " validate " + scenario.string(),
+          kHcpf + " run " + scenario.string() + " --out " + (dir / "out").string()}) {
+      const auto r = RunCommand(command);
+      EXPECT_EQ(r.exit_code, 2) << command << "\n" << r.output;
+      EXPECT_NE(r.output.find(located), std::string::npos) << r.output;
+      EXPECT_NE(r.output.find(dotted), std::string::npos) << r.output;
+      EXPECT_EQ(r.output.find("<input>"), std::string::npos) << r.output;
+    }
+  }
+}
+
+}  // namespace
+}  // namespace hcpf

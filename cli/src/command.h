@@ -25,5 +25,6 @@ Command AddMergeCommand(CLI::App& parent);
 Command AddReportCommand(CLI::App& parent);
 Command AddRegressCommand(CLI::App& parent);
 Command AddRenderCommand(CLI::App& parent);
+Command AddSchemaCommand(CLI::App& parent);
 
 }  // namespace hcpf::cli

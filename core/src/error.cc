@@ -9,12 +9,15 @@ namespace hcpf {
 
 std::string FormatInputError(const SourceLocation& where, const std::string& expected,
                              const std::string& found, const std::string& hint) {
-  std::string out = where.file.empty() ? std::string("<input>") : where.file;
-  if (where.line > 0) {
+  // A check made away from any file (a library's Validate() on options built
+  // in code) has no location: the message then starts at the key. Errors from
+  // files and the command line are located by their reader.
+  std::string out = where.file;
+  if (!out.empty() && where.line > 0) {
     out += ":" + std::to_string(where.line);
     if (where.column > 0) out += ":" + std::to_string(where.column);
   }
-  out += ": ";
+  if (!out.empty()) out += ": ";
   if (!where.key.empty()) out += where.key + ": ";
   out += "expected " + expected + ", found " + found;
   if (!hint.empty()) out += " (" + hint + ")";

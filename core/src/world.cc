@@ -24,6 +24,33 @@ Eigen::Vector3d RotateZ(const Eigen::Vector3d& v, double yaw_rad) {
 
 }  // namespace
 
+std::vector<std::string_view> TerrainSpec::TextureNames() {
+  return {"grass", "dirt", "asphalt", "sand"};
+}
+
+std::span<const Field<TerrainSpec>> TerrainSpec::Fields() {
+  using O = TerrainSpec;
+  static const std::vector<Field<O>> fields = {
+      NumberField("relief_m", &O::relief_m, Closed(0, 1000), "m",
+                  "peak-to-peak bound of the height field"),
+      WordField<&O::texture, &TerrainSpec::TextureNames>("texture", "ground texture"),
+      FlagField("roads", &O::roads, "draw asphalt roads along target paths (renderer)"),
+  };
+  return fields;
+}
+
+std::span<const Field<SunSpec>> SunSpec::Fields() {
+  using O = SunSpec;
+  static const std::vector<Field<O>> fields = {
+      NumberField("azimuth_deg", &O::azimuth_deg, Closed(0, 360), "deg",
+                  "clockwise from north"),
+      NumberField("elevation_deg", &O::elevation_deg, Closed(1, 90), "deg",
+                  "above the horizon"),
+      FlagField("shadows", &O::shadows, "cast shadows (renderer)"),
+  };
+  return fields;
+}
+
 double TerrainSpec::HeightAt(double x_m, double y_m) const {
   if (relief_m <= 0.0) return 0.0;
   static constexpr double kWavelengthM[4] = {80.0, 40.0, 20.0, 10.0};

@@ -33,16 +33,19 @@ std::vector<int> AssignCut(std::span<const IdPoint> truth, std::span<const IdPoi
 
 }  // namespace
 
-void PointMetricsOptions::Validate() const {
-  auto fail = [](const char* key, const char* expected, double found) {
-    throw InputError(SourceLocation{{}, 0, 0, key}, expected, fmt::format("{}", found));
+std::span<const Field<PointMetricsOptions>> PointMetricsOptions::Fields() {
+  using O = PointMetricsOptions;
+  static const std::vector<Field<O>> fields = {
+      NumberField("ospa_cutoff_px", &O::cutoff_px, Closed(1e-3, 1e6), "px",
+                  "OSPA/GOSPA cut-off c"),
+      NumberField("ospa_order", &O::order, Closed(1, 100), "", "OSPA/GOSPA order p"),
+      NumberField("gospa_switching_penalty", &O::switching_penalty, Closed(0, 1e6), "",
+                  "GOSPA switching penalty γ; 0 = no switching term"),
   };
-  if (!(cutoff_px > 0.0) || !std::isfinite(cutoff_px)) fail("metrics.ospa_cutoff_px", "a number > 0", cutoff_px);
-  if (!(order >= 1.0) || !std::isfinite(order)) fail("metrics.ospa_order", "a number >= 1", order);
-  if (!(switching_penalty >= 0.0) || !std::isfinite(switching_penalty)) {
-    fail("metrics.gospa_switching_penalty", "a number >= 0", switching_penalty);
-  }
+  return fields;
 }
+
+void PointMetricsOptions::Validate() const { CheckFields(*this, Fields(), "metrics"); }
 
 std::vector<PointFrame> PointFramesFromSequence(const Sequence& seq) {
   std::vector<PointFrame> frames(seq.frames.size());

@@ -1,5 +1,7 @@
 #include <fmt/format.h>
 
+#include <limits>
+
 #include "hcpf/core/error.h"
 #include "hcpf/renderer/renderer.h"
 
@@ -13,43 +15,48 @@ namespace {
 
 }  // namespace
 
-void SensorOptions::Validate() const {
-  if (!(exposure > 0.0 && exposure <= 16.0)) {
-    Bad("sensor.exposure", "a gain in (0, 16]", fmt::format("{}", exposure));
-  }
-  if (!(blur_px >= 0.0 && blur_px <= 20.0)) {
-    Bad("sensor.blur_px", "a sigma in [0, 20] pixels", fmt::format("{}", blur_px));
-  }
-  if (!(noise_sigma >= 0.0 && noise_sigma <= 100.0)) {
-    Bad("sensor.noise_sigma", "a std. dev. in [0, 100] grey levels", fmt::format("{}", noise_sigma));
-  }
-  if (jpeg_quality < 0 || jpeg_quality > 100) {
-    Bad("sensor.jpeg_quality", "0 (off) or a quality in 1..100", fmt::format("{}", jpeg_quality));
-  }
+std::span<const Field<SensorOptions>> SensorOptions::Fields() {
+  using O = SensorOptions;
+  static const std::vector<Field<O>> fields = {
+      NumberField("exposure", &O::exposure, AboveUpTo(0, 16), "", "gain on pixel values"),
+      NumberField("blur_px", &O::blur_px, Closed(0, 20), "px",
+                  "Gaussian blur σ; 0 = off"),
+      NumberField("noise_sigma", &O::noise_sigma, Closed(0, 100), "grey levels",
+                  "std. dev. of additive Gaussian noise"),
+      IntegerField("jpeg_quality", &O::jpeg_quality, 0, 100, "",
+                   "JPEG encode/decode round trip quality; 0 = off"),
+  };
+  return fields;
+}
+
+void SensorOptions::Validate() const { CheckFields(*this, Fields(), "sensor"); }
+
+std::span<const Field<RendererOptions>> RendererOptions::Fields() {
+  using O = RendererOptions;
+  static const std::vector<Field<O>> fields = {
+      IntegerField("shadow_map_size", &O::shadow_map_size, 64, 8192, "texels",
+                   "shadow map size per side"),
+      IntegerField("pcf_radius", &O::pcf_radius, 0, 4, "texels", "shadow filter radius"),
+      IntegerField("terrain_grid", &O::terrain_grid, 1, 1024, "cells",
+                   "height-field cells per side"),
+      IntegerField("texture_size", &O::texture_size, 16, 2048, "texels",
+                   "procedural texture size (a power of two)"),
+      NumberField("texture_tile_m", &O::texture_tile_m,
+                  AboveUpTo(0, std::numeric_limits<double>::infinity()), "m",
+                  "ground texture repeat length"),
+      NumberField("road_width_m", &O::road_width_m,
+                  AboveUpTo(0, std::numeric_limits<double>::infinity()), "m",
+                  "width of roads along target paths"),
+      IntegerField("lp_num_threads", &O::lp_num_threads, 0, 256, "",
+                   "llvmpipe rasteriser threads; 0 = leave as is"),
+  };
+  return fields;
 }
 
 void RendererOptions::Validate() const {
-  if (shadow_map_size < 64 || shadow_map_size > 8192) {
-    Bad("renderer.shadow_map_size", "an integer in [64, 8192]", fmt::format("{}", shadow_map_size));
-  }
-  if (pcf_radius < 0 || pcf_radius > 4) {
-    Bad("renderer.pcf_radius", "an integer in [0, 4]", fmt::format("{}", pcf_radius));
-  }
-  if (terrain_grid < 1 || terrain_grid > 1024) {
-    Bad("renderer.terrain_grid", "an integer in [1, 1024]", fmt::format("{}", terrain_grid));
-  }
-  if (texture_size < 16 || texture_size > 2048 || (texture_size & (texture_size - 1)) != 0) {
+  CheckFields(*this, Fields(), "renderer");
+  if ((texture_size & (texture_size - 1)) != 0) {
     Bad("renderer.texture_size", "a power of two in [16, 2048]", fmt::format("{}", texture_size));
-  }
-  if (!(texture_tile_m > 0.0)) {
-    Bad("renderer.texture_tile_m", "a length > 0 m", fmt::format("{}", texture_tile_m));
-  }
-  if (!(road_width_m > 0.0)) {
-    Bad("renderer.road_width_m", "a width > 0 m", fmt::format("{}", road_width_m));
-  }
-  if (lp_num_threads < 0 || lp_num_threads > 256) {
-    Bad("renderer.lp_num_threads", "0 (leave) or a thread count in 1..256",
-        fmt::format("{}", lp_num_threads));
   }
   sensor.Validate();
 }

@@ -12,6 +12,7 @@
 #include "hcpf/scenarios/frames.h"
 #include "hcpf/scenarios/models.h"
 #include "hcpf/scenarios/scenario.h"
+#include "fields_yaml.h"
 #include "yaml_reader.h"
 
 namespace hcpf::scenarios {
@@ -33,17 +34,13 @@ uint64_t DeriveSeed(uint64_t seed, const char* name) { return Rng(seed).Fork(nam
 void ReadTerrain(YamlReader r, TerrainSpec* t) {
   r.ExpectMap();
   t->size_m = V2(r.Vector("size_m", 2, Vx({400, 400}), 1.0, kBig));
-  t->relief_m = r.Number("relief_m", 0.0, 0.0, 1000.0);
-  t->texture = r.Enum("texture", "grass", {"grass", "dirt", "asphalt", "sand"});
-  t->roads = r.Bool("roads", false);
+  ReadFields(r, *t, TerrainSpec::Fields());
   r.Finish();
 }
 
 void ReadSun(YamlReader r, SunSpec* s) {
   r.ExpectMap();
-  s->azimuth_deg = r.Number("azimuth_deg", 135.0, 0.0, 360.0);
-  s->elevation_deg = r.Number("elevation_deg", 35.0, 1.0, 90.0);
-  s->shadows = r.Bool("shadows", true);
+  ReadFields(r, *s, SunSpec::Fields());
   r.Finish();
 }
 
@@ -177,16 +174,7 @@ void ReadCamera(YamlReader r, int frames, CameraSpec* c) {
 
 void ReadSimulated(YamlReader r, const std::set<int32_t>& ids, SimulatedObservationOptions* s) {
   r.ExpectMap();
-  s->sigma_px = r.Number("sigma_px", s->sigma_px, 0.0, 1000.0);
-  s->size_sigma = r.Number("size_sigma", s->size_sigma, 0.0, 2.0);
-  s->p_detect = r.Number("p_detect", s->p_detect, 0.0, 1.0);
-  s->visibility_exponent = r.Number("visibility_exponent", s->visibility_exponent, 0.0, 10.0);
-  s->min_visible = r.Number("min_visible", s->min_visible, 0.0, 1.0);
-  s->clutter_per_frame = r.Number("clutter_per_frame", s->clutter_per_frame, 0.0, 1000.0);
-  s->likelihood_map = r.Bool("likelihood_map", s->likelihood_map);
-  s->map_cell_px = r.Number("map_cell_px", s->map_cell_px, 1.0, 64.0);
-  s->map_blob_scale = r.Number("map_blob_scale", s->map_blob_scale, 0.01, 10.0);
-  s->map_noise = r.Number("map_noise", s->map_noise, 0.0, 10.0);
+  ReadFields(r, *s, SimulatedObservationOptions::Fields());
   if (auto strength = r.Optional("strength")) {
     strength->ExpectMap();
     for (const auto& entry : strength->node()) {
@@ -202,113 +190,42 @@ void ReadSimulated(YamlReader r, const std::set<int32_t>& ids, SimulatedObservat
   r.Finish();
 }
 
-// An enum key read with the component's own name list and parser.
-template <typename E>
-E ReadEnum(YamlReader& r, const std::string& key, E fallback,
-           const std::vector<std::string_view>& names, std::optional<E> (*parse)(std::string_view)) {
-  const std::vector<std::string> choices(names.begin(), names.end());
-  const std::string value = r.Enum(key, std::string(tracker::ToString(fallback)), choices);
-  return *parse(value);
+// One nested section of `tracker` from its Options' declared fields.
+template <class O>
+void ReadSection(YamlReader& tracker, const char* key, O* o) {
+  if (auto section = tracker.Optional(key)) {
+    section->ExpectMap();
+    ReadFields(*section, *o, O::Fields());
+    section->Finish();
+  }
 }
 
 void ReadTracker(YamlReader r, tracker::TrackerOptions* t) {
-  namespace tk = tracker;
   r.ExpectMap();
-  t->particles = static_cast<int>(r.Integer("particles", t->particles, 1, 10'000'000));
-  t->keep_particles = static_cast<int>(r.Integer("keep_particles", t->keep_particles, 0, 100'000));
-  t->init = ReadEnum(r, "init", t->init, tk::InitModeNames(), &tk::ParseInitMode);
-  if (auto d = r.Optional("dynamics")) {
-    d->ExpectMap();
-    auto& o = t->dynamics;
-    o.model = ReadEnum(*d, "model", o.model, tk::DynamicsModelNames(), &tk::ParseDynamicsModel);
-    o.sigma_pos_px = d->Number("sigma_pos_px", o.sigma_pos_px, 0.0, 1000.0);
-    o.sigma_vel_px = d->Number("sigma_vel_px", o.sigma_vel_px, 0.0, 1000.0);
-    o.sigma_log_scale = d->Number("sigma_log_scale", o.sigma_log_scale, 0.0, 1.0);
-    d->Finish();
-  }
-  if (auto l = r.Optional("likelihood")) {
-    l->ExpectMap();
-    auto& o = t->likelihood;
-    o.model = ReadEnum(*l, "model", o.model, tk::LikelihoodModelNames(), &tk::ParseLikelihoodModel);
-    o.sigma_px = l->Number("sigma_px", o.sigma_px, 1e-3, 1000.0);
-    o.clutter_density = l->Number("clutter_density", o.clutter_density, 0.0, 1.0);
-    o.use_scores = l->Bool("use_scores", o.use_scores);
-    o.sigma_log_size = l->Number("sigma_log_size", o.sigma_log_size, 0.0, 10.0);
-    o.map_floor = l->Number("map_floor", o.map_floor, 0.0, 1e6);
-    l->Finish();
-  }
-  if (auto s = r.Optional("resampling")) {
-    s->ExpectMap();
-    auto& o = t->resampling;
-    o.method = ReadEnum(*s, "method", o.method, tk::ResamplingMethodNames(), &tk::ParseResamplingMethod);
-    o.ess_threshold = s->Number("ess_threshold", o.ess_threshold, 0.0, 1.0);
-    o.potential = ReadEnum(*s, "potential", o.potential, tk::ChargePotentialNames(),
-                           &tk::ParseChargePotential);
-    o.charge = s->Number("charge", o.charge, 0.0, 1e6);
-    o.beta = s->Number("beta", o.beta, 0.0, 1e6);
-    o.softening_px = s->Number("softening_px", o.softening_px, 1e-3, 1e4);
-    o.max_tries = static_cast<int>(s->Integer("max_tries", o.max_tries, 0, 10'000));
-    std::vector<std::string_view> candidates;
-    for (auto name : tk::ResamplingMethodNames()) {
-      if (name != "charged") candidates.push_back(name);
+  ReadFields(r, *t, tracker::TrackerOptions::Fields());
+  ReadSection(r, "dynamics", &t->dynamics);
+  ReadSection(r, "likelihood", &t->likelihood);
+  ReadSection(r, "resampling", &t->resampling);
+  ReadSection(r, "interaction", &t->interaction);
+  if (auto a = r.Optional("association"); a && a->node().IsScalar()) {
+    // Shorthand of DESIGN.md: `association: gnn` sets the method.
+    Field<tracker::AssociationOptions> method;
+    for (const auto& f : tracker::AssociationOptions::Fields()) {
+      if (f.key == "method") method = f;
     }
-    o.candidates = ReadEnum(*s, "candidates", o.candidates, candidates, &tk::ParseResamplingMethod);
-    s->Finish();
+    method.key = "association";
+    ReadFields(r, t->association, std::span<const Field<tracker::AssociationOptions>>(&method, 1));
+  } else {
+    ReadSection(r, "association", &t->association);
   }
-  if (auto i = r.Optional("interaction")) {
-    i->ExpectMap();
-    auto& o = t->interaction;
-    o.model = ReadEnum(*i, "model", o.model, tk::InteractionModelNames(), &tk::ParseInteractionModel);
-    o.lambda = i->Number("lambda", o.lambda, 0.0, 1e6);
-    o.radius_px = i->Number("radius_px", o.radius_px, 1e-3, 1e4);
-    i->Finish();
-  }
-  if (auto a = r.Optional("association")) {
-    auto& o = t->association;
-    if (a->node().IsScalar()) {
-      // Shorthand of DESIGN.md: `association: gnn`.
-      o.method = ReadEnum(r, "association", o.method, tk::AssociationMethodNames(),
-                          &tk::ParseAssociationMethod);
-    } else {
-      a->ExpectMap();
-      o.method = ReadEnum(*a, "method", o.method, tk::AssociationMethodNames(),
-                          &tk::ParseAssociationMethod);
-      o.gate = ReadEnum(*a, "gate", o.gate, tk::GateKindNames(), &tk::ParseGateKind);
-      o.gate_mahalanobis_sq = a->Number("gate_mahalanobis_sq", o.gate_mahalanobis_sq, 1e-6, 1e6);
-      o.measurement_sigma_px = a->Number("measurement_sigma_px", o.measurement_sigma_px, 1e-3, 1e4);
-      o.min_iou = a->Number("min_iou", o.min_iou, 0.0, 1.0);
-      a->Finish();
-    }
-  }
-  if (auto m = r.Optional("management")) {
-    m->ExpectMap();
-    auto& o = t->management;
-    o.confirm_window = static_cast<int>(m->Integer("confirm_window", o.confirm_window, 1, 1000));
-    o.confirm_hits = static_cast<int>(m->Integer("confirm_hits", o.confirm_hits, 1, o.confirm_window));
-    o.tentative_gate_px = m->Number("tentative_gate_px", o.tentative_gate_px, 1e-3, 1e5);
-    o.max_missed_frames = static_cast<int>(m->Integer("max_missed_frames", o.max_missed_frames, 0, 1'000'000));
-    o.coast_without_support = m->Bool("coast_without_support", o.coast_without_support);
-    o.birth_sigma_px = m->Number("birth_sigma_px", o.birth_sigma_px, 0.0, 1e4);
-    o.birth_sigma_vel_px = m->Number("birth_sigma_vel_px", o.birth_sigma_vel_px, 0.0, 1e4);
-    o.birth_sigma_log_scale = m->Number("birth_sigma_log_scale", o.birth_sigma_log_scale, 0.0, 10.0);
-    m->Finish();
-  }
+  ReadSection(r, "management", &t->management);
   r.Finish();
 }
 
 void ReadMetrics(YamlReader r, MetricsConfig* m) {
   r.ExpectMap();
-  auto& f = m->filters;
-  f.iou_threshold = r.Number("iou_threshold", f.iou_threshold, 1e-6, 1.0);
-  f.gate_factor = r.Number("gate_factor", f.gate_factor, 0.01, 100.0);
-  f.encounter_factor = r.Number("encounter_factor", f.encounter_factor, 0.01, 100.0);
-  f.post_window = static_cast<int>(r.Integer("post_window", f.post_window, 0, 100000));
-  f.min_visible = r.Number("min_visible", f.min_visible, 0.0, 1.0);
-  f.visible_bins = static_cast<int>(r.Integer("visible_bins", f.visible_bins, 1, 100));
-  auto& p = m->points;
-  p.cutoff_px = r.Number("ospa_cutoff_px", p.cutoff_px, 1e-3, 1e6);
-  p.order = r.Number("ospa_order", p.order, 1.0, 100.0);
-  p.switching_penalty = r.Number("gospa_switching_penalty", p.switching_penalty, 0.0, 1e6);
+  ReadFields(r, m->filters, metrics::FilterMetricsOptions::Fields());
+  ReadFields(r, m->points, metrics::PointMetricsOptions::Fields());
   r.Finish();
 }
 
@@ -361,33 +278,18 @@ Scenario ReadScenario(YamlReader root, const std::string& file) {
 
   if (auto sensor = root.Optional("sensor")) {
     sensor->ExpectMap();
-    // The ranges are the renderer's (renderer::SensorOptions::Validate, run
-    // below): validate accepts exactly what a rendered run accepts.
-    s.sensor.noise_sigma = sensor->Number("noise_sigma", s.sensor.noise_sigma, 0.0, 100.0);
-    s.sensor.blur_px = sensor->Number("blur_px", s.sensor.blur_px, 0.0, 20.0);
-    s.sensor.jpeg_quality =
-        static_cast<int>(sensor->Integer("jpeg_quality", s.sensor.jpeg_quality, 1, 100));
-    s.sensor.exposure = sensor->Number("exposure", s.sensor.exposure, 0.0, 16.0);
+    ReadFields(*sensor, s.sensor, SensorOptions::Fields());
     sensor->Finish();
   }
   if (auto obs = root.Optional("observation")) {
     obs->ExpectMap();
-    s.observation.source = obs->Enum("source", "simulated", {"simulated", "rendered"}) == "rendered"
-                               ? ObservationSource::kRendered
-                               : ObservationSource::kSimulated;
-    s.observation.detector = obs->Enum("detector", "oracle", {"oracle"});
+    ReadFields(*obs, s.observation, ObservationOptions::Fields());
     if (auto sim = obs->Optional("simulated")) ReadSimulated(*sim, ids, &s.observation.simulated);
     obs->Finish();
   }
   if (auto r = root.Optional("renderer")) {
     r->ExpectMap();
-    s.renderer.backend = r->Enum("backend", s.renderer.backend, {"auto", "osmesa", "egl"});
-    s.renderer.shadow_map_size =
-        static_cast<int>(r->Integer("shadow_map_size", s.renderer.shadow_map_size, 64, 8192));
-    s.renderer.pcf_radius = static_cast<int>(r->Integer("pcf_radius", s.renderer.pcf_radius, 0, 4));
-    s.renderer.write_frames = r->Bool("write_frames", s.renderer.write_frames);
-    s.renderer.write_depth = r->Bool("write_depth", s.renderer.write_depth);
-    s.renderer.write_instance_ids = r->Bool("write_instance_ids", s.renderer.write_instance_ids);
+    ReadFields(*r, s.renderer, RendererConfig::Fields());
     r->Finish();
   }
   if (auto t = root.Optional("tracker")) ReadTracker(*t, &s.tracker);
@@ -407,8 +309,17 @@ Scenario ReadScenario(YamlReader root, const std::string& file) {
 
 // Sets `value` at the dotted `key` below `root`, creating mappings on the way;
 // numeric segments index into lists.
-void ApplyOverride(YAML::Node root, const Override& o, const std::string& origin) {
-  YAML::Node value = YamlReader::Parse(o.value, origin);
+void ApplyOverride(YAML::Node root, const Override& o, int index) {
+  const std::string origin = o.Label();
+  const SourceLocation at{origin, 0, 0, o.key, index};
+  YAML::Node value;
+  try {
+    value = YamlReader::Parse(o.value, origin);
+  } catch (const InputError& e) {
+    SourceLocation where = e.where();
+    where.override_index = index;
+    throw InputError(where, e.expected(), e.found(), e.hint());
+  }
   std::vector<std::string> parts;
   size_t start = 0;
   while (true) {
@@ -421,7 +332,7 @@ void ApplyOverride(YAML::Node root, const Override& o, const std::string& origin
   for (size_t i = 0; i < parts.size(); ++i) {
     const std::string& part = parts[i];
     if (part.empty()) {
-      throw InputError(SourceLocation{origin, 0, 0, o.key}, "a dotted key such as tracker.particles",
+      throw InputError(at, "a dotted key such as tracker.particles",
                        "an empty segment");
     }
     YAML::Node current = chain.back();
@@ -430,7 +341,7 @@ void ApplyOverride(YAML::Node root, const Override& o, const std::string& origin
       size_t index = 0;
       auto [ptr, ec] = std::from_chars(part.data(), part.data() + part.size(), index);
       if (ec != std::errc() || ptr != part.data() + part.size() || index >= current.size()) {
-        throw InputError(SourceLocation{origin, 0, 0, o.key},
+        throw InputError(at,
                          fmt::format("a list index in [0, {})", current.size()), "\"" + part + "\"");
       }
       if (last) {
@@ -441,7 +352,7 @@ void ApplyOverride(YAML::Node root, const Override& o, const std::string& origin
       continue;
     }
     if (!current.IsMap() && !current.IsNull() && current.IsDefined()) {
-      throw InputError(SourceLocation{origin, 0, 0, o.key}, "a mapping on the way to the key",
+      throw InputError(at, "a mapping on the way to the key",
                        "a value at \"" + part + "\"");
     }
     if (last) {
@@ -485,10 +396,10 @@ Scenario LoadFromNode(YAML::Node root, const std::string& file,
     throw InputError(SourceLocation{file, 1, 1, ""}, "a scenario mapping (key: value lines)",
                      "a " + std::string(root.IsSequence() ? "list" : "single value"));
   }
-  for (const Override& o : overrides) {
-    const std::string origin = "--set " + o.key + "=" + o.value;
-    ApplyOverride(root, o, origin);
-    context->overrides[OverridePath(o.key)] = origin;
+  for (size_t i = 0; i < overrides.size(); ++i) {
+    const Override& o = overrides[i];
+    ApplyOverride(root, o, static_cast<int>(i));
+    context->overrides[OverridePath(o.key)] = {o.Label(), static_cast<int>(i)};
   }
   return ReadScenario(YamlReader(root, "", context), file);
 }

@@ -9,6 +9,7 @@
 #include "hcpf/core/rng.h"
 #include "hcpf/scenarios/models.h"
 #include "hcpf/scenarios/scenario.h"
+#include "fields_yaml.h"
 #include "yaml_reader.h"
 
 namespace hcpf::scenarios {
@@ -44,6 +45,13 @@ class Writer {
   }
   void Begin(const char* key) { out_ << YAML::Key << key << YAML::Value << YAML::BeginMap; }
   void End() { out_ << YAML::EndMap; }
+  // A nested mapping of an Options struct's declared fields.
+  template <class O>
+  void Section(const char* key, const O& o) {
+    Begin(key);
+    WriteFields(out_, o, O::Fields());
+    End();
+  }
 
  private:
   YAML::Emitter out_;
@@ -77,15 +85,9 @@ std::string ToResolvedYaml(const Scenario& s) {
   w.Begin("world");
   w.Begin("terrain");
   w.List("size_m", s.world.terrain.size_m);
-  w.Num("relief_m", s.world.terrain.relief_m);
-  w.Word("texture", s.world.terrain.texture);
-  w.Bool("roads", s.world.terrain.roads);
+  WriteFields(w.out(), s.world.terrain, TerrainSpec::Fields());
   w.End();
-  w.Begin("sun");
-  w.Num("azimuth_deg", s.world.sun.azimuth_deg);
-  w.Num("elevation_deg", s.world.sun.elevation_deg);
-  w.Bool("shadows", s.world.sun.shadows);
-  w.End();
+  w.Section("sun", s.world.sun);
   w.out() << YAML::Key << "occluders" << YAML::Value << YAML::BeginSeq;
   for (const OccluderSpec& o : s.world.occluders) {
     w.out() << YAML::BeginMap;
@@ -170,28 +172,13 @@ std::string ToResolvedYaml(const Scenario& s) {
   }
   w.out() << YAML::EndSeq;
 
-  w.Begin("sensor");
-  w.Num("noise_sigma", s.sensor.noise_sigma);
-  w.Num("blur_px", s.sensor.blur_px);
-  w.Int("jpeg_quality", s.sensor.jpeg_quality);
-  w.Num("exposure", s.sensor.exposure);
-  w.End();
+  w.Section("sensor", s.sensor);
 
   const SimulatedObservationOptions& sim = s.observation.simulated;
   w.Begin("observation");
-  w.Word("source", s.observation.source == ObservationSource::kRendered ? "rendered" : "simulated");
-  w.Word("detector", s.observation.detector);
+  WriteFields(w.out(), s.observation, ObservationOptions::Fields());
   w.Begin("simulated");
-  w.Num("sigma_px", sim.sigma_px);
-  w.Num("size_sigma", sim.size_sigma);
-  w.Num("p_detect", sim.p_detect);
-  w.Num("visibility_exponent", sim.visibility_exponent);
-  w.Num("min_visible", sim.min_visible);
-  w.Num("clutter_per_frame", sim.clutter_per_frame);
-  w.Bool("likelihood_map", sim.likelihood_map);
-  w.Num("map_cell_px", sim.map_cell_px);
-  w.Num("map_blob_scale", sim.map_blob_scale);
-  w.Num("map_noise", sim.map_noise);
+  WriteFields(w.out(), sim, SimulatedObservationOptions::Fields());
   w.out() << YAML::Key << "strength" << YAML::Value << YAML::BeginMap;
   for (const TargetSpec& t : s.world.targets) {
     w.Num(std::to_string(Value(t.id)).c_str(), sim.StrengthOf(Value(t.id)));
@@ -200,83 +187,22 @@ std::string ToResolvedYaml(const Scenario& s) {
   w.End();
   w.End();
 
-  w.Begin("renderer");
-  w.Word("backend", s.renderer.backend);
-  w.Int("shadow_map_size", s.renderer.shadow_map_size);
-  w.Int("pcf_radius", s.renderer.pcf_radius);
-  w.Bool("write_frames", s.renderer.write_frames);
-  w.Bool("write_depth", s.renderer.write_depth);
-  w.Bool("write_instance_ids", s.renderer.write_instance_ids);
-  w.End();
+  w.Section("renderer", s.renderer);
 
   const tracker::TrackerOptions& t = s.tracker;
-  using tracker::ToString;
-  const auto word = [&w](const char* key, std::string_view v) { w.Word(key, std::string(v)); };
   w.Begin("tracker");
-  w.Int("particles", t.particles);
-  w.Int("keep_particles", t.keep_particles);
-  word("init", ToString(t.init));
-  w.Begin("dynamics");
-  word("model", ToString(t.dynamics.model));
-  w.Num("sigma_pos_px", t.dynamics.sigma_pos_px);
-  w.Num("sigma_vel_px", t.dynamics.sigma_vel_px);
-  w.Num("sigma_log_scale", t.dynamics.sigma_log_scale);
-  w.End();
-  w.Begin("likelihood");
-  word("model", ToString(t.likelihood.model));
-  w.Num("sigma_px", t.likelihood.sigma_px);
-  w.Num("clutter_density", t.likelihood.clutter_density);
-  w.Bool("use_scores", t.likelihood.use_scores);
-  w.Num("sigma_log_size", t.likelihood.sigma_log_size);
-  w.Num("map_floor", t.likelihood.map_floor);
-  w.End();
-  w.Begin("resampling");
-  word("method", ToString(t.resampling.method));
-  w.Num("ess_threshold", t.resampling.ess_threshold);
-  word("potential", ToString(t.resampling.potential));
-  w.Num("charge", t.resampling.charge);
-  w.Num("beta", t.resampling.beta);
-  w.Num("softening_px", t.resampling.softening_px);
-  w.Int("max_tries", t.resampling.max_tries);
-  word("candidates", ToString(t.resampling.candidates));
-  w.End();
-  w.Begin("interaction");
-  word("model", ToString(t.interaction.model));
-  w.Num("lambda", t.interaction.lambda);
-  w.Num("radius_px", t.interaction.radius_px);
-  w.End();
-  w.Begin("association");
-  word("method", ToString(t.association.method));
-  word("gate", ToString(t.association.gate));
-  w.Num("gate_mahalanobis_sq", t.association.gate_mahalanobis_sq);
-  w.Num("measurement_sigma_px", t.association.measurement_sigma_px);
-  w.Num("min_iou", t.association.min_iou);
-  w.End();
-  const auto& m = t.management;
-  w.Begin("management");
-  w.Int("confirm_hits", m.confirm_hits);
-  w.Int("confirm_window", m.confirm_window);
-  w.Num("tentative_gate_px", m.tentative_gate_px);
-  w.Int("max_missed_frames", m.max_missed_frames);
-  w.Bool("coast_without_support", m.coast_without_support);
-  w.Num("birth_sigma_px", m.birth_sigma_px);
-  w.Num("birth_sigma_vel_px", m.birth_sigma_vel_px);
-  w.Num("birth_sigma_log_scale", m.birth_sigma_log_scale);
-  w.End();
+  WriteFields(w.out(), t, tracker::TrackerOptions::Fields());
+  w.Section("dynamics", t.dynamics);
+  w.Section("likelihood", t.likelihood);
+  w.Section("resampling", t.resampling);
+  w.Section("interaction", t.interaction);
+  w.Section("association", t.association);
+  w.Section("management", t.management);
   w.End();
 
-  const auto& f = s.metrics.filters;
-  const auto& p = s.metrics.points;
   w.Begin("metrics");
-  w.Num("iou_threshold", f.iou_threshold);
-  w.Num("gate_factor", f.gate_factor);
-  w.Num("encounter_factor", f.encounter_factor);
-  w.Int("post_window", f.post_window);
-  w.Num("min_visible", f.min_visible);
-  w.Int("visible_bins", f.visible_bins);
-  w.Num("ospa_cutoff_px", p.cutoff_px);
-  w.Num("ospa_order", p.order);
-  w.Num("gospa_switching_penalty", p.switching_penalty);
+  WriteFields(w.out(), s.metrics.filters, metrics::FilterMetricsOptions::Fields());
+  WriteFields(w.out(), s.metrics.points, metrics::PointMetricsOptions::Fields());
   w.End();
   return w.Finish();
 }

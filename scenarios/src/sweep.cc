@@ -154,14 +154,8 @@ SweepSpec ReadSweep(YAML::Node root, const std::string& file, const std::string&
 // Re-locates an InputError raised by a swept value's `--set` text at the
 // sweep file line of that value.
 [[noreturn]] void Relocate(const InputError& e, const SourceLocation& at) {
-  const std::string message = e.what();
-  const std::string prefix = FormatInputError(e.where(), e.expected(), e.found(), "");
-  std::string hint;
-  if (message.size() > prefix.size() + 3 && message.compare(0, prefix.size(), prefix) == 0) {
-    hint = message.substr(prefix.size() + 2, message.size() - prefix.size() - 3);
-  }
   throw InputError(SourceLocation{at.file, at.line, at.column, e.where().key}, e.expected(),
-                   e.found(), hint);
+                   e.found(), e.hint());
 }
 
 }  // namespace
@@ -247,10 +241,9 @@ std::vector<SweepRun> ExpandSweep(const SweepSpec& spec) {
     try {
       run.scenario = LoadScenarioFile(spec.base_path, run.overrides);
     } catch (const InputError& e) {
-      for (size_t i = 0; i < run.overrides.size(); ++i) {
-        const Override& o = run.overrides[i];
-        if (e.where().file == "--set " + o.key + "=" + o.value) Relocate(e, where[i]);
-      }
+      // An error in a swept value is reported at that value in the sweep file.
+      const int i = e.where().override_index;
+      if (i >= 0 && static_cast<size_t>(i) < where.size()) Relocate(e, where[static_cast<size_t>(i)]);
       throw;
     }
     run.seed = run.scenario.seed;

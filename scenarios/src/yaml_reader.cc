@@ -34,18 +34,9 @@ bool ParseInt(const std::string& text, int64_t* out) {
   return ec == std::errc() && ptr == end;
 }
 
-std::string RangeText(double lo, double hi) {
-  return fmt::format("[{}, {}]", FormatNumber(lo), FormatNumber(hi));
-}
+std::string RangeText(double lo, double hi) { return Closed(lo, hi).Text(); }
 
 }  // namespace
-
-std::string FormatNumber(double value) {
-  if (value == std::floor(value) && std::abs(value) < 1e15) {
-    return fmt::format("{}", static_cast<int64_t>(value));
-  }
-  return fmt::format("{}", value);
-}
 
 std::string FlowText(const YAML::Node& node) {
   YAML::Emitter out;
@@ -118,7 +109,8 @@ SourceLocation YamlReader::Where() const {
   // A value set on the command line is reported there.
   for (const auto& [prefix, origin] : context_->overrides) {
     if (path_ == prefix || path_.rfind(prefix + ".", 0) == 0) {
-      where.file = origin;
+      where.file = origin.label;
+      where.override_index = origin.index;
       return where;
     }
   }
@@ -204,12 +196,13 @@ std::vector<YamlReader> YamlReader::Items() const {
   return items;
 }
 
-double YamlReader::AsNumber(double lo, double hi) const {
+double YamlReader::AsNumber(double lo, double hi) const { return AsNumber(Closed(lo, hi)); }
+
+double YamlReader::AsNumber(const FieldRange& range) const {
   double value = 0.0;
-  if (!node_.IsScalar() || !ParseDouble(node_.Scalar(), &value)) {
-    Fail("a number in " + RangeText(lo, hi));
+  if (!node_.IsScalar() || !ParseDouble(node_.Scalar(), &value) || !range.Contains(value)) {
+    Fail(FieldExpectation(FieldType::kNumber, range));
   }
-  if (value < lo || value > hi) Fail("a number in " + RangeText(lo, hi));
   return value;
 }
 
@@ -240,11 +233,16 @@ Eigen::VectorXd YamlReader::AsVector(int n, double lo, double hi) const {
 
 double YamlReader::Number(const std::string& key, std::optional<double> fallback, double lo,
                           double hi) {
+  return Number(key, fallback, Closed(lo, hi));
+}
+
+double YamlReader::Number(const std::string& key, std::optional<double> fallback,
+                          const FieldRange& range) {
   if (!Has(key)) {
     if (fallback) return *fallback;
     Child(key);  // throws "required"
   }
-  return Child(key).AsNumber(lo, hi);
+  return Child(key).AsNumber(range);
 }
 
 int64_t YamlReader::Integer(const std::string& key, std::optional<int64_t> fallback, int64_t lo,

@@ -16,15 +16,20 @@
 #include <vector>
 
 #include "hcpf/core/error.h"
+#include "hcpf/core/fields.h"
 
 namespace hcpf::scenarios {
 
 // Shared by every node read from one document.
 struct YamlContext {
   std::string file;
-  // Dotted path prefix -> the `--set` text that put it there, for locations
-  // of values that came from the command line rather than the file.
-  std::map<std::string, std::string> overrides;
+  // Dotted path prefix -> the `--set` override that put it there (its text
+  // and index), for locations of values that came from the command line.
+  struct OverrideOrigin {
+    std::string label;
+    int index = -1;
+  };
+  std::map<std::string, OverrideOrigin> overrides;
 };
 
 class YamlReader {
@@ -55,6 +60,7 @@ class YamlReader {
   }
 
   double Number(const std::string& key, std::optional<double> fallback, double lo, double hi);
+  double Number(const std::string& key, std::optional<double> fallback, const FieldRange& range);
   int64_t Integer(const std::string& key, std::optional<int64_t> fallback, int64_t lo, int64_t hi);
   uint64_t Seed(const std::string& key, std::optional<uint64_t> fallback);
   bool Bool(const std::string& key, std::optional<bool> fallback);
@@ -67,6 +73,7 @@ class YamlReader {
 
   // Value accessors on this node itself (for list items).
   double AsNumber(double lo, double hi) const;
+  double AsNumber(const FieldRange& range) const;
   int64_t AsInteger(int64_t lo, int64_t hi) const;
   Eigen::VectorXd AsVector(int n, double lo, double hi) const;
 
@@ -98,7 +105,5 @@ int EditDistance(const std::string& a, const std::string& b);
 std::string ClosestMatch(const std::string& word, const std::vector<std::string>& candidates);
 // Flow-style YAML text of a node, usable as an override value (`[320, 240]`).
 std::string FlowText(const YAML::Node& node);
-// Shortest text that parses back to the same double.
-std::string FormatNumber(double value);
 
 }  // namespace hcpf::scenarios

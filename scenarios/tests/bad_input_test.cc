@@ -88,7 +88,7 @@ std::vector<BadCase> Cases() {
       {"SensorExposureAboveRendererRange", m + "sensor:\n  exposure: 50\n", {},
        {"bad.yaml:20:13:", "sensor.exposure", "found \"50\""}},
       {"SensorExposureZero", m + "sensor:\n  exposure: 0\n", {},
-       {"bad.yaml:20:13:", "sensor.exposure", "(0, 16]", "found 0"}},
+       {"bad.yaml:20:13:", "sensor.exposure", "(0, 16]", "found \"0\""}},
       {"SensorNoiseAboveRendererRange", m + "sensor:\n  noise_sigma: 255\n", {},
        {"bad.yaml:20:16:", "sensor.noise_sigma", "found \"255\""}},
       {"SensorBlurAboveRendererRange", m + "sensor:\n  blur_px: 100\n", {},

@@ -10,46 +10,22 @@
 
 namespace hcpf::tracker {
 
-std::string_view ToString(AssociationMethod method) {
-  switch (method) {
-    case AssociationMethod::kGlobalNearestNeighbour: return "gnn";
-    case AssociationMethod::kNearestNeighbour: return "nearest";
-    case AssociationMethod::kNone: return "none";
-  }
-  return "?";
+std::span<const Field<AssociationOptions>> AssociationOptions::Fields() {
+  using O = AssociationOptions;
+  static const std::vector<Field<O>> fields = {
+      ChoiceField<&O::method>("method", "gnn (Hungarian), nearest (greedy) or none"),
+      ChoiceField<&O::gate>("gate", "which gate a detection must pass"),
+      NumberField("gate_mahalanobis_sq", &O::gate_mahalanobis_sq, Closed(1e-6, 1e6), "",
+                  "squared Mahalanobis gate (9.21 = χ²(2) at 99 %)"),
+      NumberField("measurement_sigma_px", &O::measurement_sigma_px, Closed(1e-3, 1e4), "px",
+                  "measurement noise added to the filter's covariance"),
+      NumberField("min_iou", &O::min_iou, Closed(0, 1), "", "gate iou: least IoU"),
+  };
+  return fields;
 }
-
-std::optional<AssociationMethod> ParseAssociationMethod(std::string_view name) {
-  for (auto m : {AssociationMethod::kGlobalNearestNeighbour, AssociationMethod::kNearestNeighbour,
-                 AssociationMethod::kNone}) {
-    if (ToString(m) == name) return m;
-  }
-  return std::nullopt;
-}
-
-std::vector<std::string_view> AssociationMethodNames() { return {"gnn", "nearest", "none"}; }
-
-std::string_view ToString(GateKind kind) {
-  switch (kind) {
-    case GateKind::kMahalanobis: return "mahalanobis";
-    case GateKind::kIou: return "iou";
-  }
-  return "?";
-}
-
-std::optional<GateKind> ParseGateKind(std::string_view name) {
-  for (auto k : {GateKind::kMahalanobis, GateKind::kIou}) {
-    if (ToString(k) == name) return k;
-  }
-  return std::nullopt;
-}
-
-std::vector<std::string_view> GateKindNames() { return {"mahalanobis", "iou"}; }
 
 void AssociationOptions::Validate(std::string_view prefix) const {
-  internal::RequirePositive(prefix, "gate_mahalanobis_sq", gate_mahalanobis_sq);
-  internal::RequirePositive(prefix, "measurement_sigma_px", measurement_sigma_px);
-  internal::RequireInRange(prefix, "min_iou", min_iou, 0.0, 1.0);
+  CheckFields(*this, Fields(), prefix);
 }
 
 std::optional<double> GatedCost(const TrackPrediction& track, const Detection& detection,

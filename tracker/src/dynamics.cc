@@ -20,31 +20,22 @@ constexpr size_t kChunk = 256;
 
 }  // namespace
 
-std::string_view ToString(DynamicsModel model) {
-  switch (model) {
-    case DynamicsModel::kRandomWalk: return "random_walk";
-    case DynamicsModel::kConstantVelocity: return "constant_velocity";
-    case DynamicsModel::kConstantVelocityScale: return "constant_velocity_scale";
-  }
-  return "?";
-}
-
-std::optional<DynamicsModel> ParseDynamicsModel(std::string_view name) {
-  for (auto m : {DynamicsModel::kRandomWalk, DynamicsModel::kConstantVelocity,
-                 DynamicsModel::kConstantVelocityScale}) {
-    if (ToString(m) == name) return m;
-  }
-  return std::nullopt;
-}
-
-std::vector<std::string_view> DynamicsModelNames() {
-  return {"random_walk", "constant_velocity", "constant_velocity_scale"};
+std::span<const Field<DynamicsOptions>> DynamicsOptions::Fields() {
+  using O = DynamicsOptions;
+  static const std::vector<Field<O>> fields = {
+      ChoiceField<&O::model>("model", "motion model of a particle"),
+      NumberField("sigma_pos_px", &O::sigma_pos_px, Closed(0, 1000), "px/frame",
+                  "std. dev. of the position noise"),
+      NumberField("sigma_vel_px", &O::sigma_vel_px, Closed(0, 1000), "px/frame²",
+                  "std. dev. of the velocity noise"),
+      NumberField("sigma_log_scale", &O::sigma_log_scale, Closed(0, 1), "/frame",
+                  "std. dev. of the log-scale noise (constant_velocity_scale)"),
+  };
+  return fields;
 }
 
 void DynamicsOptions::Validate(std::string_view prefix) const {
-  internal::RequireNonNegative(prefix, "sigma_pos_px", sigma_pos_px);
-  internal::RequireNonNegative(prefix, "sigma_vel_px", sigma_vel_px);
-  internal::RequireNonNegative(prefix, "sigma_log_scale", sigma_log_scale);
+  CheckFields(*this, Fields(), prefix);
 }
 
 RandomWalkDynamics::RandomWalkDynamics(double sigma_pos_px) : sigma_pos_px_(sigma_pos_px) {}

@@ -6,26 +6,18 @@
 
 namespace hcpf::tracker {
 
-std::string_view ToString(InteractionModel model) {
-  switch (model) {
-    case InteractionModel::kNone: return "none";
-    case InteractionModel::kMrf: return "mrf";
-  }
-  return "?";
+std::span<const Field<InteractionOptions>> InteractionOptions::Fields() {
+  using O = InteractionOptions;
+  static const std::vector<Field<O>> fields = {
+      ChoiceField<&O::model>("model", "none, or mrf (Khan–Balch–Dellaert pairwise factor)"),
+      NumberField("lambda", &O::lambda, Closed(0, 1e6), "", "mrf: strength λ"),
+      NumberField("radius_px", &O::radius_px, Closed(1e-3, 1e4), "px", "mrf: radius"),
+  };
+  return fields;
 }
-
-std::optional<InteractionModel> ParseInteractionModel(std::string_view name) {
-  for (auto m : {InteractionModel::kNone, InteractionModel::kMrf}) {
-    if (ToString(m) == name) return m;
-  }
-  return std::nullopt;
-}
-
-std::vector<std::string_view> InteractionModelNames() { return {"none", "mrf"}; }
 
 void InteractionOptions::Validate(std::string_view prefix) const {
-  internal::RequireNonNegative(prefix, "lambda", lambda);
-  internal::RequirePositive(prefix, "radius_px", radius_px);
+  CheckFields(*this, Fields(), prefix);
 }
 
 MrfInteraction::MrfInteraction(double lambda, double radius_px)

@@ -13,32 +13,26 @@
 
 namespace hcpf::tracker {
 
-std::string_view ToString(LikelihoodModel model) {
-  switch (model) {
-    case LikelihoodModel::kDetectionsMixture: return "detections_mixture";
-    case LikelihoodModel::kAssociated: return "associated";
-    case LikelihoodModel::kMap: return "map";
-  }
-  return "?";
-}
-
-std::optional<LikelihoodModel> ParseLikelihoodModel(std::string_view name) {
-  for (auto m : {LikelihoodModel::kDetectionsMixture, LikelihoodModel::kAssociated,
-                 LikelihoodModel::kMap}) {
-    if (ToString(m) == name) return m;
-  }
-  return std::nullopt;
-}
-
-std::vector<std::string_view> LikelihoodModelNames() {
-  return {"detections_mixture", "associated", "map"};
+std::span<const Field<LikelihoodOptions>> LikelihoodOptions::Fields() {
+  using O = LikelihoodOptions;
+  static const std::vector<Field<O>> fields = {
+      ChoiceField<&O::model>("model",
+                             "detections_mixture: every detection, no association; associated: "
+                             "the assigned detection only; map: the likelihood map"),
+      NumberField("sigma_px", &O::sigma_px, Closed(1e-3, 1000), "px",
+                  "std. dev. of a detection's centre about the particle"),
+      NumberField("clutter_density", &O::clutter_density, Closed(0, 1), "1/px²",
+                  "uniform floor of the mixture"),
+      FlagField("use_scores", &O::use_scores, "weight mixture components by detection score"),
+      NumberField("sigma_log_size", &O::sigma_log_size, Closed(0, 10), "",
+                  "std. dev. of the log box size; 0 = no size term"),
+      NumberField("map_floor", &O::map_floor, Closed(0, 1e6), "", "added to map samples"),
+  };
+  return fields;
 }
 
 void LikelihoodOptions::Validate(std::string_view prefix) const {
-  internal::RequirePositive(prefix, "sigma_px", sigma_px);
-  internal::RequireNonNegative(prefix, "clutter_density", clutter_density);
-  internal::RequireNonNegative(prefix, "sigma_log_size", sigma_log_size);
-  internal::RequireNonNegative(prefix, "map_floor", map_floor);
+  CheckFields(*this, Fields(), prefix);
 }
 
 namespace {

@@ -11,57 +11,29 @@
 
 namespace hcpf::tracker {
 
-std::string_view ToString(ResamplingMethod method) {
-  switch (method) {
-    case ResamplingMethod::kMultinomial: return "multinomial";
-    case ResamplingMethod::kSystematic: return "systematic";
-    case ResamplingMethod::kStratified: return "stratified";
-    case ResamplingMethod::kResidual: return "residual";
-    case ResamplingMethod::kCharged: return "charged";
-  }
-  return "?";
+std::span<const Field<ResamplerOptions>> ResamplerOptions::Fields() {
+  using O = ResamplerOptions;
+  static const std::vector<Field<O>> fields = {
+      ChoiceField<&O::method>("method", "resampling algorithm"),
+      NumberField("ess_threshold", &O::ess_threshold, Closed(0, 1), "",
+                  "resample only when ESS < threshold · N (0 = every frame)"),
+      ChoiceField<&O::potential>("potential", "charged: the repulsive potential"),
+      NumberField("charge", &O::charge, Closed(0, 1e6), "", "charged: charge q"),
+      NumberField("beta", &O::beta, Closed(0, 1e6), "", "charged: inverse temperature β"),
+      // eps > 0 keeps (Sigma_j + eps^2 I) invertible for a collapsed neighbour
+      // and the coulomb potential finite at the neighbour's mean.
+      NumberField("softening_px", &O::softening_px, Closed(1e-3, 1e4), "px",
+                  "charged: softening length ε"),
+      IntegerField("max_tries", &O::max_tries, 0, 10'000, "",
+                   "charged: redraws of a rejected candidate"),
+      ChoiceField<&O::candidates>("candidates",
+                                  "charged: how candidates are drawn (any method but charged)"),
+  };
+  return fields;
 }
-
-std::optional<ResamplingMethod> ParseResamplingMethod(std::string_view name) {
-  for (auto m : {ResamplingMethod::kMultinomial, ResamplingMethod::kSystematic,
-                 ResamplingMethod::kStratified, ResamplingMethod::kResidual,
-                 ResamplingMethod::kCharged}) {
-    if (ToString(m) == name) return m;
-  }
-  return std::nullopt;
-}
-
-std::vector<std::string_view> ResamplingMethodNames() {
-  return {"multinomial", "systematic", "stratified", "residual", "charged"};
-}
-
-std::string_view ToString(ChargePotential potential) {
-  switch (potential) {
-    case ChargePotential::kGaussian: return "gaussian";
-    case ChargePotential::kCoulomb: return "coulomb";
-  }
-  return "?";
-}
-
-std::optional<ChargePotential> ParseChargePotential(std::string_view name) {
-  for (auto p : {ChargePotential::kGaussian, ChargePotential::kCoulomb}) {
-    if (ToString(p) == name) return p;
-  }
-  return std::nullopt;
-}
-
-std::vector<std::string_view> ChargePotentialNames() { return {"gaussian", "coulomb"}; }
 
 void ResamplerOptions::Validate(std::string_view prefix) const {
-  internal::RequireInRange(prefix, "ess_threshold", ess_threshold, 0.0, 1.0);
-  internal::RequireNonNegative(prefix, "charge", charge);
-  internal::RequireNonNegative(prefix, "beta", beta);
-  // eps > 0 keeps (Sigma_j + eps^2 I) invertible for a collapsed neighbour and
-  // the coulomb potential finite at the neighbour's mean.
-  internal::RequirePositive(prefix, "softening_px", softening_px);
-  if (max_tries < 0 || max_tries > 1000000) {
-    internal::FailOption(prefix, "max_tries", "an integer in [0, 1000000]", max_tries);
-  }
+  CheckFields(*this, Fields(), prefix);
   if (candidates == ResamplingMethod::kCharged) {
     internal::FailOption(prefix, "candidates",
                          "one of multinomial, systematic, stratified, residual", "charged");

@@ -15,49 +15,53 @@
 
 namespace hcpf::tracker {
 
-std::string_view ToString(InitMode mode) {
-  switch (mode) {
-    case InitMode::kGroundTruth: return "ground_truth";
-    case InitMode::kDetections: return "detections";
-  }
-  return "?";
+std::span<const Field<TrackManagementOptions>> TrackManagementOptions::Fields() {
+  using O = TrackManagementOptions;
+  static const std::vector<Field<O>> fields = {
+      IntegerField("confirm_hits", &O::confirm_hits, 1, 1000, "",
+                   "init detections: M of M-of-N confirmation (M ≤ confirm_window)"),
+      IntegerField("confirm_window", &O::confirm_window, 1, 1000, "frames",
+                   "init detections: N of M-of-N confirmation"),
+      NumberField("tentative_gate_px", &O::tentative_gate_px, Closed(1e-3, 1e5), "px",
+                  "init detections: a detection continues a tentative track this close"),
+      IntegerField("max_missed_frames", &O::max_missed_frames, 0, 1'000'000, "frames",
+                   "delete a filter after this many frames without support; 0 = never"),
+      FlagField("coast_without_support", &O::coast_without_support,
+                "predict only while a filter has no support"),
+      NumberField("birth_sigma_px", &O::birth_sigma_px, Closed(0, 1e4), "px",
+                  "spread of a newborn filter's centre"),
+      NumberField("birth_sigma_vel_px", &O::birth_sigma_vel_px, Closed(0, 1e4), "px/frame",
+                  "spread of a newborn filter's velocity"),
+      NumberField("birth_sigma_log_scale", &O::birth_sigma_log_scale, Closed(0, 10), "",
+                  "spread of a newborn filter's log-scale"),
+  };
+  return fields;
 }
-
-std::optional<InitMode> ParseInitMode(std::string_view name) {
-  for (auto m : {InitMode::kGroundTruth, InitMode::kDetections}) {
-    if (ToString(m) == name) return m;
-  }
-  return std::nullopt;
-}
-
-std::vector<std::string_view> InitModeNames() { return {"ground_truth", "detections"}; }
 
 void TrackManagementOptions::Validate(std::string_view prefix) const {
-  if (confirm_window < 1 || confirm_window > 1000) {
-    internal::FailOption(prefix, "confirm_window", "an integer in [1, 1000]", confirm_window);
-  }
-  if (confirm_hits < 1 || confirm_hits > confirm_window) {
+  CheckFields(*this, Fields(), prefix);
+  if (confirm_hits > confirm_window) {
     internal::FailOption(prefix, "confirm_hits",
                          fmt::format("an integer in [1, confirm_window = {}]", confirm_window),
                          confirm_hits);
   }
-  internal::RequirePositive(prefix, "tentative_gate_px", tentative_gate_px);
-  if (max_missed_frames < 0) {
-    internal::FailOption(prefix, "max_missed_frames", "an integer >= 0 (0 = never delete)",
-                         max_missed_frames);
-  }
-  internal::RequireNonNegative(prefix, "birth_sigma_px", birth_sigma_px);
-  internal::RequireNonNegative(prefix, "birth_sigma_vel_px", birth_sigma_vel_px);
-  internal::RequireNonNegative(prefix, "birth_sigma_log_scale", birth_sigma_log_scale);
+}
+
+std::span<const Field<TrackerOptions>> TrackerOptions::Fields() {
+  using O = TrackerOptions;
+  static const std::vector<Field<O>> fields = {
+      IntegerField("particles", &O::particles, 1, 10'000'000, "", "particles per filter"),
+      IntegerField("keep_particles", &O::keep_particles, 0, 100'000, "",
+                   "particles per filter kept per frame (overlays, particle-mass metric)"),
+      ChoiceField<&O::init>("init",
+                            "ground_truth: a filter is born at each target's first in-frame "
+                            "appearance, from its box; detections: M-of-N confirmation"),
+  };
+  return fields;
 }
 
 void TrackerOptions::Validate() const {
-  if (particles < 1 || particles > 10'000'000) {
-    internal::FailOption("tracker", "particles", "an integer in [1, 10000000]", particles);
-  }
-  if (keep_particles < 0) {
-    internal::FailOption("tracker", "keep_particles", "an integer >= 0", keep_particles);
-  }
+  CheckFields(*this, Fields(), "tracker");
   if (threads < 1 || threads > 256) {
     internal::FailOption("tracker", "threads", "an integer in [1, 256]", threads);
   }

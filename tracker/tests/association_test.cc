@@ -140,17 +140,17 @@ TEST(MrfInteraction, HandComputedPenalty) {
 }
 
 TEST(AssociationMethod, NamesRoundTrip) {
-  for (const auto name : AssociationMethodNames()) {
-    const auto m = ParseAssociationMethod(name);
+  for (const auto name : NamesOf<AssociationMethod>()) {
+    const auto m = ParseName<AssociationMethod>(name);
     ASSERT_TRUE(m.has_value());
     AssociationOptions o;
     o.method = *m;
     EXPECT_EQ(MakeAssociator(o)->name(), name);
   }
-  for (const auto name : GateKindNames()) EXPECT_EQ(ToString(*ParseGateKind(name)), name);
-  for (const auto name : InteractionModelNames()) {
+  for (const auto name : NamesOf<GateKind>()) EXPECT_EQ(ToString(*ParseName<GateKind>(name)), name);
+  for (const auto name : NamesOf<InteractionModel>()) {
     InteractionOptions o;
-    o.model = *ParseInteractionModel(name);
+    o.model = *ParseName<InteractionModel>(name);
     EXPECT_EQ(MakeInteraction(o)->name(), name);
   }
 }
@@ -193,9 +193,7 @@ TEST_P(AssociatorContract, AssignsOnlyGatedPairsAndEachDetectionOnce) {
 }
 
 INSTANTIATE_TEST_SUITE_P(AllAssociators, AssociatorContract,
-                         ::testing::Values(AssociationMethod::kGlobalNearestNeighbour,
-                                           AssociationMethod::kNearestNeighbour,
-                                           AssociationMethod::kNone),
+                         ::testing::ValuesIn(EnumValues<AssociationMethod>()),
                          [](const auto& info) { return std::string(ToString(info.param)); });
 
 }  // namespace

@@ -123,12 +123,12 @@ TEST(DynamicsOptions, DefaultsValidateAndNegativeSigmaIsNamed) {
 }
 
 TEST(DynamicsModel, NamesRoundTrip) {
-  for (const auto name : DynamicsModelNames()) {
-    const auto m = ParseDynamicsModel(name);
+  for (const auto name : NamesOf<DynamicsModel>()) {
+    const auto m = ParseName<DynamicsModel>(name);
     ASSERT_TRUE(m.has_value()) << name;
     EXPECT_EQ(ToString(*m), name);
   }
-  EXPECT_FALSE(ParseDynamicsModel("constant_acceleration").has_value());
+  EXPECT_FALSE(ParseName<DynamicsModel>("constant_acceleration").has_value());
 }
 
 }  // namespace
@@ -173,9 +173,7 @@ TEST_P(DynamicsContract, ZeroNoiseIsDeterministicMotion) {
 }
 
 INSTANTIATE_TEST_SUITE_P(AllDynamics, DynamicsContract,
-                         ::testing::Values(DynamicsModel::kRandomWalk,
-                                           DynamicsModel::kConstantVelocity,
-                                           DynamicsModel::kConstantVelocityScale),
+                         ::testing::ValuesIn(EnumValues<DynamicsModel>()),
                          [](const auto& info) { return std::string(ToString(info.param)); });
 
 }  // namespace

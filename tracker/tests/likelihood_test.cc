@@ -210,8 +210,8 @@ TEST(MapLikelihood, MissingMapIsFlat) {
 }
 
 TEST(LikelihoodModel, NamesRoundTripAndFactoryMatches) {
-  for (const auto name : LikelihoodModelNames()) {
-    const auto m = ParseLikelihoodModel(name);
+  for (const auto name : NamesOf<LikelihoodModel>()) {
+    const auto m = ParseName<LikelihoodModel>(name);
     ASSERT_TRUE(m.has_value()) << name;
     LikelihoodOptions o;
     o.model = *m;

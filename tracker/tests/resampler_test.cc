@@ -1,5 +1,6 @@
-// Contract suite run against every resampler (a new one is covered by adding
-// a line to kResamplers).
+// Contract suite run against every registered resampler (each name of
+// ResamplingMethod; a new method is covered by registering its name) and the
+// ESS-gated wrapper.
 #include "hcpf/tracker/resampler.h"
 
 #include <gtest/gtest.h>
@@ -26,18 +27,20 @@ std::unique_ptr<Resampler> Make(ResamplingMethod method, double ess_threshold = 
   return MakeResampler(o);
 }
 
-const ResamplerCase kResamplers[] = {
-    {"multinomial", [] { return Make(ResamplingMethod::kMultinomial); }},
-    {"systematic", [] { return Make(ResamplingMethod::kSystematic); }},
-    {"stratified", [] { return Make(ResamplingMethod::kStratified); }},
-    {"residual", [] { return Make(ResamplingMethod::kResidual); }},
-    // Threshold 1: resamples whenever the weights are not all equal, so the
-    // frequency test exercises the inner resampler through the wrapper.
-    {"ess_gated_systematic", [] { return Make(ResamplingMethod::kSystematic, 1.0); }},
-    {"ess_gated_multinomial", [] { return Make(ResamplingMethod::kMultinomial, 1.0); }},
-    // No other filter in the context: charged reduces to its candidates.
-    {"charged", [] { return Make(ResamplingMethod::kCharged); }},
-};
+std::vector<ResamplerCase> Resamplers() {
+  std::vector<ResamplerCase> cases;
+  // Charged, with no other filter in the context, reduces to its candidates.
+  for (const ResamplingMethod method : EnumValues<ResamplingMethod>()) {
+    cases.push_back({std::string(ToString(method)), [method] { return Make(method); }});
+  }
+  // Threshold 1: resamples whenever the weights are not all equal, so the
+  // frequency test exercises the inner resampler through the wrapper.
+  cases.push_back(
+      {"ess_gated_systematic", [] { return Make(ResamplingMethod::kSystematic, 1.0); }});
+  cases.push_back(
+      {"ess_gated_multinomial", [] { return Make(ResamplingMethod::kMultinomial, 1.0); }});
+  return cases;
+}
 
 class ResamplerContract : public ::testing::TestWithParam<ResamplerCase> {
  protected:
@@ -167,7 +170,7 @@ TEST_P(ResamplerContract, MinusInfinityWeightIsNeverSelected) {
   }
 }
 
-INSTANTIATE_TEST_SUITE_P(AllResamplers, ResamplerContract, ::testing::ValuesIn(kResamplers),
+INSTANTIATE_TEST_SUITE_P(AllResamplers, ResamplerContract, ::testing::ValuesIn(Resamplers()),
                          [](const auto& info) { return info.param.name; });
 
 TEST(SystematicResampler, HandComputedAncestors) {
@@ -273,19 +276,19 @@ TEST(ResamplerOptions, DefaultsValidateAndErrorsNameTheField) {
 }
 
 TEST(ResamplingMethod, NamesRoundTrip) {
-  for (const auto name : ResamplingMethodNames()) {
-    const auto m = ParseResamplingMethod(name);
+  for (const auto name : NamesOf<ResamplingMethod>()) {
+    const auto m = ParseName<ResamplingMethod>(name);
     ASSERT_TRUE(m.has_value()) << name;
     ResamplerOptions o;
     o.method = *m;
     EXPECT_EQ(MakeResampler(o)->name(), name);
   }
-  for (const auto name : ChargePotentialNames()) {
-    const auto p = ParseChargePotential(name);
+  for (const auto name : NamesOf<ChargePotential>()) {
+    const auto p = ParseName<ChargePotential>(name);
     ASSERT_TRUE(p.has_value());
     EXPECT_EQ(ToString(*p), name);
   }
-  EXPECT_FALSE(ParseResamplingMethod("Systematic").has_value());
+  EXPECT_FALSE(ParseName<ResamplingMethod>("Systematic").has_value());
 }
 
 }  // namespace

@@ -52,8 +52,8 @@ TEST(TrackerOptions, ErrorsNameTheField) {
 }
 
 TEST(InitMode, NamesRoundTrip) {
-  for (const auto name : InitModeNames()) EXPECT_EQ(ToString(*ParseInitMode(name)), name);
-  EXPECT_FALSE(ParseInitMode("gt").has_value());
+  for (const auto name : NamesOf<InitMode>()) EXPECT_EQ(ToString(*ParseName<InitMode>(name)), name);
+  EXPECT_FALSE(ParseName<InitMode>("gt").has_value());
 }
 
 Observation Frame(int frame, std::vector<std::pair<BoxPx, double>> dets) {

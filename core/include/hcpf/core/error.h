@@ -14,6 +14,9 @@ struct SourceLocation {
   int line = 0;
   int column = 0;
   std::string key;  // dotted key path, e.g. "tracker.resampling.beta"
+  // >= 0 when the value came from the command line's `--set` override of this
+  // index (0-based, in the order given); `file` then holds the override's text.
+  int override_index = -1;
 };
 
 class Error : public std::runtime_error {

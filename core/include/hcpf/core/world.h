@@ -4,12 +4,14 @@
 // without pixels. scenarios/ fills a WorldSpec from YAML; the renderer draws
 // it; ground_truth.h projects it.
 
+#include <span>
 #include <Eigen/Core>
 #include <array>
 #include <optional>
 #include <string>
 #include <vector>
 
+#include "hcpf/core/fields.h"
 #include "hcpf/core/camera.h"
 #include "hcpf/core/types.h"
 
@@ -24,6 +26,9 @@ struct TerrainSpec {
   bool roads = false;                     // draw asphalt roads along target paths
   uint64_t seed = 0;                      // derived from the scenario seed
 
+  // The declared scalar fields (relief_m, texture, roads; core/fields.h).
+  static std::span<const Field<TerrainSpec>> Fields();
+  static std::vector<std::string_view> TextureNames();
   double HeightAt(double x_m, double y_m) const;
 };
 
@@ -31,6 +36,8 @@ struct SunSpec {
   double azimuth_deg = 135.0;   // clockwise from north (y) towards east (x)
   double elevation_deg = 35.0;  // above the horizon
   bool shadows = true;
+  // The declared fields (core/fields.h).
+  static std::span<const Field<SunSpec>> Fields();
   // Unit vector pointing from the ground towards the sun.
   Eigen::Vector3d Direction() const;
 };

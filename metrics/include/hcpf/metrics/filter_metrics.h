@@ -11,6 +11,7 @@
 // target o at frame t when its estimate's centre lies within
 // gate_factor * max(w_o, h_o) / 2 of o's centre; the nearest such target wins.
 
+#include <span>
 #include <array>
 #include <cstdint>
 #include <optional>
@@ -18,6 +19,7 @@
 #include <utility>
 #include <vector>
 
+#include "hcpf/core/fields.h"
 #include "hcpf/core/types.h"
 
 namespace hcpf::metrics {
@@ -29,6 +31,8 @@ struct FilterMetricsOptions {
   double min_visible = 0.1;       // in [0, 1]: below, the target's own filter is COASTING
   double iou_threshold = 0.5;     // (0, 1]: IDF1 mapping of filters to targets
   int visible_bins = 4;           // >= 1 equal-width bins of the visible fraction on [0, 1]
+  // The `metrics.*` keys of these options (core/fields.h).
+  static std::span<const Field<FilterMetricsOptions>> Fields();
   // Throws hcpf::InputError naming the field ("metrics.gate_factor", ...).
   void Validate() const;
 };

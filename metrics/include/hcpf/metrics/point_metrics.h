@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "hcpf/core/fields.h"
 #include "hcpf/metrics/sequence.h"
 
 namespace hcpf::metrics {
@@ -20,6 +21,8 @@ struct PointMetricsOptions {
   // between consecutive frames adds gamma^p, each half switch (assigned <-> not
   // assigned while the truth is present in both frames) gamma^p / 2.
   double switching_penalty = 0.0;
+  // The `metrics.ospa_*` / `metrics.gospa_*` keys of these options.
+  static std::span<const Field<PointMetricsOptions>> Fields();
   // Throws hcpf::InputError naming the field when a constraint is broken.
   void Validate() const;
 };

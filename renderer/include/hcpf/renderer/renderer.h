@@ -22,6 +22,7 @@
 //   in_frame         some of the amodal box is inside the image.
 // Up to 255 targets per scene (the id is stored in the colour buffer's alpha).
 
+#include <span>
 #include <cstdint>
 #include <filesystem>
 #include <memory>
@@ -29,6 +30,7 @@
 #include <string>
 #include <vector>
 
+#include "hcpf/core/fields.h"
 #include "hcpf/core/ground_truth.h"
 #include "hcpf/core/rng.h"
 #include "hcpf/core/world.h"
@@ -43,6 +45,9 @@ struct SensorOptions {
   double blur_px = 0.0;      // Gaussian blur sigma in pixels, [0, 20]; 0 = off
   double noise_sigma = 0.0;  // additive Gaussian noise std. dev. in grey levels, [0, 100]
   int jpeg_quality = 0;      // JPEG encode/decode round trip quality, 1..100; 0 = off
+  // The fields with their ranges (core/fields.h); the scenario's `sensor.*`
+  // keys take their ranges from here.
+  static std::span<const Field<SensorOptions>> Fields();
   // Throws hcpf::InputError naming the field ("sensor.<field>") and the constraint.
   void Validate() const;
   bool active() const {
@@ -76,6 +81,9 @@ struct RendererOptions {
   // (tested), so it is not part of the frame-cache key; false exists for
   // that test.
   bool split_road_cells = true;
+  // The range-checked fields (core/fields.h); the scenario's `renderer.*`
+  // keys take their ranges from here.
+  static std::span<const Field<RendererOptions>> Fields();
   SensorOptions sensor;
   // Throws hcpf::InputError naming the field ("renderer.<field>").
   void Validate() const;

@@ -2,11 +2,14 @@
 // A scenario: everything one run needs, validated, with every default and
 // every seed filled in. Loaded from YAML (docs/scenario.md is the schema).
 
+#include <array>
 #include <cstdint>
+#include <span>
 #include <map>
 #include <string>
 #include <vector>
 
+#include "hcpf/core/fields.h"
 #include "hcpf/core/world.h"
 #include "hcpf/metrics/filter_metrics.h"
 #include "hcpf/metrics/point_metrics.h"
@@ -38,6 +41,9 @@ struct SimulatedObservationOptions {
   double map_blob_scale = 0.5;      // blob std. dev. = scale * mean(box w, h) / 2
   double map_noise = 0.05;          // noise floor: max of uniform noise per cell
 
+  // The declared fields (core/fields.h), all but `strength` (a map by id).
+  static std::span<const Field<SimulatedObservationOptions>> Fields();
+
   double StrengthOf(int32_t id) const {
     const auto it = strength.find(id);
     return it == strength.end() ? 1.0 : it->second;
@@ -46,10 +52,24 @@ struct SimulatedObservationOptions {
 
 enum class ObservationSource { kSimulated, kRendered };
 
+}  // namespace hcpf::scenarios
+
+template <>
+struct hcpf::EnumNames<hcpf::scenarios::ObservationSource> {
+  static constexpr std::array kNames = {
+      std::pair{hcpf::scenarios::ObservationSource::kSimulated, std::string_view("simulated")},
+      std::pair{hcpf::scenarios::ObservationSource::kRendered, std::string_view("rendered")}};
+};
+
+namespace hcpf::scenarios {
+
 struct ObservationOptions {
   ObservationSource source = ObservationSource::kSimulated;
   std::string detector = "oracle";  // rendered mode: which detector; simulated: oracle
   SimulatedObservationOptions simulated;
+
+  static std::span<const Field<ObservationOptions>> Fields();  // source, detector
+  static std::vector<std::string_view> DetectorNames();
 };
 
 struct SensorOptions {
@@ -57,6 +77,9 @@ struct SensorOptions {
   double blur_px = 0.0;      // Gaussian blur std. dev., pixels
   int jpeg_quality = 100;    // 100 = no JPEG round trip
   double exposure = 1.0;     // multiplies linear intensity
+
+  // The declared fields; ranges are the renderer's (renderer::SensorOptions).
+  static std::span<const Field<SensorOptions>> Fields();
 };
 
 struct RendererConfig {
@@ -68,6 +91,10 @@ struct RendererConfig {
   bool write_frames = false;     // `hcpf run`: also write frames/*.png
   bool write_depth = false;
   bool write_instance_ids = false;
+
+  // The declared fields; ranges are the renderer's (renderer::RendererOptions).
+  static std::span<const Field<RendererConfig>> Fields();
+  static std::vector<std::string_view> BackendNames();
 };
 
 // Scoring options of a run (metrics/ Options, filled from `metrics.*`).
@@ -94,6 +121,8 @@ struct Scenario {
 struct Override {
   std::string key;
   std::string value;
+  // "--set key=value": how messages name a value that came from here.
+  std::string Label() const { return "--set " + key + "=" + value; }
 };
 // Parses "key=value"; throws InputError when there is no '=' or no key.
 Override ParseOverride(const std::string& text);

@@ -1,6 +1,7 @@
 #pragma once
 // Data association: which detection (if any) belongs to which filter.
 
+#include <array>
 #include <memory>
 #include <optional>
 #include <span>
@@ -9,6 +10,8 @@
 
 #include <Eigen/Core>
 
+#include "hcpf/core/enum_names.h"
+#include "hcpf/core/fields.h"
 #include "hcpf/core/types.h"
 
 namespace hcpf::tracker {
@@ -18,17 +21,32 @@ enum class AssociationMethod {
   kNearestNeighbour,        // "nearest": greedy, cheapest gated pair first
   kNone,                    // "none": no association
 };
-std::string_view ToString(AssociationMethod method);
-std::optional<AssociationMethod> ParseAssociationMethod(std::string_view name);
-std::vector<std::string_view> AssociationMethodNames();
+}  // namespace hcpf::tracker
+
+template <>
+struct hcpf::EnumNames<hcpf::tracker::AssociationMethod> {
+  static constexpr std::array kNames = {
+      std::pair{hcpf::tracker::AssociationMethod::kGlobalNearestNeighbour, std::string_view("gnn")},
+      std::pair{hcpf::tracker::AssociationMethod::kNearestNeighbour, std::string_view("nearest")},
+      std::pair{hcpf::tracker::AssociationMethod::kNone, std::string_view("none")}};
+};
+
+namespace hcpf::tracker {
 
 enum class GateKind {
   kMahalanobis,  // "mahalanobis": d^T (Sigma + sigma_px^2 I)^-1 d <= gate
   kIou,          // "iou": IoU(predicted box, detection box) >= min_iou
 };
-std::string_view ToString(GateKind kind);
-std::optional<GateKind> ParseGateKind(std::string_view name);
-std::vector<std::string_view> GateKindNames();
+}  // namespace hcpf::tracker
+
+template <>
+struct hcpf::EnumNames<hcpf::tracker::GateKind> {
+  static constexpr std::array kNames = {
+      std::pair{hcpf::tracker::GateKind::kMahalanobis, std::string_view("mahalanobis")},
+      std::pair{hcpf::tracker::GateKind::kIou, std::string_view("iou")}};
+};
+
+namespace hcpf::tracker {
 
 struct AssociationOptions {
   AssociationMethod method = AssociationMethod::kGlobalNearestNeighbour;
@@ -41,6 +59,9 @@ struct AssociationOptions {
   // IoU gate (gate = iou): minimum overlap.
   double min_iou = 0.1;
 
+  // The scenario keys of these options, with unit, range and doc (core/fields.h);
+  // Validate() checks their ranges, then the rules between fields.
+  static std::span<const Field<AssociationOptions>> Fields();
   void Validate(std::string_view prefix = "tracker.association") const;
 };
 

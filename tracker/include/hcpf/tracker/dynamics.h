@@ -2,12 +2,16 @@
 // Dynamics (the predict step) of a target filter, and the camera-motion
 // pre-step of the hierarchical filter.
 
+#include <array>
 #include <memory>
 #include <optional>
 #include <string>
+#include <span>
 #include <string_view>
 #include <vector>
 
+#include "hcpf/core/enum_names.h"
+#include "hcpf/core/fields.h"
 #include "hcpf/core/rng.h"
 #include "hcpf/tracker/particle_set.h"
 
@@ -18,9 +22,17 @@ enum class DynamicsModel {
   kConstantVelocity,       // "constant_velocity": p += v + sigma_pos * n; v += sigma_vel * n
   kConstantVelocityScale,  // "constant_velocity_scale": as above and s *= exp(sigma_log_scale * n)
 };
-std::string_view ToString(DynamicsModel model);
-std::optional<DynamicsModel> ParseDynamicsModel(std::string_view name);
-std::vector<std::string_view> DynamicsModelNames();
+}  // namespace hcpf::tracker
+
+template <>
+struct hcpf::EnumNames<hcpf::tracker::DynamicsModel> {
+  static constexpr std::array kNames = {
+      std::pair{hcpf::tracker::DynamicsModel::kRandomWalk, std::string_view("random_walk")},
+      std::pair{hcpf::tracker::DynamicsModel::kConstantVelocity, std::string_view("constant_velocity")},
+      std::pair{hcpf::tracker::DynamicsModel::kConstantVelocityScale, std::string_view("constant_velocity_scale")}};
+};
+
+namespace hcpf::tracker {
 
 struct DynamicsOptions {
   DynamicsModel model = DynamicsModel::kConstantVelocity;
@@ -33,6 +45,9 @@ struct DynamicsOptions {
   double sigma_log_scale = 0.01;
 
   // Throws InputError naming "<prefix>.<field>".
+  // The scenario keys of these options, with unit, range and doc (core/fields.h);
+  // Validate() checks their ranges, then the rules between fields.
+  static std::span<const Field<DynamicsOptions>> Fields();
   void Validate(std::string_view prefix = "tracker.dynamics") const;
 };
 

@@ -14,12 +14,15 @@
 // (g = lambda * Gaussian proximity, the smooth penalty of the paper's Gibbs
 // form; lambda dimensionless, r in pixels).
 
+#include <array>
 #include <memory>
 #include <optional>
 #include <span>
 #include <string_view>
 #include <vector>
 
+#include "hcpf/core/enum_names.h"
+#include "hcpf/core/fields.h"
 #include "hcpf/tracker/particle_set.h"
 
 namespace hcpf::tracker {
@@ -28,9 +31,16 @@ enum class InteractionModel {
   kNone,  // "none"
   kMrf,   // "mrf": Khan-Balch-Dellaert pairwise MRF factor
 };
-std::string_view ToString(InteractionModel model);
-std::optional<InteractionModel> ParseInteractionModel(std::string_view name);
-std::vector<std::string_view> InteractionModelNames();
+}  // namespace hcpf::tracker
+
+template <>
+struct hcpf::EnumNames<hcpf::tracker::InteractionModel> {
+  static constexpr std::array kNames = {
+      std::pair{hcpf::tracker::InteractionModel::kNone, std::string_view("none")},
+      std::pair{hcpf::tracker::InteractionModel::kMrf, std::string_view("mrf")}};
+};
+
+namespace hcpf::tracker {
 
 struct InteractionOptions {
   InteractionModel model = InteractionModel::kNone;
@@ -39,6 +49,9 @@ struct InteractionOptions {
   // Interaction radius r, px.
   double radius_px = 10.0;
 
+  // The scenario keys of these options, with unit, range and doc (core/fields.h);
+  // Validate() checks their ranges, then the rules between fields.
+  static std::span<const Field<InteractionOptions>> Fields();
   void Validate(std::string_view prefix = "tracker.interaction") const;
 };
 

@@ -2,11 +2,15 @@
 // Likelihoods (the update step) of a target filter. All work in log space:
 // an implementation ADDS log p(observation | particle) to set.log_w.
 
+#include <array>
 #include <memory>
 #include <optional>
+#include <span>
 #include <string_view>
 #include <vector>
 
+#include "hcpf/core/enum_names.h"
+#include "hcpf/core/fields.h"
 #include "hcpf/core/types.h"
 #include "hcpf/tracker/particle_set.h"
 
@@ -17,9 +21,17 @@ enum class LikelihoodModel {
   kAssociated,         // "associated": only the detection assigned to this filter
   kMap,                // "map": bilinear sample of Observation::likelihood
 };
-std::string_view ToString(LikelihoodModel model);
-std::optional<LikelihoodModel> ParseLikelihoodModel(std::string_view name);
-std::vector<std::string_view> LikelihoodModelNames();
+}  // namespace hcpf::tracker
+
+template <>
+struct hcpf::EnumNames<hcpf::tracker::LikelihoodModel> {
+  static constexpr std::array kNames = {
+      std::pair{hcpf::tracker::LikelihoodModel::kDetectionsMixture, std::string_view("detections_mixture")},
+      std::pair{hcpf::tracker::LikelihoodModel::kAssociated, std::string_view("associated")},
+      std::pair{hcpf::tracker::LikelihoodModel::kMap, std::string_view("map")}};
+};
+
+namespace hcpf::tracker {
 
 struct LikelihoodOptions {
   LikelihoodModel model = LikelihoodModel::kDetectionsMixture;
@@ -40,6 +52,9 @@ struct LikelihoodOptions {
   // not kill a particle outright (map units).
   double map_floor = 1e-9;
 
+  // The scenario keys of these options, with unit, range and doc (core/fields.h);
+  // Validate() checks their ranges, then the rules between fields.
+  static std::span<const Field<LikelihoodOptions>> Fields();
   void Validate(std::string_view prefix = "tracker.likelihood") const;
 };
 

@@ -6,6 +6,7 @@
 // ESS-gated wrapper around any of them, and charged resampling (DESIGN.md,
 // "Charged resampling"; docs/tracker.md gives the algorithm as implemented).
 
+#include <array>
 #include <cstdint>
 #include <memory>
 #include <optional>
@@ -13,6 +14,8 @@
 #include <string_view>
 #include <vector>
 
+#include "hcpf/core/enum_names.h"
+#include "hcpf/core/fields.h"
 #include "hcpf/core/rng.h"
 #include "hcpf/tracker/particle_set.h"
 
@@ -59,17 +62,34 @@ enum class ResamplingMethod {
   kResidual,     // "residual"
   kCharged,      // "charged"
 };
-std::string_view ToString(ResamplingMethod method);
-std::optional<ResamplingMethod> ParseResamplingMethod(std::string_view name);
-std::vector<std::string_view> ResamplingMethodNames();
+}  // namespace hcpf::tracker
+
+template <>
+struct hcpf::EnumNames<hcpf::tracker::ResamplingMethod> {
+  static constexpr std::array kNames = {
+      std::pair{hcpf::tracker::ResamplingMethod::kMultinomial, std::string_view("multinomial")},
+      std::pair{hcpf::tracker::ResamplingMethod::kSystematic, std::string_view("systematic")},
+      std::pair{hcpf::tracker::ResamplingMethod::kStratified, std::string_view("stratified")},
+      std::pair{hcpf::tracker::ResamplingMethod::kResidual, std::string_view("residual")},
+      std::pair{hcpf::tracker::ResamplingMethod::kCharged, std::string_view("charged")}};
+};
+
+namespace hcpf::tracker {
 
 enum class ChargePotential {
   kGaussian,  // "gaussian": q exp(-1/2 d^T (Sigma_j + eps^2 I)^-1 d)
   kCoulomb,   // "coulomb":  q / (|d|^2 + eps^2)
 };
-std::string_view ToString(ChargePotential potential);
-std::optional<ChargePotential> ParseChargePotential(std::string_view name);
-std::vector<std::string_view> ChargePotentialNames();
+}  // namespace hcpf::tracker
+
+template <>
+struct hcpf::EnumNames<hcpf::tracker::ChargePotential> {
+  static constexpr std::array kNames = {
+      std::pair{hcpf::tracker::ChargePotential::kGaussian, std::string_view("gaussian")},
+      std::pair{hcpf::tracker::ChargePotential::kCoulomb, std::string_view("coulomb")}};
+};
+
+namespace hcpf::tracker {
 
 struct ResamplerOptions {
   ResamplingMethod method = ResamplingMethod::kSystematic;
@@ -91,6 +111,9 @@ struct ResamplerOptions {
   // How the candidates are drawn (DESIGN.md: systematic). Must not be charged.
   ResamplingMethod candidates = ResamplingMethod::kSystematic;
 
+  // The scenario keys of these options, with unit, range and doc (core/fields.h);
+  // Validate() checks their ranges, then the rules between fields.
+  static std::span<const Field<ResamplerOptions>> Fields();
   void Validate(std::string_view prefix = "tracker.resampling") const;
 };
 

@@ -6,14 +6,18 @@
 // no ground truth (the run pipeline calls BirthTrack when a scenario asks for
 // `init: ground_truth`).
 
+#include <array>
 #include <cstdint>
 #include <memory>
 #include <optional>
+#include <span>
 #include <string_view>
 #include <vector>
 
 #include <Eigen/Core>
 
+#include "hcpf/core/enum_names.h"
+#include "hcpf/core/fields.h"
 #include "hcpf/core/rng.h"
 #include "hcpf/core/types.h"
 #include "hcpf/tracker/associator.h"
@@ -29,9 +33,16 @@ enum class InitMode {
   kGroundTruth,  // "ground_truth": the pipeline calls BirthTrack(id, box)
   kDetections,   // "detections": M-of-N confirmation from unassigned detections
 };
-std::string_view ToString(InitMode mode);
-std::optional<InitMode> ParseInitMode(std::string_view name);
-std::vector<std::string_view> InitModeNames();
+}  // namespace hcpf::tracker
+
+template <>
+struct hcpf::EnumNames<hcpf::tracker::InitMode> {
+  static constexpr std::array kNames = {
+      std::pair{hcpf::tracker::InitMode::kGroundTruth, std::string_view("ground_truth")},
+      std::pair{hcpf::tracker::InitMode::kDetections, std::string_view("detections")}};
+};
+
+namespace hcpf::tracker {
 
 struct TrackManagementOptions {
   // init = detections: a tentative track is confirmed (a filter is born) once
@@ -55,6 +66,9 @@ struct TrackManagementOptions {
   double birth_sigma_vel_px = 0.5;
   double birth_sigma_log_scale = 0.05;
 
+  // The scenario keys of these options, with unit, range and doc (core/fields.h);
+  // Validate() checks their ranges, then the rules between fields.
+  static std::span<const Field<TrackManagementOptions>> Fields();
   void Validate(std::string_view prefix = "tracker.management") const;
 };
 
@@ -76,6 +90,8 @@ struct TrackerOptions {
   // stream "tracker/filter/<id>" and all filters see the same summaries.
   int threads = 1;
 
+  // The top-level `tracker.*` keys (the nested Options declare their own).
+  static std::span<const Field<TrackerOptions>> Fields();
   // Validates every nested Options and the combinations; throws InputError
   // naming the dotted key ("tracker.resampling.beta").
   void Validate() const;

@@ -1,0 +1,224 @@
+#pragma once
+// Options fields declared once. Each field of an Options struct that a
+// scenario configures is declared in one table next to the struct: its key,
+// the member, unit, range and a one-line doc (the default is the member's
+// in-class value). The module's Validate() checks the ranges from the table
+// (CheckFields); the scenario reader, the resolved-YAML writer and the tables
+// of docs/scenario.md are generated from the same table (scenarios/schema).
+// YAML-free: library modules declare tables without seeing YAML.
+
+#include <cmath>
+#include <limits>
+#include <span>
+#include <string>
+#include <string_view>
+#include <type_traits>
+#include <vector>
+
+#include "hcpf/core/enum_names.h"
+
+namespace hcpf {
+
+// Shortest text that parses back to the same double ("3", "0.05", "1e-09").
+std::string FormatNumber(double value);
+
+// The allowed values of a number or integer field: from lo to hi, each end
+// closed unless marked open. Integer fields use closed ends.
+struct FieldRange {
+  double lo = -std::numeric_limits<double>::infinity();
+  double hi = std::numeric_limits<double>::infinity();
+  bool lo_open = false;
+  bool hi_open = false;
+
+  bool Contains(double v) const {
+    return (lo_open ? v > lo : v >= lo) && (hi_open ? v < hi : v <= hi);
+  }
+  // "[0, 1000]", "(0, 16]", "[0, inf)".
+  std::string Text() const;
+};
+
+inline FieldRange Closed(double lo, double hi) { return {lo, hi}; }
+// (lo, hi]: a value that must be strictly above lo.
+inline FieldRange AboveUpTo(double lo, double hi) { return {lo, hi, true, false}; }
+
+enum class FieldType { kNumber, kInteger, kFlag, kChoice };
+
+// "number", "integer", "bool", "enum".
+std::string_view FieldTypeName(FieldType type);
+
+template <class O>
+struct Field {
+  std::string_view key;
+  FieldType type = FieldType::kNumber;
+  std::string_view unit;
+  FieldRange range;  // kNumber, kInteger
+  std::string_view doc;
+  double O::*number = nullptr;
+  int O::*integer = nullptr;
+  bool O::*flag = nullptr;
+  // kChoice: the member as its name, a name into the member (false when it is
+  // not a name), and every name.
+  std::string_view (*get_choice)(const O&) = nullptr;
+  bool (*set_choice)(O&, std::string_view) = nullptr;
+  std::vector<std::string_view> (*choices)() = nullptr;
+
+  // The member's value as the resolved YAML writes it.
+  std::string ValueText(const O& o) const {
+    switch (type) {
+      case FieldType::kNumber:
+        return FormatNumber(o.*number);
+      case FieldType::kInteger:
+        return std::to_string(o.*integer);
+      case FieldType::kFlag:
+        return o.*flag ? "true" : "false";
+      case FieldType::kChoice:
+        return std::string(get_choice(o));
+    }
+    return {};
+  }
+};
+
+template <class O>
+Field<O> NumberField(std::string_view key, double O::*member, FieldRange range,
+                     std::string_view unit, std::string_view doc) {
+  Field<O> f;
+  f.key = key;
+  f.type = FieldType::kNumber;
+  f.unit = unit;
+  f.range = range;
+  f.doc = doc;
+  f.number = member;
+  return f;
+}
+
+template <class O>
+Field<O> IntegerField(std::string_view key, int O::*member, int lo, int hi, std::string_view unit,
+                      std::string_view doc) {
+  Field<O> f;
+  f.key = key;
+  f.type = FieldType::kInteger;
+  f.unit = unit;
+  f.range = Closed(lo, hi);
+  f.doc = doc;
+  f.integer = member;
+  return f;
+}
+
+template <class O>
+Field<O> FlagField(std::string_view key, bool O::*member, std::string_view doc) {
+  Field<O> f;
+  f.key = key;
+  f.type = FieldType::kFlag;
+  f.doc = doc;
+  f.flag = member;
+  return f;
+}
+
+namespace internal {
+template <class T>
+struct MemberOf;
+template <class O, class T>
+struct MemberOf<T O::*> {
+  using Object = O;
+  using Type = T;
+};
+}  // namespace internal
+
+// An enum member whose names come from EnumNames<E> (core/enum_names.h).
+template <auto Member>
+Field<typename internal::MemberOf<decltype(Member)>::Object> ChoiceField(std::string_view key,
+                                                                        std::string_view doc) {
+  using O = typename internal::MemberOf<decltype(Member)>::Object;
+  using E = typename internal::MemberOf<decltype(Member)>::Type;
+  static_assert(NamedEnum<E>, "specialise EnumNames<E> for the member's enum");
+  Field<O> f;
+  f.key = key;
+  f.type = FieldType::kChoice;
+  f.doc = doc;
+  f.get_choice = [](const O& o) { return NameOf(o.*Member); };
+  f.set_choice = [](O& o, std::string_view name) {
+    const std::optional<E> value = ParseName<E>(name);
+    if (value) o.*Member = *value;
+    return value.has_value();
+  };
+  f.choices = [] { return NamesOf<E>(); };
+  return f;
+}
+
+// A text member that holds one of a fixed list of words, `Names()`.
+template <auto Member, std::vector<std::string_view> (*Names)()>
+Field<typename internal::MemberOf<decltype(Member)>::Object> WordField(std::string_view key,
+                                                                      std::string_view doc) {
+  using O = typename internal::MemberOf<decltype(Member)>::Object;
+  static_assert(std::is_same_v<typename internal::MemberOf<decltype(Member)>::Type, std::string>);
+  Field<O> f;
+  f.key = key;
+  f.type = FieldType::kChoice;
+  f.doc = doc;
+  f.get_choice = [](const O& o) { return std::string_view(o.*Member); };
+  f.set_choice = [](O& o, std::string_view name) {
+    for (std::string_view n : Names()) {
+      if (n == name) {
+        o.*Member = std::string(name);
+        return true;
+      }
+    }
+    return false;
+  };
+  f.choices = Names;
+  return f;
+}
+
+namespace internal {
+// Throws InputError {key: "<prefix>.<key>", expected: the range, found: value}.
+[[noreturn]] void FailFieldRange(std::string_view prefix, std::string_view key, FieldType type,
+                                 const FieldRange& range, double value);
+[[noreturn]] void FailFieldChoice(std::string_view prefix, std::string_view key,
+                                  const std::vector<std::string_view>& choices,
+                                  std::string_view value);
+// HCPF_CHECK-style abort: RangeOf asked for a key no field declares.
+[[noreturn]] void FailUndeclaredField(std::string_view key);
+}  // namespace internal
+
+// "a number in [0, 1000]" / "an integer in [1, 10000000]".
+std::string FieldExpectation(FieldType type, const FieldRange& range);
+
+// Checks every number and integer field of `o` against its range (numbers
+// must also be finite) and every choice against its names; throws InputError
+// naming "<prefix>.<key>" for the first that is not.
+template <class O>
+void CheckFields(const O& o, std::span<const Field<O>> fields, std::string_view prefix) {
+  for (const Field<O>& f : fields) {
+    if (f.type == FieldType::kNumber) {
+      const double v = o.*f.number;
+      if (!std::isfinite(v) || !f.range.Contains(v)) {
+        internal::FailFieldRange(prefix, f.key, f.type, f.range, v);
+      }
+    } else if (f.type == FieldType::kInteger) {
+      const double v = o.*f.integer;
+      if (!f.range.Contains(v)) internal::FailFieldRange(prefix, f.key, f.type, f.range, v);
+    } else if (f.type == FieldType::kChoice) {
+      const std::string_view name = f.get_choice(o);
+      bool known = false;
+      const std::vector<std::string_view> names = f.choices();
+      for (std::string_view n : names) known = known || n == name;
+      if (!known) internal::FailFieldChoice(prefix, f.key, names, name);
+    }
+  }
+}
+
+}  // namespace hcpf
+
+namespace hcpf {
+
+// The range declared for `key` in `fields` (a bug when there is none): lets a
+// second Options struct over the same quantity reuse one declaration.
+template <class O>
+const FieldRange& RangeOf(std::span<const Field<O>> fields, std::string_view key) {
+  for (const Field<O>& f : fields) {
+    if (f.key == key) return f.range;
+  }
+  internal::FailUndeclaredField(key);
+}
+
+}  // namespace hcpf

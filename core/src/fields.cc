@@ -1,0 +1,74 @@
+#include "hcpf/core/fields.h"
+
+#include <fmt/format.h>
+
+#include <cstdint>
+#include <cstdlib>
+
+#include "hcpf/core/check.h"
+#include "hcpf/core/error.h"
+
+namespace hcpf {
+
+std::string FormatNumber(double value) {
+  if (value == std::floor(value) && std::abs(value) < 1e15) {
+    return fmt::format("{}", static_cast<int64_t>(value));
+  }
+  return fmt::format("{}", value);
+}
+
+std::string FieldRange::Text() const {
+  const std::string low = std::isinf(lo) ? "-inf" : FormatNumber(lo);
+  const std::string high = std::isinf(hi) ? "inf" : FormatNumber(hi);
+  return fmt::format("{}{}, {}{}", lo_open || std::isinf(lo) ? "(" : "[", low, high,
+                     hi_open || std::isinf(hi) ? ")" : "]");
+}
+
+std::string_view FieldTypeName(FieldType type) {
+  switch (type) {
+    case FieldType::kNumber:
+      return "number";
+    case FieldType::kInteger:
+      return "integer";
+    case FieldType::kFlag:
+      return "bool";
+    case FieldType::kChoice:
+      return "enum";
+  }
+  return "?";
+}
+
+std::string FieldExpectation(FieldType type, const FieldRange& range) {
+  return fmt::format("{} in {}", type == FieldType::kInteger ? "an integer" : "a number",
+                     range.Text());
+}
+
+namespace internal {
+
+namespace {
+std::string DottedKey(std::string_view prefix, std::string_view key) {
+  return prefix.empty() ? std::string(key) : fmt::format("{}.{}", prefix, key);
+}
+}  // namespace
+
+void FailFieldRange(std::string_view prefix, std::string_view key, FieldType type,
+                    const FieldRange& range, double value) {
+  throw InputError(SourceLocation{{}, 0, 0, DottedKey(prefix, key)},
+                   FieldExpectation(type, range), FormatNumber(value));
+}
+
+void FailFieldChoice(std::string_view prefix, std::string_view key,
+                     const std::vector<std::string_view>& choices, std::string_view value) {
+  std::string joined;
+  for (std::string_view c : choices) joined += fmt::format("{}{}", joined.empty() ? "" : " | ", c);
+  throw InputError(SourceLocation{{}, 0, 0, DottedKey(prefix, key)}, "one of " + joined,
+                   fmt::format("\"{}\"", value));
+}
+
+void FailUndeclaredField(std::string_view key) {
+  HCPF_CHECK(false) << "no declared field \"" << std::string(key) << "\"";
+  std::abort();
+}
+
+}  // namespace internal
+}  // namespace hcpf

@@ -7,9 +7,12 @@
 #include <mutex>
 
 #include "hcpf/renderer/mesh.h"
+#include "hcpf/config/file_lookup.h"
 #include "text.h"
 
 namespace hcpf::scenarios {
+
+using config::FindFile;
 
 namespace fs = std::filesystem;
 

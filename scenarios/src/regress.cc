@@ -19,11 +19,18 @@
 #include "hcpf/scenarios/results_store.h"
 #include "hcpf/scenarios/run.h"
 #include "hcpf/scenarios/sweep.h"
+#include "hcpf/config/file_lookup.h"
 #include "text.h"
 #include "writers.h"
-#include "yaml_reader.h"
+#include "hcpf/config/yaml_reader.h"
 
 namespace hcpf::scenarios {
+
+using config::ClosestMatch;
+using config::FindFile;
+using config::FlowText;
+using config::YamlContext;
+using config::YamlReader;
 
 namespace fs = std::filesystem;
 using nlohmann::json;

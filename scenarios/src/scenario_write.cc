@@ -9,10 +9,12 @@
 #include "hcpf/core/rng.h"
 #include "hcpf/scenarios/models.h"
 #include "hcpf/scenarios/scenario.h"
-#include "fields_yaml.h"
-#include "yaml_reader.h"
+#include "hcpf/config/fields_yaml.h"
+#include "hcpf/config/yaml_reader.h"
 
 namespace hcpf::scenarios {
+
+using config::WriteFields;
 namespace {
 
 class Writer {

@@ -10,10 +10,17 @@
 #include <set>
 
 #include "hcpf/core/rng.h"
+#include "hcpf/config/file_lookup.h"
 #include "text.h"
-#include "yaml_reader.h"
+#include "hcpf/config/yaml_reader.h"
 
 namespace hcpf::scenarios {
+
+using config::ClosestMatch;
+using config::FindFile;
+using config::FlowText;
+using config::YamlContext;
+using config::YamlReader;
 
 namespace fs = std::filesystem;
 

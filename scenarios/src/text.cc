@@ -48,23 +48,4 @@ std::string Base64(const std::string& bytes) {
   return out;
 }
 
-std::optional<std::string> FindFile(const std::string& written, const std::string& beside_dir,
-                                    std::vector<std::string>* looked_at) {
-  std::vector<fs::path> candidates;
-  const fs::path p(written);
-  if (p.is_absolute()) {
-    candidates.push_back(p);
-  } else {
-    if (!beside_dir.empty()) candidates.push_back(fs::path(beside_dir) / p);
-    candidates.push_back(fs::current_path() / p);
-    candidates.push_back(fs::path(HCPF_PROJECT_SOURCE_DIR) / p);
-  }
-  std::error_code ec;
-  for (const fs::path& c : candidates) {
-    if (fs::is_regular_file(c, ec)) return c.lexically_normal().string();
-    if (looked_at != nullptr) looked_at->push_back(c.lexically_normal().string());
-  }
-  return std::nullopt;
-}
-
 }  // namespace hcpf::scenarios

@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "hcpf/config/overrides.h"
 #include "hcpf/core/fields.h"
 #include "hcpf/core/world.h"
 #include "hcpf/metrics/filter_metrics.h"
@@ -116,16 +117,9 @@ struct Scenario {
   MetricsConfig metrics;
 };
 
-// One `--set key=value` override: a dotted key (list items by index, e.g.
-// `targets.0.path.speed_mps`) and a YAML value (`1000`, `[320, 240]`, `charged`).
-struct Override {
-  std::string key;
-  std::string value;
-  // "--set key=value": how messages name a value that came from here.
-  std::string Label() const { return "--set " + key + "=" + value; }
-};
-// Parses "key=value"; throws InputError when there is no '=' or no key.
-Override ParseOverride(const std::string& text);
+// `--set key=value` overrides (hcpf/config/overrides.h).
+using config::Override;
+using config::ParseOverride;
 
 // Loads, applies overrides, validates and resolves a scenario. Throws
 // InputError naming file, line, column, key, expected and found.

@@ -2,7 +2,8 @@
 // A yaml-cpp wrapper that knows where it is: the file, the dotted key path and
 // the line/column of every node. Every key a reader asks about is recorded, so
 // Finish() can reject the keys nobody asked about with a "did you mean".
-// Private to scenarios/: library modules never see YAML.
+// Used by scenarios/ and the sweep and regression-suite readers; library
+// modules never see YAML.
 
 #include <yaml-cpp/yaml.h>
 
@@ -17,8 +18,9 @@
 
 #include "hcpf/core/error.h"
 #include "hcpf/core/fields.h"
+#include "hcpf/config/overrides.h"
 
-namespace hcpf::scenarios {
+namespace hcpf::config {
 
 // Shared by every node read from one document.
 struct YamlContext {
@@ -99,6 +101,12 @@ class YamlReader {
   std::shared_ptr<std::set<std::string>> asked_;
 };
 
+// Applies each `--set` override to `root` (a mapping) in order and records in
+// `context` where each value came from, so errors about it name the override
+// (its text and index) instead of a file line.
+void ApplyOverrides(YAML::Node root, const std::vector<Override>& overrides,
+                    YamlContext* context);
+
 // Levenshtein distance (for "did you mean").
 int EditDistance(const std::string& a, const std::string& b);
 // The closest candidate within a small distance, or "".
@@ -106,4 +114,4 @@ std::string ClosestMatch(const std::string& word, const std::vector<std::string>
 // Flow-style YAML text of a node, usable as an override value (`[320, 240]`).
 std::string FlowText(const YAML::Node& node);
 
-}  // namespace hcpf::scenarios
+}  // namespace hcpf::config

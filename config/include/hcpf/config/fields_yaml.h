@@ -10,9 +10,9 @@
 #include <vector>
 
 #include "hcpf/core/fields.h"
-#include "yaml_reader.h"
+#include "hcpf/config/yaml_reader.h"
 
-namespace hcpf::scenarios {
+namespace hcpf::config {
 
 // Reads each field present in `r` into `o`, checking its type and range;
 // absent keys keep `o`'s value (the in-class default). Marks every field as
@@ -52,4 +52,4 @@ void WriteFields(YAML::Emitter& out, const O& o, std::span<const Field<O>> field
   }
 }
 
-}  // namespace hcpf::scenarios
+}  // namespace hcpf::config

@@ -1,4 +1,4 @@
-#include "yaml_reader.h"
+#include "hcpf/config/yaml_reader.h"
 
 #include <fmt/format.h>
 
@@ -10,7 +10,7 @@
 #include <fstream>
 #include <sstream>
 
-namespace hcpf::scenarios {
+namespace hcpf::config {
 namespace {
 
 std::string Quote(const std::string& s) { return "\"" + s + "\""; }
@@ -363,4 +363,4 @@ void YamlReader::Finish() const {
   }
 }
 
-}  // namespace hcpf::scenarios
+}  // namespace hcpf::config

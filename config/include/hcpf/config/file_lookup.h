@@ -1,0 +1,18 @@
+#pragma once
+// Files named inside YAML files (models, a sweep's base scenario, a suite's
+// scenes).
+
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace hcpf::config {
+
+// A file named in a YAML file: an absolute path as is; a relative one is
+// looked for next to that file (`beside_dir`), then relative to the current
+// folder, then to the project's source folder. Returns the first that exists
+// (lexically normalised), or nullopt; `looked_at` lists every candidate.
+std::optional<std::string> FindFile(const std::string& written, const std::string& beside_dir,
+                                    std::vector<std::string>* looked_at = nullptr);
+
+}  // namespace hcpf::config

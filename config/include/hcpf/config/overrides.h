@@ -1,0 +1,21 @@
+#pragma once
+// `--set key=value` overrides of the command line and of sweep cells: the
+// dotted key (list items by index, `targets.0.path.speed_mps`) and a YAML value
+// (`1000`, `[320, 240]`, `charged`). Applied to a document before it is read
+// (ApplyOverrides, hcpf/config/yaml_reader.h) with the same checks as a file.
+
+#include <string>
+
+namespace hcpf::config {
+
+struct Override {
+  std::string key;
+  std::string value;
+  // "--set key=value": how messages name a value that came from here.
+  std::string Label() const { return "--set " + key + "=" + value; }
+};
+
+// Parses "key=value"; throws InputError when there is no '=' or no key.
+Override ParseOverride(const std::string& text);
+
+}  // namespace hcpf::config

@@ -1,0 +1,115 @@
+#include "hcpf/config/overrides.h"
+
+#include <fmt/format.h>
+#include <yaml-cpp/yaml.h>
+
+#include <algorithm>
+#include <cctype>
+#include <charconv>
+
+#include "hcpf/config/yaml_reader.h"
+
+namespace hcpf::config {
+namespace {
+
+// Sets `value` at the dotted `key` below `root`, creating mappings on the way;
+// numeric segments index into lists.
+void ApplyOverride(YAML::Node root, const Override& o, int index) {
+  const std::string origin = o.Label();
+  const SourceLocation at{origin, 0, 0, o.key, index};
+  YAML::Node value;
+  try {
+    value = YamlReader::Parse(o.value, origin);
+  } catch (const InputError& e) {
+    SourceLocation where = e.where();
+    where.override_index = index;
+    throw InputError(where, e.expected(), e.found(), e.hint());
+  }
+  std::vector<std::string> parts;
+  size_t start = 0;
+  while (true) {
+    const size_t dot = o.key.find('.', start);
+    parts.push_back(o.key.substr(start, dot - start));
+    if (dot == std::string::npos) break;
+    start = dot + 1;
+  }
+  std::vector<YAML::Node> chain{root};
+  for (size_t i = 0; i < parts.size(); ++i) {
+    const std::string& part = parts[i];
+    if (part.empty()) {
+      throw InputError(at, "a dotted key such as tracker.particles",
+                       "an empty segment");
+    }
+    YAML::Node current = chain.back();
+    const bool last = i + 1 == parts.size();
+    if (current.IsSequence()) {
+      size_t index = 0;
+      auto [ptr, ec] = std::from_chars(part.data(), part.data() + part.size(), index);
+      if (ec != std::errc() || ptr != part.data() + part.size() || index >= current.size()) {
+        throw InputError(at,
+                         fmt::format("a list index in [0, {})", current.size()), "\"" + part + "\"");
+      }
+      if (last) {
+        current[index] = value;
+      } else {
+        chain.push_back(current[index]);
+      }
+      continue;
+    }
+    if (!current.IsMap() && !current.IsNull() && current.IsDefined()) {
+      throw InputError(at, "a mapping on the way to the key",
+                       "a value at \"" + part + "\"");
+    }
+    if (last) {
+      current[part] = value;
+    } else {
+      YAML::Node next = current[part];
+      if (!next.IsDefined() || next.IsNull()) {
+        current[part] = YAML::Node(YAML::NodeType::Map);
+        next = current[part];
+      }
+      chain.push_back(next);
+    }
+  }
+}
+
+std::string OverridePath(const std::string& key) {
+  // "targets.0.path" -> "targets[0].path", matching the reader's dotted paths.
+  std::string out;
+  size_t start = 0;
+  while (start <= key.size()) {
+    const size_t dot = key.find('.', start);
+    const std::string part = key.substr(start, dot == std::string::npos ? dot : dot - start);
+    const bool numeric = !part.empty() && std::all_of(part.begin(), part.end(), ::isdigit);
+    if (numeric) {
+      out += "[" + part + "]";
+    } else {
+      out += (out.empty() ? "" : ".") + part;
+    }
+    if (dot == std::string::npos) break;
+    start = dot + 1;
+  }
+  return out;
+}
+
+}  // namespace
+
+Override ParseOverride(const std::string& text) {
+  const size_t eq = text.find('=');
+  if (eq == std::string::npos || eq == 0) {
+    throw InputError(SourceLocation{"--set " + text, 0, 0, ""}, "key=value, e.g. tracker.particles=1000",
+                     "\"" + text + "\"");
+  }
+  return {text.substr(0, eq), text.substr(eq + 1)};
+}
+
+void ApplyOverrides(YAML::Node root, const std::vector<Override>& overrides,
+                    YamlContext* context) {
+  for (size_t i = 0; i < overrides.size(); ++i) {
+    const Override& o = overrides[i];
+    ApplyOverride(root, o, static_cast<int>(i));
+    context->overrides[OverridePath(o.key)] = {o.Label(), static_cast<int>(i)};
+  }
+}
+
+}  // namespace hcpf::config

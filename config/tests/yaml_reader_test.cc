@@ -1,0 +1,92 @@
+// The located YAML reader on its own: overrides and relocation of a module's
+// error to the key's line (the scenario schema tests cover the rest).
+
+#include "hcpf/config/yaml_reader.h"
+
+#include <gtest/gtest.h>
+
+#include <memory>
+
+#include "hcpf/config/overrides.h"
+#include "hcpf/core/error.h"
+
+namespace hcpf::config {
+namespace {
+
+YamlReader Root(YAML::Node node, const std::string& file = "f.yaml") {
+  auto context = std::make_shared<YamlContext>();
+  context->file = file;
+  return YamlReader(node, "", context);
+}
+
+TEST(Overrides, ParseSplitsAtTheFirstEqualsAndLabelsTheText) {
+  const Override o = ParseOverride("a.b=c=d");
+  EXPECT_EQ(o.key, "a.b");
+  EXPECT_EQ(o.value, "c=d");
+  EXPECT_EQ(o.Label(), "--set a.b=c=d");
+  EXPECT_THROW(ParseOverride("no-equals"), InputError);
+  EXPECT_THROW(ParseOverride("=5"), InputError);
+}
+
+TEST(Overrides, ValuesFromAnOverrideAreLocatedThereWithTheirIndex) {
+  YAML::Node root = YamlReader::Parse("a:\n  b: 1\n", "f.yaml");
+  auto context = std::make_shared<YamlContext>();
+  context->file = "f.yaml";
+  ApplyOverrides(root, {{"x", "1"}, {"a.b", "oops"}}, context.get());
+  YamlReader r(root, "", context);
+  try {
+    r.Child("a").Number("b", std::nullopt, 0, 10);
+    FAIL();
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.where().file, "--set a.b=oops");
+    EXPECT_EQ(e.where().override_index, 1);
+    EXPECT_EQ(e.where().key, "a.b");
+  }
+}
+
+TEST(Overrides, AnUnparsableValueNamesItsOverride) {
+  YAML::Node root = YamlReader::Parse("a: 1\n", "f.yaml");
+  YamlContext context;
+  try {
+    ApplyOverrides(root, {{"a", "[1, 2"}}, &context);
+    FAIL();
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.where().override_index, 0);
+    EXPECT_NE(std::string(e.what()).find("--set a=[1, 2"), std::string::npos) << e.what();
+  }
+}
+
+// A module's Validate() names a dotted key but no file: Relocate puts its
+// error at that key's line and column, or at the nearest written ancestor.
+TEST(YamlReader, RelocateMovesAModulesErrorToTheKeysLine) {
+  const YamlReader root = Root(YamlReader::Parse("top: 1\nsection:\n  key: 5\n", "f.yaml"));
+  const auto fail_at = [](const std::string& key) {
+    return [key] { throw InputError(SourceLocation{{}, 0, 0, key}, "less", "5", "a hint"); };
+  };
+  try {
+    root.Relocate(fail_at("section.key"));
+    FAIL();
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.where().file, "f.yaml");
+    EXPECT_EQ(e.where().line, 3);
+    EXPECT_EQ(e.where().column, 8);
+    EXPECT_EQ(e.where().key, "section.key");
+    EXPECT_EQ(e.hint(), "a hint");
+  }
+  try {
+    root.Relocate(fail_at("section.absent"));  // left at its default
+    FAIL();
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.where().line, 3);  // the section's first entry
+    EXPECT_EQ(e.where().key, "section.absent");
+  }
+  EXPECT_NO_THROW(root.Relocate([] {}));
+}
+
+TEST(YamlReader, DidYouMeanAllowsAThirdOfTheWordToDiffer) {
+  EXPECT_EQ(ClosestMatch("trakcer", {"tracker", "metrics"}), "tracker");
+  EXPECT_EQ(ClosestMatch("xyz", {"tracker", "metrics"}), "");
+}
+
+}  // namespace
+}  // namespace hcpf::config

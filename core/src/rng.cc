@@ -64,10 +64,6 @@ uint64_t Rng::UniformInt(uint64_t n) {
   return static_cast<uint64_t>(m >> 64);
 }
 
-void Rng::FillNormal(std::span<double> out) {
-  for (double& v : out) v = Normal();
-}
-
 int64_t Rng::Poisson(double lambda) {
   HCPF_CHECK(lambda >= 0.0 && std::isfinite(lambda)) << "lambda=" << lambda;
   // A Poisson(λ) is the sum of Poisson(λ_i) with Σλ_i = λ; chunks of mean <= 16

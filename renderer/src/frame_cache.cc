@@ -1,27 +1,28 @@
 // Frame cache and the pixel hash that keys it.
 
 #include <fmt/format.h>
+#include <unistd.h>
 
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <nlohmann/json.hpp>
 #include <sstream>
 #include <system_error>
+#include <thread>
 
 #include "hcpf/core/error.h"
+#include "hcpf/core/ground_truth_json.h"
 #include "hcpf/renderer/renderer.h"
-
-#include <unistd.h>
-
-#include <functional>
-#include <thread>
 
 namespace hcpf::renderer {
 namespace {
 
 // Bump when shading, geometry or ground-truth rules change, so old caches
 // are not reused.
-constexpr int kRendererVersion = 2;  // 2: shader variants, border-lit shadow map
+// 2: shader variants, border-lit shadow map; 3: ground truth records in the
+// gt.json frame encoding (core/ground_truth_json.h).
+constexpr int kRendererVersion = 3;
 
 std::string FileDigest(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
@@ -36,81 +37,6 @@ void AppendVec(std::string& s, const Eigen::Vector2d& v) {
 }
 void AppendVec(std::string& s, const Eigen::Vector3d& v) {
   s += fmt::format("[{:.17g},{:.17g},{:.17g}]", v.x(), v.y(), v.z());
-}
-
-nlohmann::json BoxJson(const BoxPx& b) { return {b.left, b.top, b.width, b.height}; }
-BoxPx BoxFrom(const nlohmann::json& j) {
-  return {j.at(0).get<double>(), j.at(1).get<double>(), j.at(2).get<double>(),
-          j.at(3).get<double>()};
-}
-template <typename M>
-nlohmann::json MatJson(const M& m) {
-  nlohmann::json rows = nlohmann::json::array();
-  for (int r = 0; r < m.rows(); ++r) {
-    nlohmann::json row = nlohmann::json::array();
-    for (int c = 0; c < m.cols(); ++c) row.push_back(m(r, c));
-    rows.push_back(row);
-  }
-  return rows;
-}
-template <typename M>
-void MatFrom(const nlohmann::json& j, M& m) {
-  for (int r = 0; r < m.rows(); ++r) {
-    for (int c = 0; c < m.cols(); ++c) m(r, c) = j.at(r).at(c).template get<double>();
-  }
-}
-
-nlohmann::json GroundTruthJson(const FrameGroundTruth& gt) {
-  nlohmann::json j;
-  j["frame"] = gt.frame;
-  const CameraIntrinsics& k = gt.camera.intrinsics;
-  j["intrinsics"] = {k.width_px, k.height_px, k.fx_px, k.fy_px, k.cx_px, k.cy_px};
-  j["position_m"] = MatJson(gt.camera.pose.position_m);
-  j["world_from_camera"] = MatJson(gt.camera.pose.world_from_camera);
-  j["image_from_ground"] = MatJson(gt.image_from_ground);
-  nlohmann::json objects = nlohmann::json::array();
-  for (const GroundTruthObject& o : gt.objects) {
-    objects.push_back({{"id", Value(o.id)},
-                       {"in_frame", o.in_frame},
-                       {"amodal_box", BoxJson(o.amodal_box)},
-                       {"visible_box", BoxJson(o.visible_box)},
-                       {"visible_fraction", o.visible_fraction},
-                       {"truncation", o.truncation},
-                       {"pixels_visible", o.pixels_visible},
-                       {"pixels_total", o.pixels_total},
-                       {"position_m", MatJson(o.position_m)},
-                       {"heading_deg", o.heading_deg},
-                       {"dimensions_m", MatJson(o.dimensions_m)}});
-  }
-  j["objects"] = objects;
-  return j;
-}
-
-FrameGroundTruth GroundTruthFrom(const nlohmann::json& j) {
-  FrameGroundTruth gt;
-  gt.frame = j.at("frame").get<int>();
-  const auto& k = j.at("intrinsics");
-  gt.camera.intrinsics = {k.at(0).get<int>(),    k.at(1).get<int>(),    k.at(2).get<double>(),
-                          k.at(3).get<double>(), k.at(4).get<double>(), k.at(5).get<double>()};
-  MatFrom(j.at("position_m"), gt.camera.pose.position_m);
-  MatFrom(j.at("world_from_camera"), gt.camera.pose.world_from_camera);
-  MatFrom(j.at("image_from_ground"), gt.image_from_ground);
-  for (const auto& o : j.at("objects")) {
-    GroundTruthObject obj;
-    obj.id = ObjectId{o.at("id").get<int32_t>()};
-    obj.in_frame = o.at("in_frame").get<bool>();
-    obj.amodal_box = BoxFrom(o.at("amodal_box"));
-    obj.visible_box = BoxFrom(o.at("visible_box"));
-    obj.visible_fraction = o.at("visible_fraction").get<double>();
-    obj.truncation = o.at("truncation").get<double>();
-    obj.pixels_visible = o.at("pixels_visible").get<int64_t>();
-    obj.pixels_total = o.at("pixels_total").get<int64_t>();
-    MatFrom(o.at("position_m"), obj.position_m);
-    obj.heading_deg = o.at("heading_deg").get<double>();
-    MatFrom(o.at("dimensions_m"), obj.dimensions_m);
-    gt.objects.push_back(obj);
-  }
-  return gt;
 }
 
 }  // namespace
@@ -145,8 +71,8 @@ std::string PixelHash(const WorldSpec& world, const RendererOptions& options, ui
     for (const auto& w : p.waypoints_m) AppendVec(s, w);
     for (const PathStop& st : p.stops) s += fmt::format("s{:.17g}/{:.17g}", st.at_m, st.duration_s);
     AppendVec(s, p.start_m);
-    s += fmt::format(",{:.17g},{:.17g},{},{},{};", p.heading_deg, p.turn_rate_deg_s,
-                     p.start_frame, p.end_frame, p.vanish_at_end);
+    s += fmt::format(",{:.17g},{:.17g},{},{},{};", p.heading_deg, p.turn_rate_deg_s, p.start_frame,
+                     p.end_frame, p.vanish_at_end);
   }
   const CameraSpec& c = world.camera;
   s += fmt::format("camera={},{},{:.17g},{:.17g},{},", c.width_px, c.height_px, c.hfov_deg,
@@ -181,7 +107,7 @@ std::optional<RenderedFrame> FrameCache::Load(int frame) const {
     out.frame = frame;
     out.rgb = ReadPng(png.string());
     std::ifstream in(json);
-    out.ground_truth = GroundTruthFrom(nlohmann::json::parse(in));
+    out.ground_truth = GroundTruthFromJson(nlohmann::json::parse(in));
     return out;
   } catch (const std::exception&) {
     return std::nullopt;  // a damaged entry is re-rendered
@@ -191,20 +117,21 @@ std::optional<RenderedFrame> FrameCache::Load(int frame) const {
 void FrameCache::Store(const RenderedFrame& frame) const {
   std::error_code ec;
   std::filesystem::create_directories(dir_, ec);
-  if (ec) throw RunError(fmt::format("cannot create frame cache {}: {}", dir_.string(), ec.message()));
+  if (ec)
+    throw RunError(fmt::format("cannot create frame cache {}: {}", dir_.string(), ec.message()));
   const auto png = dir_ / fmt::format("{:06d}.png", frame.frame);
   const auto json = dir_ / fmt::format("{:06d}.json", frame.frame);
   // Temporary names unique to this process and thread: concurrent runs that
   // render the same scene each write their own and the last rename wins (the
   // contents are identical).
-  const std::string unique = fmt::format(
-      "{}-{}", ::getpid(), std::hash<std::thread::id>{}(std::this_thread::get_id()));
+  const std::string unique =
+      fmt::format("{}-{}", ::getpid(), std::hash<std::thread::id>{}(std::this_thread::get_id()));
   const auto png_tmp = dir_ / fmt::format("{:06d}.{}.tmp.png", frame.frame, unique);
   const auto json_tmp = dir_ / fmt::format("{:06d}.{}.json.tmp", frame.frame, unique);
   WritePng(frame.rgb, png_tmp.string());
   {
     std::ofstream out(json_tmp);
-    out << GroundTruthJson(frame.ground_truth).dump();
+    out << GroundTruthToJson(frame.ground_truth).dump();
     if (!out) throw RunError(fmt::format("cannot write {}", json_tmp.string()));
   }
   // The JSON is renamed last: Load() needs both, so a crash in between

@@ -56,12 +56,12 @@ void WriteOverlayVideo(const std::string& path, const Scenario& scenario,
                        const std::vector<FrameGroundTruth>& truth,
                        const std::vector<tracker::FrameReport>& reports,
                        const std::optional<metrics::FilterMetrics>& filters,
-                       const std::vector<renderer::RgbImage>* frames) {
+                       const std::vector<RgbImage>* frames) {
   HCPF_CHECK(frames == nullptr || frames->size() == truth.size())
       << frames->size() << " images for " << truth.size() << " frames";
   OverlayFrameSource source;
   if (frames != nullptr) {
-    source = [frames](int f) -> std::optional<renderer::RgbImage> { return (*frames)[f]; };
+    source = [frames](int f) -> std::optional<RgbImage> { return (*frames)[f]; };
   }
   WriteOverlayVideo(path, scenario, truth, reports, filters, source);
 }
@@ -76,8 +76,7 @@ void WriteOverlayVideo(const std::string& path, const Scenario& scenario,
   const int width = scenario.world.camera.width_px;
   const int height = scenario.world.camera.height_px;
   // OpenCV's VideoWriter, FFmpeg backend first, through the video plugin.
-  const std::unique_ptr<VideoSink> writer =
-      OpenVideoSink(path, scenario.world.fps, width, height);
+  const std::unique_ptr<VideoSink> writer = OpenVideoSink(path, scenario.world.fps, width, height);
   // (frame, filter) -> state.
   std::map<std::pair<int, int64_t>, metrics::FilterState> states;
   if (filters) {
@@ -86,10 +85,9 @@ void WriteOverlayVideo(const std::string& path, const Scenario& scenario,
   }
   cv::Mat image(height, width, CV_8UC3);
   for (size_t f = 0; f < truth.size(); ++f) {
-    const std::optional<renderer::RgbImage> frame =
-        frame_at ? frame_at(static_cast<int>(f)) : std::nullopt;
+    const std::optional<RgbImage> frame = frame_at ? frame_at(static_cast<int>(f)) : std::nullopt;
     if (frame) {
-      const renderer::RgbImage& rgb = *frame;
+      const RgbImage& rgb = *frame;
       HCPF_CHECK(rgb.width == width && rgb.height == height)
           << "frame " << f << " is " << rgb.width << "x" << rgb.height << ", the camera " << width
           << "x" << height;

@@ -5,12 +5,13 @@
 #include <algorithm>
 #include <cerrno>
 #include <cmath>
-#include <set>
 #include <cstring>
 #include <fstream>
 #include <nlohmann/json.hpp>
+#include <set>
 
 #include "hcpf/core/error.h"
+#include "hcpf/core/ground_truth_json.h"
 #include "hcpf/scenarios/version.h"
 
 namespace hcpf::scenarios {
@@ -131,23 +132,6 @@ metrics::SeqInfo SeqInfoOf(const Scenario& s) {
   return info;
 }
 
-namespace {
-
-nlohmann::json Box(const BoxPx& b) { return {b.left, b.top, b.width, b.height}; }
-template <typename M>
-nlohmann::json Matrix(const M& m) {
-  nlohmann::json rows = nlohmann::json::array();
-  for (int r = 0; r < m.rows(); ++r) {
-    nlohmann::json row = nlohmann::json::array();
-    for (int c = 0; c < m.cols(); ++c) row.push_back(m(r, c));
-    rows.push_back(row);
-  }
-  return rows;
-}
-nlohmann::json Vec(const Eigen::Vector3d& v) { return {v.x(), v.y(), v.z()}; }
-
-}  // namespace
-
 std::string FormatGroundTruthJson(const Scenario& s, const std::vector<FrameGroundTruth>& frames,
                                   bool pixel_exact) {
   nlohmann::json root;
@@ -167,33 +151,7 @@ std::string FormatGroundTruthJson(const Scenario& s, const std::vector<FrameGrou
                      "amodal box (docs/conventions.md); gt.txt's visibility column"},
   };
   nlohmann::json list = nlohmann::json::array();
-  for (const FrameGroundTruth& f : frames) {
-    const CameraIntrinsics& k = f.camera.intrinsics;
-    nlohmann::json frame;
-    frame["frame"] = f.frame;
-    frame["camera"] = {{"width_px", k.width_px},
-                       {"height_px", k.height_px},
-                       {"K", Matrix(k.K())},
-                       {"position_m", Vec(f.camera.pose.position_m)},
-                       {"world_from_camera", Matrix(f.camera.pose.world_from_camera)}};
-    frame["image_from_ground"] = Matrix(f.image_from_ground);
-    nlohmann::json objects = nlohmann::json::array();
-    for (const GroundTruthObject& o : f.objects) {
-      objects.push_back({{"id", Value(o.id)},
-                         {"in_frame", o.in_frame},
-                         {"amodal_box", Box(o.amodal_box)},
-                         {"visible_box", Box(o.visible_box)},
-                         {"visible_fraction", o.visible_fraction},
-                         {"truncation", o.truncation},
-                         {"pixels_visible", o.pixels_visible},
-                         {"pixels_total", o.pixels_total},
-                         {"position_m", Vec(o.position_m)},
-                         {"heading_deg", o.heading_deg},
-                         {"dimensions_m", Vec(o.dimensions_m)}});
-    }
-    frame["objects"] = std::move(objects);
-    list.push_back(std::move(frame));
-  }
+  for (const FrameGroundTruth& f : frames) list.push_back(GroundTruthToJson(f));
   root["frames"] = std::move(list);
   return root.dump(1) + "\n";
 }

@@ -93,10 +93,10 @@ TEST(Overlay, DrawsOnTheGivenFrames) {
   const auto dir = testing::SweepFolder("overlay-frames");
   const Scenario scenario = LoadScenarioText(testing::kMinimal, "minimal.yaml");  // 320x240
   std::vector<FrameGroundTruth> truth;
-  std::vector<renderer::RgbImage> images;
+  std::vector<RgbImage> images;
   for (int f = 0; f < 5; ++f) {
     truth.push_back(ComputeGroundTruth(scenario.world, f));
-    renderer::RgbImage image;
+    RgbImage image;
     image.width = 320;
     image.height = 240;
     image.pixels.assign(320 * 240 * 3, 0);

@@ -70,9 +70,6 @@ class Rng {
   }
   double Normal(double mean, double sigma) { return mean + sigma * Normal(); }
 
-  // Fills `out` with independent standard normals.
-  void FillNormal(std::span<double> out);
-
   // Poisson with mean lambda >= 0 (Knuth's product method on chunks of mean <= 16).
   int64_t Poisson(double lambda);
   // True with probability p.

@@ -22,16 +22,17 @@
 //   in_frame         some of the amodal box is inside the image.
 // Up to 255 targets per scene (the id is stored in the colour buffer's alpha).
 
-#include <span>
 #include <cstdint>
 #include <filesystem>
 #include <memory>
 #include <optional>
+#include <span>
 #include <string>
 #include <vector>
 
 #include "hcpf/core/fields.h"
 #include "hcpf/core/ground_truth.h"
+#include "hcpf/core/image.h"
 #include "hcpf/core/rng.h"
 #include "hcpf/core/world.h"
 #include "hcpf/renderer/gl_context.h"
@@ -57,8 +58,8 @@ struct SensorOptions {
 
 struct RendererOptions {
   GlBackend backend = GlBackend::kAuto;
-  bool shadows = true;          // also needs world.sun.shadows
-  int shadow_map_size = 1024;   // texels per side, [64, 8192]
+  bool shadows = true;         // also needs world.sun.shadows
+  int shadow_map_size = 1024;  // texels per side, [64, 8192]
   // Shadow filter: a (2r+1)^2-texel footprint sampled by (2r)^2 bilinear
   // comparison taps (r = 0: one tap), [0, 4].
   int pcf_radius = 1;
@@ -66,9 +67,9 @@ struct RendererOptions {
   // the drawn mesh; the default (400 m / 48 = 8.3 m cells) stays within
   // ~0.1 x relief of the analytic field and keeps the terrain ~4.6k triangles.
   int terrain_grid = 48;
-  int texture_size = 256;       // procedural texture size (power of two, [16, 2048])
-  double texture_tile_m = 12.0; // ground texture repeat length (m), > 0
-  double road_width_m = 7.0;    // width of roads along target paths (terrain.roads), > 0
+  int texture_size = 256;        // procedural texture size (power of two, [16, 2048])
+  double texture_tile_m = 12.0;  // ground texture repeat length (m), > 0
+  double road_width_m = 7.0;     // width of roads along target paths (terrain.roads), > 0
   // Hint for llvmpipe's rasteriser threads: sets LP_NUM_THREADS before the
   // first context is created unless the environment already sets it; 0 = leave.
   int lp_num_threads = 0;
@@ -87,18 +88,6 @@ struct RendererOptions {
   SensorOptions sensor;
   // Throws hcpf::InputError naming the field ("renderer.<field>").
   void Validate() const;
-};
-
-// 8-bit RGB, row-major, top row first, 3 bytes per pixel.
-struct RgbImage {
-  int width = 0;
-  int height = 0;
-  std::vector<uint8_t> pixels;
-  uint8_t* at(int x, int y) { return pixels.data() + 3 * (static_cast<size_t>(y) * width + x); }
-  const uint8_t* at(int x, int y) const {
-    return pixels.data() + 3 * (static_cast<size_t>(y) * width + x);
-  }
-  friend bool operator==(const RgbImage&, const RgbImage&) = default;
 };
 
 // Camera-frame depth (z along the optical axis) in metres; +inf where nothing

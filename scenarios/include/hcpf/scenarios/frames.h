@@ -24,9 +24,9 @@ renderer::RendererOptions RendererOptionsOf(const Scenario& scenario);
 std::string DefaultFrameCacheDir();
 
 struct FrameSourceOptions {
-  bool render = false;        // render even when the scenario is at detection level
-  bool keep_images = false;   // keep the colour frames (videos, `hcpf render`)
-  std::string cache_dir;      // "" = no cache
+  bool render = false;       // render even when the scenario is at detection level
+  bool keep_images = false;  // keep the colour frames (videos, `hcpf render`)
+  std::string cache_dir;     // "" = no cache
   bool show_progress = true;
   // Rendered frames: called with every frame, rendered or read from the cache,
   // in frame order (to write images without keeping them all).
@@ -34,12 +34,12 @@ struct FrameSourceOptions {
 };
 
 struct SceneFrames {
-  std::vector<FrameGroundTruth> truth;    // one per frame
-  std::vector<renderer::RgbImage> images;  // when rendered and keep_images
-  bool rendered = false;                  // pixel-exact ground truth
+  std::vector<FrameGroundTruth> truth;  // one per frame
+  std::vector<RgbImage> images;         // when rendered and keep_images
+  bool rendered = false;                // pixel-exact ground truth
   int frames_rendered = 0;
   int frames_from_cache = 0;
-  std::optional<renderer::GlInfo> gl;     // when a GL context was created
+  std::optional<renderer::GlInfo> gl;  // when a GL context was created
 };
 
 SceneFrames ProduceFrames(const Scenario& scenario, const FrameSourceOptions& options);

@@ -31,12 +31,12 @@ void WriteOverlayVideo(const std::string& path, const Scenario& scenario,
                        const std::vector<FrameGroundTruth>& truth,
                        const std::vector<tracker::FrameReport>& reports,
                        const std::optional<metrics::FilterMetrics>& filters,
-                       const std::vector<renderer::RgbImage>* frames);
+                       const std::vector<RgbImage>* frames);
 
 // The same with frames fetched one at a time (e.g. read back from the frame
 // cache), so a long rendered run need not hold every frame in memory.
 // `frame_at(f)` returns frame f's image, or nullopt for the plain background.
-using OverlayFrameSource = std::function<std::optional<renderer::RgbImage>(int frame)>;
+using OverlayFrameSource = std::function<std::optional<RgbImage>(int frame)>;
 void WriteOverlayVideo(const std::string& path, const Scenario& scenario,
                        const std::vector<FrameGroundTruth>& truth,
                        const std::vector<tracker::FrameReport>& reports,

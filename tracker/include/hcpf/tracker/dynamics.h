@@ -5,14 +5,15 @@
 #include <array>
 #include <memory>
 #include <optional>
-#include <string>
 #include <span>
+#include <string>
 #include <string_view>
 #include <vector>
 
 #include "hcpf/core/enum_names.h"
 #include "hcpf/core/fields.h"
 #include "hcpf/core/rng.h"
+#include "hcpf/core/similarity_motion.h"
 #include "hcpf/tracker/particle_set.h"
 
 namespace hcpf::tracker {
@@ -28,8 +29,10 @@ template <>
 struct hcpf::EnumNames<hcpf::tracker::DynamicsModel> {
   static constexpr std::array kNames = {
       std::pair{hcpf::tracker::DynamicsModel::kRandomWalk, std::string_view("random_walk")},
-      std::pair{hcpf::tracker::DynamicsModel::kConstantVelocity, std::string_view("constant_velocity")},
-      std::pair{hcpf::tracker::DynamicsModel::kConstantVelocityScale, std::string_view("constant_velocity_scale")}};
+      std::pair{hcpf::tracker::DynamicsModel::kConstantVelocity,
+                std::string_view("constant_velocity")},
+      std::pair{hcpf::tracker::DynamicsModel::kConstantVelocityScale,
+                std::string_view("constant_velocity_scale")}};
 };
 
 namespace hcpf::tracker {
@@ -98,19 +101,6 @@ class ConstantVelocityScaleDynamics final : public Dynamics {
 
 // Validates `options` and builds the selected model.
 std::unique_ptr<Dynamics> MakeDynamics(const DynamicsOptions& options);
-
-// Frame-to-frame camera motion as a 2-D similarity of image coordinates:
-//   p' = exp(log_scale) * R(rotation_rad) * p + (tx_px, ty_px)
-// (rotation about the image origin, counter-clockwise in x-right/y-down pixel
-// coordinates means clockwise on screen; any other centre c is expressed by
-// choosing t = c - sR c + t_c).
-struct SimilarityMotion {
-  double tx_px = 0.0;
-  double ty_px = 0.0;
-  double log_scale = 0.0;
-  double rotation_rad = 0.0;
-  friend bool operator==(const SimilarityMotion&, const SimilarityMotion&) = default;
-};
 
 // Hierarchical-filter pre-step: maps every particle through the camera motion:
 // position p -> sRp + t, velocity v -> sRv (a displacement, no translation),

@@ -1,0 +1,21 @@
+#pragma once
+// Frame-to-frame camera motion, shared by the tracker (which applies it to
+// particles), the scene-motion estimators that produce it, and the metrics
+// that score it.
+
+namespace hcpf {
+
+// Frame-to-frame camera motion as a 2-D similarity of image coordinates:
+//   p' = exp(log_scale) * R(rotation_rad) * p + (tx_px, ty_px)
+// (rotation about the image origin, counter-clockwise in x-right/y-down pixel
+// coordinates means clockwise on screen; any other centre c is expressed by
+// choosing t = c - sR c + t_c).
+struct SimilarityMotion {
+  double tx_px = 0.0;
+  double ty_px = 0.0;
+  double log_scale = 0.0;
+  double rotation_rad = 0.0;
+  friend bool operator==(const SimilarityMotion&, const SimilarityMotion&) = default;
+};
+
+}  // namespace hcpf

@@ -7,11 +7,10 @@
 //                                         DIR/tracks.txt, to time `hcpf score` on them
 //
 // Generator: 30 target slots; each slot holds a target that lives 100-400 frames
-// (then a new id takes the slot after a 0-158 frame gap, ~23 objects on average), moves with a random
-// walk velocity, box 30-80 x 60-160 px in a 1920x1080 image. Tracker: each
-// visible target is reported with p = 0.92, box jitter sigma 3 px (position)
-// and 4% (size), track id changes with p = 0.002 per frame (an id switch), plus
-// Poisson(1.0) false positives per frame.
+// (then a new id takes the slot after a 0-158 frame gap, ~23 objects on average), moves with a
+// random walk velocity, box 30-80 x 60-160 px in a 1920x1080 image. Tracker: each visible target is
+// reported with p = 0.92, box jitter sigma 3 px (position) and 4% (size), track id changes with p =
+// 0.002 per frame (an id switch), plus Poisson(1.0) false positives per frame.
 
 #include <benchmark/benchmark.h>
 
@@ -76,19 +75,28 @@ Generated Generate(uint64_t seed, int frames = 2000, int slots = 30) {
       s.vy += gt_rng.Normal(0, 0.1);
       s.x = std::clamp(s.x + s.vx, 0.0, 1920 - s.w);
       s.y = std::clamp(s.y + s.vy, 0.0, 1080 - s.h);
-      g.gt.push_back({.frame = f, .id = s.id, .box = {s.x + 1, s.y + 1, s.w, s.h}, .conf = 1, .col8 = 1, .col9 = 1});
+      g.gt.push_back({.frame = f,
+                      .id = s.id,
+                      .box = {s.x + 1, s.y + 1, s.w, s.h},
+                      .conf = 1,
+                      .col8 = 1,
+                      .col9 = 1});
       if (hyp_rng.Bernoulli(0.002)) s.track = next_track++;  // id switch
-      if (!hyp_rng.Bernoulli(0.92)) continue;                 // miss
+      if (!hyp_rng.Bernoulli(0.92)) continue;                // miss
       const double w = s.w * (1 + hyp_rng.Normal(0, 0.04));
       const double h = s.h * (1 + hyp_rng.Normal(0, 0.04));
-      g.hyp.push_back({.frame = f, .id = s.track,
-                       .box = {s.x + 1 + hyp_rng.Normal(0, 3), s.y + 1 + hyp_rng.Normal(0, 3), w, h},
-                       .conf = 0.9});
+      g.hyp.push_back(
+          {.frame = f,
+           .id = s.track,
+           .box = {s.x + 1 + hyp_rng.Normal(0, 3), s.y + 1 + hyp_rng.Normal(0, 3), w, h},
+           .conf = 0.9});
     }
     const int64_t clutter = hyp_rng.Poisson(1.0);
     for (int64_t c = 0; c < clutter; ++c) {
-      g.hyp.push_back({.frame = f, .id = 1000000 + next_track++,
-                       .box = {hyp_rng.Uniform(0, 1850), hyp_rng.Uniform(0, 950), 50, 110}, .conf = 0.3});
+      g.hyp.push_back({.frame = f,
+                       .id = 1000000 + next_track++,
+                       .box = {hyp_rng.Uniform(0, 1850), hyp_rng.Uniform(0, 950), 50, 110},
+                       .conf = 0.3});
     }
   }
   return g;
@@ -100,8 +108,14 @@ const Generated& Data() {
 }
 
 hcpf::metrics::Sequence MakeSequence() {
-  hcpf::metrics::MotFile gt{.path = "gt", .kind = hcpf::metrics::MotFileKind::kGroundTruth, .num_columns = 9, .rows = Data().gt};
-  hcpf::metrics::MotFile hyp{.path = "hyp", .kind = hcpf::metrics::MotFileKind::kTracks, .num_columns = 10, .rows = Data().hyp};
+  hcpf::metrics::MotFile gt{.path = "gt",
+                            .kind = hcpf::metrics::MotFileKind::kGroundTruth,
+                            .num_columns = 9,
+                            .rows = Data().gt};
+  hcpf::metrics::MotFile hyp{.path = "hyp",
+                             .kind = hcpf::metrics::MotFileKind::kTracks,
+                             .num_columns = 10,
+                             .rows = Data().hyp};
   return hcpf::metrics::BuildSequence(gt, hyp, Data().frames, hcpf::metrics::Benchmark::kMot17);
 }
 
@@ -139,8 +153,10 @@ void BM_ParseAndScore(benchmark::State& state) {
   const std::string gt_text = hcpf::metrics::FormatMotGroundTruth(Data().gt);
   const std::string hyp_text = hcpf::metrics::FormatMotTracks(Data().hyp);
   for (auto _ : state) {
-    const auto gt = hcpf::metrics::ParseMotText(gt_text, "gt.txt", hcpf::metrics::MotFileKind::kGroundTruth, Data().frames);
-    const auto hyp = hcpf::metrics::ParseMotText(hyp_text, "tracks.txt", hcpf::metrics::MotFileKind::kTracks, Data().frames);
+    const auto gt = hcpf::metrics::ParseMotText(
+        gt_text, "gt.txt", hcpf::metrics::MotFileKind::kGroundTruth, Data().frames);
+    const auto hyp = hcpf::metrics::ParseMotText(
+        hyp_text, "tracks.txt", hcpf::metrics::MotFileKind::kTracks, Data().frames);
     auto s = hcpf::metrics::ComputeAll(
         hcpf::metrics::BuildSequence(gt, hyp, Data().frames, hcpf::metrics::Benchmark::kMot17));
     benchmark::DoNotOptimize(s);
@@ -153,8 +169,10 @@ void BM_ParseOnly(benchmark::State& state) {
   const std::string gt_text = hcpf::metrics::FormatMotGroundTruth(Data().gt);
   const std::string hyp_text = hcpf::metrics::FormatMotTracks(Data().hyp);
   for (auto _ : state) {
-    auto gt = hcpf::metrics::ParseMotText(gt_text, "gt.txt", hcpf::metrics::MotFileKind::kGroundTruth, Data().frames);
-    auto hyp = hcpf::metrics::ParseMotText(hyp_text, "tracks.txt", hcpf::metrics::MotFileKind::kTracks, Data().frames);
+    auto gt = hcpf::metrics::ParseMotText(gt_text, "gt.txt",
+                                          hcpf::metrics::MotFileKind::kGroundTruth, Data().frames);
+    auto hyp = hcpf::metrics::ParseMotText(hyp_text, "tracks.txt",
+                                           hcpf::metrics::MotFileKind::kTracks, Data().frames);
     benchmark::DoNotOptimize(gt);
     benchmark::DoNotOptimize(hyp);
   }
@@ -165,10 +183,17 @@ BENCHMARK(BM_ParseOnly)->Unit(benchmark::kMillisecond);
 
 // Preprocessing only: MotFiles -> Sequence (per-frame buckets + MOT17 distractor matching).
 void BM_BuildSequence(benchmark::State& state) {
-  const hcpf::metrics::MotFile gt{.path = "gt", .kind = hcpf::metrics::MotFileKind::kGroundTruth, .num_columns = 9, .rows = Data().gt};
-  const hcpf::metrics::MotFile hyp{.path = "hyp", .kind = hcpf::metrics::MotFileKind::kTracks, .num_columns = 10, .rows = Data().hyp};
+  const hcpf::metrics::MotFile gt{.path = "gt",
+                                  .kind = hcpf::metrics::MotFileKind::kGroundTruth,
+                                  .num_columns = 9,
+                                  .rows = Data().gt};
+  const hcpf::metrics::MotFile hyp{.path = "hyp",
+                                   .kind = hcpf::metrics::MotFileKind::kTracks,
+                                   .num_columns = 10,
+                                   .rows = Data().hyp};
   for (auto _ : state) {
-    auto seq = hcpf::metrics::BuildSequence(gt, hyp, Data().frames, hcpf::metrics::Benchmark::kMot17);
+    auto seq =
+        hcpf::metrics::BuildSequence(gt, hyp, Data().frames, hcpf::metrics::Benchmark::kMot17);
     benchmark::DoNotOptimize(seq);
   }
 }
@@ -177,11 +202,13 @@ BENCHMARK(BM_BuildSequence)->Unit(benchmark::kMillisecond);
 // What `hcpf score GT HYP` does after start-up: ScoreFiles on files written to a
 // temporary folder (read + parse + seqinfo + preprocess + all metrics) and the table.
 void BM_ScoreFiles(benchmark::State& state) {
-  const std::filesystem::path dir = std::filesystem::temp_directory_path() / "hcpf_metrics_bench_sequence";
+  const std::filesystem::path dir =
+      std::filesystem::temp_directory_path() / "hcpf_metrics_bench_sequence";
   std::filesystem::create_directories(dir / "gt");
   hcpf::metrics::WriteMotGroundTruth((dir / "gt" / "gt.txt").string(), Data().gt);
-  hcpf::metrics::WriteSeqInfo((dir / "seqinfo.ini").string(),
-                              {.name = "BENCH-2000x30", .seq_length = Data().frames, .im_width = 1920, .im_height = 1080});
+  hcpf::metrics::WriteSeqInfo(
+      (dir / "seqinfo.ini").string(),
+      {.name = "BENCH-2000x30", .seq_length = Data().frames, .im_width = 1920, .im_height = 1080});
   hcpf::metrics::WriteMotTracks((dir / "tracks.txt").string(), Data().hyp);
   hcpf::metrics::ScoreFilesOptions options;
   options.gt_path = (dir / "gt" / "gt.txt").string();
@@ -213,10 +240,13 @@ int main(int argc, char** argv) {
       const std::filesystem::path dir = argv[i + 1];
       std::filesystem::create_directories(dir / "gt");
       hcpf::metrics::WriteMotGroundTruth((dir / "gt" / "gt.txt").string(), Data().gt);
-      hcpf::metrics::WriteSeqInfo((dir / "seqinfo.ini").string(),
-                                  {.name = "BENCH-2000x30", .seq_length = Data().frames, .im_width = 1920, .im_height = 1080});
+      hcpf::metrics::WriteSeqInfo((dir / "seqinfo.ini").string(), {.name = "BENCH-2000x30",
+                                                                   .seq_length = Data().frames,
+                                                                   .im_width = 1920,
+                                                                   .im_height = 1080});
       hcpf::metrics::WriteMotTracks((dir / "tracks.txt").string(), Data().hyp);
-      std::printf("wrote %zu gt and %zu tracker boxes to %s\n", Data().gt.size(), Data().hyp.size(), dir.c_str());
+      std::printf("wrote %zu gt and %zu tracker boxes to %s\n", Data().gt.size(), Data().hyp.size(),
+                  dir.c_str());
       // Drop the two arguments before handing the rest to Google Benchmark.
       for (int j = i; j + 2 < argc; ++j) argv[j] = argv[j + 2];
       argc -= 2;

@@ -10,7 +10,6 @@
 // machine; fps is wall-clock.
 
 #include <benchmark/benchmark.h>
-
 #include <sys/resource.h>
 
 #include <cstdlib>
@@ -62,8 +61,8 @@ WorldSpec BenchWorld() {
   }
   const std::string dir = std::string(HCPF_SOURCE_DIR) + "/assets/vehicles/";
   const char* models[] = {"tank.glb", "truck.glb", "car.glb", "tank.glb", "truck.glb"};
-  const Eigen::Vector3d dims[] = {{6.9, 3.6, 2.3}, {8.0, 2.5, 3.2}, {4.5, 1.84, 1.5},
-                                  {6.9, 3.6, 2.3}, {8.0, 2.5, 3.2}};
+  const Eigen::Vector3d dims[] = {
+      {6.9, 3.6, 2.3}, {8.0, 2.5, 3.2}, {4.5, 1.84, 1.5}, {6.9, 3.6, 2.3}, {8.0, 2.5, 3.2}};
   for (int i = 0; i < 5; ++i) {
     TargetSpec t;
     t.id = ObjectId{i + 1};
@@ -118,8 +117,8 @@ void BM_RenderFrame(benchmark::State& state) {
     benchmark::DoNotOptimize(f.rgb.pixels.data());
     frame = (frame + 1) % 300;
   }
-  state.counters["fps"] = benchmark::Counter(static_cast<double>(state.iterations()),
-                                             benchmark::Counter::kIsRate);
+  state.counters["fps"] =
+      benchmark::Counter(static_cast<double>(state.iterations()), benchmark::Counter::kIsRate);
   state.counters["cpu_ms_per_frame"] =
       (ProcessCpuMs() - cpu_start) / static_cast<double>(state.iterations());
   state.SetLabel(Context()->info().renderer);

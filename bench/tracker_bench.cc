@@ -160,7 +160,8 @@ void BM_FilterStep(benchmark::State& state) {
   ResamplerOptions ro;
   ro.method = k > 0 ? ResamplingMethod::kCharged : ResamplingMethod::kSystematic;
   const auto resampler = MakeResampler(ro);
-  const std::vector<FilterSummary> others = k > 0 ? Neighbours(k, state.range(2) != 0) : std::vector<FilterSummary>{};
+  const std::vector<FilterSummary> others =
+      k > 0 ? Neighbours(k, state.range(2) != 0) : std::vector<FilterSummary>{};
   std::vector<int32_t> ancestors(n);
   Rng rng(5);
   const ParticleSet start = set;

@@ -14,8 +14,8 @@ PACKAGES=(
   libopencv-dev
   libosmesa6-dev libegl-dev libgl-dev libegl-mesa0 libgles-dev mesa-common-dev
   libassimp-dev libtinygltf-dev libstb-dev libpng-dev libjpeg-dev
-  # tests and benchmarks
-  googletest libgtest-dev libgmock-dev libbenchmark-dev
+  # tests and benchmarks; clang-format checks the formatting in CI
+  googletest libgtest-dev libgmock-dev libbenchmark-dev clang-format
   # reports: plots; headless Chromium checks the HTML report in the tests
   gnuplot-nox chromium
 )

@@ -15,7 +15,8 @@
 
 namespace hcpf::cli {
 
-int RunApp(int argc, char** argv, std::span<const AddCommandFn> adders, const std::string& version) {
+int RunApp(int argc, char** argv, std::span<const AddCommandFn> adders,
+           const std::string& version) {
   // Logging goes to stderr; stdout is reserved for requested machine output.
   auto logger = spdlog::stderr_color_mt("hcpf");
   spdlog::set_default_logger(logger);

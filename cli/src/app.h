@@ -19,6 +19,7 @@ inline constexpr const char* kLogLevelOption = "--log-level";
 // Sets up logging (stderr), parses argv with the given subcommands, runs the
 // chosen one and maps errors to exit codes (0 ok, 1 run failed, 2 bad input).
 // `version` is printed by --version; empty: no --version flag.
-int RunApp(int argc, char** argv, std::span<const AddCommandFn> commands, const std::string& version);
+int RunApp(int argc, char** argv, std::span<const AddCommandFn> commands,
+           const std::string& version);
 
 }  // namespace hcpf::cli

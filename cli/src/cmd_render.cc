@@ -39,20 +39,21 @@ Command AddRenderCommand(CLI::App& parent) {
   app->add_option("--sheet-frames", options->sheet_frames, "Frames sampled into contact_sheet.png")
       ->check(CLI::Range(1, 100))
       ->capture_default_str();
-  return {app, [options] {
-            std::vector<scenarios::Override> overrides;
-            for (const auto& s : options->sets) overrides.push_back(scenarios::ParseOverride(s));
-            const scenarios::Scenario scenario = scenarios::LoadScenarioFile(options->file, overrides);
-            scenarios::RenderFolderOptions render_options;
-            render_options.out_dir = options->out;
-            render_options.cache_dir = options->no_cache ? "" : options->cache;
-            render_options.sheet_frames = options->sheet_frames;
-            const auto summary = scenarios::RenderToFolder(scenario, render_options);
-            spdlog::info("rendered \"{}\": {} frames ({} from the cache) in {:.2f} s", scenario.name,
-                         summary.frames, summary.frames_from_cache, summary.wall_time_s);
-            spdlog::info("outputs in {} (contact_sheet.png for a quick look)", summary.out_dir);
-            return 0;
-          }};
+  return {
+      app, [options] {
+        std::vector<scenarios::Override> overrides;
+        for (const auto& s : options->sets) overrides.push_back(scenarios::ParseOverride(s));
+        const scenarios::Scenario scenario = scenarios::LoadScenarioFile(options->file, overrides);
+        scenarios::RenderFolderOptions render_options;
+        render_options.out_dir = options->out;
+        render_options.cache_dir = options->no_cache ? "" : options->cache;
+        render_options.sheet_frames = options->sheet_frames;
+        const auto summary = scenarios::RenderToFolder(scenario, render_options);
+        spdlog::info("rendered \"{}\": {} frames ({} from the cache) in {:.2f} s", scenario.name,
+                     summary.frames, summary.frames_from_cache, summary.wall_time_s);
+        spdlog::info("outputs in {} (contact_sheet.png for a quick look)", summary.out_dir);
+        return 0;
+      }};
 }
 
 }  // namespace hcpf::cli

@@ -45,19 +45,21 @@ Command AddRunCommand(CLI::App& parent) {
   return {app, [options] {
             std::vector<scenarios::Override> overrides;
             for (const auto& s : options->sets) overrides.push_back(scenarios::ParseOverride(s));
-            const scenarios::Scenario scenario = scenarios::LoadScenarioFile(options->file, overrides);
+            const scenarios::Scenario scenario =
+                scenarios::LoadScenarioFile(options->file, overrides);
             scenarios::RunOptions run_options;
             run_options.out_dir = options->out;
             run_options.threads = options->threads;
             run_options.frame_cache_dir = options->no_cache ? "" : options->cache;
             run_options.video = options->video;
             const scenarios::RunSummary summary = scenarios::RunScenario(scenario, run_options);
-            spdlog::info("run \"{}\" finished in {:.2f} s: {} frames, {} ground-truth boxes, {} detections",
-                         scenario.name, summary.wall_time_s, summary.frames, summary.gt_boxes,
-                         summary.detections);
-            spdlog::info("MOTA {:.3f}  IDF1 {:.3f}  HOTA {:.3f}  DA accuracy {:.3f}  hijack rate {:.3f}",
-                         summary.mota, summary.idf1, summary.hota, summary.da_accuracy,
-                         summary.hijack_rate);
+            spdlog::info(
+                "run \"{}\" finished in {:.2f} s: {} frames, {} ground-truth boxes, {} detections",
+                scenario.name, summary.wall_time_s, summary.frames, summary.gt_boxes,
+                summary.detections);
+            spdlog::info(
+                "MOTA {:.3f}  IDF1 {:.3f}  HOTA {:.3f}  DA accuracy {:.3f}  hijack rate {:.3f}",
+                summary.mota, summary.idf1, summary.hota, summary.da_accuracy, summary.hijack_rate);
             spdlog::info("outputs in {}", summary.out_dir);
             return 0;
           }};

@@ -30,34 +30,34 @@ Command AddSchemaCommand(CLI::App& parent) {
   app->add_option("--update", options->update,
                   "Rewrite the generated tables of this markdown file in place "
                   "(docs/scenario.md)");
-  return {app, [options] {
-            if (!options->update.empty()) {
-              std::ifstream in(options->update, std::ios::binary);
-              if (!in) {
-                throw InputError(SourceLocation{options->update, 0, 0, "--update"},
-                                 "a readable markdown file", std::strerror(errno));
-              }
-              std::stringstream text;
-              text << in.rdbuf();
-              const std::string updated =
-                  scenarios::UpdateGeneratedTables(text.str(), options->update);
-              if (updated == text.str()) {
-                spdlog::info("{}: generated tables are up to date", options->update);
-                return 0;
-              }
-              std::ofstream out(options->update, std::ios::binary | std::ios::trunc);
-              out << updated;
-              if (!out) throw Error("cannot write " + options->update);
-              spdlog::info("{}: generated tables rewritten", options->update);
-              return 0;
-            }
-            std::vector<std::string> sections = options->sections;
-            if (sections.empty()) sections = scenarios::SchemaSections();
-            for (const std::string& section : sections) {
-              std::cout << "## `" << section << "`\n\n" << scenarios::SchemaMarkdown(section) << "\n";
-            }
+  return {
+      app, [options] {
+        if (!options->update.empty()) {
+          std::ifstream in(options->update, std::ios::binary);
+          if (!in) {
+            throw InputError(SourceLocation{options->update, 0, 0, "--update"},
+                             "a readable markdown file", std::strerror(errno));
+          }
+          std::stringstream text;
+          text << in.rdbuf();
+          const std::string updated = scenarios::UpdateGeneratedTables(text.str(), options->update);
+          if (updated == text.str()) {
+            spdlog::info("{}: generated tables are up to date", options->update);
             return 0;
-          }};
+          }
+          std::ofstream out(options->update, std::ios::binary | std::ios::trunc);
+          out << updated;
+          if (!out) throw Error("cannot write " + options->update);
+          spdlog::info("{}: generated tables rewritten", options->update);
+          return 0;
+        }
+        std::vector<std::string> sections = options->sections;
+        if (sections.empty()) sections = scenarios::SchemaSections();
+        for (const std::string& section : sections) {
+          std::cout << "## `" << section << "`\n\n" << scenarios::SchemaMarkdown(section) << "\n";
+        }
+        return 0;
+      }};
 }
 
 }  // namespace hcpf::cli

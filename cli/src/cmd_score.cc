@@ -13,7 +13,6 @@
 
 #include "command.h"
 #include "hcpf/core/error.h"
-
 #include "hcpf/metrics/report.h"
 
 namespace hcpf::cli {
@@ -30,13 +29,15 @@ Command AddScoreCommand(CLI::App& parent) {
   };
   auto options = std::make_shared<Options>();
   CLI::App* app = parent.add_subcommand(
-      "score", "Score tracker output against ground truth (MOTChallenge files): HOTA, CLEAR MOT, IDF1");
+      "score",
+      "Score tracker output against ground truth (MOTChallenge files): HOTA, CLEAR MOT, IDF1");
   app->add_option("gt", options->gt, "Ground-truth file (MOT15 6/10 or MOT16/17 9 columns)");
   app->add_option("hyp", options->hyp, "Tracker output (MOT 10 columns)");
   app->add_option("--seqinfo", options->seqinfo,
                   "seqinfo.ini giving seqLength (default: next to GT or in its parent folder)");
-  app->add_option("--benchmark", options->benchmark,
-                  "Preprocessing rules: MOT15, MOT17 (also MOT16/MOT20) or auto (9-column gt = MOT17)")
+  app->add_option(
+         "--benchmark", options->benchmark,
+         "Preprocessing rules: MOT15, MOT17 (also MOT16/MOT20) or auto (9-column gt = MOT17)")
       ->check(CLI::IsMember({"MOT15", "MOT16", "MOT17", "MOT20", "auto"}))
       ->capture_default_str();
   app->add_option("--json", options->json, "Write every metric value to this JSON file");
@@ -65,18 +66,19 @@ Command AddScoreCommand(CLI::App& parent) {
                 std::vector<MotSummary> rows = r.sequences;
                 rows.push_back(r.combined);
                 std::cout << r.bench << " / " << r.tracker << "\n" << FormatMotTable(rows) << "\n";
-                json += "{\"bench\":\"" + r.bench + "\",\"tracker\":\"" + r.tracker + "\",\"metrics\":" +
-                        MotSummariesToJson(r.sequences, &r.combined) + "}" +
+                json += "{\"bench\":\"" + r.bench + "\",\"tracker\":\"" + r.tracker +
+                        "\",\"metrics\":" + MotSummariesToJson(r.sequences, &r.combined) + "}" +
                         (i + 1 < results.size() ? ",\n" : "\n");
               }
               json += "]\n";
-              if (results.empty()) spdlog::warn("{}: no tracker folders found", options->trackeval_root);
+              if (results.empty())
+                spdlog::warn("{}: no tracker folders found", options->trackeval_root);
               if (!options->json.empty()) write_file(options->json, json);
               return 0;
             }
             if (options->gt.empty() || options->hyp.empty()) {
-              throw InputError(SourceLocation{{}, 0, 0, "score"}, "GT and HYP files (or --trackeval-root DIR)",
-                               "missing arguments");
+              throw InputError(SourceLocation{{}, 0, 0, "score"},
+                               "GT and HYP files (or --trackeval-root DIR)", "missing arguments");
             }
             ScoreFilesOptions o;
             o.gt_path = options->gt;
@@ -86,7 +88,8 @@ Command AddScoreCommand(CLI::App& parent) {
             o.keep_events = !options->events.empty();
             const ScoredSequence s = ScoreFiles(o);
             std::cout << FormatMotTable({&s.summary, 1});
-            if (!options->json.empty()) write_file(options->json, MotSummariesToJson({&s.summary, 1}, nullptr));
+            if (!options->json.empty())
+              write_file(options->json, MotSummariesToJson({&s.summary, 1}, nullptr));
             if (!options->events.empty()) {
               std::ofstream out(options->events, std::ios::binary);
               WriteEventsJsonLines(out, s.events);

@@ -9,7 +9,7 @@
 extern "C" __attribute__((visibility("default"))) int hcpf_cli_main(int argc, char** argv) {
   using namespace hcpf::cli;
   static constexpr std::array<AddCommandFn, 9> kCommands = {
-      AddValidateCommand, AddRenderCommand, AddRunCommand,    AddScoreCommand,  AddSweepCommand,
+      AddValidateCommand, AddRenderCommand, AddRunCommand,     AddScoreCommand,  AddSweepCommand,
       AddMergeCommand,    AddReportCommand, AddRegressCommand, AddSchemaCommand,
   };
   return RunApp(argc, argv, kCommands, hcpf::scenarios::VersionString());

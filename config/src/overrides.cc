@@ -37,8 +37,7 @@ void ApplyOverride(YAML::Node root, const Override& o, int index) {
   for (size_t i = 0; i < parts.size(); ++i) {
     const std::string& part = parts[i];
     if (part.empty()) {
-      throw InputError(at, "a dotted key such as tracker.particles",
-                       "an empty segment");
+      throw InputError(at, "a dotted key such as tracker.particles", "an empty segment");
     }
     YAML::Node current = chain.back();
     const bool last = i + 1 == parts.size();
@@ -46,8 +45,8 @@ void ApplyOverride(YAML::Node root, const Override& o, int index) {
       size_t index = 0;
       auto [ptr, ec] = std::from_chars(part.data(), part.data() + part.size(), index);
       if (ec != std::errc() || ptr != part.data() + part.size() || index >= current.size()) {
-        throw InputError(at,
-                         fmt::format("a list index in [0, {})", current.size()), "\"" + part + "\"");
+        throw InputError(at, fmt::format("a list index in [0, {})", current.size()),
+                         "\"" + part + "\"");
       }
       if (last) {
         current[index] = value;
@@ -57,8 +56,7 @@ void ApplyOverride(YAML::Node root, const Override& o, int index) {
       continue;
     }
     if (!current.IsMap() && !current.IsNull() && current.IsDefined()) {
-      throw InputError(at, "a mapping on the way to the key",
-                       "a value at \"" + part + "\"");
+      throw InputError(at, "a mapping on the way to the key", "a value at \"" + part + "\"");
     }
     if (last) {
       current[part] = value;
@@ -97,14 +95,13 @@ std::string OverridePath(const std::string& key) {
 Override ParseOverride(const std::string& text) {
   const size_t eq = text.find('=');
   if (eq == std::string::npos || eq == 0) {
-    throw InputError(SourceLocation{"--set " + text, 0, 0, ""}, "key=value, e.g. tracker.particles=1000",
-                     "\"" + text + "\"");
+    throw InputError(SourceLocation{"--set " + text, 0, 0, ""},
+                     "key=value, e.g. tracker.particles=1000", "\"" + text + "\"");
   }
   return {text.substr(0, eq), text.substr(eq + 1)};
 }
 
-void ApplyOverrides(YAML::Node root, const std::vector<Override>& overrides,
-                    YamlContext* context) {
+void ApplyOverrides(YAML::Node root, const std::vector<Override>& overrides, YamlContext* context) {
   for (size_t i = 0; i < overrides.size(); ++i) {
     const Override& o = overrides[i];
     ApplyOverride(root, o, static_cast<int>(i));

@@ -215,8 +215,7 @@ int64_t YamlReader::AsInteger(int64_t lo, int64_t hi) const {
 }
 
 Eigen::VectorXd YamlReader::AsVector(int n, double lo, double hi) const {
-  const std::string expected =
-      fmt::format("a list of {} numbers in {}", n, RangeText(lo, hi));
+  const std::string expected = fmt::format("a list of {} numbers in {}", n, RangeText(lo, hi));
   if (!node_.IsSequence() || static_cast<int>(node_.size()) != n) Fail(expected);
   Eigen::VectorXd v(n);
   for (int i = 0; i < n; ++i) {
@@ -310,8 +309,7 @@ std::string YamlReader::Enum(const std::string& key, std::optional<std::string> 
 }
 
 Eigen::VectorXd YamlReader::Vector(const std::string& key, int n,
-                                   std::optional<Eigen::VectorXd> fallback, double lo,
-                                   double hi) {
+                                   std::optional<Eigen::VectorXd> fallback, double lo, double hi) {
   if (!Has(key)) {
     if (fallback) return *fallback;
     Child(key);

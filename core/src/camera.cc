@@ -7,8 +7,7 @@
 
 namespace hcpf {
 
-CameraIntrinsics CameraIntrinsics::FromHorizontalFov(int width_px, int height_px,
-                                                     double hfov_deg) {
+CameraIntrinsics CameraIntrinsics::FromHorizontalFov(int width_px, int height_px, double hfov_deg) {
   HCPF_CHECK(width_px > 0 && height_px > 0 && hfov_deg > 0.0 && hfov_deg < 180.0);
   CameraIntrinsics k;
   k.width_px = width_px;

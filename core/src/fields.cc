@@ -53,8 +53,8 @@ std::string DottedKey(std::string_view prefix, std::string_view key) {
 
 void FailFieldRange(std::string_view prefix, std::string_view key, FieldType type,
                     const FieldRange& range, double value) {
-  throw InputError(SourceLocation{{}, 0, 0, DottedKey(prefix, key)},
-                   FieldExpectation(type, range), FormatNumber(value));
+  throw InputError(SourceLocation{{}, 0, 0, DottedKey(prefix, key)}, FieldExpectation(type, range),
+                   FormatNumber(value));
 }
 
 void FailFieldChoice(std::string_view prefix, std::string_view key,

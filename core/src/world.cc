@@ -42,10 +42,8 @@ std::span<const Field<TerrainSpec>> TerrainSpec::Fields() {
 std::span<const Field<SunSpec>> SunSpec::Fields() {
   using O = SunSpec;
   static const std::vector<Field<O>> fields = {
-      NumberField("azimuth_deg", &O::azimuth_deg, Closed(0, 360), "deg",
-                  "clockwise from north"),
-      NumberField("elevation_deg", &O::elevation_deg, Closed(1, 90), "deg",
-                  "above the horizon"),
+      NumberField("azimuth_deg", &O::azimuth_deg, Closed(0, 360), "deg", "clockwise from north"),
+      NumberField("elevation_deg", &O::elevation_deg, Closed(1, 90), "deg", "above the horizon"),
       FlagField("shadows", &O::shadows, "cast shadows (renderer)"),
   };
   return fields;

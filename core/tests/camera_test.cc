@@ -55,7 +55,8 @@ TEST(CameraState, GroundHomographyMatchesProjection) {
   c.intrinsics.cx_px += 1.7;  // shake moves the optical centre
   c.pose = CameraPose::LookAt({13, -40, 120}, {5, 3, 0});
   const Eigen::Matrix3d h = c.ImageFromGround(0.0);
-  for (const Eigen::Vector2d& g : {Eigen::Vector2d(0, 0), Eigen::Vector2d(12, -7), Eigen::Vector2d(-30, 25)}) {
+  for (const Eigen::Vector2d& g :
+       {Eigen::Vector2d(0, 0), Eigen::Vector2d(12, -7), Eigen::Vector2d(-30, 25)}) {
     const Eigen::Vector3d q = h * Eigen::Vector3d(g.x(), g.y(), 1.0);
     const auto p = c.Project({g.x(), g.y(), 0.0});
     ASSERT_TRUE(p);

@@ -88,7 +88,8 @@ TEST(EvaluatePath, SingleWaypointIsStatic) {
 
 CameraSpec ThreeKeys() {
   CameraSpec c;
-  c.path = {{0, {0, 0, 100}, {0, 0, 0}}, {10, {10, 0, 150}, {5, 0, 0}}, {30, {10, 20, 400}, {5, 5, 0}}};
+  c.path = {
+      {0, {0, 0, 100}, {0, 0, 0}}, {10, {10, 0, 150}, {5, 0, 0}}, {30, {10, 20, 400}, {5, 5, 0}}};
   return c;
 }
 
@@ -102,7 +103,8 @@ TEST(EvaluateCamera, PassesThroughKeyframes) {
 TEST(EvaluateCamera, TwoKeyframesInterpolateLinearly) {
   CameraSpec c;
   c.path = {{0, {0, 0, 100}, {0, 0, 0}}, {20, {20, 0, 300}, {0, 0, 0}}};
-  EXPECT_NEAR((EvaluateCamera(c, 10).pose.position_m - Eigen::Vector3d(10, 0, 200)).norm(), 0.0, 1e-9);
+  EXPECT_NEAR((EvaluateCamera(c, 10).pose.position_m - Eigen::Vector3d(10, 0, 200)).norm(), 0.0,
+              1e-9);
 }
 
 TEST(EvaluateCamera, NoKinkAtKeyframes) {

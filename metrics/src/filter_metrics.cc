@@ -30,18 +30,22 @@ int CoveredTarget(const std::vector<TargetState>& targets, double x, double y, d
   return best;
 }
 
-std::vector<std::pair<int64_t, int64_t>> MapFilters(const FilterSequence& seq, double iou_threshold) {
+std::vector<std::pair<int64_t, int64_t>> MapFilters(const FilterSequence& seq,
+                                                    double iou_threshold) {
   if (seq.birth_target) return *seq.birth_target;
   Sequence boxes;
   boxes.frames.resize(seq.frames.size());
   for (size_t t = 0; t < seq.frames.size(); ++t) {
     for (const TargetState& o : seq.frames[t].targets) {
-      boxes.frames[t].gt.push_back({o.id, BoxPx::FromCentre(o.centre_x, o.centre_y, o.width, o.height)});
+      boxes.frames[t].gt.push_back(
+          {o.id, BoxPx::FromCentre(o.centre_x, o.centre_y, o.width, o.height)});
     }
-    for (const FilterEstimate& f : seq.frames[t].filters) boxes.frames[t].hyp.push_back({f.id, f.box});
+    for (const FilterEstimate& f : seq.frames[t].filters)
+      boxes.frames[t].hyp.push_back({f.id, f.box});
   }
   std::vector<std::pair<int64_t, int64_t>> mapping;
-  for (const auto& [target, filter] : IdentityMatching(boxes, iou_threshold)) mapping.emplace_back(filter, target);
+  for (const auto& [target, filter] : IdentityMatching(boxes, iou_threshold))
+    mapping.emplace_back(filter, target);
   std::sort(mapping.begin(), mapping.end());
   return mapping;
 }
@@ -50,12 +54,18 @@ std::vector<std::pair<int64_t, int64_t>> MapFilters(const FilterSequence& seq, d
 
 const char* FilterStateName(FilterState state) {
   switch (state) {
-    case FilterState::kCorrect: return "CORRECT";
-    case FilterState::kSwapped: return "SWAPPED";
-    case FilterState::kHijacked: return "HIJACKED";
-    case FilterState::kStrayed: return "STRAYED";
-    case FilterState::kLost: return "LOST";
-    case FilterState::kCoasting: return "COASTING";
+    case FilterState::kCorrect:
+      return "CORRECT";
+    case FilterState::kSwapped:
+      return "SWAPPED";
+    case FilterState::kHijacked:
+      return "HIJACKED";
+    case FilterState::kStrayed:
+      return "STRAYED";
+    case FilterState::kLost:
+      return "LOST";
+    case FilterState::kCoasting:
+      return "COASTING";
   }
   return "?";
 }
@@ -86,7 +96,7 @@ FilterMetrics ComputeFilterMetrics(const FilterSequence& seq, const FilterMetric
   options.Validate();
   FilterMetrics out;
   out.mapping = MapFilters(seq, options.iou_threshold);
-  std::unordered_map<int64_t, int64_t> target_of;        // filter -> g(k)
+  std::unordered_map<int64_t, int64_t> target_of;                // filter -> g(k)
   std::unordered_map<int64_t, std::vector<int64_t>> filters_of;  // target -> its own filters
   for (const auto& [filter, target] : out.mapping) {
     target_of[filter] = target;
@@ -107,7 +117,8 @@ FilterMetrics ComputeFilterMetrics(const FilterSequence& seq, const FilterMetric
   for (int t = 0; t < num_frames; ++t) {
     const FilterFrame& f = seq.frames[t];
     std::unordered_map<int64_t, int> target_index;
-    for (size_t i = 0; i < f.targets.size(); ++i) target_index[f.targets[i].id] = static_cast<int>(i);
+    for (size_t i = 0; i < f.targets.size(); ++i)
+      target_index[f.targets[i].id] = static_cast<int>(i);
     // Which target each filter covers, and which filters cover each target.
     covered.assign(f.filters.size(), -1);
     std::unordered_map<int64_t, std::vector<int64_t>> covering;  // target id -> filters covering it
@@ -118,7 +129,8 @@ FilterMetrics ComputeFilterMetrics(const FilterSequence& seq, const FilterMetric
     }
     auto covers = [&](int64_t filter, int64_t target) {
       const auto it = covering.find(target);
-      return it != covering.end() && std::find(it->second.begin(), it->second.end(), filter) != it->second.end();
+      return it != covering.end() &&
+             std::find(it->second.begin(), it->second.end(), filter) != it->second.end();
     };
     int64_t scored_now = 0;
     int64_t hijacked_now = 0;
@@ -181,11 +193,13 @@ FilterMetrics ComputeFilterMetrics(const FilterSequence& seq, const FilterMetric
     }
     out.scored += scored_now;
     hijacked_total += hijacked_now;
-    out.hijacked_fraction.push_back(scored_now > 0 ? static_cast<double>(hijacked_now) / scored_now : 0.0);
+    out.hijacked_fraction.push_back(scored_now > 0 ? static_cast<double>(hijacked_now) / scored_now
+                                                   : 0.0);
   }
   const int64_t correct = out.state_counts[static_cast<int>(FilterState::kCorrect)];
   out.da_accuracy = out.scored > 0 ? static_cast<double>(correct) / out.scored : 0.0;
-  out.hijacked_fraction_overall = out.scored > 0 ? static_cast<double>(hijacked_total) / out.scored : 0.0;
+  out.hijacked_fraction_overall =
+      out.scored > 0 ? static_cast<double>(hijacked_total) / out.scored : 0.0;
   for (VisibilityBin& b : out.da_by_visibility) {
     b.accuracy = b.scored > 0 ? static_cast<double>(b.correct) / b.scored : 0.0;
   }
@@ -195,7 +209,8 @@ FilterMetrics ComputeFilterMetrics(const FilterSequence& seq, const FilterMetric
   // closer than encounter_factor * their mean size (size = max(w, h)).
   std::map<std::pair<int64_t, int64_t>, int> open;  // pair -> first frame of the running interval
   auto close_encounter = [&](const std::pair<int64_t, int64_t>& pair, int first, int last) {
-    Encounter e{pair.first, pair.second, first, last, std::min(last + options.post_window, num_frames - 1)};
+    Encounter e{pair.first, pair.second, first, last,
+                std::min(last + options.post_window, num_frames - 1)};
     const auto fa = filters_of.find(pair.first);
     const auto fb = filters_of.find(pair.second);
     if (fa == filters_of.end() || fb == filters_of.end()) return;  // a target without a filter
@@ -207,7 +222,8 @@ FilterMetrics ComputeFilterMetrics(const FilterSequence& seq, const FilterMetric
     for (const auto* list : {&fa->second, &fb->second}) {
       for (int64_t filter : *list) {
         const FilterState s = state_of(filter);
-        if (s == FilterState::kHijacked || s == FilterState::kStrayed || s == FilterState::kLost) e.hijacked = true;
+        if (s == FilterState::kHijacked || s == FilterState::kStrayed || s == FilterState::kLost)
+          e.hijacked = true;
         if (s != FilterState::kSwapped) all_swapped = false;
       }
     }
@@ -224,7 +240,8 @@ FilterMetrics ComputeFilterMetrics(const FilterSequence& seq, const FilterMetric
         const TargetState& a = targets[i];
         const TargetState& b = targets[j];
         const double mean_size = 0.5 * (Size(a) + Size(b));
-        if (std::hypot(a.centre_x - b.centre_x, a.centre_y - b.centre_y) < options.encounter_factor * mean_size) {
+        if (std::hypot(a.centre_x - b.centre_x, a.centre_y - b.centre_y) <
+            options.encounter_factor * mean_size) {
           close_now[{std::min(a.id, b.id), std::max(a.id, b.id)}] = true;
         }
       }
@@ -240,11 +257,14 @@ FilterMetrics ComputeFilterMetrics(const FilterSequence& seq, const FilterMetric
     for (const auto& [pair, unused] : close_now) open.try_emplace(pair, t);
   }
   for (const auto& [pair, first] : open) close_encounter(pair, first, num_frames - 1);
-  std::sort(out.encounters.begin(), out.encounters.end(), [](const Encounter& a, const Encounter& b) {
-    return std::tie(a.first_frame, a.target_a, a.target_b) < std::tie(b.first_frame, b.target_a, b.target_b);
-  });
-  out.hijack_rate = out.encounters.empty() ? 0.0
-                                           : static_cast<double>(out.hijacked_encounters) / out.encounters.size();
+  std::sort(out.encounters.begin(), out.encounters.end(),
+            [](const Encounter& a, const Encounter& b) {
+              return std::tie(a.first_frame, a.target_a, a.target_b) <
+                     std::tie(b.first_frame, b.target_a, b.target_b);
+            });
+  out.hijack_rate = out.encounters.empty()
+                        ? 0.0
+                        : static_cast<double>(out.hijacked_encounters) / out.encounters.size();
   return out;
 }
 

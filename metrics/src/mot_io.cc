@@ -63,7 +63,9 @@ void WriteWholeFile(const std::string& path, const std::string& text) {
 }
 
 // ASCII whitespace without the locale lookup of std::isspace (hot in parsing).
-inline bool IsSpace(char c) { return c == ' ' || c == '\t' || c == '\r' || c == '\n' || c == '\v' || c == '\f'; }
+inline bool IsSpace(char c) {
+  return c == ' ' || c == '\t' || c == '\r' || c == '\n' || c == '\v' || c == '\f';
+}
 
 std::string_view Trim(std::string_view s) {
   while (!s.empty() && IsSpace(s.front())) s.remove_prefix(1);
@@ -72,8 +74,9 @@ std::string_view Trim(std::string_view s) {
 }
 
 const char* ColumnName(MotFileKind kind, int column) {
-  static const char* kGt[] = {"frame", "id", "x", "y", "w", "h", "conf/consider", "class/world x",
-                              "visibility/world y", "world z"};
+  static const char* kGt[] = {
+      "frame",  "id", "x", "y", "w", "h", "conf/consider", "class/world x", "visibility/world y",
+      "world z"};
   static const char* kHyp[] = {"frame", "id", "x", "y", "w", "h", "conf", "-1", "-1", "-1"};
   if (column < 1 || column > 10) return "extra";
   return kind == MotFileKind::kGroundTruth ? kGt[column - 1] : kHyp[column - 1];
@@ -90,8 +93,8 @@ int SplitFields(std::string_view line, std::string_view* fields) {
     bool last_empty = false;
     while (true) {
       const size_t pos = line.find(',', start);
-      const std::string_view field =
-          Trim(line.substr(start, pos == std::string_view::npos ? std::string_view::npos : pos - start));
+      const std::string_view field = Trim(
+          line.substr(start, pos == std::string_view::npos ? std::string_view::npos : pos - start));
       if (count < kMaxFields) fields[count] = field;
       ++count;
       last_empty = field.empty();
@@ -123,9 +126,10 @@ double ParseNumber(std::string_view field, const std::string& path, int line, in
   if (!field.empty() && *begin == '+') ++begin;
   const auto [ptr, ec] = std::from_chars(begin, end, value);
   if (field.empty() || ec != std::errc() || ptr != end || !std::isfinite(value)) {
-    throw InputError(SourceLocation{path, line, column,
-                                    fmt::format("column {} ({})", column, ColumnName(kind, column))},
-                     "a finite number", fmt::format("\"{}\"", field));
+    throw InputError(
+        SourceLocation{path, line, column,
+                       fmt::format("column {} ({})", column, ColumnName(kind, column))},
+        "a finite number", fmt::format("\"{}\"", field));
   }
   return value;
 }
@@ -280,7 +284,8 @@ inline const char* ParseShortDecimal(const char* p, const char* end, ShortDecima
     if (fraction > 0) v /= kPow10[fraction];
   } else {
 #if HCPF_METRICS_X87_DECIMALS
-    const long double quotient = static_cast<long double>(static_cast<int64_t>(m)) / kPow10Long[fraction];
+    const long double quotient =
+        static_cast<long double>(static_cast<int64_t>(m)) / kPow10Long[fraction];
     uint64_t significand = 0;  // the low 8 bytes of the x87 format: the explicit 64-bit significand
     std::memcpy(&significand, &quotient, sizeof(significand));
     if ((significand & 0x7FF) == 0x400) return nullptr;  // halfway between two doubles
@@ -345,16 +350,17 @@ bool ParseLineFast(const char* p, const char* end, RowValues* out) {
 // The errors of AppendRow, out of line (cold).
 [[noreturn]] [[gnu::noinline]] void ThrowBadFrame(const std::string& path, int line_no,
                                                   std::optional<int> seq_length, double frame) {
-  throw InputError(
-      SourceLocation{path, line_no, 1, "column 1 (frame)"},
-      seq_length ? fmt::format("a frame in 1..{} (seqLength)", *seq_length) : std::string("a frame >= 1"),
-      fmt::format("{}", frame));
+  throw InputError(SourceLocation{path, line_no, 1, "column 1 (frame)"},
+                   seq_length ? fmt::format("a frame in 1..{} (seqLength)", *seq_length)
+                              : std::string("a frame >= 1"),
+                   fmt::format("{}", frame));
 }
 [[noreturn]] [[gnu::noinline]] void ThrowBadId(const std::string& path, int line_no, double id) {
-  throw InputError(SourceLocation{path, line_no, 2, "column 2 (id)"}, "an integer id within 64 bits",
-                   fmt::format("{}", id));
+  throw InputError(SourceLocation{path, line_no, 2, "column 2 (id)"},
+                   "an integer id within 64 bits", fmt::format("{}", id));
 }
-[[noreturn]] [[gnu::noinline]] void ThrowBadClass(const std::string& path, int line_no, double col8) {
+[[noreturn]] [[gnu::noinline]] void ThrowBadClass(const std::string& path, int line_no,
+                                                  double col8) {
   throw InputError(SourceLocation{path, line_no, 8, "column 8"},
                    "-1 or 1 (only the pedestrian class is evaluated)", fmt::format("{}", col8));
 }
@@ -368,7 +374,8 @@ inline void AppendRow(const RowValues& r, const std::string& path, int line_no, 
   if (v[0] < 1.0 || (seq_length && std::trunc(v[0]) > *seq_length) || v[0] > 1e9) [[unlikely]] {
     ThrowBadFrame(path, line_no, seq_length, v[0]);
   }
-  if (std::fabs(v[1]) > 9.0e18) [[unlikely]] ThrowBadId(path, line_no, v[1]);
+  if (std::fabs(v[1]) > 9.0e18) [[unlikely]]
+    ThrowBadId(path, line_no, v[1]);
   if (kind == MotFileKind::kTracks && count >= 8 && v[7] > 1.0) [[unlikely]] {
     ThrowBadClass(path, line_no, v[7]);
   }
@@ -384,7 +391,8 @@ inline void AppendRow(const RowValues& r, const std::string& path, int line_no, 
   file->num_columns = std::max(file->num_columns, count);
 }
 
-[[noreturn]] void ThrowDuplicateId(const std::string& path, const MotRow& first, const MotRow& again) {
+[[noreturn]] void ThrowDuplicateId(const std::string& path, const MotRow& first,
+                                   const MotRow& again) {
   throw InputError(SourceLocation{path, again.line, 2, "column 2 (id)"},
                    fmt::format("ids unique within frame {}", again.frame),
                    fmt::format("id {} again (first on line {})", again.id, first.line));
@@ -472,7 +480,8 @@ MotFile ParseMotView(std::string_view text, const std::string& path, MotFileKind
     size_t lines = 1;
     const char* q = text.data();
     const char* const q_end = q + text.size();
-    while ((q = static_cast<const char*>(std::memchr(q, '\n', static_cast<size_t>(q_end - q)))) != nullptr) {
+    while ((q = static_cast<const char*>(std::memchr(q, '\n', static_cast<size_t>(q_end - q)))) !=
+           nullptr) {
       ++lines;
       ++q;
     }
@@ -483,7 +492,8 @@ MotFile ParseMotView(std::string_view text, const std::string& path, MotFileKind
   int line_no = 0;
   RowValues values;
   while (p < text_end) {
-    const char* nl = static_cast<const char*>(std::memchr(p, '\n', static_cast<size_t>(text_end - p)));
+    const char* nl =
+        static_cast<const char*>(std::memchr(p, '\n', static_cast<size_t>(text_end - p)));
     const char* line_end = nl == nullptr ? text_end : nl;
     const char* line_begin = p;
     p = nl == nullptr ? text_end : nl + 1;
@@ -492,8 +502,8 @@ MotFile ParseMotView(std::string_view text, const std::string& path, MotFileKind
     while (line_end > line_begin && IsSpace(line_end[-1])) --line_end;
     if (line_begin == line_end) continue;
     if (!ParseLineFast(line_begin, line_end, &values)) {
-      ParseLineGeneral(std::string_view(line_begin, static_cast<size_t>(line_end - line_begin)), path,
-                       line_no, kind, &values);
+      ParseLineGeneral(std::string_view(line_begin, static_cast<size_t>(line_end - line_begin)),
+                       path, line_no, kind, &values);
     }
     AppendRow(values, path, line_no, kind, seq_length, &file);
   }
@@ -527,7 +537,8 @@ class FileText {
   FileText(const FileText&) = delete;
   FileText& operator=(const FileText&) = delete;
   std::string_view view() const {
-    return map_ != nullptr ? std::string_view(static_cast<const char*>(map_), map_size_) : std::string_view(copy_);
+    return map_ != nullptr ? std::string_view(static_cast<const char*>(map_), map_size_)
+                           : std::string_view(copy_);
   }
 
  private:
@@ -606,14 +617,16 @@ SeqInfo ParseSeqInfo(const std::string& text, const std::string& path) {
     if (!in_sequence) continue;
     const size_t eq = line.find('=');
     if (eq == std::string_view::npos) {
-      throw InputError(SourceLocation{path, line_no, 0, {}}, "key=value", fmt::format("\"{}\"", line));
+      throw InputError(SourceLocation{path, line_no, 0, {}}, "key=value",
+                       fmt::format("\"{}\"", line));
     }
     const std::string key(Trim(line.substr(0, eq)));
     const std::string_view value = Trim(line.substr(eq + 1));
     auto parse_int = [&](int minimum) {
       int out = 0;
       const auto [ptr, ec] = std::from_chars(value.data(), value.data() + value.size(), out);
-      if (value.empty() || ec != std::errc() || ptr != value.data() + value.size() || out < minimum) {
+      if (value.empty() || ec != std::errc() || ptr != value.data() + value.size() ||
+          out < minimum) {
         throw InputError(SourceLocation{path, line_no, 0, "Sequence." + key},
                          fmt::format("an integer >= {}", minimum), fmt::format("\"{}\"", value));
       }
@@ -631,7 +644,8 @@ SeqInfo ParseSeqInfo(const std::string& text, const std::string& path) {
     } else if (key == "frameRate") {
       double out = 0.0;
       const auto [ptr, ec] = std::from_chars(value.data(), value.data() + value.size(), out);
-      if (value.empty() || ec != std::errc() || ptr != value.data() + value.size() || !(out > 0.0)) {
+      if (value.empty() || ec != std::errc() || ptr != value.data() + value.size() ||
+          !(out > 0.0)) {
         throw InputError(SourceLocation{path, line_no, 0, "Sequence.frameRate"}, "a number > 0",
                          fmt::format("\"{}\"", value));
       }
@@ -666,9 +680,12 @@ Benchmark ResolveBenchmark(Benchmark requested, const MotFile& gt) {
 
 const char* BenchmarkName(Benchmark benchmark) {
   switch (benchmark) {
-    case Benchmark::kMot15: return "MOT15";
-    case Benchmark::kMot17: return "MOT17";
-    case Benchmark::kAuto: return "auto";
+    case Benchmark::kMot15:
+      return "MOT15";
+    case Benchmark::kMot17:
+      return "MOT17";
+    case Benchmark::kAuto:
+      return "auto";
   }
   return "?";
 }

@@ -36,7 +36,7 @@ struct Prepared {
   std::vector<int> gt_begin, hyp_begin, ov_begin;  // per frame offsets, size num_frames + 1
   std::vector<int> gt_id, hyp_id;                  // relabelled id per box
   std::vector<Overlap> overlaps;
-  std::vector<int> pair_gt, pair_hyp;              // pair -> relabelled ids
+  std::vector<int> pair_gt, pair_hyp;  // pair -> relabelled ids
   int64_t num_gt_dets() const { return static_cast<int64_t>(gt_id.size()); }
   int64_t num_hyp_dets() const { return static_cast<int64_t>(hyp_id.size()); }
 };
@@ -45,7 +45,8 @@ struct Prepared {
 // among the distinct ids (`original` = the distinct ids, sorted). A small
 // open-addressing hash of the distinct ids gives one probe per box instead of
 // sorting every box's id and binary-searching it again.
-void RelabelIds(const Sequence& seq, bool gt, std::vector<int64_t>* original, std::vector<int>* relabelled) {
+void RelabelIds(const Sequence& seq, bool gt, std::vector<int64_t>* original,
+                std::vector<int>* relabelled) {
   std::vector<int64_t> keys;  // distinct ids in order of first appearance
   std::vector<int> slots(1024, -1);
   int shift = 64 - 10;
@@ -183,7 +184,8 @@ ClearMetrics ClearOf(const Prepared& p, std::vector<MotEvent>* events) {
       r.fp += nh;
       if (events) {
         for (int j = 0; j < nh; ++j) {
-          events->push_back({frame, MotEventType::kFp, -1, p.hyp_original[p.hyp_id[hyp0 + j]], 0.0});
+          events->push_back(
+              {frame, MotEventType::kFp, -1, p.hyp_original[p.hyp_id[hyp0 + j]], 0.0});
         }
       }
       continue;
@@ -232,7 +234,8 @@ ClearMetrics ClearOf(const Prepared& p, std::vector<MotEvent>* events) {
       if (events) {
         const int64_t go = p.gt_original[g];
         const int64_t ho = p.hyp_original[h];
-        events->push_back({frame, is_switch ? MotEventType::kSwitch : MotEventType::kMatch, go, ho, o.iou});
+        events->push_back(
+            {frame, is_switch ? MotEventType::kSwitch : MotEventType::kMatch, go, ho, o.iou});
         if (is_switch && !hyp_ever_matched[h]) {
           events->push_back({frame, MotEventType::kAscend, go, ho, o.iou});
         }
@@ -269,7 +272,8 @@ ClearMetrics ClearOf(const Prepared& p, std::vector<MotEvent>* events) {
       }
       for (int j = 0; j < nh; ++j) {
         if (!hyp_matched[j]) {
-          events->push_back({frame, MotEventType::kFp, -1, p.hyp_original[p.hyp_id[hyp0 + j]], 0.0});
+          events->push_back(
+              {frame, MotEventType::kFp, -1, p.hyp_original[p.hyp_id[hyp0 + j]], 0.0});
         }
       }
     }
@@ -340,7 +344,8 @@ HotaMetrics HotaOf(const Prepared& p) {
   }
   std::vector<double> alignment(num_pairs, 0.0);
   for (size_t k = 0; k < num_pairs; ++k) {
-    alignment[k] = potential[k] / (gt_count[p.pair_gt[k]] + hyp_count[p.pair_hyp[k]] - potential[k]);
+    alignment[k] =
+        potential[k] / (gt_count[p.pair_gt[k]] + hyp_count[p.pair_hyp[k]] - potential[k]);
   }
   std::vector<int32_t> matches(num_pairs * kNumHotaAlphas, 0);  // pair-major
   std::array<double, kNumHotaAlphas> loca_sum{};
@@ -471,13 +476,20 @@ void HotaMetrics::Finalize() {
 
 const char* MotEventName(MotEventType type) {
   switch (type) {
-    case MotEventType::kMatch: return "MATCH";
-    case MotEventType::kSwitch: return "SWITCH";
-    case MotEventType::kTransfer: return "TRANSFER";
-    case MotEventType::kAscend: return "ASCEND";
-    case MotEventType::kMigrate: return "MIGRATE";
-    case MotEventType::kFp: return "FP";
-    case MotEventType::kMiss: return "MISS";
+    case MotEventType::kMatch:
+      return "MATCH";
+    case MotEventType::kSwitch:
+      return "SWITCH";
+    case MotEventType::kTransfer:
+      return "TRANSFER";
+    case MotEventType::kAscend:
+      return "ASCEND";
+    case MotEventType::kMigrate:
+      return "MIGRATE";
+    case MotEventType::kFp:
+      return "FP";
+    case MotEventType::kMiss:
+      return "MISS";
   }
   return "?";
 }
@@ -491,7 +503,8 @@ IdentityMetrics ComputeIdentity(const Sequence& seq) { return IdentityOf(Prepare
 
 HotaMetrics ComputeHota(const Sequence& seq) { return HotaOf(Prepare(seq)); }
 
-std::vector<std::pair<int64_t, int64_t>> IdentityMatching(const Sequence& seq, double iou_threshold) {
+std::vector<std::pair<int64_t, int64_t>> IdentityMatching(const Sequence& seq,
+                                                          double iou_threshold) {
   std::vector<std::pair<int64_t, int64_t>> matching;
   IdentityOf(Prepare(seq), iou_threshold, &matching);
   return matching;
@@ -581,18 +594,44 @@ NamedMetrics ToNamedMetrics(const MotSummary& s) {
   const IdentityMetrics& i = s.identity;
   const HotaMetrics& h = s.hota;
   n.scalars = {
-      {"MOTA", c.mota}, {"MOTP", c.motp}, {"MOTP_distance", c.motp_distance}, {"MODA", c.moda},
-      {"sMOTA", c.smota}, {"MOTP_sum", c.motp_sum}, {"IDF1", i.idf1}, {"IDP", i.idp},
-      {"IDR", i.idr}, {"IDTP", d(i.idtp)}, {"IDFP", d(i.idfp)}, {"IDFN", d(i.idfn)},
-      {"IDSW", d(c.idsw)}, {"FP", d(c.fp)}, {"FN", d(c.fn)}, {"TP", d(c.tp)},
-      {"Frag", d(c.frag)}, {"MT", d(c.mt)}, {"PT", d(c.pt)}, {"ML", d(c.ml)},
-      {"recall", c.recall}, {"precision", c.precision}, {"num_objects", d(s.num_objects)},
-      {"num_predictions", d(s.num_predictions)}, {"num_gt_ids", d(s.num_gt_ids)},
-      {"num_tracker_ids", d(s.num_tracker_ids)}, {"num_frames", d(s.num_frames)},
-      {"HOTA", h.hota_mean}, {"DetA", h.deta_mean}, {"AssA", h.assa_mean},
-      {"LocA", h.loca_mean}, {"DetRe", h.detre_mean}, {"DetPr", h.detpr_mean},
-      {"AssRe", h.assre_mean}, {"AssPr", h.asspr_mean}, {"HOTA(0)", h.hota0},
-      {"LocA(0)", h.loca0}, {"HOTALocA(0)", h.hotaloca0},
+      {"MOTA", c.mota},
+      {"MOTP", c.motp},
+      {"MOTP_distance", c.motp_distance},
+      {"MODA", c.moda},
+      {"sMOTA", c.smota},
+      {"MOTP_sum", c.motp_sum},
+      {"IDF1", i.idf1},
+      {"IDP", i.idp},
+      {"IDR", i.idr},
+      {"IDTP", d(i.idtp)},
+      {"IDFP", d(i.idfp)},
+      {"IDFN", d(i.idfn)},
+      {"IDSW", d(c.idsw)},
+      {"FP", d(c.fp)},
+      {"FN", d(c.fn)},
+      {"TP", d(c.tp)},
+      {"Frag", d(c.frag)},
+      {"MT", d(c.mt)},
+      {"PT", d(c.pt)},
+      {"ML", d(c.ml)},
+      {"recall", c.recall},
+      {"precision", c.precision},
+      {"num_objects", d(s.num_objects)},
+      {"num_predictions", d(s.num_predictions)},
+      {"num_gt_ids", d(s.num_gt_ids)},
+      {"num_tracker_ids", d(s.num_tracker_ids)},
+      {"num_frames", d(s.num_frames)},
+      {"HOTA", h.hota_mean},
+      {"DetA", h.deta_mean},
+      {"AssA", h.assa_mean},
+      {"LocA", h.loca_mean},
+      {"DetRe", h.detre_mean},
+      {"DetPr", h.detpr_mean},
+      {"AssRe", h.assre_mean},
+      {"AssPr", h.asspr_mean},
+      {"HOTA(0)", h.hota0},
+      {"LocA(0)", h.loca0},
+      {"HOTALocA(0)", h.hotaloca0},
   };
   auto arr = [](const auto& a) {
     std::vector<double> v;
@@ -600,21 +639,34 @@ NamedMetrics ToNamedMetrics(const MotSummary& s) {
     return v;
   };
   n.arrays = {
-      {"HOTA_alpha", arr(h.hota)},     {"DetA_alpha", arr(h.deta)},
-      {"AssA_alpha", arr(h.assa)},     {"LocA_alpha", arr(h.loca)},
-      {"DetRe_alpha", arr(h.detre)},   {"DetPr_alpha", arr(h.detpr)},
-      {"AssRe_alpha", arr(h.assre)},   {"AssPr_alpha", arr(h.asspr)},
-      {"HOTA_TP_alpha", arr(h.tp)},    {"HOTA_FN_alpha", arr(h.fn)},
-      {"HOTA_FP_alpha", arr(h.fp)},
+      {"HOTA_alpha", arr(h.hota)},   {"DetA_alpha", arr(h.deta)},   {"AssA_alpha", arr(h.assa)},
+      {"LocA_alpha", arr(h.loca)},   {"DetRe_alpha", arr(h.detre)}, {"DetPr_alpha", arr(h.detpr)},
+      {"AssRe_alpha", arr(h.assre)}, {"AssPr_alpha", arr(h.asspr)}, {"HOTA_TP_alpha", arr(h.tp)},
+      {"HOTA_FN_alpha", arr(h.fn)},  {"HOTA_FP_alpha", arr(h.fp)},
   };
   return n;
 }
 
 bool IsCountMetric(const std::string& name) {
-  static const char* kCounts[] = {"IDTP", "IDFP", "IDFN", "IDSW", "FP", "FN", "TP", "Frag", "MT",
-                                  "PT", "ML", "num_objects", "num_predictions", "num_gt_ids",
-                                  "num_tracker_ids", "num_frames", "HOTA_TP_alpha",
-                                  "HOTA_FN_alpha", "HOTA_FP_alpha"};
+  static const char* kCounts[] = {"IDTP",
+                                  "IDFP",
+                                  "IDFN",
+                                  "IDSW",
+                                  "FP",
+                                  "FN",
+                                  "TP",
+                                  "Frag",
+                                  "MT",
+                                  "PT",
+                                  "ML",
+                                  "num_objects",
+                                  "num_predictions",
+                                  "num_gt_ids",
+                                  "num_tracker_ids",
+                                  "num_frames",
+                                  "HOTA_TP_alpha",
+                                  "HOTA_FN_alpha",
+                                  "HOTA_FP_alpha"};
   for (const char* c : kCounts) {
     if (name == c) return true;
   }
@@ -625,9 +677,10 @@ void WriteEventsJsonLines(std::ostream& out, std::span<const MotEvent> events) {
   // One buffer for many lines, the format compiled once (no parsing per event).
   fmt::memory_buffer buffer;
   for (const MotEvent& e : events) {
-    fmt::format_to(std::back_inserter(buffer),
-                   FMT_COMPILE("{{\"frame\":{},\"type\":\"{}\",\"gt\":{},\"hyp\":{},\"iou\":{}}}\n"),
-                   e.frame, MotEventName(e.type), e.gt, e.hyp, e.iou);
+    fmt::format_to(
+        std::back_inserter(buffer),
+        FMT_COMPILE("{{\"frame\":{},\"type\":\"{}\",\"gt\":{},\"hyp\":{},\"iou\":{}}}\n"), e.frame,
+        MotEventName(e.type), e.gt, e.hyp, e.iou);
     if (buffer.size() >= (size_t{1} << 16)) {
       out.write(buffer.data(), static_cast<std::streamsize>(buffer.size()));
       buffer.clear();

@@ -24,7 +24,8 @@ std::vector<int> AssignCut(std::span<const IdPoint> truth, std::span<const IdPoi
   std::vector<double> cost(static_cast<size_t>(m) * n);
   for (int i = 0; i < m; ++i) {
     for (int j = 0; j < n; ++j) {
-      cost[static_cast<size_t>(i) * n + j] = std::pow(std::min(Distance(truth[i], estimate[j]), cutoff), order);
+      cost[static_cast<size_t>(i) * n + j] =
+          std::pow(std::min(Distance(truth[i], estimate[j]), cutoff), order);
     }
   }
   const auto result = solver->Solve(cost, m, n, AssignmentSense::kMinimise);
@@ -36,8 +37,7 @@ std::vector<int> AssignCut(std::span<const IdPoint> truth, std::span<const IdPoi
 std::span<const Field<PointMetricsOptions>> PointMetricsOptions::Fields() {
   using O = PointMetricsOptions;
   static const std::vector<Field<O>> fields = {
-      NumberField("ospa_cutoff_px", &O::cutoff_px, Closed(1e-3, 1e6), "px",
-                  "OSPA/GOSPA cut-off c"),
+      NumberField("ospa_cutoff_px", &O::cutoff_px, Closed(1e-3, 1e6), "px", "OSPA/GOSPA cut-off c"),
       NumberField("ospa_order", &O::order, Closed(1, 100), "", "OSPA/GOSPA order p"),
       NumberField("gospa_switching_penalty", &O::switching_penalty, Closed(0, 1e6), "",
                   "GOSPA switching penalty γ; 0 = no switching term"),
@@ -50,8 +50,10 @@ void PointMetricsOptions::Validate() const { CheckFields(*this, Fields(), "metri
 std::vector<PointFrame> PointFramesFromSequence(const Sequence& seq) {
   std::vector<PointFrame> frames(seq.frames.size());
   for (size_t t = 0; t < seq.frames.size(); ++t) {
-    for (const LabelledBox& b : seq.frames[t].gt) frames[t].truth.push_back({b.id, b.box.centre_x(), b.box.centre_y()});
-    for (const LabelledBox& b : seq.frames[t].hyp) frames[t].estimate.push_back({b.id, b.box.centre_x(), b.box.centre_y()});
+    for (const LabelledBox& b : seq.frames[t].gt)
+      frames[t].truth.push_back({b.id, b.box.centre_x(), b.box.centre_y()});
+    for (const LabelledBox& b : seq.frames[t].hyp)
+      frames[t].estimate.push_back({b.id, b.box.centre_x(), b.box.centre_y()});
   }
   return frames;
 }
@@ -116,7 +118,8 @@ PointMetrics ComputePointMetrics(std::span<const PointFrame> frames,
   std::vector<int> assignment;
   for (const PointFrame& f : frames) {
     out.ospa.push_back(Ospa(f.truth, f.estimate, options.cutoff_px, options.order));
-    GospaTerms g = GospaWithAssignment(f.truth, f.estimate, options.cutoff_px, options.order, &assignment);
+    GospaTerms g =
+        GospaWithAssignment(f.truth, f.estimate, options.cutoff_px, options.order, &assignment);
     current.clear();
     for (size_t i = 0; i < f.truth.size(); ++i) {
       current[f.truth[i].id] = assignment[i] >= 0 ? f.estimate[assignment[i]].id : kUnassigned;
@@ -130,7 +133,8 @@ PointMetrics ComputePointMetrics(std::span<const PointFrame> frames,
         g.switches += (before == kUnassigned || now == kUnassigned) ? 0.5 : 1.0;
       }
       g.switching = std::pow(options.switching_penalty, options.order) * g.switches;
-      g.distance = std::pow(g.localisation + g.missed + g.false_alarm + g.switching, 1.0 / options.order);
+      g.distance =
+          std::pow(g.localisation + g.missed + g.false_alarm + g.switching, 1.0 / options.order);
       out.total_switches += g.switches;
     }
     std::swap(previous, current);

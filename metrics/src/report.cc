@@ -30,7 +30,8 @@ json SummaryJson(const MotSummary& s) {
   }
   for (const auto& [name, values] : named.arrays) {
     json a = json::array();
-    for (double v : values) a.push_back(IsCountMetric(name) ? json(static_cast<int64_t>(v)) : Number(v));
+    for (double v : values)
+      a.push_back(IsCountMetric(name) ? json(static_cast<int64_t>(v)) : Number(v));
     j[name] = a;
   }
   return j;
@@ -64,14 +65,17 @@ ScoredSequence ScoreFiles(const ScoreFilesOptions& options) {
   const MotFile hyp = ReadMotFile(options.hyp_path, MotFileKind::kTracks, length);
   if (!length) {
     length = std::max(MaxFrame(gt), MaxFrame(hyp));
-    spdlog::warn("no seqinfo.ini next to {}: sequence length taken as the last frame in the files ({})",
-                 options.gt_path, *length);
+    spdlog::warn(
+        "no seqinfo.ini next to {}: sequence length taken as the last frame in the files ({})",
+        options.gt_path, *length);
   }
   out.seq_length = *length;
   out.benchmark = ResolveBenchmark(options.benchmark, gt);
   std::string name = options.name;
-  if (name.empty()) name = info && !info->name.empty() ? info->name : fs::path(options.gt_path).stem().string();
-  const Sequence seq = BuildSequence(gt, hyp, out.seq_length, out.benchmark, options.preprocess, name);
+  if (name.empty())
+    name = info && !info->name.empty() ? info->name : fs::path(options.gt_path).stem().string();
+  const Sequence seq =
+      BuildSequence(gt, hyp, out.seq_length, out.benchmark, options.preprocess, name);
   out.summary = ComputeAll(seq, options.keep_events ? &out.events : nullptr);
   return out;
 }
@@ -80,9 +84,10 @@ std::vector<TrackEvalResult> ScoreTrackEvalRoot(const std::string& root, Benchma
   const fs::path gt_root = fs::path(root) / "gt" / "mot_challenge";
   const fs::path trackers_root = fs::path(root) / "trackers" / "mot_challenge";
   if (!fs::is_directory(gt_root) || !fs::is_directory(trackers_root)) {
-    throw InputError(SourceLocation{root, 0, 0, {}},
-                     "a TrackEval folder with gt/mot_challenge/<bench>/ and trackers/mot_challenge/<bench>/",
-                     "no such folders");
+    throw InputError(
+        SourceLocation{root, 0, 0, {}},
+        "a TrackEval folder with gt/mot_challenge/<bench>/ and trackers/mot_challenge/<bench>/",
+        "no such folders");
   }
   std::vector<TrackEvalResult> results;
   std::vector<fs::path> benches;
@@ -94,8 +99,10 @@ std::vector<TrackEvalResult> ScoreTrackEvalRoot(const std::string& root, Benchma
     const std::string bench = bench_dir.filename().string();
     Benchmark rules = benchmark;
     if (rules == Benchmark::kAuto) {
-      if (bench.rfind("MOT15", 0) == 0 || bench.rfind("2D_MOT_2015", 0) == 0) rules = Benchmark::kMot15;
-      if (bench.rfind("MOT16", 0) == 0 || bench.rfind("MOT17", 0) == 0 || bench.rfind("MOT20", 0) == 0) {
+      if (bench.rfind("MOT15", 0) == 0 || bench.rfind("2D_MOT_2015", 0) == 0)
+        rules = Benchmark::kMot15;
+      if (bench.rfind("MOT16", 0) == 0 || bench.rfind("MOT17", 0) == 0 ||
+          bench.rfind("MOT20", 0) == 0) {
         rules = Benchmark::kMot17;
       }
     }
@@ -141,16 +148,19 @@ std::vector<TrackEvalResult> ScoreTrackEvalRoot(const std::string& root, Benchma
 std::string FormatMotTable(std::span<const MotSummary> rows) {
   size_t width = 8;
   for (const MotSummary& s : rows) width = std::max(width, s.name.size());
-  std::string out = fmt::format("{:<{}} {:>6} {:>6} {:>6} {:>6} {:>7} {:>6} {:>6} {:>6} {:>6} {:>7} {:>7} {:>5} {:>4} {:>4} {:>4}\n",
-                                "sequence", width, "HOTA", "DetA", "AssA", "LocA", "MOTA", "MOTP", "IDF1",
-                                "IDP", "IDR", "FP", "FN", "IDSW", "MT", "PT", "ML");
+  std::string out = fmt::format(
+      "{:<{}} {:>6} {:>6} {:>6} {:>6} {:>7} {:>6} {:>6} {:>6} {:>6} {:>7} {:>7} {:>5} {:>4} {:>4} "
+      "{:>4}\n",
+      "sequence", width, "HOTA", "DetA", "AssA", "LocA", "MOTA", "MOTP", "IDF1", "IDP", "IDR", "FP",
+      "FN", "IDSW", "MT", "PT", "ML");
   for (const MotSummary& s : rows) {
-    out += fmt::format("{:<{}} {:>6.2f} {:>6.2f} {:>6.2f} {:>6.2f} {:>7.2f} {:>6.2f} {:>6.2f} {:>6.2f} {:>6.2f} {:>7} {:>7} {:>5} {:>4} {:>4} {:>4}\n",
-                       s.name, width, 100 * s.hota.hota_mean, 100 * s.hota.deta_mean,
-                       100 * s.hota.assa_mean, 100 * s.hota.loca_mean, 100 * s.clear.mota,
-                       100 * s.clear.motp, 100 * s.identity.idf1, 100 * s.identity.idp,
-                       100 * s.identity.idr, s.clear.fp, s.clear.fn, s.clear.idsw, s.clear.mt,
-                       s.clear.pt, s.clear.ml);
+    out += fmt::format(
+        "{:<{}} {:>6.2f} {:>6.2f} {:>6.2f} {:>6.2f} {:>7.2f} {:>6.2f} {:>6.2f} {:>6.2f} {:>6.2f} "
+        "{:>7} {:>7} {:>5} {:>4} {:>4} {:>4}\n",
+        s.name, width, 100 * s.hota.hota_mean, 100 * s.hota.deta_mean, 100 * s.hota.assa_mean,
+        100 * s.hota.loca_mean, 100 * s.clear.mota, 100 * s.clear.motp, 100 * s.identity.idf1,
+        100 * s.identity.idp, 100 * s.identity.idr, s.clear.fp, s.clear.fn, s.clear.idsw,
+        s.clear.mt, s.clear.pt, s.clear.ml);
   }
   return out;
 }
@@ -184,9 +194,12 @@ std::string RunMetricsToJson(const RunMetrics& m) {
   gospa["total_switches"] = m.points.total_switches;
   gospa["per_frame"] = json::array();
   for (const GospaTerms& g : m.points.gospa) {
-    gospa["per_frame"].push_back({{"distance", Number(g.distance)}, {"localisation", g.localisation},
-                                  {"missed", g.missed}, {"false", g.false_alarm},
-                                  {"switching", g.switching}, {"switches", g.switches}});
+    gospa["per_frame"].push_back({{"distance", Number(g.distance)},
+                                  {"localisation", g.localisation},
+                                  {"missed", g.missed},
+                                  {"false", g.false_alarm},
+                                  {"switching", g.switching},
+                                  {"switches", g.switches}});
   }
   j["gospa"] = gospa;
   if (m.filters) {
@@ -195,7 +208,8 @@ std::string RunMetricsToJson(const RunMetrics& m) {
     fj["da_accuracy"] = f.da_accuracy;
     fj["scored"] = f.scored;
     json counts;
-    for (int s = 0; s < kNumFilterStates; ++s) counts[FilterStateName(static_cast<FilterState>(s))] = f.state_counts[s];
+    for (int s = 0; s < kNumFilterStates; ++s)
+      counts[FilterStateName(static_cast<FilterState>(s))] = f.state_counts[s];
     fj["states"] = counts;
     fj["encounters"] = static_cast<int64_t>(f.encounters.size());
     fj["hijacked_encounters"] = f.hijacked_encounters;
@@ -206,24 +220,35 @@ std::string RunMetricsToJson(const RunMetrics& m) {
     fj["mean_mass_on_other"] = f.mean_mass_on_other;
     fj["frames_with_cloud"] = f.frames_with_cloud;
     json mapping = json::array();
-    for (const auto& [filter, target] : f.mapping) mapping.push_back({{"filter", filter}, {"target", target}});
+    for (const auto& [filter, target] : f.mapping)
+      mapping.push_back({{"filter", filter}, {"target", target}});
     fj["mapping"] = mapping;
     json bins = json::array();
     for (const VisibilityBin& b : f.da_by_visibility) {
-      bins.push_back({{"lo", b.lo}, {"hi", b.hi}, {"scored", b.scored}, {"correct", b.correct}, {"accuracy", b.accuracy}});
+      bins.push_back({{"lo", b.lo},
+                      {"hi", b.hi},
+                      {"scored", b.scored},
+                      {"correct", b.correct},
+                      {"accuracy", b.accuracy}});
     }
     fj["da_by_visibility"] = bins;
     json enc = json::array();
     for (const Encounter& e : f.encounters) {
-      enc.push_back({{"targets", {e.target_a, e.target_b}}, {"first_frame", e.first_frame},
-                     {"last_frame", e.last_frame}, {"eval_frame", e.eval_frame},
-                     {"hijacked", e.hijacked}, {"swapped", e.swapped}});
+      enc.push_back({{"targets", {e.target_a, e.target_b}},
+                     {"first_frame", e.first_frame},
+                     {"last_frame", e.last_frame},
+                     {"eval_frame", e.eval_frame},
+                     {"hijacked", e.hijacked},
+                     {"swapped", e.swapped}});
     }
     fj["encounter_list"] = enc;
     json states = json::array();
     for (const FilterFrameRecord& r : f.records) {
-      json rec = {{"frame", r.frame}, {"filter", r.filter}, {"target", r.target},
-                  {"covered", r.covered}, {"state", FilterStateName(r.state)}};
+      json rec = {{"frame", r.frame},
+                  {"filter", r.filter},
+                  {"target", r.target},
+                  {"covered", r.covered},
+                  {"state", FilterStateName(r.state)}};
       if (r.mass_on_other >= 0.0) rec["mass_on_other"] = r.mass_on_other;
       states.push_back(rec);
     }

@@ -5,6 +5,7 @@
 // absolute. Prints a per-metric pass/fail table.
 // Set HCPF_CONFORMANCE_DIR to use another copy of the kit.
 
+#include <fmt/format.h>
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -14,8 +15,6 @@
 #include <map>
 #include <nlohmann/json.hpp>
 #include <string>
-
-#include <fmt/format.h>
 
 #include "hcpf/metrics/mot_io.h"
 #include "hcpf/metrics/mot_metrics.h"
@@ -121,10 +120,10 @@ TEST(Conformance, EveryCaseAndGroupMatchesTrackEval) {
       EXPECT_EQ(info.seq_length, seq_length);
       seq_length = info.seq_length;
     }
-    const MotFile gt =
-        ReadMotFile((dir / c.at("gt").get<std::string>()).string(), MotFileKind::kGroundTruth, seq_length);
-    const MotFile hyp =
-        ReadMotFile((dir / c.at("hyp").get<std::string>()).string(), MotFileKind::kTracks, seq_length);
+    const MotFile gt = ReadMotFile((dir / c.at("gt").get<std::string>()).string(),
+                                   MotFileKind::kGroundTruth, seq_length);
+    const MotFile hyp = ReadMotFile((dir / c.at("hyp").get<std::string>()).string(),
+                                    MotFileKind::kTracks, seq_length);
     const auto benchmark = ParseBenchmark(c.at("benchmark").get<std::string>());
     ASSERT_TRUE(benchmark.has_value());
     // The kit's benchmark must also be what auto-detection picks.
@@ -144,8 +143,8 @@ TEST(Conformance, EveryCaseAndGroupMatchesTrackEval) {
     ++groups;
   }
   EXPECT_GT(groups, 0);
-  std::string report = fmt::format("\nMOT conformance: {} cases, {} groups ({})\n", cases, groups,
-                                   dir.string());
+  std::string report =
+      fmt::format("\nMOT conformance: {} cases, {} groups ({})\n", cases, groups, dir.string());
   report += fmt::format("{:<16} {:>6} {:>6}  {}\n", "metric", "pass", "fail", "result");
   for (const auto& [name, t] : table) {
     report += fmt::format("{:<16} {:>6} {:>6}  {}\n", name, t.passed, t.failed,

@@ -38,17 +38,18 @@ TEST(FilterMetrics, EveryStateOnAHandBuiltSequence) {
   for (auto& f : seq.frames) {
     f.targets = {Target(1, 0, 0), Target(2, 100, 0), Target(3, 200, 0), Target(4, 300, 0, 0.05)};
   }
-  seq.frames[0].filters = {Filter(10, 1, 0), Filter(20, 50, 50), Filter(30, 200, 0), Filter(40, 300, 0),
-                           Filter(50, 500, 500)};
-  seq.frames[1].filters = {Filter(10, 100, 0), Filter(20, 0, 0), Filter(30, 200, 0), Filter(40, 300, 0),
-                           Filter(50, 500, 500)};
-  seq.frames[2].filters = {Filter(10, 200, 1), Filter(20, 300, 0), Filter(30, 200, 0), Filter(40, 400, 400),
-                           Filter(50, 0, 0)};
+  seq.frames[0].filters = {Filter(10, 1, 0), Filter(20, 50, 50), Filter(30, 200, 0),
+                           Filter(40, 300, 0), Filter(50, 500, 500)};
+  seq.frames[1].filters = {Filter(10, 100, 0), Filter(20, 0, 0), Filter(30, 200, 0),
+                           Filter(40, 300, 0), Filter(50, 500, 500)};
+  seq.frames[2].filters = {Filter(10, 200, 1), Filter(20, 300, 0), Filter(30, 200, 0),
+                           Filter(40, 400, 400), Filter(50, 0, 0)};
   const FilterMetrics m = ComputeFilterMetrics(seq, {});
   const std::vector<FilterState> expected = {
-      FilterState::kCorrect,  FilterState::kLost,    FilterState::kCorrect, FilterState::kCoasting,
-      FilterState::kCoasting, FilterState::kSwapped, FilterState::kSwapped, FilterState::kCorrect,
-      FilterState::kCoasting, FilterState::kCoasting, FilterState::kHijacked, FilterState::kStrayed,
+      FilterState::kCorrect,  FilterState::kLost,     FilterState::kCorrect,
+      FilterState::kCoasting, FilterState::kCoasting, FilterState::kSwapped,
+      FilterState::kSwapped,  FilterState::kCorrect,  FilterState::kCoasting,
+      FilterState::kCoasting, FilterState::kHijacked, FilterState::kStrayed,
       FilterState::kCorrect,  FilterState::kCoasting, FilterState::kStrayed};
   ASSERT_EQ(m.records.size(), expected.size());
   for (size_t i = 0; i < expected.size(); ++i) {

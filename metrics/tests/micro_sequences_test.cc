@@ -225,7 +225,8 @@ TEST(MicroSequences, FrameWithoutHypothesesKeepsContinuity) {
 }
 
 TEST(MicroSequences, EventsAsJsonLines) {
-  std::vector<MotEvent> events = {{3, MotEventType::kSwitch, 1, 11, 0.5}, {4, MotEventType::kFp, -1, 7, 0.0}};
+  std::vector<MotEvent> events = {{3, MotEventType::kSwitch, 1, 11, 0.5},
+                                  {4, MotEventType::kFp, -1, 7, 0.0}};
   std::ostringstream out;
   WriteEventsJsonLines(out, events);
   EXPECT_EQ(out.str(),

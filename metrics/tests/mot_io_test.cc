@@ -7,9 +7,9 @@
 #include <string>
 #include <vector>
 
+#include "../src/mot_io_internal.h"
 #include "hcpf/core/error.h"
 #include "hcpf/core/rng.h"
-#include "../src/mot_io_internal.h"
 
 namespace hcpf::metrics {
 namespace {
@@ -27,7 +27,8 @@ void ExpectInputError(const std::string& text, MotFileKind kind, std::optional<i
 }
 
 TEST(MotIo, ReadsMot17GroundTruthColumns) {
-  const MotFile f = ParseMotText("1,5,10.5,20,30,40,1,7,0.25\n", "gt.txt", MotFileKind::kGroundTruth, 3);
+  const MotFile f =
+      ParseMotText("1,5,10.5,20,30,40,1,7,0.25\n", "gt.txt", MotFileKind::kGroundTruth, 3);
   ASSERT_EQ(f.rows.size(), 1u);
   EXPECT_EQ(f.num_columns, 9);
   const MotRow& r = f.rows[0];
@@ -42,7 +43,8 @@ TEST(MotIo, ReadsMot17GroundTruthColumns) {
 }
 
 TEST(MotIo, ReadsSixColumnAndWhitespaceRows) {
-  const MotFile f = ParseMotText("\n2 3 1 2 3 4\n", "gt.txt", MotFileKind::kGroundTruth, std::nullopt);
+  const MotFile f =
+      ParseMotText("\n2 3 1 2 3 4\n", "gt.txt", MotFileKind::kGroundTruth, std::nullopt);
   ASSERT_EQ(f.rows.size(), 1u);
   EXPECT_EQ(f.rows[0].line, 2);
   EXPECT_EQ(f.rows[0].conf, 1.0);  // no column 7: considered
@@ -79,16 +81,25 @@ TEST(MotIo, UnusualSpellingsParseAsWritten) {
   const std::string text =
       " 1 , 7 ,\t1.5,2e1, 30 ,40\r\n"           // line 1: 6 columns, blanks, CRLF
       "2,9007199254740993,+3,.5,1E+2,4,0.9,\n"  // line 2: 7 columns + trailing comma
-      "\n"                                       // line 3: empty
-      "3 8.9 1 2 3 4 1 -1 -1 -1\n"               // line 4: whitespace separated, 10 columns
-      "4,-2,1,2,3,4,1,1,0.5";                    // line 5: no final newline
+      "\n"                                      // line 3: empty
+      "3 8.9 1 2 3 4 1 -1 -1 -1\n"              // line 4: whitespace separated, 10 columns
+      "4,-2,1,2,3,4,1,1,0.5";                   // line 5: no final newline
   const MotFile f = ParseMotText(text, "t.txt", MotFileKind::kTracks, 4);
   ASSERT_EQ(f.rows.size(), 4u);
   EXPECT_EQ(f.num_columns, 10);
   EXPECT_EQ(f.rows[0], (MotRow{.frame = 1, .id = 7, .box = {1.5, 20, 30, 40}, .line = 1}));
-  EXPECT_EQ(f.rows[1], (MotRow{.frame = 2, .id = 9007199254740993, .box = {3, 0.5, 100, 4}, .conf = 0.9, .line = 2}));
+  EXPECT_EQ(
+      f.rows[1],
+      (MotRow{
+          .frame = 2, .id = 9007199254740993, .box = {3, 0.5, 100, 4}, .conf = 0.9, .line = 2}));
   EXPECT_EQ(f.rows[2], (MotRow{.frame = 3, .id = 8, .box = {1, 2, 3, 4}, .conf = 1, .line = 4}));
-  EXPECT_EQ(f.rows[3], (MotRow{.frame = 4, .id = -2, .box = {1, 2, 3, 4}, .conf = 1, .col8 = 1, .col9 = 0.5, .line = 5}));
+  EXPECT_EQ(f.rows[3], (MotRow{.frame = 4,
+                               .id = -2,
+                               .box = {1, 2, 3, 4},
+                               .conf = 1,
+                               .col8 = 1,
+                               .col9 = 0.5,
+                               .line = 5}));
 }
 
 // Duplicate ids: the error names the smallest repeated (frame, id) at its second
@@ -121,11 +132,44 @@ TEST(MotIo, DuplicateIdErrorIsTheSmallestFrameAndId) {
 // straightforward reference reader on random lines built from valid and invalid
 // pieces: both must give the same rows, or the same error message.
 TEST(MotIo, AgreesWithReferenceReaderOnRandomText) {
-  const char* kNumbers[] = {"1", "2", "3", "0", "-1", "17", "1.5", "2.25e1", ".5", "5.", "+4", "1E2",
-                            "9007199254740993", "123456789012345678901", "1e400", "nan", "inf",
-                            "0x10", "1e", "-", "", "x", "3.14159265358979", "-0", "2.000000000000001",
-                            "-.5", ".", "-5.", "0.1", "123456789012345", "1234567890123456", "000000000000000001",
-                            "-9223372036854775808", "1e-5", "4.9e-324", "9.87654321098765", "1.2.3", "--1"};
+  const char* kNumbers[] = {"1",
+                            "2",
+                            "3",
+                            "0",
+                            "-1",
+                            "17",
+                            "1.5",
+                            "2.25e1",
+                            ".5",
+                            "5.",
+                            "+4",
+                            "1E2",
+                            "9007199254740993",
+                            "123456789012345678901",
+                            "1e400",
+                            "nan",
+                            "inf",
+                            "0x10",
+                            "1e",
+                            "-",
+                            "",
+                            "x",
+                            "3.14159265358979",
+                            "-0",
+                            "2.000000000000001",
+                            "-.5",
+                            ".",
+                            "-5.",
+                            "0.1",
+                            "123456789012345",
+                            "1234567890123456",
+                            "000000000000000001",
+                            "-9223372036854775808",
+                            "1e-5",
+                            "4.9e-324",
+                            "9.87654321098765",
+                            "1.2.3",
+                            "--1"};
   const char* kBlanks[] = {"", "", "", " ", "\t", "  "};
   Rng rng(7);
   int parsed = 0;
@@ -239,14 +283,15 @@ TEST(MotIo, SeqInfo) {
 //   hyp 10 on a, hyp 20 on b (IoU 1 with a distractor -> removed), hyp 30 on c
 //   (not a distractor class -> kept, becomes an FP later).
 TEST(MotIo, Mot17PreprocessingRemovesDistractorMatches) {
-  const MotFile gt = ParseMotText(
-      "1,1,1,1,10,10,1,1,1\n1,2,101,1,10,10,1,7,1\n1,3,201,1,10,10,0,1,1\n", "gt.txt",
-      MotFileKind::kGroundTruth, 1);
+  const MotFile gt =
+      ParseMotText("1,1,1,1,10,10,1,1,1\n1,2,101,1,10,10,1,7,1\n1,3,201,1,10,10,0,1,1\n", "gt.txt",
+                   MotFileKind::kGroundTruth, 1);
   const MotFile hyp = ParseMotText(
       "1,10,1,1,10,10,1,-1,-1,-1\n1,20,101,1,10,10,1,-1,-1,-1\n1,30,201,1,10,10,1,-1,-1,-1\n",
       "hyp.txt", MotFileKind::kTracks, 1);
   int64_t removed_gt = 0, removed_hyp = 0;
-  const Sequence seq = BuildSequence(gt, hyp, 1, Benchmark::kMot17, {}, "s", &removed_gt, &removed_hyp);
+  const Sequence seq =
+      BuildSequence(gt, hyp, 1, Benchmark::kMot17, {}, "s", &removed_gt, &removed_hyp);
   ASSERT_EQ(seq.frames.size(), 1u);
   ASSERT_EQ(seq.frames[0].gt.size(), 1u);
   EXPECT_EQ(seq.frames[0].gt[0].id, 1);
@@ -262,8 +307,14 @@ TEST(MotIo, Mot17PreprocessingRemovesDistractorMatches) {
 }
 
 TEST(MotIo, WritersRoundTrip) {
-  std::vector<MotRow> rows = {{.frame = 1, .id = 4, .box = {1.5, 2, 3.25, 4}, .conf = 1, .col8 = 1, .col9 = 0.5},
-                              {.frame = 2, .id = 9007199254740993, .box = {0.1, 0.2, 0.3, 0.4}, .conf = 0, .col8 = 7, .col9 = 1}};
+  std::vector<MotRow> rows = {
+      {.frame = 1, .id = 4, .box = {1.5, 2, 3.25, 4}, .conf = 1, .col8 = 1, .col9 = 0.5},
+      {.frame = 2,
+       .id = 9007199254740993,
+       .box = {0.1, 0.2, 0.3, 0.4},
+       .conf = 0,
+       .col8 = 7,
+       .col9 = 1}};
   const std::string gt_text = FormatMotGroundTruth(rows);
   EXPECT_EQ(gt_text.substr(0, gt_text.find('\n')), "1,4,1.5,2,3.25,4,1,1,0.5");
   const MotFile back = ParseMotText(gt_text, "gt.txt", MotFileKind::kGroundTruth, 2);

@@ -55,7 +55,8 @@ TEST(Gospa, SwitchingTerm) {
   frames[0].estimate = {{10, 0, 0}, {11, 100, 0}};
   frames[1].estimate = {{10, 100, 0}, {11, 0, 0}};
   frames[2].estimate = {{10, 100, 0}};
-  const PointMetrics m = ComputePointMetrics(frames, {.cutoff_px = 10, .order = 1, .switching_penalty = 2});
+  const PointMetrics m =
+      ComputePointMetrics(frames, {.cutoff_px = 10, .order = 1, .switching_penalty = 2});
   ASSERT_EQ(m.gospa.size(), 3u);
   EXPECT_NEAR(m.gospa[0].distance, 0.0, kTol);
   EXPECT_NEAR(m.gospa[1].distance, 4.0, kTol);

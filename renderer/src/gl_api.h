@@ -26,79 +26,76 @@ using DrawElementsFn = void(APIENTRYP)(GLenum mode, GLsizei count, GLenum type,
                                        const void* indices);
 
 // X(type, member, "glName")
-#define HCPF_GL_FUNCTIONS(X)                                                   \
-  X(PFNGLGETSTRINGPROC, GetString, "glGetString")                              \
-  X(PFNGLGETERRORPROC, GetError, "glGetError")                                 \
-  X(PFNGLGETINTEGERVPROC, GetIntegerv, "glGetIntegerv")                        \
-  X(PFNGLENABLEPROC, Enable, "glEnable")                                       \
-  X(PFNGLDISABLEPROC, Disable, "glDisable")                                    \
-  X(PFNGLVIEWPORTPROC, Viewport, "glViewport")                                 \
-  X(PFNGLSCISSORPROC, Scissor, "glScissor")                                    \
-  X(PFNGLCLEARPROC, Clear, "glClear")                                          \
-  X(PFNGLCLEARCOLORPROC, ClearColor, "glClearColor")                           \
-  X(PFNGLCLEARDEPTHPROC, ClearDepth, "glClearDepth")                           \
-  X(PFNGLDEPTHFUNCPROC, DepthFunc, "glDepthFunc")                              \
-  X(PFNGLDEPTHMASKPROC, DepthMask, "glDepthMask")                              \
-  X(PFNGLCOLORMASKPROC, ColorMask, "glColorMask")                              \
-  X(PFNGLCULLFACEPROC, CullFace, "glCullFace")                                 \
-  X(PFNGLFRONTFACEPROC, FrontFace, "glFrontFace")                              \
-  X(PolygonOffsetFn, PolygonOffset, "glPolygonOffset")                  \
-  X(PFNGLREADPIXELSPROC, ReadPixels, "glReadPixels")                           \
-  X(PFNGLPIXELSTOREIPROC, PixelStorei, "glPixelStorei")                        \
-  X(PFNGLFINISHPROC, Finish, "glFinish")                                       \
-  X(PFNGLDRAWBUFFERPROC, DrawBuffer, "glDrawBuffer")                           \
-  X(PFNGLREADBUFFERPROC, ReadBuffer, "glReadBuffer")                           \
-  X(PFNGLGENFRAMEBUFFERSPROC, GenFramebuffers, "glGenFramebuffers")            \
-  X(PFNGLBINDFRAMEBUFFERPROC, BindFramebuffer, "glBindFramebuffer")            \
-  X(PFNGLDELETEFRAMEBUFFERSPROC, DeleteFramebuffers, "glDeleteFramebuffers")   \
-  X(PFNGLFRAMEBUFFERTEXTURE2DPROC, FramebufferTexture2D, "glFramebufferTexture2D") \
-  X(PFNGLFRAMEBUFFERRENDERBUFFERPROC, FramebufferRenderbuffer,                 \
-    "glFramebufferRenderbuffer")                                               \
-  X(PFNGLCHECKFRAMEBUFFERSTATUSPROC, CheckFramebufferStatus,                   \
-    "glCheckFramebufferStatus")                                                \
-  X(PFNGLGENRENDERBUFFERSPROC, GenRenderbuffers, "glGenRenderbuffers")         \
-  X(PFNGLBINDRENDERBUFFERPROC, BindRenderbuffer, "glBindRenderbuffer")         \
-  X(PFNGLRENDERBUFFERSTORAGEPROC, RenderbufferStorage, "glRenderbufferStorage") \
-  X(PFNGLDELETERENDERBUFFERSPROC, DeleteRenderbuffers, "glDeleteRenderbuffers") \
-  X(GenTexturesFn, GenTextures, "glGenTextures")                        \
-  X(BindTextureFn, BindTexture, "glBindTexture")                        \
-  X(PFNGLTEXIMAGE2DPROC, TexImage2D, "glTexImage2D")                           \
-  X(PFNGLTEXPARAMETERIPROC, TexParameteri, "glTexParameteri")                  \
-  X(PFNGLTEXPARAMETERFVPROC, TexParameterfv, "glTexParameterfv")               \
-  X(PFNGLACTIVETEXTUREPROC, ActiveTexture, "glActiveTexture")                  \
-  X(DeleteTexturesFn, DeleteTextures, "glDeleteTextures")               \
-  X(PFNGLGENERATEMIPMAPPROC, GenerateMipmap, "glGenerateMipmap")               \
-  X(PFNGLCREATESHADERPROC, CreateShader, "glCreateShader")                     \
-  X(PFNGLSHADERSOURCEPROC, ShaderSource, "glShaderSource")                     \
-  X(PFNGLCOMPILESHADERPROC, CompileShader, "glCompileShader")                  \
-  X(PFNGLGETSHADERIVPROC, GetShaderiv, "glGetShaderiv")                        \
-  X(PFNGLGETSHADERINFOLOGPROC, GetShaderInfoLog, "glGetShaderInfoLog")         \
-  X(PFNGLDELETESHADERPROC, DeleteShader, "glDeleteShader")                     \
-  X(PFNGLCREATEPROGRAMPROC, CreateProgram, "glCreateProgram")                  \
-  X(PFNGLATTACHSHADERPROC, AttachShader, "glAttachShader")                     \
-  X(PFNGLLINKPROGRAMPROC, LinkProgram, "glLinkProgram")                        \
-  X(PFNGLGETPROGRAMIVPROC, GetProgramiv, "glGetProgramiv")                     \
-  X(PFNGLGETPROGRAMINFOLOGPROC, GetProgramInfoLog, "glGetProgramInfoLog")      \
-  X(PFNGLUSEPROGRAMPROC, UseProgram, "glUseProgram")                           \
-  X(PFNGLDELETEPROGRAMPROC, DeleteProgram, "glDeleteProgram")                  \
-  X(PFNGLGETUNIFORMLOCATIONPROC, GetUniformLocation, "glGetUniformLocation")   \
-  X(PFNGLUNIFORM1IPROC, Uniform1i, "glUniform1i")                              \
-  X(PFNGLUNIFORM1FPROC, Uniform1f, "glUniform1f")                              \
-  X(PFNGLUNIFORM2FPROC, Uniform2f, "glUniform2f")                              \
-  X(PFNGLUNIFORM3FPROC, Uniform3f, "glUniform3f")                              \
-  X(PFNGLUNIFORMMATRIX3FVPROC, UniformMatrix3fv, "glUniformMatrix3fv")         \
-  X(PFNGLUNIFORMMATRIX4FVPROC, UniformMatrix4fv, "glUniformMatrix4fv")         \
-  X(PFNGLGENVERTEXARRAYSPROC, GenVertexArrays, "glGenVertexArrays")            \
-  X(PFNGLBINDVERTEXARRAYPROC, BindVertexArray, "glBindVertexArray")            \
-  X(PFNGLDELETEVERTEXARRAYSPROC, DeleteVertexArrays, "glDeleteVertexArrays")   \
-  X(PFNGLGENBUFFERSPROC, GenBuffers, "glGenBuffers")                           \
-  X(PFNGLBINDBUFFERPROC, BindBuffer, "glBindBuffer")                           \
-  X(PFNGLBUFFERDATAPROC, BufferData, "glBufferData")                           \
-  X(PFNGLDELETEBUFFERSPROC, DeleteBuffers, "glDeleteBuffers")                  \
-  X(PFNGLVERTEXATTRIBPOINTERPROC, VertexAttribPointer, "glVertexAttribPointer") \
-  X(PFNGLENABLEVERTEXATTRIBARRAYPROC, EnableVertexAttribArray,                 \
-    "glEnableVertexAttribArray")                                               \
-  X(DrawElementsFn, DrawElements, "glDrawElements")                            \
+#define HCPF_GL_FUNCTIONS(X)                                                                \
+  X(PFNGLGETSTRINGPROC, GetString, "glGetString")                                           \
+  X(PFNGLGETERRORPROC, GetError, "glGetError")                                              \
+  X(PFNGLGETINTEGERVPROC, GetIntegerv, "glGetIntegerv")                                     \
+  X(PFNGLENABLEPROC, Enable, "glEnable")                                                    \
+  X(PFNGLDISABLEPROC, Disable, "glDisable")                                                 \
+  X(PFNGLVIEWPORTPROC, Viewport, "glViewport")                                              \
+  X(PFNGLSCISSORPROC, Scissor, "glScissor")                                                 \
+  X(PFNGLCLEARPROC, Clear, "glClear")                                                       \
+  X(PFNGLCLEARCOLORPROC, ClearColor, "glClearColor")                                        \
+  X(PFNGLCLEARDEPTHPROC, ClearDepth, "glClearDepth")                                        \
+  X(PFNGLDEPTHFUNCPROC, DepthFunc, "glDepthFunc")                                           \
+  X(PFNGLDEPTHMASKPROC, DepthMask, "glDepthMask")                                           \
+  X(PFNGLCOLORMASKPROC, ColorMask, "glColorMask")                                           \
+  X(PFNGLCULLFACEPROC, CullFace, "glCullFace")                                              \
+  X(PFNGLFRONTFACEPROC, FrontFace, "glFrontFace")                                           \
+  X(PolygonOffsetFn, PolygonOffset, "glPolygonOffset")                                      \
+  X(PFNGLREADPIXELSPROC, ReadPixels, "glReadPixels")                                        \
+  X(PFNGLPIXELSTOREIPROC, PixelStorei, "glPixelStorei")                                     \
+  X(PFNGLFINISHPROC, Finish, "glFinish")                                                    \
+  X(PFNGLDRAWBUFFERPROC, DrawBuffer, "glDrawBuffer")                                        \
+  X(PFNGLREADBUFFERPROC, ReadBuffer, "glReadBuffer")                                        \
+  X(PFNGLGENFRAMEBUFFERSPROC, GenFramebuffers, "glGenFramebuffers")                         \
+  X(PFNGLBINDFRAMEBUFFERPROC, BindFramebuffer, "glBindFramebuffer")                         \
+  X(PFNGLDELETEFRAMEBUFFERSPROC, DeleteFramebuffers, "glDeleteFramebuffers")                \
+  X(PFNGLFRAMEBUFFERTEXTURE2DPROC, FramebufferTexture2D, "glFramebufferTexture2D")          \
+  X(PFNGLFRAMEBUFFERRENDERBUFFERPROC, FramebufferRenderbuffer, "glFramebufferRenderbuffer") \
+  X(PFNGLCHECKFRAMEBUFFERSTATUSPROC, CheckFramebufferStatus, "glCheckFramebufferStatus")    \
+  X(PFNGLGENRENDERBUFFERSPROC, GenRenderbuffers, "glGenRenderbuffers")                      \
+  X(PFNGLBINDRENDERBUFFERPROC, BindRenderbuffer, "glBindRenderbuffer")                      \
+  X(PFNGLRENDERBUFFERSTORAGEPROC, RenderbufferStorage, "glRenderbufferStorage")             \
+  X(PFNGLDELETERENDERBUFFERSPROC, DeleteRenderbuffers, "glDeleteRenderbuffers")             \
+  X(GenTexturesFn, GenTextures, "glGenTextures")                                            \
+  X(BindTextureFn, BindTexture, "glBindTexture")                                            \
+  X(PFNGLTEXIMAGE2DPROC, TexImage2D, "glTexImage2D")                                        \
+  X(PFNGLTEXPARAMETERIPROC, TexParameteri, "glTexParameteri")                               \
+  X(PFNGLTEXPARAMETERFVPROC, TexParameterfv, "glTexParameterfv")                            \
+  X(PFNGLACTIVETEXTUREPROC, ActiveTexture, "glActiveTexture")                               \
+  X(DeleteTexturesFn, DeleteTextures, "glDeleteTextures")                                   \
+  X(PFNGLGENERATEMIPMAPPROC, GenerateMipmap, "glGenerateMipmap")                            \
+  X(PFNGLCREATESHADERPROC, CreateShader, "glCreateShader")                                  \
+  X(PFNGLSHADERSOURCEPROC, ShaderSource, "glShaderSource")                                  \
+  X(PFNGLCOMPILESHADERPROC, CompileShader, "glCompileShader")                               \
+  X(PFNGLGETSHADERIVPROC, GetShaderiv, "glGetShaderiv")                                     \
+  X(PFNGLGETSHADERINFOLOGPROC, GetShaderInfoLog, "glGetShaderInfoLog")                      \
+  X(PFNGLDELETESHADERPROC, DeleteShader, "glDeleteShader")                                  \
+  X(PFNGLCREATEPROGRAMPROC, CreateProgram, "glCreateProgram")                               \
+  X(PFNGLATTACHSHADERPROC, AttachShader, "glAttachShader")                                  \
+  X(PFNGLLINKPROGRAMPROC, LinkProgram, "glLinkProgram")                                     \
+  X(PFNGLGETPROGRAMIVPROC, GetProgramiv, "glGetProgramiv")                                  \
+  X(PFNGLGETPROGRAMINFOLOGPROC, GetProgramInfoLog, "glGetProgramInfoLog")                   \
+  X(PFNGLUSEPROGRAMPROC, UseProgram, "glUseProgram")                                        \
+  X(PFNGLDELETEPROGRAMPROC, DeleteProgram, "glDeleteProgram")                               \
+  X(PFNGLGETUNIFORMLOCATIONPROC, GetUniformLocation, "glGetUniformLocation")                \
+  X(PFNGLUNIFORM1IPROC, Uniform1i, "glUniform1i")                                           \
+  X(PFNGLUNIFORM1FPROC, Uniform1f, "glUniform1f")                                           \
+  X(PFNGLUNIFORM2FPROC, Uniform2f, "glUniform2f")                                           \
+  X(PFNGLUNIFORM3FPROC, Uniform3f, "glUniform3f")                                           \
+  X(PFNGLUNIFORMMATRIX3FVPROC, UniformMatrix3fv, "glUniformMatrix3fv")                      \
+  X(PFNGLUNIFORMMATRIX4FVPROC, UniformMatrix4fv, "glUniformMatrix4fv")                      \
+  X(PFNGLGENVERTEXARRAYSPROC, GenVertexArrays, "glGenVertexArrays")                         \
+  X(PFNGLBINDVERTEXARRAYPROC, BindVertexArray, "glBindVertexArray")                         \
+  X(PFNGLDELETEVERTEXARRAYSPROC, DeleteVertexArrays, "glDeleteVertexArrays")                \
+  X(PFNGLGENBUFFERSPROC, GenBuffers, "glGenBuffers")                                        \
+  X(PFNGLBINDBUFFERPROC, BindBuffer, "glBindBuffer")                                        \
+  X(PFNGLBUFFERDATAPROC, BufferData, "glBufferData")                                        \
+  X(PFNGLDELETEBUFFERSPROC, DeleteBuffers, "glDeleteBuffers")                               \
+  X(PFNGLVERTEXATTRIBPOINTERPROC, VertexAttribPointer, "glVertexAttribPointer")             \
+  X(PFNGLENABLEVERTEXATTRIBARRAYPROC, EnableVertexAttribArray, "glEnableVertexAttribArray") \
+  X(DrawElementsFn, DrawElements, "glDrawElements")                                         \
   X(PFNGLMULTIDRAWELEMENTSPROC, MultiDrawElements, "glMultiDrawElements")
 
 struct GlApi {

@@ -4,10 +4,9 @@
 #include <EGL/egl.h>
 #include <EGL/eglext.h>
 #include <GL/osmesa.h>
+#include <dlfcn.h>
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
-
-#include <dlfcn.h>
 
 #include <cstring>
 #include <type_traits>
@@ -22,8 +21,8 @@ namespace hcpf::renderer {
 namespace internal {
 
 std::string GlApi::Load(ProcLoader loader) {
-#define HCPF_GL_LOAD(type, member, name)                    \
-  member = reinterpret_cast<type>(loader(name));           \
+#define HCPF_GL_LOAD(type, member, name)         \
+  member = reinterpret_cast<type>(loader(name)); \
   if (member == nullptr) return name;
   HCPF_GL_FUNCTIONS(HCPF_GL_LOAD)
 #undef HCPF_GL_LOAD
@@ -91,8 +90,8 @@ void GlContext::Initialise(const std::string& backend, void* (*loader)(const cha
   api_->GetIntegerv(GL_MAJOR_VERSION, &major);
   api_->GetIntegerv(GL_MINOR_VERSION, &minor);
   if (major * 10 + minor < 33) {
-    throw InputError(fmt::format("{}: OpenGL {}.{} context, need at least 3.3 core", backend,
-                                 major, minor));
+    throw InputError(
+        fmt::format("{}: OpenGL {}.{} context, need at least 3.3 core", backend, major, minor));
   }
 }
 
@@ -158,7 +157,8 @@ class OsMesaContext final : public GlContext {
       context_ = OsMesa().create_context_attribs(attribs, nullptr);
       if (context_ != nullptr) break;
     }
-    if (context_ == nullptr) throw InputError("OSMesaCreateContextAttribs failed (no core profile)");
+    if (context_ == nullptr)
+      throw InputError("OSMesaCreateContextAttribs failed (no core profile)");
     MakeCurrent();
     Initialise("osmesa", &OsMesaLoader);
   }
@@ -191,25 +191,25 @@ class EglContext final : public GlContext {
         eglGetProcAddress("eglGetPlatformDisplayEXT"));
     if (get_platform_display == nullptr) throw InputError("EGL: no eglGetPlatformDisplayEXT");
     std::string errors;
-    display_ = TryInitialise(get_platform_display(EGL_PLATFORM_SURFACELESS_MESA,
-                                                  EGL_DEFAULT_DISPLAY, nullptr));
+    display_ = TryInitialise(
+        get_platform_display(EGL_PLATFORM_SURFACELESS_MESA, EGL_DEFAULT_DISPLAY, nullptr));
     if (display_ == EGL_NO_DISPLAY) {
       errors += "surfaceless platform failed; ";
-      auto query_devices = reinterpret_cast<PFNEGLQUERYDEVICESEXTPROC>(
-          eglGetProcAddress("eglQueryDevicesEXT"));
+      auto query_devices =
+          reinterpret_cast<PFNEGLQUERYDEVICESEXTPROC>(eglGetProcAddress("eglQueryDevicesEXT"));
       if (query_devices != nullptr) {
         EGLDeviceEXT devices[16];
         EGLint count = 0;
         if (query_devices(16, devices, &count) == EGL_TRUE) {
           for (EGLint i = 0; i < count && display_ == EGL_NO_DISPLAY; ++i) {
-            display_ = TryInitialise(
-                get_platform_display(EGL_PLATFORM_DEVICE_EXT, devices[i], nullptr));
+            display_ =
+                TryInitialise(get_platform_display(EGL_PLATFORM_DEVICE_EXT, devices[i], nullptr));
           }
         }
       }
       if (display_ == EGL_NO_DISPLAY) {
-        throw InputError(fmt::format("EGL: {}device platform failed (error 0x{:x})", errors,
-                                     eglGetError()));
+        throw InputError(
+            fmt::format("EGL: {}device platform failed (error 0x{:x})", errors, eglGetError()));
       }
     }
     if (eglBindAPI(EGL_OPENGL_API) != EGL_TRUE) throw InputError("EGL: eglBindAPI(OpenGL) failed");

@@ -68,8 +68,8 @@ RgbImage MakeContactSheet(const std::vector<RenderedFrame>& frames,
     for (const GroundTruthObject& o : f.ground_truth.objects) {
       if (!o.in_frame) continue;
       const BoxPx& a = o.amodal_box;
-      cv::rectangle(thumb, cv::Point(to(a.left), to(a.top)), cv::Point(to(a.right()), to(a.bottom())),
-                    cv::Scalar(255, 220, 0), 1);
+      cv::rectangle(thumb, cv::Point(to(a.left), to(a.top)),
+                    cv::Point(to(a.right()), to(a.bottom())), cv::Scalar(255, 220, 0), 1);
       if (!o.visible_box.empty()) {
         const BoxPx& v = o.visible_box;
         cv::rectangle(thumb, cv::Point(to(v.left), to(v.top)),

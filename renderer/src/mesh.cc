@@ -47,9 +47,10 @@ void MeshData::Transform(const Eigen::Vector3f& scale, const Eigen::Vector3f& of
 void MeshData::Validate(const std::string& source) const {
   const size_t n = positions.size();
   if (normals.size() != n || uvs.size() != n || colors.size() != n) {
-    throw InputError(fmt::format("{}: mesh attributes disagree in length (positions {}, "
-                                 "normals {}, uvs {}, colors {})",
-                                 source, n, normals.size(), uvs.size(), colors.size()));
+    throw InputError(
+        fmt::format("{}: mesh attributes disagree in length (positions {}, "
+                    "normals {}, uvs {}, colors {})",
+                    source, n, normals.size(), uvs.size(), colors.size()));
   }
   if (indices.empty() || indices.size() % 3 != 0) {
     throw InputError(fmt::format("{}: expected a mesh with triangles, found {} indices", source,
@@ -57,8 +58,7 @@ void MeshData::Validate(const std::string& source) const {
   }
   for (uint32_t i : indices) {
     if (i >= n) {
-      throw InputError(
-          fmt::format("{}: index {} out of range for {} vertices", source, i, n));
+      throw InputError(fmt::format("{}: index {} out of range for {} vertices", source, i, n));
     }
   }
   for (const Eigen::Vector3f& p : positions) {
@@ -139,8 +139,7 @@ MeshBuilder& MeshBuilder::AddOrientedBox(const Eigen::Vector3f& centre,
   Eigen::Matrix3f r;
   r << c, -s, 0, s, c, 0, 0, 0, 1;
   const auto corner = [&](int sx, int sy, int sz) -> Eigen::Vector3f {
-    return centre + r * Eigen::Vector3f(sx * half_size.x(), sy * half_size.y(),
-                                        sz * half_size.z());
+    return centre + r * Eigen::Vector3f(sx * half_size.x(), sy * half_size.y(), sz * half_size.z());
   };
   // Each face: its outward axis and the four corners around it.
   for (int axis = 0; axis < 3; ++axis) {
@@ -184,9 +183,10 @@ MeshBuilder& MeshBuilder::AddCylinder(const Eigen::Vector3f& a, const Eigen::Vec
     const float t0 = step * static_cast<float>(i);
     const float t1 = t0 + step;
     const Eigen::Vector3f n = dir(0.5f * (t0 + t1));
-    AddPolygon(mesh_, {a + radius * dir(t0), a + radius * dir(t1), b + radius * dir(t1),
-                       b + radius * dir(t0)},
-               {{0, 0}, {1, 0}, {1, 1}, {0, 1}}, n, color);
+    AddPolygon(
+        mesh_,
+        {a + radius * dir(t0), a + radius * dir(t1), b + radius * dir(t1), b + radius * dir(t0)},
+        {{0, 0}, {1, 0}, {1, 1}, {0, 1}}, n, color);
     cap_a.push_back(a + radius * dir(t0));
     cap_b.push_back(b + radius * dir(t0));
     cap_uv.emplace_back(0.5f + 0.5f * std::cos(t0), 0.5f + 0.5f * std::sin(t0));

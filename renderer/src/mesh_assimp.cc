@@ -3,10 +3,9 @@
 #include <assimp/material.h>
 #include <assimp/postprocess.h>
 #include <assimp/scene.h>
+#include <fmt/format.h>
 
 #include <assimp/Importer.hpp>
-
-#include <fmt/format.h>
 
 #include "hcpf/core/error.h"
 #include "mesh_import.h"
@@ -61,7 +60,8 @@ MeshData LoadWithAssimp(const std::string& path) {
     for (unsigned f = 0; f < in->mNumFaces; ++f) {
       const aiFace& face = in->mFaces[f];
       if (face.mNumIndices != 3) continue;
-      part.indices.insert(part.indices.end(), {face.mIndices[0], face.mIndices[1], face.mIndices[2]});
+      part.indices.insert(part.indices.end(),
+                          {face.mIndices[0], face.mIndices[1], face.mIndices[2]});
     }
     if (!in->HasNormals()) ComputeFlatNormals(part);
     mesh.Append(part);

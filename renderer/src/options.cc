@@ -19,8 +19,7 @@ std::span<const Field<SensorOptions>> SensorOptions::Fields() {
   using O = SensorOptions;
   static const std::vector<Field<O>> fields = {
       NumberField("exposure", &O::exposure, AboveUpTo(0, 16), "", "gain on pixel values"),
-      NumberField("blur_px", &O::blur_px, Closed(0, 20), "px",
-                  "Gaussian blur σ; 0 = off"),
+      NumberField("blur_px", &O::blur_px, Closed(0, 20), "px", "Gaussian blur σ; 0 = off"),
       NumberField("noise_sigma", &O::noise_sigma, Closed(0, 100), "grey levels",
                   "std. dev. of additive Gaussian noise"),
       IntegerField("jpeg_quality", &O::jpeg_quality, 0, 100, "",

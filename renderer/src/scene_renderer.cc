@@ -93,7 +93,10 @@ class GlSceneRenderer final : public SceneRenderer {
  public:
   GlSceneRenderer(const WorldSpec& world, const RendererOptions& options, Rng rng,
                   std::shared_ptr<GlContext> context)
-      : world_(world), options_(options), rng_(rng), context_(std::move(context)),
+      : world_(world),
+        options_(options),
+        rng_(rng),
+        context_(std::move(context)),
         gl_(context_->api()) {
     if (world_.targets.size() > static_cast<size_t>(kMaxTargets)) {
       throw InputError(SourceLocation{.key = "targets"},
@@ -314,7 +317,8 @@ GlSceneRenderer::Program GlSceneRenderer::MakeProgram(const std::string& defines
 
 void GlSceneRenderer::BuildPrograms() {
   std::string common;
-  if (shadows_) common += fmt::format("#define SHADOWS\n#define PCF_RADIUS {}\n", options_.pcf_radius);
+  if (shadows_)
+    common += fmt::format("#define SHADOWS\n#define PCF_RADIUS {}\n", options_.pcf_radius);
   object_program_ = MakeProgram(common);
   terrain_program_ =
       MakeProgram(common + "#define TERRAIN\n" + (world_.terrain.roads ? "#define ROADS\n" : ""));
@@ -419,10 +423,9 @@ GLuint GlSceneRenderer::UploadTexture(const internal::Texture8& t, bool repeat) 
 void GlSceneRenderer::BuildTextures(const internal::Texture8& road_mask) {
   Rng tex_rng = rng_.Fork("renderer/textures");
   gl_.ActiveTexture(GL_TEXTURE1);
-  ground_tex_ = UploadTexture(
-      internal::GroundTexture(world_.terrain.texture, options_.texture_size,
-                              tex_rng.Fork("ground")),
-      true);
+  ground_tex_ = UploadTexture(internal::GroundTexture(world_.terrain.texture, options_.texture_size,
+                                                      tex_rng.Fork("ground")),
+                              true);
   gl_.ActiveTexture(GL_TEXTURE2);
   road_tex_ = UploadTexture(
       internal::GroundTexture("asphalt", options_.texture_size, tex_rng.Fork("road")), true);
@@ -442,8 +445,8 @@ GpuMesh GlSceneRenderer::Upload(const MeshData& mesh) {
     const auto& n = mesh.normals[i];
     const auto& t = mesh.uvs[i];
     const auto& c = mesh.colors[i];
-    interleaved.insert(interleaved.end(),
-                       {p.x(), p.y(), p.z(), n.x(), n.y(), n.z(), t.x(), t.y(), c.x(), c.y(), c.z()});
+    interleaved.insert(interleaved.end(), {p.x(), p.y(), p.z(), n.x(), n.y(), n.z(), t.x(), t.y(),
+                                           c.x(), c.y(), c.z()});
   }
   gl_.GenVertexArrays(1, &gpu.vao);
   gl_.BindVertexArray(gpu.vao);
@@ -578,7 +581,7 @@ void GlSceneRenderer::BuildTerrainIndices(const internal::Texture8& road_mask) {
         for (int j = tj; j < std::min(grid, tj + kTerrainTileCells); ++j) {
           for (int i = ti; i < std::min(grid, ti + kTerrainTileCells); ++i) {
             if (parts[cell(i, j)] != part) continue;
-            const uint32_t quad[6] = {v(i, j), v(i + 1, j), v(i + 1, j + 1),
+            const uint32_t quad[6] = {v(i, j), v(i + 1, j),     v(i + 1, j + 1),
                                       v(i, j), v(i + 1, j + 1), v(i, j + 1)};
             for (uint32_t q : quad) {
               indices.push_back(q);
@@ -595,8 +598,9 @@ void GlSceneRenderer::BuildTerrainIndices(const internal::Texture8& road_mask) {
   }
   gl_.BindVertexArray(terrain_.vao);
   gl_.BindBuffer(GL_ELEMENT_ARRAY_BUFFER, terrain_.ibo);
-  gl_.BufferData(GL_ELEMENT_ARRAY_BUFFER, static_cast<GLsizeiptr>(indices.size() * sizeof(uint32_t)),
-                 indices.data(), GL_STATIC_DRAW);
+  gl_.BufferData(GL_ELEMENT_ARRAY_BUFFER,
+                 static_cast<GLsizeiptr>(indices.size() * sizeof(uint32_t)), indices.data(),
+                 GL_STATIC_DRAW);
   gl_.BindVertexArray(0);
   terrain_.index_count = static_cast<GLsizei>(indices.size());
 }
@@ -708,7 +712,6 @@ void GlSceneRenderer::BuildOccluders() {
       Eigen::AlignedBox3d world_box;
       for (const Eigen::Vector3d& c : boxes[b].Corners()) world_box.extend(c);
       occluder_boxes_.push_back(world_box);
-
     }
   }
   mesh.Append(builder.mesh());
@@ -720,11 +723,10 @@ void GlSceneRenderer::BuildVehicles() {
   for (const TargetSpec& target : world_.targets) {
     auto it = by_path.find(target.model);
     if (it == by_path.end()) {
-      MeshData mesh = target.model.empty()
-                          ? MeshBuilder()
-                                .AddBox({-0.5f, -0.5f, 0.0f}, {0.5f, 0.5f, 1.0f}, {1, 1, 1})
-                                .Take()
-                          : LoadMesh(target.model);
+      MeshData mesh =
+          target.model.empty()
+              ? MeshBuilder().AddBox({-0.5f, -0.5f, 0.0f}, {0.5f, 0.5f, 1.0f}, {1, 1, 1}).Take()
+              : LoadMesh(target.model);
       VehicleModel model;
       model.dims = BaseCentre(mesh);
       model.positions = mesh.positions;
@@ -856,7 +858,8 @@ double GlSceneRenderer::MeshHeightAt(double x_m, double y_m) const {
     return double{terrain_heights_[static_cast<size_t>(b) * (g + 1) + static_cast<size_t>(a)]};
   };
   // Cells are split along the (i, j)-(i+1, j+1) diagonal (BuildTerrain).
-  if (fx >= fy) return h(i, j) + fx * (h(i + 1, j) - h(i, j)) + fy * (h(i + 1, j + 1) - h(i + 1, j));
+  if (fx >= fy)
+    return h(i, j) + fx * (h(i + 1, j) - h(i, j)) + fy * (h(i + 1, j + 1) - h(i + 1, j));
   return h(i, j) + fy * (h(i, j + 1) - h(i, j)) + fx * (h(i + 1, j + 1) - h(i, j + 1));
 }
 
@@ -875,7 +878,8 @@ void GlSceneRenderer::DrawTerrain(const Eigen::Matrix4f& view_proj, int part) co
     if (count == 0) continue;
     int outside[6] = {0, 0, 0, 0, 0, 0};
     for (int c = 0; c < 8; ++c) {
-      const Eigen::Vector4f p((c & 1) ? tile.hi.x() : tile.lo.x(), (c & 2) ? tile.hi.y() : tile.lo.y(),
+      const Eigen::Vector4f p((c & 1) ? tile.hi.x() : tile.lo.x(),
+                              (c & 2) ? tile.hi.y() : tile.lo.y(),
                               (c & 4) ? tile.hi.z() : tile.lo.z(), 1.0f);
       const Eigen::Vector4f q = view_proj * p;
       outside[0] += q.x() < -q.w();
@@ -885,8 +889,8 @@ void GlSceneRenderer::DrawTerrain(const Eigen::Matrix4f& view_proj, int part) co
       outside[4] += q.z() < -q.w();
       outside[5] += q.z() > q.w();
     }
-    const bool culled = std::any_of(std::begin(outside), std::end(outside),
-                                    [](int n) { return n == 8; });
+    const bool culled =
+        std::any_of(std::begin(outside), std::end(outside), [](int n) { return n == 8; });
     if (culled) continue;
     if (!counts.empty() && run_end == first) {
       counts.back() += count;

@@ -1,13 +1,12 @@
 // Sensor effects on the 8-bit image (OpenCV, kept out of public headers).
 
+#include <algorithm>
+#include <cmath>
 #include <opencv2/core.hpp>
 #include <opencv2/imgproc.hpp>
 
-#include <algorithm>
-#include <cmath>
-
-#include "hcpf/core/error.h"
 #include "codecs.h"
+#include "hcpf/core/error.h"
 #include "hcpf/renderer/renderer.h"
 
 namespace hcpf::renderer {

@@ -113,9 +113,11 @@ Texture8 RoadMask(const WorldSpec& world, int size, double width_m) {
       const Eigen::Vector2d lo = a.cwiseMin(b).array() - half - texel_m;
       const Eigen::Vector2d hi = a.cwiseMax(b).array() + half + texel_m;
       const int x0 = std::max(0, static_cast<int>((lo.x() - origin.x()) / extent.x() * size));
-      const int x1 = std::min(size - 1, static_cast<int>((hi.x() - origin.x()) / extent.x() * size));
+      const int x1 =
+          std::min(size - 1, static_cast<int>((hi.x() - origin.x()) / extent.x() * size));
       const int y0 = std::max(0, static_cast<int>((lo.y() - origin.y()) / extent.y() * size));
-      const int y1 = std::min(size - 1, static_cast<int>((hi.y() - origin.y()) / extent.y() * size));
+      const int y1 =
+          std::min(size - 1, static_cast<int>((hi.y() - origin.y()) / extent.y() * size));
       const Eigen::Vector2d ab = b - a;
       const double len2 = std::max(ab.squaredNorm(), 1e-12);
       for (int y = y0; y <= y1; ++y) {

@@ -11,8 +11,8 @@
 namespace hcpf::renderer::internal {
 
 struct Texture8 {
-  int size = 0;       // square
-  int channels = 3;   // 3 = RGB, 1 = R
+  int size = 0;      // square
+  int channels = 3;  // 3 = RGB, 1 = R
   std::vector<uint8_t> texels;
 };
 

@@ -1,8 +1,9 @@
 // Mesh import/export without GL (label unit).
 
-#include <gtest/gtest.h>
+#include "hcpf/renderer/mesh.h"
 
 #include <fmt/format.h>
+#include <gtest/gtest.h>
 
 #include <cstdint>
 #include <cstring>
@@ -11,15 +12,15 @@
 #include <nlohmann/json.hpp>
 
 #include "hcpf/core/error.h"
-#include "hcpf/renderer/mesh.h"
 #include "support/crafted_glb.h"
 
 namespace hcpf::renderer {
 namespace {
 
 std::filesystem::path TempDir() {
-  const auto dir = std::filesystem::temp_directory_path() /
-                   fmt::format("hcpf_mesh_test_{}", ::testing::UnitTest::GetInstance()->random_seed());
+  const auto dir =
+      std::filesystem::temp_directory_path() /
+      fmt::format("hcpf_mesh_test_{}", ::testing::UnitTest::GetInstance()->random_seed());
   std::filesystem::create_directories(dir);
   return dir;
 }
@@ -63,8 +64,7 @@ TEST(MeshBuilder, BoxHasTwelveTrianglesAndOutwardWinding) {
 }
 
 TEST(MeshBuilder, CylinderWindingIsOutward) {
-  const MeshData c =
-      MeshBuilder().AddCylinder({0, 0, 0}, {0, 0, 2}, 1.0f, 8, {1, 1, 1}).Take();
+  const MeshData c = MeshBuilder().AddCylinder({0, 0, 0}, {0, 0, 2}, 1.0f, 8, {1, 1, 1}).Take();
   // 8 side quads (16 triangles) + two octagon fans (6 triangles each).
   EXPECT_EQ(c.triangle_count(), 28u);
   for (size_t t = 0; t < c.indices.size(); t += 3) {
@@ -114,8 +114,10 @@ TEST(MeshIo, SameModelAsGlbAndObjHasSameTrianglesAndBounds) {
   const Eigen::AlignedBox3f a = glb.Bounds();
   const Eigen::AlignedBox3f b = obj.Bounds();
   // The OBJ stores 7 significant digits: 1e-5 m covers the rounding.
-  EXPECT_TRUE(a.min().isApprox(b.min(), 1e-5f)) << a.min().transpose() << " vs " << b.min().transpose();
-  EXPECT_TRUE(a.max().isApprox(b.max(), 1e-5f)) << a.max().transpose() << " vs " << b.max().transpose();
+  EXPECT_TRUE(a.min().isApprox(b.min(), 1e-5f))
+      << a.min().transpose() << " vs " << b.min().transpose();
+  EXPECT_TRUE(a.max().isApprox(b.max(), 1e-5f))
+      << a.max().transpose() << " vs " << b.max().transpose();
 }
 
 TEST(MeshIo, StockVehiclesHaveTheirDesignedDimensions) {
@@ -184,10 +186,9 @@ TEST(MeshIo, CraftedGlbAccessorsThatWrapTheBoundsAreInputErrors) {
     uint64_t count;
     uint64_t byte_offset;
   };
-  for (const Case& c : {Case{"count_wraps.glb", 6148914691236517206ull, 0},  // ~2^64 / 3
+  for (const Case& c : {Case{"count_wraps.glb", 6148914691236517206ull, 0},    // ~2^64 / 3
                         Case{"offset_wraps.glb", 1, 18446744073709551612ull},  // 2^64 - 4
-                        Case{"offset_past_view.glb", 1, 36},
-                        Case{"one_too_many.glb", 4, 0}}) {
+                        Case{"offset_past_view.glb", 1, 36}, Case{"one_too_many.glb", 4, 0}}) {
     const std::string path = (dir / c.name).string();
     testing::WriteTriangleGlb(path, c.count, c.byte_offset);
     try {

@@ -97,7 +97,7 @@ TEST(SensorEffects, BlurSpreadsAnEdgeAndKeepsFlatAreas) {
     for (int x = 20; x < 40; ++x) a.at(x, y)[0] = a.at(x, y)[1] = a.at(x, y)[2] = 200;
   }
   ApplySensorEffects(s, Rng(1), a);
-  EXPECT_EQ(a.at(2, 5)[0], 0);     // 18 px (9 sigma) from the edge
+  EXPECT_EQ(a.at(2, 5)[0], 0);  // 18 px (9 sigma) from the edge
   EXPECT_EQ(a.at(37, 5)[0], 200);
   // At the edge, a Gaussian-blurred step is half way: pixels 19 and 20
   // straddle it, so one is below and one above 100, both strictly between.

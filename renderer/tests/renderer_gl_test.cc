@@ -2,9 +2,8 @@
 // binary, shared by every case; GL errors are checked after each case.
 // The backend is HCPF_TEST_GL_BACKEND (compiled in: "osmesa" or "egl").
 
-#include <gtest/gtest.h>
-
 #include <fmt/format.h>
+#include <gtest/gtest.h>
 
 #include <cmath>
 #include <cstdlib>
@@ -396,7 +395,8 @@ void CompareWithGolden(const RgbImage& image, const std::string& name) {
     WritePng(image, path);
     GTEST_SKIP() << "regenerated " << path;
   }
-  ASSERT_TRUE(std::filesystem::exists(path)) << path << " missing; run with HCPF_REGENERATE_GOLDENS=1";
+  ASSERT_TRUE(std::filesystem::exists(path))
+      << path << " missing; run with HCPF_REGENERATE_GOLDENS=1";
   const RgbImage golden = ReadPng(path);
   ASSERT_EQ(golden.width, image.width);
   ASSERT_EQ(golden.height, image.height);

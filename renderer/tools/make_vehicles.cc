@@ -58,8 +58,8 @@ MeshData Truck() {
     b.AddCylinder({x, 0.85f, 0.5f}, {x, 1.25f, 0.5f}, 0.5f, kWheelSegments, kRunningGear);
     b.AddCylinder({x, -1.25f, 0.5f}, {x, -0.85f, 0.5f}, 0.5f, kWheelSegments, kRunningGear);
   }
-  b.AddBox({2.2f, -1.25f, 1.0f}, {3.95f, 1.25f, 3.0f}, kBody);    // cab
-  b.AddBox({3.95f, -1.0f, 2.1f}, {4.0f, 1.0f, 2.8f}, kGlass);     // windscreen
+  b.AddBox({2.2f, -1.25f, 1.0f}, {3.95f, 1.25f, 3.0f}, kBody);       // cab
+  b.AddBox({3.95f, -1.0f, 2.1f}, {4.0f, 1.0f, 2.8f}, kGlass);        // windscreen
   b.AddBox({-4.0f, -1.25f, 1.0f}, {2.0f, 1.25f, 3.2f}, kBodyShade);  // cargo box
   return Recentre(b.Take());
 }

@@ -63,7 +63,8 @@ SceneFrames ProduceFrames(const Scenario& scenario, const FrameSourceOptions& op
       ++out.frames_from_cache;
     } else {
       if (!scene) {
-        scene = renderer::SceneRenderer::Create(scenario.world, ropts, Rng(scenario.seeds.renderer));
+        scene =
+            renderer::SceneRenderer::Create(scenario.world, ropts, Rng(scenario.seeds.renderer));
         out.gl = scene->gl_info();
       }
       frame = scene->Render(f);

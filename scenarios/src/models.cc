@@ -6,8 +6,8 @@
 #include <map>
 #include <mutex>
 
-#include "hcpf/renderer/mesh.h"
 #include "hcpf/config/file_lookup.h"
+#include "hcpf/renderer/mesh.h"
 #include "text.h"
 
 namespace hcpf::scenarios {

@@ -74,9 +74,11 @@ Observation SimulateObservation(const FrameGroundTruth& gt, const SimulatedObser
       // Blobs are cut off at 4 sigma, where exp(-8) = 3e-4 of the peak.
       const double reach = 4.0 * s;
       const int x0 = std::max(0, static_cast<int>((b.centre_x() - reach) / map.cell_px));
-      const int x1 = std::min(map.width - 1, static_cast<int>((b.centre_x() + reach) / map.cell_px));
+      const int x1 =
+          std::min(map.width - 1, static_cast<int>((b.centre_x() + reach) / map.cell_px));
       const int y0 = std::max(0, static_cast<int>((b.centre_y() - reach) / map.cell_px));
-      const int y1 = std::min(map.height - 1, static_cast<int>((b.centre_y() + reach) / map.cell_px));
+      const int y1 =
+          std::min(map.height - 1, static_cast<int>((b.centre_y() + reach) / map.cell_px));
       for (int cy = y0; cy <= y1; ++cy) {
         for (int cx = x0; cx <= x1; ++cx) {
           const double px = (cx + 0.5) * map.cell_px - b.centre_x();

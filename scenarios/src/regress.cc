@@ -16,13 +16,13 @@
 #include <set>
 #include <thread>
 
+#include "hcpf/config/file_lookup.h"
+#include "hcpf/config/yaml_reader.h"
 #include "hcpf/scenarios/results_store.h"
 #include "hcpf/scenarios/run.h"
 #include "hcpf/scenarios/sweep.h"
-#include "hcpf/config/file_lookup.h"
 #include "text.h"
 #include "writers.h"
-#include "hcpf/config/yaml_reader.h"
 
 namespace hcpf::scenarios {
 
@@ -179,7 +179,8 @@ std::string FormatRegressJunit(const std::vector<RegressRow>& rows) {
       "  <testsuite name=\"hcpf regress\" tests=\"{0}\" failures=\"{1}\" errors=\"0\">\n",
       rows.size(), failures);
   for (const RegressRow& r : rows) {
-    out += fmt::format("    <testcase classname=\"{}\" name=\"{}\"", EscapeMarkup(r.scene), EscapeMarkup(r.metric));
+    out += fmt::format("    <testcase classname=\"{}\" name=\"{}\"", EscapeMarkup(r.scene),
+                       EscapeMarkup(r.metric));
     if (r.verdict == RegressVerdict::kWorse) {
       const std::string message =
           fmt::format("{} {}: {} against baseline {} ({} is better, tolerance {})", r.scene,

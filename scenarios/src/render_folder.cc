@@ -41,7 +41,8 @@ RenderFolderSummary RenderToFolder(const Scenario& scenario, const RenderFolderO
     const fs::path stem = dir / "frames" / fmt::format("{:06d}", frame.frame + 1);
     renderer::WritePng(frame.rgb, stem.string() + ".png");
     if (frame.depth) renderer::WriteDepthPng(*frame.depth, stem.string() + "_depth.png");
-    if (frame.instance_ids) renderer::WriteInstancePng(*frame.instance_ids, stem.string() + "_ids.png");
+    if (frame.instance_ids)
+      renderer::WriteInstancePng(*frame.instance_ids, stem.string() + "_ids.png");
     if (std::find(sheet_frames.begin(), sheet_frames.end(), frame.frame) != sheet_frames.end()) {
       renderer::RenderedFrame thumb;
       thumb.frame = frame.frame;
@@ -64,7 +65,8 @@ RenderFolderSummary RenderToFolder(const Scenario& scenario, const RenderFolderO
   summary.frames = frames;
   summary.frames_rendered = scene.frames_rendered;
   summary.frames_from_cache = scene.frames_from_cache;
-  summary.wall_time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  summary.wall_time_s =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   nlohmann::json manifest = ManifestProvenance("hcpf-render/1", scenario, scene.gl);
   manifest["frames"] = frames;
   manifest["frames_rendered"] = scene.frames_rendered;

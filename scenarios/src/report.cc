@@ -26,8 +26,8 @@
 #include "hcpf/scenarios/frames.h"
 #include "hcpf/scenarios/results_store.h"
 #include "hcpf/scenarios/scenario.h"
-#include "writers.h"
 #include "text.h"
+#include "writers.h"
 
 namespace hcpf::scenarios {
 
@@ -413,7 +413,8 @@ ReportResult WriteReport(const ReportOptions& options) {
       "in the store, {} ok, {} failed. Lines: mean over seeds; "
       "bands: 95&nbsp;% confidence interval of the mean (Student t, n&minus;1 degrees of "
       "freedom; none when n&nbsp;&lt;&nbsp;2).</p>\n",
-      EscapeMarkup(meta.sweep_file), EscapeMarkup(meta.sweep_hash), runs.size(), meta.run_count, ok_runs,
+      EscapeMarkup(meta.sweep_file), EscapeMarkup(meta.sweep_hash), runs.size(), meta.run_count,
+      ok_runs,
       failed_runs > 0 ? fmt::format("<span class=\"failed\">{}</span>", failed_runs) : "0");
   h += "<h2>Plots</h2>\n";
   for (size_t p = 0; p < svgs.size(); ++p) {
@@ -453,7 +454,8 @@ ReportResult WriteReport(const ReportOptions& options) {
         if (r->seed_index != 0 || !r->ok) continue;
         if (!fs::exists(dir / r->run_dir / "overlay.mp4", ec)) continue;
         const std::string x = x_index >= 0 ? c->values[x_index] : "run";
-        links += fmt::format(" <a href=\"{}/overlay.mp4\">{}</a>", EscapeMarkup(r->run_dir), EscapeMarkup(x));
+        links += fmt::format(" <a href=\"{}/overlay.mp4\">{}</a>", EscapeMarkup(r->run_dir),
+                             EscapeMarkup(x));
       }
     }
     if (!links.empty()) videos += fmt::format("<li>{}:{}</li>\n", EscapeMarkup(label), links);
@@ -463,8 +465,8 @@ ReportResult WriteReport(const ReportOptions& options) {
   std::string failures;
   for (const RunRecord& r : runs) {
     if (!r.ok)
-      failures +=
-          fmt::format("<li>run {} (<code>{}</code>): {}</li>\n", r.index, r.key, EscapeMarkup(r.error));
+      failures += fmt::format("<li>run {} (<code>{}</code>): {}</li>\n", r.index, r.key,
+                              EscapeMarkup(r.error));
   }
   if (!failures.empty())
     h += "<h2>Failed runs</h2>\n<ul class=\"failed\">\n" + failures + "</ul>\n";

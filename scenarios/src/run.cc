@@ -6,19 +6,19 @@
 
 #include <algorithm>
 #include <chrono>
-#include <set>
 #include <filesystem>
 #include <nlohmann/json.hpp>
+#include <set>
 
 #include "hcpf/core/error.h"
 #include "hcpf/core/ground_truth.h"
 #include "hcpf/metrics/mot_io.h"
 #include "hcpf/metrics/report.h"
-#include "hcpf/tracker/tracker.h"
 #include "hcpf/scenarios/frames.h"
 #include "hcpf/scenarios/observation_simulator.h"
 #include "hcpf/scenarios/overlay.h"
 #include "hcpf/scenarios/version.h"
+#include "hcpf/tracker/tracker.h"
 #include "output_folder.h"
 #include "progress.h"
 #include "writers.h"
@@ -103,10 +103,10 @@ RunSummary RunScenario(const Scenario& scenario, const RunOptions& options) {
   const std::string tracks_text =
       metrics::FormatMotTracks(TrackRows(reports, tracker_options.particles));
   summary.gt_boxes = static_cast<int>(std::count(gt_text.begin(), gt_text.end(), '\n'));
-  const metrics::MotFile gt_file =
-      metrics::ParseMotText(gt_text, "gt/gt.txt", metrics::MotFileKind::kGroundTruth, summary.frames);
-  const metrics::MotFile tracks_file =
-      metrics::ParseMotText(tracks_text, "tracks.txt", metrics::MotFileKind::kTracks, summary.frames);
+  const metrics::MotFile gt_file = metrics::ParseMotText(
+      gt_text, "gt/gt.txt", metrics::MotFileKind::kGroundTruth, summary.frames);
+  const metrics::MotFile tracks_file = metrics::ParseMotText(
+      tracks_text, "tracks.txt", metrics::MotFileKind::kTracks, summary.frames);
   metrics::RunMetricsInput metrics_input;
   metrics_input.sequence = metrics::BuildSequence(gt_file, tracks_file, summary.frames,
                                                   metrics::Benchmark::kMot17, {}, scenario.name);
@@ -128,7 +128,8 @@ RunSummary RunScenario(const Scenario& scenario, const RunOptions& options) {
   WriteTextFile((partial / "scenario.resolved.yaml").string(), ToResolvedYaml(scenario));
   WriteTextFile((partial / "gt" / "gt.txt").string(), gt_text);
   metrics::WriteSeqInfo((partial / "seqinfo.ini").string(), SeqInfoOf(scenario));
-  WriteTextFile((partial / "gt.json").string(), FormatGroundTruthJson(scenario, truth, scene.rendered));
+  WriteTextFile((partial / "gt.json").string(),
+                FormatGroundTruthJson(scenario, truth, scene.rendered));
   WriteTextFile((partial / "detections.txt").string(), FormatDetectionsMot(observations));
   WriteTextFile((partial / "tracks.txt").string(), tracks_text);
   WriteTextFile((partial / "filters.csv").string(), FormatFiltersCsv(reports, scores.filters));
@@ -136,8 +137,8 @@ RunSummary RunScenario(const Scenario& scenario, const RunOptions& options) {
   if (options.video) {
     // At detection level there are no pixels: the overlay is drawn on a
     // plain background.
-    WriteOverlayVideo((partial / "overlay.mp4").string(), scenario, truth, reports,
-                      scores.filters, scene.rendered ? &scene.images : nullptr);
+    WriteOverlayVideo((partial / "overlay.mp4").string(), scenario, truth, reports, scores.filters,
+                      scene.rendered ? &scene.images : nullptr);
   }
   timings["write_s"] = Seconds(t0);
   summary.wall_time_s = Seconds(start);
@@ -154,7 +155,7 @@ RunSummary RunScenario(const Scenario& scenario, const RunOptions& options) {
   manifest["detections"] = summary.detections;
   manifest["timings"] = timings;
   manifest["nondeterministic_fields"] = {"timings", "frames_rendered", "frames_from_cache",
-                                        "gl_renderer"};
+                                         "gl_renderer"};
   // Written last: a folder with a manifest is a finished run.
   WriteTextFile((partial / "manifest.json").string(), manifest.dump(2) + "\n");
   staged.Publish();

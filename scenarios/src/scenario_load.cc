@@ -8,12 +8,12 @@
 #include <filesystem>
 #include <set>
 
+#include "hcpf/config/fields_yaml.h"
+#include "hcpf/config/yaml_reader.h"
 #include "hcpf/core/rng.h"
 #include "hcpf/scenarios/frames.h"
 #include "hcpf/scenarios/models.h"
 #include "hcpf/scenarios/scenario.h"
-#include "hcpf/config/fields_yaml.h"
-#include "hcpf/config/yaml_reader.h"
 
 namespace hcpf::scenarios {
 
@@ -22,7 +22,6 @@ using config::ReadFields;
 using config::YamlContext;
 using config::YamlReader;
 namespace {
-
 
 constexpr double kBig = 1e6;  // generous bound for world coordinates, metres
 
@@ -99,7 +98,8 @@ TargetPathSpec ReadPath(YamlReader r, int frames) {
   if (type == "waypoints") {
     p.kind = PathKind::kWaypoints;
     YamlReader waypoints = r.Child("waypoints");
-    for (const YamlReader& w : waypoints.Items()) p.waypoints_m.push_back(V2(w.AsVector(2, -kBig, kBig)));
+    for (const YamlReader& w : waypoints.Items())
+      p.waypoints_m.push_back(V2(w.AsVector(2, -kBig, kBig)));
     if (p.waypoints_m.empty()) waypoints.Fail("a list of at least one [x, y] point");
     p.vanish_at_end = r.Enum("at_end", "stay", {"stay", "vanish"}) == "vanish";
     if (auto stops = r.Optional("stops")) {
@@ -163,8 +163,8 @@ void ReadCamera(YamlReader r, int frames, CameraSpec* c) {
     CameraKeyframe key;
     key.frame = static_cast<int>(k.Integer("frame", std::nullopt, 0, frames - 1));
     if (!c->path.empty() && key.frame <= c->path.back().frame) {
-      k.Child("frame").Fail(fmt::format("a frame after the previous keyframe's ({})",
-                                        c->path.back().frame));
+      k.Child("frame").Fail(
+          fmt::format("a frame after the previous keyframe's ({})", c->path.back().frame));
     }
     key.position_m = V3(k.Vector("position", 3, std::nullopt, -kBig, kBig));
     key.look_at_m = V3(k.Vector("look_at", 3, std::nullopt, -kBig, kBig));

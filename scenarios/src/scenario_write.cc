@@ -2,15 +2,14 @@
 // structure, so loading the output gives back the same Scenario and writing
 // that gives back the same text (tested).
 
+#include <fmt/format.h>
 #include <yaml-cpp/yaml.h>
 
-#include <fmt/format.h>
-
+#include "hcpf/config/fields_yaml.h"
+#include "hcpf/config/yaml_reader.h"
 #include "hcpf/core/rng.h"
 #include "hcpf/scenarios/models.h"
 #include "hcpf/scenarios/scenario.h"
-#include "hcpf/config/fields_yaml.h"
-#include "hcpf/config/yaml_reader.h"
 
 namespace hcpf::scenarios {
 
@@ -26,10 +25,18 @@ class Writer {
   }
   YAML::Emitter& out() { return out_; }
 
-  void Num(const char* key, double v) { out_ << YAML::Key << key << YAML::Value << FormatNumber(v); }
-  void Int(const char* key, int64_t v) { out_ << YAML::Key << key << YAML::Value << std::to_string(v); }
-  void U64(const char* key, uint64_t v) { out_ << YAML::Key << key << YAML::Value << std::to_string(v); }
-  void Bool(const char* key, bool v) { out_ << YAML::Key << key << YAML::Value << (v ? "true" : "false"); }
+  void Num(const char* key, double v) {
+    out_ << YAML::Key << key << YAML::Value << FormatNumber(v);
+  }
+  void Int(const char* key, int64_t v) {
+    out_ << YAML::Key << key << YAML::Value << std::to_string(v);
+  }
+  void U64(const char* key, uint64_t v) {
+    out_ << YAML::Key << key << YAML::Value << std::to_string(v);
+  }
+  void Bool(const char* key, bool v) {
+    out_ << YAML::Key << key << YAML::Value << (v ? "true" : "false");
+  }
   void Str(const char* key, const std::string& v) {
     out_ << YAML::Key << key << YAML::Value << YAML::DoubleQuoted << v;
   }
@@ -61,10 +68,14 @@ class Writer {
 
 const char* OccluderKindName(OccluderKind k) {
   switch (k) {
-    case OccluderKind::kBridge: return "bridge";
-    case OccluderKind::kBuilding: return "building";
-    case OccluderKind::kTree: return "tree";
-    case OccluderKind::kMesh: return "mesh";
+    case OccluderKind::kBridge:
+      return "bridge";
+    case OccluderKind::kBuilding:
+      return "building";
+    case OccluderKind::kTree:
+      return "tree";
+    case OccluderKind::kMesh:
+      return "mesh";
   }
   return "building";
 }
@@ -124,7 +135,8 @@ std::string ToResolvedYaml(const Scenario& s) {
 
   const CameraSpec& c = s.world.camera;
   w.Begin("camera");
-  w.List("resolution", std::vector<double>{static_cast<double>(c.width_px), static_cast<double>(c.height_px)});
+  w.List("resolution",
+         std::vector<double>{static_cast<double>(c.width_px), static_cast<double>(c.height_px)});
   w.Num("fov_deg", c.hfov_deg);
   w.Num("shake_px", c.shake_px);
   w.out() << YAML::Key << "path" << YAML::Value << YAML::BeginSeq;

@@ -103,10 +103,9 @@ std::string UpdateGeneratedTables(const std::string& text, const std::string& fi
       out += line + "\n";
       if (line.rfind(kBegin, 0) == 0) {
         const size_t close = line.rfind(" -->");
-        const std::string section =
-            close == std::string::npos || close < kBegin.size()
-                ? std::string()
-                : line.substr(kBegin.size(), close - kBegin.size());
+        const std::string section = close == std::string::npos || close < kBegin.size()
+                                        ? std::string()
+                                        : line.substr(kBegin.size(), close - kBegin.size());
         try {
           out += SchemaMarkdown(section);
         } catch (const InputError& e) {

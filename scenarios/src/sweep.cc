@@ -9,10 +9,10 @@
 #include <map>
 #include <set>
 
-#include "hcpf/core/rng.h"
 #include "hcpf/config/file_lookup.h"
-#include "text.h"
 #include "hcpf/config/yaml_reader.h"
+#include "hcpf/core/rng.h"
+#include "text.h"
 
 namespace hcpf::scenarios {
 
@@ -250,7 +250,8 @@ std::vector<SweepRun> ExpandSweep(const SweepSpec& spec) {
     } catch (const InputError& e) {
       // An error in a swept value is reported at that value in the sweep file.
       const int i = e.where().override_index;
-      if (i >= 0 && static_cast<size_t>(i) < where.size()) Relocate(e, where[static_cast<size_t>(i)]);
+      if (i >= 0 && static_cast<size_t>(i) < where.size())
+        Relocate(e, where[static_cast<size_t>(i)]);
       throw;
     }
     run.seed = run.scenario.seed;

@@ -1,8 +1,7 @@
 // libhcpf_video.so: the one place that links opencv_videoio (see video_sink.h).
 
-#include <opencv2/videoio.hpp>
-
 #include <cstdio>
+#include <opencv2/videoio.hpp>
 
 #include "video_sink.h"
 

@@ -32,7 +32,8 @@ OpenFn LoadPlugin() {
 
 }  // namespace
 
-std::unique_ptr<VideoSink> OpenVideoSink(const std::string& path, double fps, int width, int height) {
+std::unique_ptr<VideoSink> OpenVideoSink(const std::string& path, double fps, int width,
+                                         int height) {
   const OpenFn open = LoadPlugin();
   char error[512] = {};
   VideoSink* sink = open(path.c_str(), fps, width, height, error, sizeof(error));

@@ -6,9 +6,8 @@
 // only runs that write a video pay for it now.
 
 #include <memory>
-#include <string>
-
 #include <opencv2/core.hpp>
+#include <string>
 
 namespace hcpf::scenarios {
 
@@ -23,6 +22,7 @@ class VideoSink {
 
 // Opens `path` for MPEG-4 Part 2 (fourcc mp4v) at `fps`; throws RunError when
 // the plugin cannot be loaded or the writer cannot be opened.
-std::unique_ptr<VideoSink> OpenVideoSink(const std::string& path, double fps, int width, int height);
+std::unique_ptr<VideoSink> OpenVideoSink(const std::string& path, double fps, int width,
+                                         int height);
 
 }  // namespace hcpf::scenarios

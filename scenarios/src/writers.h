@@ -9,11 +9,11 @@
 
 #include "hcpf/core/ground_truth.h"
 #include "hcpf/core/types.h"
-#include "hcpf/renderer/gl_context.h"
 #include "hcpf/metrics/filter_metrics.h"
 #include "hcpf/metrics/mot_io.h"
-#include "hcpf/tracker/tracker.h"
+#include "hcpf/renderer/gl_context.h"
 #include "hcpf/scenarios/scenario.h"
+#include "hcpf/tracker/tracker.h"
 
 namespace hcpf::scenarios {
 
@@ -24,7 +24,8 @@ namespace hcpf::scenarios {
 std::vector<metrics::MotRow> GroundTruthRows(const std::vector<FrameGroundTruth>& frames);
 // Tracker output rows (10 columns): every filter reported in each frame, its
 // estimate box, confidence = ESS / N.
-std::vector<metrics::MotRow> TrackRows(const std::vector<tracker::FrameReport>& reports, int particles);
+std::vector<metrics::MotRow> TrackRows(const std::vector<tracker::FrameReport>& reports,
+                                       int particles);
 // Filter-level metric inputs: in-frame targets and the filters' estimates per
 // frame (with their particle clouds when kept); filters born from ground truth
 // map to the target of the same id.
@@ -40,8 +41,8 @@ std::string FormatDetectionsMot(const std::vector<Observation>& observations);
 metrics::SeqInfo SeqInfoOf(const Scenario& scenario);
 // gt.json: every field of every frame's ground truth (see docs/outputs.md).
 // `pixel_exact`: the truth came from the renderer's pixel counts.
-std::string FormatGroundTruthJson(const Scenario& scenario, const std::vector<FrameGroundTruth>& frames,
-                                  bool pixel_exact);
+std::string FormatGroundTruthJson(const Scenario& scenario,
+                                  const std::vector<FrameGroundTruth>& frames, bool pixel_exact);
 
 // The provenance part of a manifest.json (format, version, git revision,
 // scenario, config hash, seeds, library versions, GL renderer or null).

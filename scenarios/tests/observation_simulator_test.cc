@@ -62,9 +62,12 @@ TEST(SimulateObservation, DetectionProbabilityFallsWithVisibilityAndClutterIsPoi
     FrameGroundTruth gt = TwoTargets();
     gt.frame = f;
     for (const Detection& d : SimulateObservation(gt, o, 17).detections) {
-      if (!d.source) ++clutter;
-      else if (*d.source == ObjectId{1}) ++hits_a;
-      else ++hits_b;
+      if (!d.source)
+        ++clutter;
+      else if (*d.source == ObjectId{1})
+        ++hits_a;
+      else
+        ++hits_b;
     }
   }
   EXPECT_NEAR(static_cast<double>(hits_a) / n, 0.9, 5 * std::sqrt(0.9 * 0.1 / n));

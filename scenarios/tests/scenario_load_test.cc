@@ -70,8 +70,9 @@ TEST(LoadScenario, ModelDimensionsComeFromTheModelFile) {
   const std::string text = std::string(kMinimal) +
                            "world: {occluders: [{kind: bridge, from: [-20, 10], to: [20, 10]}]}\n";
   Scenario s = LoadScenarioText(text, "m.yaml",
-                                {{"targets.0", "{id: 1, model: assets/vehicles/tank.glb, "
-                                               "path: {waypoints: [[0, 0]]}}"}});
+                                {{"targets.0",
+                                  "{id: 1, model: assets/vehicles/tank.glb, "
+                                  "path: {waypoints: [[0, 0]]}}"}});
   const Eigen::Vector3d d = s.world.targets[0].dimensions_m;
   // The generated tank is several metres long, longer than wide, lower than long.
   EXPECT_GT(d.x(), 3.0);

@@ -63,8 +63,10 @@ std::vector<double> JustOutside(const Field<O>& f) {
   const auto step = [&](double bound) {
     return f.type == FieldType::kInteger ? 1.0 : std::max(1.0, std::abs(bound)) * 1e-3;
   };
-  if (std::isfinite(f.range.lo)) out.push_back(f.range.lo_open ? f.range.lo : f.range.lo - step(f.range.lo));
-  if (std::isfinite(f.range.hi)) out.push_back(f.range.hi_open ? f.range.hi : f.range.hi + step(f.range.hi));
+  if (std::isfinite(f.range.lo))
+    out.push_back(f.range.lo_open ? f.range.lo : f.range.lo - step(f.range.lo));
+  if (std::isfinite(f.range.hi))
+    out.push_back(f.range.hi_open ? f.range.hi : f.range.hi + step(f.range.hi));
   return out;
 }
 

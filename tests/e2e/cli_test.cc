@@ -72,11 +72,12 @@ TEST(Cli, ScoreRunsWithoutLoadingTheFullProgram) {
                 .exit_code,
             0);
   for (const std::string args : {" score ", " --log-level warn score "}) {
-    const auto r = RunCommand("LD_DEBUG=libs " + kHcpf + args + (out / "gt" / "gt.txt").string() + " " +
-                              (out / "tracks.txt").string());
+    const auto r = RunCommand("LD_DEBUG=libs " + kHcpf + args + (out / "gt" / "gt.txt").string() +
+                              " " + (out / "tracks.txt").string());
     ASSERT_EQ(r.exit_code, 0) << r.output;
     EXPECT_NE(r.output.find("HOTA"), std::string::npos) << r.output;
-    EXPECT_NE(r.output.find("libstdc++"), std::string::npos) << "LD_DEBUG had no effect:\n" << r.output;
+    EXPECT_NE(r.output.find("libstdc++"), std::string::npos) << "LD_DEBUG had no effect:\n"
+                                                             << r.output;
     EXPECT_EQ(r.output.find("libhcpf_cli"), std::string::npos) << r.output;
     EXPECT_EQ(r.output.find("libopencv"), std::string::npos) << r.output;
   }
@@ -112,15 +113,18 @@ TEST(Cli, ResolvedScenarioReproducesTheRun) {
   for (const char* f : {"scenario.resolved.yaml", "gt/gt.txt", "detections.txt", "gt.json"}) {
     EXPECT_EQ(ReadFile(dir / "first" / f), ReadFile(dir / "second" / f)) << f;
   }
-  EXPECT_NE(ReadFile(dir / "first" / "scenario.resolved.yaml").find("particles: 300"), std::string::npos);
+  EXPECT_NE(ReadFile(dir / "first" / "scenario.resolved.yaml").find("particles: 300"),
+            std::string::npos);
 }
 
 TEST(Cli, BadInputExitsTwoAndWritesNothing) {
   const fs::path dir = FreshDir("bad");
   const fs::path bad = dir / "bad.yaml";
-  std::ofstream(bad) << "frames: 10\ncamera:\n  resolution: [320, 240]\n  path: [{frame: 0, position: [0, 0, 50], look_at: [0, 0.1, 0]}]\n"
-                        "targets:\n  - {id: 1, dimensions_m: [4, 2, 1.5], path: {waypoints: [[0, 0]]}}\n"
-                        "trakcer: {particles: 10}\n";
+  std::ofstream(bad)
+      << "frames: 10\ncamera:\n  resolution: [320, 240]\n  path: [{frame: 0, position: [0, 0, 50], "
+         "look_at: [0, 0.1, 0]}]\n"
+         "targets:\n  - {id: 1, dimensions_m: [4, 2, 1.5], path: {waypoints: [[0, 0]]}}\n"
+         "trakcer: {particles: 10}\n";
   auto r = RunCommand(kHcpf + " run " + bad.string() + " --out " + (dir / "out").string());
   EXPECT_EQ(r.exit_code, 2) << r.output;
   EXPECT_NE(r.output.find("bad.yaml:7:1"), std::string::npos) << r.output;
@@ -170,8 +174,7 @@ INSTANTIATE_TEST_SUITE_P(Library, ShippedScenario,
                                            "dominant-passes-weak", "bridge-three", "climb",
                                            "thesis/tc1-regular-swap", "thesis/tc2-regular-hijack",
                                            "thesis/tc3-charged", "thesis/tc4-charged-low-variance",
-                                           "thesis/tc5-charged-occlusion",
-                                           "thesis/parallel-close"),
+                                           "thesis/tc5-charged-occlusion", "thesis/parallel-close"),
                          [](const auto& info) {
                            std::string n = info.param;
                            std::replace(n.begin(), n.end(), '-', '_');

@@ -68,8 +68,9 @@ TEST(ChargedResampling, AtLeastHalvesTheHijackRateOfSystematic) {
   const Stats hc = Summarise(charged.hijack_rate);
   const Stats ds = Summarise(systematic.da_accuracy);
   const Stats dc = Summarise(charged.da_accuracy);
-  std::printf("hijack rate: systematic %.3f, charged %.3f; DA accuracy: systematic %.3f, charged %.3f\n",
-              hs.mean, hc.mean, ds.mean, dc.mean);
+  std::printf(
+      "hijack rate: systematic %.3f, charged %.3f; DA accuracy: systematic %.3f, charged %.3f\n",
+      hs.mean, hc.mean, ds.mean, dc.mean);
   // The setting must actually provoke hijacks, or the comparison says nothing.
   EXPECT_GE(hs.mean, 0.5);
   EXPECT_LE(hc.mean, 0.5 * hs.mean);

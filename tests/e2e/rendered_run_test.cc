@@ -57,10 +57,12 @@ TEST(RenderCommand, WritesFramesTruthAndContactSheet) {
   const std::string scenario = testing::LibraryScenario("bridge-three");
   const auto r = testing::RunCommand(std::string(HCPF_EXE) + " render " + scenario +
                                      " --set frames=30 --set 'camera.resolution=[160, 120]'"
-                                     " --no-cache --sheet-frames 4 --out " + (dir / "r").string());
+                                     " --no-cache --sheet-frames 4 --out " +
+                                     (dir / "r").string());
   ASSERT_EQ(r.exit_code, 0) << r.output;
-  for (const char* f : {"frames/000001.png", "frames/000030.png", "gt/gt.txt", "seqinfo.ini",
-                        "gt.json", "contact_sheet.png", "scenario.resolved.yaml", "manifest.json"}) {
+  for (const char* f :
+       {"frames/000001.png", "frames/000030.png", "gt/gt.txt", "seqinfo.ini", "gt.json",
+        "contact_sheet.png", "scenario.resolved.yaml", "manifest.json"}) {
     EXPECT_TRUE(fs::exists(dir / "r" / f)) << f;
   }
   EXPECT_FALSE(fs::exists(dir / "r" / "frames" / "000031.png"));
@@ -74,8 +76,9 @@ TEST(RenderCommand, WritesFramesTruthAndContactSheet) {
   }
   EXPECT_GT(visible_pixels, 0);
   // A bad scenario key is bad input, and nothing is written.
-  const auto bad = testing::RunCommand(std::string(HCPF_EXE) + " render " + scenario +
-                                       " --set renderer.backend=vulkan --out " + (dir / "bad").string());
+  const auto bad =
+      testing::RunCommand(std::string(HCPF_EXE) + " render " + scenario +
+                          " --set renderer.backend=vulkan --out " + (dir / "bad").string());
   EXPECT_EQ(bad.exit_code, 2) << bad.output;
   EXPECT_NE(bad.output.find("renderer.backend"), std::string::npos) << bad.output;
   EXPECT_FALSE(fs::exists(dir / "bad"));

@@ -123,11 +123,12 @@ TEST(SchemaCli, EveryDeclaredRangeIsRefusedByValidateAndRunAlike) {
            {kHcpf + " validate " + file.string(),
             kHcpf + " run " + file.string() + " --out " + out.string()}) {
         const auto r = RunCommand(command);
-        EXPECT_EQ(r.exit_code, 2) << k.dotted << " = " << Number(value) << ": " << command
-                                  << "\n" << r.output;
+        EXPECT_EQ(r.exit_code, 2) << k.dotted << " = " << Number(value) << ": " << command << "\n"
+                                  << r.output;
         EXPECT_NE(r.output.find(file.string() + ":" + std::to_string(line) + ":"),
                   std::string::npos)
-            << k.dotted << " = " << Number(value) << "\n" << r.output;
+            << k.dotted << " = " << Number(value) << "\n"
+            << r.output;
         EXPECT_NE(r.output.find(k.dotted), std::string::npos) << r.output;
         EXPECT_FALSE(fs::exists(out)) << command;
       }

@@ -34,8 +34,9 @@ TEST(RenderedSweep, ScenesRenderOnceAndEveryRunSucceeds) {
                                   std::sregex_iterator());
   EXPECT_EQ(hits, 3) << r.output;
   // The report shows the rendered scene: a contact sheet embedded in the page.
-  const auto report = testing::RunCommand("HCPF_CACHE_DIR=" + (dir / "cache").string() + " " +
-                                          std::string(HCPF_EXE) + " report " + (dir / "out").string());
+  const auto report =
+      testing::RunCommand("HCPF_CACHE_DIR=" + (dir / "cache").string() + " " +
+                          std::string(HCPF_EXE) + " report " + (dir / "out").string());
   ASSERT_EQ(report.exit_code, 0) << report.output;
   const std::string html = testing::ReadFile(dir / "out" / "report.html");
   EXPECT_NE(html.find("<img alt=\"contact sheet\""), std::string::npos);

@@ -110,7 +110,8 @@ std::unique_ptr<Associator> MakeAssociator(const AssociationOptions& options) {
       return std::make_unique<GnnAssociator>(options);
     case AssociationMethod::kNearestNeighbour:
       return std::make_unique<NearestNeighbourAssociator>(options);
-    case AssociationMethod::kNone: return std::make_unique<NoAssociator>();
+    case AssociationMethod::kNone:
+      return std::make_unique<NoAssociator>();
   }
   HCPF_CHECK(false) << "unknown association method";
   return nullptr;

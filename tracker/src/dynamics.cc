@@ -116,8 +116,7 @@ std::unique_ptr<Dynamics> MakeDynamics(const DynamicsOptions& options) {
     case DynamicsModel::kRandomWalk:
       return std::make_unique<RandomWalkDynamics>(options.sigma_pos_px);
     case DynamicsModel::kConstantVelocity:
-      return std::make_unique<ConstantVelocityDynamics>(options.sigma_pos_px,
-                                                        options.sigma_vel_px);
+      return std::make_unique<ConstantVelocityDynamics>(options.sigma_pos_px, options.sigma_vel_px);
     case DynamicsModel::kConstantVelocityScale:
       return std::make_unique<ConstantVelocityScaleDynamics>(
           options.sigma_pos_px, options.sigma_vel_px, options.sigma_log_scale);

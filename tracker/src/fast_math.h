@@ -29,7 +29,7 @@ inline double FastExp(double x) {
   x = x > 709.0 ? 709.0 : x;
   x = underflow ? 0.0 : x;
   constexpr double kLog2e = 1.4426950408889634;
-  constexpr double kShift = 0x1.8p52;  // adding it rounds to an integer in the low bits
+  constexpr double kShift = 0x1.8p52;              // adding it rounds to an integer in the low bits
   constexpr double kLn2Hi = 0x1.62e42fefa3800p-1;  // ln2 split: hi has trailing zeros so
   constexpr double kLn2Lo = 0x1.ef35793c76730p-45;  // k * kLn2Hi is exact for |k| < 2^11
   double kd = x * kLog2e + kShift;
@@ -68,7 +68,7 @@ inline float FastExpF(float x) {
   x = x > 88.0f ? 88.0f : x;
   x = underflow ? 0.0f : x;
   constexpr float kLog2e = 1.44269504f;
-  constexpr float kShift = 0x1.8p23f;  // adding it rounds to an integer in the low bits
+  constexpr float kShift = 0x1.8p23f;     // adding it rounds to an integer in the low bits
   constexpr float kLn2Hi = 0x1.62e4p-1f;  // 16 significant bits: k * kLn2Hi is exact for |k| < 2^8
   constexpr float kLn2Lo = 1.42860677e-06f;  // ln2 - kLn2Hi
   float kf = x * kLog2e + kShift;

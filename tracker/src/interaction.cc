@@ -42,7 +42,8 @@ void MrfInteraction::Apply(ParticleSet& set, std::span<const FilterSummary> othe
 std::unique_ptr<Interaction> MakeInteraction(const InteractionOptions& options) {
   options.Validate();
   switch (options.model) {
-    case InteractionModel::kNone: return std::make_unique<NoInteraction>();
+    case InteractionModel::kNone:
+      return std::make_unique<NoInteraction>();
     case InteractionModel::kMrf:
       return std::make_unique<MrfInteraction>(options.lambda, options.radius_px);
   }

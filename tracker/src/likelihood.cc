@@ -7,8 +7,8 @@
 #include <numbers>
 
 #include "fast_math.h"
-#include "mixture_kernel.h"
 #include "hcpf/core/check.h"
+#include "mixture_kernel.h"
 #include "option_checks.h"
 
 namespace hcpf::tracker {
@@ -61,9 +61,9 @@ std::vector<Component> MakeComponents(std::span<const Detection> detections,
   std::vector<Component> comps;
   comps.reserve(detections.size());
   const double log_norm_pos = -std::log(2.0 * std::numbers::pi * o.sigma_px * o.sigma_px);
-  const double log_norm_size =
-      o.sigma_log_size > 0.0 ? -std::log(std::sqrt(2.0 * std::numbers::pi) * o.sigma_log_size)
-                             : 0.0;
+  const double log_norm_size = o.sigma_log_size > 0.0
+                                   ? -std::log(std::sqrt(2.0 * std::numbers::pi) * o.sigma_log_size)
+                                   : 0.0;
   for (const Detection& d : detections) {
     const double a = o.use_scores ? d.score : 1.0;
     if (!(a > 0.0) || !std::isfinite(a)) continue;
@@ -111,8 +111,9 @@ __attribute__((target_clones("avx512f", "avx2", "default"))) void MixtureChunk(
 }
 
 __attribute__((target_clones("avx512f", "avx2", "default"))) void AddLogOfSum(const double* sum,
-                                                                   double clutter, double* log_w,
-                                                                   size_t m) {
+                                                                              double clutter,
+                                                                              double* log_w,
+                                                                              size_t m) {
   for (size_t i = 0; i < m; ++i) log_w[i] += internal::FastLog(sum[i] + clutter);
 }
 
@@ -175,12 +176,13 @@ bool DetectionsMixtureLikelihood::AddLogLikelihood(ParticleSet& set,
       const double dx = std::max({x0 - c.cx, 0.0, c.cx - x1});
       const double dy = std::max({y0 - c.cy, 0.0, c.cy - y1});
       const double max_exponent = -(dx * dx + dy * dy) * inv_2s2;  // the size term is <= 0
-      if (max_exponent >= internal::kMixtureUnderflow && c.log_weight + max_exponent >= negligible_log) {
+      if (max_exponent >= internal::kMixtureUnderflow &&
+          c.log_weight + max_exponent >= negligible_log) {
         active.push_back(c);
       }
     }
-    MixtureChunk(active.data(), active.size(), px, py, log_s.data(), inv_2s2, inv_2ss2,
-                 sum.data(), m);
+    MixtureChunk(active.data(), active.size(), px, py, log_s.data(), inv_2s2, inv_2ss2, sum.data(),
+                 m);
     double* log_w = set.log_w.data() + begin;
     bool any_tiny = false;
     for (size_t i = 0; i < m; ++i) any_tiny |= (sum[i] + clutter) < kTinySum;
@@ -221,7 +223,8 @@ bool AssociatedLikelihood::AddLogLikelihood(ParticleSet& set, const LikelihoodIn
   if (options_.sigma_log_size > 0.0 && d.box.width > 0.0) {
     const double inv_2ss2 = 1.0 / (2.0 * options_.sigma_log_size * options_.sigma_log_size);
     const double offset = std::log(input.base_w_px / d.box.width);
-    const double log_norm_size = -std::log(std::sqrt(2.0 * std::numbers::pi) * options_.sigma_log_size);
+    const double log_norm_size =
+        -std::log(std::sqrt(2.0 * std::numbers::pi) * options_.sigma_log_size);
     for (size_t i = 0; i < n; ++i) {
       const double dl = std::log(set.s[i]) + offset;
       set.log_w[i] += log_norm_size - dl * dl * inv_2ss2;
@@ -254,8 +257,10 @@ std::unique_ptr<Likelihood> MakeLikelihood(const LikelihoodOptions& options) {
   switch (options.model) {
     case LikelihoodModel::kDetectionsMixture:
       return std::make_unique<DetectionsMixtureLikelihood>(options);
-    case LikelihoodModel::kAssociated: return std::make_unique<AssociatedLikelihood>(options);
-    case LikelihoodModel::kMap: return std::make_unique<MapLikelihood>(options);
+    case LikelihoodModel::kAssociated:
+      return std::make_unique<AssociatedLikelihood>(options);
+    case LikelihoodModel::kMap:
+      return std::make_unique<MapLikelihood>(options);
   }
   HCPF_CHECK(false) << "unknown likelihood model";
   return nullptr;

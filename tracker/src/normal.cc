@@ -86,7 +86,8 @@ struct Fast {
 inline Fast FastPath(uint64_t bits) {
   const int i = static_cast<int>(bits & 0xFF);
   const double u = Uniform53(bits);
-  return {u < kTables.k[i], std::bit_cast<double>(std::bit_cast<uint64_t>(u * kTables.x[i]) ^ SignBit(bits))};
+  return {u < kTables.k[i],
+          std::bit_cast<double>(std::bit_cast<uint64_t>(u * kTables.x[i]) ^ SignBit(bits))};
 }
 
 // Draws one variate. `local` is a private copy of the caller's stream, never

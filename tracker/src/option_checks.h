@@ -3,11 +3,11 @@
 // (e.g. "tracker.resampling.beta"), what was expected and what was found. The
 // scenarios layer adds the file/line when it maps YAML onto the Options.
 
+#include <fmt/format.h>
+
 #include <cmath>
 #include <string>
 #include <string_view>
-
-#include <fmt/format.h>
 
 #include "hcpf/core/error.h"
 

@@ -10,8 +10,9 @@ namespace hcpf::tracker {
 namespace {
 
 __attribute__((target_clones("avx512f", "avx2", "default"))) void ExpShifted(const double* log_w,
-                                                                  double shift, double* out,
-                                                                  size_t n) {
+                                                                             double shift,
+                                                                             double* out,
+                                                                             size_t n) {
   for (size_t i = 0; i < n; ++i) out[i] = internal::FastExp(log_w[i] - shift);
 }
 

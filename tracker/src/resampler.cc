@@ -77,7 +77,8 @@ void MergeSortedPoints(std::span<const double> w, size_t count, PointFn point, i
   }
 }
 
-__attribute__((target_clones("avx512f", "avx2", "default"))) void NegLogInPlace(double* v, size_t n) {
+__attribute__((target_clones("avx512f", "avx2", "default"))) void NegLogInPlace(double* v,
+                                                                                size_t n) {
   for (size_t i = 0; i < n; ++i) v[i] = -internal::FastLog(v[i]);
 }
 
@@ -100,7 +101,8 @@ void SortedUniformMultinomial(std::span<const double> w, size_t count, Rng& rng,
   }
   total += -internal::FastLog(rng.UniformOpenZero());
   const double inv_total = 1.0 / total;
-  MergeSortedPoints(w, count, [&](size_t i) { return points[i] * inv_total; }, out);
+  MergeSortedPoints(
+      w, count, [&](size_t i) { return points[i] * inv_total; }, out);
 }
 
 }  // namespace
@@ -162,8 +164,8 @@ ResampleResult StratifiedResampler::Resample(const ParticleSet& set, const Resam
   return {};
 }
 
-ResampleResult ResidualResampler::Resample(const ParticleSet& set, const ResampleContext&,
-                                           Rng& rng, std::span<int32_t> ancestors) const {
+ResampleResult ResidualResampler::Resample(const ParticleSet& set, const ResampleContext&, Rng& rng,
+                                           std::span<int32_t> ancestors) const {
   CheckInputs(set, ancestors);
   const size_t n = set.size();
   const auto nd = static_cast<double>(n);
@@ -433,8 +435,8 @@ ResampleResult ChargedResampler::Resample(const ParticleSet& set, const Resample
         s.x[k] = set.px[static_cast<size_t>(j)];
         s.y[k] = set.py[static_cast<size_t>(j)];
       }
-      AcceptanceProbabilities(charges.data(), charges.size(), gaussian, q, beta, eps2,
-                              s.x.data(), s.y.data(), s.pot.data(), s.accept.data(), pending);
+      AcceptanceProbabilities(charges.data(), charges.size(), gaussian, q, beta, eps2, s.x.data(),
+                              s.y.data(), s.pot.data(), s.accept.data(), pending);
       size_t still = 0;
       for (size_t k = 0; k < pending; ++k) {
         if (rng.Uniform() < s.accept[k]) {

@@ -1,12 +1,12 @@
 #include "hcpf/tracker/tracker.h"
 
+#include <spdlog/spdlog.h>
+
 #include <algorithm>
 #include <array>
 #include <cmath>
 #include <limits>
 #include <thread>
-
-#include <spdlog/spdlog.h>
 
 #include "hcpf/core/check.h"
 #include "hcpf/tracker/hungarian.h"
@@ -167,8 +167,9 @@ void MultiTargetTracker::BirthTrack(TrackId id, const BoxPx& initial_box,
     f->set.vy[i] = velocity_px.y() + m.birth_sigma_vel_px * noise[3 * n + i];
     f->set.s[i] = std::exp(m.birth_sigma_log_scale * noise[4 * n + i]);
   }
-  const auto pos = std::lower_bound(filters_.begin(), filters_.end(), id,
-                                    [](const auto& a, TrackId b) { return Value(a->id) < Value(b); });
+  const auto pos =
+      std::lower_bound(filters_.begin(), filters_.end(), id,
+                       [](const auto& a, TrackId b) { return Value(a->id) < Value(b); });
   filters_.insert(pos, std::move(f));
 }
 
@@ -288,24 +289,23 @@ void MultiTargetTracker::Update(const Observation& observation, const std::vecto
     } else if (!no_association) {
       f.supported = assigned >= 0;
     } else {
-      const TrackPrediction pred{.id = f.id,
-                                 .mean = predicted[i].mean,
-                                 .cov = predicted[i].cov,
-                                 .box = BoxPx::FromCentre(
-                                     predicted[i].mean.x(), predicted[i].mean.y(),
-                                     f.base_w_px * predicted[i].mean_scale,
-                                     f.base_h_px * predicted[i].mean_scale)};
-      f.supported = std::any_of(observation.detections.begin(), observation.detections.end(),
-                                [&](const Detection& d) {
-                                  return GatedCost(pred, d, options_.association).has_value();
-                                });
+      const TrackPrediction pred{
+          .id = f.id,
+          .mean = predicted[i].mean,
+          .cov = predicted[i].cov,
+          .box = BoxPx::FromCentre(predicted[i].mean.x(), predicted[i].mean.y(),
+                                   f.base_w_px * predicted[i].mean_scale,
+                                   f.base_h_px * predicted[i].mean_scale)};
+      f.supported = std::any_of(
+          observation.detections.begin(), observation.detections.end(),
+          [&](const Detection& d) { return GatedCost(pred, d, options_.association).has_value(); });
     }
     f.coasting = !f.supported && options_.management.coast_without_support;
     if (!f.coasting) {
       const LikelihoodInput input{
           .observation = &observation,
-          .assigned = assigned >= 0 ? &observation.detections[static_cast<size_t>(assigned)]
-                                    : nullptr,
+          .assigned =
+              assigned >= 0 ? &observation.detections[static_cast<size_t>(assigned)] : nullptr,
           .base_w_px = f.base_w_px,
           .base_h_px = f.base_h_px};
       components_.likelihood->AddLogLikelihood(f.set, input);
@@ -376,8 +376,8 @@ void MultiTargetTracker::ManageTracks(const Observation& observation,
   // duplicates of existing tracks).
   std::vector<size_t> free_detections;
   for (size_t d = 0; d < observation.detections.size(); ++d) {
-    const bool assigned = std::find(assignment.begin(), assignment.end(),
-                                    static_cast<int>(d)) != assignment.end();
+    const bool assigned =
+        std::find(assignment.begin(), assignment.end(), static_cast<int>(d)) != assignment.end();
     if (assigned) continue;
     const bool gated = std::any_of(predictions.begin(), predictions.end(), [&](const auto& p) {
       return GatedCost(p, observation.detections[d], options_.association).has_value();
@@ -452,12 +452,11 @@ void MultiTargetTracker::ManageTracks(const Observation& observation,
 
 std::unique_ptr<MultiTargetTracker> MakeTracker(const TrackerOptions& options, Rng rng) {
   options.Validate();
-  TrackerComponents components{
-      .dynamics = MakeDynamics(options.dynamics),
-      .likelihood = MakeLikelihood(options.likelihood),
-      .interaction = MakeInteraction(options.interaction),
-      .resampler = MakeResampler(options.resampling),
-      .associator = MakeAssociator(options.association)};
+  TrackerComponents components{.dynamics = MakeDynamics(options.dynamics),
+                               .likelihood = MakeLikelihood(options.likelihood),
+                               .interaction = MakeInteraction(options.interaction),
+                               .resampler = MakeResampler(options.resampling),
+                               .associator = MakeAssociator(options.association)};
   return std::make_unique<MultiTargetTracker>(options, std::move(components), rng);
 }
 

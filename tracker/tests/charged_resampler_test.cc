@@ -123,9 +123,9 @@ TEST(ChargedResampler, PotentialHandValues) {
   const std::vector<FilterSummary> others = {Neighbour(0.0, 0.0)};
   EXPECT_NEAR(ChargedResampler(Charged(1.0)).Potential(3.0, 0.0, others), std::exp(-9.0 / 58.0),
               1e-14);
-  EXPECT_NEAR(ChargedResampler(Charged(1.0, 20, ChargePotential::kCoulomb))
-                  .Potential(0.0, 3.0, others),
-              1.0 / 34.0, 1e-15);
+  EXPECT_NEAR(
+      ChargedResampler(Charged(1.0, 20, ChargePotential::kCoulomb)).Potential(0.0, 3.0, others),
+      1.0 / 34.0, 1e-15);
 }
 
 // Two clusters: particles [0, N/2) at the neighbour's mean (U = q = 1,

@@ -1,11 +1,12 @@
 // FastExp / FastLog against libm, and the ziggurat normal generator.
+#include "fast_math.h"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <limits>
 #include <vector>
 
-#include "fast_math.h"
 #include "hcpf/core/rng.h"
 #include "hcpf/tracker/normal.h"
 
@@ -38,8 +39,8 @@ TEST(FastExp, UnderflowsToZeroAndNeverNaN) {
 TEST(FastLog, MatchesStdLogToFewUlps) {
   double worst_abs = 0.0;
   for (double x = 1e-300; x < 1e300; x *= 1.0137) {
-    worst_abs = std::max(worst_abs, std::abs(FastLog(x) - std::log(x)) /
-                                        std::max(1.0, std::abs(std::log(x))));
+    worst_abs = std::max(worst_abs,
+                         std::abs(FastLog(x) - std::log(x)) / std::max(1.0, std::abs(std::log(x))));
   }
   EXPECT_LT(worst_abs, 1e-15);
   for (double x = 0.5; x < 2.0; x += 1e-4) {

@@ -46,8 +46,10 @@ Outcome RunPair(ResamplingMethod method, uint64_t seed, double offset_px = 12.0,
   for (int t = 0; t < frames; ++t) {
     Observation obs;
     obs.frame = t;
-    obs.detections.push_back({.box = BoxPx::FromCentre(a_at(t).x(), a_at(t).y(), 16, 16), .score = 1.0});
-    obs.detections.push_back({.box = BoxPx::FromCentre(b_at(t).x(), b_at(t).y(), 16, 16), .score = 0.25});
+    obs.detections.push_back(
+        {.box = BoxPx::FromCentre(a_at(t).x(), a_at(t).y(), 16, 16), .score = 1.0});
+    obs.detections.push_back(
+        {.box = BoxPx::FromCentre(b_at(t).x(), b_at(t).y(), 16, 16), .score = 0.25});
     r = tracker->Step(obs);
   }
   const Eigen::Vector2d a_end = a_at(frames - 1);

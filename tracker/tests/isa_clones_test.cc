@@ -46,29 +46,27 @@ Inputs MakeInputs(size_t n, uint64_t seed) {
   return in;
 }
 
-#define HCPF_KERNELS(SUFFIX, ATTR)                                                            \
-  ATTR void Mixture##SUFFIX(const Inputs& in, bool size, double* sum) {                       \
-    const size_t m = in.px.size();                                                          \
-    if (size) {                                                                             \
-      internal::MixtureKernel<true>(in.comps.data(), in.comps.size(), in.px.data(),         \
-                                    in.py.data(), in.log_s.data(), 1.0 / 18.0, 1.0 / 0.08,  \
-                                    sum, m);                                                \
-    } else {                                                                                \
-      internal::MixtureKernel<false>(in.comps.data(), in.comps.size(), in.px.data(),        \
-                                     in.py.data(), in.log_s.data(), 1.0 / 18.0, 0.0, sum,   \
-                                     m);                                                    \
-    }                                                                                       \
-  }                                                                                         \
-  ATTR void Exp##SUFFIX(const std::vector<double>& x, double* out) {                         \
-    for (size_t i = 0; i < x.size(); ++i) out[i] = internal::FastExp(x[i]);                 \
-  }                                                                                         \
-  ATTR void ExpF##SUFFIX(const std::vector<double>& x, double* out) {                        \
-    for (size_t i = 0; i < x.size(); ++i) {                                                 \
-      out[i] = internal::FastExpF(static_cast<float>(x[i] * 0.125));                        \
-    }                                                                                       \
-  }                                                                                         \
-  ATTR void Log##SUFFIX(const std::vector<double>& x, double* out) {                         \
-    for (size_t i = 0; i < x.size(); ++i) out[i] = internal::FastLog(x[i] * x[i] * 1e-300); \
+#define HCPF_KERNELS(SUFFIX, ATTR)                                                                 \
+  ATTR void Mixture##SUFFIX(const Inputs& in, bool size, double* sum) {                            \
+    const size_t m = in.px.size();                                                                 \
+    if (size) {                                                                                    \
+      internal::MixtureKernel<true>(in.comps.data(), in.comps.size(), in.px.data(), in.py.data(),  \
+                                    in.log_s.data(), 1.0 / 18.0, 1.0 / 0.08, sum, m);              \
+    } else {                                                                                       \
+      internal::MixtureKernel<false>(in.comps.data(), in.comps.size(), in.px.data(), in.py.data(), \
+                                     in.log_s.data(), 1.0 / 18.0, 0.0, sum, m);                    \
+    }                                                                                              \
+  }                                                                                                \
+  ATTR void Exp##SUFFIX(const std::vector<double>& x, double* out) {                               \
+    for (size_t i = 0; i < x.size(); ++i) out[i] = internal::FastExp(x[i]);                        \
+  }                                                                                                \
+  ATTR void ExpF##SUFFIX(const std::vector<double>& x, double* out) {                              \
+    for (size_t i = 0; i < x.size(); ++i) {                                                        \
+      out[i] = internal::FastExpF(static_cast<float>(x[i] * 0.125));                               \
+    }                                                                                              \
+  }                                                                                                \
+  ATTR void Log##SUFFIX(const std::vector<double>& x, double* out) {                               \
+    for (size_t i = 0; i < x.size(); ++i) out[i] = internal::FastLog(x[i] * x[i] * 1e-300);        \
   }
 
 HCPF_KERNELS(Scalar, __attribute__((noinline, optimize("no-tree-vectorize"))))
@@ -93,8 +91,8 @@ std::vector<Isa> Isas() {
   __builtin_cpu_init();
   return {{"baseline", true, MixtureBaseline, ExpBaseline, ExpFBaseline, LogBaseline},
           {"avx2", __builtin_cpu_supports("avx2") != 0, MixtureAvx2, ExpAvx2, ExpFAvx2, LogAvx2},
-          {"avx512f", __builtin_cpu_supports("avx512f") != 0, MixtureAvx512, ExpAvx512,
-           ExpFAvx512, LogAvx512}};
+          {"avx512f", __builtin_cpu_supports("avx512f") != 0, MixtureAvx512, ExpAvx512, ExpFAvx512,
+           LogAvx512}};
 }
 
 bool SameBits(const std::vector<double>& a, const std::vector<double>& b) {

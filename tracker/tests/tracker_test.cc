@@ -97,11 +97,13 @@ std::vector<FrameReport> RunThree(TrackerOptions o, bool reverse_births) {
   auto tracker = MakeTracker(o, Rng(42));
   std::vector<int> ids = {1, 2, 3};
   if (reverse_births) std::reverse(ids.begin(), ids.end());
-  for (const int id : ids) tracker->BirthTrack(TrackId{id}, BoxPx::FromCentre(100.0 + 15.0 * id, 80, 16, 16));
+  for (const int id : ids)
+    tracker->BirthTrack(TrackId{id}, BoxPx::FromCentre(100.0 + 15.0 * id, 80, 16, 16));
   std::vector<FrameReport> out;
   for (int t = 0; t < 15; ++t) {
     std::vector<std::pair<BoxPx, double>> dets;
-    for (int id = 1; id <= 3; ++id) dets.push_back({BoxPx::FromCentre(100.0 + 15.0 * id + t, 80 + 0.5 * t, 16, 16), 0.3 * id});
+    for (int id = 1; id <= 3; ++id)
+      dets.push_back({BoxPx::FromCentre(100.0 + 15.0 * id + t, 80 + 0.5 * t, 16, 16), 0.3 * id});
     out.push_back(tracker->Step(Frame(t, dets)));
   }
   return out;
@@ -214,7 +216,8 @@ TEST(MultiTargetTracker, MOfNConfirmationFromDetections) {
   // Frames 3, 4: the clutter tentative (1 hit) can no longer reach 3 hits and
   // must never be born; the track keeps being supported.
   for (int t = 3; t < 8; ++t) {
-    const FrameReport q = tracker->Step(Frame(t, {{BoxPx::FromCentre(50 + 2 * t, 50, 10, 10), 1.0}}));
+    const FrameReport q =
+        tracker->Step(Frame(t, {{BoxPx::FromCentre(50 + 2 * t, 50, 10, 10), 1.0}}));
     EXPECT_TRUE(q.born.empty()) << t;
   }
   EXPECT_EQ(tracker->num_filters(), 1U);
@@ -258,8 +261,8 @@ TEST(MultiTargetTracker, VanishedWeightsAreRecoveredAndCounted) {
   auto tracker = MakeTracker(o, Rng(6));
   tracker->BirthTrack(TrackId{1}, BoxPx::FromCentre(20, 20, 8, 8));
   Observation obs;
-  obs.likelihood = LikelihoodMap{.width = 4, .height = 4, .cell_px = 10.0,
-                                 .values = std::vector<float>(16, 0.0F)};
+  obs.likelihood = LikelihoodMap{
+      .width = 4, .height = 4, .cell_px = 10.0, .values = std::vector<float>(16, 0.0F)};
   const FrameReport r = tracker->Step(obs);
   EXPECT_EQ(r.degenerate_filters, 1);
   EXPECT_TRUE(r.filters[0].recovered_degenerate);

@@ -9,8 +9,8 @@
 #include <string>
 #include <vector>
 
-#include "hcpf/core/fields.h"
 #include "hcpf/config/yaml_reader.h"
+#include "hcpf/core/fields.h"
 
 namespace hcpf::config {
 
@@ -26,8 +26,8 @@ void ReadFields(YamlReader& r, O& o, std::span<const Field<O>> fields) {
         o.*f.number = r.Number(key, o.*f.number, f.range);
         break;
       case FieldType::kInteger:
-        o.*f.integer = static_cast<int>(r.Integer(key, o.*f.integer, static_cast<int64_t>(f.range.lo),
-                                                  static_cast<int64_t>(f.range.hi)));
+        o.*f.integer = static_cast<int>(r.Integer(
+            key, o.*f.integer, static_cast<int64_t>(f.range.lo), static_cast<int64_t>(f.range.hi)));
         break;
       case FieldType::kFlag:
         o.*f.flag = r.Bool(key, o.*f.flag);

@@ -16,9 +16,9 @@
 #include <string>
 #include <vector>
 
+#include "hcpf/config/overrides.h"
 #include "hcpf/core/error.h"
 #include "hcpf/core/fields.h"
-#include "hcpf/config/overrides.h"
 
 namespace hcpf::config {
 
@@ -104,8 +104,7 @@ class YamlReader {
 // Applies each `--set` override to `root` (a mapping) in order and records in
 // `context` where each value came from, so errors about it name the override
 // (its text and index) instead of a file line.
-void ApplyOverrides(YAML::Node root, const std::vector<Override>& overrides,
-                    YamlContext* context);
+void ApplyOverrides(YAML::Node root, const std::vector<Override>& overrides, YamlContext* context);
 
 // Levenshtein distance (for "did you mean").
 int EditDistance(const std::string& a, const std::string& b);

@@ -13,10 +13,13 @@
 namespace hcpf {
 
 template <class E>
-struct EnumNames;  // specialise: static constexpr std::array<std::pair<E, std::string_view>, N> kNames
+struct EnumNames;  // specialise: static constexpr std::array<std::pair<E, std::string_view>, N>
+                   // kNames
 
 template <class E>
-concept NamedEnum = std::is_enum_v<E> && requires { EnumNames<E>::kNames; };
+concept NamedEnum = std::is_enum_v<E> && requires {
+  EnumNames<E>::kNames;
+};
 
 // The name of `value`; "?" for a value outside the table (a bug).
 template <NamedEnum E>

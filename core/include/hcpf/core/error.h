@@ -29,8 +29,7 @@ class Error : public std::runtime_error {
 //   scenario.yaml:12:5: tracker.particles: expected an integer in [1, 10000000], found "many"
 class InputError : public Error {
  public:
-  InputError(SourceLocation where, std::string expected, std::string found,
-             std::string hint = {});
+  InputError(SourceLocation where, std::string expected, std::string found, std::string hint = {});
   explicit InputError(const std::string& message);
 
   const SourceLocation& where() const { return where_; }

@@ -127,7 +127,7 @@ struct MemberOf<T O::*> {
 // An enum member whose names come from EnumNames<E> (core/enum_names.h).
 template <auto Member>
 Field<typename internal::MemberOf<decltype(Member)>::Object> ChoiceField(std::string_view key,
-                                                                        std::string_view doc) {
+                                                                         std::string_view doc) {
   using O = typename internal::MemberOf<decltype(Member)>::Object;
   using E = typename internal::MemberOf<decltype(Member)>::Type;
   static_assert(NamedEnum<E>, "specialise EnumNames<E> for the member's enum");
@@ -148,7 +148,7 @@ Field<typename internal::MemberOf<decltype(Member)>::Object> ChoiceField(std::st
 // A text member that holds one of a fixed list of words, `Names()`.
 template <auto Member, std::vector<std::string_view> (*Names)()>
 Field<typename internal::MemberOf<decltype(Member)>::Object> WordField(std::string_view key,
-                                                                      std::string_view doc) {
+                                                                       std::string_view doc) {
   using O = typename internal::MemberOf<decltype(Member)>::Object;
   static_assert(std::is_same_v<typename internal::MemberOf<decltype(Member)>::Type, std::string>);
   Field<O> f;

@@ -14,13 +14,13 @@ namespace hcpf {
 
 struct GroundTruthObject {
   ObjectId id{};
-  bool in_frame = false;       // some of the amodal box is inside the image
-  BoxPx amodal_box;            // bounding box of the projected 3-D box (unclipped)
-  BoxPx visible_box;           // bounding box of the visible part (empty if none)
+  bool in_frame = false;          // some of the amodal box is inside the image
+  BoxPx amodal_box;               // bounding box of the projected 3-D box (unclipped)
+  BoxPx visible_box;              // bounding box of the visible part (empty if none)
   double visible_fraction = 0.0;  // visible / unoccluded target area inside the image
-  double truncation = 0.0;     // fraction of the amodal box area outside the image
-  int64_t pixels_visible = -1;  // renderer only (-1 = analytic estimate)
-  int64_t pixels_total = -1;    // renderer only: pixels of the unoccluded render
+  double truncation = 0.0;        // fraction of the amodal box area outside the image
+  int64_t pixels_visible = -1;    // renderer only (-1 = analytic estimate)
+  int64_t pixels_total = -1;      // renderer only: pixels of the unoccluded render
   Eigen::Vector3d position_m = Eigen::Vector3d::Zero();
   double heading_deg = 0.0;
   Eigen::Vector3d dimensions_m = Eigen::Vector3d::Zero();

@@ -3,12 +3,11 @@
 // observations, ground truth and track estimates. Copyable, comparable, no
 // behaviour beyond small geometric helpers. Units are in the names.
 
+#include <Eigen/Core>
 #include <compare>
 #include <cstdint>
 #include <optional>
 #include <vector>
-
-#include <Eigen/Core>
 
 namespace hcpf {
 
@@ -62,8 +61,8 @@ struct Detection {
 // A dense likelihood (or detector accumulator) over the image at a reduced
 // resolution: value(cx, cy) covers image pixels [cx*cell_px, (cx+1)*cell_px).
 struct LikelihoodMap {
-  int width = 0;      // cells
-  int height = 0;     // cells
+  int width = 0;   // cells
+  int height = 0;  // cells
   double cell_px = 1.0;
   std::vector<float> values;  // row-major, width*height, >= 0
 

@@ -4,15 +4,15 @@
 // without pixels. scenarios/ fills a WorldSpec from YAML; the renderer draws
 // it; ground_truth.h projects it.
 
-#include <span>
 #include <Eigen/Core>
 #include <array>
 #include <optional>
+#include <span>
 #include <string>
 #include <vector>
 
-#include "hcpf/core/fields.h"
 #include "hcpf/core/camera.h"
+#include "hcpf/core/fields.h"
 #include "hcpf/core/types.h"
 
 namespace hcpf {
@@ -21,10 +21,10 @@ namespace hcpf {
 // 10 m) scaled so heights stay within [-relief_m/2, +relief_m/2].
 struct TerrainSpec {
   Eigen::Vector2d size_m{400.0, 400.0};  // extent in x and y, centred on the origin
-  double relief_m = 0.0;                  // peak-to-peak bound of the height field
-  std::string texture = "grass";          // grass | dirt | asphalt | sand
-  bool roads = false;                     // draw asphalt roads along target paths
-  uint64_t seed = 0;                      // derived from the scenario seed
+  double relief_m = 0.0;                 // peak-to-peak bound of the height field
+  std::string texture = "grass";         // grass | dirt | asphalt | sand
+  bool roads = false;                    // draw asphalt roads along target paths
+  uint64_t seed = 0;                     // derived from the scenario seed
 
   // The declared scalar fields (relief_m, texture, roads; core/fields.h).
   static std::span<const Field<TerrainSpec>> Fields();
@@ -62,13 +62,13 @@ struct OccluderSpec {
   Eigen::Vector2d from_m = Eigen::Vector2d::Zero();
   Eigen::Vector2d to_m = Eigen::Vector2d::Zero();
   double width_m = 8.0;
-  double height_m = 6.0;   // bridge deck top / tree height
+  double height_m = 6.0;  // bridge deck top / tree height
   // building / tree / mesh: position; building: size (x, y, z).
   Eigen::Vector2d at_m = Eigen::Vector2d::Zero();
   Eigen::Vector3d size_m{10.0, 10.0, 10.0};
   double yaw_deg = 0.0;
-  std::string model;        // mesh occluders: path of the model file
-  double scale = 1.0;       // mesh occluders: uniform scale
+  std::string model;   // mesh occluders: path of the model file
+  double scale = 1.0;  // mesh occluders: uniform scale
   // The boxes this occluder is made of, for analytic visibility (and the
   // renderer's own primitive meshes). Mesh occluders are their model's
   // bounding box (size_m, filled by the loader), standing on the terrain.
@@ -87,19 +87,19 @@ struct TargetPathSpec {
   PathKind kind = PathKind::kWaypoints;
   std::vector<Eigen::Vector2d> waypoints_m;  // kWaypoints (one point = static target)
   double speed_mps = 5.0;
-  std::vector<PathStop> stops;               // kWaypoints: stop-and-go
+  std::vector<PathStop> stops;                        // kWaypoints: stop-and-go
   Eigen::Vector2d start_m = Eigen::Vector2d::Zero();  // kConstantTurn
-  double heading_deg = 0.0;       // kConstantTurn start heading; static-target heading
-  double turn_rate_deg_s = 0.0;   // kConstantTurn, positive = counter-clockwise
-  int start_frame = 0;            // first frame the target exists
-  int end_frame = -1;             // last frame it exists (-1 = to the end)
-  bool vanish_at_end = false;     // kWaypoints: leave the scene at the last waypoint
+  double heading_deg = 0.0;      // kConstantTurn start heading; static-target heading
+  double turn_rate_deg_s = 0.0;  // kConstantTurn, positive = counter-clockwise
+  int start_frame = 0;           // first frame the target exists
+  int end_frame = -1;            // last frame it exists (-1 = to the end)
+  bool vanish_at_end = false;    // kWaypoints: leave the scene at the last waypoint
 };
 
 struct TargetSpec {
   ObjectId id{};
-  std::string model;                           // vehicle model file ("" = plain box)
-  Eigen::Vector3d tint{0.5, 0.5, 0.5};         // RGB in [0, 1]
+  std::string model;                            // vehicle model file ("" = plain box)
+  Eigen::Vector3d tint{0.5, 0.5, 0.5};          // RGB in [0, 1]
   Eigen::Vector3d dimensions_m{4.5, 2.0, 1.6};  // length, width, height
   TargetPathSpec path;
 };
@@ -133,7 +133,7 @@ struct WorldSpec {
 struct TargetPose {
   bool present = false;
   Eigen::Vector3d position_m = Eigen::Vector3d::Zero();  // centre of the base, on the terrain
-  double heading_deg = 0.0;   // direction of travel, counter-clockwise from +x
+  double heading_deg = 0.0;  // direction of travel, counter-clockwise from +x
   double speed_mps = 0.0;
   // The target's 3-D box.
   OrientedBox Box(const Eigen::Vector3d& dimensions_m) const;

@@ -11,10 +11,10 @@
 // target o at frame t when its estimate's centre lies within
 // gate_factor * max(w_o, h_o) / 2 of o's centre; the nearest such target wins.
 
-#include <span>
 #include <array>
 #include <cstdint>
 #include <optional>
+#include <span>
 #include <string>
 #include <utility>
 #include <vector>
@@ -74,20 +74,20 @@ inline constexpr int kNumFilterStates = 6;
 const char* FilterStateName(FilterState state);
 
 struct FilterFrameRecord {
-  int frame = 0;           // index into FilterSequence::frames
+  int frame = 0;  // index into FilterSequence::frames
   int64_t filter = 0;
-  int64_t target = -1;     // g(k), -1 when the filter has none
-  int64_t covered = -1;    // target covered, -1 when none
+  int64_t target = -1;   // g(k), -1 when the filter has none
+  int64_t covered = -1;  // target covered, -1 when none
   FilterState state = FilterState::kLost;
   double mass_on_other = -1.0;  // share of particle weight on a target != g(k); -1 without cloud
 };
 
 struct Encounter {
-  int64_t target_a = 0, target_b = 0;  // a < b
+  int64_t target_a = 0, target_b = 0;   // a < b
   int first_frame = 0, last_frame = 0;  // inclusive
   int eval_frame = 0;                   // min(last_frame + post_window, last frame of the sequence)
-  bool hijacked = false;                // a filter of a or b HIJACKED/STRAYED/LOST (or gone) at eval_frame
-  bool swapped = false;                 // the filters of a and b both SWAPPED at eval_frame
+  bool hijacked = false;  // a filter of a or b HIJACKED/STRAYED/LOST (or gone) at eval_frame
+  bool swapped = false;   // the filters of a and b both SWAPPED at eval_frame
 };
 
 struct VisibilityBin {
@@ -98,18 +98,18 @@ struct VisibilityBin {
 
 struct FilterMetrics {
   std::vector<std::pair<int64_t, int64_t>> mapping;  // filter id -> target id used
-  std::vector<FilterFrameRecord> records;           // frame-major, filters in input order
+  std::vector<FilterFrameRecord> records;            // frame-major, filters in input order
   std::array<int64_t, kNumFilterStates> state_counts{};
-  int64_t scored = 0;          // filter-frames not COASTING
-  double da_accuracy = 0.0;    // CORRECT / scored (0 when nothing scored)
+  int64_t scored = 0;        // filter-frames not COASTING
+  double da_accuracy = 0.0;  // CORRECT / scored (0 when nothing scored)
   std::vector<Encounter> encounters;
   int64_t hijacked_encounters = 0;
   int64_t swaps = 0;
-  double hijack_rate = 0.0;                   // hijacked encounters / encounters (0 when none)
-  std::vector<double> hijacked_fraction;      // per frame: HIJACKED / scored filters in that frame
-  double hijacked_fraction_overall = 0.0;     // HIJACKED / scored over all frames
+  double hijack_rate = 0.0;                // hijacked encounters / encounters (0 when none)
+  std::vector<double> hijacked_fraction;   // per frame: HIJACKED / scored filters in that frame
+  double hijacked_fraction_overall = 0.0;  // HIJACKED / scored over all frames
   std::vector<VisibilityBin> da_by_visibility;
-  double mean_mass_on_other = 0.0;            // over filter-frames with a cloud
+  double mean_mass_on_other = 0.0;  // over filter-frames with a cloud
   int64_t frames_with_cloud = 0;
 };
 

@@ -27,14 +27,14 @@ namespace hcpf::metrics {
 
 // One row of a MOT file, numbers as written.
 struct MotRow {
-  int frame = 0;          // 1-based
+  int frame = 0;  // 1-based
   int64_t id = 0;
-  BoxPx box;              // as in the file (1-based left/top)
-  double conf = 1.0;      // column 7: MOT15 conf / MOT17 consider flag / tracker score
-  double col8 = -1.0;     // MOT17 gt: class; MOT15 gt: world x; tracker: -1
-  double col9 = -1.0;     // MOT17 gt: visibility; MOT15 gt: world y
-  double col10 = -1.0;    // MOT15 gt: world z
-  int line = 0;           // 1-based line in the file it came from (0 = not read from a file)
+  BoxPx box;            // as in the file (1-based left/top)
+  double conf = 1.0;    // column 7: MOT15 conf / MOT17 consider flag / tracker score
+  double col8 = -1.0;   // MOT17 gt: class; MOT15 gt: world x; tracker: -1
+  double col9 = -1.0;   // MOT17 gt: visibility; MOT15 gt: world y
+  double col10 = -1.0;  // MOT15 gt: world z
+  int line = 0;         // 1-based line in the file it came from (0 = not read from a file)
   friend bool operator==(const MotRow&, const MotRow&) = default;
 };
 
@@ -106,7 +106,11 @@ std::string FormatMotGroundTruth(const std::vector<MotRow>& rows);
 std::string FormatMotTracks(const std::vector<MotRow>& rows);
 
 // MOT files are 1-based: MOT left = BoxPx left + 1 (see hcpf::BoxPx).
-inline BoxPx MotBoxToPx(const BoxPx& mot) { return {mot.left - 1.0, mot.top - 1.0, mot.width, mot.height}; }
-inline BoxPx PxToMotBox(const BoxPx& px) { return {px.left + 1.0, px.top + 1.0, px.width, px.height}; }
+inline BoxPx MotBoxToPx(const BoxPx& mot) {
+  return {mot.left - 1.0, mot.top - 1.0, mot.width, mot.height};
+}
+inline BoxPx PxToMotBox(const BoxPx& px) {
+  return {px.left + 1.0, px.top + 1.0, px.width, px.height};
+}
 
 }  // namespace hcpf::metrics

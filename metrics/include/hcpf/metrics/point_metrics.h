@@ -52,7 +52,7 @@ struct GospaTerms {
   double false_alarm = 0.0;   // c^p / 2 per false estimate
   double switching = 0.0;     // gamma^p * switches
   int64_t num_assigned = 0, num_missed = 0, num_false = 0;
-  double switches = 0.0;      // full switches + 0.5 * half switches
+  double switches = 0.0;  // full switches + 0.5 * half switches
 };
 
 // GOSPA (alpha = 2) of one frame without the switching term.
@@ -60,9 +60,9 @@ GospaTerms Gospa(std::span<const IdPoint> truth, std::span<const IdPoint> estima
                  double order);
 
 struct PointMetrics {
-  std::vector<double> ospa;         // per frame
-  std::vector<GospaTerms> gospa;    // per frame
-  double mean_ospa = 0.0;           // arithmetic means over frames (0 for no frames)
+  std::vector<double> ospa;       // per frame
+  std::vector<GospaTerms> gospa;  // per frame
+  double mean_ospa = 0.0;         // arithmetic means over frames (0 for no frames)
   double mean_gospa = 0.0;
   double total_switches = 0.0;
 };

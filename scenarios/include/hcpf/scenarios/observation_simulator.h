@@ -25,7 +25,8 @@
 
 namespace hcpf::scenarios {
 
-Observation SimulateObservation(const FrameGroundTruth& gt, const SimulatedObservationOptions& options,
+Observation SimulateObservation(const FrameGroundTruth& gt,
+                                const SimulatedObservationOptions& options,
                                 uint64_t observation_seed);
 
 }  // namespace hcpf::scenarios

@@ -4,8 +4,8 @@
 
 #include <array>
 #include <cstdint>
-#include <span>
 #include <map>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -30,17 +30,17 @@ struct Seeds {
 
 // The simulated (oracle) detector of detection-level mode.
 struct SimulatedObservationOptions {
-  double sigma_px = 2.0;            // std. dev. of the detected centre, pixels
-  double size_sigma = 0.05;         // std. dev. of log box size (relative)
-  double p_detect = 0.95;           // detection probability of a fully visible target
-  double visibility_exponent = 1.0; // p = p_detect * visible_fraction^exponent
-  double min_visible = 0.05;        // no detection below this visible fraction
-  double clutter_per_frame = 1.0;   // Poisson mean of false detections per frame
+  double sigma_px = 2.0;               // std. dev. of the detected centre, pixels
+  double size_sigma = 0.05;            // std. dev. of log box size (relative)
+  double p_detect = 0.95;              // detection probability of a fully visible target
+  double visibility_exponent = 1.0;    // p = p_detect * visible_fraction^exponent
+  double min_visible = 0.05;           // no detection below this visible fraction
+  double clutter_per_frame = 1.0;      // Poisson mean of false detections per frame
   std::map<int32_t, double> strength;  // per target id; absent = 1.0
-  bool likelihood_map = false;      // also produce a likelihood map
-  double map_cell_px = 4.0;         // map resolution: image pixels per cell
-  double map_blob_scale = 0.5;      // blob std. dev. = scale * mean(box w, h) / 2
-  double map_noise = 0.05;          // noise floor: max of uniform noise per cell
+  bool likelihood_map = false;         // also produce a likelihood map
+  double map_cell_px = 4.0;            // map resolution: image pixels per cell
+  double map_blob_scale = 0.5;         // blob std. dev. = scale * mean(box w, h) / 2
+  double map_noise = 0.05;             // noise floor: max of uniform noise per cell
 
   // The declared fields (core/fields.h), all but `strength` (a map by id).
   static std::span<const Field<SimulatedObservationOptions>> Fields();
@@ -89,7 +89,7 @@ struct RendererConfig {
   // Shadow filter radius: 0 = one bilinear depth-comparison tap (2x2 PCF, the
   // default: 64 fps at 640x480 on one llvmpipe core), r > 0 = (2r)^2 such taps.
   int pcf_radius = 0;
-  bool write_frames = false;     // `hcpf run`: also write frames/*.png
+  bool write_frames = false;  // `hcpf run`: also write frames/*.png
   bool write_depth = false;
   bool write_instance_ids = false;
 

@@ -1,14 +1,13 @@
 #pragma once
 // Data association: which detection (if any) belongs to which filter.
 
+#include <Eigen/Core>
 #include <array>
 #include <memory>
 #include <optional>
 #include <span>
 #include <string_view>
 #include <vector>
-
-#include <Eigen/Core>
 
 #include "hcpf/core/enum_names.h"
 #include "hcpf/core/fields.h"
@@ -70,7 +69,7 @@ struct TrackPrediction {
   TrackId id{};
   Eigen::Vector2d mean = Eigen::Vector2d::Zero();  // box centre, px
   Eigen::Matrix2d cov = Eigen::Matrix2d::Zero();   // px^2
-  BoxPx box;                                        // predicted box
+  BoxPx box;                                       // predicted box
 };
 
 // Gate test and cost of pairing a prediction with a detection: the squared

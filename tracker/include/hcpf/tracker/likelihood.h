@@ -26,7 +26,8 @@ enum class LikelihoodModel {
 template <>
 struct hcpf::EnumNames<hcpf::tracker::LikelihoodModel> {
   static constexpr std::array kNames = {
-      std::pair{hcpf::tracker::LikelihoodModel::kDetectionsMixture, std::string_view("detections_mixture")},
+      std::pair{hcpf::tracker::LikelihoodModel::kDetectionsMixture,
+                std::string_view("detections_mixture")},
       std::pair{hcpf::tracker::LikelihoodModel::kAssociated, std::string_view("associated")},
       std::pair{hcpf::tracker::LikelihoodModel::kMap, std::string_view("map")}};
 };

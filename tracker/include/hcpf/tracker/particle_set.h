@@ -13,12 +13,11 @@
 //           which a rigid vehicle seen from above does not change.
 // Stored structure-of-arrays so predict/update loops vectorise.
 
+#include <Eigen/Core>
 #include <cstddef>
 #include <cstdint>
 #include <span>
 #include <vector>
-
-#include <Eigen/Core>
 
 #include "hcpf/core/types.h"
 

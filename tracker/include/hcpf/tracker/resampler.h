@@ -50,8 +50,8 @@ struct ResampleResult {
 class Resampler {
  public:
   virtual ~Resampler() = default;
-  virtual ResampleResult Resample(const ParticleSet& set, const ResampleContext& context,
-                                  Rng& rng, std::span<int32_t> ancestors) const = 0;
+  virtual ResampleResult Resample(const ParticleSet& set, const ResampleContext& context, Rng& rng,
+                                  std::span<int32_t> ancestors) const = 0;
   virtual std::string_view name() const = 0;
 };
 

@@ -6,6 +6,7 @@
 // no ground truth (the run pipeline calls BirthTrack when a scenario asks for
 // `init: ground_truth`).
 
+#include <Eigen/Core>
 #include <array>
 #include <cstdint>
 #include <memory>
@@ -13,8 +14,6 @@
 #include <span>
 #include <string_view>
 #include <vector>
-
-#include <Eigen/Core>
 
 #include "hcpf/core/enum_names.h"
 #include "hcpf/core/fields.h"
@@ -116,9 +115,9 @@ struct FilterReport {
   bool recovered_degenerate = false;               // all weights vanished; reset (docs)
   bool coasting = false;                           // predicted only this frame
   bool resampled = false;
-  int assigned_detection = -1;                     // index into Observation::detections
-  int missed_frames = 0;                           // consecutive frames without support
-  std::vector<ParticlePoint> particles;            // decimated cloud (keep_particles)
+  int assigned_detection = -1;           // index into Observation::detections
+  int missed_frames = 0;                 // consecutive frames without support
+  std::vector<ParticlePoint> particles;  // decimated cloud (keep_particles)
 };
 
 struct FrameReport {

@@ -5,7 +5,7 @@
 #include <memory>
 
 #include "command.h"
-#include "hcpf/scenarios/results_store.h"
+#include "hcpf/studies/results_store.h"
 
 namespace hcpf::cli {
 
@@ -22,7 +22,7 @@ Command AddMergeCommand(CLI::App& parent) {
       ->required();
   app->add_option("dirs", options->inputs, "Shard folders (each with results.sqlite)")->required();
   return {app, [options] {
-            const scenarios::MergeResult r = scenarios::MergeStores(options->out, options->inputs);
+            const studies::MergeResult r = studies::MergeStores(options->out, options->inputs);
             spdlog::info(
                 "merged {} store(s) into {}/results.sqlite: {} runs added, {} duplicates skipped",
                 options->inputs.size(), options->out, r.added, r.duplicates);

@@ -7,12 +7,12 @@
 #include <memory>
 
 #include "command.h"
-#include "hcpf/scenarios/regress.h"
+#include "hcpf/studies/regress.h"
 
 namespace hcpf::cli {
 
 Command AddRegressCommand(CLI::App& parent) {
-  auto options = std::make_shared<scenarios::RegressOptions>();
+  auto options = std::make_shared<studies::RegressOptions>();
   CLI::App* app = parent.add_subcommand("regress",
                                         "Run a suite of golden scenes and compare their metrics "
                                         "with a baseline (exit 1 on a regression)");
@@ -29,7 +29,7 @@ Command AddRegressCommand(CLI::App& parent) {
       ->check(CLI::Range(1, 1024))
       ->capture_default_str();
   return {app, [options] {
-            const scenarios::RegressResult r = scenarios::RunRegress(*options);
+            const studies::RegressResult r = studies::RunRegress(*options);
             std::fputs(r.table.c_str(), stdout);
             std::fflush(stdout);
             if (r.baseline_written) {

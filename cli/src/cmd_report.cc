@@ -7,12 +7,12 @@
 #include <memory>
 
 #include "command.h"
-#include "hcpf/scenarios/report.h"
+#include "hcpf/studies/report.h"
 
 namespace hcpf::cli {
 
 Command AddReportCommand(CLI::App& parent) {
-  auto options = std::make_shared<scenarios::ReportOptions>();
+  auto options = std::make_shared<studies::ReportOptions>();
   CLI::App* app = parent.add_subcommand(
       "report",
       "Write DIR/report.html (plots, table, base scenario) and DIR/summary.csv from a sweep");
@@ -20,7 +20,7 @@ Command AddReportCommand(CLI::App& parent) {
   app->add_option("--gnuplot", options->gnuplot, "The gnuplot executable")->capture_default_str();
   return {app, [options] {
             const auto start = std::chrono::steady_clock::now();
-            const scenarios::ReportResult r = scenarios::WriteReport(*options);
+            const studies::ReportResult r = studies::WriteReport(*options);
             const double s =
                 std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
             spdlog::info("report: {} plots, {} cells in {:.2f} s; {}", r.plots, r.cells, s,

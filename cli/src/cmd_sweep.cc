@@ -12,7 +12,7 @@
 #include "command.h"
 #include "hcpf/core/error.h"
 #include "hcpf/scenarios/frames.h"
-#include "hcpf/scenarios/sweep.h"
+#include "hcpf/studies/sweep.h"
 
 namespace hcpf::cli {
 
@@ -73,7 +73,7 @@ Command AddSweepCommand(CLI::App& parent) {
                 "Render every run's frames, read and write no cache");
   return {
       app, [options] {
-        scenarios::SweepOptions sweep_options;
+        studies::SweepOptions sweep_options;
         sweep_options.out_dir = options->out;
         sweep_options.jobs =
             options->jobs > 0 ? options->jobs
@@ -94,9 +94,9 @@ Command AddSweepCommand(CLI::App& parent) {
         // worker, since the workers already use every core. Must be set
         // before the first GL context; an explicit setting is kept.
         if (sweep_options.jobs > 1) ::setenv("LP_NUM_THREADS", "1", 0);
-        const scenarios::SweepSpec spec = scenarios::LoadSweepFile(options->file);
-        const std::vector<scenarios::SweepRun> runs = scenarios::ExpandSweep(spec);
-        const scenarios::SweepResult r = scenarios::RunSweep(spec, runs, sweep_options);
+        const studies::SweepSpec spec = studies::LoadSweepFile(options->file);
+        const std::vector<studies::SweepRun> runs = studies::ExpandSweep(spec);
+        const studies::SweepResult r = studies::RunSweep(spec, runs, sweep_options);
         spdlog::info(
             "sweep finished: {} runs, {} reused, {} computed, {} failed; results in "
             "{}/results.sqlite",

@@ -5,7 +5,7 @@
 #include <cstdlib>
 #include <memory>
 
-#include "progress.h"
+#include "hcpf/scenarios/progress.h"
 
 namespace hcpf::scenarios {
 

@@ -8,7 +8,6 @@
 
 #include "hcpf/config/file_lookup.h"
 #include "hcpf/renderer/mesh.h"
-#include "text.h"
 
 namespace hcpf::scenarios {
 

@@ -1,4 +1,4 @@
-#include "output_folder.h"
+#include "hcpf/scenarios/output_folder.h"
 
 #include <fmt/format.h>
 #include <signal.h>

@@ -1,4 +1,4 @@
-#include "progress.h"
+#include "hcpf/scenarios/progress.h"
 
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>

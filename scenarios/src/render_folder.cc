@@ -10,8 +10,8 @@
 #include "hcpf/metrics/mot_io.h"
 #include "hcpf/renderer/image_io.h"
 #include "hcpf/scenarios/frames.h"
+#include "hcpf/scenarios/output_folder.h"
 #include "hcpf/scenarios/version.h"
-#include "output_folder.h"
 #include "writers.h"
 
 namespace hcpf::scenarios {

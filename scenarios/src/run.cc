@@ -16,11 +16,11 @@
 #include "hcpf/metrics/report.h"
 #include "hcpf/scenarios/frames.h"
 #include "hcpf/scenarios/observation_simulator.h"
+#include "hcpf/scenarios/output_folder.h"
 #include "hcpf/scenarios/overlay.h"
+#include "hcpf/scenarios/progress.h"
 #include "hcpf/scenarios/version.h"
 #include "hcpf/tracker/tracker.h"
-#include "output_folder.h"
-#include "progress.h"
 #include "writers.h"
 
 namespace hcpf::scenarios {

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "hcpf/core/ground_truth.h"
+#include "hcpf/core/text_file.h"
 #include "hcpf/core/types.h"
 #include "hcpf/metrics/filter_metrics.h"
 #include "hcpf/metrics/mot_io.h"
@@ -48,8 +49,5 @@ std::string FormatGroundTruthJson(const Scenario& scenario,
 // scenario, config hash, seeds, library versions, GL renderer or null).
 nlohmann::json ManifestProvenance(const std::string& format, const Scenario& scenario,
                                   const std::optional<renderer::GlInfo>& gl);
-
-// Writes `text` to `path`; throws RunError naming the path on failure.
-void WriteTextFile(const std::string& path, const std::string& text);
 
 }  // namespace hcpf::scenarios

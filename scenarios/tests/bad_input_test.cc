@@ -11,7 +11,7 @@
 
 #include "hcpf/core/error.h"
 #include "hcpf/scenarios/scenario.h"
-#include "test_scenarios.h"
+#include "support/test_scenarios.h"
 
 namespace hcpf::scenarios {
 namespace {

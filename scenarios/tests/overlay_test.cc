@@ -9,7 +9,8 @@
 #include <opencv2/videoio.hpp>
 
 #include "hcpf/core/error.h"
-#include "sweep_fixture.h"
+#include "support/process.h"
+#include "support/test_scenarios.h"
 
 namespace hcpf::scenarios {
 namespace {
@@ -17,7 +18,7 @@ namespace {
 namespace fs = std::filesystem;
 
 TEST(Overlay, VideoReadsBackWithFrameCountAndSize) {
-  const auto dir = testing::SweepFolder("overlay");
+  const auto dir = ::hcpf::testing::FreshDir("overlay");
   const Scenario scenario =
       LoadScenarioText(testing::kMinimal, "minimal.yaml");  // 20 frames, 320x240
   std::vector<FrameGroundTruth> truth;
@@ -90,7 +91,7 @@ namespace hcpf::scenarios {
 namespace {
 
 TEST(Overlay, DrawsOnTheGivenFrames) {
-  const auto dir = testing::SweepFolder("overlay-frames");
+  const auto dir = ::hcpf::testing::FreshDir("overlay-frames");
   const Scenario scenario = LoadScenarioText(testing::kMinimal, "minimal.yaml");  // 320x240
   std::vector<FrameGroundTruth> truth;
   std::vector<RgbImage> images;

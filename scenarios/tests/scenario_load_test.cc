@@ -1,7 +1,7 @@
 #include <gtest/gtest.h>
 
 #include "hcpf/scenarios/scenario.h"
-#include "test_scenarios.h"
+#include "support/test_scenarios.h"
 
 namespace hcpf::scenarios {
 namespace {

@@ -5,16 +5,16 @@
 #include <fstream>
 #include <string>
 
-#include "test_scenarios.h"
+#include "support/test_scenarios.h"
 
-namespace hcpf::scenarios::testing {
+namespace hcpf::studies::testing {
 
 // A fresh folder with base.yaml (kMinimal, 20 frames, 2 targets, 100 particles).
 inline std::filesystem::path SweepFolder(const std::string& name) {
   const auto dir = std::filesystem::temp_directory_path() / ("hcpf-sweep-test-" + name);
   std::filesystem::remove_all(dir);
   std::filesystem::create_directories(dir);
-  std::ofstream(dir / "base.yaml") << kMinimal;
+  std::ofstream(dir / "base.yaml") << scenarios::testing::kMinimal;
   return dir;
 }
 
@@ -24,4 +24,4 @@ inline std::string WriteSweep(const std::filesystem::path& dir, const std::strin
   return (dir / name).string();
 }
 
-}  // namespace hcpf::scenarios::testing
+}  // namespace hcpf::studies::testing

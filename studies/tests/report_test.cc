@@ -1,6 +1,6 @@
 // Report statistics (hand-worked t intervals) and the report files of a tiny sweep.
 
-#include "hcpf/scenarios/report.h"
+#include "hcpf/studies/report.h"
 
 #include <gtest/gtest.h>
 
@@ -9,12 +9,12 @@
 #include <fstream>
 #include <sstream>
 
-#include "hcpf/scenarios/results_store.h"
-#include "hcpf/scenarios/sweep.h"
+#include "hcpf/studies/results_store.h"
+#include "hcpf/studies/sweep.h"
 #include "sweep_fixture.h"
 #include "text.h"
 
-namespace hcpf::scenarios {
+namespace hcpf::studies {
 namespace {
 
 namespace fs = std::filesystem;
@@ -138,9 +138,9 @@ TEST(Report, MissingStoreIsBadInput) {
 }
 
 }  // namespace
-}  // namespace hcpf::scenarios
+}  // namespace hcpf::studies
 
-namespace hcpf::scenarios {
+namespace hcpf::studies {
 namespace {
 
 // RFC 4648 section 10 test vectors.
@@ -160,4 +160,4 @@ TEST(EscapeMarkup, EscapesTheFourCharacters) {
 }
 
 }  // namespace
-}  // namespace hcpf::scenarios
+}  // namespace hcpf::studies

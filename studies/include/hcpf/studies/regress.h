@@ -12,12 +12,12 @@
 
 #include "hcpf/scenarios/scenario.h"
 
-namespace hcpf::scenarios {
+namespace hcpf::studies {
 
 struct RegressScene {
   std::string name;
-  std::string scenario_path;        // resolved to an existing file
-  std::vector<Override> overrides;  // from `set:`, then `seed:`
+  std::string scenario_path;                // resolved to an existing file
+  std::vector<config::Override> overrides;  // from `set:`, then `seed:`
 };
 
 struct RegressTolerance {
@@ -81,4 +81,4 @@ std::string FormatRegressTable(const std::vector<RegressRow>& rows);
 std::string FormatRegressJunit(const std::vector<RegressRow>& rows);
 std::string FormatRegressMarkdown(const RegressResult& result);
 
-}  // namespace hcpf::scenarios
+}  // namespace hcpf::studies

@@ -1,7 +1,7 @@
 // Regression gate: verdicts by hand, suite validation, baseline round trip and a planted
 // regression.
 
-#include "hcpf/scenarios/regress.h"
+#include "hcpf/studies/regress.h"
 
 #include <gtest/gtest.h>
 
@@ -14,7 +14,7 @@
 #include "hcpf/core/error.h"
 #include "sweep_fixture.h"
 
-namespace hcpf::scenarios {
+namespace hcpf::studies {
 namespace {
 
 namespace fs = std::filesystem;
@@ -115,4 +115,4 @@ TEST(Regress, BaselineRoundTripAndPlantedRegression) {
 }
 
 }  // namespace
-}  // namespace hcpf::scenarios
+}  // namespace hcpf::studies

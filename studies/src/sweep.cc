@@ -1,6 +1,6 @@
 // Sweep files: loading, validation and expansion into runs (docs/sweeps.md).
 
-#include "hcpf/scenarios/sweep.h"
+#include "hcpf/studies/sweep.h"
 
 #include <fmt/format.h>
 
@@ -14,7 +14,10 @@
 #include "hcpf/core/rng.h"
 #include "text.h"
 
-namespace hcpf::scenarios {
+namespace hcpf::studies {
+
+using scenarios::ConfigHash;
+using scenarios::LoadScenarioFile;
 
 using config::ClosestMatch;
 using config::FindFile;
@@ -296,4 +299,4 @@ void SweepOptions::Validate() const {
   }
 }
 
-}  // namespace hcpf::scenarios
+}  // namespace hcpf::studies

@@ -1,6 +1,6 @@
 // Results store, RunSweep (parallel = serial, resume, failures, shards + merge).
 
-#include "hcpf/scenarios/results_store.h"
+#include "hcpf/studies/results_store.h"
 
 #include <fcntl.h>
 #include <gtest/gtest.h>
@@ -11,10 +11,11 @@
 #include <filesystem>
 #include <fstream>
 
-#include "hcpf/scenarios/sweep.h"
+#include "hcpf/studies/sweep.h"
 #include "sweep_fixture.h"
 
-namespace hcpf::scenarios {
+namespace hcpf::studies {
+
 namespace {
 
 namespace fs = std::filesystem;
@@ -200,4 +201,4 @@ TEST(RunSweep, ShardsMergedEqualTheUnshardedSweep) {
 }
 
 }  // namespace
-}  // namespace hcpf::scenarios
+}  // namespace hcpf::studies

@@ -19,11 +19,11 @@
 #include <string>
 #include <vector>
 
-#include "hcpf/scenarios/sweep.h"
+#include "hcpf/studies/sweep.h"
 
 struct sqlite3;
 
-namespace hcpf::scenarios {
+namespace hcpf::studies {
 
 struct StoreMeta {
   std::string sweep_hash;
@@ -91,4 +91,4 @@ struct MergeResult {
 // an ok one.
 MergeResult MergeStores(const std::string& out_dir, const std::vector<std::string>& input_dirs);
 
-}  // namespace hcpf::scenarios
+}  // namespace hcpf::studies

@@ -6,7 +6,7 @@
 #include <string>
 #include <vector>
 
-namespace hcpf::scenarios {
+namespace hcpf::studies {
 
 // Escapes & < > " for HTML and XML text and attribute values.
 std::string EscapeMarkup(const std::string& text);
@@ -14,4 +14,4 @@ std::string EscapeMarkup(const std::string& text);
 // Standard base64 (RFC 4648, with padding), for data: URIs in reports.
 std::string Base64(const std::string& bytes);
 
-}  // namespace hcpf::scenarios
+}  // namespace hcpf::studies

@@ -23,13 +23,22 @@
 
 #include "hcpf/renderer/renderer.h"
 #include "hcpf/scenarios/frames.h"
-#include "hcpf/scenarios/results_store.h"
+#include "hcpf/scenarios/output_folder.h"
+#include "hcpf/scenarios/progress.h"
 #include "hcpf/scenarios/run.h"
-#include "hcpf/scenarios/sweep.h"
-#include "output_folder.h"
-#include "progress.h"
+#include "hcpf/studies/results_store.h"
+#include "hcpf/studies/sweep.h"
 
-namespace hcpf::scenarios {
+namespace hcpf::studies {
+
+using scenarios::LoadScenarioFile;
+using scenarios::ObservationSource;
+using scenarios::Progress;
+using scenarios::RemoveStaleStagingFolders;
+using scenarios::RendererOptionsOf;
+using scenarios::RunOptions;
+using scenarios::RunScenario;
+using scenarios::ToResolvedYaml;
 
 namespace fs = std::filesystem;
 
@@ -240,4 +249,4 @@ SweepResult RunSweep(const SweepSpec& spec, const std::vector<SweepRun>& runs,
   return result;
 }
 
-}  // namespace hcpf::scenarios
+}  // namespace hcpf::studies

@@ -19,7 +19,7 @@
 #include "hcpf/core/error.h"
 #include "hcpf/scenarios/scenario.h"
 
-namespace hcpf::scenarios {
+namespace hcpf::studies {
 
 // One swept key with its values as YAML text (flow style), each with the
 // place in the sweep file where it is written.
@@ -55,10 +55,10 @@ struct SweepSpec {
 struct SweepRun {
   int64_t index = 0;
   int seed_index = 0;
-  uint64_t seed = 0;                // the scenario seed the run uses
-  std::vector<std::string> values;  // per SweptKeys(), YAML text
-  std::vector<Override> overrides;  // swept values, then `seed` (when seeds > 0)
-  Scenario scenario;
+  uint64_t seed = 0;                        // the scenario seed the run uses
+  std::vector<std::string> values;          // per SweptKeys(), YAML text
+  std::vector<config::Override> overrides;  // swept values, then `seed` (when seeds > 0)
+  scenarios::Scenario scenario;
   std::string key;  // ConfigHash(scenario)
 };
 
@@ -119,4 +119,4 @@ struct SweepResult {
 SweepResult RunSweep(const SweepSpec& spec, const std::vector<SweepRun>& runs,
                      const SweepOptions& options);
 
-}  // namespace hcpf::scenarios
+}  // namespace hcpf::studies

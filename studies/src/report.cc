@@ -1,6 +1,6 @@
 // `hcpf report DIR`: results.sqlite -> report.html (gnuplot SVG inline) + summary.csv.
 
-#include "hcpf/scenarios/report.h"
+#include "hcpf/studies/report.h"
 
 #include <fcntl.h>
 #include <fmt/format.h>
@@ -22,14 +22,21 @@
 
 #include "hcpf/core/check.h"
 #include "hcpf/core/error.h"
+#include "hcpf/core/text_file.h"
 #include "hcpf/renderer/image_io.h"
 #include "hcpf/scenarios/frames.h"
-#include "hcpf/scenarios/results_store.h"
 #include "hcpf/scenarios/scenario.h"
+#include "hcpf/studies/results_store.h"
 #include "text.h"
-#include "writers.h"
 
-namespace hcpf::scenarios {
+namespace hcpf::studies {
+
+using scenarios::DefaultFrameCacheDir;
+using scenarios::FrameSourceOptions;
+using scenarios::LoadScenarioText;
+using scenarios::ObservationSource;
+using scenarios::ProduceFrames;
+using scenarios::Scenario;
 
 namespace fs = std::filesystem;
 
@@ -492,4 +499,4 @@ ReportResult WriteReport(const ReportOptions& options) {
   return result;
 }
 
-}  // namespace hcpf::scenarios
+}  // namespace hcpf::studies

@@ -13,7 +13,7 @@
 #include <string>
 #include <vector>
 
-namespace hcpf::scenarios {
+namespace hcpf::studies {
 
 struct ReportOptions {
   std::string dir;                  // a sweep's --out folder (holds results.sqlite)
@@ -44,4 +44,4 @@ MeanCi MeanConfidence95(const std::vector<double>& values);
 // (table for dof <= 30, Cornish–Fisher expansion above; error < 1e-3).
 double StudentT975(int dof);
 
-}  // namespace hcpf::scenarios
+}  // namespace hcpf::studies

@@ -1,4 +1,4 @@
-#include "hcpf/scenarios/results_store.h"
+#include "hcpf/studies/results_store.h"
 
 #include <fmt/format.h>
 #include <sqlite3.h>
@@ -14,7 +14,7 @@
 #include "hcpf/core/check.h"
 #include "hcpf/core/error.h"
 
-namespace hcpf::scenarios {
+namespace hcpf::studies {
 
 namespace fs = std::filesystem;
 using nlohmann::json;
@@ -351,4 +351,4 @@ MergeResult MergeStores(const std::string& out_dir, const std::vector<std::strin
   return result;
 }
 
-}  // namespace hcpf::scenarios
+}  // namespace hcpf::studies

@@ -1,6 +1,6 @@
 // `hcpf regress`: run golden scenes, compare their metrics with a baseline.
 
-#include "hcpf/scenarios/regress.h"
+#include "hcpf/studies/regress.h"
 
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
@@ -18,13 +18,19 @@
 
 #include "hcpf/config/file_lookup.h"
 #include "hcpf/config/yaml_reader.h"
-#include "hcpf/scenarios/results_store.h"
+#include "hcpf/core/text_file.h"
 #include "hcpf/scenarios/run.h"
-#include "hcpf/scenarios/sweep.h"
+#include "hcpf/studies/results_store.h"
+#include "hcpf/studies/sweep.h"
 #include "text.h"
-#include "writers.h"
 
-namespace hcpf::scenarios {
+namespace hcpf::studies {
+
+using scenarios::ConfigHash;
+using scenarios::LoadScenarioFile;
+using scenarios::RunOptions;
+using scenarios::RunScenario;
+using scenarios::Scenario;
 
 using config::ClosestMatch;
 using config::FindFile;
@@ -344,4 +350,4 @@ RegressResult RunRegress(const RegressOptions& options) {
   return result;
 }
 
-}  // namespace hcpf::scenarios
+}  // namespace hcpf::studies

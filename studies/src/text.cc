@@ -3,7 +3,7 @@
 #include <cstdint>
 #include <filesystem>
 
-namespace hcpf::scenarios {
+namespace hcpf::studies {
 
 namespace fs = std::filesystem;
 
@@ -58,4 +58,4 @@ std::string Base64(const std::string& bytes) {
   return out;
 }
 
-}  // namespace hcpf::scenarios
+}  // namespace hcpf::studies

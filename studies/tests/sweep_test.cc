@@ -1,6 +1,6 @@
 // Sweep files: expansion order against hand-worked cases, seeds, validation errors.
 
-#include "hcpf/scenarios/sweep.h"
+#include "hcpf/studies/sweep.h"
 
 #include <gtest/gtest.h>
 
@@ -9,7 +9,7 @@
 #include "hcpf/core/rng.h"
 #include "sweep_fixture.h"
 
-namespace hcpf::scenarios {
+namespace hcpf::studies {
 namespace {
 
 using testing::SweepFolder;
@@ -179,4 +179,4 @@ TEST(SweepOptions, ValidateNamesTheField) {
 }
 
 }  // namespace
-}  // namespace hcpf::scenarios
+}  // namespace hcpf::studies

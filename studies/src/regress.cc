@@ -18,8 +18,10 @@
 
 #include "hcpf/config/file_lookup.h"
 #include "hcpf/config/yaml_reader.h"
+#include "hcpf/core/parallel.h"
 #include "hcpf/core/text_file.h"
 #include "hcpf/scenarios/run.h"
+#include "hcpf/studies/metric_catalogue.h"
 #include "hcpf/studies/results_store.h"
 #include "hcpf/studies/sweep.h"
 #include "text.h"
@@ -106,7 +108,7 @@ RegressSuite LoadRegressSuite(const std::string& path) {
   std::vector<std::string> keys;
   for (auto it = metrics.node().begin(); it != metrics.node().end(); ++it)
     keys.push_back(it->first.Scalar());
-  const auto& known = HeadlineMetrics();
+  const auto& known = MetricNames();
   for (const std::string& key : keys) {
     YamlReader m = metrics.Child(key);
     if (std::find(known.begin(), known.end(), key) == known.end()) {
@@ -119,8 +121,14 @@ RegressSuite LoadRegressSuite(const std::string& path) {
     RegressTolerance t;
     t.metric = key;
     t.tolerance = m.Number("tolerance", std::nullopt, 0.0, 1e12);
-    t.higher_is_better = m.Enum("direction", std::nullopt,
-                                {"higher_is_better", "lower_is_better"}) == "higher_is_better";
+    // The direction is the catalogue's; a suite may state it, but not the
+    // opposite of it.
+    const bool higher = FindMetric(key)->higher_is_better;
+    const std::string direction = higher ? "higher_is_better" : "lower_is_better";
+    if (m.Enum("direction", direction, {"higher_is_better", "lower_is_better"}) != direction) {
+      m.Child("direction").Fail(direction + " (the metric catalogue's direction of " + key + ")");
+    }
+    t.higher_is_better = higher;
     m.Finish();
     suite.metrics.push_back(t);
   }
@@ -275,26 +283,19 @@ RegressResult RunRegress(const RegressOptions& options) {
   std::vector<std::map<std::string, double>> values(suite.scenes.size());
   std::vector<std::string> hashes(suite.scenes.size());
   std::vector<std::string> errors(suite.scenes.size());
-  std::atomic<size_t> next{0};
-  const auto worker = [&] {
-    for (size_t i = next.fetch_add(1); i < suite.scenes.size(); i = next.fetch_add(1)) {
-      const RegressScene& scene = suite.scenes[i];
-      try {
-        const Scenario scenario = LoadScenarioFile(scene.scenario_path, scene.overrides);
-        hashes[i] = ConfigHash(scenario);
-        RunOptions run_options;
-        run_options.out_dir = (work / scene.name).string();
-        RunScenario(scenario, run_options);
-        values[i] = ReadRunMetrics(run_options.out_dir);
-      } catch (const std::exception& e) {
-        errors[i] = e.what();
-      }
+  ParallelFor(suite.scenes.size(), options.jobs, [&](size_t i) {
+    const RegressScene& scene = suite.scenes[i];
+    try {
+      const Scenario scenario = LoadScenarioFile(scene.scenario_path, scene.overrides);
+      hashes[i] = ConfigHash(scenario);
+      RunOptions run_options;
+      run_options.out_dir = (work / scene.name).string();
+      RunScenario(scenario, run_options);
+      values[i] = ReadRunMetrics(run_options.out_dir);
+    } catch (const std::exception& e) {
+      errors[i] = e.what();
     }
-  };
-  std::vector<std::thread> threads;
-  for (int j = 0; j < std::min<int>(options.jobs, static_cast<int>(suite.scenes.size())); ++j)
-    threads.emplace_back(worker);
-  for (std::thread& t : threads) t.join();
+  });
   if (temporary) fs::remove_all(work, ec);
   for (size_t i = 0; i < suite.scenes.size(); ++i) {
     if (!errors[i].empty())

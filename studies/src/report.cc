@@ -22,21 +22,14 @@
 
 #include "hcpf/core/check.h"
 #include "hcpf/core/error.h"
+#include "hcpf/core/subprocess.h"
 #include "hcpf/core/text_file.h"
-#include "hcpf/renderer/image_io.h"
-#include "hcpf/scenarios/frames.h"
 #include "hcpf/scenarios/scenario.h"
+#include "hcpf/studies/metric_catalogue.h"
 #include "hcpf/studies/results_store.h"
 #include "text.h"
 
 namespace hcpf::studies {
-
-using scenarios::DefaultFrameCacheDir;
-using scenarios::FrameSourceOptions;
-using scenarios::LoadScenarioText;
-using scenarios::ObservationSource;
-using scenarios::ProduceFrames;
-using scenarios::Scenario;
 
 namespace fs = std::filesystem;
 
@@ -81,35 +74,19 @@ struct Cell {
 // Runs gnuplot on `script`; throws RunError with its messages on failure.
 void RunGnuplot(const std::string& gnuplot, const fs::path& script) {
   const std::string log = script.string() + ".log";
-  std::string program = gnuplot;
-  std::string script_path = script.string();
-  char* argv[] = {program.data(), script_path.data(), nullptr};
-  // fork + execvp (no shell: paths need no quoting); only async-signal-safe
-  // calls in the child.
-  const pid_t pid = ::fork();
-  if (pid < 0) throw RunError(fmt::format("cannot start gnuplot: {}", std::strerror(errno)));
-  if (pid == 0) {
-    const int fd = ::open(log.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
-    if (fd >= 0) {
-      ::dup2(fd, STDOUT_FILENO);
-      ::dup2(fd, STDERR_FILENO);
-    }
-    ::execvp(argv[0], argv);
-    ::_exit(127);
-  }
-  int status = 0;
-  while (::waitpid(pid, &status, 0) < 0 && errno == EINTR) {
-  }
-  if (WIFEXITED(status) && WEXITSTATUS(status) == 0) return;
+  const ProcessStatus status = RunProcess({gnuplot, script.string()}, log);
+  if (!status.started) throw RunError(fmt::format("cannot start gnuplot: {}", status.error));
+  if (status.ok()) return;
   std::ifstream in(log);
   std::stringstream s;
   s << in.rdbuf();
-  if (WIFEXITED(status) && WEXITSTATUS(status) == 127) {
+  if (status.exit_code == 127) {
     throw RunError(fmt::format(
         "cannot run \"{}\" (install Debian gnuplot-nox, or pass --gnuplot PATH)", gnuplot));
   }
   throw RunError(
-      fmt::format("gnuplot failed (status {}) on {}: {}", status, script.string(), s.str()));
+      fmt::format("gnuplot failed ({} {}) on {}: {}", status.signal != 0 ? "signal" : "status",
+                  status.signal != 0 ? status.signal : status.exit_code, script.string(), s.str()));
 }
 
 std::string ReadText(const fs::path& path) {
@@ -176,38 +153,16 @@ void ReportOptions::Validate() const {
 
 namespace {
 
-// For a rendered scenario: a contact sheet of its frames (from the frame
-// cache the sweep filled), embedded as a data: URI so the report stays one
-// self-contained file. Empty for detection-level scenarios.
-std::string SceneContactSheet(const std::string& resolved, const fs::path& dir) {
-  const Scenario scenario = LoadScenarioText(resolved, (dir / "results.sqlite").string());
-  if (scenario.observation.source != ObservationSource::kRendered) return {};
-  const int frames = scenario.world.frames;
-  constexpr int kSheetFrames = 8;
-  std::vector<renderer::RenderedFrame> sheet;
-  FrameSourceOptions frame_options;
-  frame_options.cache_dir = DefaultFrameCacheDir();
-  frame_options.show_progress = false;
-  frame_options.on_frame = [&](const renderer::RenderedFrame& frame) {
-    if (frame.frame % std::max(1, frames / kSheetFrames) != 0 ||
-        static_cast<int>(sheet.size()) >= kSheetFrames) {
-      return;
-    }
-    renderer::RenderedFrame thumb;
-    thumb.frame = frame.frame;
-    thumb.rgb = frame.rgb;
-    thumb.ground_truth = frame.ground_truth;
-    sheet.push_back(std::move(thumb));
-  };
-  ProduceFrames(scenario, frame_options);
+// The contact sheet the sweep wrote from its own frame cache (sweep_run.cc),
+// embedded as a data: URI so the report stays one self-contained file. The
+// report never renders: without that file there is no picture of the scene.
+std::string SceneContactSheet(const fs::path& dir) {
   const fs::path png = dir / "contact_sheet.png";
-  renderer::WritePng(renderer::MakeContactSheet(sheet), png.string());
-  std::ifstream in(png, std::ios::binary);
-  std::stringstream bytes;
-  bytes << in.rdbuf();
-  return "<h2>The scene (base scenario, sampled frames with ground truth)</h2>\n"
+  std::error_code ec;
+  if (!fs::is_regular_file(png, ec)) return {};
+  return "<h2>The scene (sampled frames with ground truth)</h2>\n"
          "<img alt=\"contact sheet\" style=\"max-width:100%\" src=\"data:image/png;base64," +
-         Base64(bytes.str()) + "\">\n";
+         Base64(ReadText(png)) + "\">\n";
 }
 
 }  // namespace
@@ -243,7 +198,7 @@ ReportResult WriteReport(const ReportOptions& options) {
     }
   }
   for (Cell& cell : cells) {
-    for (const std::string& m : HeadlineMetrics()) {
+    for (const std::string& m : MetricNames()) {
       std::vector<double> v;
       for (const RunRecord* r : cell.runs) {
         if (r->ok) v.push_back(r->metrics.at(m));
@@ -342,10 +297,17 @@ ReportResult WriteReport(const ReportOptions& options) {
     std::string gp;
     gp += "set terminal svg size 820,440 dynamic font 'sans,11' background rgb 'white'\n";
     gp += fmt::format("set output {}\n", GpString(svg.string()));
-    gp += fmt::format("set title {} noenhanced\n", GpString(metric + " vs " + x_label));
+    // Titles and axes from the metric catalogue: "hijack rate (hijack_rate)",
+    // "tracker time per frame, ms (ms_per_frame)".
+    const CatalogueMetric* entry = FindMetric(metric);
+    const std::string described =
+        entry == nullptr ? metric
+                         : fmt::format("{}{}{} ({})", entry->label, entry->unit.empty() ? "" : ", ",
+                                       entry->unit, metric);
+    gp += fmt::format("set title {} noenhanced\n", GpString(described + " vs " + x_label));
     gp += fmt::format("set xlabel {} noenhanced\n", GpString(x_label));
-    gp +=
-        fmt::format("set ylabel {} noenhanced\n", GpString(metric + " (mean, 95% CI over seeds)"));
+    gp += fmt::format("set ylabel {} noenhanced\n",
+                      GpString(described + "; mean, 95% CI over seeds"));
     size_t longest_label = 0;
     for (const std::string& l : lines) longest_label = std::max(longest_label, l.size());
     // Long line labels go below the plot so they do not squeeze it.
@@ -390,13 +352,12 @@ ReportResult WriteReport(const ReportOptions& options) {
     std::string csv;
     for (const std::string& k : keys) csv += Csv(k) + ",";
     csv += "runs,failures";
-    for (const std::string& m : HeadlineMetrics())
-      csv += fmt::format(",{0}_mean,{0}_ci95,{0}_n", m);
+    for (const std::string& m : MetricNames()) csv += fmt::format(",{0}_mean,{0}_ci95,{0}_n", m);
     csv += "\n";
     for (const Cell& c : cells) {
       for (const std::string& v : c.values) csv += Csv(v) + ",";
       csv += fmt::format("{},{}", c.runs.size(), c.failures);
-      for (const std::string& m : HeadlineMetrics()) {
+      for (const std::string& m : MetricNames()) {
         const MeanCi& s = c.stats.at(m);
         csv += fmt::format(",{},{},{}", s.n ? Number(s.mean) : "",
                            s.n >= 2 ? Number(s.half_width) : "", s.n);
@@ -477,19 +438,7 @@ ReportResult WriteReport(const ReportOptions& options) {
   }
   if (!failures.empty())
     h += "<h2>Failed runs</h2>\n<ul class=\"failed\">\n" + failures + "</ul>\n";
-  // The scene as the runs saw it (a sweep may switch rendering on), else the base.
-  std::string scene_yaml = meta.base_resolved;
-  for (const RunRecord& r : runs) {
-    const fs::path resolved = dir / r.run_dir / "scenario.resolved.yaml";
-    if (r.ok && fs::exists(resolved, ec)) {
-      std::ifstream in(resolved);
-      std::stringstream text;
-      text << in.rdbuf();
-      scene_yaml = text.str();
-      break;
-    }
-  }
-  h += SceneContactSheet(scene_yaml, dir);
+  h += SceneContactSheet(dir);
   h += "<h2>Base scenario (resolved)</h2>\n<pre>" + EscapeMarkup(meta.base_resolved) + "</pre>\n";
   h += "</body></html>\n";
   result.html_path = (dir / "report.html").string();

@@ -13,6 +13,7 @@
 
 #include "hcpf/core/check.h"
 #include "hcpf/core/error.h"
+#include "hcpf/studies/metric_catalogue.h"
 
 namespace hcpf::studies {
 
@@ -175,7 +176,7 @@ std::unique_ptr<ResultsStore> ResultsStore::OpenOrCreate(const std::string& path
     ResultsStore store(temp, OpenDb(temp, true));
     std::string columns;
     for (const std::string& k : meta.swept_keys) columns += ", " + Quote(k) + " TEXT";
-    for (const std::string& m : HeadlineMetrics()) columns += ", " + Quote(m) + " REAL";
+    for (const std::string& m : MetricNames()) columns += ", " + Quote(m) + " REAL";
     store.Exec("BEGIN");
     store.Exec("CREATE TABLE meta(name TEXT PRIMARY KEY, value TEXT NOT NULL)");
     store.Exec(
@@ -215,7 +216,7 @@ void ResultsStore::Put(const RunRecord& r) {
     columns += ", " + Quote(k);
     marks += ", ?";
   }
-  for (const std::string& m : HeadlineMetrics()) {
+  for (const std::string& m : MetricNames()) {
     columns += ", " + Quote(m);
     marks += ", ?";
   }
@@ -229,7 +230,7 @@ void ResultsStore::Put(const RunRecord& r) {
   s.Bind(i++, r.error);
   s.Bind(i++, r.run_dir);
   for (const std::string& v : r.values) s.Bind(i++, v);
-  for (const std::string& m : HeadlineMetrics()) {
+  for (const std::string& m : MetricNames()) {
     const auto it = r.metrics.find(m);
     s.BindReal(i++, it == r.metrics.end() ? kNaN : it->second);
   }
@@ -247,7 +248,7 @@ std::vector<RunRecord> ResultsStore::Runs() const {
   std::lock_guard lock(mutex_);
   std::string columns = "key, run_index, seed_index, seed, status, error, run_dir";
   for (const std::string& k : meta_.swept_keys) columns += ", " + Quote(k);
-  for (const std::string& m : HeadlineMetrics()) columns += ", " + Quote(m);
+  for (const std::string& m : MetricNames()) columns += ", " + Quote(m);
   Statement s(db_, "SELECT " + columns + " FROM runs ORDER BY run_index, key");
   std::vector<RunRecord> out;
   while (s.Step()) {
@@ -261,7 +262,7 @@ std::vector<RunRecord> ResultsStore::Runs() const {
     r.error = s.Text(i++);
     r.run_dir = s.Text(i++);
     for (size_t k = 0; k < meta_.swept_keys.size(); ++k) r.values.push_back(s.Text(i++));
-    for (const std::string& m : HeadlineMetrics()) r.metrics[m] = s.Real(i++);
+    for (const std::string& m : MetricNames()) r.metrics[m] = s.Real(i++);
     out.push_back(std::move(r));
   }
   return out;
@@ -280,21 +281,19 @@ std::map<std::string, double> ReadRunMetrics(const std::string& run_dir) {
   const json metrics = read("metrics.json");
   const json manifest = read("manifest.json");
   std::map<std::string, double> m;
-  m["da_accuracy"] = JsonNumber(metrics, {"filters", "da_accuracy"});
-  m["hijack_rate"] = JsonNumber(metrics, {"filters", "hijack_rate"});
-  m["hijacked_fraction"] = JsonNumber(metrics, {"filters", "hijacked_fraction"});
-  m["swaps"] = JsonNumber(metrics, {"filters", "swaps"});
-  m["idf1"] = JsonNumber(metrics, {"mot", "IDF1"});
-  m["hota"] = JsonNumber(metrics, {"mot", "HOTA"});
-  m["mota"] = JsonNumber(metrics, {"mot", "MOTA"});
-  m["motp"] = JsonNumber(metrics, {"mot", "MOTP"});
-  m["deta"] = JsonNumber(metrics, {"mot", "DetA"});
-  m["assa"] = JsonNumber(metrics, {"mot", "AssA"});
-  m["ospa"] = JsonNumber(metrics, {"ospa", "mean"});
-  const double frames = JsonNumber(manifest, {"frames"});
-  const double tracker_s = JsonNumber(manifest, {"timings", "tracker_s"});
-  m["ms_per_frame"] = frames > 0 ? 1000.0 * tracker_s / frames : kNaN;
-  m["wall_time_s"] = JsonNumber(manifest, {"timings", "total_s"});
+  for (const CatalogueMetric& c : MetricCatalogue()) {
+    const json& source = c.file == "manifest.json" ? manifest : metrics;
+    const json::json_pointer pointer{std::string(c.pointer)};
+    const double value = source.contains(pointer) && source[pointer].is_number()
+                             ? source[pointer].get<double>()
+                             : kNaN;  // absent, or "nan"/"inf" strings
+    if (c.per_frame_ms) {
+      const double frames = JsonNumber(manifest, {"frames"});
+      m[std::string(c.name)] = frames > 0 ? 1000.0 * value / frames : kNaN;
+    } else {
+      m[std::string(c.name)] = value;
+    }
+  }
   return m;
 }
 

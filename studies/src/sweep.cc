@@ -12,6 +12,7 @@
 #include "hcpf/config/file_lookup.h"
 #include "hcpf/config/yaml_reader.h"
 #include "hcpf/core/rng.h"
+#include "hcpf/studies/metric_catalogue.h"
 #include "text.h"
 
 namespace hcpf::studies {
@@ -142,7 +143,7 @@ SweepSpec ReadSweep(YAML::Node root, const std::string& file, const std::string&
       }
       for (const YamlReader& item : items) {
         const std::string name = item.node().IsScalar() ? item.node().Scalar() : "";
-        const auto& known = HeadlineMetrics();
+        const auto& known = MetricNames();
         if (std::find(known.begin(), known.end(), name) == known.end()) {
           const std::string close = ClosestMatch(name, known);
           item.Fail("a metric name (" + fmt::format("{}", fmt::join(known, ", ")) + ")",
@@ -182,15 +183,6 @@ int64_t SweepSpec::RunCount() const {
   for (const SweepAxis& a : grid) n *= static_cast<int64_t>(a.values.size());
   if (!zip.empty()) n *= static_cast<int64_t>(zip.front().values.size());
   return n * std::max(seeds, 1);
-}
-
-const std::vector<std::string>& HeadlineMetrics() {
-  static const std::vector<std::string> kNames = {"da_accuracy", "hijack_rate", "hijacked_fraction",
-                                                  "swaps",       "idf1",        "hota",
-                                                  "mota",        "motp",        "deta",
-                                                  "assa",        "ospa",        "ms_per_frame",
-                                                  "wall_time_s"};
-  return kNames;
 }
 
 uint64_t SweepSeed(uint64_t sweep_seed, int index) {

@@ -21,6 +21,9 @@
 #include <sstream>
 #include <thread>
 
+#include "hcpf/core/parallel.h"
+#include "hcpf/core/subprocess.h"
+#include "hcpf/renderer/image_io.h"
 #include "hcpf/renderer/renderer.h"
 #include "hcpf/scenarios/frames.h"
 #include "hcpf/scenarios/output_folder.h"
@@ -38,6 +41,7 @@ using scenarios::RemoveStaleStagingFolders;
 using scenarios::RendererOptionsOf;
 using scenarios::RunOptions;
 using scenarios::RunScenario;
+using scenarios::Scenario;
 using scenarios::ToResolvedYaml;
 
 namespace fs = std::filesystem;
@@ -75,37 +79,50 @@ void RunIsolated(const std::string& exe, const SweepRun& run, const RunOptions& 
     args.push_back("--cache");
     args.push_back(run_options.frame_cache_dir);
   }
-  std::vector<char*> argv;
-  for (std::string& a : args) argv.push_back(a.data());
-  argv.push_back(nullptr);
-  const std::string log_path = log.string();
-  // Only async-signal-safe calls between fork and exec (the parent has threads).
-  const pid_t pid = ::fork();
-  if (pid < 0) throw RunError(fmt::format("cannot start {}: {}", exe, std::strerror(errno)));
-  if (pid == 0) {
-    const int fd = ::open(log_path.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
-    if (fd >= 0) {
-      ::dup2(fd, STDOUT_FILENO);
-      ::dup2(fd, STDERR_FILENO);
-    }
-    ::execv(argv[0], argv.data());
-    ::_exit(127);
-  }
-  int status = 0;
-  while (::waitpid(pid, &status, 0) < 0 && errno == EINTR) {
-  }
+  const ProcessStatus status = RunProcess(args, log.string());
+  if (!status.started) throw RunError(fmt::format("cannot start {}: {}", exe, status.error));
   std::error_code ec;
   fs::remove(input, ec);
-  if (WIFEXITED(status) && WEXITSTATUS(status) == 0) {
+  if (status.ok()) {
     fs::remove(log, ec);
     return;
   }
   const std::string tail = Tail(log, 600);
-  if (WIFSIGNALED(status)) {
-    throw RunError(fmt::format("crashed: killed by signal {} ({}); log {}: {}", WTERMSIG(status),
-                               ::strsignal(WTERMSIG(status)), log.string(), tail));
+  if (status.signal != 0) {
+    throw RunError(fmt::format("crashed: killed by signal {} ({}); log {}: {}", status.signal,
+                               ::strsignal(status.signal), log.string(), tail));
   }
-  throw RunError(fmt::format("hcpf run exited with status {}: {}", WEXITSTATUS(status), tail));
+  throw RunError(fmt::format("hcpf run exited with status {}: {}", status.exit_code, tail));
+}
+
+// The sweep's picture of its scene: the first rendered run's frames, sampled
+// from the sweep's own frame cache into DIR/contact_sheet.png for the report
+// (which never renders). Nothing is written when no run is rendered or the
+// frames are not cached (--no-cache, or another shard rendered them).
+void WriteContactSheet(const fs::path& out, const std::vector<SweepRun>& runs,
+                       const std::string& cache_dir) {
+  if (cache_dir.empty()) return;
+  for (const SweepRun& run : runs) {
+    const Scenario& scenario = run.scenario;
+    if (scenario.observation.source != ObservationSource::kRendered) continue;
+    const renderer::FrameCache cache(
+        cache_dir,
+        renderer::PixelHash(scenario.world, RendererOptionsOf(scenario), scenario.seeds.renderer));
+    constexpr int kSheetFrames = 8;
+    const int frames = scenario.world.frames;
+    std::vector<renderer::RenderedFrame> sheet;
+    for (int f = 0; f < frames && static_cast<int>(sheet.size()) < kSheetFrames;
+         f += std::max(1, frames / kSheetFrames)) {
+      std::optional<renderer::RenderedFrame> frame = cache.Load(f);
+      if (!frame) {
+        spdlog::debug("sweep: frame {} of the contact sheet is not cached; no contact sheet", f);
+        return;
+      }
+      sheet.push_back(std::move(*frame));
+    }
+    renderer::WritePng(renderer::MakeContactSheet(sheet), (out / "contact_sheet.png").string());
+    return;
+  }
 }
 
 }  // namespace
@@ -185,67 +202,50 @@ SweepResult RunSweep(const SweepSpec& spec, const std::vector<SweepRun>& runs,
       first_wave.push_back(run);
     }
   }
-  std::vector<const SweepRun*> wave;
-  std::atomic<size_t> next{0};
-  std::exception_ptr store_error;  // the first failure to record a run stops its worker
-  const auto worker = [&] {
-    while (true) {
-      const size_t i = next.fetch_add(1);
-      if (i >= wave.size()) return;
-      const SweepRun& run = *wave[i];
-      RunRecord record;
-      record.key = run.key;
-      record.index = run.index;
-      record.seed_index = run.seed_index;
-      record.seed = run.seed;
-      record.values = run.values;
-      record.run_dir = "runs/" + run.key;
-      try {
-        RunOptions run_options;
-        run_options.out_dir = (out / record.run_dir).string();
-        run_options.threads = 1;
-        run_options.show_progress = false;
-        run_options.frame_cache_dir = options.frame_cache_dir;
-        run_options.video = options.video && run.seed_index == 0;
-        if (options.isolate_exe.empty()) {
-          RunScenario(run.scenario, run_options);
-        } else {
-          RunIsolated(options.isolate_exe, run, run_options, out / "runs");
-        }
-        record.metrics = ReadRunMetrics(run_options.out_dir);
-        record.ok = true;
-      } catch (const std::exception& e) {
-        record.ok = false;
-        record.error = e.what();
-        spdlog::warn("sweep: run {} ({}) failed: {}", run.index, run.key, e.what());
-      }
-      try {
-        store->Put(record);
-      } catch (...) {
-        std::lock_guard lock(mutex);
-        if (!store_error) store_error = std::current_exception();
-        return;
-      }
-      std::lock_guard lock(mutex);
-      if (record.ok) {
-        ++result.computed;
+  // One run: compute it (a failure is recorded, not thrown), then store it. A
+  // failure to store stops the sweep: ParallelFor starts no further run and
+  // rethrows it once the runs in flight are done.
+  const auto run_one = [&](const SweepRun& run) {
+    RunRecord record;
+    record.key = run.key;
+    record.index = run.index;
+    record.seed_index = run.seed_index;
+    record.seed = run.seed;
+    record.values = run.values;
+    record.run_dir = "runs/" + run.key;
+    try {
+      RunOptions run_options;
+      run_options.out_dir = (out / record.run_dir).string();
+      run_options.threads = 1;
+      run_options.show_progress = false;
+      run_options.frame_cache_dir = options.frame_cache_dir;
+      run_options.video = options.video && run.seed_index == 0;
+      if (options.isolate_exe.empty()) {
+        RunScenario(run.scenario, run_options);
       } else {
-        ++result.failed;
+        RunIsolated(options.isolate_exe, run, run_options, out / "runs");
       }
-      if (options.progress) progress.Advance(1, record.ok ? 0 : 1);
+      record.metrics = ReadRunMetrics(run_options.out_dir);
+      record.ok = true;
+    } catch (const std::exception& e) {
+      record.ok = false;
+      record.error = e.what();
+      spdlog::warn("sweep: run {} ({}) failed: {}", run.index, run.key, e.what());
     }
+    store->Put(record);
+    std::lock_guard lock(mutex);
+    if (record.ok) {
+      ++result.computed;
+    } else {
+      ++result.failed;
+    }
+    if (options.progress) progress.Advance(1, record.ok ? 0 : 1);
   };
-  for (auto* list : {&first_wave, &second_wave}) {
-    wave = *list;
-    next = 0;
-    std::vector<std::thread> threads;
-    const int workers = std::min<int>(options.jobs, static_cast<int>(wave.size()));
-    for (int w = 0; w < workers; ++w) threads.emplace_back(worker);
-    for (std::thread& t : threads) t.join();
-    if (store_error) break;
+  for (const std::vector<const SweepRun*>* wave : {&first_wave, &second_wave}) {
+    ParallelFor(wave->size(), options.jobs, [&](size_t i) { run_one(*(*wave)[i]); });
   }
   if (options.progress) progress.Finish();
-  if (store_error) std::rethrow_exception(store_error);
+  WriteContactSheet(out, runs, options.frame_cache_dir);
   return result;
 }
 

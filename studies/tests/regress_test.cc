@@ -62,6 +62,20 @@ TEST(Regress, BadSuitesAreLocated) {
                  "scenes:\n  - {scenario: missing.yaml}\nmetrics:\n  idf1: {tolerance: 0.1, "
                  "direction: higher_is_better}\n");
   EXPECT_NE(e.find("bad.yaml:2:16: scenes[0].scenario"), std::string::npos) << e;
+  // The direction is the metric catalogue's: stating the opposite is an error
+  // at the direction, and leaving it out takes the catalogue's.
+  e = SuiteError(dir,
+                 "scenes:\n  - {scenario: base.yaml}\nmetrics:\n  ospa: {tolerance: 1, "
+                 "direction: higher_is_better}\n");
+  EXPECT_NE(e.find("bad.yaml:4:"), std::string::npos) << e;
+  EXPECT_NE(e.find("metrics.ospa.direction"), std::string::npos) << e;
+  EXPECT_NE(e.find("lower_is_better"), std::string::npos) << e;
+  std::ofstream(dir / "ok.yaml") << "scenes:\n  - {scenario: base.yaml}\nmetrics:\n"
+                                    "  ospa: {tolerance: 1}\n  idf1: {tolerance: 0.1}\n";
+  const RegressSuite suite = LoadRegressSuite((dir / "ok.yaml").string());
+  ASSERT_EQ(suite.metrics.size(), 2u);
+  EXPECT_FALSE(suite.metrics[0].higher_is_better);
+  EXPECT_TRUE(suite.metrics[1].higher_is_better);
 }
 
 TEST(Regress, BaselineRoundTripAndPlantedRegression) {

@@ -11,6 +11,8 @@
 #include <filesystem>
 #include <fstream>
 
+#include "hcpf/scenarios/run.h"
+#include "hcpf/studies/metric_catalogue.h"
 #include "hcpf/studies/sweep.h"
 #include "sweep_fixture.h"
 
@@ -96,6 +98,28 @@ TEST(ResultsStore, PutRunsRoundTripAndRefusesAnotherSweep) {
   EXPECT_TRUE(std::isnan(runs[1].metrics.at("hota")));
   meta.sweep_hash = "other";
   EXPECT_THROW(ResultsStore::OpenOrCreate(path, meta), InputError);
+}
+
+// Every catalogue metric is found in a real run folder: a field renamed in
+// metrics.json or manifest.json would otherwise become a column of NaNs.
+TEST(MetricCatalogue, EveryEntryIsReadFromARealRunFolder) {
+  const auto dir = SweepFolder("catalogue");
+  const std::vector<SweepRun> runs =
+      ExpandSweep(LoadSweepFile(WriteSweep(dir, "base: base.yaml\n")));
+  ASSERT_EQ(runs.size(), 1u);
+  scenarios::RunOptions options;
+  options.out_dir = (dir / "run").string();
+  options.show_progress = false;
+  scenarios::RunScenario(runs[0].scenario, options);
+  const std::map<std::string, double> m = ReadRunMetrics(options.out_dir);
+  ASSERT_EQ(m.size(), MetricCatalogue().size());
+  for (const CatalogueMetric& c : MetricCatalogue()) {
+    const std::string name(c.name);
+    ASSERT_TRUE(m.count(name)) << name;
+    EXPECT_TRUE(std::isfinite(m.at(name))) << name << " (" << c.file << c.pointer << ")";
+    EXPECT_EQ(FindMetric(name), &c);
+  }
+  EXPECT_EQ(FindMetric("no_such_metric"), nullptr);
 }
 
 TEST(RunSweep, ParallelEqualsSerialAndResumeReusesEverything) {

@@ -33,14 +33,22 @@ TEST(RenderedSweep, ScenesRenderOnceAndEveryRunSucceeds) {
   const auto hits = std::distance(std::sregex_iterator(r.output.begin(), r.output.end(), cached),
                                   std::sregex_iterator());
   EXPECT_EQ(hits, 3) << r.output;
-  // The report shows the rendered scene: a contact sheet embedded in the page.
+  // The report shows the rendered scene: the contact sheet the sweep wrote from
+  // its own frame cache, embedded in the page. The report never renders: with
+  // the sweep's cache gone and an empty default cache it still shows the
+  // sheet, and it leaves that default cache empty.
+  EXPECT_TRUE(fs::exists(dir / "out" / "contact_sheet.png"));
+  fs::remove_all(dir / "cache");
+  fs::create_directories(dir / "empty-cache");
   const auto report =
-      testing::RunCommand("HCPF_CACHE_DIR=" + (dir / "cache").string() + " " +
+      testing::RunCommand("HCPF_CACHE_DIR=" + (dir / "empty-cache").string() + " " +
                           std::string(HCPF_EXE) + " report " + (dir / "out").string());
   ASSERT_EQ(report.exit_code, 0) << report.output;
   const std::string html = testing::ReadFile(dir / "out" / "report.html");
   EXPECT_NE(html.find("<img alt=\"contact sheet\""), std::string::npos);
   EXPECT_NE(html.find("data:image/png;base64,iVBORw0KGgo"), std::string::npos);  // PNG signature
+  EXPECT_TRUE(fs::is_empty(dir / "empty-cache")) << "the report rendered frames";
+  EXPECT_FALSE(fs::exists(dir / "cache")) << "the report rendered frames";
 }
 
 }  // namespace

@@ -9,6 +9,7 @@
 #include <thread>
 
 #include "hcpf/core/check.h"
+#include "hcpf/core/parallel.h"
 #include "hcpf/tracker/hungarian.h"
 #include "hcpf/tracker/normal.h"
 #include "option_checks.h"
@@ -175,22 +176,9 @@ void MultiTargetTracker::BirthTrack(TrackId id, const BoxPx& initial_box,
 
 template <typename Fn>
 void MultiTargetTracker::ForEachFilter(Fn&& fn) {
-  const size_t k = filters_.size();
-  const size_t workers = std::min(static_cast<size_t>(options_.threads), k);
-  if (workers <= 1) {
-    for (size_t i = 0; i < k; ++i) fn(i);
-    return;
-  }
-  // Filter i runs on worker i % workers; each filter touches only its own
-  // state and stream, so the split never changes the numbers.
-  std::vector<std::jthread> pool;
-  pool.reserve(workers - 1);
-  for (size_t w = 1; w < workers; ++w) {
-    pool.emplace_back([&, w] {
-      for (size_t i = w; i < k; i += workers) fn(i);
-    });
-  }
-  for (size_t i = 0; i < k; i += workers) fn(i);
+  // Each filter touches only its own state and stream, so which thread runs
+  // it never changes the numbers.
+  ParallelFor(filters_.size(), options_.threads, fn);
 }
 
 FrameReport MultiTargetTracker::Step(const Observation& observation,

@@ -32,7 +32,7 @@ struct SweepAxis {
 // What `hcpf report` plots: y metrics against x, one line per series value.
 struct ReportSpec {
   std::string x;               // a swept key ("" = the first grid key)
-  std::vector<std::string> y;  // metric names (HeadlineMetrics())
+  std::vector<std::string> y;  // metric names (MetricNames(), metric_catalogue.h)
   std::string series;          // a swept key or "" (one line)
 };
 
@@ -61,10 +61,6 @@ struct SweepRun {
   scenarios::Scenario scenario;
   std::string key;  // ConfigHash(scenario)
 };
-
-// The metrics every sweep records (column names of the results store and
-// names accepted in `report.y` and by `hcpf regress`).
-const std::vector<std::string>& HeadlineMetrics();
 
 // The derived seed of seed index i: Rng(sweep_seed).Fork("sweep/seed", i).identity().
 uint64_t SweepSeed(uint64_t sweep_seed, int index);

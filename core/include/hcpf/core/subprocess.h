@@ -1,0 +1,25 @@
+#pragma once
+// The project's one way to run another program: fork + exec, no shell (so
+// paths need no quoting), output captured in a log file.
+
+#include <string>
+#include <vector>
+
+namespace hcpf {
+
+struct ProcessStatus {
+  bool started = false;  // false: fork failed (`error` says why)
+  int exit_code = -1;    // when the program exited; 127: it could not be executed
+  int signal = 0;        // when a signal ended it (0 otherwise)
+  std::string error;
+
+  bool ok() const { return started && signal == 0 && exit_code == 0; }
+};
+
+// Runs argv[0] (looked up on PATH when it holds no '/') with arguments
+// argv[1..], its stdout and stderr written to `log_path` (truncated), and
+// waits for it. Between fork and exec the child makes only async-signal-safe
+// calls, so this is safe to call from a threaded process.
+ProcessStatus RunProcess(const std::vector<std::string>& argv, const std::string& log_path);
+
+}  // namespace hcpf

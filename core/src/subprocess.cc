@@ -1,0 +1,48 @@
+#include "hcpf/core/subprocess.h"
+
+#include <fcntl.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <cerrno>
+#include <cstring>
+
+#include "hcpf/core/check.h"
+
+namespace hcpf {
+
+ProcessStatus RunProcess(const std::vector<std::string>& argv, const std::string& log_path) {
+  HCPF_CHECK(!argv.empty()) << "RunProcess needs a program";
+  // Everything the child needs is prepared before the fork.
+  std::vector<std::string> args = argv;
+  std::vector<char*> pointers;
+  for (std::string& a : args) pointers.push_back(a.data());
+  pointers.push_back(nullptr);
+  ProcessStatus status;
+  const pid_t pid = ::fork();
+  if (pid < 0) {
+    status.error = std::strerror(errno);
+    return status;
+  }
+  if (pid == 0) {
+    const int fd = ::open(log_path.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+    if (fd >= 0) {
+      ::dup2(fd, STDOUT_FILENO);
+      ::dup2(fd, STDERR_FILENO);
+    }
+    ::execvp(pointers[0], pointers.data());
+    ::_exit(127);
+  }
+  status.started = true;
+  int raw = 0;
+  while (::waitpid(pid, &raw, 0) < 0 && errno == EINTR) {
+  }
+  if (WIFSIGNALED(raw)) {
+    status.signal = WTERMSIG(raw);
+  } else if (WIFEXITED(raw)) {
+    status.exit_code = WEXITSTATUS(raw);
+  }
+  return status;
+}
+
+}  // namespace hcpf

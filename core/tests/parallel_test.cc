@@ -1,0 +1,58 @@
+#include "hcpf/core/parallel.h"
+
+#include <gtest/gtest.h>
+
+#include <atomic>
+#include <stdexcept>
+#include <vector>
+
+#include "hcpf/core/subprocess.h"
+
+namespace hcpf {
+namespace {
+
+TEST(ParallelFor, EveryItemExactlyOnceForAnyWorkerCount) {
+  for (int workers : {0, 1, 2, 3, 8, 100}) {
+    std::vector<std::atomic<int>> hits(57);
+    ParallelFor(hits.size(), workers, [&](size_t i) { hits[i].fetch_add(1); });
+    for (size_t i = 0; i < hits.size(); ++i) EXPECT_EQ(hits[i].load(), 1) << workers << " " << i;
+  }
+  int calls = 0;
+  ParallelFor(0, 4, [&](size_t) { ++calls; });
+  EXPECT_EQ(calls, 0);
+}
+
+TEST(ParallelFor, TheFirstExceptionIsRethrownAfterAllThreadsStop) {
+  std::atomic<int> started{0};
+  EXPECT_THROW(ParallelFor(1000, 4,
+                           [&](size_t i) {
+                             started.fetch_add(1);
+                             if (i == 3) throw std::runtime_error("item 3");
+                           }),
+               std::runtime_error);
+  // Items already handed out finish; no new item starts after the throw, so
+  // far fewer than all 1000 ran (at most one in flight per thread after it).
+  EXPECT_LT(started.load(), 1000);
+}
+
+TEST(RunProcess, ExitCodesSignalsAndOutputInTheLog) {
+  const std::string log = ::testing::TempDir() + "/hcpf_run_process.log";
+  ProcessStatus s = RunProcess({"sh", "-c", "echo hello; exit 3"}, log);
+  EXPECT_TRUE(s.started);
+  EXPECT_EQ(s.exit_code, 3);
+  EXPECT_FALSE(s.ok());
+  std::FILE* f = std::fopen(log.c_str(), "r");
+  ASSERT_NE(f, nullptr);
+  char buffer[16] = {};
+  ASSERT_NE(std::fgets(buffer, sizeof buffer, f), nullptr);
+  std::fclose(f);
+  EXPECT_STREQ(buffer, "hello\n");
+  s = RunProcess({"sh", "-c", "kill -9 $$"}, log);
+  EXPECT_EQ(s.signal, 9);
+  s = RunProcess({"/nonexistent/program"}, log);
+  EXPECT_EQ(s.exit_code, 127);
+  EXPECT_TRUE(RunProcess({"true"}, log).ok());
+}
+
+}  // namespace
+}  // namespace hcpf

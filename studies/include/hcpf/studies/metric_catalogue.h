@@ -1,0 +1,36 @@
+#pragma once
+// The metrics a study records for every run, each named once. The results
+// store makes one column per entry and reads it from the run folder by its
+// JSON pointer, sweep files and regression suites name metrics from it, the
+// report labels its plots with it, the regression gate takes its direction
+// from it, and `hcpf report`'s summary.csv lists them in this order.
+
+#include <span>
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace hcpf::studies {
+
+struct CatalogueMetric {
+  std::string_view name;     // store column and YAML name, e.g. "da_accuracy"
+  std::string_view file;     // the run-folder file it is read from: metrics.json | manifest.json
+  std::string_view pointer;  // JSON pointer (RFC 6901) into that file, e.g. "/filters/da_accuracy"
+  bool higher_is_better;
+  std::string_view label;  // for plots and tables, e.g. "data-association accuracy"
+  std::string_view unit;   // "" when dimensionless
+  // The value is 1000 × (the pointed value) / manifest.json's "/frames"
+  // (milliseconds per frame of a time in seconds).
+  bool per_frame_ms = false;
+};
+
+// Every metric, in the order of the store's columns.
+std::span<const CatalogueMetric> MetricCatalogue();
+
+// The entry named `name`, or nullptr.
+const CatalogueMetric* FindMetric(std::string_view name);
+
+// The names, in catalogue order.
+std::vector<std::string> MetricNames();
+
+}  // namespace hcpf::studies

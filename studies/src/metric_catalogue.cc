@@ -1,0 +1,41 @@
+#include "hcpf/studies/metric_catalogue.h"
+
+namespace hcpf::studies {
+
+std::span<const CatalogueMetric> MetricCatalogue() {
+  // The store's columns: keep the order (existing stores were made with it).
+  static constexpr CatalogueMetric kMetrics[] = {
+      {"da_accuracy", "metrics.json", "/filters/da_accuracy", true, "data-association accuracy",
+       ""},
+      {"hijack_rate", "metrics.json", "/filters/hijack_rate", false, "hijack rate", ""},
+      {"hijacked_fraction", "metrics.json", "/filters/hijacked_fraction", false,
+       "fraction of filter-frames hijacked", ""},
+      {"swaps", "metrics.json", "/filters/swaps", false, "filter swaps", ""},
+      {"idf1", "metrics.json", "/mot/IDF1", true, "IDF1", ""},
+      {"hota", "metrics.json", "/mot/HOTA", true, "HOTA", ""},
+      {"mota", "metrics.json", "/mot/MOTA", true, "MOTA", ""},
+      {"motp", "metrics.json", "/mot/MOTP", true, "MOTP", ""},
+      {"deta", "metrics.json", "/mot/DetA", true, "detection accuracy (DetA)", ""},
+      {"assa", "metrics.json", "/mot/AssA", true, "association accuracy (AssA)", ""},
+      {"ospa", "metrics.json", "/ospa/mean", false, "OSPA distance (mean)", "px"},
+      {"ms_per_frame", "manifest.json", "/timings/tracker_s", false, "tracker time per frame", "ms",
+       true},
+      {"wall_time_s", "manifest.json", "/timings/total_s", false, "wall time of the run", "s"},
+  };
+  return kMetrics;
+}
+
+const CatalogueMetric* FindMetric(std::string_view name) {
+  for (const CatalogueMetric& m : MetricCatalogue()) {
+    if (m.name == name) return &m;
+  }
+  return nullptr;
+}
+
+std::vector<std::string> MetricNames() {
+  std::vector<std::string> names;
+  for (const CatalogueMetric& m : MetricCatalogue()) names.emplace_back(m.name);
+  return names;
+}
+
+}  // namespace hcpf::studies

@@ -110,20 +110,13 @@ struct MultiTargetTracker::Filter {
   bool coasting = false;
 };
 
-struct MultiTargetTracker::Tentative {
-  BoxPx box;
-  std::vector<int> hit_frames;  // frames with a detection, oldest first
-  Eigen::Vector2d first_centre = Eigen::Vector2d::Zero();
-  int first_frame = 0;
-  int last_frame = 0;
-};
-
 MultiTargetTracker::MultiTargetTracker(const TrackerOptions& options, TrackerComponents components,
                                        Rng rng)
     : options_(options), components_(std::move(components)), rng_(rng) {
   options_.Validate();
   HCPF_CHECK(components_.dynamics && components_.likelihood && components_.interaction &&
-             components_.resampler && components_.associator)
+             components_.resampler && components_.associator && components_.initiator &&
+             components_.deleter)
       << "every tracker component must be set";
 }
 
@@ -341,7 +334,6 @@ void MultiTargetTracker::ManageTracks(const Observation& observation,
                                       const std::vector<int>& assignment,
                                       const std::vector<TrackPrediction>& predictions,
                                       FrameReport& report) {
-  const TrackManagementOptions& m = options_.management;
   // Support counters and deletion.
   std::vector<std::unique_ptr<Filter>> kept;
   kept.reserve(filters_.size());
@@ -350,18 +342,17 @@ void MultiTargetTracker::ManageTracks(const Observation& observation,
     f.just_born = false;
     f.missed_frames = f.supported ? 0 : f.missed_frames + 1;
     report.filters[i].missed_frames = f.missed_frames;
-    if (m.max_missed_frames > 0 && f.missed_frames >= m.max_missed_frames) {
+    if (components_.deleter->Delete(f.missed_frames)) {
       report.deleted.push_back(f.id);
     } else {
       kept.push_back(std::move(filters_[i]));
     }
   }
   filters_ = std::move(kept);
-  if (options_.init != InitMode::kDetections) return;
 
-  // M-of-N confirmation from detections no filter claims: not assigned and
-  // not inside any filter's gate (so association = none does not spawn
-  // duplicates of existing tracks).
+  // Births from the detections no filter claims: not assigned and not inside
+  // any filter's gate (so association = none does not spawn duplicates of
+  // existing tracks).
   std::vector<size_t> free_detections;
   for (size_t d = 0; d < observation.detections.size(); ++d) {
     const bool assigned =
@@ -372,79 +363,35 @@ void MultiTargetTracker::ManageTracks(const Observation& observation,
     });
     if (!gated) free_detections.push_back(d);
   }
-  // Match free detections to tentatives by centre distance (optimal, gated).
-  const double gate2 = m.tentative_gate_px * m.tentative_gate_px;
-  const int rows = static_cast<int>(tentatives_.size());
-  const int cols = static_cast<int>(free_detections.size());
-  std::vector<double> cost(static_cast<size_t>(rows) * cols,
-                           std::numeric_limits<double>::infinity());
-  for (int r = 0; r < rows; ++r) {
-    for (int c = 0; c < cols; ++c) {
-      const BoxPx& b = observation.detections[free_detections[c]].box;
-      const double dx = b.centre_x() - tentatives_[r].box.centre_x();
-      const double dy = b.centre_y() - tentatives_[r].box.centre_y();
-      const double d2 = dx * dx + dy * dy;
-      if (d2 <= gate2) cost[static_cast<size_t>(r) * cols + c] = d2;
+  for (const Birth& birth : components_.initiator->Step(observation, free_detections)) {
+    const TrackId id{next_track_id_++};
+    BirthTrack(id, birth.box, birth.velocity_px);
+    // Born from this frame's detection, so it describes this frame and must
+    // predict at the next Step (unlike a BirthTrack before a Step).
+    for (auto& f : filters_) {
+      if (f->id == id) f->just_born = false;
     }
+    report.born.push_back(id);
   }
-  const std::vector<int> match = SolveAssignment(cost, rows, cols);
-  std::vector<char> used(static_cast<size_t>(cols), 0);
-  for (int r = 0; r < rows; ++r) {
-    if (match[r] < 0) continue;
-    Tentative& t = tentatives_[r];
-    t.box = observation.detections[free_detections[match[r]]].box;
-    t.hit_frames.push_back(observation.frame);
-    t.last_frame = observation.frame;
-    used[match[r]] = 1;
+}
+
+std::unique_ptr<Initiator> MakeInitiator(const TrackerOptions& options) {
+  if (options.init == InitMode::kDetections) {
+    return std::make_unique<MofNInitiator>(options.management);
   }
-  for (int c = 0; c < cols; ++c) {
-    if (used[c]) continue;
-    Tentative t;
-    t.box = observation.detections[free_detections[c]].box;
-    t.hit_frames = {observation.frame};
-    t.first_centre = {t.box.centre_x(), t.box.centre_y()};
-    t.first_frame = t.last_frame = observation.frame;
-    tentatives_.push_back(t);
-  }
-  // Confirm (M hits in the window) or drop (M hits no longer reachable:
-  // misses in the window exceed N - M, counting frames since creation).
-  std::vector<Tentative> remaining;
-  for (Tentative& t : tentatives_) {
-    // Hits within the last confirm_window frames (this one included).
-    const int window_start = observation.frame - m.confirm_window + 1;
-    std::erase_if(t.hit_frames, [&](int f) { return f < window_start; });
-    const int hits = static_cast<int>(t.hit_frames.size());
-    const int age = observation.frame - t.first_frame + 1;
-    const int window_frames = std::min(age, m.confirm_window);
-    const int misses = window_frames - hits;
-    if (hits >= m.confirm_hits) {
-      const TrackId id{next_track_id_++};
-      Eigen::Vector2d velocity = Eigen::Vector2d::Zero();
-      if (t.last_frame > t.first_frame) {
-        velocity = (Eigen::Vector2d(t.box.centre_x(), t.box.centre_y()) - t.first_centre) /
-                   static_cast<double>(t.last_frame - t.first_frame);
-      }
-      BirthTrack(id, t.box, velocity);
-      // Born from this frame's detection, so it describes this frame and must
-      // predict at the next Step (unlike a BirthTrack before a Step).
-      for (auto& f : filters_) {
-        if (f->id == id) f->just_born = false;
-      }
-      report.born.push_back(id);
-    } else if (misses <= m.confirm_window - m.confirm_hits) {
-      remaining.push_back(t);
-    }
-  }
-  tentatives_ = std::move(remaining);
+  return std::make_unique<NoInitiator>();
 }
 
 std::unique_ptr<MultiTargetTracker> MakeTracker(const TrackerOptions& options, Rng rng) {
   options.Validate();
-  TrackerComponents components{.dynamics = MakeDynamics(options.dynamics),
-                               .likelihood = MakeLikelihood(options.likelihood),
-                               .interaction = MakeInteraction(options.interaction),
-                               .resampler = MakeResampler(options.resampling),
-                               .associator = MakeAssociator(options.association)};
+  TrackerComponents components{
+      .dynamics = MakeDynamics(options.dynamics),
+      .likelihood = MakeLikelihood(options.likelihood),
+      .interaction = MakeInteraction(options.interaction),
+      .resampler = MakeResampler(options.resampling),
+      .associator = MakeAssociator(options.association),
+      .initiator = MakeInitiator(options),
+      .deleter = std::make_unique<MissedFramesDeleter>(options.management.max_missed_frames)};
   return std::make_unique<MultiTargetTracker>(options, std::move(components), rng);
 }
 

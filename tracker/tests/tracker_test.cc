@@ -272,3 +272,151 @@ TEST(MultiTargetTracker, VanishedWeightsAreRecoveredAndCounted) {
 
 }  // namespace
 }  // namespace hcpf::tracker
+
+namespace hcpf::tracker {
+namespace {
+
+// ---------------------------------------------------------------------------
+// The composite assembled entirely from fake components: each fake does one
+// visible, hand-checkable thing, so the test shows the order in which Step
+// calls the roles and what it does with their answers.
+
+struct Calls {
+  int resamples = 0;
+  std::vector<std::vector<size_t>> free_detections;  // what the initiator saw, per frame
+};
+
+class ShiftDynamics final : public Dynamics {  // every particle 3 px to the right
+ public:
+  void Predict(ParticleSet& set, Rng&) const override {
+    for (double& x : set.px) x += 3.0;
+  }
+  std::string_view name() const override { return "shift"; }
+};
+
+class EvidenceLikelihood final : public Likelihood {  // weights untouched, evidence iff assigned
+ public:
+  bool AddLogLikelihood(ParticleSet&, const LikelihoodInput& input) const override {
+    return input.assigned != nullptr;
+  }
+  std::string_view name() const override { return "evidence"; }
+};
+
+class NoopInteraction final : public Interaction {
+ public:
+  void Apply(ParticleSet&, std::span<const FilterSummary>) const override {}
+  std::string_view name() const override { return "noop"; }
+};
+
+class CountingResampler final : public Resampler {  // never resamples, counts calls
+ public:
+  explicit CountingResampler(Calls* calls) : calls_(calls) {}
+  ResampleResult Resample(const ParticleSet&, const ResampleContext&, Rng&,
+                          std::span<int32_t>) const override {
+    ++calls_->resamples;
+    return {.resampled = false};
+  }
+  std::string_view name() const override { return "counting"; }
+
+ private:
+  Calls* calls_;
+};
+
+class IndexAssociator final : public Associator {  // track i <- detection i, if present
+ public:
+  std::vector<int> Associate(std::span<const TrackPrediction> tracks,
+                             std::span<const Detection> detections) const override {
+    std::vector<int> out(tracks.size(), -1);
+    for (size_t i = 0; i < tracks.size() && i < detections.size(); ++i)
+      out[i] = static_cast<int>(i);
+    return out;
+  }
+  std::string_view name() const override { return "index"; }
+};
+
+class FirstFrameInitiator final : public Initiator {  // births every free detection of frame 0
+ public:
+  explicit FirstFrameInitiator(Calls* calls) : calls_(calls) {}
+  std::vector<Birth> Step(const Observation& observation,
+                          std::span<const size_t> free_detections) override {
+    calls_->free_detections.emplace_back(free_detections.begin(), free_detections.end());
+    std::vector<Birth> births;
+    if (observation.frame != 0) return births;
+    for (size_t d : free_detections) births.push_back({observation.detections[d].box, {2.0, 0.0}});
+    return births;
+  }
+  std::string_view name() const override { return "first_frame"; }
+
+ private:
+  Calls* calls_;
+};
+
+class OneMissDeleter final : public Deleter {  // ends a filter at its first unsupported frame
+ public:
+  bool Delete(int missed_frames) const override { return missed_frames >= 1; }
+  std::string_view name() const override { return "one_miss"; }
+};
+
+Observation FrameWith(int frame, std::vector<BoxPx> boxes) {
+  Observation o;
+  o.frame = frame;
+  for (const BoxPx& b : boxes) o.detections.push_back({.box = b});
+  return o;
+}
+
+TEST(MultiTargetTracker, AssembledFromFakeComponents) {
+  Calls calls;
+  TrackerOptions options;
+  options.particles = 8;
+  // A newborn filter's particles sit exactly on the birth box.
+  options.management.birth_sigma_px = 0.0;
+  options.management.birth_sigma_vel_px = 0.0;
+  options.management.birth_sigma_log_scale = 0.0;
+  TrackerComponents parts{.dynamics = std::make_unique<ShiftDynamics>(),
+                          .likelihood = std::make_unique<EvidenceLikelihood>(),
+                          .interaction = std::make_unique<NoopInteraction>(),
+                          .resampler = std::make_unique<CountingResampler>(&calls),
+                          .associator = std::make_unique<IndexAssociator>(),
+                          .initiator = std::make_unique<FirstFrameInitiator>(&calls),
+                          .deleter = std::make_unique<OneMissDeleter>()};
+  MultiTargetTracker tracker(options, std::move(parts), Rng(1));
+
+  // Frame 0: no filter yet, so the one detection is free: the initiator
+  // births track 1 at its box (centre 105, 105) after the filters have run.
+  FrameReport r = tracker.Step(FrameWith(0, {{100, 100, 10, 10}}));
+  EXPECT_TRUE(r.filters.empty());
+  ASSERT_EQ(r.born.size(), 1u);
+  EXPECT_EQ(r.born[0], TrackId{1});
+  EXPECT_EQ(tracker.num_filters(), 1u);
+
+  // Frame 1: predict moves every particle 3 px right (105 -> 108); the
+  // associator gives it detection 0, so the likelihood reports evidence, the
+  // filter is not coasting and the resampler is asked (once). The assigned
+  // detection is not free.
+  r = tracker.Step(FrameWith(1, {{102, 100, 10, 10}}));
+  ASSERT_EQ(r.filters.size(), 1u);
+  EXPECT_DOUBLE_EQ(r.filters[0].mean.x(), 108.0);
+  EXPECT_DOUBLE_EQ(r.filters[0].mean.y(), 105.0);
+  EXPECT_EQ(r.filters[0].assigned_detection, 0);
+  EXPECT_FALSE(r.filters[0].coasting);
+  EXPECT_FALSE(r.filters[0].resampled);
+  EXPECT_EQ(calls.resamples, 1);
+  EXPECT_TRUE(r.deleted.empty());
+
+  // Frame 2: no detection, so no support: the filter coasts (no resampling)
+  // and the deleter ends it at its first miss.
+  r = tracker.Step(FrameWith(2, {}));
+  ASSERT_EQ(r.filters.size(), 1u);
+  EXPECT_TRUE(r.filters[0].coasting);
+  EXPECT_EQ(r.filters[0].missed_frames, 1);
+  EXPECT_EQ(calls.resamples, 1);
+  ASSERT_EQ(r.deleted.size(), 1u);
+  EXPECT_EQ(r.deleted[0], TrackId{1});
+  EXPECT_EQ(tracker.num_filters(), 0u);
+
+  const std::vector<std::vector<size_t>> expected_free = {{0}, {}, {}};
+  EXPECT_EQ(calls.free_detections, expected_free);
+}
+
+}  // namespace
+}  // namespace hcpf::tracker

@@ -25,6 +25,7 @@
 #include "hcpf/tracker/likelihood.h"
 #include "hcpf/tracker/particle_set.h"
 #include "hcpf/tracker/resampler.h"
+#include "hcpf/tracker/track_management.h"
 
 namespace hcpf::tracker {
 
@@ -138,6 +139,8 @@ struct TrackerComponents {
   std::unique_ptr<Interaction> interaction;
   std::unique_ptr<Resampler> resampler;
   std::unique_ptr<Associator> associator;
+  std::unique_ptr<Initiator> initiator;  // owned by this tracker (it keeps tentatives)
+  std::unique_ptr<Deleter> deleter;
 };
 
 class MultiTargetTracker {
@@ -169,7 +172,6 @@ class MultiTargetTracker {
 
  private:
   struct Filter;
-  struct Tentative;
 
   void Predict(const std::optional<SimilarityMotion>& camera_motion);
   std::vector<FilterSummary> Summaries() const;
@@ -187,9 +189,11 @@ class MultiTargetTracker {
   TrackerComponents components_;
   Rng rng_;
   std::vector<std::unique_ptr<Filter>> filters_;  // sorted by TrackId
-  std::vector<Tentative> tentatives_;
   int32_t next_track_id_ = 1;
 };
+
+// The initiator of `options.init`: MofNInitiator for detections, else NoInitiator.
+std::unique_ptr<Initiator> MakeInitiator(const TrackerOptions& options);
 
 // Validates the options, builds every component and the tracker.
 std::unique_ptr<MultiTargetTracker> MakeTracker(const TrackerOptions& options, Rng rng);

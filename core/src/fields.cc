@@ -43,13 +43,24 @@ std::string FieldExpectation(FieldType type, const FieldRange& range) {
                      range.Text());
 }
 
-namespace internal {
-
 namespace {
 std::string DottedKey(std::string_view prefix, std::string_view key) {
   return prefix.empty() ? std::string(key) : fmt::format("{}.{}", prefix, key);
 }
 }  // namespace
+
+void FailOption(std::string_view prefix, std::string_view field, std::string_view expected,
+                std::string_view found) {
+  throw InputError(SourceLocation{{}, 0, 0, DottedKey(prefix, field)}, std::string(expected),
+                   std::string(found));
+}
+
+void FailOption(std::string_view prefix, std::string_view field, std::string_view expected,
+                double found) {
+  FailOption(prefix, field, expected, FormatNumber(found));
+}
+
+namespace internal {
 
 void FailFieldRange(std::string_view prefix, std::string_view key, FieldType type,
                     const FieldRange& range, double value) {
@@ -61,8 +72,7 @@ void FailFieldChoice(std::string_view prefix, std::string_view key,
                      const std::vector<std::string_view>& choices, std::string_view value) {
   std::string joined;
   for (std::string_view c : choices) joined += fmt::format("{}{}", joined.empty() ? "" : " | ", c);
-  throw InputError(SourceLocation{{}, 0, 0, DottedKey(prefix, key)}, "one of " + joined,
-                   fmt::format("\"{}\"", value));
+  FailOption(prefix, key, "one of " + joined, fmt::format("\"{}\"", value));
 }
 
 void FailUndeclaredField(std::string_view key) {

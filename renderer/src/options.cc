@@ -6,14 +6,6 @@
 #include "hcpf/renderer/renderer.h"
 
 namespace hcpf::renderer {
-namespace {
-
-[[noreturn]] void Bad(const std::string& key, const std::string& expected,
-                      const std::string& found) {
-  throw InputError(SourceLocation{.key = key}, expected, found);
-}
-
-}  // namespace
 
 std::span<const Field<SensorOptions>> SensorOptions::Fields() {
   using O = SensorOptions;
@@ -55,7 +47,7 @@ std::span<const Field<RendererOptions>> RendererOptions::Fields() {
 void RendererOptions::Validate() const {
   CheckFields(*this, Fields(), "renderer");
   if ((texture_size & (texture_size - 1)) != 0) {
-    Bad("renderer.texture_size", "a power of two in [16, 2048]", fmt::format("{}", texture_size));
+    FailOption("renderer", "texture_size", "a power of two in [16, 2048]", texture_size);
   }
   sensor.Validate();
 }

@@ -6,7 +6,6 @@
 
 #include "hcpf/core/check.h"
 #include "hcpf/tracker/hungarian.h"
-#include "option_checks.h"
 
 namespace hcpf::tracker {
 

@@ -7,7 +7,6 @@
 #include "fast_math.h"
 #include "hcpf/core/check.h"
 #include "hcpf/tracker/normal.h"
-#include "option_checks.h"
 
 namespace hcpf::tracker {
 namespace {

@@ -2,7 +2,6 @@
 
 #include "fast_math.h"
 #include "hcpf/core/check.h"
-#include "option_checks.h"
 
 namespace hcpf::tracker {
 

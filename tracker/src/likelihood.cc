@@ -9,7 +9,6 @@
 #include "fast_math.h"
 #include "hcpf/core/check.h"
 #include "mixture_kernel.h"
-#include "option_checks.h"
 
 namespace hcpf::tracker {
 

@@ -7,7 +7,6 @@
 
 #include "fast_math.h"
 #include "hcpf/core/check.h"
-#include "option_checks.h"
 
 namespace hcpf::tracker {
 
@@ -35,8 +34,8 @@ std::span<const Field<ResamplerOptions>> ResamplerOptions::Fields() {
 void ResamplerOptions::Validate(std::string_view prefix) const {
   CheckFields(*this, Fields(), prefix);
   if (candidates == ResamplingMethod::kCharged) {
-    internal::FailOption(prefix, "candidates",
-                         "one of multinomial, systematic, stratified, residual", "charged");
+    FailOption(prefix, "candidates", "one of multinomial, systematic, stratified, residual",
+               "charged");
   }
 }
 

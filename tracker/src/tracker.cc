@@ -12,7 +12,6 @@
 #include "hcpf/core/parallel.h"
 #include "hcpf/tracker/hungarian.h"
 #include "hcpf/tracker/normal.h"
-#include "option_checks.h"
 
 namespace hcpf::tracker {
 
@@ -42,9 +41,8 @@ std::span<const Field<TrackManagementOptions>> TrackManagementOptions::Fields() 
 void TrackManagementOptions::Validate(std::string_view prefix) const {
   CheckFields(*this, Fields(), prefix);
   if (confirm_hits > confirm_window) {
-    internal::FailOption(prefix, "confirm_hits",
-                         fmt::format("an integer in [1, confirm_window = {}]", confirm_window),
-                         confirm_hits);
+    FailOption(prefix, "confirm_hits",
+               fmt::format("an integer in [1, confirm_window = {}]", confirm_window), confirm_hits);
   }
 }
 
@@ -64,7 +62,7 @@ std::span<const Field<TrackerOptions>> TrackerOptions::Fields() {
 void TrackerOptions::Validate() const {
   CheckFields(*this, Fields(), "tracker");
   if (threads < 1 || threads > 256) {
-    internal::FailOption("tracker", "threads", "an integer in [1, 256]", threads);
+    FailOption("tracker", "threads", "an integer in [1, 256]", threads);
   }
   dynamics.Validate("tracker.dynamics");
   likelihood.Validate("tracker.likelihood");
@@ -74,12 +72,12 @@ void TrackerOptions::Validate() const {
   management.Validate("tracker.management");
   if (likelihood.model == LikelihoodModel::kAssociated &&
       association.method == AssociationMethod::kNone) {
-    internal::FailOption("tracker.association", "method",
-                         "gnn or nearest (tracker.likelihood.model is associated)", "none");
+    FailOption("tracker.association", "method",
+               "gnn or nearest (tracker.likelihood.model is associated)", "none");
   }
   if (dynamics.model == DynamicsModel::kConstantVelocityScale &&
       likelihood.model != LikelihoodModel::kMap && likelihood.sigma_log_size == 0.0) {
-    internal::FailOption(
+    FailOption(
         "tracker.likelihood", "sigma_log_size",
         "> 0 when tracker.dynamics.model is constant_velocity_scale (else the scale is unobserved)",
         likelihood.sigma_log_size);

@@ -180,6 +180,15 @@ namespace internal {
 [[noreturn]] void FailUndeclaredField(std::string_view key);
 }  // namespace internal
 
+// The one way an Options::Validate() reports a broken rule: throws
+// InputError {key: "<prefix>.<field>", expected, found}. The scenario reader
+// relocates it to the key's file line. A number is written as FormatNumber
+// writes it.
+[[noreturn]] void FailOption(std::string_view prefix, std::string_view field,
+                             std::string_view expected, std::string_view found);
+[[noreturn]] void FailOption(std::string_view prefix, std::string_view field,
+                             std::string_view expected, double found);
+
 // "a number in [0, 1000]" / "an integer in [1, 10000000]".
 std::string FieldExpectation(FieldType type, const FieldRange& range);
 

@@ -3,26 +3,18 @@
 
 #include <fcntl.h>
 #include <fmt/format.h>
-#include <signal.h>
 #include <spdlog/spdlog.h>
 #include <sys/file.h>
-#include <sys/wait.h>
 #include <unistd.h>
 
-#include <atomic>
 #include <cerrno>
 #include <cstring>
 #include <exception>
 #include <filesystem>
-#include <fstream>
 #include <map>
 #include <mutex>
-#include <set>
-#include <sstream>
-#include <thread>
 
 #include "hcpf/core/parallel.h"
-#include "hcpf/core/subprocess.h"
 #include "hcpf/renderer/image_io.h"
 #include "hcpf/renderer/renderer.h"
 #include "hcpf/scenarios/frames.h"
@@ -30,6 +22,7 @@
 #include "hcpf/scenarios/progress.h"
 #include "hcpf/scenarios/run.h"
 #include "hcpf/studies/results_store.h"
+#include "hcpf/studies/run_queue.h"
 #include "hcpf/studies/sweep.h"
 
 namespace hcpf::studies {
@@ -47,53 +40,6 @@ using scenarios::ToResolvedYaml;
 namespace fs = std::filesystem;
 
 namespace {
-
-std::string Tail(const fs::path& log, size_t max_chars) {
-  std::ifstream in(log);
-  std::stringstream text;
-  text << in.rdbuf();
-  std::string t = text.str();
-  while (!t.empty() && (t.back() == '\n' || t.back() == ' ')) t.pop_back();
-  return t.size() > max_chars ? "..." + t.substr(t.size() - max_chars) : t;
-}
-
-// Runs one run as a child process `hcpf run <resolved scenario> --out ...`, so
-// a crash (a signal, an abort) fails that run only. The resolved scenario
-// reproduces the run exactly (docs/outputs.md). Throws RunError naming the
-// exit status or signal with the end of the child's log.
-void RunIsolated(const std::string& exe, const SweepRun& run, const RunOptions& run_options,
-                 const fs::path& runs_dir) {
-  const fs::path input = runs_dir / (run.key + ".input.yaml");
-  const fs::path log = runs_dir / (run.key + ".log");
-  {
-    std::ofstream out(input);
-    out << ToResolvedYaml(run.scenario);
-    if (!out) throw RunError(fmt::format("cannot write {}", input.string()));
-  }
-  std::vector<std::string> args = {exe,     "--log-level",       "warn",      "run", input.string(),
-                                   "--out", run_options.out_dir, "--threads", "1"};
-  if (run_options.video) args.push_back("--video");
-  if (run_options.frame_cache_dir.empty()) {
-    args.push_back("--no-cache");
-  } else {
-    args.push_back("--cache");
-    args.push_back(run_options.frame_cache_dir);
-  }
-  const ProcessStatus status = RunProcess(args, log.string());
-  if (!status.started) throw RunError(fmt::format("cannot start {}: {}", exe, status.error));
-  std::error_code ec;
-  fs::remove(input, ec);
-  if (status.ok()) {
-    fs::remove(log, ec);
-    return;
-  }
-  const std::string tail = Tail(log, 600);
-  if (status.signal != 0) {
-    throw RunError(fmt::format("crashed: killed by signal {} ({}); log {}: {}", status.signal,
-                               ::strsignal(status.signal), log.string(), tail));
-  }
-  throw RunError(fmt::format("hcpf run exited with status {}: {}", status.exit_code, tail));
-}
 
 // The sweep's picture of its scene: the first rendered run's frames, sampled
 // from the sweep's own frame cache into DIR/contact_sheet.png for the report
@@ -184,23 +130,12 @@ SweepResult RunSweep(const SweepSpec& spec, const std::vector<SweepRun>& runs,
 
   std::mutex mutex;  // guards result and progress
   Progress progress("sweep", static_cast<int64_t>(todo.size()));
-  // Render once: rendered runs that share frames (same pixel hash) would render
-  // them concurrently; so the first run of each scene goes in a first wave and
-  // the others, which then read every frame from the cache, in a second.
-  std::vector<const SweepRun*> first_wave, second_wave;
-  std::set<std::string> scenes;
-  for (const SweepRun* run : todo) {
-    const bool rendered = run->scenario.observation.source == ObservationSource::kRendered &&
-                          !options.frame_cache_dir.empty();
-    if (rendered &&
-        !scenes
-             .insert(renderer::PixelHash(run->scenario.world, RendererOptionsOf(run->scenario),
-                                         run->scenario.seeds.renderer))
-             .second) {
-      second_wave.push_back(run);
-    } else {
-      first_wave.push_back(run);
-    }
+  const std::vector<std::vector<const SweepRun*>> waves = RunWaves(todo, options.frame_cache_dir);
+  std::unique_ptr<RunExecutor> executor;
+  if (options.isolate_exe.empty()) {
+    executor = std::make_unique<InProcessExecutor>();
+  } else {
+    executor = std::make_unique<ChildProcessExecutor>(options.isolate_exe, (out / "runs").string());
   }
   // One run: compute it (a failure is recorded, not thrown), then store it. A
   // failure to store stops the sweep: ParallelFor starts no further run and
@@ -220,11 +155,7 @@ SweepResult RunSweep(const SweepSpec& spec, const std::vector<SweepRun>& runs,
       run_options.show_progress = false;
       run_options.frame_cache_dir = options.frame_cache_dir;
       run_options.video = options.video && run.seed_index == 0;
-      if (options.isolate_exe.empty()) {
-        RunScenario(run.scenario, run_options);
-      } else {
-        RunIsolated(options.isolate_exe, run, run_options, out / "runs");
-      }
+      executor->Execute(run, run_options);
       record.metrics = ReadRunMetrics(run_options.out_dir);
       record.ok = true;
     } catch (const std::exception& e) {
@@ -241,8 +172,8 @@ SweepResult RunSweep(const SweepSpec& spec, const std::vector<SweepRun>& runs,
     }
     if (options.progress) progress.Advance(1, record.ok ? 0 : 1);
   };
-  for (const std::vector<const SweepRun*>* wave : {&first_wave, &second_wave}) {
-    ParallelFor(wave->size(), options.jobs, [&](size_t i) { run_one(*(*wave)[i]); });
+  for (const std::vector<const SweepRun*>& wave : waves) {
+    ParallelFor(wave.size(), options.jobs, [&](size_t i) { run_one(*wave[i]); });
   }
   if (options.progress) progress.Finish();
   WriteContactSheet(out, runs, options.frame_cache_dir);

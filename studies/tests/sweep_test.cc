@@ -7,6 +7,7 @@
 #include <set>
 
 #include "hcpf/core/rng.h"
+#include "hcpf/studies/run_queue.h"
 #include "sweep_fixture.h"
 
 namespace hcpf::studies {
@@ -176,6 +177,42 @@ TEST(SweepOptions, ValidateNamesTheField) {
   } catch (const InputError& e) {
     EXPECT_NE(std::string(e.what()).find("--shard"), std::string::npos);
   }
+}
+
+}  // namespace
+}  // namespace hcpf::studies
+
+namespace hcpf::studies {
+namespace {
+
+// The run queue: with a frame cache, the first run of each rendered scene goes
+// first and the runs that reuse its frames after it; everything else goes
+// first, in order.
+TEST(RunWaves, RunsThatReuseARenderedSceneGoSecond) {
+  const auto dir = testing::SweepFolder("waves");
+  const std::vector<SweepRun> runs =
+      ExpandSweep(LoadSweepFile(testing::WriteSweep(dir,
+                                                    "base: base.yaml\n"
+                                                    "grid:\n"
+                                                    "  observation.source: [rendered, simulated]\n"
+                                                    "  seed: [1, 2]\n"
+                                                    "  tracker.particles: [100, 200]\n")));
+  ASSERT_EQ(runs.size(), 8u);  // source x seed x particles, the last key fastest
+  std::vector<const SweepRun*> all;
+  for (const SweepRun& r : runs) all.push_back(&r);
+  // Runs 0..3 are rendered: (seed 1: 100, 200), (seed 2: 100, 200). The seed
+  // changes the scene, the particle count does not.
+  const auto waves = RunWaves(all, "/some/cache");
+  ASSERT_EQ(waves.size(), 2u);
+  const std::vector<const SweepRun*> first = {&runs[0], &runs[2], &runs[4],
+                                              &runs[5], &runs[6], &runs[7]};
+  const std::vector<const SweepRun*> second = {&runs[1], &runs[3]};
+  EXPECT_EQ(waves[0], first);
+  EXPECT_EQ(waves[1], second);
+  // Without a cache no run can reuse another's frames.
+  const auto uncached = RunWaves(all, "");
+  EXPECT_EQ(uncached[0], all);
+  EXPECT_TRUE(uncached[1].empty());
 }
 
 }  // namespace

@@ -167,36 +167,22 @@ std::string SceneContactSheet(const fs::path& dir) {
 
 }  // namespace
 
-ReportResult WriteReport(const ReportOptions& options) {
-  options.Validate();
-  const fs::path dir(options.dir);
-  auto store = ResultsStore::Open((dir / "results.sqlite").string());
-  const StoreMeta& meta = store->meta();
-  const std::vector<RunRecord> runs = store->Runs();
-  const std::vector<std::string>& keys = meta.swept_keys;
-  const auto key_index = [&](const std::string& k) -> int {
-    const auto it = std::find(keys.begin(), keys.end(), k);
-    return it == keys.end() ? -1 : static_cast<int>(it - keys.begin());
-  };
-  const int x_index = key_index(meta.report.x);
-  const int series_index = key_index(meta.report.series);
+namespace {
 
-  // Cells in order of first appearance (run index order = expansion order).
+// Stage 1, cells: runs grouped by their swept values (in order of first
+// appearance, which is the expansion order), each with every catalogue
+// metric's mean and 95 % interval over its finished runs.
+std::vector<Cell> CellsOf(const std::vector<RunRecord>& runs) {
   std::vector<Cell> cells;
   std::map<std::vector<std::string>, size_t> cell_of;
-  int64_t ok_runs = 0, failed_runs = 0;
   for (const RunRecord& r : runs) {
     auto [it, inserted] = cell_of.emplace(r.values, cells.size());
     if (inserted) cells.push_back(Cell{r.values, {}, 0, {}});
     Cell& cell = cells[it->second];
     cell.runs.push_back(&r);
-    if (r.ok) {
-      ++ok_runs;
-    } else {
-      ++cell.failures;
-      ++failed_runs;
-    }
+    if (!r.ok) ++cell.failures;
   }
+  // Stage 2, statistics.
   for (Cell& cell : cells) {
     for (const std::string& m : MetricNames()) {
       std::vector<double> v;
@@ -206,7 +192,39 @@ ReportResult WriteReport(const ReportOptions& options) {
       cell.stats[m] = MeanConfidence95(v);
     }
   }
+  return cells;
+}
 
+// How the cells are drawn: one line per combination of the swept keys other
+// than x, and the x axis.
+struct Layout {
+  int x_index = -1;
+  std::vector<std::string> lines;  // labels, in order of first appearance
+  std::map<std::string, std::vector<const Cell*>> line_cells;
+  std::vector<std::string> x_values;
+  bool numeric_x = false;
+  bool log_x = false;
+  double x_min = 0.0, x_max = 0.0;
+  std::string x_label;
+
+  // The x coordinate of a cell: its number, or its category's index.
+  double XPosition(const Cell& c) const {
+    const std::string v = x_index >= 0 ? c.values[x_index] : "";
+    if (numeric_x) return *ParseNumber(v);
+    return static_cast<double>(std::find(x_values.begin(), x_values.end(), v) - x_values.begin());
+  }
+};
+
+Layout LayoutOf(const std::vector<Cell>& cells, const StoreMeta& meta) {
+  const std::vector<std::string>& keys = meta.swept_keys;
+  const auto key_index = [&](const std::string& k) -> int {
+    const auto it = std::find(keys.begin(), keys.end(), k);
+    return it == keys.end() ? -1 : static_cast<int>(it - keys.begin());
+  };
+  Layout layout;
+  layout.x_index = key_index(meta.report.x);
+  const int x_index = layout.x_index;
+  const int series_index = key_index(meta.report.series);
   // Lines: every combination of the swept keys other than x (the series key
   // and any other swept key), labelled "value" or "key=value, ...".
   // Keys swept over a single value do not split lines.
@@ -225,23 +243,21 @@ ReportResult WriteReport(const ReportOptions& options) {
     }
     return parts.empty() ? std::string("all") : fmt::format("{}", fmt::join(parts, ", "));
   };
-  std::vector<std::string> lines;
-  std::map<std::string, std::vector<const Cell*>> line_cells;
   for (const Cell& c : cells) {
     const std::string label = line_label(c);
-    if (!line_cells.count(label)) lines.push_back(label);
-    line_cells[label].push_back(&c);
+    if (!layout.line_cells.count(label)) layout.lines.push_back(label);
+    layout.line_cells[label].push_back(&c);
   }
 
   // x positions: numbers when every x value is one, else category indices.
-  std::vector<std::string> x_values;
   for (const Cell& c : cells) {
     const std::string v = x_index >= 0 ? c.values[x_index] : "";
-    if (std::find(x_values.begin(), x_values.end(), v) == x_values.end()) x_values.push_back(v);
+    if (std::find(layout.x_values.begin(), layout.x_values.end(), v) == layout.x_values.end())
+      layout.x_values.push_back(v);
   }
   bool numeric_x = x_index >= 0;
   double x_min = std::numeric_limits<double>::infinity(), x_max = -x_min;
-  for (const std::string& v : x_values) {
+  for (const std::string& v : layout.x_values) {
     const auto d = ParseNumber(v);
     if (!d) {
       numeric_x = false;
@@ -251,124 +267,130 @@ ReportResult WriteReport(const ReportOptions& options) {
     x_max = std::max(x_max, *d);
   }
   // Log axis for particle counts, and for any positive x spanning >= 20x.
-  const bool log_x =
+  layout.log_x =
       numeric_x && x_min > 0 && (meta.report.x.ends_with("particles") || x_max / x_min >= 20.0);
-  const auto x_position = [&](const Cell& c) {
-    const std::string v = x_index >= 0 ? c.values[x_index] : "";
-    if (numeric_x) return *ParseNumber(v);
-    return static_cast<double>(std::find(x_values.begin(), x_values.end(), v) - x_values.begin());
-  };
+  layout.numeric_x = numeric_x;
+  layout.x_min = x_min;
+  layout.x_max = x_max;
+  layout.x_label = meta.report.x.empty() ? "run" : meta.report.x;
+  return layout;
+}
 
-  const fs::path work = dir / ".report-work";
-  std::error_code ec;
-  fs::remove_all(work, ec);
-  fs::create_directories(work, ec);
-  if (ec) throw RunError(fmt::format("cannot create {}: {}", work.string(), ec.message()));
-
-  ReportResult result;
-  std::vector<std::string> svgs;
-  const std::string x_label = meta.report.x.empty() ? "run" : meta.report.x;
-  for (size_t p = 0; p < meta.report.y.size(); ++p) {
-    const std::string& metric = meta.report.y[p];
-    const fs::path data = work / fmt::format("plot_{}.dat", p);
-    const fs::path svg = work / fmt::format("plot_{}.svg", p);
-    const fs::path script = work / fmt::format("plot_{}.gp", p);
-    std::string text;
-    std::vector<bool> has_data(lines.size(), false);
-    for (size_t l = 0; l < lines.size(); ++l) {
-      std::vector<std::pair<double, const Cell*>> points;
-      for (const Cell* c : line_cells[lines[l]]) points.push_back({x_position(*c), c});
-      std::sort(points.begin(), points.end(),
-                [](const auto& a, const auto& b) { return a.first < b.first; });
-      text += fmt::format("# {}\n", lines[l]);
-      for (const auto& [x, c] : points) {
-        const MeanCi& s = c->stats.at(metric);
-        if (s.n == 0) continue;
-        has_data[l] = true;
-        text += fmt::format("{} {} {} {}\n", Number(x), Number(s.mean),
-                            Number(s.mean - s.half_width), Number(s.mean + s.half_width));
-      }
-      // gnuplot needs at least one row per index block.
-      if (!has_data[l]) text += "nan nan nan nan\n";
-      text += "\n\n";
+// Stage 3, plots: one inline SVG per metric (gnuplot on files in `work`).
+std::string PlotSvg(const Layout& layout, const std::string& metric, size_t p, const fs::path& work,
+                    const std::string& gnuplot) {
+  const auto& lines = layout.lines;
+  const auto& x_values = layout.x_values;
+  const bool numeric_x = layout.numeric_x;
+  const bool log_x = layout.log_x;
+  const double x_min = layout.x_min;
+  const double x_max = layout.x_max;
+  const std::string& x_label = layout.x_label;
+  const fs::path data = work / fmt::format("plot_{}.dat", p);
+  const fs::path svg = work / fmt::format("plot_{}.svg", p);
+  const fs::path script = work / fmt::format("plot_{}.gp", p);
+  std::string text;
+  std::vector<bool> has_data(lines.size(), false);
+  for (size_t l = 0; l < lines.size(); ++l) {
+    std::vector<std::pair<double, const Cell*>> points;
+    for (const Cell* c : layout.line_cells.at(lines[l]))
+      points.push_back({layout.XPosition(*c), c});
+    std::sort(points.begin(), points.end(),
+              [](const auto& a, const auto& b) { return a.first < b.first; });
+    text += fmt::format("# {}\n", lines[l]);
+    for (const auto& [x, c] : points) {
+      const MeanCi& s = c->stats.at(metric);
+      if (s.n == 0) continue;
+      has_data[l] = true;
+      text += fmt::format("{} {} {} {}\n", Number(x), Number(s.mean), Number(s.mean - s.half_width),
+                          Number(s.mean + s.half_width));
     }
-    WriteTextFile(data.string(), text);
-
-    std::string gp;
-    gp += "set terminal svg size 820,440 dynamic font 'sans,11' background rgb 'white'\n";
-    gp += fmt::format("set output {}\n", GpString(svg.string()));
-    // Titles and axes from the metric catalogue: "hijack rate (hijack_rate)",
-    // "tracker time per frame, ms (ms_per_frame)".
-    const CatalogueMetric* entry = FindMetric(metric);
-    const std::string described =
-        entry == nullptr ? metric
-                         : fmt::format("{}{}{} ({})", entry->label, entry->unit.empty() ? "" : ", ",
-                                       entry->unit, metric);
-    gp += fmt::format("set title {} noenhanced\n", GpString(described + " vs " + x_label));
-    gp += fmt::format("set xlabel {} noenhanced\n", GpString(x_label));
-    gp += fmt::format("set ylabel {} noenhanced\n",
-                      GpString(described + "; mean, 95% CI over seeds"));
-    size_t longest_label = 0;
-    for (const std::string& l : lines) longest_label = std::max(longest_label, l.size());
-    // Long line labels go below the plot so they do not squeeze it.
-    gp += longest_label > 24 ? "set grid\nset key below noenhanced\n"
-                             : "set grid\nset key outside right top noenhanced\n";
-    gp += "set style fill transparent solid 0.18 noborder\n";
-    if (log_x) gp += "set logscale x\n";
-    if (!numeric_x) {
-      std::string tics;
-      for (size_t i = 0; i < x_values.size(); ++i) {
-        tics += fmt::format("{}{} {}", i ? ", " : "", GpString(x_values[i]), i);
-      }
-      gp += fmt::format("set xtics ({})\nset xrange [-0.5:{}]\n", tics, x_values.size() - 0.5);
-    } else if (x_min == x_max) {
-      gp += fmt::format("set xrange [{}:{}]\n", Number(log_x ? x_min / 2 : x_min - 1),
-                        Number(log_x ? x_max * 2 : x_max + 1));
-    }
-    std::vector<std::string> plots;
-    for (size_t l = 0; l < lines.size(); ++l) {
-      if (!has_data[l]) continue;
-      const char* colour = kColours[l % std::size(kColours)];
-      plots.push_back(fmt::format("{} index {} using 1:3:4 with filledcurves lc rgb '{}' notitle",
-                                  GpString(data.string()), l, colour));
-      plots.push_back(fmt::format(
-          "{} index {} using 1:2 with linespoints lw 2 pt 7 ps 0.6 lc rgb '{}' title {}",
-          GpString(data.string()), l, colour, GpString(lines[l])));
-    }
-    if (plots.empty()) {
-      gp +=
-          "set label 1 'no finished runs' at graph 0.5, 0.5 center\nplot [0:1] [0:1] NaN notitle\n";
-    } else {
-      gp += "plot " + fmt::format("{}", fmt::join(plots, ", \\\n     ")) + "\n";
-    }
-    WriteTextFile(script.string(), gp);
-    RunGnuplot(options.gnuplot, script);
-    svgs.push_back(InlineSvg(ReadText(svg)));
-    ++result.plots;
+    // gnuplot needs at least one row per index block.
+    if (!has_data[l]) text += "nan nan nan nan\n";
+    text += "\n\n";
   }
+  WriteTextFile(data.string(), text);
 
-  // summary.csv: one row per cell, every headline metric.
-  {
-    std::string csv;
-    for (const std::string& k : keys) csv += Csv(k) + ",";
-    csv += "runs,failures";
-    for (const std::string& m : MetricNames()) csv += fmt::format(",{0}_mean,{0}_ci95,{0}_n", m);
+  std::string gp;
+  gp += "set terminal svg size 820,440 dynamic font 'sans,11' background rgb 'white'\n";
+  gp += fmt::format("set output {}\n", GpString(svg.string()));
+  // Titles and axes from the metric catalogue: "hijack rate (hijack_rate)",
+  // "tracker time per frame, ms (ms_per_frame)".
+  const CatalogueMetric* entry = FindMetric(metric);
+  const std::string described =
+      entry == nullptr ? metric
+                       : fmt::format("{}{}{} ({})", entry->label, entry->unit.empty() ? "" : ", ",
+                                     entry->unit, metric);
+  gp += fmt::format("set title {} noenhanced\n", GpString(described + " vs " + x_label));
+  gp += fmt::format("set xlabel {} noenhanced\n", GpString(x_label));
+  gp +=
+      fmt::format("set ylabel {} noenhanced\n", GpString(described + "; mean, 95% CI over seeds"));
+  size_t longest_label = 0;
+  for (const std::string& l : lines) longest_label = std::max(longest_label, l.size());
+  // Long line labels go below the plot so they do not squeeze it.
+  gp += longest_label > 24 ? "set grid\nset key below noenhanced\n"
+                           : "set grid\nset key outside right top noenhanced\n";
+  gp += "set style fill transparent solid 0.18 noborder\n";
+  if (log_x) gp += "set logscale x\n";
+  if (!numeric_x) {
+    std::string tics;
+    for (size_t i = 0; i < x_values.size(); ++i) {
+      tics += fmt::format("{}{} {}", i ? ", " : "", GpString(x_values[i]), i);
+    }
+    gp += fmt::format("set xtics ({})\nset xrange [-0.5:{}]\n", tics, x_values.size() - 0.5);
+  } else if (x_min == x_max) {
+    gp += fmt::format("set xrange [{}:{}]\n", Number(log_x ? x_min / 2 : x_min - 1),
+                      Number(log_x ? x_max * 2 : x_max + 1));
+  }
+  std::vector<std::string> plots;
+  for (size_t l = 0; l < lines.size(); ++l) {
+    if (!has_data[l]) continue;
+    const char* colour = kColours[l % std::size(kColours)];
+    plots.push_back(fmt::format("{} index {} using 1:3:4 with filledcurves lc rgb '{}' notitle",
+                                GpString(data.string()), l, colour));
+    plots.push_back(
+        fmt::format("{} index {} using 1:2 with linespoints lw 2 pt 7 ps 0.6 lc rgb '{}' title {}",
+                    GpString(data.string()), l, colour, GpString(lines[l])));
+  }
+  if (plots.empty()) {
+    gp += "set label 1 'no finished runs' at graph 0.5, 0.5 center\nplot [0:1] [0:1] NaN notitle\n";
+  } else {
+    gp += "plot " + fmt::format("{}", fmt::join(plots, ", \\\n     ")) + "\n";
+  }
+  WriteTextFile(script.string(), gp);
+  RunGnuplot(gnuplot, script);
+  return InlineSvg(ReadText(svg));
+}
+
+// summary.csv: one row per cell, every catalogue metric.
+std::string SummaryCsv(const std::vector<Cell>& cells, const std::vector<std::string>& keys) {
+  std::string csv;
+  for (const std::string& k : keys) csv += Csv(k) + ",";
+  csv += "runs,failures";
+  for (const std::string& m : MetricNames()) csv += fmt::format(",{0}_mean,{0}_ci95,{0}_n", m);
+  csv += "\n";
+  for (const Cell& c : cells) {
+    for (const std::string& v : c.values) csv += Csv(v) + ",";
+    csv += fmt::format("{},{}", c.runs.size(), c.failures);
+    for (const std::string& m : MetricNames()) {
+      const MeanCi& s = c.stats.at(m);
+      csv += fmt::format(",{},{},{}", s.n ? Number(s.mean) : "",
+                         s.n >= 2 ? Number(s.half_width) : "", s.n);
+    }
     csv += "\n";
-    for (const Cell& c : cells) {
-      for (const std::string& v : c.values) csv += Csv(v) + ",";
-      csv += fmt::format("{},{}", c.runs.size(), c.failures);
-      for (const std::string& m : MetricNames()) {
-        const MeanCi& s = c.stats.at(m);
-        csv += fmt::format(",{},{},{}", s.n ? Number(s.mean) : "",
-                           s.n >= 2 ? Number(s.half_width) : "", s.n);
-      }
-      csv += "\n";
-    }
-    result.csv_path = (dir / "summary.csv").string();
-    WriteTextFile(result.csv_path, csv);
   }
+  return csv;
+}
 
-  // report.html
+// Stage 4, the page.
+std::string ReportHtml(const fs::path& dir, const StoreMeta& meta,
+                       const std::vector<RunRecord>& runs, const std::vector<Cell>& cells,
+                       const Layout& layout, const std::vector<std::string>& svgs) {
+  const std::vector<std::string>& keys = meta.swept_keys;
+  const int x_index = layout.x_index;
+  int64_t ok_runs = 0, failed_runs = 0;
+  for (const RunRecord& r : runs) ++(r.ok ? ok_runs : failed_runs);
+  std::error_code ec;
   std::string h;
   h += "<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\">\n";
   h += fmt::format("<title>HCPF sweep report: {}</title>\n", EscapeMarkup(meta.sweep_file));
@@ -415,9 +437,9 @@ ReportResult WriteReport(const ReportOptions& options) {
 
   // Overlay videos of the first seed of each line, when the runs wrote them.
   std::string videos;
-  for (const std::string& label : lines) {
+  for (const std::string& label : layout.lines) {
     std::string links;
-    for (const Cell* c : line_cells[label]) {
+    for (const Cell* c : layout.line_cells.at(label)) {
       for (const RunRecord* r : c->runs) {
         if (r->seed_index != 0 || !r->ok) continue;
         if (!fs::exists(dir / r->run_dir / "overlay.mp4", ec)) continue;
@@ -441,8 +463,35 @@ ReportResult WriteReport(const ReportOptions& options) {
   h += SceneContactSheet(dir);
   h += "<h2>Base scenario (resolved)</h2>\n<pre>" + EscapeMarkup(meta.base_resolved) + "</pre>\n";
   h += "</body></html>\n";
+  return h;
+}
+
+}  // namespace
+
+ReportResult WriteReport(const ReportOptions& options) {
+  options.Validate();
+  const fs::path dir(options.dir);
+  auto store = ResultsStore::Open((dir / "results.sqlite").string());
+  const StoreMeta& meta = store->meta();
+  const std::vector<RunRecord> runs = store->Runs();
+  const std::vector<Cell> cells = CellsOf(runs);
+  const Layout layout = LayoutOf(cells, meta);
+
+  const fs::path work = dir / ".report-work";
+  std::error_code ec;
+  fs::remove_all(work, ec);
+  fs::create_directories(work, ec);
+  if (ec) throw RunError(fmt::format("cannot create {}: {}", work.string(), ec.message()));
+  ReportResult result;
+  std::vector<std::string> svgs;
+  for (size_t p = 0; p < meta.report.y.size(); ++p) {
+    svgs.push_back(PlotSvg(layout, meta.report.y[p], p, work, options.gnuplot));
+    ++result.plots;
+  }
+  result.csv_path = (dir / "summary.csv").string();
+  WriteTextFile(result.csv_path, SummaryCsv(cells, meta.swept_keys));
   result.html_path = (dir / "report.html").string();
-  WriteTextFile(result.html_path, h);
+  WriteTextFile(result.html_path, ReportHtml(dir, meta, runs, cells, layout, svgs));
   result.cells = static_cast<int>(cells.size());
   fs::remove_all(work, ec);
   return result;

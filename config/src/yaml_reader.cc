@@ -9,6 +9,7 @@
 #include <cstring>
 #include <fstream>
 #include <sstream>
+#include <vector>
 
 namespace hcpf::config {
 namespace {
@@ -85,12 +86,32 @@ YamlReader::YamlReader(YAML::Node node, std::string path,
       asked_(std::make_shared<std::set<std::string>>()) {}
 
 YAML::Node YamlReader::Parse(const std::string& text, const std::string& file) {
+  std::vector<YAML::Node> documents;
   try {
-    return YAML::Load(text);
+    documents = YAML::LoadAll(text);
   } catch (const YAML::ParserException& e) {
     SourceLocation where{file, e.mark.line + 1, e.mark.column + 1, ""};
     throw InputError(where, "valid YAML", "a syntax error: " + e.msg);
   }
+  if (documents.size() > 1) {
+    // A stray "---" or "..." line ends the first document: everything after
+    // it would be silently ignored. Report the separator before the second
+    // document (the last one in the file when the second is empty).
+    const int second_line = documents[1].Mark().line;  // 0-based, -1 when empty
+    int separator = 0;
+    std::istringstream lines(text);
+    std::string line;
+    for (int n = 0; std::getline(lines, line); ++n) {
+      const bool is_separator = line.rfind("---", 0) == 0 || line.rfind("...", 0) == 0;
+      if (is_separator && (second_line < 0 || n <= second_line)) separator = n + 1;
+    }
+    throw InputError(SourceLocation{file, separator, separator > 0 ? 1 : 0, ""},
+                     "one YAML document",
+                     "a second document after a '---' or '...' line (everything after it "
+                     "would be ignored)",
+                     "remove the line, or put the second document in a file of its own");
+  }
+  return documents.empty() ? YAML::Node() : documents.front();
 }
 
 YAML::Node YamlReader::ParseFile(const std::string& file) {
@@ -115,7 +136,9 @@ SourceLocation YamlReader::Where() const {
     }
   }
   if (node_.IsDefined()) {
-    const YAML::Mark mark = node_.Mark();
+    // An empty value ("particles:") has no position of its own (the parser
+    // marks the next token, often on the next line): report its key's.
+    const YAML::Mark mark = node_.IsNull() && key_mark_.line >= 0 ? key_mark_ : node_.Mark();
     if (mark.line >= 0) {
       where.line = mark.line + 1;
       where.column = mark.column + 1;
@@ -141,7 +164,7 @@ void YamlReader::Fail(const std::string& expected, const std::string& hint) cons
 }
 
 std::string YamlReader::Describe() const {
-  if (!node_.IsDefined() || node_.IsNull()) return "nothing";
+  if (!node_.IsDefined() || node_.IsNull()) return "nothing (an empty value)";
   if (node_.IsMap()) return "a mapping";
   if (node_.IsSequence()) return fmt::format("a list of {} item(s)", node_.size());
   return Quote(node_.Scalar());
@@ -159,8 +182,11 @@ bool YamlReader::Has(const std::string& key) {
   ExpectMap();
   asked_->insert(key);
   if (!node_.IsDefined() || node_.IsNull()) return false;
-  const YAML::Node child = node_[key];
-  return child.IsDefined() && !child.IsNull();
+  // Present even when its value is empty or null ("particles:", "fov_deg: ~"):
+  // a value reader then reports "found nothing" at that line instead of
+  // silently taking the default. Only a section may be empty (ExpectMap
+  // accepts null: all defaults).
+  return node_[key].IsDefined();
 }
 
 YamlReader YamlReader::Child(const std::string& key) {

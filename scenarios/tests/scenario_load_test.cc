@@ -83,3 +83,19 @@ TEST(LoadScenario, ModelDimensionsComeFromTheModelFile) {
 
 }  // namespace
 }  // namespace hcpf::scenarios
+
+namespace hcpf::scenarios {
+namespace {
+
+// Only a section may be empty: it means "all defaults" (issue 15, item 5).
+TEST(LoadScenario, AnEmptySectionTakesEveryDefault) {
+  const Scenario s =
+      LoadScenarioText(std::string(testing::kMinimal) + "metrics:\nsensor: ~\n", "sections.yaml");
+  EXPECT_EQ(s.metrics.filters.iou_threshold, metrics::FilterMetricsOptions{}.iou_threshold);
+  EXPECT_EQ(s.sensor.exposure, SensorOptions{}.exposure);
+  // A leading document marker is one document, not two.
+  EXPECT_NO_THROW(LoadScenarioText("---\n" + std::string(testing::kMinimal), "marker.yaml"));
+}
+
+}  // namespace
+}  // namespace hcpf::scenarios

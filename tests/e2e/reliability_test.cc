@@ -182,5 +182,38 @@ TEST(Reliability, SensorValuesOutsideTheRenderersRangeAreRejectedByValidateAndRu
   }
 }
 
+// Items 4 and 5: a stray document separator dropped the rest of a scenario
+// (the charged experiment turned into the default systematic one), and an
+// explicit null took the default; both are now errors at their line.
+TEST(Reliability, StraySeparatorsAndNullValuesAreRefusedByValidateAndRun) {
+  const fs::path dir = FreshDir("documents");
+  std::string text = ReadFile(LibraryScenario("thesis/tc3-charged"));
+  const size_t at = text.find("\ntracker:");
+  ASSERT_NE(at, std::string::npos);
+  text.insert(at + 1, "---\n");
+  const fs::path stray = Write(dir / "stray.yaml", text);
+  const fs::path null_value = Write(dir / "null.yaml", SmallScenario({}, "fps: ~\n"));
+  for (const fs::path& file : {stray, null_value}) {
+    for (const std::string& command :
+         {kHcpf + " validate " + file.string(),
+          kHcpf + " run " + file.string() + " --out " + (dir / "out").string()}) {
+      const auto r = RunCommand(command);
+      EXPECT_EQ(r.exit_code, 2) << command << "\n" << r.output;
+      EXPECT_NE(r.output.find(file.string() + ":"), std::string::npos) << r.output;
+      EXPECT_FALSE(fs::exists(dir / "out"));
+    }
+  }
+  EXPECT_NE(RunCommand(kHcpf + " validate " + stray.string()).output.find("one YAML document"),
+            std::string::npos);
+  const auto r = RunCommand(kHcpf + " validate " + null_value.string());
+  EXPECT_NE(r.output.find(null_value.string() + ":9:"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("fps"), std::string::npos) << r.output;
+  // --set with an empty value names the override.
+  const auto set =
+      RunCommand(kHcpf + " validate " + LibraryScenario("crossing") + " --set tracker.particles=");
+  EXPECT_EQ(set.exit_code, 2) << set.output;
+  EXPECT_NE(set.output.find("--set tracker.particles="), std::string::npos) << set.output;
+}
+
 }  // namespace
 }  // namespace hcpf

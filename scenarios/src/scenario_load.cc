@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <charconv>
 #include <filesystem>
+#include <map>
 #include <set>
 
 #include "hcpf/config/fields_yaml.h"
@@ -183,12 +184,21 @@ void ReadSimulated(YamlReader r, const std::set<int32_t>& ids, SimulatedObservat
   ReadFields(r, *s, SimulatedObservationOptions::Fields());
   if (auto strength = r.Optional("strength")) {
     strength->ExpectMap();
+    std::map<int32_t, std::string> written;  // id -> how it was first written
     for (const auto& entry : strength->node()) {
       const std::string text = entry.first.Scalar();
       const int64_t id = strength->Key(entry.first).AsInteger(1, 1'000'000'000);
       if (ids.count(static_cast<int32_t>(id)) == 0) {
         strength->Key(entry.first)
             .Fail("the id of one of the targets", fmt::format("there is no target with id {}", id));
+      }
+      // {1: 1.0, 1: 0.3} or {1: 1.0, 01: 0.3}: one of the two would be lost.
+      const auto [first, inserted] = written.emplace(static_cast<int32_t>(id), text);
+      if (!inserted) {
+        strength->Key(entry.first)
+            .Fail("each target id once",
+                  fmt::format("target {} already has a strength (written \"{}\")", id,
+                              first->second));
       }
       s->strength[static_cast<int32_t>(id)] = strength->Number(text, std::nullopt, 0.0, 100.0);
     }
@@ -241,6 +251,16 @@ Scenario ReadScenario(YamlReader root, const std::string& file) {
   Scenario s;
   s.source_file = file;
   s.name = root.String("name", std::filesystem::path(file).stem().string());
+  // The name goes into seqinfo.ini, manifests and reports: a newline there
+  // would make the run's own files unreadable (issue 15, item 13).
+  if (std::any_of(s.name.begin(), s.name.end(),
+                  [](unsigned char c) { return c < 0x20 || c == 0x7f; })) {
+    if (root.Has("name"))
+      root.Child("name").Fail("a name without control characters (newline, tab)");
+    throw InputError(SourceLocation{file, 0, 0, "name"},
+                     "a file name without control characters (the default name)",
+                     fmt::format("\"{}\"", s.name));
+  }
   s.seed = root.Seed("seed", 1);
   s.seeds.world = DeriveSeed(s.seed, "world");
   s.seeds.observation = DeriveSeed(s.seed, "observation");

@@ -144,6 +144,31 @@ SourceLocation YamlReader::Where() const {
       where.column = mark.column + 1;
     }
   }
+  if (where.line == 0) {
+    // A node the file does not hold was made by an override on the way to
+    // its key (`--set trackr.particles=10` makes "trackr"): report that
+    // override. List indices may be written either way ("a[0]" or "a.0").
+    const auto normalised = [](std::string p) {
+      std::string out;
+      for (char c : p) {
+        if (c == '[') {
+          out += '.';
+        } else if (c != ']') {
+          out += c;
+        }
+      }
+      return out;
+    };
+    const std::string mine = normalised(path_);
+    for (const auto& [prefix, origin] : context_->overrides) {
+      const std::string theirs = normalised(prefix);
+      if (!mine.empty() && (theirs == mine || theirs.rfind(mine + ".", 0) == 0)) {
+        where.file = origin.label;
+        where.override_index = origin.index;
+        return where;
+      }
+    }
+  }
   return where;
 }
 

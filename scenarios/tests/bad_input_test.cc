@@ -196,6 +196,13 @@ std::vector<BadCase> Cases() {
        Replace(m, "name: minimal\n", "name: \"two\\nlines\"\n"),
        {},
        {"bad.yaml:1:", "name", "without control characters"}},
+      // Issue 15, item 14: unknown keys made by an override name the override.
+      {"OverrideUnknownTopLevelKey",
+       m,
+       {{"trackr.particles", "10"}},
+       {"--set trackr.particles=10", "trackr", "did you mean \"tracker\"?"}},
+      {"OverrideNumericMapKey", m, {{"tracker.0", "3"}}, {"--set tracker.0=3", "tracker.0"}},
+      {"OverrideNonAsciiKey", m, {{"trackér.particles", "5"}}, {"--set trackér.particles=5"}},
       {"TopLevelNotAMapping",
        "- a\n- b\n",
        {},

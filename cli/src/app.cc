@@ -3,6 +3,8 @@
 
 #include "app.h"
 
+#include <fmt/format.h>
+#include <fmt/ranges.h>
 #include <spdlog/sinks/stdout_color_sinks.h>
 #include <spdlog/spdlog.h>
 
@@ -11,6 +13,7 @@
 #include <exception>
 #include <vector>
 
+#include "hcpf/core/did_you_mean.h"
 #include "hcpf/core/error.h"
 
 namespace hcpf::cli {
@@ -42,6 +45,19 @@ int RunApp(int argc, char** argv, std::span<const AddCommandFn> adders,
   } catch (const CLI::CallForVersion& e) {
     return app.exit(e);
   } catch (const CLI::ParseError& e) {
+    // An unknown command: CLI11 says only that a subcommand is required.
+    const std::vector<std::string> rest = app.remaining();
+    if (!rest.empty() && app.get_subcommands().empty()) {
+      std::vector<std::string> names;
+      for (const CLI::App* sub : app.get_subcommands([](CLI::App*) { return true; })) {
+        names.push_back(sub->get_name());
+      }
+      const std::string near = ClosestMatch(rest.front(), names);
+      spdlog::error("expected a command ({}), found \"{}\"{}",
+                    fmt::format("{}", fmt::join(names, ", ")), rest.front(),
+                    near.empty() ? "" : " (did you mean \"" + near + "\"?)");
+      return 2;
+    }
     app.exit(e);
     return 2;
   }

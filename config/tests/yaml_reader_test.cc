@@ -86,6 +86,11 @@ TEST(YamlReader, RelocateMovesAModulesErrorToTheKeysLine) {
 TEST(YamlReader, DidYouMeanAllowsAThirdOfTheWordToDiffer) {
   EXPECT_EQ(ClosestMatch("trakcer", {"tracker", "metrics"}), "tracker");
   EXPECT_EQ(ClosestMatch("xyz", {"tracker", "metrics"}), "");
+  // A dropped suffix (issue 15, item 16).
+  EXPECT_EQ(ClosestMatch("azimuth", {"azimuth_deg", "elevation_deg", "shadows"}), "azimuth_deg");
+  EXPECT_EQ(ClosestMatch("max_missed", {"confirm_hits", "max_missed_frames"}), "max_missed_frames");
+  EXPECT_EQ(ClosestMatch("sigma", {"model", "sigma_px", "sigma_log_size"}), "sigma_px");
+  EXPECT_EQ(ClosestMatch("sigma", {"sigma_px", "sigma_py"}), "");  // a tie: no guess
 }
 
 }  // namespace

@@ -34,7 +34,6 @@ using scenarios::RunOptions;
 using scenarios::RunScenario;
 using scenarios::Scenario;
 
-using config::ClosestMatch;
 using config::FindFile;
 using config::FlowText;
 using config::YamlContext;

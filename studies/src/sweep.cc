@@ -20,7 +20,6 @@ namespace hcpf::studies {
 using scenarios::ConfigHash;
 using scenarios::LoadScenarioFile;
 
-using config::ClosestMatch;
 using config::FindFile;
 using config::FlowText;
 using config::YamlContext;

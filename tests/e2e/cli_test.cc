@@ -33,7 +33,12 @@ TEST(Cli, VersionAndHelp) {
 
 TEST(Cli, NoOrUnknownSubcommandIsBadInput) {
   EXPECT_EQ(RunCommand(kHcpf).exit_code, 2);
-  EXPECT_EQ(RunCommand(kHcpf + " frobnicate").exit_code, 2);
+  const auto unknown = RunCommand(kHcpf + " frobnicate");
+  EXPECT_EQ(unknown.exit_code, 2);
+  EXPECT_NE(unknown.output.find("found \"frobnicate\""), std::string::npos) << unknown.output;
+  const auto typo = RunCommand(kHcpf + " valdate x.yaml");
+  EXPECT_EQ(typo.exit_code, 2);
+  EXPECT_NE(typo.output.find("did you mean \"validate\"?"), std::string::npos) << typo.output;
   EXPECT_EQ(RunCommand(kHcpf + " run").exit_code, 2);  // missing scenario and --out
 }
 

@@ -17,6 +17,7 @@
 #include <vector>
 
 #include "hcpf/config/overrides.h"
+#include "hcpf/core/did_you_mean.h"
 #include "hcpf/core/error.h"
 #include "hcpf/core/fields.h"
 
@@ -106,10 +107,6 @@ class YamlReader {
 // (its text and index) instead of a file line.
 void ApplyOverrides(YAML::Node root, const std::vector<Override>& overrides, YamlContext* context);
 
-// Levenshtein distance (for "did you mean").
-int EditDistance(const std::string& a, const std::string& b);
-// The closest candidate within a small distance, or "".
-std::string ClosestMatch(const std::string& word, const std::vector<std::string>& candidates);
 // Flow-style YAML text of a node, usable as an override value (`[320, 240]`).
 std::string FlowText(const YAML::Node& node);
 

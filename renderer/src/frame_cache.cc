@@ -58,7 +58,10 @@ std::string PixelHash(const WorldSpec& world, const RendererOptions& options, ui
     AppendVec(s, o.size_m);
     s += fmt::format(",{:.17g},{:.17g},{:.17g},{:.17g},{}", o.width_m, o.height_m, o.yaw_deg,
                      o.scale, o.model);
-    if (o.kind == OccluderKind::kMesh) s += "#" + FileDigest(o.model);
+    if (o.kind == OccluderKind::kMesh) {
+      s += '#';  // (not "#" + ...: GCC 12 -O3 warns falsely, -Wrestrict)
+      s += FileDigest(o.model);
+    }
     s += ";";
   }
   for (const TargetSpec& tg : world.targets) {

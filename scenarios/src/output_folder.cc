@@ -104,8 +104,8 @@ void RemoveStaleStagingFolders(const fs::path& parent, const std::string& prefix
     for (const std::string_view marker : {".partial-", ".old-"}) {
       const size_t at = name.rfind(marker);
       if (at == std::string::npos) continue;
+      // With a prefix, the name must be exactly "<prefix><marker><pid>".
       if (!prefix.empty() && name.compare(0, at, prefix) != 0) continue;
-      if (!prefix.empty() && at != prefix.size()) continue;
       if (PidIsGone(std::string_view(name).substr(at + marker.size()))) {
         fs::remove_all(entry.path(), ec);
       }

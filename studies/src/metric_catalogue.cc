@@ -32,10 +32,13 @@ const CatalogueMetric* FindMetric(std::string_view name) {
   return nullptr;
 }
 
-std::vector<std::string> MetricNames() {
-  std::vector<std::string> names;
-  for (const CatalogueMetric& m : MetricCatalogue()) names.emplace_back(m.name);
-  return names;
+const std::vector<std::string>& MetricNames() {
+  static const std::vector<std::string> kNames = [] {
+    std::vector<std::string> names;
+    for (const CatalogueMetric& m : MetricCatalogue()) names.emplace_back(m.name);
+    return names;
+  }();
+  return kNames;
 }
 
 }  // namespace hcpf::studies

@@ -30,7 +30,7 @@ std::span<const CatalogueMetric> MetricCatalogue();
 // The entry named `name`, or nullptr.
 const CatalogueMetric* FindMetric(std::string_view name);
 
-// The names, in catalogue order.
-std::vector<std::string> MetricNames();
+// The names, in catalogue order (built once).
+const std::vector<std::string>& MetricNames();
 
 }  // namespace hcpf::studies

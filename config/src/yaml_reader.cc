@@ -11,6 +11,8 @@
 #include <sstream>
 #include <vector>
 
+#include "hcpf/core/text_file.h"
+
 namespace hcpf::config {
 namespace {
 
@@ -84,14 +86,10 @@ YAML::Node YamlReader::Parse(const std::string& text, const std::string& file) {
 }
 
 YAML::Node YamlReader::ParseFile(const std::string& file) {
-  std::ifstream in(file, std::ios::binary);
-  if (!in) {
-    throw InputError(SourceLocation{file, 0, 0, ""}, "a readable YAML file",
-                     fmt::format("it cannot be opened ({})", std::strerror(errno)));
-  }
-  std::stringstream buffer;
-  buffer << in.rdbuf();
-  return Parse(buffer.str(), file);
+  // Scenarios and sweep files are a few KiB; the cap keeps a mistaken path
+  // (a log, a video, /dev/zero) from being read whole.
+  constexpr uint64_t kMaxYamlBytes = uint64_t{16} << 20;
+  return Parse(ReadInputFile(file, "a YAML file", kMaxYamlBytes), file);
 }
 
 SourceLocation YamlReader::Where() const {

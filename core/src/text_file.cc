@@ -1,6 +1,9 @@
 #include "hcpf/core/text_file.h"
 
+#include <fcntl.h>
 #include <fmt/format.h>
+#include <sys/stat.h>
+#include <unistd.h>
 
 #include <cerrno>
 #include <cstring>
@@ -9,6 +12,84 @@
 #include "hcpf/core/error.h"
 
 namespace hcpf {
+namespace {
+
+// Closes a file descriptor on every path out of a function.
+class Fd {
+ public:
+  explicit Fd(int fd) : fd_(fd) {}
+  ~Fd() {
+    if (fd_ >= 0) ::close(fd_);
+  }
+  Fd(const Fd&) = delete;
+  Fd& operator=(const Fd&) = delete;
+  int get() const { return fd_; }
+
+ private:
+  int fd_;
+};
+
+const char* KindOf(mode_t mode) {
+  if (S_ISDIR(mode)) return "a directory";
+  if (S_ISFIFO(mode)) return "a FIFO (named pipe)";
+  if (S_ISCHR(mode)) return "a character device";
+  if (S_ISBLK(mode)) return "a block device";
+  if (S_ISSOCK(mode)) return "a socket";
+  return "not a regular file";
+}
+
+std::string SizeText(uint64_t bytes) {
+  if (bytes >= (uint64_t{1} << 20)) return fmt::format("{:.1f} MiB", bytes / 1048576.0);
+  return fmt::format("{} bytes", bytes);
+}
+
+// Opens `path` without blocking (a FIFO with no writer would block open()),
+// and checks it is a regular file. Returns the descriptor and its size.
+int OpenRegular(const std::string& path, const std::string& what, uint64_t* size) {
+  struct stat st {};
+  // stat first: opening a FIFO, even non-blocking, is not needed to refuse it.
+  if (::stat(path.c_str(), &st) != 0) {
+    const int error = errno;
+    throw InputError(SourceLocation{path, 0, 0, ""}, what,
+                     fmt::format("it cannot be opened ({})", std::strerror(error)));
+  }
+  if (!S_ISREG(st.st_mode)) {
+    throw InputError(SourceLocation{path, 0, 0, ""}, fmt::format("{} (a regular file)", what),
+                     KindOf(st.st_mode));
+  }
+  const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC | O_NONBLOCK);
+  if (fd < 0) {
+    const int error = errno;
+    throw InputError(SourceLocation{path, 0, 0, ""}, what,
+                     fmt::format("it cannot be opened ({})", std::strerror(error)));
+  }
+  // Check the opened file too: the path may have been replaced in between.
+  if (::fstat(fd, &st) != 0 || !S_ISREG(st.st_mode)) {
+    ::close(fd);
+    throw InputError(SourceLocation{path, 0, 0, ""}, fmt::format("{} (a regular file)", what),
+                     KindOf(st.st_mode));
+  }
+  *size = static_cast<uint64_t>(st.st_size);
+  return fd;
+}
+
+// Reads up to `count` bytes from `fd` into `out` (resized to what was read).
+void ReadUpTo(int fd, const std::string& path, size_t count, std::string* out) {
+  out->resize(count);
+  size_t done = 0;
+  while (done < count) {
+    const ssize_t n = ::read(fd, out->data() + done, count - done);
+    if (n < 0 && errno == EINTR) continue;
+    if (n < 0) {
+      throw RunError(fmt::format("reading {} failed: {}", path, std::strerror(errno)));
+    }
+    if (n == 0) break;
+    done += static_cast<size_t>(n);
+  }
+  out->resize(done);
+}
+
+}  // namespace
 
 void WriteTextFile(const std::string& path, const std::string& text) {
   std::ofstream out(path, std::ios::binary | std::ios::trunc);
@@ -16,6 +97,36 @@ void WriteTextFile(const std::string& path, const std::string& text) {
   out.write(text.data(), static_cast<std::streamsize>(text.size()));
   out.close();
   if (!out) throw RunError(fmt::format("writing {} failed: {}", path, std::strerror(errno)));
+}
+
+uint64_t CheckRegularFile(const std::string& path, const std::string& what) {
+  uint64_t size = 0;
+  const Fd fd(OpenRegular(path, what, &size));
+  return size;
+}
+
+std::string ReadInputFile(const std::string& path, const std::string& what, uint64_t max_bytes) {
+  uint64_t size = 0;
+  const Fd fd(OpenRegular(path, what, &size));
+  if (size > max_bytes) {
+    throw InputError(SourceLocation{path, 0, 0, ""},
+                     fmt::format("{} of at most {}", what, SizeText(max_bytes)), SizeText(size));
+  }
+  std::string text;
+  // One byte more than the size: a file that grew since fstat is caught.
+  ReadUpTo(fd.get(), path, static_cast<size_t>(size) + 1, &text);
+  if (text.size() > size) {
+    throw InputError(SourceLocation{path, 0, 0, ""}, what, "a file that grows while it is read");
+  }
+  return text;
+}
+
+std::string ReadFilePrefix(const std::string& path, size_t count) {
+  uint64_t size = 0;
+  const Fd fd(OpenRegular(path, "a file", &size));
+  std::string text;
+  ReadUpTo(fd.get(), path, count, &text);
+  return text;
 }
 
 }  // namespace hcpf

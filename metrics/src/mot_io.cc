@@ -20,6 +20,7 @@
 
 #include "hcpf/core/check.h"
 #include "hcpf/core/error.h"
+#include "hcpf/core/text_file.h"
 #include "hcpf/metrics/assignment.h"
 #include "mot_io_internal.h"
 
@@ -27,32 +28,6 @@ namespace hcpf::metrics {
 namespace {
 
 constexpr double kEps = std::numeric_limits<double>::epsilon();
-
-std::string ReadWholeFile(const std::string& path) {
-  std::FILE* f = std::fopen(path.c_str(), "rb");
-  if (f == nullptr) {
-    throw InputError(SourceLocation{path, 0, 0, {}}, "a readable file", "none (cannot open)");
-  }
-  // One read of the whole file when its size is known (regular files); then
-  // chunks until EOF (pipes, files that grow while read).
-  std::string text;
-  if (std::fseek(f, 0, SEEK_END) == 0) {
-    const long size = std::ftell(f);
-    if (size > 0 && std::fseek(f, 0, SEEK_SET) == 0) {
-      text.resize(static_cast<size_t>(size));
-      text.resize(std::fread(text.data(), 1, text.size(), f));
-    } else {
-      std::rewind(f);
-    }
-  } else {
-    std::clearerr(f);
-  }
-  char buffer[1 << 16];
-  size_t n = 0;
-  while ((n = std::fread(buffer, 1, sizeof(buffer), f)) > 0) text.append(buffer, n);
-  std::fclose(f);
-  return text;
-}
 
 void WriteWholeFile(const std::string& path, const std::string& text) {
   std::FILE* f = std::fopen(path.c_str(), "wb");
@@ -374,7 +349,9 @@ inline void AppendRow(const RowValues& r, const std::string& path, int line_no, 
   if (v[0] < 1.0 || (seq_length && std::trunc(v[0]) > *seq_length) || v[0] > 1e9) [[unlikely]] {
     ThrowBadFrame(path, line_no, seq_length, v[0]);
   }
-  if (std::fabs(v[1]) > 9.0e18) [[unlikely]]
+  // An integer literal is exact whatever its size (from_chars into int64_t);
+  // only a non-integer spelling ("1e3", "7.0") goes through the double.
+  if (!r.has_exact_id && !(std::fabs(v[1]) <= 9.0e18)) [[unlikely]]
     ThrowBadId(path, line_no, v[1]);
   if (kind == MotFileKind::kTracks && count >= 8 && v[7] > 1.0) [[unlikely]] {
     ThrowBadClass(path, line_no, v[7]);
@@ -491,6 +468,17 @@ MotFile ParseMotView(std::string_view text, const std::string& path, MotFileKind
   const char* const text_end = p + text.size();
   int line_no = 0;
   RowValues values;
+  // Duplicates are found while streaming when a row repeats the (frame, id) of
+  // the row before it (a file of one repeated line). From then on a row is kept
+  // only if it could take part in a smaller duplicate (an earlier frame, or the
+  // same frame and a smaller id), so memory stays bounded; every line is still
+  // parsed (a later syntax error is reported first, as before), and
+  // CheckUniqueIds below reports exactly the duplicate it would have.
+  bool have_duplicate = false;
+  int duplicate_frame = 0;
+  int64_t duplicate_id = 0;
+  int previous_frame = 0;
+  int64_t previous_id = 0;
   while (p < text_end) {
     const char* nl =
         static_cast<const char*>(std::memchr(p, '\n', static_cast<size_t>(text_end - p)));
@@ -506,8 +494,21 @@ MotFile ParseMotView(std::string_view text, const std::string& path, MotFileKind
                        path, line_no, kind, &values);
     }
     AppendRow(values, path, line_no, kind, seq_length, &file);
+    const int frame = file.rows.back().frame;
+    const int64_t id = file.rows.back().id;
+    if (have_duplicate && (frame > duplicate_frame ||
+                           (frame == duplicate_frame && id >= duplicate_id))) [[unlikely]] {
+      file.rows.pop_back();
+    } else if (file.rows.size() > 1 && frame == previous_frame && id == previous_id) [[unlikely]] {
+      have_duplicate = true;
+      duplicate_frame = frame;
+      duplicate_id = id;
+    }
+    previous_frame = frame;
+    previous_id = id;
   }
   CheckUniqueIds(file);
+  HCPF_CHECK(!have_duplicate) << "a duplicate id was seen but not reported";
   return file;
 }
 
@@ -516,20 +517,22 @@ MotFile ParseMotView(std::string_view text, const std::string& path, MotFileKind
 class FileText {
  public:
   explicit FileText(const std::string& path) {
+    // A directory, FIFO or device is refused before anything is read.
+    const uint64_t size = CheckRegularFile(path, "a MOT file");
+    if (size == 0) return;
     const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
     if (fd >= 0) {
-      struct stat st {};
-      if (::fstat(fd, &st) == 0 && S_ISREG(st.st_mode) && st.st_size > 0) {
-        void* map = ::mmap(nullptr, static_cast<size_t>(st.st_size), PROT_READ, MAP_PRIVATE, fd, 0);
-        if (map != MAP_FAILED) {
-          map_ = map;
-          map_size_ = static_cast<size_t>(st.st_size);
-          ::madvise(map_, map_size_, MADV_SEQUENTIAL | MADV_WILLNEED);
-        }
+      void* map = ::mmap(nullptr, static_cast<size_t>(size), PROT_READ, MAP_PRIVATE, fd, 0);
+      if (map != MAP_FAILED) {
+        map_ = map;
+        map_size_ = static_cast<size_t>(size);
+        ::madvise(map_, map_size_, MADV_SEQUENTIAL | MADV_WILLNEED);
       }
       ::close(fd);
     }
-    if (map_ == nullptr) copy_ = ReadWholeFile(path);  // throws InputError when unreadable
+    if (map_ == nullptr) {
+      copy_ = ReadInputFile(path, "a MOT file", std::numeric_limits<uint64_t>::max() - 1);
+    }
   }
   ~FileText() {
     if (map_ != nullptr) ::munmap(map_, map_size_);
@@ -663,7 +666,10 @@ SeqInfo ParseSeqInfo(const std::string& text, const std::string& path) {
   return info;
 }
 
-SeqInfo ReadSeqInfo(const std::string& path) { return ParseSeqInfo(ReadWholeFile(path), path); }
+SeqInfo ReadSeqInfo(const std::string& path) {
+  // A seqinfo.ini is a few hundred bytes.
+  return ParseSeqInfo(ReadInputFile(path, "a seqinfo.ini file", uint64_t{1} << 20), path);
+}
 
 void WriteSeqInfo(const std::string& path, const SeqInfo& info) {
   HCPF_CHECK(info.seq_length >= 1);
@@ -699,34 +705,52 @@ std::optional<Benchmark> ParseBenchmark(const std::string& text) {
 
 namespace {
 
-// Rows of one file bucketed by frame without a vector per frame: the rows of
-// frame t + 1 are rows[start[t] .. start[t + 1]), in file order.
-struct FrameBuckets {
-  std::vector<int> start;
+// Rows of one file in frame order (file order within a frame), one group per
+// distinct frame. Memory is proportional to the rows whatever the frame
+// numbers (a row at frame 10^9 costs what any row costs): a counting sort when
+// the frames span little more than the rows, else a stable sort.
+struct FrameGroups {
   std::vector<const MotRow*> rows;
-  std::span<const MotRow* const> Frame(int t) const {
-    return {rows.data() + start[t], static_cast<size_t>(start[t + 1] - start[t])};
+  std::vector<int> frames;  // distinct frames, increasing
+  std::vector<int> begin;   // rows of frames[k] are rows[begin[k] .. begin[k + 1])
+  std::span<const MotRow* const> Rows(size_t k) const {
+    return {rows.data() + begin[k], static_cast<size_t>(begin[k + 1] - begin[k])};
   }
 };
 
 // Rows out of range were rejected by the reader when it knew seq_length; check
 // again here (first offending row in file order) because callers may build MotFiles.
-FrameBuckets BucketByFrame(const MotFile& file, int seq_length) {
-  FrameBuckets b;
-  b.start.assign(static_cast<size_t>(seq_length) + 1, 0);
+FrameGroups GroupByFrame(const MotFile& file, int seq_length) {
+  int max_frame = 0;
   for (const MotRow& row : file.rows) {
     if (row.frame < 1 || row.frame > seq_length) {
       throw InputError(SourceLocation{file.path, row.line, 1, "column 1 (frame)"},
                        fmt::format("a frame in 1..{} (seqLength)", seq_length),
                        fmt::format("{}", row.frame));
     }
-    ++b.start[row.frame];
+    max_frame = std::max(max_frame, row.frame);
   }
-  for (size_t t = 1; t < b.start.size(); ++t) b.start[t] += b.start[t - 1];
-  b.rows.resize(file.rows.size());
-  std::vector<int> fill(b.start.begin(), b.start.end() - 1);
-  for (const MotRow& row : file.rows) b.rows[fill[row.frame - 1]++] = &row;
-  return b;
+  FrameGroups g;
+  const size_t n = file.rows.size();
+  g.rows.resize(n);
+  if (static_cast<size_t>(max_frame) <= 4 * n + 100000) {
+    std::vector<int> start(static_cast<size_t>(max_frame) + 2, 0);
+    for (const MotRow& row : file.rows) ++start[row.frame + 1];
+    for (size_t f = 1; f < start.size(); ++f) start[f] += start[f - 1];
+    for (const MotRow& row : file.rows) g.rows[start[row.frame]++] = &row;
+  } else {
+    for (size_t i = 0; i < n; ++i) g.rows[i] = &file.rows[i];
+    std::stable_sort(g.rows.begin(), g.rows.end(),
+                     [](const MotRow* a, const MotRow* b) { return a->frame < b->frame; });
+  }
+  for (size_t i = 0; i < n; ++i) {
+    if (i == 0 || g.rows[i]->frame != g.rows[i - 1]->frame) {
+      g.frames.push_back(g.rows[i]->frame);
+      g.begin.push_back(static_cast<int>(i));
+    }
+  }
+  g.begin.push_back(static_cast<int>(n));
+  return g;
 }
 
 }  // namespace
@@ -738,9 +762,13 @@ Sequence BuildSequence(const MotFile& gt, const MotFile& tracks, int seq_length,
   HCPF_CHECK(seq_length >= 0);
   Sequence seq;
   seq.name = std::move(name);
-  seq.frames.resize(seq_length);
-  const FrameBuckets gt_rows = BucketByFrame(gt, seq_length);
-  const FrameBuckets hyp_rows = BucketByFrame(tracks, seq_length);
+  const FrameGroups gt_rows = GroupByFrame(gt, seq_length);
+  const FrameGroups hyp_rows = GroupByFrame(tracks, seq_length);
+  if (options.sparse) {
+    seq.length = seq_length;
+  } else {
+    seq.frames.resize(seq_length);
+  }
   const bool mot17 = options.preprocess && benchmark == Benchmark::kMot17;
   if (mot17 && gt.num_columns > 0 && gt.num_columns < 8) {
     throw InputError(SourceLocation{gt.path, 0, 0, {}},
@@ -758,10 +786,27 @@ Sequence BuildSequence(const MotFile& gt, const MotFile& tracks, int seq_length,
   std::vector<WeightedEdge> edges;
   std::vector<int> chosen;
   std::vector<char> remove_hyp;
-  for (int t = 0; t < seq_length; ++t) {
-    SequenceFrame& frame = seq.frames[t];
-    const std::span<const MotRow* const> g = gt_rows.Frame(t);
-    const std::span<const MotRow* const> h = hyp_rows.Frame(t);
+  // Walk the frames that hold a row on either side, in increasing order; the
+  // others are empty on both sides and need nothing.
+  constexpr int kNone = std::numeric_limits<int>::max();
+  size_t gk = 0;
+  size_t hk = 0;
+  while (gk < gt_rows.frames.size() || hk < hyp_rows.frames.size()) {
+    const int gt_frame = gk < gt_rows.frames.size() ? gt_rows.frames[gk] : kNone;
+    const int hyp_frame = hk < hyp_rows.frames.size() ? hyp_rows.frames[hk] : kNone;
+    const int number = std::min(gt_frame, hyp_frame);
+    const std::span<const MotRow* const> g =
+        gt_frame == number ? gt_rows.Rows(gk++) : std::span<const MotRow* const>();
+    const std::span<const MotRow* const> h =
+        hyp_frame == number ? hyp_rows.Rows(hk++) : std::span<const MotRow* const>();
+    SequenceFrame* frame_ptr = nullptr;
+    if (options.sparse) {
+      seq.numbers.push_back(number);
+      frame_ptr = &seq.frames.emplace_back();
+    } else {
+      frame_ptr = &seq.frames[static_cast<size_t>(number) - 1];
+    }
+    SequenceFrame& frame = *frame_ptr;
     remove_hyp.assign(h.size(), 0);
     // Only a tracker box matched to a distractor gt box is removed, so a frame
     // without distractor gt needs no matching (the result would remove nothing).

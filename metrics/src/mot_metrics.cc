@@ -29,7 +29,8 @@ struct Overlap {
 // The sequence with ids relabelled to 0..n-1 and the IoUs of all overlapping
 // pairs computed once, in flat arrays (one allocation per array, not per frame).
 struct Prepared {
-  int num_frames = 0;
+  int num_frames = 0;        // frames[] entries (not empty ones left out of a sparse sequence)
+  std::vector<int> numbers;  // Sequence::numbers (frame numbers of a sparse sequence)
   int num_gt_ids = 0;
   int num_hyp_ids = 0;
   std::vector<int64_t> gt_original, hyp_original;  // relabelled id -> original id
@@ -90,6 +91,7 @@ void RelabelIds(const Sequence& seq, bool gt, std::vector<int64_t>* original,
 Prepared Prepare(const Sequence& seq) {
   Prepared p;
   p.num_frames = static_cast<int>(seq.frames.size());
+  p.numbers = seq.numbers;
   RelabelIds(seq, true, &p.gt_original, &p.gt_id);
   RelabelIds(seq, false, &p.hyp_original, &p.hyp_id);
   p.num_gt_ids = static_cast<int>(p.gt_original.size());
@@ -179,7 +181,7 @@ ClearMetrics ClearOf(const Prepared& p, std::vector<MotEvent>* events) {
   for (int t = 0; t < p.num_frames; ++t) {
     const int gt0 = p.gt_begin[t], ng = p.gt_begin[t + 1] - gt0;
     const int hyp0 = p.hyp_begin[t], nh = p.hyp_begin[t + 1] - hyp0;
-    const int frame = t + 1;
+    const int frame = p.numbers.empty() ? t + 1 : p.numbers[t];
     if (ng == 0) {
       r.fp += nh;
       if (events) {
@@ -515,7 +517,7 @@ MotSummary ComputeAll(const Sequence& seq, std::vector<MotEvent>* events) {
   const Prepared p = Prepare(seq);
   MotSummary s;
   s.name = seq.name;
-  s.num_frames = p.num_frames;
+  s.num_frames = seq.NumFrames();
   s.num_objects = p.num_gt_dets();
   s.num_predictions = p.num_hyp_dets();
   s.num_gt_ids = p.num_gt_ids;

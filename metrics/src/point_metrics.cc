@@ -7,6 +7,7 @@
 #include <limits>
 #include <unordered_map>
 
+#include "hcpf/core/check.h"
 #include "hcpf/core/error.h"
 #include "hcpf/metrics/assignment.h"
 
@@ -48,6 +49,7 @@ std::span<const Field<PointMetricsOptions>> PointMetricsOptions::Fields() {
 void PointMetricsOptions::Validate() const { CheckFields(*this, Fields(), "metrics"); }
 
 std::vector<PointFrame> PointFramesFromSequence(const Sequence& seq) {
+  HCPF_CHECK(!seq.sparse()) << "point metrics need every frame (a dense Sequence)";
   std::vector<PointFrame> frames(seq.frames.size());
   for (size_t t = 0; t < seq.frames.size(); ++t) {
     for (const LabelledBox& b : seq.frames[t].gt)

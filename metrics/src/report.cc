@@ -74,8 +74,10 @@ ScoredSequence ScoreFiles(const ScoreFilesOptions& options) {
   std::string name = options.name;
   if (name.empty())
     name = info && !info->name.empty() ? info->name : fs::path(options.gt_path).stem().string();
-  const Sequence seq =
-      BuildSequence(gt, hyp, out.seq_length, out.benchmark, options.preprocess, name);
+  // Sparse: memory follows the rows, not seqLength (the MOT metrics are the same).
+  PreprocessOptions build = options.preprocess;
+  build.sparse = true;
+  const Sequence seq = BuildSequence(gt, hyp, out.seq_length, out.benchmark, build, name);
   out.summary = ComputeAll(seq, options.keep_events ? &out.events : nullptr);
   return out;
 }

@@ -1,15 +1,19 @@
 #include "hcpf/metrics/mot_io.h"
 
+#include <fmt/format.h>
 #include <gtest/gtest.h>
+#include <sys/stat.h>
 
 #include <cstring>
 #include <filesystem>
+#include <limits>
 #include <string>
 #include <vector>
 
 #include "../src/mot_io_internal.h"
 #include "hcpf/core/error.h"
 #include "hcpf/core/rng.h"
+#include "hcpf/metrics/mot_metrics.h"
 
 namespace hcpf::metrics {
 namespace {
@@ -333,6 +337,126 @@ TEST(MotIo, WritersRoundTrip) {
   WriteMotTracks((dir / "t.txt").string(), rows);
   EXPECT_EQ(ReadMotFile((dir / "t.txt").string(), MotFileKind::kTracks, 2).rows.size(), 2u);
   EXPECT_THROW(ReadMotFile((dir / "missing.txt").string(), MotFileKind::kTracks), InputError);
+}
+
+// Issue 15 item 17: an integer id is taken exactly at both ends of int64_t
+// (the range check ran on the double, which rounds 2^63 - 1 up to 2^63).
+TEST(MotIo, IdsAtTheEndsOfInt64AreExact) {
+  const MotFile f = ParseMotText("1,9223372036854775807,0,0,1,1\n1,-9223372036854775808,0,0,1,1\n",
+                                 "t.txt", MotFileKind::kTracks, std::nullopt);
+  ASSERT_EQ(f.rows.size(), 2u);
+  EXPECT_EQ(f.rows[0].id, std::numeric_limits<int64_t>::max());
+  EXPECT_EQ(f.rows[1].id, std::numeric_limits<int64_t>::min());
+  // A non-integer spelling still goes through the double and its range check.
+  ExpectInputError("1,1e19,0,0,1,1\n", MotFileKind::kTracks, std::nullopt,
+                   {"f.txt:1:2", "an integer id within 64 bits"});
+}
+
+// Issue 15 item 7: a file of one repeated line stops keeping rows at the first
+// repeat; the error is still the first duplicate (line 2), and a smaller
+// duplicate after it (an earlier frame, or a smaller id of the same frame) is
+// still the one reported, as the reference reader would.
+TEST(MotIo, RepeatedLinesAreFoundWhileStreaming) {
+  std::string repeated;
+  for (int i = 0; i < 20000; ++i) repeated += "7,3,0,0,1,1\n";
+  EXPECT_EQ(ErrorOf(repeated, MotFileKind::kTracks, std::nullopt),
+            "f.txt:2:2: column 2 (id): expected ids unique within frame 7, found id 3 again "
+            "(first on line 1)");
+  for (const std::string& text :
+       {repeated + "7,2,0,0,1,1\n7,2,0,0,1,1\n",
+        repeated + "5,9,0,0,1,1\n6,1,0,0,1,1\n5,9,0,0,1,1\n",
+        repeated + "7,1,0,0,1,1\n8,1,0,0,1,1\n7,1,0,0,1,1\n", repeated + "7,3,0,0,1,x\n"}) {
+    std::string expected;
+    try {
+      internal::ParseMotTextReference(text, "f.txt", MotFileKind::kTracks, std::nullopt);
+    } catch (const InputError& e) {
+      expected = e.what();
+    }
+    EXPECT_FALSE(expected.empty());
+    EXPECT_EQ(ErrorOf(text, MotFileKind::kTracks, std::nullopt), expected);
+  }
+}
+
+// Issue 15 item 7: the sparse form keeps only frames with a box, with their
+// numbers; frame numbers near 10^9 cost what their rows cost.
+TEST(MotIo, SparseSequenceKeepsFramesWithBoxes) {
+  const MotFile gt = ParseMotText("999999999,1,0,0,10,10\n3,1,0,0,10,10\n", "gt.txt",
+                                  MotFileKind::kGroundTruth, std::nullopt);
+  const MotFile hyp = ParseMotText("5,1,0,0,10,10\n999999999,2,0,0,10,10\n", "t.txt",
+                                   MotFileKind::kTracks, std::nullopt);
+  PreprocessOptions sparse;
+  sparse.sparse = true;
+  const Sequence seq = BuildSequence(gt, hyp, 1000000000, Benchmark::kMot15, sparse);
+  EXPECT_TRUE(seq.sparse());
+  EXPECT_EQ(seq.NumFrames(), 1000000000);
+  EXPECT_EQ(seq.numbers, (std::vector<int>{3, 5, 999999999}));
+  ASSERT_EQ(seq.frames.size(), 3u);
+  EXPECT_EQ(seq.frames[0].gt.size(), 1u);
+  EXPECT_EQ(seq.frames[0].hyp.size(), 0u);
+  EXPECT_EQ(seq.frames[1].hyp.size(), 1u);
+  EXPECT_EQ(seq.frames[2].gt[0].id, 1);
+  EXPECT_EQ(seq.frames[2].hyp[0].id, 2);
+  EXPECT_EQ(seq.FrameNumber(2), 999999999);
+}
+
+// Random sequences with empty stretches: the sparse form gives exactly the
+// dense form's MOT metrics and events (frame numbers included).
+TEST(MotIo, SparseAndDenseSequencesScoreTheSame) {
+  Rng rng(23);
+  for (int trial = 0; trial < 40; ++trial) {
+    const int length = 30 + static_cast<int>(rng.UniformInt(40));
+    std::string gt_text;
+    std::string hyp_text;
+    for (int t = 1; t <= length; ++t) {
+      if (rng.Bernoulli(0.4)) continue;  // an empty frame, or a stretch of them
+      for (int id = 1; id <= 4; ++id) {
+        const double x = 10.0 * id + rng.Uniform(-3, 3);
+        if (rng.Bernoulli(0.7)) gt_text += fmt::format("{},{},{},5,8,8,1,-1,-1,-1\n", t, id, x);
+        if (rng.Bernoulli(0.7)) {
+          hyp_text += fmt::format("{},{},{},5,8,8,1,-1,-1,-1\n", t,
+                                  rng.Bernoulli(0.9) ? id : id + 10, x + rng.Uniform(-2, 2));
+        }
+      }
+    }
+    const MotFile gt = ParseMotText(gt_text, "gt.txt", MotFileKind::kGroundTruth, length);
+    const MotFile hyp = ParseMotText(hyp_text, "t.txt", MotFileKind::kTracks, length);
+    PreprocessOptions sparse_options;
+    sparse_options.sparse = true;
+    const Sequence dense = BuildSequence(gt, hyp, length, Benchmark::kMot15);
+    const Sequence sparse = BuildSequence(gt, hyp, length, Benchmark::kMot15, sparse_options);
+    EXPECT_LT(sparse.frames.size(), dense.frames.size());
+    std::vector<MotEvent> dense_events;
+    std::vector<MotEvent> sparse_events;
+    const NamedMetrics a = ToNamedMetrics(ComputeAll(dense, &dense_events));
+    const NamedMetrics b = ToNamedMetrics(ComputeAll(sparse, &sparse_events));
+    EXPECT_EQ(a.scalars, b.scalars);
+    EXPECT_EQ(a.arrays, b.arrays);
+    EXPECT_EQ(dense_events, sparse_events);
+  }
+}
+
+// Issue 15 item 8: a directory or a FIFO is refused before anything is read
+// (a directory gave std::bad_alloc, a FIFO hung).
+TEST(MotIo, NonRegularFilesAreRefused) {
+  const auto dir = std::filesystem::temp_directory_path() / "hcpf_metrics_nonregular";
+  std::filesystem::remove_all(dir);
+  std::filesystem::create_directories(dir / "gt.txt");
+  try {
+    ReadMotFile((dir / "gt.txt").string(), MotFileKind::kGroundTruth);
+    ADD_FAILURE() << "a directory was read";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("found a directory"), std::string::npos) << e.what();
+  }
+  const std::string fifo = (dir / "fifo.txt").string();
+  ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
+  try {
+    ReadMotFile(fifo, MotFileKind::kTracks);
+    ADD_FAILURE() << "a FIFO was read";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("found a FIFO"), std::string::npos) << e.what();
+  }
+  EXPECT_THROW(ReadSeqInfo(fifo), InputError);
+  EXPECT_THROW(ReadMotFile("/dev/zero", MotFileKind::kTracks), InputError);
 }
 
 }  // namespace

@@ -44,6 +44,28 @@ TEST(Report, ScoreFilesTableAndJson) {
   EXPECT_EQ(j["combined"]["HOTA_alpha"].size(), 19u);
 }
 
+// Issue 15 item 7: a 48-byte file with one row at frame 999999999 and no
+// seqinfo.ini took 33 s and 5.9 GB (per-frame storage for every frame); it now
+// costs what its rows cost, and the frame count is still the sequence's.
+TEST(Report, ScoreFilesOfAHugeFrameNumberCostsWhatItsRowsCost) {
+  const fs::path dir = fs::temp_directory_path() / "hcpf_metrics_huge_frame";
+  fs::remove_all(dir);
+  WriteText(dir / "gt" / "gt.txt", "999999999,1,10,10,20,20,1,1,1\n");
+  WriteText(dir / "hyp.txt", "999999999,4,10,10,20,20,1,-1,-1,-1\n");
+  ScoreFilesOptions o;
+  o.gt_path = (dir / "gt" / "gt.txt").string();
+  o.hyp_path = (dir / "hyp.txt").string();
+  const ScoredSequence s = ScoreFiles(o);
+  EXPECT_EQ(s.seq_length, 999999999);
+  EXPECT_EQ(s.summary.num_frames, 999999999);
+  EXPECT_EQ(s.summary.clear.tp, 1);
+  EXPECT_DOUBLE_EQ(s.summary.clear.mota, 1.0);
+  // seqLength = 2^31 - 1 from a seqinfo.ini: the same.
+  WriteText(dir / "seqinfo.ini", "[Sequence]\nseqLength=2147483647\n");
+  o.seqinfo_path = (dir / "seqinfo.ini").string();
+  EXPECT_EQ(ScoreFiles(o).summary.num_frames, 2147483647);
+}
+
 // TrackEval layout with two copies of the switch sequence: each row as above, COMBINED
 // sums the counts (IDSW 2, TP 6) and keeps MOTA (6-0-2)/6 = 2/3.
 TEST(Report, TrackEvalRootWithCombinedRow) {

@@ -9,6 +9,7 @@
 
 #include "hcpf/core/check.h"
 #include "hcpf/core/error.h"
+#include "hcpf/core/text_file.h"
 #include "mesh_import.h"
 
 namespace hcpf::renderer {
@@ -76,6 +77,7 @@ MeshData LoadMesh(const std::string& path) {
   if (!std::filesystem::exists(path)) {
     throw InputError(fmt::format("{}: model file not found", path));
   }
+  CheckRegularFile(path, "a model file");  // not a directory, FIFO or device
   std::string ext = std::filesystem::path(path).extension().string();
   std::transform(ext.begin(), ext.end(), ext.begin(),
                  [](unsigned char c) { return static_cast<char>(std::tolower(c)); });

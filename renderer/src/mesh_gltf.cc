@@ -6,10 +6,13 @@
 #include <fmt/format.h>
 #include <tiny_gltf.h>
 
+#include <algorithm>
+#include <cstdint>
 #include <cstring>
 #include <filesystem>
 
 #include "hcpf/core/error.h"
+#include "hcpf/core/text_file.h"
 #include "mesh_import.h"
 
 namespace hcpf::renderer {
@@ -255,6 +258,54 @@ void VisitNode(const tinygltf::Model& model, int node_index, const Eigen::Matrix
   for (int child : node.children) VisitNode(model, child, world, path, out, depth + 1);
 }
 
+// glTF files and the buffers they name are read whole; a vehicle model is a
+// few MiB.
+constexpr uint64_t kMaxModelBytes = uint64_t{256} << 20;
+
+uint32_t LittleEndian32(const std::string& bytes, size_t at) {
+  uint32_t v = 0;
+  for (int k = 3; k >= 0; --k) v = (v << 8) | static_cast<unsigned char>(bytes[at + k]);
+  return v;
+}
+
+// The 12-byte GLB header: magic "glTF", version 2, total length = file size.
+void CheckGlbHeader(const std::string& path, uint64_t size) {
+  const std::string header = ReadFilePrefix(path, 12);
+  if (header.size() < 12 || header.compare(0, 4, "glTF") != 0) {
+    std::string start;
+    for (size_t i = 0; i < std::min<size_t>(header.size(), 4); ++i) {
+      start += fmt::format("{:02x}", static_cast<unsigned char>(header[i]));
+    }
+    throw InputError(fmt::format(
+        "{}: expected a binary glTF file (starting with the bytes \"glTF\"), found {} bytes "
+        "starting with 0x{}",
+        path, size, start.empty() ? "(none)" : start));
+  }
+  const uint32_t version = LittleEndian32(header, 4);
+  const uint32_t length = LittleEndian32(header, 8);
+  if (version != 2) {
+    throw InputError(fmt::format("{}: expected glTF version 2, found version {}", path, version));
+  }
+  if (length != size) {
+    throw InputError(fmt::format(
+        "{}: the GLB header gives a length of {} bytes but the file has {} (truncated?)", path,
+        length, size));
+  }
+}
+
+// tinygltf's file reader for buffers named by URI, with our checks.
+bool ReadBufferFile(std::vector<unsigned char>* out, std::string* err, const std::string& path,
+                    void* /*user_data*/) {
+  try {
+    const std::string bytes = ReadInputFile(path, "a glTF buffer", kMaxModelBytes);
+    out->assign(bytes.begin(), bytes.end());
+    return true;
+  } catch (const InputError& e) {
+    if (err != nullptr) *err += e.what();
+    return false;
+  }
+}
+
 }  // namespace
 
 MeshData LoadGltf(const std::string& path) {
@@ -264,6 +315,19 @@ MeshData LoadGltf(const std::string& path) {
   std::string warn;
   const bool binary = std::filesystem::path(path).extension() == ".glb" ||
                       std::filesystem::path(path).extension() == ".GLB";
+  // tinygltf reads a file whole before it looks at it: check its size and, for
+  // a .glb, its 12-byte header first, so a wrong file costs nothing.
+  const uint64_t size = CheckRegularFile(path, "a glTF model");
+  if (binary) CheckGlbHeader(path, size);
+  if (size > kMaxModelBytes) {
+    throw InputError(fmt::format("{}: expected a glTF model of at most {} MiB, found {:.1f} MiB",
+                                 path, kMaxModelBytes >> 20, size / 1048576.0));
+  }
+  // Buffers a .gltf names by URI go through the same checks (a URI may name a
+  // device or a huge file).
+  tinygltf::FsCallbacks callbacks{&tinygltf::FileExists, &tinygltf::ExpandFilePath, &ReadBufferFile,
+                                  &tinygltf::WriteWholeFile, nullptr};
+  loader.SetFsCallbacks(callbacks);
   bool ok = false;
   try {
     ok = binary ? loader.LoadBinaryFromFile(&model, &err, &warn, path)

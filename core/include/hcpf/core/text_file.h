@@ -1,6 +1,8 @@
 #pragma once
-// Whole-file text output shared by the run pipeline and the studies.
+// Whole-file input and output shared by every module that reads a user's file
+// (scenarios, sweep files, MOT files, models) or writes a text output.
 
+#include <cstdint>
 #include <string>
 
 namespace hcpf {
@@ -8,5 +10,21 @@ namespace hcpf {
 // Writes `text` to `path` (truncating); throws RunError naming the path and
 // the system's reason when it cannot be opened or written.
 void WriteTextFile(const std::string& path, const std::string& text);
+
+// Checks that `path` names a regular file that can be opened for reading and
+// returns its size in bytes. A directory, a FIFO or a device (/dev/zero,
+// /dev/urandom) is an InputError at `path` naming what was found: reading one
+// would fail oddly, hang or grow without bound. `what` names the expected
+// content ("a YAML file", "a MOT file").
+uint64_t CheckRegularFile(const std::string& path, const std::string& what);
+
+// Reads the whole of a regular file (CheckRegularFile) of at most `max_bytes`
+// bytes; a larger one is an InputError naming both sizes, raised before
+// anything is read.
+std::string ReadInputFile(const std::string& path, const std::string& what, uint64_t max_bytes);
+
+// Reads the first `count` bytes of a regular file (fewer when it is shorter),
+// for format checks made before a whole file is handed to a library.
+std::string ReadFilePrefix(const std::string& path, size_t count);
 
 }  // namespace hcpf

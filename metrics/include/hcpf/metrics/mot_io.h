@@ -86,6 +86,10 @@ struct PreprocessOptions {
   bool preprocess = true;
   int evaluated_class = 1;  // pedestrian
   std::vector<int> distractor_classes = {2, 7, 8, 12};
+  // Build the sparse form of the Sequence (frames with no box on either side
+  // left out; see sequence.h). Not a filtering rule: a storage choice that
+  // leaves the MOT metrics unchanged and keeps memory proportional to the rows.
+  bool sparse = false;
 };
 
 // Turns a gt file and a tracker file into a Sequence of `seq_length` frames.

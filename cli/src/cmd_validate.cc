@@ -33,6 +33,9 @@ Command AddValidateCommand(CLI::App& parent) {
             if (options->print) std::cout << scenarios::ToResolvedYaml(scenario);
             spdlog::info("{}: valid scenario \"{}\" ({} frames, {} targets)", options->file,
                          scenario.name, scenario.world.frames, scenario.world.targets.size());
+            if (const std::string note = scenarios::LargeScenarioNote(scenario); !note.empty()) {
+              spdlog::warn("{}", note);
+            }
             return 0;
           }};
 }

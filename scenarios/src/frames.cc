@@ -1,10 +1,12 @@
 #include "hcpf/scenarios/frames.h"
 
+#include <fmt/format.h>
 #include <spdlog/spdlog.h>
 
 #include <cstdlib>
 #include <memory>
 
+#include "hcpf/renderer/image_io.h"
 #include "hcpf/scenarios/progress.h"
 
 namespace hcpf::scenarios {
@@ -46,7 +48,7 @@ SceneFrames ProduceFrames(const Scenario& scenario, const FrameSourceOptions& op
     for (int f = 0; f < frames; ++f) out.truth.push_back(ComputeGroundTruth(scenario.world, f));
     return out;
   }
-  out.rendered = true;
+  out.rendered = !options.analytic_truth;
   const renderer::RendererOptions ropts = RendererOptionsOf(scenario);
   // Depth and instance images are not cached (FrameCache holds colour + truth).
   std::unique_ptr<renderer::FrameCache> cache;
@@ -72,7 +74,8 @@ SceneFrames ProduceFrames(const Scenario& scenario, const FrameSourceOptions& op
       if (cache) cache->Store(*frame);
     }
     if (options.on_frame) options.on_frame(*frame);
-    out.truth.push_back(std::move(frame->ground_truth));
+    out.truth.push_back(options.analytic_truth ? ComputeGroundTruth(scenario.world, f)
+                                               : std::move(frame->ground_truth));
     if (options.keep_images) out.images.push_back(std::move(frame->rgb));
     progress.Advance();
   }
@@ -82,6 +85,14 @@ SceneFrames ProduceFrames(const Scenario& scenario, const FrameSourceOptions& op
                  cache->dir().string());
   }
   return out;
+}
+
+void WriteFrameImages(const renderer::RenderedFrame& frame, const std::string& frames_dir,
+                      bool colour) {
+  const std::string stem = fmt::format("{}/{:06d}", frames_dir, frame.frame + 1);
+  if (colour) renderer::WritePng(frame.rgb, stem + ".png");
+  if (frame.depth) renderer::WriteDepthPng(*frame.depth, stem + "_depth.png");
+  if (frame.instance_ids) renderer::WriteInstancePng(*frame.instance_ids, stem + "_ids.png");
 }
 
 }  // namespace hcpf::scenarios

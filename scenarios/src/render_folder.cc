@@ -38,11 +38,7 @@ RenderFolderSummary RenderToFolder(const Scenario& scenario, const RenderFolderO
   frame_options.render = true;
   frame_options.cache_dir = options.cache_dir;
   frame_options.on_frame = [&](const renderer::RenderedFrame& frame) {
-    const fs::path stem = dir / "frames" / fmt::format("{:06d}", frame.frame + 1);
-    renderer::WritePng(frame.rgb, stem.string() + ".png");
-    if (frame.depth) renderer::WriteDepthPng(*frame.depth, stem.string() + "_depth.png");
-    if (frame.instance_ids)
-      renderer::WriteInstancePng(*frame.instance_ids, stem.string() + "_ids.png");
+    WriteFrameImages(frame, (dir / "frames").string(), true);
     if (std::find(sheet_frames.begin(), sheet_frames.end(), frame.frame) != sheet_frames.end()) {
       renderer::RenderedFrame thumb;
       thumb.frame = frame.frame;

@@ -56,6 +56,21 @@ RunSummary RunScenario(const Scenario& scenario, const RunOptions& options) {
   frame_options.cache_dir = options.frame_cache_dir;
   frame_options.keep_images = options.video;
   frame_options.show_progress = options.show_progress;
+  // renderer.write_frames / write_depth / write_instance_ids: the run's frames
+  // go to frames/ as `hcpf render` writes them. A detection-level run renders
+  // them for the user to see and keeps its analytic ground truth.
+  const RendererConfig& images = scenario.renderer;
+  if (images.write_frames || images.write_depth || images.write_instance_ids) {
+    const fs::path frames_dir = partial / "frames";
+    fs::create_directories(frames_dir, ec);
+    if (ec) throw RunError(fmt::format("cannot create {}: {}", frames_dir.string(), ec.message()));
+    frame_options.render = true;
+    frame_options.analytic_truth = scenario.observation.source != ObservationSource::kRendered;
+    frame_options.on_frame = [&images,
+                              dir = frames_dir.string()](const renderer::RenderedFrame& frame) {
+      WriteFrameImages(frame, dir, images.write_frames);
+    };
+  }
   SceneFrames scene = ProduceFrames(scenario, frame_options);
   const std::vector<FrameGroundTruth>& truth = scene.truth;
   timings["ground_truth_s"] = Seconds(t0);

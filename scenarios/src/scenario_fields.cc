@@ -78,9 +78,12 @@ std::span<const Field<RendererConfig>> RendererConfig::Fields() {
       integer("shadow_map_size", &O::shadow_map_size, "texels", "shadow map size per side"),
       integer("pcf_radius", &O::pcf_radius, "texels",
               "0 = one bilinear depth-comparison tap (2×2 PCF), r > 0 = (2r)² taps"),
-      FlagField("write_frames", &O::write_frames, "hcpf run also writes frames/*.png"),
-      FlagField("write_depth", &O::write_depth, "also write depth images"),
-      FlagField("write_instance_ids", &O::write_instance_ids, "also write instance-id images"),
+      FlagField("write_frames", &O::write_frames,
+                "hcpf run: also write frames/NNNNNN.png (rendered even at detection level)"),
+      FlagField("write_depth", &O::write_depth,
+                "hcpf run and render: also write frames/NNNNNN_depth.png (16-bit, mm)"),
+      FlagField("write_instance_ids", &O::write_instance_ids,
+                "hcpf run and render: also write frames/NNNNNN_ids.png (16-bit, id + 1)"),
   };
   return fields;
 }

@@ -274,7 +274,10 @@ Scenario ReadScenario(YamlReader root, const std::string& file) {
     s.seeds.renderer = seeds->Seed("renderer", s.seeds.renderer);
     seeds->Finish();
   }
-  const int frames = static_cast<int>(root.Integer("frames", std::nullopt, 1, 1'000'000));
+  // A run holds every frame's truth, observations and reports until it writes
+  // its files (about 5 KB + 3.4 KB per target per frame, EstimateRunCost), so
+  // the bound is what runs on a workstation: 100,000 frames (55 min at 30 fps).
+  const int frames = static_cast<int>(root.Integer("frames", std::nullopt, 1, kMaxFrames));
   s.world.frames = frames;
   s.world.fps = root.Number("fps", 30.0, 0.1, 10000.0);
 

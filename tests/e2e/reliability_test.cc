@@ -273,5 +273,23 @@ TEST(Reliability, BadGlbMagicIsRefusedBeforeTheFileIsRead) {
   EXPECT_NE(t.output.find("truncated"), std::string::npos) << t.output;
 }
 
+// Item 10: `frames: 1000000`, the documented maximum, needed 10.7 GB. The
+// bound is now what runs, and validate says what a large scenario costs.
+TEST(Reliability, LargeScenariosAreBoundedAndTheirCostIsShown) {
+  const fs::path dir = FreshDir("large");
+  const fs::path file = Write(dir / "s.yaml", SmallScenario());
+  auto r = RunCommand(kHcpf + " validate " + file.string() + " --set frames=1000000");
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_NE(r.output.find("frames: expected an integer in [1, 100000]"), std::string::npos)
+      << r.output;
+  r = RunCommand(kHcpf + " validate " + file.string() + " --set frames=100000");
+  EXPECT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("large scenario (100000 frames, 1 target): a run needs about"),
+            std::string::npos)
+      << r.output;
+  r = RunCommand(kHcpf + " validate " + file.string());
+  EXPECT_EQ(r.output.find("large scenario"), std::string::npos) << r.output;
+}
+
 }  // namespace
 }  // namespace hcpf

@@ -46,6 +46,36 @@ TEST(RenderedRun, PixelExactTruthAndFrameCacheReuse) {
   EXPECT_NE(ReadFile(dir / "a" / "tracks.txt"), ReadFile(dir / "b" / "tracks.txt"));
 }
 
+// Issue 15 item 9: renderer.write_frames / write_depth / write_instance_ids
+// were documented for `hcpf run` and ignored. A detection-level run that
+// writes its frames keeps its analytic truth, so its metrics are unchanged.
+TEST(RenderedRun, WriteFramesKeysWriteTheRunsFrames) {
+  const fs::path dir = FreshDir("run-write-frames");
+  const std::string common = std::string(HCPF_EXE) + " run " +
+                             testing::LibraryScenario("crossing") +
+                             " --set frames=16 --set 'camera.resolution=[160, 120]' --no-cache";
+  auto r = RunCommand(common + " --out " + (dir / "plain").string());
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  r = RunCommand(common +
+                 " --set renderer.write_frames=true --set renderer.write_depth=true"
+                 " --set renderer.write_instance_ids=true --out " +
+                 (dir / "frames").string());
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  for (const char* name : {"000001.png", "000006.png", "000001_depth.png", "000006_ids.png"}) {
+    EXPECT_TRUE(fs::exists(dir / "frames" / "frames" / name)) << name;
+  }
+  EXPECT_FALSE(fs::exists(dir / "plain" / "frames"));
+  EXPECT_EQ(ReadFile(dir / "plain" / "metrics.json"), ReadFile(dir / "frames" / "metrics.json"));
+  EXPECT_EQ(ReadFile(dir / "plain" / "gt.json"), ReadFile(dir / "frames" / "gt.json"));
+  const auto manifest = nlohmann::json::parse(ReadFile(dir / "frames" / "manifest.json"));
+  EXPECT_EQ(manifest["ground_truth"], "analytic");
+  // Depth only: no colour frames.
+  r = RunCommand(common + " --set renderer.write_depth=true --out " + (dir / "depth").string());
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_TRUE(fs::exists(dir / "depth" / "frames" / "000003_depth.png"));
+  EXPECT_FALSE(fs::exists(dir / "depth" / "frames" / "000003.png"));
+}
+
 }  // namespace
 }  // namespace hcpf
 

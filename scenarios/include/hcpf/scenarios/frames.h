@@ -31,6 +31,10 @@ struct FrameSourceOptions {
   // Rendered frames: called with every frame, rendered or read from the cache,
   // in frame order (to write images without keeping them all).
   std::function<void(const renderer::RenderedFrame&)> on_frame;
+  // With `render`: return the analytic ground truth even though frames are
+  // rendered (a detection-level `hcpf run` that writes its frames keeps the
+  // truth its observations come from).
+  bool analytic_truth = false;
 };
 
 struct SceneFrames {
@@ -43,5 +47,12 @@ struct SceneFrames {
 };
 
 SceneFrames ProduceFrames(const Scenario& scenario, const FrameSourceOptions& options);
+
+// Writes a rendered frame's images into `frames_dir` as NNNNNN.png (when
+// `colour`), NNNNNN_depth.png and NNNNNN_ids.png (when the frame has them),
+// NNNNNN = frame + 1: the layout of `hcpf render` and of `hcpf run` with
+// renderer.write_frames / write_depth / write_instance_ids.
+void WriteFrameImages(const renderer::RenderedFrame& frame, const std::string& frames_dir,
+                      bool colour);
 
 }  // namespace hcpf::scenarios

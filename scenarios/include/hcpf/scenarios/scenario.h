@@ -134,4 +134,24 @@ std::string ToResolvedYaml(const Scenario& scenario);
 // Stable 64-bit hash (hex) of the resolved YAML: the run's identity.
 std::string ConfigHash(const Scenario& scenario);
 
+// The largest `frames` a scenario may have.
+inline constexpr int kMaxFrames = 100'000;
+
+// What one `hcpf run` of a scenario costs in peak memory and in bytes written,
+// from per-frame costs measured on detection-level runs (docs/scenario.md,
+// "Large scenarios"): a guide to within about a factor of two, not a bound.
+// A run keeps every frame until it writes its files, so both grow with
+// frames × targets.
+struct RunCost {
+  double memory_bytes = 0.0;
+  double output_bytes = 0.0;  // the run folder
+  double cache_bytes = 0.0;   // rendered frames written to the frame cache
+};
+RunCost EstimateRunCost(const Scenario& scenario);
+
+// A one-line note on a scenario's cost when a run needs more than 256 MiB of
+// memory or writes more than 256 MiB ("" otherwise); `hcpf validate` and
+// `hcpf run` print it.
+std::string LargeScenarioNote(const Scenario& scenario);
+
 }  // namespace hcpf::scenarios

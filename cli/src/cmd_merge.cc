@@ -1,5 +1,6 @@
 // hcpf merge OUT DIR...
 
+#include <fmt/format.h>
 #include <spdlog/spdlog.h>
 
 #include <memory>
@@ -24,8 +25,12 @@ Command AddMergeCommand(CLI::App& parent) {
   return {app, [options] {
             const studies::MergeResult r = studies::MergeStores(options->out, options->inputs);
             spdlog::info(
-                "merged {} store(s) into {}/results.sqlite: {} runs added, {} duplicates skipped",
-                options->inputs.size(), options->out, r.added, r.duplicates);
+                "merged {} store(s) into {}/results.sqlite: {} runs added, {} duplicates skipped{}",
+                options->inputs.size(), options->out, r.added, r.duplicates,
+                r.damaged > 0 ? fmt::format(", {} with a missing or damaged run folder merged as "
+                                            "failed (resume the sweep on {} to recompute them)",
+                                            r.damaged, options->out)
+                              : std::string());
             return 0;
           }};
 }

@@ -1,4 +1,4 @@
-// hcpf report DIR
+// hcpf report DIR [--out FOLDER]
 
 #include <spdlog/spdlog.h>
 
@@ -17,6 +17,9 @@ Command AddReportCommand(CLI::App& parent) {
       "report",
       "Write DIR/report.html (plots, table, base scenario) and DIR/summary.csv from a sweep");
   app->add_option("dir", options->dir, "A sweep's --out folder")->required();
+  app->add_option("--out", options->out_dir,
+                  "Write report.html and summary.csv here instead of DIR (the store is only "
+                  "read, so a sweep on read-only media can be reported)");
   app->add_option("--gnuplot", options->gnuplot, "The gnuplot executable")->capture_default_str();
   return {app, [options] {
             const auto start = std::chrono::steady_clock::now();

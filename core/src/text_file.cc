@@ -43,26 +43,29 @@ std::string SizeText(uint64_t bytes) {
   return fmt::format("{} bytes", bytes);
 }
 
+// A file that exists but may not be read is an I/O problem (exit 1) to fix
+// with permissions, not bad input; a missing one is bad input.
+[[noreturn]] void ThrowCannotOpen(const std::string& path, const std::string& what, int error) {
+  if (error == EACCES || error == EPERM) {
+    throw RunError(fmt::format("cannot read {} ({}): check its permissions and its folder's", path,
+                               std::strerror(error)));
+  }
+  throw InputError(SourceLocation{path, 0, 0, ""}, what,
+                   fmt::format("it cannot be opened ({})", std::strerror(error)));
+}
+
 // Opens `path` without blocking (a FIFO with no writer would block open()),
 // and checks it is a regular file. Returns the descriptor and its size.
 int OpenRegular(const std::string& path, const std::string& what, uint64_t* size) {
   struct stat st {};
   // stat first: opening a FIFO, even non-blocking, is not needed to refuse it.
-  if (::stat(path.c_str(), &st) != 0) {
-    const int error = errno;
-    throw InputError(SourceLocation{path, 0, 0, ""}, what,
-                     fmt::format("it cannot be opened ({})", std::strerror(error)));
-  }
+  if (::stat(path.c_str(), &st) != 0) ThrowCannotOpen(path, what, errno);
   if (!S_ISREG(st.st_mode)) {
     throw InputError(SourceLocation{path, 0, 0, ""}, fmt::format("{} (a regular file)", what),
                      KindOf(st.st_mode));
   }
   const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC | O_NONBLOCK);
-  if (fd < 0) {
-    const int error = errno;
-    throw InputError(SourceLocation{path, 0, 0, ""}, what,
-                     fmt::format("it cannot be opened ({})", std::strerror(error)));
-  }
+  if (fd < 0) ThrowCannotOpen(path, what, errno);
   // Check the opened file too: the path may have been replaced in between.
   if (::fstat(fd, &st) != 0 || !S_ISREG(st.st_mode)) {
     ::close(fd);

@@ -114,7 +114,26 @@ void RemoveStaleStagingFolders(const fs::path& parent, const std::string& prefix
   }
 }
 
-StagedFolder::StagedFolder(const fs::path& out) : out_(fs::absolute(out).lexically_normal()) {
+void CheckFolderArgument(const std::string& path, const std::string& option) {
+  if (path.empty()) {
+    throw InputError(SourceLocation{"command line", 0, 0, option}, "a folder", "an empty path");
+  }
+  std::error_code ec;
+  const fs::file_status st = fs::status(path, ec);
+  if (fs::exists(st) && !fs::is_directory(st)) {
+    throw InputError(SourceLocation{path, 0, 0, option}, "a folder (new or existing)",
+                     "an existing file", "name a folder");
+  }
+}
+
+namespace {
+fs::path AbsoluteFolder(const fs::path& out) {
+  CheckFolderArgument(out.string(), "--out");
+  return fs::absolute(out).lexically_normal();
+}
+}  // namespace
+
+StagedFolder::StagedFolder(const fs::path& out) : out_(AbsoluteFolder(out)) {
   std::error_code ec;
   const SourceLocation where{out_.string(), 0, 0, "--out"};
   if (fs::exists(fs::symlink_status(out_, ec))) {

@@ -37,6 +37,19 @@ Eigen::VectorXd Vx(std::initializer_list<double> values) {
 
 uint64_t DeriveSeed(uint64_t seed, const char* name) { return Rng(seed).Fork(name).identity(); }
 
+// Every seed not pinned derived from s->seed, and the world's copies of the
+// world seed: the one derivation, for loading and for Reseeded.
+void DeriveSeeds(Scenario* s) {
+  const uint8_t pinned = s->pinned_seeds;
+  if (!(pinned & Scenario::kPinnedWorld)) s->seeds.world = DeriveSeed(s->seed, "world");
+  if (!(pinned & Scenario::kPinnedObservation))
+    s->seeds.observation = DeriveSeed(s->seed, "observation");
+  if (!(pinned & Scenario::kPinnedTracker)) s->seeds.tracker = DeriveSeed(s->seed, "tracker");
+  if (!(pinned & Scenario::kPinnedRenderer)) s->seeds.renderer = DeriveSeed(s->seed, "renderer");
+  s->world.terrain.seed = s->seeds.world;
+  s->world.camera.shake_seed = s->seeds.world;
+}
+
 void ReadTerrain(YamlReader r, TerrainSpec* t) {
   r.ExpectMap();
   t->size_m = V2(r.Vector("size_m", 2, Vx({400, 400}), 1.0, kBig));
@@ -262,16 +275,17 @@ Scenario ReadScenario(YamlReader root, const std::string& file) {
                      fmt::format("\"{}\"", s.name));
   }
   s.seed = root.Seed("seed", 1);
-  s.seeds.world = DeriveSeed(s.seed, "world");
-  s.seeds.observation = DeriveSeed(s.seed, "observation");
-  s.seeds.tracker = DeriveSeed(s.seed, "tracker");
-  s.seeds.renderer = DeriveSeed(s.seed, "renderer");
+  DeriveSeeds(&s);
   if (auto seeds = root.Optional("seeds")) {
     seeds->ExpectMap();
-    s.seeds.world = seeds->Seed("world", s.seeds.world);
-    s.seeds.observation = seeds->Seed("observation", s.seeds.observation);
-    s.seeds.tracker = seeds->Seed("tracker", s.seeds.tracker);
-    s.seeds.renderer = seeds->Seed("renderer", s.seeds.renderer);
+    const auto pin = [&](const char* key, uint64_t* seed, uint8_t bit) {
+      if (seeds->Has(key)) s.pinned_seeds |= bit;
+      *seed = seeds->Seed(key, *seed);
+    };
+    pin("world", &s.seeds.world, Scenario::kPinnedWorld);
+    pin("observation", &s.seeds.observation, Scenario::kPinnedObservation);
+    pin("tracker", &s.seeds.tracker, Scenario::kPinnedTracker);
+    pin("renderer", &s.seeds.renderer, Scenario::kPinnedRenderer);
     seeds->Finish();
   }
   // A run holds every frame's truth, observations and reports until it writes
@@ -361,6 +375,13 @@ Scenario LoadScenarioFile(const std::string& path, const std::vector<Override>& 
     throw InputError(SourceLocation{path, 0, 0, ""}, "a scenario YAML file", "a directory");
   }
   return LoadFromNode(YamlReader::ParseFile(path), path, overrides);
+}
+
+Scenario Reseeded(const Scenario& scenario, uint64_t seed) {
+  Scenario s = scenario;
+  s.seed = seed;
+  DeriveSeeds(&s);
+  return s;
 }
 
 }  // namespace hcpf::scenarios

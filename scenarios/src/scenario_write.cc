@@ -7,6 +7,7 @@
 
 #include "hcpf/config/fields_yaml.h"
 #include "hcpf/config/yaml_reader.h"
+#include "hcpf/core/check.h"
 #include "hcpf/core/rng.h"
 #include "hcpf/scenarios/models.h"
 #include "hcpf/scenarios/scenario.h"
@@ -222,8 +223,24 @@ std::string ToResolvedYaml(const Scenario& s) {
 }
 
 std::string ConfigHash(const Scenario& scenario) {
-  const std::string text = ToResolvedYaml(scenario);
-  return fmt::format("{:016x}", Mix64(HashName(text)));
+  return HashResolvedYaml(ToResolvedYaml(scenario));
+}
+
+std::string HashResolvedYaml(const std::string& resolved_yaml) {
+  return fmt::format("{:016x}", Mix64(HashName(resolved_yaml)));
+}
+
+std::string ReseedResolvedYaml(const std::string& resolved_yaml, const Scenario& reseeded) {
+  // ToResolvedYaml writes `name`, then `seed` and the `seeds` block, then `frames`.
+  const size_t begin = resolved_yaml.find("\nseed: ");
+  const size_t end = resolved_yaml.find("\nframes: ");
+  HCPF_CHECK(begin != std::string::npos && end != std::string::npos && begin < end)
+      << "not a resolved scenario";
+  return fmt::format(
+      "{}\nseed: {}\nseeds:\n  world: {}\n  observation: {}\n  tracker: {}\n  renderer: {}{}",
+      std::string_view(resolved_yaml).substr(0, begin), reseeded.seed, reseeded.seeds.world,
+      reseeded.seeds.observation, reseeded.seeds.tracker, reseeded.seeds.renderer,
+      std::string_view(resolved_yaml).substr(end));
 }
 
 }  // namespace hcpf::scenarios

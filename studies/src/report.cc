@@ -24,6 +24,7 @@
 #include "hcpf/core/error.h"
 #include "hcpf/core/subprocess.h"
 #include "hcpf/core/text_file.h"
+#include "hcpf/scenarios/output_folder.h"
 #include "hcpf/scenarios/scenario.h"
 #include "hcpf/studies/metric_catalogue.h"
 #include "hcpf/studies/results_store.h"
@@ -382,8 +383,9 @@ std::string SummaryCsv(const std::vector<Cell>& cells, const std::vector<std::st
   return csv;
 }
 
-// Stage 4, the page.
-std::string ReportHtml(const fs::path& dir, const StoreMeta& meta,
+// Stage 4, the page. `link_prefix` leads from the report's folder to `dir`
+// ("" when the report is written into the sweep folder).
+std::string ReportHtml(const fs::path& dir, const std::string& link_prefix, const StoreMeta& meta,
                        const std::vector<RunRecord>& runs, const std::vector<Cell>& cells,
                        const Layout& layout, const std::vector<std::string>& svgs) {
   const std::vector<std::string>& keys = meta.swept_keys;
@@ -444,8 +446,8 @@ std::string ReportHtml(const fs::path& dir, const StoreMeta& meta,
         if (r->seed_index != 0 || !r->ok) continue;
         if (!fs::exists(dir / r->run_dir / "overlay.mp4", ec)) continue;
         const std::string x = x_index >= 0 ? c->values[x_index] : "run";
-        links += fmt::format(" <a href=\"{}/overlay.mp4\">{}</a>", EscapeMarkup(r->run_dir),
-                             EscapeMarkup(x));
+        links += fmt::format(" <a href=\"{}{}/overlay.mp4\">{}</a>", EscapeMarkup(link_prefix),
+                             EscapeMarkup(r->run_dir), EscapeMarkup(x));
       }
     }
     if (!links.empty()) videos += fmt::format("<li>{}:{}</li>\n", EscapeMarkup(label), links);
@@ -471,27 +473,40 @@ std::string ReportHtml(const fs::path& dir, const StoreMeta& meta,
 ReportResult WriteReport(const ReportOptions& options) {
   options.Validate();
   const fs::path dir(options.dir);
-  auto store = ResultsStore::Open((dir / "results.sqlite").string());
+  if (!options.out_dir.empty()) scenarios::CheckFolderArgument(options.out_dir, "--out");
+  const fs::path out = options.out_dir.empty() ? dir : fs::path(options.out_dir);
+  auto store = ResultsStore::Open((dir / "results.sqlite").string(), StoreAccess::kReadOnly);
   const StoreMeta& meta = store->meta();
   const std::vector<RunRecord> runs = store->Runs();
   const std::vector<Cell> cells = CellsOf(runs);
   const Layout layout = LayoutOf(cells, meta);
 
-  const fs::path work = dir / ".report-work";
+  const fs::path work = out / ".report-work";
   std::error_code ec;
   fs::remove_all(work, ec);
   fs::create_directories(work, ec);
-  if (ec) throw RunError(fmt::format("cannot create {}: {}", work.string(), ec.message()));
+  if (ec) {
+    throw RunError(fmt::format(
+        "cannot create {}: {}{}", work.string(), ec.message(),
+        options.out_dir.empty() ? " (use --out to write the report to another folder)" : ""));
+  }
+  // Links to run folders (overlay videos) from the report's folder.
+  std::string link_prefix;
+  if (!options.out_dir.empty()) {
+    link_prefix = fs::relative(fs::absolute(dir), fs::absolute(out), ec).generic_string();
+    if (ec || link_prefix.empty()) link_prefix = fs::absolute(dir).generic_string();
+    link_prefix += "/";
+  }
   ReportResult result;
   std::vector<std::string> svgs;
   for (size_t p = 0; p < meta.report.y.size(); ++p) {
     svgs.push_back(PlotSvg(layout, meta.report.y[p], p, work, options.gnuplot));
     ++result.plots;
   }
-  result.csv_path = (dir / "summary.csv").string();
+  result.csv_path = (out / "summary.csv").string();
   WriteTextFile(result.csv_path, SummaryCsv(cells, meta.swept_keys));
-  result.html_path = (dir / "report.html").string();
-  WriteTextFile(result.html_path, ReportHtml(dir, meta, runs, cells, layout, svgs));
+  result.html_path = (out / "report.html").string();
+  WriteTextFile(result.html_path, ReportHtml(dir, link_prefix, meta, runs, cells, layout, svgs));
   result.cells = static_cast<int>(cells.size());
   fs::remove_all(work, ec);
   return result;

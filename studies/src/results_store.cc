@@ -2,8 +2,12 @@
 
 #include <fmt/format.h>
 #include <sqlite3.h>
+#include <unistd.h>
 
+#include <cctype>
+#include <cerrno>
 #include <cmath>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <limits>
@@ -13,6 +17,8 @@
 
 #include "hcpf/core/check.h"
 #include "hcpf/core/error.h"
+#include "hcpf/core/text_file.h"
+#include "hcpf/scenarios/output_folder.h"
 #include "hcpf/studies/metric_catalogue.h"
 
 namespace hcpf::studies {
@@ -33,14 +39,47 @@ std::string Quote(const std::string& identifier) {
   return out + "\"";
 }
 
+std::string StorePath(sqlite3* db) {
+  const char* name = sqlite3_db_filename(db, "main");
+  return name != nullptr && *name != '\0' ? name : "results store";
+}
+
+// An SQLite failure as the error a user can act on: a damaged file is bad
+// input (exit 2: delete it to recompute); a file or folder the process may not
+// read or write is an I/O error (exit 1) that says so; the rest is a run error.
+[[noreturn]] void ThrowStoreError(sqlite3* db, int rc, const std::string& doing) {
+  const std::string path = StorePath(db);
+  const std::string message = sqlite3_errmsg(db);
+  switch (rc & 0xff) {
+    case SQLITE_CORRUPT:
+    case SQLITE_NOTADB:
+      throw InputError(SourceLocation{path, 0, 0, ""}, "a results store written by hcpf sweep",
+                       fmt::format("a damaged database ({})", message),
+                       "delete it and its runs/ folder, then rerun the sweep to recompute");
+    case SQLITE_READONLY:
+    case SQLITE_PERM:
+    case SQLITE_CANTOPEN:
+    case SQLITE_AUTH:
+      throw RunError(fmt::format(
+          "results store {}: cannot {} ({}): check the permissions of the file and its folder",
+          path, doing, message));
+    case SQLITE_ERROR:
+      // "no such table" / "no such column": not a store of this version.
+      throw InputError(SourceLocation{path, 0, 0, ""},
+                       "a results store written by this version of hcpf sweep",
+                       fmt::format("a database whose tables differ ({})", message),
+                       "rerun the sweep with --out pointing to a new folder");
+    default:
+      throw RunError(fmt::format("results store {}: cannot {}: {}", path, doing, message));
+  }
+}
+
 // A prepared statement that finalises itself.
 class Statement {
  public:
   Statement(sqlite3* db, const std::string& sql) : db_(db) {
-    if (sqlite3_prepare_v2(db, sql.c_str(), -1, &stmt_, nullptr) != SQLITE_OK) {
-      throw RunError(
-          fmt::format("results store: cannot prepare \"{}\": {}", sql, sqlite3_errmsg(db)));
-    }
+    const int rc = sqlite3_prepare_v2(db, sql.c_str(), -1, &stmt_, nullptr);
+    if (rc != SQLITE_OK) ThrowStoreError(db, rc, "read its tables");
   }
   ~Statement() { sqlite3_finalize(stmt_); }
   Statement(const Statement&) = delete;
@@ -61,7 +100,7 @@ class Statement {
     const int rc = sqlite3_step(stmt_);
     if (rc == SQLITE_ROW) return true;
     if (rc == SQLITE_DONE) return false;
-    throw RunError(fmt::format("results store: {}", sqlite3_errmsg(db_)));
+    ThrowStoreError(db_, rc, "read or write a row");
   }
   std::string Text(int i) const {
     const unsigned char* t = sqlite3_column_text(stmt_, i);
@@ -77,13 +116,48 @@ class Statement {
   sqlite3_stmt* stmt_ = nullptr;
 };
 
-sqlite3* OpenDb(const std::string& path, bool create) {
+// A file name as an SQLite URI path: every byte outside the unreserved set
+// (and '/') percent-encoded.
+std::string UriPath(const std::string& path) {
+  std::string out;
+  for (unsigned char c : fs::absolute(path).string()) {
+    if (std::isalnum(c) || c == '/' || c == '-' || c == '_' || c == '.' || c == '~') {
+      out += static_cast<char>(c);
+    } else {
+      out += fmt::format("%{:02X}", c);
+    }
+  }
+  return out;
+}
+
+sqlite3* OpenDb(const std::string& path, StoreAccess access, bool create) {
+  std::string name = path;
+  int flags = SQLITE_OPEN_FULLMUTEX;
+  if (access == StoreAccess::kReadOnly) {
+    flags |= SQLITE_OPEN_READONLY;
+    // A reader of a store in WAL mode needs to create the -shm file beside
+    // it. When the folder cannot be written no sweep can be writing the store
+    // either, so it is opened as immutable (no locks, no -shm).
+    std::string folder = fs::path(path).parent_path().string();
+    if (folder.empty()) folder = ".";
+    if (::access(folder.c_str(), W_OK) != 0) {
+      name = "file:" + UriPath(path) + "?immutable=1";
+      flags |= SQLITE_OPEN_URI;
+    }
+  } else {
+    flags |= SQLITE_OPEN_READWRITE | (create ? SQLITE_OPEN_CREATE : 0);
+  }
   sqlite3* db = nullptr;
-  const int flags =
-      SQLITE_OPEN_READWRITE | SQLITE_OPEN_FULLMUTEX | (create ? SQLITE_OPEN_CREATE : 0);
-  if (sqlite3_open_v2(path.c_str(), &db, flags, nullptr) != SQLITE_OK) {
+  const int rc = sqlite3_open_v2(name.c_str(), &db, flags, nullptr);
+  if (rc != SQLITE_OK) {
     const std::string message = db ? sqlite3_errmsg(db) : "out of memory";
     sqlite3_close(db);
+    if (rc == SQLITE_CANTOPEN || rc == SQLITE_PERM || rc == SQLITE_READONLY) {
+      throw RunError(fmt::format(
+          "results store {}: cannot open it ({}): check the permissions of the file and its "
+          "folder",
+          path, message));
+    }
     throw InputError(SourceLocation{path, 0, 0, ""}, "a results store (results.sqlite)",
                      "a file SQLite cannot open: " + message);
   }
@@ -91,7 +165,9 @@ sqlite3* OpenDb(const std::string& path, bool create) {
   // WAL with synchronous=NORMAL: a committed run survives the process being
   // killed (SIGKILL included); only an OS crash or power loss can drop the
   // last commits, which a resumed sweep then recomputes.
-  sqlite3_exec(db, "PRAGMA synchronous=NORMAL", nullptr, nullptr, nullptr);
+  if (access == StoreAccess::kReadWrite) {
+    sqlite3_exec(db, "PRAGMA synchronous=NORMAL", nullptr, nullptr, nullptr);
+  }
   return db;
 }
 
@@ -113,12 +189,8 @@ ResultsStore::ResultsStore(std::string path, sqlite3* db) : path_(std::move(path
 ResultsStore::~ResultsStore() { sqlite3_close(db_); }
 
 void ResultsStore::Exec(const std::string& sql) const {
-  char* message = nullptr;
-  if (sqlite3_exec(db_, sql.c_str(), nullptr, nullptr, &message) != SQLITE_OK) {
-    const std::string text = message ? message : "unknown error";
-    sqlite3_free(message);
-    throw RunError(fmt::format("results store {}: {}", path_, text));
-  }
+  const int rc = sqlite3_exec(db_, sql.c_str(), nullptr, nullptr, nullptr);
+  if (rc != SQLITE_OK) ThrowStoreError(db_, rc, "write to it");
 }
 
 void ResultsStore::ReadMeta() {
@@ -140,19 +212,28 @@ void ResultsStore::ReadMeta() {
   meta_.report.series = report.value("series", "");
 }
 
-std::unique_ptr<ResultsStore> ResultsStore::Open(const std::string& path) {
-  if (!fs::is_regular_file(path)) {
+std::unique_ptr<ResultsStore> ResultsStore::Open(const std::string& path, StoreAccess access) {
+  std::error_code ec;
+  if (!fs::exists(path, ec)) {
     throw InputError(SourceLocation{path, 0, 0, ""}, "a results store written by hcpf sweep",
                      "no such file");
   }
-  std::unique_ptr<ResultsStore> store(new ResultsStore(path, OpenDb(path, false)));
+  // A directory, FIFO or device is bad input; a file we may not read is an I/O error.
+  CheckRegularFile(path, "a results store written by hcpf sweep");
+  if (::access(path.c_str(), access == StoreAccess::kReadOnly ? R_OK : R_OK | W_OK) != 0) {
+    throw RunError(fmt::format("results store {}: cannot {} it ({}): check its permissions", path,
+                               access == StoreAccess::kReadOnly ? "read" : "write",
+                               std::strerror(errno)));
+  }
+  std::unique_ptr<ResultsStore> store(new ResultsStore(path, OpenDb(path, access, false)));
   try {
     store->ReadMeta();
   } catch (const json::exception& e) {
     throw InputError(SourceLocation{path, 0, 0, "meta"}, "a results store of hcpf sweep",
                      std::string("unreadable metadata: ") + e.what());
-  } catch (const RunError& e) {
-    throw InputError(SourceLocation{path, 0, 0, "meta"}, "a results store of hcpf sweep", e.what());
+  } catch (const std::logic_error& e) {  // std::stoll of a damaged run_count
+    throw InputError(SourceLocation{path, 0, 0, "meta"}, "a results store of hcpf sweep",
+                     std::string("unreadable metadata: ") + e.what());
   }
   return store;
 }
@@ -160,7 +241,7 @@ std::unique_ptr<ResultsStore> ResultsStore::Open(const std::string& path) {
 std::unique_ptr<ResultsStore> ResultsStore::OpenOrCreate(const std::string& path,
                                                          const StoreMeta& meta) {
   if (fs::exists(path)) {
-    auto store = Open(path);
+    auto store = Open(path, StoreAccess::kReadWrite);
     if (store->meta().sweep_hash != meta.sweep_hash) {
       throw InputError(
           SourceLocation{path, 0, 0, "meta.sweep_hash"},
@@ -173,7 +254,7 @@ std::unique_ptr<ResultsStore> ResultsStore::OpenOrCreate(const std::string& path
   const std::string temp = path + ".new";
   fs::remove(temp);
   {
-    ResultsStore store(temp, OpenDb(temp, true));
+    ResultsStore store(temp, OpenDb(temp, StoreAccess::kReadWrite, true));
     std::string columns;
     for (const std::string& k : meta.swept_keys) columns += ", " + Quote(k) + " TEXT";
     for (const std::string& m : MetricNames()) columns += ", " + Quote(m) + " REAL";
@@ -202,7 +283,7 @@ std::unique_ptr<ResultsStore> ResultsStore::OpenOrCreate(const std::string& path
   }
   // Created under a temporary name and renamed: a store never exists without its meta.
   fs::rename(temp, path);
-  auto store = Open(path);
+  auto store = Open(path, StoreAccess::kReadWrite);
   store->Exec("PRAGMA journal_mode=WAL");
   return store;
 }
@@ -297,14 +378,32 @@ std::map<std::string, double> ReadRunMetrics(const std::string& run_dir) {
   return m;
 }
 
+bool RunFolderIntact(const std::string& run_dir, const RunRecord& record) {
+  std::map<std::string, double> now;
+  try {
+    now = ReadRunMetrics(run_dir);
+  } catch (const RunError&) {
+    return false;
+  }
+  for (const auto& [name, value] : record.metrics) {
+    const auto it = now.find(name);
+    if (it == now.end()) return false;
+    const bool same = (std::isnan(value) && std::isnan(it->second)) || value == it->second;
+    if (!same) return false;
+  }
+  return true;
+}
+
 MergeResult MergeStores(const std::string& out_dir, const std::vector<std::string>& input_dirs) {
   if (input_dirs.empty()) {
     throw InputError(SourceLocation{"hcpf merge", 0, 0, "DIR"}, "at least one shard folder",
                      "none");
   }
+  scenarios::CheckFolderArgument(out_dir, "OUT");
   std::vector<std::unique_ptr<ResultsStore>> inputs;
   for (const std::string& dir : input_dirs) {
-    inputs.push_back(ResultsStore::Open((fs::path(dir) / "results.sqlite").string()));
+    inputs.push_back(
+        ResultsStore::Open((fs::path(dir) / "results.sqlite").string(), StoreAccess::kReadOnly));
     if (inputs.back()->meta().sweep_hash != inputs.front()->meta().sweep_hash) {
       throw InputError(SourceLocation{inputs.back()->path(), 0, 0, "meta.sweep_hash"},
                        fmt::format("a store of the same sweep as {} (hash {})",
@@ -313,14 +412,28 @@ MergeResult MergeStores(const std::string& out_dir, const std::vector<std::strin
                                    inputs.back()->meta().sweep_file));
     }
   }
-  fs::create_directories(out_dir);
+  std::error_code ec;
+  fs::create_directories(out_dir, ec);
+  if (ec) throw RunError(fmt::format("cannot create {}: {}", out_dir, ec.message()));
   auto out = ResultsStore::OpenOrCreate((fs::path(out_dir) / "results.sqlite").string(),
                                         inputs.front()->meta());
+  // An ok row counts as present only while its run folder still holds the
+  // metrics the row records; a deleted or damaged one can be replaced.
   std::map<std::string, bool> present;  // key -> ok
-  for (const RunRecord& r : out->Runs()) present[r.key] = r.ok;
+  for (const RunRecord& r : out->Runs()) {
+    present[r.key] = r.ok && RunFolderIntact((fs::path(out_dir) / r.run_dir).string(), r);
+  }
   MergeResult result;
   for (size_t i = 0; i < inputs.size(); ++i) {
-    for (const RunRecord& r : inputs[i]->Runs()) {
+    for (RunRecord r : inputs[i]->Runs()) {
+      if (r.ok && !RunFolderIntact((fs::path(input_dirs[i]) / r.run_dir).string(), r)) {
+        // Kept as a failed row: resuming the sweep on the merged folder recomputes it.
+        r.ok = false;
+        r.error = fmt::format("run folder {} was missing or damaged when merged from {}", r.run_dir,
+                              input_dirs[i]);
+        for (auto& [name, value] : r.metrics) value = kNaN;
+        ++result.damaged;
+      }
       const auto it = present.find(r.key);
       if (it != present.end() && (it->second || !r.ok)) {
         ++result.duplicates;
@@ -334,7 +447,7 @@ MergeResult MergeStores(const std::string& out_dir, const std::vector<std::strin
         const fs::path from = fs::path(input_dirs[i]) / r.run_dir;
         const fs::path to = fs::path(out_dir) / r.run_dir;
         std::error_code ec;
-        if (fs::exists(from, ec) && !fs::equivalent(from, to, ec)) {
+        if (r.ok && fs::exists(from, ec) && !fs::equivalent(from, to, ec)) {
           fs::remove_all(to, ec);
           fs::create_directories(to.parent_path(), ec);
           fs::copy(from, to, fs::copy_options::recursive, ec);

@@ -27,21 +27,23 @@ std::vector<std::vector<const SweepRun*>> RunWaves(std::span<const SweepRun* con
   std::vector<std::vector<const SweepRun*>> waves(2);
   std::set<std::string> scenes;
   for (const SweepRun* run : runs) {
-    const bool rendered = run->scenario.observation.source == ObservationSource::kRendered &&
-                          !frame_cache_dir.empty();
-    const bool reuses_frames =
-        rendered &&
-        !scenes
-             .insert(renderer::PixelHash(run->scenario.world, RendererOptionsOf(run->scenario),
-                                         run->scenario.seeds.renderer))
-             .second;
+    const bool rendered =
+        run->cell->observation.source == ObservationSource::kRendered && !frame_cache_dir.empty();
+    bool reuses_frames = false;
+    if (rendered) {
+      const scenarios::Scenario scenario = run->scenario();
+      reuses_frames = !scenes
+                           .insert(renderer::PixelHash(scenario.world, RendererOptionsOf(scenario),
+                                                       scenario.seeds.renderer))
+                           .second;
+    }
     waves[reuses_frames ? 1 : 0].push_back(run);
   }
   return waves;
 }
 
 void InProcessExecutor::Execute(const SweepRun& run, const RunOptions& options) const {
-  scenarios::RunScenario(run.scenario, options);
+  scenarios::RunScenario(run.scenario(), options);
 }
 
 namespace {
@@ -69,7 +71,7 @@ void ChildProcessExecutor::Execute(const SweepRun& run, const RunOptions& run_op
   const fs::path log = runs_dir / (run.key + ".log");
   {
     std::ofstream out(input);
-    out << ToResolvedYaml(run.scenario);
+    out << ToResolvedYaml(run.scenario());
     if (!out) throw RunError(fmt::format("cannot write {}", input.string()));
   }
   std::vector<std::string> args = {exe,     "--log-level",       "warn",      "run", input.string(),

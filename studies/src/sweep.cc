@@ -7,11 +7,14 @@
 #include <algorithm>
 #include <filesystem>
 #include <map>
+#include <memory>
 #include <set>
 
 #include "hcpf/config/file_lookup.h"
 #include "hcpf/config/yaml_reader.h"
 #include "hcpf/core/rng.h"
+#include "hcpf/core/text_file.h"
+#include "hcpf/scenarios/progress.h"
 #include "hcpf/studies/metric_catalogue.h"
 #include "text.h"
 
@@ -158,6 +161,15 @@ SweepSpec ReadSweep(YAML::Node root, const std::string& file, const std::string&
     report->Finish();
   }
   r.Finish();
+  try {
+    CheckedRunCount(spec);
+  } catch (const InputError& e) {
+    // At the first swept key's line (the count is the product of all of them).
+    const SourceLocation at = !spec.grid.empty()  ? spec.grid.front().where.front()
+                              : !spec.zip.empty() ? spec.zip.front().where.front()
+                                                  : SourceLocation{file, 0, 0, ""};
+    throw InputError(SourceLocation{file, at.line, 0, "grid"}, e.expected(), e.found(), e.hint());
+  }
   return spec;
 }
 
@@ -177,11 +189,28 @@ std::vector<std::string> SweepSpec::SweptKeys() const {
   return keys;
 }
 
-int64_t SweepSpec::RunCount() const {
+int64_t SweepSpec::RunCount() const { return CheckedRunCount(*this); }
+
+int64_t CheckedRunCount(const SweepSpec& spec) {
+  // Overflow-safe: a grid of a few long lists can exceed 2^63 runs.
+  std::vector<std::string> factors;
   int64_t n = 1;
-  for (const SweepAxis& a : grid) n *= static_cast<int64_t>(a.values.size());
-  if (!zip.empty()) n *= static_cast<int64_t>(zip.front().values.size());
-  return n * std::max(seeds, 1);
+  bool overflow = false;
+  const auto times = [&](int64_t factor, const std::string& what) {
+    factors.push_back(fmt::format("{} {}", factor, what));
+    overflow = overflow || __builtin_mul_overflow(n, factor, &n);
+  };
+  for (const SweepAxis& a : spec.grid) times(static_cast<int64_t>(a.values.size()), a.key);
+  if (!spec.zip.empty()) times(static_cast<int64_t>(spec.zip.front().values.size()), "zip");
+  times(std::max(spec.seeds, 1), "seeds");
+  if (overflow || n > kMaxSweepRuns) {
+    throw InputError(SourceLocation{spec.file, 0, 0, "grid"},
+                     fmt::format("a sweep of at most {} runs", kMaxSweepRuns),
+                     fmt::format("{} = {} runs", fmt::join(factors, " × "),
+                                 overflow ? std::string("more than 2^63") : std::to_string(n)),
+                     "split it into several sweep files, or use fewer values or seeds");
+  }
+  return n;
 }
 
 uint64_t SweepSeed(uint64_t sweep_seed, int index) {
@@ -202,18 +231,31 @@ SweepSpec LoadSweepFile(const std::string& path) {
 }
 
 std::vector<SweepRun> ExpandSweep(const SweepSpec& spec) {
-  const int64_t total = spec.RunCount();
+  const int64_t total = CheckedRunCount(spec);
   const int seeds = std::max(spec.seeds, 1);
   const int64_t zip_length =
       spec.zip.empty() ? 1 : static_cast<int64_t>(spec.zip.front().values.size());
+  // The base file is read once; every cell parses its text with its overrides.
+  const std::string base_text = ReadInputFile(spec.base_path, "a YAML file", uint64_t{16} << 20);
+  const auto load = [&](const std::vector<config::Override>& overrides,
+                        const std::vector<SourceLocation>& where) {
+    try {
+      return scenarios::LoadScenarioText(base_text, spec.base_path, overrides);
+    } catch (const InputError& e) {
+      // An error in a swept value is reported at that value in the sweep file.
+      const int i = e.where().override_index;
+      if (i >= 0 && static_cast<size_t>(i) < where.size())
+        Relocate(e, where[static_cast<size_t>(i)]);
+      throw;
+    }
+  };
   std::vector<SweepRun> runs;
-  runs.reserve(total);
+  runs.reserve(static_cast<size_t>(total));
   std::map<std::string, int64_t> index_of_key;
-  for (int64_t index = 0; index < total; ++index) {
-    SweepRun run;
-    run.index = index;
-    run.seed_index = static_cast<int>(index % seeds);
-    int64_t rest = index / seeds;
+  scenarios::Progress progress("expand", total, total >= 20000);
+  for (int64_t cell = 0; cell < total / seeds; ++cell) {
+    // A cell: one grid point and zip position, `seeds` runs that differ only in their seed.
+    int64_t rest = cell;
     const int64_t zip_position = rest % zip_length;
     rest /= zip_length;
     // Grid digits: the last grid key varies fastest.
@@ -223,46 +265,80 @@ std::vector<SweepRun> ExpandSweep(const SweepSpec& spec) {
       digits[g] = rest % n;
       rest /= n;
     }
+    std::vector<std::string> values;
+    std::vector<config::Override> overrides;
     std::vector<SourceLocation> where;
     for (size_t g = 0; g < spec.grid.size(); ++g) {
-      run.values.push_back(spec.grid[g].values[digits[g]]);
-      run.overrides.push_back({spec.grid[g].key, spec.grid[g].values[digits[g]]});
+      values.push_back(spec.grid[g].values[digits[g]]);
+      overrides.push_back({spec.grid[g].key, spec.grid[g].values[digits[g]]});
       where.push_back(spec.grid[g].where[digits[g]]);
     }
     for (const SweepAxis& a : spec.zip) {
-      run.values.push_back(a.values[zip_position]);
-      run.overrides.push_back({a.key, a.values[zip_position]});
+      values.push_back(a.values[zip_position]);
+      overrides.push_back({a.key, a.values[zip_position]});
       where.push_back(a.where[zip_position]);
     }
     if (spec.seeds > 0) {
-      run.seed = SweepSeed(spec.seed, run.seed_index);
-      run.overrides.push_back({"seed", std::to_string(run.seed)});
+      overrides.push_back({"seed", ""});  // filled per seed below
       where.push_back(SourceLocation{spec.file, 0, 0, "seeds"});
     }
-    try {
-      run.scenario = LoadScenarioFile(spec.base_path, run.overrides);
-    } catch (const InputError& e) {
-      // An error in a swept value is reported at that value in the sweep file.
-      const int i = e.where().override_index;
-      if (i >= 0 && static_cast<size_t>(i) < where.size())
-        Relocate(e, where[static_cast<size_t>(i)]);
-      throw;
+    // Seed indices 0 and 1 are loaded in full; the others are the seed-0
+    // scenario reseeded (scenarios::Reseeded), which is much cheaper than
+    // parsing and resolving the base file again, when the reseeded seed-1
+    // scenario gives exactly the resolved YAML of the full load.
+    std::shared_ptr<const scenarios::Scenario> first;
+    std::string first_yaml;
+    bool reseed = false;
+    for (int k = 0; k < seeds; ++k) {
+      const int64_t index = cell * seeds + k;
+      SweepRun run;
+      run.index = index;
+      run.seed_index = k;
+      run.values = values;
+      std::string resolved;
+      if (spec.seeds > 0) {
+        run.seed = SweepSeed(spec.seed, k);
+        overrides.back().value = std::to_string(run.seed);
+      }
+      run.overrides = overrides;
+      if (reseed) {
+        run.cell = first;
+        resolved = scenarios::ReseedResolvedYaml(first_yaml, scenarios::Reseeded(*first, run.seed));
+      } else {
+        auto scenario = std::make_shared<const scenarios::Scenario>(load(overrides, where));
+        resolved = scenarios::ToResolvedYaml(*scenario);
+        run.cell = scenario;
+        if (k == 0) {
+          first = scenario;
+          first_yaml = resolved;
+        } else if (k == 1) {
+          reseed = scenarios::ReseedResolvedYaml(
+                       first_yaml, scenarios::Reseeded(*first, scenario->seed)) == resolved;
+        }
+      }
+      if (spec.seeds == 0) run.seed = run.cell->seed;
+      run.key = scenarios::HashResolvedYaml(resolved);
+      // Two runs of one scenario would share a folder and a row: a list that
+      // names a value twice is a mistake in the sweep file.
+      const auto [at_key, inserted] = index_of_key.emplace(run.key, index);
+      if (!inserted) {
+        const SourceLocation at =
+            where.empty() ? SourceLocation{spec.file, 0, 0, ""} : where.front();
+        throw InputError(SourceLocation{at.file, at.line, at.column, "grid/zip"},
+                         "every run a different scenario (no value listed twice)",
+                         fmt::format("runs {} and {} resolve to the same scenario ({})",
+                                     at_key->second, index, fmt::join(run.values, ", ")));
+      }
+      runs.push_back(std::move(run));
     }
-    run.seed = run.scenario.seed;
-    run.key = ConfigHash(run.scenario);
-    // Two runs of one scenario would share a folder and a row: a list that
-    // names a value twice is a mistake in the sweep file.
-    const auto [first, inserted] = index_of_key.emplace(run.key, index);
-    if (!inserted) {
-      const SourceLocation at = where.empty() ? SourceLocation{spec.file, 0, 0, ""} : where.front();
-      throw InputError(SourceLocation{at.file, at.line, at.column, "grid/zip"},
-                       "every run a different scenario (no value listed twice)",
-                       fmt::format("runs {} and {} resolve to the same scenario ({})",
-                                   first->second, index, fmt::join(run.values, ", ")));
-    }
-    runs.push_back(std::move(run));
+    progress.Advance(seeds);
   }
+  progress.Finish();
   return runs;
+}
+
+scenarios::Scenario SweepRun::scenario() const {
+  return cell->seed == seed ? *cell : scenarios::Reseeded(*cell, seed);
 }
 
 std::string SweepHash(const std::vector<SweepRun>& runs) {

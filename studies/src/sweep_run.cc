@@ -49,7 +49,7 @@ void WriteContactSheet(const fs::path& out, const std::vector<SweepRun>& runs,
                        const std::string& cache_dir) {
   if (cache_dir.empty()) return;
   for (const SweepRun& run : runs) {
-    const Scenario& scenario = run.scenario;
+    const Scenario scenario = run.scenario();
     if (scenario.observation.source != ObservationSource::kRendered) continue;
     const renderer::FrameCache cache(
         cache_dir,
@@ -77,6 +77,7 @@ SweepResult RunSweep(const SweepSpec& spec, const std::vector<SweepRun>& runs,
                      const SweepOptions& options) {
   options.Validate();
   const fs::path out(options.out_dir);
+  scenarios::CheckFolderArgument(options.out_dir, "--out");
   std::error_code ec;
   fs::create_directories(out / "runs", ec);
   if (ec)
@@ -107,8 +108,24 @@ SweepResult RunSweep(const SweepSpec& spec, const std::vector<SweepRun>& runs,
   meta.run_count = static_cast<int64_t>(runs.size());
   auto store = ResultsStore::OpenOrCreate((out / "results.sqlite").string(), meta);
 
-  std::map<std::string, bool> finished;  // key -> ok
-  for (const RunRecord& r : store->Runs()) finished[r.key] = r.ok;
+  // Finished runs are reused only while their folders still hold what the
+  // store records (a deleted or damaged folder is computed again).
+  const std::vector<RunRecord> stored = store->Runs();
+  std::vector<char> intact(stored.size(), 0);
+  ParallelFor(stored.size(), options.jobs, [&](size_t i) {
+    const RunRecord& r = stored[i];
+    intact[i] = r.ok && RunFolderIntact((out / r.run_dir).string(), r);
+  });
+  std::map<std::string, bool> finished;  // key -> ok and intact
+  for (size_t i = 0; i < stored.size(); ++i) {
+    finished[stored[i].key] = intact[i] != 0;
+    if (stored[i].ok && !intact[i]) {
+      spdlog::warn(
+          "sweep: run {} ({}) is recorded as done but its folder {} is missing or "
+          "damaged: computing it again",
+          stored[i].index, stored[i].key, (out / stored[i].run_dir).string());
+    }
+  }
 
   SweepResult result;
   std::vector<const SweepRun*> todo;

@@ -110,7 +110,7 @@ TEST(MetricCatalogue, EveryEntryIsReadFromARealRunFolder) {
   scenarios::RunOptions options;
   options.out_dir = (dir / "run").string();
   options.show_progress = false;
-  scenarios::RunScenario(runs[0].scenario, options);
+  scenarios::RunScenario(runs[0].scenario(), options);
   const std::map<std::string, double> m = ReadRunMetrics(options.out_dir);
   ASSERT_EQ(m.size(), MetricCatalogue().size());
   for (const CatalogueMetric& c : MetricCatalogue()) {

@@ -69,13 +69,13 @@ TEST(Sweep, GridZipSeedsExpansionOrder) {
     const SweepRun& r = runs[e.index];
     SCOPED_TRACE(e.index);
     EXPECT_EQ(r.index, e.index);
-    EXPECT_EQ(r.scenario.tracker.particles, e.particles);
+    EXPECT_EQ(r.scenario().tracker.particles, e.particles);
     EXPECT_EQ(r.values[1], e.method);
-    EXPECT_DOUBLE_EQ(r.scenario.tracker.likelihood.sigma_px, e.lik_sigma);
-    EXPECT_DOUBLE_EQ(r.scenario.observation.simulated.sigma_px, e.obs_sigma);
+    EXPECT_DOUBLE_EQ(r.scenario().tracker.likelihood.sigma_px, e.lik_sigma);
+    EXPECT_DOUBLE_EQ(r.scenario().observation.simulated.sigma_px, e.obs_sigma);
     EXPECT_EQ(r.seed_index, e.seed_index);
     // The documented derivation, written out independently of SweepSeed.
-    EXPECT_EQ(r.scenario.seed,
+    EXPECT_EQ(r.scenario().seed,
               Rng(1).Fork("sweep/seed/" + std::to_string(e.seed_index)).identity());
   }
   // Keys: one per run, all different (every run differs in a value or seed).
@@ -91,15 +91,69 @@ TEST(Sweep, NoSeedsKeepsTheBaseSeedAndSweepSeedChangesDerivedSeeds) {
   const auto runs = ExpandSweep(
       LoadSweepFile(WriteSweep(dir, "base: base.yaml\ngrid: {tracker.particles: [10, 20]}\n")));
   ASSERT_EQ(runs.size(), 2U);
-  EXPECT_EQ(runs[0].scenario.seed, 7U);  // kMinimal's seed: 7
-  EXPECT_EQ(runs[1].scenario.seed, 7U);
+  EXPECT_EQ(runs[0].scenario().seed, 7U);  // kMinimal's seed: 7
+  EXPECT_EQ(runs[1].scenario().seed, 7U);
   const auto a =
       ExpandSweep(LoadSweepFile(WriteSweep(dir, "base: base.yaml\nseeds: 1\nseed: 5\n", "a.yaml")));
   const auto b =
       ExpandSweep(LoadSweepFile(WriteSweep(dir, "base: base.yaml\nseeds: 1\nseed: 6\n", "b.yaml")));
   ASSERT_EQ(a.size(), 1U);
-  EXPECT_NE(a[0].scenario.seed, b[0].scenario.seed);
-  EXPECT_EQ(a[0].scenario.seed, Rng(5).Fork("sweep/seed/0").identity());
+  EXPECT_NE(a[0].scenario().seed, b[0].scenario().seed);
+  EXPECT_EQ(a[0].scenario().seed, Rng(5).Fork("sweep/seed/0").identity());
+}
+
+// Issue 15 item 20: seeds beyond the second are reseeded from the first
+// instead of loading the base file again. Every run must be exactly what the
+// full loader gives for its overrides: resolved YAML, key, and the seeds a
+// base that pins some of them keeps.
+TEST(Sweep, ReseededRunsEqualFullyLoadedOnes) {
+  const auto dir = SweepFolder("reseed");
+  std::string base = scenarios::testing::kMinimal;
+  base += "seeds: {tracker: 99}\n";  // pinned: kept by every seed
+  std::ofstream(dir / "pinned.yaml") << base;
+  for (const std::string file : {"base.yaml", "pinned.yaml"}) {
+    const std::string path =
+        WriteSweep(dir, "base: " + file + "\nseeds: 6\ngrid:\n  tracker.particles: [10, 20]\n",
+                   file + ".sweep");
+    const std::vector<SweepRun> runs = ExpandSweep(LoadSweepFile(path));
+    ASSERT_EQ(runs.size(), 12U);
+    std::set<uint64_t> tracker_seeds;
+    for (const SweepRun& run : runs) {
+      const scenarios::Scenario full =
+          scenarios::LoadScenarioFile((dir / file).string(), run.overrides);
+      EXPECT_EQ(scenarios::ToResolvedYaml(run.scenario()), scenarios::ToResolvedYaml(full));
+      EXPECT_EQ(run.key, scenarios::ConfigHash(full));
+      EXPECT_EQ(run.scenario().world.terrain.seed, full.world.terrain.seed);
+      EXPECT_EQ(run.scenario().world.camera.shake_seed, full.world.camera.shake_seed);
+      tracker_seeds.insert(run.scenario().seeds.tracker);
+    }
+    EXPECT_EQ(tracker_seeds.size(), file == "pinned.yaml" ? 1U : 6U) << file;
+  }
+}
+
+// Issue 15 item 15: a grid whose run count overflows ended in
+// std::length_error (exit 1); it is bad input at the sweep file.
+TEST(Sweep, RunCountBeyondTheLimitIsBadInput) {
+  const auto dir = SweepFolder("huge");
+  std::string values = "[";
+  for (int i = 0; i < 1000; ++i) values += (i ? ", " : "") + std::to_string(10 + i);
+  values += "]";
+  std::string text = "base: base.yaml\nseeds: 100000\ngrid:\n";
+  for (const char* key : {"tracker.particles", "tracker.resampling.beta",
+                          "tracker.resampling.charge", "tracker.likelihood.sigma_px",
+                          "tracker.dynamics.sigma_pos_px", "observation.simulated.sigma_px"}) {
+    text += std::string("  ") + key + ": " + values + "\n";
+  }
+  const std::string message = ErrorOf(WriteSweep(dir, text));
+  EXPECT_NE(message.find("sweep.yaml:4:"), std::string::npos) << message;
+  EXPECT_NE(message.find("expected a sweep of at most 10000000 runs"), std::string::npos)
+      << message;
+  EXPECT_NE(message.find("more than 2^63"), std::string::npos) << message;
+  const std::string big = ErrorOf(
+      WriteSweep(dir, "base: base.yaml\nseeds: 20000\ngrid:\n  tracker.particles: " + values + "\n",
+                 "big.yaml"));
+  EXPECT_NE(big.find("1000 tracker.particles × 20000 seeds = 20000000 runs"), std::string::npos)
+      << big;
 }
 
 TEST(Sweep, ReportDefaultsAndValidation) {

@@ -5,10 +5,13 @@
 #include <gtest/gtest.h>
 #include <sys/stat.h>
 #include <sys/wait.h>
+#include <unistd.h>
 
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
 #include <string>
+#include <vector>
 
 #include "support/crafted_glb.h"
 #include "support/process.h"
@@ -289,6 +292,145 @@ TEST(Reliability, LargeScenariosAreBoundedAndTheirCostIsShown) {
       << r.output;
   r = RunCommand(kHcpf + " validate " + file.string());
   EXPECT_EQ(r.output.find("large scenario"), std::string::npos) << r.output;
+}
+
+// A command run as a user who may not write the test's folders: `nobody`
+// when the tests run as root (root ignores permissions), else the user
+// itself (the test then takes write permission away with chmod).
+std::string AsReader() {
+  return ::geteuid() == 0 ? "setpriv --reuid=65534 --regid=65534 --clear-groups " : "";
+}
+
+// A finished sweep of four small runs in `dir`.
+void SmallSweep(const fs::path& dir, const fs::path& out) {
+  const fs::path scenario = Write(dir / "s.yaml", SmallScenario());
+  const fs::path sweep =
+      Write(dir / "sweep.yaml",
+            "base: " + scenario.string() + "\nseeds: 2\ngrid:\n  tracker.particles: [10, 20]\n");
+  const auto r = RunCommand(kHcpf + " sweep " + sweep.string() + " --out " + out.string());
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+}
+
+// Item 11: report and merge could not read a store they could not write (WAL
+// needs a -shm file) and called it bad input. Stores are now opened read-only;
+// a folder that cannot be written is an I/O error (exit 1) that says so.
+TEST(Reliability, ReadOnlyStoresCanBeReportedAndMerged) {
+  const fs::path dir = FreshDir("read-only-store");
+  const fs::path sweep = dir / "sweep";
+  SmallSweep(dir, sweep);
+  const fs::path writable = dir / "writable";
+  fs::create_directories(writable);
+  fs::permissions(writable, fs::perms::all);
+  fs::permissions(dir, fs::perms::owner_all | fs::perms::group_read | fs::perms::group_exec |
+                           fs::perms::others_read | fs::perms::others_exec);
+  // The sweep folder and its store: readable by all, writable by nobody else.
+  fs::permissions(sweep, fs::perms::owner_read | fs::perms::owner_exec | fs::perms::group_read |
+                             fs::perms::group_exec | fs::perms::others_read |
+                             fs::perms::others_exec);
+  if (RunCommand(AsReader() + kHcpf + " --version").exit_code != 0) {
+    fs::permissions(sweep, fs::perms::owner_all, fs::perm_options::add);
+    GTEST_SKIP() << "cannot run hcpf as another user here (" << AsReader() << ")";
+  }
+  // Without --out the report cannot be written: exit 1, naming the way out.
+  auto r = RunCommand(AsReader() + kHcpf + " report " + sweep.string());
+  EXPECT_EQ(r.exit_code, 1) << r.output;
+  EXPECT_NE(r.output.find("use --out"), std::string::npos) << r.output;
+  r = RunCommand(AsReader() + kHcpf + " report " + sweep.string() + " --out " +
+                 (writable / "report").string());
+  EXPECT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_TRUE(fs::exists(writable / "report" / "report.html"));
+  r = RunCommand(AsReader() + kHcpf + " merge " + (writable / "merged").string() + " " +
+                 sweep.string());
+  EXPECT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_TRUE(fs::exists(writable / "merged" / "results.sqlite"));
+  // A store the user may not read at all: an I/O error that says so.
+  fs::permissions(sweep, fs::perms::owner_all, fs::perm_options::add);
+  fs::permissions(sweep / "results.sqlite", fs::perms::owner_read | fs::perms::owner_write);
+  r = RunCommand(AsReader() + kHcpf + " report " + sweep.string() + " --out " +
+                 (writable / "report2").string());
+  EXPECT_EQ(r.exit_code, 1) << r.output;
+  EXPECT_NE(r.output.find("check its permissions"), std::string::npos) << r.output;
+  // The same for a scenario file.
+  fs::permissions(dir / "s.yaml", fs::perms::owner_read | fs::perms::owner_write);
+  r = RunCommand(AsReader() + kHcpf + " validate " + (dir / "s.yaml").string());
+  EXPECT_EQ(r.exit_code, 1) << r.output;
+  EXPECT_NE(r.output.find("check its permissions"), std::string::npos) << r.output;
+  fs::permissions(sweep / "results.sqlite", fs::perms::owner_all);
+}
+
+// Item 15 (part): a damaged store was an I/O error (exit 1, "database disk
+// image is malformed"); it is bad input that says how to recompute.
+TEST(Reliability, DamagedStoreIsBadInputThatSaysHowToRecompute) {
+  const fs::path dir = FreshDir("damaged-store");
+  const fs::path sweep = dir / "sweep";
+  SmallSweep(dir, sweep);
+  const fs::path store = sweep / "results.sqlite";
+  std::string bytes = ReadFile(store);
+  ASSERT_GT(bytes.size(), 8192u);
+  // Overwrite the second page (the first table's b-tree) with garbage.
+  for (size_t i = 4096; i < 8192; ++i) bytes[i] = static_cast<char>(0xA5 ^ (i * 7));
+  std::ofstream(store, std::ios::binary | std::ios::trunc) << bytes;
+  for (const std::string& command :
+       {kHcpf + " report " + sweep.string(),
+        kHcpf + " merge " + (dir / "merged").string() + " " + sweep.string()}) {
+    const auto r = RunCommand(command);
+    EXPECT_EQ(r.exit_code, 2) << command << "\n" << r.output;
+    EXPECT_NE(r.output.find("rerun the sweep to recompute"), std::string::npos) << r.output;
+  }
+}
+
+// Item 18: an ok run whose folder was deleted or damaged was reused by a
+// resumed sweep and copied as ok by merge.
+TEST(Reliability, DeletedOrDamagedRunFoldersAreComputedAgain) {
+  const fs::path dir = FreshDir("damaged-run");
+  const fs::path sweep = dir / "sweep";
+  SmallSweep(dir, sweep);
+  std::vector<fs::path> runs;
+  for (const auto& e : fs::directory_iterator(sweep / "runs")) runs.push_back(e.path());
+  std::sort(runs.begin(), runs.end());
+  ASSERT_EQ(runs.size(), 4u);
+  const std::string metrics = ReadFile(runs[1] / "metrics.json");
+  // Merge first: the damaged run is merged as failed.
+  fs::remove_all(runs[0]);
+  std::ofstream(runs[1] / "metrics.json", std::ios::trunc) << metrics.substr(0, metrics.size() / 2);
+  auto r = RunCommand(kHcpf + " merge " + (dir / "merged").string() + " " + sweep.string());
+  EXPECT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("2 with a missing or damaged run folder merged as failed"),
+            std::string::npos)
+      << r.output;
+  // Resuming recomputes exactly those two, in both folders.
+  for (const fs::path& folder : {sweep, dir / "merged"}) {
+    r = RunCommand(kHcpf + " sweep " + (dir / "sweep.yaml").string() + " --out " + folder.string());
+    EXPECT_EQ(r.exit_code, 0) << r.output;
+    EXPECT_NE(r.output.find("2 already in"), std::string::npos) << folder << "\n" << r.output;
+    EXPECT_NE(r.output.find("2 to compute"), std::string::npos) << folder << "\n" << r.output;
+  }
+  EXPECT_TRUE(fs::exists(runs[0] / "metrics.json"));
+  EXPECT_EQ(ReadFile(runs[1] / "metrics.json"), metrics);
+}
+
+// Item 15: exit 1 where the input is at fault: an empty --out, a --out that
+// is an existing file (for run, render, sweep, merge and report).
+TEST(Reliability, BadOutputArgumentsAreBadInput) {
+  const fs::path dir = FreshDir("bad-out");
+  const fs::path file = Write(dir / "a-file", "not a folder\n");
+  const fs::path scenario = Write(dir / "s.yaml", SmallScenario());
+  const fs::path sweep =
+      Write(dir / "sweep.yaml",
+            "base: " + scenario.string() + "\nseeds: 1\ngrid: {tracker.particles: [10]}\n");
+  for (const std::string& command :
+       {kHcpf + " run " + scenario.string() + " --out ''",
+        kHcpf + " run " + scenario.string() + " --out " + file.string(),
+        kHcpf + " sweep " + sweep.string() + " --out " + file.string(),
+        kHcpf + " merge " + file.string() + " " + dir.string()}) {
+    const auto r = RunCommand(command);
+    EXPECT_EQ(r.exit_code, 2) << command << "\n" << r.output;
+    EXPECT_TRUE(r.output.find("an empty path") != std::string::npos ||
+                r.output.find("found an existing file") != std::string::npos)
+        << command << "\n"
+        << r.output;
+  }
+  EXPECT_EQ(ReadFile(file), "not a folder\n");
 }
 
 }  // namespace

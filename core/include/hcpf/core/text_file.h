@@ -14,8 +14,9 @@ void WriteTextFile(const std::string& path, const std::string& text);
 // Checks that `path` names a regular file that can be opened for reading and
 // returns its size in bytes. A directory, a FIFO or a device (/dev/zero,
 // /dev/urandom) is an InputError at `path` naming what was found: reading one
-// would fail oddly, hang or grow without bound. `what` names the expected
-// content ("a YAML file", "a MOT file").
+// would fail oddly, hang or grow without bound. A file that exists but may
+// not be read is a RunError (an I/O problem: exit 1) that says to check its
+// permissions. `what` names the expected content ("a YAML file").
 uint64_t CheckRegularFile(const std::string& path, const std::string& what);
 
 // Reads the whole of a regular file (CheckRegularFile) of at most `max_bytes`

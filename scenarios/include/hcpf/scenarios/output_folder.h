@@ -11,6 +11,11 @@
 
 namespace hcpf::scenarios {
 
+// Checks a folder given on the command line as `option` (e.g. "--out"): not
+// empty, and not an existing file (or a link to one). InputError naming the
+// option otherwise; a missing folder is fine (it is created).
+void CheckFolderArgument(const std::string& path, const std::string& option);
+
 class StagedFolder {
  public:
   // Checks `out` (InputError naming --out when it is a file or a foreign

@@ -115,6 +115,11 @@ struct Scenario {
   RendererConfig renderer;
   tracker::TrackerOptions tracker;  // `tracker.*` (threads: a run option, not a key)
   MetricsConfig metrics;
+  // Which of `seeds` the input gave explicitly (bits kPinned*): Reseeded keeps
+  // those and derives the others from the new seed.
+  uint8_t pinned_seeds = 0;
+  static constexpr uint8_t kPinnedWorld = 1, kPinnedObservation = 2, kPinnedTracker = 4,
+                           kPinnedRenderer = 8;
 };
 
 // `--set key=value` overrides (hcpf/config/overrides.h).
@@ -133,6 +138,17 @@ std::string ToResolvedYaml(const Scenario& scenario);
 
 // Stable 64-bit hash (hex) of the resolved YAML: the run's identity.
 std::string ConfigHash(const Scenario& scenario);
+// The same hash of a resolved YAML text.
+std::string HashResolvedYaml(const std::string& resolved_yaml);
+
+// The scenario as loading it with `--set seed=SEED` gives: the top-level seed
+// replaced, every seed the input did not pin derived from it again. A sweep
+// expands its seeds with it instead of loading the base file once per seed
+// (studies/src/sweep.cc checks the two agree for every cell).
+Scenario Reseeded(const Scenario& scenario, uint64_t seed);
+// ToResolvedYaml(reseeded) from the resolved YAML of the scenario it was
+// reseeded from (only the seed lines differ), without emitting it again.
+std::string ReseedResolvedYaml(const std::string& resolved_yaml, const Scenario& reseeded);
 
 // The largest `frames` a scenario may have.
 inline constexpr int kMaxFrames = 100'000;

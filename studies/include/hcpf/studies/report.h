@@ -17,6 +17,7 @@ namespace hcpf::studies {
 
 struct ReportOptions {
   std::string dir;                  // a sweep's --out folder (holds results.sqlite)
+  std::string out_dir;              // where report.html and summary.csv go ("" = dir)
   std::string gnuplot = "gnuplot";  // the gnuplot executable
   void Validate() const;
 };
@@ -28,7 +29,9 @@ struct ReportResult {
   int cells = 0;
 };
 
-// Throws InputError when DIR has no results store; RunError when gnuplot fails.
+// Throws InputError when DIR has no results store; RunError when gnuplot fails
+// or the output folder cannot be written (the message suggests --out). The
+// store is only read: a sweep on read-only media can be reported elsewhere.
 ReportResult WriteReport(const ReportOptions& options);
 
 // Mean and 95 % confidence half-width of `values` (t distribution, above).

@@ -46,10 +46,17 @@ struct RunRecord {
   std::map<std::string, double> metrics;  // HeadlineMetrics() names; NaN = missing
 };
 
+// How a store is opened: report and merge only read theirs (a store on
+// read-only media or in a folder the user may not write can still be read).
+enum class StoreAccess { kReadOnly, kReadWrite };
+
 class ResultsStore {
  public:
-  // Opens an existing store; throws InputError when `path` is missing or not a store.
-  static std::unique_ptr<ResultsStore> Open(const std::string& path);
+  // Opens an existing store. Throws InputError when `path` is missing, not a
+  // store or damaged (the message says to delete it to recompute), RunError
+  // when permissions forbid the access asked for.
+  static std::unique_ptr<ResultsStore> Open(const std::string& path,
+                                            StoreAccess access = StoreAccess::kReadOnly);
   // Opens `path`, creating it with `meta` when absent. Throws InputError when
   // it exists and holds a different sweep (another sweep_hash).
   static std::unique_ptr<ResultsStore> OpenOrCreate(const std::string& path, const StoreMeta& meta);
@@ -81,14 +88,21 @@ class ResultsStore {
 // RunError when the files are missing or malformed.
 std::map<std::string, double> ReadRunMetrics(const std::string& run_dir);
 
+// Whether a run folder still holds the run the store records: its
+// metrics.json and manifest.json read back (ReadRunMetrics) to exactly the
+// record's metrics. False when the folder was deleted or a file damaged.
+bool RunFolderIntact(const std::string& run_dir, const RunRecord& record);
+
 struct MergeResult {
   int64_t added = 0;       // rows new to the output store
   int64_t duplicates = 0;  // rows whose key was already there (not counted twice)
+  int64_t damaged = 0;     // ok rows whose run folder was missing or damaged: merged as failed
 };
 // Merges the stores (and run folders) of `input_dirs` into `out_dir`. Every
 // store must be of the same sweep (else InputError naming the odd one out).
 // A row already present with status ok is kept; a failed row is replaced by
-// an ok one.
+// an ok one. An ok row whose run folder is missing or damaged (RunFolderIntact)
+// is merged as failed, so resuming the sweep on `out_dir` recomputes it.
 MergeResult MergeStores(const std::string& out_dir, const std::vector<std::string>& input_dirs);
 
 }  // namespace hcpf::studies

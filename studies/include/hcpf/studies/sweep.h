@@ -13,6 +13,7 @@
 // (innermost). index = ((grid_combination * zip_length) + zip_position) * seeds + seed_index.
 
 #include <cstdint>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -48,8 +49,14 @@ struct SweepSpec {
   // Every swept key in column order: grid keys, then zip keys.
   std::vector<std::string> SweptKeys() const;
   // Runs in the expansion: product of grid lengths * zip length * max(seeds, 1).
+  // Throws InputError when that exceeds kMaxSweepRuns (or 2^63).
   int64_t RunCount() const;
 };
+
+// The most runs one sweep file may expand to (a store and a run list of this
+// size take a few GB); larger studies are split into several sweep files.
+inline constexpr int64_t kMaxSweepRuns = 10'000'000;
+int64_t CheckedRunCount(const SweepSpec& spec);
 
 // One run of a sweep.
 struct SweepRun {
@@ -58,8 +65,13 @@ struct SweepRun {
   uint64_t seed = 0;                        // the scenario seed the run uses
   std::vector<std::string> values;          // per SweptKeys(), YAML text
   std::vector<config::Override> overrides;  // swept values, then `seed` (when seeds > 0)
-  scenarios::Scenario scenario;
-  std::string key;  // ConfigHash(scenario)
+  // The scenario of the run's cell, shared by the runs of the cell that were
+  // reseeded from it (scenario() applies `seed`).
+  std::shared_ptr<const scenarios::Scenario> cell;
+  std::string key;  // ConfigHash(scenario())
+
+  // The run's resolved scenario.
+  scenarios::Scenario scenario() const;
 };
 
 // The derived seed of seed index i: Rng(sweep_seed).Fork("sweep/seed", i).identity().

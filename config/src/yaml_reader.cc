@@ -1,6 +1,7 @@
 #include "hcpf/config/yaml_reader.h"
 
 #include <fmt/format.h>
+#include <yaml-cpp/depthguard.h>
 
 #include <algorithm>
 #include <cerrno>
@@ -60,6 +61,11 @@ YAML::Node YamlReader::Parse(const std::string& text, const std::string& file) {
   std::vector<YAML::Node> documents;
   try {
     documents = YAML::LoadAll(text);
+  } catch (const YAML::DeepRecursion& e) {
+    SourceLocation where{file, e.mark.line + 1, e.mark.column + 1, ""};
+    // (yaml-cpp's own message for this is "bad file".)
+    throw InputError(where, "YAML nested less deeply",
+                     fmt::format("lists or mappings nested {} levels deep", e.depth()));
   } catch (const YAML::ParserException& e) {
     SourceLocation where{file, e.mark.line + 1, e.mark.column + 1, ""};
     throw InputError(where, "valid YAML", "a syntax error: " + e.msg);
@@ -363,6 +369,14 @@ void YamlReader::Finish() const {
   std::vector<std::string> known(asked_->begin(), asked_->end());
   std::set<std::string> seen;
   for (const auto& entry : node_) {
+    if (!entry.first.IsScalar() || (entry.first.IsNull() && entry.first.Tag() != "!")) {
+      // `~: 3`, `: 3` or `[a, b]: 3`: not a key any reader asks for.
+      YamlReader key_reader(entry.first, path_, context_);
+      const char* what = entry.first.IsSequence() ? "a list used as a key"
+                         : entry.first.IsMap()    ? "a mapping used as a key"
+                                                  : "a null key (~ or nothing before the colon)";
+      throw InputError(key_reader.Where(), "a key name (a word such as `frames`)", what);
+    }
     const std::string key = entry.first.Scalar();
     YamlReader key_reader(entry.first, ChildPath(key), context_);
     if (!seen.insert(key).second) {

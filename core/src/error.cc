@@ -7,12 +7,41 @@
 
 namespace hcpf {
 
+namespace {
+
+// User text in a message, with control characters (a NUL byte, a newline)
+// shown as escapes instead of being written to the terminal raw.
+std::string Printable(const std::string& text) {
+  std::string out;
+  out.reserve(text.size());
+  for (const char c : text) {
+    const auto u = static_cast<unsigned char>(c);
+    if (c == '\n') {
+      out += "\\n";
+    } else if (c == '\t') {
+      out += "\\t";
+    } else if (c == '\r') {
+      out += "\\r";
+    } else if (u < 0x20 || u == 0x7f) {
+      static const char kHex[] = "0123456789abcdef";
+      out += "\\x";
+      out += kHex[u >> 4];
+      out += kHex[u & 15];
+    } else {
+      out += c;
+    }
+  }
+  return out;
+}
+
+}  // namespace
+
 std::string FormatInputError(const SourceLocation& where, const std::string& expected,
                              const std::string& found, const std::string& hint) {
   // A check made away from any file (a library's Validate() on options built
   // in code) has no location: the message then starts at the key. Errors from
   // files and the command line are located by their reader.
-  std::string out = where.file;
+  std::string out = Printable(where.file);
   // (Appended piece by piece: GCC 12 at -O3 warns falsely, -Wrestrict, on
   // "literal" + std::string temporaries.)
   if (!out.empty() && where.line > 0) {
@@ -24,8 +53,8 @@ std::string FormatInputError(const SourceLocation& where, const std::string& exp
     }
   }
   if (!out.empty()) out += ": ";
-  if (!where.key.empty()) out += where.key + ": ";
-  out += "expected " + expected + ", found " + found;
+  if (!where.key.empty()) out += Printable(where.key) + ": ";
+  out += "expected " + expected + ", found " + Printable(found);
   if (!hint.empty()) out += " (" + hint + ")";
   return out;
 }

@@ -354,6 +354,12 @@ Scenario LoadFromNode(YAML::Node root, const std::string& file,
                       const std::vector<Override>& overrides) {
   auto context = std::make_shared<YamlContext>();
   context->file = file;
+  if ((!root.IsDefined() || root.IsNull()) && overrides.empty()) {
+    throw InputError(SourceLocation{file, 1, 1, ""},
+                     "a scenario: a mapping with at least frames, camera and targets",
+                     "an empty file (nothing but blanks or comments)",
+                     "start from a file in scenarios/library/");
+  }
   if (!root.IsDefined() || root.IsNull()) root = YAML::Node(YAML::NodeType::Map);
   if (!root.IsMap()) {
     throw InputError(SourceLocation{file, 1, 1, ""}, "a scenario mapping (key: value lines)",

@@ -4,6 +4,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
 #include <string>
@@ -207,6 +208,27 @@ std::vector<BadCase> Cases() {
        "- a\n- b\n",
        {},
        {"bad.yaml:1:1:", "a scenario mapping", "found a list"}},
+      // Issue 15, item 16: locations and readable messages for odd files.
+      {"EmptyFile", "", {}, {"bad.yaml:1:1:", "found an empty file"}},
+      {"CommentOnlyFile", "# nothing here\n\n", {}, {"bad.yaml:1:1:", "found an empty file"}},
+      {"NullKey", m + "~: 3\n", {}, {"bad.yaml:19:1:", "a key name", "found a null key"}},
+      {"EmptyKey", m + ": 3\n", {}, {"bad.yaml:19:", "found a null key"}},
+      {"ListAsKey", m + "[a, b]: 3\n", {}, {"bad.yaml:19:1:", "found a list used as a key"}},
+      {"MappingAsKey",
+       m + "? {x: 1}\n: 3\n",
+       {},
+       {"bad.yaml:19:", "found a mapping used as a key"}},
+      {"DeepNesting",
+       m + "tracker: " + std::string(3000, '[') + std::string(3000, ']') + "\n",
+       {},
+       {"bad.yaml:19:", "YAML nested less deeply", "levels deep"}},
+      {"NulByteIsEscaped",
+       Replace(m, "frames: 20\n",
+               std::string("frames: 2\0"
+                           "0\n",
+                           12)),
+       {},
+       {"bad.yaml:", "frames", "\\x00"}},
   };
 }
 
@@ -222,6 +244,21 @@ TEST_P(BadInput, IsRejectedWithLocationKeyExpectedAndFound) {
     for (const std::string& part : c.must_contain) {
       EXPECT_NE(message.find(part), std::string::npos)
           << "message lacks \"" << part << "\"\n  message: " << message;
+    }
+  }
+}
+
+// A NUL byte is never written into a message raw.
+TEST(BadInputFile, MessagesHoldNoControlCharacters) {
+  for (const BadCase& c : Cases()) {
+    try {
+      LoadScenarioText(c.text, "bad.yaml", c.overrides);
+    } catch (const InputError& e) {
+      const std::string message = e.what();
+      EXPECT_EQ(std::count_if(message.begin(), message.end(),
+                              [](unsigned char ch) { return ch < 0x20 || ch == 0x7f; }),
+                0)
+          << c.name << ": " << message;
     }
   }
 }

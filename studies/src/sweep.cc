@@ -74,9 +74,11 @@ SweepSpec ReadSweep(YAML::Node root, const std::string& file, const std::string&
   auto context = std::make_shared<YamlContext>();
   context->file = file;
   if (!root.IsDefined() || root.IsNull() || !root.IsMap()) {
-    throw InputError(SourceLocation{file, 1, 1, ""},
-                     "a sweep mapping (base:, grid:, zip:, seeds:, report:)",
-                     root.IsSequence() ? "a list" : "no mapping");
+    throw InputError(
+        SourceLocation{file, 1, 1, ""}, "a sweep mapping (base:, grid:, zip:, seeds:, report:)",
+        root.IsSequence()                      ? "a list"
+        : (!root.IsDefined() || root.IsNull()) ? "an empty file (nothing but blanks or comments)"
+                                               : "a single value");
   }
   YamlReader r(root, "", context);
   SweepSpec spec;

@@ -1,7 +1,7 @@
 #pragma once
-// Minimum-cost rectangular assignment (the Hungarian method in its shortest
-// augmenting path form: Kuhn 1955, Munkres 1957; O(R^2 C) for R <= C after
-// transposition).
+// Minimum-cost rectangular assignment with forbidden pairs, for gated
+// association: the project's one solver (hcpf/core/assignment.h) on the
+// matrix with forbidden entries replaced by a cost above any finite assignment.
 
 #include <vector>
 

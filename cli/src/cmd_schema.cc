@@ -12,8 +12,19 @@
 #include "command.h"
 #include "hcpf/core/error.h"
 #include "hcpf/scenarios/schema.h"
+#include "hcpf/studies/file_keys.h"
 
 namespace hcpf::cli {
+namespace {
+
+// A scenario section (scenarios/schema.h) or a sweep-file / suite section
+// (studies/file_keys.h).
+std::string AnyMarkdown(const std::string& section) {
+  const std::string table = studies::FileKeysMarkdown(section);
+  return table.empty() ? scenarios::SchemaMarkdown(section) : table;
+}
+
+}  // namespace
 
 Command AddSchemaCommand(CLI::App& parent) {
   struct Options {
@@ -26,38 +37,42 @@ Command AddSchemaCommand(CLI::App& parent) {
       "Print the scenario keys declared by the modules (key, type, unit, default, range, "
       "meaning) as markdown tables, or rewrite the generated tables of a document");
   app->add_option("sections", options->sections,
-                  "Sections to print (default: all): tracker, metrics");
+                  "Sections to print (default: all): world, sensor, observation, renderer, "
+                  "tracker, metrics, sweep, suite");
   app->add_option("--update", options->update,
                   "Rewrite the generated tables of this markdown file in place "
-                  "(docs/scenario.md)");
-  return {
-      app, [options] {
-        if (!options->update.empty()) {
-          std::ifstream in(options->update, std::ios::binary);
-          if (!in) {
-            throw InputError(SourceLocation{options->update, 0, 0, "--update"},
-                             "a readable markdown file", std::strerror(errno));
-          }
-          std::stringstream text;
-          text << in.rdbuf();
-          const std::string updated = scenarios::UpdateGeneratedTables(text.str(), options->update);
-          if (updated == text.str()) {
-            spdlog::info("{}: generated tables are up to date", options->update);
+                  "(docs/scenario.md, docs/sweeps.md)");
+  return {app, [options] {
+            if (!options->update.empty()) {
+              std::ifstream in(options->update, std::ios::binary);
+              if (!in) {
+                throw InputError(SourceLocation{options->update, 0, 0, "--update"},
+                                 "a readable markdown file", std::strerror(errno));
+              }
+              std::stringstream text;
+              text << in.rdbuf();
+              const std::string updated =
+                  scenarios::UpdateGeneratedTables(text.str(), options->update, AnyMarkdown);
+              if (updated == text.str()) {
+                spdlog::info("{}: generated tables are up to date", options->update);
+                return 0;
+              }
+              std::ofstream out(options->update, std::ios::binary | std::ios::trunc);
+              out << updated;
+              if (!out) throw Error("cannot write " + options->update);
+              spdlog::info("{}: generated tables rewritten", options->update);
+              return 0;
+            }
+            std::vector<std::string> sections = options->sections;
+            if (sections.empty()) {
+              sections = scenarios::SchemaSections();
+              for (std::string_view s : studies::FileKeySections()) sections.emplace_back(s);
+            }
+            for (const std::string& section : sections) {
+              std::cout << "## `" << section << "`\n\n" << AnyMarkdown(section) << "\n";
+            }
             return 0;
-          }
-          std::ofstream out(options->update, std::ios::binary | std::ios::trunc);
-          out << updated;
-          if (!out) throw Error("cannot write " + options->update);
-          spdlog::info("{}: generated tables rewritten", options->update);
-          return 0;
-        }
-        std::vector<std::string> sections = options->sections;
-        if (sections.empty()) sections = scenarios::SchemaSections();
-        for (const std::string& section : sections) {
-          std::cout << "## `" << section << "`\n\n" << scenarios::SchemaMarkdown(section) << "\n";
-        }
-        return 0;
-      }};
+          }};
 }
 
 }  // namespace hcpf::cli

@@ -91,7 +91,9 @@ std::string SchemaMarkdown(const std::string& section) {
   return out;
 }
 
-std::string UpdateGeneratedTables(const std::string& text, const std::string& file_name) {
+std::string UpdateGeneratedTables(
+    const std::string& text, const std::string& file_name,
+    const std::function<std::string(const std::string&)>& markdown_of) {
   std::istringstream in(text);
   std::string out;
   std::string line;
@@ -107,7 +109,9 @@ std::string UpdateGeneratedTables(const std::string& text, const std::string& fi
                                         ? std::string()
                                         : line.substr(kBegin.size(), close - kBegin.size());
         try {
-          out += SchemaMarkdown(section);
+          const std::string table = markdown_of ? markdown_of(section) : SchemaMarkdown(section);
+          if (table.empty()) SchemaMarkdown(section);  // throws: unknown section
+          out += table;
         } catch (const InputError& e) {
           throw InputError(SourceLocation{file_name, line_number, 1, "generated table"},
                            e.expected(), e.found());

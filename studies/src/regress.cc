@@ -21,6 +21,7 @@
 #include "hcpf/core/parallel.h"
 #include "hcpf/core/text_file.h"
 #include "hcpf/scenarios/run.h"
+#include "hcpf/studies/file_keys.h"
 #include "hcpf/studies/metric_catalogue.h"
 #include "hcpf/studies/results_store.h"
 #include "hcpf/studies/sweep.h"
@@ -119,7 +120,7 @@ RegressSuite LoadRegressSuite(const std::string& path) {
     m.ExpectMap();
     RegressTolerance t;
     t.metric = key;
-    t.tolerance = m.Number("tolerance", std::nullopt, 0.0, 1e12);
+    t.tolerance = m.Number("tolerance", std::nullopt, 0.0, kMaxTolerance);
     // The direction is the catalogue's; a suite may state it, but not the
     // opposite of it.
     const bool higher = FindMetric(key)->higher_is_better;

@@ -15,6 +15,7 @@
 #include "hcpf/core/rng.h"
 #include "hcpf/core/text_file.h"
 #include "hcpf/scenarios/progress.h"
+#include "hcpf/studies/file_keys.h"
 #include "hcpf/studies/metric_catalogue.h"
 #include "text.h"
 
@@ -88,7 +89,7 @@ SweepSpec ReadSweep(YAML::Node root, const std::string& file, const std::string&
     spec.base_path = ResolveBase(base, r.String("base", std::nullopt), dir);
   }
   spec.seed = r.Seed("seed", 1);
-  spec.seeds = static_cast<int>(r.Integer("seeds", 0, 1, 100000));
+  spec.seeds = static_cast<int>(r.Integer("seeds", 0, kMinSweepSeeds, kMaxSweepSeeds));
   spec.grid = ReadAxes(r, "grid");
   spec.zip = ReadAxes(r, "zip");
 

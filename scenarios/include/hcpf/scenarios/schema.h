@@ -6,6 +6,7 @@
 // when docs/scenario.md differs from UpdateGeneratedTables(docs/scenario.md);
 // `hcpf schema --update docs/scenario.md` rewrites it.
 
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -24,6 +25,11 @@ std::string SchemaMarkdown(const std::string& section);
 //   <!-- end of generated table -->
 // InputError naming the line of a block that is not closed or names an
 // unknown section.
-std::string UpdateGeneratedTables(const std::string& text, const std::string& file_name);
+// `markdown_of` gives a section's table ("" = unknown section); by default
+// SchemaMarkdown (the `hcpf schema` command adds the sweep-file and suite
+// sections of studies/file_keys.h).
+std::string UpdateGeneratedTables(
+    const std::string& text, const std::string& file_name,
+    const std::function<std::string(const std::string&)>& markdown_of = {});
 
 }  // namespace hcpf::scenarios

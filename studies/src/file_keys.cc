@@ -1,0 +1,65 @@
+#include "hcpf/studies/file_keys.h"
+
+#include <fmt/format.h>
+
+namespace hcpf::studies {
+
+std::span<const FileKey> SweepFileKeys() {
+  static const FileKey keys[] = {
+      {"base", "path", "**required**",
+       "the base scenario; looked for relative to the sweep file, then the current folder, then "
+       "the project folder"},
+      {"grid", "mapping: dotted key → non-empty list", "none", "cartesian product over the keys"},
+      {"zip", "mapping: dotted key → list", "none",
+       "parallel lists, all of one length; position *i* of every list goes together"},
+      {"seeds", "integer 1 … 100000", "absent",
+       "runs per cell; run seed *i* is `Rng(seed).Fork(\"sweep/seed/i\").identity()` (see "
+       "`core/include/hcpf/core/rng.h`), set as the scenario's `seed` (so `seeds.*` derive from "
+       "it unless the base scenario pins them). Absent: every run keeps the base scenario's seed "
+       "(one run per cell)"},
+      {"seed", "integer 0 … 2⁶⁴−1", "1", "root of the derived run seeds"},
+      {"report.x", "a swept key", "the first swept key", "x axis of every plot"},
+      {"report.y", "list of metric names",
+       "`da_accuracy, hijack_rate, idf1, hota, mota, ms_per_frame`", "one plot each"},
+      {"report.series", "a swept key other than `x`", "none", "one line per value"},
+  };
+  return keys;
+}
+
+std::span<const FileKey> SuiteFileKeys() {
+  static const FileKey keys[] = {
+      {"scenes[i].scenario", "path", "**required**",
+       "scenario file (relative to the suite, the current folder, the project folder)"},
+      {"scenes[i].name", "text", "the file's stem", "unique name; the key in the baseline"},
+      {"scenes[i].set", "mapping: dotted key → value", "none", "applied like `--set`"},
+      {"scenes[i].seed", "integer 0 … 2⁶⁴−1", "the scenario's own", "the scenario seed"},
+      {"metrics.<m>.tolerance", "number 0 … 1e12", "**required**",
+       "absolute tolerance of metric *m* (a name of the metric catalogue)"},
+      {"metrics.<m>.direction", "`higher_is_better` \\| `lower_is_better`",
+       "the catalogue's direction", "optional; stating the other direction is an error"},
+  };
+  return keys;
+}
+
+std::span<const std::string_view> FileKeySections() {
+  static const std::string_view sections[] = {"sweep", "suite"};
+  return sections;
+}
+
+std::string FileKeysMarkdown(std::string_view section) {
+  std::span<const FileKey> keys;
+  if (section == "sweep") {
+    keys = SweepFileKeys();
+  } else if (section == "suite") {
+    keys = SuiteFileKeys();
+  } else {
+    return "";
+  }
+  std::string out = "| key | type | default | meaning |\n|---|---|---|---|\n";
+  for (const FileKey& k : keys) {
+    out += fmt::format("| `{}` | {} | {} | {} |\n", k.key, k.type, k.default_text, k.meaning);
+  }
+  return out;
+}
+
+}  // namespace hcpf::studies

@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 #include <yaml-cpp/depthguard.h>
+#include <yaml-cpp/eventhandler.h>
 
 #include <algorithm>
 #include <cerrno>
@@ -57,10 +58,76 @@ YamlReader::YamlReader(YAML::Node node, std::string path,
       context_(std::move(context)),
       asked_(std::make_shared<std::set<std::string>>()) {}
 
+namespace {
+
+// What the parser reports of one document: where its first value starts (-1
+// when it is empty) and where its last event was.
+struct DocumentSpan {
+  int first_line = -1;
+  int last_pos = -1;
+  YAML::Mark last;
+};
+
+// Walks a stream's documents without building them. YAML::LoadAll cannot be
+// used: in yaml-cpp 0.7 a stray ',' makes the parser hand out empty documents
+// forever without consuming input (jbeder/yaml-cpp#1040, fixed upstream by
+// #1319 after Debian 12's version). A document that ends where the previous
+// one ended is that loop.
+class DocumentScanner final : public YAML::EventHandler {
+ public:
+  DocumentSpan Take() {
+    DocumentSpan out = span_;
+    span_ = {};
+    return out;
+  }
+  void OnDocumentStart(const YAML::Mark& mark) override { Saw(mark, false); }
+  void OnDocumentEnd() override {}
+  void OnNull(const YAML::Mark& mark, YAML::anchor_t) override { Saw(mark, false); }
+  void OnAlias(const YAML::Mark& mark, YAML::anchor_t) override { Saw(mark, true); }
+  void OnScalar(const YAML::Mark& mark, const std::string&, YAML::anchor_t,
+                const std::string&) override {
+    Saw(mark, true);
+  }
+  void OnSequenceStart(const YAML::Mark& mark, const std::string&, YAML::anchor_t,
+                       YAML::EmitterStyle::value) override {
+    Saw(mark, true);
+  }
+  void OnSequenceEnd() override {}
+  void OnMapStart(const YAML::Mark& mark, const std::string&, YAML::anchor_t,
+                  YAML::EmitterStyle::value) override {
+    Saw(mark, true);
+  }
+  void OnMapEnd() override {}
+
+ private:
+  void Saw(const YAML::Mark& mark, bool value) {
+    if (value && span_.first_line < 0) span_.first_line = mark.line;
+    span_.last_pos = mark.pos;
+    span_.last = mark;
+  }
+  DocumentSpan span_;
+};
+
+}  // namespace
+
 YAML::Node YamlReader::Parse(const std::string& text, const std::string& file) {
-  std::vector<YAML::Node> documents;
+  std::vector<DocumentSpan> documents;
+  YAML::Node first;
   try {
-    documents = YAML::LoadAll(text);
+    std::istringstream in(text);
+    YAML::Parser parser(in);
+    DocumentScanner scanner;
+    while (parser.HandleNextDocument(scanner)) {
+      const DocumentSpan span = scanner.Take();
+      if (!documents.empty() && span.last_pos == documents.back().last_pos) {
+        throw InputError(SourceLocation{file, span.last.line + 1, span.last.column + 1, ""},
+                         "valid YAML",
+                         "a syntax error: a character that starts no value (a stray ',' or "
+                         "bracket?)");
+      }
+      documents.push_back(span);
+    }
+    if (documents.size() <= 1) first = YAML::Load(text);
   } catch (const YAML::DeepRecursion& e) {
     SourceLocation where{file, e.mark.line + 1, e.mark.column + 1, ""};
     // (yaml-cpp's own message for this is "bad file".)
@@ -74,7 +141,7 @@ YAML::Node YamlReader::Parse(const std::string& text, const std::string& file) {
     // A stray "---" or "..." line ends the first document: everything after
     // it would be silently ignored. Report the separator before the second
     // document (the last one in the file when the second is empty).
-    const int second_line = documents[1].Mark().line;  // 0-based, -1 when empty
+    const int second_line = documents[1].first_line;  // 0-based, -1 when empty
     int separator = 0;
     std::istringstream lines(text);
     std::string line;
@@ -88,7 +155,7 @@ YAML::Node YamlReader::Parse(const std::string& text, const std::string& file) {
                      "would be ignored)",
                      "remove the line, or put the second document in a file of its own");
   }
-  return documents.empty() ? YAML::Node() : documents.front();
+  return first;
 }
 
 YAML::Node YamlReader::ParseFile(const std::string& file) {

@@ -94,4 +94,28 @@ TEST(YamlReader, DidYouMeanAllowsAThirdOfTheWordToDiffer) {
 }
 
 }  // namespace
+// Found by the fuzzer (fuzz/regressions/scenario, sweep): yaml-cpp 0.7's
+// LoadAll loops forever on a stray ','; Parse reports it at its place.
+TEST(YamlReader, StrayCommaIsASyntaxErrorNotAHang) {
+  struct Case {
+    const char* text;
+    const char* where;
+  };
+  for (const Case& c : {Case{",\n", "f.yaml:1:1:"}, Case{"- 1\n,\n", "f.yaml:2:1:"},
+                        Case{"a: 1\n,\n", "f.yaml:2:"}}) {
+    try {
+      YamlReader::Parse(c.text, "f.yaml");
+      ADD_FAILURE() << "accepted: " << c.text;
+    } catch (const InputError& e) {
+      const std::string message = e.what();
+      EXPECT_NE(message.find(c.where), std::string::npos) << message;
+      EXPECT_NE(message.find("valid YAML"), std::string::npos) << message;
+    }
+  }
+  // Two documents are still reported as such, and one document still parses.
+  EXPECT_THROW(YamlReader::Parse("a: 1\n---\nb: 2\n", "f.yaml"), InputError);
+  EXPECT_EQ(YamlReader::Parse("a: 1\n", "f.yaml")["a"].as<int>(), 1);
+  EXPECT_TRUE(YamlReader::Parse("# only a comment\n", "f.yaml").IsNull());
+}
+
 }  // namespace hcpf::config

@@ -775,10 +775,14 @@ Sequence BuildSequence(const MotFile& gt, const MotFile& tracks, int seq_length,
                      "MOT17 ground truth with at least 8 columns (class in column 8)",
                      fmt::format("{} columns", gt.num_columns));
   }
+  // Classes compare as truncated doubles (TrackEval: astype(int)); a value
+  // outside int's range is no class at all (converting it would be undefined).
+  auto class_is = [](const MotRow* row, int cls) {
+    return std::trunc(row->col8) == static_cast<double>(cls);
+  };
   auto is_distractor = [&](const MotRow* row) {
-    const int cls = static_cast<int>(row->col8);
-    return std::find(options.distractor_classes.begin(), options.distractor_classes.end(), cls) !=
-           options.distractor_classes.end();
+    return std::any_of(options.distractor_classes.begin(), options.distractor_classes.end(),
+                       [&](int cls) { return class_is(row, cls); });
   };
   int64_t removed_gt = 0;
   int64_t removed_hyp = 0;
@@ -840,8 +844,8 @@ Sequence BuildSequence(const MotFile& gt, const MotFile& tracks, int seq_length,
       bool keep = true;
       if (options.preprocess) {
         // int(conf) == 0 drops the row (TrackEval: astype(int), truncation).
-        keep = static_cast<int64_t>(std::trunc(row->conf)) != 0;
-        if (mot17) keep = keep && static_cast<int>(row->col8) == options.evaluated_class;
+        keep = std::trunc(row->conf) != 0.0;
+        if (mot17) keep = keep && class_is(row, options.evaluated_class);
       }
       if (keep) {
         frame.gt.push_back({row->id, row->box});

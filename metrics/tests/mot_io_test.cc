@@ -459,5 +459,24 @@ TEST(MotIo, NonRegularFilesAreRefused) {
   EXPECT_THROW(ReadMotFile("/dev/zero", MotFileKind::kTracks), InputError);
 }
 
+// Found by the fuzzer (fuzz/regressions/mot): a class or conf beyond int's
+// range was converted to int (undefined behaviour). Such a class is no class;
+// a huge conf is non-zero.
+TEST(MotIo, HugeClassAndConfValuesAreNotConvertedToInt) {
+  const MotFile gt =
+      ParseMotText("1,1,1,2,3,6,1e30,1,1\n1,2,1,2,3,6,1,1e10,1\n1,3,50,50,3,6,1,-7777777710,1\n",
+                   "gt.txt", MotFileKind::kGroundTruth, 1);
+  const MotFile hyp = ParseMotText("1,9,50,50,3,6,1,-1,-1,-1\n", "t.txt", MotFileKind::kTracks, 1);
+  int64_t removed_gt = 0;
+  int64_t removed_hyp = 0;
+  const Sequence seq =
+      BuildSequence(gt, hyp, 1, Benchmark::kMot17, {}, "s", &removed_gt, &removed_hyp);
+  ASSERT_EQ(seq.frames.size(), 1u);
+  ASSERT_EQ(seq.frames[0].gt.size(), 1u);  // only the class-1 row, kept by its conf 1e30
+  EXPECT_EQ(seq.frames[0].gt[0].id, 1);
+  EXPECT_EQ(removed_gt, 2);
+  EXPECT_EQ(removed_hyp, 0);  // matched to a non-distractor (out-of-range class) row
+}
+
 }  // namespace
 }  // namespace hcpf::metrics

@@ -16,6 +16,8 @@ PACKAGES=(
   libassimp-dev libtinygltf-dev libstb-dev libpng-dev libjpeg-dev
   # tests and benchmarks; clang-format checks the formatting in CI
   googletest libgtest-dev libgmock-dev libbenchmark-dev clang-format
+  # fuzzing: clang with libFuzzer and the sanitizer runtimes (scripts/fuzz.sh)
+  clang libclang-rt-14-dev
   # reports: plots; headless Chromium checks the HTML report in the tests
   gnuplot-nox chromium
 )

@@ -84,13 +84,21 @@ MeshData LoadMesh(const std::string& path) {
   MeshData mesh;
   if (ext == ".glb" || ext == ".gltf") {
     mesh = internal::LoadGltf(path);
-  } else if (ext == ".obj" || ext == ".fbx" || ext == ".dae" || ext == ".ply" || ext == ".stl") {
+  } else if (ext == ".ply") {
+    // Debian 12's libassimp 5.2 PLY reader hangs, crashes (SIGSEGV) or aborts
+    // on small malformed files (docs/fuzzing.md, fuzz/regressions/assimp): a
+    // model file must never take the tool down, so PLY is not read at all.
+    throw InputError(fmt::format(
+        "{}: PLY models are not accepted (the PLY reader of Debian 12's assimp crashes on "
+        "malformed files); convert the model to .glb, e.g. with Blender or assimp export",
+        path));
+  } else if (ext == ".obj" || ext == ".fbx" || ext == ".dae" || ext == ".stl") {
     mesh = internal::LoadWithAssimp(path);
   } else {
-    throw InputError(fmt::format(
-        "{}: expected a model file ending in .glb, .gltf, .obj, .fbx, .dae, .ply or .stl, "
-        "found extension \"{}\"",
-        path, ext));
+    throw InputError(
+        fmt::format("{}: expected a model file ending in .glb, .gltf, .obj, .fbx, .dae or .stl, "
+                    "found extension \"{}\"",
+                    path, ext));
   }
   mesh.Validate(path);
   return mesh;

@@ -1,4 +1,4 @@
-// Import of .obj, .fbx, .dae, .ply and .stl through assimp.
+// Import of .obj, .fbx, .dae and .stl through assimp (.ply is refused in mesh.cc).
 
 #include <assimp/material.h>
 #include <assimp/postprocess.h>

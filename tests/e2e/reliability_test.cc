@@ -433,5 +433,24 @@ TEST(Reliability, BadOutputArgumentsAreBadInput) {
   EXPECT_EQ(ReadFile(file), "not a folder\n");
 }
 
+// Found by the fuzzer: Debian 12's assimp PLY reader hangs, crashes or aborts
+// on small malformed files (fuzz/regressions/assimp/*.ply, whose first byte is
+// the fuzz target's format selector). A model must never take the tool down:
+// .ply models are refused before assimp reads them.
+TEST(Reliability, PlyModelsThatCrashAssimpAreRefused) {
+  const fs::path dir = FreshDir("ply");
+  for (const char* name : {"ply-no-end_header-assimp-hang.ply", "ply-header-assimp-segv.ply",
+                           "ply-face-assimp-triangulate-assert.ply"}) {
+    const std::string bytes =
+        ReadFile(fs::path(HCPF_SOURCE_DIR) / "fuzz" / "regressions" / "assimp" / name);
+    ASSERT_GT(bytes.size(), 1u) << name;
+    const fs::path model = Write(dir / "model.ply", bytes.substr(1));
+    const fs::path scenario = Write(dir / "s.yaml", SmallScenario(model.string()));
+    const auto r = RunCommand("timeout 20 " + kHcpf + " validate " + scenario.string());
+    EXPECT_EQ(r.exit_code, 2) << name << "\n" << r.output;
+    EXPECT_NE(r.output.find("PLY models are not accepted"), std::string::npos) << r.output;
+  }
+}
+
 }  // namespace
 }  // namespace hcpf

@@ -10,7 +10,7 @@
 // File conventions on import:
 //   glTF / GLB is +Y up, +Z forward, +X left (glTF 2.0 spec, section 3.4). The
 //   importer maps (X, Y, Z)_gltf -> (x, y, z) = (Z, X, Y), a proper rotation.
-//   .obj, .fbx, .dae, .ply and .stl are read with the same y-up mapping (the
+//   .obj, .fbx, .dae and .stl are read with the same y-up mapping (the
 //   convention OBJ exporters use by default); export z-up models as y-up.
 
 #include <Eigen/Core>
@@ -45,11 +45,10 @@ struct MeshData {
 
 // Loads a model file into MeshData (one mesh: all nodes flattened with their
 // transforms, every primitive triangulated). .glb/.gltf through tinygltf;
-// .obj/.fbx/.dae/.ply/.stl through assimp. Colours come from COLOR_0 / vertex
-// colours when present, else from the material's base (diffuse) colour, else
-// white. Missing normals are computed per face (flat shading).
-// Throws hcpf::InputError naming the file when it cannot be read, has an
-// unsupported extension, or holds no triangles.
+// .obj/.fbx/.dae/.stl through assimp (.ply is refused: see mesh.cc). Colours come from COLOR_0 /
+// vertex colours when present, else from the material's base (diffuse) colour, else white. Missing
+// normals are computed per face (flat shading). Throws hcpf::InputError naming the file when it
+// cannot be read, has an unsupported extension, or holds no triangles.
 MeshData LoadMesh(const std::string& path);
 
 // Writes `mesh` as a binary glTF (.glb) file in the glTF axis convention

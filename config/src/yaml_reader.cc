@@ -158,12 +158,12 @@ YAML::Node YamlReader::Parse(const std::string& text, const std::string& file) {
   return first;
 }
 
-YAML::Node YamlReader::ParseFile(const std::string& file) {
-  // Scenarios and sweep files are a few KiB; the cap keeps a mistaken path
-  // (a log, a video, /dev/zero) from being read whole.
+std::string YamlReader::ReadFile(const std::string& file) {
   constexpr uint64_t kMaxYamlBytes = uint64_t{16} << 20;
-  return Parse(ReadInputFile(file, "a YAML file", kMaxYamlBytes), file);
+  return ReadInputFile(file, "a YAML file", kMaxYamlBytes);
 }
+
+YAML::Node YamlReader::ParseFile(const std::string& file) { return Parse(ReadFile(file), file); }
 
 SourceLocation YamlReader::Where() const {
   SourceLocation where{context_->file, 0, 0, path_};

@@ -13,7 +13,6 @@
 #include "hcpf/config/file_lookup.h"
 #include "hcpf/config/yaml_reader.h"
 #include "hcpf/core/rng.h"
-#include "hcpf/core/text_file.h"
 #include "hcpf/scenarios/progress.h"
 #include "hcpf/studies/file_keys.h"
 #include "hcpf/studies/metric_catalogue.h"
@@ -239,7 +238,7 @@ std::vector<SweepRun> ExpandSweep(const SweepSpec& spec) {
   const int64_t zip_length =
       spec.zip.empty() ? 1 : static_cast<int64_t>(spec.zip.front().values.size());
   // The base file is read once; every cell parses its text with its overrides.
-  const std::string base_text = ReadInputFile(spec.base_path, "a YAML file", uint64_t{16} << 20);
+  const std::string base_text = YamlReader::ReadFile(spec.base_path);
   const auto load = [&](const std::vector<config::Override>& overrides,
                         const std::vector<SourceLocation>& where) {
     try {

@@ -43,6 +43,10 @@ class YamlReader {
   // error with the parser's line and column.
   static YAML::Node Parse(const std::string& text, const std::string& file);
   static YAML::Node ParseFile(const std::string& file);
+  // The text of a YAML file (a regular file of at most 16 MiB: scenarios and
+  // sweep files are a few KiB, so a mistaken path such as a log, a video or
+  // /dev/zero is refused before it is read). InputError naming the file.
+  static std::string ReadFile(const std::string& file);
 
   const std::string& path() const { return path_; }
   const YAML::Node& node() const { return node_; }

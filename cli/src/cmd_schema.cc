@@ -37,8 +37,10 @@ Command AddSchemaCommand(CLI::App& parent) {
       "Print the scenario keys declared by the modules (key, type, unit, default, range, "
       "meaning) as markdown tables, or rewrite the generated tables of a document");
   app->add_option("sections", options->sections,
-                  "Sections to print (default: all): world, sensor, observation, renderer, "
-                  "tracker, metrics, sweep, suite");
+                  "Sections to print (default: all): scenario, world, \"world.occluders[i] "
+                  "kind=bridge\", camera, \"camera.path[i]\", \"targets[i]\", "
+                  "\"targets[i].path\", ..., sensor, observation, renderer, tracker, metrics, "
+                  "sweep, suite");
   app->add_option("--update", options->update,
                   "Rewrite the generated tables of this markdown file in place "
                   "(docs/scenario.md, docs/sweeps.md)");

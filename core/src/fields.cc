@@ -34,13 +34,30 @@ std::string_view FieldTypeName(FieldType type) {
       return "bool";
     case FieldType::kChoice:
       return "enum";
+    case FieldType::kVector:
+      return "vector";
+    case FieldType::kPoints:
+      return "points";
+    case FieldType::kText:
+      return "text";
+    case FieldType::kPath:
+      return "path";
+    case FieldType::kSeed:
+      return "seed";
   }
   return "?";
 }
 
 std::string FieldExpectation(FieldType type, const FieldRange& range) {
-  return fmt::format("{} in {}", type == FieldType::kInteger ? "an integer" : "a number",
-                     range.Text());
+  switch (type) {
+    case FieldType::kInteger:
+      return fmt::format("an integer in {}", range.Text());
+    case FieldType::kVector:
+    case FieldType::kPoints:
+      return fmt::format("numbers in {}", range.Text());
+    default:
+      return fmt::format("a number in {}", range.Text());
+  }
 }
 
 namespace {

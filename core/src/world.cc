@@ -31,6 +31,8 @@ std::vector<std::string_view> TerrainSpec::TextureNames() {
 std::span<const Field<TerrainSpec>> TerrainSpec::Fields() {
   using O = TerrainSpec;
   static const std::vector<Field<O>> fields = {
+      VectorField<&O::size_m>("size_m", "x, y", Closed(1, 1e6), "m",
+                              "extent of the ground, centred on the origin"),
       NumberField("relief_m", &O::relief_m, Closed(0, 1000), "m",
                   "peak-to-peak bound of the height field"),
       WordField<&O::texture, &TerrainSpec::TextureNames>("texture", "ground texture"),

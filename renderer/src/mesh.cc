@@ -77,13 +77,13 @@ MeshData LoadMesh(const std::string& path) {
   if (!std::filesystem::exists(path)) {
     throw InputError(fmt::format("{}: model file not found", path));
   }
-  CheckRegularFile(path, "a model file");  // not a directory, FIFO or device
+  const uint64_t size = CheckRegularFile(path, "a model file");  // not a directory, FIFO or device
   std::string ext = std::filesystem::path(path).extension().string();
   std::transform(ext.begin(), ext.end(), ext.begin(),
                  [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
   MeshData mesh;
   if (ext == ".glb" || ext == ".gltf") {
-    mesh = internal::LoadGltf(path);
+    mesh = internal::LoadGltf(path, size);
   } else if (ext == ".ply") {
     // Debian 12's libassimp 5.2 PLY reader hangs, crashes (SIGSEGV) or aborts
     // on small malformed files (docs/fuzzing.md, fuzz/regressions/assimp): a

@@ -308,7 +308,7 @@ bool ReadBufferFile(std::vector<unsigned char>* out, std::string* err, const std
 
 }  // namespace
 
-MeshData LoadGltf(const std::string& path) {
+MeshData LoadGltf(const std::string& path, uint64_t size) {
   tinygltf::TinyGLTF loader;
   tinygltf::Model model;
   std::string err;
@@ -317,7 +317,6 @@ MeshData LoadGltf(const std::string& path) {
                       std::filesystem::path(path).extension() == ".GLB";
   // tinygltf reads a file whole before it looks at it: check its size and, for
   // a .glb, its 12-byte header first, so a wrong file costs nothing.
-  const uint64_t size = CheckRegularFile(path, "a glTF model");
   if (binary) CheckGlbHeader(path, size);
   if (size > kMaxModelBytes) {
     throw InputError(fmt::format("{}: expected a glTF model of at most {} MiB, found {:.1f} MiB",

@@ -1,14 +1,16 @@
 #pragma once
 // Private: the per-library importers behind LoadMesh().
 
+#include <cstdint>
 #include <string>
 
 #include "hcpf/renderer/mesh.h"
 
 namespace hcpf::renderer::internal {
 
-// glTF 2.0 (.gltf / .glb) through tinygltf; converts y-up to z-up.
-MeshData LoadGltf(const std::string& path);
+// glTF 2.0 (.gltf / .glb) through tinygltf; converts y-up to z-up. `size`:
+// the file's size, from LoadMesh's CheckRegularFile.
+MeshData LoadGltf(const std::string& path, uint64_t size);
 // Everything else assimp reads; converts y-up to z-up.
 MeshData LoadWithAssimp(const std::string& path);
 

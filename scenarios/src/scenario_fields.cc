@@ -4,9 +4,252 @@
 // each range is written once.
 
 #include "hcpf/renderer/renderer.h"
+#include "hcpf/scenarios/models.h"
 #include "hcpf/scenarios/scenario.h"
 
 namespace hcpf::scenarios {
+namespace {
+
+constexpr double kBig = 1e6;  // generous bound for world coordinates, metres
+const FieldRange kWorld = Closed(-kBig, kBig);
+// Frame numbers are declared in [0, kMaxFrames - 1]; the reader also checks
+// them against the scenario's own `frames` (a rule across keys).
+
+// The `model` file of a target or a mesh occluder: resolved by the reader
+// (models.h), written relative to the project folder, left out when unset.
+template <class O>
+Field<O> ModelField(std::string_view doc) {
+  Field<O> f;
+  f.key = "model";
+  f.type = FieldType::kPath;
+  f.doc = doc;
+  f.get_text = [](const O& o) { return o.model.empty() ? o.model : PortableModelPath(o.model); };
+  f.set_text = [](O& o, std::string v) { o.model = std::move(v); };
+  return f;
+}
+
+}  // namespace
+
+std::span<const Field<Scenario>> ScenarioFields() {
+  using O = Scenario;
+  static const std::vector<Field<O>> fields = {
+      DefaultDoc(TextField<&O::name>("name",
+                                     "no control characters (it is written into seqinfo.ini "
+                                     "and manifests)"),
+                 "file name without extension"),
+      SeedField("seed", &O::seed, "drives every random stream"),
+  };
+  return fields;
+}
+
+std::span<const Field<Seeds>> SeedFields() {
+  using O = Seeds;
+  static const std::vector<Field<O>> fields = {
+      DefaultDoc(SeedField("world", &O::world, "terrain relief, camera shake"),
+                 "derived from `seed`"),
+      DefaultDoc(SeedField("observation", &O::observation,
+                           "simulated detections, clutter, likelihood-map noise"),
+                 "derived from `seed`"),
+      DefaultDoc(
+          SeedField("tracker", &O::tracker, "particle filters (`tracker/filter/<id>` below it)"),
+          "derived from `seed`"),
+      DefaultDoc(SeedField("renderer", &O::renderer, "sensor noise, procedural textures"),
+                 "derived from `seed`"),
+  };
+  return fields;
+}
+
+std::span<const Field<WorldSpec>> WorldFields() {
+  using O = WorldSpec;
+  static const std::vector<Field<O>> fields = {
+      Required(IntegerField("frames", &O::frames, 1, kMaxFrames, "frames",
+                            "length of the run (see Large scenarios)")),
+      NumberField("fps", &O::fps, Closed(0.1, 10000), "frames/s", "frame rate"),
+  };
+  return fields;
+}
+
+std::span<const Field<OccluderSpec>> OccluderKindFields() {
+  static const std::vector<Field<OccluderSpec>> fields = {
+      Required(ChoiceField<&OccluderSpec::kind>("kind", "selects the other keys")),
+  };
+  return fields;
+}
+
+std::span<const Field<OccluderSpec>> OccluderFields(OccluderKind kind) {
+  using O = OccluderSpec;
+  const auto at = [] {
+    return Required(VectorField<&O::at_m>("at", "x, y", kWorld, "m", "position on the ground"));
+  };
+  const auto yaw = [] {
+    return NumberField("yaw_deg", &O::yaw_deg, Closed(-360, 360), "deg",
+                       "counter-clockwise from +x");
+  };
+  static const std::vector<Field<O>> bridge = {
+      Required(VectorField<&O::from_m>("from", "x, y", kWorld, "m", "one end of the deck")),
+      Required(VectorField<&O::to_m>("to", "x, y", kWorld, "m",
+                                     "the other end, at least 0.1 m from `from`")),
+      NumberField("width_m", &O::width_m, Closed(0.1, 1000), "m", "deck width"),
+      NumberField("height_m", &O::height_m, Closed(1.5, 1000), "m",
+                  "deck top above the ground (a 1 m deck plus a pier at each end)"),
+  };
+  static const std::vector<Field<O>> building = {
+      at(),
+      VectorField<&O::size_m>("size_m", "x, y, z", Closed(0.1, 10000), "m", "box size"),
+      yaw(),
+  };
+  static const std::vector<Field<O>> tree = {
+      at(),
+      NumberField("height_m", &O::height_m, Closed(0.5, 200), "m", "trunk + canopy boxes"),
+  };
+  static const std::vector<Field<O>> mesh = {
+      Required(ModelField<O>(
+          "a model file, found as for `targets[i].model`; occludes as its bounding box")),
+      at(),
+      yaw(),
+      NumberField("scale", &O::scale, Closed(1e-3, 1e3), "", "uniform scale"),
+  };
+  switch (kind) {
+    case OccluderKind::kBridge:
+      return bridge;
+    case OccluderKind::kBuilding:
+      return building;
+    case OccluderKind::kTree:
+      return tree;
+    case OccluderKind::kMesh:
+      return mesh;
+  }
+  return building;
+}
+
+OccluderSpec OccluderDefaults(OccluderKind kind) {
+  OccluderSpec o;
+  o.kind = kind;
+  if (kind == OccluderKind::kTree) o.height_m = 9.0;
+  return o;
+}
+
+std::span<const Field<CameraSpec>> CameraFields() {
+  using O = CameraSpec;
+  static const std::vector<Field<O>> fields = [] {
+    Field<O> resolution;
+    resolution.key = "resolution";
+    resolution.type = FieldType::kVector;
+    resolution.unit = "px";
+    resolution.range = Closed(16, 8192);
+    resolution.doc = "image size";
+    resolution.size = 2;
+    resolution.whole = true;
+    resolution.elements = "width, height";
+    resolution.required = true;
+    resolution.get_vector = [](const O& c) {
+      return std::vector<double>{static_cast<double>(c.width_px), static_cast<double>(c.height_px)};
+    };
+    resolution.set_vector = [](O& c, const std::vector<double>& v) {
+      c.width_px = static_cast<int>(v[0]);
+      c.height_px = static_cast<int>(v[1]);
+    };
+    return std::vector<Field<O>>{
+        resolution,
+        NumberField("fov_deg", &O::hfov_deg, Closed(1, 170), "deg",
+                    "horizontal field of view; square pixels"),
+        NumberField("shake_px", &O::shake_px, Closed(0, 100), "px",
+                    "std. dev. of a per-frame jitter of the optical centre (`seeds.world`)"),
+    };
+  }();
+  return fields;
+}
+
+std::span<const Field<CameraKeyframe>> KeyframeFields() {
+  using O = CameraKeyframe;
+  static const std::vector<Field<O>> fields = {
+      Required(IntegerField("frame", &O::frame, 0, kMaxFrames - 1, "frame",
+                            "at most frames − 1; strictly increasing along the list")),
+      Required(VectorField<&O::position_m>("position", "x, y, z", kWorld, "m", "camera centre")),
+      Required(VectorField<&O::look_at_m>("look_at", "x, y, z", kWorld, "m",
+                                          "a point on the optical axis, ≠ position")),
+  };
+  return fields;
+}
+
+std::span<const Field<TargetSpec>> TargetFields() {
+  using O = TargetSpec;
+  static const std::vector<Field<O>> fields = [] {
+    Field<O> id = IntegerField<O>("id", nullptr, 1, 1'000'000'000, "", "unique; the MOT id");
+    id.required = true;
+    id.get_integer = [](const O& t) { return static_cast<int64_t>(Value(t.id)); };
+    id.set_integer = [](O& t, int64_t v) { t.id = ObjectId{static_cast<int32_t>(v)}; };
+    const Field<O> model = DefaultDoc(
+        ModelField<O>("`.glb`/`.gltf`/`.obj`/`.fbx`/`.dae`/`.stl` (`.ply` is refused, "
+                      "docs/fuzzing.md); looked for next to the scenario file, then in the "
+                      "current folder, then in the project folder"),
+        "none (a box)");
+    return std::vector<Field<O>>{
+        id,
+        model,
+        DefaultDoc(VectorField<&O::dimensions_m>("dimensions_m", "length, width, height",
+                                                 Closed(0.05, 1000), "m", "box size"),
+                   "from `model`'s bounds; required without a model"),
+        VectorField<&O::tint>("tint", "r, g, b", Closed(0, 1), "", "colour"),
+    };
+  }();
+  return fields;
+}
+
+std::span<const Field<TargetPathSpec>> PathFields() {
+  using O = TargetPathSpec;
+  static const std::vector<Field<O>> fields = {
+      ChoiceField<&O::kind>("type", "selects the keys of the path's type (tables below)"),
+      IntegerField("start_frame", &O::start_frame, 0, kMaxFrames - 1, "frame",
+                   "first frame the target exists; at most frames − 1"),
+      IntegerField("end_frame", &O::end_frame, -1, kMaxFrames - 1, "frame",
+                   "last frame it exists: −1 (to the end) or start_frame … frames − 1"),
+      NumberField("speed_mps", &O::speed_mps, Closed(0, 1000), "m/s", "> 0 for several waypoints"),
+      NumberField("heading_deg", &O::heading_deg, Closed(-360, 360), "deg",
+                  "counter-clockwise from +x (east); static targets and the start of a turn"),
+  };
+  return fields;
+}
+
+std::span<const Field<TargetPathSpec>> PathFields(PathKind kind) {
+  using O = TargetPathSpec;
+  static const std::vector<Field<O>> waypoints = [] {
+    Field<O> at_end;
+    at_end.key = "at_end";
+    at_end.type = FieldType::kChoice;
+    at_end.doc = "stay: stop at the last waypoint; vanish: leave the scene there";
+    at_end.get_choice = [](const O& p) {
+      return std::string_view(p.vanish_at_end ? "vanish" : "stay");
+    };
+    at_end.set_choice = [](O& p, std::string_view name) {
+      if (name != "stay" && name != "vanish") return false;
+      p.vanish_at_end = name == "vanish";
+      return true;
+    };
+    at_end.choices = [] { return std::vector<std::string_view>{"stay", "vanish"}; };
+    return std::vector<Field<O>>{
+        Required(
+            PointsField("waypoints", &O::waypoints_m, kWorld, "m", "one point = a static target")),
+        at_end,
+    };
+  }();
+  static const std::vector<Field<O>> constant_turn = {
+      Required(VectorField<&O::start_m>("start", "x, y", kWorld, "m", "start position")),
+      NumberField("turn_rate_deg_s", &O::turn_rate_deg_s, Closed(-360, 360), "deg/s",
+                  "positive = left turn"),
+  };
+  return kind == PathKind::kWaypoints ? waypoints : constant_turn;
+}
+
+std::span<const Field<PathStop>> StopFields() {
+  using O = PathStop;
+  static const std::vector<Field<O>> fields = {
+      Required(NumberField("at_m", &O::at_m, Closed(0, kBig), "m",
+                           "distance travelled; increasing along the list")),
+      Required(NumberField("duration_s", &O::duration_s, Closed(0, 1e5), "s", "wait")),
+  };
+  return fields;
+}
 
 std::span<const Field<SimulatedObservationOptions>> SimulatedObservationOptions::Fields() {
   using O = SimulatedObservationOptions;

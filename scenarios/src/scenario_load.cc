@@ -1,5 +1,7 @@
-// Scenario YAML -> Scenario. Every key read here is documented in
-// docs/scenario.md with its type, unit, default and range; keep them in step.
+// Scenario YAML -> Scenario. Every key is read through a declared field table
+// (scenario_fields.cc and the modules' Options), so docs/scenario.md, the
+// resolved-YAML writer and this reader cannot disagree; what is written here
+// by hand is the structure (lists, kinds) and the rules across keys.
 
 #include <fmt/format.h>
 
@@ -24,17 +26,6 @@ using config::YamlContext;
 using config::YamlReader;
 namespace {
 
-constexpr double kBig = 1e6;  // generous bound for world coordinates, metres
-
-Eigen::Vector2d V2(const Eigen::VectorXd& v) { return {v[0], v[1]}; }
-Eigen::Vector3d V3(const Eigen::VectorXd& v) { return {v[0], v[1], v[2]}; }
-Eigen::VectorXd Vx(std::initializer_list<double> values) {
-  Eigen::VectorXd v(static_cast<int>(values.size()));
-  int i = 0;
-  for (double x : values) v[i++] = x;
-  return v;
-}
-
 uint64_t DeriveSeed(uint64_t seed, const char* name) { return Rng(seed).Fork(name).identity(); }
 
 // Every seed not pinned derived from s->seed, and the world's copies of the
@@ -52,7 +43,6 @@ void DeriveSeeds(Scenario* s) {
 
 void ReadTerrain(YamlReader r, TerrainSpec* t) {
   r.ExpectMap();
-  t->size_m = V2(r.Vector("size_m", 2, Vx({400, 400}), 1.0, kBig));
   ReadFields(r, *t, TerrainSpec::Fields());
   r.Finish();
 }
@@ -63,37 +53,30 @@ void ReadSun(YamlReader r, SunSpec* s) {
   r.Finish();
 }
 
+// Model files are named relative to the scenario file (models.h).
+config::PathResolver ModelResolver(const std::string& scenario_file) {
+  return [scenario_file](const std::string& text, const SourceLocation& where) {
+    return ResolveModelPath(text, scenario_file, where);
+  };
+}
+
+// A frame number must also lie within the scenario's own `frames`.
+void CheckFrame(YamlReader& r, const char* key, int value, int lo, int frames) {
+  if (value > frames - 1) {
+    r.Child(key).Fail(FieldExpectation(FieldType::kInteger, Closed(lo, frames - 1)));
+  }
+}
+
 OccluderSpec ReadOccluder(YamlReader r, const std::string& scenario_file) {
   r.ExpectMap();
   OccluderSpec o;
-  const std::string kind = r.Enum("kind", std::nullopt, {"bridge", "building", "tree", "mesh"});
-  if (kind == "bridge") {
-    o.kind = OccluderKind::kBridge;
-    o.from_m = V2(r.Vector("from", 2, std::nullopt, -kBig, kBig));
-    o.to_m = V2(r.Vector("to", 2, std::nullopt, -kBig, kBig));
-    if ((o.to_m - o.from_m).norm() < 0.1) {
-      r.Child("to").Fail("an end point at least 0.1 m from \"from\"");
-    }
-    o.width_m = r.Number("width_m", 8.0, 0.1, 1000.0);
-    o.height_m = r.Number("height_m", 6.0, 1.5, 1000.0);
-  } else if (kind == "building") {
-    o.kind = OccluderKind::kBuilding;
-    o.at_m = V2(r.Vector("at", 2, std::nullopt, -kBig, kBig));
-    o.size_m = V3(r.Vector("size_m", 3, Vx({10, 10, 10}), 0.1, 10000.0));
-    o.yaw_deg = r.Number("yaw_deg", 0.0, -360.0, 360.0);
-  } else if (kind == "tree") {
-    o.kind = OccluderKind::kTree;
-    o.at_m = V2(r.Vector("at", 2, std::nullopt, -kBig, kBig));
-    o.height_m = r.Number("height_m", 9.0, 0.5, 200.0);
-  } else {
-    o.kind = OccluderKind::kMesh;
-    YamlReader model = r.Child("model");
-    o.model = ResolveModelPath(r.String("model", std::nullopt), scenario_file, model.Where());
-    o.at_m = V2(r.Vector("at", 2, std::nullopt, -kBig, kBig));
-    o.yaw_deg = r.Number("yaw_deg", 0.0, -360.0, 360.0);
-    o.scale = r.Number("scale", 1.0, 1e-3, 1e3);
-    o.size_m = ModelDimensions(o.model, model.Where());
+  ReadFields(r, o, OccluderKindFields());
+  o = OccluderDefaults(o.kind);
+  ReadFields(r, o, OccluderFields(o.kind), ModelResolver(scenario_file));
+  if (o.kind == OccluderKind::kBridge && (o.to_m - o.from_m).norm() < 0.1) {
+    r.Child("to").Fail("an end point at least 0.1 m from \"from\"");
   }
+  if (o.kind == OccluderKind::kMesh) o.size_m = ModelDimensions(o.model, r.Child("model").Where());
   r.Finish();
   return o;
 }
@@ -101,27 +84,20 @@ OccluderSpec ReadOccluder(YamlReader r, const std::string& scenario_file) {
 TargetPathSpec ReadPath(YamlReader r, int frames) {
   r.ExpectMap();
   TargetPathSpec p;
-  const std::string type = r.Enum("type", "waypoints", {"waypoints", "constant_turn"});
-  p.start_frame = static_cast<int>(r.Integer("start_frame", 0, 0, frames - 1));
-  p.end_frame = static_cast<int>(r.Integer("end_frame", -1, -1, frames - 1));
+  ReadFields(r, p, PathFields());
+  CheckFrame(r, "start_frame", p.start_frame, 0, frames);
+  CheckFrame(r, "end_frame", p.end_frame, -1, frames);
   if (p.end_frame >= 0 && p.end_frame < p.start_frame) {
     r.Child("end_frame").Fail(fmt::format("-1 or a frame >= start_frame ({})", p.start_frame));
   }
-  p.speed_mps = r.Number("speed_mps", 5.0, 0.0, 1000.0);
-  p.heading_deg = r.Number("heading_deg", 0.0, -360.0, 360.0);
-  if (type == "waypoints") {
-    p.kind = PathKind::kWaypoints;
-    YamlReader waypoints = r.Child("waypoints");
-    for (const YamlReader& w : waypoints.Items())
-      p.waypoints_m.push_back(V2(w.AsVector(2, -kBig, kBig)));
-    if (p.waypoints_m.empty()) waypoints.Fail("a list of at least one [x, y] point");
-    p.vanish_at_end = r.Enum("at_end", "stay", {"stay", "vanish"}) == "vanish";
+  ReadFields(r, p, PathFields(p.kind));
+  if (p.kind == PathKind::kWaypoints) {
     if (auto stops = r.Optional("stops")) {
       double last = -1.0;
       for (YamlReader s : stops->Items()) {
+        s.ExpectMap();
         PathStop stop;
-        stop.at_m = s.Number("at_m", std::nullopt, 0.0, kBig);
-        stop.duration_s = s.Number("duration_s", std::nullopt, 0.0, 1e5);
+        ReadFields(s, stop, StopFields());
         if (stop.at_m < last) s.Child("at_m").Fail("stops in increasing order of at_m");
         last = stop.at_m;
         s.Finish();
@@ -131,10 +107,6 @@ TargetPathSpec ReadPath(YamlReader r, int frames) {
     if (p.waypoints_m.size() > 1 && p.speed_mps <= 0.0) {
       r.Child("speed_mps").Fail("a speed > 0 for a path of several waypoints");
     }
-  } else {
-    p.kind = PathKind::kConstantTurn;
-    p.start_m = V2(r.Vector("start", 2, std::nullopt, -kBig, kBig));
-    p.turn_rate_deg_s = r.Number("turn_rate_deg_s", 0.0, -360.0, 360.0);
   }
   r.Finish();
   return p;
@@ -143,19 +115,12 @@ TargetPathSpec ReadPath(YamlReader r, int frames) {
 TargetSpec ReadTarget(YamlReader r, int frames, const std::string& scenario_file) {
   r.ExpectMap();
   TargetSpec t;
-  t.id = ObjectId{static_cast<int32_t>(r.Integer("id", std::nullopt, 1, 1'000'000'000))};
-  if (r.Has("model")) {
-    YamlReader model = r.Child("model");
-    t.model = ResolveModelPath(r.String("model", std::nullopt), scenario_file, model.Where());
-  }
-  if (r.Has("dimensions_m")) {
-    t.dimensions_m = V3(r.Vector("dimensions_m", 3, std::nullopt, 0.05, 1000.0));
-  } else if (!t.model.empty()) {
+  const bool dimensions_given = r.Has("dimensions_m");
+  ReadFields(r, t, TargetFields(), ModelResolver(scenario_file));
+  if (!dimensions_given) {
+    if (t.model.empty()) r.Child("dimensions_m");  // neither a model nor dimensions: missing key
     t.dimensions_m = ModelDimensions(t.model, r.Child("model").Where());
-  } else {
-    r.Child("dimensions_m");  // neither a model nor dimensions: report the missing key
   }
-  t.tint = V3(r.Vector("tint", 3, Vx({0.5, 0.5, 0.5}), 0.0, 1.0));
   t.path = ReadPath(r.Child("path"), frames);
   r.Finish();
   return t;
@@ -163,25 +128,17 @@ TargetSpec ReadTarget(YamlReader r, int frames, const std::string& scenario_file
 
 void ReadCamera(YamlReader r, int frames, CameraSpec* c) {
   r.ExpectMap();
-  YamlReader res = r.Child("resolution");
-  const Eigen::VectorXd resolution = res.AsVector(2, 16, 8192);
-  if (resolution[0] != std::floor(resolution[0]) || resolution[1] != std::floor(resolution[1])) {
-    res.Fail("two whole numbers [width, height] in [16, 8192]");
-  }
-  c->width_px = static_cast<int>(resolution[0]);
-  c->height_px = static_cast<int>(resolution[1]);
-  c->hfov_deg = r.Number("fov_deg", 40.0, 1.0, 170.0);
-  c->shake_px = r.Number("shake_px", 0.0, 0.0, 100.0);
+  ReadFields(r, *c, CameraFields());
   YamlReader path = r.Child("path");
   for (YamlReader k : path.Items()) {
+    k.ExpectMap();
     CameraKeyframe key;
-    key.frame = static_cast<int>(k.Integer("frame", std::nullopt, 0, frames - 1));
+    ReadFields(k, key, KeyframeFields());
+    CheckFrame(k, "frame", key.frame, 0, frames);
     if (!c->path.empty() && key.frame <= c->path.back().frame) {
       k.Child("frame").Fail(
           fmt::format("a frame after the previous keyframe's ({})", c->path.back().frame));
     }
-    key.position_m = V3(k.Vector("position", 3, std::nullopt, -kBig, kBig));
-    key.look_at_m = V3(k.Vector("look_at", 3, std::nullopt, -kBig, kBig));
     if ((key.position_m - key.look_at_m).norm() < 1e-6) {
       k.Child("look_at").Fail("a point different from the camera position");
     }
@@ -263,7 +220,8 @@ Scenario ReadScenario(YamlReader root, const std::string& file) {
   if (!root.node().IsDefined() || root.node().IsNull()) root.Fail("a scenario mapping");
   Scenario s;
   s.source_file = file;
-  s.name = root.String("name", std::filesystem::path(file).stem().string());
+  s.name = std::filesystem::path(file).stem().string();
+  ReadFields(root, s, ScenarioFields());  // name, seed
   // The name goes into seqinfo.ini, manifests and reports: a newline there
   // would make the run's own files unreadable (issue 15, item 13).
   if (std::any_of(s.name.begin(), s.name.end(),
@@ -274,26 +232,21 @@ Scenario ReadScenario(YamlReader root, const std::string& file) {
                      "a file name without control characters (the default name)",
                      fmt::format("\"{}\"", s.name));
   }
-  s.seed = root.Seed("seed", 1);
   DeriveSeeds(&s);
   if (auto seeds = root.Optional("seeds")) {
     seeds->ExpectMap();
-    const auto pin = [&](const char* key, uint64_t* seed, uint8_t bit) {
-      if (seeds->Has(key)) s.pinned_seeds |= bit;
-      *seed = seeds->Seed(key, *seed);
-    };
-    pin("world", &s.seeds.world, Scenario::kPinnedWorld);
-    pin("observation", &s.seeds.observation, Scenario::kPinnedObservation);
-    pin("tracker", &s.seeds.tracker, Scenario::kPinnedTracker);
-    pin("renderer", &s.seeds.renderer, Scenario::kPinnedRenderer);
+    const std::span<const Field<Seeds>> fields = SeedFields();
+    for (size_t i = 0; i < fields.size(); ++i) {  // bit i: kPinnedWorld, ..., kPinnedRenderer
+      if (seeds->Has(std::string(fields[i].key))) s.pinned_seeds |= static_cast<uint8_t>(1u << i);
+    }
+    ReadFields(*seeds, s.seeds, fields);
     seeds->Finish();
   }
   // A run holds every frame's truth, observations and reports until it writes
   // its files (about 5 KB + 3.4 KB per target per frame, EstimateRunCost), so
   // the bound is what runs on a workstation: 100,000 frames (55 min at 30 fps).
-  const int frames = static_cast<int>(root.Integer("frames", std::nullopt, 1, kMaxFrames));
-  s.world.frames = frames;
-  s.world.fps = root.Number("fps", 30.0, 0.1, 10000.0);
+  ReadFields(root, s.world, WorldFields());  // frames, fps
+  const int frames = s.world.frames;
 
   if (auto world = root.Optional("world")) {
     world->ExpectMap();

@@ -29,30 +29,6 @@ class Writer {
   void Num(const char* key, double v) {
     out_ << YAML::Key << key << YAML::Value << FormatNumber(v);
   }
-  void Int(const char* key, int64_t v) {
-    out_ << YAML::Key << key << YAML::Value << std::to_string(v);
-  }
-  void U64(const char* key, uint64_t v) {
-    out_ << YAML::Key << key << YAML::Value << std::to_string(v);
-  }
-  void Bool(const char* key, bool v) {
-    out_ << YAML::Key << key << YAML::Value << (v ? "true" : "false");
-  }
-  void Str(const char* key, const std::string& v) {
-    out_ << YAML::Key << key << YAML::Value << YAML::DoubleQuoted << v;
-  }
-  void Word(const char* key, const std::string& v) { out_ << YAML::Key << key << YAML::Value << v; }
-  template <typename Vec>
-  void List(const char* key, const Vec& v) {
-    out_ << YAML::Key << key << YAML::Value;
-    Flow(v);
-  }
-  template <typename Vec>
-  void Flow(const Vec& v) {
-    out_ << YAML::Flow << YAML::BeginSeq;
-    for (int i = 0; i < static_cast<int>(v.size()); ++i) out_ << FormatNumber(v[i]);
-    out_ << YAML::EndSeq;
-  }
   void Begin(const char* key) { out_ << YAML::Key << key << YAML::Value << YAML::BeginMap; }
   void End() { out_ << YAML::EndMap; }
   // A nested mapping of an Options struct's declared fields.
@@ -67,68 +43,24 @@ class Writer {
   YAML::Emitter out_;
 };
 
-const char* OccluderKindName(OccluderKind k) {
-  switch (k) {
-    case OccluderKind::kBridge:
-      return "bridge";
-    case OccluderKind::kBuilding:
-      return "building";
-    case OccluderKind::kTree:
-      return "tree";
-    case OccluderKind::kMesh:
-      return "mesh";
-  }
-  return "building";
-}
-
 }  // namespace
 
 std::string ToResolvedYaml(const Scenario& s) {
   Writer w;
-  w.Str("name", s.name);
-  w.U64("seed", s.seed);
+  WriteFields(w.out(), s, ScenarioFields());  // name, seed
   w.Begin("seeds");
-  w.U64("world", s.seeds.world);
-  w.U64("observation", s.seeds.observation);
-  w.U64("tracker", s.seeds.tracker);
-  w.U64("renderer", s.seeds.renderer);
+  WriteFields(w.out(), s.seeds, SeedFields());
   w.End();
-  w.Int("frames", s.world.frames);
-  w.Num("fps", s.world.fps);
+  WriteFields(w.out(), s.world, WorldFields());  // frames, fps
 
   w.Begin("world");
-  w.Begin("terrain");
-  w.List("size_m", s.world.terrain.size_m);
-  WriteFields(w.out(), s.world.terrain, TerrainSpec::Fields());
-  w.End();
+  w.Section("terrain", s.world.terrain);
   w.Section("sun", s.world.sun);
   w.out() << YAML::Key << "occluders" << YAML::Value << YAML::BeginSeq;
   for (const OccluderSpec& o : s.world.occluders) {
     w.out() << YAML::BeginMap;
-    w.Word("kind", OccluderKindName(o.kind));
-    switch (o.kind) {
-      case OccluderKind::kBridge:
-        w.List("from", o.from_m);
-        w.List("to", o.to_m);
-        w.Num("width_m", o.width_m);
-        w.Num("height_m", o.height_m);
-        break;
-      case OccluderKind::kBuilding:
-        w.List("at", o.at_m);
-        w.List("size_m", o.size_m);
-        w.Num("yaw_deg", o.yaw_deg);
-        break;
-      case OccluderKind::kTree:
-        w.List("at", o.at_m);
-        w.Num("height_m", o.height_m);
-        break;
-      case OccluderKind::kMesh:
-        w.Str("model", PortableModelPath(o.model));
-        w.List("at", o.at_m);
-        w.Num("yaw_deg", o.yaw_deg);
-        w.Num("scale", o.scale);
-        break;
-    }
+    WriteFields(w.out(), o, OccluderKindFields());
+    WriteFields(w.out(), o, OccluderFields(o.kind));
     w.out() << YAML::EndMap;
   }
   w.out() << YAML::EndSeq;
@@ -136,16 +68,11 @@ std::string ToResolvedYaml(const Scenario& s) {
 
   const CameraSpec& c = s.world.camera;
   w.Begin("camera");
-  w.List("resolution",
-         std::vector<double>{static_cast<double>(c.width_px), static_cast<double>(c.height_px)});
-  w.Num("fov_deg", c.hfov_deg);
-  w.Num("shake_px", c.shake_px);
+  WriteFields(w.out(), c, CameraFields());
   w.out() << YAML::Key << "path" << YAML::Value << YAML::BeginSeq;
   for (const CameraKeyframe& k : c.path) {
     w.out() << YAML::Flow << YAML::BeginMap;
-    w.Int("frame", k.frame);
-    w.List("position", k.position_m);
-    w.List("look_at", k.look_at_m);
+    WriteFields(w.out(), k, KeyframeFields());
     w.out() << YAML::EndMap;
   }
   w.out() << YAML::EndSeq;
@@ -154,33 +81,19 @@ std::string ToResolvedYaml(const Scenario& s) {
   w.out() << YAML::Key << "targets" << YAML::Value << YAML::BeginSeq;
   for (const TargetSpec& t : s.world.targets) {
     w.out() << YAML::BeginMap;
-    w.Int("id", Value(t.id));
-    if (!t.model.empty()) w.Str("model", PortableModelPath(t.model));
-    w.List("dimensions_m", t.dimensions_m);
-    w.List("tint", t.tint);
+    WriteFields(w.out(), t, TargetFields());
     const TargetPathSpec& p = t.path;
     w.Begin("path");
-    w.Word("type", p.kind == PathKind::kWaypoints ? "waypoints" : "constant_turn");
-    w.Int("start_frame", p.start_frame);
-    w.Int("end_frame", p.end_frame);
-    w.Num("speed_mps", p.speed_mps);
-    w.Num("heading_deg", p.heading_deg);
+    WriteFields(w.out(), p, PathFields());
+    WriteFields(w.out(), p, PathFields(p.kind));
     if (p.kind == PathKind::kWaypoints) {
-      w.out() << YAML::Key << "waypoints" << YAML::Value << YAML::Flow << YAML::BeginSeq;
-      for (const auto& wp : p.waypoints_m) w.Flow(wp);
-      w.out() << YAML::EndSeq;
-      w.Word("at_end", p.vanish_at_end ? "vanish" : "stay");
       w.out() << YAML::Key << "stops" << YAML::Value << YAML::BeginSeq;
       for (const PathStop& stop : p.stops) {
         w.out() << YAML::Flow << YAML::BeginMap;
-        w.Num("at_m", stop.at_m);
-        w.Num("duration_s", stop.duration_s);
+        WriteFields(w.out(), stop, StopFields());
         w.out() << YAML::EndMap;
       }
       w.out() << YAML::EndSeq;
-    } else {
-      w.List("start", p.start_m);
-      w.Num("turn_rate_deg_s", p.turn_rate_deg_s);
     }
     w.End();
     w.out() << YAML::EndMap;

@@ -24,26 +24,53 @@ std::string EscapeCell(std::string_view text) {
   return out;
 }
 
-std::string RangeCell(FieldType type, const FieldRange& range,
-                      const std::vector<std::string_view>& choices) {
-  if (type == FieldType::kChoice) {
-    std::string out;
-    for (std::string_view c : choices) out += fmt::format("{}`{}`", out.empty() ? "" : " \\| ", c);
-    return out;
+template <class O>
+std::string RangeCell(const Field<O>& f) {
+  switch (f.type) {
+    case FieldType::kChoice: {
+      std::string out;
+      for (std::string_view c : f.choices())
+        out += fmt::format("{}`{}`", out.empty() ? "" : " \\| ", c);
+      return out;
+    }
+    case FieldType::kFlag:
+      return "`true` \\| `false`";
+    case FieldType::kNumber:
+    case FieldType::kInteger:
+      return f.range.Text();
+    case FieldType::kVector:
+    case FieldType::kPoints:
+      return fmt::format("{}{} each", f.range.Text(), f.whole ? " whole" : "");
+    case FieldType::kSeed:
+      return "[0, 2⁶⁴−1]";
+    case FieldType::kText:
+    case FieldType::kPath:
+      return "";
   }
-  if (type == FieldType::kFlag) return "`true` \\| `false`";
-  return range.Text();
+  return "";
 }
 
 template <class O>
-void AppendRows(std::string& out, const std::string& prefix, std::span<const Field<O>> fields) {
-  const O defaults{};
+std::string TypeCell(const Field<O>& f) {
+  if (f.type == FieldType::kVector) return fmt::format("[{}]", f.elements);
+  if (f.type == FieldType::kPoints) return fmt::format("list of [{}]", f.elements);
+  return std::string(FieldTypeName(f.type));
+}
+
+template <class O>
+std::string DefaultCell(const Field<O>& f, const O& defaults) {
+  if (!f.default_doc.empty()) return std::string(f.default_doc);
+  if (f.required) return "**required**";
+  return fmt::format("`{}`", f.ValueText(defaults));
+}
+
+template <class O>
+void AppendRows(std::string& out, const std::string& prefix, std::span<const Field<O>> fields,
+                const O& defaults = O{}) {
   for (const Field<O>& f : fields) {
-    const std::vector<std::string_view> choices =
-        f.type == FieldType::kChoice ? f.choices() : std::vector<std::string_view>{};
-    out += fmt::format("| `{}{}` | {} | {} | `{}` | {} | {} |\n", prefix, f.key,
-                       FieldTypeName(f.type), EscapeCell(f.unit), f.ValueText(defaults),
-                       RangeCell(f.type, f.range, choices), EscapeCell(f.doc));
+    out += fmt::format("| `{}{}` | {} | {} | {} | {} | {} |\n", prefix, f.key, TypeCell(f),
+                       EscapeCell(f.unit), EscapeCell(DefaultCell(f, defaults)), RangeCell(f),
+                       EscapeCell(f.doc));
   }
 }
 
@@ -55,12 +82,66 @@ std::string Header() {
 }  // namespace
 
 std::vector<std::string> SchemaSections() {
-  return {"world", "sensor", "observation", "renderer", "tracker", "metrics"};
+  return {"scenario",
+          "world",
+          "world.occluders[i]",
+          "world.occluders[i] kind=bridge",
+          "world.occluders[i] kind=building",
+          "world.occluders[i] kind=tree",
+          "world.occluders[i] kind=mesh",
+          "camera",
+          "camera.path[i]",
+          "targets[i]",
+          "targets[i].path",
+          "targets[i].path type=waypoints",
+          "targets[i].path type=constant_turn",
+          "targets[i].path.stops[i]",
+          "sensor",
+          "observation",
+          "renderer",
+          "tracker",
+          "metrics"};
 }
 
 std::string SchemaMarkdown(const std::string& section) {
   std::string out = Header();
-  if (section == "world") {
+  const auto occluder = [&out](OccluderKind kind) {
+    AppendRows(out, "", OccluderFields(kind), OccluderDefaults(kind));
+  };
+  const auto path = [&out](PathKind kind) {
+    TargetPathSpec defaults;
+    defaults.kind = kind;
+    AppendRows(out, "", PathFields(kind), defaults);
+  };
+  if (section == "scenario") {
+    AppendRows(out, "", ScenarioFields());
+    AppendRows(out, "seeds.", SeedFields());
+    AppendRows(out, "", WorldFields());
+  } else if (section == "world.occluders[i]") {
+    AppendRows(out, "", OccluderKindFields());
+  } else if (section == "world.occluders[i] kind=bridge") {
+    occluder(OccluderKind::kBridge);
+  } else if (section == "world.occluders[i] kind=building") {
+    occluder(OccluderKind::kBuilding);
+  } else if (section == "world.occluders[i] kind=tree") {
+    occluder(OccluderKind::kTree);
+  } else if (section == "world.occluders[i] kind=mesh") {
+    occluder(OccluderKind::kMesh);
+  } else if (section == "camera") {
+    AppendRows(out, "", CameraFields());
+  } else if (section == "camera.path[i]") {
+    AppendRows(out, "", KeyframeFields());
+  } else if (section == "targets[i]") {
+    AppendRows(out, "", TargetFields());
+  } else if (section == "targets[i].path") {
+    AppendRows(out, "", PathFields());
+  } else if (section == "targets[i].path type=waypoints") {
+    path(PathKind::kWaypoints);
+  } else if (section == "targets[i].path type=constant_turn") {
+    path(PathKind::kConstantTurn);
+  } else if (section == "targets[i].path.stops[i]") {
+    AppendRows(out, "", StopFields());
+  } else if (section == "world") {
     AppendRows(out, "terrain.", TerrainSpec::Fields());
     AppendRows(out, "sun.", SunSpec::Fields());
   } else if (section == "sensor") {

@@ -102,6 +102,32 @@ std::vector<int> NearestNeighbourAssociator::Associate(
   return assignment;
 }
 
+std::vector<uint8_t> Associator::Evidence(std::span<const TrackPrediction> tracks,
+                                          std::span<const Detection>,
+                                          std::span<const int> assignment) const {
+  std::vector<uint8_t> out(tracks.size(), 0);
+  for (size_t t = 0; t < tracks.size(); ++t) out[t] = assignment[t] >= 0 ? 1 : 0;
+  return out;
+}
+
+NoAssociator::NoAssociator(const AssociationOptions& options) : options_(options) {
+  options_.Validate();
+}
+
+std::vector<uint8_t> NoAssociator::Evidence(std::span<const TrackPrediction> tracks,
+                                            std::span<const Detection> detections,
+                                            std::span<const int>) const {
+  std::vector<uint8_t> out(tracks.size(), 0);
+  for (size_t t = 0; t < tracks.size(); ++t) {
+    out[t] = std::any_of(
+                 detections.begin(), detections.end(),
+                 [&](const Detection& d) { return GatedCost(tracks[t], d, options_).has_value(); })
+                 ? 1
+                 : 0;
+  }
+  return out;
+}
+
 std::unique_ptr<Associator> MakeAssociator(const AssociationOptions& options) {
   options.Validate();
   switch (options.method) {
@@ -110,7 +136,7 @@ std::unique_ptr<Associator> MakeAssociator(const AssociationOptions& options) {
     case AssociationMethod::kNearestNeighbour:
       return std::make_unique<NearestNeighbourAssociator>(options);
     case AssociationMethod::kNone:
-      return std::make_unique<NoAssociator>();
+      return std::make_unique<NoAssociator>(options);
   }
   HCPF_CHECK(false) << "unknown association method";
   return nullptr;

@@ -181,7 +181,7 @@ FrameReport MultiTargetTracker::Step(const Observation& observation,
   const std::vector<TrackPrediction> predictions = Predictions(predicted);
   const std::vector<int> assignment =
       components_.associator->Associate(predictions, observation.detections);
-  Update(observation, assignment, predicted, report);
+  Update(observation, assignment, predicted, predictions, report);
   Resample(PosteriorSummaries(report), report);
   ManageTracks(observation, assignment, predictions, report);
   return report;
@@ -255,38 +255,26 @@ std::vector<ParticlePoint> Decimate(const ParticleSet& set, int keep) {
 }  // namespace
 
 void MultiTargetTracker::Update(const Observation& observation, const std::vector<int>& assignment,
-                                const std::vector<FilterSummary>& predicted, FrameReport& report) {
-  const bool map_model = options_.likelihood.model == LikelihoodModel::kMap;
-  const bool no_association = options_.association.method == AssociationMethod::kNone;
+                                const std::vector<FilterSummary>& predicted,
+                                const std::vector<TrackPrediction>& predictions,
+                                FrameReport& report) {
+  const std::vector<uint8_t> evidence =
+      components_.associator->Evidence(predictions, observation.detections, assignment);
   report.filters.resize(filters_.size());
   ForEachFilter([&](size_t i) {
     Filter& f = *filters_[i];
     const int assigned = assignment[i];
-    // Support: is there evidence for this filter this frame?
-    if (map_model) {
-      f.supported = observation.likelihood.has_value();
-    } else if (!no_association) {
-      f.supported = assigned >= 0;
-    } else {
-      const TrackPrediction pred{
-          .id = f.id,
-          .mean = predicted[i].mean,
-          .cov = predicted[i].cov,
-          .box = BoxPx::FromCentre(predicted[i].mean.x(), predicted[i].mean.y(),
-                                   f.base_w_px * predicted[i].mean_scale,
-                                   f.base_h_px * predicted[i].mean_scale)};
-      f.supported = std::any_of(
-          observation.detections.begin(), observation.detections.end(),
-          [&](const Detection& d) { return GatedCost(pred, d, options_.association).has_value(); });
-    }
+    const LikelihoodInput input{
+        .observation = &observation,
+        .assigned =
+            assigned >= 0 ? &observation.detections[static_cast<size_t>(assigned)] : nullptr,
+        .detection_evidence = evidence[i] != 0,
+        .base_w_px = f.base_w_px,
+        .base_h_px = f.base_h_px};
+    // Support: the likelihood's verdict on this frame's evidence.
+    f.supported = components_.likelihood->HasEvidence(input);
     f.coasting = !f.supported && options_.management.coast_without_support;
     if (!f.coasting) {
-      const LikelihoodInput input{
-          .observation = &observation,
-          .assigned =
-              assigned >= 0 ? &observation.detections[static_cast<size_t>(assigned)] : nullptr,
-          .base_w_px = f.base_w_px,
-          .base_h_px = f.base_h_px};
       components_.likelihood->AddLogLikelihood(f.set, input);
       components_.interaction->Apply(f.set, Others(predicted, i));
     }

@@ -209,6 +209,32 @@ TEST(MapLikelihood, MissingMapIsFlat) {
   EXPECT_EQ(set.log_w[0], 0.0);
 }
 
+// Each model's verdict on a frame's evidence, which the tracker uses as the
+// filter's support: the assigned detection, the associator's evidence (every
+// detection enters the mixture, but not every one is this filter's), a map.
+TEST(LikelihoodModel, EachModelSaysWhenAFrameHoldsEvidence) {
+  Observation obs;
+  obs.detections = {Det(1.0, 2.0)};
+  const LikelihoodInput nothing{.observation = &obs};
+  const LikelihoodInput assigned{
+      .observation = &obs, .assigned = &obs.detections[0], .detection_evidence = true};
+  const LikelihoodInput gated{.observation = &obs, .detection_evidence = true};
+  LikelihoodOptions o;
+  const AssociatedLikelihood associated(o);
+  EXPECT_FALSE(associated.HasEvidence(nothing));
+  EXPECT_FALSE(associated.HasEvidence(gated));
+  EXPECT_TRUE(associated.HasEvidence(assigned));
+  const DetectionsMixtureLikelihood mixture(o);
+  EXPECT_FALSE(mixture.HasEvidence(nothing));  // detections, but none of them this filter's
+  EXPECT_TRUE(mixture.HasEvidence(gated));
+  EXPECT_TRUE(mixture.HasEvidence(assigned));
+  o.model = LikelihoodModel::kMap;
+  const MapLikelihood map(o);
+  EXPECT_FALSE(map.HasEvidence(assigned));
+  obs.likelihood = LikelihoodMap{.width = 1, .height = 1, .cell_px = 1.0, .values = {0}};
+  EXPECT_TRUE(map.HasEvidence(nothing));
+}
+
 TEST(LikelihoodModel, NamesRoundTripAndFactoryMatches) {
   for (const auto name : NamesOf<LikelihoodModel>()) {
     const auto m = ParseName<LikelihoodModel>(name);

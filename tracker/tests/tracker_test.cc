@@ -296,9 +296,10 @@ class ShiftDynamics final : public Dynamics {  // every particle 3 px to the rig
 
 class EvidenceLikelihood final : public Likelihood {  // weights untouched, evidence iff assigned
  public:
-  bool AddLogLikelihood(ParticleSet&, const LikelihoodInput& input) const override {
+  bool HasEvidence(const LikelihoodInput& input) const override {
     return input.assigned != nullptr;
   }
+  bool AddLogLikelihood(ParticleSet&, const LikelihoodInput&) const override { return false; }
   std::string_view name() const override { return "evidence"; }
 };
 
@@ -416,6 +417,70 @@ TEST(MultiTargetTracker, AssembledFromFakeComponents) {
 
   const std::vector<std::vector<size_t>> expected_free = {{0}, {}, {}};
   EXPECT_EQ(calls.free_detections, expected_free);
+}
+
+// Evidence on odd frames only, whatever the association.
+class OddFramesLikelihood final : public Likelihood {
+ public:
+  bool HasEvidence(const LikelihoodInput& input) const override {
+    return input.observation->frame % 2 == 1;
+  }
+  bool AddLogLikelihood(ParticleSet&, const LikelihoodInput&) const override { return false; }
+  std::string_view name() const override { return "odd_frames"; }
+};
+
+class NeverDeleter final : public Deleter {
+ public:
+  bool Delete(int) const override { return false; }
+  std::string_view name() const override { return "never"; }
+};
+
+// Support is what the likelihood says, not what the composite would infer
+// from the association: the filter is given a detection every frame, yet it
+// coasts and counts a miss on the frames its likelihood has no evidence.
+TEST(MultiTargetTracker, SupportIsTheLikelihoodsVerdict) {
+  Calls calls;
+  TrackerOptions options;
+  options.particles = 8;
+  TrackerComponents parts{.dynamics = std::make_unique<ShiftDynamics>(),
+                          .likelihood = std::make_unique<OddFramesLikelihood>(),
+                          .interaction = std::make_unique<NoopInteraction>(),
+                          .resampler = std::make_unique<CountingResampler>(&calls),
+                          .associator = std::make_unique<IndexAssociator>(),
+                          .initiator = std::make_unique<FirstFrameInitiator>(&calls),
+                          .deleter = std::make_unique<NeverDeleter>()};
+  MultiTargetTracker tracker(options, std::move(parts), Rng(1));
+  tracker.Step(FrameWith(0, {{100, 100, 10, 10}}));
+  ASSERT_EQ(tracker.num_filters(), 1u);
+  const std::vector<bool> coasting_expected = {false, true, false, true};
+  const std::vector<int> missed_expected = {0, 1, 0, 1};
+  for (int frame = 1; frame <= 4; ++frame) {
+    const FrameReport r = tracker.Step(FrameWith(frame, {{100, 100, 10, 10}}));
+    ASSERT_EQ(r.filters.size(), 1u);
+    EXPECT_EQ(r.filters[0].assigned_detection, 0) << frame;
+    EXPECT_EQ(r.filters[0].coasting, coasting_expected[frame - 1]) << frame;
+    EXPECT_EQ(r.filters[0].missed_frames, missed_expected[frame - 1]) << frame;
+  }
+  EXPECT_EQ(calls.resamples, 2);  // frames 1 and 3
+}
+
+// The evidence a `none` associator reports: a detection inside the gate.
+TEST(NoAssociator, EvidenceIsADetectionInsideTheGate) {
+  const NoAssociator none(AssociationOptions{});
+  TrackPrediction near{.id = TrackId{1}, .mean = {100, 100}};
+  near.cov = Eigen::Matrix2d::Identity() * 4.0;
+  TrackPrediction far = near;
+  far.id = TrackId{2};
+  far.mean = {400, 400};
+  const std::vector<TrackPrediction> tracks = {near, far};
+  const std::vector<Detection> detections = {{.box = BoxPx::FromCentre(101, 100, 10, 10)}};
+  const std::vector<int> assignment = none.Associate(tracks, detections);
+  EXPECT_EQ(assignment, (std::vector<int>{-1, -1}));
+  EXPECT_EQ(none.Evidence(tracks, detections, assignment), (std::vector<uint8_t>{1, 0}));
+  // Other associators: the assigned detection.
+  const GnnAssociator gnn(AssociationOptions{});
+  const std::vector<int> paired = gnn.Associate(tracks, detections);
+  EXPECT_EQ(gnn.Evidence(tracks, detections, paired), (std::vector<uint8_t>{1, 0}));
 }
 
 }  // namespace

@@ -3,52 +3,115 @@
 // and the resolved-YAML writer of every declared key, so neither spells a key,
 // a default or a range of its own.
 
+#include <fmt/format.h>
 #include <yaml-cpp/yaml.h>
 
+#include <functional>
+#include <optional>
 #include <span>
 #include <string>
 #include <vector>
 
 #include "hcpf/config/yaml_reader.h"
+#include "hcpf/core/check.h"
 #include "hcpf/core/fields.h"
 
 namespace hcpf::config {
 
+// Resolves a kPath field's text (a model file named relative to the
+// scenario) at the location of its value; throws InputError.
+using PathResolver = std::function<std::string(const std::string& text, const SourceLocation&)>;
+
 // Reads each field present in `r` into `o`, checking its type and range;
-// absent keys keep `o`'s value (the in-class default). Marks every field as
-// asked for, so r.Finish() rejects only keys outside the table.
+// absent keys keep `o`'s value (the default), required ones are an error.
+// Marks every field as asked for, so r.Finish() rejects only keys outside
+// the table. `resolve` is needed only by tables with a kPath field.
 template <class O>
-void ReadFields(YamlReader& r, O& o, std::span<const Field<O>> fields) {
+void ReadFields(YamlReader& r, O& o, std::span<const Field<O>> fields,
+                const PathResolver& resolve = {}) {
   for (const Field<O>& f : fields) {
     const std::string key(f.key);
+    const bool req = f.required;
     switch (f.type) {
       case FieldType::kNumber:
-        o.*f.number = r.Number(key, o.*f.number, f.range);
+        o.*f.number = r.Number(key, req ? std::nullopt : std::optional(o.*f.number), f.range);
         break;
       case FieldType::kInteger:
-        o.*f.integer = static_cast<int>(r.Integer(
-            key, o.*f.integer, static_cast<int64_t>(f.range.lo), static_cast<int64_t>(f.range.hi)));
+        f.SetInteger(o,
+                     r.Integer(key, req ? std::nullopt : std::optional(f.IntegerOf(o)),
+                               static_cast<int64_t>(f.range.lo), static_cast<int64_t>(f.range.hi)));
         break;
       case FieldType::kFlag:
-        o.*f.flag = r.Bool(key, o.*f.flag);
+        o.*f.flag = r.Bool(key, req ? std::nullopt : std::optional(o.*f.flag));
         break;
       case FieldType::kChoice: {
         const std::vector<std::string_view> names = f.choices();
-        const std::string value = r.Enum(key, std::string(f.get_choice(o)),
-                                         std::vector<std::string>(names.begin(), names.end()));
+        const std::string value =
+            r.Enum(key, req ? std::nullopt : std::optional(std::string(f.get_choice(o))),
+                   std::vector<std::string>(names.begin(), names.end()));
         f.set_choice(o, value);
         break;
       }
+      case FieldType::kVector: {
+        if (!req && !r.Has(key)) break;
+        const Eigen::VectorXd v = r.Vector(key, f.size, std::nullopt, f.range.lo, f.range.hi);
+        if (f.whole && v != v.array().floor().matrix()) {
+          r.Child(key).Fail(
+              fmt::format("{} whole numbers [{}] in {}", f.size, f.elements, f.range.Text()));
+        }
+        f.set_vector(o, std::vector<double>(v.data(), v.data() + v.size()));
+        break;
+      }
+      case FieldType::kPoints: {
+        if (!req && !r.Has(key)) break;
+        YamlReader list = r.Child(key);
+        std::vector<Eigen::Vector2d> points;
+        for (const YamlReader& item : list.Items()) {
+          const Eigen::VectorXd p = item.AsVector(2, f.range.lo, f.range.hi);
+          points.emplace_back(p[0], p[1]);
+        }
+        if (points.empty()) list.Fail("a list of at least one [x, y] point");
+        o.*f.points = std::move(points);
+        break;
+      }
+      case FieldType::kText:
+        f.set_text(o, r.String(key, req ? std::nullopt : std::optional(f.get_text(o))));
+        break;
+      case FieldType::kPath: {
+        if (!req && !r.Has(key)) break;
+        const SourceLocation where = r.Child(key).Where();
+        HCPF_CHECK(resolve) << "a path field needs a resolver: " << key;
+        f.set_text(o, resolve(r.String(key, std::nullopt), where));
+        break;
+      }
+      case FieldType::kSeed:
+        o.*f.seed = r.Seed(key, req ? std::nullopt : std::optional(o.*f.seed));
+        break;
     }
   }
 }
 
 // Writes every field as `key: value` pairs into the open mapping of `out`,
-// in table order.
+// in table order; an optional path that is not set is left out.
 template <class O>
 void WriteFields(YAML::Emitter& out, const O& o, std::span<const Field<O>> fields) {
   for (const Field<O>& f : fields) {
-    out << YAML::Key << std::string(f.key) << YAML::Value << f.ValueText(o);
+    if (f.type == FieldType::kPath && !f.required && f.get_text(o).empty()) continue;
+    out << YAML::Key << std::string(f.key) << YAML::Value;
+    if (f.type == FieldType::kVector || f.type == FieldType::kPoints) {
+      const std::vector<double> v = f.NumbersOf(o);
+      out << YAML::Flow << YAML::BeginSeq;
+      for (size_t i = 0; i < v.size(); ++i) {
+        if (f.type == FieldType::kPoints && i % 2 == 0) out << YAML::Flow << YAML::BeginSeq;
+        out << FormatNumber(v[i]);
+        if (f.type == FieldType::kPoints && i % 2 == 1) out << YAML::EndSeq;
+      }
+      out << YAML::EndSeq;
+    } else if (f.type == FieldType::kText || f.type == FieldType::kPath) {
+      out << YAML::DoubleQuoted << f.get_text(o);
+    } else {
+      out << f.ValueText(o);
+    }
   }
 }
 

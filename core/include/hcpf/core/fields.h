@@ -7,7 +7,9 @@
 // of docs/scenario.md are generated from the same table (scenarios/schema).
 // YAML-free: library modules declare tables without seeing YAML.
 
+#include <Eigen/Core>
 #include <cmath>
+#include <cstdint>
 #include <limits>
 #include <span>
 #include <string>
@@ -41,9 +43,13 @@ inline FieldRange Closed(double lo, double hi) { return {lo, hi}; }
 // (lo, hi]: a value that must be strictly above lo.
 inline FieldRange AboveUpTo(double lo, double hi) { return {lo, hi, true, false}; }
 
-enum class FieldType { kNumber, kInteger, kFlag, kChoice };
+// kVector: a fixed number of numbers, each in the range (whole numbers when
+// `whole`); kPoints: a list of at least one [x, y]; kText: free text (quoted
+// in the resolved YAML); kPath: a file path the reader resolves (it needs the
+// scenario's folder: ReadFields takes the resolver); kSeed: a 64-bit seed.
+enum class FieldType { kNumber, kInteger, kFlag, kChoice, kVector, kPoints, kText, kPath, kSeed };
 
-// "number", "integer", "bool", "enum".
+// "number", "integer", "bool", "enum", "vector", "points", "text", "path", "seed".
 std::string_view FieldTypeName(FieldType type);
 
 template <class O>
@@ -61,6 +67,41 @@ struct Field {
   std::string_view (*get_choice)(const O&) = nullptr;
   bool (*set_choice)(O&, std::string_view) = nullptr;
   std::vector<std::string_view> (*choices)() = nullptr;
+  // kInteger through accessors (a member of another integer type, e.g. ObjectId).
+  int64_t (*get_integer)(const O&) = nullptr;
+  void (*set_integer)(O&, int64_t) = nullptr;
+  // kVector: `size` numbers named `elements` ("x, y"); kPoints: [x, y] each.
+  int size = 0;
+  bool whole = false;
+  std::string_view elements;
+  std::vector<double> (*get_vector)(const O&) = nullptr;
+  void (*set_vector)(O&, const std::vector<double>&) = nullptr;
+  std::vector<Eigen::Vector2d> O::*points = nullptr;
+  // kText, kPath: the value as written (kPath: as the resolved YAML writes it).
+  std::string (*get_text)(const O&) = nullptr;
+  void (*set_text)(O&, std::string) = nullptr;
+  uint64_t O::*seed = nullptr;  // kSeed
+  // No default: the key must be written (`default_doc` says when, if only sometimes).
+  bool required = false;
+  // The default column of the docs when the member's in-class value is not
+  // the default ("derived from `seed`", "file name without extension").
+  std::string_view default_doc;
+
+  int64_t IntegerOf(const O& o) const { return get_integer ? get_integer(o) : o.*integer; }
+  void SetInteger(O& o, int64_t v) const {
+    if (set_integer) {
+      set_integer(o, v);
+    } else {
+      o.*integer = static_cast<int>(v);
+    }
+  }
+  // kVector / kPoints as flat numbers (points: x0, y0, x1, y1, ...).
+  std::vector<double> NumbersOf(const O& o) const {
+    if (type == FieldType::kVector) return get_vector(o);
+    std::vector<double> out;
+    for (const Eigen::Vector2d& p : o.*points) out.insert(out.end(), {p.x(), p.y()});
+    return out;
+  }
 
   // The member's value as the resolved YAML writes it.
   std::string ValueText(const O& o) const {
@@ -68,11 +109,29 @@ struct Field {
       case FieldType::kNumber:
         return FormatNumber(o.*number);
       case FieldType::kInteger:
-        return std::to_string(o.*integer);
+        return std::to_string(IntegerOf(o));
       case FieldType::kFlag:
         return o.*flag ? "true" : "false";
       case FieldType::kChoice:
         return std::string(get_choice(o));
+      case FieldType::kVector:
+      case FieldType::kPoints: {
+        const std::vector<double> v = NumbersOf(o);
+        std::string out = "[";
+        const bool pairs = type == FieldType::kPoints;
+        for (size_t i = 0; i < v.size(); ++i) {
+          if (i > 0) out += ", ";
+          if (pairs && i % 2 == 0) out += "[";
+          out += FormatNumber(v[i]);
+          if (pairs && i % 2 == 1) out += "]";
+        }
+        return out + "]";
+      }
+      case FieldType::kText:
+      case FieldType::kPath:
+        return get_text(o);
+      case FieldType::kSeed:
+        return std::to_string(o.*seed);
     }
     return {};
   }
@@ -111,6 +170,44 @@ Field<O> FlagField(std::string_view key, bool O::*member, std::string_view doc) 
   f.type = FieldType::kFlag;
   f.doc = doc;
   f.flag = member;
+  return f;
+}
+
+// The same field with no default: the key must be written.
+template <class O>
+Field<O> Required(Field<O> f) {
+  f.required = true;
+  return f;
+}
+// The same field with a default the docs describe in words.
+template <class O>
+Field<O> DefaultDoc(Field<O> f, std::string_view default_doc) {
+  f.default_doc = default_doc;
+  return f;
+}
+
+template <class O>
+Field<O> SeedField(std::string_view key, uint64_t O::*member, std::string_view doc) {
+  Field<O> f;
+  f.key = key;
+  f.type = FieldType::kSeed;
+  f.doc = doc;
+  f.seed = member;
+  return f;
+}
+
+template <class O>
+Field<O> PointsField(std::string_view key, std::vector<Eigen::Vector2d> O::*member,
+                     FieldRange range, std::string_view unit, std::string_view doc) {
+  Field<O> f;
+  f.key = key;
+  f.type = FieldType::kPoints;
+  f.unit = unit;
+  f.range = range;
+  f.doc = doc;
+  f.size = 2;
+  f.elements = "x, y";
+  f.points = member;
   return f;
 }
 
@@ -169,6 +266,47 @@ Field<typename internal::MemberOf<decltype(Member)>::Object> WordField(std::stri
   return f;
 }
 
+// An Eigen fixed-size vector member (Vector2d, Vector3d), each element in `range`.
+template <auto Member>
+Field<typename internal::MemberOf<decltype(Member)>::Object> VectorField(std::string_view key,
+                                                                         std::string_view elements,
+                                                                         FieldRange range,
+                                                                         std::string_view unit,
+                                                                         std::string_view doc) {
+  using O = typename internal::MemberOf<decltype(Member)>::Object;
+  using V = typename internal::MemberOf<decltype(Member)>::Type;
+  Field<O> f;
+  f.key = key;
+  f.type = FieldType::kVector;
+  f.unit = unit;
+  f.range = range;
+  f.doc = doc;
+  f.size = static_cast<int>(V::SizeAtCompileTime);
+  f.elements = elements;
+  f.get_vector = [](const O& o) {
+    const V& v = o.*Member;
+    return std::vector<double>(v.data(), v.data() + v.size());
+  };
+  f.set_vector = [](O& o, const std::vector<double>& v) {
+    for (int i = 0; i < static_cast<int>(V::SizeAtCompileTime); ++i) (o.*Member)[i] = v[i];
+  };
+  return f;
+}
+
+// A free-text member, written quoted.
+template <auto Member>
+Field<typename internal::MemberOf<decltype(Member)>::Object> TextField(std::string_view key,
+                                                                       std::string_view doc) {
+  using O = typename internal::MemberOf<decltype(Member)>::Object;
+  Field<O> f;
+  f.key = key;
+  f.type = FieldType::kText;
+  f.doc = doc;
+  f.get_text = [](const O& o) { return std::string(o.*Member); };
+  f.set_text = [](O& o, std::string v) { o.*Member = std::move(v); };
+  return f;
+}
+
 namespace internal {
 // Throws InputError {key: "<prefix>.<key>", expected: the range, found: value}.
 [[noreturn]] void FailFieldRange(std::string_view prefix, std::string_view key, FieldType type,
@@ -204,8 +342,14 @@ void CheckFields(const O& o, std::span<const Field<O>> fields, std::string_view 
         internal::FailFieldRange(prefix, f.key, f.type, f.range, v);
       }
     } else if (f.type == FieldType::kInteger) {
-      const double v = o.*f.integer;
+      const double v = static_cast<double>(f.IntegerOf(o));
       if (!f.range.Contains(v)) internal::FailFieldRange(prefix, f.key, f.type, f.range, v);
+    } else if (f.type == FieldType::kVector || f.type == FieldType::kPoints) {
+      for (double v : f.NumbersOf(o)) {
+        if (!std::isfinite(v) || !f.range.Contains(v) || (f.whole && v != std::floor(v))) {
+          internal::FailFieldRange(prefix, f.key, f.type, f.range, v);
+        }
+      }
     } else if (f.type == FieldType::kChoice) {
       const std::string_view name = f.get_choice(o);
       bool known = false;

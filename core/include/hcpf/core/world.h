@@ -26,7 +26,7 @@ struct TerrainSpec {
   bool roads = false;                    // draw asphalt roads along target paths
   uint64_t seed = 0;                     // derived from the scenario seed
 
-  // The declared scalar fields (relief_m, texture, roads; core/fields.h).
+  // The declared fields (size_m, relief_m, texture, roads; core/fields.h).
   static std::span<const Field<TerrainSpec>> Fields();
   static std::vector<std::string_view> TextureNames();
   double HeightAt(double x_m, double y_m) const;
@@ -55,6 +55,14 @@ struct OrientedBox {
 };
 
 enum class OccluderKind { kBridge, kBuilding, kTree, kMesh };
+template <>
+struct EnumNames<OccluderKind> {
+  static constexpr std::array kNames = {
+      std::pair{OccluderKind::kBridge, std::string_view("bridge")},
+      std::pair{OccluderKind::kBuilding, std::string_view("building")},
+      std::pair{OccluderKind::kTree, std::string_view("tree")},
+      std::pair{OccluderKind::kMesh, std::string_view("mesh")}};
+};
 
 struct OccluderSpec {
   OccluderKind kind = OccluderKind::kBuilding;
@@ -82,6 +90,12 @@ struct PathStop {
 };
 
 enum class PathKind { kWaypoints, kConstantTurn };
+template <>
+struct EnumNames<PathKind> {
+  static constexpr std::array kNames = {
+      std::pair{PathKind::kWaypoints, std::string_view("waypoints")},
+      std::pair{PathKind::kConstantTurn, std::string_view("constant_turn")}};
+};
 
 struct TargetPathSpec {
   PathKind kind = PathKind::kWaypoints;

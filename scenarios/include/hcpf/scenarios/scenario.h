@@ -122,6 +122,25 @@ struct Scenario {
                            kPinnedRenderer = 8;
 };
 
+// The declared fields of the scenario's own keys (scenario_fields.cc), from
+// which the reader, the resolved-YAML writer and docs/scenario.md are made;
+// the modules' Options structs declare theirs next to the struct. A list
+// (occluders, camera.path, targets, path.stops) is read item by item with
+// the item's table; `kind` / `type` select the table of the kind's keys.
+std::span<const Field<Scenario>> ScenarioFields();          // name, seed
+std::span<const Field<Seeds>> SeedFields();                 // seeds.world, ...
+std::span<const Field<WorldSpec>> WorldFields();            // frames, fps
+std::span<const Field<OccluderSpec>> OccluderKindFields();  // kind
+std::span<const Field<OccluderSpec>> OccluderFields(OccluderKind kind);
+// An occluder of `kind` with that kind's defaults (a tree is 9 m high, a bridge deck 6 m).
+OccluderSpec OccluderDefaults(OccluderKind kind);
+std::span<const Field<CameraSpec>> CameraFields();
+std::span<const Field<CameraKeyframe>> KeyframeFields();
+std::span<const Field<TargetSpec>> TargetFields();
+std::span<const Field<TargetPathSpec>> PathFields();  // type and the keys of every type
+std::span<const Field<TargetPathSpec>> PathFields(PathKind kind);
+std::span<const Field<PathStop>> StopFields();
+
 // `--set key=value` overrides (hcpf/config/overrides.h).
 using config::Override;
 using config::ParseOverride;

@@ -3,6 +3,7 @@
 
 #include <Eigen/Core>
 #include <array>
+#include <cstdint>
 #include <memory>
 #include <optional>
 #include <span>
@@ -86,6 +87,13 @@ class Associator {
   virtual ~Associator() = default;
   virtual std::vector<int> Associate(std::span<const TrackPrediction> tracks,
                                      std::span<const Detection> detections) const = 0;
+  // Per track, whether the detections hold evidence for it (1) or not (0):
+  // by default the detection `Associate` gave it; an associator that pairs
+  // nothing says which tracks have a detection inside their gate. The
+  // likelihood turns this into the filter's support (LikelihoodInput).
+  virtual std::vector<uint8_t> Evidence(std::span<const TrackPrediction> tracks,
+                                        std::span<const Detection> detections,
+                                        std::span<const int> assignment) const;
   virtual std::string_view name() const = 0;
 };
 
@@ -115,14 +123,22 @@ class NearestNeighbourAssociator final : public Associator {
   AssociationOptions options_;
 };
 
-// No association: every track gets -1.
+// No association: every track gets -1; a track has evidence when any
+// detection lies inside its gate (GatedCost).
 class NoAssociator final : public Associator {
  public:
+  explicit NoAssociator(const AssociationOptions& options = {});
   std::vector<int> Associate(std::span<const TrackPrediction> tracks,
                              std::span<const Detection>) const override {
     return std::vector<int>(tracks.size(), -1);
   }
+  std::vector<uint8_t> Evidence(std::span<const TrackPrediction> tracks,
+                                std::span<const Detection> detections,
+                                std::span<const int> assignment) const override;
   std::string_view name() const override { return "none"; }
+
+ private:
+  AssociationOptions options_;
 };
 
 std::unique_ptr<Associator> MakeAssociator(const AssociationOptions& options);

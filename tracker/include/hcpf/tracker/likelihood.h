@@ -64,19 +64,26 @@ struct LikelihoodInput {
   const Observation* observation = nullptr;
   // The detection the associator gave this filter, or nullptr.
   const Detection* assigned = nullptr;
+  // The associator's evidence for this filter (Associator::Evidence): its
+  // assigned detection, or without association a detection inside its gate.
+  bool detection_evidence = false;
   // The filter's birth box size: a particle's box is (base_w_px*s) x (base_h_px*s).
   double base_w_px = 1.0;
   double base_h_px = 1.0;
 };
 
-// Contract: adds log-likelihood terms to set.log_w (never NaN; -inf allowed
-// only where the model gives exactly zero density) and returns true, or leaves
-// the weights untouched and returns false when this frame carries no evidence
-// for the filter (flat likelihood: the filter coasts). Deterministic, no
-// randomness, O(N * D) for D detections. Stateless and const.
+// Contract: HasEvidence says whether this frame holds evidence for the
+// filter under this model; the tracker counts a frame without it as missed
+// and, with coast_without_support, coasts (does not call AddLogLikelihood).
+// AddLogLikelihood adds log-likelihood terms to set.log_w (never NaN; -inf
+// allowed only where the model gives exactly zero density) and returns true,
+// or leaves the weights untouched and returns false when it has nothing to
+// add (flat likelihood). Deterministic, no randomness, O(N * D) for D
+// detections. Stateless and const.
 class Likelihood {
  public:
   virtual ~Likelihood() = default;
+  virtual bool HasEvidence(const LikelihoodInput& input) const = 0;
   virtual bool AddLogLikelihood(ParticleSet& set, const LikelihoodInput& input) const = 0;
   virtual std::string_view name() const = 0;
 };
@@ -88,6 +95,9 @@ class Likelihood {
 class DetectionsMixtureLikelihood final : public Likelihood {
  public:
   explicit DetectionsMixtureLikelihood(const LikelihoodOptions& options);
+  // The associator's evidence (every detection enters the mixture, but only
+  // the associator says which ones are this filter's).
+  bool HasEvidence(const LikelihoodInput& input) const override { return input.detection_evidence; }
   bool AddLogLikelihood(ParticleSet& set, const LikelihoodInput& input) const override;
   std::string_view name() const override { return "detections_mixture"; }
 
@@ -100,6 +110,10 @@ class DetectionsMixtureLikelihood final : public Likelihood {
 class AssociatedLikelihood final : public Likelihood {
  public:
   explicit AssociatedLikelihood(const LikelihoodOptions& options);
+  // An assigned detection.
+  bool HasEvidence(const LikelihoodInput& input) const override {
+    return input.assigned != nullptr;
+  }
   bool AddLogLikelihood(ParticleSet& set, const LikelihoodInput& input) const override;
   std::string_view name() const override { return "associated"; }
 
@@ -111,6 +125,10 @@ class AssociatedLikelihood final : public Likelihood {
 class MapLikelihood final : public Likelihood {
  public:
   explicit MapLikelihood(const LikelihoodOptions& options);
+  // A map in the observation.
+  bool HasEvidence(const LikelihoodInput& input) const override {
+    return input.observation->likelihood.has_value();
+  }
   bool AddLogLikelihood(ParticleSet& set, const LikelihoodInput& input) const override;
   std::string_view name() const override { return "map"; }
 

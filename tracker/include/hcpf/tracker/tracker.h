@@ -178,7 +178,8 @@ class MultiTargetTracker {
   std::vector<TrackPrediction> Predictions(const std::vector<FilterSummary>& predicted) const;
   static std::vector<FilterSummary> PosteriorSummaries(const FrameReport& report);
   void Update(const Observation& observation, const std::vector<int>& assignment,
-              const std::vector<FilterSummary>& predicted, FrameReport& report);
+              const std::vector<FilterSummary>& predicted,
+              const std::vector<TrackPrediction>& predictions, FrameReport& report);
   void Resample(const std::vector<FilterSummary>& posterior, FrameReport& report);
   void ManageTracks(const Observation& observation, const std::vector<int>& assignment,
                     const std::vector<TrackPrediction>& predictions, FrameReport& report);

@@ -49,3 +49,13 @@ double LikelihoodMap::Sample(double x_px, double y_px) const {
 }
 
 }  // namespace hcpf
+
+namespace hcpf {
+
+bool Observation::target_specific() const {
+  return !target_maps.empty() ||
+         std::any_of(detections.begin(), detections.end(),
+                     [](const Detection& d) { return d.target.has_value(); });
+}
+
+}  // namespace hcpf

@@ -180,8 +180,37 @@ RunMetrics ComputeRunMetrics(const RunMetricsInput& input) {
   m.mot = ComputeAll(input.sequence);
   m.points = ComputePointMetrics(PointFramesFromSequence(input.sequence), input.point_options);
   if (input.filters) m.filters = ComputeFilterMetrics(*input.filters, input.filter_options);
+  if (input.detections) {
+    DetectionQualityOptions options;
+    options.min_visible = input.filter_options.min_visible;
+    m.detection = ScoreDetections(*input.detections, options);
+  }
   return m;
 }
+
+namespace {
+
+json CountsJson(const DetectionCounts& c) {
+  return {{"tp", c.tp},
+          {"fp", c.fp},
+          {"fn", c.fn},
+          {"precision", Number(c.precision())},
+          {"recall", Number(c.recall())},
+          {"f1", Number(c.f1())}};
+}
+
+json BinsJson(const std::vector<DetectionBin>& bins) {
+  json out = json::array();
+  for (const DetectionBin& b : bins) {
+    out.push_back({{"lo", Number(b.lo)},
+                   {"hi", Number(b.hi)},
+                   {"iou", CountsJson(b.iou)},
+                   {"centre", CountsJson(b.centre)}});
+  }
+  return out;
+}
+
+}  // namespace
 
 std::string RunMetricsToJson(const RunMetrics& m) {
   json j;
@@ -204,6 +233,15 @@ std::string RunMetricsToJson(const RunMetrics& m) {
                                   {"switches", g.switches}});
   }
   j["gospa"] = gospa;
+  if (m.detection) {
+    const DetectionQuality& d = *m.detection;
+    j["detection"] = {{"iou", CountsJson(d.iou)},
+                      {"centre", CountsJson(d.centre)},
+                      {"mean_centre_error_px", Number(d.mean_centre_error_px)},
+                      {"mean_iou", Number(d.mean_iou)},
+                      {"by_size_px", BinsJson(d.by_size)},
+                      {"by_visibility", BinsJson(d.by_visibility)}};
+  }
   if (m.filters) {
     const FilterMetrics& f = *m.filters;
     json fj;

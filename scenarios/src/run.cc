@@ -10,6 +10,7 @@
 #include <nlohmann/json.hpp>
 #include <set>
 
+#include "detection_pass.h"
 #include "hcpf/core/error.h"
 #include "hcpf/core/ground_truth.h"
 #include "hcpf/metrics/mot_io.h"
@@ -71,19 +72,37 @@ RunSummary RunScenario(const Scenario& scenario, const RunOptions& options) {
       WriteFrameImages(frame, dir, images.write_frames);
     };
   }
+  // A vision/ detector sees each rendered frame as it is produced, so the
+  // run never holds every image.
+  std::unique_ptr<internal::DetectionPass> detection;
+  if (!scenario.observation.oracle()) {
+    detection = std::make_unique<internal::DetectionPass>(scenario);
+    frame_options.on_frame =
+        [&detection, write = frame_options.on_frame](const renderer::RenderedFrame& frame) {
+          if (write) write(frame);
+          detection->Add(frame);
+        };
+  }
   SceneFrames scene = ProduceFrames(scenario, frame_options);
   const std::vector<FrameGroundTruth>& truth = scene.truth;
   timings["ground_truth_s"] = Seconds(t0);
 
-  // 2. Observations (detection-level mode: the oracle detector).
+  // 2. Observations: the oracle (noisy ground truth), or the detector's
+  // output gathered while the frames were produced (its time is in
+  // ground_truth_s then).
   t0 = Clock::now();
   std::vector<Observation> observations;
-  observations.reserve(truth.size());
-  for (const FrameGroundTruth& gt : truth) {
-    observations.push_back(
-        SimulateObservation(gt, scenario.observation.simulated, scenario.seeds.observation));
-    summary.detections += static_cast<int>(observations.back().detections.size());
+  if (detection) {
+    observations = detection->Take();
+  } else {
+    observations.reserve(truth.size());
+    for (const FrameGroundTruth& gt : truth) {
+      observations.push_back(
+          SimulateObservation(gt, scenario.observation.simulated, scenario.seeds.observation));
+    }
   }
+  for (const Observation& o : observations)
+    summary.detections += static_cast<int>(o.detections.size());
   timings["observations_s"] = Seconds(t0);
 
   // 3. Tracker. Filters are born from ground truth at each target's first
@@ -127,9 +146,29 @@ RunSummary RunScenario(const Scenario& scenario, const RunOptions& options) {
                                                   metrics::Benchmark::kMot17, {}, scenario.name);
   metrics_input.filters = FilterInputs(truth, reports, tracker_options.init);
   metrics_input.point_options = scenario.metrics.points;
+  if (scene.rendered) {
+    // Detection quality against the pixel-exact truth: each in-frame
+    // target's box clipped to the image, with its visible fraction.
+    const BoxPx image{0.0, 0.0, static_cast<double>(scenario.world.camera.width_px),
+                      static_cast<double>(scenario.world.camera.height_px)};
+    std::vector<metrics::DetectionFrame> frames(truth.size());
+    for (size_t f = 0; f < truth.size(); ++f) {
+      for (const GroundTruthObject& o : truth[f].objects) {
+        if (!o.in_frame) continue;
+        frames[f].truth.push_back({o.id, Intersect(o.amodal_box, image), o.visible_fraction});
+      }
+      frames[f].detections = observations[f].detections;
+    }
+    metrics_input.detections = std::move(frames);
+  }
   metrics_input.filter_options = scenario.metrics.filters;
   const metrics::RunMetrics scores = metrics::ComputeRunMetrics(metrics_input);
   timings["metrics_s"] = Seconds(t0);
+  if (scores.detection) {
+    spdlog::info("detection ({}): precision {:.3f}  recall {:.3f}  F1 {:.3f} (IoU >= 0.5)",
+                 scenario.observation.detector, scores.detection->iou.precision(),
+                 scores.detection->iou.recall(), scores.detection->iou.f1());
+  }
   summary.mota = scores.mot.clear.mota;
   summary.idf1 = scores.mot.identity.idf1;
   summary.hota = scores.mot.hota.hota_mean;
@@ -145,7 +184,15 @@ RunSummary RunScenario(const Scenario& scenario, const RunOptions& options) {
   metrics::WriteSeqInfo((partial / "seqinfo.ini").string(), SeqInfoOf(scenario));
   WriteTextFile((partial / "gt.json").string(),
                 FormatGroundTruthJson(scenario, truth, scene.rendered));
-  WriteTextFile((partial / "detections.txt").string(), FormatDetectionsMot(observations));
+  const std::string detections_text = FormatDetectionsMot(observations);
+  WriteTextFile((partial / "detections.txt").string(), detections_text);
+  if (scene.rendered) {
+    // MOTChallenge's layout: det/det.txt beside gt/ and seqinfo.ini.
+    fs::create_directories(partial / "det", ec);
+    if (ec)
+      throw RunError(fmt::format("cannot create {}: {}", (partial / "det").string(), ec.message()));
+    WriteTextFile((partial / "det" / "det.txt").string(), detections_text);
+  }
   WriteTextFile((partial / "tracks.txt").string(), tracks_text);
   WriteTextFile((partial / "filters.csv").string(), FormatFiltersCsv(reports, scores.filters));
   WriteTextFile((partial / "metrics.json").string(), metrics::RunMetricsToJson(scores));
@@ -161,7 +208,22 @@ RunSummary RunScenario(const Scenario& scenario, const RunOptions& options) {
   nlohmann::json manifest = ManifestProvenance("hcpf-run/1", scenario, scene.gl);
   manifest["observation_source"] =
       scenario.observation.source == ObservationSource::kRendered ? "rendered" : "simulated";
-  manifest["detector"] = scenario.observation.detector + " (noisy ground truth)";
+  if (scenario.observation.oracle()) {
+    manifest["detector"] = "oracle (noisy ground truth)";
+  } else {
+    manifest["detector"] = scenario.observation.detector;
+    if (detection && !detection->models().empty()) {
+      manifest["target_models"] = "model from ground truth";
+      nlohmann::json models = nlohmann::json::array();
+      for (const vision::TargetModel& m : detection->models()) {
+        models.push_back({{"target", Value(m.target)},
+                          {"frame", m.frame},
+                          {"box", {m.box.left, m.box.top, m.box.width, m.box.height}},
+                          {"patch", {m.patch.width, m.patch.height}}});
+      }
+      manifest["target_model_sources"] = models;
+    }
+  }
   manifest["ground_truth"] = scene.rendered ? "rendered (pixel-exact)" : "analytic";
   manifest["frames_rendered"] = scene.frames_rendered;
   manifest["frames_from_cache"] = scene.frames_from_cache;

@@ -275,7 +275,32 @@ std::span<const Field<SimulatedObservationOptions>> SimulatedObservationOptions:
   return fields;
 }
 
-std::vector<std::string_view> ObservationOptions::DetectorNames() { return {"oracle"}; }
+std::vector<std::string_view> ObservationOptions::DetectorNames() {
+  std::vector<std::string_view> names = {"oracle"};
+  for (std::string_view n : vision::DetectorNames()) names.push_back(n);
+  return names;
+}
+
+void ObservationOptions::Validate(const tracker::TrackerOptions& tracker) const {
+  CheckFields(*this, Fields(), "observation");
+  detectors.ncc.Validate();
+  detectors.colour.Validate();
+  detectors.prca.Validate();
+  detectors.sks.Validate();
+  if (oracle()) return;
+  if (source != ObservationSource::kRendered) {
+    FailOption("observation", "detector",
+               "oracle, or observation.source: rendered (a detector needs rendered frames)",
+               "\"" + detector + "\" with observation.source: simulated");
+  }
+  const auto made = vision::MakeDetector(detector, detectors);
+  if (made->uses_models() && tracker.init != tracker::InitMode::kGroundTruth) {
+    FailOption("observation", "detector",
+               "a detector without target models, or tracker.init: ground_truth (the \"" +
+                   detector + "\" models are cut where filters are born from ground truth)",
+               "\"" + detector + "\" with tracker.init: " + std::string(NameOf(tracker.init)));
+  }
+}
 
 std::span<const Field<ObservationOptions>> ObservationOptions::Fields() {
   using O = ObservationOptions;
@@ -284,7 +309,9 @@ std::span<const Field<ObservationOptions>> ObservationOptions::Fields() {
                               "simulated: detection level, no pixels; rendered: frames are "
                               "rendered with pixel-exact ground truth"),
       WordField<&O::detector, &ObservationOptions::DetectorNames>(
-          "detector", "oracle: noisy ground truth, labelled as oracle in results"),
+          "detector",
+          "oracle: noisy ground truth, labelled as oracle in results; else a detector on the "
+          "rendered frames (docs/vision.md)"),
   };
   return fields;
 }

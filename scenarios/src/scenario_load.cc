@@ -149,6 +149,16 @@ void ReadCamera(YamlReader r, int frames, CameraSpec* c) {
   r.Finish();
 }
 
+// One nested section of `parent` from its Options' declared fields.
+template <class O>
+void ReadSection(YamlReader& parent, const char* key, O* o) {
+  if (auto section = parent.Optional(key)) {
+    section->ExpectMap();
+    ReadFields(*section, *o, O::Fields());
+    section->Finish();
+  }
+}
+
 void ReadSimulated(YamlReader r, const std::set<int32_t>& ids, SimulatedObservationOptions* s) {
   r.ExpectMap();
   ReadFields(r, *s, SimulatedObservationOptions::Fields());
@@ -174,16 +184,6 @@ void ReadSimulated(YamlReader r, const std::set<int32_t>& ids, SimulatedObservat
     }
   }
   r.Finish();
-}
-
-// One nested section of `tracker` from its Options' declared fields.
-template <class O>
-void ReadSection(YamlReader& tracker, const char* key, O* o) {
-  if (auto section = tracker.Optional(key)) {
-    section->ExpectMap();
-    ReadFields(*section, *o, O::Fields());
-    section->Finish();
-  }
 }
 
 void ReadTracker(YamlReader r, tracker::TrackerOptions* t) {
@@ -281,6 +281,10 @@ Scenario ReadScenario(YamlReader root, const std::string& file) {
     obs->ExpectMap();
     ReadFields(*obs, s.observation, ObservationOptions::Fields());
     if (auto sim = obs->Optional("simulated")) ReadSimulated(*sim, ids, &s.observation.simulated);
+    ReadSection(*obs, "ncc", &s.observation.detectors.ncc);
+    ReadSection(*obs, "colour", &s.observation.detectors.colour);
+    ReadSection(*obs, "prca", &s.observation.detectors.prca);
+    ReadSection(*obs, "sks", &s.observation.detectors.sks);
     obs->Finish();
   }
   if (auto r = root.Optional("renderer")) {
@@ -297,6 +301,7 @@ Scenario ReadScenario(YamlReader root, const std::string& file) {
   root.Relocate([&s] {
     RendererOptionsOf(s);  // renderer and sensor options (validates)
     s.tracker.Validate();
+    s.observation.Validate(s.tracker);
     s.metrics.filters.Validate();
     s.metrics.points.Validate();
   });

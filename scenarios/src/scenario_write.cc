@@ -113,6 +113,13 @@ std::string ToResolvedYaml(const Scenario& s) {
   }
   w.out() << YAML::EndMap;
   w.End();
+  // Only the detector in use: the options of the others do not change the
+  // run, so they are not part of its identity (config hash).
+  const vision::DetectorOptions& detectors = s.observation.detectors;
+  if (s.observation.detector == "ncc") w.Section("ncc", detectors.ncc);
+  if (s.observation.detector == "colour") w.Section("colour", detectors.colour);
+  if (s.observation.detector == "prca") w.Section("prca", detectors.prca);
+  if (s.observation.detector == "sks") w.Section("sks", detectors.sks);
   w.End();
 
   w.Section("renderer", s.renderer);

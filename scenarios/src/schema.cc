@@ -149,6 +149,10 @@ std::string SchemaMarkdown(const std::string& section) {
   } else if (section == "observation") {
     AppendRows(out, "", ObservationOptions::Fields());
     AppendRows(out, "simulated.", SimulatedObservationOptions::Fields());
+    AppendRows(out, "ncc.", vision::NccOptions::Fields());
+    AppendRows(out, "colour.", vision::ColourOptions::Fields());
+    AppendRows(out, "prca.", vision::PrcaOptions::Fields());
+    AppendRows(out, "sks.", vision::SksOptions::Fields());
   } else if (section == "renderer") {
     AppendRows(out, "", RendererConfig::Fields());
   } else if (section == "tracker") {

@@ -3,7 +3,8 @@
 namespace hcpf::studies {
 
 std::span<const CatalogueMetric> MetricCatalogue() {
-  // The store's columns: keep the order (existing stores were made with it).
+  // The store's columns: keep the order and append (a store made with an
+  // older catalogue gets the new columns when it is opened for writing).
   static constexpr CatalogueMetric kMetrics[] = {
       {"da_accuracy", "metrics.json", "/filters/da_accuracy", true, "data-association accuracy",
        ""},
@@ -21,6 +22,11 @@ std::span<const CatalogueMetric> MetricCatalogue() {
       {"ms_per_frame", "manifest.json", "/timings/tracker_s", false, "tracker time per frame", "ms",
        true},
       {"wall_time_s", "manifest.json", "/timings/total_s", false, "wall time of the run", "s"},
+      // Rendered runs: detection quality against pixel-exact truth (IoU >= 0.5).
+      {"det_precision", "metrics.json", "/detection/iou/precision", true, "detection precision",
+       ""},
+      {"det_recall", "metrics.json", "/detection/iou/recall", true, "detection recall", ""},
+      {"det_f1", "metrics.json", "/detection/iou/f1", true, "detection F1", ""},
   };
   return kMetrics;
 }

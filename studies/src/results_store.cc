@@ -212,6 +212,22 @@ void ResultsStore::ReadMeta() {
   meta_.report.series = report.value("series", "");
 }
 
+void ResultsStore::AddMissingMetricColumns(StoreAccess access) {
+  std::set<std::string> present;
+  {
+    Statement s(db_, "PRAGMA table_info(runs)");
+    while (s.Step()) present.insert(s.Text(1));
+  }
+  for (const std::string& m : MetricNames()) {
+    if (present.count(m)) continue;
+    if (access == StoreAccess::kReadWrite) {
+      Exec("ALTER TABLE runs ADD COLUMN " + Quote(m) + " REAL");
+    } else {
+      absent_metrics_.insert(m);
+    }
+  }
+}
+
 std::unique_ptr<ResultsStore> ResultsStore::Open(const std::string& path, StoreAccess access) {
   std::error_code ec;
   if (!fs::exists(path, ec)) {
@@ -228,6 +244,7 @@ std::unique_ptr<ResultsStore> ResultsStore::Open(const std::string& path, StoreA
   std::unique_ptr<ResultsStore> store(new ResultsStore(path, OpenDb(path, access, false)));
   try {
     store->ReadMeta();
+    store->AddMissingMetricColumns(access);
   } catch (const json::exception& e) {
     throw InputError(SourceLocation{path, 0, 0, "meta"}, "a results store of hcpf sweep",
                      std::string("unreadable metadata: ") + e.what());
@@ -329,7 +346,9 @@ std::vector<RunRecord> ResultsStore::Runs() const {
   std::lock_guard lock(mutex_);
   std::string columns = "key, run_index, seed_index, seed, status, error, run_dir";
   for (const std::string& k : meta_.swept_keys) columns += ", " + Quote(k);
-  for (const std::string& m : MetricNames()) columns += ", " + Quote(m);
+  for (const std::string& m : MetricNames()) {
+    columns += absent_metrics_.count(m) ? ", NULL AS " + Quote(m) : ", " + Quote(m);
+  }
   Statement s(db_, "SELECT " + columns + " FROM runs ORDER BY run_index, key");
   std::vector<RunRecord> out;
   while (s.Step()) {

@@ -4,6 +4,7 @@
 
 #include <fcntl.h>
 #include <gtest/gtest.h>
+#include <sqlite3.h>
 #include <sys/file.h>
 #include <unistd.h>
 
@@ -11,6 +12,7 @@
 #include <filesystem>
 #include <fstream>
 
+#include "hcpf/metrics/report.h"
 #include "hcpf/scenarios/run.h"
 #include "hcpf/studies/metric_catalogue.h"
 #include "hcpf/studies/sweep.h"
@@ -113,13 +115,74 @@ TEST(MetricCatalogue, EveryEntryIsReadFromARealRunFolder) {
   scenarios::RunScenario(runs[0].scenario(), options);
   const std::map<std::string, double> m = ReadRunMetrics(options.out_dir);
   ASSERT_EQ(m.size(), MetricCatalogue().size());
+  // Detection quality exists only for rendered runs: its entries are checked
+  // on the metrics.json the run writer makes with a detection block (one
+  // frame, one exact detection: precision = recall = F1 = 1).
+  metrics::RunMetrics with_detection;
+  metrics::DetectionFrame frame;
+  frame.truth = {{ObjectId{1}, BoxPx{0, 0, 10, 10}, 1.0}};
+  frame.detections = {{.box = BoxPx{0, 0, 10, 10}}};
+  with_detection.detection = metrics::ScoreDetections(std::vector<metrics::DetectionFrame>{frame});
+  const fs::path rendered = dir / "rendered";
+  fs::create_directories(rendered);
+  std::ofstream(rendered / "metrics.json") << metrics::RunMetricsToJson(with_detection);
+  fs::copy_file(fs::path(options.out_dir) / "manifest.json", rendered / "manifest.json");
+  const std::map<std::string, double> d = ReadRunMetrics(rendered.string());
   for (const CatalogueMetric& c : MetricCatalogue()) {
     const std::string name(c.name);
     ASSERT_TRUE(m.count(name)) << name;
-    EXPECT_TRUE(std::isfinite(m.at(name))) << name << " (" << c.file << c.pointer << ")";
+    if (name.rfind("det_", 0) == 0) {
+      EXPECT_TRUE(std::isnan(m.at(name))) << name << ": a detection-level run has no detection";
+      EXPECT_EQ(d.at(name), 1.0) << name << " (" << c.file << c.pointer << ")";
+    } else {
+      EXPECT_TRUE(std::isfinite(m.at(name))) << name << " (" << c.file << c.pointer << ")";
+    }
     EXPECT_EQ(FindMetric(name), &c);
   }
   EXPECT_EQ(FindMetric("no_such_metric"), nullptr);
+}
+
+// A store made before a metric joined the catalogue (its column dropped here)
+// gets the column when opened for writing, and reads it as missing when
+// opened read-only.
+TEST(ResultsStore, StoresOfAnOlderCatalogueAreMigrated) {
+  const auto dir = SweepFolder("migrate");
+  StoreMeta meta;
+  meta.sweep_hash = "abc";
+  meta.sweep_file = "s.yaml";
+  meta.report = {"", {"idf1"}, ""};
+  const std::string path = (dir / "results.sqlite").string();
+  {
+    auto store = ResultsStore::OpenOrCreate(path, meta);
+    RunRecord r;
+    r.key = "k";
+    r.ok = true;
+    r.metrics = {{"idf1", 0.5}};
+    store->Put(r);
+  }
+  const auto drop = [&path] {
+    sqlite3* db = nullptr;
+    ASSERT_EQ(sqlite3_open(path.c_str(), &db), SQLITE_OK);
+    ASSERT_EQ(sqlite3_exec(db, "ALTER TABLE runs DROP COLUMN det_f1", nullptr, nullptr, nullptr),
+              SQLITE_OK)
+        << sqlite3_errmsg(db);
+    sqlite3_close(db);
+  };
+  drop();
+  {
+    const auto store = ResultsStore::Open(path, StoreAccess::kReadOnly);
+    const auto runs = store->Runs();
+    ASSERT_EQ(runs.size(), 1u);
+    EXPECT_DOUBLE_EQ(runs[0].metrics.at("idf1"), 0.5);
+    EXPECT_TRUE(std::isnan(runs[0].metrics.at("det_f1")));
+  }
+  {
+    auto store = ResultsStore::Open(path, StoreAccess::kReadWrite);
+    RunRecord r = store->Runs()[0];
+    r.metrics["det_f1"] = 0.25;
+    store->Put(r);
+  }
+  EXPECT_DOUBLE_EQ(ResultsStore::Open(path)->Runs()[0].metrics.at("det_f1"), 0.25);
 }
 
 TEST(RunSweep, ParallelEqualsSerialAndResumeReusesEverything) {

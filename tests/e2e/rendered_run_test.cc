@@ -4,6 +4,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <filesystem>
 #include <nlohmann/json.hpp>
 #include <string>
@@ -44,6 +45,75 @@ TEST(RenderedRun, PixelExactTruthAndFrameCacheReuse) {
   EXPECT_EQ(ReadFile(dir / "a" / "gt" / "gt.txt"), ReadFile(dir / "b" / "gt" / "gt.txt"));
   EXPECT_EQ(ReadFile(dir / "a" / "detections.txt"), ReadFile(dir / "b" / "detections.txt"));
   EXPECT_NE(ReadFile(dir / "a" / "tracks.txt"), ReadFile(dir / "b" / "tracks.txt"));
+}
+
+// Pixels reach the tracker: a vision/ detector on the rendered frames, with
+// target models cut at each target's first in-frame appearance, gives the
+// filters their own target's detections; det/det.txt holds them in
+// MOTChallenge's format; the manifest names the detector and its models.
+TEST(RenderedRun, ADetectorOnTheRenderedFramesFeedsTheTracker) {
+  const fs::path dir = FreshDir("detector-run");
+  const std::string common =
+      std::string(HCPF_EXE) + " run " + testing::LibraryScenario("crossing") +
+      " --set observation.source=rendered --set frames=90 --cache " + (dir / "cache").string();
+  for (const std::string detector : {"ncc", "colour"}) {
+    const fs::path out = dir / detector;
+    const auto r =
+        RunCommand(common + " --set observation.detector=" + detector + " --out " + out.string());
+    ASSERT_EQ(r.exit_code, 0) << r.output;
+    const auto manifest = nlohmann::json::parse(ReadFile(out / "manifest.json"));
+    EXPECT_EQ(manifest["detector"], detector);
+    EXPECT_EQ(manifest["target_models"], "model from ground truth");
+    // Target 1 is wholly in view at frame 0. Target 2 starts at frame 12
+    // outside the image and enters across the bottom edge from frame 32: its
+    // model is cut once it is wholly inside, a whole vehicle, not a sliver.
+    ASSERT_EQ(manifest["target_model_sources"].size(), 2u);
+    EXPECT_EQ(manifest["target_model_sources"][0]["frame"], 0);
+    EXPECT_GT(manifest["target_model_sources"][1]["frame"].get<int>(), 32);
+    for (const auto& m : manifest["target_model_sources"]) {
+      EXPECT_GE(m["patch"][0].get<int>(), 10) << m;
+      EXPECT_GE(m["patch"][1].get<int>(), 10) << m;
+    }
+    const std::string det = ReadFile(out / "det" / "det.txt");
+    EXPECT_EQ(det, ReadFile(out / "detections.txt"));
+    // One detection per model at most per frame (at most 90 + 58 rows), and
+    // on this clear scene most frames find target 1.
+    const auto rows = std::count(det.begin(), det.end(), '\n');
+    EXPECT_GT(rows, 80) << det;
+    EXPECT_LE(rows, 148) << det;
+    const auto metrics = nlohmann::json::parse(ReadFile(out / "metrics.json"));
+    EXPECT_GT(metrics["filters"]["da_accuracy"].get<double>(), 0.8) << detector;
+  }
+  // The oracle on rendered frames also writes det/det.txt and keeps its label.
+  const auto r = RunCommand(common + " --out " + (dir / "oracle").string());
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_TRUE(fs::exists(dir / "oracle" / "det" / "det.txt"));
+  EXPECT_EQ(nlohmann::json::parse(ReadFile(dir / "oracle" / "manifest.json"))["detector"],
+            "oracle (noisy ground truth)");
+}
+
+// A detector needs rendered frames and, with target models, filters born
+// from ground truth: both are bad input naming the keys, for validate and run.
+TEST(RenderedRun, DetectorWithoutItsPrerequisitesIsBadInput) {
+  const fs::path dir = FreshDir("detector-bad");
+  const std::string scenario = testing::LibraryScenario("crossing");
+  for (const std::string& sets :
+       {std::string(" --set observation.detector=ncc"),
+        std::string(" --set observation.detector=colour --set observation.source=rendered"
+                    " --set tracker.init=detections")}) {
+    for (const std::string& command :
+         {std::string(HCPF_EXE) + " validate " + scenario + sets,
+          std::string(HCPF_EXE) + " run " + scenario + sets + " --out " + (dir / "o").string()}) {
+      const auto r = RunCommand(command);
+      EXPECT_EQ(r.exit_code, 2) << command << "\n" << r.output;
+      EXPECT_NE(r.output.find("observation.detector"), std::string::npos) << r.output;
+      EXPECT_NE(r.output.find(sets.find("init") != std::string::npos ? "tracker.init"
+                                                                     : "observation.source"),
+                std::string::npos)
+          << r.output;
+      EXPECT_FALSE(fs::exists(dir / "o"));
+    }
+  }
 }
 
 // Issue 15 item 9: renderer.write_frames / write_depth / write_instance_ids

@@ -172,6 +172,18 @@ void MultiTargetTracker::ForEachFilter(Fn&& fn) {
   ParallelFor(filters_.size(), options_.threads, fn);
 }
 
+// Per filter: the observation it sees (the frame, or its own target's part
+// of a target-specific frame), the index of its detection in that view (or
+// -1), whether the associator found evidence for it, and its detection's
+// index in the whole frame (or -1).
+struct MultiTargetTracker::FrameViews {
+  std::vector<const Observation*> seen;
+  std::vector<int> local;
+  std::vector<uint8_t> evidence;
+  std::vector<int> assignment;
+  std::vector<Observation> own;  // target-specific frames: each filter's part
+};
+
 FrameReport MultiTargetTracker::Step(const Observation& observation,
                                      const std::optional<SimilarityMotion>& camera_motion) {
   FrameReport report;
@@ -179,12 +191,54 @@ FrameReport MultiTargetTracker::Step(const Observation& observation,
   Predict(camera_motion);
   const std::vector<FilterSummary> predicted = Summaries();
   const std::vector<TrackPrediction> predictions = Predictions(predicted);
-  const std::vector<int> assignment =
-      components_.associator->Associate(predictions, observation.detections);
-  Update(observation, assignment, predicted, predictions, report);
+  const FrameViews views = Associate(observation, predictions);
+  Update(views, predicted, report);
   Resample(PosteriorSummaries(report), report);
-  ManageTracks(observation, assignment, predictions, report);
+  ManageTracks(observation, views.assignment, predictions, report);
   return report;
+}
+
+MultiTargetTracker::FrameViews MultiTargetTracker::Associate(
+    const Observation& observation, const std::vector<TrackPrediction>& predictions) const {
+  FrameViews v;
+  const size_t n = filters_.size();
+  if (!observation.target_specific()) {
+    v.assignment = components_.associator->Associate(predictions, observation.detections);
+    v.evidence =
+        components_.associator->Evidence(predictions, observation.detections, v.assignment);
+    v.local = v.assignment;
+    v.seen.assign(n, &observation);
+    return v;
+  }
+  // Target-specific: filter i sees only the detections and the map of the
+  // target whose id its TrackId carries, and is associated with those alone.
+  v.own.resize(n);
+  v.seen.resize(n);
+  v.local.assign(n, -1);
+  v.evidence.assign(n, 0);
+  v.assignment.assign(n, -1);
+  for (size_t i = 0; i < n; ++i) {
+    const ObjectId target{Value(filters_[i]->id)};
+    Observation& own = v.own[i];
+    own.frame = observation.frame;
+    std::vector<int> index;
+    for (size_t d = 0; d < observation.detections.size(); ++d) {
+      if (observation.detections[d].target == target) {
+        own.detections.push_back(observation.detections[d]);
+        index.push_back(static_cast<int>(d));
+      }
+    }
+    for (const TargetMap& m : observation.target_maps) {
+      if (m.target == target) own.likelihood = m.map;
+    }
+    const std::span<const TrackPrediction> one(&predictions[i], 1);
+    const std::vector<int> local = components_.associator->Associate(one, own.detections);
+    v.local[i] = local[0];
+    v.evidence[i] = components_.associator->Evidence(one, own.detections, local)[0];
+    v.assignment[i] = local[0] >= 0 ? index[static_cast<size_t>(local[0])] : -1;
+    v.seen[i] = &own;
+  }
+  return v;
 }
 
 void MultiTargetTracker::Predict(const std::optional<SimilarityMotion>& camera_motion) {
@@ -254,21 +308,17 @@ std::vector<ParticlePoint> Decimate(const ParticleSet& set, int keep) {
 
 }  // namespace
 
-void MultiTargetTracker::Update(const Observation& observation, const std::vector<int>& assignment,
-                                const std::vector<FilterSummary>& predicted,
-                                const std::vector<TrackPrediction>& predictions,
-                                FrameReport& report) {
-  const std::vector<uint8_t> evidence =
-      components_.associator->Evidence(predictions, observation.detections, assignment);
+void MultiTargetTracker::Update(const FrameViews& views,
+                                const std::vector<FilterSummary>& predicted, FrameReport& report) {
   report.filters.resize(filters_.size());
   ForEachFilter([&](size_t i) {
     Filter& f = *filters_[i];
-    const int assigned = assignment[i];
+    const Observation& seen = *views.seen[i];
+    const int local = views.local[i];
     const LikelihoodInput input{
-        .observation = &observation,
-        .assigned =
-            assigned >= 0 ? &observation.detections[static_cast<size_t>(assigned)] : nullptr,
-        .detection_evidence = evidence[i] != 0,
+        .observation = &seen,
+        .assigned = local >= 0 ? &seen.detections[static_cast<size_t>(local)] : nullptr,
+        .detection_evidence = views.evidence[i] != 0,
         .base_w_px = f.base_w_px,
         .base_h_px = f.base_h_px};
     // Support: the likelihood's verdict on this frame's evidence.
@@ -289,7 +339,7 @@ void MultiTargetTracker::Update(const Observation& observation, const std::vecto
                               f.base_h_px * s.mean_scale);
     r.recovered_degenerate = normalised.recovered_degenerate;
     r.coasting = f.coasting;
-    r.assigned_detection = assigned;
+    r.assigned_detection = views.assignment[i];
     r.particles = Decimate(f.set, options_.keep_particles);
   });
   for (const FilterReport& r : report.filters) {
@@ -297,7 +347,7 @@ void MultiTargetTracker::Update(const Observation& observation, const std::vecto
   }
   if (report.degenerate_filters > 0) {
     spdlog::debug("tracker: frame {}: {} filter(s) with vanished weights reset to uniform",
-                  observation.frame, report.degenerate_filters);
+                  report.frame, report.degenerate_filters);
   }
 }
 

@@ -170,6 +170,67 @@ TEST(MultiTargetTracker, CoastsWithoutEvidenceAndDeletesAfterKFrames) {
   EXPECT_EQ(tracker->num_filters(), 0U);
 }
 
+// Target-specific detections (a vision/ detector with target models): each
+// filter sees only the detections labelled with its own target (TrackId value
+// == ObjectId value) and that target's map.
+TEST(MultiTargetTracker, TargetSpecificDetectionsGoToTheirOwnFilter) {
+  TrackerOptions o;
+  o.particles = 100;
+  const auto make = [&o] {
+    auto t = MakeTracker(o, Rng(3));
+    t->BirthTrack(TrackId{1}, BoxPx::FromCentre(100, 100, 10, 10));
+    t->BirthTrack(TrackId{2}, BoxPx::FromCentre(140, 100, 10, 10));
+    return t;
+  };
+  // Labels swapped against position: target 1's detection lies at filter 2
+  // and target 2's at filter 1, 40 px from the filter of their own target
+  // (outside its gate, sqrt(9.21 (4 + 9)) ~ 11 px), so neither filter is
+  // given a detection and both coast.
+  Observation swapped = Frame(
+      0, {{BoxPx::FromCentre(140, 100, 10, 10), 1.0}, {BoxPx::FromCentre(100, 100, 10, 10), 1.0}});
+  swapped.detections[0].target = ObjectId{1};
+  swapped.detections[1].target = ObjectId{2};
+  FrameReport r = make()->Step(swapped);
+  ASSERT_EQ(r.filters.size(), 2U);
+  EXPECT_EQ(r.filters[0].assigned_detection, -1);
+  EXPECT_EQ(r.filters[1].assigned_detection, -1);
+  EXPECT_TRUE(r.filters[0].coasting);
+  EXPECT_TRUE(r.filters[1].coasting);
+  // Without labels the same boxes go to the nearer filter.
+  for (Detection& d : swapped.detections) d.target.reset();
+  r = make()->Step(swapped);
+  EXPECT_EQ(r.filters[0].assigned_detection, 1);
+  EXPECT_EQ(r.filters[1].assigned_detection, 0);
+  // Labelled as their positions say: each filter gets its own (index in the
+  // whole frame), and a target with no detection this frame coasts.
+  Observation own = Frame(0, {{BoxPx::FromCentre(141, 100, 10, 10), 1.0}});
+  own.detections[0].target = ObjectId{2};
+  r = make()->Step(own);
+  EXPECT_EQ(r.filters[0].assigned_detection, -1);
+  EXPECT_TRUE(r.filters[0].coasting);
+  EXPECT_EQ(r.filters[1].assigned_detection, 0);
+  EXPECT_FALSE(r.filters[1].coasting);
+}
+
+// The map likelihood reads the filter's own target map: filter 1 has a map
+// (supported), filter 2 has none in this frame (coasts).
+TEST(MultiTargetTracker, TargetMapsGoToTheirOwnFilter) {
+  TrackerOptions o;
+  o.particles = 100;
+  o.likelihood.model = LikelihoodModel::kMap;
+  auto tracker = MakeTracker(o, Rng(3));
+  tracker->BirthTrack(TrackId{1}, BoxPx::FromCentre(100, 100, 10, 10));
+  tracker->BirthTrack(TrackId{2}, BoxPx::FromCentre(140, 100, 10, 10));
+  Observation obs;
+  LikelihoodMap map{.width = 60, .height = 60, .cell_px = 4.0};
+  map.values.assign(60 * 60, 1.0f);
+  obs.target_maps.push_back({ObjectId{1}, map});
+  const FrameReport r = tracker->Step(obs);
+  ASSERT_EQ(r.filters.size(), 2U);
+  EXPECT_FALSE(r.filters[0].coasting);
+  EXPECT_TRUE(r.filters[1].coasting);
+}
+
 TEST(MultiTargetTracker, ReacquiresAfterOcclusion) {
   // Target moving +1 px/frame; detections missing on frames 10..17 (coasting
   // on the constant-velocity prediction), back from 18. At frame 30 the

@@ -55,6 +55,9 @@ struct Detection {
   // For simulated detections only: the object the detection came from, or
   // nullopt for clutter. Never read by the tracker; metrics and tests use it.
   std::optional<ObjectId> source;
+  // For target-specific detectors (vision/): the target whose model produced
+  // the detection.
+  std::optional<ObjectId> target;
   friend bool operator==(const Detection&, const Detection&) = default;
 };
 
@@ -74,10 +77,25 @@ struct LikelihoodMap {
 };
 
 // Everything a tracker may see of one frame.
+// One target's likelihood map, from a target-specific detector (its
+// accumulator for that target's model).
+struct TargetMap {
+  ObjectId target{};
+  LikelihoodMap map;
+  friend bool operator==(const TargetMap&, const TargetMap&) = default;
+};
+
+// A frame's evidence. With a target-specific detector (vision/) detections
+// carry Detection::target and `target_maps` holds a map per target: the
+// tracker then gives each filter only its own target's part (TrackId value
+// == ObjectId value, as filters born from ground truth are numbered).
 struct Observation {
   int frame = 0;  // 0-based frame index
   std::vector<Detection> detections;
   std::optional<LikelihoodMap> likelihood;
+  std::vector<TargetMap> target_maps;
+  // Whether any detection or map is target-specific.
+  bool target_specific() const;
   friend bool operator==(const Observation&, const Observation&) = default;
 };
 

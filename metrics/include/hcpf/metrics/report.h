@@ -15,6 +15,7 @@
 #include <string>
 #include <vector>
 
+#include "hcpf/metrics/detection_quality.h"
 #include "hcpf/metrics/filter_metrics.h"
 #include "hcpf/metrics/mot_io.h"
 #include "hcpf/metrics/mot_metrics.h"
@@ -72,14 +73,19 @@ struct RunMetricsInput {
   std::optional<FilterSequence> filters;  // filter-level inputs, when available
   PointMetricsOptions point_options;      // OSPA / GOSPA
   FilterMetricsOptions filter_options;
+  // Per-frame truth and detections, for detection quality (runs with
+  // pixel-exact or analytic truth; absent for `hcpf score`).
+  std::optional<std::vector<DetectionFrame>> detections;
 };
 struct RunMetrics {
   MotSummary mot;
   PointMetrics points;
   std::optional<FilterMetrics> filters;
+  std::optional<DetectionQuality> detection;
 };
 RunMetrics ComputeRunMetrics(const RunMetricsInput& input);
-// {"mot": {...}, "ospa": {...}, "gospa": {...}, "filters": {...}} with per-frame arrays.
+// {"mot": {...}, "ospa": {...}, "gospa": {...}, "filters": {...}, "detection": {...}}
+// with per-frame arrays.
 std::string RunMetricsToJson(const RunMetrics& metrics);
 
 }  // namespace hcpf::metrics

@@ -15,6 +15,7 @@
 #include "hcpf/metrics/filter_metrics.h"
 #include "hcpf/metrics/point_metrics.h"
 #include "hcpf/tracker/tracker.h"
+#include "hcpf/vision/detectors.h"
 
 namespace hcpf::scenarios {
 
@@ -66,11 +67,19 @@ namespace hcpf::scenarios {
 
 struct ObservationOptions {
   ObservationSource source = ObservationSource::kSimulated;
-  std::string detector = "oracle";  // rendered mode: which detector; simulated: oracle
+  // "oracle" (noisy ground truth, both sources) or a vision/ detector on the
+  // rendered frames (vision::DetectorNames()).
+  std::string detector = "oracle";
   SimulatedObservationOptions simulated;
+  vision::DetectorOptions detectors;  // `observation.<detector>.*`
 
   static std::span<const Field<ObservationOptions>> Fields();  // source, detector
-  static std::vector<std::string_view> DetectorNames();
+  static std::vector<std::string_view> DetectorNames();        // oracle, then vision's
+  bool oracle() const { return detector == "oracle"; }
+  // The rules across keys: a detector needs rendered frames; a detector with
+  // target models needs filters born from ground truth (`tracker.init`),
+  // which is where its models come from. Throws InputError naming the key.
+  void Validate(const tracker::TrackerOptions& tracker) const;
 };
 
 struct SensorOptions {

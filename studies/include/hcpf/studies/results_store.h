@@ -16,6 +16,7 @@
 #include <map>
 #include <memory>
 #include <mutex>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -76,10 +77,14 @@ class ResultsStore {
   ResultsStore(std::string path, sqlite3* db);
   void Exec(const std::string& sql) const;
   void ReadMeta();
+  // A store written before a metric joined the catalogue lacks its column:
+  // added (empty) when the store is writable, read as missing when not.
+  void AddMissingMetricColumns(StoreAccess access);
 
   std::string path_;
   sqlite3* db_ = nullptr;
   StoreMeta meta_;
+  std::set<std::string> absent_metrics_;  // read-only stores of an older catalogue
   mutable std::mutex mutex_;
 };
 

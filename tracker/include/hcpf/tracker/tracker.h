@@ -177,9 +177,12 @@ class MultiTargetTracker {
   std::vector<FilterSummary> Summaries() const;
   std::vector<TrackPrediction> Predictions(const std::vector<FilterSummary>& predicted) const;
   static std::vector<FilterSummary> PosteriorSummaries(const FrameReport& report);
-  void Update(const Observation& observation, const std::vector<int>& assignment,
-              const std::vector<FilterSummary>& predicted,
-              const std::vector<TrackPrediction>& predictions, FrameReport& report);
+  // What each filter sees of a frame and the detection it was given.
+  struct FrameViews;
+  FrameViews Associate(const Observation& observation,
+                       const std::vector<TrackPrediction>& predictions) const;
+  void Update(const FrameViews& views, const std::vector<FilterSummary>& predicted,
+              FrameReport& report);
   void Resample(const std::vector<FilterSummary>& posterior, FrameReport& report);
   void ManageTracks(const Observation& observation, const std::vector<int>& assignment,
                     const std::vector<TrackPrediction>& predictions, FrameReport& report);

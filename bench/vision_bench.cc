@@ -1,0 +1,127 @@
+// Vision benchmarks (issue 11, item 2): the stacked integral image blur
+// against OpenCV's Gaussian blur on the same 640x480 8-bit grey frame.
+//
+//   build/<dir>/bench/vision_bench --benchmark_filter=Blur
+//
+// Targets: BM_StackedIntegralBlur/<sigma> <= 1.5 ms per frame for every
+// sigma <= 20, and >= 3x faster than BM_CvGaussianBlur/10.
+//   BM_StackedIntegralBlur/<sigma>      K = 4 boxes, kernel built once outside
+//                                       the loop (BM_MakeStackedBoxKernel
+//                                       times that separately)
+//   BM_StackedIntegralBlurFloat/<sigma> the same with float output
+//   BM_CvGaussianBlur/<sigma>           cv::GaussianBlur, ksize (0, 0) so
+//                                       OpenCV picks it (round(6 sigma + 1) | 1
+//                                       taps for 8-bit: 61 at sigma = 10),
+//                                       BORDER_REPLICATE like the stacked
+//                                       blur; one OpenCV thread
+//                                       (cv::setNumThreads(1)): both sides
+//                                       run on one core.
+// Report CPU time when the machine is shared (docs/vision.md has figures).
+// items_per_second is pixels per second.
+
+#include <benchmark/benchmark.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <opencv2/core.hpp>
+#include <opencv2/imgproc.hpp>
+#include <vector>
+
+#include "hcpf/core/rng.h"
+#include "hcpf/vision/stacked_integral_blur.h"
+
+namespace {
+
+using hcpf::vision::GreyImage;
+
+constexpr int kWidth = 640;
+constexpr int kHeight = 480;
+
+// A frame-like test image (the timings do not depend on content): smooth
+// shading, a noisy texture and sharp-edged rectangles, fixed seed.
+const GreyImage& Frame() {
+  static const GreyImage frame = [] {
+    GreyImage g{kWidth, kHeight, std::vector<uint8_t>(kWidth * kHeight)};
+    hcpf::Rng rng(42);
+    for (int y = 0; y < kHeight; ++y) {
+      for (int x = 0; x < kWidth; ++x) {
+        double v = 90.0 + 40.0 * std::sin(x / 37.0) * std::cos(y / 23.0) + 12.0 * rng.Normal();
+        if ((x / 80 + y / 60) % 5 == 0) v = 30.0 + 0.5 * v;  // "vehicles" and "shadows"
+        g.at(x, y) = static_cast<uint8_t>(std::clamp(v, 0.0, 255.0));
+      }
+    }
+    return g;
+  }();
+  return frame;
+}
+
+void SetPixels(benchmark::State& state) {
+  state.SetItemsProcessed(state.iterations() * static_cast<int64_t>(kWidth) * kHeight);
+}
+
+void BM_StackedIntegralBlur(benchmark::State& state) {
+  const auto kernel = hcpf::vision::MakeStackedBoxKernel(static_cast<double>(state.range(0)), 4);
+  GreyImage out;
+  for (auto _ : state) {
+    hcpf::vision::StackedIntegralBlur(Frame(), kernel, out);
+    benchmark::DoNotOptimize(out.pixels.data());
+    benchmark::ClobberMemory();
+  }
+  SetPixels(state);
+}
+BENCHMARK(BM_StackedIntegralBlur)
+    ->Arg(1)
+    ->Arg(2)
+    ->Arg(5)
+    ->Arg(10)
+    ->Arg(20)
+    ->Unit(benchmark::kMillisecond);
+
+void BM_StackedIntegralBlurFloat(benchmark::State& state) {
+  const auto kernel = hcpf::vision::MakeStackedBoxKernel(static_cast<double>(state.range(0)), 4);
+  hcpf::vision::GreyImageF out;
+  for (auto _ : state) {
+    hcpf::vision::StackedIntegralBlur(Frame(), kernel, out);
+    benchmark::DoNotOptimize(out.pixels.data());
+    benchmark::ClobberMemory();
+  }
+  SetPixels(state);
+}
+BENCHMARK(BM_StackedIntegralBlurFloat)->Arg(2)->Arg(10)->Arg(20)->Unit(benchmark::kMillisecond);
+
+void BM_CvGaussianBlur(benchmark::State& state) {
+  cv::setNumThreads(1);
+  const double sigma = static_cast<double>(state.range(0));
+  const cv::Mat in(kHeight, kWidth, CV_8UC1, const_cast<uint8_t*>(Frame().pixels.data()));
+  cv::Mat out;
+  for (auto _ : state) {
+    cv::GaussianBlur(in, out, cv::Size(0, 0), sigma, sigma, cv::BORDER_REPLICATE);
+    benchmark::DoNotOptimize(out.data);
+    benchmark::ClobberMemory();
+  }
+  SetPixels(state);
+}
+BENCHMARK(BM_CvGaussianBlur)
+    ->Arg(1)
+    ->Arg(2)
+    ->Arg(5)
+    ->Arg(10)
+    ->Arg(20)
+    ->Unit(benchmark::kMillisecond);
+
+void BM_MakeStackedBoxKernel(benchmark::State& state) {
+  const double sigma = static_cast<double>(state.range(0));
+  for (auto _ : state) benchmark::DoNotOptimize(hcpf::vision::MakeStackedBoxKernel(sigma, 4));
+}
+BENCHMARK(BM_MakeStackedBoxKernel)
+    ->Arg(1)
+    ->Arg(2)
+    ->Arg(5)
+    ->Arg(7)
+    ->Arg(10)
+    ->Arg(20)
+    ->Arg(64)
+    ->Unit(benchmark::kMillisecond);
+
+}  // namespace

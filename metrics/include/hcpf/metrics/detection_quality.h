@@ -1,0 +1,71 @@
+#pragma once
+// Detection quality against pixel-exact truth: how well a detector's boxes
+// find the targets, frame by frame, before any tracking. Precision, recall
+// and F1 under two matching rules (IoU >= 0.5, and the detection's centre
+// within half the target's box), the localisation error of the matches, and
+// the same counts binned by the target's apparent size and visible fraction.
+
+#include <optional>
+#include <span>
+#include <vector>
+
+#include "hcpf/core/types.h"
+
+namespace hcpf::metrics {
+
+// One target in one frame, as the ground truth sees it.
+struct DetectionTruth {
+  ObjectId target{};
+  BoxPx box;                      // the target's box clipped to the image, px
+  double visible_fraction = 1.0;  // of the unoccluded target inside the image
+};
+
+struct DetectionFrame {
+  std::vector<DetectionTruth> truth;
+  std::vector<Detection> detections;
+};
+
+struct DetectionQualityOptions {
+  double iou_threshold = 0.5;
+  // Targets less visible than this are "don't care": not missed when no
+  // detection finds them, and a detection on one is neither true nor false.
+  double min_visible = 0.1;
+};
+
+struct DetectionCounts {
+  int64_t tp = 0, fp = 0, fn = 0;
+  // NaN when undefined (no detection / no target).
+  double precision() const;
+  double recall() const;
+  double f1() const;
+};
+
+// Counts of the targets (and, by size, of the detections) in [lo, hi).
+struct DetectionBin {
+  double lo = 0.0, hi = 0.0;
+  DetectionCounts iou;
+  DetectionCounts centre;
+};
+
+struct DetectionQuality {
+  DetectionCounts iou;     // matched when IoU >= iou_threshold
+  DetectionCounts centre;  // matched when the centre lies within half the box of the target
+  double mean_centre_error_px = 0.0;  // IoU matches: detection centre to target centre
+  double mean_iou = 0.0;              // IoU matches
+  // Size: sqrt(box area) in px, bins [0, 8), [8, 16), [16, 32), [32, 64),
+  // [64, inf); a false detection counts in its own box's bin. Visibility:
+  // [0, 0.25), [0.25, 0.5), [0.5, 0.75), [0.75, 1]; false detections have no
+  // visibility, so these bins give recall only (fp = 0).
+  std::vector<DetectionBin> by_size;
+  std::vector<DetectionBin> by_visibility;
+};
+
+// Matching, per frame and rule: a one-to-one assignment (core/assignment.h)
+// maximising the total IoU (IoU rule) or minimising the total normalised
+// centre distance (centre rule) over the pairs the rule allows. A detection
+// that carries Detection::target (a target-specific detector) may only match
+// that target.
+DetectionQuality ScoreDetections(std::span<const DetectionFrame> frames,
+                                 const DetectionQualityOptions& options = {});
+
+}  // namespace hcpf::metrics

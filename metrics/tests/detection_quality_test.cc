@@ -1,0 +1,119 @@
+// Detection quality on hand-made frames; every expected value is derived in
+// the comments.
+
+#include "hcpf/metrics/detection_quality.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+namespace hcpf::metrics {
+namespace {
+
+Detection Det(double x, double y, double w, double h) { return {.box = BoxPx{x, y, w, h}}; }
+
+// Frame 1: A (id 1) at (0,0,10,10), visible 1.0; B (id 2) at (100,100,20,20),
+// visible 0.5; C (id 3) at (200,0,10,10), visible 0.05 (below min_visible
+// 0.1: "don't care").
+//   d0 (1,0,10,10) on A: overlap 9x10 = 90, union 110, IoU 0.818; centre
+//      offset (1, 0) within (5, 5): a match under both rules.
+//   d1 (105,100,20,20) on B: overlap 15x20 = 300, union 500, IoU 0.6; centre
+//      offset (5, 0) within (10, 10): both rules.
+//   d2 on C: ignored (neither true nor false).
+//   d3 (300,300,10,10): false under both rules.
+// Frame 2: A again; d0 (4,0,10,10): overlap 60, union 140, IoU 0.43 < 0.5:
+//   under IoU a miss (fn) and a false detection (fp); its centre offset
+//   (4, 0) lies within (5, 5): a match under the centre rule.
+// IoU: tp 2, fp 2, fn 1 -> precision 0.5, recall 2/3, F1 4/7.
+// Centre: tp 3, fp 1, fn 0 -> precision 0.75, recall 1, F1 6/7.
+// IoU matches: centre errors 1 and 5 px (mean 3); IoU (90/110 + 0.6) / 2.
+std::vector<DetectionFrame> HandFrames() {
+  DetectionFrame f1;
+  f1.truth = {{ObjectId{1}, BoxPx{0, 0, 10, 10}, 1.0},
+              {ObjectId{2}, BoxPx{100, 100, 20, 20}, 0.5},
+              {ObjectId{3}, BoxPx{200, 0, 10, 10}, 0.05}};
+  f1.detections = {Det(1, 0, 10, 10), Det(105, 100, 20, 20), Det(200, 0, 10, 10),
+                   Det(300, 300, 10, 10)};
+  DetectionFrame f2;
+  f2.truth = {{ObjectId{1}, BoxPx{0, 0, 10, 10}, 1.0}};
+  f2.detections = {Det(4, 0, 10, 10)};
+  return {f1, f2};
+}
+
+TEST(DetectionQuality, HandCountedFrames) {
+  const DetectionQuality q = ScoreDetections(HandFrames());
+  EXPECT_EQ(q.iou.tp, 2);
+  EXPECT_EQ(q.iou.fp, 2);
+  EXPECT_EQ(q.iou.fn, 1);
+  EXPECT_DOUBLE_EQ(q.iou.precision(), 0.5);
+  EXPECT_DOUBLE_EQ(q.iou.recall(), 2.0 / 3.0);
+  EXPECT_DOUBLE_EQ(q.iou.f1(), 4.0 / 7.0);
+  EXPECT_EQ(q.centre.tp, 3);
+  EXPECT_EQ(q.centre.fp, 1);
+  EXPECT_EQ(q.centre.fn, 0);
+  EXPECT_DOUBLE_EQ(q.centre.f1(), 6.0 / 7.0);
+  EXPECT_DOUBLE_EQ(q.mean_centre_error_px, 3.0);
+  EXPECT_NEAR(q.mean_iou, (90.0 / 110.0 + 0.6) / 2.0, 1e-12);
+}
+
+// Bins: A is 10 px (sqrt of its area) -> [8, 16); B 20 px -> [16, 32); the
+// false detections (d3 and frame 2's d0 under IoU) are 10 px -> [8, 16).
+// Visibility: A 1.0 -> [0.75, 1]; B 0.5 -> [0.5, 0.75); no fp there.
+TEST(DetectionQuality, BinnedBySizeAndVisibility) {
+  const DetectionQuality q = ScoreDetections(HandFrames());
+  ASSERT_EQ(q.by_size.size(), 5u);
+  EXPECT_EQ(q.by_size[1].lo, 8.0);
+  EXPECT_EQ(q.by_size[1].iou.tp, 1);
+  EXPECT_EQ(q.by_size[1].iou.fn, 1);
+  EXPECT_EQ(q.by_size[1].iou.fp, 2);
+  EXPECT_EQ(q.by_size[2].iou.tp, 1);
+  EXPECT_EQ(q.by_size[2].iou.fp, 0);
+  EXPECT_EQ(q.by_size[0].iou.tp + q.by_size[0].iou.fn + q.by_size[0].iou.fp, 0);
+  EXPECT_TRUE(std::isinf(q.by_size[4].hi));
+  ASSERT_EQ(q.by_visibility.size(), 4u);
+  EXPECT_EQ(q.by_visibility[3].hi, 1.0);
+  EXPECT_EQ(q.by_visibility[3].iou.tp, 1);
+  EXPECT_EQ(q.by_visibility[3].iou.fn, 1);
+  EXPECT_EQ(q.by_visibility[2].iou.tp, 1);
+  for (const DetectionBin& b : q.by_visibility) EXPECT_EQ(b.iou.fp, 0);
+}
+
+// A target-specific detection matches only its own target: labelled 2 on A
+// (target 1), it is a miss and a false detection, though it covers A exactly.
+TEST(DetectionQuality, TargetSpecificDetectionsMatchOnlyTheirTarget) {
+  DetectionFrame f;
+  f.truth = {{ObjectId{1}, BoxPx{0, 0, 10, 10}, 1.0}};
+  Detection d = Det(0, 0, 10, 10);
+  d.target = ObjectId{2};
+  f.detections = {d};
+  DetectionQuality q = ScoreDetections(std::vector<DetectionFrame>{f});
+  EXPECT_EQ(q.iou.tp, 0);
+  EXPECT_EQ(q.iou.fp, 1);
+  EXPECT_EQ(q.iou.fn, 1);
+  f.detections[0].target = ObjectId{1};
+  q = ScoreDetections(std::vector<DetectionFrame>{f});
+  EXPECT_EQ(q.iou.tp, 1);
+  EXPECT_DOUBLE_EQ(q.mean_iou, 1.0);
+}
+
+// One detection between two targets goes to the better match, and counts once.
+TEST(DetectionQuality, OneToOneAssignment) {
+  DetectionFrame f;
+  f.truth = {{ObjectId{1}, BoxPx{0, 0, 10, 10}, 1.0}, {ObjectId{2}, BoxPx{3, 0, 10, 10}, 1.0}};
+  f.detections = {Det(2, 0, 10, 10)};  // IoU 80/120 with 1, 90/110 with 2
+  const DetectionQuality q = ScoreDetections(std::vector<DetectionFrame>{f});
+  EXPECT_EQ(q.iou.tp, 1);
+  EXPECT_EQ(q.iou.fn, 1);
+  EXPECT_EQ(q.iou.fp, 0);
+  EXPECT_NEAR(q.mean_iou, 90.0 / 110.0, 1e-12);
+}
+
+TEST(DetectionQuality, NoFramesGiveUndefinedRatios) {
+  const DetectionQuality q = ScoreDetections({});
+  EXPECT_TRUE(std::isnan(q.iou.precision()));
+  EXPECT_TRUE(std::isnan(q.iou.recall()));
+  EXPECT_TRUE(std::isnan(q.mean_iou));
+}
+
+}  // namespace
+}  // namespace hcpf::metrics

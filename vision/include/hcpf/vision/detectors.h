@@ -1,0 +1,30 @@
+#pragma once
+// The registry of named detectors: every detector's options, its name, and
+// the factory the run pipeline and the contract suite use.
+
+#include <memory>
+#include <string_view>
+#include <vector>
+
+#include "hcpf/vision/detector.h"
+#include "hcpf/vision/prca.h"
+#include "hcpf/vision/sks.h"
+
+namespace hcpf::vision {
+
+// The options of every registered detector (`observation.<name>.*`).
+struct DetectorOptions {
+  NccOptions ncc;
+  ColourOptions colour;
+  PrcaOptions prca;
+  SksOptions sks;
+};
+
+// The registered detectors' names, in a fixed order ("ncc", "colour", "prca",
+// "sks").
+std::vector<std::string_view> DetectorNames();
+// The detector called `name` (one of DetectorNames()) with its options
+// validated; nullptr for an unknown name.
+std::unique_ptr<Detector> MakeDetector(std::string_view name, const DetectorOptions& options);
+
+}  // namespace hcpf::vision

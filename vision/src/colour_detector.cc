@@ -1,0 +1,94 @@
+// Colour-histogram back-projection (ColourOptions in detector.h).
+
+#include <algorithm>
+#include <cmath>
+#include <opencv2/imgproc.hpp>
+
+#include "cv_image.h"
+#include "detectors.h"
+
+namespace hcpf::vision::internal {
+namespace {
+
+cv::Mat Hsv(const ImageView& view) {
+  cv::Mat hsv;
+  cv::cvtColor(RgbMat(view), hsv, cv::COLOR_RGB2HSV);  // H in [0, 180), S in [0, 256)
+  return hsv;
+}
+
+class ColourDetector final : public Detector {
+ public:
+  explicit ColourDetector(const ColourOptions& options) : options_(options) { options_.Validate(); }
+
+  DetectorOutput Detect(const DetectorInput& input, Rng&) const override {
+    DetectorOutput out;
+    const int width = input.image.empty() ? 0 : input.image.width;
+    const int height = input.image.empty() ? 0 : input.image.height;
+    const cv::Mat hsv = width > 0 ? Hsv(input.image) : cv::Mat();
+    const int channels[] = {0, 1};
+    const int bins[] = {options_.hue_bins, options_.saturation_bins};
+    const float hue_range[] = {0.0f, 180.0f};
+    const float saturation_range[] = {0.0f, 256.0f};
+    const float* ranges[] = {hue_range, saturation_range};
+    for (const TargetModel& model : input.models) {
+      cv::Mat mean_in_box;
+      cv::Rect region;
+      cv::Size box_size;
+      if (width > 0 && model.patch.width > 0 && model.patch.height > 0) {
+        // The model's histogram, its largest bin scaled to 1.
+        const cv::Mat patch = Hsv(ImageView(model.patch));
+        cv::Mat hist;
+        cv::calcHist(&patch, 1, channels, cv::Mat(), hist, 2, bins, ranges);
+        cv::normalize(hist, hist, 1.0, 0.0, cv::NORM_INF);
+        const SearchWindow* window = WindowOf(input.windows, model.target);
+        region = cv::Rect(0, 0, width, height);
+        box_size = cv::Size(model.patch.width, model.patch.height);
+        if (window != nullptr && !window->box.empty()) {
+          const BoxPx& b = window->box;
+          box_size = cv::Size(std::max(1, static_cast<int>(std::lround(b.width))),
+                              std::max(1, static_cast<int>(std::lround(b.height))));
+          region = AroundBox(b, options_.window_scale, width, height);
+        }
+        if (region.width > 0 && region.height > 0) {
+          const cv::Mat scene = hsv(region).clone();
+          cv::Mat back;  // the model's bin value of every pixel, in [0, 1]
+          cv::calcBackProject(&scene, 1, channels, hist, back, ranges, 1.0);
+          back.convertTo(back, CV_32F);
+          // Mean back-projection over a model-sized box centred on each pixel
+          // (outside the image counts as 0).
+          cv::blur(back, mean_in_box, box_size, cv::Point(-1, -1), cv::BORDER_CONSTANT);
+          const double frame_mean = cv::mean(back)[0];
+          double peak = 0.0;
+          cv::Point at;
+          cv::minMaxLoc(mean_in_box, nullptr, &peak, nullptr, &at);
+          const double contrast = frame_mean < 1.0 ? (peak - frame_mean) / (1.0 - frame_mean) : 0.0;
+          if (contrast >= options_.min_contrast) {
+            const BoxPx box = BoxPx::FromCentre(region.x + at.x + 0.5, region.y + at.y + 0.5,
+                                                box_size.width, box_size.height);
+            if (const auto inside = ClipToImage(box, width, height)) {
+              out.detections.push_back({.box = *inside,
+                                        .score = std::clamp(contrast, 0.0, 1.0),
+                                        .target = model.target});
+            }
+          }
+        }
+      }
+      out.maps.push_back({model.target, PoolToMap(mean_in_box, region.x, region.y, width, height,
+                                                  options_.cell_px)});
+    }
+    return out;
+  }
+  bool uses_models() const override { return true; }
+  std::string_view name() const override { return "colour"; }
+
+ private:
+  ColourOptions options_;
+};
+
+}  // namespace
+
+std::unique_ptr<Detector> MakeColourDetector(const ColourOptions& options) {
+  return std::make_unique<ColourDetector>(options);
+}
+
+}  // namespace hcpf::vision::internal

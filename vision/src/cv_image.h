@@ -1,0 +1,41 @@
+#pragma once
+// Private: OpenCV views of the project's images, and the pooling of a dense
+// response into a LikelihoodMap.
+
+#include <opencv2/core.hpp>
+#include <optional>
+#include <span>
+
+#include "hcpf/core/image.h"
+#include "hcpf/core/types.h"
+#include "hcpf/vision/detector.h"
+
+namespace hcpf::vision::internal {
+
+// A CV_8UC3 (RGB order) header over the view's pixels: no copy; valid while
+// the viewed pixels are.
+inline cv::Mat RgbMat(const ImageView& view) {
+  return cv::Mat(view.height, view.width, CV_8UC3, const_cast<uint8_t*>(view.data), view.stride);
+}
+
+// Grey levels (OpenCV's RGB2GRAY: 0.299 R + 0.587 G + 0.114 B, rounded).
+cv::Mat GreyMat(const ImageView& view);
+
+// A response defined at every pixel of an image of `width` x `height`
+// (`response` may be smaller: it covers pixels [x0, x0 + cols) x [y0, y0 +
+// rows)), max-pooled into cells of `cell_px`; negative values become 0.
+LikelihoodMap PoolToMap(const cv::Mat& response, int x0, int y0, int width, int height,
+                        double cell_px);
+
+// The box clipped to [0, width) x [0, height), or nullopt when less than a
+// pixel remains.
+std::optional<BoxPx> ClipToImage(const BoxPx& box, int width, int height);
+
+// The window given for `target`, or nullptr.
+const SearchWindow* WindowOf(std::span<const SearchWindow> windows, ObjectId target);
+
+// The pixels within `scale` times the box's size around its centre, clipped
+// to the image (possibly empty).
+cv::Rect AroundBox(const BoxPx& box, double scale, int width, int height);
+
+}  // namespace hcpf::vision::internal

@@ -1,0 +1,108 @@
+#include "hcpf/vision/detector.h"
+
+#include <algorithm>
+#include <cmath>
+#include <opencv2/imgproc.hpp>
+
+#include "cv_image.h"
+#include "detectors.h"
+#include "hcpf/vision/detectors.h"
+
+namespace hcpf::vision {
+
+std::span<const Field<NccOptions>> NccOptions::Fields() {
+  using O = NccOptions;
+  static const std::vector<Field<O>> fields = {
+      NumberField("min_correlation", &O::min_correlation, AboveUpTo(0, 1), "",
+                  "peak normalised cross-correlation needed for a detection"),
+      NumberField("window_scale", &O::window_scale, Closed(1, 20), "",
+                  "windowed search: window side = scale × predicted box side"),
+      NumberField("cell_px", &O::cell_px, Closed(1, 64), "px", "map cell size"),
+  };
+  return fields;
+}
+
+void NccOptions::Validate(std::string_view prefix) const { CheckFields(*this, Fields(), prefix); }
+
+std::span<const Field<ColourOptions>> ColourOptions::Fields() {
+  using O = ColourOptions;
+  static const std::vector<Field<O>> fields = {
+      IntegerField("hue_bins", &O::hue_bins, 2, 180, "", "hue bins of the model histogram"),
+      IntegerField("saturation_bins", &O::saturation_bins, 2, 256, "",
+                   "saturation bins of the model histogram"),
+      NumberField("min_contrast", &O::min_contrast, AboveUpTo(0, 1), "",
+                  "(peak − frame mean) / (1 − frame mean) needed for a detection"),
+      NumberField("window_scale", &O::window_scale, Closed(1, 20), "",
+                  "windowed search: window side = scale × predicted box side"),
+      NumberField("cell_px", &O::cell_px, Closed(1, 64), "px", "map cell size"),
+  };
+  return fields;
+}
+
+void ColourOptions::Validate(std::string_view prefix) const {
+  CheckFields(*this, Fields(), prefix);
+}
+
+std::vector<std::string_view> DetectorNames() { return {"ncc", "colour", "prca", "sks"}; }
+
+std::unique_ptr<Detector> MakeDetector(std::string_view name, const DetectorOptions& options) {
+  if (name == "ncc") return internal::MakeNccDetector(options.ncc);
+  if (name == "colour") return internal::MakeColourDetector(options.colour);
+  if (name == "prca") return MakePrcaDetector(options.prca);
+  if (name == "sks") return MakeSksDetector(options.sks);
+  return nullptr;
+}
+
+namespace internal {
+
+cv::Mat GreyMat(const ImageView& view) {
+  cv::Mat grey;
+  cv::cvtColor(RgbMat(view), grey, cv::COLOR_RGB2GRAY);
+  return grey;
+}
+
+LikelihoodMap PoolToMap(const cv::Mat& response, int x0, int y0, int width, int height,
+                        double cell_px) {
+  LikelihoodMap map;
+  map.cell_px = cell_px;
+  map.width = static_cast<int>(std::ceil(width / cell_px));
+  map.height = static_cast<int>(std::ceil(height / cell_px));
+  map.values.assign(static_cast<size_t>(map.width) * map.height, 0.0f);
+  for (int y = 0; y < response.rows; ++y) {
+    const float* row = response.ptr<float>(y);
+    const int cy = std::min(map.height - 1, static_cast<int>((y0 + y) / cell_px));
+    for (int x = 0; x < response.cols; ++x) {
+      const int cx = std::min(map.width - 1, static_cast<int>((x0 + x) / cell_px));
+      float& cell = map.values[static_cast<size_t>(cy) * map.width + cx];
+      if (std::isfinite(row[x])) cell = std::max(cell, row[x]);
+    }
+  }
+  return map;
+}
+
+std::optional<BoxPx> ClipToImage(const BoxPx& box, int width, int height) {
+  const BoxPx clipped =
+      Intersect(box, BoxPx{0.0, 0.0, static_cast<double>(width), static_cast<double>(height)});
+  if (clipped.width < 1.0 || clipped.height < 1.0) return std::nullopt;
+  return clipped;
+}
+
+const SearchWindow* WindowOf(std::span<const SearchWindow> windows, ObjectId target) {
+  for (const SearchWindow& w : windows) {
+    if (w.target == target) return &w;
+  }
+  return nullptr;
+}
+
+cv::Rect AroundBox(const BoxPx& box, double scale, int width, int height) {
+  const BoxPx around =
+      BoxPx::FromCentre(box.centre_x(), box.centre_y(), scale * box.width, scale * box.height);
+  const int x0 = std::clamp(static_cast<int>(std::floor(around.left)), 0, width);
+  const int y0 = std::clamp(static_cast<int>(std::floor(around.top)), 0, height);
+  const int x1 = std::clamp(static_cast<int>(std::ceil(around.right())), 0, width);
+  const int y1 = std::clamp(static_cast<int>(std::ceil(around.bottom())), 0, height);
+  return {x0, y0, x1 - x0, y1 - y0};
+}
+
+}  // namespace internal
+}  // namespace hcpf::vision

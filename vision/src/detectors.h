@@ -1,0 +1,13 @@
+#pragma once
+// Private: the factories of the registered detectors (detector.cc's registry).
+
+#include <memory>
+
+#include "hcpf/vision/detector.h"
+
+namespace hcpf::vision::internal {
+
+std::unique_ptr<Detector> MakeNccDetector(const NccOptions& options);
+std::unique_ptr<Detector> MakeColourDetector(const ColourOptions& options);
+
+}  // namespace hcpf::vision::internal

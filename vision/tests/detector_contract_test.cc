@@ -1,0 +1,134 @@
+// The Detector contract (vision/include/hcpf/vision/detector.h), clause by
+// clause, for every registered detector.
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <thread>
+
+#include "hcpf/vision/detectors.h"
+#include "synthetic_scene.h"
+
+namespace hcpf::vision {
+namespace {
+
+using testing::Frame;
+using testing::Targets;
+
+class DetectorContract : public ::testing::TestWithParam<std::string_view> {
+ protected:
+  void SetUp() override {
+    detector_ = MakeDetector(GetParam(), DetectorOptions{});
+    ASSERT_NE(detector_, nullptr);
+    const RgbImage first = Frame(Targets());
+    for (const auto& t : Targets()) models_.push_back(CutTargetModel(first, t.box, t.id, 0));
+    frame_ = Frame(Targets(3.0, -2.0));
+  }
+  DetectorOutput Run(const ImageView& image, std::span<const SearchWindow> windows = {}) const {
+    Rng rng(11);
+    return detector_->Detect({.image = image, .frame = 1, .models = models_, .windows = windows},
+                             rng);
+  }
+  std::unique_ptr<Detector> detector_;
+  std::vector<TargetModel> models_;
+  RgbImage frame_;
+};
+
+void ExpectSame(const DetectorOutput& a, const DetectorOutput& b) {
+  EXPECT_EQ(a.detections, b.detections);
+  ASSERT_EQ(a.maps.size(), b.maps.size());
+  for (size_t i = 0; i < a.maps.size(); ++i) {
+    EXPECT_EQ(a.maps[i].target, b.maps[i].target);
+    EXPECT_EQ(a.maps[i].map, b.maps[i].map);
+  }
+}
+
+TEST_P(DetectorContract, NameIsTheRegisteredOne) { EXPECT_EQ(detector_->name(), GetParam()); }
+
+TEST_P(DetectorContract, BoxesInsideScoresInRangeMapsOfTheDocumentedSize) {
+  const DetectorOutput out = Run(frame_);
+  EXPECT_FALSE(out.detections.empty()) << "finds nothing in the synthetic frame";
+  for (const Detection& d : out.detections) {
+    EXPECT_GT(d.box.width, 0.0);
+    EXPECT_GT(d.box.height, 0.0);
+    EXPECT_GE(d.box.left, 0.0);
+    EXPECT_GE(d.box.top, 0.0);
+    EXPECT_LE(d.box.right(), frame_.width);
+    EXPECT_LE(d.box.bottom(), frame_.height);
+    EXPECT_GE(d.score, 0.0);
+    EXPECT_LE(d.score, 1.0);
+    if (detector_->uses_models()) {
+      EXPECT_TRUE(d.target.has_value());
+    }
+  }
+  if (detector_->uses_models()) {
+    ASSERT_EQ(out.maps.size(), models_.size());
+    for (size_t i = 0; i < out.maps.size(); ++i) {
+      const LikelihoodMap& m = out.maps[i].map;
+      EXPECT_EQ(out.maps[i].target, models_[i].target);
+      EXPECT_EQ(m.width, static_cast<int>(std::ceil(frame_.width / m.cell_px)));
+      EXPECT_EQ(m.height, static_cast<int>(std::ceil(frame_.height / m.cell_px)));
+      ASSERT_EQ(m.values.size(), static_cast<size_t>(m.width) * m.height);
+      for (float v : m.values) {
+        ASSERT_TRUE(std::isfinite(v));
+        ASSERT_GE(v, 0.0f);
+      }
+    }
+  }
+}
+
+TEST_P(DetectorContract, DeterministicAndSafeFromSeveralThreads) {
+  const DetectorOutput once = Run(frame_);
+  ExpectSame(Run(frame_), once);
+  DetectorOutput a, b;
+  std::thread ta([&] { a = Run(frame_); });
+  std::thread tb([&] { b = Run(frame_); });
+  ta.join();
+  tb.join();
+  ExpectSame(a, once);
+  ExpectSame(b, once);
+}
+
+TEST_P(DetectorContract, EmptyImageGivesNothingAndNoError) {
+  const DetectorOutput out = Run(ImageView{});
+  EXPECT_TRUE(out.detections.empty());
+  for (const TargetMap& m : out.maps) EXPECT_TRUE(m.map.values.empty());
+}
+
+TEST_P(DetectorContract, UniformFrameGivesNoDetection) {
+  for (uint8_t level : {0, 128, 255}) {
+    RgbImage uniform{.width = 320, .height = 240};
+    uniform.pixels.assign(3 * 320 * 240, level);
+    EXPECT_TRUE(Run(uniform).detections.empty()) << "grey level " << int{level};
+  }
+  // A frame of one model's own colour everywhere is uniform too.
+  RgbImage red{.width = 320, .height = 240};
+  red.pixels.resize(3 * 320 * 240);
+  for (size_t i = 0; i < red.pixels.size(); i += 3) {
+    red.pixels[i] = 200, red.pixels[i + 1] = 40, red.pixels[i + 2] = 30;
+  }
+  EXPECT_TRUE(Run(red).detections.empty());
+}
+
+TEST_P(DetectorContract, WindowedSearchStaysInsideItsWindow) {
+  std::vector<SearchWindow> windows;
+  for (const auto& t : Targets(3.0, -2.0)) windows.push_back({t.id, t.box});
+  const DetectorOutput out = Run(frame_, windows);
+  for (const Detection& d : out.detections) {
+    ASSERT_TRUE(d.target.has_value());
+    const BoxPx& w = windows[static_cast<size_t>(Value(*d.target) - 1)].box;
+    // Window side = window_scale (3 by default) x the predicted box side.
+    EXPECT_GE(d.box.left, w.centre_x() - 1.5 * w.width - 1.0);
+    EXPECT_LE(d.box.right(), w.centre_x() + 1.5 * w.width + 1.0);
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(Registered, DetectorContract, ::testing::ValuesIn(DetectorNames()),
+                         [](const auto& info) { return std::string(info.param); });
+
+TEST(DetectorRegistry, UnknownNameGivesNoDetector) {
+  EXPECT_EQ(MakeDetector("sks2", DetectorOptions{}), nullptr);
+}
+
+}  // namespace
+}  // namespace hcpf::vision

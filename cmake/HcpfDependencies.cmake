@@ -7,10 +7,11 @@ find_package(yaml-cpp REQUIRED)
 find_package(CLI11 REQUIRED)
 find_package(nlohmann_json 3.10 REQUIRED)
 find_package(SQLite3 REQUIRED)
-# Libraries link opencv_core/opencv_imgproc only: imgcodecs and videoio pull
+# Libraries link opencv_core/opencv_imgproc (vision/ also video and calib3d,
+# about 25 shared libraries each, mostly shared with imgproc): imgcodecs and videoio pull
 # in ~100 shared libraries (GDAL, HDF5, FFmpeg) that cost every process
 # ~60 ms to load; PNG/JPEG go through libpng/libjpeg, video through a plugin.
-find_package(OpenCV REQUIRED COMPONENTS core imgproc imgcodecs videoio)
+find_package(OpenCV REQUIRED COMPONENTS core imgproc imgcodecs videoio video calib3d)
 find_package(PkgConfig REQUIRED)
 pkg_check_modules(PNG REQUIRED IMPORTED_TARGET libpng)
 pkg_check_modules(JPEG REQUIRED IMPORTED_TARGET libjpeg)

@@ -36,8 +36,13 @@ void DetectionPass::Add(const renderer::RenderedFrame& frame) {
   // Each frame draws from its own stream, so a frame's detections do not
   // depend on which frames came before it.
   Rng rng = rng_.Fork(fmt::format("frame/{}", frame.frame));
-  vision::DetectorOutput out =
-      detector_->Detect({.image = frame.rgb, .frame = frame.frame, .models = models_}, rng);
+  const std::vector<ImageView> previous(recent_.begin(), recent_.end());
+  vision::DetectorOutput out = detector_->Detect(
+      {.image = frame.rgb, .frame = frame.frame, .previous = previous, .models = models_}, rng);
+  if (detector_->history() > 0) {
+    recent_.push_front(frame.rgb);
+    if (static_cast<int>(recent_.size()) > detector_->history()) recent_.pop_back();
+  }
   observations_.push_back({.frame = frame.frame,
                            .detections = std::move(out.detections),
                            .target_maps = std::move(out.maps)});

@@ -8,6 +8,7 @@
 // until its model exists the target has no detections), and runs the
 // detector on the frame.
 
+#include <deque>
 #include <memory>
 #include <vector>
 
@@ -31,6 +32,7 @@ class DetectionPass {
   Rng rng_;
   std::vector<vision::TargetModel> models_;
   std::vector<Observation> observations_;
+  std::deque<RgbImage> recent_;  // the detector's history() latest frames, newest first
 };
 
 }  // namespace hcpf::scenarios::internal

@@ -287,6 +287,7 @@ void ObservationOptions::Validate(const tracker::TrackerOptions& tracker) const 
   detectors.colour.Validate();
   detectors.prca.Validate();
   detectors.sks.Validate();
+  detectors.diff.Validate();
   if (oracle()) return;
   if (source != ObservationSource::kRendered) {
     FailOption("observation", "detector",

@@ -285,6 +285,7 @@ Scenario ReadScenario(YamlReader root, const std::string& file) {
     ReadSection(*obs, "colour", &s.observation.detectors.colour);
     ReadSection(*obs, "prca", &s.observation.detectors.prca);
     ReadSection(*obs, "sks", &s.observation.detectors.sks);
+    ReadSection(*obs, "diff", &s.observation.detectors.diff);
     obs->Finish();
   }
   if (auto r = root.Optional("renderer")) {

@@ -120,6 +120,7 @@ std::string ToResolvedYaml(const Scenario& s) {
   if (s.observation.detector == "colour") w.Section("colour", detectors.colour);
   if (s.observation.detector == "prca") w.Section("prca", detectors.prca);
   if (s.observation.detector == "sks") w.Section("sks", detectors.sks);
+  if (s.observation.detector == "diff") w.Section("diff", detectors.diff);
   w.End();
 
   w.Section("renderer", s.renderer);

@@ -153,6 +153,7 @@ std::string SchemaMarkdown(const std::string& section) {
     AppendRows(out, "colour.", vision::ColourOptions::Fields());
     AppendRows(out, "prca.", vision::PrcaOptions::Fields());
     AppendRows(out, "sks.", vision::SksOptions::Fields());
+    AppendRows(out, "diff.", vision::DiffOptions::Fields());
   } else if (section == "renderer") {
     AppendRows(out, "", RendererConfig::Fields());
   } else if (section == "tracker") {

@@ -43,13 +43,35 @@ void ColourOptions::Validate(std::string_view prefix) const {
   CheckFields(*this, Fields(), prefix);
 }
 
-std::vector<std::string_view> DetectorNames() { return {"ncc", "colour", "prca", "sks"}; }
+std::span<const Field<DiffOptions>> DiffOptions::Fields() {
+  using O = DiffOptions;
+  static const std::vector<Field<O>> fields = {
+      IntegerField("frame_gap", &O::frame_gap, 1, 100, "frames",
+                   "frames t − g and t − 2g are compared with frame t"),
+      NumberField("threshold", &O::threshold, AboveUpTo(0, 255), "grey levels",
+                  "a pixel moved when it differs from both registered earlier frames by more"),
+      IntegerField("min_area_px", &O::min_area_px, 1, 100000, "px",
+                   "smallest connected component that is a detection"),
+      NumberField("smooth_sigma_px", &O::smooth_sigma_px, Closed(0.5, 10), "px",
+                  "Gaussian (stacked integral image) smoothing before differencing"),
+      IntegerField("max_corners", &O::max_corners, 10, 10000, "",
+                   "corners tracked to register the earlier frames"),
+      NumberField("ransac_px", &O::ransac_px, AboveUpTo(0, 50), "px",
+                  "RANSAC inlier distance of the registration"),
+  };
+  return fields;
+}
+
+void DiffOptions::Validate(std::string_view prefix) const { CheckFields(*this, Fields(), prefix); }
+
+std::vector<std::string_view> DetectorNames() { return {"ncc", "colour", "prca", "sks", "diff"}; }
 
 std::unique_ptr<Detector> MakeDetector(std::string_view name, const DetectorOptions& options) {
   if (name == "ncc") return internal::MakeNccDetector(options.ncc);
   if (name == "colour") return internal::MakeColourDetector(options.colour);
   if (name == "prca") return MakePrcaDetector(options.prca);
   if (name == "sks") return MakeSksDetector(options.sks);
+  if (name == "diff") return internal::MakeDiffDetector(options.diff);
   return nullptr;
 }
 

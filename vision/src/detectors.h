@@ -9,5 +9,6 @@ namespace hcpf::vision::internal {
 
 std::unique_ptr<Detector> MakeNccDetector(const NccOptions& options);
 std::unique_ptr<Detector> MakeColourDetector(const ColourOptions& options);
+std::unique_ptr<Detector> MakeDiffDetector(const DiffOptions& options);
 
 }  // namespace hcpf::vision::internal

@@ -63,4 +63,39 @@ inline RgbImage Frame(const std::vector<SyntheticTarget>& targets) {
   return image;
 }
 
+// Frame `f` of a short video for model-free detectors: ground of 8 x 8 px
+// grey blocks of seeded levels (corners everywhere, for registration) seen
+// by a camera moving (2, 1) px per frame, and the three vehicles of
+// Targets(): 2 and 3 parked (they move with the ground in the image),
+// vehicle 1 driving 4 px per frame along +x on the ground.
+inline std::vector<SyntheticTarget> VideoTargets(int f) {
+  std::vector<SyntheticTarget> targets = Targets(-2.0 * f, -1.0 * f);
+  targets[0].box.left += 4.0 * f;
+  return targets;
+}
+
+inline RgbImage VideoFrame(int f) {
+  RgbImage image = Frame(VideoTargets(f));
+  const std::vector<SyntheticTarget> targets = VideoTargets(f);
+  for (int y = 0; y < image.height; ++y) {
+    for (int x = 0; x < image.width; ++x) {
+      bool on_vehicle = false;
+      for (const SyntheticTarget& t : targets) {
+        on_vehicle = on_vehicle ||
+                     (x >= t.box.left && x < t.box.right() && y >= t.box.top && y < t.box.bottom());
+      }
+      if (on_vehicle) continue;
+      // Ground block (bx, by) in ground coordinates: image + camera offset.
+      const uint64_t bx = static_cast<uint64_t>((x + 2 * f) / 8);
+      const uint64_t by = static_cast<uint64_t>((y + f) / 8);
+      const uint8_t level = static_cast<uint8_t>(60 + Rng(bx * 1000 + by).UniformInt(121));
+      uint8_t* p = image.at(x, y);
+      p[0] = level;
+      p[1] = static_cast<uint8_t>(level + 20);
+      p[2] = level;
+    }
+  }
+  return image;
+}
+
 }  // namespace hcpf::vision::testing

@@ -45,6 +45,9 @@ struct SearchWindow {
 struct DetectorInput {
   ImageView image;  // the frame
   int frame = 0;
+  // Earlier frames, newest first: up to Detector::history() of them (fewer at
+  // the start of a run).
+  std::span<const ImageView> previous;
   // Target models (model-based detectors); empty for model-free ones.
   std::span<const TargetModel> models;
   // Windowed search: one window per model to search near; a model without a
@@ -76,6 +79,8 @@ class Detector {
   virtual DetectorOutput Detect(const DetectorInput& input, Rng& rng) const = 0;
   // Whether Detect needs target models (and gives target-specific output).
   virtual bool uses_models() const = 0;
+  // How many earlier frames Detect reads (DetectorInput::previous).
+  virtual int history() const { return 0; }
   virtual std::string_view name() const = 0;
 };
 
@@ -105,6 +110,28 @@ struct ColourOptions {
   double cell_px = 4.0;
   static std::span<const Field<ColourOptions>> Fields();
   void Validate(std::string_view prefix = "observation.colour") const;
+};
+
+// Motion-compensated 3-frame differencing, the classic model-free detector
+// of wide-area aerial video: frames t-g and t-2g (g = frame_gap) are
+// registered to frame t by
+// a global similarity (corners tracked by pyramidal Lucas-Kanade, a RANSAC
+// fit, OpenCV's estimateAffinePartial2D), each is subtracted from frame t
+// (grey levels, lightly smoothed), and pixels that differ from both by more
+// than `threshold` form connected components; each component of at least
+// `min_area_px` pixels is a detection (its bounding box). Not
+// target-specific; nothing before frame 2g. A gap of several frames lets a
+// slow vehicle move clear of its earlier positions (at one frame only its
+// edges differ).
+struct DiffOptions {
+  int frame_gap = 5;             // g: frames between the three compared
+  double threshold = 25.0;       // grey levels
+  int min_area_px = 12;          // smallest component
+  double smooth_sigma_px = 1.0;  // stacked-integral-image blur before differencing
+  int max_corners = 400;         // corners tracked for the registration
+  double ransac_px = 2.0;        // RANSAC inlier distance
+  static std::span<const Field<DiffOptions>> Fields();
+  void Validate(std::string_view prefix = "observation.diff") const;
 };
 
 // The registry of named detectors (DetectorNames, MakeDetector) is in

@@ -18,10 +18,11 @@ struct DetectorOptions {
   ColourOptions colour;
   PrcaOptions prca;
   SksOptions sks;
+  DiffOptions diff;
 };
 
 // The registered detectors' names, in a fixed order ("ncc", "colour", "prca",
-// "sks").
+// "sks", "diff").
 std::vector<std::string_view> DetectorNames();
 // The detector called `name` (one of DetectorNames()) with its options
 // validated; nullptr for an unknown name.

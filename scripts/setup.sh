@@ -9,7 +9,7 @@ PACKAGES=(
   g++ cmake ninja-build pkg-config git ca-certificates
   # core, scenarios, cli
   libeigen3-dev libfmt-dev libspdlog-dev libyaml-cpp-dev libcli11-dev nlohmann-json3-dev
-  libsqlite3-dev
+  libsqlite3-dev libxxhash-dev
   # tracker / renderer / videos
   libopencv-dev
   libosmesa6-dev libegl-dev libgl-dev libegl-mesa0 libgles-dev mesa-common-dev

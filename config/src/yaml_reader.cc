@@ -387,14 +387,17 @@ std::string YamlReader::Enum(const std::string& key, std::optional<std::string> 
     if (fallback) return *fallback;
     Child(key);
   }
-  YamlReader child = Child(key);
+  return Child(key).AsEnum(choices);
+}
+
+std::string YamlReader::AsEnum(const std::vector<std::string>& choices) const {
   std::string joined;
   for (const auto& c : choices) joined += (joined.empty() ? "" : " | ") + c;
-  if (!child.node_.IsScalar()) child.Fail("one of " + joined);
-  const std::string value = child.node_.Scalar();
+  if (!node_.IsScalar()) Fail("one of " + joined);
+  const std::string value = node_.Scalar();
   if (std::find(choices.begin(), choices.end(), value) == choices.end()) {
     const std::string near = ClosestMatch(value, choices);
-    child.Fail("one of " + joined, near.empty() ? "" : "did you mean \"" + near + "\"?");
+    Fail("one of " + joined, near.empty() ? "" : "did you mean \"" + near + "\"?");
   }
   return value;
 }

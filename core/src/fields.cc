@@ -44,6 +44,8 @@ std::string_view FieldTypeName(FieldType type) {
       return "path";
     case FieldType::kSeed:
       return "seed";
+    case FieldType::kWords:
+      return "list";
   }
   return "?";
 }
@@ -77,6 +79,12 @@ void FailOption(std::string_view prefix, std::string_view field, std::string_vie
   FailOption(prefix, field, expected, FormatNumber(found));
 }
 
+std::string WordsExpectation(int min_items, const std::vector<std::string_view>& choices) {
+  std::string joined;
+  for (std::string_view c : choices) joined += fmt::format("{}{}", joined.empty() ? "" : " | ", c);
+  return fmt::format("a list of at least {} distinct names, each one of {}", min_items, joined);
+}
+
 namespace internal {
 
 void FailFieldRange(std::string_view prefix, std::string_view key, FieldType type,
@@ -90,6 +98,14 @@ void FailFieldChoice(std::string_view prefix, std::string_view key,
   std::string joined;
   for (std::string_view c : choices) joined += fmt::format("{}{}", joined.empty() ? "" : " | ", c);
   FailOption(prefix, key, "one of " + joined, fmt::format("\"{}\"", value));
+}
+
+void FailFieldWords(std::string_view prefix, std::string_view key, int min_items,
+                    const std::vector<std::string_view>& choices,
+                    const std::vector<std::string>& found) {
+  std::string text = "[";
+  for (const std::string& w : found) text += (text.size() > 1 ? ", " : "") + w;
+  FailOption(prefix, key, WordsExpectation(min_items, choices), text + "]");
 }
 
 void FailUndeclaredField(std::string_view key) {

@@ -9,13 +9,52 @@
 namespace hcpf::scenarios::internal {
 namespace {
 constexpr double kModelVisible = 0.75;  // visible fraction a model is cut at
+
+template <class O>
+void AppendOptions(std::string& text, std::string_view name, const O& options) {
+  text += fmt::format("[{}]", name);
+  for (const Field<O>& f : O::Fields()) text += fmt::format("{}={};", f.key, f.ValueText(options));
+}
+
+// What the detector is: its name and every option of each detector it runs.
+std::string OptionsText(const ObservationOptions& o) {
+  std::string text = "hcpf-detections/1;" + o.DetectorName() + ";";
+  if (o.Uses("ncc")) AppendOptions(text, "ncc", o.detectors.ncc);
+  if (o.Uses("colour")) AppendOptions(text, "colour", o.detectors.colour);
+  if (o.Uses("prca")) AppendOptions(text, "prca", o.detectors.prca);
+  if (o.Uses("sks")) AppendOptions(text, "sks", o.detectors.sks);
+  if (o.Uses("diff")) AppendOptions(text, "diff", o.detectors.diff);
+  return text;
+}
 }  // namespace
 
-DetectionPass::DetectionPass(const Scenario& scenario)
-    : detector_(
-          vision::MakeDetector(scenario.observation.detector, scenario.observation.detectors)),
+DetectionPass::DetectionPass(const Scenario& scenario, const std::string& cache_dir)
+    : detector_(vision::MakeDetector(scenario.observation.DetectorName(),
+                                     scenario.observation.detectors)),
+      options_text_(OptionsText(scenario.observation)),
       rng_(Rng(scenario.seeds.observation).Fork("detector")) {
-  HCPF_CHECK(detector_ != nullptr) << "unknown detector " << scenario.observation.detector;
+  HCPF_CHECK(detector_ != nullptr) << "unknown detector " << scenario.observation.DetectorName();
+  if (!cache_dir.empty()) cache_ = std::make_unique<DetectionCache>(cache_dir);
+}
+
+std::string DetectionPass::Key(const renderer::RenderedFrame& frame, const XXH128_hash_t& digest,
+                               const Rng& rng) const {
+  DetectionKey key;
+  key.Add(options_text_);
+  key.Add(static_cast<uint64_t>(frame.frame));
+  key.Add(rng.identity());
+  key.Add(digest);
+  key.Add(static_cast<uint64_t>(recent_digests_.size()));
+  for (const XXH128_hash_t& d : recent_digests_) key.Add(d);
+  key.Add(static_cast<uint64_t>(models_.size()));
+  for (size_t i = 0; i < models_.size(); ++i) {
+    const vision::TargetModel& m = models_[i];
+    key.Add(static_cast<uint64_t>(Value(m.target)));
+    key.Add(static_cast<uint64_t>(m.frame));
+    for (double v : {m.box.left, m.box.top, m.box.width, m.box.height}) key.Add(v);
+    key.Add(model_digests_[i]);
+  }
+  return key.Finish();
 }
 
 void DetectionPass::Add(const renderer::RenderedFrame& frame) {
@@ -30,18 +69,34 @@ void DetectionPass::Add(const renderer::RenderedFrame& frame) {
       const bool whole = o.in_frame && o.truncation == 0.0 && o.visible_fraction >= kModelVisible;
       if (whole && !known) {
         models_.push_back(vision::CutTargetModel(frame.rgb, o.amodal_box, o.id, frame.frame));
+        model_digests_.push_back(PixelDigest(models_.back().patch));
       }
     }
   }
   // Each frame draws from its own stream, so a frame's detections do not
   // depend on which frames came before it.
   Rng rng = rng_.Fork(fmt::format("frame/{}", frame.frame));
-  const std::vector<ImageView> previous(recent_.begin(), recent_.end());
-  vision::DetectorOutput out = detector_->Detect(
-      {.image = frame.rgb, .frame = frame.frame, .previous = previous, .models = models_}, rng);
+  const XXH128_hash_t digest = cache_ ? PixelDigest(frame.rgb) : XXH128_hash_t{};
+  const std::string key = cache_ ? Key(frame, digest, rng) : std::string();
+  std::optional<vision::DetectorOutput> cached;
+  if (cache_) cached = cache_->Load(key);
+  vision::DetectorOutput out;
+  if (cached) {
+    out = std::move(*cached);
+    ++from_cache_;
+  } else {
+    const std::vector<ImageView> previous(recent_.begin(), recent_.end());
+    out = detector_->Detect(
+        {.image = frame.rgb, .frame = frame.frame, .previous = previous, .models = models_}, rng);
+    if (cache_) cache_->Store(key, out);
+  }
   if (detector_->history() > 0) {
     recent_.push_front(frame.rgb);
-    if (static_cast<int>(recent_.size()) > detector_->history()) recent_.pop_back();
+    recent_digests_.push_front(digest);
+    if (static_cast<int>(recent_.size()) > detector_->history()) {
+      recent_.pop_back();
+      recent_digests_.pop_back();
+    }
   }
   observations_.push_back({.frame = frame.frame,
                            .detections = std::move(out.detections),

@@ -6,12 +6,14 @@
 // in the first frame where the target is wholly inside the image and at least
 // 75 % visible (its filter is born earlier, at its first in-frame appearance;
 // until its model exists the target has no detections), and runs the
-// detector on the frame.
+// detector on the frame, or reads its output from the detection cache
+// (detection_cache.h) when the frame cache is on.
 
 #include <deque>
 #include <memory>
 #include <vector>
 
+#include "detection_cache.h"
 #include "hcpf/core/types.h"
 #include "hcpf/renderer/renderer.h"
 #include "hcpf/scenarios/scenario.h"
@@ -21,18 +23,28 @@ namespace hcpf::scenarios::internal {
 
 class DetectionPass {
  public:
-  explicit DetectionPass(const Scenario& scenario);
+  // `cache_dir`: the frame cache's folder ("" = no detection cache).
+  DetectionPass(const Scenario& scenario, const std::string& cache_dir);
   void Add(const renderer::RenderedFrame& frame);
+  int frames_from_cache() const { return from_cache_; }
   // The observations of every frame added, in order.
   std::vector<Observation> Take() { return std::move(observations_); }
   const std::vector<vision::TargetModel>& models() const { return models_; }
 
  private:
+  std::string Key(const renderer::RenderedFrame& frame, const XXH128_hash_t& digest,
+                  const Rng& rng) const;
+
   std::unique_ptr<vision::Detector> detector_;
+  std::string options_text_;  // the detector's name and options, for the cache key
   Rng rng_;
   std::vector<vision::TargetModel> models_;
+  std::vector<XXH128_hash_t> model_digests_;  // of each model's patch
   std::vector<Observation> observations_;
   std::deque<RgbImage> recent_;  // the detector's history() latest frames, newest first
+  std::deque<XXH128_hash_t> recent_digests_;
+  std::unique_ptr<DetectionCache> cache_;
+  int from_cache_ = 0;
 };
 
 }  // namespace hcpf::scenarios::internal

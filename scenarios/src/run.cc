@@ -76,7 +76,7 @@ RunSummary RunScenario(const Scenario& scenario, const RunOptions& options) {
   // run never holds every image.
   std::unique_ptr<internal::DetectionPass> detection;
   if (!scenario.observation.oracle()) {
-    detection = std::make_unique<internal::DetectionPass>(scenario);
+    detection = std::make_unique<internal::DetectionPass>(scenario, options.frame_cache_dir);
     frame_options.on_frame =
         [&detection, write = frame_options.on_frame](const renderer::RenderedFrame& frame) {
           if (write) write(frame);
@@ -166,7 +166,7 @@ RunSummary RunScenario(const Scenario& scenario, const RunOptions& options) {
   timings["metrics_s"] = Seconds(t0);
   if (scores.detection) {
     spdlog::info("detection ({}): precision {:.3f}  recall {:.3f}  F1 {:.3f} (IoU >= 0.5)",
-                 scenario.observation.detector, scores.detection->iou.precision(),
+                 scenario.observation.DetectorName(), scores.detection->iou.precision(),
                  scores.detection->iou.recall(), scores.detection->iou.f1());
   }
   summary.mota = scores.mot.clear.mota;
@@ -211,7 +211,7 @@ RunSummary RunScenario(const Scenario& scenario, const RunOptions& options) {
   if (scenario.observation.oracle()) {
     manifest["detector"] = "oracle (noisy ground truth)";
   } else {
-    manifest["detector"] = scenario.observation.detector;
+    manifest["detector"] = scenario.observation.DetectorName();
     if (detection && !detection->models().empty()) {
       manifest["target_models"] = "model from ground truth";
       nlohmann::json models = nlohmann::json::array();
@@ -227,12 +227,13 @@ RunSummary RunScenario(const Scenario& scenario, const RunOptions& options) {
   manifest["ground_truth"] = scene.rendered ? "rendered (pixel-exact)" : "analytic";
   manifest["frames_rendered"] = scene.frames_rendered;
   manifest["frames_from_cache"] = scene.frames_from_cache;
+  if (detection) manifest["detections_from_cache"] = detection->frames_from_cache();
   manifest["frames"] = scenario.world.frames;
   manifest["gt_boxes"] = summary.gt_boxes;
   manifest["detections"] = summary.detections;
   manifest["timings"] = timings;
   manifest["nondeterministic_fields"] = {"timings", "frames_rendered", "frames_from_cache",
-                                         "gl_renderer"};
+                                         "detections_from_cache", "gl_renderer"};
   // Written last: a folder with a manifest is a finished run.
   WriteTextFile((partial / "manifest.json").string(), manifest.dump(2) + "\n");
   staged.Publish();

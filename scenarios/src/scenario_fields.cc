@@ -278,7 +278,20 @@ std::span<const Field<SimulatedObservationOptions>> SimulatedObservationOptions:
 std::vector<std::string_view> ObservationOptions::DetectorNames() {
   std::vector<std::string_view> names = {"oracle"};
   for (std::string_view n : vision::DetectorNames()) names.push_back(n);
+  names.push_back("fusion");
   return names;
+}
+
+std::string ObservationOptions::DetectorName() const {
+  if (detector != "fusion") return detector;
+  std::string name;
+  for (const std::string& d : fused) name += (name.empty() ? "" : "+") + d;
+  return name;
+}
+
+bool ObservationOptions::Uses(std::string_view name) const {
+  if (detector == "fusion") return std::find(fused.begin(), fused.end(), name) != fused.end();
+  return detector == name;
 }
 
 void ObservationOptions::Validate(const tracker::TrackerOptions& tracker) const {
@@ -288,18 +301,41 @@ void ObservationOptions::Validate(const tracker::TrackerOptions& tracker) const 
   detectors.prca.Validate();
   detectors.sks.Validate();
   detectors.diff.Validate();
+  if (detector == "fusion" && fused.size() < 2) {
+    FailOption("observation", "detectors",
+               WordsExpectation(2, vision::DetectorNames()) + " (detector: fusion fuses them)",
+               "not written");
+  }
+  if (detector != "fusion" && !fused.empty()) {
+    FailOption("observation", "detector",
+               "fusion, or no observation.detector key (observation.detectors lists detectors "
+               "to fuse)",
+               "\"" + detector + "\" with observation.detectors");
+  }
   if (oracle()) return;
+  if (detector == "fusion") {
+    const bool first = vision::MakeDetector(fused.front(), detectors)->uses_models();
+    for (const std::string& d : fused) {
+      if (vision::MakeDetector(d, detectors)->uses_models() != first) {
+        FailOption("observation", "detectors",
+                   "detectors that all use target models, or none that does (their "
+                   "detections could not be fused per target)",
+                   "\"" + fused.front() + "\" with \"" + d + "\"");
+      }
+    }
+  }
+  const std::string name = DetectorName();
   if (source != ObservationSource::kRendered) {
     FailOption("observation", "detector",
                "oracle, or observation.source: rendered (a detector needs rendered frames)",
-               "\"" + detector + "\" with observation.source: simulated");
+               "\"" + name + "\" with observation.source: simulated");
   }
-  const auto made = vision::MakeDetector(detector, detectors);
+  const auto made = vision::MakeDetector(name, detectors);
   if (made->uses_models() && tracker.init != tracker::InitMode::kGroundTruth) {
     FailOption("observation", "detector",
-               "a detector without target models, or tracker.init: ground_truth (the \"" +
-                   detector + "\" models are cut where filters are born from ground truth)",
-               "\"" + detector + "\" with tracker.init: " + std::string(NameOf(tracker.init)));
+               "a detector without target models, or tracker.init: ground_truth (the \"" + name +
+                   "\" models are cut where filters are born from ground truth)",
+               "\"" + name + "\" with tracker.init: " + std::string(NameOf(tracker.init)));
   }
 }
 
@@ -312,7 +348,11 @@ std::span<const Field<ObservationOptions>> ObservationOptions::Fields() {
       WordField<&O::detector, &ObservationOptions::DetectorNames>(
           "detector",
           "oracle: noisy ground truth, labelled as oracle in results; else a detector on the "
-          "rendered frames (docs/vision.md)"),
+          "rendered frames (docs/vision.md); fusion: the `detectors` fused"),
+      WordsField<&O::fused, &vision::DetectorNames>(
+          "detectors", 2,
+          "detectors to run together and fuse (thesis ch. 10); writing it alone implies "
+          "detector: fusion"),
   };
   return fields;
 }

@@ -279,7 +279,10 @@ Scenario ReadScenario(YamlReader root, const std::string& file) {
   }
   if (auto obs = root.Optional("observation")) {
     obs->ExpectMap();
+    // `detectors: [sks, prca]` alone means detector: fusion.
+    const bool fusion_implied = obs->Has("detectors") && !obs->Has("detector");
     ReadFields(*obs, s.observation, ObservationOptions::Fields());
+    if (fusion_implied) s.observation.detector = "fusion";
     if (auto sim = obs->Optional("simulated")) ReadSimulated(*sim, ids, &s.observation.simulated);
     ReadSection(*obs, "ncc", &s.observation.detectors.ncc);
     ReadSection(*obs, "colour", &s.observation.detectors.colour);

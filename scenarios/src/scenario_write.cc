@@ -116,11 +116,11 @@ std::string ToResolvedYaml(const Scenario& s) {
   // Only the detector in use: the options of the others do not change the
   // run, so they are not part of its identity (config hash).
   const vision::DetectorOptions& detectors = s.observation.detectors;
-  if (s.observation.detector == "ncc") w.Section("ncc", detectors.ncc);
-  if (s.observation.detector == "colour") w.Section("colour", detectors.colour);
-  if (s.observation.detector == "prca") w.Section("prca", detectors.prca);
-  if (s.observation.detector == "sks") w.Section("sks", detectors.sks);
-  if (s.observation.detector == "diff") w.Section("diff", detectors.diff);
+  if (s.observation.Uses("ncc")) w.Section("ncc", detectors.ncc);
+  if (s.observation.Uses("colour")) w.Section("colour", detectors.colour);
+  if (s.observation.Uses("prca")) w.Section("prca", detectors.prca);
+  if (s.observation.Uses("sks")) w.Section("sks", detectors.sks);
+  if (s.observation.Uses("diff")) w.Section("diff", detectors.diff);
   w.End();
 
   w.Section("renderer", s.renderer);

@@ -27,7 +27,8 @@ std::string EscapeCell(std::string_view text) {
 template <class O>
 std::string RangeCell(const Field<O>& f) {
   switch (f.type) {
-    case FieldType::kChoice: {
+    case FieldType::kChoice:
+    case FieldType::kWords: {
       std::string out;
       for (std::string_view c : f.choices())
         out += fmt::format("{}`{}`", out.empty() ? "" : " \\| ", c);
@@ -54,6 +55,7 @@ template <class O>
 std::string TypeCell(const Field<O>& f) {
   if (f.type == FieldType::kVector) return fmt::format("[{}]", f.elements);
   if (f.type == FieldType::kPoints) return fmt::format("list of [{}]", f.elements);
+  if (f.type == FieldType::kWords) return fmt::format("list of ≥ {} names", f.size);
   return std::string(FieldTypeName(f.type));
 }
 

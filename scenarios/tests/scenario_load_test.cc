@@ -48,6 +48,36 @@ TEST(LoadScenario, ResolvedYamlRoundTrips) {
   }
 }
 
+// Issue 11 item 6: `observation.detectors` alone fuses them; the resolved
+// YAML writes `detector: fusion` with the list and each fused detector's
+// section (and no other), and reads back to the same scenario.
+TEST(LoadScenario, DetectorsListFusesThem) {
+  const Scenario s = LoadScenarioText(
+      std::string(kMinimal) + "observation: {source: rendered, detectors: [sks, prca]}\n",
+      "f.yaml");
+  EXPECT_EQ(s.observation.detector, "fusion");
+  EXPECT_EQ(s.observation.fused, (std::vector<std::string>{"sks", "prca"}));
+  EXPECT_EQ(s.observation.DetectorName(), "sks+prca");
+  const std::string resolved = ToResolvedYaml(s);
+  EXPECT_NE(resolved.find("detector: fusion"), std::string::npos) << resolved;
+  EXPECT_NE(resolved.find("detectors: [sks, prca]"), std::string::npos) << resolved;
+  EXPECT_NE(resolved.find("\n  sks:"), std::string::npos) << resolved;
+  EXPECT_NE(resolved.find("\n  prca:"), std::string::npos) << resolved;
+  EXPECT_EQ(resolved.find("\n  ncc:"), std::string::npos) << resolved;
+  const Scenario again = LoadScenarioText(resolved, "scenario.resolved.yaml");
+  EXPECT_EQ(ToResolvedYaml(again), resolved);
+  EXPECT_EQ(ConfigHash(again), ConfigHash(s));
+  // The order of the list is the order the detectors run in: part of the identity.
+  const Scenario swapped = LoadScenarioText(
+      std::string(kMinimal) + "observation: {source: rendered, detectors: [prca, sks]}\n",
+      "f.yaml");
+  EXPECT_NE(ConfigHash(swapped), ConfigHash(s));
+  // A single detector writes no list.
+  const Scenario one = LoadScenarioText(
+      kMinimal, "m.yaml", {{"observation.source", "rendered"}, {"observation.detector", "sks"}});
+  EXPECT_EQ(ToResolvedYaml(one).find("detectors:"), std::string::npos);
+}
+
 TEST(LoadScenario, OverridesApplyWithDottedKeysAndIndices) {
   const Scenario s = LoadScenarioText(kMinimal, "minimal.yaml",
                                       {{"tracker.particles", "1000"},

@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <filesystem>
+#include <fstream>
 #include <nlohmann/json.hpp>
 #include <string>
 
@@ -90,6 +91,49 @@ TEST(RenderedRun, ADetectorOnTheRenderedFramesFeedsTheTracker) {
   EXPECT_TRUE(fs::exists(dir / "oracle" / "det" / "det.txt"));
   EXPECT_EQ(nlohmann::json::parse(ReadFile(dir / "oracle" / "manifest.json"))["detector"],
             "oracle (noisy ground truth)");
+}
+
+// Issue 11 item 6: the detection cache. Runs that differ only in tracker
+// settings read the first run's detections; a change of a detector option
+// misses; a damaged entry is recomputed; the output is the same either way.
+TEST(RenderedRun, TheDetectionCacheServesTrackerSweepsAndNeverMisreads) {
+  const fs::path dir = FreshDir("detection-cache");
+  const std::string common =
+      std::string(HCPF_EXE) + " run " + testing::LibraryScenario("crossing") +
+      " --set observation.source=rendered --set frames=30 --set observation.detector=ncc --cache " +
+      (dir / "cache").string();
+  const auto run = [&](const std::string& name, const std::string& sets) {
+    const auto r = RunCommand(common + sets + " --out " + (dir / name).string());
+    EXPECT_EQ(r.exit_code, 0) << r.output;
+    return nlohmann::json::parse(ReadFile(dir / name / "manifest.json"));
+  };
+  EXPECT_EQ(run("a", "")["detections_from_cache"], 0);
+  EXPECT_EQ(run("b", " --set tracker.particles=60")["detections_from_cache"], 30);
+  EXPECT_EQ(ReadFile(dir / "a" / "det" / "det.txt"), ReadFile(dir / "b" / "det" / "det.txt"));
+  // Another detector option: other detections, none from the cache.
+  EXPECT_EQ(run("c", " --set observation.ncc.min_correlation=0.95")["detections_from_cache"], 0);
+  EXPECT_NE(ReadFile(dir / "a" / "det" / "det.txt"), ReadFile(dir / "c" / "det" / "det.txt"));
+  // Another seed draws another scene: misses too.
+  EXPECT_EQ(run("d", " --set seed=99")["detections_from_cache"], 0);
+  // Damage two entries (one truncated, one with a flipped byte): both are
+  // recomputed, and the detections are unchanged.
+  fs::remove_all(dir / "cache" / "detections");
+  EXPECT_EQ(run("f", "")["detections_from_cache"], 0);
+  std::vector<fs::path> entries;
+  for (const auto& e : fs::directory_iterator(dir / "cache" / "detections")) {
+    entries.push_back(e.path());
+  }
+  std::sort(entries.begin(), entries.end());
+  ASSERT_EQ(entries.size(), 30u);
+  fs::resize_file(entries[0], fs::file_size(entries[0]) / 2);
+  {
+    std::fstream f(entries[1], std::ios::in | std::ios::out | std::ios::binary);
+    f.seekp(20);
+    f.put('\x7f');
+  }
+  const auto damaged = run("e", " --set tracker.particles=70");
+  EXPECT_EQ(damaged["detections_from_cache"], 28) << "a damaged entry was read";
+  EXPECT_EQ(ReadFile(dir / "a" / "det" / "det.txt"), ReadFile(dir / "e" / "det" / "det.txt"));
 }
 
 // A detector needs rendered frames and, with target models, filters born

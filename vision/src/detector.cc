@@ -72,6 +72,24 @@ std::unique_ptr<Detector> MakeDetector(std::string_view name, const DetectorOpti
   if (name == "prca") return MakePrcaDetector(options.prca);
   if (name == "sks") return MakeSksDetector(options.sks);
   if (name == "diff") return internal::MakeDiffDetector(options.diff);
+  if (name.find('+') != std::string_view::npos) {
+    std::vector<std::unique_ptr<Detector>> parts;
+    size_t start = 0;
+    while (start <= name.size()) {
+      const size_t end = std::min(name.find('+', start), name.size());
+      const std::string_view part = name.substr(start, end - start);
+      for (const auto& p : parts) {
+        if (p->name() == part) return nullptr;  // a detector twice
+      }
+      std::unique_ptr<Detector> made = part.find('+') == std::string_view::npos && !part.empty()
+                                           ? MakeDetector(part, options)
+                                           : nullptr;
+      if (made == nullptr) return nullptr;
+      parts.push_back(std::move(made));
+      start = end + 1;
+    }
+    return internal::MakeFusedDetector(std::move(parts));
+  }
   return nullptr;
 }
 

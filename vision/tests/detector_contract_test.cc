@@ -3,6 +3,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <thread>
 
@@ -144,6 +145,16 @@ TEST_P(DetectorContract, WindowedSearchStaysInsideItsWindow) {
 
 INSTANTIATE_TEST_SUITE_P(Registered, DetectorContract, ::testing::ValuesIn(DetectorNames()),
                          [](const auto& info) { return std::string(info.param); });
+
+// Fusions (thesis chapter 10): the contract holds for detectors run together.
+INSTANTIATE_TEST_SUITE_P(Fused, DetectorContract,
+                         ::testing::Values(std::string_view("sks+prca"),
+                                           std::string_view("ncc+colour")),
+                         [](const auto& info) {
+                           std::string name(info.param);
+                           std::replace(name.begin(), name.end(), '+', '_');
+                           return name;
+                         });
 
 TEST(DetectorRegistry, UnknownNameGivesNoDetector) {
   EXPECT_EQ(MakeDetector("sks2", DetectorOptions{}), nullptr);

@@ -6,6 +6,7 @@
 #include <fmt/format.h>
 #include <yaml-cpp/yaml.h>
 
+#include <algorithm>
 #include <functional>
 #include <optional>
 #include <span>
@@ -87,6 +88,23 @@ void ReadFields(YamlReader& r, O& o, std::span<const Field<O>> fields,
       case FieldType::kSeed:
         o.*f.seed = r.Seed(key, req ? std::nullopt : std::optional(o.*f.seed));
         break;
+      case FieldType::kWords: {
+        if (!req && !r.Has(key)) break;
+        YamlReader list = r.Child(key);
+        const std::vector<std::string_view> names = f.choices();
+        const std::vector<std::string> choices(names.begin(), names.end());
+        std::vector<std::string> words;
+        for (const YamlReader& item : list.Items()) {
+          std::string word = item.AsEnum(choices);
+          if (std::find(words.begin(), words.end(), word) != words.end()) {
+            item.Fail(WordsExpectation(f.size, names), "\"" + word + "\" is listed twice");
+          }
+          words.push_back(std::move(word));
+        }
+        if (static_cast<int>(words.size()) < f.size) list.Fail(WordsExpectation(f.size, names));
+        o.*f.words = std::move(words);
+        break;
+      }
     }
   }
 }
@@ -97,6 +115,7 @@ template <class O>
 void WriteFields(YAML::Emitter& out, const O& o, std::span<const Field<O>> fields) {
   for (const Field<O>& f : fields) {
     if (f.type == FieldType::kPath && !f.required && f.get_text(o).empty()) continue;
+    if (f.type == FieldType::kWords && !f.required && (o.*f.words).empty()) continue;
     out << YAML::Key << std::string(f.key) << YAML::Value;
     if (f.type == FieldType::kVector || f.type == FieldType::kPoints) {
       const std::vector<double> v = f.NumbersOf(o);
@@ -106,6 +125,10 @@ void WriteFields(YAML::Emitter& out, const O& o, std::span<const Field<O>> field
         out << FormatNumber(v[i]);
         if (f.type == FieldType::kPoints && i % 2 == 1) out << YAML::EndSeq;
       }
+      out << YAML::EndSeq;
+    } else if (f.type == FieldType::kWords) {
+      out << YAML::Flow << YAML::BeginSeq;
+      for (const std::string& w : o.*f.words) out << w;
       out << YAML::EndSeq;
     } else if (f.type == FieldType::kText || f.type == FieldType::kPath) {
       out << YAML::DoubleQuoted << f.get_text(o);

@@ -83,6 +83,8 @@ class YamlReader {
   double AsNumber(const FieldRange& range) const;
   int64_t AsInteger(int64_t lo, int64_t hi) const;
   Eigen::VectorXd AsVector(int n, double lo, double hi) const;
+  // One of `choices` (a "did you mean" hint for a near miss).
+  std::string AsEnum(const std::vector<std::string>& choices) const;
 
   // Runs `validate` (a module's Validate(), whose InputError names a dotted
   // key below this node, e.g. "sensor.exposure") and rethrows its error at

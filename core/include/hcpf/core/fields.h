@@ -46,10 +46,24 @@ inline FieldRange AboveUpTo(double lo, double hi) { return {lo, hi, true, false}
 // kVector: a fixed number of numbers, each in the range (whole numbers when
 // `whole`); kPoints: a list of at least one [x, y]; kText: free text (quoted
 // in the resolved YAML); kPath: a file path the reader resolves (it needs the
-// scenario's folder: ReadFields takes the resolver); kSeed: a 64-bit seed.
-enum class FieldType { kNumber, kInteger, kFlag, kChoice, kVector, kPoints, kText, kPath, kSeed };
+// scenario's folder: ReadFields takes the resolver); kSeed: a 64-bit seed;
+// kWords: a list of distinct names from `choices` (at least `size` of them
+// when written; empty = not written).
+enum class FieldType {
+  kNumber,
+  kInteger,
+  kFlag,
+  kChoice,
+  kVector,
+  kPoints,
+  kText,
+  kPath,
+  kSeed,
+  kWords
+};
 
-// "number", "integer", "bool", "enum", "vector", "points", "text", "path", "seed".
+// "number", "integer", "bool", "enum", "vector", "points", "text", "path",
+// "seed", "list".
 std::string_view FieldTypeName(FieldType type);
 
 template <class O>
@@ -80,7 +94,8 @@ struct Field {
   // kText, kPath: the value as written (kPath: as the resolved YAML writes it).
   std::string (*get_text)(const O&) = nullptr;
   void (*set_text)(O&, std::string) = nullptr;
-  uint64_t O::*seed = nullptr;  // kSeed
+  uint64_t O::*seed = nullptr;                   // kSeed
+  std::vector<std::string> O::*words = nullptr;  // kWords
   // No default: the key must be written (`default_doc` says when, if only sometimes).
   bool required = false;
   // The default column of the docs when the member's in-class value is not
@@ -132,6 +147,11 @@ struct Field {
         return get_text(o);
       case FieldType::kSeed:
         return std::to_string(o.*seed);
+      case FieldType::kWords: {
+        std::string out = "[";
+        for (const std::string& w : o.*words) out += (out.size() > 1 ? ", " : "") + w;
+        return out + "]";
+      }
     }
     return {};
   }
@@ -307,6 +327,25 @@ Field<typename internal::MemberOf<decltype(Member)>::Object> TextField(std::stri
   return f;
 }
 
+// A list of distinct words from `Names()`: empty when not written, else at
+// least `min_items` of them.
+template <auto Member, std::vector<std::string_view> (*Names)()>
+Field<typename internal::MemberOf<decltype(Member)>::Object> WordsField(std::string_view key,
+                                                                        int min_items,
+                                                                        std::string_view doc) {
+  using O = typename internal::MemberOf<decltype(Member)>::Object;
+  static_assert(std::is_same_v<typename internal::MemberOf<decltype(Member)>::Type,
+                               std::vector<std::string>>);
+  Field<O> f;
+  f.key = key;
+  f.type = FieldType::kWords;
+  f.doc = doc;
+  f.size = min_items;
+  f.words = Member;
+  f.choices = Names;
+  return f;
+}
+
 namespace internal {
 // Throws InputError {key: "<prefix>.<key>", expected: the range, found: value}.
 [[noreturn]] void FailFieldRange(std::string_view prefix, std::string_view key, FieldType type,
@@ -314,6 +353,10 @@ namespace internal {
 [[noreturn]] void FailFieldChoice(std::string_view prefix, std::string_view key,
                                   const std::vector<std::string_view>& choices,
                                   std::string_view value);
+// Throws InputError for a kWords list that repeats a word or is too short.
+[[noreturn]] void FailFieldWords(std::string_view prefix, std::string_view key, int min_items,
+                                 const std::vector<std::string_view>& choices,
+                                 const std::vector<std::string>& found);
 // HCPF_CHECK-style abort: RangeOf asked for a key no field declares.
 [[noreturn]] void FailUndeclaredField(std::string_view key);
 }  // namespace internal
@@ -329,6 +372,8 @@ namespace internal {
 
 // "a number in [0, 1000]" / "an integer in [1, 10000000]".
 std::string FieldExpectation(FieldType type, const FieldRange& range);
+// "a list of at least 2 distinct names, each one of a | b | c".
+std::string WordsExpectation(int min_items, const std::vector<std::string_view>& choices);
 
 // Checks every number and integer field of `o` against its range (numbers
 // must also be finite) and every choice against its names; throws InputError
@@ -356,6 +401,17 @@ void CheckFields(const O& o, std::span<const Field<O>> fields, std::string_view 
       const std::vector<std::string_view> names = f.choices();
       for (std::string_view n : names) known = known || n == name;
       if (!known) internal::FailFieldChoice(prefix, f.key, names, name);
+    } else if (f.type == FieldType::kWords) {
+      const std::vector<std::string>& words = o.*f.words;
+      const std::vector<std::string_view> names = f.choices();
+      bool ok = words.empty() || static_cast<int>(words.size()) >= f.size;
+      for (size_t i = 0; i < words.size(); ++i) {
+        bool known = false;
+        for (std::string_view n : names) known = known || n == words[i];
+        for (size_t j = 0; j < i; ++j) ok = ok && words[j] != words[i];
+        ok = ok && known;
+      }
+      if (!ok) internal::FailFieldWords(prefix, f.key, f.size, names, words);
     }
   }
 }

@@ -67,15 +67,23 @@ namespace hcpf::scenarios {
 
 struct ObservationOptions {
   ObservationSource source = ObservationSource::kSimulated;
-  // "oracle" (noisy ground truth, both sources) or a vision/ detector on the
-  // rendered frames (vision::DetectorNames()).
+  // "oracle" (noisy ground truth, both sources), a vision/ detector on the
+  // rendered frames (vision::DetectorNames()), or "fusion": the detectors
+  // listed in `fused` (key `detectors`), run on every frame and fused.
   std::string detector = "oracle";
+  std::vector<std::string> fused;  // `observation.detectors`, with detector: fusion
   SimulatedObservationOptions simulated;
   vision::DetectorOptions detectors;  // `observation.<detector>.*`
 
-  static std::span<const Field<ObservationOptions>> Fields();  // source, detector
-  static std::vector<std::string_view> DetectorNames();        // oracle, then vision's
+  // source, detector, detectors
+  static std::span<const Field<ObservationOptions>> Fields();
+  static std::vector<std::string_view> DetectorNames();  // oracle, vision's, fusion
   bool oracle() const { return detector == "oracle"; }
+  // The vision/ detector's name as vision::MakeDetector takes it: `detector`,
+  // or the fused names joined by '+' ("sks+prca"); "oracle" for the oracle.
+  std::string DetectorName() const;
+  // Whether the vision/ detector `name` runs in this scenario.
+  bool Uses(std::string_view name) const;
   // The rules across keys: a detector needs rendered frames; a detector with
   // target models needs filters born from ground truth (`tracker.init`),
   // which is where its models come from. Throws InputError naming the key.

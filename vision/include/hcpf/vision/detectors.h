@@ -25,7 +25,10 @@ struct DetectorOptions {
 // "sks", "diff").
 std::vector<std::string_view> DetectorNames();
 // The detector called `name` (one of DetectorNames()) with its options
-// validated; nullptr for an unknown name.
+// validated, or the fusion of several such detectors named joined by '+'
+// ("sks+prca": each runs on the frame; detections merged, maps averaged,
+// docs/vision.md "Fusion"); nullptr for an unknown name or a name listed
+// twice.
 std::unique_ptr<Detector> MakeDetector(std::string_view name, const DetectorOptions& options);
 
 }  // namespace hcpf::vision

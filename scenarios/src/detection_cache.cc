@@ -1,0 +1,210 @@
+#include "detection_cache.h"
+
+#include <fmt/format.h>
+#include <unistd.h>
+
+#include <cstring>
+#include <fstream>
+#include <functional>
+#include <iterator>
+#include <system_error>
+#include <thread>
+#include <vector>
+
+#include "hcpf/core/check.h"
+#include "hcpf/core/error.h"
+
+namespace hcpf::scenarios::internal {
+namespace {
+
+// "HCPFDET" + format version. Bump the version when the layout or the
+// meaning of a stored output changes: entries of another version are misses.
+constexpr char kMagic[8] = {'H', 'C', 'P', 'F', 'D', 'E', 'T', '1'};
+
+class Writer {
+ public:
+  template <class T>
+  void Put(const T& v) {
+    const auto* p = reinterpret_cast<const char*>(&v);
+    bytes_.insert(bytes_.end(), p, p + sizeof(T));
+  }
+  void PutFloats(const std::vector<float>& v) {
+    const auto* p = reinterpret_cast<const char*>(v.data());
+    bytes_.insert(bytes_.end(), p, p + v.size() * sizeof(float));
+  }
+  std::vector<char>& bytes() { return bytes_; }
+
+ private:
+  std::vector<char> bytes_;
+};
+
+class Reader {
+ public:
+  Reader(const char* data, size_t size) : data_(data), size_(size) {}
+  template <class T>
+  bool Get(T* v) {
+    if (size_ - at_ < sizeof(T)) return false;
+    std::memcpy(v, data_ + at_, sizeof(T));
+    at_ += sizeof(T);
+    return true;
+  }
+  bool GetFloats(size_t n, std::vector<float>* v) {
+    if ((size_ - at_) / sizeof(float) < n) return false;
+    v->resize(n);
+    std::memcpy(v->data(), data_ + at_, n * sizeof(float));
+    at_ += n * sizeof(float);
+    return true;
+  }
+  bool done() const { return at_ == size_; }
+
+ private:
+  const char* data_;
+  size_t size_;
+  size_t at_ = 0;
+};
+
+std::vector<char> Encode(const vision::DetectorOutput& output) {
+  Writer w;
+  w.Put(static_cast<uint64_t>(output.detections.size()));
+  for (const Detection& d : output.detections) {
+    w.Put(d.box.left);
+    w.Put(d.box.top);
+    w.Put(d.box.width);
+    w.Put(d.box.height);
+    w.Put(d.score);
+    w.Put(static_cast<uint8_t>(d.target.has_value()));
+    w.Put(static_cast<int64_t>(d.target ? Value(*d.target) : 0));
+  }
+  w.Put(static_cast<uint64_t>(output.maps.size()));
+  for (const TargetMap& m : output.maps) {
+    w.Put(static_cast<int64_t>(Value(m.target)));
+    w.Put(static_cast<int32_t>(m.map.width));
+    w.Put(static_cast<int32_t>(m.map.height));
+    w.Put(m.map.cell_px);
+    HCPF_CHECK(m.map.values.size() == static_cast<size_t>(m.map.width) * m.map.height)
+        << "map of " << m.map.width << " x " << m.map.height << " cells";
+    w.PutFloats(m.map.values);
+  }
+  return std::move(w.bytes());
+}
+
+std::optional<vision::DetectorOutput> Decode(const char* data, size_t size) {
+  Reader r(data, size);
+  vision::DetectorOutput out;
+  uint64_t n = 0;
+  if (!r.Get(&n) || n > size) return std::nullopt;
+  for (uint64_t i = 0; i < n; ++i) {
+    Detection d;
+    uint8_t has_target = 0;
+    int64_t target = 0;
+    if (!r.Get(&d.box.left) || !r.Get(&d.box.top) || !r.Get(&d.box.width) ||
+        !r.Get(&d.box.height) || !r.Get(&d.score) || !r.Get(&has_target) || !r.Get(&target)) {
+      return std::nullopt;
+    }
+    if (has_target) d.target = ObjectId{static_cast<int32_t>(target)};
+    out.detections.push_back(d);
+  }
+  if (!r.Get(&n) || n > size) return std::nullopt;
+  for (uint64_t i = 0; i < n; ++i) {
+    TargetMap m;
+    int64_t target = 0;
+    int32_t width = 0;
+    int32_t height = 0;
+    if (!r.Get(&target) || !r.Get(&width) || !r.Get(&height) || !r.Get(&m.map.cell_px) ||
+        width < 0 || height < 0) {
+      return std::nullopt;
+    }
+    m.target = ObjectId{static_cast<int32_t>(target)};
+    m.map.width = width;
+    m.map.height = height;
+    if (!r.GetFloats(static_cast<size_t>(width) * height, &m.map.values)) return std::nullopt;
+    out.maps.push_back(std::move(m));
+  }
+  if (!r.done()) return std::nullopt;
+  return out;
+}
+
+}  // namespace
+
+XXH128_hash_t PixelDigest(const ImageView& image) {
+  XXH3_state_t* state = XXH3_createState();
+  HCPF_CHECK(state != nullptr) << "XXH3_createState";
+  XXH3_128bits_reset(state);
+  const int32_t size[2] = {image.width, image.height};
+  XXH3_128bits_update(state, size, sizeof(size));
+  for (int y = 0; y < image.height; ++y) {
+    XXH3_128bits_update(state, image.at(0, y), 3 * static_cast<size_t>(image.width));
+  }
+  const XXH128_hash_t digest = XXH3_128bits_digest(state);
+  XXH3_freeState(state);
+  return digest;
+}
+
+DetectionKey::DetectionKey() : state_(XXH3_createState()) {
+  HCPF_CHECK(state_ != nullptr) << "XXH3_createState";
+  XXH3_128bits_reset(state_);
+}
+DetectionKey::~DetectionKey() { XXH3_freeState(state_); }
+
+void DetectionKey::Add(std::string_view text) {
+  Add(static_cast<uint64_t>(text.size()));
+  XXH3_128bits_update(state_, text.data(), text.size());
+}
+void DetectionKey::Add(uint64_t value) { XXH3_128bits_update(state_, &value, sizeof(value)); }
+void DetectionKey::Add(double value) { XXH3_128bits_update(state_, &value, sizeof(value)); }
+void DetectionKey::Add(const XXH128_hash_t& digest) {
+  Add(digest.high64);
+  Add(digest.low64);
+}
+std::string DetectionKey::Finish() const {
+  const XXH128_hash_t h = XXH3_128bits_digest(state_);  // state_ is left as it is
+  return fmt::format("{:016x}{:016x}", h.high64, h.low64);
+}
+
+DetectionCache::DetectionCache(const std::filesystem::path& root) : dir_(root / "detections") {}
+
+std::optional<vision::DetectorOutput> DetectionCache::Load(const std::string& key) const {
+  std::ifstream in(dir_ / (key + ".det"), std::ios::binary);
+  if (!in) return std::nullopt;
+  const std::vector<char> bytes((std::istreambuf_iterator<char>(in)),
+                                std::istreambuf_iterator<char>());
+  // magic, payload, XXH3-64 of the payload
+  constexpr size_t kOverhead = sizeof(kMagic) + sizeof(uint64_t);
+  if (bytes.size() < kOverhead || std::memcmp(bytes.data(), kMagic, sizeof(kMagic)) != 0) {
+    return std::nullopt;
+  }
+  const char* payload = bytes.data() + sizeof(kMagic);
+  const size_t payload_size = bytes.size() - kOverhead;
+  uint64_t checksum = 0;
+  std::memcpy(&checksum, payload + payload_size, sizeof(checksum));
+  if (checksum != XXH3_64bits(payload, payload_size)) return std::nullopt;
+  return Decode(payload, payload_size);
+}
+
+void DetectionCache::Store(const std::string& key, const vision::DetectorOutput& output) const {
+  std::error_code ec;
+  std::filesystem::create_directories(dir_, ec);
+  if (ec) {
+    throw RunError(
+        fmt::format("cannot create detection cache {}: {}", dir_.string(), ec.message()));
+  }
+  const std::vector<char> payload = Encode(output);
+  const uint64_t checksum = XXH3_64bits(payload.data(), payload.size());
+  const auto path = dir_ / (key + ".det");
+  // Unique to this process and thread: concurrent runs storing the same key
+  // each write their own file and the last rename wins (same contents).
+  const auto tmp = dir_ / fmt::format("{}.{}-{}.tmp", key, ::getpid(),
+                                      std::hash<std::thread::id>{}(std::this_thread::get_id()));
+  {
+    std::ofstream out(tmp, std::ios::binary);
+    out.write(kMagic, sizeof(kMagic));
+    out.write(payload.data(), static_cast<std::streamsize>(payload.size()));
+    out.write(reinterpret_cast<const char*>(&checksum), sizeof(checksum));
+    if (!out) throw RunError(fmt::format("cannot write {}", tmp.string()));
+  }
+  std::filesystem::rename(tmp, path, ec);
+  if (ec)
+    throw RunError(fmt::format("cannot store detections in {}: {}", dir_.string(), ec.message()));
+}
+
+}  // namespace hcpf::scenarios::internal

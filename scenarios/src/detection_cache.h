@@ -1,0 +1,58 @@
+#pragma once
+// Private: the detection cache. A detector's output for one frame, stored on
+// disk under a key that covers everything the output depends on: the
+// frame's pixels, the earlier frames it reads, the target models (their
+// pixels, boxes and frames), the detector's name and options, and its random
+// stream. A tracker sweep over one scene then detects once: every run after
+// the first reads the detections (docs/vision.md, "Detection cache").
+
+#include <xxhash.h>
+
+#include <filesystem>
+#include <optional>
+#include <span>
+#include <string>
+#include <string_view>
+
+#include "hcpf/core/image.h"
+#include "hcpf/vision/detector.h"
+
+namespace hcpf::scenarios::internal {
+
+// XXH3-128 of an image's size and pixels.
+XXH128_hash_t PixelDigest(const ImageView& image);
+
+// Builds a key: feed every input, then Finish().
+class DetectionKey {
+ public:
+  DetectionKey();
+  ~DetectionKey();
+  DetectionKey(const DetectionKey&) = delete;
+  DetectionKey& operator=(const DetectionKey&) = delete;
+  void Add(std::string_view text);
+  void Add(uint64_t value);
+  void Add(double value);
+  void Add(const XXH128_hash_t& digest);
+  // 32 hex digits.
+  std::string Finish() const;
+
+ private:
+  XXH3_state_t* state_;
+};
+
+class DetectionCache {
+ public:
+  // Entries live in `root`/detections/ (root: the frame cache's folder).
+  explicit DetectionCache(const std::filesystem::path& root);
+  // The output stored under `key`, or nullopt when absent, of another format
+  // version or damaged (its checksum does not match): then it is recomputed.
+  std::optional<vision::DetectorOutput> Load(const std::string& key) const;
+  // Writes atomically (a temporary file renamed); throws hcpf::RunError.
+  void Store(const std::string& key, const vision::DetectorOutput& output) const;
+  const std::filesystem::path& dir() const { return dir_; }
+
+ private:
+  std::filesystem::path dir_;
+};
+
+}  // namespace hcpf::scenarios::internal

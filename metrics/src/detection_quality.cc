@@ -1,5 +1,6 @@
 #include "hcpf/metrics/detection_quality.h"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 
@@ -99,7 +100,11 @@ DetectionQuality ScoreDetections(std::span<const DetectionFrame> frames,
   q.by_visibility = Bins(kVisibilityEdges, 1.0);
   AssignmentSolver solver;
   double centre_error_sum = 0.0, iou_sum = 0.0;
+  std::vector<double> sizes;
   for (const DetectionFrame& f : frames) {
+    for (const DetectionTruth& truth : f.truth) {
+      if (truth.visible_fraction >= options.min_visible) sizes.push_back(SizeOf(truth.box));
+    }
     for (const Rule rule : {Rule::kIou, Rule::kCentre}) {
       const std::vector<int> match = Match(f, rule, options.iou_threshold, solver);
       const auto counts = [rule](DetectionBin& b) -> DetectionCounts& {
@@ -141,6 +146,13 @@ DetectionQuality ScoreDetections(std::span<const DetectionFrame> frames,
   }
   q.mean_centre_error_px = q.iou.tp > 0 ? centre_error_sum / q.iou.tp : kNaN;
   q.mean_iou = q.iou.tp > 0 ? iou_sum / q.iou.tp : kNaN;
+  q.median_size_px = kNaN;
+  if (!sizes.empty()) {
+    // The lower median for an even count: one of the sizes, not a mean of two.
+    const auto mid = sizes.begin() + static_cast<std::ptrdiff_t>((sizes.size() - 1) / 2);
+    std::nth_element(sizes.begin(), mid, sizes.end());
+    q.median_size_px = *mid;
+  }
   return q;
 }
 

@@ -239,6 +239,7 @@ std::string RunMetricsToJson(const RunMetrics& m) {
                       {"centre", CountsJson(d.centre)},
                       {"mean_centre_error_px", Number(d.mean_centre_error_px)},
                       {"mean_iou", Number(d.mean_iou)},
+                      {"median_size_px", Number(d.median_size_px)},
                       {"by_size_px", BinsJson(d.by_size)},
                       {"by_visibility", BinsJson(d.by_visibility)}};
   }

@@ -54,6 +54,9 @@ TEST(DetectionQuality, HandCountedFrames) {
   EXPECT_DOUBLE_EQ(q.centre.f1(), 6.0 / 7.0);
   EXPECT_DOUBLE_EQ(q.mean_centre_error_px, 3.0);
   EXPECT_NEAR(q.mean_iou, (90.0 / 110.0 + 0.6) / 2.0, 1e-12);
+  // Counted targets: A (10 px) twice and B (20 px); C is "don't care". The
+  // sizes 10, 10, 20 have median 10.
+  EXPECT_DOUBLE_EQ(q.median_size_px, 10.0);
 }
 
 // Bins: A is 10 px (sqrt of its area) -> [8, 16); B 20 px -> [16, 32); the
@@ -113,6 +116,7 @@ TEST(DetectionQuality, NoFramesGiveUndefinedRatios) {
   EXPECT_TRUE(std::isnan(q.iou.precision()));
   EXPECT_TRUE(std::isnan(q.iou.recall()));
   EXPECT_TRUE(std::isnan(q.mean_iou));
+  EXPECT_TRUE(std::isnan(q.median_size_px));
 }
 
 }  // namespace

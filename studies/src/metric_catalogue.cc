@@ -27,6 +27,17 @@ std::span<const CatalogueMetric> MetricCatalogue() {
        ""},
       {"det_recall", "metrics.json", "/detection/iou/recall", true, "detection recall", ""},
       {"det_f1", "metrics.json", "/detection/iou/f1", true, "detection F1", ""},
+      // The condition (visible fraction >= 0.75), the lenient centre
+      // rule (what a tracker needs of a small target), and the size the
+      // counts are about (sweeps against target size: report.x_metric).
+      {"det_recall_visible", "metrics.json", "/detection/by_visibility/3/iou/recall", true,
+       "detection recall at visible fraction >= 0.75", ""},
+      {"det_recall_centre", "metrics.json", "/detection/centre/recall", true,
+       "detection recall, centre rule", ""},
+      {"det_precision_centre", "metrics.json", "/detection/centre/precision", true,
+       "detection precision, centre rule", ""},
+      {"det_size_px", "metrics.json", "/detection/median_size_px", true,
+       "median target size (sqrt of box area)", "px"},
   };
   return kMetrics;
 }

@@ -173,12 +173,22 @@ namespace {
 // Stage 1, cells: runs grouped by their swept values (in order of first
 // appearance, which is the expansion order), each with every catalogue
 // metric's mean and 95 % interval over its finished runs.
-std::vector<Cell> CellsOf(const std::vector<RunRecord>& runs) {
+// Pooled keys (report.pool) read "all": their runs share a cell.
+std::vector<Cell> CellsOf(const std::vector<RunRecord>& runs, const StoreMeta& meta) {
+  std::vector<bool> pooled(meta.swept_keys.size(), false);
+  for (size_t k = 0; k < meta.swept_keys.size(); ++k) {
+    pooled[k] = std::find(meta.report.pool.begin(), meta.report.pool.end(), meta.swept_keys[k]) !=
+                meta.report.pool.end();
+  }
   std::vector<Cell> cells;
   std::map<std::vector<std::string>, size_t> cell_of;
   for (const RunRecord& r : runs) {
-    auto [it, inserted] = cell_of.emplace(r.values, cells.size());
-    if (inserted) cells.push_back(Cell{r.values, {}, 0, {}});
+    std::vector<std::string> values = r.values;
+    for (size_t k = 0; k < values.size() && k < pooled.size(); ++k) {
+      if (pooled[k]) values[k] = "all";
+    }
+    auto [it, inserted] = cell_of.emplace(values, cells.size());
+    if (inserted) cells.push_back(Cell{values, {}, 0, {}});
     Cell& cell = cells[it->second];
     cell.runs.push_back(&r);
     if (!r.ok) ++cell.failures;
@@ -208,8 +218,15 @@ struct Layout {
   double x_min = 0.0, x_max = 0.0;
   std::string x_label;
 
-  // The x coordinate of a cell: its number, or its category's index.
+  std::string x_metric;  // ReportSpec::x_metric
+
+  // The x coordinate of a cell: its mean of x_metric (NaN when it has none),
+  // its number, or its category's index.
   double XPosition(const Cell& c) const {
+    if (!x_metric.empty()) {
+      const MeanCi& s = c.stats.at(x_metric);
+      return s.n > 0 ? s.mean : std::numeric_limits<double>::quiet_NaN();
+    }
     const std::string v = x_index >= 0 ? c.values[x_index] : "";
     if (numeric_x) return *ParseNumber(v);
     return static_cast<double>(std::find(x_values.begin(), x_values.end(), v) - x_values.begin());
@@ -233,6 +250,18 @@ Layout LayoutOf(const std::vector<Cell>& cells, const StoreMeta& meta) {
   for (const Cell& c : cells) {
     for (size_t k = 0; k < keys.size(); ++k)
       varies[k] = varies[k] || c.values[k] != cells.front().values[k];
+  }
+  // Nor do keys whose value follows from x's (zipped with it): they move
+  // along the line with x.
+  for (size_t k = 0; k < keys.size() && x_index >= 0; ++k) {
+    if (!varies[k] || static_cast<int>(k) == x_index) continue;
+    std::map<std::string, std::string> value_at_x;
+    bool follows = true;
+    for (const Cell& c : cells) {
+      const auto [it, inserted] = value_at_x.emplace(c.values[x_index], c.values[k]);
+      follows = follows && (inserted || it->second == c.values[k]);
+    }
+    if (follows) varies[k] = false;
   }
   const auto line_label = [&](const Cell& c) {
     std::vector<std::string> parts;
@@ -267,6 +296,20 @@ Layout LayoutOf(const std::vector<Cell>& cells, const StoreMeta& meta) {
     x_min = std::min(x_min, *d);
     x_max = std::max(x_max, *d);
   }
+  if (!meta.report.x_metric.empty()) {
+    // Cells placed at a measured value: always a number axis.
+    layout.x_metric = meta.report.x_metric;
+    numeric_x = true;
+    x_min = std::numeric_limits<double>::infinity();
+    x_max = -x_min;
+    for (const Cell& c : cells) {
+      const double x = layout.XPosition(c);
+      if (std::isnan(x)) continue;
+      x_min = std::min(x_min, x);
+      x_max = std::max(x_max, x);
+    }
+    if (!(x_min <= x_max)) x_min = x_max = 0.0;  // no cell has a value
+  }
   // Log axis for particle counts, and for any positive x spanning >= 20x.
   layout.log_x =
       numeric_x && x_min > 0 && (meta.report.x.ends_with("particles") || x_max / x_min >= 20.0);
@@ -274,6 +317,10 @@ Layout LayoutOf(const std::vector<Cell>& cells, const StoreMeta& meta) {
   layout.x_min = x_min;
   layout.x_max = x_max;
   layout.x_label = meta.report.x.empty() ? "run" : meta.report.x;
+  if (const CatalogueMetric* m = FindMetric(meta.report.x_metric)) {
+    layout.x_label = fmt::format("{}{}{} ({}; mean per cell, lines follow {})", m->label,
+                                 m->unit.empty() ? "" : ", ", m->unit, m->name, meta.report.x);
+  }
   return layout;
 }
 
@@ -294,10 +341,16 @@ std::string PlotSvg(const Layout& layout, const std::string& metric, size_t p, c
   std::vector<bool> has_data(lines.size(), false);
   for (size_t l = 0; l < lines.size(); ++l) {
     std::vector<std::pair<double, const Cell*>> points;
-    for (const Cell* c : layout.line_cells.at(lines[l]))
-      points.push_back({layout.XPosition(*c), c});
-    std::sort(points.begin(), points.end(),
-              [](const auto& a, const auto& b) { return a.first < b.first; });
+    for (const Cell* c : layout.line_cells.at(lines[l])) {
+      const double x = layout.XPosition(*c);
+      if (!std::isnan(x)) points.push_back({x, c});
+    }
+    // A measured x (x_metric) keeps the order of the swept values along the
+    // line; otherwise points go left to right.
+    if (layout.x_metric.empty()) {
+      std::sort(points.begin(), points.end(),
+                [](const auto& a, const auto& b) { return a.first < b.first; });
+    }
     text += fmt::format("# {}\n", lines[l]);
     for (const auto& [x, c] : points) {
       const MeanCi& s = c->stats.at(metric);
@@ -408,6 +461,12 @@ std::string ReportHtml(const fs::path& dir, const std::string& link_prefix, cons
       EscapeMarkup(meta.sweep_file), EscapeMarkup(meta.sweep_hash), runs.size(), meta.run_count,
       ok_runs,
       failed_runs > 0 ? fmt::format("<span class=\"failed\">{}</span>", failed_runs) : "0");
+  if (!meta.report.pool.empty()) {
+    h += fmt::format(
+        "<p>Pooled (<code>report.pool</code>): each cell holds the runs of every value of "
+        "<code>{}</code>, counted like extra seeds; tables show <code>all</code>.</p>\n",
+        EscapeMarkup(fmt::format("{}", fmt::join(meta.report.pool, "</code>, <code>"))));
+  }
   h += "<h2>Plots</h2>\n";
   for (size_t p = 0; p < svgs.size(); ++p) {
     h +=
@@ -478,7 +537,7 @@ ReportResult WriteReport(const ReportOptions& options) {
   auto store = ResultsStore::Open((dir / "results.sqlite").string(), StoreAccess::kReadOnly);
   const StoreMeta& meta = store->meta();
   const std::vector<RunRecord> runs = store->Runs();
-  const std::vector<Cell> cells = CellsOf(runs);
+  const std::vector<Cell> cells = CellsOf(runs, meta);
   const Layout layout = LayoutOf(cells, meta);
 
   const fs::path work = out / ".report-work";

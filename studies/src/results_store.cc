@@ -171,7 +171,12 @@ sqlite3* OpenDb(const std::string& path, StoreAccess access, bool create) {
   return db;
 }
 
-json ReportToJson(const ReportSpec& r) { return {{"x", r.x}, {"y", r.y}, {"series", r.series}}; }
+json ReportToJson(const ReportSpec& r) {
+  json j = {{"x", r.x}, {"y", r.y}, {"series", r.series}};
+  if (!r.x_metric.empty()) j["x_metric"] = r.x_metric;
+  if (!r.pool.empty()) j["pool"] = r.pool;
+  return j;
+}
 
 double JsonNumber(const json& j, const std::vector<std::string>& path) {
   const json* node = &j;
@@ -210,6 +215,8 @@ void ResultsStore::ReadMeta() {
   meta_.report.x = report.value("x", "");
   meta_.report.y = report.value("y", std::vector<std::string>{});
   meta_.report.series = report.value("series", "");
+  meta_.report.x_metric = report.value("x_metric", "");
+  meta_.report.pool = report.value("pool", std::vector<std::string>{});
 }
 
 void ResultsStore::AddMissingMetricColumns(StoreAccess access) {

@@ -137,6 +137,17 @@ SweepSpec ReadSweep(YAML::Node root, const std::string& file, const std::string&
     };
     spec.report.x = swept_key("x", spec.report.x);
     spec.report.series = swept_key("series", "");
+    const auto metric_name = [](const YamlReader& item) {
+      const std::string name = item.node().IsScalar() ? item.node().Scalar() : "";
+      const auto& known = MetricNames();
+      if (std::find(known.begin(), known.end(), name) == known.end()) {
+        const std::string close = ClosestMatch(name, known);
+        item.Fail("a metric name (" + fmt::format("{}", fmt::join(known, ", ")) + ")",
+                  close.empty() ? "" : "did you mean \"" + close + "\"?");
+      }
+      return name;
+    };
+    if (auto xm = report->Optional("x_metric")) spec.report.x_metric = metric_name(*xm);
     if (auto y = report->Optional("y")) {
       spec.report.y.clear();
       std::vector<YamlReader> items;
@@ -145,20 +156,27 @@ SweepSpec ReadSweep(YAML::Node root, const std::string& file, const std::string&
       } else {
         items.push_back(*y);
       }
-      for (const YamlReader& item : items) {
-        const std::string name = item.node().IsScalar() ? item.node().Scalar() : "";
-        const auto& known = MetricNames();
-        if (std::find(known.begin(), known.end(), name) == known.end()) {
-          const std::string close = ClosestMatch(name, known);
-          item.Fail("a metric name (" + fmt::format("{}", fmt::join(known, ", ")) + ")",
-                    close.empty() ? "" : "did you mean \"" + close + "\"?");
-        }
-        spec.report.y.push_back(name);
-      }
+      for (const YamlReader& item : items) spec.report.y.push_back(metric_name(item));
       if (spec.report.y.empty()) y->Fail("a non-empty list of metric names");
     }
     if (!spec.report.series.empty() && spec.report.series == spec.report.x) {
       report->Child("series").Fail("a swept key other than report.x");
+    }
+    if (auto pool = report->Optional("pool")) {
+      for (const YamlReader& item : pool->Items()) {
+        const std::string key = item.node().IsScalar() ? item.node().Scalar() : "";
+        const bool swept_key = std::find(swept.begin(), swept.end(), key) != swept.end();
+        const bool twice = std::find(spec.report.pool.begin(), spec.report.pool.end(), key) !=
+                           spec.report.pool.end();
+        if (!swept_key || key == spec.report.x || key == spec.report.series || twice) {
+          item.Fail("a swept key other than report.x and report.series, listed once (" +
+                        fmt::format("{}", fmt::join(swept, ", ")) + ")",
+                    ClosestMatch(key, swept).empty() || swept_key
+                        ? ""
+                        : "did you mean \"" + ClosestMatch(key, swept) + "\"?");
+        }
+        spec.report.pool.push_back(key);
+      }
     }
     report->Finish();
   }

@@ -9,6 +9,7 @@
 #include <fstream>
 #include <sstream>
 
+#include "hcpf/core/error.h"
 #include "hcpf/studies/results_store.h"
 #include "hcpf/studies/sweep.h"
 #include "sweep_fixture.h"
@@ -131,6 +132,106 @@ TEST(Report, HtmlHasOnePlotWithDataPerMetricAndCsvHasOneRowPerCell) {
   std::string cell;
   for (int i = 0; i <= column; ++i) std::getline(line, cell, ',');
   EXPECT_NEAR(std::stod(cell), sum / 3.0, 1e-5);  // csv writes 6 significant digits
+}
+
+// report.x_metric: each cell sits at its mean of a metric. With x_metric and
+// y both idf1 every plotted point lies on the diagonal, and a line's points
+// keep the order of its swept x values. The plot data is read through a
+// gnuplot wrapper that keeps a copy.
+TEST(Report, XMetricPlacesEachCellAtItsMeanOfThatMetric) {
+  const auto dir = testing::SweepFolder("report-x-metric");
+  const SweepSpec spec = LoadSweepFile(
+      testing::WriteSweep(dir,
+                          "base: base.yaml\nseeds: 2\ngrid:\n  tracker.particles: [20, 60, 200]\n"
+                          "report: {x: tracker.particles, x_metric: idf1, y: [idf1, hota]}\n"));
+  ASSERT_EQ(spec.report.x_metric, "idf1");
+  SweepOptions o;
+  o.out_dir = (dir / "out").string();
+  o.jobs = 2;
+  o.progress = false;
+  RunSweep(spec, ExpandSweep(spec), o);
+  const fs::path kept = dir / "kept";
+  fs::create_directories(kept);
+  const fs::path wrapper = dir / "gnuplot.sh";
+  std::ofstream(wrapper) << "#!/bin/sh\ncp \"$(dirname \"$1\")\"/plot_*.dat " << kept.string()
+                         << "/\nexec gnuplot \"$@\"\n";
+  fs::permissions(wrapper, fs::perms::owner_all);
+  const ReportResult r = WriteReport({.dir = o.out_dir, .gnuplot = wrapper.string()});
+  const std::string html = Read(r.html_path);
+  EXPECT_NE(html.find("(idf1; mean per cell, lines follow tracker.particles)"), std::string::npos);
+  std::stringstream rows(Read(kept / "plot_0.dat"));
+  std::string line;
+  int points = 0;
+  while (std::getline(rows, line)) {
+    if (line.empty() || line[0] == '#') continue;
+    double x = 0, mean = 0;
+    std::stringstream(line) >> x >> mean;
+    EXPECT_NEAR(x, mean, 1e-9) << line;
+    ++points;
+  }
+  EXPECT_EQ(points, 3);
+  // The x of the second plot (hota) is still idf1: its rows' x are the first plot's.
+  std::stringstream a(Read(kept / "plot_0.dat")), b(Read(kept / "plot_1.dat"));
+  std::string la, lb;
+  while (std::getline(a, la) && std::getline(b, lb)) {
+    EXPECT_EQ(la.substr(0, la.find(' ')), lb.substr(0, lb.find(' ')));
+  }
+}
+
+// report.pool: the resampler's runs share a cell; each cell then holds
+// 2 resamplers x 3 seeds = 6 runs, and there is one line.
+TEST(Report, PooledKeysShareACell) {
+  const auto dir = testing::SweepFolder("report-pool");
+  const SweepSpec spec = LoadSweepFile(testing::WriteSweep(
+      dir,
+      "base: base.yaml\nseeds: 3\ngrid:\n  tracker.particles: [20, 200]\n"
+      "  tracker.resampling.method: [systematic, charged]\n"
+      "report: {x: tracker.particles, pool: [tracker.resampling.method], y: [idf1]}\n"));
+  ASSERT_EQ(spec.report.pool, std::vector<std::string>{"tracker.resampling.method"});
+  SweepOptions o;
+  o.out_dir = (dir / "out").string();
+  o.jobs = 2;
+  o.progress = false;
+  RunSweep(spec, ExpandSweep(spec), o);
+  const ReportResult r = WriteReport({.dir = o.out_dir});
+  EXPECT_EQ(r.cells, 2);
+  const std::string csv = Read(r.csv_path);
+  EXPECT_NE(csv.find("\n20,all,6,0,"), std::string::npos) << csv;
+  EXPECT_NE(csv.find("\n200,all,6,0,"), std::string::npos) << csv;
+  EXPECT_NE(Read(r.html_path).find("Pooled"), std::string::npos);
+  // Bad input: pooling x, or a key not swept.
+  for (const char* pool : {"[tracker.particles]", "[tracker.resampling.methd]"}) {
+    EXPECT_THROW(LoadSweepFile(testing::WriteSweep(
+                     dir, std::string("base: base.yaml\ngrid:\n  tracker.particles: [20, 200]\n"
+                                      "  tracker.resampling.method: [systematic, charged]\n"
+                                      "report: {x: tracker.particles, pool: ") +
+                              pool + "}\n")),
+                 InputError)
+        << pool;
+  }
+}
+
+// A key zipped with x moves along the line with it: it does not split lines
+// (two lines, systematic and charged, each through both x values).
+TEST(Report, KeysZippedWithXDoNotSplitLines) {
+  const auto dir = testing::SweepFolder("report-zip-x");
+  const SweepSpec spec = LoadSweepFile(testing::WriteSweep(
+      dir,
+      "base: base.yaml\ngrid:\n  tracker.resampling.method: [systematic, charged]\n"
+      "zip:\n  tracker.particles: [20, 200]\n  tracker.dynamics.sigma_pos_px: [1, 2]\n"
+      "report: {x: tracker.particles, series: tracker.resampling.method, y: [idf1]}\n"));
+  SweepOptions o;
+  o.out_dir = (dir / "out").string();
+  o.jobs = 2;
+  o.progress = false;
+  RunSweep(spec, ExpandSweep(spec), o);
+  const std::string html = Read(WriteReport({.dir = o.out_dir}).html_path);
+  const size_t at = html.find("plot-idf1");
+  ASSERT_NE(at, std::string::npos);
+  const std::string svg = html.substr(at, html.find("</svg>", at) - at);
+  EXPECT_EQ(svg.find("sigma_pos_px="), std::string::npos) << "a zipped key split the lines";
+  EXPECT_NE(svg.find("systematic"), std::string::npos);
+  EXPECT_NE(svg.find("charged"), std::string::npos);
 }
 
 TEST(Report, MissingStoreIsBadInput) {

@@ -117,7 +117,8 @@ TEST(MetricCatalogue, EveryEntryIsReadFromARealRunFolder) {
   ASSERT_EQ(m.size(), MetricCatalogue().size());
   // Detection quality exists only for rendered runs: its entries are checked
   // on the metrics.json the run writer makes with a detection block (one
-  // frame, one exact detection: precision = recall = F1 = 1).
+  // frame, one exact detection: precision = recall = F1 = 1; its box is
+  // 10 x 10 px, at visible fraction 1 so it also counts at >= 0.75).
   metrics::RunMetrics with_detection;
   metrics::DetectionFrame frame;
   frame.truth = {{ObjectId{1}, BoxPx{0, 0, 10, 10}, 1.0}};
@@ -133,7 +134,9 @@ TEST(MetricCatalogue, EveryEntryIsReadFromARealRunFolder) {
     ASSERT_TRUE(m.count(name)) << name;
     if (name.rfind("det_", 0) == 0) {
       EXPECT_TRUE(std::isnan(m.at(name))) << name << ": a detection-level run has no detection";
-      EXPECT_EQ(d.at(name), 1.0) << name << " (" << c.file << c.pointer << ")";
+      // Ratios are 1; the size is the target's sqrt(10 x 10) = 10 px.
+      EXPECT_EQ(d.at(name), name == "det_size_px" ? 10.0 : 1.0)
+          << name << " (" << c.file << c.pointer << ")";
     } else {
       EXPECT_TRUE(std::isfinite(m.at(name))) << name << " (" << c.file << c.pointer << ")";
     }

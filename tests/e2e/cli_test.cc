@@ -187,5 +187,37 @@ INSTANTIATE_TEST_SUITE_P(Library, ShippedScenario,
                            return n;
                          });
 
+// Rendered library scenarios (a detector on the frames) validate and run;
+// a few frames each, to keep the suite short.
+class ShippedRenderedScenario : public ::testing::TestWithParam<std::string> {};
+
+TEST_P(ShippedRenderedScenario, ValidatesAndRunsItsDetector) {
+  auto r = RunCommand(kHcpf + " validate " + LibraryScenario(GetParam()));
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  std::string name = GetParam();
+  std::replace(name.begin(), name.end(), '/', '-');
+  const fs::path out = FreshDir("shipped-rendered-" + name) / "run";
+  // The climbing camera's last keyframe moves to the last of the 12 frames.
+  const std::string climb =
+      GetParam().starts_with("thesis/ch10") ? " --set camera.path.1.frame=11" : "";
+  r = RunCommand(kHcpf + " run " + LibraryScenario(GetParam()) + " --set frames=12" + climb +
+                 " --no-cache --out " + out.string());
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_GT(fs::file_size(out / "gt" / "gt.txt"), 0u);
+  EXPECT_TRUE(fs::exists(out / "det" / "det.txt"));
+}
+
+INSTANTIATE_TEST_SUITE_P(Library, ShippedRenderedScenario,
+                         ::testing::Values("vision/size-ladder",
+                                           "thesis/ch10-static-crossing-low-variance",
+                                           "thesis/ch10-static-crossing-high-variance",
+                                           "thesis/ch10-static-parallel-high-variance"),
+                         [](const auto& info) {
+                           std::string n = info.param;
+                           std::replace(n.begin(), n.end(), '-', '_');
+                           std::replace(n.begin(), n.end(), '/', '_');
+                           return n;
+                         });
+
 }  // namespace
 }  // namespace hcpf

@@ -52,6 +52,9 @@ struct DetectionQuality {
   DetectionCounts centre;  // matched when the centre lies within half the box of the target
   double mean_centre_error_px = 0.0;  // IoU matches: detection centre to target centre
   double mean_iou = 0.0;              // IoU matches
+  // Median size (sqrt of the box area, px) of the counted targets: the
+  // apparent target size the counts are about (NaN without targets).
+  double median_size_px = 0.0;
   // Size: sqrt(box area) in px, bins [0, 8), [8, 16), [16, 32), [32, 64),
   // [64, inf); a false detection counts in its own box's bin. Visibility:
   // [0, 0.25), [0.25, 0.5), [0.5, 0.75), [0.75, 1]; false detections have no

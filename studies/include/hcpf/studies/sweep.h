@@ -35,6 +35,14 @@ struct ReportSpec {
   std::string x;               // a swept key ("" = the first grid key)
   std::vector<std::string> y;  // metric names (MetricNames(), metric_catalogue.h)
   std::string series;          // a swept key or "" (one line)
+  // A catalogue metric to place each cell at on the x axis (its mean over the
+  // cell's runs) instead of the swept value of `x`, which still orders the
+  // points of a line: e.g. recall against the measured target size in px
+  // while the camera altitude is swept. "" = the swept value.
+  std::string x_metric;
+  // Swept keys (not x, not series) whose values are pooled: a cell holds the
+  // runs of every value of these keys, like more seeds ("all" in tables).
+  std::vector<std::string> pool;
 };
 
 struct SweepSpec {

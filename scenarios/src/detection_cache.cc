@@ -140,6 +140,27 @@ XXH128_hash_t PixelDigest(const ImageView& image) {
   return digest;
 }
 
+const std::optional<XXH128_hash_t>& ProgramDigest() {
+  static const std::optional<XXH128_hash_t> digest = []() -> std::optional<XXH128_hash_t> {
+    std::ifstream in("/proc/self/exe", std::ios::binary);
+    if (!in) return std::nullopt;
+    XXH3_state_t* state = XXH3_createState();
+    HCPF_CHECK(state != nullptr) << "XXH3_createState";
+    XXH3_128bits_reset(state);
+    std::vector<char> buffer(1 << 20);
+    while (in) {
+      in.read(buffer.data(), static_cast<std::streamsize>(buffer.size()));
+      XXH3_128bits_update(state, buffer.data(), static_cast<size_t>(in.gcount()));
+    }
+    const bool ok = in.eof();
+    const XXH128_hash_t h = XXH3_128bits_digest(state);
+    XXH3_freeState(state);
+    if (!ok) return std::nullopt;
+    return h;
+  }();
+  return digest;
+}
+
 DetectionKey::DetectionKey() : state_(XXH3_createState()) {
   HCPF_CHECK(state_ != nullptr) << "XXH3_createState";
   XXH3_128bits_reset(state_);

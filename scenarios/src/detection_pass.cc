@@ -34,12 +34,13 @@ DetectionPass::DetectionPass(const Scenario& scenario, const std::string& cache_
       options_text_(OptionsText(scenario.observation)),
       rng_(Rng(scenario.seeds.observation).Fork("detector")) {
   HCPF_CHECK(detector_ != nullptr) << "unknown detector " << scenario.observation.DetectorName();
-  if (!cache_dir.empty()) cache_ = std::make_unique<DetectionCache>(cache_dir);
+  if (!cache_dir.empty() && ProgramDigest()) cache_ = std::make_unique<DetectionCache>(cache_dir);
 }
 
 std::string DetectionPass::Key(const renderer::RenderedFrame& frame, const XXH128_hash_t& digest,
                                const Rng& rng) const {
   DetectionKey key;
+  key.Add(*ProgramDigest());
   key.Add(options_text_);
   key.Add(static_cast<uint64_t>(frame.frame));
   key.Add(rng.identity());

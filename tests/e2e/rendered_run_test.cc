@@ -115,6 +115,23 @@ TEST(RenderedRun, TheDetectionCacheServesTrackerSweepsAndNeverMisreads) {
   EXPECT_NE(ReadFile(dir / "a" / "det" / "det.txt"), ReadFile(dir / "c" / "det" / "det.txt"));
   // Another seed draws another scene: misses too.
   EXPECT_EQ(run("d", " --set seed=99")["detections_from_cache"], 0);
+  // Another build of the program (here: the same binary with a byte
+  // appended, which still runs) never reads this build's detections.
+  const fs::path rebuilt = dir / "hcpf-rebuilt";
+  fs::copy_file(HCPF_EXE, rebuilt);
+  std::ofstream(rebuilt, std::ios::app | std::ios::binary) << 'x';
+  fs::permissions(rebuilt, fs::perms::owner_all);
+  {
+    std::string command = common + " --out " + (dir / "rebuilt").string();
+    command.replace(0, std::string(HCPF_EXE).size(), rebuilt.string());
+    const auto r = RunCommand(command);
+    ASSERT_EQ(r.exit_code, 0) << r.output;
+    EXPECT_EQ(
+        nlohmann::json::parse(ReadFile(dir / "rebuilt" / "manifest.json"))["detections_from_cache"],
+        0);
+    EXPECT_EQ(ReadFile(dir / "a" / "det" / "det.txt"),
+              ReadFile(dir / "rebuilt" / "det" / "det.txt"));
+  }
   // Damage two entries (one truncated, one with a flipped byte): both are
   // recomputed, and the detections are unchanged.
   fs::remove_all(dir / "cache" / "detections");

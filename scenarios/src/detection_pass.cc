@@ -38,7 +38,8 @@ DetectionPass::DetectionPass(const Scenario& scenario, const std::string& cache_
 }
 
 std::string DetectionPass::Key(const renderer::RenderedFrame& frame, const XXH128_hash_t& digest,
-                               const Rng& rng) const {
+                               const Rng& rng,
+                               std::span<const vision::SearchWindow> windows) const {
   DetectionKey key;
   key.Add(*ProgramDigest());
   key.Add(options_text_);
@@ -55,10 +56,16 @@ std::string DetectionPass::Key(const renderer::RenderedFrame& frame, const XXH12
     for (double v : {m.box.left, m.box.top, m.box.width, m.box.height}) key.Add(v);
     key.Add(model_digests_[i]);
   }
+  key.Add(static_cast<uint64_t>(windows.size()));
+  for (const vision::SearchWindow& w : windows) {
+    key.Add(static_cast<uint64_t>(Value(w.target)));
+    for (double v : {w.box.left, w.box.top, w.box.width, w.box.height}) key.Add(v);
+  }
   return key.Finish();
 }
 
-void DetectionPass::Add(const renderer::RenderedFrame& frame) {
+const Observation& DetectionPass::Add(const renderer::RenderedFrame& frame,
+                                      std::span<const vision::SearchWindow> windows) {
   if (detector_->uses_models()) {
     for (const GroundTruthObject& o : frame.ground_truth.objects) {
       const bool known =
@@ -78,7 +85,7 @@ void DetectionPass::Add(const renderer::RenderedFrame& frame) {
   // depend on which frames came before it.
   Rng rng = rng_.Fork(fmt::format("frame/{}", frame.frame));
   const XXH128_hash_t digest = cache_ ? PixelDigest(frame.rgb) : XXH128_hash_t{};
-  const std::string key = cache_ ? Key(frame, digest, rng) : std::string();
+  const std::string key = cache_ ? Key(frame, digest, rng, windows) : std::string();
   std::optional<vision::DetectorOutput> cached;
   if (cache_) cached = cache_->Load(key);
   vision::DetectorOutput out;
@@ -87,8 +94,12 @@ void DetectionPass::Add(const renderer::RenderedFrame& frame) {
     ++from_cache_;
   } else {
     const std::vector<ImageView> previous(recent_.begin(), recent_.end());
-    out = detector_->Detect(
-        {.image = frame.rgb, .frame = frame.frame, .previous = previous, .models = models_}, rng);
+    out = detector_->Detect({.image = frame.rgb,
+                             .frame = frame.frame,
+                             .previous = previous,
+                             .models = models_,
+                             .windows = windows},
+                            rng);
     if (cache_) cache_->Store(key, out);
   }
   if (detector_->history() > 0) {
@@ -102,6 +113,7 @@ void DetectionPass::Add(const renderer::RenderedFrame& frame) {
   observations_.push_back({.frame = frame.frame,
                            .detections = std::move(out.detections),
                            .target_maps = std::move(out.maps)});
+  return observations_.back();
 }
 
 }  // namespace hcpf::scenarios::internal

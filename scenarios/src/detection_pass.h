@@ -11,6 +11,7 @@
 
 #include <deque>
 #include <memory>
+#include <span>
 #include <vector>
 
 #include "detection_cache.h"
@@ -25,15 +26,18 @@ class DetectionPass {
  public:
   // `cache_dir`: the frame cache's folder ("" = no detection cache).
   DetectionPass(const Scenario& scenario, const std::string& cache_dir);
-  void Add(const renderer::RenderedFrame& frame);
+  // Detects in `frame` (searching each model's window, when given, else the
+  // whole frame) and returns the frame's observation.
+  const Observation& Add(const renderer::RenderedFrame& frame,
+                         std::span<const vision::SearchWindow> windows = {});
   int frames_from_cache() const { return from_cache_; }
   // The observations of every frame added, in order.
   std::vector<Observation> Take() { return std::move(observations_); }
   const std::vector<vision::TargetModel>& models() const { return models_; }
 
  private:
-  std::string Key(const renderer::RenderedFrame& frame, const XXH128_hash_t& digest,
-                  const Rng& rng) const;
+  std::string Key(const renderer::RenderedFrame& frame, const XXH128_hash_t& digest, const Rng& rng,
+                  std::span<const vision::SearchWindow> windows) const;
 
   std::unique_ptr<vision::Detector> detector_;
   std::string options_text_;  // the detector's name and options, for the cache key

@@ -72,20 +72,52 @@ RunSummary RunScenario(const Scenario& scenario, const RunOptions& options) {
       WriteFrameImages(frame, dir, images.write_frames);
     };
   }
-  // A vision/ detector sees each rendered frame as it is produced, so the
-  // run never holds every image.
+  // The tracker. Filters are born from ground truth at each target's first
+  // in-frame appearance when the scenario asks for it (the pipeline passes
+  // the box; the tracker never sees ground truth otherwise).
+  tracker::TrackerOptions tracker_options = scenario.tracker;
+  tracker_options.threads = options.threads;
+  auto tracker = tracker::MakeTracker(tracker_options, Rng(scenario.seeds.tracker));
+  std::set<int32_t> born;
+  std::vector<tracker::FrameReport> reports;
+  reports.reserve(static_cast<size_t>(scenario.world.frames));
+  double tracker_seconds = 0.0;
+  const auto step = [&](const FrameGroundTruth& gt, const Observation& observation) {
+    const auto t = Clock::now();
+    if (tracker_options.init == tracker::InitMode::kGroundTruth) {
+      for (const GroundTruthObject& o : gt.objects) {
+        if (o.in_frame && born.insert(Value(o.id)).second) {
+          tracker->BirthTrack(TrackId{Value(o.id)}, o.amodal_box);
+        }
+      }
+    }
+    reports.push_back(tracker->Step(observation));
+    tracker_seconds += Seconds(t);
+  };
+
+  // A vision/ detector sees each rendered frame as it is produced (the run
+  // never holds every image), and the tracker steps right after it: with
+  // `observation.search: window` the detector searches around each filter's
+  // estimate of the previous frame.
   std::unique_ptr<internal::DetectionPass> detection;
   if (!scenario.observation.oracle()) {
     detection = std::make_unique<internal::DetectionPass>(scenario, options.frame_cache_dir);
+    const bool windowed = scenario.observation.search == SearchMode::kWindow;
     frame_options.on_frame =
-        [&detection, write = frame_options.on_frame](const renderer::RenderedFrame& frame) {
+        [&, windowed, write = frame_options.on_frame](const renderer::RenderedFrame& frame) {
           if (write) write(frame);
-          detection->Add(frame);
+          std::vector<vision::SearchWindow> windows;
+          if (windowed && !reports.empty()) {
+            for (const tracker::FilterReport& r : reports.back().filters) {
+              windows.push_back({.target = ObjectId{Value(r.id)}, .box = r.box});
+            }
+          }
+          step(frame.ground_truth, detection->Add(frame, windows));
         };
   }
   SceneFrames scene = ProduceFrames(scenario, frame_options);
   const std::vector<FrameGroundTruth>& truth = scene.truth;
-  timings["ground_truth_s"] = Seconds(t0);
+  timings["ground_truth_s"] = Seconds(t0) - tracker_seconds;
 
   // 2. Observations: the oracle (noisy ground truth), or the detector's
   // output gathered while the frames were produced (its time is in
@@ -105,30 +137,17 @@ RunSummary RunScenario(const Scenario& scenario, const RunOptions& options) {
     summary.detections += static_cast<int>(o.detections.size());
   timings["observations_s"] = Seconds(t0);
 
-  // 3. Tracker. Filters are born from ground truth at each target's first
-  // in-frame appearance when the scenario asks for it (the pipeline passes
-  // the box; the tracker never sees ground truth otherwise).
-  t0 = Clock::now();
-  tracker::TrackerOptions tracker_options = scenario.tracker;
-  tracker_options.threads = options.threads;
-  auto tracker = tracker::MakeTracker(tracker_options, Rng(scenario.seeds.tracker));
-  std::set<int32_t> born;
-  std::vector<tracker::FrameReport> reports;
-  reports.reserve(truth.size());
-  Progress progress("run", static_cast<int64_t>(truth.size()), options.show_progress);
-  for (size_t f = 0; f < truth.size(); ++f) {
-    if (tracker_options.init == tracker::InitMode::kGroundTruth) {
-      for (const GroundTruthObject& o : truth[f].objects) {
-        if (o.in_frame && born.insert(Value(o.id)).second) {
-          tracker->BirthTrack(TrackId{Value(o.id)}, o.amodal_box);
-        }
-      }
+  // 3. Tracker, frame by frame (already done, with the detector, when the
+  // observations come from one).
+  if (!detection) {
+    Progress progress("run", static_cast<int64_t>(truth.size()), options.show_progress);
+    for (size_t f = 0; f < truth.size(); ++f) {
+      step(truth[f], observations[f]);
+      progress.Advance();
     }
-    reports.push_back(tracker->Step(observations[f]));
-    progress.Advance();
+    progress.Finish();
   }
-  progress.Finish();
-  timings["tracker_s"] = Seconds(t0);
+  timings["tracker_s"] = tracker_seconds;
 
   // 4. MOT files, then the metrics computed from exactly those files, so
   // `hcpf score` on the outputs reproduces metrics.json.

@@ -312,6 +312,11 @@ void ObservationOptions::Validate(const tracker::TrackerOptions& tracker) const 
                "to fuse)",
                "\"" + detector + "\" with observation.detectors");
   }
+  if (search == SearchMode::kWindow && oracle()) {
+    FailOption("observation", "search",
+               "frame, or a model-based observation.detector (windows belong to target models)",
+               "window with observation.detector: oracle");
+  }
   if (oracle()) return;
   if (detector == "fusion") {
     const bool first = vision::MakeDetector(fused.front(), detectors)->uses_models();
@@ -331,6 +336,11 @@ void ObservationOptions::Validate(const tracker::TrackerOptions& tracker) const 
                "\"" + name + "\" with observation.source: simulated");
   }
   const auto made = vision::MakeDetector(name, detectors);
+  if (search == SearchMode::kWindow && !made->uses_models()) {
+    FailOption("observation", "search",
+               "frame, or a model-based observation.detector (windows belong to target models)",
+               "window with observation.detector: " + name);
+  }
   if (made->uses_models() && tracker.init != tracker::InitMode::kGroundTruth) {
     FailOption("observation", "detector",
                "a detector without target models, or tracker.init: ground_truth (the \"" + name +
@@ -349,6 +359,11 @@ std::span<const Field<ObservationOptions>> ObservationOptions::Fields() {
           "detector",
           "oracle: noisy ground truth, labelled as oracle in results; else a detector on the "
           "rendered frames (docs/vision.md); fusion: the `detectors` fused"),
+      ChoiceField<&O::search>(
+          "search",
+          "frame: a model-based detector searches the whole frame; window: around each "
+          "filter's estimate of the previous frame (side: the detector's window_scale x the "
+          "box), the tracker stepping frame by frame with the detector"),
       WordsField<&O::fused, &vision::DetectorNames>(
           "detectors", 2,
           "detectors to run together and fuse (thesis ch. 10); writing it alone implies "

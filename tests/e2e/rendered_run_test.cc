@@ -153,6 +153,31 @@ TEST(RenderedRun, TheDetectionCacheServesTrackerSweepsAndNeverMisreads) {
   EXPECT_EQ(ReadFile(dir / "a" / "det" / "det.txt"), ReadFile(dir / "e" / "det" / "det.txt"));
 }
 
+// observation.search: window: the detector searches around each filter's
+// estimate of the previous frame, the tracker stepping with it. NCC then
+// matches the model scaled to the filter's box inside the window, so its
+// detections differ from the whole-frame search's, and the tracker still
+// follows both targets.
+TEST(RenderedRun, WindowedSearchFollowsTheFilters) {
+  const fs::path dir = FreshDir("detector-window");
+  const std::string common =
+      std::string(HCPF_EXE) + " run " + testing::LibraryScenario("crossing") +
+      " --set observation.source=rendered --set frames=90 --set observation.detector=ncc --cache " +
+      (dir / "cache").string();
+  for (const std::string search : {"frame", "window"}) {
+    const auto r = RunCommand(common + " --set observation.search=" + search + " --out " +
+                              (dir / search).string());
+    ASSERT_EQ(r.exit_code, 0) << r.output;
+    const auto metrics = nlohmann::json::parse(ReadFile(dir / search / "metrics.json"));
+    EXPECT_GT(metrics["filters"]["da_accuracy"].get<double>(), 0.8) << search;
+    EXPECT_GT(metrics["detection"]["centre"]["recall"].get<double>(), 0.5) << search;
+  }
+  EXPECT_NE(ReadFile(dir / "frame" / "det" / "det.txt"),
+            ReadFile(dir / "window" / "det" / "det.txt"));
+  const std::string resolved = ReadFile(dir / "window" / "scenario.resolved.yaml");
+  EXPECT_NE(resolved.find("search: window"), std::string::npos);
+}
+
 // A detector needs rendered frames and, with target models, filters born
 // from ground truth: both are bad input naming the keys, for validate and run.
 TEST(RenderedRun, DetectorWithoutItsPrerequisitesIsBadInput) {

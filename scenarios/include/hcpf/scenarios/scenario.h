@@ -53,6 +53,9 @@ struct SimulatedObservationOptions {
 };
 
 enum class ObservationSource { kSimulated, kRendered };
+// Where a model-based detector looks for each target: the whole frame, or a
+// window around its filter's estimate of the previous frame.
+enum class SearchMode { kFrame, kWindow };
 
 }  // namespace hcpf::scenarios
 
@@ -61,6 +64,13 @@ struct hcpf::EnumNames<hcpf::scenarios::ObservationSource> {
   static constexpr std::array kNames = {
       std::pair{hcpf::scenarios::ObservationSource::kSimulated, std::string_view("simulated")},
       std::pair{hcpf::scenarios::ObservationSource::kRendered, std::string_view("rendered")}};
+};
+
+template <>
+struct hcpf::EnumNames<hcpf::scenarios::SearchMode> {
+  static constexpr std::array kNames = {
+      std::pair{hcpf::scenarios::SearchMode::kFrame, std::string_view("frame")},
+      std::pair{hcpf::scenarios::SearchMode::kWindow, std::string_view("window")}};
 };
 
 namespace hcpf::scenarios {
@@ -72,6 +82,7 @@ struct ObservationOptions {
   // listed in `fused` (key `detectors`), run on every frame and fused.
   std::string detector = "oracle";
   std::vector<std::string> fused;  // `observation.detectors`, with detector: fusion
+  SearchMode search = SearchMode::kFrame;
   SimulatedObservationOptions simulated;
   vision::DetectorOptions detectors;  // `observation.<detector>.*`
 

@@ -217,6 +217,7 @@ struct Layout {
   bool log_x = false;
   double x_min = 0.0, x_max = 0.0;
   std::string x_label;
+  std::string x_title;  // x in plot titles (x_label without its notes)
 
   std::string x_metric;  // ReportSpec::x_metric
 
@@ -317,9 +318,11 @@ Layout LayoutOf(const std::vector<Cell>& cells, const StoreMeta& meta) {
   layout.x_min = x_min;
   layout.x_max = x_max;
   layout.x_label = meta.report.x.empty() ? "run" : meta.report.x;
+  layout.x_title = layout.x_label;
   if (const CatalogueMetric* m = FindMetric(meta.report.x_metric)) {
     layout.x_label = fmt::format("{}{}{} ({}; mean per cell, lines follow {})", m->label,
                                  m->unit.empty() ? "" : ", ", m->unit, m->name, meta.report.x);
+    layout.x_title = m->name;
   }
   return layout;
 }
@@ -375,7 +378,7 @@ std::string PlotSvg(const Layout& layout, const std::string& metric, size_t p, c
       entry == nullptr ? metric
                        : fmt::format("{}{}{} ({})", entry->label, entry->unit.empty() ? "" : ", ",
                                      entry->unit, metric);
-  gp += fmt::format("set title {} noenhanced\n", GpString(described + " vs " + x_label));
+  gp += fmt::format("set title {} noenhanced\n", GpString(described + " vs " + layout.x_title));
   gp += fmt::format("set xlabel {} noenhanced\n", GpString(x_label));
   gp +=
       fmt::format("set ylabel {} noenhanced\n", GpString(described + "; mean, 95% CI over seeds"));

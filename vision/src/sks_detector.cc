@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <limits>
 #include <numbers>
 #include <opencv2/imgproc.hpp>
 #include <type_traits>
@@ -653,6 +654,33 @@ void FeatureExtractor::Describe(const Candidate& c, const GreyImageF& smooth, in
   }
 }
 
+// The features of the strongest `max_points` keypoints of `all` that lie on
+// a w x h patch at the origin: within their own scale of it (a keypoint's
+// position is good to about its scale, and the outline's corners, the
+// strongest keypoints of a vehicle, sit on the patch's edge).
+Features KeypointsOnPatch(const Features& all, double w, double h, int max_points) {
+  Features out;
+  out.dims = all.dims;
+  int last = -1;
+  for (size_t f = 0; f < all.size(); ++f) {
+    const double s = all.scale[f];
+    if (!(all.x[f] >= -s && all.x[f] < w + s && all.y[f] >= -s && all.y[f] < h + s)) continue;
+    if (all.point[f] != last) {
+      if (out.points == max_points) break;
+      last = all.point[f];
+      ++out.points;
+    }
+    out.point.push_back(out.points - 1);
+    out.x.push_back(all.x[f]);
+    out.y.push_back(all.y[f]);
+    out.scale.push_back(all.scale[f]);
+    out.angle.push_back(all.angle[f]);
+    const float* d = all.descriptors.data() + f * static_cast<size_t>(all.dims);
+    out.descriptors.insert(out.descriptors.end(), d, d + all.dims);
+  }
+  return out;
+}
+
 // ---------------------------------------------------------------- voting
 
 // The squared distance of two descriptors of `dims` floats (a multiple of
@@ -945,6 +973,29 @@ const SksOptions& Validated(const SksOptions& options) {
   return options;
 }
 
+// A model's features, positions in its patch's pixels. Described on the
+// model's context (the patch and `margin` px around it, as far as the
+// context reaches), as the same place of a frame would be: a patch alone
+// would be extended by clamping its border, which erases the target's
+// outline against the ground, and with it the corners a frame shows there.
+// Only keypoints on the patch are the target's (KeypointsOnPatch).
+Features ModelFeatures(const FeatureExtractor& extractor, const TargetModel& model, int margin,
+                       int max_points) {
+  const int w = model.patch.width, h = model.patch.height;
+  if (w < kMinOctaveSide || h < kMinOctaveSide) return extractor.Extract(GreyImage{}, 0, 0.0, 0.0);
+  if (model.context.width <= 0 || model.context.height <= 0) {
+    return extractor.Extract(ToGrey(ImageView(model.patch)), max_points, 0.0, 0.0);
+  }
+  const int x0 = std::max(0, model.context_x - margin);
+  const int y0 = std::max(0, model.context_y - margin);
+  const int x1 = std::min(model.context.width, model.context_x + w + margin);
+  const int y1 = std::min(model.context.height, model.context_y + h + margin);
+  const Features all = extractor.Extract(
+      ToGrey(ImageView(model.context).Crop(x0, y0, x1 - x0, y1 - y0)),
+      std::numeric_limits<int>::max(), x0 - model.context_x, y0 - model.context_y);
+  return KeypointsOnPatch(all, w, h, max_points);
+}
+
 class SksDetector final : public Detector {
  public:
   explicit SksDetector(const SksOptions& options)
@@ -981,8 +1032,7 @@ DetectorOutput SksDetector::Detect(const DetectorInput& input, Rng&) const {
     if (width == 0 || model.patch.width <= 0 || model.patch.height <= 0) continue;
     models[m].width = model.patch.width;
     models[m].height = model.patch.height;
-    models[m].features =
-        extractor.Extract(ToGrey(ImageView(model.patch)), options_.max_model_keypoints, 0.0, 0.0);
+    models[m].features = ModelFeatures(extractor, model, margin, options_.max_model_keypoints);
     cv::Rect rect = all;
     const SearchWindow* window = WindowOf(input.windows, model.target);
     if (window != nullptr && !window->box.empty()) {

@@ -414,12 +414,13 @@ void LocalMaxima(const GreyImageF& response, float threshold, int scale,
   }
 }
 
-// Every other pixel of `smooth`, rounded to 8 bits: pixel (i, j) of the
-// result is pixel (2i, 2j), so the centre of pixel i lies at 2i + 0.5 in the
+// Every other pixel of `smooth`, rounded to 8 bits, into `out`: pixel (i, j)
+// of the result is pixel (2i, 2j), so the centre of pixel i lies at 2i + 0.5 in the
 // finer octave's continuous coordinates.
-GreyImage Decimate(const GreyImageF& smooth) {
-  GreyImage out{.width = (smooth.width + 1) / 2, .height = (smooth.height + 1) / 2};
-  out.pixels.resize(static_cast<size_t>(out.width) * out.height);
+void Decimate(const GreyImageF& smooth, GreyImage& out) {
+  out.width = (smooth.width + 1) / 2;
+  out.height = (smooth.height + 1) / 2;
+  out.pixels.resize(static_cast<size_t>(out.width) * out.height);  // keeps its capacity
   for (int y = 0; y < out.height; ++y) {
     const float* in = smooth.row(2 * y);
     uint8_t* row = out.row(y);
@@ -427,7 +428,6 @@ GreyImage Decimate(const GreyImageF& smooth) {
       row[x] = static_cast<uint8_t>(std::clamp(in[2 * x] + 0.5f, 0.0f, 255.0f));
     }
   }
-  return out;
 }
 
 class FeatureExtractor {
@@ -440,7 +440,7 @@ class FeatureExtractor {
 
   // The features of the strongest `max_keypoints` Harris-Laplace keypoints of
   // `grey`, positions shifted by (x0, y0).
-  Features Extract(GreyImage grey, int max_keypoints, double x0, double y0) const;
+  Features Extract(const GreyImage& grey, int max_keypoints, double x0, double y0) const;
 
  private:
   struct Sample {
@@ -456,19 +456,32 @@ class FeatureExtractor {
   int dims_ = 0;
 };
 
-Features FeatureExtractor::Extract(GreyImage grey, int max_keypoints, double x0, double y0) const {
+Features FeatureExtractor::Extract(const GreyImage& grey, int max_keypoints, double x0,
+                                   double y0) const {
   Features out;
   out.dims = dims_;
   if (grey.width < kMinOctaveSide || grey.height < kMinOctaveSide) return out;
-  Workspace ws;
+  // Scratch, per thread and kept between calls (Detect is const and may run
+  // on several threads at once; Extract never runs inside itself): images of
+  // a frame's size are hundreds of kilobytes, and fresh memory is touched
+  // page by page (docs/vision.md, "Speed"). Every buffer is resized (or
+  // cleared) before use, so nothing carries over from an earlier call.
+  thread_local Workspace ws;
+  thread_local std::vector<GreyImage> decimated;  // octaves 1, 2, ...
+  thread_local Features all;
+  thread_local std::vector<Candidate> keypoints;
+  thread_local std::vector<Candidate> candidates;
+  thread_local std::vector<Sample> samples;
   // The octave images: the image, then 2x decimations while large enough.
-  std::vector<GreyImage> octaves;
-  octaves.push_back(std::move(grey));
+  std::vector<const GreyImage*> octaves = {&grey};
+  if (decimated.size() < static_cast<size_t>(space_.octaves)) decimated.resize(space_.octaves);
   while (static_cast<int>(octaves.size()) < space_.octaves) {
-    const GreyImage& finer = octaves.back();
+    const GreyImage& finer = *octaves.back();
     if ((finer.width + 1) / 2 < kMinOctaveSide || (finer.height + 1) / 2 < kMinOctaveSide) break;
     Smooth(finer, space_.anti_alias, ws.spare);
-    octaves.push_back(Decimate(ws.spare));
+    GreyImage& coarser = decimated[octaves.size() - 1];
+    Decimate(ws.spare, coarser);
+    octaves.push_back(&coarser);
   }
 
   // Scale by scale: Harris maxima, the Laplacian's scale selection, then the
@@ -478,17 +491,17 @@ Features FeatureExtractor::Extract(GreyImage grey, int max_keypoints, double x0,
   // neighbouring scales: above both neighbours inside the scale range; at the
   // range's ends, above the one neighbour there is (sharp corners peak below
   // any scale in range, and would otherwise all be lost).
-  Features all;
   all.dims = dims_;
-  std::vector<Candidate> keypoints;
-  std::vector<Candidate> candidates;
-  std::vector<Sample> samples;
+  all.points = 0;
+  for (auto* v : {&all.x, &all.y, &all.scale, &all.angle, &all.descriptors}) v->clear();
+  all.point.clear();
+  keypoints.clear();
   const auto threshold = static_cast<float>(options_.harris_threshold);
   const int last = static_cast<int>(space_.scales.size()) - 1;
   for (int k = 0; k <= last; ++k) {
     const Scale& s = space_.scales[k];
     if (s.octave >= static_cast<int>(octaves.size())) continue;
-    const GreyImage& image = octaves[s.octave];
+    const GreyImage& image = *octaves[s.octave];
     HarrisResponse(image, s, options_.harris_alpha, ws);
     candidates.clear();
     LocalMaxima(ws.spare, threshold, k, candidates);

@@ -55,6 +55,7 @@ std::string DetectionPass::Key(const renderer::RenderedFrame& frame, const XXH12
     key.Add(static_cast<uint64_t>(m.frame));
     for (double v : {m.box.left, m.box.top, m.box.width, m.box.height}) key.Add(v);
     key.Add(model_digests_[i]);
+    key.Add(context_digests_[i]);
   }
   key.Add(static_cast<uint64_t>(windows.size()));
   for (const vision::SearchWindow& w : windows) {
@@ -78,6 +79,7 @@ const Observation& DetectionPass::Add(const renderer::RenderedFrame& frame,
       if (whole && !known) {
         models_.push_back(vision::CutTargetModel(frame.rgb, o.amodal_box, o.id, frame.frame));
         model_digests_.push_back(PixelDigest(models_.back().patch));
+        context_digests_.push_back(PixelDigest(models_.back().context));
       }
     }
   }

@@ -43,7 +43,8 @@ class DetectionPass {
   std::string options_text_;  // the detector's name and options, for the cache key
   Rng rng_;
   std::vector<vision::TargetModel> models_;
-  std::vector<XXH128_hash_t> model_digests_;  // of each model's patch
+  std::vector<XXH128_hash_t> model_digests_;    // of each model's patch
+  std::vector<XXH128_hash_t> context_digests_;  // of each model's context
   std::vector<Observation> observations_;
   std::deque<RgbImage> recent_;  // the detector's history() latest frames, newest first
   std::deque<XXH128_hash_t> recent_digests_;

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <limits>
 #include <numbers>
 #include <opencv2/imgproc.hpp>
 #include <type_traits>
@@ -413,12 +414,13 @@ void LocalMaxima(const GreyImageF& response, float threshold, int scale,
   }
 }
 
-// Every other pixel of `smooth`, rounded to 8 bits: pixel (i, j) of the
-// result is pixel (2i, 2j), so the centre of pixel i lies at 2i + 0.5 in the
+// Every other pixel of `smooth`, rounded to 8 bits, into `out`: pixel (i, j)
+// of the result is pixel (2i, 2j), so the centre of pixel i lies at 2i + 0.5 in the
 // finer octave's continuous coordinates.
-GreyImage Decimate(const GreyImageF& smooth) {
-  GreyImage out{.width = (smooth.width + 1) / 2, .height = (smooth.height + 1) / 2};
-  out.pixels.resize(static_cast<size_t>(out.width) * out.height);
+void Decimate(const GreyImageF& smooth, GreyImage& out) {
+  out.width = (smooth.width + 1) / 2;
+  out.height = (smooth.height + 1) / 2;
+  out.pixels.resize(static_cast<size_t>(out.width) * out.height);  // keeps its capacity
   for (int y = 0; y < out.height; ++y) {
     const float* in = smooth.row(2 * y);
     uint8_t* row = out.row(y);
@@ -426,7 +428,6 @@ GreyImage Decimate(const GreyImageF& smooth) {
       row[x] = static_cast<uint8_t>(std::clamp(in[2 * x] + 0.5f, 0.0f, 255.0f));
     }
   }
-  return out;
 }
 
 class FeatureExtractor {
@@ -439,7 +440,7 @@ class FeatureExtractor {
 
   // The features of the strongest `max_keypoints` Harris-Laplace keypoints of
   // `grey`, positions shifted by (x0, y0).
-  Features Extract(GreyImage grey, int max_keypoints, double x0, double y0) const;
+  Features Extract(const GreyImage& grey, int max_keypoints, double x0, double y0) const;
 
  private:
   struct Sample {
@@ -455,19 +456,32 @@ class FeatureExtractor {
   int dims_ = 0;
 };
 
-Features FeatureExtractor::Extract(GreyImage grey, int max_keypoints, double x0, double y0) const {
+Features FeatureExtractor::Extract(const GreyImage& grey, int max_keypoints, double x0,
+                                   double y0) const {
   Features out;
   out.dims = dims_;
   if (grey.width < kMinOctaveSide || grey.height < kMinOctaveSide) return out;
-  Workspace ws;
+  // Scratch, per thread and kept between calls (Detect is const and may run
+  // on several threads at once; Extract never runs inside itself): images of
+  // a frame's size are hundreds of kilobytes, and fresh memory is touched
+  // page by page (docs/vision.md, "Speed"). Every buffer is resized (or
+  // cleared) before use, so nothing carries over from an earlier call.
+  thread_local Workspace ws;
+  thread_local std::vector<GreyImage> decimated;  // octaves 1, 2, ...
+  thread_local Features all;
+  thread_local std::vector<Candidate> keypoints;
+  thread_local std::vector<Candidate> candidates;
+  thread_local std::vector<Sample> samples;
   // The octave images: the image, then 2x decimations while large enough.
-  std::vector<GreyImage> octaves;
-  octaves.push_back(std::move(grey));
+  std::vector<const GreyImage*> octaves = {&grey};
+  if (decimated.size() < static_cast<size_t>(space_.octaves)) decimated.resize(space_.octaves);
   while (static_cast<int>(octaves.size()) < space_.octaves) {
-    const GreyImage& finer = octaves.back();
+    const GreyImage& finer = *octaves.back();
     if ((finer.width + 1) / 2 < kMinOctaveSide || (finer.height + 1) / 2 < kMinOctaveSide) break;
     Smooth(finer, space_.anti_alias, ws.spare);
-    octaves.push_back(Decimate(ws.spare));
+    GreyImage& coarser = decimated[octaves.size() - 1];
+    Decimate(ws.spare, coarser);
+    octaves.push_back(&coarser);
   }
 
   // Scale by scale: Harris maxima, the Laplacian's scale selection, then the
@@ -477,17 +491,17 @@ Features FeatureExtractor::Extract(GreyImage grey, int max_keypoints, double x0,
   // neighbouring scales: above both neighbours inside the scale range; at the
   // range's ends, above the one neighbour there is (sharp corners peak below
   // any scale in range, and would otherwise all be lost).
-  Features all;
   all.dims = dims_;
-  std::vector<Candidate> keypoints;
-  std::vector<Candidate> candidates;
-  std::vector<Sample> samples;
+  all.points = 0;
+  for (auto* v : {&all.x, &all.y, &all.scale, &all.angle, &all.descriptors}) v->clear();
+  all.point.clear();
+  keypoints.clear();
   const auto threshold = static_cast<float>(options_.harris_threshold);
   const int last = static_cast<int>(space_.scales.size()) - 1;
   for (int k = 0; k <= last; ++k) {
     const Scale& s = space_.scales[k];
     if (s.octave >= static_cast<int>(octaves.size())) continue;
-    const GreyImage& image = octaves[s.octave];
+    const GreyImage& image = *octaves[s.octave];
     HarrisResponse(image, s, options_.harris_alpha, ws);
     candidates.clear();
     LocalMaxima(ws.spare, threshold, k, candidates);
@@ -651,6 +665,33 @@ void FeatureExtractor::Describe(const Candidate& c, const GreyImageF& smooth, in
     out.scale.push_back(static_cast<float>(octave_px * sigma));
     out.angle.push_back(theta);
   }
+}
+
+// The features of the strongest `max_points` keypoints of `all` that lie on
+// a w x h patch at the origin: within their own scale of it (a keypoint's
+// position is good to about its scale, and the outline's corners, the
+// strongest keypoints of a vehicle, sit on the patch's edge).
+Features KeypointsOnPatch(const Features& all, double w, double h, int max_points) {
+  Features out;
+  out.dims = all.dims;
+  int last = -1;
+  for (size_t f = 0; f < all.size(); ++f) {
+    const double s = all.scale[f];
+    if (!(all.x[f] >= -s && all.x[f] < w + s && all.y[f] >= -s && all.y[f] < h + s)) continue;
+    if (all.point[f] != last) {
+      if (out.points == max_points) break;
+      last = all.point[f];
+      ++out.points;
+    }
+    out.point.push_back(out.points - 1);
+    out.x.push_back(all.x[f]);
+    out.y.push_back(all.y[f]);
+    out.scale.push_back(all.scale[f]);
+    out.angle.push_back(all.angle[f]);
+    const float* d = all.descriptors.data() + f * static_cast<size_t>(all.dims);
+    out.descriptors.insert(out.descriptors.end(), d, d + all.dims);
+  }
+  return out;
 }
 
 // ---------------------------------------------------------------- voting
@@ -945,6 +986,29 @@ const SksOptions& Validated(const SksOptions& options) {
   return options;
 }
 
+// A model's features, positions in its patch's pixels. Described on the
+// model's context (the patch and `margin` px around it, as far as the
+// context reaches), as the same place of a frame would be: a patch alone
+// would be extended by clamping its border, which erases the target's
+// outline against the ground, and with it the corners a frame shows there.
+// Only keypoints on the patch are the target's (KeypointsOnPatch).
+Features ModelFeatures(const FeatureExtractor& extractor, const TargetModel& model, int margin,
+                       int max_points) {
+  const int w = model.patch.width, h = model.patch.height;
+  if (w < kMinOctaveSide || h < kMinOctaveSide) return extractor.Extract(GreyImage{}, 0, 0.0, 0.0);
+  if (model.context.width <= 0 || model.context.height <= 0) {
+    return extractor.Extract(ToGrey(ImageView(model.patch)), max_points, 0.0, 0.0);
+  }
+  const int x0 = std::max(0, model.context_x - margin);
+  const int y0 = std::max(0, model.context_y - margin);
+  const int x1 = std::min(model.context.width, model.context_x + w + margin);
+  const int y1 = std::min(model.context.height, model.context_y + h + margin);
+  const Features all = extractor.Extract(
+      ToGrey(ImageView(model.context).Crop(x0, y0, x1 - x0, y1 - y0)),
+      std::numeric_limits<int>::max(), x0 - model.context_x, y0 - model.context_y);
+  return KeypointsOnPatch(all, w, h, max_points);
+}
+
 class SksDetector final : public Detector {
  public:
   explicit SksDetector(const SksOptions& options)
@@ -981,8 +1045,7 @@ DetectorOutput SksDetector::Detect(const DetectorInput& input, Rng&) const {
     if (width == 0 || model.patch.width <= 0 || model.patch.height <= 0) continue;
     models[m].width = model.patch.width;
     models[m].height = model.patch.height;
-    models[m].features =
-        extractor.Extract(ToGrey(ImageView(model.patch)), options_.max_model_keypoints, 0.0, 0.0);
+    models[m].features = ModelFeatures(extractor, model, margin, options_.max_model_keypoints);
     cv::Rect rect = all;
     const SearchWindow* window = WindowOf(input.windows, model.target);
     if (window != nullptr && !window->box.empty()) {

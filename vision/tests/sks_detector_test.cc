@@ -50,6 +50,8 @@ std::vector<Part> Design(int design) {
     case 1:  // van: windscreen, long roof with two vents and a side stripe
       return {{0, 0, 56, 28, 1.0, 0}, {42, 3, 7, 22, 0.2, 0}, {4, 3, 36, 22, 0.85, 50},
               {9, 7, 8, 8, 0.4, 0},   {26, 14, 8, 8, 0.4, 0}, {4, 22, 36, 3, 0.3, 0}};
+    case 3:  // slab: one colour, no parts (its only corners are its outline's)
+      return {{0, 0, 56, 28, 1.0, 0}};
     default:  // truck: cab, gap, cargo bed with a hatch and a rib
       return {{0, 0, 56, 28, 0.9, 50}, {44, 4, 6, 20, 0.15, 0}, {37, 0, 4, 28, 0.1, 10},
               {2, 2, 33, 24, 0.6, 0},  {9, 8, 14, 12, 1.0, 70}, {26, 2, 5, 24, 0.35, 0}};
@@ -213,6 +215,35 @@ TEST(SksDetector, FindsEachVehicleWhereItMoved) {
       EXPECT_LE(d->score, 1.0);
     }
   }
+}
+
+// A vehicle of one colour (design 3) has no keypoints inside its box: its
+// corners are its outline's, on the box's edge, and show only against the
+// ground around it. The model describes them on its context (the patch's
+// surroundings in the model's frame), as a frame shows them; described on
+// the patch alone (its border clamped) the slab would have no features and
+// never be found. Moved by (8, -4) and (7, -5) px with fresh sensor noise:
+// centre within 1 px and size within 2 px (four corner keypoints, each good
+// to about half a pixel; measured 0.3 px and 1.0 px).
+TEST(SksDetector, FindsAVehicleWhoseOnlyCornersAreItsOutline) {
+  auto slab = [](double dx, double dy) {
+    return std::vector<Vehicle>{{ObjectId{1}, 3, 152 + dx, 118 + dy, {230, 225, 210}}};
+  };
+  const std::vector<TargetModel> models = Models(slab(0.0, 0.0));
+  for (const auto& [dx, dy] : {std::pair{8.0, -4.0}, std::pair{7.0, -5.0}}) {
+    SCOPED_TRACE(::testing::Message() << "moved " << dx << ", " << dy);
+    const DetectorOutput out = DetectIn(Frame(slab(dx, dy), 0.0, 1.0, 3, 101), models);
+    const Detection* d = Of(out, ObjectId{1});
+    ASSERT_NE(d, nullptr);
+    EXPECT_NEAR(d->box.centre_x(), 152 + dx, 1.0);
+    EXPECT_NEAR(d->box.centre_y(), 118 + dy, 1.0);
+    EXPECT_NEAR(d->box.width, kLength, 2.0);
+    EXPECT_NEAR(d->box.height, kBreadth, 2.0);
+  }
+  // The same model without its context: the patch alone has nothing to find.
+  std::vector<TargetModel> bare = models;
+  bare[0].context = {};
+  EXPECT_EQ(Of(DetectIn(Frame(slab(8.0, -4.0), 0.0, 1.0, 3, 101), bare), ObjectId{1}), nullptr);
 }
 
 // The thesis's invariance claims: the whole frame rotated by 30-90 degrees

@@ -27,10 +27,25 @@ struct TargetModel {
   int frame = 0;
   BoxPx box;       // where the patch was cut, in that frame's pixels
   RgbImage patch;  // the pixels of `box` rounded outwards and clipped to the frame
+  // The patch with its surroundings in the same frame: the patch grown by
+  // kModelContextPx on every side, clipped to the frame; the patch's top-left
+  // pixel is context pixel (context_x, context_y). Detectors whose filters
+  // reach beyond a feature's position (SKS) describe the model's features on
+  // it, so that a feature at the patch's edge sees what the same place sees
+  // in a frame (the target's outline against its background) rather than
+  // the patch's clamped border. Empty (and the offsets 0) where the patch is.
+  RgbImage context;
+  int context_x = 0;
+  int context_y = 0;
 };
 
+// The surroundings TargetModel::context keeps on each side of the patch, px:
+// at least the reach of SKS's default filters (3 x its largest scale, 21 px).
+inline constexpr int kModelContextPx = 32;
+
 // The model of `target` cut from `image` at `box` (rounded outwards to whole
-// pixels, clipped to the image). An empty patch when the box misses the image.
+// pixels, clipped to the image), with its context. An empty patch (and
+// context) when the box misses the image.
 TargetModel CutTargetModel(const ImageView& image, const BoxPx& box, ObjectId target, int frame);
 
 // Where a windowed detector searches for one target: around the tracker's

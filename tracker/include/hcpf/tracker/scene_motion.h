@@ -1,0 +1,229 @@
+#pragma once
+// The scene level of the hierarchical filter (DESIGN.md, "Hierarchical
+// filter"; thesis ch. 11): a particle filter over the frame-to-frame camera
+// motion, a 2-D image similarity (tx, ty, log_scale, rotation), weighted by
+// camera-motion evidence from which the current target boxes are masked out.
+// Target filters then apply its estimate to their particles
+// (ApplyCameraMotion, MultiTargetTracker::Step(observation, camera_motion)).
+// docs/tracker.md, "Hierarchical filter: the scene-motion filter (core)",
+// gives the model, dynamics and evidence formulas.
+
+#include <Eigen/Core>
+#include <array>
+#include <memory>
+#include <span>
+#include <string_view>
+#include <vector>
+
+#include "hcpf/core/enum_names.h"
+#include "hcpf/core/fields.h"
+#include "hcpf/core/rng.h"
+#include "hcpf/core/similarity_motion.h"
+#include "hcpf/core/types.h"
+#include "hcpf/tracker/particle_set.h"
+#include "hcpf/tracker/resampler.h"
+
+namespace hcpf::tracker {
+
+// Evidence about the frame-to-frame camera motion, implemented outside the
+// scene filter (from image feature tracks in vision/, from simulated point
+// tracks, or the ground-truth oracle below).
+// Contract:
+// - Adds to log_w[i] the log-likelihood (up to one constant shared by every
+//   hypothesis) of the evidence under hypotheses[i], a motion mapping frame
+//   t-1 pixel coordinates to frame t pixel coordinates.
+// - `exclude` are the current target boxes (frame t-1 estimates): targets
+//   must not explain the scene, so evidence lying on them is ignored
+//   (feedback from targets to scene). An implementation that cannot be
+//   biased by targets (the oracle) may ignore them.
+// - Precondition: log_w.size() == hypotheses.size().
+// - Const and deterministic: no randomness, no hidden state.
+class CameraMotionEvidence {
+ public:
+  virtual ~CameraMotionEvidence() = default;
+  virtual void AddLogLikelihood(std::span<const SimilarityMotion> hypotheses,
+                                std::span<const BoxPx> exclude, std::span<double> log_w) const = 0;
+};
+
+enum class PointLoss {
+  kStudentT,  // "student_t": robust, heavy-tailed (the default)
+  kGaussian,  // "gaussian": least squares; for comparison only (outliers vote)
+};
+}  // namespace hcpf::tracker
+
+template <>
+struct hcpf::EnumNames<hcpf::tracker::PointLoss> {
+  static constexpr std::array kNames = {
+      std::pair{hcpf::tracker::PointLoss::kStudentT, std::string_view("student_t")},
+      std::pair{hcpf::tracker::PointLoss::kGaussian, std::string_view("gaussian")}};
+};
+
+namespace hcpf::tracker {
+
+struct SceneMotionOptions {
+  // Number of scene particles.
+  int particles = 1000;
+
+  // Prior of the first frame: independent normals centred on the identity
+  // motion with these standard deviations.
+  double prior_translation_px = 8.0;
+  double prior_log_scale = 0.01;
+  double prior_rotation_rad = 0.01;
+
+  // Random-walk dynamics of the frame-to-frame motion (per frame standard
+  // deviations; see SceneMotionFilter).
+  double sigma_translation_px = 0.5;
+  double sigma_log_scale = 0.001;
+  double sigma_rotation_rad = 0.001;
+
+  // Resampling: any method of the family except charged (there is one scene
+  // filter, nothing to repel); ESS gate as in ResamplerOptions.
+  ResamplingMethod resampling = ResamplingMethod::kSystematic;
+  double ess_threshold = 0.5;
+
+  // Evidence (PointTrackEvidence; HomographyEvidence uses sigma_px only).
+  // Residual scale sigma, px.
+  double sigma_px = 1.0;
+  PointLoss loss = PointLoss::kStudentT;
+  // Degrees of freedom nu of the Student-t loss.
+  double student_t_dof = 3.0;
+  // Each exclude box is grown by this much on every side before masking, px.
+  double mask_dilation_px = 4.0;
+
+  // The scenario keys of these options, with unit, range and doc (core/fields.h);
+  // Validate() checks their ranges, then the rules between fields.
+  static std::span<const Field<SceneMotionOptions>> Fields();
+  void Validate(std::string_view prefix = "tracker.camera_motion") const;
+};
+
+// One point correspondence: p in frame t-1, q in frame t (pixels).
+struct PointTrack {
+  Eigen::Vector2d p = Eigen::Vector2d::Zero();
+  Eigen::Vector2d q = Eigen::Vector2d::Zero();
+};
+
+// Maps a point by a similarity: exp(log_scale) R(rotation) p + t.
+Eigen::Vector2d Apply(const SimilarityMotion& motion, const Eigen::Vector2d& p);
+
+// Evidence from point correspondences between consecutive frames.
+// A track is ignored when its p lies inside (boundary included) any exclude
+// box grown by mask_dilation_px on every side. For every other track, with
+// residual r = |S(p) - q| (px) and sigma = sigma_px, the log-likelihood of
+// hypothesis S is the sum over tracks of
+//   student_t: -((nu + 2) / 2) * log(1 + r^2 / (nu sigma^2))
+//              (the 2-D Student-t density with nu = student_t_dof, constants
+//              dropped: a track far from S contributes a term that barely
+//              changes with S, so moving vehicles and mis-tracks are
+//              outliers, not votes);
+//   gaussian:  -r^2 / (2 sigma^2).
+// O(H M + M B) for H hypotheses, M tracks, B boxes.
+class PointTrackEvidence final : public CameraMotionEvidence {
+ public:
+  // Reads sigma_px, loss, student_t_dof and mask_dilation_px; validates `options`.
+  PointTrackEvidence(std::vector<PointTrack> tracks, const SceneMotionOptions& options);
+  void AddLogLikelihood(std::span<const SimilarityMotion> hypotheses,
+                        std::span<const BoxPx> exclude, std::span<double> log_w) const override;
+
+  // Whether `track` is ignored given `exclude` (exposed for tests and overlays).
+  bool Excluded(const PointTrack& track, std::span<const BoxPx> exclude) const;
+
+ private:
+  std::vector<PointTrack> tracks_;
+  SceneMotionOptions options_;
+};
+
+// ORACLE evidence from the true frame-to-frame image homography H (frame t-1
+// pixels to frame t pixels); reads ground truth, so results using it must be
+// labelled oracle. Over the fixed grid of G x G = 10 x 10 points
+//   g_ij = ((i + 1/2) width / G, (j + 1/2) height / G),  i, j = 0 .. G-1,
+// the log-likelihood of S is
+//   -(1 / G^2) sum_ij |S(g_ij) - H(g_ij)|^2 / (2 sigma^2)
+// where H(g) is the projective image (H (g, 1))_xy / (H (g, 1))_z. `exclude`
+// is ignored: the truth cannot be biased by targets. O(H G^2).
+class HomographyEvidence final : public CameraMotionEvidence {
+ public:
+  static constexpr int kGrid = 10;
+  // Throws InputError when width or height < 1, sigma_px <= 0, or H maps a grid
+  // point to infinity (or behind the camera: non-positive homogeneous z).
+  HomographyEvidence(const Eigen::Matrix3d& frame_from_previous, int width, int height,
+                     double sigma_px);
+  void AddLogLikelihood(std::span<const SimilarityMotion> hypotheses,
+                        std::span<const BoxPx> exclude, std::span<double> log_w) const override;
+
+ private:
+  std::vector<Eigen::Vector2d> grid_;    // g_ij
+  std::vector<Eigen::Vector2d> target_;  // H(g_ij)
+  double sigma_px_;
+};
+
+// Per-frame diagnostics of the scene filter.
+struct SceneMotionReport {
+  // The estimate returned by Step.
+  SimilarityMotion estimate;
+  // Kish ESS of the weights after this frame's evidence, in [1, N].
+  double ess = 0.0;
+  // Weighted standard deviations of the particles after this frame's evidence
+  // (before resampling): the spread of the posterior as the particles see it.
+  double sd_tx_px = 0.0;
+  double sd_ty_px = 0.0;
+  double sd_log_scale = 0.0;
+  double sd_rotation_rad = 0.0;
+  // Whether the particles were resampled this frame (ESS gate).
+  bool resampled = false;
+  // Every weight was -inf/NaN: weights were reset to uniform (particle_set.h).
+  bool recovered_degenerate = false;
+  friend bool operator==(const SceneMotionReport&, const SceneMotionReport&) = default;
+};
+
+// Particle filter over the frame-to-frame camera motion.
+// Step, for frame t:
+//   1. propagate: at the first Step, draw every particle from the prior;
+//      afterwards a random walk on each parameter with the sigma_* standard
+//      deviations. The state is the frame-to-frame motion, i.e. the camera's
+//      image-plane velocity, so a random walk on it is a constant-velocity
+//      model of the camera: smooth camera motion changes little between frames.
+//   2. weight: log_w += evidence log-likelihood (exclude masks the targets);
+//      normalise (log-sum-exp, particle_set.h); weights not reset by the
+//      previous frame (ESS gate declined) carry over.
+//   3. estimate: the weighted mean of each parameter. Rotation is averaged as
+//      a plain number, fine for frame-to-frame angles (|rotation| << pi).
+//   4. resample with the configured resampler (MakeResampler; the ESS gate
+//      included). Adapter: the resamplers read only the normalised weights of
+//      a ParticleSet (charged, the one that reads positions, is not allowed),
+//      so the scene filter keeps its weights in a ParticleSet whose state
+//      arrays are unused zeros, and gathers its own SimilarityMotion particles
+//      by the returned ancestor indices.
+// All randomness from the Rng given at construction (the caller passes a named
+// fork, e.g. Rng(seed).Fork("scene")): identical seeds and evidence give
+// identical estimates. O(N) plus the evidence's cost per frame.
+class SceneMotionFilter {
+ public:
+  // Validates `options` (throws InputError naming the field).
+  SceneMotionFilter(const SceneMotionOptions& options, Rng rng);
+
+  SimilarityMotion Step(const CameraMotionEvidence& evidence, std::span<const BoxPx> exclude);
+
+  // The diagnostics of the last Step (default-constructed before the first).
+  const SceneMotionReport& LastReport() const { return report_; }
+  // Number of Steps taken.
+  int frames() const { return frames_; }
+  // The particles and their normalised weights after the last Step.
+  std::span<const SimilarityMotion> particles() const { return particles_; }
+  std::span<const double> weights() const { return weights_.w; }
+
+ private:
+  void Propagate();
+
+  SceneMotionOptions options_;
+  Rng rng_;
+  std::unique_ptr<Resampler> resampler_;
+  std::vector<SimilarityMotion> particles_;
+  // The resampler adapter: only log_w and w are meaningful.
+  ParticleSet weights_;
+  std::vector<SimilarityMotion> scratch_;
+  std::vector<int32_t> ancestors_;
+  SceneMotionReport report_;
+  int frames_ = 0;
+};
+
+}  // namespace hcpf::tracker

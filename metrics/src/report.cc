@@ -243,6 +243,12 @@ std::string RunMetricsToJson(const RunMetrics& m) {
                       {"by_size_px", BinsJson(d.by_size)},
                       {"by_visibility", BinsJson(d.by_visibility)}};
   }
+  if (m.camera_motion) {
+    const CameraMotionErrorSummary& e = m.camera_motion->error;
+    j["camera_motion"] = {{"mode", m.camera_motion->mode}, {"frames", e.frames},
+                          {"mean_px", Number(e.mean_px)},  {"median_px", Number(e.median_px)},
+                          {"p95_px", Number(e.p95_px)},    {"max_px", Number(e.max_px)}};
+  }
   if (m.filters) {
     const FilterMetrics& f = *m.filters;
     json fj;

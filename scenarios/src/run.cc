@@ -10,6 +10,7 @@
 #include <nlohmann/json.hpp>
 #include <set>
 
+#include "camera_motion_pass.h"
 #include "detection_pass.h"
 #include "hcpf/core/error.h"
 #include "hcpf/core/ground_truth.h"
@@ -82,8 +83,17 @@ RunSummary RunScenario(const Scenario& scenario, const RunOptions& options) {
   std::vector<tracker::FrameReport> reports;
   reports.reserve(static_cast<size_t>(scenario.world.frames));
   double tracker_seconds = 0.0;
+  // The hierarchical filter's scene half: the camera's motion from frame to
+  // frame, estimated with the filters' previous boxes masked out, moves every
+  // target particle before its own dynamics (tracker.camera_motion).
+  internal::CameraMotionPass camera_motion(scenario);
   const auto step = [&](const FrameGroundTruth& gt, const Observation& observation) {
     const auto t = Clock::now();
+    std::vector<BoxPx> exclude;
+    if (!reports.empty()) {
+      for (const tracker::FilterReport& r : reports.back().filters) exclude.push_back(r.box);
+    }
+    const std::optional<SimilarityMotion> motion = camera_motion.Step(gt, exclude);
     if (tracker_options.init == tracker::InitMode::kGroundTruth) {
       for (const GroundTruthObject& o : gt.objects) {
         if (o.in_frame && born.insert(Value(o.id)).second) {
@@ -91,7 +101,7 @@ RunSummary RunScenario(const Scenario& scenario, const RunOptions& options) {
         }
       }
     }
-    reports.push_back(tracker->Step(observation));
+    reports.push_back(tracker->Step(observation, motion));
     tracker_seconds += Seconds(t);
   };
 
@@ -181,7 +191,10 @@ RunSummary RunScenario(const Scenario& scenario, const RunOptions& options) {
     metrics_input.detections = std::move(frames);
   }
   metrics_input.filter_options = scenario.metrics.filters;
-  const metrics::RunMetrics scores = metrics::ComputeRunMetrics(metrics_input);
+  metrics::RunMetrics scores = metrics::ComputeRunMetrics(metrics_input);
+  scores.camera_motion =
+      metrics::CameraMotionScore{.mode = std::string(NameOf(scenario.tracker.camera_motion)),
+                                 .error = camera_motion.Summary()};
   timings["metrics_s"] = Seconds(t0);
   if (scores.detection) {
     spdlog::info("detection ({}): precision {:.3f}  recall {:.3f}  F1 {:.3f} (IoU >= 0.5)",
@@ -215,6 +228,16 @@ RunSummary RunScenario(const Scenario& scenario, const RunOptions& options) {
   WriteTextFile((partial / "tracks.txt").string(), tracks_text);
   WriteTextFile((partial / "filters.csv").string(), FormatFiltersCsv(reports, scores.filters));
   WriteTextFile((partial / "metrics.json").string(), metrics::RunMetricsToJson(scores));
+  {
+    std::string csv = "frame,tx_px,ty_px,log_scale,rotation_rad,error_px,ess\n";
+    for (const internal::CameraMotionRecord& r : camera_motion.records()) {
+      csv += fmt::format("{},{},{},{},{},{},{}\n", r.frame, FormatNumber(r.motion.tx_px),
+                         FormatNumber(r.motion.ty_px), FormatNumber(r.motion.log_scale),
+                         FormatNumber(r.motion.rotation_rad), FormatNumber(r.error_px),
+                         r.ess < 0 ? "" : FormatNumber(r.ess));
+    }
+    WriteTextFile((partial / "camera_motion.csv").string(), csv);
+  }
   if (options.video) {
     // At detection level there are no pixels: the overlay is drawn on a
     // plain background.

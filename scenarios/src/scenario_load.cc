@@ -205,6 +205,7 @@ void ReadTracker(YamlReader r, tracker::TrackerOptions* t) {
     ReadSection(r, "association", &t->association);
   }
   ReadSection(r, "management", &t->management);
+  ReadSection(r, "scene_filter", &t->scene_filter);
   r.Finish();
 }
 

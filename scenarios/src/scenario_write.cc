@@ -134,6 +134,7 @@ std::string ToResolvedYaml(const Scenario& s) {
   w.Section("interaction", t.interaction);
   w.Section("association", t.association);
   w.Section("management", t.management);
+  w.Section("scene_filter", t.scene_filter);
   w.End();
 
   w.Begin("metrics");

@@ -167,6 +167,7 @@ std::string SchemaMarkdown(const std::string& section) {
     AppendRows(out, "interaction.", tracker::InteractionOptions::Fields());
     AppendRows(out, "association.", tracker::AssociationOptions::Fields());
     AppendRows(out, "management.", tracker::TrackManagementOptions::Fields());
+    AppendRows(out, "scene_filter.", tracker::SceneMotionOptions::Fields());
   } else if (section == "metrics") {
     AppendRows(out, "", metrics::FilterMetricsOptions::Fields());
     AppendRows(out, "", metrics::PointMetricsOptions::Fields());

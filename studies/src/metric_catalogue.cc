@@ -22,6 +22,10 @@ std::span<const CatalogueMetric> MetricCatalogue() {
       {"ms_per_frame", "manifest.json", "/timings/tracker_s", false, "tracker time per frame", "ms",
        true},
       {"wall_time_s", "manifest.json", "/timings/total_s", false, "wall time of the run", "s"},
+      // The hierarchical filter: mean corner displacement of the applied
+      // camera motion against the true motion (none: the camera's own motion).
+      {"camera_motion_error_px", "metrics.json", "/camera_motion/mean_px", false,
+       "camera-motion error (mean corner displacement)", "px"},
       // Rendered runs: detection quality against pixel-exact truth (IoU >= 0.5).
       {"det_precision", "metrics.json", "/detection/iou/precision", true, "detection precision",
        ""},

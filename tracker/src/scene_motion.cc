@@ -35,6 +35,14 @@ std::span<const Field<SceneMotionOptions>> SceneMotionOptions::Fields() {
                   "degrees of freedom ν of the student_t loss"),
       NumberField("mask_dilation_px", &O::mask_dilation_px, Closed(0, 1e4), "px",
                   "target boxes grown by this on every side before masking"),
+      ChoiceField<&O::evidence>("evidence",
+                                "simulated: ground points through the true cameras (detection "
+                                "level); oracle: the true frame-to-frame ground homography"),
+      IntegerField("points", &O::points, 1, 1'000'000, "", "simulated: ground points per frame"),
+      NumberField("point_noise_px", &O::point_noise_px, Closed(0, 100), "px",
+                  "simulated: std. dev. of a tracked point's position"),
+      NumberField("outlier_fraction", &O::outlier_fraction, Closed(0, 1), "",
+                  "simulated: fraction of tracks replaced by random mis-tracks"),
   };
   return fields;
 }

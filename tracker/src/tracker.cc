@@ -55,6 +55,11 @@ std::span<const Field<TrackerOptions>> TrackerOptions::Fields() {
       ChoiceField<&O::init>("init",
                             "ground_truth: a filter is born at each target's first in-frame "
                             "appearance, from its box; detections: M-of-N confirmation"),
+      ChoiceField<&O::camera_motion>(
+          "camera_motion",
+          "none: target dynamics alone; scene_filter: the scene filter's estimate of the "
+          "camera's frame-to-frame motion moves every particle first (hierarchical); oracle: "
+          "the true motion's best similarity"),
   };
   return fields;
 }
@@ -70,6 +75,7 @@ void TrackerOptions::Validate() const {
   interaction.Validate("tracker.interaction");
   association.Validate("tracker.association");
   management.Validate("tracker.management");
+  scene_filter.Validate("tracker.scene_filter");
   if (likelihood.model == LikelihoodModel::kAssociated &&
       association.method == AssociationMethod::kNone) {
     FailOption("tracker.association", "method",

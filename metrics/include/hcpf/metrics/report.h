@@ -15,6 +15,7 @@
 #include <string>
 #include <vector>
 
+#include "hcpf/metrics/camera_motion.h"
 #include "hcpf/metrics/detection_quality.h"
 #include "hcpf/metrics/filter_metrics.h"
 #include "hcpf/metrics/mot_io.h"
@@ -77,11 +78,19 @@ struct RunMetricsInput {
   // pixel-exact or analytic truth; absent for `hcpf score`).
   std::optional<std::vector<DetectionFrame>> detections;
 };
+// The camera-motion error of a run (metrics/camera_motion.h): the mode that
+// produced the motions ("none", "scene_filter", "oracle") and the summary of
+// their per-frame corner displacement against the true motion.
+struct CameraMotionScore {
+  std::string mode;
+  CameraMotionErrorSummary error;
+};
 struct RunMetrics {
   MotSummary mot;
   PointMetrics points;
   std::optional<FilterMetrics> filters;
   std::optional<DetectionQuality> detection;
+  std::optional<CameraMotionScore> camera_motion;  // set by the run pipeline
 };
 RunMetrics ComputeRunMetrics(const RunMetricsInput& input);
 // {"mot": {...}, "ospa": {...}, "gospa": {...}, "filters": {...}, "detection": {...}}

@@ -49,7 +49,35 @@ enum class PointLoss {
   kStudentT,  // "student_t": robust, heavy-tailed (the default)
   kGaussian,  // "gaussian": least squares; for comparison only (outliers vote)
 };
+
+// The evidence a run gives the scene filter (scenarios/ builds it):
+enum class SceneEvidenceKind {
+  kSimulated,  // "simulated": ground points through the true cameras, with noise and outliers
+  kOracle,     // "oracle": the true frame-to-frame ground homography (HomographyEvidence)
+};
+
+// How a run moves the target particles with the camera (scenarios/):
+enum class CameraMotionMode {
+  kNone,         // "none": no compensation (the non-hierarchical baseline)
+  kSceneFilter,  // "scene_filter": the SceneMotionFilter's estimate (the hierarchical filter)
+  kOracle,       // "oracle": the least-squares similarity of the true ground homography
+};
 }  // namespace hcpf::tracker
+
+template <>
+struct hcpf::EnumNames<hcpf::tracker::SceneEvidenceKind> {
+  static constexpr std::array kNames = {
+      std::pair{hcpf::tracker::SceneEvidenceKind::kSimulated, std::string_view("simulated")},
+      std::pair{hcpf::tracker::SceneEvidenceKind::kOracle, std::string_view("oracle")}};
+};
+
+template <>
+struct hcpf::EnumNames<hcpf::tracker::CameraMotionMode> {
+  static constexpr std::array kNames = {
+      std::pair{hcpf::tracker::CameraMotionMode::kNone, std::string_view("none")},
+      std::pair{hcpf::tracker::CameraMotionMode::kSceneFilter, std::string_view("scene_filter")},
+      std::pair{hcpf::tracker::CameraMotionMode::kOracle, std::string_view("oracle")}};
+};
 
 template <>
 struct hcpf::EnumNames<hcpf::tracker::PointLoss> {
@@ -90,10 +118,19 @@ struct SceneMotionOptions {
   // Each exclude box is grown by this much on every side before masking, px.
   double mask_dilation_px = 4.0;
 
+  // What the run pipeline feeds the filter (scenarios/): the evidence kind,
+  // and for simulated evidence the number of ground points per frame, their
+  // pixel noise (std. dev.) and the fraction replaced by random mis-tracks.
+  // Points that fall on a target move with it (unless masked).
+  SceneEvidenceKind evidence = SceneEvidenceKind::kSimulated;
+  int points = 200;
+  double point_noise_px = 0.3;
+  double outlier_fraction = 0.1;
+
   // The scenario keys of these options, with unit, range and doc (core/fields.h);
   // Validate() checks their ranges, then the rules between fields.
   static std::span<const Field<SceneMotionOptions>> Fields();
-  void Validate(std::string_view prefix = "tracker.camera_motion") const;
+  void Validate(std::string_view prefix = "tracker.scene_filter") const;
 };
 
 // One point correspondence: p in frame t-1, q in frame t (pixels).

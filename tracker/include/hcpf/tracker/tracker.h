@@ -25,6 +25,7 @@
 #include "hcpf/tracker/likelihood.h"
 #include "hcpf/tracker/particle_set.h"
 #include "hcpf/tracker/resampler.h"
+#include "hcpf/tracker/scene_motion.h"
 #include "hcpf/tracker/track_management.h"
 
 namespace hcpf::tracker {
@@ -82,6 +83,12 @@ struct TrackerOptions {
   InteractionOptions interaction;
   AssociationOptions association;
   TrackManagementOptions management;
+  // The hierarchical filter: how the camera's frame-to-frame motion moves
+  // every target particle before its own dynamics (`camera_motion`), and the
+  // scene filter that estimates it (`scene_filter.*`). The run pipeline
+  // (scenarios/) builds the evidence and calls Step(observation, motion).
+  CameraMotionMode camera_motion = CameraMotionMode::kNone;
+  SceneMotionOptions scene_filter;
   // Particle clouds kept per filter per frame in the report, decimated to at
   // most this many particles (0 = none).
   int keep_particles = 0;

@@ -1,0 +1,144 @@
+#include "camera_motion_pass.h"
+
+#include <Eigen/LU>
+#include <cmath>
+#include <complex>
+
+namespace hcpf::scenarios::internal {
+namespace {
+
+using Complex = std::complex<double>;
+
+// Where the image point `p` of the previous frame's ground plane lands in the
+// current frame; nullopt when the ray misses the ground (behind the camera).
+std::optional<Eigen::Vector2d> Transfer(const Eigen::Matrix3d& h, const Eigen::Vector2d& p) {
+  const Eigen::Vector3d q = h * Eigen::Vector3d(p.x(), p.y(), 1.0);
+  if (!(q.z() > 1e-12)) return std::nullopt;
+  return Eigen::Vector2d(q.x() / q.z(), q.y() / q.z());
+}
+
+Eigen::Matrix3d FrameToFrame(const FrameGroundTruth& previous, const FrameGroundTruth& current) {
+  return current.image_from_ground * previous.image_from_ground.inverse();
+}
+
+}  // namespace
+
+SimilarityMotion BestSimilarity(const Eigen::Matrix3d& h, int width, int height) {
+  constexpr int kGrid = 10;
+  std::vector<Complex> p, q;
+  for (int j = 0; j < kGrid; ++j) {
+    for (int i = 0; i < kGrid; ++i) {
+      const Eigen::Vector2d g((i + 0.5) * width / kGrid, (j + 0.5) * height / kGrid);
+      if (const auto t = Transfer(h, g)) {
+        p.emplace_back(g.x(), g.y());
+        q.emplace_back(t->x(), t->y());
+      }
+    }
+  }
+  if (p.size() < 2) return {};
+  Complex pm = 0.0, qm = 0.0;
+  for (size_t k = 0; k < p.size(); ++k) pm += p[k], qm += q[k];
+  pm /= static_cast<double>(p.size());
+  qm /= static_cast<double>(q.size());
+  Complex num = 0.0;
+  double den = 0.0;
+  for (size_t k = 0; k < p.size(); ++k) {
+    num += (q[k] - qm) * std::conj(p[k] - pm);
+    den += std::norm(p[k] - pm);
+  }
+  // q = a p + b with a = s e^{i theta}: the similarity p' = s R(theta) p + t.
+  const Complex a = num / den;
+  const Complex b = qm - a * pm;
+  return {.tx_px = b.real(),
+          .ty_px = b.imag(),
+          .log_scale = std::log(std::abs(a)),
+          .rotation_rad = std::arg(a)};
+}
+
+CameraMotionPass::CameraMotionPass(const Scenario& scenario)
+    : mode_(scenario.tracker.camera_motion),
+      options_(scenario.tracker.scene_filter),
+      width_(scenario.world.camera.width_px),
+      height_(scenario.world.camera.height_px),
+      points_rng_(Rng(scenario.seeds.observation).Fork("scene_points")) {
+  if (mode_ == tracker::CameraMotionMode::kSceneFilter) {
+    filter_.emplace(options_, Rng(scenario.seeds.tracker).Fork("scene"));
+  }
+}
+
+std::vector<tracker::PointTrack> CameraMotionPass::SimulateTracks(
+    const FrameGroundTruth& previous, const FrameGroundTruth& current) const {
+  // Each frame draws from its own stream: a frame's points do not depend on
+  // the frames before it.
+  Rng rng = points_rng_.Fork("frame", current.frame);
+  const Eigen::Matrix3d h = FrameToFrame(previous, current);
+  std::vector<tracker::PointTrack> tracks;
+  tracks.reserve(static_cast<size_t>(options_.points));
+  for (int i = 0; i < options_.points; ++i) {
+    const Eigen::Vector2d p(rng.Uniform(0.0, width_), rng.Uniform(0.0, height_));
+    std::optional<Eigen::Vector2d> q = Transfer(h, p);
+    // A point on a target moves with it: the feature tracker follows the
+    // vehicle, not the ground below it.
+    for (const GroundTruthObject& o : previous.objects) {
+      const BoxPx& b = o.amodal_box;
+      if (!o.in_frame || p.x() < b.left || p.x() > b.right() || p.y() < b.top ||
+          p.y() > b.bottom()) {
+        continue;
+      }
+      for (const GroundTruthObject& now : current.objects) {
+        if (now.id != o.id) continue;
+        q = p + Eigen::Vector2d(now.amodal_box.centre_x() - b.centre_x(),
+                                now.amodal_box.centre_y() - b.centre_y());
+      }
+      break;
+    }
+    const double nx = rng.Normal() * options_.point_noise_px;
+    const double ny = rng.Normal() * options_.point_noise_px;
+    const bool outlier = rng.Uniform() < options_.outlier_fraction;
+    const Eigen::Vector2d random(rng.Uniform(0.0, width_), rng.Uniform(0.0, height_));
+    if (!q) continue;  // the ground point is behind the camera now: lost
+    tracks.push_back({.p = p, .q = outlier ? random : *q + Eigen::Vector2d(nx, ny)});
+  }
+  return tracks;
+}
+
+std::optional<SimilarityMotion> CameraMotionPass::Step(const FrameGroundTruth& current,
+                                                       std::span<const BoxPx> exclude) {
+  if (!previous_) {
+    previous_ = current;
+    return std::nullopt;
+  }
+  const Eigen::Matrix3d truth = FrameToFrame(*previous_, current);
+  CameraMotionRecord record{.frame = current.frame};
+  switch (mode_) {
+    case tracker::CameraMotionMode::kNone:
+      break;
+    case tracker::CameraMotionMode::kOracle:
+      record.motion = BestSimilarity(truth, width_, height_);
+      break;
+    case tracker::CameraMotionMode::kSceneFilter:
+      if (options_.evidence == tracker::SceneEvidenceKind::kOracle) {
+        record.motion = filter_->Step(
+            tracker::HomographyEvidence(truth, width_, height_, options_.sigma_px), exclude);
+      } else {
+        record.motion = filter_->Step(
+            tracker::PointTrackEvidence(SimulateTracks(*previous_, current), options_), exclude);
+      }
+      record.ess = filter_->LastReport().ess;
+      break;
+  }
+  record.error_px = metrics::CornerDisplacementPx(record.motion, truth, width_, height_);
+  records_.push_back(record);
+  previous_ = current;
+  if (mode_ == tracker::CameraMotionMode::kNone) return std::nullopt;
+  return record.motion;
+}
+
+metrics::CameraMotionErrorSummary CameraMotionPass::Summary() const {
+  std::vector<double> errors;
+  errors.reserve(records_.size());
+  for (const CameraMotionRecord& r : records_) errors.push_back(r.error_px);
+  return metrics::SummariseCameraMotionError(errors);
+}
+
+}  // namespace hcpf::scenarios::internal

@@ -1,0 +1,60 @@
+#pragma once
+// Private: the hierarchical filter's scene half in the run pipeline. Each
+// frame from the second on, it gives the tracker the camera's frame-to-frame
+// motion (`tracker.camera_motion`): none, the scene filter's estimate from
+// its evidence (`tracker.scene_filter.evidence`: simulated ground-point
+// tracks, or the oracle homography), or the oracle's least-squares
+// similarity of the true ground homography. It also scores every frame's
+// motion (the one applied, identity for none) against the truth: the mean
+// displacement of the four image corners (metrics/camera_motion.h).
+
+#include <optional>
+#include <span>
+#include <vector>
+
+#include "hcpf/core/ground_truth.h"
+#include "hcpf/core/rng.h"
+#include "hcpf/core/similarity_motion.h"
+#include "hcpf/metrics/camera_motion.h"
+#include "hcpf/scenarios/scenario.h"
+#include "hcpf/tracker/scene_motion.h"
+
+namespace hcpf::scenarios::internal {
+
+struct CameraMotionRecord {
+  int frame = 0;
+  SimilarityMotion motion;  // applied to the target particles (identity for none)
+  double error_px = 0.0;    // corner displacement against the true motion
+  double ess = -1.0;        // scene filter ESS; -1 without a scene filter
+};
+
+// The least-squares 2-D similarity of a homography over a 10 x 10 grid of the
+// width x height image (closed form: complex linear regression).
+SimilarityMotion BestSimilarity(const Eigen::Matrix3d& h, int width, int height);
+
+class CameraMotionPass {
+ public:
+  explicit CameraMotionPass(const Scenario& scenario);
+  // The motion to apply before frame `current`'s prediction (nullopt on the
+  // first frame and with camera_motion: none); `exclude` are the filters'
+  // boxes of the previous frame (the feedback from targets to scene).
+  std::optional<SimilarityMotion> Step(const FrameGroundTruth& current,
+                                       std::span<const BoxPx> exclude);
+  const std::vector<CameraMotionRecord>& records() const { return records_; }
+  metrics::CameraMotionErrorSummary Summary() const;
+
+ private:
+  std::vector<tracker::PointTrack> SimulateTracks(const FrameGroundTruth& previous,
+                                                  const FrameGroundTruth& current) const;
+
+  tracker::CameraMotionMode mode_;
+  tracker::SceneMotionOptions options_;
+  int width_;
+  int height_;
+  Rng points_rng_;
+  std::optional<tracker::SceneMotionFilter> filter_;
+  std::optional<FrameGroundTruth> previous_;
+  std::vector<CameraMotionRecord> records_;
+};
+
+}  // namespace hcpf::scenarios::internal

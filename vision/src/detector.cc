@@ -51,13 +51,15 @@ std::span<const Field<DiffOptions>> DiffOptions::Fields() {
       NumberField("threshold", &O::threshold, AboveUpTo(0, 255), "grey levels",
                   "a pixel moved when it differs from both registered earlier frames by more"),
       IntegerField("min_area_px", &O::min_area_px, 1, 100000, "px",
-                   "smallest connected component that is a detection"),
+                   "fewest moving pixels in a detection (after grouping by merge_px)"),
       NumberField("smooth_sigma_px", &O::smooth_sigma_px, Closed(0.5, 10), "px",
                   "Gaussian (stacked integral image) smoothing before differencing"),
       IntegerField("max_corners", &O::max_corners, 10, 10000, "",
                    "corners tracked to register the earlier frames"),
       NumberField("ransac_px", &O::ransac_px, AboveUpTo(0, 50), "px",
                   "RANSAC inlier distance of the registration"),
+      IntegerField("merge_px", &O::merge_px, 0, 100, "px",
+                   "moving pixels within this distance (per axis) are one detection"),
   };
   return fields;
 }

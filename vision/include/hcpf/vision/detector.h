@@ -145,6 +145,7 @@ struct DiffOptions {
   double smooth_sigma_px = 1.0;  // stacked-integral-image blur before differencing
   int max_corners = 400;         // corners tracked for the registration
   double ransac_px = 2.0;        // RANSAC inlier distance
+  int merge_px = 6;              // moving pixels this close are one detection
   static std::span<const Field<DiffOptions>> Fields();
   void Validate(std::string_view prefix = "observation.diff") const;
 };

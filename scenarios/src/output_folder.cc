@@ -22,11 +22,11 @@ namespace {
 
 // What RunScenario (run.cc) and RenderToFolder (render_folder.cc) write at
 // the top of their folder; gt/ and frames/ are checked file by file below.
-constexpr std::array<std::string_view, 10> kOutputFiles = {
-    "manifest.json",    "scenario.resolved.yaml", "seqinfo.ini",
-    "gt.json",          "detections.txt",         "tracks.txt",
-    "filters.csv",      "metrics.json",           "overlay.mp4",
-    "contact_sheet.png"};
+constexpr std::array<std::string_view, 11> kOutputFiles = {
+    "manifest.json",     "scenario.resolved.yaml", "seqinfo.ini",
+    "gt.json",           "detections.txt",         "tracks.txt",
+    "filters.csv",       "metrics.json",           "overlay.mp4",
+    "contact_sheet.png", "camera_motion.csv"};
 
 bool IsFrameFile(std::string_view name) {
   // 000001.png, 000001_depth.png, 000001_ids.png (render_folder.cc).

@@ -19,11 +19,9 @@ void AppendOptions(std::string& text, std::string_view name, const O& options) {
 // What the detector is: its name and every option of each detector it runs.
 std::string OptionsText(const ObservationOptions& o) {
   std::string text = "hcpf-detections/1;" + o.DetectorName() + ";";
-  if (o.Uses("ncc")) AppendOptions(text, "ncc", o.detectors.ncc);
-  if (o.Uses("colour")) AppendOptions(text, "colour", o.detectors.colour);
-  if (o.Uses("prca")) AppendOptions(text, "prca", o.detectors.prca);
-  if (o.Uses("sks")) AppendOptions(text, "sks", o.detectors.sks);
-  if (o.Uses("diff")) AppendOptions(text, "diff", o.detectors.diff);
+  o.detectors.ForEach([&](const char* name, const auto& options) {
+    if (o.Uses(name)) AppendOptions(text, name, options);
+  });
   return text;
 }
 }  // namespace

@@ -228,16 +228,8 @@ RunSummary RunScenario(const Scenario& scenario, const RunOptions& options) {
   WriteTextFile((partial / "tracks.txt").string(), tracks_text);
   WriteTextFile((partial / "filters.csv").string(), FormatFiltersCsv(reports, scores.filters));
   WriteTextFile((partial / "metrics.json").string(), metrics::RunMetricsToJson(scores));
-  {
-    std::string csv = "frame,tx_px,ty_px,log_scale,rotation_rad,error_px,ess\n";
-    for (const internal::CameraMotionRecord& r : camera_motion.records()) {
-      csv += fmt::format("{},{},{},{},{},{},{}\n", r.frame, FormatNumber(r.motion.tx_px),
-                         FormatNumber(r.motion.ty_px), FormatNumber(r.motion.log_scale),
-                         FormatNumber(r.motion.rotation_rad), FormatNumber(r.error_px),
-                         r.ess < 0 ? "" : FormatNumber(r.ess));
-    }
-    WriteTextFile((partial / "camera_motion.csv").string(), csv);
-  }
+  WriteTextFile((partial / "camera_motion.csv").string(),
+                FormatCameraMotionCsv(camera_motion.records()));
   if (options.video) {
     // At detection level there are no pixels: the overlay is drawn on a
     // plain background.

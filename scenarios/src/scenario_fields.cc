@@ -3,6 +3,10 @@
 // renderer options), the range is taken from that module's declaration, so
 // each range is written once.
 
+#include <fmt/format.h>
+
+#include <algorithm>
+
 #include "hcpf/renderer/renderer.h"
 #include "hcpf/scenarios/models.h"
 #include "hcpf/scenarios/scenario.h"
@@ -296,11 +300,9 @@ bool ObservationOptions::Uses(std::string_view name) const {
 
 void ObservationOptions::Validate(const tracker::TrackerOptions& tracker) const {
   CheckFields(*this, Fields(), "observation");
-  detectors.ncc.Validate();
-  detectors.colour.Validate();
-  detectors.prca.Validate();
-  detectors.sks.Validate();
-  detectors.diff.Validate();
+  detectors.ForEach([](const char* name, const auto& options) {
+    options.Validate(fmt::format("observation.{}", name));
+  });
   if (detector == "fusion" && fused.size() < 2) {
     FailOption("observation", "detectors",
                WordsExpectation(2, vision::DetectorNames()) + " (detector: fusion fuses them)",

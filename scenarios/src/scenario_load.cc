@@ -285,11 +285,8 @@ Scenario ReadScenario(YamlReader root, const std::string& file) {
     ReadFields(*obs, s.observation, ObservationOptions::Fields());
     if (fusion_implied) s.observation.detector = "fusion";
     if (auto sim = obs->Optional("simulated")) ReadSimulated(*sim, ids, &s.observation.simulated);
-    ReadSection(*obs, "ncc", &s.observation.detectors.ncc);
-    ReadSection(*obs, "colour", &s.observation.detectors.colour);
-    ReadSection(*obs, "prca", &s.observation.detectors.prca);
-    ReadSection(*obs, "sks", &s.observation.detectors.sks);
-    ReadSection(*obs, "diff", &s.observation.detectors.diff);
+    s.observation.detectors.ForEach(
+        [&](const char* name, auto& options) { ReadSection(*obs, name, &options); });
     obs->Finish();
   }
   if (auto r = root.Optional("renderer")) {

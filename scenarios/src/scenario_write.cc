@@ -116,11 +116,9 @@ std::string ToResolvedYaml(const Scenario& s) {
   // Only the detector in use: the options of the others do not change the
   // run, so they are not part of its identity (config hash).
   const vision::DetectorOptions& detectors = s.observation.detectors;
-  if (s.observation.Uses("ncc")) w.Section("ncc", detectors.ncc);
-  if (s.observation.Uses("colour")) w.Section("colour", detectors.colour);
-  if (s.observation.Uses("prca")) w.Section("prca", detectors.prca);
-  if (s.observation.Uses("sks")) w.Section("sks", detectors.sks);
-  if (s.observation.Uses("diff")) w.Section("diff", detectors.diff);
+  detectors.ForEach([&](const char* name, const auto& options) {
+    if (s.observation.Uses(name)) w.Section(name, options);
+  });
   w.End();
 
   w.Section("renderer", s.renderer);

@@ -4,6 +4,7 @@
 
 #include <span>
 #include <sstream>
+#include <type_traits>
 
 #include "hcpf/core/error.h"
 #include "hcpf/core/fields.h"
@@ -151,11 +152,9 @@ std::string SchemaMarkdown(const std::string& section) {
   } else if (section == "observation") {
     AppendRows(out, "", ObservationOptions::Fields());
     AppendRows(out, "simulated.", SimulatedObservationOptions::Fields());
-    AppendRows(out, "ncc.", vision::NccOptions::Fields());
-    AppendRows(out, "colour.", vision::ColourOptions::Fields());
-    AppendRows(out, "prca.", vision::PrcaOptions::Fields());
-    AppendRows(out, "sks.", vision::SksOptions::Fields());
-    AppendRows(out, "diff.", vision::DiffOptions::Fields());
+    vision::DetectorOptions{}.ForEach([&](const char* name, const auto& options) {
+      AppendRows(out, fmt::format("{}.", name), std::decay_t<decltype(options)>::Fields());
+    });
   } else if (section == "renderer") {
     AppendRows(out, "", RendererConfig::Fields());
   } else if (section == "tracker") {

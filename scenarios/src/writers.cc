@@ -88,6 +88,17 @@ metrics::FilterSequence FilterInputs(const std::vector<FrameGroundTruth>& truth,
   return seq;
 }
 
+std::string FormatCameraMotionCsv(const std::vector<internal::CameraMotionRecord>& records) {
+  std::string csv = "frame,tx_px,ty_px,log_scale,rotation_rad,error_px,ess\n";
+  for (const internal::CameraMotionRecord& r : records) {
+    csv += fmt::format("{},{},{},{},{},{},{}\n", r.frame, FormatNumber(r.motion.tx_px),
+                       FormatNumber(r.motion.ty_px), FormatNumber(r.motion.log_scale),
+                       FormatNumber(r.motion.rotation_rad), FormatNumber(r.error_px),
+                       r.ess < 0 ? "" : FormatNumber(r.ess));
+  }
+  return csv;
+}
+
 std::string FormatFiltersCsv(const std::vector<tracker::FrameReport>& reports,
                              const std::optional<metrics::FilterMetrics>& filter_metrics) {
   std::string out = "frame,filter,cx,cy,w,h,spread_px,ess,rejections,coasting,degenerate,state\n";

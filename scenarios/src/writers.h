@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "camera_motion_pass.h"
 #include "hcpf/core/ground_truth.h"
 #include "hcpf/core/text_file.h"
 #include "hcpf/core/types.h"
@@ -36,6 +37,9 @@ metrics::FilterSequence FilterInputs(const std::vector<FrameGroundTruth>& truth,
 // filters.csv: frame,filter,cx,cy,w,h,spread_px,ess,rejections,coasting,degenerate,state.
 std::string FormatFiltersCsv(const std::vector<tracker::FrameReport>& reports,
                              const std::optional<metrics::FilterMetrics>& filter_metrics);
+// camera_motion.csv: frame,tx_px,ty_px,log_scale,rotation_rad,error_px,ess
+// (ess empty without a scene filter).
+std::string FormatCameraMotionCsv(const std::vector<internal::CameraMotionRecord>& records);
 // MOT detections: frame,-1,left,top,w,h,score,-1,-1,-1.
 std::string FormatDetectionsMot(const std::vector<Observation>& observations);
 // seqinfo.ini for TrackEval's MOTChallenge loader.

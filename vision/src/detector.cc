@@ -66,7 +66,11 @@ std::span<const Field<DiffOptions>> DiffOptions::Fields() {
 
 void DiffOptions::Validate(std::string_view prefix) const { CheckFields(*this, Fields(), prefix); }
 
-std::vector<std::string_view> DetectorNames() { return {"ncc", "colour", "prca", "sks", "diff"}; }
+std::vector<std::string_view> DetectorNames() {
+  std::vector<std::string_view> names;
+  DetectorOptions{}.ForEach([&](const char* name, const auto&) { names.push_back(name); });
+  return names;
+}
 
 std::unique_ptr<Detector> MakeDetector(std::string_view name, const DetectorOptions& options) {
   if (name == "ncc") return internal::MakeNccDetector(options.ncc);
@@ -74,25 +78,21 @@ std::unique_ptr<Detector> MakeDetector(std::string_view name, const DetectorOpti
   if (name == "prca") return MakePrcaDetector(options.prca);
   if (name == "sks") return MakeSksDetector(options.sks);
   if (name == "diff") return internal::MakeDiffDetector(options.diff);
-  if (name.find('+') != std::string_view::npos) {
-    std::vector<std::unique_ptr<Detector>> parts;
-    size_t start = 0;
-    while (start <= name.size()) {
-      const size_t end = std::min(name.find('+', start), name.size());
-      const std::string_view part = name.substr(start, end - start);
-      for (const auto& p : parts) {
-        if (p->name() == part) return nullptr;  // a detector twice
-      }
-      std::unique_ptr<Detector> made = part.find('+') == std::string_view::npos && !part.empty()
-                                           ? MakeDetector(part, options)
-                                           : nullptr;
-      if (made == nullptr) return nullptr;
-      parts.push_back(std::move(made));
-      start = end + 1;
-    }
-    return internal::MakeFusedDetector(std::move(parts));
+  if (name.find('+') == std::string_view::npos) return nullptr;
+  // A fusion: each '+'-separated part a registered name (so not empty),
+  // none twice.
+  std::vector<std::unique_ptr<Detector>> parts;
+  for (size_t start = 0; start <= name.size();) {
+    const size_t end = std::min(name.find('+', start), name.size());
+    const std::string_view part = name.substr(start, end - start);
+    const bool twice =
+        std::any_of(parts.begin(), parts.end(), [&](const auto& p) { return p->name() == part; });
+    std::unique_ptr<Detector> made = twice ? nullptr : MakeDetector(part, options);
+    if (made == nullptr) return nullptr;
+    parts.push_back(std::move(made));
+    start = end + 1;
   }
-  return nullptr;
+  return internal::MakeFusedDetector(std::move(parts));
 }
 
 namespace internal {

@@ -19,10 +19,27 @@ struct DetectorOptions {
   PrcaOptions prca;
   SksOptions sks;
   DiffOptions diff;
+
+  // Calls f(name, options) for every registered detector, in DetectorNames()
+  // order: the one list the scenario reader, writer, schema and detection
+  // cache walk, so a new detector is added here and in MakeDetector only.
+  template <class F>
+  void ForEach(F&& f) {
+    f("ncc", ncc);
+    f("colour", colour);
+    f("prca", prca);
+    f("sks", sks);
+    f("diff", diff);
+  }
+  template <class F>
+  void ForEach(F&& f) const {
+    const_cast<DetectorOptions*>(this)->ForEach(
+        [&f](const char* name, const auto& options) { f(name, options); });
+  }
 };
 
 // The registered detectors' names, in a fixed order ("ncc", "colour", "prca",
-// "sks", "diff").
+// "sks", "diff"; DetectorOptions::ForEach's).
 std::vector<std::string_view> DetectorNames();
 // The detector called `name` (one of DetectorNames()) with its options
 // validated, or the fusion of several such detectors named joined by '+'

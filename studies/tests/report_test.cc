@@ -33,6 +33,16 @@ size_t Count(const std::string& text, const std::string& what) {
   return n;
 }
 
+// Runs the sweep into DIR/out with 2 jobs and no progress; returns that folder.
+std::string RunQuietly(const SweepSpec& spec, const fs::path& dir) {
+  SweepOptions o;
+  o.out_dir = (dir / "out").string();
+  o.jobs = 2;
+  o.progress = false;
+  RunSweep(spec, ExpandSweep(spec), o);
+  return o.out_dir;
+}
+
 TEST(ReportStatistics, StudentQuantilesMatchTables) {
   // Printed two-sided 95 % t tables: 12.706 (1), 2.228 (10), 2.042 (30),
   // 2.021 (40), 2.000 (60), 1.980 (120). Above 30 the expansion must agree to 1e-3.
@@ -145,18 +155,14 @@ TEST(Report, XMetricPlacesEachCellAtItsMeanOfThatMetric) {
                           "base: base.yaml\nseeds: 2\ngrid:\n  tracker.particles: [20, 60, 200]\n"
                           "report: {x: tracker.particles, x_metric: idf1, y: [idf1, hota]}\n"));
   ASSERT_EQ(spec.report.x_metric, "idf1");
-  SweepOptions o;
-  o.out_dir = (dir / "out").string();
-  o.jobs = 2;
-  o.progress = false;
-  RunSweep(spec, ExpandSweep(spec), o);
+  const std::string out = RunQuietly(spec, dir);
   const fs::path kept = dir / "kept";
   fs::create_directories(kept);
   const fs::path wrapper = dir / "gnuplot.sh";
   std::ofstream(wrapper) << "#!/bin/sh\ncp \"$(dirname \"$1\")\"/plot_*.dat " << kept.string()
                          << "/\nexec gnuplot \"$@\"\n";
   fs::permissions(wrapper, fs::perms::owner_all);
-  const ReportResult r = WriteReport({.dir = o.out_dir, .gnuplot = wrapper.string()});
+  const ReportResult r = WriteReport({.dir = out, .gnuplot = wrapper.string()});
   const std::string html = Read(r.html_path);
   EXPECT_NE(html.find("(idf1; mean per cell, lines follow tracker.particles)"), std::string::npos);
   std::stringstream rows(Read(kept / "plot_0.dat"));
@@ -188,12 +194,8 @@ TEST(Report, PooledKeysShareACell) {
       "  tracker.resampling.method: [systematic, charged]\n"
       "report: {x: tracker.particles, pool: [tracker.resampling.method], y: [idf1]}\n"));
   ASSERT_EQ(spec.report.pool, std::vector<std::string>{"tracker.resampling.method"});
-  SweepOptions o;
-  o.out_dir = (dir / "out").string();
-  o.jobs = 2;
-  o.progress = false;
-  RunSweep(spec, ExpandSweep(spec), o);
-  const ReportResult r = WriteReport({.dir = o.out_dir});
+  const std::string out = RunQuietly(spec, dir);
+  const ReportResult r = WriteReport({.dir = out});
   EXPECT_EQ(r.cells, 2);
   const std::string csv = Read(r.csv_path);
   EXPECT_NE(csv.find("\n20,all,6,0,"), std::string::npos) << csv;
@@ -220,12 +222,8 @@ TEST(Report, KeysZippedWithXDoNotSplitLines) {
       "base: base.yaml\ngrid:\n  tracker.resampling.method: [systematic, charged]\n"
       "zip:\n  tracker.particles: [20, 200]\n  tracker.dynamics.sigma_pos_px: [1, 2]\n"
       "report: {x: tracker.particles, series: tracker.resampling.method, y: [idf1]}\n"));
-  SweepOptions o;
-  o.out_dir = (dir / "out").string();
-  o.jobs = 2;
-  o.progress = false;
-  RunSweep(spec, ExpandSweep(spec), o);
-  const std::string html = Read(WriteReport({.dir = o.out_dir}).html_path);
+  const std::string out = RunQuietly(spec, dir);
+  const std::string html = Read(WriteReport({.dir = out}).html_path);
   const size_t at = html.find("plot-idf1");
   ASSERT_NE(at, std::string::npos);
   const std::string svg = html.substr(at, html.find("</svg>", at) - at);

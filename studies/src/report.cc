@@ -468,7 +468,11 @@ std::string ReportHtml(const fs::path& dir, const std::string& link_prefix, cons
     h += fmt::format(
         "<p>Pooled (<code>report.pool</code>): each cell holds the runs of every value of "
         "<code>{}</code>, counted like extra seeds; tables show <code>all</code>.</p>\n",
-        EscapeMarkup(fmt::format("{}", fmt::join(meta.report.pool, "</code>, <code>"))));
+        [&] {
+          std::vector<std::string> keys;
+          for (const std::string& k : meta.report.pool) keys.push_back(EscapeMarkup(k));
+          return fmt::format("{}", fmt::join(keys, "</code>, <code>"));
+        }());
   }
   h += "<h2>Plots</h2>\n";
   for (size_t p = 0; p < svgs.size(); ++p) {

@@ -200,7 +200,8 @@ TEST(Report, PooledKeysShareACell) {
   const std::string csv = Read(r.csv_path);
   EXPECT_NE(csv.find("\n20,all,6,0,"), std::string::npos) << csv;
   EXPECT_NE(csv.find("\n200,all,6,0,"), std::string::npos) << csv;
-  EXPECT_NE(Read(r.html_path).find("Pooled"), std::string::npos);
+  EXPECT_NE(Read(r.html_path).find("every value of <code>tracker.resampling.method</code>"),
+            std::string::npos);
   // Bad input: pooling x, or a key not swept.
   for (const char* pool : {"[tracker.particles]", "[tracker.resampling.methd]"}) {
     EXPECT_THROW(LoadSweepFile(testing::WriteSweep(

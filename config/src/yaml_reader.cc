@@ -169,7 +169,9 @@ SourceLocation YamlReader::Where() const {
   SourceLocation where{context_->file, 0, 0, path_};
   // A value set on the command line is reported there.
   for (const auto& [prefix, origin] : context_->overrides) {
-    if (path_ == prefix || path_.rfind(prefix + ".", 0) == 0) {
+    // The key itself, a key below it, or an item of a list it set
+    // (`--set camera.resolution=[320, abc]`: camera.resolution[1]).
+    if (path_ == prefix || path_.rfind(prefix + ".", 0) == 0 || path_.rfind(prefix + "[", 0) == 0) {
       where.file = origin.label;
       where.override_index = origin.index;
       return where;

@@ -66,13 +66,13 @@ CameraMotionPass::CameraMotionPass(const Scenario& scenario)
   }
 }
 
-std::vector<tracker::PointTrack> CameraMotionPass::SimulateTracks(
-    const FrameGroundTruth& previous, const FrameGroundTruth& current) const {
+std::vector<PointTrack> CameraMotionPass::SimulateTracks(const FrameGroundTruth& previous,
+                                                         const FrameGroundTruth& current) const {
   // Each frame draws from its own stream: a frame's points do not depend on
   // the frames before it.
   Rng rng = points_rng_.Fork("frame", current.frame);
   const Eigen::Matrix3d h = FrameToFrame(previous, current);
-  std::vector<tracker::PointTrack> tracks;
+  std::vector<PointTrack> tracks;
   tracks.reserve(static_cast<size_t>(options_.points));
   for (int i = 0; i < options_.points; ++i) {
     const Eigen::Vector2d p(rng.Uniform(0.0, width_), rng.Uniform(0.0, height_));

@@ -44,8 +44,8 @@ class CameraMotionPass {
   metrics::CameraMotionErrorSummary Summary() const;
 
  private:
-  std::vector<tracker::PointTrack> SimulateTracks(const FrameGroundTruth& previous,
-                                                  const FrameGroundTruth& current) const;
+  std::vector<PointTrack> SimulateTracks(const FrameGroundTruth& previous,
+                                         const FrameGroundTruth& current) const;
 
   tracker::CameraMotionMode mode_;
   tracker::SceneMotionOptions options_;

@@ -3,6 +3,8 @@
 // particles), the scene-motion estimators that produce it, and the metrics
 // that score it.
 
+#include <Eigen/Core>
+
 namespace hcpf {
 
 // Frame-to-frame camera motion as a 2-D similarity of image coordinates:
@@ -16,6 +18,15 @@ struct SimilarityMotion {
   double log_scale = 0.0;
   double rotation_rad = 0.0;
   friend bool operator==(const SimilarityMotion&, const SimilarityMotion&) = default;
+};
+
+// One point correspondence between consecutive frames: p in frame t-1, q in
+// frame t (pixels). vision/ produces them from images (corner tracks), the
+// run pipeline simulates them at detection level, the scene filter and the
+// RANSAC baseline read them.
+struct PointTrack {
+  Eigen::Vector2d p = Eigen::Vector2d::Zero();
+  Eigen::Vector2d q = Eigen::Vector2d::Zero();
 };
 
 }  // namespace hcpf

@@ -133,12 +133,6 @@ struct SceneMotionOptions {
   void Validate(std::string_view prefix = "tracker.scene_filter") const;
 };
 
-// One point correspondence: p in frame t-1, q in frame t (pixels).
-struct PointTrack {
-  Eigen::Vector2d p = Eigen::Vector2d::Zero();
-  Eigen::Vector2d q = Eigen::Vector2d::Zero();
-};
-
 // Maps a point by a similarity: exp(log_scale) R(rotation) p + t.
 Eigen::Vector2d Apply(const SimilarityMotion& motion, const Eigen::Vector2d& p);
 

@@ -1,19 +1,19 @@
 // Camera-motion evidence benchmarks (issue 12, items 2 and 3), one core
 // (cv::setNumThreads(1)), 640 x 480:
-//   BM_TrackBackgroundPoints       corners of frame t-1 tracked into frame t
-//                                  (PointTrackerOptions defaults, the 5
-//                                  vehicles' boxes excluded, grown by 4 px);
-//                                  target <= 5 ms per frame
-//   BM_TrackBackgroundPoints/half  the same with Lucas-Kanade at half
-//                                  resolution (flow_scale 0.5, window 11)
-//   BM_RansacSimilarity            the RANSAC similarity of those tracks
+//   BM_TrackBackgroundPoints/flow_percent:F/window:W
+//       corners of frame t-1 tracked into frame t, the 5 vehicles' boxes
+//       excluded (grown by 4 px); Lucas-Kanade at F % of full resolution
+//       with a W px window (0/0: the PointTrackerOptions defaults);
+//       target <= 5 ms per frame
+//   BM_RansacSimilarity
+//       the RANSAC similarity of the default tracks
 // The frames: bench/aerial_frames.h's frame 0 and frame 1 (every vehicle
 // moved and turned) seen by a camera that moved by the similarity kMotion
 // (frame 1 warped by cv::warpAffine, bilinear). Counters: tracks, and the
 // RANSAC fit's corner displacement from kMotion (px; the warp's bilinear
 // resampling included). docs/vision.md has the figures.
 //
-//   build/ci/bench/camera_motion_bench --benchmark_repetitions=3
+//   build/ci/bench/camera_motion_bench --benchmark_repetitions=5
 
 #include <benchmark/benchmark.h>
 

@@ -119,8 +119,7 @@ std::span<const Field<RansacOptions>> RansacOptions::Fields() {
   static const std::vector<Field<O>> fields = {
       NumberField("threshold_px", &O::threshold_px, AboveUpTo(0, 100), "px",
                   "RANSAC inlier distance"),
-      IntegerField("max_iterations", &O::max_iterations, 1, 100000, "",
-                   "most RANSAC iterations"),
+      IntegerField("max_iterations", &O::max_iterations, 1, 100000, "", "most RANSAC iterations"),
       NumberField("confidence", &O::confidence, {0, 1, true, true}, "",
                   "RANSAC stops once an outlier-free sample was drawn with this probability"),
       IntegerField("refine_iterations", &O::refine_iterations, 0, 1000, "",
@@ -163,7 +162,8 @@ std::vector<PointTrack> TrackBackgroundPoints(const ImageView& previous, const I
   // the project's convention: pixel centre (x, y) of the scaled image covers
   // [x / s, (x + 1) / s), centre (x + 0.5) / s.
   double csx = 1.0, csy = 1.0;
-  const cv::Mat corner_image = Resized(grey_previous, options.corner_scale, csx, csy, s.corner_image);
+  const cv::Mat corner_image =
+      Resized(grey_previous, options.corner_scale, csx, csy, s.corner_image);
   CornerMask(corner_image.size(), csx, csy, exclude, mask_dilation_px, s.mask);
   cv::Mat& mask = s.mask;
   // No track within half a Lucas-Kanade window of the frame's edge, at
@@ -187,7 +187,8 @@ std::vector<PointTrack> TrackBackgroundPoints(const ImageView& previous, const I
   if (corners.empty()) return tracks;
 
   double fsx = 1.0, fsy = 1.0;
-  const cv::Mat flow_previous = Resized(grey_previous, options.flow_scale, fsx, fsy, s.flow_previous);
+  const cv::Mat flow_previous =
+      Resized(grey_previous, options.flow_scale, fsx, fsy, s.flow_previous);
   const cv::Mat flow_current = Resized(grey_current, options.flow_scale, fsx, fsy, s.flow_current);
   const cv::Size window(options.window_px, options.window_px);
   // Lucas-Kanade reads a window around each point: an image smaller than the
@@ -281,10 +282,10 @@ std::optional<SimilarityMotion> EstimateSimilarityRansac(std::span<const PointTr
   if (from.size() < 3) return std::nullopt;
   std::vector<uint8_t> inliers;
   // [a -b tx; b a ty] with a = s cos(theta), b = s sin(theta).
-  const cv::Mat m = cv::estimateAffinePartial2D(
-      from, to, inliers, cv::RANSAC, options.threshold_px,
-      static_cast<size_t>(options.max_iterations), options.confidence,
-      static_cast<size_t>(options.refine_iterations));
+  const cv::Mat m =
+      cv::estimateAffinePartial2D(from, to, inliers, cv::RANSAC, options.threshold_px,
+                                  static_cast<size_t>(options.max_iterations), options.confidence,
+                                  static_cast<size_t>(options.refine_iterations));
   if (m.empty()) return std::nullopt;
   const double a = m.at<double>(0, 0);
   const double b = m.at<double>(1, 0);

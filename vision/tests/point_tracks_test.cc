@@ -35,7 +35,7 @@ Eigen::Vector2d ApplyInverse(const SimilarityMotion& s, const Eigen::Vector2d& q
 double CornerDisplacement(const SimilarityMotion& a, const SimilarityMotion& b) {
   double sum = 0.0;
   for (const Eigen::Vector2d& c : {Eigen::Vector2d(0, 0), Eigen::Vector2d(kWidth, 0),
-                                  Eigen::Vector2d(kWidth, kHeight), Eigen::Vector2d(0, kHeight)}) {
+                                   Eigen::Vector2d(kWidth, kHeight), Eigen::Vector2d(0, kHeight)}) {
     sum += (Apply(a, c) - Apply(b, c)).norm();
   }
   return sum / 4.0;
@@ -162,8 +162,7 @@ TEST(TrackBackgroundPoints, TracksFollowAKnownSimilarity) {
   const RgbImage previous = Render({});
   const RgbImage current = Render(kMotion);
   const PointTrackerOptions options;
-  const std::vector<PointTrack> tracks =
-      TrackBackgroundPoints(previous, current, {}, 0.0, options);
+  const std::vector<PointTrack> tracks = TrackBackgroundPoints(previous, current, {}, 0.0, options);
   ASSERT_GE(tracks.size(), 200u);  // 400 corners asked for on a richly textured frame
   EXPECT_LE(tracks.size(), static_cast<size_t>(options.max_corners));
   const Accuracy a = TrackAccuracy(tracks, kMotion);
@@ -180,8 +179,8 @@ TEST(TrackBackgroundPoints, HalfResolutionFlowMapsBackToFullResolutionPixels) {
   PointTrackerOptions options;
   options.flow_scale = 0.5;
   options.window_px = 11;
-  const Accuracy a = TrackAccuracy(TrackBackgroundPoints(previous, current, {}, 0.0, options),
-                                   kMotion);
+  const Accuracy a =
+      TrackAccuracy(TrackBackgroundPoints(previous, current, {}, 0.0, options), kMotion);
   ASSERT_GE(a.tracks, 200u);
   EXPECT_LT(a.median_px, 0.1);
   EXPECT_LT(a.max_px, 0.25);

@@ -1,4 +1,4 @@
-// hcpf report DIR [--out FOLDER]
+// hcpf report DIR [--out FOLDER]: DIR is a sweep's or a run's folder.
 
 #include <spdlog/spdlog.h>
 
@@ -15,19 +15,24 @@ Command AddReportCommand(CLI::App& parent) {
   auto options = std::make_shared<studies::ReportOptions>();
   CLI::App* app = parent.add_subcommand(
       "report",
-      "Write DIR/report.html (plots, table, base scenario) and DIR/summary.csv from a sweep");
-  app->add_option("dir", options->dir, "A sweep's --out folder")->required();
+      "Write DIR/report.html from a sweep (plots, cells, base scenario; and DIR/summary.csv) "
+      "or from a run (headline metrics, per-frame camera-motion error)");
+  app->add_option("dir", options->dir, "A sweep's or a run's --out folder")->required();
   app->add_option("--out", options->out_dir,
-                  "Write report.html and summary.csv here instead of DIR (the store is only "
-                  "read, so a sweep on read-only media can be reported)");
+                  "Write report.html (and a sweep's summary.csv) here instead of DIR (DIR is "
+                  "only read, so a folder on read-only media can be reported)");
   app->add_option("--gnuplot", options->gnuplot, "The gnuplot executable")->capture_default_str();
   return {app, [options] {
             const auto start = std::chrono::steady_clock::now();
             const studies::ReportResult r = studies::WriteReport(*options);
             const double s =
                 std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-            spdlog::info("report: {} plots, {} cells in {:.2f} s; {}", r.plots, r.cells, s,
-                         r.csv_path);
+            if (r.csv_path.empty()) {
+              spdlog::info("report: {} plots in {:.2f} s", r.plots, s);
+            } else {
+              spdlog::info("report: {} plots, {} cells in {:.2f} s; {}", r.plots, r.cells, s,
+                           r.csv_path);
+            }
             std::printf("%s\n", r.html_path.c_str());
             return 0;
           }};

@@ -21,12 +21,13 @@ namespace fs = std::filesystem;
 namespace {
 
 // What RunScenario (run.cc) and RenderToFolder (render_folder.cc) write at
-// the top of their folder; gt/ and frames/ are checked file by file below.
-constexpr std::array<std::string_view, 11> kOutputFiles = {
+// the top of their folder, and report.html that `hcpf report RUN_DIR` adds
+// (studies/src/run_report.cc); gt/ and frames/ are checked file by file below.
+constexpr std::array<std::string_view, 12> kOutputFiles = {
     "manifest.json",     "scenario.resolved.yaml", "seqinfo.ini",
     "gt.json",           "detections.txt",         "tracks.txt",
     "filters.csv",       "metrics.json",           "overlay.mp4",
-    "contact_sheet.png", "camera_motion.csv"};
+    "contact_sheet.png", "camera_motion.csv",      "report.html"};
 
 bool IsFrameFile(std::string_view name) {
   // 000001.png, 000001_depth.png, 000001_ids.png (render_folder.cc).

@@ -6,10 +6,14 @@ namespace hcpf::studies {
 
 std::span<const FileKey> SweepFileKeys() {
   static const FileKey keys[] = {
-      {"base", "path", "**required**",
+      {"base", "path", "**required** (unless `grid.base`)",
        "the base scenario; looked for relative to the sweep file, then the current folder, then "
        "the project folder"},
       {"grid", "mapping: dotted key → non-empty list", "none", "cartesian product over the keys"},
+      {"grid.base", "non-empty list of paths", "none",
+       "several base scenarios, swept like a key (instead of `base`; grid only): each is found "
+       "like `base`, every grid combination's runs start from its file, and `base` names a "
+       "column of the store, a `report.series` or `report.panels`"},
       {"zip", "mapping: dotted key → list", "none",
        "parallel lists, all of one length; position *i* of every list goes together"},
       {"seeds", "integer 1 … 100000", "absent",
@@ -28,6 +32,9 @@ std::span<const FileKey> SweepFileKeys() {
       {"report.x_metric", "a metric name", "none",
        "place each cell on the x axis at this metric's mean over its runs (e.g. `det_size_px`, "
        "the measured target size) instead of its value of `x`; `x` still orders each line"},
+      {"report.panels", "a swept key other than `x`, `series` and the pooled keys", "none",
+       "one plot per value of this key for every `y` metric (e.g. `base`: one figure per base "
+       "scenario), each with its own lines"},
   };
   return keys;
 }

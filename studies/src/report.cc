@@ -17,17 +17,19 @@
 #include <fstream>
 #include <limits>
 #include <map>
+#include <nlohmann/json.hpp>
 #include <set>
 #include <sstream>
 
+#include "gnuplot.h"
 #include "hcpf/core/check.h"
 #include "hcpf/core/error.h"
-#include "hcpf/core/subprocess.h"
 #include "hcpf/core/text_file.h"
 #include "hcpf/scenarios/output_folder.h"
 #include "hcpf/scenarios/scenario.h"
 #include "hcpf/studies/metric_catalogue.h"
 #include "hcpf/studies/results_store.h"
+#include "hcpf/studies/sweep.h"
 #include "text.h"
 
 namespace hcpf::studies {
@@ -43,13 +45,6 @@ std::string Csv(const std::string& text) {
   std::string out = "\"";
   for (char c : text) out += c == '"' ? std::string("\"\"") : std::string(1, c);
   return out + "\"";
-}
-
-// gnuplot string literal (single quotes; '' escapes a quote).
-std::string GpString(const std::string& text) {
-  std::string out = "'";
-  for (char c : text) out += c == '\'' ? std::string("''") : std::string(1, c);
-  return out + "'";
 }
 
 std::optional<double> ParseNumber(const std::string& text) {
@@ -71,40 +66,6 @@ struct Cell {
   int failures = 0;
   std::map<std::string, MeanCi> stats;
 };
-
-// Runs gnuplot on `script`; throws RunError with its messages on failure.
-void RunGnuplot(const std::string& gnuplot, const fs::path& script) {
-  const std::string log = script.string() + ".log";
-  const ProcessStatus status = RunProcess({gnuplot, script.string()}, log);
-  if (!status.started) throw RunError(fmt::format("cannot start gnuplot: {}", status.error));
-  if (status.ok()) return;
-  std::ifstream in(log);
-  std::stringstream s;
-  s << in.rdbuf();
-  if (status.exit_code == 127) {
-    throw RunError(fmt::format(
-        "cannot run \"{}\" (install Debian gnuplot-nox, or pass --gnuplot PATH)", gnuplot));
-  }
-  throw RunError(
-      fmt::format("gnuplot failed ({} {}) on {}: {}", status.signal != 0 ? "signal" : "status",
-                  status.signal != 0 ? status.signal : status.exit_code, script.string(), s.str()));
-}
-
-std::string ReadText(const fs::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::stringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
-
-// The SVG element of a gnuplot SVG file (no XML prolog or doctype).
-std::string InlineSvg(const std::string& svg) {
-  const size_t start = svg.find("<svg");
-  return start == std::string::npos ? svg : svg.substr(start);
-}
-
-const char* kColours[] = {"#1f77b4", "#d62728", "#2ca02c", "#ff7f0e", "#9467bd",
-                          "#8c564b", "#e377c2", "#7f7f7f", "#bcbd22", "#17becf"};
 
 }  // namespace
 
@@ -163,7 +124,7 @@ std::string SceneContactSheet(const fs::path& dir) {
   if (!fs::is_regular_file(png, ec)) return {};
   return "<h2>The scene (sampled frames with ground truth)</h2>\n"
          "<img alt=\"contact sheet\" style=\"max-width:100%\" src=\"data:image/png;base64," +
-         Base64(ReadText(png)) + "\">\n";
+         Base64(ReadWholeFile(png)) + "\">\n";
 }
 
 }  // namespace
@@ -328,8 +289,9 @@ Layout LayoutOf(const std::vector<Cell>& cells, const StoreMeta& meta) {
 }
 
 // Stage 3, plots: one inline SVG per metric (gnuplot on files in `work`).
+// `panel` ("" = none) is added to the title: "key = value" of report.panels.
 std::string PlotSvg(const Layout& layout, const std::string& metric, size_t p, const fs::path& work,
-                    const std::string& gnuplot) {
+                    const std::string& gnuplot, const std::string& panel = "") {
   const auto& lines = layout.lines;
   const auto& x_values = layout.x_values;
   const bool numeric_x = layout.numeric_x;
@@ -378,7 +340,9 @@ std::string PlotSvg(const Layout& layout, const std::string& metric, size_t p, c
       entry == nullptr ? metric
                        : fmt::format("{}{}{} ({})", entry->label, entry->unit.empty() ? "" : ", ",
                                      entry->unit, metric);
-  gp += fmt::format("set title {} noenhanced\n", GpString(described + " vs " + layout.x_title));
+  gp += fmt::format("set title {} noenhanced\n",
+                    GpString(described + " vs " + layout.x_title +
+                             (panel.empty() ? std::string() : ", " + panel)));
   gp += fmt::format("set xlabel {} noenhanced\n", GpString(x_label));
   gp +=
       fmt::format("set ylabel {} noenhanced\n", GpString(described + "; mean, 95% CI over seeds"));
@@ -402,7 +366,7 @@ std::string PlotSvg(const Layout& layout, const std::string& metric, size_t p, c
   std::vector<std::string> plots;
   for (size_t l = 0; l < lines.size(); ++l) {
     if (!has_data[l]) continue;
-    const char* colour = kColours[l % std::size(kColours)];
+    const char* colour = kPlotColours[l % std::size(kPlotColours)];
     plots.push_back(fmt::format("{} index {} using 1:3:4 with filledcurves lc rgb '{}' notitle",
                                 GpString(data.string()), l, colour));
     plots.push_back(
@@ -416,7 +380,7 @@ std::string PlotSvg(const Layout& layout, const std::string& metric, size_t p, c
   }
   WriteTextFile(script.string(), gp);
   RunGnuplot(gnuplot, script);
-  return InlineSvg(ReadText(svg));
+  return InlineSvg(ReadWholeFile(svg));
 }
 
 // summary.csv: one row per cell, every catalogue metric.
@@ -443,7 +407,8 @@ std::string SummaryCsv(const std::vector<Cell>& cells, const std::vector<std::st
 // ("" when the report is written into the sweep folder).
 std::string ReportHtml(const fs::path& dir, const std::string& link_prefix, const StoreMeta& meta,
                        const std::vector<RunRecord>& runs, const std::vector<Cell>& cells,
-                       const Layout& layout, const std::vector<std::string>& svgs) {
+                       const Layout& layout,
+                       const std::vector<std::pair<std::string, std::string>>& svgs) {
   const std::vector<std::string>& keys = meta.swept_keys;
   const int x_index = layout.x_index;
   int64_t ok_runs = 0, failed_runs = 0;
@@ -475,9 +440,8 @@ std::string ReportHtml(const fs::path& dir, const std::string& link_prefix, cons
         }());
   }
   h += "<h2>Plots</h2>\n";
-  for (size_t p = 0; p < svgs.size(); ++p) {
-    h +=
-        fmt::format("<div class=\"plot\" id=\"plot-{}\">\n{}\n</div>\n", meta.report.y[p], svgs[p]);
+  for (const auto& [id, svg] : svgs) {
+    h += fmt::format("<div class=\"plot\" id=\"plot-{}\">\n{}\n</div>\n", EscapeMarkup(id), svg);
   }
   h += "<h2>Cells</h2>\n<table><tr>";
   for (const std::string& k : keys) h += "<th>" + EscapeMarkup(k) + "</th>";
@@ -529,15 +493,55 @@ std::string ReportHtml(const fs::path& dir, const std::string& link_prefix, cons
   if (!failures.empty())
     h += "<h2>Failed runs</h2>\n<ul class=\"failed\">\n" + failures + "</ul>\n";
   h += SceneContactSheet(dir);
-  h += "<h2>Base scenario (resolved)</h2>\n<pre>" + EscapeMarkup(meta.base_resolved) + "</pre>\n";
+  const bool several_bases = std::find(keys.begin(), keys.end(), kSweptBaseKey) != keys.end();
+  h += fmt::format("<h2>Base scenario{} (resolved)</h2>\n<pre>{}</pre>\n", several_bases ? "s" : "",
+                   EscapeMarkup(meta.base_resolved));
   h += "</body></html>\n";
   return h;
 }
 
 }  // namespace
 
+ReportFolder ClassifyReportFolder(const std::string& dir) {
+  const std::string expected =
+      "a sweep folder (holding results.sqlite, written by hcpf sweep --out) or a run folder "
+      "(holding manifest.json with \"format\": \"hcpf-run/1\", written by hcpf run --out)";
+  const auto error = [&](const std::string& found) {
+    return InputError(SourceLocation{dir, 0, 0, "DIR"}, expected, found);
+  };
+  std::error_code ec;
+  const fs::path path(dir);
+  if (!fs::exists(path, ec)) throw error("no such folder");
+  if (!fs::is_directory(path, ec)) throw error("a file, not a folder");
+  if (fs::exists(path / "results.sqlite", ec)) return ReportFolder::kSweep;
+  const fs::path manifest_path = path / "manifest.json";
+  if (!fs::is_regular_file(manifest_path, ec)) {
+    throw error("a folder with neither results.sqlite nor manifest.json");
+  }
+  nlohmann::json manifest;
+  try {
+    manifest = nlohmann::json::parse(
+        ReadInputFile(manifest_path.string(), "a run manifest (JSON)", std::uint64_t{64} << 20));
+  } catch (const nlohmann::json::exception& e) {
+    throw error(fmt::format("a manifest.json that is not JSON ({})", e.what()));
+  }
+  const std::string format =
+      manifest.is_object() && manifest.contains("format") && manifest["format"].is_string()
+          ? manifest["format"].get<std::string>()
+          : std::string();
+  if (format == "hcpf-run/1") return ReportFolder::kRun;
+  if (format == "hcpf-render/1") {
+    throw error(
+        "a render folder (manifest.json \"format\": \"hcpf-render/1\", written by hcpf render: "
+        "it has frames, no metrics)");
+  }
+  throw error(format.empty() ? std::string("a manifest.json without a \"format\" of this tool")
+                             : fmt::format("a manifest.json of format \"{}\"", format));
+}
+
 ReportResult WriteReport(const ReportOptions& options) {
   options.Validate();
+  if (ClassifyReportFolder(options.dir) == ReportFolder::kRun) return WriteRunReport(options);
   const fs::path dir(options.dir);
   if (!options.out_dir.empty()) scenarios::CheckFolderArgument(options.out_dir, "--out");
   const fs::path out = options.out_dir.empty() ? dir : fs::path(options.out_dir);
@@ -564,10 +568,43 @@ ReportResult WriteReport(const ReportOptions& options) {
     link_prefix += "/";
   }
   ReportResult result;
-  std::vector<std::string> svgs;
-  for (size_t p = 0; p < meta.report.y.size(); ++p) {
-    svgs.push_back(PlotSvg(layout, meta.report.y[p], p, work, options.gnuplot));
-    ++result.plots;
+  // Plots: one per y metric, or with report.panels one per metric and value
+  // of the panel key (ids plot-<metric> and plot-<metric>-<panel index>),
+  // each panel laid out from its own cells.
+  std::vector<std::pair<std::string, std::string>> svgs;
+  const auto panel_it =
+      std::find(meta.swept_keys.begin(), meta.swept_keys.end(), meta.report.panels);
+  if (meta.report.panels.empty() || panel_it == meta.swept_keys.end()) {
+    for (size_t p = 0; p < meta.report.y.size(); ++p) {
+      svgs.emplace_back(meta.report.y[p],
+                        PlotSvg(layout, meta.report.y[p], p, work, options.gnuplot));
+      ++result.plots;
+    }
+  } else {
+    const auto panel_key = static_cast<size_t>(panel_it - meta.swept_keys.begin());
+    std::vector<std::string> panel_values;
+    std::vector<std::vector<Cell>> panel_cells;  // LayoutOf keeps pointers into these
+    for (const Cell& c : cells) {
+      const std::string& v = c.values[panel_key];
+      auto at = std::find(panel_values.begin(), panel_values.end(), v);
+      if (at == panel_values.end()) {
+        panel_values.push_back(v);
+        panel_cells.emplace_back();
+        at = panel_values.end() - 1;
+      }
+      panel_cells[static_cast<size_t>(at - panel_values.begin())].push_back(c);
+    }
+    std::vector<Layout> panel_layouts;
+    for (const std::vector<Cell>& pc : panel_cells) panel_layouts.push_back(LayoutOf(pc, meta));
+    size_t p = 0;
+    for (const std::string& metric : meta.report.y) {
+      for (size_t k = 0; k < panel_values.size(); ++k) {
+        svgs.emplace_back(fmt::format("{}-{}", metric, k),
+                          PlotSvg(panel_layouts[k], metric, p++, work, options.gnuplot,
+                                  fmt::format("{} = {}", meta.report.panels, panel_values[k])));
+        ++result.plots;
+      }
+    }
   }
   result.csv_path = (out / "summary.csv").string();
   WriteTextFile(result.csv_path, SummaryCsv(cells, meta.swept_keys));

@@ -175,6 +175,7 @@ json ReportToJson(const ReportSpec& r) {
   json j = {{"x", r.x}, {"y", r.y}, {"series", r.series}};
   if (!r.x_metric.empty()) j["x_metric"] = r.x_metric;
   if (!r.pool.empty()) j["pool"] = r.pool;
+  if (!r.panels.empty()) j["panels"] = r.panels;
   return j;
 }
 
@@ -217,6 +218,7 @@ void ResultsStore::ReadMeta() {
   meta_.report.series = report.value("series", "");
   meta_.report.x_metric = report.value("x_metric", "");
   meta_.report.pool = report.value("pool", std::vector<std::string>{});
+  meta_.report.panels = report.value("panels", "");
 }
 
 void ResultsStore::AddMissingMetricColumns(StoreAccess access) {

@@ -40,8 +40,11 @@ std::string ResolveBase(const YamlReader& where, const std::string& base, const 
       "");
 }
 
-// Reads a `grid:`/`zip:` mapping of dotted keys to non-empty lists.
-std::vector<SweepAxis> ReadAxes(YamlReader& parent, const std::string& name) {
+// Reads a `grid:`/`zip:` mapping of dotted keys to non-empty lists. The
+// grid's `base` (kSweptBaseKey) lists scenario files: each is resolved like
+// `base:` into `base_paths`.
+std::vector<SweepAxis> ReadAxes(YamlReader& parent, const std::string& name, const std::string& dir,
+                                std::vector<std::string>* base_paths) {
   std::vector<SweepAxis> axes;
   auto section = parent.Optional(name);
   if (!section) return axes;
@@ -57,9 +60,17 @@ std::vector<SweepAxis> ReadAxes(YamlReader& parent, const std::string& name) {
     }
     SweepAxis axis;
     axis.key = key;
+    const bool base = key == kSweptBaseKey;
+    if (base && name != "grid") {
+      list.Fail("no `base` here (base scenarios are swept in grid: {base: [a.yaml, b.yaml]})");
+    }
     for (const YamlReader& item : list.Items()) {
       if (!item.node().IsScalar() && !item.node().IsSequence() && !item.node().IsMap()) {
         item.Fail("a value");
+      }
+      if (base) {
+        if (!item.node().IsScalar()) item.Fail("a scenario file");
+        base_paths->push_back(ResolveBase(item, item.node().Scalar(), dir));
       }
       axis.values.push_back(FlowText(item.node()));
       axis.where.push_back(item.Where());
@@ -83,14 +94,20 @@ SweepSpec ReadSweep(YAML::Node root, const std::string& file, const std::string&
   YamlReader r(root, "", context);
   SweepSpec spec;
   spec.file = file;
-  {
-    YamlReader base = r.Child("base");
-    spec.base_path = ResolveBase(base, r.String("base", std::nullopt), dir);
-  }
   spec.seed = r.Seed("seed", 1);
   spec.seeds = static_cast<int>(r.Integer("seeds", 0, kMinSweepSeeds, kMaxSweepSeeds));
-  spec.grid = ReadAxes(r, "grid");
-  spec.zip = ReadAxes(r, "zip");
+  spec.grid = ReadAxes(r, "grid", dir, &spec.base_paths);
+  spec.zip = ReadAxes(r, "zip", dir, &spec.base_paths);
+  if (spec.base_paths.empty()) {
+    YamlReader base = r.Child("base");
+    spec.base_path = ResolveBase(base, r.String("base", std::nullopt), dir);
+    spec.base_paths = {spec.base_path};
+  } else {
+    if (auto base = r.Optional("base")) {
+      base->Fail("no top-level base: when grid.base sweeps the base scenarios");
+    }
+    spec.base_path = spec.base_paths.front();
+  }
 
   // Keys are swept once; zip lists have one length; `seed` is not swept with `seeds`.
   std::set<std::string> seen;
@@ -178,6 +195,17 @@ SweepSpec ReadSweep(YAML::Node root, const std::string& file, const std::string&
         spec.report.pool.push_back(key);
       }
     }
+    if (report->Optional("panels")) {
+      const std::string key = swept_key("panels", "");
+      const bool pooled = std::find(spec.report.pool.begin(), spec.report.pool.end(), key) !=
+                          spec.report.pool.end();
+      if (key == spec.report.x || key == spec.report.series || pooled) {
+        report->Child("panels").Fail(
+            "a swept key other than report.x, report.series and the "
+            "pooled keys");
+      }
+      spec.report.panels = key;
+    }
     report->Finish();
   }
   r.Finish();
@@ -255,12 +283,20 @@ std::vector<SweepRun> ExpandSweep(const SweepSpec& spec) {
   const int seeds = std::max(spec.seeds, 1);
   const int64_t zip_length =
       spec.zip.empty() ? 1 : static_cast<int64_t>(spec.zip.front().values.size());
-  // The base file is read once; every cell parses its text with its overrides.
-  const std::string base_text = YamlReader::ReadFile(spec.base_path);
+  // Each base file is read once; every cell parses its text with its overrides.
+  const std::vector<std::string> base_paths =
+      spec.base_paths.empty() ? std::vector<std::string>{spec.base_path} : spec.base_paths;
+  std::vector<std::string> base_texts;
+  for (const std::string& path : base_paths) base_texts.push_back(YamlReader::ReadFile(path));
+  // The grid axis that picks the base file (kSweptBaseKey), if any.
+  int base_axis = -1;
+  for (size_t g = 0; g < spec.grid.size(); ++g) {
+    if (spec.grid[g].key == kSweptBaseKey) base_axis = static_cast<int>(g);
+  }
   const auto load = [&](const std::vector<config::Override>& overrides,
-                        const std::vector<SourceLocation>& where) {
+                        const std::vector<SourceLocation>& where, size_t base) {
     try {
-      return scenarios::LoadScenarioText(base_text, spec.base_path, overrides);
+      return scenarios::LoadScenarioText(base_texts[base], base_paths[base], overrides);
     } catch (const InputError& e) {
       // An error in a swept value is reported at that value in the sweep file.
       const int i = e.where().override_index;
@@ -288,8 +324,14 @@ std::vector<SweepRun> ExpandSweep(const SweepSpec& spec) {
     std::vector<std::string> values;
     std::vector<config::Override> overrides;
     std::vector<SourceLocation> where;
+    size_t base = 0;
     for (size_t g = 0; g < spec.grid.size(); ++g) {
       values.push_back(spec.grid[g].values[digits[g]]);
+      if (static_cast<int>(g) == base_axis) {
+        // Not an override: it picks the file the overrides apply to.
+        base = static_cast<size_t>(digits[g]);
+        continue;
+      }
       overrides.push_back({spec.grid[g].key, spec.grid[g].values[digits[g]]});
       where.push_back(spec.grid[g].where[digits[g]]);
     }
@@ -325,7 +367,7 @@ std::vector<SweepRun> ExpandSweep(const SweepSpec& spec) {
         run.cell = first;
         resolved = scenarios::ReseedResolvedYaml(first_yaml, scenarios::Reseeded(*first, run.seed));
       } else {
-        auto scenario = std::make_shared<const scenarios::Scenario>(load(overrides, where));
+        auto scenario = std::make_shared<const scenarios::Scenario>(load(overrides, where, base));
         resolved = scenarios::ToResolvedYaml(*scenario);
         run.cell = scenario;
         if (k == 0) {

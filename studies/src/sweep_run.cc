@@ -14,6 +14,7 @@
 #include <map>
 #include <mutex>
 
+#include "hcpf/core/check.h"
 #include "hcpf/core/parallel.h"
 #include "hcpf/renderer/image_io.h"
 #include "hcpf/renderer/renderer.h"
@@ -104,7 +105,21 @@ SweepResult RunSweep(const SweepSpec& spec, const std::vector<SweepRun>& runs,
   meta.sweep_file = spec.file;
   meta.swept_keys = spec.SweptKeys();
   meta.report = spec.report;
-  meta.base_resolved = ToResolvedYaml(LoadScenarioFile(spec.base_path));
+  if (spec.base_paths.size() > 1) {
+    // grid.base: every base scenario, each headed by the value that names it.
+    const SweepAxis* base_axis = nullptr;
+    for (const SweepAxis& a : spec.grid) {
+      if (a.key == kSweptBaseKey) base_axis = &a;
+    }
+    HCPF_CHECK(base_axis != nullptr && base_axis->values.size() == spec.base_paths.size());
+    for (size_t b = 0; b < spec.base_paths.size(); ++b) {
+      meta.base_resolved += fmt::format("# base: {}\n{}{}", base_axis->values[b],
+                                        ToResolvedYaml(LoadScenarioFile(spec.base_paths[b])),
+                                        b + 1 < spec.base_paths.size() ? "\n" : "");
+    }
+  } else {
+    meta.base_resolved = ToResolvedYaml(LoadScenarioFile(spec.base_path));
+  }
   meta.run_count = static_cast<int64_t>(runs.size());
   auto store = ResultsStore::OpenOrCreate((out / "results.sqlite").string(), meta);
 

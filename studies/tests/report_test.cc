@@ -4,12 +4,17 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
+#include <vector>
 
 #include "hcpf/core/error.h"
+#include "hcpf/scenarios/output_folder.h"
+#include "hcpf/scenarios/run.h"
+#include "hcpf/scenarios/scenario.h"
 #include "hcpf/studies/results_store.h"
 #include "hcpf/studies/sweep.h"
 #include "sweep_fixture.h"
@@ -235,6 +240,270 @@ TEST(Report, KeysZippedWithXDoNotSplitLines) {
 
 TEST(Report, MissingStoreIsBadInput) {
   EXPECT_THROW(WriteReport({.dir = "/nonexistent/hcpf"}), InputError);
+}
+
+// The rows of a CSV file after its header, split at commas.
+std::vector<std::vector<std::string>> CsvRows(const fs::path& path) {
+  std::stringstream text(Read(path));
+  std::string line;
+  std::getline(text, line);  // header
+  std::vector<std::vector<std::string>> rows;
+  while (std::getline(text, line)) {
+    if (line.empty()) continue;
+    std::vector<std::string> fields;
+    std::stringstream f(line);
+    std::string field;
+    while (std::getline(f, field, ',')) fields.push_back(field);
+    if (!line.empty() && line.back() == ',') fields.emplace_back();
+    rows.push_back(fields);
+  }
+  return rows;
+}
+
+// A run of the minimal scene (20 frames) with a shaking camera (so the
+// camera moves between frames) and the given camera-motion mode.
+fs::path RunMinimal(const fs::path& dir, const std::string& mode) {
+  const fs::path out = dir / ("run-" + mode);
+  const scenarios::Scenario scenario =
+      scenarios::LoadScenarioText(scenarios::testing::kMinimal, "base.yaml",
+                                  {{"camera.shake_px", "1.0"},
+                                   {"tracker.camera_motion", mode},
+                                   {"tracker.scene_filter.particles", "100"}});
+  scenarios::RunScenario(scenario, {.out_dir = out.string()});
+  return out;
+}
+
+// A gnuplot that keeps a copy of the data files of every plot in `kept`.
+fs::path KeepingGnuplot(const fs::path& dir, const fs::path& kept) {
+  fs::create_directories(kept);
+  const fs::path wrapper = dir / "gnuplot.sh";
+  std::ofstream(wrapper) << "#!/bin/sh\ncp \"$(dirname \"$1\")\"/*.dat " << kept.string()
+                         << "/\nexec gnuplot \"$@\"\n";
+  fs::permissions(wrapper, fs::perms::owner_all);
+  return wrapper;
+}
+
+// hcpf report RUN_DIR: report.html in the run folder with the headline
+// metrics and the per-frame camera-motion error, its legend naming the mode;
+// the scene filter's ESS on a second axis. The plotted points are the rows of
+// camera_motion.csv, read here independently.
+TEST(RunReport, PlotsPerFrameCameraMotionErrorWithModeAndEss) {
+  const auto dir = testing::SweepFolder("run-report");
+  const fs::path run = RunMinimal(dir, "scene_filter");
+  ASSERT_FALSE(fs::exists(run / "report.html"));
+  EXPECT_EQ(ClassifyReportFolder(run.string()), ReportFolder::kRun);
+  const fs::path kept = dir / "kept";
+  const ReportResult r =
+      WriteReport({.dir = run.string(), .gnuplot = KeepingGnuplot(dir, kept).string()});
+  EXPECT_EQ(r.html_path, (run / "report.html").string());
+  EXPECT_TRUE(r.csv_path.empty());
+  EXPECT_EQ(r.plots, 1);
+  const std::string html = Read(run / "report.html");
+  const size_t at = html.find("id=\"plot-camera_motion\"");
+  ASSERT_NE(at, std::string::npos) << "no camera-motion plot";
+  const std::string svg = html.substr(at, html.find("</svg>", at) - at);
+  EXPECT_NE(svg.find("<svg"), std::string::npos);
+  EXPECT_NE(svg.find("camera-motion error (scene_filter)"), std::string::npos) << "mode in legend";
+  EXPECT_NE(svg.find("ESS"), std::string::npos) << "the scene filter's ESS";
+  EXPECT_GE(Count(svg, "<path"), 2U);
+  // The headline table: a row per measured catalogue metric.
+  EXPECT_NE(html.find("<code>da_accuracy</code>"), std::string::npos);
+  EXPECT_NE(html.find("<code>camera_motion_error_px</code>"), std::string::npos);
+  EXPECT_NE(html.find("Mode <code>scene_filter</code>"), std::string::npos);
+  EXPECT_NE(html.find("name: &quot;minimal&quot;"), std::string::npos) << "resolved scenario";
+  EXPECT_FALSE(fs::exists(run / ".report-work")) << "work files removed";
+
+  // Every csv row is plotted: frame, error_px and ess (columns 1, 6, 7).
+  const auto csv = CsvRows(run / "camera_motion.csv");
+  ASSERT_EQ(csv.size(), 19U) << "frames 1..19 of a 20-frame run";
+  std::stringstream dat(Read(kept / "camera_motion.dat"));
+  std::string line;
+  size_t row = 0;
+  while (std::getline(dat, line)) {
+    if (line.empty() || line[0] == '#') continue;
+    ASSERT_LT(row, csv.size());
+    double frame = 0, error = 0, ess = 0;
+    std::stringstream(line) >> frame >> error >> ess;
+    EXPECT_EQ(frame, std::stod(csv[row][0]));
+    EXPECT_NEAR(error, std::stod(csv[row][5]), 1e-5 * (1 + std::abs(error)));  // 6 digits
+    EXPECT_NEAR(ess, std::stod(csv[row][6]), 1e-5 * (1 + std::abs(ess)));
+    ++row;
+  }
+  EXPECT_EQ(row, csv.size());
+
+  // A run's folder with its report is still one hcpf run may replace.
+  EXPECT_EQ(scenarios::WhyNotOurOutput(run), "");
+}
+
+// mode none: no scene filter, so no ESS column values and no ESS line.
+TEST(RunReport, ModeNoneHasNoEssLine) {
+  const auto dir = testing::SweepFolder("run-report-none");
+  const fs::path run = RunMinimal(dir, "none");
+  const fs::path out = dir / "elsewhere";
+  const ReportResult r = WriteReport({.dir = run.string(), .out_dir = out.string()});
+  EXPECT_EQ(r.html_path, (out / "report.html").string());
+  EXPECT_FALSE(fs::exists(run / "report.html")) << "--out leaves the run folder alone";
+  const std::string html = Read(out / "report.html");
+  const size_t at = html.find("id=\"plot-camera_motion\"");
+  ASSERT_NE(at, std::string::npos);
+  const std::string svg = html.substr(at, html.find("</svg>", at) - at);
+  EXPECT_NE(svg.find("camera-motion error (none)"), std::string::npos);
+  EXPECT_EQ(svg.find("ESS"), std::string::npos);
+}
+
+// Bad input: a folder that is neither a sweep's nor a run's names the folder,
+// both kinds expected, and what it is.
+TEST(RunReport, FolderThatIsNeitherSweepNorRunIsBadInput) {
+  const auto dir = testing::SweepFolder("report-neither");
+  const fs::path plain = dir / "plain";
+  fs::create_directories(plain);
+  std::ofstream(plain / "notes.txt") << "hello";
+  try {
+    WriteReport({.dir = plain.string()});
+    FAIL() << "no error";
+  } catch (const InputError& e) {
+    const std::string m = e.what();
+    EXPECT_NE(m.find(plain.string()), std::string::npos) << m;
+    EXPECT_NE(m.find("results.sqlite"), std::string::npos) << m;
+    EXPECT_NE(m.find("hcpf-run/1"), std::string::npos) << m;
+    EXPECT_NE(m.find("found a folder with neither results.sqlite nor manifest.json"),
+              std::string::npos)
+        << m;
+  }
+  // A render folder (hcpf render) has a manifest but no metrics.
+  std::ofstream(plain / "manifest.json") << R"({"format": "hcpf-render/1"})";
+  try {
+    WriteReport({.dir = plain.string()});
+    FAIL() << "no error";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("found a render folder"), std::string::npos) << e.what();
+  }
+  std::ofstream(plain / "manifest.json") << "{not json";
+  EXPECT_THROW(WriteReport({.dir = plain.string()}), InputError);
+  EXPECT_THROW(WriteReport({.dir = (plain / "notes.txt").string()}), InputError);
+}
+
+// A damaged camera_motion.csv: the error names the file, line and column.
+TEST(RunReport, MalformedCameraMotionCsvNamesFileLineAndColumn) {
+  const auto dir = testing::SweepFolder("run-report-bad-csv");
+  const fs::path run = RunMinimal(dir, "oracle");
+  const fs::path csv = run / "camera_motion.csv";
+  std::string text = Read(csv);
+  // Line 3 (frame 2): replace its error_px (the 6th field) with "abc".
+  size_t line3 = text.find('\n', text.find('\n') + 1) + 1;
+  size_t field = line3;
+  for (int i = 0; i < 5; ++i) field = text.find(',', field) + 1;
+  const size_t end = text.find(',', field);
+  text.replace(field, end - field, "abc");
+  std::ofstream(csv, std::ios::trunc) << text;
+  try {
+    WriteReport({.dir = run.string()});
+    FAIL() << "no error";
+  } catch (const InputError& e) {
+    const std::string m = e.what();
+    EXPECT_NE(m.find(csv.string() + ":3:" + std::to_string(field - line3 + 1)), std::string::npos)
+        << m;
+    EXPECT_NE(m.find("error_px"), std::string::npos) << m;
+    EXPECT_NE(m.find("found \"abc\""), std::string::npos) << m;
+  }
+}
+
+// report.panels: one plot per metric and panel value, each with the lines
+// of its own cells (its series values) and the panel named in the title;
+// with grid.base every base scenario is shown, resolved.
+TEST(Report, PanelsDrawOnePlotPerMetricAndValue) {
+  const auto dir = testing::SweepFolder("report-panels");
+  std::string other = scenarios::testing::kMinimal;
+  other.replace(other.find("name: minimal"), 13, "name: second");
+  std::ofstream(dir / "second.yaml") << other;
+  const SweepSpec spec = LoadSweepFile(testing::WriteSweep(
+      dir,
+      "seeds: 2\ngrid:\n  base: [base.yaml, second.yaml]\n  tracker.particles: [20, 60]\n"
+      "  tracker.resampling.method: [systematic, charged]\n"
+      "report: {x: tracker.particles, series: tracker.resampling.method, panels: base, "
+      "y: [idf1, hota]}\n"));
+  const std::string out = RunQuietly(spec, dir);
+  const ReportResult r = WriteReport({.dir = out});
+  EXPECT_EQ(r.plots, 4);
+  EXPECT_EQ(r.cells, 8);
+  const std::string html = Read(r.html_path);
+  EXPECT_EQ(Count(html, "<svg"), 4U);
+  for (const char* id : {"plot-idf1-0", "plot-idf1-1", "plot-hota-0", "plot-hota-1"}) {
+    const size_t at = html.find(std::string("id=\"") + id + "\"");
+    ASSERT_NE(at, std::string::npos) << id;
+    const std::string svg = html.substr(at, html.find("</svg>", at) - at);
+    EXPECT_NE(
+        svg.find(id[std::string(id).size() - 1] == '0' ? "base = base.yaml" : "base = second.yaml"),
+        std::string::npos)
+        << id;
+    // Lines are the series alone: the panel key does not split them.
+    EXPECT_NE(svg.find("systematic"), std::string::npos) << id;
+    EXPECT_NE(svg.find("charged"), std::string::npos) << id;
+    EXPECT_EQ(svg.find("base="), std::string::npos) << id;
+  }
+  EXPECT_NE(html.find("Base scenarios (resolved)"), std::string::npos);
+  EXPECT_NE(html.find("# base: base.yaml"), std::string::npos);
+  EXPECT_NE(html.find("# base: second.yaml"), std::string::npos);
+  EXPECT_NE(html.find("name: &quot;second&quot;"), std::string::npos);
+  // summary.csv: a base column.
+  EXPECT_EQ(Read(r.csv_path).rfind("base,tracker.particles,", 0), 0U);
+}
+
+// A sweep whose series is tracker.camera_motion plots camera_motion_error_px:
+// one line per mode, and each cell's mean is the mean of its runs'
+// metrics.json camera_motion.mean_px, read here from the files.
+TEST(Report, CameraMotionSeriesPlotsCameraMotionError) {
+  const auto dir = testing::SweepFolder("report-camera-motion");
+  const SweepSpec spec = LoadSweepFile(
+      testing::WriteSweep(dir,
+                          "base: base.yaml\nseeds: 2\ngrid:\n  camera.shake_px: [1.0]\n"
+                          "  tracker.scene_filter.particles: [100]\n  tracker.particles: [20, 60]\n"
+                          "  tracker.camera_motion: [none, scene_filter]\n"
+                          "report: {x: tracker.particles, series: tracker.camera_motion, "
+                          "y: [camera_motion_error_px]}\n"));
+  const std::string out = RunQuietly(spec, dir);
+  const ReportResult r = WriteReport({.dir = out});
+  EXPECT_EQ(r.cells, 4);
+  const std::string html = Read(r.html_path);
+  const size_t at = html.find("plot-camera_motion_error_px");
+  ASSERT_NE(at, std::string::npos);
+  const std::string svg = html.substr(at, html.find("</svg>", at) - at);
+  EXPECT_NE(svg.find("camera-motion error"), std::string::npos);
+  EXPECT_NE(svg.find("none"), std::string::npos);
+  EXPECT_NE(svg.find("scene_filter"), std::string::npos);
+
+  const auto mean_px = [](const fs::path& run_dir) {
+    const std::string json = Read(run_dir / "metrics.json");
+    const std::string key = "\"mean_px\":";
+    const size_t k = json.find(key);
+    EXPECT_NE(k, std::string::npos) << run_dir;
+    return std::stod(json.substr(k + key.size()));
+  };
+  for (const char* mode : {"none", "scene_filter"}) {
+    double sum = 0.0;
+    int n = 0;
+    for (const SweepRun& run : ExpandSweep(spec)) {
+      if (run.values[2] != "60" || run.values[3] != mode) continue;
+      sum += mean_px(fs::path(out) / "runs" / run.key);
+      ++n;
+    }
+    ASSERT_EQ(n, 2);
+    // summary.csv row of the cell: 1.0,100,60,<mode>,2,0,... ; find the column by the header.
+    const std::string csv = Read(r.csv_path);
+    const std::string header = csv.substr(0, csv.find('\n'));
+    std::vector<std::string> names;
+    std::stringstream hs(header);
+    for (std::string name; std::getline(hs, name, ',');) names.push_back(name);
+    const size_t column =
+        std::find(names.begin(), names.end(), "camera_motion_error_px_mean") - names.begin();
+    ASSERT_LT(column, names.size());
+    const size_t row = csv.find(std::string("\n1.0,100,60,") + mode + ",2,0,");
+    ASSERT_NE(row, std::string::npos) << csv;
+    std::stringstream line(csv.substr(row + 1, csv.find('\n', row + 1) - row - 1));
+    std::string cell;
+    for (size_t i = 0; i <= column; ++i) std::getline(line, cell, ',');
+    EXPECT_NEAR(std::stod(cell), sum / n, 1e-5 * (1 + sum / n)) << mode;
+  }
 }
 
 }  // namespace

@@ -25,7 +25,8 @@ TEST(ShippedSweeps, EveryFileLoadsAndExpands) {
     EXPECT_EQ(static_cast<int64_t>(runs.size()), spec.RunCount());
     EXPECT_GT(runs.size(), 0u);
   }
-  EXPECT_GE(files, 5) << "default, detector-size, detector-sun, thesis-ch10-crossing/parallel";
+  EXPECT_GE(files, 7) << "default, detector-size, detector-sun, thesis-ch10-crossing/parallel, "
+                         "crossing-rendered, thesis-ch11";
 }
 
 }  // namespace

@@ -4,7 +4,10 @@
 
 #include <gtest/gtest.h>
 
+#include <fstream>
 #include <set>
+#include <string>
+#include <vector>
 
 #include "hcpf/core/rng.h"
 #include "hcpf/studies/run_queue.h"
@@ -84,6 +87,76 @@ TEST(Sweep, GridZipSeedsExpansionOrder) {
   EXPECT_EQ(keys.size(), runs.size());
   // Deterministic: expanding again gives the same keys and hash.
   EXPECT_EQ(SweepHash(ExpandSweep(LoadSweepFile(path))), SweepHash(runs));
+}
+
+// grid.base sweeps the base scenario: each grid combination's runs start
+// from its file (told apart here by the scenario's name, which no override
+// touches), the other keys apply to both, and `base` is a swept key.
+TEST(Sweep, GridBaseSweepsTheBaseScenarioFile) {
+  const auto dir = SweepFolder("grid-base");
+  std::string other = scenarios::testing::kMinimal;
+  other.replace(other.find("name: minimal"), 13, "name: second");
+  std::ofstream(dir / "second.yaml") << other;
+  const std::string path = WriteSweep(dir,
+                                      "seeds: 2\n"
+                                      "grid:\n"
+                                      "  base: [base.yaml, second.yaml]\n"
+                                      "  tracker.particles: [10, 20]\n"
+                                      "report: {x: tracker.particles, panels: base}\n");
+  const SweepSpec spec = LoadSweepFile(path);
+  EXPECT_EQ(spec.SweptKeys(), (std::vector<std::string>{"base", "tracker.particles"}));
+  ASSERT_EQ(spec.base_paths.size(), 2U);
+  EXPECT_EQ(spec.base_path, spec.base_paths[0]);
+  EXPECT_EQ(spec.report.panels, "base");
+  const std::vector<SweepRun> runs = ExpandSweep(spec);
+  ASSERT_EQ(runs.size(), 8U);
+  // index = (base * 2 + particles) * 2 + seed.
+  const struct {
+    int index;
+    const char* name;
+    int particles;
+  } cases[] = {{0, "minimal", 10}, {3, "minimal", 20}, {4, "second", 10}, {7, "second", 20}};
+  for (const auto& c : cases) {
+    SCOPED_TRACE(c.index);
+    EXPECT_EQ(runs[c.index].scenario().name, c.name);
+    EXPECT_EQ(runs[c.index].scenario().tracker.particles, c.particles);
+    EXPECT_EQ(runs[c.index].values[0], c.index < 4 ? "base.yaml" : "second.yaml");
+    // The base is not an override: only the swept key and the seed are.
+    ASSERT_EQ(runs[c.index].overrides.size(), 2U);
+    EXPECT_EQ(runs[c.index].overrides[0].key, "tracker.particles");
+  }
+  // Seeds are derived alike for both bases.
+  EXPECT_EQ(runs[0].scenario().seed, runs[4].scenario().seed);
+}
+
+TEST(Sweep, GridBaseErrorsNameTheLine) {
+  const auto dir = SweepFolder("grid-base-errors");
+  // Both a top-level base and grid.base.
+  std::string e = ErrorOf(WriteSweep(dir, "base: base.yaml\ngrid:\n  base: [base.yaml]\n"));
+  EXPECT_NE(e.find("sweep.yaml:1:"), std::string::npos) << e;
+  EXPECT_NE(e.find("no top-level base"), std::string::npos) << e;
+  // A missing file, at its line and column.
+  e = ErrorOf(WriteSweep(dir, "grid:\n  base: [base.yaml, nope.yaml]\n"));
+  EXPECT_NE(e.find("sweep.yaml:2:21:"), std::string::npos) << e;
+  EXPECT_NE(e.find("a scenario file"), std::string::npos) << e;
+  // In zip.
+  e = ErrorOf(WriteSweep(dir, "base: base.yaml\nzip:\n  base: [base.yaml]\n"));
+  EXPECT_NE(e.find("grid: {base:"), std::string::npos) << e;
+  // Not a path.
+  e = ErrorOf(WriteSweep(dir, "grid:\n  base: [[1, 2]]\n"));
+  EXPECT_NE(e.find("expected a scenario file"), std::string::npos) << e;
+  // Neither base nor grid.base: base is required.
+  e = ErrorOf(WriteSweep(dir, "grid:\n  tracker.particles: [10]\n"));
+  EXPECT_NE(e.find("base"), std::string::npos) << e;
+  // report.panels: a swept key other than x.
+  e = ErrorOf(WriteSweep(dir,
+                         "base: base.yaml\ngrid:\n  tracker.particles: [10, 20]\n"
+                         "report: {x: tracker.particles, panels: tracker.particles}\n"));
+  EXPECT_NE(e.find("report.panels"), std::string::npos) << e;
+  e = ErrorOf(WriteSweep(dir,
+                         "base: base.yaml\ngrid:\n  tracker.particles: [10, 20]\n"
+                         "report: {x: tracker.particles, panels: bse}\n"));
+  EXPECT_NE(e.find("a swept key"), std::string::npos) << e;
 }
 
 TEST(Sweep, NoSeedsKeepsTheBaseSeedAndSweepSeedChangesDerivedSeeds) {

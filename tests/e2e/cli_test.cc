@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <string>
@@ -161,6 +162,61 @@ TEST(Cli, FailingRunExitsOneAndLeavesNoFolder) {
   EXPECT_NE(r.output.find("run failed"), std::string::npos) << r.output;
 }
 
+// hcpf report on a run's folder writes its report.html (exit 0, path on
+// stdout); on a folder that is neither a run's nor a sweep's it is bad input
+// (exit 2) naming the folder, what was expected and what was found.
+TEST(Cli, ReportOnARunFolderAndOnAnotherFolder) {
+  const fs::path dir = FreshDir("report-run");
+  const fs::path run = dir / "climb";
+  auto r = RunCommand(kHcpf + " run " + LibraryScenario("climb") +
+                      " --set frames=30 --set camera.path.2.frame=29 --set camera.path.1.frame=15"
+                      " --set tracker.camera_motion=oracle --out " +
+                      run.string());
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  r = RunCommand(kHcpf + " report " + run.string());
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find((run / "report.html").string()), std::string::npos) << r.output;
+  const std::string html = ReadFile(run / "report.html");
+  EXPECT_NE(html.find("id=\"plot-camera_motion\""), std::string::npos);
+  EXPECT_NE(html.find("camera-motion error (oracle)"), std::string::npos);
+  // The run folder with its report can be run into again.
+  r = RunCommand(kHcpf + " run " + LibraryScenario("climb") +
+                 " --set frames=30 --set camera.path.2.frame=29 --set camera.path.1.frame=15"
+                 " --out " +
+                 run.string());
+  EXPECT_EQ(r.exit_code, 0) << r.output;
+
+  const fs::path other = dir / "other";
+  fs::create_directories(other);
+  std::ofstream(other / "notes.txt") << "x";
+  r = RunCommand(kHcpf + " report " + other.string());
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_NE(r.output.find(other.string()), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("expected a sweep folder"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("found a folder with neither results.sqlite nor manifest.json"),
+            std::string::npos)
+      << r.output;
+  EXPECT_FALSE(fs::exists(other / "report.html"));
+}
+
+// The strong-motion and low-texture scenes run on rendered frames too, and
+// their camera-motion error is a number (no NaN from the scene filter).
+TEST(Cli, StrongMotionAndLowTextureScenesRunRendered) {
+  for (const char* scene : {"climb-yaw-dive", "low-texture"}) {
+    SCOPED_TRACE(scene);
+    const fs::path out = FreshDir(std::string("rendered-") + scene) / "run";
+    const auto r =
+        RunCommand(kHcpf + " run " + LibraryScenario(scene) +
+                   " --set observation.source=rendered --no-cache --out " + out.string());
+    ASSERT_EQ(r.exit_code, 0) << r.output;
+    const std::string metrics = ReadFile(out / "metrics.json");
+    const size_t at = metrics.find("\"mean_px\":");
+    ASSERT_NE(at, std::string::npos) << metrics;
+    const double mean_px = std::stod(metrics.substr(at + 10));
+    EXPECT_TRUE(std::isfinite(mean_px)) << metrics.substr(at, 40);
+  }
+}
+
 class ShippedScenario : public ::testing::TestWithParam<std::string> {};
 
 TEST_P(ShippedScenario, ValidatesAndRuns) {
@@ -179,7 +235,10 @@ INSTANTIATE_TEST_SUITE_P(Library, ShippedScenario,
                                            "dominant-passes-weak", "bridge-three", "climb",
                                            "thesis/tc1-regular-swap", "thesis/tc2-regular-hijack",
                                            "thesis/tc3-charged", "thesis/tc4-charged-low-variance",
-                                           "thesis/tc5-charged-occlusion", "thesis/parallel-close"),
+                                           "thesis/tc5-charged-occlusion", "thesis/parallel-close",
+                                           "thesis/ch11-single-climb", "thesis/ch11-crossing-climb",
+                                           "thesis/ch11-parallel-climb", "climb-yaw-dive",
+                                           "low-texture"),
                          [](const auto& info) {
                            std::string n = info.param;
                            std::replace(n.begin(), n.end(), '-', '_');

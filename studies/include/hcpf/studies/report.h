@@ -5,6 +5,12 @@
 //
 //   ReportResult r = WriteReport({.dir = "out"});   // reads out/results.sqlite
 //
+// The report of one run (a folder written by `hcpf run`): DIR/report.html
+// with the run's headline metrics and, when camera_motion.csv has rows, the
+// per-frame camera-motion error (and the scene filter's ESS) against the frame.
+//
+//   ReportResult r = WriteReport({.dir = "out/climb"});   // reads its metrics.json
+//
 // Statistics: a cell is one combination of swept values; its n values are the
 // seeds whose run finished with a finite metric. The band is the 95 %
 // confidence interval of the mean, mean ± t(0.975, n−1) · s / √n (Student t;
@@ -16,7 +22,7 @@
 namespace hcpf::studies {
 
 struct ReportOptions {
-  std::string dir;                  // a sweep's --out folder (holds results.sqlite)
+  std::string dir;                  // a sweep's --out folder (results.sqlite) or a run's folder
   std::string out_dir;              // where report.html and summary.csv go ("" = dir)
   std::string gnuplot = "gnuplot";  // the gnuplot executable
   void Validate() const;
@@ -24,15 +30,38 @@ struct ReportOptions {
 
 struct ReportResult {
   std::string html_path;
-  std::string csv_path;
+  std::string csv_path;  // "" for a run's report (it has no cells)
   int plots = 0;
   int cells = 0;
 };
 
-// Throws InputError when DIR has no results store; RunError when gnuplot fails
-// or the output folder cannot be written (the message suggests --out). The
-// store is only read: a sweep on read-only media can be reported elsewhere.
+// What `hcpf report DIR` was given.
+enum class ReportFolder {
+  kSweep,  // DIR/results.sqlite exists (hcpf sweep --out DIR)
+  kRun,    // DIR/manifest.json is a run manifest, "format": "hcpf-run/1" (hcpf run --out DIR)
+};
+
+// Which kind of folder `dir` is. Throws InputError naming `dir`, what was
+// expected (a sweep folder or a run folder, and the file that marks each) and
+// what was found (no such folder, a file, a render folder, a manifest that is
+// not JSON, a folder with neither file).
+ReportFolder ClassifyReportFolder(const std::string& dir);
+
+// The report of a sweep or of a run, by ClassifyReportFolder(options.dir).
+// Throws InputError when DIR is neither, when its files are malformed (the
+// message names the file, line and column); RunError when gnuplot fails or the
+// output folder cannot be written (the message suggests --out). The folder is
+// only read (report.html goes to --out when given): a sweep on read-only media
+// can be reported elsewhere.
 ReportResult WriteReport(const ReportOptions& options);
+
+// The run's report: `options.dir` must be a run folder (else InputError).
+// report.html holds the headline metrics (the metric catalogue's values read
+// from metrics.json and manifest.json), the camera-motion summary of
+// metrics.json and, when camera_motion.csv has rows, a plot of error_px per
+// frame whose legend names the camera-motion mode, with the scene filter's
+// ESS on a second axis when the file has it; then the resolved scenario.
+ReportResult WriteRunReport(const ReportOptions& options);
 
 // Mean and 95 % confidence half-width of `values` (t distribution, above).
 // half_width is 0 when there are fewer than two values; mean is NaN when none.

@@ -1,6 +1,8 @@
 #pragma once
 // A sweep: one base scenario varied over a grid (cartesian product) and zip
-// (parallel lists) of dotted scenario keys, times a number of seeds. Loaded
+// (parallel lists) of dotted scenario keys, times a number of seeds; or
+// several base scenarios, swept like a key by `grid: {base: [a.yaml, b.yaml]}`
+// (kSweptBaseKey: each grid combination's runs start from that file). Loaded
 // from YAML (docs/sweeps.md is the schema), expanded into runs, each run a
 // validated Scenario keyed by ConfigHash of its resolved YAML.
 //
@@ -43,13 +45,26 @@ struct ReportSpec {
   // Swept keys (not x, not series) whose values are pooled: a cell holds the
   // runs of every value of these keys, like more seeds ("all" in tables).
   std::vector<std::string> pool;
+  // A swept key (not x, series or pooled) drawn as panels: every y metric
+  // gets one plot per value of this key, its lines the cells of that value
+  // (e.g. `base`: one figure per base scenario). "" = one plot per metric.
+  std::string panels;
 };
 
+// The grid key that sweeps the base scenario itself: its values are scenario
+// files (found like `base:`), and the runs of each grid combination start
+// from that file. Swept in `grid` only, and instead of a top-level `base:`.
+inline constexpr const char* kSweptBaseKey = "base";
+
 struct SweepSpec {
-  std::string file;       // the sweep file ("" for text)
-  std::string base_path;  // the base scenario, resolved to an existing file
-  uint64_t seed = 1;      // root of the derived run seeds
-  int seeds = 0;          // 0 = `seeds` absent: every run keeps the base scenario's seed
+  std::string file;  // the sweep file ("" for text)
+  std::string
+      base_path;  // the base scenario, resolved to an existing file (the first of base_paths)
+  // With `grid.base`: every value's scenario file, resolved, in the order of
+  // the grid's values; else the one base_path.
+  std::vector<std::string> base_paths;
+  uint64_t seed = 1;  // root of the derived run seeds
+  int seeds = 0;      // 0 = `seeds` absent: every run keeps the base scenario's seed
   std::vector<SweepAxis> grid;
   std::vector<SweepAxis> zip;
   ReportSpec report;

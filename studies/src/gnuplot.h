@@ -1,0 +1,30 @@
+#pragma once
+// The plotting machinery shared by the sweep report (report.cc) and the run
+// report (run_report.cc): gnuplot run as a subprocess on a script that writes
+// an SVG file, and that file's <svg> element inlined into the page.
+
+#include <filesystem>
+#include <string>
+
+namespace hcpf::studies {
+
+// A gnuplot string literal (single quotes; '' escapes a quote).
+std::string GpString(const std::string& text);
+
+// Runs `gnuplot script`; throws RunError with gnuplot's messages when it
+// fails, and one that names Debian gnuplot-nox and --gnuplot when the
+// executable cannot be run.
+void RunGnuplot(const std::string& gnuplot, const std::filesystem::path& script);
+
+// The whole of a file the report wrote itself ("" when it cannot be read).
+std::string ReadWholeFile(const std::filesystem::path& path);
+
+// The SVG element of a gnuplot SVG file (no XML prolog or doctype).
+std::string InlineSvg(const std::string& svg);
+
+// Line colours of every plot, in order (tab10).
+inline constexpr const char* kPlotColours[] = {"#1f77b4", "#d62728", "#2ca02c", "#ff7f0e",
+                                               "#9467bd", "#8c564b", "#e377c2", "#7f7f7f",
+                                               "#bcbd22", "#17becf"};
+
+}  // namespace hcpf::studies

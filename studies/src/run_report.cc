@@ -1,0 +1,310 @@
+// `hcpf report RUN_DIR`: one run's folder -> RUN_DIR/report.html (headline
+// metrics, the per-frame camera-motion error and scene-filter ESS as an
+// inline gnuplot SVG, the resolved scenario).
+
+#include <fmt/format.h>
+
+#include <charconv>
+#include <cmath>
+#include <cstdint>
+#include <filesystem>
+#include <limits>
+#include <map>
+#include <nlohmann/json.hpp>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "gnuplot.h"
+#include "hcpf/core/error.h"
+#include "hcpf/core/text_file.h"
+#include "hcpf/scenarios/output_folder.h"
+#include "hcpf/studies/metric_catalogue.h"
+#include "hcpf/studies/report.h"
+#include "hcpf/studies/results_store.h"
+#include "text.h"
+
+namespace hcpf::studies {
+
+namespace fs = std::filesystem;
+using nlohmann::json;
+
+namespace {
+
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+// Run files are small (camera_motion.csv: ~100 bytes a frame); this bound
+// only keeps a wrong file (a video renamed) from being read whole.
+constexpr std::uint64_t kMaxRunFileBytes = std::uint64_t{256} << 20;
+
+// One row of camera_motion.csv (scenarios/src/writers.cc FormatCameraMotionCsv).
+struct CameraMotionRow {
+  double frame = 0.0;
+  double error_px = kNaN;
+  double ess = kNaN;  // empty in the file: no scene filter (none, oracle)
+};
+
+std::optional<double> ParseDouble(const std::string& text) {
+  double v = 0.0;
+  const auto [ptr, ec] = std::from_chars(text.data(), text.data() + text.size(), v);
+  if (ec != std::errc() || ptr != text.data() + text.size()) return std::nullopt;
+  return v;
+}
+
+std::vector<std::string> SplitCsvLine(const std::string& line) {
+  std::vector<std::string> fields;
+  size_t at = 0;
+  while (true) {
+    const size_t comma = line.find(',', at);
+    fields.push_back(line.substr(at, comma == std::string::npos ? std::string::npos : comma - at));
+    if (comma == std::string::npos) break;
+    at = comma + 1;
+  }
+  return fields;
+}
+
+// Reads the frame, error_px and ess columns, found by the header's names.
+// Bad input names the file, line, column and what was found.
+std::vector<CameraMotionRow> ReadCameraMotionCsv(const fs::path& path) {
+  const std::string file = path.string();
+  const std::string text =
+      ReadInputFile(file, "a camera_motion.csv written by hcpf run", kMaxRunFileBytes);
+  std::vector<std::string> lines;
+  for (size_t at = 0; at < text.size();) {
+    size_t end = text.find('\n', at);
+    if (end == std::string::npos) end = text.size();
+    std::string line = text.substr(at, end - at);
+    if (!line.empty() && line.back() == '\r') line.pop_back();
+    lines.push_back(line);
+    at = end + 1;
+  }
+  if (lines.empty()) return {};
+  const std::vector<std::string> header = SplitCsvLine(lines.front());
+  const auto column = [&](const std::string& name) -> int {
+    for (size_t i = 0; i < header.size(); ++i) {
+      if (header[i] == name) return static_cast<int>(i);
+    }
+    return -1;
+  };
+  const int frame_col = column("frame");
+  const int error_col = column("error_px");
+  const int ess_col = column("ess");
+  if (frame_col < 0 || error_col < 0) {
+    throw InputError(SourceLocation{file, 1, 1, "header"},
+                     "a header naming at least the columns frame and error_px "
+                     "(frame,tx_px,ty_px,log_scale,rotation_rad,error_px,ess)",
+                     fmt::format("\"{}\"", lines.front()));
+  }
+  std::vector<CameraMotionRow> rows;
+  for (size_t l = 1; l < lines.size(); ++l) {
+    if (lines[l].empty()) continue;
+    const std::vector<std::string> fields = SplitCsvLine(lines[l]);
+    const int line_no = static_cast<int>(l) + 1;
+    if (fields.size() != header.size()) {
+      throw InputError(SourceLocation{file, line_no, 1, ""},
+                       fmt::format("{} comma-separated fields, like the header", header.size()),
+                       fmt::format("{} in \"{}\"", fields.size(), lines[l]));
+    }
+    const auto number = [&](int col, bool may_be_empty) {
+      const std::string& f = fields[static_cast<size_t>(col)];
+      if (f.empty() && may_be_empty) return kNaN;
+      const std::optional<double> v = ParseDouble(f);
+      if (!v) {
+        // The column of the field: 1 + the lengths of the fields before it and their commas.
+        int column_no = 1;
+        for (int i = 0; i < col; ++i) column_no += static_cast<int>(fields[i].size()) + 1;
+        throw InputError(SourceLocation{file, line_no, column_no, header[static_cast<size_t>(col)]},
+                         may_be_empty ? "a number or nothing" : "a number",
+                         fmt::format("\"{}\"", f));
+      }
+      return *v;
+    };
+    CameraMotionRow row;
+    row.frame = number(frame_col, false);
+    row.error_px = number(error_col, false);
+    if (ess_col >= 0) row.ess = number(ess_col, true);
+    rows.push_back(row);
+  }
+  return rows;
+}
+
+json ReadRunJson(const fs::path& path) {
+  const std::string file = path.string();
+  try {
+    return json::parse(ReadInputFile(file, "a JSON file written by hcpf run", kMaxRunFileBytes));
+  } catch (const json::exception& e) {
+    throw InputError(SourceLocation{file, 0, 0, ""}, "JSON written by hcpf run",
+                     fmt::format("text that does not parse ({})", e.what()));
+  }
+}
+
+std::string Number(double v) {
+  if (!std::isfinite(v)) return "nan";
+  return fmt::format("{:.6g}", v);
+}
+
+double JsonDouble(const json& j, const char* key) {
+  return j.is_object() && j.contains(key) && j[key].is_number() ? j[key].get<double>() : kNaN;
+}
+
+std::string JsonText(const json& j, const char* key) {
+  if (!j.is_object() || !j.contains(key)) return "";
+  return j[key].is_string() ? j[key].get<std::string>() : j[key].dump();
+}
+
+// The per-frame plot: error_px on the left axis; ESS on the right when the
+// file has any. Returns the inline SVG.
+std::string CameraMotionSvg(const std::vector<CameraMotionRow>& rows, const std::string& mode,
+                            double mean_px, const fs::path& work, const std::string& gnuplot) {
+  const fs::path data = work / "camera_motion.dat";
+  const fs::path svg = work / "camera_motion.svg";
+  const fs::path script = work / "camera_motion.gp";
+  bool has_ess = false;
+  std::string text = "# frame error_px ess\n";
+  for (const CameraMotionRow& r : rows) {
+    has_ess = has_ess || std::isfinite(r.ess);
+    text += fmt::format("{} {} {}\n", Number(r.frame), Number(r.error_px), Number(r.ess));
+  }
+  WriteTextFile(data.string(), text);
+  std::string gp;
+  gp += "set terminal svg size 820,440 dynamic font 'sans,11' background rgb 'white'\n";
+  gp += fmt::format("set output {}\n", GpString(svg.string()));
+  gp += fmt::format("set title {} noenhanced\n",
+                    GpString(fmt::format("camera-motion error per frame, mode {}", mode)));
+  gp += "set xlabel 'frame'\n";
+  gp += "set ylabel 'camera-motion error, px (mean corner displacement)' noenhanced\n";
+  gp += "set grid\nset key below noenhanced\nset yrange [0:*]\n";
+  if (has_ess) {
+    gp += "set y2label 'scene-filter ESS, particles' noenhanced\n";
+    gp += "set y2tics\nset ytics nomirror\nset y2range [0:*]\n";
+  }
+  std::string plot = fmt::format(
+      "plot {} using 1:2 with lines lw 1.5 lc rgb '{}' title {}", GpString(data.string()),
+      kPlotColours[0],
+      GpString(fmt::format("camera-motion error ({}), mean {} px", mode, Number(mean_px))));
+  if (has_ess) {
+    plot += fmt::format(", \\\n     {} using 1:3 axes x1y2 with lines lw 1 lc rgb '{}' title {}",
+                        GpString(data.string()), kPlotColours[1],
+                        GpString("scene-filter effective sample size (ESS, right axis)"));
+  }
+  gp += plot + "\n";
+  WriteTextFile(script.string(), gp);
+  RunGnuplot(gnuplot, script);
+  return InlineSvg(ReadWholeFile(svg));
+}
+
+}  // namespace
+
+ReportResult WriteRunReport(const ReportOptions& options) {
+  options.Validate();
+  if (ClassifyReportFolder(options.dir) != ReportFolder::kRun) {
+    throw InputError(SourceLocation{options.dir, 0, 0, "DIR"},
+                     "a run folder (manifest.json with \"format\": \"hcpf-run/1\")",
+                     "a sweep folder (use hcpf report on it as a sweep)");
+  }
+  const fs::path dir(options.dir);
+  if (!options.out_dir.empty()) scenarios::CheckFolderArgument(options.out_dir, "--out");
+  const fs::path out = options.out_dir.empty() ? dir : fs::path(options.out_dir);
+
+  const json manifest = ReadRunJson(dir / "manifest.json");
+  const json metrics = ReadRunJson(dir / "metrics.json");
+  std::map<std::string, double> headline;
+  try {
+    headline = ReadRunMetrics(dir.string());
+  } catch (const RunError& e) {
+    // ReadRunMetrics reports missing files as RunError; here they are the
+    // user's input.
+    throw InputError(SourceLocation{dir.string(), 0, 0, ""},
+                     "a run folder with metrics.json and manifest.json", e.what());
+  }
+  const json camera =
+      metrics.is_object() && metrics.contains("camera_motion") ? metrics["camera_motion"] : json();
+  const std::string mode =
+      camera.is_object() && camera.contains("mode") && camera["mode"].is_string()
+          ? camera["mode"].get<std::string>()
+          : std::string("unknown (metrics.json has no camera_motion.mode)");
+  std::vector<CameraMotionRow> rows;
+  std::error_code ec;
+  const fs::path csv = dir / "camera_motion.csv";
+  if (fs::exists(csv, ec)) rows = ReadCameraMotionCsv(csv);
+
+  ReportResult result;
+  std::string svg;
+  if (!rows.empty()) {
+    const fs::path work = out / ".report-work";
+    fs::remove_all(work, ec);
+    fs::create_directories(work, ec);
+    if (ec) {
+      throw RunError(fmt::format(
+          "cannot create {}: {}{}", work.string(), ec.message(),
+          options.out_dir.empty() ? " (use --out to write the report to another folder)" : ""));
+    }
+    try {
+      svg = CameraMotionSvg(rows, mode, JsonDouble(camera, "mean_px"), work, options.gnuplot);
+    } catch (...) {
+      fs::remove_all(work, ec);
+      throw;
+    }
+    fs::remove_all(work, ec);
+    ++result.plots;
+  }
+
+  const std::string name = JsonText(manifest, "scenario");
+  std::string h;
+  h += "<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\">\n";
+  h += fmt::format("<title>HCPF run report: {}</title>\n", EscapeMarkup(name));
+  h += "<style>body{font-family:sans-serif;margin:1.5em;color:#222}table{border-collapse:collapse;"
+       "font-size:13px}td,th{border:1px solid #ccc;padding:3px 7px;text-align:right}"
+       "th{background:#f3f3f3}td.k{text-align:left}.plot{margin:1em 0}pre{background:#f7f7f7;"
+       "padding:1em;font-size:12px;overflow:auto}</style>\n</head><body>\n";
+  h += fmt::format(
+      "<h1>Run report: {}</h1>\n<p>Run folder <code>{}</code>: seed {}, {} frames, observations "
+      "{} ({}), config hash <code>{}</code>.</p>\n",
+      EscapeMarkup(name), EscapeMarkup(dir.string()), EscapeMarkup(JsonText(manifest, "seed")),
+      EscapeMarkup(JsonText(manifest, "frames")),
+      EscapeMarkup(JsonText(manifest, "observation_source")),
+      EscapeMarkup(JsonText(manifest, "detector")),
+      EscapeMarkup(JsonText(manifest, "config_hash")));
+
+  h += "<h2>Headline metrics</h2>\n<table><tr><th>metric</th><th>name</th><th>value</th></tr>\n";
+  for (const CatalogueMetric& m : MetricCatalogue()) {
+    const auto it = headline.find(std::string(m.name));
+    if (it == headline.end() || !std::isfinite(it->second)) continue;  // not measured in this run
+    h += fmt::format(
+        "<tr><td class=\"k\">{}</td><td class=\"k\"><code>{}</code></td>"
+        "<td>{:.4g}{}{}</td></tr>\n",
+        EscapeMarkup(std::string(m.label)), EscapeMarkup(std::string(m.name)), it->second,
+        m.unit.empty() ? "" : " ", EscapeMarkup(std::string(m.unit)));
+  }
+  h += "</table>\n";
+
+  h += "<h2>Camera motion</h2>\n";
+  if (camera.is_object()) {
+    h += fmt::format(
+        "<p>Mode <code>{}</code> (<code>tracker.camera_motion</code>). Error: the mean "
+        "displacement of the four image corners between the applied and the true "
+        "frame-to-frame motion, over {} frames.</p>\n<table><tr><th>mean, px</th><th>median, "
+        "px</th><th>p95, px</th><th>max, px</th></tr>\n<tr><td>{}</td><td>{}</td><td>{}</td>"
+        "<td>{}</td></tr></table>\n",
+        EscapeMarkup(mode), EscapeMarkup(JsonText(camera, "frames")),
+        Number(JsonDouble(camera, "mean_px")), Number(JsonDouble(camera, "median_px")),
+        Number(JsonDouble(camera, "p95_px")), Number(JsonDouble(camera, "max_px")));
+  } else {
+    h += "<p>metrics.json has no <code>camera_motion</code> block.</p>\n";
+  }
+  if (!svg.empty()) {
+    h += fmt::format("<div class=\"plot\" id=\"plot-camera_motion\">\n{}\n</div>\n", svg);
+  } else {
+    h += "<p>No per-frame camera motion to plot (camera_motion.csv is absent or has no "
+         "rows).</p>\n";
+  }
+  const fs::path resolved = dir / "scenario.resolved.yaml";
+  if (fs::is_regular_file(resolved, ec)) {
+    h += "<h2>Scenario (resolved)</h2>\n<pre>" + EscapeMarkup(ReadWholeFile(resolved)) + "</pre>\n";
+  }
+  h += "</body></html>\n";
+  result.html_path = (out / "report.html").string();
+  WriteTextFile(result.html_path, h);
+  return result;
+}
+
+}  // namespace hcpf::studies

@@ -4,6 +4,9 @@
 #include <cmath>
 #include <complex>
 
+#include "hcpf/core/error.h"
+#include "hcpf/vision/point_tracks.h"
+
 namespace hcpf::scenarios::internal {
 namespace {
 
@@ -61,8 +64,11 @@ CameraMotionPass::CameraMotionPass(const Scenario& scenario)
       width_(scenario.world.camera.width_px),
       height_(scenario.world.camera.height_px),
       points_rng_(Rng(scenario.seeds.observation).Fork("scene_points")) {
+  needs_images_ = options_.evidence == tracker::SceneEvidenceKind::kImage &&
+                  (mode_ == tracker::CameraMotionMode::kSceneFilter ||
+                   mode_ == tracker::CameraMotionMode::kRansac);
   if (mode_ == tracker::CameraMotionMode::kSceneFilter) {
-    filter_.emplace(options_, Rng(scenario.seeds.tracker).Fork("scene"));
+    filter_.emplace(options_, width_, height_, Rng(scenario.seeds.tracker).Fork("scene"));
   }
 }
 
@@ -102,10 +108,25 @@ std::vector<PointTrack> CameraMotionPass::SimulateTracks(const FrameGroundTruth&
   return tracks;
 }
 
+std::vector<PointTrack> CameraMotionPass::Tracks(const FrameGroundTruth& current,
+                                                 std::span<const BoxPx> exclude,
+                                                 const RgbImage* image) const {
+  if (!needs_images_) return SimulateTracks(*previous_, current);
+  // The image tracker masks the targets itself (corners are not even found
+  // on them); the evidence's mask then has nothing left to remove.
+  return vision::TrackBackgroundPoints(*previous_image_, *image, exclude, options_.mask_dilation_px,
+                                       vision::PointTrackerOptions{});
+}
+
 std::optional<SimilarityMotion> CameraMotionPass::Step(const FrameGroundTruth& current,
-                                                       std::span<const BoxPx> exclude) {
+                                                       std::span<const BoxPx> exclude,
+                                                       const RgbImage* image) {
+  if (needs_images_ && image == nullptr) {
+    throw RunError("camera motion: image evidence needs the rendered frames");
+  }
   if (!previous_) {
     previous_ = current;
+    if (needs_images_) previous_image_ = *image;
     return std::nullopt;
   }
   const Eigen::Matrix3d truth = FrameToFrame(*previous_, current);
@@ -122,14 +143,26 @@ std::optional<SimilarityMotion> CameraMotionPass::Step(const FrameGroundTruth& c
             tracker::HomographyEvidence(truth, width_, height_, options_.sigma_px), exclude);
       } else {
         record.motion = filter_->Step(
-            tracker::PointTrackEvidence(SimulateTracks(*previous_, current), options_), exclude);
+            tracker::PointTrackEvidence(Tracks(current, exclude, image), options_), exclude);
       }
       record.ess = filter_->LastReport().ess;
       break;
+    case tracker::CameraMotionMode::kRansac: {
+      // The common recipe: RANSAC on the same tracks, targets masked as for
+      // the scene filter; identity when too few tracks survive (the
+      // documented fallback of a low-texture frame).
+      std::vector<PointTrack> tracks = Tracks(current, exclude, image);
+      const tracker::PointTrackEvidence mask({}, options_);
+      std::erase_if(tracks, [&](const PointTrack& t) { return mask.Excluded(t, exclude); });
+      record.motion = vision::EstimateSimilarityRansac(tracks, vision::RansacOptions{})
+                          .value_or(SimilarityMotion{});
+      break;
+    }
   }
   record.error_px = metrics::CornerDisplacementPx(record.motion, truth, width_, height_);
   records_.push_back(record);
   previous_ = current;
+  if (needs_images_) previous_image_ = *image;
   if (mode_ == tracker::CameraMotionMode::kNone) return std::nullopt;
   return record.motion;
 }

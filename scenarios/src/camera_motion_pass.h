@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "hcpf/core/ground_truth.h"
+#include "hcpf/core/image.h"
 #include "hcpf/core/rng.h"
 #include "hcpf/core/similarity_motion.h"
 #include "hcpf/metrics/camera_motion.h"
@@ -35,22 +36,31 @@ SimilarityMotion BestSimilarity(const Eigen::Matrix3d& h, int width, int height)
 class CameraMotionPass {
  public:
   explicit CameraMotionPass(const Scenario& scenario);
+  // Whether Step needs each frame's rendered image (image evidence).
+  bool needs_images() const { return needs_images_; }
   // The motion to apply before frame `current`'s prediction (nullopt on the
   // first frame and with camera_motion: none); `exclude` are the filters'
   // boxes of the previous frame (the feedback from targets to scene).
+  // `image` is the rendered frame, required when needs_images().
   std::optional<SimilarityMotion> Step(const FrameGroundTruth& current,
-                                       std::span<const BoxPx> exclude);
+                                       std::span<const BoxPx> exclude,
+                                       const RgbImage* image = nullptr);
   const std::vector<CameraMotionRecord>& records() const { return records_; }
   metrics::CameraMotionErrorSummary Summary() const;
 
  private:
   std::vector<PointTrack> SimulateTracks(const FrameGroundTruth& previous,
                                          const FrameGroundTruth& current) const;
+  // The frame's point tracks from the configured evidence (simulated or image).
+  std::vector<PointTrack> Tracks(const FrameGroundTruth& current, std::span<const BoxPx> exclude,
+                                 const RgbImage* image) const;
 
   tracker::CameraMotionMode mode_;
   tracker::SceneMotionOptions options_;
   int width_;
   int height_;
+  bool needs_images_ = false;
+  std::optional<RgbImage> previous_image_;
   Rng points_rng_;
   std::optional<tracker::SceneMotionFilter> filter_;
   std::optional<FrameGroundTruth> previous_;

@@ -87,13 +87,14 @@ RunSummary RunScenario(const Scenario& scenario, const RunOptions& options) {
   // frame, estimated with the filters' previous boxes masked out, moves every
   // target particle before its own dynamics (tracker.camera_motion).
   internal::CameraMotionPass camera_motion(scenario);
-  const auto step = [&](const FrameGroundTruth& gt, const Observation& observation) {
+  const auto step = [&](const FrameGroundTruth& gt, const Observation& observation,
+                        const RgbImage* image) {
     const auto t = Clock::now();
     std::vector<BoxPx> exclude;
     if (!reports.empty()) {
       for (const tracker::FilterReport& r : reports.back().filters) exclude.push_back(r.box);
     }
-    const std::optional<SimilarityMotion> motion = camera_motion.Step(gt, exclude);
+    const std::optional<SimilarityMotion> motion = camera_motion.Step(gt, exclude, image);
     if (tracker_options.init == tracker::InitMode::kGroundTruth) {
       for (const GroundTruthObject& o : gt.objects) {
         if (o.in_frame && born.insert(Value(o.id)).second) {
@@ -122,8 +123,22 @@ RunSummary RunScenario(const Scenario& scenario, const RunOptions& options) {
               windows.push_back({.target = ObjectId{Value(r.id)}, .box = r.box});
             }
           }
-          step(frame.ground_truth, detection->Add(frame, windows));
+          step(frame.ground_truth, detection->Add(frame, windows), &frame.rgb);
         };
+  }
+  // Image evidence for the camera motion with oracle observations: the
+  // tracker steps as each rendered frame arrives too (the scene half reads
+  // the pixels of consecutive frames; the run never holds every image).
+  std::vector<Observation> interleaved;
+  const bool interleave_oracle = !detection && camera_motion.needs_images();
+  if (interleave_oracle) {
+    frame_options.on_frame = [&, write =
+                                     frame_options.on_frame](const renderer::RenderedFrame& frame) {
+      if (write) write(frame);
+      interleaved.push_back(SimulateObservation(frame.ground_truth, scenario.observation.simulated,
+                                                scenario.seeds.observation));
+      step(frame.ground_truth, interleaved.back(), &frame.rgb);
+    };
   }
   SceneFrames scene = ProduceFrames(scenario, frame_options);
   const std::vector<FrameGroundTruth>& truth = scene.truth;
@@ -136,6 +151,8 @@ RunSummary RunScenario(const Scenario& scenario, const RunOptions& options) {
   std::vector<Observation> observations;
   if (detection) {
     observations = detection->Take();
+  } else if (interleave_oracle) {
+    observations = std::move(interleaved);
   } else {
     observations.reserve(truth.size());
     for (const FrameGroundTruth& gt : truth) {
@@ -149,10 +166,10 @@ RunSummary RunScenario(const Scenario& scenario, const RunOptions& options) {
 
   // 3. Tracker, frame by frame (already done, with the detector, when the
   // observations come from one).
-  if (!detection) {
+  if (!detection && !interleave_oracle) {
     Progress progress("run", static_cast<int64_t>(truth.size()), options.show_progress);
     for (size_t f = 0; f < truth.size(); ++f) {
-      step(truth[f], observations[f]);
+      step(truth[f], observations[f], nullptr);
       progress.Advance();
     }
     progress.Finish();

@@ -319,6 +319,13 @@ void ObservationOptions::Validate(const tracker::TrackerOptions& tracker) const 
                "frame, or a model-based observation.detector (windows belong to target models)",
                "window with observation.detector: oracle");
   }
+  if (tracker.scene_filter.evidence == tracker::SceneEvidenceKind::kImage &&
+      source != ObservationSource::kRendered &&
+      (tracker.camera_motion == tracker::CameraMotionMode::kSceneFilter ||
+       tracker.camera_motion == tracker::CameraMotionMode::kRansac)) {
+    FailOption("tracker.scene_filter", "evidence",
+               "simulated or oracle (image evidence needs observation.source: rendered)", "image");
+  }
   if (oracle()) return;
   if (detector == "fusion") {
     const bool first = vision::MakeDetector(fused.front(), detectors)->uses_models();

@@ -58,8 +58,9 @@ std::span<const Field<TrackerOptions>> TrackerOptions::Fields() {
       ChoiceField<&O::camera_motion>(
           "camera_motion",
           "none: target dynamics alone; scene_filter: the scene filter's estimate of the "
-          "camera's frame-to-frame motion moves every particle first (hierarchical); oracle: "
-          "the true motion's best similarity"),
+          "camera's frame-to-frame motion moves every particle first (hierarchical); ransac: "
+          "a RANSAC similarity on the same point tracks (the common recipe); oracle: the true "
+          "motion's best similarity"),
   };
   return fields;
 }
@@ -76,6 +77,11 @@ void TrackerOptions::Validate() const {
   association.Validate("tracker.association");
   management.Validate("tracker.management");
   scene_filter.Validate("tracker.scene_filter");
+  if (camera_motion == CameraMotionMode::kRansac &&
+      scene_filter.evidence == SceneEvidenceKind::kOracle) {
+    FailOption("tracker.scene_filter", "evidence",
+               "simulated or image (tracker.camera_motion: ransac fits point tracks)", "oracle");
+  }
   if (likelihood.model == LikelihoodModel::kAssociated &&
       association.method == AssociationMethod::kNone) {
     FailOption("tracker.association", "method",

@@ -11,6 +11,7 @@
 #include <Eigen/Core>
 #include <array>
 #include <memory>
+#include <optional>
 #include <span>
 #include <string_view>
 #include <vector>
@@ -45,6 +46,12 @@ class CameraMotionEvidence {
                                 std::span<const BoxPx> exclude, std::span<double> log_w) const = 0;
 };
 
+// How the scene filter draws its particles each frame (SceneMotionFilter):
+enum class SceneProposal {
+  kLaplace,   // "laplace": the dynamics times a Gaussian fitted at the evidence's mode
+  kDynamics,  // "dynamics": the dynamics alone (the bootstrap filter)
+};
+
 enum class PointLoss {
   kStudentT,  // "student_t": robust, heavy-tailed (the default)
   kGaussian,  // "gaussian": least squares; for comparison only (outliers vote)
@@ -54,6 +61,7 @@ enum class PointLoss {
 enum class SceneEvidenceKind {
   kSimulated,  // "simulated": ground points through the true cameras, with noise and outliers
   kOracle,     // "oracle": the true frame-to-frame ground homography (HomographyEvidence)
+  kImage,      // "image": corners of the rendered frame t-1 tracked into t (vision/point_tracks.h)
 };
 
 // How a run moves the target particles with the camera (scenarios/):
@@ -61,6 +69,7 @@ enum class CameraMotionMode {
   kNone,         // "none": no compensation (the non-hierarchical baseline)
   kSceneFilter,  // "scene_filter": the SceneMotionFilter's estimate (the hierarchical filter)
   kOracle,       // "oracle": the least-squares similarity of the true ground homography
+  kRansac,       // "ransac": RANSAC similarity on the evidence's point tracks (the common recipe)
 };
 }  // namespace hcpf::tracker
 
@@ -68,7 +77,8 @@ template <>
 struct hcpf::EnumNames<hcpf::tracker::SceneEvidenceKind> {
   static constexpr std::array kNames = {
       std::pair{hcpf::tracker::SceneEvidenceKind::kSimulated, std::string_view("simulated")},
-      std::pair{hcpf::tracker::SceneEvidenceKind::kOracle, std::string_view("oracle")}};
+      std::pair{hcpf::tracker::SceneEvidenceKind::kOracle, std::string_view("oracle")},
+      std::pair{hcpf::tracker::SceneEvidenceKind::kImage, std::string_view("image")}};
 };
 
 template <>
@@ -76,7 +86,15 @@ struct hcpf::EnumNames<hcpf::tracker::CameraMotionMode> {
   static constexpr std::array kNames = {
       std::pair{hcpf::tracker::CameraMotionMode::kNone, std::string_view("none")},
       std::pair{hcpf::tracker::CameraMotionMode::kSceneFilter, std::string_view("scene_filter")},
-      std::pair{hcpf::tracker::CameraMotionMode::kOracle, std::string_view("oracle")}};
+      std::pair{hcpf::tracker::CameraMotionMode::kOracle, std::string_view("oracle")},
+      std::pair{hcpf::tracker::CameraMotionMode::kRansac, std::string_view("ransac")}};
+};
+
+template <>
+struct hcpf::EnumNames<hcpf::tracker::SceneProposal> {
+  static constexpr std::array kNames = {
+      std::pair{hcpf::tracker::SceneProposal::kLaplace, std::string_view("laplace")},
+      std::pair{hcpf::tracker::SceneProposal::kDynamics, std::string_view("dynamics")}};
 };
 
 template <>
@@ -93,7 +111,8 @@ struct SceneMotionOptions {
   int particles = 1000;
 
   // Prior of the first frame: independent normals centred on the identity
-  // motion with these standard deviations.
+  // motion with these standard deviations (the translation is that of the
+  // image centre; see SceneMotionFilter).
   double prior_translation_px = 8.0;
   double prior_log_scale = 0.01;
   double prior_rotation_rad = 0.01;
@@ -103,6 +122,12 @@ struct SceneMotionOptions {
   double sigma_translation_px = 0.5;
   double sigma_log_scale = 0.001;
   double sigma_rotation_rad = 0.001;
+
+  // Proposal: laplace (default) or dynamics; with laplace, the fraction of
+  // particles still drawn from the dynamics alone (a defensive mixture: a
+  // mode fitted in the wrong place cannot capture every particle).
+  SceneProposal proposal = SceneProposal::kLaplace;
+  double dynamics_fraction = 0.1;
 
   // Resampling: any method of the family except charged (there is one scene
   // filter, nothing to repel); ESS gate as in ResamplerOptions.
@@ -194,7 +219,8 @@ struct SceneMotionReport {
   // Kish ESS of the weights after this frame's evidence, in [1, N].
   double ess = 0.0;
   // Weighted standard deviations of the particles after this frame's evidence
-  // (before resampling): the spread of the posterior as the particles see it.
+  // (before resampling), in the filter's parameters (SceneMotionFilter): the
+  // translation of the image centre, the log-scale and the rotation.
   double sd_tx_px = 0.0;
   double sd_ty_px = 0.0;
   double sd_log_scale = 0.0;
@@ -203,34 +229,69 @@ struct SceneMotionReport {
   bool resampled = false;
   // Every weight was -inf/NaN: weights were reset to uniform (particle_set.h).
   bool recovered_degenerate = false;
+  // laplace proposal: whether the evidence had a usable mode this frame
+  // (negative-definite curvature there); false means every particle was drawn
+  // from the dynamics (no tracks, flat or degenerate evidence: the fallback).
+  bool laplace = false;
+  // Newton iterations spent finding the mode (0 without one).
+  int newton_iterations = 0;
   friend bool operator==(const SceneMotionReport&, const SceneMotionReport&) = default;
 };
 
-// Particle filter over the frame-to-frame camera motion.
+// Particle filter over the frame-to-frame camera motion of a width x height
+// image.
+//
+// Parameters. A motion is held as u = (cx, cy, L log_scale, L rotation): the
+// displacement (cx, cy) of the image centre c = (width/2, height/2), and the
+// log-scale and rotation about c times the half diagonal L (so that every
+// component is in pixels, the displacement it causes at the image corners).
+// The SimilarityMotion about the origin is t = c + (cx, cy) - s R c.
+//
 // Step, for frame t:
-//   1. propagate: at the first Step, draw every particle from the prior;
-//      afterwards a random walk on each parameter with the sigma_* standard
-//      deviations. The state is the frame-to-frame motion, i.e. the camera's
-//      image-plane velocity, so a random walk on it is a constant-velocity
-//      model of the camera: smooth camera motion changes little between frames.
-//   2. weight: log_w += evidence log-likelihood (exclude masks the targets);
-//      normalise (log-sum-exp, particle_set.h); weights not reset by the
-//      previous frame (ESS gate declined) carry over.
-//   3. estimate: the weighted mean of each parameter. Rotation is averaged as
-//      a plain number, fine for frame-to-frame angles (|rotation| << pi).
+//   1. dynamics: at the first Step the prior N(0, P0), P0 = diag(prior_*^2)
+//      (log-scale and rotation rows times L^2); afterwards a random walk
+//      N(u_i, Q), Q = diag(sigma_*^2) likewise. The state is the
+//      frame-to-frame motion, i.e. the camera's image-plane velocity, so a
+//      random walk on it is a constant-velocity model of the camera.
+//   2. proposal (`proposal`):
+//      - dynamics: u'_i ~ N(u_i, Q); log w_i += log p(y | u'_i).
+//      - laplace (the locally linearised optimal proposal of Doucet, Godsill
+//        and Andrieu 2000): find the mode m of the evidence's
+//        log-likelihood l(u) = log p(y | u) by damped Newton from the
+//        particles' mean, with gradient and Hessian by central differences
+//        of l (step 0.05 sigma_px; the evidence is used only through
+//        AddLogLikelihood, so any CameraMotionEvidence works). Where -H is
+//        positive definite, l ~ N(m, (-H)^-1) and the Gaussian product with
+//        the dynamics gives
+//          S = (Q^-1 - H)^-1,  mu_i = S (Q^-1 u_i - H m);
+//        each particle is drawn from the mixture
+//          q_i = a N(u_i, Q) + (1 - a) N(mu_i, S),  a = dynamics_fraction,
+//        and weighted by the exact ratio
+//          log w_i += l(u'_i) + log N(u'_i; u_i, Q) - log q_i(u'_i),
+//        so the filter's target is the same as the bootstrap filter's; only
+//        the variance of the weights changes. If Newton found no mode, or the
+//        best particle then explains the evidence better than m by more than
+//        1 nat (m was a local mode), Newton restarts from that particle and the
+//        frame is drawn again. Without a usable mode (no tracks, flat evidence) the frame
+//        falls back to the dynamics proposal (report.laplace = false).
+//      Weights not reset by the previous frame (ESS gate declined) carry
+//      over; then normalise (log-sum-exp, particle_set.h).
+//   3. estimate: the weighted mean of u, mapped back to a SimilarityMotion.
 //   4. resample with the configured resampler (MakeResampler; the ESS gate
 //      included). Adapter: the resamplers read only the normalised weights of
 //      a ParticleSet (charged, the one that reads positions, is not allowed),
 //      so the scene filter keeps its weights in a ParticleSet whose state
-//      arrays are unused zeros, and gathers its own SimilarityMotion particles
-//      by the returned ancestor indices.
+//      arrays are unused zeros, and gathers its own particles by the returned
+//      ancestor indices.
 // All randomness from the Rng given at construction (the caller passes a named
 // fork, e.g. Rng(seed).Fork("scene")): identical seeds and evidence give
-// identical estimates. O(N) plus the evidence's cost per frame.
+// identical estimates. Cost per frame: the evidence at N + ~33 k hypotheses
+// (k Newton iterations, typically 2-4) plus O(N).
 class SceneMotionFilter {
  public:
-  // Validates `options` (throws InputError naming the field).
-  SceneMotionFilter(const SceneMotionOptions& options, Rng rng);
+  // Validates `options` (throws InputError naming the field) and the image
+  // size (>= 1 x 1).
+  SceneMotionFilter(const SceneMotionOptions& options, int width, int height, Rng rng);
 
   SimilarityMotion Step(const CameraMotionEvidence& evidence, std::span<const BoxPx> exclude);
 
@@ -239,19 +300,40 @@ class SceneMotionFilter {
   // Number of Steps taken.
   int frames() const { return frames_; }
   // The particles and their normalised weights after the last Step.
-  std::span<const SimilarityMotion> particles() const { return particles_; }
+  std::span<const SimilarityMotion> particles() const { return motions_; }
   std::span<const double> weights() const { return weights_.w; }
 
  private:
-  void Propagate();
+  using Vec = Eigen::Matrix<double, 4, 1>;
+  SimilarityMotion ToMotion(const Vec& u) const;
+  // Log-likelihood of each u in `us` under the evidence.
+  void Evaluate(const CameraMotionEvidence& evidence, std::span<const BoxPx> exclude,
+                std::span<const Vec> us, std::span<double> out);
+  // Damped Newton ascent of the evidence from `start`; returns the mode and
+  // the Hessian there, or nullopt when the curvature is not negative definite.
+  struct Mode {
+    Vec u;
+    Eigen::Matrix4d hessian;
+    double log_likelihood = 0.0;
+  };
+  std::optional<Mode> FindMode(const CameraMotionEvidence& evidence, std::span<const BoxPx> exclude,
+                               Vec start, int& iterations);
+  // Draws every particle from the proposal and adds its log weight increment.
+  void Propose(const CameraMotionEvidence& evidence, std::span<const BoxPx> exclude,
+               const std::optional<Mode>& mode, std::span<const Vec> from,
+               std::span<const double> carried_log_w);
 
   SceneMotionOptions options_;
+  Eigen::Vector2d centre_;
+  double half_diagonal_;
   Rng rng_;
   std::unique_ptr<Resampler> resampler_;
-  std::vector<SimilarityMotion> particles_;
+  std::vector<Vec> particles_;
+  std::vector<SimilarityMotion> motions_;
   // The resampler adapter: only log_w and w are meaningful.
   ParticleSet weights_;
-  std::vector<SimilarityMotion> scratch_;
+  std::vector<Vec> scratch_;
+  std::vector<double> log_lik_;
   std::vector<int32_t> ancestors_;
   SceneMotionReport report_;
   int frames_ = 0;

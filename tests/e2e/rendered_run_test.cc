@@ -229,30 +229,32 @@ TEST(CameraMotion, ModesAreScoredAgainstTheTrueMotion) {
 
 TEST(CameraMotion, ImageEvidenceFeedsTheSceneFilterAndTheRansacBaseline) {
   // Rendered climb, corners tracked by pyramidal LK (issue 12 items 2 and 3).
-  // The best similarity to the true motion is ~0.07 px on climb (the oracle
-  // row of docs/tracker.md) and no compensation ~2.3 px: both estimators from
-  // the pixels must land near the floor; 0.15 px leaves twice the floor for
-  // the first 120 frames' different content.
+  // The oracle mode (the best similarity to the true motion) is the floor;
+  // both estimators from the pixels must land within 25 % of it (on the full
+  // climb both are within 3 %, docs/tracker.md), far below no compensation.
   const fs::path dir = FreshDir("camera-motion-image");
   const std::string common =
       std::string(HCPF_EXE) + " run " + testing::LibraryScenario("climb") +
       " --set frames=120 --set camera.path.1.frame=60 --set camera.path.2.frame=119"
       " --set observation.source=rendered --set tracker.scene_filter.evidence=image";
-  for (const std::string mode : {"ransac", "scene_filter"}) {
+  std::map<std::string, double> mean;
+  for (const std::string mode : {"oracle", "ransac", "scene_filter"}) {
     const auto r = RunCommand(common + " --set tracker.camera_motion=" + mode + " --out " +
                               (dir / mode).string());
     ASSERT_EQ(r.exit_code, 0) << r.output;
     const auto metrics = nlohmann::json::parse(ReadFile(dir / mode / "metrics.json"));
     EXPECT_EQ(metrics["camera_motion"]["mode"], mode);
     EXPECT_EQ(metrics["camera_motion"]["frames"], 119);
-    EXPECT_LT(metrics["camera_motion"]["mean_px"].get<double>(), 0.15) << mode;
+    mean[mode] = metrics["camera_motion"]["mean_px"].get<double>();
   }
+  EXPECT_LT(mean["ransac"], 1.25 * mean["oracle"]);
+  EXPECT_LT(mean["scene_filter"], 1.25 * mean["oracle"]);
   // Image evidence without rendered frames, and RANSAC on the oracle
   // homography, are bad input naming the key.
-  for (const std::string sets : {std::string(" --set tracker.camera_motion=scene_filter"
-                                             " --set tracker.scene_filter.evidence=image"),
-                                 std::string(" --set tracker.camera_motion=ransac"
-                                             " --set tracker.scene_filter.evidence=oracle")}) {
+  for (const std::string& sets : {std::string(" --set tracker.camera_motion=scene_filter"
+                                              " --set tracker.scene_filter.evidence=image"),
+                                  std::string(" --set tracker.camera_motion=ransac"
+                                              " --set tracker.scene_filter.evidence=oracle")}) {
     const auto bad =
         RunCommand(std::string(HCPF_EXE) + " validate " + testing::LibraryScenario("climb") + sets);
     EXPECT_EQ(bad.exit_code, 2) << sets << "\n" << bad.output;

@@ -152,8 +152,9 @@ std::optional<SimilarityMotion> CameraMotionPass::Step(const FrameGroundTruth& c
       // the scene filter; identity when too few tracks survive (the
       // documented fallback of a low-texture frame).
       std::vector<PointTrack> tracks = Tracks(current, exclude, image);
-      const tracker::PointTrackEvidence mask({}, options_);
-      std::erase_if(tracks, [&](const PointTrack& t) { return mask.Excluded(t, exclude); });
+      std::erase_if(tracks, [&](const PointTrack& t) {
+        return tracker::InsideDilatedBoxes(t.p, exclude, options_.mask_dilation_px);
+      });
       record.motion = vision::EstimateSimilarityRansac(tracks, vision::RansacOptions{})
                           .value_or(SimilarityMotion{});
       break;

@@ -45,4 +45,17 @@ std::string InlineSvg(const std::string& svg) {
   return start == std::string::npos ? svg : svg.substr(start);
 }
 
+std::filesystem::path MakePlotWorkDir(const std::filesystem::path& out, bool out_is_input) {
+  const std::filesystem::path work = out / ".report-work";
+  std::error_code ec;
+  std::filesystem::remove_all(work, ec);
+  std::filesystem::create_directories(work, ec);
+  if (ec) {
+    throw RunError(
+        fmt::format("cannot create {}: {}{}", work.string(), ec.message(),
+                    out_is_input ? " (use --out to write the report to another folder)" : ""));
+  }
+  return work;
+}
+
 }  // namespace hcpf::studies

@@ -22,6 +22,11 @@ std::string ReadWholeFile(const std::filesystem::path& path);
 // The SVG element of a gnuplot SVG file (no XML prolog or doctype).
 std::string InlineSvg(const std::string& svg);
 
+// Creates `out`/.report-work afresh (removed first) for the plots' scripts and
+// data, and returns it; throws RunError naming the folder, and suggesting
+// --out when the report writes into the folder it reads (`out_is_input`).
+std::filesystem::path MakePlotWorkDir(const std::filesystem::path& out, bool out_is_input);
+
 // Line colours of every plot, in order (tab10).
 inline constexpr const char* kPlotColours[] = {"#1f77b4", "#d62728", "#2ca02c", "#ff7f0e",
                                                "#9467bd", "#8c564b", "#e377c2", "#7f7f7f",

@@ -551,15 +551,8 @@ ReportResult WriteReport(const ReportOptions& options) {
   const std::vector<Cell> cells = CellsOf(runs, meta);
   const Layout layout = LayoutOf(cells, meta);
 
-  const fs::path work = out / ".report-work";
+  const fs::path work = MakePlotWorkDir(out, options.out_dir.empty());
   std::error_code ec;
-  fs::remove_all(work, ec);
-  fs::create_directories(work, ec);
-  if (ec) {
-    throw RunError(fmt::format(
-        "cannot create {}: {}{}", work.string(), ec.message(),
-        options.out_dir.empty() ? " (use --out to write the report to another folder)" : ""));
-  }
   // Links to run folders (overlay videos) from the report's folder.
   std::string link_prefix;
   if (!options.out_dir.empty()) {

@@ -230,14 +230,7 @@ ReportResult WriteRunReport(const ReportOptions& options) {
   ReportResult result;
   std::string svg;
   if (!rows.empty()) {
-    const fs::path work = out / ".report-work";
-    fs::remove_all(work, ec);
-    fs::create_directories(work, ec);
-    if (ec) {
-      throw RunError(fmt::format(
-          "cannot create {}: {}{}", work.string(), ec.message(),
-          options.out_dir.empty() ? " (use --out to write the report to another folder)" : ""));
-    }
+    const fs::path work = MakePlotWorkDir(out, options.out_dir.empty());
     try {
       svg = CameraMotionSvg(rows, mode, JsonDouble(camera, "mean_px"), work, options.gnuplot);
     } catch (...) {

@@ -80,15 +80,20 @@ PointTrackEvidence::PointTrackEvidence(std::vector<PointTrack> tracks,
   options_.Validate();
 }
 
-bool PointTrackEvidence::Excluded(const PointTrack& track, std::span<const BoxPx> exclude) const {
-  const double d = options_.mask_dilation_px;
-  for (const BoxPx& box : exclude) {
-    if (track.p.x() >= box.left - d && track.p.x() <= box.right() + d &&
-        track.p.y() >= box.top - d && track.p.y() <= box.bottom() + d) {
+bool InsideDilatedBoxes(const Eigen::Vector2d& p, std::span<const BoxPx> boxes,
+                        double dilation_px) {
+  const double d = dilation_px;
+  for (const BoxPx& box : boxes) {
+    if (p.x() >= box.left - d && p.x() <= box.right() + d && p.y() >= box.top - d &&
+        p.y() <= box.bottom() + d) {
       return true;
     }
   }
   return false;
+}
+
+bool PointTrackEvidence::Excluded(const PointTrack& track, std::span<const BoxPx> exclude) const {
+  return InsideDilatedBoxes(track.p, exclude, options_.mask_dilation_px);
 }
 
 void PointTrackEvidence::AddLogLikelihood(std::span<const SimilarityMotion> hypotheses,

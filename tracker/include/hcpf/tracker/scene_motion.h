@@ -161,6 +161,10 @@ struct SceneMotionOptions {
 // Maps a point by a similarity: exp(log_scale) R(rotation) p + t.
 Eigen::Vector2d Apply(const SimilarityMotion& motion, const Eigen::Vector2d& p);
 
+// Whether `p` lies inside (boundary included) any of the boxes grown by
+// `dilation_px` on every side: the target mask of point-track evidence.
+bool InsideDilatedBoxes(const Eigen::Vector2d& p, std::span<const BoxPx> boxes, double dilation_px);
+
 // Evidence from point correspondences between consecutive frames.
 // A track is ignored when its p lies inside (boundary included) any exclude
 // box grown by mask_dilation_px on every side. For every other track, with

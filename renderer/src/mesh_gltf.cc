@@ -291,6 +291,35 @@ void CheckGlbHeader(const std::string& path, uint64_t size) {
         "{}: the GLB header gives a length of {} bytes but the file has {} (truncated?)", path,
         length, size));
   }
+  // The chunk layout, checked here because tinygltf 2.7 leaves out the BIN
+  // chunk's 8-byte header when it compares the chunk's length with the file's
+  // and then copies up to 8 bytes past the end of what it read (found by
+  // fuzz_gltf). A JSON chunk, then optionally one BIN chunk, each inside the
+  // file. The caller has already bounded `size` by kMaxModelBytes.
+  if (size < 20) {
+    throw InputError(
+        fmt::format("{}: expected a GLB header and a JSON chunk header (20 bytes), found {} bytes",
+                    path, size));
+  }
+  const uint64_t json_length = LittleEndian32(ReadFilePrefix(path, 20), 12);
+  const uint64_t json_end = 20 + json_length;
+  if (json_end > size) {
+    throw InputError(
+        fmt::format("{}: the JSON chunk claims {} bytes but only {} follow its header (truncated?)",
+                    path, json_length, size - 20));
+  }
+  if (json_end == size) return;  // no BIN chunk
+  if (json_end + 8 > size) {
+    throw InputError(
+        fmt::format("{}: expected an 8-byte BIN chunk header after the JSON chunk, found {} bytes",
+                    path, size - json_end));
+  }
+  const uint64_t bin_length = LittleEndian32(ReadFilePrefix(path, json_end + 8), json_end);
+  if (json_end + 8 + bin_length > size) {
+    throw InputError(
+        fmt::format("{}: the BIN chunk claims {} bytes but only {} follow its header (truncated?)",
+                    path, bin_length, size - json_end - 8));
+  }
 }
 
 // tinygltf's file reader for buffers named by URI, with our checks.
@@ -317,11 +346,11 @@ MeshData LoadGltf(const std::string& path, uint64_t size) {
                       std::filesystem::path(path).extension() == ".GLB";
   // tinygltf reads a file whole before it looks at it: check its size and, for
   // a .glb, its 12-byte header first, so a wrong file costs nothing.
-  if (binary) CheckGlbHeader(path, size);
   if (size > kMaxModelBytes) {
     throw InputError(fmt::format("{}: expected a glTF model of at most {} MiB, found {:.1f} MiB",
                                  path, kMaxModelBytes >> 20, size / 1048576.0));
   }
+  if (binary) CheckGlbHeader(path, size);
   // Buffers a .gltf names by URI go through the same checks (a URI may name a
   // device or a huge file).
   tinygltf::FsCallbacks callbacks{&tinygltf::FileExists, &tinygltf::ExpandFilePath, &ReadBufferFile,

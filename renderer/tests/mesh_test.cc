@@ -203,5 +203,24 @@ TEST(MeshIo, CraftedGlbAccessorsThatWrapTheBoundsAreInputErrors) {
   }
 }
 
+// fuzz_gltf found this: a BIN chunk whose length counts its own 8-byte header
+// passes tinygltf 2.7's check, which then copies 8 bytes past the end of the
+// file it read (heap-buffer-overflow under ASan; silently garbage without).
+// It must be an InputError naming the file and the chunk.
+TEST(MeshIo, GlbBinChunkRunningPastTheFileIsAnInputError) {
+  const std::string path = (TempDir() / "bin_past_end.glb").string();
+  testing::WriteTriangleGlb(path, 3, 0, 44);  // 36 bytes follow the header
+  try {
+    LoadMesh(path);
+    FAIL() << "expected InputError";
+  } catch (const InputError& e) {
+    const std::string what = e.what();
+    EXPECT_NE(what.find(path), std::string::npos) << what;
+    EXPECT_NE(what.find("the BIN chunk claims 44 bytes but only 36 follow its header"),
+              std::string::npos)
+        << what;
+  }
+}
+
 }  // namespace
 }  // namespace hcpf::renderer

@@ -15,11 +15,15 @@ namespace hcpf::testing {
 // view over all of it, and a POSITION accessor whose `count` and `byteOffset`
 // the caller picks (written as JSON integers, so any 64-bit value fits).
 // With count 3 and byteOffset 0 the file is a valid one-triangle model.
+// `claimed_bin_bytes` is what the BIN chunk header and the buffer's
+// byteLength say; more than 36 makes a chunk that runs past the file's end.
 inline void WriteTriangleGlb(const std::filesystem::path& path, uint64_t count,
-                             uint64_t byte_offset) {
+                             uint64_t byte_offset, uint32_t claimed_bin_bytes = 36) {
   const float positions[9] = {0, 0, 0, 1, 0, 0, 0, 1, 0};
   std::string json =
-      "{\"asset\":{\"version\":\"2.0\"},\"buffers\":[{\"byteLength\":36}],"
+      "{\"asset\":{\"version\":\"2.0\"},\"buffers\":[{\"byteLength\":" +
+      std::to_string(claimed_bin_bytes) +
+      "}],"
       "\"bufferViews\":[{\"buffer\":0,\"byteOffset\":0,\"byteLength\":36}],"
       "\"accessors\":[{\"bufferView\":0,\"componentType\":5126,\"type\":\"VEC3\",\"count\":" +
       std::to_string(count) + ",\"byteOffset\":" + std::to_string(byte_offset) +
@@ -37,7 +41,7 @@ inline void WriteTriangleGlb(const std::filesystem::path& path, uint64_t count,
   u32(static_cast<uint32_t>(json.size()));
   u32(0x4E4F534A);  // "JSON"
   out.insert(out.end(), json.begin(), json.end());
-  u32(bin_bytes);
+  u32(claimed_bin_bytes);
   u32(0x004E4942);  // "BIN\0"
   const char* bin = reinterpret_cast<const char*>(positions);
   out.insert(out.end(), bin, bin + bin_bytes);

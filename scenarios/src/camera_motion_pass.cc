@@ -61,12 +61,12 @@ SimilarityMotion BestSimilarity(const Eigen::Matrix3d& h, int width, int height)
 CameraMotionPass::CameraMotionPass(const Scenario& scenario)
     : mode_(scenario.tracker.camera_motion),
       options_(scenario.tracker.scene_filter),
+      point_tracker_(scenario.point_tracker),
+      ransac_(scenario.ransac),
       width_(scenario.world.camera.width_px),
       height_(scenario.world.camera.height_px),
       points_rng_(Rng(scenario.seeds.observation).Fork("scene_points")) {
-  needs_images_ = options_.evidence == tracker::SceneEvidenceKind::kImage &&
-                  (mode_ == tracker::CameraMotionMode::kSceneFilter ||
-                   mode_ == tracker::CameraMotionMode::kRansac);
+  needs_images_ = UsesPointTracker(scenario);
   if (mode_ == tracker::CameraMotionMode::kSceneFilter) {
     filter_.emplace(options_, width_, height_, Rng(scenario.seeds.tracker).Fork("scene"));
   }
@@ -115,7 +115,7 @@ std::vector<PointTrack> CameraMotionPass::Tracks(const FrameGroundTruth& current
   // The image tracker masks the targets itself (corners are not even found
   // on them); the evidence's mask then has nothing left to remove.
   return vision::TrackBackgroundPoints(*previous_image_, *image, exclude, options_.mask_dilation_px,
-                                       vision::PointTrackerOptions{});
+                                       point_tracker_);
 }
 
 std::optional<SimilarityMotion> CameraMotionPass::Step(const FrameGroundTruth& current,
@@ -155,8 +155,8 @@ std::optional<SimilarityMotion> CameraMotionPass::Step(const FrameGroundTruth& c
       std::erase_if(tracks, [&](const PointTrack& t) {
         return tracker::InsideDilatedBoxes(t.p, exclude, options_.mask_dilation_px);
       });
-      record.motion = vision::EstimateSimilarityRansac(tracks, vision::RansacOptions{})
-                          .value_or(SimilarityMotion{});
+      record.motion =
+          vision::EstimateSimilarityRansac(tracks, ransac_).value_or(SimilarityMotion{});
       break;
     }
   }

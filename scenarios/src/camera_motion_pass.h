@@ -57,6 +57,8 @@ class CameraMotionPass {
 
   tracker::CameraMotionMode mode_;
   tracker::SceneMotionOptions options_;
+  vision::PointTrackerOptions point_tracker_;
+  vision::RansacOptions ransac_;
   int width_;
   int height_;
   bool needs_images_ = false;

@@ -293,6 +293,17 @@ std::string ObservationOptions::DetectorName() const {
   return name;
 }
 
+bool UsesPointTracker(const Scenario& scenario) {
+  const tracker::CameraMotionMode mode = scenario.tracker.camera_motion;
+  return scenario.tracker.scene_filter.evidence == tracker::SceneEvidenceKind::kImage &&
+         (mode == tracker::CameraMotionMode::kSceneFilter ||
+          mode == tracker::CameraMotionMode::kRansac);
+}
+
+bool UsesRansac(const Scenario& scenario) {
+  return scenario.tracker.camera_motion == tracker::CameraMotionMode::kRansac;
+}
+
 bool ObservationOptions::Uses(std::string_view name) const {
   if (detector == "fusion") return std::find(fused.begin(), fused.end(), name) != fused.end();
   return detector == name;

@@ -186,7 +186,8 @@ void ReadSimulated(YamlReader r, const std::set<int32_t>& ids, SimulatedObservat
   r.Finish();
 }
 
-void ReadTracker(YamlReader r, tracker::TrackerOptions* t) {
+void ReadTracker(YamlReader r, Scenario* s) {
+  tracker::TrackerOptions* t = &s->tracker;
   r.ExpectMap();
   ReadFields(r, *t, tracker::TrackerOptions::Fields());
   ReadSection(r, "dynamics", &t->dynamics);
@@ -206,6 +207,8 @@ void ReadTracker(YamlReader r, tracker::TrackerOptions* t) {
   }
   ReadSection(r, "management", &t->management);
   ReadSection(r, "scene_filter", &t->scene_filter);
+  ReadSection(r, "point_tracker", &s->point_tracker);
+  ReadSection(r, "ransac", &s->ransac);
   r.Finish();
 }
 
@@ -294,7 +297,7 @@ Scenario ReadScenario(YamlReader root, const std::string& file) {
     ReadFields(*r, s.renderer, RendererConfig::Fields());
     r->Finish();
   }
-  if (auto t = root.Optional("tracker")) ReadTracker(*t, &s.tracker);
+  if (auto t = root.Optional("tracker")) ReadTracker(*t, &s);
   if (auto m = root.Optional("metrics")) ReadMetrics(*m, &s.metrics);
   root.Finish();
   // Every module's own checks (ranges and cross-field rules), run at load
@@ -303,6 +306,8 @@ Scenario ReadScenario(YamlReader root, const std::string& file) {
   root.Relocate([&s] {
     RendererOptionsOf(s);  // renderer and sensor options (validates)
     s.tracker.Validate();
+    s.point_tracker.Validate();
+    s.ransac.Validate();
     s.observation.Validate(s.tracker);
     s.metrics.filters.Validate();
     s.metrics.points.Validate();

@@ -133,6 +133,8 @@ std::string ToResolvedYaml(const Scenario& s) {
   w.Section("association", t.association);
   w.Section("management", t.management);
   w.Section("scene_filter", t.scene_filter);
+  if (UsesPointTracker(s)) w.Section("point_tracker", s.point_tracker);
+  if (UsesRansac(s)) w.Section("ransac", s.ransac);
   w.End();
 
   w.Begin("metrics");

@@ -167,6 +167,8 @@ std::string SchemaMarkdown(const std::string& section) {
     AppendRows(out, "association.", tracker::AssociationOptions::Fields());
     AppendRows(out, "management.", tracker::TrackManagementOptions::Fields());
     AppendRows(out, "scene_filter.", tracker::SceneMotionOptions::Fields());
+    AppendRows(out, "point_tracker.", vision::PointTrackerOptions::Fields());
+    AppendRows(out, "ransac.", vision::RansacOptions::Fields());
   } else if (section == "metrics") {
     AppendRows(out, "", metrics::FilterMetricsOptions::Fields());
     AppendRows(out, "", metrics::PointMetricsOptions::Fields());

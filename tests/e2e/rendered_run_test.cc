@@ -249,6 +249,24 @@ TEST(CameraMotion, ImageEvidenceFeedsTheSceneFilterAndTheRansacBaseline) {
   }
   EXPECT_LT(mean["ransac"], 1.25 * mean["oracle"]);
   EXPECT_LT(mean["scene_filter"], 1.25 * mean["oracle"]);
+  // tracker.point_tracker and tracker.ransac reach the run: two corners are
+  // too few for RANSAC, so every frame falls back to the identity (an error of
+  // pixels, not hundredths). The resolved YAML holds each section only when it
+  // takes effect (the oracle run tracks no points).
+  const auto few = RunCommand(common +
+                              " --set tracker.camera_motion=ransac"
+                              " --set tracker.point_tracker.max_corners=2"
+                              " --set tracker.ransac.threshold_px=3 --out " +
+                              (dir / "few").string());
+  ASSERT_EQ(few.exit_code, 0) << few.output;
+  const auto few_metrics = nlohmann::json::parse(ReadFile(dir / "few" / "metrics.json"));
+  EXPECT_GT(few_metrics["camera_motion"]["mean_px"].get<double>(), 10 * mean["oracle"]);
+  const std::string resolved = ReadFile(dir / "few" / "scenario.resolved.yaml");
+  EXPECT_NE(resolved.find("max_corners: 2"), std::string::npos) << resolved;
+  EXPECT_NE(resolved.find("threshold_px: 3"), std::string::npos) << resolved;
+  const std::string oracle_resolved = ReadFile(dir / "oracle" / "scenario.resolved.yaml");
+  EXPECT_EQ(oracle_resolved.find("point_tracker"), std::string::npos);
+  EXPECT_EQ(oracle_resolved.find("ransac:"), std::string::npos);
   // Image evidence without rendered frames, and RANSAC on the oracle
   // homography, are bad input naming the key.
   for (const std::string& sets : {std::string(" --set tracker.camera_motion=scene_filter"

@@ -332,7 +332,7 @@ void ExpectRejected(O options, std::string_view key) {
 TEST(PointTrackerOptions, DefaultsValidateAndOutOfRangeValuesNameTheirKey) {
   EXPECT_NO_THROW(PointTrackerOptions{}.Validate());
   EXPECT_NO_THROW(RansacOptions{}.Validate());
-  const std::string p = "tracker.scene_filter.image.";
+  const std::string p = "tracker.point_tracker.";
   PointTrackerOptions o;
   o.max_corners = 501;  // the scene filter's cap
   ExpectRejected(o, p + "max_corners");

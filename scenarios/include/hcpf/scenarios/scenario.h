@@ -16,6 +16,7 @@
 #include "hcpf/metrics/point_metrics.h"
 #include "hcpf/tracker/tracker.h"
 #include "hcpf/vision/detectors.h"
+#include "hcpf/vision/point_tracks.h"
 
 namespace hcpf::scenarios {
 
@@ -142,6 +143,11 @@ struct Scenario {
   SensorOptions sensor;
   RendererConfig renderer;
   tracker::TrackerOptions tracker;  // `tracker.*` (threads: a run option, not a key)
+  // `tracker.point_tracker.*` and `tracker.ransac.*`: the vision/ side of the
+  // camera-motion estimate (the image evidence's corners and Lucas-Kanade,
+  // shared by scene_filter and ransac; the RANSAC baseline's settings).
+  vision::PointTrackerOptions point_tracker;
+  vision::RansacOptions ransac;
   MetricsConfig metrics;
   // Which of `seeds` the input gave explicitly (bits kPinned*): Reseeded keeps
   // those and derives the others from the new seed.
@@ -149,6 +155,14 @@ struct Scenario {
   static constexpr uint8_t kPinnedWorld = 1, kPinnedObservation = 2, kPinnedTracker = 4,
                            kPinnedRenderer = 8;
 };
+
+// Whether the run tracks background points through the rendered frames
+// (tracker.camera_motion scene_filter or ransac with scene_filter.evidence:
+// image), so `tracker.point_tracker` takes effect; whether the RANSAC
+// baseline runs, so `tracker.ransac` does. The resolved YAML (and so the
+// config hash) holds a section only when it takes effect.
+bool UsesPointTracker(const Scenario& scenario);
+bool UsesRansac(const Scenario& scenario);
 
 // The declared fields of the scenario's own keys (scenario_fields.cc), from
 // which the reader, the resolved-YAML writer and docs/scenario.md are made;

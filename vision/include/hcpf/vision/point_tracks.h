@@ -18,7 +18,7 @@
 
 namespace hcpf::vision {
 
-// Background point tracking (`tracker.scene_filter.image.*`): Shi-Tomasi
+// Background point tracking (`tracker.point_tracker.*`): Shi-Tomasi
 // corners (OpenCV's goodFeaturesToTrack, 3 x 3 blocks) of frame t-1's grey
 // levels resized to `corner_scale`, away from the excluded boxes, tracked into
 // frame t by pyramidal Lucas-Kanade (calcOpticalFlowPyrLK) on the grey levels
@@ -50,7 +50,7 @@ struct PointTrackerOptions {
   // followed back from frame t into frame t-1; 0 switches the check off.
   double forward_backward_px = 0.0;
   static std::span<const Field<PointTrackerOptions>> Fields();
-  void Validate(std::string_view prefix = "tracker.scene_filter.image") const;
+  void Validate(std::string_view prefix = "tracker.point_tracker") const;
 };
 
 // Tracks of background points from `previous` (frame t-1) into `current`

@@ -291,17 +291,30 @@ void CheckGlbHeader(const std::string& path, uint64_t size) {
         "{}: the GLB header gives a length of {} bytes but the file has {} (truncated?)", path,
         length, size));
   }
+}
+
+// The chunk layout after a good header, once `size` is known to be at most
+// kMaxModelBytes.
+void CheckGlbChunks(const std::string& path, uint64_t size) {
   // The chunk layout, checked here because tinygltf 2.7 leaves out the BIN
   // chunk's 8-byte header when it compares the chunk's length with the file's
   // and then copies up to 8 bytes past the end of what it read (found by
   // fuzz_gltf). A JSON chunk, then optionally one BIN chunk, each inside the
-  // file. The caller has already bounded `size` by kMaxModelBytes.
+  // file.
   if (size < 20) {
     throw InputError(
         fmt::format("{}: expected a GLB header and a JSON chunk header (20 bytes), found {} bytes",
                     path, size));
   }
-  const uint64_t json_length = LittleEndian32(ReadFilePrefix(path, 20), 12);
+  // (A file that shrank since `size` was taken reads short: a truncated file.)
+  auto prefix = [&](size_t count) {
+    std::string bytes = ReadFilePrefix(path, count);
+    if (bytes.size() < count) {
+      throw InputError(fmt::format("{}: the file changed while being read (truncated?)", path));
+    }
+    return bytes;
+  };
+  const uint64_t json_length = LittleEndian32(prefix(20), 12);
   const uint64_t json_end = 20 + json_length;
   if (json_end > size) {
     throw InputError(
@@ -314,7 +327,7 @@ void CheckGlbHeader(const std::string& path, uint64_t size) {
         fmt::format("{}: expected an 8-byte BIN chunk header after the JSON chunk, found {} bytes",
                     path, size - json_end));
   }
-  const uint64_t bin_length = LittleEndian32(ReadFilePrefix(path, json_end + 8), json_end);
+  const uint64_t bin_length = LittleEndian32(prefix(json_end + 8), json_end);
   if (json_end + 8 + bin_length > size) {
     throw InputError(
         fmt::format("{}: the BIN chunk claims {} bytes but only {} follow its header (truncated?)",
@@ -346,11 +359,12 @@ MeshData LoadGltf(const std::string& path, uint64_t size) {
                       std::filesystem::path(path).extension() == ".GLB";
   // tinygltf reads a file whole before it looks at it: check its size and, for
   // a .glb, its 12-byte header first, so a wrong file costs nothing.
+  if (binary) CheckGlbHeader(path, size);
   if (size > kMaxModelBytes) {
     throw InputError(fmt::format("{}: expected a glTF model of at most {} MiB, found {:.1f} MiB",
                                  path, kMaxModelBytes >> 20, size / 1048576.0));
   }
-  if (binary) CheckGlbHeader(path, size);
+  if (binary) CheckGlbChunks(path, size);
   // Buffers a .gltf names by URI go through the same checks (a URI may name a
   // device or a huge file).
   tinygltf::FsCallbacks callbacks{&tinygltf::FileExists, &tinygltf::ExpandFilePath, &ReadBufferFile,

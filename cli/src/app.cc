@@ -19,14 +19,14 @@
 namespace hcpf::cli {
 
 int RunApp(int argc, char** argv, std::span<const AddCommandFn> adders,
-           const std::string& version) {
+           const std::function<std::string()>& version) {
   // Logging goes to stderr; stdout is reserved for requested machine output.
   auto logger = spdlog::stderr_color_mt("hcpf");
   spdlog::set_default_logger(logger);
   spdlog::set_pattern("[%H:%M:%S.%e] [%^%l%$] %v");
 
   CLI::App app{"HCPF Bench: synthetic-scene evaluation harness for multi-target tracking"};
-  if (!version.empty()) app.set_version_flag("--version", version);
+  if (version) app.set_version_flag("--version", version);
   app.require_subcommand(1);
   std::string log_level = "info";
   app.add_option(kLogLevelOption, log_level, "trace, debug, info, warn, error or off")

@@ -3,6 +3,7 @@
 // (main.cc, which runs `hcpf score` itself) and the library with every
 // command (entry.cc, libhcpf_cli.so). See main.cc for why there are two.
 
+#include <functional>
 #include <span>
 #include <string>
 
@@ -18,8 +19,9 @@ inline constexpr const char* kLogLevelOption = "--log-level";
 
 // Sets up logging (stderr), parses argv with the given subcommands, runs the
 // chosen one and maps errors to exit codes (0 ok, 1 run failed, 2 bad input).
-// `version` is printed by --version; empty: no --version flag.
+// `version()` is printed by --version (called only then: it may create a GL
+// context); empty: no --version flag.
 int RunApp(int argc, char** argv, std::span<const AddCommandFn> commands,
-           const std::string& version);
+           const std::function<std::string()>& version);
 
 }  // namespace hcpf::cli

@@ -12,5 +12,7 @@ extern "C" __attribute__((visibility("default"))) int hcpf_cli_main(int argc, ch
       AddValidateCommand, AddRenderCommand, AddRunCommand,     AddScoreCommand,  AddSweepCommand,
       AddMergeCommand,    AddReportCommand, AddRegressCommand, AddSchemaCommand,
   };
-  return RunApp(argc, argv, kCommands, hcpf::scenarios::VersionString());
+  return RunApp(argc, argv, kCommands, [] {
+    return hcpf::scenarios::VersionString() + "\n" + hcpf::scenarios::GlDescription();
+  });
 }

@@ -50,7 +50,7 @@ int RunFullCli(int argc, char** argv) {
 int main(int argc, char** argv) {
   if (Subcommand(argc, argv) == "score") {
     static constexpr std::array<hcpf::cli::AddCommandFn, 1> kScore = {hcpf::cli::AddScoreCommand};
-    return hcpf::cli::RunApp(argc, argv, kScore, "");
+    return hcpf::cli::RunApp(argc, argv, kScore, {});
   }
   return RunFullCli(argc, argv);
 }

@@ -63,7 +63,8 @@ GlContext::GlContext() = default;
 void GlContext::CheckNoError(const char* where) const { api_->CheckError(where); }
 GlContext::~GlContext() = default;
 
-void GlContext::Initialise(const std::string& backend, void* (*loader)(const char*)) {
+void GlContext::Initialise(const std::string& backend, void* (*loader)(const char*),
+                           const std::string& platform) {
   api_ = std::make_unique<internal::GlApi>();
   const std::string missing = api_->Load(loader);
   if (!missing.empty()) {
@@ -74,11 +75,12 @@ void GlContext::Initialise(const std::string& backend, void* (*loader)(const cha
     return std::string(s != nullptr ? s : "");
   };
   info_.backend = backend;
+  info_.platform = platform;
   info_.vendor = str(GL_VENDOR);
   info_.renderer = str(GL_RENDERER);
   info_.version = str(GL_VERSION);
   info_.softpipe = info_.renderer.find("softpipe") != std::string::npos;
-  Logger()->info("GL context ({}): vendor \"{}\", renderer \"{}\", version \"{}\"", backend,
+  Logger()->info("GL context ({}): vendor \"{}\", renderer \"{}\", version \"{}\"", platform,
                  info_.vendor, info_.renderer, info_.version);
   if (info_.softpipe) {
     Logger()->warn(
@@ -160,7 +162,7 @@ class OsMesaContext final : public GlContext {
     if (context_ == nullptr)
       throw InputError("OSMesaCreateContextAttribs failed (no core profile)");
     MakeCurrent();
-    Initialise("osmesa", &OsMesaLoader);
+    Initialise("osmesa", &OsMesaLoader, "osmesa");
   }
   ~OsMesaContext() override {
     if (context_ != nullptr) OsMesa().destroy_context(context_);
@@ -184,33 +186,76 @@ class OsMesaContext final : public GlContext {
 
 void* EglLoader(const char* name) { return reinterpret_cast<void*>(eglGetProcAddress(name)); }
 
+PFNEGLGETPLATFORMDISPLAYEXTPROC GetPlatformDisplay() {
+  auto fn = reinterpret_cast<PFNEGLGETPLATFORMDISPLAYEXTPROC>(
+      eglGetProcAddress("eglGetPlatformDisplayEXT"));
+  if (fn == nullptr) throw InputError("EGL: no eglGetPlatformDisplayEXT");
+  return fn;
+}
+
+// The devices eglQueryDevicesEXT lists (at most 16), empty without the
+// extension.
+std::vector<EGLDeviceEXT> EglDevices() {
+  auto query_devices =
+      reinterpret_cast<PFNEGLQUERYDEVICESEXTPROC>(eglGetProcAddress("eglQueryDevicesEXT"));
+  if (query_devices == nullptr) return {};
+  EGLDeviceEXT devices[16];
+  EGLint count = 0;
+  if (query_devices(16, devices, &count) != EGL_TRUE || count < 0) return {};
+  return std::vector<EGLDeviceEXT>(devices, devices + std::min<EGLint>(count, 16));
+}
+
 class EglContext final : public GlContext {
  public:
-  EglContext() {
-    auto get_platform_display = reinterpret_cast<PFNEGLGETPLATFORMDISPLAYEXTPROC>(
-        eglGetProcAddress("eglGetPlatformDisplayEXT"));
-    if (get_platform_display == nullptr) throw InputError("EGL: no eglGetPlatformDisplayEXT");
-    std::string errors;
-    display_ = TryInitialise(
-        get_platform_display(EGL_PLATFORM_SURFACELESS_MESA, EGL_DEFAULT_DISPLAY, nullptr));
-    if (display_ == EGL_NO_DISPLAY) {
-      errors += "surfaceless platform failed; ";
-      auto query_devices =
-          reinterpret_cast<PFNEGLQUERYDEVICESEXTPROC>(eglGetProcAddress("eglQueryDevicesEXT"));
-      if (query_devices != nullptr) {
-        EGLDeviceEXT devices[16];
-        EGLint count = 0;
-        if (query_devices(16, devices, &count) == EGL_TRUE) {
-          for (EGLint i = 0; i < count && display_ == EGL_NO_DISPLAY; ++i) {
-            display_ =
-                TryInitialise(get_platform_display(EGL_PLATFORM_DEVICE_EXT, devices[i], nullptr));
-          }
-        }
-      }
+  explicit EglContext(const GlAttempt& attempt) {
+    try {
+      Open(attempt);
+    } catch (...) {
+      Release();  // a failed attempt leaves no display behind for the next
+      throw;
+    }
+  }
+  ~EglContext() override { Release(); }
+  void MakeCurrent() override {
+    if (eglMakeCurrent(display_, EGL_NO_SURFACE, EGL_NO_SURFACE, context_) != EGL_TRUE) {
+      throw InputError(fmt::format("EGL: eglMakeCurrent failed (error 0x{:x})", eglGetError()));
+    }
+  }
+
+  static std::string DeviceExtensions(EGLDeviceEXT device) {
+    auto query_string = reinterpret_cast<PFNEGLQUERYDEVICESTRINGEXTPROC>(
+        eglGetProcAddress("eglQueryDeviceStringEXT"));
+    if (query_string == nullptr) return {};
+    const char* text = query_string(device, EGL_EXTENSIONS);
+    return text != nullptr ? std::string(text) : std::string();
+  }
+
+ private:
+  void Open(const GlAttempt& attempt) {
+    const PFNEGLGETPLATFORMDISPLAYEXTPROC get_platform_display = GetPlatformDisplay();
+    std::string platform;
+    if (attempt.kind == GlAttempt::Kind::kEglSurfaceless) {
+      display_ = TryInitialise(
+          get_platform_display(EGL_PLATFORM_SURFACELESS_MESA, EGL_DEFAULT_DISPLAY, nullptr));
       if (display_ == EGL_NO_DISPLAY) {
         throw InputError(
-            fmt::format("EGL: {}device platform failed (error 0x{:x})", errors, eglGetError()));
+            fmt::format("EGL: surfaceless platform failed (error 0x{:x})", eglGetError()));
       }
+      platform = "egl surfaceless";
+    } else {
+      const std::vector<EGLDeviceEXT> devices = EglDevices();
+      if (attempt.device < 0 || static_cast<size_t>(attempt.device) >= devices.size()) {
+        throw InputError(fmt::format("EGL: no device {}", attempt.device));
+      }
+      EGLDeviceEXT device = devices[static_cast<size_t>(attempt.device)];
+      display_ = TryInitialise(get_platform_display(EGL_PLATFORM_DEVICE_EXT, device, nullptr));
+      if (display_ == EGL_NO_DISPLAY) {
+        throw InputError(
+            fmt::format("EGL: device {} failed (error 0x{:x})", attempt.device, eglGetError()));
+      }
+      const bool software = EglDeviceDescription{.extensions = DeviceExtensions(device)}.software();
+      platform =
+          fmt::format("egl device {} ({})", attempt.device, software ? "software" : "hardware");
     }
     if (eglBindAPI(EGL_OPENGL_API) != EGL_TRUE) throw InputError("EGL: eglBindAPI(OpenGL) failed");
     for (int minor_version : {5, 3}) {
@@ -230,22 +275,17 @@ class EglContext final : public GlContext {
       throw InputError(fmt::format("EGL: eglCreateContext failed (error 0x{:x})", eglGetError()));
     }
     MakeCurrent();
-    Initialise("egl", &EglLoader);
+    Initialise("egl", &EglLoader, platform);
   }
-  ~EglContext() override {
+  void Release() {
     if (display_ != EGL_NO_DISPLAY) {
       eglMakeCurrent(display_, EGL_NO_SURFACE, EGL_NO_SURFACE, EGL_NO_CONTEXT);
       if (context_ != EGL_NO_CONTEXT) eglDestroyContext(display_, context_);
       eglTerminate(display_);
+      display_ = EGL_NO_DISPLAY;
+      context_ = EGL_NO_CONTEXT;
     }
   }
-  void MakeCurrent() override {
-    if (eglMakeCurrent(display_, EGL_NO_SURFACE, EGL_NO_SURFACE, context_) != EGL_TRUE) {
-      throw InputError(fmt::format("EGL: eglMakeCurrent failed (error 0x{:x})", eglGetError()));
-    }
-  }
-
- private:
   static EGLDisplay TryInitialise(EGLDisplay display) {
     if (display == EGL_NO_DISPLAY) return EGL_NO_DISPLAY;
     EGLint major = 0;
@@ -257,23 +297,63 @@ class EglContext final : public GlContext {
   EGLContext context_ = EGL_NO_CONTEXT;
 };
 
+std::string Describe(const GlAttempt& attempt) {
+  switch (attempt.kind) {
+    case GlAttempt::Kind::kOsMesa:
+      return "osmesa";
+    case GlAttempt::Kind::kEglSurfaceless:
+      return "egl surfaceless";
+    case GlAttempt::Kind::kEglDevice:
+      return fmt::format("egl device {}", attempt.device);
+  }
+  return "?";
+}
+
 }  // namespace
 
-std::unique_ptr<GlContext> GlContext::Create(GlBackend backend) {
-  std::string failures;
-  if (backend == GlBackend::kAuto || backend == GlBackend::kOsMesa) {
-    try {
-      return std::make_unique<OsMesaContext>();
-    } catch (const Error& e) {
-      failures += fmt::format("osmesa: {}; ", e.what());
-      Logger()->debug("OSMesa backend failed: {}", e.what());
-    }
+bool EglDeviceDescription::software() const {
+  return extensions.find("EGL_MESA_device_software") != std::string::npos;
+}
+
+std::vector<GlAttempt> PlanGlAttempts(GlBackend backend,
+                                      std::span<const EglDeviceDescription> devices) {
+  using Kind = GlAttempt::Kind;
+  std::vector<GlAttempt> plan;
+  if (backend == GlBackend::kOsMesa) return {GlAttempt{.kind = Kind::kOsMesa}};
+  for (const EglDeviceDescription& d : devices) {
+    if (!d.software()) plan.push_back({.kind = Kind::kEglDevice, .device = d.index});
   }
-  if (backend == GlBackend::kAuto || backend == GlBackend::kEgl) {
+  if (backend == GlBackend::kAuto) plan.push_back({.kind = Kind::kOsMesa});
+  plan.push_back({.kind = Kind::kEglSurfaceless});
+  for (const EglDeviceDescription& d : devices) {
+    if (d.software()) plan.push_back({.kind = Kind::kEglDevice, .device = d.index});
+  }
+  return plan;
+}
+
+std::vector<EglDeviceDescription> QueryEglDevices() {
+  std::vector<EglDeviceDescription> out;
+  const std::vector<EGLDeviceEXT> devices = EglDevices();
+  for (size_t i = 0; i < devices.size(); ++i) {
+    out.push_back(
+        {.index = static_cast<int>(i), .extensions = EglContext::DeviceExtensions(devices[i])});
+  }
+  return out;
+}
+
+std::unique_ptr<GlContext> GlContext::Create(GlBackend backend) {
+  // Enumerating EGL devices loads the EGL vendor libraries; OSMesa alone
+  // needs none of that.
+  const std::vector<EglDeviceDescription> devices =
+      backend == GlBackend::kOsMesa ? std::vector<EglDeviceDescription>{} : QueryEglDevices();
+  std::string failures;
+  for (const GlAttempt& attempt : PlanGlAttempts(backend, devices)) {
     try {
-      return std::make_unique<EglContext>();
+      if (attempt.kind == GlAttempt::Kind::kOsMesa) return std::make_unique<OsMesaContext>();
+      return std::make_unique<EglContext>(attempt);
     } catch (const Error& e) {
-      failures += fmt::format("egl: {}; ", e.what());
+      failures += fmt::format("{}: {}; ", Describe(attempt), e.what());
+      Logger()->debug("GL backend {} failed: {}", Describe(attempt), e.what());
     }
   }
   throw InputError(fmt::format(

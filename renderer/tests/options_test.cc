@@ -201,5 +201,36 @@ TEST(ContactSheet, GridOfThumbnailsWithGap) {
   EXPECT_EQ(sheet.at(4 + 36 + 16, 4 + 28 + 18)[1], 160);
 }
 
+// The device selection of issue 13 item 3, on described devices: a GPU's
+// EGL device first for auto and egl, OSMesa before the surfaceless platform
+// for auto only, Mesa's software device last, OSMesa alone for osmesa.
+TEST(GlBackendPlan, HardwareEglDevicesFirstSoftwareLast) {
+  using Kind = GlAttempt::Kind;
+  const std::vector<EglDeviceDescription> devices = {
+      {.index = 0, .extensions = "EGL_EXT_device_drm EGL_MESA_device_software"},
+      {.index = 1, .extensions = "EGL_NV_device_cuda EGL_EXT_device_drm"},
+      {.index = 2, .extensions = "EGL_EXT_device_drm EGL_EXT_device_drm_render_node"}};
+  EXPECT_TRUE(devices[0].software());
+  EXPECT_FALSE(devices[1].software());
+  const std::vector<GlAttempt> automatic = PlanGlAttempts(GlBackend::kAuto, devices);
+  const std::vector<GlAttempt> expected_auto = {{Kind::kEglDevice, 1},
+                                                {Kind::kEglDevice, 2},
+                                                {Kind::kOsMesa, -1},
+                                                {Kind::kEglSurfaceless, -1},
+                                                {Kind::kEglDevice, 0}};
+  EXPECT_EQ(automatic, expected_auto);
+  const std::vector<GlAttempt> egl = PlanGlAttempts(GlBackend::kEgl, devices);
+  const std::vector<GlAttempt> expected_egl = {{Kind::kEglDevice, 1},
+                                               {Kind::kEglDevice, 2},
+                                               {Kind::kEglSurfaceless, -1},
+                                               {Kind::kEglDevice, 0}};
+  EXPECT_EQ(egl, expected_egl);
+  const std::vector<GlAttempt> osmesa = PlanGlAttempts(GlBackend::kOsMesa, devices);
+  EXPECT_EQ(osmesa, (std::vector<GlAttempt>{{Kind::kOsMesa, -1}}));
+  // No devices (no EGL_EXT_device_enumeration): OSMesa, then surfaceless.
+  EXPECT_EQ(PlanGlAttempts(GlBackend::kAuto, {}),
+            (std::vector<GlAttempt>{{Kind::kOsMesa, -1}, {Kind::kEglSurfaceless, -1}}));
+}
+
 }  // namespace
 }  // namespace hcpf::renderer

@@ -80,6 +80,27 @@ TEST_F(RendererGl, ContextReportsItsDriver) {
   const GlInfo& info = g_context->info();
   EXPECT_FALSE(info.renderer.empty());
   EXPECT_NE(info.version.find("Core Profile"), std::string::npos) << info.version;
+  EXPECT_EQ(info.backend, HCPF_TEST_GL_BACKEND);
+  EXPECT_TRUE(info.platform.starts_with(info.backend)) << info.platform;
+}
+
+// The machine's own EGL devices through the real selection: indices in
+// order, and `auto` takes a hardware device when there is one, OSMesa when
+// there is none (a CPU-only machine: Mesa lists only its software device).
+TEST_F(RendererGl, AutoPrefersAHardwareEglDeviceElseOsMesa) {
+  const std::vector<EglDeviceDescription> devices = QueryEglDevices();
+  bool hardware = false;
+  for (size_t i = 0; i < devices.size(); ++i) {
+    EXPECT_EQ(devices[i].index, static_cast<int>(i));
+    hardware = hardware || !devices[i].software();
+  }
+  const auto context = GlContext::Create(GlBackend::kAuto);
+  if (hardware) {
+    EXPECT_TRUE(context->info().platform.ends_with("(hardware)")) << context->info().platform;
+  } else {
+    EXPECT_EQ(context->info().platform, "osmesa");
+  }
+  g_context->MakeCurrent();  // the shared context again for the next case
 }
 
 TEST_F(RendererGl, NadirVehicleSpansThePredictedPixelCount) {

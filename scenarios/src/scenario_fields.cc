@@ -420,7 +420,7 @@ std::span<const Field<RendererConfig>> RendererConfig::Fields() {
   };
   static const std::vector<Field<O>> fields = {
       WordField<&O::backend, &RendererConfig::BackendNames>(
-          "backend", "auto: EGL when a device answers, else OSMesa"),
+          "backend", "auto: a hardware EGL device (GPU), else OSMesa, else EGL surfaceless"),
       integer("shadow_map_size", &O::shadow_map_size, "texels", "shadow map size per side"),
       integer("pcf_radius", &O::pcf_radius, "texels",
               "0 = one bilinear depth-comparison tap (2×2 PCF), r > 0 = (2r)² taps"),

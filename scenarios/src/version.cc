@@ -7,6 +7,8 @@
 #include <opencv2/core/version.hpp>
 
 #include "build_info.h"
+#include "hcpf/core/error.h"
+#include "hcpf/renderer/gl_context.h"
 
 namespace hcpf::scenarios {
 
@@ -15,6 +17,17 @@ std::string ProjectVersion() { return HCPF_VERSION; }
 std::string GitRevision() { return GitRevisionAtBuild(); }
 
 std::string VersionString() { return fmt::format("hcpf {} (git {})", HCPF_VERSION, GitRevision()); }
+
+std::string GlDescription() {
+  try {
+    const auto context = renderer::GlContext::Create(renderer::GlBackend::kAuto);
+    const renderer::GlInfo& gl = context->info();
+    return fmt::format("GL (backend auto): {}, renderer \"{}\", vendor \"{}\", OpenGL {}",
+                       gl.platform, gl.renderer, gl.vendor, gl.version);
+  } catch (const Error& e) {
+    return fmt::format("GL (backend auto): none ({})", e.what());
+  }
+}
 
 std::map<std::string, std::string> LibraryVersions() {
   return {

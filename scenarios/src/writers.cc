@@ -183,6 +183,7 @@ nlohmann::json ManifestProvenance(const std::string& format, const Scenario& sce
   m["libraries"] = LibraryVersions();
   if (gl) {
     m["gl_renderer"] = {{"backend", gl->backend},
+                        {"platform", gl->platform},
                         {"vendor", gl->vendor},
                         {"renderer", gl->renderer},
                         {"version", gl->version}};

@@ -26,6 +26,12 @@ TEST(Cli, VersionAndHelp) {
   auto r = RunCommand(kHcpf + " --version");
   EXPECT_EQ(r.exit_code, 0);
   EXPECT_NE(r.output.find("hcpf 0."), std::string::npos) << r.output;
+  // The GL context `backend: auto` gets here, with its GL_RENDERER (issue 13
+  // item 3), or why there is none.
+  EXPECT_NE(r.output.find("GL (backend auto): "), std::string::npos) << r.output;
+  EXPECT_TRUE(r.output.find("renderer \"") != std::string::npos ||
+              r.output.find("none (") != std::string::npos)
+      << r.output;
   r = RunCommand(kHcpf + " run --help");
   EXPECT_EQ(r.exit_code, 0);
   EXPECT_NE(r.output.find("--set"), std::string::npos);

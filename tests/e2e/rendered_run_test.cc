@@ -34,6 +34,11 @@ TEST(RenderedRun, PixelExactTruthAndFrameCacheReuse) {
   EXPECT_EQ(manifest["ground_truth"], "rendered (pixel-exact)");
   EXPECT_EQ(manifest["frames_rendered"], 24);
   EXPECT_NE(manifest["gl_renderer"]["renderer"].get<std::string>(), "");
+  // How the context was made (issue 13 item 3): "osmesa", "egl surfaceless"
+  // or "egl device N (hardware|software)", starting with the backend.
+  EXPECT_TRUE(manifest["gl_renderer"]["platform"].get<std::string>().starts_with(
+      manifest["gl_renderer"]["backend"].get<std::string>()))
+      << manifest["gl_renderer"].dump();
   // The renderer counts pixels: gt.json carries pixels_visible and pixels_total.
   const auto gt = nlohmann::json::parse(ReadFile(dir / "a" / "gt.json"));
   EXPECT_GT(gt["frames"][0]["objects"][0]["pixels_total"].get<int64_t>(), 0);

@@ -3,9 +3,15 @@
 // two backends:
 //   kOsMesa: OSMesaCreateContextAttribs (Mesa's off-screen library; Debian 12
 //            ships it, Mesa >= 25.1 no longer does);
-//   kEgl:    EGL on the surfaceless platform (EGL_MESA_platform_surfaceless),
-//            falling back to the device platform, context without a surface;
-//   kAuto:   OSMesa, then EGL.
+//   kEgl:    EGL without a surface: a hardware EGL device (EGL_EXT_device_base,
+//            platform EGL_PLATFORM_DEVICE_EXT), then the surfaceless platform
+//            (EGL_MESA_platform_surfaceless), then software EGL devices;
+//   kAuto:   a hardware EGL device (a GPU), then OSMesa, then EGL surfaceless,
+//            then software EGL devices — so a machine with a GPU renders on it
+//            without being asked (PlanGlAttempts holds the order).
+// A device is software when its extension string names
+// EGL_MESA_device_software (Mesa's llvmpipe device); every other device
+// (NVIDIA's, a DRM render node's) counts as hardware.
 // All drawing goes to the renderer's own framebuffer objects, so the context
 // needs no window or default framebuffer. Creating a context logs GL_VENDOR,
 // GL_RENDERER and GL_VERSION (spdlog logger "renderer") and warns loudly on
@@ -14,8 +20,10 @@
 // One context per thread: MakeCurrent() binds it to the calling thread.
 
 #include <memory>
+#include <span>
 #include <string>
 #include <string_view>
+#include <vector>
 
 namespace hcpf::renderer {
 
@@ -29,8 +37,35 @@ std::string_view ToString(GlBackend backend);
 // "auto" | "osmesa" | "egl"; throws hcpf::InputError naming the value otherwise.
 GlBackend ParseGlBackend(std::string_view text);
 
+// One EGL device as enumerated by eglQueryDevicesEXT: its index there and its
+// device extension string (eglQueryDeviceStringEXT(EGL_EXTENSIONS)).
+struct EglDeviceDescription {
+  int index = 0;
+  std::string extensions;
+  bool software() const;
+};
+
+// One way of creating a context, tried in PlanGlAttempts' order.
+struct GlAttempt {
+  enum class Kind { kOsMesa, kEglDevice, kEglSurfaceless };
+  Kind kind = Kind::kOsMesa;
+  int device = -1;  // kEglDevice: the index in eglQueryDevicesEXT's list
+  bool operator==(const GlAttempt&) const = default;
+};
+
+// The attempts for `backend` given the machine's EGL devices (see the order
+// above; kOsMesa: OSMesa alone). Pure: the device selection logic, testable
+// without the devices.
+std::vector<GlAttempt> PlanGlAttempts(GlBackend backend,
+                                      std::span<const EglDeviceDescription> devices);
+// The machine's EGL devices (empty when EGL cannot enumerate them).
+std::vector<EglDeviceDescription> QueryEglDevices();
+
 struct GlInfo {
-  std::string backend;   // "osmesa" | "egl"
+  std::string backend;  // "osmesa" | "egl"
+  // How the context was made: "osmesa", "egl surfaceless", "egl device N
+  // (hardware)" or "egl device N (software)".
+  std::string platform;
   std::string vendor;    // GL_VENDOR
   std::string renderer;  // GL_RENDERER, e.g. "llvmpipe (LLVM 15.0.6, 256 bits)"
   std::string version;   // GL_VERSION
@@ -59,7 +94,9 @@ class GlContext {
  protected:
   GlContext();
   // Loads the API through `loader`, fills info_ and logs it; throws on failure.
-  void Initialise(const std::string& backend, void* (*loader)(const char*));
+  // `platform` goes to GlInfo::platform.
+  void Initialise(const std::string& backend, void* (*loader)(const char*),
+                  const std::string& platform);
 
  private:
   GlInfo info_;

@@ -12,6 +12,11 @@ std::string ProjectVersion();
 // Git revision of the source tree at build time ("unknown" outside a checkout),
 // with "-dirty" when it had uncommitted changes.
 std::string GitRevision();
+// The OpenGL context `renderer.backend: auto` gets on this machine, for
+// `hcpf --version`: "GL (backend auto): egl device 0 (hardware), renderer
+// \"NVIDIA H100 ...\", OpenGL 4.6 ...", or why none could be made. Creates and
+// drops a context (tens of milliseconds).
+std::string GlDescription();
 // Versions of the libraries built against (OpenCV, assimp, yaml-cpp, Mesa, ...).
 std::map<std::string, std::string> LibraryVersions();
 

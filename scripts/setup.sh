@@ -13,7 +13,7 @@ PACKAGES=(
   # tracker / renderer / videos
   libopencv-dev
   libosmesa6-dev libegl-dev libgl-dev libegl-mesa0 libgles-dev mesa-common-dev
-  libassimp-dev libtinygltf-dev libstb-dev libpng-dev libjpeg-dev
+  libassimp-dev libtinygltf-dev libstb-dev libpng-dev libjpeg-dev libzstd-dev
   # tests and benchmarks; clang-format checks the formatting in CI
   googletest libgtest-dev libgmock-dev libbenchmark-dev clang-format
   # fuzzing: clang with libFuzzer and the sanitizer runtimes (scripts/fuzz.sh)

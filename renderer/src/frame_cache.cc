@@ -2,10 +2,15 @@
 
 #include <fmt/format.h>
 #include <unistd.h>
+#include <zstd.h>
 
+#include <algorithm>
+#include <condition_variable>
+#include <deque>
 #include <filesystem>
 #include <fstream>
 #include <functional>
+#include <mutex>
 #include <nlohmann/json.hpp>
 #include <sstream>
 #include <system_error>
@@ -100,15 +105,131 @@ std::string PixelHash(const WorldSpec& world, const RendererOptions& options, ui
 FrameCache::FrameCache(std::filesystem::path root, std::string hash)
     : dir_(std::move(root) / std::move(hash)) {}
 
+namespace {
+
+// The .frame layout, little-endian: "HCPFRAME", u32 format version, u32
+// width, u32 height, u32 channels (3), u64 payload bytes, then one zstd frame
+// of the filtered planes (R rows, then G, then B; each byte minus its left
+// neighbour in the same row, mod 256) with zstd's content checksum.
+constexpr char kMagic[8] = {'H', 'C', 'P', 'F', 'R', 'A', 'M', 'E'};
+constexpr size_t kHeaderBytes = 32;
+constexpr int kMaxSide = 1 << 15;
+
+void Put32(std::string& out, uint32_t v) {
+  for (int i = 0; i < 4; ++i) out.push_back(static_cast<char>((v >> (8 * i)) & 0xFF));
+}
+void Put64(std::string& out, uint64_t v) {
+  for (int i = 0; i < 8; ++i) out.push_back(static_cast<char>((v >> (8 * i)) & 0xFF));
+}
+uint64_t Get(const std::string& in, size_t at, int bytes) {
+  uint64_t v = 0;
+  for (int i = bytes - 1; i >= 0; --i) v = (v << 8) | static_cast<unsigned char>(in[at + i]);
+  return v;
+}
+
+std::string EncodeFrame(const RgbImage& image) {
+  const size_t w = static_cast<size_t>(image.width);
+  const size_t h = static_cast<size_t>(image.height);
+  std::vector<uint8_t> planes(w * h * 3);
+  for (size_t y = 0; y < h; ++y) {
+    const uint8_t* row = image.pixels.data() + y * w * 3;
+    for (size_t c = 0; c < 3; ++c) {
+      uint8_t* d = planes.data() + c * w * h + y * w;
+      uint8_t previous = 0;
+      for (size_t x = 0; x < w; ++x) {
+        const uint8_t v = row[x * 3 + c];
+        d[x] = static_cast<uint8_t>(v - previous);
+        previous = v;
+      }
+    }
+  }
+  std::string out;
+  out.append(kMagic, sizeof(kMagic));
+  Put32(out, FrameCache::kFormatVersion);
+  Put32(out, static_cast<uint32_t>(w));
+  Put32(out, static_cast<uint32_t>(h));
+  Put32(out, 3);
+  const size_t bound = ZSTD_compressBound(planes.size());
+  std::string payload(bound, '\0');
+  // Level 1 with zstd's content checksum (XXH64 of the planes): a damaged
+  // file fails decompression instead of decoding to other pixels.
+  std::unique_ptr<ZSTD_CCtx, decltype(&ZSTD_freeCCtx)> context(ZSTD_createCCtx(), &ZSTD_freeCCtx);
+  if (!context) throw RunError("zstd: cannot create a compression context");
+  ZSTD_CCtx_setParameter(context.get(), ZSTD_c_compressionLevel, 1);
+  ZSTD_CCtx_setParameter(context.get(), ZSTD_c_checksumFlag, 1);
+  const size_t n =
+      ZSTD_compress2(context.get(), payload.data(), bound, planes.data(), planes.size());
+  if (ZSTD_isError(n)) throw RunError(fmt::format("zstd: {}", ZSTD_getErrorName(n)));
+  payload.resize(n);
+  Put64(out, n);
+  out += payload;
+  return out;
+}
+
+// nullopt for anything but a well-formed file of this format version.
+std::optional<RgbImage> DecodeFrame(const std::string& in) {
+  if (in.size() < kHeaderBytes || in.compare(0, sizeof(kMagic), kMagic, sizeof(kMagic)) != 0) {
+    return std::nullopt;
+  }
+  const uint64_t version = Get(in, 8, 4);
+  const uint64_t w = Get(in, 12, 4);
+  const uint64_t h = Get(in, 16, 4);
+  const uint64_t channels = Get(in, 20, 4);
+  const uint64_t payload = Get(in, 24, 8);
+  if (version != FrameCache::kFormatVersion || w == 0 || h == 0 || w > kMaxSide || h > kMaxSide ||
+      channels != 3 || payload != in.size() - kHeaderBytes) {
+    return std::nullopt;
+  }
+  const size_t raw = static_cast<size_t>(w * h * 3);
+  const unsigned long long content = ZSTD_getFrameContentSize(in.data() + kHeaderBytes, payload);
+  if (content != raw) return std::nullopt;
+  std::vector<uint8_t> planes(raw);
+  const size_t n = ZSTD_decompress(planes.data(), raw, in.data() + kHeaderBytes, payload);
+  if (ZSTD_isError(n) || n != raw) return std::nullopt;
+  RgbImage image;
+  image.width = static_cast<int>(w);
+  image.height = static_cast<int>(h);
+  image.pixels.resize(raw);
+  for (size_t y = 0; y < h; ++y) {
+    uint8_t* row = image.pixels.data() + y * w * 3;
+    for (size_t c = 0; c < 3; ++c) {
+      const uint8_t* d = planes.data() + c * w * h + y * w;
+      uint8_t v = 0;
+      for (size_t x = 0; x < w; ++x) {
+        v = static_cast<uint8_t>(v + d[x]);
+        row[x * 3 + c] = v;
+      }
+    }
+  }
+  return image;
+}
+
+std::optional<std::string> ReadWhole(const std::filesystem::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) return std::nullopt;
+  std::ostringstream bytes;
+  bytes << in.rdbuf();
+  if (!in && !in.eof()) return std::nullopt;
+  return std::move(bytes).str();
+}
+
+}  // namespace
+
 std::optional<RenderedFrame> FrameCache::Load(int frame) const {
-  const auto png = dir_ / fmt::format("{:06d}.png", frame);
+  const auto pixels = dir_ / fmt::format("{:06d}.frame", frame);
   const auto json = dir_ / fmt::format("{:06d}.json", frame);
   std::error_code ec;
-  if (!std::filesystem::exists(png, ec) || !std::filesystem::exists(json, ec)) return std::nullopt;
+  if (!std::filesystem::exists(pixels, ec) || !std::filesystem::exists(json, ec)) {
+    return std::nullopt;
+  }
   try {
+    const std::optional<std::string> bytes = ReadWhole(pixels);
+    if (!bytes) return std::nullopt;
+    std::optional<RgbImage> image = DecodeFrame(*bytes);
+    if (!image) return std::nullopt;  // another format version or a damaged file
     RenderedFrame out;
     out.frame = frame;
-    out.rgb = ReadPng(png.string());
+    out.rgb = std::move(*image);
     std::ifstream in(json);
     out.ground_truth = GroundTruthFromJson(nlohmann::json::parse(in));
     return out;
@@ -122,16 +243,21 @@ void FrameCache::Store(const RenderedFrame& frame) const {
   std::filesystem::create_directories(dir_, ec);
   if (ec)
     throw RunError(fmt::format("cannot create frame cache {}: {}", dir_.string(), ec.message()));
-  const auto png = dir_ / fmt::format("{:06d}.png", frame.frame);
+  const auto pixels = dir_ / fmt::format("{:06d}.frame", frame.frame);
   const auto json = dir_ / fmt::format("{:06d}.json", frame.frame);
   // Temporary names unique to this process and thread: concurrent runs that
   // render the same scene each write their own and the last rename wins (the
   // contents are identical).
   const std::string unique =
       fmt::format("{}-{}", ::getpid(), std::hash<std::thread::id>{}(std::this_thread::get_id()));
-  const auto png_tmp = dir_ / fmt::format("{:06d}.{}.tmp.png", frame.frame, unique);
+  const auto pixels_tmp = dir_ / fmt::format("{:06d}.{}.frame.tmp", frame.frame, unique);
   const auto json_tmp = dir_ / fmt::format("{:06d}.{}.json.tmp", frame.frame, unique);
-  WritePng(frame.rgb, png_tmp.string());
+  {
+    const std::string bytes = EncodeFrame(frame.rgb);
+    std::ofstream out(pixels_tmp, std::ios::binary);
+    out.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
+    if (!out) throw RunError(fmt::format("cannot write {}", pixels_tmp.string()));
+  }
   {
     std::ofstream out(json_tmp);
     out << GroundTruthToJson(frame.ground_truth).dump();
@@ -139,9 +265,75 @@ void FrameCache::Store(const RenderedFrame& frame) const {
   }
   // The JSON is renamed last: Load() needs both, so a crash in between
   // leaves a miss, never a frame without its ground truth.
-  std::filesystem::rename(png_tmp, png, ec);
+  std::filesystem::rename(pixels_tmp, pixels, ec);
   if (!ec) std::filesystem::rename(json_tmp, json, ec);
   if (ec) throw RunError(fmt::format("cannot store frame in {}: {}", dir_.string(), ec.message()));
+}
+
+struct FrameCacheWriter::State {
+  State(FrameCache c, size_t depth) : cache(std::move(c)), queue_depth(depth) {}
+  FrameCache cache;
+  size_t queue_depth;
+  std::mutex mutex;
+  std::condition_variable changed;
+  std::deque<RenderedFrame> queue;
+  bool busy = false;  // the worker holds a frame outside the queue
+  bool closing = false;
+  std::string error;  // the first store's failure
+  std::thread worker;
+
+  void Run() {
+    std::unique_lock lock(mutex);
+    while (true) {
+      changed.wait(lock, [&] { return closing || !queue.empty(); });
+      if (queue.empty()) return;  // closing and drained
+      RenderedFrame frame = std::move(queue.front());
+      queue.pop_front();
+      busy = true;
+      changed.notify_all();  // room in the queue
+      lock.unlock();
+      std::string failure;
+      try {
+        cache.Store(frame);
+      } catch (const std::exception& e) {
+        failure = e.what();
+      }
+      lock.lock();
+      busy = false;
+      if (!failure.empty() && error.empty()) error = failure;
+      changed.notify_all();
+    }
+  }
+};
+
+FrameCacheWriter::FrameCacheWriter(FrameCache cache, int queue_depth)
+    : state_(std::make_unique<State>(std::move(cache),
+                                     static_cast<size_t>(std::max(1, queue_depth)))) {
+  state_->worker = std::thread([s = state_.get()] { s->Run(); });
+}
+
+FrameCacheWriter::~FrameCacheWriter() {
+  {
+    std::lock_guard lock(state_->mutex);
+    state_->closing = true;
+  }
+  state_->changed.notify_all();
+  if (state_->worker.joinable()) state_->worker.join();
+}
+
+void FrameCacheWriter::Submit(RenderedFrame frame) {
+  std::unique_lock lock(state_->mutex);
+  state_->changed.wait(lock, [&] { return state_->queue.size() < state_->queue_depth; });
+  state_->queue.push_back(std::move(frame));
+  state_->changed.notify_all();
+}
+
+void FrameCacheWriter::Finish() {
+  std::unique_lock lock(state_->mutex);
+  state_->changed.wait(lock, [&] { return state_->queue.empty() && !state_->busy; });
+  if (!state_->error.empty()) {
+    throw RunError(fmt::format("frame cache {}: {}", state_->cache.dir().string(), state_->error));
+  }
 }
 
 }  // namespace hcpf::renderer

@@ -3,6 +3,10 @@
 #include <gtest/gtest.h>
 
 #include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <string>
+#include <vector>
 
 #include "hcpf/core/error.h"
 #include "hcpf/renderer/image_io.h"
@@ -174,6 +178,100 @@ TEST(FrameCache, StoresAndLoadsFramesExactly) {
   EXPECT_EQ(loaded->ground_truth.objects[0].amodal_box, obj.amodal_box);
   EXPECT_EQ(loaded->ground_truth.objects[0].visible_fraction, obj.visible_fraction);
   EXPECT_EQ(loaded->ground_truth.objects[0].pixels_total, 3);
+  std::filesystem::remove_all(root);
+}
+
+RenderedFrame NoisyFrame(int frame, int width, int height, uint64_t seed) {
+  RenderedFrame f;
+  f.frame = frame;
+  f.rgb = Flat(width, height, 0);
+  Rng rng(seed);
+  for (uint8_t& v : f.rgb.pixels) v = static_cast<uint8_t>(rng.UniformInt(256));
+  f.ground_truth.frame = frame;
+  return f;
+}
+
+std::string ReadBytes(const std::filesystem::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  return std::string(std::istreambuf_iterator<char>(in), {});
+}
+void WriteBytes(const std::filesystem::path& path, const std::string& bytes) {
+  std::ofstream(path, std::ios::binary)
+      .write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
+}
+
+// Issue 13 item 2: every byte value at every position survives the left
+// difference and zstd (uniform noise: the filter's wrap-around mod 256 is
+// exercised everywhere); a file of another format version, a truncated or a
+// flipped payload is a miss (re-rendered), never misread; an old PNG-format
+// entry (NNNNNN.png) is not read at all.
+TEST(FrameCache, FormatVersionAndDamageAreMissesNeverMisreads) {
+  const auto root = std::filesystem::temp_directory_path() / "hcpf_frame_cache_format_test";
+  std::filesystem::remove_all(root);
+  const FrameCache cache(root, "abc");
+  const RenderedFrame f = NoisyFrame(2, 37, 11, 5);
+  cache.Store(f);
+  ASSERT_TRUE(cache.Load(2).has_value());
+  EXPECT_EQ(cache.Load(2)->rgb, f.rgb);
+  const auto path = cache.dir() / "000002.frame";
+  const std::string good = ReadBytes(path);
+  ASSERT_EQ(good.compare(0, 8, "HCPFRAME"), 0);
+  EXPECT_EQ(static_cast<unsigned char>(good[8]), FrameCache::kFormatVersion);
+
+  std::string other_version = good;
+  other_version[8] = static_cast<char>(FrameCache::kFormatVersion + 1);
+  WriteBytes(path, other_version);
+  EXPECT_FALSE(cache.Load(2).has_value());
+
+  WriteBytes(path, good.substr(0, good.size() - 5));  // truncated
+  EXPECT_FALSE(cache.Load(2).has_value());
+
+  // One flipped bit in the payload (uniform noise is stored as raw blocks, so
+  // the stream still parses): zstd's content checksum makes it a miss.
+  for (size_t at : {good.size() / 2, good.size() - 6}) {
+    std::string flipped = good;
+    flipped[at] = static_cast<char>(flipped[at] ^ 0x01);
+    WriteBytes(path, flipped);
+    EXPECT_FALSE(cache.Load(2).has_value()) << "byte " << at << " of " << good.size();
+  }
+
+  WriteBytes(path, good);
+  EXPECT_EQ(cache.Load(2)->rgb, f.rgb);
+
+  // The previous format (PNG + JSON): not this format, so a miss.
+  std::filesystem::rename(path, cache.dir() / "000002.png");
+  EXPECT_FALSE(cache.Load(2).has_value());
+  std::filesystem::remove_all(root);
+}
+
+// The writer stores exactly what Store would, for every frame submitted, and
+// Finish reports a store's failure instead of losing it.
+TEST(FrameCache, WriterStoresEverySubmittedFrameAndReportsFailures) {
+  const auto root = std::filesystem::temp_directory_path() / "hcpf_frame_cache_writer_test";
+  std::filesystem::remove_all(root);
+  const FrameCache cache(root, "abc");
+  std::vector<RenderedFrame> frames;
+  for (int i = 0; i < 12; ++i) frames.push_back(NoisyFrame(i, 16, 9, 100 + i));
+  {
+    FrameCacheWriter writer(cache, 2);
+    for (const RenderedFrame& f : frames) writer.Submit(f);
+    writer.Finish();
+  }
+  for (const RenderedFrame& f : frames) {
+    const auto loaded = cache.Load(f.frame);
+    ASSERT_TRUE(loaded.has_value()) << f.frame;
+    EXPECT_EQ(loaded->rgb, f.rgb) << f.frame;
+  }
+  // The same bytes as a synchronous Store.
+  const FrameCache direct(root, "direct");
+  direct.Store(frames[7]);
+  EXPECT_EQ(ReadBytes(cache.dir() / "000007.frame"), ReadBytes(direct.dir() / "000007.frame"));
+
+  // A cache whose directory cannot be created (a file is in the way).
+  WriteBytes(root / "blocked", "x");
+  FrameCacheWriter blocked(FrameCache(root / "blocked", "abc"));
+  blocked.Submit(frames[0]);
+  EXPECT_THROW(blocked.Finish(), RunError);
   std::filesystem::remove_all(root);
 }
 

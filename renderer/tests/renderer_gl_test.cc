@@ -526,7 +526,7 @@ TEST_F(RendererGl, FrameCacheGivesBackTheRenderedFrame) {
   cache.Store(f);
   const auto loaded = cache.Load(3);
   ASSERT_TRUE(loaded.has_value());
-  EXPECT_EQ(loaded->rgb, f.rgb);  // PNG is lossless
+  EXPECT_EQ(loaded->rgb, f.rgb);  // the .frame format is lossless
   ASSERT_EQ(loaded->ground_truth.objects.size(), f.ground_truth.objects.size());
   for (size_t i = 0; i < f.ground_truth.objects.size(); ++i) {
     EXPECT_EQ(loaded->ground_truth.objects[i].amodal_box, f.ground_truth.objects[i].amodal_box);

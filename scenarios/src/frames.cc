@@ -56,6 +56,8 @@ SceneFrames ProduceFrames(const Scenario& scenario, const FrameSourceOptions& op
     cache = std::make_unique<renderer::FrameCache>(
         options.cache_dir, renderer::PixelHash(scenario.world, ropts, scenario.seeds.renderer));
   }
+  // Misses are stored on a worker thread while the next frame renders.
+  std::unique_ptr<renderer::FrameCacheWriter> cache_writer;
   std::unique_ptr<renderer::SceneRenderer> scene;  // created on the first cache miss
   Progress progress("render", frames, options.show_progress);
   for (int f = 0; f < frames; ++f) {
@@ -71,7 +73,10 @@ SceneFrames ProduceFrames(const Scenario& scenario, const FrameSourceOptions& op
       }
       frame = scene->Render(f);
       ++out.frames_rendered;
-      if (cache) cache->Store(*frame);
+      if (cache) {
+        if (!cache_writer) cache_writer = std::make_unique<renderer::FrameCacheWriter>(*cache);
+        cache_writer->Submit(*frame);  // a copy: the frame is used below
+      }
     }
     if (options.on_frame) options.on_frame(*frame);
     out.truth.push_back(options.analytic_truth ? ComputeGroundTruth(scenario.world, f)
@@ -79,6 +84,7 @@ SceneFrames ProduceFrames(const Scenario& scenario, const FrameSourceOptions& op
     if (options.keep_images) out.images.push_back(std::move(frame->rgb));
     progress.Advance();
   }
+  if (cache_writer) cache_writer->Finish();
   progress.Finish();
   if (out.frames_from_cache > 0) {
     spdlog::info("{} of {} frames read from the frame cache {}", out.frames_from_cache, frames,

@@ -1,0 +1,8 @@
+# Frame cache: encoding and decoding one rendered frame in the cache's format
+# against PNG (issue 13 item 2), on a frame rendered by the renderer.
+if(TARGET hcpf::renderer)
+  hcpf_add_bench(frame_cache_bench
+    SOURCES ${CMAKE_CURRENT_LIST_DIR}/frame_cache_bench.cc
+    DEPS hcpf::renderer)
+  target_compile_definitions(frame_cache_bench PRIVATE HCPF_SOURCE_DIR="${PROJECT_SOURCE_DIR}")
+endif()

@@ -1,9 +1,10 @@
-# Renderer benchmarks: frames per second of a 640x480 scene with shadows, and
+# Renderer benchmarks: frames per second of a 640x480 scene with shadows, the
+# realistic issue-13 scene end to end, the sensor effects alone, and
 # the cost of the ground-truth passes. Run with LP_NUM_THREADS=1 for the
 # one-core figure (the program also sets it when unset).
 if(TARGET hcpf::renderer)
   hcpf_add_bench(renderer_bench
     SOURCES ${CMAKE_CURRENT_LIST_DIR}/renderer_bench.cc
-    DEPS hcpf::renderer)
+    DEPS hcpf::renderer fmt::fmt)
   target_compile_definitions(renderer_bench PRIVATE HCPF_SOURCE_DIR="${PROJECT_SOURCE_DIR}")
 endif()

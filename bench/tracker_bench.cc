@@ -10,10 +10,10 @@
 #include <cmath>
 #include <vector>
 
+#include "hcpf/core/normal.h"
 #include "hcpf/core/rng.h"
 #include "hcpf/tracker/dynamics.h"
 #include "hcpf/tracker/likelihood.h"
-#include "hcpf/tracker/normal.h"
 #include "hcpf/tracker/particle_set.h"
 #include "hcpf/tracker/resampler.h"
 #include "hcpf/tracker/scene_motion.h"

@@ -26,8 +26,9 @@ namespace {
 // Bump when shading, geometry or ground-truth rules change, so old caches
 // are not reused.
 // 2: shader variants, border-lit shadow map; 3: ground truth records in the
-// gt.json frame encoding (core/ground_truth_json.h).
-constexpr int kRendererVersion = 3;
+// gt.json frame encoding (core/ground_truth_json.h); 4: sensor noise from the
+// ziggurat generator (core/normal.h) instead of Box-Muller.
+constexpr int kRendererVersion = 4;
 
 std::string FileDigest(const std::string& path) {
   std::ifstream in(path, std::ios::binary);

@@ -2,10 +2,13 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
+#include <cstdint>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "hcpf/core/error.h"
@@ -58,28 +61,156 @@ RgbImage Flat(int w, int h, uint8_t v) {
   return img;
 }
 
-TEST(SensorEffects, NoiseHasTheRequestedSigmaAndIsSeeded) {
+// Per-channel sample mean and variance of (value - level) over an image.
+struct ChannelMoments {
+  double mean[3] = {};
+  double variance[3] = {};  // unbiased (n - 1)
+};
+
+ChannelMoments MomentsAround(const RgbImage& image, double level) {
+  ChannelMoments m;
+  const double n = static_cast<double>(image.width) * image.height;
+  for (int c = 0; c < 3; ++c) {
+    double sum = 0.0;
+    for (size_t i = c; i < image.pixels.size(); i += 3) sum += image.pixels[i] - level;
+    const double mean = sum / n;
+    double ss = 0.0;
+    for (size_t i = c; i < image.pixels.size(); i += 3) {
+      const double d = image.pixels[i] - level - mean;
+      ss += d * d;
+    }
+    m.mean[c] = mean;
+    m.variance[c] = ss / (n - 1.0);
+  }
+  return m;
+}
+
+TEST(SensorEffects, NoiseHasZeroMeanAndTheRequestedVariancePerChannel) {
+  // Mid-grey 128 with sigma 5: clipping needs a 25-sigma draw, so the output
+  // is round(128 + 5 z). Rounding a continuous variable whose density is
+  // smooth on the scale of one grey level adds independent uniform error on
+  // [-1/2, 1/2] (Sheppard's correction): expected variance 25 + 1/12, mean 0.
+  //
+  // Tolerances, n = 400 * 300 = 120,000 values per channel, 5 standard errors:
+  //  - mean: SE = sqrt(25 + 1/12) / sqrt(n) = 5.008 / 346.4 = 0.0145 -> 0.072;
+  //  - variance: for normal data SE(s^2) = sigma^2 sqrt(2 / (n - 1)) =
+  //    25.08 * 0.00408 = 0.102 -> 0.51. (The rounded values' excess kurtosis
+  //    is -(1/120) / 25.08^2 ~ -1e-5: the normal formula holds.)
+  // A wrong scale (sigma 4.9 or 5.1 gives variance 24.1 or 26.1) or a
+  // missing channel fails by several times the tolerance.
   SensorOptions s;
   s.noise_sigma = 5.0;
-  RgbImage a = Flat(200, 100, 128);
-  RgbImage b = Flat(200, 100, 128);
-  RgbImage c = Flat(200, 100, 128);
-  ApplySensorEffects(s, Rng(1), a);
-  ApplySensorEffects(s, Rng(1), b);
-  ApplySensorEffects(s, Rng(2), c);
-  EXPECT_EQ(a, b);
-  EXPECT_NE(a, c);
-  double sum = 0.0, sum2 = 0.0;
-  for (uint8_t v : a.pixels) {
-    sum += v - 128.0;
-    sum2 += (v - 128.0) * (v - 128.0);
+  for (const uint64_t seed : {uint64_t{1}, uint64_t{2}}) {
+    RgbImage a = Flat(400, 300, 128);
+    ApplySensorEffects(s, Rng(seed).Fork("renderer/sensor", 0), a);
+    const ChannelMoments m = MomentsAround(a, 128.0);
+    for (int c = 0; c < 3; ++c) {
+      EXPECT_NEAR(m.mean[c], 0.0, 0.072) << "seed " << seed << " channel " << c;
+      EXPECT_NEAR(m.variance[c], 25.0 + 1.0 / 12.0, 0.51) << "seed " << seed << " channel " << c;
+    }
   }
-  const double n = static_cast<double>(a.pixels.size());  // 60000 samples
-  // Rounding adds variance 1/12: expected sd = sqrt(25 + 1/12) = 5.008.
-  // The sample sd of 60000 normals has std. error sd/sqrt(2n) = 0.0145; the
-  // mean has std. error 5/sqrt(n) = 0.020. Tolerances are about 5 std. errors.
-  EXPECT_NEAR(sum / n, 0.0, 0.1);
-  EXPECT_NEAR(std::sqrt(sum2 / n), 5.008, 0.075);
+}
+
+TEST(SensorEffects, NoiseOfNeighboursIsUncorrelated) {
+  // Every byte gets its own draw: the correlation of horizontally adjacent
+  // values of one channel, and of two channels of one pixel, is 0. For
+  // independent values the sample correlation of n pairs has SE 1/sqrt(n);
+  // n ~ 120,000 -> 0.0029, tolerance 5 SE = 0.0145.
+  SensorOptions s;
+  s.noise_sigma = 5.0;
+  RgbImage a = Flat(400, 300, 128);
+  ApplySensorEffects(s, Rng(3).Fork("renderer/sensor", 0), a);
+  const auto correlation = [&](auto first, auto second) {
+    double sxy = 0.0, sxx = 0.0, syy = 0.0;
+    int64_t n = 0;
+    for (int y = 0; y < a.height; ++y) {
+      for (int x = 0; x + 1 < a.width; ++x) {
+        const double u = first(x, y) - 128.0;
+        const double v = second(x, y) - 128.0;
+        sxy += u * v;
+        sxx += u * u;
+        syy += v * v;
+        ++n;
+      }
+    }
+    return sxy / std::sqrt(sxx * syy);
+  };
+  EXPECT_NEAR(correlation([&](int x, int y) { return a.at(x, y)[0]; },
+                          [&](int x, int y) { return a.at(x + 1, y)[0]; }),
+              0.0, 0.0145);
+  EXPECT_NEAR(correlation([&](int x, int y) { return a.at(x, y)[0]; },
+                          [&](int x, int y) { return a.at(x, y)[1]; }),
+              0.0, 0.0145);
+}
+
+TEST(SensorEffects, NoiseClipsAtBlackAndWhiteWithoutWrapping) {
+  // At level L the output is clamp(round(L + sigma z), 0, 255), so
+  //   P(0)   = P(L + sigma z < 0.5)    = Phi((0.5 - L) / sigma),
+  //   P(255) = P(L + sigma z >= 254.5) = 1 - Phi((254.5 - L) / sigma).
+  // A value that wrapped (e.g. -1 -> 255) would move mass between the two.
+  // Tolerance: 5 binomial standard errors sqrt(p (1 - p) / n), n = 3 * 200 * 150.
+  const auto phi = [](double t) { return 0.5 * std::erfc(-t / std::sqrt(2.0)); };
+  struct Case {
+    uint8_t level;
+    double sigma;
+  };
+  for (const Case c : {Case{0, 5.0}, Case{255, 5.0}, Case{250, 100.0}, Case{3, 100.0}}) {
+    SensorOptions s;
+    s.noise_sigma = c.sigma;
+    RgbImage a = Flat(200, 150, c.level);
+    ApplySensorEffects(s, Rng(4).Fork("renderer/sensor", 0), a);
+    const double n = static_cast<double>(a.pixels.size());
+    double zeros = 0.0, whites = 0.0;
+    for (const uint8_t v : a.pixels) {
+      zeros += v == 0 ? 1.0 : 0.0;
+      whites += v == 255 ? 1.0 : 0.0;
+    }
+    const double p0 = phi((0.5 - c.level) / c.sigma);
+    const double p255 = 1.0 - phi((254.5 - c.level) / c.sigma);
+    EXPECT_NEAR(zeros / n, p0, 5.0 * std::sqrt(p0 * (1.0 - p0) / n) + 1e-12)
+        << "level " << int{c.level} << " sigma " << c.sigma;
+    EXPECT_NEAR(whites / n, p255, 5.0 * std::sqrt(p255 * (1.0 - p255) / n) + 1e-12)
+        << "level " << int{c.level} << " sigma " << c.sigma;
+  }
+}
+
+TEST(SensorEffects, NoiseRoundsToTheNearestLevel) {
+  // With sigma 0.1 at level 100 a draw leaves the level only beyond |z| = 5
+  // (probability 5.7e-7 per value, so ~0.07 of the 120,000 values): the
+  // output is the level itself, not one below (truncation) or above.
+  SensorOptions s;
+  s.noise_sigma = 0.1;
+  RgbImage a = Flat(200, 200, 100);
+  ApplySensorEffects(s, Rng(5).Fork("renderer/sensor", 0), a);
+  int64_t off = 0;
+  for (const uint8_t v : a.pixels) off += v != 100 ? 1 : 0;
+  EXPECT_LE(off, 3);  // Poisson(0.07): P(> 3) < 1e-6
+}
+
+TEST(SensorEffects, SameStreamGivesTheSameBytesAndAnotherFrameOther) {
+  // The renderer forks rng.Fork("renderer/sensor", frame) per frame: the same
+  // fork gives byte-identical noise (on images of every size, including
+  // ones that are not a whole number of noise blocks or vector chunks), and
+  // the next frame's fork different noise.
+  SensorOptions s;
+  s.noise_sigma = 3.0;
+  s.blur_px = 0.7;
+  s.jpeg_quality = 85;
+  const Rng root(42);
+  for (const auto& [w, h] : {std::pair{200, 100}, std::pair{37, 11}, std::pair{1, 1}}) {
+    RgbImage a = Flat(w, h, 128);
+    RgbImage b = Flat(w, h, 128);
+    RgbImage c = Flat(w, h, 128);
+    for (int i = 0; i < w * h * 3; ++i) a.pixels[i] = b.pixels[i] = c.pixels[i] = (i * 37) % 251;
+    ApplySensorEffects(s, root.Fork("renderer/sensor", 7), a);
+    ApplySensorEffects(s, root.Fork("renderer/sensor", 7), b);
+    ApplySensorEffects(s, root.Fork("renderer/sensor", 8), c);
+    EXPECT_EQ(a, b) << w << "x" << h;
+    if (w * h > 1) {
+      // (not for one pixel: its three values after JPEG may well coincide)
+      EXPECT_NE(a, c) << w << "x" << h;
+    }
+  }
 }
 
 TEST(SensorEffects, ExposureScalesAndSaturates) {

@@ -6,7 +6,7 @@
 
 #include "fast_math.h"
 #include "hcpf/core/check.h"
-#include "hcpf/tracker/normal.h"
+#include "hcpf/core/normal.h"
 
 namespace hcpf::tracker {
 namespace {

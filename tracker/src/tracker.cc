@@ -9,9 +9,9 @@
 #include <thread>
 
 #include "hcpf/core/check.h"
+#include "hcpf/core/normal.h"
 #include "hcpf/core/parallel.h"
 #include "hcpf/tracker/hungarian.h"
-#include "hcpf/tracker/normal.h"
 
 namespace hcpf::tracker {
 

@@ -11,13 +11,17 @@
 // Deterministic: the same Rng state gives the same numbers on every platform
 // that computes the layer tables the same way (IEEE double, glibc libm).
 // Rng::Normal() (Box–Muller) remains the project's reference generator; the
-// tracker uses this one because the Gaussian draws dominate a filter step.
+// tracker (particle noise) and the renderer (sensor noise) use this one,
+// because the Gaussian draws dominate their loops.
+//
+// Thread-safety: the layer tables are built once at static initialisation and
+// only read afterwards; each call touches only the Rng it is given.
 
 #include <span>
 
 #include "hcpf/core/rng.h"
 
-namespace hcpf::tracker {
+namespace hcpf {
 
 // One N(0, 1) variate.
 double ZigguratNormal(Rng& rng);
@@ -26,4 +30,4 @@ double ZigguratNormal(Rng& rng);
 // ZigguratNormal out.size() times in order.
 void FillStandardNormal(Rng& rng, std::span<double> out);
 
-}  // namespace hcpf::tracker
+}  // namespace hcpf

@@ -1,4 +1,4 @@
-#include "hcpf/tracker/normal.h"
+#include "hcpf/core/normal.h"
 
 #include <algorithm>
 #include <array>
@@ -6,7 +6,7 @@
 #include <cmath>
 #include <cstdint>
 
-namespace hcpf::tracker {
+namespace hcpf {
 namespace {
 
 // Marsaglia & Tsang (2000), 256 layers of equal area v under f(x) = exp(-x^2/2)
@@ -148,4 +148,4 @@ void FillStandardNormal(Rng& rng, std::span<double> out) {
   rng = local;
 }
 
-}  // namespace hcpf::tracker
+}  // namespace hcpf

@@ -328,8 +328,11 @@ std::string PlotSvg(const Layout& layout, const std::string& metric, const std::
                                : entry != nullptr && entry->range.proportion
                                    ? "mean over seeds, 95% Wilson CI"
                                    : "mean over seeds, 95% t CI";
+  // A difference's label names the metric by its short name: the long one
+  // and the explanation do not fit beside a 440 px plot.
   gp += fmt::format("set ylabel {} noenhanced\n",
-                    GpString((difference ? "difference in " : "") + described + "; " + interval));
+                    GpString(difference ? fmt::format("difference in {}; {}", metric, interval)
+                                        : described + "; " + interval));
   size_t longest_label = 0;
   for (const std::string& l : lines) longest_label = std::max(longest_label, l.size());
   // Long line labels go below the plot so they do not squeeze it.
@@ -357,7 +360,9 @@ std::string PlotSvg(const Layout& layout, const std::string& metric, const std::
         fmt::format("{} index {} using 1:2 with linespoints lw 2 pt 7 ps 0.6 lc rgb '{}' title {}",
                     GpString(data.string()), l, colour, GpString(lines[l])));
   }
-  if (difference && !plots.empty()) plots.push_back("0 with lines lc rgb '#444444' dt 2 notitle");
+  if (difference && !plots.empty()) {
+    plots.push_back("0 with lines lw 1.5 lc rgb '#222222' dt 2 title 'no difference'");
+  }
   if (plots.empty()) {
     gp += "set label 1 'no finished runs' at graph 0.5, 0.5 center\nplot [0:1] [0:1] NaN notitle\n";
   } else {
@@ -650,11 +655,12 @@ std::string ReportHtml(const fs::path& dir, const std::string& link_prefix, cons
       "<h1>Sweep report</h1>\n<p>Sweep <code>{}</code> (hash <code>{}</code>): {} of {} runs "
       "in the store, {} ok, {} failed. Lines: mean over seeds; bands: 95&nbsp;% confidence "
       "interval of that mean over the n seeds of the cell. Proportions (a fraction of counted "
-      "events per run: {}) get the Wilson score interval of the mean as a proportion over n "
-      "seeds (conservative when runs are fractions, exact when each run is 0 or 1; a band even "
-      "at 0 or 1); the other metrics mean &plusmn; t<sub>0.975,&nbsp;n&minus;1</sub>&middot;s/"
-      "&radic;n (none when n&nbsp;&lt;&nbsp;2), cut at the metric's bound where it reaches "
-      "past it (MOTA &le; 1, [0,&nbsp;1] for IDF1, HOTA, &hellip;, &ge;&nbsp;0 for times and "
+      "events per run: {}) get the Wilson score interval of the mean for the effective number "
+      "of trials of the seeds' spread (Korn &amp; Graubard; the binomial over the n seeds when "
+      "they all agree, so a band even at 0 or 1); the other metrics mean &plusmn; "
+      "t<sub>0.975,&nbsp;n&minus;1</sub>&middot;s/&radic;n (none when n&nbsp;&lt;&nbsp;2), cut "
+      "at the metric's bound where it reaches past it (MOTA &le; 1, [0,&nbsp;1] for IDF1, HOTA, "
+      "&hellip;, &ge;&nbsp;0 for times and "
       "distances; marked &dagger; in the tables). docs/sweeps.md states the formulas.</p>\n",
       EscapeMarkup(meta.sweep_file), EscapeMarkup(meta.sweep_hash), runs.size(), meta.run_count,
       ok_runs, failed_runs > 0 ? fmt::format("<span class=\"failed\">{}</span>", failed_runs) : "0",

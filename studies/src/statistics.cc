@@ -76,8 +76,8 @@ Interval StudentInterval95(std::span<const double> values, const MetricRange& ra
   return r;
 }
 
-Interval WilsonInterval95(double p_hat, int n) {
-  HCPF_CHECK(n >= 1 && p_hat >= 0.0 && p_hat <= 1.0) << "p_hat=" << p_hat << " n=" << n;
+Interval WilsonInterval95(double p_hat, double n) {
+  HCPF_CHECK(n > 0.0 && p_hat >= 0.0 && p_hat <= 1.0) << "p_hat=" << p_hat << " n=" << n;
   const double z2 = kZ975 * kZ975;
   const double nn = n;
   const double denominator = 1.0 + z2 / nn;
@@ -85,7 +85,8 @@ Interval WilsonInterval95(double p_hat, int n) {
   const double half =
       kZ975 / denominator * std::sqrt(p_hat * (1.0 - p_hat) / nn + z2 / (4.0 * nn * nn));
   Interval r;
-  r.n = n;
+  r.n = static_cast<int>(std::lround(n));
+  r.trials = n;
   r.mean = p_hat;
   // The bounds are inside [0, 1] in exact arithmetic; rounding can put them
   // an ulp outside at p̂ = 0 or 1, which is not a clip.
@@ -104,7 +105,21 @@ Interval MeanInterval95(std::span<const double> values, const MetricRange& range
   for (double x : v) {
     if (x < 0.0 || x > 1.0) return StudentInterval95(v, range);
   }
-  return WilsonInterval95(std::clamp(Mean(v), 0.0, 1.0), static_cast<int>(v.size()));
+  const int n = static_cast<int>(v.size());
+  const double p = std::clamp(Mean(v), 0.0, 1.0);
+  double trials = n;
+  if (n >= 2) {
+    double ss = 0.0;
+    for (double x : v) ss += (x - p) * (x - p);
+    const double s2 = ss / (n - 1);
+    if (s2 > 0.0) {
+      const double df_factor = kZ975 / StudentT975(n - 1);
+      trials = n * p * (1.0 - p) / s2 * df_factor * df_factor;
+    }
+  }
+  Interval r = WilsonInterval95(p, trials);
+  r.n = n;
+  return r;
 }
 
 SignedRankTest WilcoxonSignedRank(std::span<const double> differences) {

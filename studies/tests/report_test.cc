@@ -543,9 +543,10 @@ fs::path HandStore(const std::string& name) {
   return dir;
 }
 
-// Bands of a 0/1 metric stay inside [0, 1]: Wilson over the 10 seeds, by
-// hand (statistics_test.cc): 0 of 10 → [0, 0.277533], 10 of 10 →
-// [0.722467, 1], 5 of 10 → [0.236593, 0.763407]. MOTA's t band at
+// Bands of a 0/1 metric stay inside [0, 1]: Wilson, by hand
+// (statistics_test.cc): 0 of 10 and 10 of 10 have no spread, n* = 10:
+// [0, 0.277533] and [0.722467, 1]; 5 of 10 has n* = 6.756993:
+// [0.198979, 0.801021]. MOTA's t band at
 // (1000, charged), mean 0.95, s = 0.5/√10 = 0.158114, half-width 2.262 ·
 // 0.158114 / √10 = 0.113100, is cut at 1.
 TEST(Report, BandsOfAZeroOneMetricAreWilsonInsideTheUnitInterval) {
@@ -569,8 +570,8 @@ TEST(Report, BandsOfAZeroOneMetricAreWilsonInsideTheUnitInterval) {
   EXPECT_NEAR(sys[0][2], 0.722467, 1e-6);
   EXPECT_NEAR(sys[0][3], 1.0, 1e-6);
   EXPECT_NEAR(sys[1][1], 0.5, 1e-9);
-  EXPECT_NEAR(sys[1][2], 0.236593, 1e-6);
-  EXPECT_NEAR(sys[1][3], 0.763407, 1e-6);
+  EXPECT_NEAR(sys[1][2], 0.198979, 1e-6);
+  EXPECT_NEAR(sys[1][3], 0.801021, 1e-6);
   for (const auto& row : hijack.at("charged")) {
     EXPECT_EQ(row[1], 0.0);
     EXPECT_EQ(row[2], 0.0);
@@ -582,13 +583,13 @@ TEST(Report, BandsOfAZeroOneMetricAreWilsonInsideTheUnitInterval) {
   EXPECT_EQ(mota.at("charged")[1][3], 1.0);
   const std::string html = Read(r.html_path);
   EXPECT_NE(html.find("0.95 [0.8369, 1]&dagger;"), std::string::npos) << "cut, and marked";
-  EXPECT_NE(html.find("0.5 [0.2366, 0.7634]&nbsp;W"), std::string::npos) << "Wilson, marked";
+  EXPECT_NE(html.find("0.5 [0.199, 0.801]&nbsp;W"), std::string::npos) << "Wilson, marked";
   EXPECT_NE(html.find("95% Wilson CI"), std::string::npos) << "the hijack plot's axis says so";
   // summary.csv: mean, lo95, hi95, n.
   const std::string csv = Read(r.csv_path);
   EXPECT_NE(csv.find("hijack_rate_mean,hijack_rate_lo95,hijack_rate_hi95,hijack_rate_n"),
             std::string::npos);
-  EXPECT_NE(csv.find(",0.5,0.236593,0.763407,10,"), std::string::npos) << csv;
+  EXPECT_NE(csv.find(",0.5,0.198979,0.801021,10,"), std::string::npos) << csv;
 }
 
 // Paired differences, charged − systematic (the sweep's report.reference),

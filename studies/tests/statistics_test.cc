@@ -99,29 +99,49 @@ TEST(WilsonInterval95, MatchesNewcombe1998) {
   }
 }
 
-TEST(MeanInterval95, ProportionsGetWilsonOverTheSeeds) {
-  // Ten runs that each hijacked nothing: Wilson over n = 10 seeds, [0, 0.2775],
+// Proportions: Wilson with the effective number of trials
+// n* = n · p̂(1 − p̂) / s² · (z / t(0.975, n−1))², or n when s² = 0.
+TEST(MeanInterval95, ProportionsGetWilsonWithTheEffectiveNumberOfTrials) {
+  // Ten runs that each hijacked nothing: s² = 0, n* = 10: [0, 0.2775],
   // where a t interval would have width 0.
   const std::vector<double> zeros(10, 0.0);
   const Interval w = MeanInterval95(zeros, MetricRange::Proportion());
   EXPECT_EQ(w.method, IntervalMethod::kWilson);
   EXPECT_EQ(w.n, 10);
+  EXPECT_EQ(w.trials, 10.0);
   EXPECT_NEAR(w.upper, 0.277533, 1e-6);
   EXPECT_EQ(StudentInterval95(zeros).upper, 0.0);
-  // Five of ten runs hijacked (0/1 each): [0.2366, 0.7634].
+  // Five of ten runs hijacked (0/1 each; the NaN is left out): s² = 2.5/9,
+  // n·p̂(1−p̂)/s² = 2.5 / (2.5/9) = 9, (z/t(9))² = (1.959964/2.262)² =
+  // 0.7507770, n* = 6.756993; centre 0.5, z²/n* = 0.5685160, half-width
+  // 1.959964 / 1.5685160 · √(0.25/6.756993 + 3.841459/(4 · 6.756993²)) =
+  // 1.2495658 · √(0.0369987 + 0.0210344) = 0.3010211.
   const std::vector<double> five = {1, 0, 1, 0, 1, 0, 1, 0, 1, std::nan(""), 0};
   const Interval f = MeanInterval95(five, MetricRange::Proportion());
   EXPECT_EQ(f.n, 10);
-  EXPECT_NEAR(f.lower, 0.236593, 1e-6);
-  EXPECT_NEAR(f.upper, 0.763407, 1e-6);
-  // Fractions: the mean 0.3 of {0.2, 0.4} as a proportion over 2 seeds:
-  // z²/n = 1.9207294, centre (0.3 + 0.9603647) / 2.9207294 = 0.4315240,
-  // half-width 1.9599640 / 2.9207294 · √(0.105 + 0.2400912) = 0.3942064.
+  EXPECT_NEAR(f.trials, 6.756993, 1e-6);
+  EXPECT_NEAR(f.lower, 0.5 - 0.3010211, 1e-6);
+  EXPECT_NEAR(f.upper, 0.5 + 0.3010211, 1e-6);
+  // Two seeds, {0.2, 0.4}: p̂ = 0.3, s² = 0.02, n·p̂(1−p̂)/s² = 21, (z/t(1))²
+  // = (1.959964/12.706)² = 0.0237940, n* = 0.4996867: z²/n* = 7.687735,
+  // centre (0.3 + 3.843869) / 8.687737 = 0.4769790, half-width 1.959964 /
+  // 8.687737 · √(0.21/0.4996867 + 3.841459/(4 · 0.4996867²)) = 0.4659931.
   const std::vector<double> fr = {0.2, 0.4};
   const Interval rf = MeanInterval95(fr, MetricRange::Proportion());
   EXPECT_NEAR(rf.mean, 0.3, 1e-12);
-  EXPECT_NEAR(rf.lower, 0.4315240 - 0.3942064, 1e-6);
-  EXPECT_NEAR(rf.upper, 0.4315240 + 0.3942064, 1e-6);
+  EXPECT_NEAR(rf.trials, 0.4996867, 1e-6);
+  EXPECT_NEAR(rf.lower, 0.4769790 - 0.4659931, 1e-6);
+  EXPECT_NEAR(rf.upper, 0.4769790 + 0.4659931, 1e-6);
+  // Fractions with a small spread (a DA accuracy): {0.96, 0.98, 0.97, 0.99,
+  // 0.95}: p̂ = 0.97, s² = 0.00025, n* = 5 · 0.0291 / 0.00025 · (1.959964 /
+  // 2.776)² = 290.12: [0.943413, 0.984303] — about the t interval's width
+  // (0.950371 … 0.989629: 0.0393 against 0.0409), not the width of a
+  // binomial over 5 seeds, and skewed away from the bound at 1.
+  const std::vector<double> da = {0.96, 0.98, 0.97, 0.99, 0.95};
+  const Interval rd = MeanInterval95(da, MetricRange::Proportion());
+  EXPECT_NEAR(rd.trials, 290.12, 0.01);
+  EXPECT_NEAR(rd.lower, 0.943413, 1e-6);
+  EXPECT_NEAR(rd.upper, 0.984303, 1e-6);
   // Not a proportion: the t interval.
   EXPECT_EQ(MeanInterval95(fr, MetricRange::UnitInterval()).method, IntervalMethod::kStudentT);
 }

@@ -47,6 +47,9 @@ enum class IntervalMethod {
 // interval is the mean itself (or NaN when n == 0).
 struct Interval {
   int n = 0;  // finite values used
+  // kWilson: the number of trials n* the interval is computed for (see
+  // MeanInterval95); 0 otherwise.
+  double trials = 0.0;
   double mean = std::numeric_limits<double>::quiet_NaN();
   double lower = std::numeric_limits<double>::quiet_NaN();
   double upper = std::numeric_limits<double>::quiet_NaN();
@@ -69,16 +72,25 @@ Interval StudentInterval95(std::span<const double> values,
 
 // Wilson score interval (Wilson 1927) at 95 % for a proportion p̂ over n
 // trials: (p̂ + z²/2n ± z·√(p̂(1−p̂)/n + z²/4n²)) / (1 + z²/n). Always inside
-// [0, 1]. Preconditions: 0 <= p_hat <= 1, n >= 1.
-Interval WilsonInterval95(double p_hat, int n);
+// [0, 1]. n need not be an integer (an effective number of trials).
+// Preconditions: 0 <= p_hat <= 1, n > 0. The result's n is round(n).
+Interval WilsonInterval95(double p_hat, double n);
 
-// The cell statistic of a metric with `range`: a proportion's mean over its
-// n seeds gets WilsonInterval95(mean, n) — n is the number of seeds (runs),
-// not of events: a per-run fraction X in [0, 1] with mean p has
-// Var X <= E[X] − p² = p(1 − p) (X² <= X), with equality when every run is
-// 0 or 1, so the binomial model over n seeds is the largest variance the
-// mean can have (conservative when runs are fractions, exact for 0/1 runs)
-// and gives a band at p̂ = 0 or 1, where a t interval has width 0.
+// The cell statistic of a metric with `range`. A proportion's mean p̂ over
+// its n seeds gets WilsonInterval95(p̂, n*) with the effective number of
+// trials of Korn & Graubard (1998), as recommended for clustered binary data
+// by Dean & Pagano (2015): the seeds are the clusters (a run's events are not
+// independent), so
+//   n* = n · p̂(1 − p̂) / s² · (z / t(0.975, n−1))²   when s² > 0,
+//   n* = n                                           when s² = 0 (or n = 1),
+// s² the sample variance of the seeds' values. n·p̂(1−p̂)/s² is the n whose
+// binomial variance p̂(1−p̂)/n equals the observed s²/n; the (z/t)² factor
+// accounts for s² being estimated from n − 1 degrees of freedom, so in the
+// interior the band is about as wide as the t interval. For values in
+// [0, 1], s² <= n/(n−1) · p̂(1−p̂) (X² <= X), with equality when every run is
+// 0 or 1: n* >= (n − 1)(z/t)². With no spread (every seed 0, every seed 1)
+// the binomial model over the n seeds is assumed, so p̂ = 0 over 10 seeds
+// gives [0, 0.2775] where a t interval has width 0.
 // Other metrics, and a proportion with a value outside [0, 1], get
 // StudentInterval95 cut to their range.
 Interval MeanInterval95(std::span<const double> values, const MetricRange& range);

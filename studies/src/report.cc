@@ -558,8 +558,10 @@ std::string PairedHtml(const Paired& paired, const StoreMeta& meta, const Layout
       "value); <b>+/&minus;/=</b>: pairs where the value is above, below and equal to the "
       "reference's; <b>p</b>: two-sided Wilcoxon signed-rank test on the nonzero differences "
       "(exact up to {3} of them, normal approximation above; with 5 or fewer nonzero "
-      "differences p cannot fall below 0.05). Green: p&nbsp;&lt;&nbsp;0.05 and better than "
-      "the reference in the metric's direction; red: p&nbsp;&lt;&nbsp;0.05 and worse.</p>\n",
+      "differences p cannot fall below 0.05). Green: better than the reference in the metric's "
+      "direction with p&nbsp;&lt;&nbsp;0.05 and an interval that excludes 0; red: worse, "
+      "likewise; the test and the interval can disagree (the test uses ranks, the interval the "
+      "values), and a cell is coloured only when both say so.</p>\n",
       EscapeMarkup(meta.report.series), EscapeMarkup(paired.reference),
       meta.report.reference.empty() ? ", else the first series value" : "",
       kExactSignedRankMaxPairs);
@@ -583,7 +585,10 @@ std::string PairedHtml(const Paired& paired, const StoreMeta& meta, const Layout
       }
       const CatalogueMetric* entry = FindMetric(m);
       const bool higher_better = entry == nullptr || entry->higher_is_better;
-      const bool significant = c.test.p_value < 0.05;
+      // Both the rank test and the t interval of the differences must say so.
+      const bool excludes_zero = c.difference.method != IntervalMethod::kNone &&
+                                 (c.difference.lower > 0.0 || c.difference.upper < 0.0);
+      const bool significant = c.test.p_value < 0.05 && excludes_zero;
       const bool better = (c.difference.mean > 0) == higher_better;
       const char* style = !significant ? ""
                           : better     ? " style=\"background:#dff3df\""

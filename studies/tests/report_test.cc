@@ -671,6 +671,34 @@ TEST(Report, PairedDifferencesByHand) {
   EXPECT_EQ(Read(dir / "paired.csv"), paired);
 }
 
+// With report.x_metric the difference of a pair sits where its compared
+// cell does: the x of every difference point is the x of the charged line's
+// point in the metric's own plot, even for the plot of x_metric itself
+// (whose y is then the difference, not the cell's mean).
+TEST(Report, DifferencePointsSitAtTheComparedCellsMeasuredX) {
+  const auto dir = testing::SweepFolder("report-paired-x-metric");
+  const SweepSpec spec = LoadSweepFile(testing::WriteSweep(
+      dir,
+      "base: base.yaml\nseeds: 2\ngrid:\n  tracker.particles: [20, 200]\n"
+      "  tracker.resampling.method: [systematic, charged]\n"
+      "report: {x: tracker.particles, x_metric: idf1, series: tracker.resampling.method, "
+      "y: [idf1, hota]}\n"));
+  const std::string out = RunQuietly(spec, dir);
+  const fs::path kept = dir / "kept";
+  WriteReport({.dir = out, .gnuplot = KeepingGnuplot(dir, kept).string()});
+  const auto cells = PlotRows(kept / "plot_0.dat").at("charged");
+  const auto sys = PlotRows(kept / "plot_0.dat").at("systematic");
+  const auto diff = PlotRows(kept / "plot_d0.dat").at("charged \u2212 systematic");
+  ASSERT_EQ(cells.size(), 2U);
+  ASSERT_EQ(diff.size(), 2U);
+  for (size_t i = 0; i < 2; ++i) {
+    EXPECT_EQ(diff[i][0], cells[i][0]) << i;
+    // y: the mean difference of the pairs = the difference of the two means
+    // (both cells have both seeds); 6 significant digits in the files.
+    EXPECT_NEAR(diff[i][1], cells[i][1] - sys[i][1], 2e-6) << i;
+  }
+}
+
 // A tiny real sweep: each comparison's mean difference and pair count are
 // the store's own per-seed differences, paired here by seed; its p-value is
 // the exact signed-rank p computed here by enumerating the 2^n sign flips.

@@ -78,9 +78,9 @@ Interval WilsonInterval95(double p_hat, double n);
 
 // The cell statistic of a metric with `range`. A proportion's mean p̂ over
 // its n seeds gets WilsonInterval95(p̂, n*) with the effective number of
-// trials of Korn & Graubard (1998), as recommended for clustered binary data
-// by Dean & Pagano (2015): the seeds are the clusters (a run's events are not
-// independent), so
+// trials of Korn & Graubard (1998), with the Wilson interval as in Dean &
+// Pagano (2015) for clustered binary data: the seeds are the clusters (a
+// run's events are not independent), so
 //   n* = n · p̂(1 − p̂) / s² · (z / t(0.975, n−1))²   when s² > 0,
 //   n* = n                                           when s² = 0 (or n = 1),
 // s² the sample variance of the seeds' values. n·p̂(1−p̂)/s² is the n whose

@@ -30,8 +30,10 @@ Command AddReportCommand(CLI::App& parent) {
             if (r.csv_path.empty()) {
               spdlog::info("report: {} plots in {:.2f} s", r.plots, s);
             } else {
-              spdlog::info("report: {} plots, {} cells in {:.2f} s; {}", r.plots, r.cells, s,
-                           r.csv_path);
+              spdlog::info(
+                  "report: {} plots, {} cells, {} paired comparisons ({} difference plots) in "
+                  "{:.2f} s; {}",
+                  r.plots, r.cells, r.comparisons, r.difference_plots, s, r.csv_path);
             }
             std::printf("%s\n", r.html_path.c_str());
             return 0;

@@ -35,6 +35,9 @@ std::span<const FileKey> SweepFileKeys() {
       {"report.panels", "a swept key other than `x`, `series` and the pooled keys", "none",
        "one plot per value of this key for every `y` metric (e.g. `base`: one figure per base "
        "scenario), each with its own lines"},
+      {"report.reference", "a value of `series`", "the first value of `series`",
+       "the series value the others are compared with seed by seed: the report's paired "
+       "differences (other − reference at every x, with interval and signed-rank test)"},
   };
   return keys;
 }

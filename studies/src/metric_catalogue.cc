@@ -5,43 +5,59 @@ namespace hcpf::studies {
 std::span<const CatalogueMetric> MetricCatalogue() {
   // The store's columns: keep the order and append (a store made with an
   // older catalogue gets the new columns when it is opened for writing).
+  // Ranges. Proportions are fractions of counted events (docs/metrics.md):
+  // DA accuracy = CORRECT / scored filter-frames, hijack rate = hijacked
+  // encounters / encounters, hijacked fraction = HIJACKED / scored filters,
+  // detection precision / recall = matched / detections or targets. IDF1,
+  // HOTA, DetA, AssA, MOTP (mean IoU) and F1 lie in [0, 1] but are F-scores,
+  // geometric means or means of IoU, not fractions of one kind of event: t
+  // intervals cut to [0, 1]. MOTA = 1 − (FN + FP + IDSW) / gt is at most 1
+  // and unbounded below. Counts, times and distances are >= 0.
+  constexpr MetricRange kProportion = MetricRange::Proportion();
+  constexpr MetricRange kUnit = MetricRange::UnitInterval();
+  constexpr MetricRange kAtMostOne = MetricRange::AtMost(1.0);
+  constexpr MetricRange kNonNegative = MetricRange::NonNegative();
+  constexpr MetricRange kCount = MetricRange::NonNegative();
   static constexpr CatalogueMetric kMetrics[] = {
-      {"da_accuracy", "metrics.json", "/filters/da_accuracy", true, "data-association accuracy",
-       ""},
-      {"hijack_rate", "metrics.json", "/filters/hijack_rate", false, "hijack rate", ""},
+      {"da_accuracy", "metrics.json", "/filters/da_accuracy", true, "data-association accuracy", "",
+       kProportion},
+      {"hijack_rate", "metrics.json", "/filters/hijack_rate", false, "hijack rate", "",
+       kProportion},
       {"hijacked_fraction", "metrics.json", "/filters/hijacked_fraction", false,
-       "fraction of filter-frames hijacked", ""},
-      {"swaps", "metrics.json", "/filters/swaps", false, "filter swaps", ""},
-      {"idf1", "metrics.json", "/mot/IDF1", true, "IDF1", ""},
-      {"hota", "metrics.json", "/mot/HOTA", true, "HOTA", ""},
-      {"mota", "metrics.json", "/mot/MOTA", true, "MOTA", ""},
-      {"motp", "metrics.json", "/mot/MOTP", true, "MOTP", ""},
-      {"deta", "metrics.json", "/mot/DetA", true, "detection accuracy (DetA)", ""},
-      {"assa", "metrics.json", "/mot/AssA", true, "association accuracy (AssA)", ""},
-      {"ospa", "metrics.json", "/ospa/mean", false, "OSPA distance (mean)", "px"},
+       "fraction of filter-frames hijacked", "", kProportion},
+      {"swaps", "metrics.json", "/filters/swaps", false, "filter swaps", "", kCount},
+      {"idf1", "metrics.json", "/mot/IDF1", true, "IDF1", "", kUnit},
+      {"hota", "metrics.json", "/mot/HOTA", true, "HOTA", "", kUnit},
+      {"mota", "metrics.json", "/mot/MOTA", true, "MOTA", "", kAtMostOne},
+      {"motp", "metrics.json", "/mot/MOTP", true, "MOTP", "", kUnit},
+      {"deta", "metrics.json", "/mot/DetA", true, "detection accuracy (DetA)", "", kUnit},
+      {"assa", "metrics.json", "/mot/AssA", true, "association accuracy (AssA)", "", kUnit},
+      {"ospa", "metrics.json", "/ospa/mean", false, "OSPA distance (mean)", "px", kNonNegative},
       {"ms_per_frame", "manifest.json", "/timings/tracker_s", false, "tracker time per frame", "ms",
-       true},
-      {"wall_time_s", "manifest.json", "/timings/total_s", false, "wall time of the run", "s"},
+       kNonNegative, true},
+      {"wall_time_s", "manifest.json", "/timings/total_s", false, "wall time of the run", "s",
+       kNonNegative},
       // The hierarchical filter: mean corner displacement of the applied
       // camera motion against the true motion (none: the camera's own motion).
       {"camera_motion_error_px", "metrics.json", "/camera_motion/mean_px", false,
-       "camera-motion error (mean corner displacement)", "px"},
+       "camera-motion error (mean corner displacement)", "px", kNonNegative},
       // Rendered runs: detection quality against pixel-exact truth (IoU >= 0.5).
-      {"det_precision", "metrics.json", "/detection/iou/precision", true, "detection precision",
-       ""},
-      {"det_recall", "metrics.json", "/detection/iou/recall", true, "detection recall", ""},
-      {"det_f1", "metrics.json", "/detection/iou/f1", true, "detection F1", ""},
+      {"det_precision", "metrics.json", "/detection/iou/precision", true, "detection precision", "",
+       kProportion},
+      {"det_recall", "metrics.json", "/detection/iou/recall", true, "detection recall", "",
+       kProportion},
+      {"det_f1", "metrics.json", "/detection/iou/f1", true, "detection F1", "", kUnit},
       // The condition (visible fraction >= 0.75), the lenient centre
       // rule (what a tracker needs of a small target), and the size the
       // counts are about (sweeps against target size: report.x_metric).
       {"det_recall_visible", "metrics.json", "/detection/by_visibility/3/iou/recall", true,
-       "detection recall at visible fraction >= 0.75", ""},
+       "detection recall at visible fraction >= 0.75", "", kProportion},
       {"det_recall_centre", "metrics.json", "/detection/centre/recall", true,
-       "detection recall, centre rule", ""},
+       "detection recall, centre rule", "", kProportion},
       {"det_precision_centre", "metrics.json", "/detection/centre/precision", true,
-       "detection precision, centre rule", ""},
+       "detection precision, centre rule", "", kProportion},
       {"det_size_px", "metrics.json", "/detection/median_size_px", true,
-       "median target size (sqrt of box area)", "px"},
+       "median target size (sqrt of box area)", "px", kNonNegative},
   };
   return kMetrics;
 }

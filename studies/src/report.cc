@@ -18,6 +18,7 @@
 #include <limits>
 #include <map>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <set>
 #include <sstream>
 
@@ -64,49 +65,21 @@ struct Cell {
   std::vector<std::string> values;
   std::vector<const RunRecord*> runs;
   int failures = 0;
-  std::map<std::string, MeanCi> stats;
+  std::map<std::string, Interval> stats;
+  // With report.x_metric: where the cell sits on the x axis when that is not
+  // its own stats' mean (a cell of paired differences sits at its compared
+  // cell's place).
+  std::optional<double> x_at;
 };
 
+// The statistic of metric `m` over `values` (its catalogue range decides
+// Wilson or t; an unknown name gets an unbounded t interval).
+Interval CellInterval(const std::string& m, const std::vector<double>& values) {
+  const CatalogueMetric* entry = FindMetric(m);
+  return MeanInterval95(values, entry ? entry->range : MetricRange::Unbounded());
+}
+
 }  // namespace
-
-double StudentT975(int dof) {
-  HCPF_CHECK(dof >= 1) << "dof=" << dof;
-  // Two-sided 95 % critical values of Student's t (standard tables).
-  static const double kTable[30] = {12.706, 4.303, 3.182, 2.776, 2.571, 2.447, 2.365, 2.306,
-                                    2.262,  2.228, 2.201, 2.179, 2.160, 2.145, 2.131, 2.120,
-                                    2.110,  2.101, 2.093, 2.086, 2.080, 2.074, 2.069, 2.064,
-                                    2.060,  2.056, 2.052, 2.048, 2.045, 2.042};
-  if (dof <= 30) return kTable[dof - 1];
-  // Cornish–Fisher expansion around z = Φ⁻¹(0.975) (Abramowitz & Stegun 26.7.5).
-  const double z = 1.959963984540054;
-  const double v = dof;
-  const double z3 = z * z * z, z5 = z3 * z * z, z7 = z5 * z * z;
-  return z + (z3 + z) / (4 * v) + (5 * z5 + 16 * z3 + 3 * z) / (96 * v * v) +
-         (3 * z7 + 19 * z5 + 17 * z3 - 15 * z) / (384 * v * v * v);
-}
-
-MeanCi MeanConfidence95(const std::vector<double>& values) {
-  MeanCi r;
-  double sum = 0.0;
-  for (double v : values) {
-    if (!std::isfinite(v)) continue;
-    sum += v;
-    ++r.n;
-  }
-  if (r.n == 0) {
-    r.mean = kNaN;
-    return r;
-  }
-  r.mean = sum / r.n;
-  if (r.n < 2) return r;
-  double ss = 0.0;
-  for (double v : values) {
-    if (std::isfinite(v)) ss += (v - r.mean) * (v - r.mean);
-  }
-  const double s = std::sqrt(ss / (r.n - 1));
-  r.half_width = StudentT975(r.n - 1) * s / std::sqrt(static_cast<double>(r.n));
-  return r;
-}
 
 void ReportOptions::Validate() const {
   if (dir.empty())
@@ -161,7 +134,7 @@ std::vector<Cell> CellsOf(const std::vector<RunRecord>& runs, const StoreMeta& m
       for (const RunRecord* r : cell.runs) {
         if (r->ok) v.push_back(r->metrics.at(m));
       }
-      cell.stats[m] = MeanConfidence95(v);
+      cell.stats[m] = CellInterval(m, v);
     }
   }
   return cells;
@@ -186,7 +159,8 @@ struct Layout {
   // its number, or its category's index.
   double XPosition(const Cell& c) const {
     if (!x_metric.empty()) {
-      const MeanCi& s = c.stats.at(x_metric);
+      if (c.x_at) return *c.x_at;
+      const Interval& s = c.stats.at(x_metric);
       return s.n > 0 ? s.mean : std::numeric_limits<double>::quiet_NaN();
     }
     const std::string v = x_index >= 0 ? c.values[x_index] : "";
@@ -290,8 +264,12 @@ Layout LayoutOf(const std::vector<Cell>& cells, const StoreMeta& meta) {
 
 // Stage 3, plots: one inline SVG per metric (gnuplot on files in `work`).
 // `panel` ("" = none) is added to the title: "key = value" of report.panels.
-std::string PlotSvg(const Layout& layout, const std::string& metric, size_t p, const fs::path& work,
-                    const std::string& gnuplot, const std::string& panel = "") {
+// `reference` ("" = a plot of the cells' means) makes it a plot of paired
+// differences against that series value: the cells are PairedCells (their
+// stats the differences), with a zero line.
+std::string PlotSvg(const Layout& layout, const std::string& metric, const std::string& p,
+                    const fs::path& work, const std::string& gnuplot, const std::string& panel = "",
+                    const std::string& reference = "") {
   const auto& lines = layout.lines;
   const auto& x_values = layout.x_values;
   const bool numeric_x = layout.numeric_x;
@@ -318,11 +296,11 @@ std::string PlotSvg(const Layout& layout, const std::string& metric, size_t p, c
     }
     text += fmt::format("# {}\n", lines[l]);
     for (const auto& [x, c] : points) {
-      const MeanCi& s = c->stats.at(metric);
+      const Interval& s = c->stats.at(metric);
       if (s.n == 0) continue;
       has_data[l] = true;
-      text += fmt::format("{} {} {} {}\n", Number(x), Number(s.mean), Number(s.mean - s.half_width),
-                          Number(s.mean + s.half_width));
+      text +=
+          fmt::format("{} {} {} {}\n", Number(x), Number(s.mean), Number(s.lower), Number(s.upper));
     }
     // gnuplot needs at least one row per index block.
     if (!has_data[l]) text += "nan nan nan nan\n";
@@ -340,12 +318,21 @@ std::string PlotSvg(const Layout& layout, const std::string& metric, size_t p, c
       entry == nullptr ? metric
                        : fmt::format("{}{}{} ({})", entry->label, entry->unit.empty() ? "" : ", ",
                                      entry->unit, metric);
-  gp += fmt::format("set title {} noenhanced\n",
-                    GpString(described + " vs " + layout.x_title +
-                             (panel.empty() ? std::string() : ", " + panel)));
+  const bool difference = !reference.empty();
+  gp += fmt::format(
+      "set title {} noenhanced\n",
+      GpString((difference ? "paired difference against " + reference + ": " : "") + described +
+               " vs " + layout.x_title + (panel.empty() ? std::string() : ", " + panel)));
   gp += fmt::format("set xlabel {} noenhanced\n", GpString(x_label));
-  gp +=
-      fmt::format("set ylabel {} noenhanced\n", GpString(described + "; mean, 95% CI over seeds"));
+  const std::string interval = difference ? "mean of per-seed differences, 95% t CI"
+                               : entry != nullptr && entry->range.proportion
+                                   ? "mean over seeds, 95% Wilson CI"
+                                   : "mean over seeds, 95% t CI";
+  // A difference's label names the metric by its short name: the long one
+  // and the explanation do not fit beside a 440 px plot.
+  gp += fmt::format("set ylabel {} noenhanced\n",
+                    GpString(difference ? fmt::format("difference in {}; {}", metric, interval)
+                                        : described + "; " + interval));
   size_t longest_label = 0;
   for (const std::string& l : lines) longest_label = std::max(longest_label, l.size());
   // Long line labels go below the plot so they do not squeeze it.
@@ -373,6 +360,9 @@ std::string PlotSvg(const Layout& layout, const std::string& metric, size_t p, c
         fmt::format("{} index {} using 1:2 with linespoints lw 2 pt 7 ps 0.6 lc rgb '{}' title {}",
                     GpString(data.string()), l, colour, GpString(lines[l])));
   }
+  if (difference && !plots.empty()) {
+    plots.push_back("0 with lines lw 1.5 lc rgb '#222222' dt 2 title 'no difference'");
+  }
   if (plots.empty()) {
     gp += "set label 1 'no finished runs' at graph 0.5, 0.5 center\nplot [0:1] [0:1] NaN notitle\n";
   } else {
@@ -383,22 +373,266 @@ std::string PlotSvg(const Layout& layout, const std::string& metric, size_t p, c
   return InlineSvg(ReadWholeFile(svg));
 }
 
+// Every plot of `cells`: one per y metric, or with report.panels one per
+// metric and value of the panel key (ids <metric> and <metric>-<panel
+// index>), each panel laid out from its own cells. Files are named
+// plot_<file_prefix><i>; `reference` as for PlotSvg.
+std::vector<std::pair<std::string, std::string>> Plots(const std::vector<Cell>& cells,
+                                                       const Layout& layout, const StoreMeta& meta,
+                                                       const fs::path& work,
+                                                       const std::string& gnuplot,
+                                                       const std::string& file_prefix,
+                                                       const std::string& reference) {
+  std::vector<std::pair<std::string, std::string>> svgs;
+  const auto panel_it =
+      std::find(meta.swept_keys.begin(), meta.swept_keys.end(), meta.report.panels);
+  if (meta.report.panels.empty() || panel_it == meta.swept_keys.end()) {
+    for (size_t p = 0; p < meta.report.y.size(); ++p) {
+      svgs.emplace_back(meta.report.y[p],
+                        PlotSvg(layout, meta.report.y[p], fmt::format("{}{}", file_prefix, p), work,
+                                gnuplot, "", reference));
+    }
+    return svgs;
+  }
+  const auto panel_key = static_cast<size_t>(panel_it - meta.swept_keys.begin());
+  std::vector<std::string> panel_values;
+  std::vector<std::vector<Cell>> panel_cells;  // LayoutOf keeps pointers into these
+  for (const Cell& c : cells) {
+    const std::string& v = c.values[panel_key];
+    auto at = std::find(panel_values.begin(), panel_values.end(), v);
+    if (at == panel_values.end()) {
+      panel_values.push_back(v);
+      panel_cells.emplace_back();
+      at = panel_values.end() - 1;
+    }
+    panel_cells[static_cast<size_t>(at - panel_values.begin())].push_back(c);
+  }
+  std::vector<Layout> panel_layouts;
+  for (const std::vector<Cell>& pc : panel_cells) panel_layouts.push_back(LayoutOf(pc, meta));
+  size_t p = 0;
+  for (const std::string& metric : meta.report.y) {
+    for (size_t k = 0; k < panel_values.size(); ++k) {
+      svgs.emplace_back(
+          fmt::format("{}-{}", metric, k),
+          PlotSvg(panel_layouts[k], metric, fmt::format("{}{}", file_prefix, p++), work, gnuplot,
+                  fmt::format("{} = {}", meta.report.panels, panel_values[k]), reference));
+    }
+  }
+  return svgs;
+}
+
 // summary.csv: one row per cell, every catalogue metric.
 std::string SummaryCsv(const std::vector<Cell>& cells, const std::vector<std::string>& keys) {
   std::string csv;
   for (const std::string& k : keys) csv += Csv(k) + ",";
   csv += "runs,failures";
-  for (const std::string& m : MetricNames()) csv += fmt::format(",{0}_mean,{0}_ci95,{0}_n", m);
+  for (const std::string& m : MetricNames()) {
+    csv += fmt::format(",{0}_mean,{0}_lo95,{0}_hi95,{0}_n", m);
+  }
   csv += "\n";
   for (const Cell& c : cells) {
     for (const std::string& v : c.values) csv += Csv(v) + ",";
     csv += fmt::format("{},{}", c.runs.size(), c.failures);
     for (const std::string& m : MetricNames()) {
-      const MeanCi& s = c.stats.at(m);
-      csv += fmt::format(",{},{},{}", s.n ? Number(s.mean) : "",
-                         s.n >= 2 ? Number(s.half_width) : "", s.n);
+      const Interval& s = c.stats.at(m);
+      const bool band = s.method != IntervalMethod::kNone;
+      csv += fmt::format(",{},{},{},{}", s.n ? Number(s.mean) : "", band ? Number(s.lower) : "",
+                         band ? Number(s.upper) : "", s.n);
     }
     csv += "\n";
+  }
+  return csv;
+}
+
+// Stage 2b, paired comparisons. With report.series, each cell whose series
+// value is not the reference is compared with the cell that has the same
+// values but the reference series value (same x, same panel, same other
+// keys): run against run with the same seed (and, in pooled cells, the same
+// pooled values), difference = cell − reference per report.y metric.
+struct PairedRow {
+  const Cell* cell = nullptr;
+  const Cell* reference = nullptr;
+  std::map<std::string, PairedComparison> metrics;  // report.y names
+};
+
+struct Paired {
+  int series_index = -1;
+  std::string reference;  // the reference series value
+  std::vector<PairedRow> rows;
+};
+
+Paired PairedRowsOf(const std::vector<Cell>& cells, const StoreMeta& meta) {
+  Paired paired;
+  const auto& keys = meta.swept_keys;
+  const auto it = std::find(keys.begin(), keys.end(), meta.report.series);
+  if (meta.report.series.empty() || it == keys.end() || cells.empty()) return paired;
+  paired.series_index = static_cast<int>(it - keys.begin());
+  const auto si = static_cast<size_t>(paired.series_index);
+  // Expansion order puts every key's first value in the first cell.
+  paired.reference =
+      meta.report.reference.empty() ? cells.front().values[si] : meta.report.reference;
+  std::map<std::vector<std::string>, const Cell*> by_values;
+  for (const Cell& c : cells) by_values.emplace(c.values, &c);
+  // A run's partner key: its values without the series value, and its seed.
+  const auto pair_key = [&](const RunRecord& r) {
+    std::vector<std::string> k = r.values;
+    if (si < k.size()) k[si].clear();
+    k.push_back(std::to_string(r.seed));
+    return k;
+  };
+  for (const Cell& c : cells) {
+    if (c.values[si] == paired.reference) continue;
+    std::vector<std::string> ref_values = c.values;
+    ref_values[si] = paired.reference;
+    const auto ref = by_values.find(ref_values);
+    if (ref == by_values.end()) continue;
+    std::map<std::vector<std::string>, const RunRecord*> partner;
+    for (const RunRecord* r : ref->second->runs) {
+      if (r->ok) partner.emplace(pair_key(*r), r);
+    }
+    PairedRow row{&c, ref->second, {}};
+    for (const std::string& m : meta.report.y) {
+      std::vector<double> a, b;
+      for (const RunRecord* r : c.runs) {
+        if (!r->ok) continue;
+        const auto p = partner.find(pair_key(*r));
+        if (p == partner.end()) continue;
+        a.push_back(r->metrics.at(m));
+        b.push_back(p->second->metrics.at(m));
+      }
+      const CatalogueMetric* entry = FindMetric(m);
+      row.metrics[m] = ComparePaired(a, b, entry ? entry->range : MetricRange::Unbounded());
+    }
+    paired.rows.push_back(std::move(row));
+  }
+  return paired;
+}
+
+// The paired rows as cells whose stats are the differences (the series value
+// reading "value − reference"), for PlotSvg; with x_metric they sit where
+// the compared cell does.
+std::vector<Cell> DifferenceCells(const Paired& paired, const StoreMeta& meta) {
+  std::vector<Cell> out;
+  for (const PairedRow& row : paired.rows) {
+    Cell d = *row.cell;
+    d.values[static_cast<size_t>(paired.series_index)] += " \u2212 " + paired.reference;
+    d.stats.clear();
+    for (const auto& [m, c] : row.metrics) d.stats[m] = c.difference;
+    if (!meta.report.x_metric.empty()) {
+      const Interval& at = row.cell->stats.at(meta.report.x_metric);
+      d.x_at = at.n > 0 ? at.mean : std::numeric_limits<double>::quiet_NaN();
+    }
+    out.push_back(std::move(d));
+  }
+  return out;
+}
+
+std::string FormatP(double p) {
+  if (p < 0.001) return "p&nbsp;&lt;&nbsp;0.001";
+  return fmt::format("p&nbsp;=&nbsp;{:.3f}", p);
+}
+
+// The section of the page: what is compared, the table, the plots.
+std::string PairedHtml(const Paired& paired, const StoreMeta& meta, const Layout& layout,
+                       const std::vector<std::pair<std::string, std::string>>& svgs) {
+  if (paired.rows.empty()) return {};
+  const auto& keys = meta.swept_keys;
+  const auto si = static_cast<size_t>(paired.series_index);
+  // Columns: every key that takes several values among the compared cells
+  // (x, panels, other keys), then the comparison.
+  std::vector<size_t> shown;
+  for (size_t k = 0; k < keys.size(); ++k) {
+    if (k == si) continue;
+    bool varies = static_cast<int>(k) == layout.x_index;
+    for (const PairedRow& r : paired.rows)
+      varies = varies || r.cell->values[k] != paired.rows.front().cell->values[k];
+    if (varies) shown.push_back(k);
+  }
+  std::string h = "<h2 id=\"paired\">Paired differences</h2>\n";
+  h += fmt::format(
+      "<p>Each <code>{0}</code> value minus <code>{1}</code> (the reference: "
+      "<code>report.reference</code>{2}), seed by seed: both cells ran the same seeds, so each "
+      "seed's difference cancels what the seed does to both. <b>&Delta;</b>: the mean of the "
+      "per-seed differences with its 95&nbsp;% t interval (cut to the range a difference can "
+      "take, marked &dagger;); <b>n</b>: the pairs (seeds where both runs finished with a "
+      "value); <b>+/&minus;/=</b>: pairs where the value is above, below and equal to the "
+      "reference's; <b>p</b>: two-sided Wilcoxon signed-rank test on the nonzero differences "
+      "(exact up to {3} of them, normal approximation above; with 5 or fewer nonzero "
+      "differences p cannot fall below 0.05). Green: better than the reference in the metric's "
+      "direction with p&nbsp;&lt;&nbsp;0.05 and an interval that excludes 0; red: worse, "
+      "likewise; the test and the interval can disagree (the test uses ranks, the interval the "
+      "values), and a cell is coloured only when both say so.</p>\n",
+      EscapeMarkup(meta.report.series), EscapeMarkup(paired.reference),
+      meta.report.reference.empty() ? ", else the first series value" : "",
+      kExactSignedRankMaxPairs);
+  h += "<table><tr>";
+  for (size_t k : shown) h += "<th>" + EscapeMarkup(keys[k]) + "</th>";
+  h += "<th>compared</th><th>n</th>";
+  for (const std::string& m : meta.report.y) h += "<th>" + EscapeMarkup(m) + "</th>";
+  h += "</tr>\n";
+  for (const PairedRow& row : paired.rows) {
+    h += "<tr>";
+    for (size_t k : shown) h += "<td class=\"k\">" + EscapeMarkup(row.cell->values[k]) + "</td>";
+    int n = 0;
+    for (const auto& [m, c] : row.metrics) n = std::max(n, c.pairs);
+    h += fmt::format("<td class=\"k\">{} &minus; {}</td><td>{}</td>",
+                     EscapeMarkup(row.cell->values[si]), EscapeMarkup(paired.reference), n);
+    for (const std::string& m : meta.report.y) {
+      const PairedComparison& c = row.metrics.at(m);
+      if (c.pairs == 0) {
+        h += "<td>&ndash;</td>";
+        continue;
+      }
+      const CatalogueMetric* entry = FindMetric(m);
+      const bool higher_better = entry == nullptr || entry->higher_is_better;
+      // Both the rank test and the t interval of the differences must say so.
+      const bool excludes_zero = c.difference.method != IntervalMethod::kNone &&
+                                 (c.difference.lower > 0.0 || c.difference.upper < 0.0);
+      const bool significant = c.test.p_value < 0.05 && excludes_zero;
+      const bool better = (c.difference.mean > 0) == higher_better;
+      const char* style = !significant ? ""
+                          : better     ? " style=\"background:#dff3df\""
+                                       : " style=\"background:#f8dede\"";
+      std::string text = fmt::format("&Delta;&nbsp;{:.3g}", c.difference.mean);
+      if (c.difference.method != IntervalMethod::kNone) {
+        text += fmt::format(" [{:.3g}, {:.3g}]{}", c.difference.lower, c.difference.upper,
+                            c.difference.clipped ? "&dagger;" : "");
+      }
+      text +=
+          fmt::format("<br>{}/{}/{}", c.positive, c.negative, c.pairs - c.positive - c.negative);
+      if (c.pairs < n) text += fmt::format(" (n&nbsp;=&nbsp;{})", c.pairs);
+      text += ", " + FormatP(c.test.p_value);
+      h += fmt::format("<td{}>{}</td>", style, text);
+    }
+    h += "</tr>\n";
+  }
+  h += "</table>\n";
+  for (const auto& [id, svg] : svgs) {
+    h += fmt::format("<div class=\"plot\" id=\"difference-{}\">\n{}\n</div>\n", EscapeMarkup(id),
+                     svg);
+  }
+  return h;
+}
+
+// paired.csv: one row per comparison and report.y metric.
+std::string PairedCsv(const Paired& paired, const StoreMeta& meta) {
+  std::string csv;
+  for (const std::string& k : meta.swept_keys) csv += Csv(k) + ",";
+  csv +=
+      "reference,metric,pairs,mean_difference,lo95,hi95,clipped,positive,negative,ties,"
+      "nonzero,w_plus,p_value,exact\n";
+  for (const PairedRow& row : paired.rows) {
+    for (const std::string& m : meta.report.y) {
+      const PairedComparison& c = row.metrics.at(m);
+      for (const std::string& v : row.cell->values) csv += Csv(v) + ",";
+      const bool band = c.difference.method != IntervalMethod::kNone;
+      csv += fmt::format("{},{},{},{},{},{},{},{},{},{},{},{},{},{}\n", Csv(paired.reference), m,
+                         c.pairs, c.pairs ? Number(c.difference.mean) : "",
+                         band ? Number(c.difference.lower) : "",
+                         band ? Number(c.difference.upper) : "", c.difference.clipped ? 1 : 0,
+                         c.positive, c.negative, c.pairs - c.positive - c.negative, c.test.nonzero,
+                         Number(c.test.w_plus), Number(c.test.p_value), c.test.exact ? 1 : 0);
+    }
   }
   return csv;
 }
@@ -408,7 +642,8 @@ std::string SummaryCsv(const std::vector<Cell>& cells, const std::vector<std::st
 std::string ReportHtml(const fs::path& dir, const std::string& link_prefix, const StoreMeta& meta,
                        const std::vector<RunRecord>& runs, const std::vector<Cell>& cells,
                        const Layout& layout,
-                       const std::vector<std::pair<std::string, std::string>>& svgs) {
+                       const std::vector<std::pair<std::string, std::string>>& svgs,
+                       const std::string& paired_html) {
   const std::vector<std::string>& keys = meta.swept_keys;
   const int x_index = layout.x_index;
   int64_t ok_runs = 0, failed_runs = 0;
@@ -423,12 +658,26 @@ std::string ReportHtml(const fs::path& dir, const std::string& link_prefix, cons
        "padding:1em;font-size:12px;overflow:auto}.failed{color:#b00}</style>\n</head><body>\n";
   h += fmt::format(
       "<h1>Sweep report</h1>\n<p>Sweep <code>{}</code> (hash <code>{}</code>): {} of {} runs "
-      "in the store, {} ok, {} failed. Lines: mean over seeds; "
-      "bands: 95&nbsp;% confidence interval of the mean (Student t, n&minus;1 degrees of "
-      "freedom; none when n&nbsp;&lt;&nbsp;2).</p>\n",
+      "in the store, {} ok, {} failed. Lines: mean over seeds; bands: 95&nbsp;% confidence "
+      "interval of that mean over the n seeds of the cell. Proportions (a fraction of counted "
+      "events per run: {}) get the Wilson score interval of the mean for the effective number "
+      "of trials of the seeds' spread (Korn &amp; Graubard; the binomial over the n seeds when "
+      "they all agree, so a band even at 0 or 1); the other metrics mean &plusmn; "
+      "t<sub>0.975,&nbsp;n&minus;1</sub>&middot;s/&radic;n (none when n&nbsp;&lt;&nbsp;2), cut "
+      "at the metric's bound where it reaches past it (MOTA &le; 1, [0,&nbsp;1] for IDF1, HOTA, "
+      "&hellip;, &ge;&nbsp;0 for times and "
+      "distances; marked &dagger; in the tables). docs/sweeps.md states the formulas.</p>\n",
       EscapeMarkup(meta.sweep_file), EscapeMarkup(meta.sweep_hash), runs.size(), meta.run_count,
-      ok_runs,
-      failed_runs > 0 ? fmt::format("<span class=\"failed\">{}</span>", failed_runs) : "0");
+      ok_runs, failed_runs > 0 ? fmt::format("<span class=\"failed\">{}</span>", failed_runs) : "0",
+      [&] {
+        std::vector<std::string> names;
+        for (const std::string& m : meta.report.y) {
+          const CatalogueMetric* entry = FindMetric(m);
+          if (entry != nullptr && entry->range.proportion) names.push_back(EscapeMarkup(m));
+        }
+        return names.empty() ? std::string("none of this report's metrics")
+                             : fmt::format("<code>{}</code>", fmt::join(names, "</code>, <code>"));
+      }());
   if (!meta.report.pool.empty()) {
     h += fmt::format(
         "<p>Pooled (<code>report.pool</code>): each cell holds the runs of every value of "
@@ -443,7 +692,9 @@ std::string ReportHtml(const fs::path& dir, const std::string& link_prefix, cons
   for (const auto& [id, svg] : svgs) {
     h += fmt::format("<div class=\"plot\" id=\"plot-{}\">\n{}\n</div>\n", EscapeMarkup(id), svg);
   }
-  h += "<h2>Cells</h2>\n<table><tr>";
+  h += paired_html;
+  h += "<h2>Cells</h2>\n<p>Mean [95&nbsp;% interval] over the n seeds (W: Wilson; &dagger;: "
+       "the t interval cut at the metric's bound).</p>\n<table><tr>";
   for (const std::string& k : keys) h += "<th>" + EscapeMarkup(k) + "</th>";
   h += "<th>n</th><th>failures</th>";
   for (const std::string& m : meta.report.y) h += "<th>" + EscapeMarkup(m) + "</th>";
@@ -454,13 +705,16 @@ std::string ReportHtml(const fs::path& dir, const std::string& link_prefix, cons
     h += fmt::format("<td>{}</td><td{}>{}</td>", c.runs.size() - c.failures,
                      c.failures ? " class=\"failed\"" : "", c.failures);
     for (const std::string& m : meta.report.y) {
-      const MeanCi& s = c.stats.at(m);
+      const Interval& s = c.stats.at(m);
       if (s.n == 0) {
         h += "<td>&ndash;</td>";
-      } else if (s.n == 1) {
+      } else if (s.method == IntervalMethod::kNone) {
         h += fmt::format("<td>{:.4g}</td>", s.mean);
       } else {
-        h += fmt::format("<td>{:.4g} &plusmn; {:.2g}</td>", s.mean, s.half_width);
+        h += fmt::format("<td>{:.4g} [{:.4g}, {:.4g}]{}</td>", s.mean, s.lower, s.upper,
+                         s.method == IntervalMethod::kWilson ? "&nbsp;W"
+                         : s.clipped                         ? "&dagger;"
+                                                             : "");
       }
     }
     h += "</tr>\n";
@@ -561,48 +815,26 @@ ReportResult WriteReport(const ReportOptions& options) {
     link_prefix += "/";
   }
   ReportResult result;
-  // Plots: one per y metric, or with report.panels one per metric and value
-  // of the panel key (ids plot-<metric> and plot-<metric>-<panel index>),
-  // each panel laid out from its own cells.
-  std::vector<std::pair<std::string, std::string>> svgs;
-  const auto panel_it =
-      std::find(meta.swept_keys.begin(), meta.swept_keys.end(), meta.report.panels);
-  if (meta.report.panels.empty() || panel_it == meta.swept_keys.end()) {
-    for (size_t p = 0; p < meta.report.y.size(); ++p) {
-      svgs.emplace_back(meta.report.y[p],
-                        PlotSvg(layout, meta.report.y[p], p, work, options.gnuplot));
-      ++result.plots;
-    }
-  } else {
-    const auto panel_key = static_cast<size_t>(panel_it - meta.swept_keys.begin());
-    std::vector<std::string> panel_values;
-    std::vector<std::vector<Cell>> panel_cells;  // LayoutOf keeps pointers into these
-    for (const Cell& c : cells) {
-      const std::string& v = c.values[panel_key];
-      auto at = std::find(panel_values.begin(), panel_values.end(), v);
-      if (at == panel_values.end()) {
-        panel_values.push_back(v);
-        panel_cells.emplace_back();
-        at = panel_values.end() - 1;
-      }
-      panel_cells[static_cast<size_t>(at - panel_values.begin())].push_back(c);
-    }
-    std::vector<Layout> panel_layouts;
-    for (const std::vector<Cell>& pc : panel_cells) panel_layouts.push_back(LayoutOf(pc, meta));
-    size_t p = 0;
-    for (const std::string& metric : meta.report.y) {
-      for (size_t k = 0; k < panel_values.size(); ++k) {
-        svgs.emplace_back(fmt::format("{}-{}", metric, k),
-                          PlotSvg(panel_layouts[k], metric, p++, work, options.gnuplot,
-                                  fmt::format("{} = {}", meta.report.panels, panel_values[k])));
-        ++result.plots;
-      }
-    }
+  std::vector<std::pair<std::string, std::string>> svgs =
+      Plots(cells, layout, meta, work, options.gnuplot, "", "");
+  result.plots = static_cast<int>(svgs.size());
+  // Paired differences against the reference series value, and their plots
+  // (files d<i>, ids difference-<metric>[-<panel index>]).
+  const Paired paired = PairedRowsOf(cells, meta);
+  const std::vector<Cell> difference_cells = DifferenceCells(paired, meta);
+  std::vector<std::pair<std::string, std::string>> difference_svgs;
+  if (!difference_cells.empty()) {
+    difference_svgs = Plots(difference_cells, LayoutOf(difference_cells, meta), meta, work,
+                            options.gnuplot, "d", paired.reference);
   }
+  result.difference_plots = static_cast<int>(difference_svgs.size());
+  result.comparisons = static_cast<int>(paired.rows.size());
+  if (!paired.rows.empty()) WriteTextFile((out / "paired.csv").string(), PairedCsv(paired, meta));
   result.csv_path = (out / "summary.csv").string();
   WriteTextFile(result.csv_path, SummaryCsv(cells, meta.swept_keys));
   result.html_path = (out / "report.html").string();
-  WriteTextFile(result.html_path, ReportHtml(dir, link_prefix, meta, runs, cells, layout, svgs));
+  WriteTextFile(result.html_path, ReportHtml(dir, link_prefix, meta, runs, cells, layout, svgs,
+                                             PairedHtml(paired, meta, layout, difference_svgs)));
   result.cells = static_cast<int>(cells.size());
   fs::remove_all(work, ec);
   return result;

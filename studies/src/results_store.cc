@@ -176,6 +176,7 @@ json ReportToJson(const ReportSpec& r) {
   if (!r.x_metric.empty()) j["x_metric"] = r.x_metric;
   if (!r.pool.empty()) j["pool"] = r.pool;
   if (!r.panels.empty()) j["panels"] = r.panels;
+  if (!r.reference.empty()) j["reference"] = r.reference;
   return j;
 }
 
@@ -219,6 +220,7 @@ void ResultsStore::ReadMeta() {
   meta_.report.x_metric = report.value("x_metric", "");
   meta_.report.pool = report.value("pool", std::vector<std::string>{});
   meta_.report.panels = report.value("panels", "");
+  meta_.report.reference = report.value("reference", "");
 }
 
 void ResultsStore::AddMissingMetricColumns(StoreAccess access) {

@@ -206,6 +206,26 @@ SweepSpec ReadSweep(YAML::Node root, const std::string& file, const std::string&
       }
       spec.report.panels = key;
     }
+    if (auto reference = report->Optional("reference")) {
+      // A value of the series key, compared as the sweep file writes it.
+      const SweepAxis* series = nullptr;
+      for (const auto* axes : {&spec.grid, &spec.zip}) {
+        for (const SweepAxis& a : *axes) {
+          if (!spec.report.series.empty() && a.key == spec.report.series) series = &a;
+        }
+      }
+      if (series == nullptr) {
+        reference->Fail("no report.reference without report.series (it names a series value)");
+      }
+      const std::string value = reference->node().IsScalar() ? reference->node().Scalar() : "";
+      if (std::find(series->values.begin(), series->values.end(), value) == series->values.end()) {
+        const std::string close = ClosestMatch(value, series->values);
+        reference->Fail(fmt::format("a value of report.series {} ({})", spec.report.series,
+                                    fmt::join(series->values, ", ")),
+                        close.empty() ? "" : "did you mean \"" + close + "\"?");
+      }
+      spec.report.reference = value;
+    }
     report->Finish();
   }
   r.Finish();

@@ -5,9 +5,11 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <sstream>
 #include <vector>
 
@@ -48,33 +50,6 @@ std::string RunQuietly(const SweepSpec& spec, const fs::path& dir) {
   return o.out_dir;
 }
 
-TEST(ReportStatistics, StudentQuantilesMatchTables) {
-  // Printed two-sided 95 % t tables: 12.706 (1), 2.228 (10), 2.042 (30),
-  // 2.021 (40), 2.000 (60), 1.980 (120). Above 30 the expansion must agree to 1e-3.
-  EXPECT_DOUBLE_EQ(StudentT975(1), 12.706);
-  EXPECT_DOUBLE_EQ(StudentT975(10), 2.228);
-  EXPECT_NEAR(StudentT975(40), 2.021, 1e-3);
-  EXPECT_NEAR(StudentT975(60), 2.000, 1e-3);
-  EXPECT_NEAR(StudentT975(120), 1.980, 1e-3);
-}
-
-TEST(ReportStatistics, MeanAndHalfWidthByHand) {
-  // {1, 2, 3}: mean 2, s = 1, half-width = t(2) * 1 / sqrt(3) = 4.303 / 1.7320508 = 2.484338.
-  MeanCi a = MeanConfidence95({1.0, 2.0, 3.0});
-  EXPECT_EQ(a.n, 3);
-  EXPECT_DOUBLE_EQ(a.mean, 2.0);
-  EXPECT_NEAR(a.half_width, 2.484338, 1e-6);
-  // NaN values are left out: {4, 6}: mean 5, s = sqrt(2), half-width = 12.706 * sqrt(2)/sqrt(2).
-  MeanCi b = MeanConfidence95({std::nan(""), 4.0, 6.0});
-  EXPECT_EQ(b.n, 2);
-  EXPECT_DOUBLE_EQ(b.mean, 5.0);
-  EXPECT_NEAR(b.half_width, 12.706, 1e-9);
-  MeanCi c = MeanConfidence95({0.5});
-  EXPECT_EQ(c.n, 1);
-  EXPECT_EQ(c.half_width, 0.0);
-  EXPECT_TRUE(std::isnan(MeanConfidence95({}).mean));
-}
-
 TEST(Report, HtmlHasOnePlotWithDataPerMetricAndCsvHasOneRowPerCell) {
   const auto dir = testing::SweepFolder("report-files");
   const SweepSpec spec = LoadSweepFile(
@@ -97,8 +72,11 @@ TEST(Report, HtmlHasOnePlotWithDataPerMetricAndCsvHasOneRowPerCell) {
   const ReportResult r = WriteReport({.dir = o.out_dir});
   EXPECT_EQ(r.plots, 3);
   EXPECT_EQ(r.cells, 4);
+  // charged − systematic at both x: two comparisons, one difference plot per metric.
+  EXPECT_EQ(r.comparisons, 2);
+  EXPECT_EQ(r.difference_plots, 3);
   const std::string html = Read(r.html_path);
-  EXPECT_EQ(Count(html, "<svg"), 3U);
+  EXPECT_EQ(Count(html, "<svg"), 6U);
   for (const char* id : {"plot-idf1", "plot-hota", "plot-ms_per_frame"}) {
     const size_t at = html.find(id);
     ASSERT_NE(at, std::string::npos) << id;
@@ -426,8 +404,9 @@ TEST(Report, PanelsDrawOnePlotPerMetricAndValue) {
   const ReportResult r = WriteReport({.dir = out});
   EXPECT_EQ(r.plots, 4);
   EXPECT_EQ(r.cells, 8);
+  EXPECT_EQ(r.difference_plots, 4);  // one per metric and panel
   const std::string html = Read(r.html_path);
-  EXPECT_EQ(Count(html, "<svg"), 4U);
+  EXPECT_EQ(Count(html, "<svg"), 8U);
   for (const char* id : {"plot-idf1-0", "plot-idf1-1", "plot-hota-0", "plot-hota-1"}) {
     const size_t at = html.find(std::string("id=\"") + id + "\"");
     ASSERT_NE(at, std::string::npos) << id;
@@ -504,6 +483,288 @@ TEST(Report, CameraMotionSeriesPlotsCameraMotionError) {
     for (size_t i = 0; i <= column; ++i) std::getline(line, cell, ',');
     EXPECT_NEAR(std::stod(cell), sum / n, 1e-5 * (1 + sum / n)) << mode;
   }
+}
+
+// The rows of a kept gnuplot data file, by line label: x, mean, lower, upper.
+std::map<std::string, std::vector<std::array<double, 4>>> PlotRows(const fs::path& dat) {
+  std::map<std::string, std::vector<std::array<double, 4>>> rows;
+  std::stringstream text(Read(dat));
+  std::string line, label;
+  while (std::getline(text, line)) {
+    if (line.empty()) continue;
+    if (line[0] == '#') {
+      label = line.substr(2);
+      continue;
+    }
+    std::array<double, 4> r{};
+    std::stringstream(line) >> r[0] >> r[1] >> r[2] >> r[3];
+    rows[label].push_back(r);
+  }
+  return rows;
+}
+
+// A store written directly, with hand-picked values: particles {100, 1000} ×
+// {systematic, charged} × 10 seeds. hijack_rate per run is 0 or 1:
+// systematic 1 on every seed at 100 and on seeds 0–4 at 1000, charged 0
+// everywhere. mota: systematic 0.9 everywhere; charged at 1000 is 1.0 on
+// seeds 0–8 and 0.5 on seed 9 (its t interval reaches past 1).
+fs::path HandStore(const std::string& name) {
+  const auto dir = testing::SweepFolder(name);
+  StoreMeta meta;
+  meta.sweep_hash = "hand";
+  meta.sweep_file = "hand.yaml";
+  meta.swept_keys = {"tracker.particles", "tracker.resampling.method"};
+  meta.report.x = "tracker.particles";
+  meta.report.series = "tracker.resampling.method";
+  meta.report.y = {"hijack_rate", "mota"};
+  meta.report.reference = "systematic";
+  meta.run_count = 40;
+  auto store = ResultsStore::OpenOrCreate((dir / "results.sqlite").string(), meta);
+  int64_t index = 0;
+  for (const char* particles : {"100", "1000"}) {
+    for (const char* method : {"systematic", "charged"}) {
+      for (int seed = 0; seed < 10; ++seed) {
+        RunRecord r;
+        r.key = std::string(particles) + "-" + method + "-" + std::to_string(seed);
+        r.index = index++;
+        r.seed_index = seed;
+        r.seed = 1000 + seed;
+        r.values = {particles, method};
+        r.ok = true;
+        r.run_dir = "runs/" + r.key;
+        const bool systematic = std::string(method) == "systematic";
+        const bool many = std::string(particles) == "1000";
+        r.metrics["hijack_rate"] = systematic && (!many || seed < 5) ? 1.0 : 0.0;
+        r.metrics["mota"] = systematic ? 0.9 : (many ? (seed < 9 ? 1.0 : 0.5) : 0.9);
+        store->Put(r);
+      }
+    }
+  }
+  return dir;
+}
+
+// Bands of a 0/1 metric stay inside [0, 1]: Wilson, by hand
+// (statistics_test.cc): 0 of 10 and 10 of 10 have no spread, n* = 10:
+// [0, 0.277533] and [0.722467, 1]; 5 of 10 has n* = 6.756993:
+// [0.198979, 0.801021]. MOTA's t band at
+// (1000, charged), mean 0.95, s = 0.5/√10 = 0.158114, half-width 2.262 ·
+// 0.158114 / √10 = 0.113100, is cut at 1.
+TEST(Report, BandsOfAZeroOneMetricAreWilsonInsideTheUnitInterval) {
+  const fs::path dir = HandStore("report-wilson");
+  const fs::path kept = dir / "kept";
+  const ReportResult r =
+      WriteReport({.dir = dir.string(), .gnuplot = KeepingGnuplot(dir, kept).string()});
+  const auto hijack = PlotRows(kept / "plot_0.dat");
+  ASSERT_EQ(hijack.at("systematic").size(), 2U);
+  ASSERT_EQ(hijack.at("charged").size(), 2U);
+  for (const auto& [label, rows] : hijack) {
+    for (const auto& row : rows) {
+      EXPECT_GE(row[2], 0.0) << label;
+      EXPECT_LE(row[3], 1.0) << label;
+      EXPECT_LE(row[2], row[1]) << label;
+      EXPECT_GE(row[3], row[1]) << label;
+    }
+  }
+  // Rows go left to right: x = 100, then 1000. Six significant digits.
+  const auto& sys = hijack.at("systematic");
+  EXPECT_NEAR(sys[0][2], 0.722467, 1e-6);
+  EXPECT_NEAR(sys[0][3], 1.0, 1e-6);
+  EXPECT_NEAR(sys[1][1], 0.5, 1e-9);
+  EXPECT_NEAR(sys[1][2], 0.198979, 1e-6);
+  EXPECT_NEAR(sys[1][3], 0.801021, 1e-6);
+  for (const auto& row : hijack.at("charged")) {
+    EXPECT_EQ(row[1], 0.0);
+    EXPECT_EQ(row[2], 0.0);
+    EXPECT_NEAR(row[3], 0.277533, 1e-6);  // a band at 0, where t would have none
+  }
+  const auto mota = PlotRows(kept / "plot_1.dat");
+  EXPECT_NEAR(mota.at("charged")[1][1], 0.95, 1e-9);
+  EXPECT_NEAR(mota.at("charged")[1][2], 0.95 - 0.113100, 1e-6);
+  EXPECT_EQ(mota.at("charged")[1][3], 1.0);
+  const std::string html = Read(r.html_path);
+  EXPECT_NE(html.find("0.95 [0.8369, 1]&dagger;"), std::string::npos) << "cut, and marked";
+  EXPECT_NE(html.find("0.5 [0.199, 0.801]&nbsp;W"), std::string::npos) << "Wilson, marked";
+  EXPECT_NE(html.find("95% Wilson CI"), std::string::npos) << "the hijack plot's axis says so";
+  // summary.csv: mean, lo95, hi95, n.
+  const std::string csv = Read(r.csv_path);
+  EXPECT_NE(csv.find("hijack_rate_mean,hijack_rate_lo95,hijack_rate_hi95,hijack_rate_n"),
+            std::string::npos);
+  EXPECT_NE(csv.find(",0.5,0.198979,0.801021,10,"), std::string::npos) << csv;
+}
+
+// Paired differences, charged − systematic (the sweep's report.reference),
+// by hand. hijack_rate at 100: d = −1 on all 10 seeds: mean −1, s = 0, the
+// interval [−1, −1]; signed-rank: 10 nonzero, all negative, one tie group
+// (ranks 5.5), W+ = 0, exact P(W+ <= 0) = 1/1024, p = 2/1024 = 0.001953.
+// At 1000: d = −1 on seeds 0–4, 0 on 5–9: mean −0.5, s = √(2.5/9), s/√10 =
+// √(2.5/90) = 1/6, half-width 2.262 / 6 = 0.377; 5 nonzero, W+ = 0,
+// p = 2/32 = 0.0625. mota at 1000: d = 0.1 on seeds 0–8, −0.4 on seed 9:
+// mean 0.05; 9 positive, 1 negative; ranks: the nine 0.1s share 5, the −0.4
+// has 10: W+ = 45. Under the sign flips W+ = 5k + 10b (k of the nine 5s and
+// b of the 10 positive): W+ >= 45 for b = 1, k >= 7 (36 + 9 + 1) and for
+// b = 0, k = 9 (1): 47 of 1024, p = 94/1024 = 0.091797.
+TEST(Report, PairedDifferencesByHand) {
+  const fs::path dir = HandStore("report-paired");
+  const fs::path kept = dir / "kept";
+  const ReportResult r =
+      WriteReport({.dir = dir.string(), .gnuplot = KeepingGnuplot(dir, kept).string()});
+  EXPECT_EQ(r.comparisons, 2);
+  EXPECT_EQ(r.difference_plots, 2);
+  const auto rows = CsvRows(dir / "paired.csv");
+  ASSERT_EQ(rows.size(), 4U);  // 2 x values × 2 metrics
+  // Columns: particles, method, reference, metric, pairs, mean_difference,
+  // lo95, hi95, clipped, positive, negative, ties, nonzero, w_plus, p_value, exact.
+  const auto row_of = [&](const std::string& x, const std::string& metric) {
+    for (const auto& row : rows) {
+      if (row[0] == x && row[3] == metric) return row;
+    }
+    ADD_FAILURE() << x << " " << metric;
+    return std::vector<std::string>(16);
+  };
+  auto row = row_of("100", "hijack_rate");
+  EXPECT_EQ(row[1], "charged");
+  EXPECT_EQ(row[2], "systematic");
+  EXPECT_EQ(row[4], "10");
+  EXPECT_EQ(std::stod(row[5]), -1.0);
+  EXPECT_EQ(std::stod(row[6]), -1.0);
+  EXPECT_EQ(std::stod(row[7]), -1.0);
+  EXPECT_EQ(row[10], "10");            // negative
+  EXPECT_EQ(row[12], "10");            // nonzero
+  EXPECT_EQ(std::stod(row[13]), 0.0);  // W+
+  EXPECT_NEAR(std::stod(row[14]), 2.0 / 1024.0, 1e-6);
+  row = row_of("1000", "hijack_rate");
+  EXPECT_NEAR(std::stod(row[5]), -0.5, 1e-9);
+  EXPECT_NEAR(std::stod(row[6]), -0.5 - 0.377, 1e-6);
+  EXPECT_NEAR(std::stod(row[7]), -0.5 + 0.377, 1e-6);
+  EXPECT_EQ(row[11], "5");  // ties (zero differences)
+  EXPECT_EQ(row[12], "5");  // nonzero
+  row = row_of("1000", "mota");
+  EXPECT_NEAR(std::stod(row[5]), 0.05, 1e-9);
+  EXPECT_EQ(row[9], "9");
+  EXPECT_EQ(row[10], "1");
+  EXPECT_EQ(std::stod(row[13]), 45.0);
+  EXPECT_NEAR(std::stod(row[14]), 94.0 / 1024.0, 1e-6);
+  EXPECT_EQ(row[15], "1");
+  EXPECT_NEAR(std::stod(row_of("1000", "hijack_rate")[14]), 0.0625, 1e-9);
+
+  const std::string html = Read(r.html_path);
+  EXPECT_NE(html.find("<h2 id=\"paired\">Paired differences</h2>"), std::string::npos);
+  EXPECT_NE(html.find("charged &minus; systematic</td><td>10</td>"), std::string::npos);
+  EXPECT_NE(html.find("p&nbsp;=&nbsp;0.002"), std::string::npos);
+  // Lower hijack rate is better: significant and negative → green.
+  EXPECT_NE(html.find("style=\"background:#dff3df\">&Delta;&nbsp;-1 [-1, -1]"), std::string::npos);
+  // The difference plots: a line "charged − systematic" and a zero line.
+  const auto diff = PlotRows(kept / "plot_d0.dat");
+  ASSERT_EQ(diff.size(), 1U);
+  EXPECT_EQ(diff.begin()->first, "charged \u2212 systematic");
+  EXPECT_NEAR(diff.begin()->second[1][1], -0.5, 1e-9);
+  const size_t at = html.find("id=\"difference-hijack_rate\"");
+  ASSERT_NE(at, std::string::npos);
+  EXPECT_NE(html.substr(at, html.find("</svg>", at) - at).find("paired difference against"),
+            std::string::npos);
+
+  // Determinism: the same store gives the same bytes.
+  const std::string csv = Read(r.csv_path), paired = Read(dir / "paired.csv");
+  const ReportResult again = WriteReport({.dir = dir.string()});
+  EXPECT_EQ(Read(again.html_path), html);
+  EXPECT_EQ(Read(again.csv_path), csv);
+  EXPECT_EQ(Read(dir / "paired.csv"), paired);
+}
+
+// With report.x_metric the difference of a pair sits where its compared
+// cell does: the x of every difference point is the x of the charged line's
+// point in the metric's own plot, even for the plot of x_metric itself
+// (whose y is then the difference, not the cell's mean).
+TEST(Report, DifferencePointsSitAtTheComparedCellsMeasuredX) {
+  const auto dir = testing::SweepFolder("report-paired-x-metric");
+  const SweepSpec spec = LoadSweepFile(testing::WriteSweep(
+      dir,
+      "base: base.yaml\nseeds: 2\ngrid:\n  tracker.particles: [20, 200]\n"
+      "  tracker.resampling.method: [systematic, charged]\n"
+      "report: {x: tracker.particles, x_metric: idf1, series: tracker.resampling.method, "
+      "y: [idf1, hota]}\n"));
+  const std::string out = RunQuietly(spec, dir);
+  const fs::path kept = dir / "kept";
+  WriteReport({.dir = out, .gnuplot = KeepingGnuplot(dir, kept).string()});
+  const auto cells = PlotRows(kept / "plot_0.dat").at("charged");
+  const auto sys = PlotRows(kept / "plot_0.dat").at("systematic");
+  const auto diff = PlotRows(kept / "plot_d0.dat").at("charged \u2212 systematic");
+  ASSERT_EQ(cells.size(), 2U);
+  ASSERT_EQ(diff.size(), 2U);
+  for (size_t i = 0; i < 2; ++i) {
+    EXPECT_EQ(diff[i][0], cells[i][0]) << i;
+    // y: the mean difference of the pairs = the difference of the two means
+    // (both cells have both seeds); 6 significant digits in the files.
+    EXPECT_NEAR(diff[i][1], cells[i][1] - sys[i][1], 2e-6) << i;
+  }
+}
+
+// A tiny real sweep: each comparison's mean difference and pair count are
+// the store's own per-seed differences, paired here by seed; its p-value is
+// the exact signed-rank p computed here by enumerating the 2^n sign flips.
+TEST(Report, PairedDifferencesOfATinySweepMatchTheStore) {
+  const auto dir = testing::SweepFolder("report-paired-sweep");
+  const SweepSpec spec = LoadSweepFile(testing::WriteSweep(
+      dir,
+      "base: base.yaml\nseeds: 4\ngrid:\n  tracker.particles: [20, 200]\n"
+      "  tracker.resampling.method: [systematic, charged]\n"
+      "report: {x: tracker.particles, series: tracker.resampling.method, reference: charged, "
+      "y: [idf1, da_accuracy]}\n"));
+  const std::string out = RunQuietly(spec, dir);
+  const ReportResult r = WriteReport({.dir = out});
+  EXPECT_EQ(r.comparisons, 2);                             // systematic − charged at 20 and 200
+  std::map<std::string, std::map<uint64_t, double>> idf1;  // "x/method" → seed → value
+  for (const RunRecord& rec : ResultsStore::Open(out + "/results.sqlite")->Runs()) {
+    idf1[rec.values[0] + "/" + rec.values[1]][rec.seed] = rec.metrics.at("idf1");
+  }
+  for (const char* x : {"20", "200"}) {
+    std::vector<double> d;
+    for (const auto& [seed, v] : idf1[std::string(x) + "/systematic"]) {
+      d.push_back(v - idf1[std::string(x) + "/charged"].at(seed));
+    }
+    ASSERT_EQ(d.size(), 4U);
+    double mean = 0.0;
+    for (double v : d) mean += v / 4.0;
+    // Exact two-sided signed-rank p by enumeration (no ties assumed away:
+    // ranks averaged over equal |d|; zeros dropped).
+    std::vector<double> nz;
+    for (double v : d) {
+      if (v != 0.0) nz.push_back(v);
+    }
+    std::vector<double> rank(nz.size());
+    for (size_t i = 0; i < nz.size(); ++i) {
+      double below = 0, equal = 0;
+      for (double w : nz) {
+        below += std::abs(w) < std::abs(nz[i]);
+        equal += std::abs(w) == std::abs(nz[i]);
+      }
+      rank[i] = below + (equal + 1) / 2;
+    }
+    double w_plus = 0;
+    for (size_t i = 0; i < nz.size(); ++i) w_plus += nz[i] > 0 ? rank[i] : 0;
+    double at_most = 0, at_least = 0;
+    const size_t flips = size_t{1} << nz.size();
+    for (size_t mask = 0; mask < flips; ++mask) {
+      double w = 0;
+      for (size_t i = 0; i < nz.size(); ++i) w += (mask >> i & 1) ? rank[i] : 0;
+      at_most += w <= w_plus + 1e-9;
+      at_least += w >= w_plus - 1e-9;
+    }
+    const double p = nz.empty() ? 1.0 : std::min(1.0, 2 * std::min(at_most, at_least) / flips);
+    bool found = false;
+    for (const auto& row : CsvRows(fs::path(out) / "paired.csv")) {
+      if (row[0] != x || row[3] != "idf1") continue;
+      found = true;
+      EXPECT_EQ(row[1], "systematic");
+      EXPECT_EQ(row[2], "charged");
+      EXPECT_EQ(row[4], "4");
+      EXPECT_NEAR(std::stod(row[5]), mean, 1e-5 * (1 + std::abs(mean))) << x;
+      EXPECT_NEAR(std::stod(row[14]), p, 1e-5) << x;
+    }
+    EXPECT_TRUE(found) << x;
+  }
+  const std::string html = Read(r.html_path);
+  EXPECT_NE(html.find("systematic &minus; charged</td><td>4</td>"), std::string::npos);
 }
 
 }  // namespace

@@ -159,6 +159,39 @@ TEST(Sweep, GridBaseErrorsNameTheLine) {
   EXPECT_NE(e.find("a swept key"), std::string::npos) << e;
 }
 
+// report.reference: a value of report.series as the sweep file writes it,
+// stored with the report spec; errors name the file, line, key, what was
+// expected and what was found.
+TEST(Sweep, ReportReferenceIsAValueOfTheSeries) {
+  const auto dir = SweepFolder("report-reference");
+  const std::string grid =
+      "base: base.yaml\ngrid:\n  tracker.particles: [10, 20]\n"
+      "  tracker.resampling.method: [systematic, charged]\n";
+  const SweepSpec spec = LoadSweepFile(
+      WriteSweep(dir, grid + "report: {series: tracker.resampling.method, reference: charged}\n"));
+  EXPECT_EQ(spec.report.reference, "charged");
+  EXPECT_EQ(LoadSweepFile(WriteSweep(dir, grid + "report: {series: tracker.resampling.method}\n"))
+                .report.reference,
+            "");
+  // Not a value of the series: the values, and the closest one.
+  std::string e = ErrorOf(WriteSweep(
+      dir, grid + "report:\n  series: tracker.resampling.method\n  reference: systematc\n"));
+  EXPECT_NE(e.find("sweep.yaml:7:14: report.reference"), std::string::npos) << e;
+  EXPECT_NE(e.find("report.reference"), std::string::npos) << e;
+  EXPECT_NE(e.find("a value of report.series tracker.resampling.method (systematic, charged)"),
+            std::string::npos)
+      << e;
+  EXPECT_NE(e.find("\"systematc\""), std::string::npos) << e;
+  EXPECT_NE(e.find("did you mean \"systematic\"?"), std::string::npos) << e;
+  // Without a series there is nothing to refer to.
+  e = ErrorOf(WriteSweep(dir, grid + "report: {reference: charged}\n"));
+  EXPECT_NE(e.find("no report.reference without report.series"), std::string::npos) << e;
+  // A misspelt key is refused like any unknown key.
+  e = ErrorOf(WriteSweep(dir, grid + "report: {series: tracker.resampling.method, referense: "
+                                     "charged}\n"));
+  EXPECT_NE(e.find("referense"), std::string::npos) << e;
+}
+
 TEST(Sweep, NoSeedsKeepsTheBaseSeedAndSweepSeedChangesDerivedSeeds) {
   const auto dir = SweepFolder("seeds");
   const auto runs = ExpandSweep(

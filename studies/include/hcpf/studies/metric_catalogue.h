@@ -10,6 +10,8 @@
 #include <string_view>
 #include <vector>
 
+#include "hcpf/studies/statistics.h"
+
 namespace hcpf::studies {
 
 struct CatalogueMetric {
@@ -19,6 +21,10 @@ struct CatalogueMetric {
   bool higher_is_better;
   std::string_view label;  // for plots and tables, e.g. "data-association accuracy"
   std::string_view unit;   // "" when dimensionless
+  // The values one run can have, and whether the value is a proportion (a
+  // fraction of counted events: its across-seed mean gets a Wilson interval,
+  // statistics.h); the report's bands never leave this range.
+  MetricRange range;
   // The value is 1000 × (the pointed value) / manifest.json's "/frames"
   // (milliseconds per frame of a time in seconds).
   bool per_frame_ms = false;

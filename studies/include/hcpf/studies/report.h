@@ -11,13 +11,20 @@
 //
 //   ReportResult r = WriteReport({.dir = "out/climb"});   // reads its metrics.json
 //
-// Statistics: a cell is one combination of swept values; its n values are the
-// seeds whose run finished with a finite metric. The band is the 95 %
-// confidence interval of the mean, mean ± t(0.975, n−1) · s / √n (Student t;
-// s the sample standard deviation); no band when n < 2.
+// Statistics (statistics.h, docs/sweeps.md): a cell is one combination of
+// swept values; its n values are the seeds whose run finished with a finite
+// metric. The band is the 95 % confidence interval of the mean: a Wilson
+// score interval over the n seeds for proportions (the metric catalogue's
+// range), else mean ± t(0.975, n−1) · s / √n cut to the metric's range.
+// With report.series, every other series value is compared with the
+// reference value (report.reference, else the first) seed by seed at each x:
+// the mean paired difference with its t interval and a Wilcoxon signed-rank
+// test, in a table and one plot per metric.
 
 #include <string>
 #include <vector>
+
+#include "hcpf/studies/statistics.h"
 
 namespace hcpf::studies {
 
@@ -30,8 +37,10 @@ struct ReportOptions {
 
 struct ReportResult {
   std::string html_path;
-  std::string csv_path;  // "" for a run's report (it has no cells)
-  int plots = 0;
+  std::string csv_path;      // "" for a run's report (it has no cells)
+  int plots = 0;             // plots of the metrics (with their panels)
+  int difference_plots = 0;  // plots of the paired differences
+  int comparisons = 0;       // rows of the paired-difference table
   int cells = 0;
 };
 
@@ -62,18 +71,5 @@ ReportResult WriteReport(const ReportOptions& options);
 // frame whose legend names the camera-motion mode, with the scene filter's
 // ESS on a second axis when the file has it; then the resolved scenario.
 ReportResult WriteRunReport(const ReportOptions& options);
-
-// Mean and 95 % confidence half-width of `values` (t distribution, above).
-// half_width is 0 when there are fewer than two values; mean is NaN when none.
-struct MeanCi {
-  int n = 0;
-  double mean = 0.0;
-  double half_width = 0.0;
-};
-MeanCi MeanConfidence95(const std::vector<double>& values);
-
-// The 0.975 quantile of Student's t with `dof` >= 1 degrees of freedom
-// (table for dof <= 30, Cornish–Fisher expansion above; error < 1e-3).
-double StudentT975(int dof);
 
 }  // namespace hcpf::studies

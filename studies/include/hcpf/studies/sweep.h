@@ -49,6 +49,10 @@ struct ReportSpec {
   // gets one plot per value of this key, its lines the cells of that value
   // (e.g. `base`: one figure per base scenario). "" = one plot per metric.
   std::string panels;
+  // A value of `series` (as written in the sweep file) that the others are
+  // compared with, seed by seed: the report's paired differences (each other
+  // series value minus this one at every x). "" = the first series value.
+  std::string reference;
 };
 
 // The grid key that sweeps the base scenario itself: its values are scenario

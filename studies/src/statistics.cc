@@ -1,0 +1,210 @@
+#include "hcpf/studies/statistics.h"
+
+#include <algorithm>
+#include <cmath>
+#include <vector>
+
+#include "hcpf/core/check.h"
+
+namespace hcpf::studies {
+
+namespace {
+
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+
+std::vector<double> Finite(std::span<const double> values) {
+  std::vector<double> out;
+  out.reserve(values.size());
+  for (double v : values) {
+    if (std::isfinite(v)) out.push_back(v);
+  }
+  return out;
+}
+
+double Mean(const std::vector<double>& v) {
+  double sum = 0.0;
+  for (double x : v) sum += x;
+  return sum / static_cast<double>(v.size());
+}
+
+// Cuts [lower, upper] to `range`; says whether it had to.
+void Clip(Interval& r, double lower, double upper) {
+  if (r.lower < lower) {
+    r.lower = lower;
+    r.clipped = true;
+  }
+  if (r.upper > upper) {
+    r.upper = upper;
+    r.clipped = true;
+  }
+}
+
+}  // namespace
+
+double StudentT975(int dof) {
+  HCPF_CHECK(dof >= 1) << "dof=" << dof;
+  // Two-sided 95 % critical values of Student's t (standard tables).
+  static const double kTable[30] = {12.706, 4.303, 3.182, 2.776, 2.571, 2.447, 2.365, 2.306,
+                                    2.262,  2.228, 2.201, 2.179, 2.160, 2.145, 2.131, 2.120,
+                                    2.110,  2.101, 2.093, 2.086, 2.080, 2.074, 2.069, 2.064,
+                                    2.060,  2.056, 2.052, 2.048, 2.045, 2.042};
+  if (dof <= 30) return kTable[dof - 1];
+  // Cornish–Fisher expansion around z = Φ⁻¹(0.975) (Abramowitz & Stegun 26.7.5).
+  const double z = kZ975;
+  const double v = dof;
+  const double z3 = z * z * z, z5 = z3 * z * z, z7 = z5 * z * z;
+  return z + (z3 + z) / (4 * v) + (5 * z5 + 16 * z3 + 3 * z) / (96 * v * v) +
+         (3 * z7 + 19 * z5 + 17 * z3 - 15 * z) / (384 * v * v * v);
+}
+
+Interval StudentInterval95(std::span<const double> values, const MetricRange& range) {
+  const std::vector<double> v = Finite(values);
+  Interval r;
+  r.n = static_cast<int>(v.size());
+  if (r.n == 0) return r;
+  r.mean = Mean(v);
+  r.lower = r.upper = r.mean;
+  if (r.n < 2) return r;
+  double ss = 0.0;
+  for (double x : v) ss += (x - r.mean) * (x - r.mean);
+  const double s = std::sqrt(ss / (r.n - 1));
+  const double half = StudentT975(r.n - 1) * s / std::sqrt(static_cast<double>(r.n));
+  r.lower = r.mean - half;
+  r.upper = r.mean + half;
+  r.method = IntervalMethod::kStudentT;
+  Clip(r, range.lower, range.upper);
+  return r;
+}
+
+Interval WilsonInterval95(double p_hat, double n) {
+  HCPF_CHECK(n > 0.0 && p_hat >= 0.0 && p_hat <= 1.0) << "p_hat=" << p_hat << " n=" << n;
+  const double z2 = kZ975 * kZ975;
+  const double nn = n;
+  const double denominator = 1.0 + z2 / nn;
+  const double centre = (p_hat + z2 / (2.0 * nn)) / denominator;
+  const double half =
+      kZ975 / denominator * std::sqrt(p_hat * (1.0 - p_hat) / nn + z2 / (4.0 * nn * nn));
+  Interval r;
+  r.n = static_cast<int>(std::lround(n));
+  r.trials = n;
+  r.mean = p_hat;
+  // The bounds are inside [0, 1] in exact arithmetic; rounding can put them
+  // an ulp outside at p̂ = 0 or 1, which is not a clip.
+  r.lower = std::clamp(centre - half, 0.0, 1.0);
+  r.upper = std::clamp(centre + half, 0.0, 1.0);
+  r.method = IntervalMethod::kWilson;
+  return r;
+}
+
+Interval MeanInterval95(std::span<const double> values, const MetricRange& range) {
+  if (!range.proportion) return StudentInterval95(values, range);
+  const std::vector<double> v = Finite(values);
+  if (v.empty()) return Interval{};
+  // A value outside [0, 1] is not a fraction (a store written by a metric of
+  // another definition): its mean gets the t interval cut to [0, 1] instead.
+  for (double x : v) {
+    if (x < 0.0 || x > 1.0) return StudentInterval95(v, range);
+  }
+  const int n = static_cast<int>(v.size());
+  const double p = std::clamp(Mean(v), 0.0, 1.0);
+  double trials = n;
+  if (n >= 2) {
+    double ss = 0.0;
+    for (double x : v) ss += (x - p) * (x - p);
+    const double s2 = ss / (n - 1);
+    if (s2 > 0.0) {
+      const double df_factor = kZ975 / StudentT975(n - 1);
+      trials = n * p * (1.0 - p) / s2 * df_factor * df_factor;
+    }
+  }
+  Interval r = WilsonInterval95(p, trials);
+  r.n = n;
+  return r;
+}
+
+SignedRankTest WilcoxonSignedRank(std::span<const double> differences) {
+  SignedRankTest t;
+  std::vector<double> d;
+  for (double x : differences) {
+    if (std::isfinite(x) && x != 0.0) d.push_back(x);
+  }
+  const int n = static_cast<int>(d.size());
+  t.nonzero = n;
+  if (n == 0) return t;
+  // Ranks of |d|, ties averaged; kept doubled so that they are integers.
+  std::vector<int> order(n);
+  for (int i = 0; i < n; ++i) order[i] = i;
+  std::sort(order.begin(), order.end(), [&](int a, int b) {
+    return std::abs(d[a]) < std::abs(d[b]) || (std::abs(d[a]) == std::abs(d[b]) && a < b);
+  });
+  std::vector<int> rank2(n);  // 2 × rank
+  double tie_term = 0.0;      // Σ (t³ − t) over groups of tied |d|
+  for (int i = 0; i < n;) {
+    int j = i;
+    while (j + 1 < n && std::abs(d[order[j + 1]]) == std::abs(d[order[i]])) ++j;
+    // Positions i..j (0-based) share the ranks i+1..j+1: average (i+j+2)/2.
+    for (int k = i; k <= j; ++k) rank2[order[k]] = i + j + 2;
+    const double size = j - i + 1;
+    tie_term += size * size * size - size;
+    i = j + 1;
+  }
+  int w2 = 0;  // 2 × W+
+  int total2 = 0;
+  for (int i = 0; i < n; ++i) {
+    total2 += rank2[i];
+    if (d[i] > 0) w2 += rank2[i];
+  }
+  t.w_plus = w2 / 2.0;
+  if (n <= kExactSignedRankMaxPairs) {
+    // count[s]: sign assignments whose positive doubled ranks sum to s. At
+    // most 2^30 of them: exact in a double.
+    std::vector<double> count(static_cast<size_t>(total2) + 1, 0.0);
+    count[0] = 1.0;
+    int reach = 0;
+    for (int r : rank2) {
+      for (int s = reach; s >= 0; --s) count[static_cast<size_t>(s + r)] += count[s];
+      reach += r;
+    }
+    double at_most = 0.0, at_least = 0.0;
+    for (int s = 0; s <= total2; ++s) {
+      if (s <= w2) at_most += count[s];
+      if (s >= w2) at_least += count[s];
+    }
+    const double all = std::ldexp(1.0, n);
+    t.p_value = std::min(1.0, 2.0 * std::min(at_most, at_least) / all);
+    t.exact = true;
+    return t;
+  }
+  const double nn = n;
+  const double mean = nn * (nn + 1.0) / 4.0;
+  const double variance = nn * (nn + 1.0) * (2.0 * nn + 1.0) / 24.0 - tie_term / 48.0;
+  const double z = (std::abs(t.w_plus - mean) - 0.5) / std::sqrt(variance);
+  t.p_value = z <= 0.0 ? 1.0 : std::erfc(z / std::sqrt(2.0));
+  return t;
+}
+
+PairedComparison ComparePaired(std::span<const double> a, std::span<const double> b,
+                               const MetricRange& range) {
+  HCPF_CHECK(a.size() == b.size()) << a.size() << " vs " << b.size();
+  PairedComparison c;
+  std::vector<double> d;
+  for (size_t i = 0; i < a.size(); ++i) {
+    if (!std::isfinite(a[i]) || !std::isfinite(b[i])) continue;
+    d.push_back(a[i] - b[i]);
+    if (a[i] > b[i]) ++c.positive;
+    if (a[i] < b[i]) ++c.negative;
+  }
+  c.pairs = static_cast<int>(d.size());
+  // A difference of two values in [L, U] lies in [L − U, U − L].
+  const double width = range.upper - range.lower;
+  MetricRange difference_range;
+  if (std::isfinite(width)) {
+    difference_range.lower = -width;
+    difference_range.upper = width;
+  }
+  c.difference = StudentInterval95(d, difference_range);
+  c.test = WilcoxonSignedRank(d);
+  return c;
+}
+
+}  // namespace hcpf::studies

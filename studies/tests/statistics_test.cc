@@ -1,0 +1,286 @@
+// The report's statistics against hand-worked values and published tables.
+// Every expected value below is derived in its comment (or quoted from the
+// table named there), never taken from the code under test.
+
+#include "hcpf/studies/statistics.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <vector>
+
+#include "hcpf/studies/metric_catalogue.h"
+
+namespace hcpf::studies {
+namespace {
+
+TEST(StudentT975, MatchesPrintedTables) {
+  // Printed two-sided 95 % t tables: 12.706 (1), 2.228 (10), 2.042 (30),
+  // 2.021 (40), 2.000 (60), 1.980 (120). Above 30 the expansion must agree to 1e-3.
+  EXPECT_DOUBLE_EQ(StudentT975(1), 12.706);
+  EXPECT_DOUBLE_EQ(StudentT975(10), 2.228);
+  EXPECT_NEAR(StudentT975(40), 2.021, 1e-3);
+  EXPECT_NEAR(StudentT975(60), 2.000, 1e-3);
+  EXPECT_NEAR(StudentT975(120), 1.980, 1e-3);
+}
+
+TEST(StudentInterval95, MeanAndBoundsByHand) {
+  // {1, 2, 3}: mean 2, s = 1, half-width = t(2) · 1 / √3 = 4.303 / 1.7320508 = 2.484338.
+  const std::vector<double> a = {1.0, 2.0, 3.0};
+  const Interval r = StudentInterval95(a);
+  EXPECT_EQ(r.n, 3);
+  EXPECT_EQ(r.method, IntervalMethod::kStudentT);
+  EXPECT_DOUBLE_EQ(r.mean, 2.0);
+  EXPECT_NEAR(r.lower, 2.0 - 2.484338, 1e-6);
+  EXPECT_NEAR(r.upper, 2.0 + 2.484338, 1e-6);
+  EXPECT_FALSE(r.clipped);
+  // NaN is left out: {4, 6}: mean 5, s = √2, half-width = 12.706 · √2 / √2.
+  const std::vector<double> b = {std::nan(""), 4.0, 6.0};
+  const Interval rb = StudentInterval95(b);
+  EXPECT_EQ(rb.n, 2);
+  EXPECT_NEAR(rb.upper - rb.mean, 12.706, 1e-9);
+  // One value: no interval; none: NaN.
+  const std::vector<double> c = {0.5};
+  EXPECT_EQ(StudentInterval95(c).method, IntervalMethod::kNone);
+  EXPECT_EQ(StudentInterval95(c).lower, 0.5);
+  EXPECT_TRUE(std::isnan(StudentInterval95(std::vector<double>{}).mean));
+}
+
+TEST(StudentInterval95, IsCutToTheRangeAndSaysSo) {
+  // {0, 0, 1} in [0, 1]: mean 1/3, s = √(1/3) = 0.57735, half-width =
+  // 4.303 · 0.57735 / √3 = 1.434333: [−1.101, 1.768] → [0, 1], clipped.
+  const std::vector<double> v = {0.0, 0.0, 1.0};
+  const Interval r = StudentInterval95(v, MetricRange::UnitInterval());
+  EXPECT_NEAR(r.mean, 1.0 / 3.0, 1e-12);
+  EXPECT_EQ(r.lower, 0.0);
+  EXPECT_EQ(r.upper, 1.0);
+  EXPECT_TRUE(r.clipped);
+  // MOTA-like, at most 1: {0.9, 1.0}: mean 0.95, s = 0.0707107, half-width
+  // = 12.706 · 0.0707107 / √2 = 0.6353: lower 0.3147 kept, upper cut to 1.
+  const std::vector<double> m = {0.9, 1.0};
+  const Interval rm = StudentInterval95(m, MetricRange::AtMost(1.0));
+  EXPECT_NEAR(rm.lower, 0.95 - 0.6353, 1e-9);
+  EXPECT_EQ(rm.upper, 1.0);
+  EXPECT_TRUE(rm.clipped);
+}
+
+// Wilson: centre (p̂ + z²/2n) / (1 + z²/n), half-width z/(1 + z²/n) ·
+// √(p̂(1−p̂)/n + z²/4n²), z² = 3.841459.
+TEST(WilsonInterval95, HandWorkedValues) {
+  // 0 of 10: centre = 0.1920729 / 1.3841459 = 0.1387667, half-width =
+  // 1.4160 · √(0.0096036) = 0.1387667: [0, 0.2775334].
+  const Interval zero = WilsonInterval95(0.0, 10);
+  EXPECT_EQ(zero.method, IntervalMethod::kWilson);
+  EXPECT_NEAR(zero.lower, 0.0, 1e-12);
+  EXPECT_NEAR(zero.upper, 0.277533, 1e-6);
+  // 5 of 10: centre 0.5, half-width 1.4160 · √(0.025 + 0.0096036) = 0.263407.
+  const Interval half = WilsonInterval95(0.5, 10);
+  EXPECT_NEAR(half.lower, 0.236593, 1e-6);
+  EXPECT_NEAR(half.upper, 0.763407, 1e-6);
+  // 10 of 10 mirrors 0 of 10.
+  const Interval all = WilsonInterval95(1.0, 10);
+  EXPECT_NEAR(all.lower, 1.0 - 0.277533, 1e-6);
+  EXPECT_NEAR(all.upper, 1.0, 1e-12);
+}
+
+TEST(WilsonInterval95, MatchesNewcombe1998) {
+  // Newcombe, "Two-sided confidence intervals for the single proportion",
+  // Stat. Med. 17 (1998), Table II, method 3 (score, no continuity
+  // correction), printed to 4 decimals.
+  struct Case {
+    int k, n;
+    double lower, upper;
+  };
+  for (const Case& c : {Case{81, 263, 0.2553, 0.3662}, Case{15, 148, 0.0624, 0.1605},
+                        Case{0, 20, 0.0, 0.1611}, Case{1, 29, 0.0061, 0.1718}}) {
+    const Interval r = WilsonInterval95(static_cast<double>(c.k) / c.n, c.n);
+    EXPECT_NEAR(r.lower, c.lower, 5e-5) << c.k << "/" << c.n;
+    EXPECT_NEAR(r.upper, c.upper, 5e-5) << c.k << "/" << c.n;
+  }
+}
+
+// Proportions: Wilson with the effective number of trials
+// n* = n · p̂(1 − p̂) / s² · (z / t(0.975, n−1))², or n when s² = 0.
+TEST(MeanInterval95, ProportionsGetWilsonWithTheEffectiveNumberOfTrials) {
+  // Ten runs that each hijacked nothing: s² = 0, n* = 10: [0, 0.2775],
+  // where a t interval would have width 0.
+  const std::vector<double> zeros(10, 0.0);
+  const Interval w = MeanInterval95(zeros, MetricRange::Proportion());
+  EXPECT_EQ(w.method, IntervalMethod::kWilson);
+  EXPECT_EQ(w.n, 10);
+  EXPECT_EQ(w.trials, 10.0);
+  EXPECT_NEAR(w.upper, 0.277533, 1e-6);
+  EXPECT_EQ(StudentInterval95(zeros).upper, 0.0);
+  // Five of ten runs hijacked (0/1 each; the NaN is left out): s² = 2.5/9,
+  // n·p̂(1−p̂)/s² = 2.5 / (2.5/9) = 9, (z/t(9))² = (1.959964/2.262)² =
+  // 0.7507770, n* = 6.756993; centre 0.5, z²/n* = 0.5685160, half-width
+  // 1.959964 / 1.5685160 · √(0.25/6.756993 + 3.841459/(4 · 6.756993²)) =
+  // 1.2495658 · √(0.0369987 + 0.0210344) = 0.3010211.
+  const std::vector<double> five = {1, 0, 1, 0, 1, 0, 1, 0, 1, std::nan(""), 0};
+  const Interval f = MeanInterval95(five, MetricRange::Proportion());
+  EXPECT_EQ(f.n, 10);
+  EXPECT_NEAR(f.trials, 6.756993, 1e-6);
+  EXPECT_NEAR(f.lower, 0.5 - 0.3010211, 1e-6);
+  EXPECT_NEAR(f.upper, 0.5 + 0.3010211, 1e-6);
+  // Two seeds, {0.2, 0.4}: p̂ = 0.3, s² = 0.02, n·p̂(1−p̂)/s² = 21, (z/t(1))²
+  // = (1.959964/12.706)² = 0.0237940, n* = 0.4996867: z²/n* = 7.687735,
+  // centre (0.3 + 3.843869) / 8.687737 = 0.4769790, half-width 1.959964 /
+  // 8.687737 · √(0.21/0.4996867 + 3.841459/(4 · 0.4996867²)) = 0.4659931.
+  const std::vector<double> fr = {0.2, 0.4};
+  const Interval rf = MeanInterval95(fr, MetricRange::Proportion());
+  EXPECT_NEAR(rf.mean, 0.3, 1e-12);
+  EXPECT_NEAR(rf.trials, 0.4996867, 1e-6);
+  EXPECT_NEAR(rf.lower, 0.4769790 - 0.4659931, 1e-6);
+  EXPECT_NEAR(rf.upper, 0.4769790 + 0.4659931, 1e-6);
+  // Fractions with a small spread (a DA accuracy): {0.96, 0.98, 0.97, 0.99,
+  // 0.95}: p̂ = 0.97, s² = 0.00025, n* = 5 · 0.0291 / 0.00025 · (1.959964 /
+  // 2.776)² = 290.12: [0.943413, 0.984303] — about the t interval's width
+  // (0.950371 … 0.989629: 0.0393 against 0.0409), not the width of a
+  // binomial over 5 seeds, and skewed away from the bound at 1.
+  const std::vector<double> da = {0.96, 0.98, 0.97, 0.99, 0.95};
+  const Interval rd = MeanInterval95(da, MetricRange::Proportion());
+  EXPECT_NEAR(rd.trials, 290.12, 0.01);
+  EXPECT_NEAR(rd.lower, 0.943413, 1e-6);
+  EXPECT_NEAR(rd.upper, 0.984303, 1e-6);
+  // Not a proportion: the t interval.
+  EXPECT_EQ(MeanInterval95(fr, MetricRange::UnitInterval()).method, IntervalMethod::kStudentT);
+}
+
+// The exact signed-rank distribution with ranks 1..n: P(W+ = w) is the
+// number of subsets of {1..n} summing to w over 2^n; for w <= n that is the
+// number of partitions of w into distinct parts, 1 1 1 2 2 3 4 5 6 8 for w = 0..9.
+TEST(WilcoxonSignedRank, ExactSmallSamplesByHand) {
+  // All five positive: W+ = 15, P(W+ >= 15) = 1/32, p = 2/32.
+  const std::vector<double> five = {0.5, 1.0, 1.5, 2.0, 2.5};
+  SignedRankTest t = WilcoxonSignedRank(five);
+  EXPECT_TRUE(t.exact);
+  EXPECT_EQ(t.nonzero, 5);
+  EXPECT_EQ(t.w_plus, 15.0);
+  EXPECT_DOUBLE_EQ(t.p_value, 0.0625);
+  // Zeros are dropped: the same five and three zeros.
+  const std::vector<double> zeros = {0.0, 0.5, 1.0, 0.0, 1.5, 2.0, 2.5, 0.0};
+  t = WilcoxonSignedRank(zeros);
+  EXPECT_EQ(t.nonzero, 5);
+  EXPECT_DOUBLE_EQ(t.p_value, 0.0625);
+  // n = 10, only rank 8 positive: W+ = 8, P(W+ <= 8) = (1+1+1+2+2+3+4+5+6)/1024
+  // = 25/1024, p = 50/1024.
+  const std::vector<double> ten = {-1, -2, -3, -4, -5, -6, -7, 8, -9, -10};
+  t = WilcoxonSignedRank(ten);
+  EXPECT_EQ(t.w_plus, 8.0);
+  EXPECT_DOUBLE_EQ(t.p_value, 50.0 / 1024.0);
+  // Ties: {−1, 2, 2} has ranks 1, 2.5, 2.5 and W+ = 5; the eight sign
+  // assignments give W+ = 0, 1, 2.5, 2.5, 3.5, 3.5, 5, 6: P(W+ >= 5) = 2/8, p = 0.5.
+  const std::vector<double> tied = {-1.0, 2.0, 2.0};
+  t = WilcoxonSignedRank(tied);
+  EXPECT_EQ(t.w_plus, 5.0);
+  EXPECT_DOUBLE_EQ(t.p_value, 0.5);
+  // No nonzero difference: nothing to test.
+  const std::vector<double> none = {0.0, 0.0};
+  t = WilcoxonSignedRank(none);
+  EXPECT_EQ(t.nonzero, 0);
+  EXPECT_EQ(t.p_value, 1.0);
+}
+
+// Published critical values of the two-sided 5 % signed-rank test (e.g.
+// Siegel & Castellan, Nonparametric Statistics, table H; the smaller rank
+// sum T rejects at T <= the value): the exact p at T is <= 0.05, at T + 1 above.
+TEST(WilcoxonSignedRank, ExactPValuesAgreeWithCriticalValueTables) {
+  struct Row {
+    int n, critical;
+  };
+  for (const Row& row :
+       {Row{6, 0}, Row{8, 3}, Row{10, 8}, Row{15, 25}, Row{20, 52}, Row{25, 89}, Row{30, 137}}) {
+    for (int w : {row.critical, row.critical + 1}) {
+      // Differences ±1..±n with positive ranks summing to w: the largest
+      // ranks below w taken greedily (any subset with that sum will do).
+      std::vector<double> d;
+      int left = w;
+      for (int r = row.n; r >= 1; --r) {
+        const bool positive = r <= left;
+        if (positive) left -= r;
+        d.push_back(positive ? r : -r);
+      }
+      ASSERT_EQ(left, 0);
+      const SignedRankTest t = WilcoxonSignedRank(d);
+      EXPECT_TRUE(t.exact);
+      EXPECT_EQ(t.w_plus, w);
+      if (w == row.critical) {
+        EXPECT_LE(t.p_value, 0.05) << "n=" << row.n << " T=" << w;
+      } else {
+        EXPECT_GT(t.p_value, 0.05) << "n=" << row.n << " T=" << w;
+      }
+    }
+  }
+}
+
+TEST(WilcoxonSignedRank, NormalApproximationWithTiesByHand) {
+  // 40 differences of equal size (one tie group of 40, every rank 20.5), 30
+  // positive: W+ = 30 · 20.5 = 615, E = 40·41/4 = 410, Var = 40·41·81/24 −
+  // (40³ − 40)/48 = 5535 − 1332.5 = 4202.5, z = (205 − 0.5)/64.8267 = 3.154565,
+  // p = erfc(z/√2) = 0.0016074 (normal table: 2·(1 − Φ(3.15)) = 0.00163).
+  std::vector<double> d(40, 0.25);
+  for (int i = 0; i < 10; ++i) d[i] = -0.25;
+  const SignedRankTest t = WilcoxonSignedRank(d);
+  EXPECT_FALSE(t.exact);
+  EXPECT_EQ(t.w_plus, 615.0);
+  EXPECT_NEAR(t.p_value, 0.0016074, 1e-6);
+  // 31 distinct differences ±1..±31 (no ties), W+ = 31·32/4 = 248 exactly
+  // the mean: |W+ − E| − ½ < 0, p = 1.
+  std::vector<double> balanced;
+  int left = 248;
+  for (int r = 31; r >= 1; --r) {
+    const bool positive = r <= left;
+    if (positive) left -= r;
+    balanced.push_back(positive ? r : -r);
+  }
+  const SignedRankTest b = WilcoxonSignedRank(balanced);
+  EXPECT_FALSE(b.exact);
+  EXPECT_EQ(b.w_plus, 248.0);
+  EXPECT_EQ(b.p_value, 1.0);
+}
+
+TEST(ComparePaired, DifferenceIntervalCountsAndTestByHand) {
+  // d = a − b = {0.2, 0, 0.5}: mean 0.233333, s = √(0.0633333) = 0.251661,
+  // half-width 4.303 · 0.251661 / √3 = 0.625211; signs + 0 +; the test sees
+  // the two nonzero differences, both positive: W+ = 3, p = 2 · 1/4.
+  const std::vector<double> a = {0.9, 0.8, 1.0, std::nan("")};
+  const std::vector<double> b = {0.7, 0.8, 0.5, 0.4};
+  const PairedComparison c = ComparePaired(a, b, MetricRange::UnitInterval());
+  EXPECT_EQ(c.pairs, 3);
+  EXPECT_EQ(c.positive, 2);
+  EXPECT_EQ(c.negative, 0);
+  EXPECT_NEAR(c.difference.mean, 0.233333, 1e-6);
+  EXPECT_NEAR(c.difference.lower, 0.233333 - 0.625211, 1e-6);
+  EXPECT_NEAR(c.difference.upper, 0.233333 + 0.625211, 1e-6);
+  EXPECT_FALSE(c.difference.clipped);
+  EXPECT_EQ(c.test.nonzero, 2);
+  EXPECT_DOUBLE_EQ(c.test.p_value, 0.5);
+  // A difference of values in [0, 1] lies in [−1, 1]: {1, 0}: mean 0.5,
+  // half-width 12.706 · 0.707107 / √2 = 6.353 → cut to [−1, 1].
+  const std::vector<double> one = {1.0, 0.0}, nil = {0.0, 0.0};
+  const PairedComparison cut = ComparePaired(one, nil, MetricRange::Proportion());
+  EXPECT_EQ(cut.difference.lower, -1.0);
+  EXPECT_EQ(cut.difference.upper, 1.0);
+  EXPECT_TRUE(cut.difference.clipped);
+}
+
+TEST(MetricCatalogue, ProportionsAreTheFractionsOfCountedEvents) {
+  for (const char* name :
+       {"da_accuracy", "hijack_rate", "hijacked_fraction", "det_precision", "det_recall",
+        "det_recall_visible", "det_recall_centre", "det_precision_centre"}) {
+    ASSERT_NE(FindMetric(name), nullptr) << name;
+    EXPECT_TRUE(FindMetric(name)->range.proportion) << name;
+  }
+  for (const char* name : {"idf1", "hota", "motp", "deta", "assa", "det_f1"}) {
+    EXPECT_FALSE(FindMetric(name)->range.proportion) << name;
+    EXPECT_EQ(FindMetric(name)->range.lower, 0.0) << name;
+    EXPECT_EQ(FindMetric(name)->range.upper, 1.0) << name;
+  }
+  EXPECT_EQ(FindMetric("mota")->range.upper, 1.0);
+  EXPECT_FALSE(FindMetric("mota")->range.bounded_below());
+  EXPECT_EQ(FindMetric("ms_per_frame")->range.lower, 0.0);
+  EXPECT_FALSE(FindMetric("ms_per_frame")->range.bounded_above());
+}
+
+}  // namespace
+}  // namespace hcpf::studies

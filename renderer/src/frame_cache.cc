@@ -18,6 +18,7 @@
 
 #include "hcpf/core/error.h"
 #include "hcpf/core/ground_truth_json.h"
+#include "hcpf/core/text_file.h"
 #include "hcpf/renderer/renderer.h"
 
 namespace hcpf::renderer {
@@ -205,15 +206,6 @@ std::optional<RgbImage> DecodeFrame(const std::string& in) {
   return image;
 }
 
-std::optional<std::string> ReadWhole(const std::filesystem::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) return std::nullopt;
-  std::ostringstream bytes;
-  bytes << in.rdbuf();
-  if (!in && !in.eof()) return std::nullopt;
-  return std::move(bytes).str();
-}
-
 }  // namespace
 
 std::optional<RenderedFrame> FrameCache::Load(int frame) const {
@@ -224,9 +216,12 @@ std::optional<RenderedFrame> FrameCache::Load(int frame) const {
     return std::nullopt;
   }
   try {
-    const std::optional<std::string> bytes = ReadWhole(pixels);
-    if (!bytes) return std::nullopt;
-    std::optional<RgbImage> image = DecodeFrame(*bytes);
+    // The largest file DecodeFrame accepts; an unreadable or larger one
+    // throws, which is a miss below.
+    const uint64_t max_bytes =
+        kHeaderBytes + ZSTD_compressBound(size_t{kMaxSide} * size_t{kMaxSide} * 3);
+    std::optional<RgbImage> image =
+        DecodeFrame(ReadInputFile(pixels.string(), "a cached frame", max_bytes));
     if (!image) return std::nullopt;  // another format version or a damaged file
     RenderedFrame out;
     out.frame = frame;

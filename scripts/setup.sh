@@ -20,6 +20,10 @@ PACKAGES=(
   clang libclang-rt-14-dev
   # reports: plots; headless Chromium checks the HTML report in the tests
   gnuplot-nox chromium
+  # the MPI sweep executor (mpirun -n R hcpf sweep; docs/sweeps.md)
+  openmpi-bin libopenmpi-dev
+  # external trackers: the SORT example (examples/trackers/, /usr/bin/python3)
+  python3 python3-numpy
 )
 
 missing=()

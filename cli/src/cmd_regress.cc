@@ -25,7 +25,7 @@ Command AddRegressCommand(CLI::App& parent) {
   app->add_option("--markdown", options->markdown_path, "Also write a Markdown summary here");
   app->add_option("--work", options->work_dir,
                   "Keep the scenes' run folders here (default: a temporary folder)");
-  app->add_option("--jobs", options->jobs, "Scenes run in parallel")
+  app->add_option("--jobs", options->jobs, "Runs in parallel (scenes, and seeds of seeded scenes)")
       ->check(CLI::Range(1, 1024))
       ->capture_default_str();
   return {app, [options] {

@@ -1,4 +1,5 @@
-// hcpf sweep SWEEP.yaml --out DIR [--jobs N] [--shard i/n]
+// hcpf sweep SWEEP.yaml --out DIR [--jobs N] [--shard i/n]; under mpirun -n R, the MPI
+// executor (studies/include/hcpf/studies/mpi_sweep.h).
 
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
@@ -7,11 +8,13 @@
 #include <cstdlib>
 #include <filesystem>
 #include <memory>
+#include <optional>
 #include <thread>
 
 #include "command.h"
 #include "hcpf/core/error.h"
 #include "hcpf/scenarios/frames.h"
+#include "hcpf/studies/mpi_sweep.h"
 #include "hcpf/studies/sweep.h"
 
 namespace hcpf::cli {
@@ -57,7 +60,8 @@ Command AddSweepCommand(CLI::App& parent) {
   app->add_option("--out", options->out,
                   "Output folder; re-running resumes (finished runs are reused)")
       ->required();
-  app->add_option("--jobs", options->jobs, "Parallel runs (default: all cores)")
+  app->add_option("--jobs", options->jobs,
+                  "Parallel runs (default: all cores); under mpirun one run per rank instead")
       ->check(CLI::Range(0, 1024));
   app->add_option("--shard", options->shard,
                   "Run only runs with index % n == i (i/n), for batch arrays");
@@ -91,12 +95,18 @@ Command AddSweepCommand(CLI::App& parent) {
         }
         sweep_options.Validate();
         // Rendered runs: one llvmpipe (Mesa software rasteriser) thread per
-        // worker, since the workers already use every core. Must be set
-        // before the first GL context; an explicit setting is kept.
-        if (sweep_options.jobs > 1) ::setenv("LP_NUM_THREADS", "1", 0);
+        // worker (thread or MPI rank), since the workers already use every
+        // core. Must be set before the first GL context; an explicit setting
+        // is kept.
+        if (sweep_options.jobs > 1 || studies::LaunchedRankCount() > 1)
+          ::setenv("LP_NUM_THREADS", "1", 0);
         const studies::SweepSpec spec = studies::LoadSweepFile(options->file);
         const std::vector<studies::SweepRun> runs = studies::ExpandSweep(spec);
-        const studies::SweepResult r = studies::RunSweep(spec, runs, sweep_options);
+        // The thread pool, or MPI ranks when mpirun started several.
+        const std::optional<studies::SweepResult> result =
+            studies::RunSweepMpi(spec, runs, sweep_options);
+        if (!result) return 0;  // an MPI worker rank: rank 0 reports
+        const studies::SweepResult& r = *result;
         spdlog::info(
             "sweep finished: {} runs, {} reused, {} computed, {} failed; results in "
             "{}/results.sqlite",

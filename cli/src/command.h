@@ -22,6 +22,7 @@ Command AddRunCommand(CLI::App& parent);
 Command AddScoreCommand(CLI::App& parent);
 Command AddSweepCommand(CLI::App& parent);
 Command AddMergeCommand(CLI::App& parent);
+Command AddExportCommand(CLI::App& parent);
 Command AddReportCommand(CLI::App& parent);
 Command AddRegressCommand(CLI::App& parent);
 Command AddRenderCommand(CLI::App& parent);

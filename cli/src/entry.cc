@@ -8,9 +8,9 @@
 
 extern "C" __attribute__((visibility("default"))) int hcpf_cli_main(int argc, char** argv) {
   using namespace hcpf::cli;
-  static constexpr std::array<AddCommandFn, 9> kCommands = {
+  static constexpr std::array<AddCommandFn, 10> kCommands = {
       AddValidateCommand, AddRenderCommand, AddRunCommand,     AddScoreCommand,  AddSweepCommand,
-      AddMergeCommand,    AddReportCommand, AddRegressCommand, AddSchemaCommand,
+      AddMergeCommand,    AddReportCommand, AddRegressCommand, AddExportCommand, AddSchemaCommand,
   };
   return RunApp(argc, argv, kCommands, [] {
     return hcpf::scenarios::VersionString() + "\n" + hcpf::scenarios::GlDescription();

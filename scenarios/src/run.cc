@@ -7,16 +7,19 @@
 #include <algorithm>
 #include <chrono>
 #include <filesystem>
+#include <limits>
 #include <nlohmann/json.hpp>
 #include <set>
 
 #include "camera_motion_pass.h"
 #include "detection_pass.h"
+#include "external_tracker.h"
 #include "hcpf/core/error.h"
 #include "hcpf/core/ground_truth.h"
 #include "hcpf/metrics/mot_io.h"
 #include "hcpf/metrics/report.h"
 #include "hcpf/scenarios/frames.h"
+#include "hcpf/scenarios/models.h"
 #include "hcpf/scenarios/observation_simulator.h"
 #include "hcpf/scenarios/output_folder.h"
 #include "hcpf/scenarios/overlay.h"
@@ -62,15 +65,20 @@ RunSummary RunScenario(const Scenario& scenario, const RunOptions& options) {
   // go to frames/ as `hcpf render` writes them. A detection-level run renders
   // them for the user to see and keeps its analytic ground truth.
   const RendererConfig& images = scenario.renderer;
-  if (images.write_frames || images.write_depth || images.write_instance_ids) {
-    const fs::path frames_dir = partial / "frames";
+  const bool external = scenario.tracker_choice.external();
+  // An external tracker is sent the path of each rendered frame, so a
+  // rendered run with one writes frames/NNNNNN.png as write_frames does.
+  const bool write_colour = images.write_frames || (external && scenario.observation.source ==
+                                                                    ObservationSource::kRendered);
+  const fs::path frames_dir = fs::absolute(partial / "frames");
+  if (write_colour || images.write_depth || images.write_instance_ids) {
     fs::create_directories(frames_dir, ec);
     if (ec) throw RunError(fmt::format("cannot create {}: {}", frames_dir.string(), ec.message()));
     frame_options.render = true;
     frame_options.analytic_truth = scenario.observation.source != ObservationSource::kRendered;
-    frame_options.on_frame = [&images,
+    frame_options.on_frame = [write_colour,
                               dir = frames_dir.string()](const renderer::RenderedFrame& frame) {
-      WriteFrameImages(frame, dir, images.write_frames);
+      WriteFrameImages(frame, dir, write_colour);
     };
   }
   // The tracker. Filters are born from ground truth at each target's first
@@ -78,11 +86,32 @@ RunSummary RunScenario(const Scenario& scenario, const RunOptions& options) {
   // the box; the tracker never sees ground truth otherwise).
   tracker::TrackerOptions tracker_options = scenario.tracker;
   tracker_options.threads = options.threads;
-  auto tracker = tracker::MakeTracker(tracker_options, Rng(scenario.seeds.tracker));
+  double tracker_seconds = 0.0;
+  std::unique_ptr<tracker::MultiTargetTracker> tracker;
+  // Or an external program (docs/external-trackers.md): started now, sent
+  // each frame's detections as the built-in tracker would see them. Its
+  // tracks also become FrameReports (id and box only) for the overlay.
+  std::unique_ptr<internal::ExternalTracker> external_tracker;
+  std::vector<std::vector<internal::ExternalTrack>> external_tracks;
+  if (external) {
+    const auto started = Clock::now();
+    const CameraSpec& camera = scenario.world.camera;
+    external_tracker = std::make_unique<internal::ExternalTracker>(
+        scenario.tracker_choice.command, scenario.tracker_choice.timeout_s,
+        internal::ExternalHello{.scenario = scenario.name,
+                                .frames = scenario.world.frames,
+                                .fps = scenario.world.fps,
+                                .width_px = camera.width_px,
+                                .height_px = camera.height_px,
+                                .hfov_deg = camera.hfov_deg,
+                                .images = write_colour});
+    tracker_seconds += Seconds(started);
+  } else {
+    tracker = tracker::MakeTracker(tracker_options, Rng(scenario.seeds.tracker));
+  }
   std::set<int32_t> born;
   std::vector<tracker::FrameReport> reports;
   reports.reserve(static_cast<size_t>(scenario.world.frames));
-  double tracker_seconds = 0.0;
   // The hierarchical filter's scene half: the camera's motion from frame to
   // frame, estimated with the filters' previous boxes masked out, moves every
   // target particle before its own dynamics (tracker.camera_motion).
@@ -95,6 +124,23 @@ RunSummary RunScenario(const Scenario& scenario, const RunOptions& options) {
       for (const tracker::FilterReport& r : reports.back().filters) exclude.push_back(r.box);
     }
     const std::optional<SimilarityMotion> motion = camera_motion.Step(gt, exclude, image);
+    if (external_tracker) {
+      const int frame = static_cast<int>(reports.size());
+      const std::string path =
+          write_colour ? fmt::format("{}/{:06d}.png", frames_dir.string(), frame + 1) : "";
+      external_tracks.push_back(external_tracker->Step(frame, path, observation));
+      tracker::FrameReport report;
+      report.frame = frame;
+      for (const internal::ExternalTrack& t : external_tracks.back()) {
+        tracker::FilterReport r;
+        r.id = TrackId{t.id};
+        r.box = t.box;
+        report.filters.push_back(r);
+      }
+      reports.push_back(std::move(report));
+      tracker_seconds += Seconds(t);
+      return;
+    }
     if (tracker_options.init == tracker::InitMode::kGroundTruth) {
       for (const GroundTruthObject& o : gt.objects) {
         if (o.in_frame && born.insert(Value(o.id)).second) {
@@ -174,6 +220,11 @@ RunSummary RunScenario(const Scenario& scenario, const RunOptions& options) {
     }
     progress.Finish();
   }
+  if (external_tracker) {
+    const auto t = Clock::now();
+    external_tracker->Finish();
+    tracker_seconds += Seconds(t);
+  }
   timings["tracker_s"] = tracker_seconds;
 
   // 4. MOT files, then the metrics computed from exactly those files, so
@@ -181,7 +232,8 @@ RunSummary RunScenario(const Scenario& scenario, const RunOptions& options) {
   t0 = Clock::now();
   const std::string gt_text = metrics::FormatMotGroundTruth(GroundTruthRows(truth));
   const std::string tracks_text =
-      metrics::FormatMotTracks(TrackRows(reports, tracker_options.particles));
+      metrics::FormatMotTracks(external ? ExternalTrackRows(external_tracks)
+                                        : TrackRows(reports, tracker_options.particles));
   summary.gt_boxes = static_cast<int>(std::count(gt_text.begin(), gt_text.end(), '\n'));
   const metrics::MotFile gt_file = metrics::ParseMotText(
       gt_text, "gt/gt.txt", metrics::MotFileKind::kGroundTruth, summary.frames);
@@ -190,7 +242,9 @@ RunSummary RunScenario(const Scenario& scenario, const RunOptions& options) {
   metrics::RunMetricsInput metrics_input;
   metrics_input.sequence = metrics::BuildSequence(gt_file, tracks_file, summary.frames,
                                                   metrics::Benchmark::kMot17, {}, scenario.name);
-  metrics_input.filters = FilterInputs(truth, reports, tracker_options.init);
+  // Filter-level metrics (DA accuracy, hijacks) need the particle filters'
+  // identities: absent for an external tracker.
+  if (!external) metrics_input.filters = FilterInputs(truth, reports, tracker_options.init);
   metrics_input.point_options = scenario.metrics.points;
   if (scene.rendered) {
     // Detection quality against the pixel-exact truth: each in-frame
@@ -221,6 +275,8 @@ RunSummary RunScenario(const Scenario& scenario, const RunOptions& options) {
   summary.mota = scores.mot.clear.mota;
   summary.idf1 = scores.mot.identity.idf1;
   summary.hota = scores.mot.hota.hota_mean;
+  summary.da_accuracy = std::numeric_limits<double>::quiet_NaN();
+  summary.hijack_rate = std::numeric_limits<double>::quiet_NaN();
   if (scores.filters) {
     summary.da_accuracy = scores.filters->da_accuracy;
     summary.hijack_rate = scores.filters->hijack_rate;
@@ -243,7 +299,9 @@ RunSummary RunScenario(const Scenario& scenario, const RunOptions& options) {
     WriteTextFile((partial / "det" / "det.txt").string(), detections_text);
   }
   WriteTextFile((partial / "tracks.txt").string(), tracks_text);
-  WriteTextFile((partial / "filters.csv").string(), FormatFiltersCsv(reports, scores.filters));
+  if (!external) {
+    WriteTextFile((partial / "filters.csv").string(), FormatFiltersCsv(reports, scores.filters));
+  }
   WriteTextFile((partial / "metrics.json").string(), metrics::RunMetricsToJson(scores));
   WriteTextFile((partial / "camera_motion.csv").string(),
                 FormatCameraMotionCsv(camera_motion.records()));
@@ -274,6 +332,18 @@ RunSummary RunScenario(const Scenario& scenario, const RunOptions& options) {
       }
       manifest["target_model_sources"] = models;
     }
+  }
+  if (external) {
+    nlohmann::json command = scenario.tracker_choice.command;
+    if (command[0].get<std::string>().find('/') != std::string::npos) {
+      command[0] = PortableModelPath(command[0].get<std::string>());
+    }
+    manifest["tracker"] = {{"type", "external"},
+                           {"command", command},
+                           {"protocol", internal::kExternalProtocolVersion},
+                           {"name", external_tracker->name()}};
+  } else {
+    manifest["tracker"] = {{"type", "particle_filter"}};
   }
   manifest["ground_truth"] = scene.rendered ? "rendered (pixel-exact)" : "analytic";
   manifest["frames_rendered"] = scene.frames_rendered;

@@ -293,6 +293,27 @@ std::string ObservationOptions::DetectorName() const {
   return name;
 }
 
+std::span<const Field<TrackerChoice>> TrackerChoice::Fields() {
+  using O = TrackerChoice;
+  static const std::vector<Field<O>> fields = {
+      ChoiceField<&O::type>("type",
+                            "particle_filter: the built-in filters (the keys below); external: "
+                            "the program `command` (docs/external-trackers.md), the other "
+                            "`tracker.*` keys then taking no effect"),
+      DefaultDoc(StringsField<&O::command>(
+                     "command", 1,
+                     "type external only: the program and its arguments, no shell; a first word "
+                     "with a `/` is found like `targets[i].model`, else on PATH"),
+                 "none (required with type external)"),
+      // 1 ms up to an hour: the program answers each frame, and a reply that
+      // takes an hour is a hung program, not a slow one.
+      NumberField("timeout_s", &O::timeout_s, Closed(0.001, 3600), "s",
+                  "type external only: how long to wait for each reply (the hello's too) "
+                  "before the run fails"),
+  };
+  return fields;
+}
+
 bool UsesPointTracker(const Scenario& scenario) {
   const tracker::CameraMotionMode mode = scenario.tracker.camera_motion;
   return scenario.tracker.scene_filter.evidence == tracker::SceneEvidenceKind::kImage &&

@@ -4,14 +4,17 @@
 // by hand is the structure (lists, kinds) and the rules across keys.
 
 #include <fmt/format.h>
+#include <unistd.h>
 
 #include <algorithm>
 #include <charconv>
+#include <cstdlib>
 #include <filesystem>
 #include <map>
 #include <set>
 
 #include "hcpf/config/fields_yaml.h"
+#include "hcpf/config/file_lookup.h"
 #include "hcpf/config/yaml_reader.h"
 #include "hcpf/core/rng.h"
 #include "hcpf/scenarios/frames.h"
@@ -186,9 +189,82 @@ void ReadSimulated(YamlReader r, const std::set<int32_t>& ids, SimulatedObservat
   r.Finish();
 }
 
+// Whether `name` (no '/') names an executable file in a folder of PATH.
+bool OnPath(const std::string& name) {
+  const char* path = std::getenv("PATH");
+  std::string_view dirs = path != nullptr ? path : "";
+  while (true) {
+    const size_t colon = dirs.find(':');
+    const std::string_view dir = dirs.substr(0, colon);
+    const std::filesystem::path candidate =
+        std::filesystem::path(dir.empty() ? "." : std::string(dir)) / name;
+    std::error_code ec;
+    if (std::filesystem::is_regular_file(candidate, ec) && ::access(candidate.c_str(), X_OK) == 0) {
+      return true;
+    }
+    if (colon == std::string_view::npos) return false;
+    dirs.remove_prefix(colon + 1);
+  }
+}
+
+// tracker.type, tracker.command, tracker.timeout_s: the rules across them,
+// and command[0] found now, so `hcpf validate` rejects a program that
+// cannot be started at the line that names it.
+void ReadTrackerChoice(YamlReader& r, const std::string& file, TrackerChoice* c) {
+  ReadFields(r, *c, TrackerChoice::Fields());
+  if (!c->external()) {
+    // An empty command is the key not written (a sweep's zip can give
+    // particle-filter cells `[]`).
+    for (const char* key : {"command", "timeout_s"}) {
+      if (key == std::string_view("command") ? !c->command.empty() : r.Has(key)) {
+        r.Child(key).Fail(
+            fmt::format("no tracker.{} with tracker.type: particle_filter (it "
+                        "belongs to tracker.type: external)",
+                        key));
+      }
+    }
+    c->command.clear();
+    return;
+  }
+  if (c->command.empty()) {
+    YamlReader command = r.Child("command");  // absent: the missing-key error
+    command.Fail("a non-empty list: the program to run and its arguments");
+  }
+  const std::string& program = c->command.front();
+  const SourceLocation where = r.Child("command").Items().front().Where();
+  if (program.find('/') == std::string::npos) {
+    if (!OnPath(program)) {
+      throw InputError(where, "a program on PATH, or a path with a '/'",
+                       fmt::format("\"{}\", which is not an executable file in any folder of "
+                                   "PATH",
+                                   program));
+    }
+    return;
+  }
+  const bool from_file = !file.empty() && file.rfind("--set", 0) != 0;
+  const std::string beside =
+      from_file ? std::filesystem::absolute(std::filesystem::path(file)).parent_path().string()
+                : std::string();
+  std::vector<std::string> looked;
+  const auto found = config::FindFile(program, beside, &looked);
+  if (!found) {
+    std::string list;
+    for (const auto& l : looked) list += (list.empty() ? "" : ", ") + l;
+    throw InputError(where, "the path of an existing executable file",
+                     fmt::format("\"{}\", which does not exist (looked at {})", program, list));
+  }
+  const std::string resolved = std::filesystem::weakly_canonical(*found).string();
+  if (::access(resolved.c_str(), X_OK) != 0) {
+    throw InputError(where, "an executable file (chmod +x, or a shebang line and the execute bit)",
+                     fmt::format("\"{}\", which is not executable", resolved));
+  }
+  c->command.front() = resolved;
+}
+
 void ReadTracker(YamlReader r, Scenario* s) {
   tracker::TrackerOptions* t = &s->tracker;
   r.ExpectMap();
+  ReadTrackerChoice(r, s->source_file, &s->tracker_choice);
   ReadFields(r, *t, tracker::TrackerOptions::Fields());
   ReadSection(r, "dynamics", &t->dynamics);
   ReadSection(r, "likelihood", &t->likelihood);
@@ -210,6 +286,14 @@ void ReadTracker(YamlReader r, Scenario* s) {
   ReadSection(r, "point_tracker", &s->point_tracker);
   ReadSection(r, "ransac", &s->ransac);
   r.Finish();
+  if (s->tracker_choice.external()) {
+    // The particle filter's keys were read (so a misspelt key is still an
+    // error) but take no effect: back to their defaults, as the resolved
+    // YAML, which leaves them out, loads.
+    s->tracker = {};
+    s->point_tracker = {};
+    s->ransac = {};
+  }
 }
 
 void ReadMetrics(YamlReader r, MetricsConfig* m) {
@@ -309,6 +393,11 @@ Scenario ReadScenario(YamlReader root, const std::string& file) {
     s.point_tracker.Validate();
     s.ransac.Validate();
     s.observation.Validate(s.tracker);
+    if (s.tracker_choice.external() && s.observation.search == SearchMode::kWindow) {
+      FailOption("observation", "search",
+                 "frame with tracker.type: external (windows follow the particle filters)",
+                 "window");
+    }
     s.metrics.filters.Validate();
     s.metrics.points.Validate();
   });

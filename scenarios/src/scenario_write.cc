@@ -125,16 +125,29 @@ std::string ToResolvedYaml(const Scenario& s) {
 
   const tracker::TrackerOptions& t = s.tracker;
   w.Begin("tracker");
-  WriteFields(w.out(), t, tracker::TrackerOptions::Fields());
-  w.Section("dynamics", t.dynamics);
-  w.Section("likelihood", t.likelihood);
-  w.Section("resampling", t.resampling);
-  w.Section("interaction", t.interaction);
-  w.Section("association", t.association);
-  w.Section("management", t.management);
-  w.Section("scene_filter", t.scene_filter);
-  if (UsesPointTracker(s)) w.Section("point_tracker", s.point_tracker);
-  if (UsesRansac(s)) w.Section("ransac", s.ransac);
+  if (s.tracker_choice.external()) {
+    // Only the keys that take effect (scenario.h); a program inside the
+    // project folder relative to it, as model paths are written.
+    TrackerChoice choice = s.tracker_choice;
+    if (choice.command.front().find('/') != std::string::npos) {
+      choice.command.front() = PortableModelPath(choice.command.front());
+    }
+    WriteFields(w.out(), choice, TrackerChoice::Fields());
+  } else {
+    // tracker.type: particle_filter (the default) is not written, so the
+    // resolved YAML and config hash of every particle-filter scenario are
+    // those from before external trackers.
+    WriteFields(w.out(), t, tracker::TrackerOptions::Fields());
+    w.Section("dynamics", t.dynamics);
+    w.Section("likelihood", t.likelihood);
+    w.Section("resampling", t.resampling);
+    w.Section("interaction", t.interaction);
+    w.Section("association", t.association);
+    w.Section("management", t.management);
+    w.Section("scene_filter", t.scene_filter);
+    if (UsesPointTracker(s)) w.Section("point_tracker", s.point_tracker);
+    if (UsesRansac(s)) w.Section("ransac", s.ransac);
+  }
   w.End();
 
   w.Begin("metrics");

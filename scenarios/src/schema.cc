@@ -30,6 +30,7 @@ std::string RangeCell(const Field<O>& f) {
   switch (f.type) {
     case FieldType::kChoice:
     case FieldType::kWords: {
+      if (!f.choices) return "";
       std::string out;
       for (std::string_view c : f.choices())
         out += fmt::format("{}`{}`", out.empty() ? "" : " \\| ", c);
@@ -56,6 +57,7 @@ template <class O>
 std::string TypeCell(const Field<O>& f) {
   if (f.type == FieldType::kVector) return fmt::format("[{}]", f.elements);
   if (f.type == FieldType::kPoints) return fmt::format("list of [{}]", f.elements);
+  if (f.type == FieldType::kWords && !f.choices) return fmt::format("list of ≥ {} strings", f.size);
   if (f.type == FieldType::kWords) return fmt::format("list of ≥ {} names", f.size);
   return std::string(FieldTypeName(f.type));
 }
@@ -159,6 +161,7 @@ std::string SchemaMarkdown(const std::string& section) {
     AppendRows(out, "", RendererConfig::Fields());
   } else if (section == "tracker") {
     using T = tracker::TrackerOptions;
+    AppendRows(out, "", TrackerChoice::Fields());
     AppendRows(out, "", T::Fields());
     AppendRows(out, "dynamics.", tracker::DynamicsOptions::Fields());
     AppendRows(out, "likelihood.", tracker::LikelihoodOptions::Fields());

@@ -50,6 +50,22 @@ std::vector<metrics::MotRow> TrackRows(const std::vector<tracker::FrameReport>& 
   return rows;
 }
 
+std::vector<metrics::MotRow> ExternalTrackRows(
+    const std::vector<std::vector<internal::ExternalTrack>>& frames) {
+  std::vector<metrics::MotRow> rows;
+  for (size_t f = 0; f < frames.size(); ++f) {
+    for (const internal::ExternalTrack& t : frames[f]) {
+      metrics::MotRow row;
+      row.frame = static_cast<int>(f) + 1;
+      row.id = t.id;
+      row.box = metrics::PxToMotBox(t.box);
+      row.conf = t.score;
+      rows.push_back(row);
+    }
+  }
+  return rows;
+}
+
 metrics::FilterSequence FilterInputs(const std::vector<FrameGroundTruth>& truth,
                                      const std::vector<tracker::FrameReport>& reports,
                                      tracker::InitMode init) {

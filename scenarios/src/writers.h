@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "camera_motion_pass.h"
+#include "external_tracker.h"
 #include "hcpf/core/ground_truth.h"
 #include "hcpf/core/text_file.h"
 #include "hcpf/core/types.h"
@@ -28,6 +29,10 @@ std::vector<metrics::MotRow> GroundTruthRows(const std::vector<FrameGroundTruth>
 // estimate box, confidence = ESS / N.
 std::vector<metrics::MotRow> TrackRows(const std::vector<tracker::FrameReport>& reports,
                                        int particles);
+// The same rows of an external tracker's replies, one list per frame:
+// confidence = the track's score.
+std::vector<metrics::MotRow> ExternalTrackRows(
+    const std::vector<std::vector<internal::ExternalTrack>>& frames);
 // Filter-level metric inputs: in-frame targets and the filters' estimates per
 // frame (with their particle clouds when kept); filters born from ground truth
 // map to the target of the same id.

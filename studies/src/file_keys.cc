@@ -48,9 +48,16 @@ std::span<const FileKey> SuiteFileKeys() {
        "scenario file (relative to the suite, the current folder, the project folder)"},
       {"scenes[i].name", "text", "the file's stem", "unique name; the key in the baseline"},
       {"scenes[i].set", "mapping: dotted key → value", "none", "applied like `--set`"},
-      {"scenes[i].seed", "integer 0 … 2⁶⁴−1", "the scenario's own", "the scenario seed"},
+      {"scenes[i].seed", "integer 0 … 2⁶⁴−1", "the scenario's own",
+       "the scenario seed (with `seeds`: the root of the derived seeds)"},
+      {"scenes[i].seeds", "integer 2 … 1000", "absent",
+       "run the scene with this many seeds, seed *i* = "
+       "`Rng(seed).Fork(\"sweep/seed/i\").identity()` "
+       "as in sweeps, and judge each metric by the paired difference against the baseline's "
+       "per-seed values (see below). Absent: one run, exact comparison"},
       {"metrics.<m>.tolerance", "number 0 … 1e12", "**required**",
-       "absolute tolerance of metric *m* (a name of the metric catalogue)"},
+       "absolute tolerance of metric *m* (a name of the metric catalogue); for a scene with "
+       "`seeds`, of the mean paired difference"},
       {"metrics.<m>.direction", "`higher_is_better` \\| `lower_is_better`",
        "the catalogue's direction", "optional; stating the other direction is an error"},
   };

@@ -6,6 +6,7 @@
 #include <spdlog/spdlog.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <atomic>
 #include <cmath>
 #include <filesystem>
@@ -18,12 +19,14 @@
 
 #include "hcpf/config/file_lookup.h"
 #include "hcpf/config/yaml_reader.h"
+#include "hcpf/core/check.h"
 #include "hcpf/core/parallel.h"
 #include "hcpf/core/text_file.h"
 #include "hcpf/scenarios/run.h"
 #include "hcpf/studies/file_keys.h"
 #include "hcpf/studies/metric_catalogue.h"
 #include "hcpf/studies/results_store.h"
+#include "hcpf/studies/statistics.h"
 #include "hcpf/studies/sweep.h"
 #include "text.h"
 
@@ -93,13 +96,17 @@ RegressSuite LoadRegressSuite(const std::string& path) {
     }
     if (item.Has("seed"))
       scene.overrides.push_back({"seed", std::to_string(item.Seed("seed", std::nullopt))});
+    if (item.Has("seeds"))
+      scene.seeds = static_cast<int>(item.Integer("seeds", 0, kMinSuiteSeeds, kMaxSuiteSeeds));
     item.Finish();
     // Validate now, so a bad override is reported before anything runs.
+    uint64_t scene_seed = 0;
     try {
-      LoadScenarioFile(scene.scenario_path, scene.overrides);
+      scene_seed = LoadScenarioFile(scene.scenario_path, scene.overrides).seed;
     } catch (const InputError& e) {
       throw InputError(fmt::format("{}: scene \"{}\": {}", path, scene.name, e.what()));
     }
+    for (int i = 0; i < scene.seeds; ++i) scene.run_seeds.push_back(SweepSeed(scene_seed, i));
     suite.scenes.push_back(std::move(scene));
   }
   if (suite.scenes.empty()) r.Child("scenes").Fail("a non-empty list of scenes");
@@ -158,6 +165,62 @@ RegressVerdict CompareMetric(double baseline, double current, const RegressToler
   return RegressVerdict::kSame;
 }
 
+RegressRow CompareSeeds(std::span<const double> baseline, std::span<const double> current,
+                        const RegressTolerance& t) {
+  HCPF_CHECK(baseline.size() == current.size()) << baseline.size() << " vs " << current.size();
+  RegressRow row;
+  row.metric = t.metric;
+  row.tolerance = t.tolerance;
+  row.higher_is_better = t.higher_is_better;
+  row.seeds = static_cast<int>(baseline.size());
+  for (size_t i = 0; i < baseline.size(); ++i)
+    row.nan_mismatches += std::isfinite(baseline[i]) != std::isfinite(current[i]);
+  // The paired difference current − baseline (statistics.h: pairs with a NaN
+  // are left out; the interval is cut to the range of a difference).
+  const CatalogueMetric* metric = FindMetric(t.metric);
+  const PairedComparison c = ComparePaired(
+      current, baseline, metric != nullptr ? metric->range : MetricRange::Unbounded());
+  row.pairs = c.pairs;
+  std::vector<double> b, v;
+  for (size_t i = 0; i < baseline.size(); ++i) {
+    if (!std::isfinite(baseline[i]) || !std::isfinite(current[i])) continue;
+    b.push_back(baseline[i]);
+    v.push_back(current[i]);
+  }
+  const auto mean = [](const std::vector<double>& x) {
+    double sum = 0.0;
+    for (double value : x) sum += value;
+    return x.empty() ? std::numeric_limits<double>::quiet_NaN()
+                     : sum / static_cast<double>(x.size());
+  };
+  row.baseline = mean(b);
+  row.current = mean(v);
+  row.difference = c.difference.mean;
+  row.lower = c.difference.lower;
+  row.upper = c.difference.upper;
+  if (row.nan_mismatches > 0) {
+    row.verdict = RegressVerdict::kWorse;
+  } else if (row.pairs == 0) {
+    row.verdict = RegressVerdict::kSame;
+  } else if (row.pairs == 1) {
+    row.verdict = CompareMetric(b[0], v[0], t);
+  } else {
+    // The gain (positive = better) and its interval.
+    const double sign = t.higher_is_better ? 1.0 : -1.0;
+    const double gain = sign * row.difference;
+    const double gain_lower = t.higher_is_better ? row.lower : -row.upper;
+    const double gain_upper = t.higher_is_better ? row.upper : -row.lower;
+    if (gain < -t.tolerance && gain_upper < 0.0) {
+      row.verdict = RegressVerdict::kWorse;
+    } else if (gain > t.tolerance && gain_lower > 0.0) {
+      row.verdict = RegressVerdict::kBetter;
+    } else {
+      row.verdict = RegressVerdict::kSame;
+    }
+  }
+  return row;
+}
+
 void RegressOptions::Validate() const {
   if (suite_path.empty())
     throw InputError(SourceLocation{"hcpf regress", 0, 0, "SUITE"}, "a suite file", "nothing");
@@ -170,14 +233,57 @@ void RegressOptions::Validate() const {
                      std::to_string(jobs));
 }
 
+namespace {
+
+// The row's change current − baseline: the value difference, or the seeds'
+// mean paired difference.
+double Delta(const RegressRow& r) { return r.seeds > 0 ? r.difference : r.current - r.baseline; }
+
+// "[lower, upper]" of a seeded row with an interval; `none` otherwise.
+std::string IntervalText(const RegressRow& r, const char* none) {
+  if (r.seeds == 0 || r.pairs < 2) return none;
+  return fmt::format("[{}, {}]", Num(r.lower), Num(r.upper));
+}
+
+std::string SeedsText(const RegressRow& r) {
+  if (r.seeds == 0) return "1";
+  return r.pairs == r.seeds ? std::to_string(r.seeds) : fmt::format("{}/{}", r.pairs, r.seeds);
+}
+
+// One sentence saying what was compared and how it came out.
+std::string Describe(const RegressRow& r) {
+  const std::string rule = fmt::format("{} is better, tolerance {}",
+                                       r.higher_is_better ? "higher" : "lower", Num(r.tolerance));
+  if (r.seeds == 0) {
+    return fmt::format("{} {}: {} against baseline {} ({})", r.scene, r.metric, Num(r.current),
+                       Num(r.baseline), rule);
+  }
+  std::string out = fmt::format(
+      "{} {}: mean paired difference {} (current − baseline), 95 % interval {}, over {} of {} "
+      "seeds; current mean {} against baseline mean {} ({})",
+      r.scene, r.metric, Num(r.difference), IntervalText(r, "none (fewer than 2 pairs)"), r.pairs,
+      r.seeds, Num(r.current), Num(r.baseline), rule);
+  if (r.nan_mismatches > 0)
+    out += fmt::format("; {} seed(s) with a number on one side and NaN on the other",
+                       r.nan_mismatches);
+  return out;
+}
+
+}  // namespace
+
 std::string FormatRegressTable(const std::vector<RegressRow>& rows) {
-  size_t w = 5;
-  for (const RegressRow& r : rows) w = std::max(w, r.scene.size());
-  std::string out = fmt::format("{:<{}}  {:<17}  {:>10}  {:>10}  {:>10}  {:>9}  {}\n", "scene", w,
-                                "metric", "baseline", "current", "delta", "tolerance", "verdict");
+  size_t w = 5, wi = 12;
   for (const RegressRow& r : rows) {
-    out += fmt::format("{:<{}}  {:<17}  {:>10}  {:>10}  {:>10}  {:>9}  {}\n", r.scene, w, r.metric,
-                       Num(r.baseline), Num(r.current), Num(r.current - r.baseline),
+    w = std::max(w, r.scene.size());
+    wi = std::max(wi, IntervalText(r, "-").size());
+  }
+  std::string out = fmt::format(
+      "{:<{}}  {:<17}  {:>10}  {:>10}  {:>10}  {:<{}}  {:>5}  {:>9}  {}\n", "scene", w, "metric",
+      "baseline", "current", "delta", "95% interval", wi, "seeds", "tolerance", "verdict");
+  for (const RegressRow& r : rows) {
+    out += fmt::format("{:<{}}  {:<17}  {:>10}  {:>10}  {:>10}  {:<{}}  {:>5}  {:>9}  {}\n",
+                       r.scene, w, r.metric, Num(r.baseline), Num(r.current), Num(Delta(r)),
+                       IntervalText(r, "-"), wi, SeedsText(r),
                        fmt::format("{}{}", r.higher_is_better ? "-" : "+", Num(r.tolerance)),
                        RegressVerdictName(r.verdict));
   }
@@ -195,16 +301,17 @@ std::string FormatRegressJunit(const std::vector<RegressRow>& rows) {
   for (const RegressRow& r : rows) {
     out += fmt::format("    <testcase classname=\"{}\" name=\"{}\"", EscapeMarkup(r.scene),
                        EscapeMarkup(r.metric));
-    if (r.verdict == RegressVerdict::kWorse) {
-      const std::string message =
-          fmt::format("{} {}: {} against baseline {} ({} is better, tolerance {})", r.scene,
-                      r.metric, Num(r.current), Num(r.baseline),
-                      r.higher_is_better ? "higher" : "lower", Num(r.tolerance));
-      out += fmt::format(">\n      <failure message=\"{0}\">{0}</failure>\n    </testcase>\n",
-                         EscapeMarkup(message));
-    } else {
+    const bool worse = r.verdict == RegressVerdict::kWorse;
+    if (!worse && r.seeds == 0) {
       out += "/>\n";
+      continue;
     }
+    out += ">\n";
+    const std::string message = EscapeMarkup(Describe(r));
+    if (worse) out += fmt::format("      <failure message=\"{0}\">{0}</failure>\n", message);
+    // Seeded cases say their difference, interval and seeds whatever the verdict.
+    if (r.seeds > 0) out += fmt::format("      <system-out>{}</system-out>\n", message);
+    out += "    </testcase>\n";
   }
   out += "  </testsuite>\n</testsuites>\n";
   return out;
@@ -223,18 +330,104 @@ std::string FormatRegressMarkdown(const RegressResult& result) {
   } else {
     out += "No regression: every metric within tolerance of the baseline.\n\n";
   }
+  const bool seeded = std::any_of(result.rows.begin(), result.rows.end(),
+                                  [](const RegressRow& r) { return r.seeds > 0; });
+  if (seeded) {
+    out +=
+        "Scenes run with several seeds show the means over the seeds and the mean paired "
+        "difference current − baseline with its 95 % t interval: such a metric is WORSE only "
+        "when the difference is beyond the tolerance and the interval excludes zero.\n\n";
+  }
   out +=
-      "| scene | metric | baseline | current | delta | tolerance | verdict "
-      "|\n|---|---|---:|---:|---:|---:|---|\n";
+      "| scene | metric | baseline | current | delta | 95 % interval | seeds | tolerance | verdict "
+      "|\n|---|---|---:|---:|---:|---|---:|---:|---|\n";
   for (const RegressRow& r : result.rows) {
     out += fmt::format(
-        "| {} | {} | {} | {} | {} | {}{} | {} |\n", r.scene, r.metric, Num(r.baseline),
-        Num(r.current), Num(r.current - r.baseline), r.higher_is_better ? "−" : "+",
-        Num(r.tolerance),
+        "| {} | {} | {} | {} | {} | {} | {} | {}{} | {} |\n", r.scene, r.metric, Num(r.baseline),
+        Num(r.current), Num(Delta(r)), IntervalText(r, "—"), SeedsText(r),
+        r.higher_is_better ? "−" : "+", Num(r.tolerance),
         r.verdict == RegressVerdict::kWorse ? "**WORSE**" : RegressVerdictName(r.verdict));
   }
   return out;
 }
+
+namespace {
+
+constexpr const char* kBaselineFormat = "hcpf-regress-baseline/2";
+
+// A baseline value: a number, or the string "nan" (how NaN is written).
+bool IsBaselineValue(const json& j) { return j.is_number() || j == json("nan"); }
+
+// Checks that `baseline` (parsed from `path`) holds what `suite` compares:
+// for an exact scene a value per metric, for a seeded one the suite's seeds
+// and a list of one value per seed for each metric.
+void CheckBaseline(const json& baseline, const std::string& path, const RegressSuite& suite) {
+  if (!baseline.is_object() || !baseline.contains("scenes") || !baseline["scenes"].is_object()) {
+    throw InputError(SourceLocation{path, 0, 0, "scenes"},
+                     "an object {\"scenes\": {name: {\"metrics\": {...}}}}", "something else");
+  }
+  if (baseline.contains("format")) {
+    const json& format = baseline["format"];
+    if (format != json("hcpf-regress-baseline/1") && format != json(kBaselineFormat)) {
+      throw InputError(SourceLocation{path, 0, 0, "format"},
+                       fmt::format("hcpf-regress-baseline/1 or {}", kBaselineFormat),
+                       format.dump());
+    }
+  }
+  const std::string refresh = "refresh the baseline with --update-baseline";
+  const json& scenes = baseline["scenes"];
+  for (const RegressScene& scene : suite.scenes) {
+    const std::string at = "scenes." + scene.name;
+    if (!scenes.contains(scene.name) || !scenes[scene.name].is_object() ||
+        !scenes[scene.name].contains("metrics") || !scenes[scene.name]["metrics"].is_object()) {
+      throw InputError(SourceLocation{path, 0, 0, at + ".metrics"},
+                       "a baseline value for every scene and metric of the suite", "none", refresh);
+    }
+    const json& s = scenes[scene.name];
+    if (scene.seeds > 0) {
+      std::vector<std::string> seeds;
+      for (uint64_t seed : scene.run_seeds) seeds.push_back(std::to_string(seed));
+      if (!s.contains("seeds") || s["seeds"] != json(seeds)) {
+        throw InputError(
+            SourceLocation{path, 0, 0, at + ".seeds"},
+            fmt::format("the scene's {} derived seeds [{}]", scene.seeds, fmt::join(seeds, ", ")),
+            s.contains("seeds") ? s["seeds"].dump() : "none (a baseline made without seeds:)",
+            refresh);
+      }
+    } else if (s.contains("seeds")) {
+      throw InputError(SourceLocation{path, 0, 0, at + ".seeds"},
+                       "no seeds (the suite runs this scene once)", s["seeds"].dump(), refresh);
+    }
+    for (const RegressTolerance& t : suite.metrics) {
+      const std::string key = at + ".metrics." + t.metric;
+      if (!s["metrics"].contains(t.metric)) {
+        throw InputError(SourceLocation{path, 0, 0, key},
+                         "a baseline value for every scene and metric of the suite", "none",
+                         refresh);
+      }
+      const json& v = s["metrics"][t.metric];
+      const bool ok = scene.seeds > 0 ? v.is_array() && static_cast<int>(v.size()) == scene.seeds &&
+                                            std::all_of(v.begin(), v.end(), IsBaselineValue)
+                                      : IsBaselineValue(v);
+      if (!ok) {
+        throw InputError(SourceLocation{path, 0, 0, key},
+                         scene.seeds > 0 ? fmt::format("a list of {} numbers (or \"nan\"), one "
+                                                       "per seed",
+                                                       scene.seeds)
+                                         : "a number (or \"nan\")",
+                         v.dump(), refresh);
+      }
+    }
+  }
+}
+
+// One run of the suite: scene `scene`, seed index `seed` (0 for exact scenes).
+struct SceneRun {
+  size_t scene = 0;
+  int seed = 0;
+};
+
+}  // namespace
 
 RegressResult RunRegress(const RegressOptions& options) {
   options.Validate();
@@ -253,22 +446,7 @@ RegressResult RunRegress(const RegressOptions& options) {
       throw InputError(SourceLocation{options.baseline_path, 0, 0, ""}, "a baseline JSON file",
                        e.what());
     }
-    if (!baseline.is_object() || !baseline.contains("scenes") || !baseline["scenes"].is_object()) {
-      throw InputError(SourceLocation{options.baseline_path, 0, 0, "scenes"},
-                       "an object {\"scenes\": {name: {\"metrics\": {...}}}}", "something else");
-    }
-    for (const RegressScene& scene : suite.scenes) {
-      for (const RegressTolerance& t : suite.metrics) {
-        const json& s = baseline["scenes"];
-        if (!s.contains(scene.name) || !s[scene.name].contains("metrics") ||
-            !s[scene.name]["metrics"].contains(t.metric)) {
-          throw InputError(SourceLocation{options.baseline_path, 0, 0,
-                                          "scenes." + scene.name + ".metrics." + t.metric},
-                           "a baseline value for every scene and metric of the suite", "none",
-                           "refresh the baseline with --update-baseline");
-        }
-      }
-    }
+    CheckBaseline(baseline, options.baseline_path, suite);
   }
 
   const bool temporary = options.work_dir.empty();
@@ -279,17 +457,30 @@ RegressResult RunRegress(const RegressOptions& options) {
   fs::create_directories(work, ec);
   if (ec) throw RunError(fmt::format("cannot create {}: {}", work.string(), ec.message()));
 
-  // Run the scenes (a small pool; each run is self-contained and deterministic).
-  std::vector<std::map<std::string, double>> values(suite.scenes.size());
-  std::vector<std::string> hashes(suite.scenes.size());
-  std::vector<std::string> errors(suite.scenes.size());
-  ParallelFor(suite.scenes.size(), options.jobs, [&](size_t i) {
-    const RegressScene& scene = suite.scenes[i];
+  // Every (scene, seed) run, in a small pool; each run is self-contained and
+  // deterministic, so the order they finish in does not matter.
+  std::vector<SceneRun> runs;
+  for (size_t i = 0; i < suite.scenes.size(); ++i) {
+    for (int k = 0; k < std::max(1, suite.scenes[i].seeds); ++k) runs.push_back({i, k});
+  }
+  std::vector<std::map<std::string, double>> values(runs.size());
+  std::vector<std::string> hashes(runs.size());
+  std::vector<std::string> errors(runs.size());
+  ParallelFor(runs.size(), options.jobs, [&](size_t i) {
+    const RegressScene& scene = suite.scenes[runs[i].scene];
     try {
-      const Scenario scenario = LoadScenarioFile(scene.scenario_path, scene.overrides);
+      std::vector<config::Override> overrides = scene.overrides;
+      fs::path out_dir = work / scene.name;
+      if (scene.seeds > 0) {
+        std::erase_if(overrides, [](const config::Override& o) { return o.key == "seed"; });
+        overrides.push_back(
+            {"seed", std::to_string(scene.run_seeds[static_cast<size_t>(runs[i].seed)])});
+        out_dir /= fmt::format("seed-{}", runs[i].seed);
+      }
+      const Scenario scenario = LoadScenarioFile(scene.scenario_path, overrides);
       hashes[i] = ConfigHash(scenario);
       RunOptions run_options;
-      run_options.out_dir = (work / scene.name).string();
+      run_options.out_dir = out_dir.string();
       RunScenario(scenario, run_options);
       values[i] = ReadRunMetrics(run_options.out_dir);
     } catch (const std::exception& e) {
@@ -297,47 +488,95 @@ RegressResult RunRegress(const RegressOptions& options) {
     }
   });
   if (temporary) fs::remove_all(work, ec);
-  for (size_t i = 0; i < suite.scenes.size(); ++i) {
-    if (!errors[i].empty())
-      throw RunError(fmt::format("scene \"{}\" failed: {}", suite.scenes[i].name, errors[i]));
+  for (size_t i = 0; i < runs.size(); ++i) {
+    if (errors[i].empty()) continue;
+    const RegressScene& scene = suite.scenes[runs[i].scene];
+    throw RunError(fmt::format("scene \"{}\"{} failed: {}", scene.name,
+                               scene.seeds > 0 ? fmt::format(" (seed {})", runs[i].seed) : "",
+                               errors[i]));
   }
+  // The runs of scene i: first[i] .. first[i] + max(1, seeds) − 1.
+  std::vector<size_t> first(suite.scenes.size());
+  for (size_t i = runs.size(); i-- > 0;) first[runs[i].scene] = i;
 
   RegressResult result;
   if (options.update_baseline) {
     json out;
-    out["format"] = "hcpf-regress-baseline/1";
+    out["format"] = kBaselineFormat;
     out["suite"] = fs::path(suite.file).filename().string();
     out["scenes"] = json::object();
     for (size_t i = 0; i < suite.scenes.size(); ++i) {
+      const RegressScene& scene = suite.scenes[i];
       json m = json::object();
-      for (const RegressTolerance& t : suite.metrics)
-        m[t.metric] = JsonNumber(values[i].at(t.metric));
-      out["scenes"][suite.scenes[i].name] = {{"config_hash", hashes[i]}, {"metrics", m}};
+      if (scene.seeds == 0) {
+        for (const RegressTolerance& t : suite.metrics)
+          m[t.metric] = JsonNumber(values[first[i]].at(t.metric));
+        out["scenes"][scene.name] = {{"config_hash", hashes[first[i]]}, {"metrics", m}};
+        continue;
+      }
+      json seeds = json::array(), config_hashes = json::array();
+      for (int k = 0; k < scene.seeds; ++k) {
+        seeds.push_back(std::to_string(scene.run_seeds[static_cast<size_t>(k)]));
+        config_hashes.push_back(hashes[first[i] + static_cast<size_t>(k)]);
+      }
+      for (const RegressTolerance& t : suite.metrics) {
+        json list = json::array();
+        for (int k = 0; k < scene.seeds; ++k)
+          list.push_back(JsonNumber(values[first[i] + static_cast<size_t>(k)].at(t.metric)));
+        m[t.metric] = list;
+      }
+      out["scenes"][scene.name] = {
+          {"seeds", seeds}, {"config_hashes", config_hashes}, {"metrics", m}};
     }
     WriteTextFile(options.baseline_path, out.dump(2) + "\n");
     result.baseline_written = true;
   }
   for (size_t i = 0; i < suite.scenes.size(); ++i) {
-    const std::string& name = suite.scenes[i].name;
+    const RegressScene& scene = suite.scenes[i];
+    const int n = std::max(1, scene.seeds);
     if (!options.update_baseline) {
-      const std::string base_hash = baseline["scenes"][name].value("config_hash", "");
-      if (!base_hash.empty() && base_hash != hashes[i]) {
-        spdlog::warn(
-            "regress: scene \"{}\" resolves to config {} but the baseline was made from {}", name,
-            hashes[i], base_hash);
+      const json& b = baseline["scenes"][scene.name];
+      for (int k = 0; k < n; ++k) {
+        const std::string& hash = hashes[first[i] + static_cast<size_t>(k)];
+        std::string base_hash;
+        if (scene.seeds == 0) {
+          base_hash = b.value("config_hash", "");
+        } else if (b.contains("config_hashes") && b["config_hashes"].is_array() &&
+                   static_cast<int>(b["config_hashes"].size()) == n &&
+                   b["config_hashes"][static_cast<size_t>(k)].is_string()) {
+          base_hash = b["config_hashes"][static_cast<size_t>(k)].get<std::string>();
+        }
+        if (!base_hash.empty() && base_hash != hash) {
+          spdlog::warn(
+              "regress: scene \"{}\"{} resolves to config {} but the baseline was made from {}",
+              scene.name, scene.seeds > 0 ? fmt::format(" (seed {})", k) : "", hash, base_hash);
+        }
       }
     }
     for (const RegressTolerance& t : suite.metrics) {
+      std::vector<double> current(static_cast<size_t>(n)), base(static_cast<size_t>(n));
+      for (int k = 0; k < n; ++k) {
+        const size_t run = first[i] + static_cast<size_t>(k);
+        current[static_cast<size_t>(k)] = values[run].at(t.metric);
+        if (options.update_baseline) {
+          base[static_cast<size_t>(k)] = current[static_cast<size_t>(k)];
+        } else {
+          const json& v = baseline["scenes"][scene.name]["metrics"][t.metric];
+          base[static_cast<size_t>(k)] = FromJson(scene.seeds > 0 ? v[static_cast<size_t>(k)] : v);
+        }
+      }
       RegressRow row;
-      row.scene = name;
-      row.metric = t.metric;
-      row.current = values[i].at(t.metric);
-      row.baseline = options.update_baseline
-                         ? row.current
-                         : FromJson(baseline["scenes"][name]["metrics"][t.metric]);
-      row.tolerance = t.tolerance;
-      row.higher_is_better = t.higher_is_better;
-      row.verdict = CompareMetric(row.baseline, row.current, t);
+      if (scene.seeds > 0) {
+        row = CompareSeeds(base, current, t);
+      } else {
+        row.metric = t.metric;
+        row.current = current[0];
+        row.baseline = base[0];
+        row.tolerance = t.tolerance;
+        row.higher_is_better = t.higher_is_better;
+        row.verdict = CompareMetric(row.baseline, row.current, t);
+      }
+      row.scene = scene.name;
       result.worse += row.verdict == RegressVerdict::kWorse;
       result.better += row.verdict == RegressVerdict::kBetter;
       result.rows.push_back(row);

@@ -9,6 +9,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <array>
 #include <cerrno>
 #include <charconv>
 #include <cmath>
@@ -169,6 +170,29 @@ struct Layout {
   }
 };
 
+// For each swept key whose value follows from the value of the key at
+// `index` (zipped with it: an external tracker's tracker.type and
+// tracker.command beside the `name` series that labels it, or a key zipped
+// with x), its value at each value of that key; nullopt for the others (and
+// for every key when index < 0: no such key).
+using FollowingKeys = std::vector<std::optional<std::map<std::string, std::string>>>;
+FollowingKeys KeysFollowing(const std::vector<Cell>& cells, size_t keys, int index) {
+  FollowingKeys out(keys);
+  if (index < 0) return out;
+  const auto si = static_cast<size_t>(index);
+  for (size_t k = 0; k < keys; ++k) {
+    if (k == si) continue;
+    std::map<std::string, std::string> value_at_series;
+    bool follows = true;
+    for (const Cell& c : cells) {
+      const auto [it, inserted] = value_at_series.emplace(c.values[si], c.values[k]);
+      follows = follows && (inserted || it->second == c.values[k]);
+    }
+    if (follows) out[k] = std::move(value_at_series);
+  }
+  return out;
+}
+
 Layout LayoutOf(const std::vector<Cell>& cells, const StoreMeta& meta) {
   const std::vector<std::string>& keys = meta.swept_keys;
   const auto key_index = [&](const std::string& k) -> int {
@@ -187,17 +211,13 @@ Layout LayoutOf(const std::vector<Cell>& cells, const StoreMeta& meta) {
     for (size_t k = 0; k < keys.size(); ++k)
       varies[k] = varies[k] || c.values[k] != cells.front().values[k];
   }
-  // Nor do keys whose value follows from x's (zipped with it): they move
-  // along the line with x.
-  for (size_t k = 0; k < keys.size() && x_index >= 0; ++k) {
-    if (!varies[k] || static_cast<int>(k) == x_index) continue;
-    std::map<std::string, std::string> value_at_x;
-    bool follows = true;
-    for (const Cell& c : cells) {
-      const auto [it, inserted] = value_at_x.emplace(c.values[x_index], c.values[k]);
-      follows = follows && (inserted || it->second == c.values[k]);
-    }
-    if (follows) varies[k] = false;
+  // Nor do keys whose value follows from x's (zipped with it: they move
+  // along the line with x), nor those that follow the series value (it names
+  // the line).
+  const FollowingKeys follow_x = KeysFollowing(cells, keys.size(), x_index);
+  const FollowingKeys follow_series = KeysFollowing(cells, keys.size(), series_index);
+  for (size_t k = 0; k < keys.size(); ++k) {
+    if (follow_x[k] || follow_series[k]) varies[k] = false;
   }
   const auto line_label = [&](const Cell& c) {
     std::vector<std::string> parts;
@@ -364,7 +384,12 @@ std::string PlotSvg(const Layout& layout, const std::string& metric, const std::
     plots.push_back("0 with lines lw 1.5 lc rgb '#222222' dt 2 title 'no difference'");
   }
   if (plots.empty()) {
-    gp += "set label 1 'no finished runs' at graph 0.5, 0.5 center\nplot [0:1] [0:1] NaN notitle\n";
+    // Nothing to draw (no finished run, or no run with this metric: an
+    // external tracker has no particle filters to score). An empty frame on a
+    // linear axis: [0, 1] is not a range a log axis can take.
+    gp +=
+        "unset logscale x\nset label 1 'no values of this metric' at graph 0.5, 0.5 center\n"
+        "plot [0:1] [0:1] NaN notitle\n";
   } else {
     gp += "plot " + fmt::format("{}", fmt::join(plots, ", \\\n     ")) + "\n";
   }
@@ -458,6 +483,9 @@ struct PairedRow {
 struct Paired {
   int series_index = -1;
   std::string reference;  // the reference series value
+  // Keys that follow the series value (KeysFollowing): they take the
+  // reference's value in the partner cell.
+  FollowingKeys follow_series;
   std::vector<PairedRow> rows;
 };
 
@@ -473,10 +501,19 @@ Paired PairedRowsOf(const std::vector<Cell>& cells, const StoreMeta& meta) {
       meta.report.reference.empty() ? cells.front().values[si] : meta.report.reference;
   std::map<std::vector<std::string>, const Cell*> by_values;
   for (const Cell& c : cells) by_values.emplace(c.values, &c);
-  // A run's partner key: its values without the series value, and its seed.
+  // Keys that follow the series value take the reference's value in the
+  // partner cell (an external tracker's cells pair with the reference
+  // particle filter's, whose tracker.type and command differ).
+  paired.follow_series = KeysFollowing(cells, keys.size(), paired.series_index);
+  const FollowingKeys& follow_series = paired.follow_series;
+  // A run's partner key: its values without the series value (and the keys
+  // that follow it), and its seed.
   const auto pair_key = [&](const RunRecord& r) {
     std::vector<std::string> k = r.values;
     if (si < k.size()) k[si].clear();
+    for (size_t j = 0; j < k.size() && j < follow_series.size(); ++j) {
+      if (follow_series[j]) k[j].clear();
+    }
     k.push_back(std::to_string(r.seed));
     return k;
   };
@@ -484,6 +521,11 @@ Paired PairedRowsOf(const std::vector<Cell>& cells, const StoreMeta& meta) {
     if (c.values[si] == paired.reference) continue;
     std::vector<std::string> ref_values = c.values;
     ref_values[si] = paired.reference;
+    for (size_t k = 0; k < keys.size(); ++k) {
+      if (!follow_series[k]) continue;
+      const auto at = follow_series[k]->find(paired.reference);
+      if (at != follow_series[k]->end()) ref_values[k] = at->second;
+    }
     const auto ref = by_values.find(ref_values);
     if (ref == by_values.end()) continue;
     std::map<std::vector<std::string>, const RunRecord*> partner;
@@ -525,6 +567,20 @@ std::vector<Cell> DifferenceCells(const Paired& paired, const StoreMeta& meta) {
     out.push_back(std::move(d));
   }
   return out;
+}
+
+// Whether a paired comparison is a finding: better or worse than the
+// reference in the metric's direction, with both the signed-rank test
+// (p < 0.05) and the t interval of the differences (excluding 0) saying so.
+enum class PairedVerdict { kNotSignificant, kBetter, kWorse };
+PairedVerdict VerdictOf(const PairedComparison& c, const std::string& metric) {
+  if (c.pairs == 0) return PairedVerdict::kNotSignificant;
+  const CatalogueMetric* entry = FindMetric(metric);
+  const bool higher_better = entry == nullptr || entry->higher_is_better;
+  const bool excludes_zero = c.difference.method != IntervalMethod::kNone &&
+                             (c.difference.lower > 0.0 || c.difference.upper < 0.0);
+  if (!(c.test.p_value < 0.05 && excludes_zero)) return PairedVerdict::kNotSignificant;
+  return (c.difference.mean > 0) == higher_better ? PairedVerdict::kBetter : PairedVerdict::kWorse;
 }
 
 std::string FormatP(double p) {
@@ -583,16 +639,11 @@ std::string PairedHtml(const Paired& paired, const StoreMeta& meta, const Layout
         h += "<td>&ndash;</td>";
         continue;
       }
-      const CatalogueMetric* entry = FindMetric(m);
-      const bool higher_better = entry == nullptr || entry->higher_is_better;
       // Both the rank test and the t interval of the differences must say so.
-      const bool excludes_zero = c.difference.method != IntervalMethod::kNone &&
-                                 (c.difference.lower > 0.0 || c.difference.upper < 0.0);
-      const bool significant = c.test.p_value < 0.05 && excludes_zero;
-      const bool better = (c.difference.mean > 0) == higher_better;
-      const char* style = !significant ? ""
-                          : better     ? " style=\"background:#dff3df\""
-                                       : " style=\"background:#f8dede\"";
+      const PairedVerdict verdict = VerdictOf(c, m);
+      const char* style = verdict == PairedVerdict::kBetter  ? " style=\"background:#dff3df\""
+                          : verdict == PairedVerdict::kWorse ? " style=\"background:#f8dede\""
+                                                             : "";
       std::string text = fmt::format("&Delta;&nbsp;{:.3g}", c.difference.mean);
       if (c.difference.method != IntervalMethod::kNone) {
         text += fmt::format(" [{:.3g}, {:.3g}]{}", c.difference.lower, c.difference.upper,
@@ -637,13 +688,202 @@ std::string PairedCsv(const Paired& paired, const StoreMeta& meta) {
   return csv;
 }
 
+// Stage 2c, findings: a few sentences generated from the cells and the
+// paired rows, so the report says where a series helps and where it does
+// not. One sentence per report.y metric and group of cells (the cells that
+// share every swept value but x and series: a panel, a pooled cell, ...):
+// which series has the best mean at each x, then, per non-reference series,
+// the x values where its paired difference against the reference is a
+// finding (VerdictOf) for better, for worse, and where it is not.
+struct Finding {
+  std::string metric;
+  std::string group;  // "key = value, ..." of the keys that vary between groups ("" = one group)
+  std::string text;   // plain text, no markup
+};
+
+// "a, b and c".
+std::string JoinWords(const std::vector<std::string>& words) {
+  std::string out;
+  for (size_t i = 0; i < words.size(); ++i) {
+    if (i > 0) out += i + 1 == words.size() ? " and " : ", ";
+    out += words[i];
+  }
+  return out;
+}
+
+std::vector<Finding> FindingsOf(const std::vector<Cell>& cells, const Paired& paired,
+                                const StoreMeta& meta, const Layout& layout) {
+  std::vector<Finding> findings;
+  if (paired.series_index < 0) return findings;
+  const auto& keys = meta.swept_keys;
+  const auto si = static_cast<size_t>(paired.series_index);
+  const int xi = layout.x_index;
+  // Groups: the cells' values with x, the series and the keys that follow
+  // either (zipped with it, e.g. an external tracker's command beside its
+  // name) cleared.
+  const FollowingKeys& follow_series = paired.follow_series;
+  const FollowingKeys follow_x = KeysFollowing(cells, keys.size(), xi);
+  const auto group_key = [&](const Cell& c) {
+    std::vector<std::string> k = c.values;
+    for (size_t j = 0; j < k.size(); ++j) {
+      if (j == si || static_cast<int>(j) == xi || follow_series[j] || follow_x[j]) k[j].clear();
+    }
+    return k;
+  };
+  std::vector<std::vector<std::string>> groups;
+  std::map<std::vector<std::string>, std::vector<const Cell*>> group_cells;
+  for (const Cell& c : cells) {
+    const auto k = group_key(c);
+    if (!group_cells.count(k)) groups.push_back(k);
+    group_cells[k].push_back(&c);
+  }
+  std::vector<bool> varies(keys.size(), false);
+  for (const auto& g : groups) {
+    for (size_t k = 0; k < keys.size(); ++k) varies[k] = varies[k] || g[k] != groups.front()[k];
+  }
+  const auto x_of = [&](const Cell& c) {
+    return xi >= 0 ? c.values[static_cast<size_t>(xi)] : std::string();
+  };
+  const std::string x_name = xi >= 0 ? keys[static_cast<size_t>(xi)] : std::string();
+  const auto at = [&](const std::vector<std::string>& xs) {
+    if (xi < 0) return std::string();
+    return " at " + x_name + " = " + JoinWords(xs);
+  };
+  for (const std::string& m : meta.report.y) {
+    const CatalogueMetric* entry = FindMetric(m);
+    const bool higher_better = entry == nullptr || entry->higher_is_better;
+    for (const auto& g : groups) {
+      Finding f;
+      f.metric = m;
+      std::vector<std::string> parts;
+      for (size_t k = 0; k < keys.size(); ++k) {
+        if (varies[k]) parts.push_back(keys[k] + " = " + g[k]);
+      }
+      f.group = fmt::format("{}", fmt::join(parts, ", "));
+      // Best mean per x, the x values collected per winning series value.
+      std::vector<std::string> winners;
+      std::map<std::string, std::vector<std::string>> won_at;
+      std::vector<std::string> xs;
+      for (const Cell* c : group_cells[g]) {
+        if (std::find(xs.begin(), xs.end(), x_of(*c)) == xs.end()) xs.push_back(x_of(*c));
+      }
+      for (const std::string& x : xs) {
+        const Cell* best = nullptr;
+        bool tie = false;
+        for (const Cell* c : group_cells[g]) {
+          if (x_of(*c) != x) continue;
+          const Interval& s = c->stats.at(m);
+          if (s.n == 0 || !std::isfinite(s.mean)) continue;
+          if (best == nullptr) {
+            best = c;
+            continue;
+          }
+          const double b = best->stats.at(m).mean;
+          if (s.mean == b) {
+            tie = true;
+          } else if ((s.mean > b) == higher_better) {
+            best = c;
+            tie = false;
+          }
+        }
+        if (best == nullptr) continue;
+        const std::string w = tie ? std::string("equal means") : best->values[si];
+        if (!won_at.count(w)) winners.push_back(w);
+        won_at[w].push_back(x);
+      }
+      if (winners.empty()) continue;
+      std::vector<std::string> best_parts;
+      for (const std::string& w : winners) {
+        best_parts.push_back(winners.size() == 1 && xi >= 0
+                                 ? w + " at every " + x_name
+                                 : w + (won_at[w].size() == xs.size() ? "" : at(won_at[w])));
+      }
+      f.text = fmt::format("best mean ({} is better): {}.", higher_better ? "higher" : "lower",
+                           fmt::join(best_parts, "; "));
+      // Paired verdicts per compared series value.
+      std::vector<std::string> compared;
+      std::map<std::string, std::array<std::vector<std::string>, 3>> verdicts;
+      std::map<std::string, std::pair<int, int>> pairs;  // min, max
+      for (const PairedRow& row : paired.rows) {
+        if (group_key(*row.cell) != g) continue;
+        const PairedComparison& c = row.metrics.at(m);
+        const std::string& s = row.cell->values[si];
+        if (!verdicts.count(s)) {
+          compared.push_back(s);
+          pairs[s] = {c.pairs, c.pairs};
+        }
+        verdicts[s][static_cast<size_t>(VerdictOf(c, m))].push_back(x_of(*row.cell));
+        pairs[s].first = std::min(pairs[s].first, c.pairs);
+        pairs[s].second = std::max(pairs[s].second, c.pairs);
+      }
+      for (const std::string& s : compared) {
+        const auto& v = verdicts[s];
+        std::vector<std::string> said;
+        if (!v[1].empty()) said.push_back("significantly better" + at(v[1]));
+        if (!v[2].empty()) said.push_back("significantly worse" + at(v[2]));
+        if (!v[0].empty()) {
+          said.push_back(
+              (said.empty() ? "no significant difference" : "not significantly different") +
+              (said.empty() && xi >= 0 && v[0].size() == xs.size()
+                   ? std::string(" at any ") + x_name
+                   : at(v[0])));
+        }
+        const auto [lo, hi] = pairs[s];
+        if (hi == 0) {
+          f.text += fmt::format(" {} \u2212 {}: no pairs (the metric is absent from one of them).",
+                                s, paired.reference);
+          continue;
+        }
+        f.text += fmt::format(" {} \u2212 {}: {} ({} seed pair{}{}).", s, paired.reference,
+                              fmt::join(said, "; "),
+                              lo == hi ? std::to_string(lo) : fmt::format("{}\u2013{}", lo, hi),
+                              hi == 1 ? "" : "s", xi >= 0 ? " per " + x_name : "");
+      }
+      findings.push_back(std::move(f));
+    }
+  }
+  return findings;
+}
+
+std::string FindingsIntro(const Paired& paired, const StoreMeta& meta) {
+  return fmt::format(
+      "Generated from the runs: for every metric, which {0} value has the best mean at each x, "
+      "and where each other value differs from {1} (the reference) seed by seed with p < 0.05 "
+      "and a 95 % interval that excludes 0 (the green and red cells of the paired differences). "
+      "A better mean without that is not a finding.",
+      meta.report.series, paired.reference);
+}
+
+std::string FindingsHtml(const std::vector<Finding>& findings, const Paired& paired,
+                         const StoreMeta& meta) {
+  if (findings.empty()) return {};
+  std::string h = "<h2 id=\"findings\">Findings</h2>\n<p>" +
+                  EscapeMarkup(FindingsIntro(paired, meta)) + "</p>\n<ul>\n";
+  for (const Finding& f : findings) {
+    h += fmt::format("<li><b>{}</b>{}: {}</li>\n", EscapeMarkup(f.metric),
+                     f.group.empty() ? "" : " (" + EscapeMarkup(f.group) + ")",
+                     EscapeMarkup(f.text));
+  }
+  return h + "</ul>\n";
+}
+
+std::string FindingsMarkdown(const std::vector<Finding>& findings, const Paired& paired,
+                             const StoreMeta& meta) {
+  std::string md = "# Findings\n\n" + FindingsIntro(paired, meta) + "\n\n";
+  for (const Finding& f : findings) {
+    md += fmt::format("- **{}**{}: {}\n", f.metric, f.group.empty() ? "" : " (" + f.group + ")",
+                      f.text);
+  }
+  return md;
+}
+
 // Stage 4, the page. `link_prefix` leads from the report's folder to `dir`
 // ("" when the report is written into the sweep folder).
 std::string ReportHtml(const fs::path& dir, const std::string& link_prefix, const StoreMeta& meta,
                        const std::vector<RunRecord>& runs, const std::vector<Cell>& cells,
                        const Layout& layout,
                        const std::vector<std::pair<std::string, std::string>>& svgs,
-                       const std::string& paired_html) {
+                       const std::string& findings_html, const std::string& paired_html) {
   const std::vector<std::string>& keys = meta.swept_keys;
   const int x_index = layout.x_index;
   int64_t ok_runs = 0, failed_runs = 0;
@@ -688,6 +928,7 @@ std::string ReportHtml(const fs::path& dir, const std::string& link_prefix, cons
           return fmt::format("{}", fmt::join(keys, "</code>, <code>"));
         }());
   }
+  h += findings_html;
   h += "<h2>Plots</h2>\n";
   for (const auto& [id, svg] : svgs) {
     h += fmt::format("<div class=\"plot\" id=\"plot-{}\">\n{}\n</div>\n", EscapeMarkup(id), svg);
@@ -830,10 +1071,19 @@ ReportResult WriteReport(const ReportOptions& options) {
   result.difference_plots = static_cast<int>(difference_svgs.size());
   result.comparisons = static_cast<int>(paired.rows.size());
   if (!paired.rows.empty()) WriteTextFile((out / "paired.csv").string(), PairedCsv(paired, meta));
+  // The findings, also as findings.md (read without a browser).
+  const std::vector<Finding> findings = FindingsOf(cells, paired, meta, layout);
+  result.findings = static_cast<int>(findings.size());
+  if (!findings.empty()) {
+    WriteTextFile((out / "findings.md").string(), FindingsMarkdown(findings, paired, meta));
+  } else {
+    fs::remove(out / "findings.md", ec);  // from an earlier report of this folder
+  }
   result.csv_path = (out / "summary.csv").string();
   WriteTextFile(result.csv_path, SummaryCsv(cells, meta.swept_keys));
   result.html_path = (out / "report.html").string();
   WriteTextFile(result.html_path, ReportHtml(dir, link_prefix, meta, runs, cells, layout, svgs,
+                                             FindingsHtml(findings, paired, meta),
                                              PairedHtml(paired, meta, layout, difference_svgs)));
   result.cells = static_cast<int>(cells.size());
   fs::remove_all(work, ec);

@@ -25,6 +25,7 @@
 #include "hcpf/studies/results_store.h"
 #include "hcpf/studies/run_queue.h"
 #include "hcpf/studies/sweep.h"
+#include "sweep_plan.h"
 
 namespace hcpf::studies {
 
@@ -40,7 +41,7 @@ using scenarios::ToResolvedYaml;
 
 namespace fs = std::filesystem;
 
-namespace {
+namespace internal {
 
 // The sweep's picture of its scene: the first rendered run's frames, sampled
 // from the sweep's own frame cache into DIR/contact_sheet.png for the report
@@ -72,31 +73,38 @@ void WriteContactSheet(const fs::path& out, const std::vector<SweepRun>& runs,
   }
 }
 
-}  // namespace
+FolderLock::FolderLock(const fs::path& out, const std::string& out_argument) {
+  // One sweep process per folder: an advisory lock, released by the kernel
+  // when the process ends however it ends (SIGKILL included).
+  const std::string lock_path = (out / "sweep.lock").string();
+  fd_ = ::open(lock_path.c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0644);
+  if (fd_ < 0) throw RunError(fmt::format("cannot open {}: {}", lock_path, std::strerror(errno)));
+  if (::flock(fd_, LOCK_EX | LOCK_NB) != 0) {
+    ::close(fd_);
+    fd_ = -1;
+    throw InputError(SourceLocation{out_argument, 0, 0, "--out"},
+                     "a folder no other hcpf sweep is writing to", "a sweep already running there");
+  }
+}
 
-SweepResult RunSweep(const SweepSpec& spec, const std::vector<SweepRun>& runs,
-                     const SweepOptions& options) {
+FolderLock::~FolderLock() {
+  if (fd_ >= 0) ::close(fd_);
+}
+
+FolderLock::FolderLock(FolderLock&& other) noexcept : fd_(other.fd_) { other.fd_ = -1; }
+
+SweepPlan PrepareSweep(const SweepSpec& spec, const std::vector<SweepRun>& runs,
+                       const SweepOptions& options, const std::string& workers) {
   options.Validate();
-  const fs::path out(options.out_dir);
+  SweepPlan plan;
+  plan.out = fs::path(options.out_dir);
+  const fs::path& out = plan.out;
   scenarios::CheckFolderArgument(options.out_dir, "--out");
   std::error_code ec;
   fs::create_directories(out / "runs", ec);
   if (ec)
     throw RunError(fmt::format("cannot create {}: {}", (out / "runs").string(), ec.message()));
-  // One sweep process per folder: an advisory lock, released by the kernel
-  // when the process ends however it ends (SIGKILL included).
-  const std::string lock_path = (out / "sweep.lock").string();
-  const int lock_fd = ::open(lock_path.c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0644);
-  if (lock_fd < 0)
-    throw RunError(fmt::format("cannot open {}: {}", lock_path, std::strerror(errno)));
-  struct LockGuard {
-    int fd;
-    ~LockGuard() { ::close(fd); }
-  } lock_guard{lock_fd};
-  if (::flock(lock_fd, LOCK_EX | LOCK_NB) != 0) {
-    throw InputError(SourceLocation{options.out_dir, 0, 0, "--out"},
-                     "a folder no other hcpf sweep is writing to", "a sweep already running there");
-  }
+  plan.lock = std::make_unique<FolderLock>(out, options.out_dir);
   // Staging folders of runs whose process was killed.
   RemoveStaleStagingFolders(out / "runs", "");
 
@@ -121,11 +129,11 @@ SweepResult RunSweep(const SweepSpec& spec, const std::vector<SweepRun>& runs,
     meta.base_resolved = ToResolvedYaml(LoadScenarioFile(spec.base_path));
   }
   meta.run_count = static_cast<int64_t>(runs.size());
-  auto store = ResultsStore::OpenOrCreate((out / "results.sqlite").string(), meta);
+  plan.store = ResultsStore::OpenOrCreate((out / "results.sqlite").string(), meta);
 
   // Finished runs are reused only while their folders still hold what the
   // store records (a deleted or damaged folder is computed again).
-  const std::vector<RunRecord> stored = store->Runs();
+  const std::vector<RunRecord> stored = plan.store->Runs();
   std::vector<char> intact(stored.size(), 0);
   ParallelFor(stored.size(), options.jobs, [&](size_t i) {
     const RunRecord& r = stored[i];
@@ -142,7 +150,7 @@ SweepResult RunSweep(const SweepSpec& spec, const std::vector<SweepRun>& runs,
     }
   }
 
-  SweepResult result;
+  SweepResult& result = plan.result;
   std::vector<const SweepRun*> todo;
   for (const SweepRun& run : runs) {
     if (run.index % options.shard_count != options.shard_index) continue;
@@ -154,48 +162,70 @@ SweepResult RunSweep(const SweepSpec& spec, const std::vector<SweepRun>& runs,
       todo.push_back(&run);
     }
   }
-  spdlog::info("sweep: {} runs{}, {} already in {}, {} to compute with {} worker(s)", result.total,
+  spdlog::info("sweep: {} runs{}, {} already in {}, {} to compute with {}", result.total,
                options.shard_count > 1
                    ? fmt::format(" in shard {}/{}", options.shard_index, options.shard_count)
                    : "",
-               result.reused, (out / "results.sqlite").string(), todo.size(), options.jobs);
+               result.reused, (out / "results.sqlite").string(), todo.size(), workers);
+  plan.todo = static_cast<int64_t>(todo.size());
+  plan.waves = RunWaves(todo, options.frame_cache_dir);
+  return plan;
+}
 
-  std::mutex mutex;  // guards result and progress
-  Progress progress("sweep", static_cast<int64_t>(todo.size()));
-  const std::vector<std::vector<const SweepRun*>> waves = RunWaves(todo, options.frame_cache_dir);
-  std::unique_ptr<RunExecutor> executor;
-  if (options.isolate_exe.empty()) {
-    executor = std::make_unique<InProcessExecutor>();
-  } else {
-    executor = std::make_unique<ChildProcessExecutor>(options.isolate_exe, (out / "runs").string());
+std::unique_ptr<RunExecutor> MakeExecutor(const SweepOptions& options) {
+  if (options.isolate_exe.empty()) return std::make_unique<InProcessExecutor>();
+  return std::make_unique<ChildProcessExecutor>(options.isolate_exe,
+                                                (fs::path(options.out_dir) / "runs").string());
+}
+
+RunRecord NewRecord(const SweepRun& run) {
+  RunRecord record;
+  record.key = run.key;
+  record.index = run.index;
+  record.seed_index = run.seed_index;
+  record.seed = run.seed;
+  record.values = run.values;
+  record.run_dir = "runs/" + run.key;
+  return record;
+}
+
+RunRecord ExecuteRun(const SweepRun& run, const SweepOptions& options,
+                     const RunExecutor& executor) {
+  RunRecord record = NewRecord(run);
+  try {
+    RunOptions run_options;
+    run_options.out_dir = (fs::path(options.out_dir) / record.run_dir).string();
+    run_options.threads = 1;
+    run_options.show_progress = false;
+    run_options.frame_cache_dir = options.frame_cache_dir;
+    run_options.video = options.video && run.seed_index == 0;
+    executor.Execute(run, run_options);
+    record.metrics = ReadRunMetrics(run_options.out_dir);
+    record.ok = true;
+  } catch (const std::exception& e) {
+    record.ok = false;
+    record.error = e.what();
   }
+  return record;
+}
+
+}  // namespace internal
+
+SweepResult RunSweep(const SweepSpec& spec, const std::vector<SweepRun>& runs,
+                     const SweepOptions& options) {
+  internal::SweepPlan plan =
+      internal::PrepareSweep(spec, runs, options, fmt::format("{} worker(s)", options.jobs));
+  SweepResult& result = plan.result;
+  std::mutex mutex;  // guards result and progress
+  Progress progress("sweep", plan.todo);
+  const std::unique_ptr<RunExecutor> executor = internal::MakeExecutor(options);
   // One run: compute it (a failure is recorded, not thrown), then store it. A
   // failure to store stops the sweep: ParallelFor starts no further run and
   // rethrows it once the runs in flight are done.
   const auto run_one = [&](const SweepRun& run) {
-    RunRecord record;
-    record.key = run.key;
-    record.index = run.index;
-    record.seed_index = run.seed_index;
-    record.seed = run.seed;
-    record.values = run.values;
-    record.run_dir = "runs/" + run.key;
-    try {
-      RunOptions run_options;
-      run_options.out_dir = (out / record.run_dir).string();
-      run_options.threads = 1;
-      run_options.show_progress = false;
-      run_options.frame_cache_dir = options.frame_cache_dir;
-      run_options.video = options.video && run.seed_index == 0;
-      executor->Execute(run, run_options);
-      record.metrics = ReadRunMetrics(run_options.out_dir);
-      record.ok = true;
-    } catch (const std::exception& e) {
-      record.ok = false;
-      record.error = e.what();
-      spdlog::warn("sweep: run {} ({}) failed: {}", run.index, run.key, e.what());
-    }
-    store->Put(record);
+    const RunRecord record = internal::ExecuteRun(run, options, *executor);
+    if (!record.ok) spdlog::warn("sweep: run {} ({}) failed: {}", run.index, run.key, record.error);
+    plan.store->Put(record);
     std::lock_guard lock(mutex);
     if (record.ok) {
       ++result.computed;
@@ -204,11 +234,11 @@ SweepResult RunSweep(const SweepSpec& spec, const std::vector<SweepRun>& runs,
     }
     if (options.progress) progress.Advance(1, record.ok ? 0 : 1);
   };
-  for (const std::vector<const SweepRun*>& wave : waves) {
+  for (const std::vector<const SweepRun*>& wave : plan.waves) {
     ParallelFor(wave.size(), options.jobs, [&](size_t i) { run_one(*wave[i]); });
   }
   if (options.progress) progress.Finish();
-  WriteContactSheet(out, runs, options.frame_cache_dir);
+  internal::WriteContactSheet(plan.out, runs, options.frame_cache_dir);
   return result;
 }
 

@@ -12,12 +12,14 @@
 #include <sstream>
 
 #include "hcpf/core/error.h"
+#include "hcpf/core/rng.h"
 #include "sweep_fixture.h"
 
 namespace hcpf::studies {
 namespace {
 
 namespace fs = std::filesystem;
+using V = std::vector<double>;
 
 TEST(Regress, CompareMetricByHand) {
   const RegressTolerance higher{"idf1", 0.01, true};
@@ -31,6 +33,107 @@ TEST(Regress, CompareMetricByHand) {
   EXPECT_EQ(CompareMetric(0.5, 0.5, lower), RegressVerdict::kSame);
   EXPECT_EQ(CompareMetric(std::nan(""), 0.5, lower), RegressVerdict::kWorse);
   EXPECT_EQ(CompareMetric(std::nan(""), std::nan(""), lower), RegressVerdict::kSame);
+}
+
+// Five seeds, idf1 (higher is better). d_i = current_i − baseline_i =
+// −0.01, −0.02, −0.03, −0.04, −0.05: mean −0.03; deviations ±0.02, ±0.01, 0
+// give Σ(d − d̄)² = 0.001, s² = 0.001 / 4 = 0.00025, s = 0.0158113883,
+// s/√5 = 0.0070710678; t(0.975, 4) = 2.776 (table), half-width
+// 2.776 · 0.0070710678 = 0.0196292843: interval [−0.0496292843, −0.0103707157].
+TEST(Regress, CompareSeedsFiveSeedsByHand) {
+  const std::vector<double> baseline = {0.80, 0.80, 0.80, 0.80, 0.80};
+  const std::vector<double> current = {0.79, 0.78, 0.77, 0.76, 0.75};
+  RegressRow r = CompareSeeds(baseline, current, {"idf1", 0.02, true});
+  EXPECT_EQ(r.seeds, 5);
+  EXPECT_EQ(r.pairs, 5);
+  EXPECT_EQ(r.nan_mismatches, 0);
+  EXPECT_NEAR(r.baseline, 0.80, 1e-12);
+  EXPECT_NEAR(r.current, 0.77, 1e-12);
+  EXPECT_NEAR(r.difference, -0.03, 1e-12);
+  EXPECT_NEAR(r.lower, -0.0496292843, 1e-9);
+  EXPECT_NEAR(r.upper, -0.0103707157, 1e-9);
+  // −0.03 is beyond −0.02 and the interval is below zero.
+  EXPECT_EQ(r.verdict, RegressVerdict::kWorse);
+  // A tolerance of 0.035: the mean is not beyond it (the interval alone is not enough).
+  EXPECT_EQ(CompareSeeds(baseline, current, {"idf1", 0.035, true}).verdict, RegressVerdict::kSame);
+  // The same numbers for a lower-is-better metric are an improvement of 0.03.
+  r = CompareSeeds(baseline, current, {"ospa", 0.02, false});
+  EXPECT_EQ(r.verdict, RegressVerdict::kBetter);
+  EXPECT_NEAR(r.difference, -0.03, 1e-12);  // shown as current − baseline
+  // ... and swapped, a deterioration.
+  EXPECT_EQ(CompareSeeds(current, baseline, {"ospa", 0.02, false}).verdict, RegressVerdict::kWorse);
+  // The text outputs state the difference, the interval and the seeds.
+  r = CompareSeeds(baseline, current, {"idf1", 0.02, true});
+  r.scene = "s";
+  const std::string junit = FormatRegressJunit({r});
+  EXPECT_NE(junit.find("mean paired difference -0.03"), std::string::npos) << junit;
+  EXPECT_NE(junit.find("[-0.0496293, -0.0103707]"), std::string::npos) << junit;
+  EXPECT_NE(junit.find("over 5 of 5 seeds"), std::string::npos) << junit;
+  EXPECT_NE(junit.find("<failure"), std::string::npos) << junit;
+  RegressResult result;
+  result.rows = {r};
+  result.worse = 1;
+  const std::string md = FormatRegressMarkdown(result);
+  EXPECT_NE(md.find("| s | idf1 | 0.8 | 0.77 | -0.03 | [-0.0496293, -0.0103707] | 5 | −0.02 | "
+                    "**WORSE** |"),
+            std::string::npos)
+      << md;
+  const std::string table = FormatRegressTable({r});
+  EXPECT_NE(table.find("[-0.0496293, -0.0103707]"), std::string::npos) << table;
+}
+
+// A consistent drop of 0.02 on every seed (tolerance 0.01) fails: d_i = −0.02,
+// s = 0, interval [−0.02, −0.02]. One noisy seed with the same mean does not:
+// d = −0.1, 0, 0, 0, 0 has mean −0.02, Σ(d − d̄)² = 0.08² + 4 · 0.02² = 0.008,
+// s = √0.002 = 0.0447214, s/√5 = 0.02, half-width 2.776 · 0.02 = 0.05552:
+// [−0.07552, 0.03552] holds zero.
+TEST(Regress, ConsistentDropFailsWhereOneNoisySeedOfTheSameMeanDoesNot) {
+  const RegressTolerance t{"idf1", 0.01, true};
+  const std::vector<double> baseline = {0.9, 0.9, 0.9, 0.9, 0.9};
+  RegressRow consistent = CompareSeeds(baseline, V{0.88, 0.88, 0.88, 0.88, 0.88}, t);
+  EXPECT_EQ(consistent.verdict, RegressVerdict::kWorse);
+  EXPECT_NEAR(consistent.difference, -0.02, 1e-12);
+  EXPECT_NEAR(consistent.upper, -0.02, 1e-12);
+  RegressRow noisy = CompareSeeds(baseline, V{0.8, 0.9, 0.9, 0.9, 0.9}, t);
+  EXPECT_EQ(noisy.verdict, RegressVerdict::kSame);
+  EXPECT_NEAR(noisy.difference, -0.02, 1e-12);
+  EXPECT_NEAR(noisy.lower, -0.07552, 1e-9);
+  EXPECT_NEAR(noisy.upper, 0.03552, 1e-9);
+  // The exact mode would call the noisy seed alone WORSE (0.1 beyond 0.01).
+  EXPECT_EQ(CompareMetric(0.9, 0.8, t), RegressVerdict::kWorse);
+  // A consistent gain beyond the tolerance is better.
+  EXPECT_EQ(CompareSeeds(baseline, V{0.93, 0.92, 0.93, 0.92, 0.93}, t).verdict,
+            RegressVerdict::kBetter);
+}
+
+TEST(Regress, CompareSeedsIdentityAndNaN) {
+  const double nan = std::nan("");
+  const std::vector<double> v = {0.3, 0.7, 0.1, 0.9};
+  for (const RegressTolerance& t :
+       {RegressTolerance{"idf1", 0.0, true}, RegressTolerance{"hijack_rate", 0.0, false}}) {
+    const RegressRow r = CompareSeeds(v, v, t);
+    EXPECT_EQ(r.verdict, RegressVerdict::kSame) << t.metric;
+    EXPECT_EQ(r.difference, 0.0);
+    EXPECT_EQ(r.lower, 0.0);
+    EXPECT_EQ(r.upper, 0.0);
+  }
+  // A number on one side and NaN on the other (either way) is WORSE.
+  RegressRow r = CompareSeeds(V{0.5, 0.5, nan}, V{0.5, 0.5, 0.5}, {"idf1", 0.1, true});
+  EXPECT_EQ(r.verdict, RegressVerdict::kWorse);
+  EXPECT_EQ(r.nan_mismatches, 1);
+  EXPECT_EQ(r.pairs, 2);
+  EXPECT_EQ(CompareSeeds(V{0.5, 0.5, 0.5}, V{0.5, nan, 0.5}, {"idf1", 0.1, true}).verdict,
+            RegressVerdict::kWorse);
+  // NaN on both sides is left out: two equal pairs remain, ok.
+  r = CompareSeeds(V{nan, 0.5, 0.6}, V{nan, 0.5, 0.6}, {"idf1", 0.0, true});
+  EXPECT_EQ(r.verdict, RegressVerdict::kSame);
+  EXPECT_EQ(r.pairs, 2);
+  EXPECT_EQ(r.nan_mismatches, 0);
+  // One pair left: judged like the exact mode; none: ok.
+  EXPECT_EQ(CompareSeeds(V{nan, 0.5}, V{nan, 0.4}, {"idf1", 0.05, true}).verdict,
+            RegressVerdict::kWorse);
+  EXPECT_EQ(CompareSeeds(V{nan, nan}, V{nan, nan}, {"idf1", 0.05, true}).verdict,
+            RegressVerdict::kSame);
 }
 
 std::string SuiteError(const fs::path& dir, const std::string& text) {
@@ -70,12 +173,44 @@ TEST(Regress, BadSuitesAreLocated) {
   EXPECT_NE(e.find("bad.yaml:4:"), std::string::npos) << e;
   EXPECT_NE(e.find("metrics.ospa.direction"), std::string::npos) << e;
   EXPECT_NE(e.find("lower_is_better"), std::string::npos) << e;
+  // seeds: an integer in [2, 1000], located at the value.
+  for (const std::string value : {"0", "1", "\"x\"", "1001"}) {
+    e = SuiteError(dir, "scenes:\n  - {scenario: base.yaml, seeds: " + value +
+                            "}\nmetrics:\n  idf1: {tolerance: 0.1}\n");
+    EXPECT_NE(e.find("bad.yaml:2:"), std::string::npos) << value << ": " << e;
+    EXPECT_NE(e.find("scenes[0].seeds"), std::string::npos) << value << ": " << e;
+    EXPECT_NE(e.find("an integer in [2, 1000]"), std::string::npos) << value << ": " << e;
+  }
   std::ofstream(dir / "ok.yaml") << "scenes:\n  - {scenario: base.yaml}\nmetrics:\n"
                                     "  ospa: {tolerance: 1}\n  idf1: {tolerance: 0.1}\n";
   const RegressSuite suite = LoadRegressSuite((dir / "ok.yaml").string());
   ASSERT_EQ(suite.metrics.size(), 2u);
   EXPECT_FALSE(suite.metrics[0].higher_is_better);
   EXPECT_TRUE(suite.metrics[1].higher_is_better);
+}
+
+// A scene's seeds derive from its seed like a sweep's (sweep.h), written out
+// here independently of SweepSeed: Rng(seed).Fork("sweep/seed/i").identity();
+// without `seed:` from the scenario's own seed (base.yaml: seed 7).
+TEST(Regress, SceneSeedsDeriveLikeSweepSeeds) {
+  const auto dir = testing::SweepFolder("regress-seeds");
+  std::ofstream(dir / "suite.yaml") << "scenes:\n"
+                                       "  - {name: a, scenario: base.yaml, seed: 3, seeds: 3}\n"
+                                       "  - {name: b, scenario: base.yaml, seeds: 2}\n"
+                                       "  - {name: c, scenario: base.yaml}\n"
+                                       "metrics:\n  idf1: {tolerance: 0.1}\n";
+  const RegressSuite suite = LoadRegressSuite((dir / "suite.yaml").string());
+  ASSERT_EQ(suite.scenes.size(), 3U);
+  EXPECT_EQ(suite.scenes[0].seeds, 3);
+  ASSERT_EQ(suite.scenes[0].run_seeds.size(), 3U);
+  for (int i = 0; i < 3; ++i) {
+    EXPECT_EQ(suite.scenes[0].run_seeds[static_cast<size_t>(i)],
+              Rng(3).Fork("sweep/seed/" + std::to_string(i)).identity());
+  }
+  ASSERT_EQ(suite.scenes[1].run_seeds.size(), 2U);
+  EXPECT_EQ(suite.scenes[1].run_seeds[1], Rng(7).Fork("sweep/seed/1").identity());
+  EXPECT_EQ(suite.scenes[2].seeds, 0);
+  EXPECT_TRUE(suite.scenes[2].run_seeds.empty());
 }
 
 TEST(Regress, BaselineRoundTripAndPlantedRegression) {
@@ -126,6 +261,96 @@ TEST(Regress, BaselineRoundTripAndPlantedRegression) {
   r = RunRegress(o);
   EXPECT_EQ(r.worse, 0);
   EXPECT_EQ(r.better, 1);
+}
+
+// A seeded scene beside an exact one: the baseline keeps per-seed values, a
+// consistent planted drop fails, the same mean drop on one seed does not, and
+// a baseline of other seeds is refused.
+TEST(Regress, SeededSceneBaselineAndPairedVerdicts) {
+  const auto dir = testing::SweepFolder("regress-seeded");
+  std::ofstream(dir / "suite.yaml") << "scenes:\n"
+                                       "  - {name: s, scenario: base.yaml, seed: 5, seeds: 3}\n"
+                                       "  - {name: e, scenario: base.yaml}\n"
+                                       "metrics:\n"
+                                       "  idf1: {tolerance: 0.01}\n"
+                                       "  mota: {tolerance: 0.01}\n";
+  RegressOptions o;
+  o.suite_path = (dir / "suite.yaml").string();
+  o.baseline_path = (dir / "baseline.json").string();
+  o.update_baseline = true;
+  o.jobs = 2;
+  RunRegress(o);
+  nlohmann::json baseline;
+  std::ifstream(o.baseline_path) >> baseline;
+  EXPECT_EQ(baseline["format"], "hcpf-regress-baseline/2");
+  const nlohmann::json& s = baseline["scenes"]["s"];
+  ASSERT_EQ(s["seeds"].size(), 3U);
+  EXPECT_EQ(s["seeds"][2].get<std::string>(),
+            std::to_string(Rng(5).Fork("sweep/seed/2").identity()));
+  ASSERT_EQ(s["metrics"]["idf1"].size(), 3U);
+  ASSERT_EQ(s["config_hashes"].size(), 3U);
+  EXPECT_TRUE(baseline["scenes"]["e"]["metrics"]["idf1"].is_number());
+
+  o.update_baseline = false;
+  o.junit_path = (dir / "junit.xml").string();
+  RegressResult r = RunRegress(o);
+  ASSERT_EQ(r.rows.size(), 4U);
+  EXPECT_EQ(r.worse, 0);
+  EXPECT_EQ(r.better, 0);
+  EXPECT_EQ(r.rows[0].seeds, 3);
+  EXPECT_EQ(r.rows[0].pairs, 3);
+  EXPECT_EQ(r.rows[0].difference, 0.0);  // the same runs: identical values
+  EXPECT_EQ(r.rows[2].seeds, 0);
+  std::stringstream junit;
+  junit << std::ifstream(o.junit_path).rdbuf();
+  EXPECT_NE(junit.str().find("<system-out>s idf1: mean paired difference 0"), std::string::npos)
+      << junit.str();
+
+  // Every seed's baseline 0.05 better than reality: a consistent drop, WORSE.
+  nlohmann::json planted = baseline;
+  for (auto& v : planted["scenes"]["s"]["metrics"]["idf1"]) v = v.get<double>() + 0.05;
+  std::ofstream(o.baseline_path) << planted.dump(2);
+  r = RunRegress(o);
+  EXPECT_EQ(r.worse, 1);
+  EXPECT_EQ(r.rows[0].verdict, RegressVerdict::kWorse);
+  EXPECT_NEAR(r.rows[0].difference, -0.05, 1e-12);
+  // The same mean drop on one seed only (+0.15): the interval holds zero.
+  planted = baseline;
+  auto& first = planted["scenes"]["s"]["metrics"]["idf1"][0];
+  first = first.get<double>() + 0.15;
+  std::ofstream(o.baseline_path) << planted.dump(2);
+  r = RunRegress(o);
+  EXPECT_EQ(r.worse, 0);
+  EXPECT_NEAR(r.rows[0].difference, -0.05, 1e-12);
+  EXPECT_LT(r.rows[0].lower, 0.0);
+  EXPECT_GT(r.rows[0].upper, 0.0);
+
+  // A baseline of other seeds, or a per-seed list for an exact scene: bad input.
+  planted = baseline;
+  planted["scenes"]["s"]["seeds"][1] = "12";
+  std::ofstream(o.baseline_path) << planted.dump(2);
+  EXPECT_THROW(RunRegress(o), InputError);
+  planted = baseline;
+  planted["scenes"]["e"]["metrics"]["idf1"] = {0.5};
+  std::ofstream(o.baseline_path) << planted.dump(2);
+  EXPECT_THROW(RunRegress(o), InputError);
+  planted = baseline;
+  planted["scenes"]["s"]["metrics"]["mota"] = 0.5;
+  std::ofstream(o.baseline_path) << planted.dump(2);
+  EXPECT_THROW(RunRegress(o), InputError);
+  // A first-format baseline still reads for the exact scene.
+  std::ofstream(dir / "v1.yaml") << "scenes:\n  - {name: e, scenario: base.yaml}\n"
+                                    "metrics:\n  idf1: {tolerance: 0.01}\n";
+  nlohmann::json v1 = {{"format", "hcpf-regress-baseline/1"},
+                       {"scenes", {{"e", {{"metrics", baseline["scenes"]["e"]["metrics"]}}}}}};
+  std::ofstream(dir / "v1.json") << v1.dump(2);
+  RegressOptions o1;
+  o1.suite_path = (dir / "v1.yaml").string();
+  o1.baseline_path = (dir / "v1.json").string();
+  EXPECT_EQ(RunRegress(o1).worse, 0);
+  v1["format"] = "hcpf-regress-baseline/9";
+  std::ofstream(dir / "v1.json") << v1.dump(2);
+  EXPECT_THROW(RunRegress(o1), InputError);
 }
 
 }  // namespace

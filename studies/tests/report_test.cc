@@ -508,7 +508,7 @@ std::map<std::string, std::vector<std::array<double, 4>>> PlotRows(const fs::pat
 // systematic 1 on every seed at 100 and on seeds 0–4 at 1000, charged 0
 // everywhere. mota: systematic 0.9 everywhere; charged at 1000 is 1.0 on
 // seeds 0–8 and 0.5 on seed 9 (its t interval reaches past 1).
-fs::path HandStore(const std::string& name) {
+fs::path HandStore(const std::string& name, const std::string& reference = "systematic") {
   const auto dir = testing::SweepFolder(name);
   StoreMeta meta;
   meta.sweep_hash = "hand";
@@ -517,7 +517,7 @@ fs::path HandStore(const std::string& name) {
   meta.report.x = "tracker.particles";
   meta.report.series = "tracker.resampling.method";
   meta.report.y = {"hijack_rate", "mota"};
-  meta.report.reference = "systematic";
+  meta.report.reference = reference;
   meta.run_count = 40;
   auto store = ResultsStore::OpenOrCreate((dir / "results.sqlite").string(), meta);
   int64_t index = 0;
@@ -669,6 +669,128 @@ TEST(Report, PairedDifferencesByHand) {
   EXPECT_EQ(Read(again.html_path), html);
   EXPECT_EQ(Read(again.csv_path), csv);
   EXPECT_EQ(Read(dir / "paired.csv"), paired);
+}
+
+// The findings of the hand store (values above): hijack_rate, lower is
+// better: charged's means are 0 and 0 against systematic's 1 and 0.5, so
+// charged is best at both x; the paired differences are a finding at 100
+// (p = 0.002, interval [−1, −1]) and not at 1000 (p = 0.0625). mota: equal
+// means (0.9) at 100, charged best at 1000 (0.95 > 0.9); no difference is a
+// finding (all zero at 100; p = 0.092 at 1000). With charged as the
+// reference the sign turns: systematic − charged is worse at 100.
+TEST(Report, FindingsSayWhichSeriesIsBestAndWhereTheDifferenceIsSignificant) {
+  const fs::path dir = HandStore("report-findings");
+  const ReportResult r = WriteReport({.dir = dir.string()});
+  EXPECT_EQ(r.findings, 2);
+  const std::string md = Read(dir / "findings.md");
+  EXPECT_NE(md.find("- **hijack_rate**: best mean (lower is better): charged at every "
+                    "tracker.particles. charged \u2212 systematic: significantly better at "
+                    "tracker.particles = 100; not significantly different at "
+                    "tracker.particles = 1000 (10 seed pairs per tracker.particles).\n"),
+            std::string::npos)
+      << md;
+  EXPECT_NE(md.find("- **mota**: best mean (higher is better): equal means at "
+                    "tracker.particles = 100; charged at tracker.particles = 1000. charged "
+                    "\u2212 systematic: no significant difference at any tracker.particles (10 "
+                    "seed pairs per tracker.particles).\n"),
+            std::string::npos)
+      << md;
+  const std::string html = Read(r.html_path);
+  EXPECT_NE(html.find("<h2 id=\"findings\">Findings</h2>"), std::string::npos);
+  EXPECT_LT(html.find("id=\"findings\""), html.find("<h2>Plots</h2>"));
+  EXPECT_NE(html.find("<li><b>hijack_rate</b>: best mean (lower is better): charged"),
+            std::string::npos);
+
+  const fs::path flipped = HandStore("report-findings-flipped", "charged");
+  WriteReport({.dir = flipped.string()});
+  EXPECT_NE(Read(flipped / "findings.md")
+                .find("systematic \u2212 charged: significantly worse at tracker.particles = 100; "
+                      "not significantly different at tracker.particles = 1000"),
+            std::string::npos)
+      << Read(flipped / "findings.md");
+}
+
+// Without a series there is nothing to compare: no findings, no file.
+TEST(Report, NoSeriesNoFindings) {
+  const auto dir = testing::SweepFolder("report-no-findings");
+  StoreMeta meta;
+  meta.sweep_hash = "hand";
+  meta.sweep_file = "hand.yaml";
+  meta.swept_keys = {"tracker.particles"};
+  meta.report.x = "tracker.particles";
+  meta.report.y = {"mota"};
+  meta.run_count = 2;
+  {
+    auto store = ResultsStore::OpenOrCreate((dir / "results.sqlite").string(), meta);
+    for (int i = 0; i < 2; ++i) {
+      RunRecord r;
+      r.key = "k" + std::to_string(i);
+      r.index = i;
+      r.values = {i == 0 ? "100" : "1000"};
+      r.ok = true;
+      r.run_dir = "runs/" + r.key;
+      r.metrics["mota"] = 0.5;
+      store->Put(r);
+    }
+  }
+  const ReportResult r = WriteReport({.dir = dir.string()});
+  EXPECT_EQ(r.findings, 0);
+  EXPECT_FALSE(fs::exists(dir / "findings.md"));
+  EXPECT_EQ(Read(r.html_path).find("id=\"findings\""), std::string::npos);
+}
+
+// Keys zipped with the series (an external tracker's type beside the name
+// that labels it) do not split the findings into one group per value: one
+// sentence per metric, comparing sort with pf on the seeds they share (none
+// for a metric sort does not have).
+TEST(Report, FindingsIgnoreKeysThatFollowTheSeries) {
+  const auto dir = testing::SweepFolder("report-findings-follow");
+  StoreMeta meta;
+  meta.sweep_hash = "hand";
+  meta.sweep_file = "hand.yaml";
+  meta.swept_keys = {"tracker.particles", "name", "tracker.type"};
+  meta.report.x = "tracker.particles";
+  meta.report.series = "name";
+  meta.report.reference = "pf";
+  meta.report.y = {"mota", "da_accuracy"};
+  meta.run_count = 12;
+  {
+    auto store = ResultsStore::OpenOrCreate((dir / "results.sqlite").string(), meta);
+    int64_t index = 0;
+    for (const char* x : {"100", "1000"}) {
+      for (const char* name : {"pf", "sort"}) {
+        for (int seed = 0; seed < 3; ++seed) {
+          RunRecord r;
+          r.key = std::string(x) + name + std::to_string(seed);
+          r.index = index++;
+          r.seed_index = seed;
+          r.seed = 7 + seed;
+          const bool sort = std::string(name) == "sort";
+          r.values = {x, name, sort ? "external" : "particle_filter"};
+          r.ok = true;
+          r.run_dir = "runs/" + r.key;
+          r.metrics["mota"] = sort ? 0.8 : 0.9;
+          // An external tracker has no particle filters to score.
+          r.metrics["da_accuracy"] = sort ? std::nan("") : 0.95;
+          store->Put(r);
+        }
+      }
+    }
+  }
+  const ReportResult r = WriteReport({.dir = dir.string()});
+  EXPECT_EQ(r.findings, 2);
+  const std::string md = Read(dir / "findings.md");
+  EXPECT_NE(md.find("- **da_accuracy**: best mean (higher is better): pf at every "
+                    "tracker.particles. sort \u2212 pf: no pairs (the metric is absent from one "
+                    "of them).\n"),
+            std::string::npos)
+      << md;
+  // Three pairs: the rank test cannot reach p < 0.05 (2/8 = 0.25).
+  EXPECT_NE(md.find("- **mota**: best mean (higher is better): pf at every tracker.particles. "
+                    "sort \u2212 pf: no significant difference at any tracker.particles (3 seed "
+                    "pairs per tracker.particles).\n"),
+            std::string::npos)
+      << md;
 }
 
 // With report.x_metric the difference of a pair sits where its compared

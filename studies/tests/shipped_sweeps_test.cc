@@ -25,8 +25,30 @@ TEST(ShippedSweeps, EveryFileLoadsAndExpands) {
     EXPECT_EQ(static_cast<int64_t>(runs.size()), spec.RunCount());
     EXPECT_GT(runs.size(), 0u);
   }
-  EXPECT_GE(files, 7) << "default, detector-size, detector-sun, thesis-ch10-crossing/parallel, "
+  EXPECT_GE(files, 8) << "default, detector-size, detector-sun, thesis-ch10-crossing/parallel, "
+                         "external-sort, "
                          "crossing-rendered, thesis-ch11";
+}
+
+// The honest baselines (#14): the main job and the thesis ch. 10 sweeps
+// compare the resamplers under both likelihood models, one panel each, with
+// systematic as the paired reference.
+TEST(ShippedSweeps, ResamplerComparisonsSweepBothLikelihoodModels) {
+  const fs::path dir = fs::path(HCPF_SOURCE_DIR) / "scenarios" / "sweeps";
+  for (const char* name :
+       {"default.yaml", "thesis-ch10-crossing.yaml", "thesis-ch10-parallel.yaml"}) {
+    SCOPED_TRACE(name);
+    const SweepSpec spec = LoadSweepFile((dir / name).string());
+    const SweepAxis* likelihood = nullptr;
+    for (const SweepAxis& a : spec.grid) {
+      if (a.key == "tracker.likelihood.model") likelihood = &a;
+    }
+    ASSERT_NE(likelihood, nullptr);
+    EXPECT_EQ(likelihood->values, (std::vector<std::string>{"detections_mixture", "associated"}));
+    EXPECT_EQ(spec.report.series, "tracker.resampling.method");
+    EXPECT_EQ(spec.report.panels, "tracker.likelihood.model");
+    EXPECT_EQ(spec.report.reference, "systematic");
+  }
 }
 
 }  // namespace

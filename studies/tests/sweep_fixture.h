@@ -1,19 +1,21 @@
 #pragma once
 // A tiny base scenario and sweep files for the sweep/store/report tests.
 
+#include <unistd.h>
+
 #include <filesystem>
 #include <fstream>
 #include <string>
 
+#include "support/process.h"
 #include "support/test_scenarios.h"
 
 namespace hcpf::studies::testing {
 
-// A fresh folder with base.yaml (kMinimal, 20 frames, 2 targets, 100 particles).
+// A fresh folder with base.yaml (kMinimal, 20 frames, 2 targets, 100 particles),
+// named after the test and this process (test binaries run concurrently).
 inline std::filesystem::path SweepFolder(const std::string& name) {
-  const auto dir = std::filesystem::temp_directory_path() / ("hcpf-sweep-test-" + name);
-  std::filesystem::remove_all(dir);
-  std::filesystem::create_directories(dir);
+  const auto dir = hcpf::testing::FreshDir("sweep-" + name);
   std::ofstream(dir / "base.yaml") << scenarios::testing::kMinimal;
   return dir;
 }

@@ -91,6 +91,19 @@ void ReadFields(YamlReader& r, O& o, std::span<const Field<O>> fields,
       case FieldType::kWords: {
         if (!req && !r.Has(key)) break;
         YamlReader list = r.Child(key);
+        if (!f.choices) {  // free strings (StringsField)
+          const std::string expected =
+              fmt::format("a list of at least {} non-empty strings", f.size);
+          std::vector<std::string> strings;
+          for (const YamlReader& item : list.Items()) {
+            if (!item.node().IsScalar() || item.node().Scalar().empty()) item.Fail(expected);
+            strings.push_back(item.node().Scalar());
+          }
+          // An empty list is the key not written.
+          if (!strings.empty() && static_cast<int>(strings.size()) < f.size) list.Fail(expected);
+          o.*f.words = std::move(strings);
+          break;
+        }
         const std::vector<std::string_view> names = f.choices();
         const std::vector<std::string> choices(names.begin(), names.end());
         std::vector<std::string> words;
@@ -128,7 +141,13 @@ void WriteFields(YAML::Emitter& out, const O& o, std::span<const Field<O>> field
       out << YAML::EndSeq;
     } else if (f.type == FieldType::kWords) {
       out << YAML::Flow << YAML::BeginSeq;
-      for (const std::string& w : o.*f.words) out << w;
+      for (const std::string& w : o.*f.words) {
+        if (f.choices) {
+          out << w;
+        } else {
+          out << YAML::DoubleQuoted << w;
+        }
+      }
       out << YAML::EndSeq;
     } else if (f.type == FieldType::kText || f.type == FieldType::kPath) {
       out << YAML::DoubleQuoted << f.get_text(o);

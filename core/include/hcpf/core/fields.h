@@ -48,7 +48,8 @@ inline FieldRange AboveUpTo(double lo, double hi) { return {lo, hi, true, false}
 // in the resolved YAML); kPath: a file path the reader resolves (it needs the
 // scenario's folder: ReadFields takes the resolver); kSeed: a 64-bit seed;
 // kWords: a list of distinct names from `choices` (at least `size` of them
-// when written; empty = not written).
+// when written; empty = not written); with no `choices` (StringsField), a
+// list of any non-empty strings, repeats allowed (a command line).
 enum class FieldType {
   kNumber,
   kInteger,
@@ -327,12 +328,12 @@ Field<typename internal::MemberOf<decltype(Member)>::Object> TextField(std::stri
   return f;
 }
 
-// A list of distinct words from `Names()`: empty when not written, else at
-// least `min_items` of them.
-template <auto Member, std::vector<std::string_view> (*Names)()>
-Field<typename internal::MemberOf<decltype(Member)>::Object> WordsField(std::string_view key,
-                                                                        int min_items,
-                                                                        std::string_view doc) {
+// A list of free strings (kWords without `choices`): empty when not written,
+// else at least `min_items` non-empty strings, written double-quoted.
+template <auto Member>
+Field<typename internal::MemberOf<decltype(Member)>::Object> StringsField(std::string_view key,
+                                                                          int min_items,
+                                                                          std::string_view doc) {
   using O = typename internal::MemberOf<decltype(Member)>::Object;
   static_assert(std::is_same_v<typename internal::MemberOf<decltype(Member)>::Type,
                                std::vector<std::string>>);
@@ -342,6 +343,16 @@ Field<typename internal::MemberOf<decltype(Member)>::Object> WordsField(std::str
   f.doc = doc;
   f.size = min_items;
   f.words = Member;
+  return f;
+}
+
+// A list of distinct words from `Names()`: empty when not written, else at
+// least `min_items` of them (a StringsField whose items are `choices`).
+template <auto Member, std::vector<std::string_view> (*Names)()>
+Field<typename internal::MemberOf<decltype(Member)>::Object> WordsField(std::string_view key,
+                                                                        int min_items,
+                                                                        std::string_view doc) {
+  auto f = StringsField<Member>(key, min_items, doc);
   f.choices = Names;
   return f;
 }
@@ -401,7 +412,7 @@ void CheckFields(const O& o, std::span<const Field<O>> fields, std::string_view 
       const std::vector<std::string_view> names = f.choices();
       for (std::string_view n : names) known = known || n == name;
       if (!known) internal::FailFieldChoice(prefix, f.key, names, name);
-    } else if (f.type == FieldType::kWords) {
+    } else if (f.type == FieldType::kWords && f.choices) {
       const std::vector<std::string>& words = o.*f.words;
       const std::vector<std::string_view> names = f.choices();
       bool ok = words.empty() || static_cast<int>(words.size()) >= f.size;

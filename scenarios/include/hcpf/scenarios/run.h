@@ -35,6 +35,7 @@ struct RunSummary {
   double mota = 0.0;
   double idf1 = 0.0;
   double hota = 0.0;
+  // Filter-level metrics: NaN for an external tracker (no filters to score).
   double da_accuracy = 0.0;
   double hijack_rate = 0.0;
   double wall_time_s = 0.0;

@@ -127,6 +127,39 @@ struct RendererConfig {
   static std::vector<std::string_view> BackendNames();
 };
 
+// Which tracker a run uses: the built-in particle filters (`tracker.*`), or
+// an external program speaking the line protocol of docs/external-trackers.md.
+enum class TrackerType { kParticleFilter, kExternal };
+
+}  // namespace hcpf::scenarios
+
+template <>
+struct hcpf::EnumNames<hcpf::scenarios::TrackerType> {
+  static constexpr std::array kNames = {
+      std::pair{hcpf::scenarios::TrackerType::kParticleFilter, std::string_view("particle_filter")},
+      std::pair{hcpf::scenarios::TrackerType::kExternal, std::string_view("external")}};
+};
+
+namespace hcpf::scenarios {
+
+// `tracker.type`, `tracker.command`, `tracker.timeout_s`. With type external
+// the particle filter's `tracker.*` keys do not take effect: the reader
+// accepts them and resets them to their defaults, and the resolved YAML
+// (so the config hash) holds only these three keys of `tracker`.
+struct TrackerChoice {
+  TrackerType type = TrackerType::kParticleFilter;
+  // The program and its arguments (no shell). command[0] with a '/' is a
+  // file found like a model (next to the scenario file, the current folder,
+  // the project folder) and held as an absolute path; a bare name is looked
+  // up on PATH at load time and kept as written.
+  std::vector<std::string> command;
+  // Seconds to wait for each reply of the program (the hello's included).
+  double timeout_s = 10.0;
+
+  static std::span<const Field<TrackerChoice>> Fields();
+  bool external() const { return type == TrackerType::kExternal; }
+};
+
 // Scoring options of a run (metrics/ Options, filled from `metrics.*`).
 struct MetricsConfig {
   metrics::FilterMetricsOptions filters;
@@ -142,6 +175,7 @@ struct Scenario {
   ObservationOptions observation;
   SensorOptions sensor;
   RendererConfig renderer;
+  TrackerChoice tracker_choice;     // `tracker.type`, `tracker.command`, `tracker.timeout_s`
   tracker::TrackerOptions tracker;  // `tracker.*` (threads: a run option, not a key)
   // `tracker.point_tracker.*` and `tracker.ransac.*`: the vision/ side of the
   // camera-motion estimate (the image evidence's corners and Lucas-Kanade,

@@ -20,6 +20,10 @@ struct FileKey {
 // `seeds`: runs per cell.
 inline constexpr int kMinSweepSeeds = 1;
 inline constexpr int kMaxSweepSeeds = 100'000;
+// `scenes[i].seeds` of a suite: a paired interval needs two seeds (one seed is
+// the exact mode, `seeds` left out); every seed is a full run of the scene.
+inline constexpr int kMinSuiteSeeds = 2;
+inline constexpr int kMaxSuiteSeeds = 1000;
 // `metrics.<m>.tolerance` of a suite.
 inline constexpr double kMaxTolerance = 1e12;
 

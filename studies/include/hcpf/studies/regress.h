@@ -4,9 +4,17 @@
 // per-metric tolerances; each scene is run and its metrics compared with the
 // baseline (docs/sweeps.md, "Regression gate").
 //
+// Two modes per scene. Without `seeds:` the scene runs once and each metric is
+// compared with the absolute tolerance (exact mode: for determinism checks).
+// With `seeds: N` (N >= 2) it runs N derived seeds, the baseline keeps the N
+// values, and a metric is WORSE only when the mean paired difference is worse
+// than the tolerance and its 95 % t interval excludes zero on the bad side.
+//
 //   RegressResult r = RunRegress({.suite_path = "suite.yaml", .baseline_path = "baseline.json"});
 //   exit code: r.worse > 0 ? 1 : 0   (bad suite or baseline: InputError -> 2)
 
+#include <cstdint>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -18,6 +26,11 @@ struct RegressScene {
   std::string name;
   std::string scenario_path;                // resolved to an existing file
   std::vector<config::Override> overrides;  // from `set:`, then `seed:`
+  // `seeds: N`: 0 when absent (one run, exact mode); else N >= 2 runs with
+  // run_seeds[i] = SweepSeed(scene seed, i), the scene seed being `seed:` or
+  // the scenario's own (the derivation sweeps use, sweep.h).
+  int seeds = 0;
+  std::vector<uint64_t> run_seeds;
 };
 
 struct RegressTolerance {
@@ -45,12 +58,36 @@ RegressVerdict CompareMetric(double baseline, double current, const RegressToler
 struct RegressRow {
   std::string scene;
   std::string metric;
+  // Exact mode: the two values. Seeded: the means over the `pairs` seeds
+  // where both values are finite.
   double baseline = 0.0;
   double current = 0.0;
   double tolerance = 0.0;
   bool higher_is_better = true;
   RegressVerdict verdict = RegressVerdict::kSame;
+  // Seeded scenes only (seeds == 0 in exact mode): the mean of
+  // current_i − baseline_i over the pairs and its 95 % Student t interval
+  // [lower, upper] (statistics.h, StudentInterval95; equal to the mean when
+  // pairs < 2), and the seeds with a number on one side and NaN on the other.
+  int seeds = 0;
+  int pairs = 0;
+  int nan_mismatches = 0;
+  double difference = 0.0;
+  double lower = 0.0;
+  double upper = 0.0;
 };
+
+// The seeded verdict of one metric; baseline[i] and current[i] are seed i's
+// values (same length). With gain g_i = current_i − baseline_i when higher is
+// better, baseline_i − current_i when lower is (pairs with a NaN left out):
+//   WORSE  when some seed has a number on one side and NaN on the other, or
+//          mean(g) < −tolerance and the interval's upper end < 0;
+//   better when mean(g) > tolerance and the interval's lower end > 0;
+//   ok     otherwise (so identical values, g_i = 0, are always ok).
+// With fewer than two pairs there is no interval: one pair is judged like
+// CompareMetric, none is ok. The row's scene is left empty.
+RegressRow CompareSeeds(std::span<const double> baseline, std::span<const double> current,
+                        const RegressTolerance& tolerance);
 
 struct RegressOptions {
   std::string suite_path;
@@ -59,7 +96,7 @@ struct RegressOptions {
   std::string junit_path;        // optional JUnit XML
   std::string markdown_path;     // optional Markdown summary
   std::string work_dir;          // run folders; "" = a temporary folder, removed afterwards
-  int jobs = 1;                  // scenes run in parallel
+  int jobs = 1;                  // runs (scenes, seeds of seeded scenes) in parallel
   void Validate() const;
 };
 

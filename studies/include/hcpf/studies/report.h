@@ -41,6 +41,7 @@ struct ReportResult {
   int plots = 0;             // plots of the metrics (with their panels)
   int difference_plots = 0;  // plots of the paired differences
   int comparisons = 0;       // rows of the paired-difference table
+  int findings = 0;          // sentences of the findings (also in findings.md)
   int cells = 0;
 };
 

@@ -1,0 +1,292 @@
+// `hcpf export DIR --trackeval OUT`: a sweep's runs in TrackEval's layout.
+
+#include "hcpf/studies/export.h"
+
+#include <fmt/format.h>
+#include <spdlog/spdlog.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <filesystem>
+#include <map>
+#include <set>
+#include <vector>
+
+#include "hcpf/core/error.h"
+#include "hcpf/core/text_file.h"
+#include "hcpf/metrics/mot_io.h"
+#include "hcpf/studies/results_store.h"
+
+namespace hcpf::studies {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+// A run's MOT files are read whole; this bounds what one may hold (a
+// 100,000-frame sequence with 100 boxes a frame is about 0.4 GB of text).
+constexpr uint64_t kMaxMotFileBytes = uint64_t{1} << 30;
+
+bool NameChar(char c) {
+  return (c >= 'A' && c <= 'Z') || (c >= 'a' && c <= 'z') || (c >= '0' && c <= '9') || c == '_';
+}
+
+void CheckName(const std::string& value, const std::string& option) {
+  if (value.empty() || !std::all_of(value.begin(), value.end(), NameChar)) {
+    throw InputError(SourceLocation{"hcpf export", 0, 0, option}, "a name of letters, digits and _",
+                     value.empty() ? "nothing" : value);
+  }
+}
+
+// Keeps [A-Za-z0-9._-]; any other run of characters becomes one '_', and '_'
+// at either end is dropped ("[320, 240]" -> "320_240"). Leading dots are
+// dropped too (no hidden or "." / ".." folder names).
+std::string Sanitise(const std::string& text) {
+  std::string out;
+  for (char c : text) {
+    const bool keep = NameChar(c) || c == '.' || c == '-';
+    if (keep) {
+      out += c;
+    } else if (out.empty() || out.back() != '_') {
+      out += '_';
+    }
+  }
+  const size_t first = out.find_first_not_of("._");
+  const size_t last = out.find_last_not_of('_');
+  out = first == std::string::npos ? std::string() : out.substr(first, last - first + 1);
+  return out.empty() ? "_" : out;
+}
+
+std::string Csv(const std::string& text) {
+  if (text.find_first_of(",\"\n") == std::string::npos) return text;
+  std::string out = "\"";
+  for (char c : text) out += c == '"' ? std::string("\"\"") : std::string(1, c);
+  return out + "\"";
+}
+
+// The label of one group of runs: "<key>-<value>" parts joined by '_'.
+std::string Label(const std::vector<std::string>& keys, const std::vector<std::string>& values,
+                  const std::string& strip_prefix) {
+  std::string out;
+  for (size_t i = 0; i < keys.size(); ++i) {
+    std::string key = keys[i];
+    if (key.rfind(strip_prefix, 0) == 0) key = key.substr(strip_prefix.size());
+    // A base scenario is named by its file's stem, not its path.
+    const std::string value = keys[i] == "base" ? fs::path(values[i]).stem().string() : values[i];
+    if (!out.empty()) out += '_';
+    out += Sanitise(key) + "-" + Sanitise(value);
+  }
+  return out;
+}
+
+// Names for distinct groups, in the order first seen: `label`, and `label-2`,
+// `label-3`, ... when sanitising made two groups' labels equal.
+class Namer {
+ public:
+  std::string NameOf(const std::vector<std::string>& group, const std::string& label) {
+    auto it = names_.find(group);
+    if (it != names_.end()) return it->second;
+    std::string name = label;
+    for (int k = 2; used_.count(name) > 0; ++k) name = fmt::format("{}-{}", label, k);
+    used_.insert(name);
+    names_[group] = name;
+    return name;
+  }
+
+ private:
+  std::map<std::vector<std::string>, std::string> names_;
+  std::set<std::string> used_;
+};
+
+struct ExportRun {
+  const RunRecord* record = nullptr;
+  std::string sequence;
+  std::string tracker;
+  fs::path dir;
+};
+
+void CheckOutFolder(const fs::path& out) {
+  std::error_code ec;
+  const fs::file_status status = fs::symlink_status(out, ec);
+  if (!fs::exists(status)) return;
+  if (!fs::is_directory(status)) {
+    throw InputError(SourceLocation{out.string(), 0, 0, "--trackeval"},
+                     "a new or empty folder for the export", "a file");
+  }
+  if (!fs::is_empty(out, ec) || ec) {
+    throw InputError(SourceLocation{out.string(), 0, 0, "--trackeval"},
+                     "a new or empty folder for the export", "a folder that is not empty",
+                     "choose another folder or delete this one");
+  }
+}
+
+void MakeDirs(const fs::path& dir) {
+  std::error_code ec;
+  fs::create_directories(dir, ec);
+  if (ec) throw RunError(fmt::format("cannot create {}: {}", dir.string(), ec.message()));
+}
+
+}  // namespace
+
+void TrackEvalExportOptions::Validate() const {
+  if (dir.empty())
+    throw InputError(SourceLocation{"hcpf export", 0, 0, "DIR"}, "a sweep folder", "nothing");
+  if (out.empty()) {
+    throw InputError(SourceLocation{"hcpf export", 0, 0, "--trackeval"}, "an output folder",
+                     "nothing");
+  }
+  CheckName(benchmark, "--benchmark");
+  CheckName(split, "--split");
+}
+
+TrackEvalExportResult ExportTrackEval(const TrackEvalExportOptions& options) {
+  options.Validate();
+  const fs::path dir(options.dir);
+  // "OUT/" names OUT: the staging folder goes beside it, not inside.
+  fs::path out = fs::path(options.out).lexically_normal();
+  if (!out.has_filename()) out = out.parent_path();
+  CheckOutFolder(out);
+  auto store = ResultsStore::Open((dir / "results.sqlite").string(), StoreAccess::kReadOnly);
+  const StoreMeta& meta = store->meta();
+  const std::vector<RunRecord> records = store->Runs();
+
+  // Which swept keys describe the tracker; the others (and the seed) the sequence.
+  std::vector<size_t> tracker_keys, sequence_keys;
+  for (size_t k = 0; k < meta.swept_keys.size(); ++k)
+    (meta.swept_keys[k].rfind("tracker.", 0) == 0 ? tracker_keys : sequence_keys).push_back(k);
+
+  TrackEvalExportResult result;
+  result.bench = options.benchmark + "-" + options.split;
+  Namer sequence_names, tracker_names;
+  std::vector<ExportRun> runs;
+  for (const RunRecord& r : records) {
+    const fs::path run_dir = dir / r.run_dir;
+    if (!r.ok || !fs::is_regular_file(run_dir / "gt" / "gt.txt") ||
+        !fs::is_regular_file(run_dir / "tracks.txt") ||
+        !fs::is_regular_file(run_dir / "seqinfo.ini")) {
+      ++result.not_ok;
+      continue;
+    }
+    std::vector<std::string> seq_group, seq_keys, tracker_group, trk_keys;
+    for (size_t k : sequence_keys) {
+      seq_group.push_back(r.values[k]);
+      seq_keys.push_back(meta.swept_keys[k]);
+    }
+    for (size_t k : tracker_keys) {
+      tracker_group.push_back(r.values[k]);
+      trk_keys.push_back(meta.swept_keys[k]);
+    }
+    seq_group.push_back(std::to_string(r.seed_index));
+    std::string seq_label = Label(seq_keys, seq_group, "");
+    seq_label += fmt::format("{}seed{}", seq_label.empty() ? "" : "_", r.seed_index);
+    const std::string tracker_label =
+        trk_keys.empty() ? std::string("hcpf") : Label(trk_keys, tracker_group, "tracker.");
+    runs.push_back({&r, sequence_names.NameOf(seq_group, seq_label),
+                    tracker_names.NameOf(tracker_group, tracker_label), run_dir});
+  }
+  if (result.not_ok > 0) {
+    spdlog::warn(
+        "export: {} run(s) left out: failed, or their run folder lacks gt/gt.txt, "
+        "tracks.txt or seqinfo.ini",
+        result.not_ok);
+  }
+
+  // Keep the sequences with a run of every tracker.
+  std::set<std::string> trackers;
+  std::map<std::string, std::map<std::string, const ExportRun*>> by_sequence;
+  for (const ExportRun& run : runs) {
+    trackers.insert(run.tracker);
+    auto [it, inserted] = by_sequence[run.sequence].emplace(run.tracker, &run);
+    if (!inserted) {
+      throw RunError(fmt::format("export: runs {} and {} both map to sequence {}, tracker {}",
+                                 it->second->record->key, run.record->key, run.sequence,
+                                 run.tracker));
+    }
+  }
+  std::vector<std::string> sequences;
+  for (const auto& [sequence, by_tracker] : by_sequence) {
+    if (by_tracker.size() == trackers.size()) {
+      sequences.push_back(sequence);
+    } else {
+      result.skipped += static_cast<int>(by_tracker.size());
+      spdlog::warn("export: sequence {} left out: only {} of the {} trackers have an ok run on it",
+                   sequence, by_tracker.size(), trackers.size());
+    }
+  }
+  if (sequences.empty()) {
+    throw InputError(SourceLocation{(dir / "results.sqlite").string(), 0, 0, "runs"},
+                     "a sequence with an ok run of every tracker",
+                     runs.empty() ? "no ok run with its files" : "none");
+  }
+
+  // Write everything into a staging folder, then rename it into place.
+  const fs::path staging = out.string() + fmt::format(".partial-{}", ::getpid());
+  std::error_code ec;
+  fs::remove_all(staging, ec);
+  try {
+    const fs::path gt_root = staging / "gt" / "mot_challenge";
+    const fs::path trackers_root = staging / "trackers" / "mot_challenge" / result.bench;
+    std::string seqmap = "name\n";
+    std::string csv = "sequence,tracker,run_key,run_index,seed_index,seed,run_dir";
+    for (const std::string& key : meta.swept_keys) csv += "," + Csv(key);
+    csv += "\n";
+    for (const std::string& sequence : sequences) {
+      seqmap += sequence + "\n";
+      const auto& by_tracker = by_sequence.at(sequence);
+      // One ground truth: every run of the sequence must have written the same.
+      const ExportRun& first = *by_tracker.begin()->second;
+      const std::string gt = ReadInputFile((first.dir / "gt" / "gt.txt").string(),
+                                           "a MOT ground-truth file", kMaxMotFileBytes);
+      metrics::SeqInfo info = metrics::ReadSeqInfo((first.dir / "seqinfo.ini").string());
+      const metrics::SeqInfo first_info = info;
+      for (const auto& [tracker, run] : by_tracker) {
+        const metrics::SeqInfo other = metrics::ReadSeqInfo((run->dir / "seqinfo.ini").string());
+        if (ReadInputFile((run->dir / "gt" / "gt.txt").string(), "a MOT ground-truth file",
+                          kMaxMotFileBytes) != gt ||
+            other.seq_length != first_info.seq_length || other.im_width != first_info.im_width ||
+            other.im_height != first_info.im_height) {
+          throw RunError(fmt::format(
+              "export: runs {} and {} share sequence {} (the same non-tracker values and seed) "
+              "but not their ground truth",
+              first.record->key, run->record->key, sequence));
+        }
+      }
+      const fs::path seq_dir = gt_root / result.bench / sequence;
+      MakeDirs(seq_dir / "gt");
+      WriteTextFile((seq_dir / "gt" / "gt.txt").string(), gt);
+      info.name = sequence;
+      metrics::WriteSeqInfo((seq_dir / "seqinfo.ini").string(), info);
+      for (const auto& [tracker, run] : by_tracker) {
+        const fs::path data = trackers_root / tracker / "data";
+        MakeDirs(data);
+        WriteTextFile((data / (sequence + ".txt")).string(),
+                      ReadInputFile((run->dir / "tracks.txt").string(), "a MOT tracker file",
+                                    kMaxMotFileBytes));
+        const RunRecord& r = *run->record;
+        csv += fmt::format("{},{},{},{},{},{},{}", Csv(sequence), Csv(tracker), r.key, r.index,
+                           r.seed_index, r.seed, Csv(r.run_dir));
+        for (const std::string& v : r.values) csv += "," + Csv(v);
+        csv += "\n";
+        ++result.runs;
+      }
+    }
+    MakeDirs(gt_root / "seqmaps");
+    WriteTextFile((gt_root / "seqmaps" / (result.bench + ".txt")).string(), seqmap);
+    WriteTextFile((staging / "export.csv").string(), csv);
+    // An empty OUT is replaced (rename(2) replaces an empty directory).
+    fs::rename(staging, out, ec);
+    if (ec) {
+      throw RunError(
+          fmt::format("cannot rename {} to {}: {}", staging.string(), out.string(), ec.message()));
+    }
+  } catch (...) {
+    std::error_code ignored;
+    fs::remove_all(staging, ignored);
+    throw;
+  }
+  result.sequences = static_cast<int>(sequences.size());
+  result.trackers = static_cast<int>(trackers.size());
+  return result;
+}
+
+}  // namespace hcpf::studies

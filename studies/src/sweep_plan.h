@@ -1,0 +1,73 @@
+#pragma once
+// The parts of running a sweep that the thread pool (RunSweep, sweep_run.cc)
+// and the MPI executor (RunSweepMpi, mpi_sweep.cc) share: everything before
+// the first run (PrepareSweep), one run turned into its store record
+// (ExecuteRun) and the contact sheet at the end. Private to studies/.
+
+#include <filesystem>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "hcpf/studies/results_store.h"
+#include "hcpf/studies/run_queue.h"
+#include "hcpf/studies/sweep.h"
+
+namespace hcpf::studies::internal {
+
+// The advisory lock on DIR/sweep.lock (one sweep process per folder),
+// released when this object is destroyed or the process ends however it ends.
+class FolderLock {
+ public:
+  // Throws InputError naming --out when another process holds the lock,
+  // RunError when the lock file cannot be opened.
+  explicit FolderLock(const std::filesystem::path& out, const std::string& out_argument);
+  ~FolderLock();
+  FolderLock(FolderLock&& other) noexcept;
+  FolderLock& operator=(FolderLock&&) = delete;
+  FolderLock(const FolderLock&) = delete;
+  FolderLock& operator=(const FolderLock&) = delete;
+
+ private:
+  int fd_ = -1;
+};
+
+// A sweep ready to compute: DIR locked by this process, its store open, the
+// runs of this shard that are not finished split into waves (RunWaves).
+struct SweepPlan {
+  std::filesystem::path out;
+  std::unique_ptr<FolderLock> lock;
+  std::unique_ptr<ResultsStore> store;
+  SweepResult result;  // total and reused filled in
+  std::vector<std::vector<const SweepRun*>> waves;
+  int64_t todo = 0;  // runs in all waves
+};
+
+// Everything RunSweep does before its first run: validates the options,
+// creates DIR/runs, takes the folder lock, removes staging folders of dead
+// processes, opens or creates the store (InputError when it holds another
+// sweep), reuses the finished runs whose folders are intact (checked with
+// options.jobs threads) and logs what is left, computed by `workers` (e.g.
+// "2 worker(s)").
+SweepPlan PrepareSweep(const SweepSpec& spec, const std::vector<SweepRun>& runs,
+                       const SweepOptions& options, const std::string& workers);
+
+// The executor options.isolate_exe asks for.
+std::unique_ptr<RunExecutor> MakeExecutor(const SweepOptions& options);
+
+// The store record of `run` before it is computed: key, index, seed, values,
+// run_dir; ok = false.
+RunRecord NewRecord(const SweepRun& run);
+
+// Computes `run` into DIR/runs/<key> with the options every sweep run gets
+// (one thread, no progress, the frame cache, video on seed index 0) and
+// returns its record. A run that fails is returned with ok = false and the
+// message (never thrown).
+RunRecord ExecuteRun(const SweepRun& run, const SweepOptions& options, const RunExecutor& executor);
+
+// DIR/contact_sheet.png from the first rendered run's cached frames (see
+// sweep_run.cc); nothing when there is none.
+void WriteContactSheet(const std::filesystem::path& out, const std::vector<SweepRun>& runs,
+                       const std::string& cache_dir);
+
+}  // namespace hcpf::studies::internal

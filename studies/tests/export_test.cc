@@ -1,0 +1,209 @@
+// hcpf export --trackeval: a small sweep laid out in TrackEval's layout and
+// read back with metrics' TrackEval reader (what `hcpf score --trackeval-root`
+// runs), which must give every run's own MOTA, IDF1 and HOTA; bad inputs.
+
+#include "hcpf/studies/export.h"
+
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "hcpf/core/error.h"
+#include "hcpf/metrics/report.h"
+#include "hcpf/studies/results_store.h"
+#include "hcpf/studies/sweep.h"
+#include "sweep_fixture.h"
+
+namespace hcpf::studies {
+namespace {
+
+namespace fs = std::filesystem;
+
+using hcpf::testing::ReadFile;
+
+std::vector<std::string> SplitLine(const std::string& line) {
+  std::vector<std::string> out;
+  std::stringstream s(line);
+  std::string field;
+  while (std::getline(s, field, ',')) out.push_back(field);
+  return out;
+}
+
+// Two observation noises × two seeds = four ground truths (sequences), each
+// tracked by two resampling methods (trackers): eight runs of 20 frames.
+fs::path SmallSweep(const fs::path& dir) {
+  const SweepSpec spec = LoadSweepFile(testing::WriteSweep(
+      dir,
+      "base: base.yaml\nseeds: 2\ngrid:\n  tracker.resampling.method: [systematic, charged]\n"
+      "  observation.simulated.sigma_px: [1, 3]\n"));
+  SweepOptions o;
+  o.out_dir = (dir / "sweep").string();
+  o.jobs = 2;
+  o.progress = false;
+  RunSweep(spec, ExpandSweep(spec), o);
+  return o.out_dir;
+}
+
+TEST(ExportTrackEval, LayoutReadsBackToEveryRunsMetrics) {
+  const auto dir = testing::SweepFolder("export");
+  const fs::path sweep = SmallSweep(dir);
+  const fs::path out = dir / "te";
+  const TrackEvalExportResult r = ExportTrackEval({.dir = sweep.string(), .out = out.string()});
+  EXPECT_EQ(r.sequences, 4);
+  EXPECT_EQ(r.trackers, 2);
+  EXPECT_EQ(r.runs, 8);
+  EXPECT_EQ(r.skipped, 0);
+  EXPECT_EQ(r.bench, "HCPF-train");
+
+  // TrackEval's MotChallenge2DBox layout (BENCHMARK HCPF, SPLIT_TO_EVAL train):
+  // the seqmap at GT_FOLDER/seqmaps/HCPF-train.txt, a header row then the names.
+  const std::vector<std::string> seqs = {
+      "observation.simulated.sigma_px-1_seed0", "observation.simulated.sigma_px-1_seed1",
+      "observation.simulated.sigma_px-3_seed0", "observation.simulated.sigma_px-3_seed1"};
+  const std::vector<std::string> trackers = {"resampling.method-charged",
+                                             "resampling.method-systematic"};
+  std::string seqmap = "name\n";
+  for (const std::string& s : seqs) seqmap += s + "\n";
+  EXPECT_EQ(ReadFile(out / "gt" / "mot_challenge" / "seqmaps" / "HCPF-train.txt"), seqmap);
+  for (const std::string& s : seqs) {
+    const fs::path seq = out / "gt" / "mot_challenge" / "HCPF-train" / s;
+    EXPECT_TRUE(fs::is_regular_file(seq / "gt" / "gt.txt")) << s;
+    EXPECT_NE(ReadFile(seq / "seqinfo.ini").find("name=" + s + "\n"), std::string::npos) << s;
+    for (const std::string& t : trackers) {
+      EXPECT_TRUE(fs::is_regular_file(out / "trackers" / "mot_challenge" / "HCPF-train" / t /
+                                      "data" / (s + ".txt")))
+          << t << " " << s;
+    }
+  }
+
+  // export.csv maps (sequence, tracker) back to the run.
+  auto store = ResultsStore::Open((sweep / "results.sqlite").string());
+  std::map<std::string, RunRecord> by_key;
+  for (const RunRecord& rec : store->Runs()) by_key[rec.key] = rec;
+  std::map<std::pair<std::string, std::string>, RunRecord> run_of;
+  std::stringstream csv(ReadFile(out / "export.csv"));
+  std::string line;
+  std::getline(csv, line);
+  EXPECT_EQ(line,
+            "sequence,tracker,run_key,run_index,seed_index,seed,run_dir,tracker.resampling.method,"
+            "observation.simulated.sigma_px");
+  while (std::getline(csv, line)) {
+    const std::vector<std::string> f = SplitLine(line);
+    ASSERT_EQ(f.size(), 9U) << line;
+    ASSERT_EQ(by_key.count(f[2]), 1U) << line;
+    const RunRecord& rec = by_key[f[2]];
+    // The names follow from the run's swept values and seed index.
+    EXPECT_EQ(f[0], "observation.simulated.sigma_px-" + rec.values[1] + "_seed" +
+                        std::to_string(rec.seed_index));
+    EXPECT_EQ(f[1], "resampling.method-" + rec.values[0]);
+    run_of[{f[0], f[1]}] = rec;
+  }
+  ASSERT_EQ(run_of.size(), 8U);
+
+  // Read back: one result per tracker, every sequence's metrics those of its run.
+  const std::vector<metrics::TrackEvalResult> scored = metrics::ScoreTrackEvalRoot(out.string());
+  ASSERT_EQ(scored.size(), 2U);
+  for (const metrics::TrackEvalResult& t : scored) {
+    EXPECT_EQ(t.bench, "HCPF-train");
+    ASSERT_EQ(t.sequences.size(), 4U) << t.tracker;
+    for (const metrics::MotSummary& s : t.sequences) {
+      SCOPED_TRACE(t.tracker + " " + s.name);
+      ASSERT_EQ(run_of.count({s.name, t.tracker}), 1U);
+      const RunRecord& rec = run_of[{s.name, t.tracker}];
+      EXPECT_DOUBLE_EQ(s.clear.mota, rec.metrics.at("mota"));
+      EXPECT_DOUBLE_EQ(s.identity.idf1, rec.metrics.at("idf1"));
+      EXPECT_DOUBLE_EQ(s.hota.hota_mean, rec.metrics.at("hota"));
+    }
+  }
+
+  // Deterministic: a second export is byte-identical.
+  const fs::path again = dir / "te2";
+  ExportTrackEval({.dir = sweep.string(), .out = again.string()});
+  EXPECT_EQ(ReadFile(again / "export.csv"), ReadFile(out / "export.csv"));
+  EXPECT_EQ(ReadFile(again / "gt" / "mot_challenge" / "HCPF-train" / seqs[2] / "seqinfo.ini"),
+            ReadFile(out / "gt" / "mot_challenge" / "HCPF-train" / seqs[2] / "seqinfo.ini"));
+
+  // A run folder without its tracks: that run's sequence is left out for all
+  // trackers (TrackEval needs every tracker on every sequence), other names stay.
+  const RunRecord& broken = run_of[{seqs[1], trackers[0]}];
+  fs::remove(sweep / broken.run_dir / "tracks.txt");
+  const TrackEvalExportResult partial =
+      ExportTrackEval({.dir = sweep.string(), .out = (dir / "te3").string(), .split = "val"});
+  EXPECT_EQ(partial.sequences, 3);
+  EXPECT_EQ(partial.runs, 6);
+  EXPECT_EQ(partial.not_ok, 1);
+  EXPECT_EQ(partial.skipped, 1);
+  EXPECT_EQ(ReadFile(dir / "te3" / "gt" / "mot_challenge" / "seqmaps" / "HCPF-val.txt"),
+            "name\n" + seqs[0] + "\n" + seqs[2] + "\n" + seqs[3] + "\n");
+}
+
+// Names: list values keep their digits, no tracker key gives "hcpf", and two
+// values that sanitise alike get "-2" in run order.
+TEST(ExportTrackEval, NamesAreSanitisedAndUnique) {
+  const auto dir = testing::SweepFolder("export-names");
+  const SweepSpec spec = LoadSweepFile(testing::WriteSweep(
+      dir,
+      "base: base.yaml\ngrid:\n  camera.resolution: [[320, 240]]\n  name: [\"a b\", \"a/b\"]\n"));
+  SweepOptions o;
+  o.out_dir = (dir / "sweep").string();
+  o.progress = false;
+  RunSweep(spec, ExpandSweep(spec), o);
+  const TrackEvalExportResult r = ExportTrackEval({.dir = o.out_dir, .out = (dir / "te").string()});
+  EXPECT_EQ(r.sequences, 2);
+  EXPECT_EQ(r.trackers, 1);
+  EXPECT_EQ(ReadFile(dir / "te" / "gt" / "mot_challenge" / "seqmaps" / "HCPF-train.txt"),
+            "name\ncamera.resolution-320_240_name-a_b_seed0\n"
+            "camera.resolution-320_240_name-a_b_seed0-2\n");
+  EXPECT_TRUE(fs::is_regular_file(dir / "te" / "trackers" / "mot_challenge" / "HCPF-train" /
+                                  "hcpf" / "data" /
+                                  "camera.resolution-320_240_name-a_b_seed0.txt"));
+}
+
+std::string ErrorOf(const TrackEvalExportOptions& o) {
+  try {
+    ExportTrackEval(o);
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  return "(no error)";
+}
+
+TEST(ExportTrackEval, BadInputs) {
+  const auto dir = testing::SweepFolder("export-bad");
+  // A folder without a results store.
+  std::string e = ErrorOf({.dir = dir.string(), .out = (dir / "o1").string()});
+  EXPECT_NE(e.find("results.sqlite"), std::string::npos) << e;
+  EXPECT_FALSE(fs::exists(dir / "o1"));
+  const fs::path sweep = SmallSweep(dir);
+  // OUT not empty, or a file: refused, left as it was.
+  fs::create_directories(dir / "full");
+  std::ofstream(dir / "full" / "keep.txt") << "mine";
+  e = ErrorOf({.dir = sweep.string(), .out = (dir / "full").string()});
+  EXPECT_NE(e.find("not empty"), std::string::npos) << e;
+  EXPECT_EQ(ReadFile(dir / "full" / "keep.txt"), "mine");
+  EXPECT_EQ(std::distance(fs::directory_iterator(dir / "full"), fs::directory_iterator()), 1);
+  std::ofstream(dir / "file") << "x";
+  e = ErrorOf({.dir = sweep.string(), .out = (dir / "file").string()});
+  EXPECT_NE(e.find("a new or empty folder"), std::string::npos) << e;
+  // Names TrackEval joins as <BENCHMARK>-<SPLIT>: no '-' or '/'.
+  e = ErrorOf({.dir = sweep.string(), .out = (dir / "o2").string(), .benchmark = "MOT-17"});
+  EXPECT_NE(e.find("--benchmark"), std::string::npos) << e;
+  e = ErrorOf({.dir = sweep.string(), .out = (dir / "o2").string(), .split = "../x"});
+  EXPECT_NE(e.find("--split"), std::string::npos) << e;
+  // An existing empty folder is fine, and nothing is left beside it.
+  fs::create_directories(dir / "empty");
+  EXPECT_EQ(ErrorOf({.dir = sweep.string(), .out = (dir / "empty").string() + "/"}), "(no error)");
+  EXPECT_TRUE(fs::is_regular_file(dir / "empty" / "export.csv"));
+  for (const auto& entry : fs::directory_iterator(dir)) {
+    EXPECT_EQ(entry.path().filename().string().find(".partial-"), std::string::npos)
+        << entry.path();
+  }
+}
+
+}  // namespace
+}  // namespace hcpf::studies

@@ -189,13 +189,19 @@ void BM_RenderFrame(benchmark::State& state) {
   options.pcf_radius = static_cast<int>(state.range(2));
   auto renderer =
       hcpf::renderer::SceneRenderer::Create(BenchWorld(), options, hcpf::Rng(1), Context());
+  // pipe: frame t + 1 is submitted before frame t is collected (readback
+  // into pixel-buffer objects; SceneRenderer::Submit / Collect).
+  const bool pipelined = state.range(3) != 0;
   int frame = 0;
+  if (pipelined) renderer->Submit(frame);
   const double cpu_start = ProcessCpuMs();
   for (auto _ : state) {
-    hcpf::renderer::RenderedFrame f = renderer->Render(frame);
-    benchmark::DoNotOptimize(f.rgb.pixels.data());
     frame = (frame + 1) % 300;
+    if (pipelined) renderer->Submit(frame);
+    hcpf::renderer::RenderedFrame f = pipelined ? renderer->Collect() : renderer->Render(frame);
+    benchmark::DoNotOptimize(f.rgb.pixels.data());
   }
+  if (pipelined) renderer->Collect();
   state.counters["fps"] =
       benchmark::Counter(static_cast<double>(state.iterations()), benchmark::Counter::kIsRate);
   state.counters["cpu_ms_per_frame"] =
@@ -203,12 +209,13 @@ void BM_RenderFrame(benchmark::State& state) {
   state.SetLabel(Context()->info().renderer);
 }
 BENCHMARK(BM_RenderFrame)
-    ->ArgNames({"gt", "shadows", "pcf"})
-    ->Args({1, 1, 1})
-    ->Args({0, 1, 1})
-    ->Args({1, 1, 0})
-    ->Args({1, 0, 1})
-    ->Args({0, 0, 1})
+    ->ArgNames({"gt", "shadows", "pcf", "pipe"})
+    ->Args({1, 1, 1, 0})
+    ->Args({1, 1, 1, 1})
+    ->Args({0, 1, 1, 0})
+    ->Args({1, 1, 0, 0})
+    ->Args({1, 0, 1, 0})
+    ->Args({0, 0, 1, 0})
     ->Unit(benchmark::kMillisecond)
     ->UseRealTime()  // llvmpipe rasterises on its own threads: wall time is the cost
     ->MinTime(3.0);
@@ -224,14 +231,18 @@ void BM_RealisticFrame(benchmark::State& state) {
   const std::filesystem::path root =
       std::filesystem::temp_directory_path() / fmt::format("hcpf-renderer-bench-{}", ::getpid());
   const hcpf::renderer::FrameCache frame_cache(root, hcpf::renderer::PixelHash(world, options, 1));
+  const bool pipelined = state.range(3) != 0;
   int frame = 0;
+  if (pipelined) renderer->Submit(frame);
   const double cpu_start = ProcessCpuMs();
   for (auto _ : state) {
-    hcpf::renderer::RenderedFrame f = renderer->Render(frame);
+    frame = (frame + 1) % world.frames;
+    if (pipelined) renderer->Submit(frame);
+    hcpf::renderer::RenderedFrame f = pipelined ? renderer->Collect() : renderer->Render(frame);
     if (cache) frame_cache.Store(f);
     benchmark::DoNotOptimize(f.rgb.pixels.data());
-    frame = (frame + 1) % world.frames;
   }
+  if (pipelined) renderer->Collect();
   state.counters["fps"] =
       benchmark::Counter(static_cast<double>(state.iterations()), benchmark::Counter::kIsRate);
   state.counters["cpu_ms_per_frame"] =
@@ -241,11 +252,12 @@ void BM_RealisticFrame(benchmark::State& state) {
   std::filesystem::remove_all(root, ec);
 }
 BENCHMARK(BM_RealisticFrame)
-    ->ArgNames({"w", "h", "cache"})
-    ->Args({800, 600, 1})
-    ->Args({800, 600, 0})
-    ->Args({640, 480, 1})
-    ->Args({1280, 720, 1})
+    ->ArgNames({"w", "h", "cache", "pipe"})
+    ->Args({800, 600, 1, 0})
+    ->Args({800, 600, 1, 1})
+    ->Args({800, 600, 0, 0})
+    ->Args({640, 480, 1, 0})
+    ->Args({1280, 720, 1, 0})
     ->Unit(benchmark::kMillisecond)
     ->UseRealTime()
     ->MinTime(3.0);

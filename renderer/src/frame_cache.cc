@@ -208,6 +208,11 @@ std::optional<RgbImage> DecodeFrame(const std::string& in) {
 
 }  // namespace
 
+bool FrameCache::Contains(int frame) const {
+  std::error_code ec;
+  return std::filesystem::is_regular_file(dir_ / fmt::format("{:06d}.frame", frame), ec);
+}
+
 std::optional<RenderedFrame> FrameCache::Load(int frame) const {
   const auto pixels = dir_ / fmt::format("{:06d}.frame", frame);
   const auto json = dir_ / fmt::format("{:06d}.json", frame);

@@ -93,6 +93,12 @@ using DrawElementsFn = void(APIENTRYP)(GLenum mode, GLsizei count, GLenum type,
   X(PFNGLBINDBUFFERPROC, BindBuffer, "glBindBuffer")                                        \
   X(PFNGLBUFFERDATAPROC, BufferData, "glBufferData")                                        \
   X(PFNGLDELETEBUFFERSPROC, DeleteBuffers, "glDeleteBuffers")                               \
+  X(PFNGLMAPBUFFERRANGEPROC, MapBufferRange, "glMapBufferRange")                            \
+  X(PFNGLUNMAPBUFFERPROC, UnmapBuffer, "glUnmapBuffer")                                     \
+  X(PFNGLFENCESYNCPROC, FenceSync, "glFenceSync")                                           \
+  X(PFNGLCLIENTWAITSYNCPROC, ClientWaitSync, "glClientWaitSync")                            \
+  X(PFNGLDELETESYNCPROC, DeleteSync, "glDeleteSync")                                        \
+  X(PFNGLFLUSHPROC, Flush, "glFlush")                                                       \
   X(PFNGLVERTEXATTRIBPOINTERPROC, VertexAttribPointer, "glVertexAttribPointer")             \
   X(PFNGLENABLEVERTEXATTRIBARRAYPROC, EnableVertexAttribArray, "glEnableVertexAttribArray") \
   X(DrawElementsFn, DrawElements, "glDrawElements")                                         \

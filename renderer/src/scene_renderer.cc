@@ -9,6 +9,7 @@
 #include <array>
 #include <cmath>
 #include <cstdlib>
+#include <cstring>
 #include <limits>
 #include <map>
 #include <numbers>
@@ -26,6 +27,12 @@
 namespace hcpf::renderer {
 
 SceneRenderer::~SceneRenderer() = default;
+
+RenderedFrame SceneRenderer::Render(int frame) {
+  HCPF_CHECK(in_flight() == 0) << "Render with " << in_flight() << " submitted frame(s)";
+  Submit(frame);
+  return Collect();
+}
 
 namespace {
 
@@ -146,11 +153,18 @@ class GlSceneRenderer final : public SceneRenderer {
     if (terrain_plain_program_.id != 0) gl_.DeleteProgram(terrain_plain_program_.id);
     gl_.DeleteProgram(id_program_.id);
     gl_.DeleteProgram(shadow_program_);
+    for (InFlight& slot : slots_) {
+      if (slot.fence != nullptr) gl_.DeleteSync(slot.fence);
+      const GLuint buffers[] = {slot.colour_pbo, slot.depth_pbo, slot.count_pbo};
+      gl_.DeleteBuffers(3, buffers);  // zeros are ignored
+    }
   }
 
   const GlInfo& gl_info() const override { return context_->info(); }
 
-  RenderedFrame Render(int frame) override;
+  void Submit(int frame) override;
+  RenderedFrame Collect() override;
+  int in_flight() const override { return in_flight_; }
 
  private:
   struct TargetInstance {
@@ -189,9 +203,49 @@ class GlSceneRenderer final : public SceneRenderer {
   void SetModel(const Eigen::Matrix4f& model) const;
   Eigen::Matrix4f LightViewProj(const CameraState& camera, double* depth_range_m) const;
   Eigen::Matrix4f ViewProj(const CameraState& camera, double* far_m) const;
-  FrameGroundTruth GroundTruth(int frame, const CameraState& camera,
-                               const std::vector<TargetInstance>& targets,
-                               const std::vector<uint8_t>& rgba);
+  // The count pass's bookkeeping for one target of a submitted frame.
+  struct CountTarget {
+    size_t target = 0;  // index in InFlight::targets
+    double u_lo = 0.0, v_lo = 0.0, u_hi = 0.0, v_hi = 0.0;
+    bool behind = false;
+    bool any_in_front = false;
+    int sx0 = 0, sy0 = 0, sx1 = 0, sy1 = 0;  // scissor [sx0, sx1) x [sy0, sy1)
+    int64_t total = 0;
+    int ax0 = std::numeric_limits<int>::max(), ay0 = std::numeric_limits<int>::max();
+    int ax1 = -1, ay1 = -1;
+  };
+  // Targets with disjoint scissors drawn together and read back as one
+  // rectangle, at `offset` bytes into the count buffer.
+  struct CountLayer {
+    int x0 = 0, y0 = 0, w = 0, h = 0;
+    size_t offset = 0;
+    std::vector<size_t> members;  // indices in InFlight::count
+  };
+  // A frame between Submit and Collect, with its own pixel-buffer objects
+  // (kMaxInFlight slots, used round robin).
+  struct InFlight {
+    int frame = 0;
+    CameraState camera;
+    double far_m = 0.0;
+    std::vector<TargetInstance> targets;
+    std::vector<CountTarget> count;
+    std::vector<CountLayer> layers;
+    size_t count_bytes = 0;
+    GLuint colour_pbo = 0, depth_pbo = 0, count_pbo = 0;
+    size_t colour_capacity = 0, depth_capacity = 0, count_capacity = 0;
+    GLsync fence = nullptr;
+  };
+  void SubmitCountPass(InFlight& s);
+  FrameGroundTruth GroundTruth(InFlight& s, const std::vector<uint8_t>& rgba);
+  // Binds `buffer` (created on first use) to GL_PIXEL_PACK_BUFFER with room
+  // for `bytes`.
+  void EnsurePackBuffer(GLuint& buffer, size_t& capacity, size_t bytes);
+  // Copies the first `bytes` of a pack buffer to `out` (waits for its writes).
+  void ReadPackBuffer(GLuint buffer, size_t bytes, void* out) const;
+
+  std::array<InFlight, kMaxInFlight> slots_;
+  int head_ = 0;  // the oldest submitted slot
+  int in_flight_ = 0;
 
   WorldSpec world_;
   RendererOptions options_;
@@ -906,14 +960,42 @@ void GlSceneRenderer::DrawTerrain(const Eigen::Matrix4f& view_proj, int part) co
   }
 }
 
-RenderedFrame GlSceneRenderer::Render(int frame) {
+void GlSceneRenderer::EnsurePackBuffer(GLuint& buffer, size_t& capacity, size_t bytes) {
+  if (buffer == 0) gl_.GenBuffers(1, &buffer);
+  gl_.BindBuffer(GL_PIXEL_PACK_BUFFER, buffer);
+  if (capacity < bytes) {
+    // Only between frames: the slot's previous contents were read by Collect.
+    gl_.BufferData(GL_PIXEL_PACK_BUFFER, static_cast<GLsizeiptr>(bytes), nullptr, GL_STREAM_READ);
+    capacity = bytes;
+  }
+}
+
+void GlSceneRenderer::ReadPackBuffer(GLuint buffer, size_t bytes, void* out) const {
+  gl_.BindBuffer(GL_PIXEL_PACK_BUFFER, buffer);
+  const void* mapped =
+      gl_.MapBufferRange(GL_PIXEL_PACK_BUFFER, 0, static_cast<GLsizeiptr>(bytes), GL_MAP_READ_BIT);
+  if (mapped == nullptr) {
+    gl_.BindBuffer(GL_PIXEL_PACK_BUFFER, 0);
+    gl_.CheckError("mapping a pixel-buffer object");
+    throw RunError("renderer: mapping a pixel-buffer object failed");
+  }
+  std::memcpy(out, mapped, bytes);
+  gl_.UnmapBuffer(GL_PIXEL_PACK_BUFFER);
+  gl_.BindBuffer(GL_PIXEL_PACK_BUFFER, 0);
+}
+
+void GlSceneRenderer::Submit(int frame) {
+  HCPF_CHECK(in_flight_ < kMaxInFlight)
+      << "Submit with " << in_flight_ << " frames already submitted";
   context_->MakeCurrent();
-  RenderedFrame out;
-  out.frame = frame;
-  const CameraState camera = EvaluateCamera(world_.camera, frame);
+  InFlight& s = slots_[(head_ + in_flight_) % kMaxInFlight];
+  s.frame = frame;
+  s.camera = EvaluateCamera(world_.camera, frame);
+  const CameraState& camera = s.camera;
   HCPF_CHECK(camera.intrinsics.width_px == width_ && camera.intrinsics.height_px == height_);
 
-  std::vector<TargetInstance> targets;
+  std::vector<TargetInstance>& targets = s.targets;
+  targets.clear();
   for (size_t i = 0; i < world_.targets.size(); ++i) {
     const TargetSpec& spec = world_.targets[i];
     TargetInstance t;
@@ -934,8 +1016,7 @@ RenderedFrame GlSceneRenderer::Render(int frame) {
     targets.push_back(t);
   }
 
-  double far_m = 0.0;
-  const Eigen::Matrix4f view_proj = ViewProj(camera, &far_m);
+  const Eigen::Matrix4f view_proj = ViewProj(camera, &s.far_m);
   Eigen::Matrix4f light_view_proj = Eigen::Matrix4f::Identity();
   double light_depth_m = 1.0;
 
@@ -1023,19 +1104,55 @@ RenderedFrame GlSceneRenderer::Render(int frame) {
   }
   gl_.CheckError("colour pass");
 
+  // Readbacks into the slot's pixel-buffer objects: queued, not waited for.
   const size_t pixels = static_cast<size_t>(width_) * height_;
-  rgba_.resize(4 * pixels);
   gl_.PixelStorei(GL_PACK_ALIGNMENT, 1);
   gl_.ReadBuffer(GL_COLOR_ATTACHMENT0);
-  gl_.ReadPixels(0, 0, width_, height_, GL_RGBA, GL_UNSIGNED_BYTE, rgba_.data());
+  EnsurePackBuffer(s.colour_pbo, s.colour_capacity, 4 * pixels);
+  gl_.ReadPixels(0, 0, width_, height_, GL_RGBA, GL_UNSIGNED_BYTE, nullptr);
+  if (options_.output_depth) {
+    EnsurePackBuffer(s.depth_pbo, s.depth_capacity, sizeof(float) * pixels);
+    gl_.ReadPixels(0, 0, width_, height_, GL_DEPTH_COMPONENT, GL_FLOAT, nullptr);
+  }
+  gl_.BindBuffer(GL_PIXEL_PACK_BUFFER, 0);
+  gl_.CheckError("readback");
+  s.count.clear();
+  s.layers.clear();
+  if (options_.ground_truth) SubmitCountPass(s);
+  s.fence = gl_.FenceSync(GL_SYNC_GPU_COMMANDS_COMPLETE, 0);
+  gl_.Flush();
+  gl_.CheckError("submit");
+  ++in_flight_;
+}
+
+RenderedFrame GlSceneRenderer::Collect() {
+  HCPF_CHECK(in_flight_ > 0) << "Collect with no submitted frame";
+  context_->MakeCurrent();
+  InFlight& s = slots_[head_];
+  head_ = (head_ + 1) % kMaxInFlight;
+  --in_flight_;
+  // Mapping waits as well; the fence makes the wait explicit and flushes.
+  const GLenum waited = gl_.ClientWaitSync(s.fence, GL_SYNC_FLUSH_COMMANDS_BIT, GL_TIMEOUT_IGNORED);
+  gl_.DeleteSync(s.fence);
+  s.fence = nullptr;
+  if (waited == GL_WAIT_FAILED) {
+    gl_.CheckError("waiting for a frame");
+    throw RunError("renderer: waiting for a submitted frame failed");
+  }
+
+  RenderedFrame out;
+  out.frame = s.frame;
+  const size_t pixels = static_cast<size_t>(width_) * height_;
+  rgba_.resize(4 * pixels);
+  ReadPackBuffer(s.colour_pbo, rgba_.size(), rgba_.data());
   if (options_.output_depth) {
     DepthImage depth;
     depth.width = width_;
     depth.height = height_;
     depth.depth_m.resize(pixels);
-    gl_.ReadPixels(0, 0, width_, height_, GL_DEPTH_COMPONENT, GL_FLOAT, depth.depth_m.data());
+    ReadPackBuffer(s.depth_pbo, sizeof(float) * pixels, depth.depth_m.data());
     const double n = kNearM;
-    const double f = far_m;
+    const double f = s.far_m;
     for (float& d : depth.depth_m) {
       if (d >= 1.0f) {
         d = std::numeric_limits<float>::infinity();
@@ -1046,7 +1163,6 @@ RenderedFrame GlSceneRenderer::Render(int frame) {
     }
     out.depth = std::move(depth);
   }
-  gl_.CheckError("readback");
 
   out.rgb.width = width_;
   out.rgb.height = height_;
@@ -1068,72 +1184,35 @@ RenderedFrame GlSceneRenderer::Render(int frame) {
     out.instance_ids = std::move(ids);
   }
   if (options_.ground_truth) {
-    out.ground_truth = GroundTruth(frame, camera, targets, rgba_);
+    out.ground_truth = GroundTruth(s, rgba_);
   } else {
-    out.ground_truth.frame = frame;
-    out.ground_truth.camera = camera;
-    out.ground_truth.image_from_ground = camera.ImageFromGround(0.0);
+    out.ground_truth.frame = s.frame;
+    out.ground_truth.camera = s.camera;
+    out.ground_truth.image_from_ground = s.camera.ImageFromGround(0.0);
   }
+  gl_.CheckError("collect");
   if (options_.sensor.active()) {
-    ApplySensorEffects(options_.sensor, rng_.Fork("renderer/sensor", frame), out.rgb);
+    ApplySensorEffects(options_.sensor, rng_.Fork("renderer/sensor", s.frame), out.rgb);
   }
   return out;
 }
 
-FrameGroundTruth GlSceneRenderer::GroundTruth(int frame, const CameraState& camera,
-                                              const std::vector<TargetInstance>& targets,
-                                              const std::vector<uint8_t>& rgba) {
-  FrameGroundTruth gt;
-  gt.frame = frame;
-  gt.camera = camera;
-  gt.image_from_ground = camera.ImageFromGround(0.0);
-  const size_t n = world_.targets.size();
-  // Visible pixels and their bounds per slot, from the colour pass's ids.
-  std::vector<int64_t> count(n + 1, 0);
-  std::vector<int> x0(n + 1, width_), y0(n + 1, height_), x1(n + 1, -1), y1(n + 1, -1);
-  for (int y = 0; y < height_; ++y) {
-    const uint8_t* row = rgba.data() + 4 * static_cast<size_t>(y) * width_;
-    for (int x = 0; x < width_; ++x) {
-      const uint8_t id = row[4 * x + 3];
-      if (id == 0) continue;
-      ++count[id];
-      x0[id] = std::min(x0[id], x);
-      x1[id] = std::max(x1[id], x);
-      y0[id] = std::min(y0[id], y);
-      y1[id] = std::max(y1[id], y);
-    }
-  }
-
+void GlSceneRenderer::SubmitCountPass(InFlight& s) {
   // Count pass: each target alone (same program, same vertex stage, so the
   // same pixels as in the colour pass) inside a scissor around its projected
   // vertices. Targets whose scissors do not overlap share one layer: one
-  // flush and one readback per layer instead of per target.
+  // readback per layer instead of per target. Collect counts the pixels.
+  const CameraState& camera = s.camera;
   const Eigen::Matrix3d r = camera.pose.camera_from_world();
   const CameraIntrinsics& k = camera.intrinsics;
-  struct Pending {
-    GroundTruthObject obj;
-    const TargetInstance* target = nullptr;
-    double u_lo, v_lo, u_hi, v_hi;
-    bool behind = false;
-    bool any_in_front = false;
-    int sx0 = 0, sy0 = 0, sx1 = 0, sy1 = 0;  // scissor [sx0, sx1) x [sy0, sy1)
-    int64_t total = 0;
-    int ax0, ay0, ax1 = -1, ay1 = -1;
-  };
-  std::vector<Pending> pending(targets.size());
-  for (size_t i = 0; i < targets.size(); ++i) {
-    const TargetInstance& t = targets[i];
-    Pending& p = pending[i];
-    p.target = &t;
-    const TargetSpec& spec = world_.targets[t.slot];
-    p.obj.id = spec.id;
-    p.obj.position_m = t.pose.position_m;
-    p.obj.heading_deg = t.pose.heading_deg;
-    p.obj.dimensions_m = spec.dimensions_m;
+  s.count.resize(s.targets.size());
+  for (size_t i = 0; i < s.targets.size(); ++i) {
+    const TargetInstance& t = s.targets[i];
+    CountTarget& p = s.count[i];
+    p = CountTarget{};
+    p.target = i;
     p.u_lo = p.v_lo = std::numeric_limits<double>::max();
     p.u_hi = p.v_hi = -std::numeric_limits<double>::max();
-    p.ax0 = width_;
-    p.ay0 = height_;
     for (const Eigen::Vector3f& q : models_[target_model_[t.slot]].positions) {
       const Eigen::Vector4f w = t.model * Eigen::Vector4f(q.x(), q.y(), q.z(), 1.0f);
       const Eigen::Vector3d c = r * (w.head<3>().cast<double>() - camera.pose.position_m);
@@ -1161,10 +1240,48 @@ FrameGroundTruth GlSceneRenderer::GroundTruth(int frame, const CameraState& came
     }
   }
   std::vector<size_t> todo;
-  for (size_t i = 0; i < pending.size(); ++i) {
-    const Pending& p = pending[i];
+  for (size_t i = 0; i < s.count.size(); ++i) {
+    const CountTarget& p = s.count[i];
     if (p.any_in_front && p.sx1 > p.sx0 && p.sy1 > p.sy0) todo.push_back(i);
   }
+  // Layers first (they depend on the scissors alone), so the count buffer is
+  // sized once before any readback lands in it.
+  size_t bytes = 0;
+  while (!todo.empty()) {
+    // Greedy layer: targets in scenario order whose scissors are disjoint.
+    CountLayer layer;
+    std::vector<size_t> rest;
+    for (size_t i : todo) {
+      const CountTarget& p = s.count[i];
+      bool overlaps = false;
+      for (size_t j : layer.members) {
+        const CountTarget& q = s.count[j];
+        if (p.sx0 < q.sx1 && q.sx0 < p.sx1 && p.sy0 < q.sy1 && q.sy0 < p.sy1) {
+          overlaps = true;
+          break;
+        }
+      }
+      (overlaps ? rest : layer.members).push_back(i);
+    }
+    int lx1 = 0, ly1 = 0;
+    layer.x0 = width_;
+    layer.y0 = height_;
+    for (size_t i : layer.members) {
+      const CountTarget& p = s.count[i];
+      layer.x0 = std::min(layer.x0, p.sx0);
+      layer.y0 = std::min(layer.y0, p.sy0);
+      lx1 = std::max(lx1, p.sx1);
+      ly1 = std::max(ly1, p.sy1);
+    }
+    layer.w = lx1 - layer.x0;
+    layer.h = ly1 - layer.y0;
+    layer.offset = bytes;
+    bytes += 4 * static_cast<size_t>(layer.w) * layer.h;
+    s.layers.push_back(std::move(layer));
+    todo = std::move(rest);
+  }
+  if (s.layers.empty()) return;
+
   gl_.BindFramebuffer(GL_FRAMEBUFFER, main_fbo_);
   Use(id_program_);
   {
@@ -1175,46 +1292,62 @@ FrameGroundTruth GlSceneRenderer::GroundTruth(int frame, const CameraState& came
   }
   gl_.Enable(GL_SCISSOR_TEST);
   gl_.ClearColor(0.0f, 0.0f, 0.0f, 0.0f);
-  while (!todo.empty()) {
-    // Greedy layer: targets in scenario order whose scissors are disjoint.
-    std::vector<size_t> layer;
-    std::vector<size_t> rest;
-    for (size_t i : todo) {
-      const Pending& p = pending[i];
-      bool overlaps = false;
-      for (size_t j : layer) {
-        const Pending& q = pending[j];
-        if (p.sx0 < q.sx1 && q.sx0 < p.sx1 && p.sy0 < q.sy1 && q.sy0 < p.sy1) {
-          overlaps = true;
-          break;
-        }
-      }
-      (overlaps ? rest : layer).push_back(i);
-    }
-    int lx0 = width_, ly0 = height_, lx1 = 0, ly1 = 0;
-    for (size_t i : layer) {
-      const Pending& p = pending[i];
+  EnsurePackBuffer(s.count_pbo, s.count_capacity, bytes);
+  for (const CountLayer& layer : s.layers) {
+    for (size_t i : layer.members) {
+      const CountTarget& p = s.count[i];
+      const TargetInstance& t = s.targets[p.target];
       gl_.Scissor(p.sx0, p.sy0, p.sx1 - p.sx0, p.sy1 - p.sy0);
       gl_.Clear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
-      gl_.Uniform1f(U("u_id"), static_cast<float>(p.target->slot + 1) / 255.0f);
-      SetModel(p.target->model);
-      Draw(models_[target_model_[p.target->slot]].gpu);
-      lx0 = std::min(lx0, p.sx0);
-      ly0 = std::min(ly0, p.sy0);
-      lx1 = std::max(lx1, p.sx1);
-      ly1 = std::max(ly1, p.sy1);
+      gl_.Uniform1f(U("u_id"), static_cast<float>(t.slot + 1) / 255.0f);
+      SetModel(t.model);
+      Draw(models_[target_model_[t.slot]].gpu);
     }
-    const int lw = lx1 - lx0;
-    const int lh = ly1 - ly0;
-    region_.resize(4 * static_cast<size_t>(lw) * lh);
-    gl_.ReadPixels(lx0, ly0, lw, lh, GL_RGBA, GL_UNSIGNED_BYTE, region_.data());
-    for (size_t i : layer) {
-      Pending& p = pending[i];
-      const auto id = static_cast<uint8_t>(p.target->slot + 1);
+    gl_.ReadPixels(layer.x0, layer.y0, layer.w, layer.h, GL_RGBA, GL_UNSIGNED_BYTE,
+                   reinterpret_cast<void*>(layer.offset));  // NOLINT: a PBO offset
+  }
+  gl_.BindBuffer(GL_PIXEL_PACK_BUFFER, 0);
+  gl_.Disable(GL_SCISSOR_TEST);
+  gl_.CheckError("ground-truth pass");
+  s.count_bytes = bytes;
+}
+
+FrameGroundTruth GlSceneRenderer::GroundTruth(InFlight& s, const std::vector<uint8_t>& rgba) {
+  FrameGroundTruth gt;
+  gt.frame = s.frame;
+  gt.camera = s.camera;
+  gt.image_from_ground = s.camera.ImageFromGround(0.0);
+  const size_t n = world_.targets.size();
+  // Visible pixels and their bounds per slot, from the colour pass's ids.
+  std::vector<int64_t> count(n + 1, 0);
+  std::vector<int> x0(n + 1, width_), y0(n + 1, height_), x1(n + 1, -1), y1(n + 1, -1);
+  for (int y = 0; y < height_; ++y) {
+    const uint8_t* row = rgba.data() + 4 * static_cast<size_t>(y) * width_;
+    for (int x = 0; x < width_; ++x) {
+      const uint8_t id = row[4 * x + 3];
+      if (id == 0) continue;
+      ++count[id];
+      x0[id] = std::min(x0[id], x);
+      x1[id] = std::max(x1[id], x);
+      y0[id] = std::min(y0[id], y);
+      y1[id] = std::max(y1[id], y);
+    }
+  }
+
+  // Unoccluded totals and amodal bounds from the count pass's layers.
+  if (!s.layers.empty()) {
+    region_.resize(s.count_bytes);
+    ReadPackBuffer(s.count_pbo, s.count_bytes, region_.data());
+  }
+  for (const CountLayer& layer : s.layers) {
+    const uint8_t* base = region_.data() + layer.offset;
+    for (size_t i : layer.members) {
+      CountTarget& p = s.count[i];
+      const auto id = static_cast<uint8_t>(s.targets[p.target].slot + 1);
       for (int y = p.sy0; y < p.sy1; ++y) {
-        const uint8_t* row = region_.data() + 4 * (static_cast<size_t>(y - ly0) * lw);
+        const uint8_t* row = base + 4 * (static_cast<size_t>(y - layer.y0) * layer.w);
         for (int x = p.sx0; x < p.sx1; ++x) {
-          if (row[4 * (x - lx0) + 3] != id) continue;
+          if (row[4 * (x - layer.x0) + 3] != id) continue;
           ++p.total;
           p.ax0 = std::min(p.ax0, x);
           p.ax1 = std::max(p.ax1, x);
@@ -1223,12 +1356,17 @@ FrameGroundTruth GlSceneRenderer::GroundTruth(int frame, const CameraState& came
         }
       }
     }
-    todo = std::move(rest);
   }
   const BoxPx image{0.0, 0.0, static_cast<double>(width_), static_cast<double>(height_)};
-  for (Pending& p : pending) {
-    GroundTruthObject& obj = p.obj;
-    const size_t id = p.target->slot + 1;
+  for (CountTarget& p : s.count) {
+    const TargetInstance& t = s.targets[p.target];
+    const TargetSpec& spec = world_.targets[t.slot];
+    GroundTruthObject obj;
+    obj.id = spec.id;
+    obj.position_m = t.pose.position_m;
+    obj.heading_deg = t.pose.heading_deg;
+    obj.dimensions_m = spec.dimensions_m;
+    const size_t id = t.slot + 1;
     obj.pixels_total = p.total;
     obj.pixels_visible = count[id];
     obj.visible_fraction = p.total > 0 ? static_cast<double>(count[id]) / p.total : 0.0;
@@ -1248,8 +1386,6 @@ FrameGroundTruth GlSceneRenderer::GroundTruth(int frame, const CameraState& came
     obj.truncation = amodal.area() > 0.0 ? 1.0 - inside / amodal.area() : 0.0;
     gt.objects.push_back(obj);
   }
-  gl_.Disable(GL_SCISSOR_TEST);
-  gl_.CheckError("ground-truth pass");
   return gt;
 }
 

@@ -6,9 +6,11 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <numbers>
+#include <vector>
 
 #include "hcpf/core/error.h"
 #include "hcpf/core/ground_truth.h"
@@ -94,13 +96,19 @@ TEST_F(RendererGl, AutoPrefersAHardwareEglDeviceElseOsMesa) {
     EXPECT_EQ(devices[i].index, static_cast<int>(i));
     hardware = hardware || !devices[i].software();
   }
-  const auto context = GlContext::Create(GlBackend::kAuto);
-  if (hardware) {
-    EXPECT_TRUE(context->info().platform.ends_with("(hardware)")) << context->info().platform;
-  } else {
-    EXPECT_EQ(context->info().platform, "osmesa");
-  }
-  g_context->MakeCurrent();  // the shared context again for the next case
+  // In a child process: an OSMesa context created beside this binary's EGL
+  // context leaves the EGL one unable to compile shaders afterwards (Mesa's
+  // one dispatch table), which broke every later case when the binary ran
+  // whole rather than one case per process as under ctest.
+  GTEST_FLAG_SET(death_test_style, "threadsafe");
+  EXPECT_EXIT(
+      {
+        const auto context = GlContext::Create(GlBackend::kAuto);
+        std::fprintf(stderr, "platform: %s\n", context->info().platform.c_str());
+        std::exit(0);
+      },
+      ::testing::ExitedWithCode(0),
+      hardware ? "platform: egl.*\\(hardware\\)" : "platform: osmesa\n");
 }
 
 TEST_F(RendererGl, NadirVehicleSpansThePredictedPixelCount) {
@@ -513,6 +521,91 @@ TEST_F(RendererGl, SameSceneRendersByteIdenticalFramesTwice) {
   // between frames), and another seed changes the sensor noise.
   EXPECT_EQ(first->Render(5).rgb, second->Render(5).rgb);
   EXPECT_NE(Make(w, options, 43)->Render(5).rgb, first->Render(5).rgb);
+}
+
+void ExpectSameFrame(const RenderedFrame& a, const RenderedFrame& b) {
+  EXPECT_EQ(a.frame, b.frame);
+  EXPECT_EQ(a.rgb, b.rgb) << "frame " << a.frame;
+  ASSERT_EQ(a.depth.has_value(), b.depth.has_value());
+  if (a.depth) {
+    EXPECT_EQ(a.depth->depth_m, b.depth->depth_m) << "frame " << a.frame;
+  }
+  ASSERT_EQ(a.instance_ids.has_value(), b.instance_ids.has_value());
+  if (a.instance_ids) {
+    EXPECT_EQ(a.instance_ids->ids, b.instance_ids->ids) << "frame " << a.frame;
+  }
+  ASSERT_EQ(a.ground_truth.objects.size(), b.ground_truth.objects.size());
+  for (size_t i = 0; i < a.ground_truth.objects.size(); ++i) {
+    const GroundTruthObject& x = a.ground_truth.objects[i];
+    const GroundTruthObject& y = b.ground_truth.objects[i];
+    EXPECT_EQ(x.id, y.id);
+    EXPECT_EQ(x.pixels_visible, y.pixels_visible) << "frame " << a.frame << " object " << i;
+    EXPECT_EQ(x.pixels_total, y.pixels_total) << "frame " << a.frame << " object " << i;
+    EXPECT_EQ(x.visible_box, y.visible_box);
+    EXPECT_EQ(x.amodal_box, y.amodal_box);
+  }
+}
+
+// Pipelined rendering (issue 13 item 4): with two frames submitted, each
+// frame's readbacks go to its own pixel-buffer objects while the next frame
+// is drawn into the same framebuffer; what comes back must be what Render
+// gives, colour, depth, instance ids and the count pass's totals alike.
+TEST_F(RendererGl, PipelinedFramesEqualRenderedOnes) {
+  const WorldSpec w = GoldenWorld();
+  RendererOptions options;
+  options.output_depth = true;
+  options.output_instance_ids = true;
+  options.sensor.noise_sigma = 2.0;
+  auto reference = Make(w, options, 7);
+  auto pipelined = Make(w, options, 7);
+  std::vector<RenderedFrame> expected;
+  for (int frame = 0; frame < w.frames; ++frame) expected.push_back(reference->Render(frame));
+  int collected = 0;
+  for (int frame = 0; frame < w.frames; ++frame) {
+    pipelined->Submit(frame);
+    if (pipelined->in_flight() == SceneRenderer::kMaxInFlight) {
+      ExpectSameFrame(pipelined->Collect(), expected.at(collected++));
+    }
+  }
+  while (pipelined->in_flight() > 0)
+    ExpectSameFrame(pipelined->Collect(), expected.at(collected++));
+  EXPECT_EQ(collected, w.frames);
+  // Out of order too (the slots are a ring, not tied to frame numbers), and
+  // Render works again once everything is collected.
+  pipelined->Submit(9);
+  pipelined->Submit(2);
+  ExpectSameFrame(pipelined->Collect(), expected.at(9));
+  ExpectSameFrame(pipelined->Collect(), expected.at(2));
+  ExpectSameFrame(pipelined->Render(4), expected.at(4));
+  // Without ground truth the count pass is skipped; colour is unchanged.
+  options.ground_truth = false;
+  auto no_truth = Make(w, options, 7);
+  no_truth->Submit(3);
+  no_truth->Submit(4);
+  EXPECT_EQ(no_truth->Collect().rgb, expected.at(3).rgb);
+  EXPECT_EQ(no_truth->Collect().rgb, expected.at(4).rgb);
+}
+
+using RendererGlDeathTest = RendererGl;
+
+TEST_F(RendererGlDeathTest, PipelineMisuseIsAProgrammingError) {
+  GTEST_FLAG_SET(death_test_style, "threadsafe");
+  EXPECT_DEATH(Make(GoldenWorld())->Collect(), "no submitted frame");
+  EXPECT_DEATH(
+      {
+        auto r = Make(GoldenWorld());
+        r->Submit(0);
+        r->Submit(1);
+        r->Submit(2);
+      },
+      "already submitted");
+  EXPECT_DEATH(
+      {
+        auto r = Make(GoldenWorld());
+        r->Submit(0);
+        r->Render(1);
+      },
+      "submitted frame");
 }
 
 TEST_F(RendererGl, FrameCacheGivesBackTheRenderedFrame) {

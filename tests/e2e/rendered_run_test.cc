@@ -2,6 +2,7 @@
 // renderer, frames cached by pixel hash and reused by a run with other
 // tracker settings.
 
+#include <fmt/format.h>
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -10,6 +11,7 @@
 #include <map>
 #include <nlohmann/json.hpp>
 #include <string>
+#include <vector>
 
 #include "support/process.h"
 
@@ -52,6 +54,42 @@ TEST(RenderedRun, PixelExactTruthAndFrameCacheReuse) {
   EXPECT_EQ(ReadFile(dir / "a" / "gt" / "gt.txt"), ReadFile(dir / "b" / "gt" / "gt.txt"));
   EXPECT_EQ(ReadFile(dir / "a" / "detections.txt"), ReadFile(dir / "b" / "detections.txt"));
   EXPECT_NE(ReadFile(dir / "a" / "tracks.txt"), ReadFile(dir / "b" / "tracks.txt"));
+}
+
+// Rendering is pipelined one frame ahead (SceneRenderer::Submit / Collect),
+// looking ahead only at frames the cache lacks: a cache with holes (single
+// frames, a run of frames, the first and the last) is filled exactly, and the
+// run's truth, detections and tracks are those of the uncached run.
+TEST(RenderedRun, CacheWithHolesRendersOnlyTheMissingFramesAndChangesNothing) {
+  const fs::path dir = FreshDir("rendered-holes");
+  const std::string common = std::string(HCPF_EXE) + " run " +
+                             testing::LibraryScenario("crossing") +
+                             " --set observation.source=rendered --set frames=24"
+                             " --set 'camera.resolution=[160, 120]' --cache " +
+                             (dir / "cache").string();
+  auto r = RunCommand(common + " --out " + (dir / "a").string());
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  fs::path frames;
+  for (const auto& entry : fs::directory_iterator(dir / "cache")) frames = entry.path();
+  ASSERT_TRUE(fs::exists(frames / "000023.frame")) << frames;
+  const std::vector<int> holes = {0, 5, 6, 7, 12, 23};
+  std::map<int, std::string> before;
+  for (int f : holes) {
+    const fs::path file = frames / fmt::format("{:06d}.frame", f);
+    before[f] = ReadFile(file);
+    fs::remove(file);
+  }
+  r = RunCommand(common + " --out " + (dir / "b").string());
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  const auto manifest = nlohmann::json::parse(ReadFile(dir / "b" / "manifest.json"));
+  EXPECT_EQ(manifest["frames_rendered"], static_cast<int>(holes.size()));
+  EXPECT_EQ(manifest["frames_from_cache"], 24 - static_cast<int>(holes.size()));
+  for (int f : holes) {
+    EXPECT_EQ(ReadFile(frames / fmt::format("{:06d}.frame", f)), before[f]) << "frame " << f;
+  }
+  for (const char* file : {"gt/gt.txt", "detections.txt", "tracks.txt"}) {
+    EXPECT_EQ(ReadFile(dir / "a" / file), ReadFile(dir / "b" / file)) << file;
+  }
 }
 
 // Pixels reach the tracker: a vision/ detector on the rendered frames, with
@@ -230,6 +268,35 @@ TEST(CameraMotion, ModesAreScoredAgainstTheTrueMotion) {
                  " --set tracker.scene_filter.resampling=charged");
   EXPECT_EQ(bad.exit_code, 2) << bad.output;
   EXPECT_NE(bad.output.find("tracker.scene_filter.resampling"), std::string::npos) << bad.output;
+}
+
+// Issue 12's climb target, on the scenario's own seed: the thesis's filter,
+// hierarchical (scene filter on the rendered frames' corners) and charged,
+// keeps both vehicles through the climb and the crossing: DA accuracy >= 0.97
+// and MOTA > 0 (this seed: 1.000 and 0.986); the same charged filters without
+// camera motion lag the zoom and lose their targets (0.65 and -0.35). The
+// 20-seed intervals are scenarios/sweeps/climb-hierarchical.yaml
+// (docs/tracker.md). The run is deterministic, so the bounds are the issue's
+// targets, not a tolerance.
+TEST(CameraMotion, HierarchicalChargedFilterMeetsTheClimbTarget) {
+  const fs::path dir = FreshDir("camera-motion-climb");
+  const std::string common = std::string(HCPF_EXE) + " run " + testing::LibraryScenario("climb") +
+                             " --set observation.source=rendered"
+                             " --set tracker.scene_filter.evidence=image"
+                             " --set tracker.resampling.method=charged";
+  std::map<std::string, nlohmann::json> metrics;
+  for (const std::string mode : {"none", "scene_filter"}) {
+    const auto r = RunCommand(common + " --set tracker.camera_motion=" + mode + " --out " +
+                              (dir / mode).string());
+    ASSERT_EQ(r.exit_code, 0) << r.output;
+    metrics[mode] = nlohmann::json::parse(ReadFile(dir / mode / "metrics.json"));
+  }
+  EXPECT_GE(metrics["scene_filter"]["filters"]["da_accuracy"].get<double>(), 0.97);
+  EXPECT_GT(metrics["scene_filter"]["mot"]["MOTA"].get<double>(), 0.0);
+  EXPECT_EQ(metrics["scene_filter"]["filters"]["hijack_rate"].get<double>(), 0.0);
+  EXPECT_LT(metrics["none"]["mot"]["MOTA"].get<double>(), 0.0);
+  EXPECT_LT(metrics["none"]["filters"]["da_accuracy"].get<double>(),
+            metrics["scene_filter"]["filters"]["da_accuracy"].get<double>());
 }
 
 TEST(CameraMotion, ImageEvidenceFeedsTheSceneFilterAndTheRansacBaseline) {

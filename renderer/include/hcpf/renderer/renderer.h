@@ -128,7 +128,23 @@ class SceneRenderer {
 
   // Renders frame `frame` (0-based) of the world. Deterministic: the same
   // world, options, seed and driver give byte-identical frames.
-  virtual RenderedFrame Render(int frame) = 0;
+  // Renders one frame and waits for it: Submit(frame) then Collect().
+  RenderedFrame Render(int frame);
+
+  // Pipelined rendering. Submit queues a frame's GL work (shadow, colour and
+  // ground-truth passes) with its readbacks into pixel-buffer objects and
+  // returns without waiting; Collect waits for the oldest submitted frame,
+  // maps its buffers and finishes it on the CPU (ground-truth counts, depth,
+  // sensor effects). With two frames submitted, the GPU renders frame t+1
+  // while the CPU finishes frame t. At most kMaxInFlight frames may be
+  // submitted and not yet collected; frames come back in submission order and
+  // byte-identical to Render's. Submit past the limit and Collect with
+  // nothing submitted are programming errors (HCPF_CHECK).
+  static constexpr int kMaxInFlight = 2;
+  virtual void Submit(int frame) = 0;
+  virtual RenderedFrame Collect() = 0;
+  virtual int in_flight() const = 0;
+
   virtual const GlInfo& gl_info() const = 0;
 
  protected:
@@ -161,6 +177,8 @@ class FrameCache {
   // The frame if it is cached (and readable, of this format version), else
   // nullopt.
   std::optional<RenderedFrame> Load(int frame) const;
+  // Whether the cache holds a file for `frame` (Load may still reject it).
+  bool Contains(int frame) const;
   // Writes the frame atomically (temp file + rename); throws hcpf::RunError.
   void Store(const RenderedFrame& frame) const;
   const std::filesystem::path& dir() const { return dir_; }

@@ -3,7 +3,9 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
+#include <complex>
 #include <vector>
 
 #include "hcpf/core/error.h"
@@ -48,6 +50,69 @@ double CornerDisplacementPx(const SimilarityMotion& estimate,
     sum += (s - Eigen::Vector2d(t.x() / t.z(), t.y() / t.z())).norm();
   }
   return sum / 4.0;
+}
+
+SimilarityMotion CornerOptimalSimilarity(const Eigen::Matrix3d& true_frame_to_frame, int width,
+                                         int height) {
+  // Validates the size and the homography (throws as documented).
+  CornerDisplacementPx(SimilarityMotion{}, true_frame_to_frame, width, height);
+  using Complex = std::complex<double>;
+  const double w = width;
+  const double h = height;
+  const std::array<Complex, 4> p = {Complex(0, 0), Complex(w, 0), Complex(w, h), Complex(0, h)};
+  std::array<Complex, 4> q;
+  for (size_t i = 0; i < 4; ++i) {
+    const Eigen::Vector3d t = true_frame_to_frame * Eigen::Vector3d(p[i].real(), p[i].imag(), 1.0);
+    q[i] = Complex(t.x() / t.z(), t.y() / t.z());
+  }
+  // Weighted least squares of q = a p + b (closed form, complex regression).
+  const auto fit = [&](const std::array<double, 4>& weight, Complex& a, Complex& b) {
+    double total = 0.0;
+    Complex pm = 0.0, qm = 0.0;
+    for (size_t i = 0; i < 4; ++i) {
+      total += weight[i];
+      pm += weight[i] * p[i];
+      qm += weight[i] * q[i];
+    }
+    pm /= total;
+    qm /= total;
+    Complex num = 0.0;
+    double den = 0.0;
+    for (size_t i = 0; i < 4; ++i) {
+      num += weight[i] * (q[i] - qm) * std::conj(p[i] - pm);
+      den += weight[i] * std::norm(p[i] - pm);
+    }
+    a = num / den;
+    b = qm - a * pm;
+  };
+  const auto mean_distance = [&](Complex a, Complex b) {
+    double sum = 0.0;
+    for (size_t i = 0; i < 4; ++i) sum += std::abs(a * p[i] + b - q[i]);
+    return sum / 4.0;
+  };
+  std::array<double, 4> weight = {1.0, 1.0, 1.0, 1.0};
+  Complex a, b;
+  fit(weight, a, b);
+  double best = mean_distance(a, b);
+  for (int iteration = 0; iteration < 500 && best > 0.0; ++iteration) {
+    // Weiszfeld: weights 1 / residual, floored so an exactly met corner
+    // does not divide by zero.
+    for (size_t i = 0; i < 4; ++i) weight[i] = 1.0 / std::max(std::abs(a * p[i] + b - q[i]), 1e-12);
+    Complex a2, b2;
+    fit(weight, a2, b2);
+    const double next = mean_distance(a2, b2);
+    if (!(next < best - 1e-13)) {
+      if (next < best) a = a2, b = b2, best = next;
+      break;
+    }
+    a = a2;
+    b = b2;
+    best = next;
+  }
+  return {.tx_px = b.real(),
+          .ty_px = b.imag(),
+          .log_scale = std::log(std::abs(a)),
+          .rotation_rad = std::arg(a)};
 }
 
 CameraMotionErrorSummary SummariseCameraMotionError(std::span<const double> per_frame_px) {

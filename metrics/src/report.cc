@@ -248,6 +248,11 @@ std::string RunMetricsToJson(const RunMetrics& m) {
     j["camera_motion"] = {{"mode", m.camera_motion->mode}, {"frames", e.frames},
                           {"mean_px", Number(e.mean_px)},  {"median_px", Number(e.median_px)},
                           {"p95_px", Number(e.p95_px)},    {"max_px", Number(e.max_px)}};
+    const CameraMotionErrorSummary& f = m.camera_motion->floor;
+    j["camera_motion"]["floor"] = {{"mean_px", Number(f.mean_px)},
+                                   {"median_px", Number(f.median_px)},
+                                   {"p95_px", Number(f.p95_px)},
+                                   {"max_px", Number(f.max_px)}};
   }
   if (m.filters) {
     const FilterMetrics& f = *m.filters;

@@ -161,6 +161,8 @@ std::optional<SimilarityMotion> CameraMotionPass::Step(const FrameGroundTruth& c
     }
   }
   record.error_px = metrics::CornerDisplacementPx(record.motion, truth, width_, height_);
+  record.floor_px = metrics::CornerDisplacementPx(
+      metrics::CornerOptimalSimilarity(truth, width_, height_), truth, width_, height_);
   records_.push_back(record);
   previous_ = current;
   if (needs_images_) previous_image_ = *image;
@@ -173,6 +175,13 @@ metrics::CameraMotionErrorSummary CameraMotionPass::Summary() const {
   errors.reserve(records_.size());
   for (const CameraMotionRecord& r : records_) errors.push_back(r.error_px);
   return metrics::SummariseCameraMotionError(errors);
+}
+
+metrics::CameraMotionErrorSummary CameraMotionPass::FloorSummary() const {
+  std::vector<double> floors;
+  floors.reserve(records_.size());
+  for (const CameraMotionRecord& r : records_) floors.push_back(r.floor_px);
+  return metrics::SummariseCameraMotionError(floors);
 }
 
 }  // namespace hcpf::scenarios::internal

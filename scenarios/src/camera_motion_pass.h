@@ -26,6 +26,7 @@ struct CameraMotionRecord {
   int frame = 0;
   SimilarityMotion motion;  // applied to the target particles (identity for none)
   double error_px = 0.0;    // corner displacement against the true motion
+  double floor_px = 0.0;    // the same for the best similarity there is (CornerOptimalSimilarity)
   double ess = -1.0;        // scene filter ESS; -1 without a scene filter
 };
 
@@ -47,6 +48,8 @@ class CameraMotionPass {
                                        const RgbImage* image = nullptr);
   const std::vector<CameraMotionRecord>& records() const { return records_; }
   metrics::CameraMotionErrorSummary Summary() const;
+  // The per-frame floor (CameraMotionRecord::floor_px) summarised alike.
+  metrics::CameraMotionErrorSummary FloorSummary() const;
 
  private:
   std::vector<PointTrack> SimulateTracks(const FrameGroundTruth& previous,

@@ -265,7 +265,8 @@ RunSummary RunScenario(const Scenario& scenario, const RunOptions& options) {
   metrics::RunMetrics scores = metrics::ComputeRunMetrics(metrics_input);
   scores.camera_motion =
       metrics::CameraMotionScore{.mode = std::string(NameOf(scenario.tracker.camera_motion)),
-                                 .error = camera_motion.Summary()};
+                                 .error = camera_motion.Summary(),
+                                 .floor = camera_motion.FloorSummary()};
   timings["metrics_s"] = Seconds(t0);
   if (scores.detection) {
     spdlog::info("detection ({}): precision {:.3f}  recall {:.3f}  F1 {:.3f} (IoU >= 0.5)",

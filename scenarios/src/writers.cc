@@ -105,12 +105,12 @@ metrics::FilterSequence FilterInputs(const std::vector<FrameGroundTruth>& truth,
 }
 
 std::string FormatCameraMotionCsv(const std::vector<internal::CameraMotionRecord>& records) {
-  std::string csv = "frame,tx_px,ty_px,log_scale,rotation_rad,error_px,ess\n";
+  std::string csv = "frame,tx_px,ty_px,log_scale,rotation_rad,error_px,ess,floor_px\n";
   for (const internal::CameraMotionRecord& r : records) {
-    csv += fmt::format("{},{},{},{},{},{},{}\n", r.frame, FormatNumber(r.motion.tx_px),
+    csv += fmt::format("{},{},{},{},{},{},{},{}\n", r.frame, FormatNumber(r.motion.tx_px),
                        FormatNumber(r.motion.ty_px), FormatNumber(r.motion.log_scale),
                        FormatNumber(r.motion.rotation_rad), FormatNumber(r.error_px),
-                       r.ess < 0 ? "" : FormatNumber(r.ess));
+                       r.ess < 0 ? "" : FormatNumber(r.ess), FormatNumber(r.floor_px));
   }
   return csv;
 }

@@ -41,6 +41,10 @@ std::span<const CatalogueMetric> MetricCatalogue() {
       // camera motion against the true motion (none: the camera's own motion).
       {"camera_motion_error_px", "metrics.json", "/camera_motion/mean_px", false,
        "camera-motion error (mean corner displacement)", "px", kNonNegative},
+      // The same for the similarity closest to the true motion at the corners:
+      // the floor any similarity estimate has on these frames.
+      {"camera_motion_floor_px", "metrics.json", "/camera_motion/floor/mean_px", false,
+       "camera-motion error floor (best similarity)", "px", kNonNegative},
       // Rendered runs: detection quality against pixel-exact truth (IoU >= 0.5).
       {"det_precision", "metrics.json", "/detection/iou/precision", true, "detection precision", "",
        kProportion},

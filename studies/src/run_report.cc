@@ -40,7 +40,8 @@ constexpr std::uint64_t kMaxRunFileBytes = std::uint64_t{256} << 20;
 struct CameraMotionRow {
   double frame = 0.0;
   double error_px = kNaN;
-  double ess = kNaN;  // empty in the file: no scene filter (none, oracle)
+  double ess = kNaN;       // empty in the file: no scene filter (none, oracle)
+  double floor_px = kNaN;  // the best any similarity could do (files before it lack the column)
 };
 
 std::optional<double> ParseDouble(const std::string& text) {
@@ -88,6 +89,7 @@ std::vector<CameraMotionRow> ReadCameraMotionCsv(const fs::path& path) {
   const int frame_col = column("frame");
   const int error_col = column("error_px");
   const int ess_col = column("ess");
+  const int floor_col = column("floor_px");
   if (frame_col < 0 || error_col < 0) {
     throw InputError(SourceLocation{file, 1, 1, "header"},
                      "a header naming at least the columns frame and error_px "
@@ -122,6 +124,7 @@ std::vector<CameraMotionRow> ReadCameraMotionCsv(const fs::path& path) {
     row.frame = number(frame_col, false);
     row.error_px = number(error_col, false);
     if (ess_col >= 0) row.ess = number(ess_col, true);
+    if (floor_col >= 0) row.floor_px = number(floor_col, false);
     rows.push_back(row);
   }
   return rows;
@@ -151,18 +154,23 @@ std::string JsonText(const json& j, const char* key) {
   return j[key].is_string() ? j[key].get<std::string>() : j[key].dump();
 }
 
-// The per-frame plot: error_px on the left axis; ESS on the right when the
-// file has any. Returns the inline SVG.
+// The per-frame plot: error_px on the left axis with the similarity floor
+// when the file has it; ESS on the right when the file has any. Returns the
+// inline SVG.
 std::string CameraMotionSvg(const std::vector<CameraMotionRow>& rows, const std::string& mode,
-                            double mean_px, const fs::path& work, const std::string& gnuplot) {
+                            double mean_px, double floor_mean_px, const fs::path& work,
+                            const std::string& gnuplot) {
   const fs::path data = work / "camera_motion.dat";
   const fs::path svg = work / "camera_motion.svg";
   const fs::path script = work / "camera_motion.gp";
   bool has_ess = false;
-  std::string text = "# frame error_px ess\n";
+  bool has_floor = false;
+  std::string text = "# frame error_px ess floor_px\n";
   for (const CameraMotionRow& r : rows) {
     has_ess = has_ess || std::isfinite(r.ess);
-    text += fmt::format("{} {} {}\n", Number(r.frame), Number(r.error_px), Number(r.ess));
+    has_floor = has_floor || std::isfinite(r.floor_px);
+    text += fmt::format("{} {} {} {}\n", Number(r.frame), Number(r.error_px), Number(r.ess),
+                        Number(r.floor_px));
   }
   WriteTextFile(data.string(), text);
   std::string gp;
@@ -181,6 +189,13 @@ std::string CameraMotionSvg(const std::vector<CameraMotionRow>& rows, const std:
       "plot {} using 1:2 with lines lw 1.5 lc rgb '{}' title {}", GpString(data.string()),
       kPlotColours[0],
       GpString(fmt::format("camera-motion error ({}), mean {} px", mode, Number(mean_px))));
+  if (has_floor) {
+    plot += fmt::format(
+        ", \\\n     {} using 1:4 with lines lw 1.5 dt 2 lc rgb '{}' title {}",
+        GpString(data.string()), kPlotColours[2],
+        GpString(fmt::format("similarity floor (the best any similarity does), mean {} px",
+                             Number(floor_mean_px))));
+  }
   if (has_ess) {
     plot += fmt::format(", \\\n     {} using 1:3 axes x1y2 with lines lw 1 lc rgb '{}' title {}",
                         GpString(data.string()), kPlotColours[1],
@@ -232,7 +247,9 @@ ReportResult WriteRunReport(const ReportOptions& options) {
   if (!rows.empty()) {
     const fs::path work = MakePlotWorkDir(out, options.out_dir.empty());
     try {
-      svg = CameraMotionSvg(rows, mode, JsonDouble(camera, "mean_px"), work, options.gnuplot);
+      const json floor = camera.is_object() && camera.contains("floor") ? camera["floor"] : json();
+      svg = CameraMotionSvg(rows, mode, JsonDouble(camera, "mean_px"), JsonDouble(floor, "mean_px"),
+                            work, options.gnuplot);
     } catch (...) {
       fs::remove_all(work, ec);
       throw;
@@ -275,12 +292,21 @@ ReportResult WriteRunReport(const ReportOptions& options) {
     h += fmt::format(
         "<p>Mode <code>{}</code> (<code>tracker.camera_motion</code>). Error: the mean "
         "displacement of the four image corners between the applied and the true "
-        "frame-to-frame motion, over {} frames.</p>\n<table><tr><th>mean, px</th><th>median, "
-        "px</th><th>p95, px</th><th>max, px</th></tr>\n<tr><td>{}</td><td>{}</td><td>{}</td>"
-        "<td>{}</td></tr></table>\n",
+        "frame-to-frame motion, over {} frames; the floor is the same for the similarity "
+        "closest to the true motion at the corners, the best any similarity estimate "
+        "could do on these frames.</p>\n<table><tr><th></th><th>mean, px</th><th>median, "
+        "px</th><th>p95, px</th><th>max, px</th></tr>\n<tr><td>error</td><td>{}</td><td>{}"
+        "</td><td>{}</td><td>{}</td></tr>\n",
         EscapeMarkup(mode), EscapeMarkup(JsonText(camera, "frames")),
         Number(JsonDouble(camera, "mean_px")), Number(JsonDouble(camera, "median_px")),
         Number(JsonDouble(camera, "p95_px")), Number(JsonDouble(camera, "max_px")));
+    if (camera.contains("floor")) {
+      const json& floor = camera["floor"];
+      h += fmt::format("<tr><td>floor</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td></tr>\n",
+                       Number(JsonDouble(floor, "mean_px")), Number(JsonDouble(floor, "median_px")),
+                       Number(JsonDouble(floor, "p95_px")), Number(JsonDouble(floor, "max_px")));
+    }
+    h += "</table>\n";
   } else {
     h += "<p>metrics.json has no <code>camera_motion</code> block.</p>\n";
   }

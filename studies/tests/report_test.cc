@@ -10,6 +10,7 @@
 #include <filesystem>
 #include <fstream>
 #include <map>
+#include <nlohmann/json.hpp>
 #include <sstream>
 #include <vector>
 
@@ -283,7 +284,9 @@ TEST(RunReport, PlotsPerFrameCameraMotionErrorWithModeAndEss) {
   EXPECT_NE(svg.find("<svg"), std::string::npos);
   EXPECT_NE(svg.find("camera-motion error (scene_filter)"), std::string::npos) << "mode in legend";
   EXPECT_NE(svg.find("ESS"), std::string::npos) << "the scene filter's ESS";
-  EXPECT_GE(Count(svg, "<path"), 2U);
+  EXPECT_NE(svg.find("similarity floor"), std::string::npos) << "the floor's line";
+  EXPECT_GE(Count(svg, "<path"), 3U);
+  EXPECT_NE(html.find("<tr><td>floor</td>"), std::string::npos) << "the floor in the table";
   // The headline table: a row per measured catalogue metric.
   EXPECT_NE(html.find("<code>da_accuracy</code>"), std::string::npos);
   EXPECT_NE(html.find("<code>camera_motion_error_px</code>"), std::string::npos);
@@ -291,7 +294,7 @@ TEST(RunReport, PlotsPerFrameCameraMotionErrorWithModeAndEss) {
   EXPECT_NE(html.find("name: &quot;minimal&quot;"), std::string::npos) << "resolved scenario";
   EXPECT_FALSE(fs::exists(run / ".report-work")) << "work files removed";
 
-  // Every csv row is plotted: frame, error_px and ess (columns 1, 6, 7).
+  // Every csv row is plotted: frame, error_px, ess and floor_px (columns 1, 6, 7, 8).
   const auto csv = CsvRows(run / "camera_motion.csv");
   ASSERT_EQ(csv.size(), 19U) << "frames 1..19 of a 20-frame run";
   std::stringstream dat(Read(kept / "camera_motion.dat"));
@@ -300,11 +303,13 @@ TEST(RunReport, PlotsPerFrameCameraMotionErrorWithModeAndEss) {
   while (std::getline(dat, line)) {
     if (line.empty() || line[0] == '#') continue;
     ASSERT_LT(row, csv.size());
-    double frame = 0, error = 0, ess = 0;
-    std::stringstream(line) >> frame >> error >> ess;
+    double frame = 0, error = 0, ess = 0, floor = 0;
+    std::stringstream(line) >> frame >> error >> ess >> floor;
     EXPECT_EQ(frame, std::stod(csv[row][0]));
     EXPECT_NEAR(error, std::stod(csv[row][5]), 1e-5 * (1 + std::abs(error)));  // 6 digits
     EXPECT_NEAR(ess, std::stod(csv[row][6]), 1e-5 * (1 + std::abs(ess)));
+    EXPECT_NEAR(floor, std::stod(csv[row][7]), 1e-5 * (1 + std::abs(floor)));
+    EXPECT_LE(std::stod(csv[row][7]), std::stod(csv[row][5]) + 1e-9) << "no estimate beats it";
     ++row;
   }
   EXPECT_EQ(row, csv.size());
@@ -452,11 +457,8 @@ TEST(Report, CameraMotionSeriesPlotsCameraMotionError) {
   EXPECT_NE(svg.find("scene_filter"), std::string::npos);
 
   const auto mean_px = [](const fs::path& run_dir) {
-    const std::string json = Read(run_dir / "metrics.json");
-    const std::string key = "\"mean_px\":";
-    const size_t k = json.find(key);
-    EXPECT_NE(k, std::string::npos) << run_dir;
-    return std::stod(json.substr(k + key.size()));
+    const auto metrics = nlohmann::json::parse(Read(run_dir / "metrics.json"));
+    return metrics.at("camera_motion").at("mean_px").get<double>();
   };
   for (const char* mode : {"none", "scene_filter"}) {
     double sum = 0.0;

@@ -20,6 +20,18 @@ namespace hcpf::metrics {
 double CornerDisplacementPx(const SimilarityMotion& estimate,
                             const Eigen::Matrix3d& true_frame_to_frame, int width, int height);
 
+// The similarity with the lowest CornerDisplacementPx against
+// `true_frame_to_frame`: the floor of the camera-motion error for any
+// estimator whose motion model is a similarity (the rest is the homography's
+// perspective part). Minimising a sum of Euclidean norms of residuals that are
+// affine in (a, b) of c' = a c + b (complex form, a = exp(log_scale)
+// e^{i rotation}) is convex, so iteratively reweighted least squares
+// (Weiszfeld's iteration) from the corners' least-squares fit reaches the
+// global minimum; it stops when an iteration lowers the mean by less than
+// 1e-13 px, or after 500 iterations. Same errors as CornerDisplacementPx.
+SimilarityMotion CornerOptimalSimilarity(const Eigen::Matrix3d& true_frame_to_frame, int width,
+                                         int height);
+
 // Summary of per-frame camera-motion errors (px).
 struct CameraMotionErrorSummary {
   int frames = 0;  // values summarised; 0: every statistic below is 0

@@ -84,6 +84,9 @@ struct RunMetricsInput {
 struct CameraMotionScore {
   std::string mode;
   CameraMotionErrorSummary error;
+  // Per frame, the error of CornerOptimalSimilarity: what any similarity
+  // estimate could reach on these frames (the same for every mode).
+  CameraMotionErrorSummary floor;
 };
 struct RunMetrics {
   MotSummary mot;

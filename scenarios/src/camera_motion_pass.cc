@@ -63,6 +63,8 @@ CameraMotionPass::CameraMotionPass(const Scenario& scenario)
       options_(scenario.tracker.scene_filter),
       point_tracker_(scenario.point_tracker),
       ransac_(scenario.ransac),
+      perspective_(UsesPerspective(scenario)),
+      perspective_inlier_px_(scenario.perspective.inlier_px),
       width_(scenario.world.camera.width_px),
       height_(scenario.world.camera.height_px),
       points_rng_(Rng(scenario.seeds.observation).Fork("scene_points")) {
@@ -142,8 +144,30 @@ std::optional<SimilarityMotion> CameraMotionPass::Step(const FrameGroundTruth& c
         record.motion = filter_->Step(
             tracker::HomographyEvidence(truth, width_, height_, options_.sigma_px), exclude);
       } else {
-        record.motion = filter_->Step(
-            tracker::PointTrackEvidence(Tracks(current, exclude, image), options_), exclude);
+        std::vector<PointTrack> tracks = Tracks(current, exclude, image);
+        // The perspective stage (tracker.perspective): the homography's
+        // perspective terms fitted to the RANSAC similarity's inliers, taken
+        // out of the tracks, so the filter estimates the similarity that is
+        // the homography's numerator; the applied motion is the similarity
+        // closest to the whole homography at the corners.
+        std::optional<Eigen::Vector2d> gh;
+        const Eigen::Vector2d centre(0.5 * width_, 0.5 * height_);
+        if (perspective_) {
+          std::vector<PointTrack> background = tracks;
+          std::erase_if(background, [&](const PointTrack& t) {
+            return tracker::InsideDilatedBoxes(t.p, exclude, options_.mask_dilation_px);
+          });
+          if (const auto guide = vision::EstimateSimilarityRansac(background, ransac_)) {
+            gh = vision::FitPerspective(background, *guide, perspective_inlier_px_, centre);
+          }
+          if (gh) tracks = vision::RemovePerspective(tracks, *gh, centre);
+        }
+        record.motion =
+            filter_->Step(tracker::PointTrackEvidence(std::move(tracks), options_), exclude);
+        if (gh) {
+          record.motion = metrics::CornerOptimalSimilarity(
+              vision::PerspectiveHomography(record.motion, *gh, centre), width_, height_);
+        }
       }
       record.ess = filter_->LastReport().ess;
       break;

@@ -62,6 +62,8 @@ class CameraMotionPass {
   tracker::SceneMotionOptions options_;
   vision::PointTrackerOptions point_tracker_;
   vision::RansacOptions ransac_;
+  bool perspective_ = false;  // UsesPerspective
+  double perspective_inlier_px_ = 2.0;
   int width_;
   int height_;
   bool needs_images_ = false;

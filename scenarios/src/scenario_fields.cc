@@ -321,8 +321,14 @@ bool UsesPointTracker(const Scenario& scenario) {
           mode == tracker::CameraMotionMode::kRansac);
 }
 
+bool UsesPerspective(const Scenario& scenario) {
+  return scenario.perspective.enabled &&
+         scenario.tracker.camera_motion == tracker::CameraMotionMode::kSceneFilter;
+}
+
 bool UsesRansac(const Scenario& scenario) {
-  return scenario.tracker.camera_motion == tracker::CameraMotionMode::kRansac;
+  return scenario.tracker.camera_motion == tracker::CameraMotionMode::kRansac ||
+         UsesPerspective(scenario);
 }
 
 bool ObservationOptions::Uses(std::string_view name) const {

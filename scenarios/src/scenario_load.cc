@@ -285,6 +285,7 @@ void ReadTracker(YamlReader r, Scenario* s) {
   ReadSection(r, "scene_filter", &t->scene_filter);
   ReadSection(r, "point_tracker", &s->point_tracker);
   ReadSection(r, "ransac", &s->ransac);
+  ReadSection(r, "perspective", &s->perspective);
   r.Finish();
   if (s->tracker_choice.external()) {
     // The particle filter's keys were read (so a misspelt key is still an
@@ -293,6 +294,7 @@ void ReadTracker(YamlReader r, Scenario* s) {
     s->tracker = {};
     s->point_tracker = {};
     s->ransac = {};
+    s->perspective = {};
   }
 }
 
@@ -392,6 +394,22 @@ Scenario ReadScenario(YamlReader root, const std::string& file) {
     s.tracker.Validate();
     s.point_tracker.Validate();
     s.ransac.Validate();
+    s.perspective.Validate();
+    if (s.perspective.enabled && !s.tracker_choice.external()) {
+      if (s.tracker.camera_motion != tracker::CameraMotionMode::kSceneFilter) {
+        FailOption("tracker.perspective", "enabled",
+                   "false, or true with tracker.camera_motion: scene_filter (the perspective "
+                   "stage belongs to the scene filter)",
+                   std::string("true with camera_motion: ") +
+                       std::string(NameOf(s.tracker.camera_motion)));
+      }
+      if (s.tracker.scene_filter.evidence == tracker::SceneEvidenceKind::kOracle) {
+        FailOption("tracker.perspective", "enabled",
+                   "false, or true with scene_filter.evidence simulated or image (it fits point "
+                   "tracks)",
+                   "true with scene_filter.evidence: oracle");
+      }
+    }
     s.observation.Validate(s.tracker);
     if (s.tracker_choice.external() && s.observation.search == SearchMode::kWindow) {
       FailOption("observation", "search",

@@ -147,6 +147,7 @@ std::string ToResolvedYaml(const Scenario& s) {
     w.Section("scene_filter", t.scene_filter);
     if (UsesPointTracker(s)) w.Section("point_tracker", s.point_tracker);
     if (UsesRansac(s)) w.Section("ransac", s.ransac);
+    if (UsesPerspective(s)) w.Section("perspective", s.perspective);
   }
   w.End();
 

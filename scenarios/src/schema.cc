@@ -172,6 +172,7 @@ std::string SchemaMarkdown(const std::string& section) {
     AppendRows(out, "scene_filter.", tracker::SceneMotionOptions::Fields());
     AppendRows(out, "point_tracker.", vision::PointTrackerOptions::Fields());
     AppendRows(out, "ransac.", vision::RansacOptions::Fields());
+    AppendRows(out, "perspective.", vision::PerspectiveOptions::Fields());
   } else if (section == "metrics") {
     AppendRows(out, "", metrics::FilterMetricsOptions::Fields());
     AppendRows(out, "", metrics::PointMetricsOptions::Fields());

@@ -310,6 +310,56 @@ TEST(CameraMotion, HierarchicalChargedFilterMeetsTheClimbTarget) {
             metrics["scene_filter"]["filters"]["da_accuracy"].get<double>());
 }
 
+// Issue 12's camera-motion targets, with the scene filter's perspective
+// stage (tracker.perspective.enabled): on rendered climb the mean error is
+// <= 0.07 px and below the common recipe's (RANSAC similarity on the same
+// tracks: 0.0734; with the stage 0.0690, the similarity floor 0.0656); on
+// the strong-motion scene mean and p95 are both below the recipe's (0.535 /
+// 0.924 against 0.596 / 1.011). Deterministic runs: the bounds are the
+// issue's targets. The section is written to the resolved YAML only when it
+// takes effect, and bad combinations name the key.
+TEST(CameraMotion, PerspectiveStageMeetsTheCameraMotionTargets) {
+  const fs::path dir = FreshDir("camera-motion-perspective");
+  std::map<std::string, nlohmann::json> camera;
+  for (const std::string scene : {"climb", "climb-yaw-dive"}) {
+    for (const std::string mode : {"ransac", "perspective"}) {
+      const std::string sets = mode == "ransac" ? " --set tracker.camera_motion=ransac"
+                                                : " --set tracker.camera_motion=scene_filter"
+                                                  " --set tracker.perspective.enabled=true";
+      const fs::path out = dir / (scene + "-" + mode);
+      const auto r = RunCommand(std::string(HCPF_EXE) + " run " + testing::LibraryScenario(scene) +
+                                " --set observation.source=rendered"
+                                " --set tracker.scene_filter.evidence=image" +
+                                sets + " --out " + out.string());
+      ASSERT_EQ(r.exit_code, 0) << r.output;
+      camera[scene + "-" + mode] =
+          nlohmann::json::parse(ReadFile(out / "metrics.json")).at("camera_motion");
+      const std::string resolved = ReadFile(out / "scenario.resolved.yaml");
+      EXPECT_EQ(resolved.find("perspective:") != std::string::npos, mode == "perspective")
+          << resolved;
+    }
+  }
+  const auto mean = [&](const std::string& k) { return camera[k]["mean_px"].get<double>(); };
+  const auto p95 = [&](const std::string& k) { return camera[k]["p95_px"].get<double>(); };
+  EXPECT_LE(mean("climb-perspective"), 0.07);
+  EXPECT_LT(mean("climb-perspective"), mean("climb-ransac"));
+  EXPECT_GE(mean("climb-perspective"),
+            camera["climb-perspective"]["floor"]["mean_px"].get<double>());
+  EXPECT_LT(mean("climb-yaw-dive-perspective"), mean("climb-yaw-dive-ransac"));
+  EXPECT_LT(p95("climb-yaw-dive-perspective"), p95("climb-yaw-dive-ransac"));
+
+  for (const std::string bad :
+       {" --set tracker.camera_motion=ransac --set tracker.perspective.enabled=true",
+        " --set tracker.camera_motion=scene_filter --set tracker.scene_filter.evidence=oracle"
+        " --set tracker.perspective.enabled=true",
+        " --set tracker.perspective.inlier_px=0"}) {
+    const auto r =
+        RunCommand(std::string(HCPF_EXE) + " validate " + testing::LibraryScenario("climb") + bad);
+    EXPECT_EQ(r.exit_code, 2) << bad << "\n" << r.output;
+    EXPECT_NE(r.output.find("tracker.perspective"), std::string::npos) << r.output;
+  }
+}
+
 TEST(CameraMotion, ImageEvidenceFeedsTheSceneFilterAndTheRansacBaseline) {
   // Rendered climb, corners tracked by pyramidal LK (issue 12 items 2 and 3).
   // The oracle mode (the best similarity to the true motion) is the floor;

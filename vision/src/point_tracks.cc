@@ -4,6 +4,7 @@
 
 #include <fmt/format.h>
 
+#include <Eigen/Cholesky>
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
@@ -130,6 +131,86 @@ std::span<const Field<RansacOptions>> RansacOptions::Fields() {
 
 void RansacOptions::Validate(std::string_view prefix) const {
   CheckFields(*this, Fields(), prefix);
+}
+
+std::span<const Field<PerspectiveOptions>> PerspectiveOptions::Fields() {
+  using O = PerspectiveOptions;
+  static const std::vector<Field<O>> fields = {
+      FlagField("enabled", &O::enabled,
+                "camera_motion scene_filter: fit the perspective terms of the frame-to-frame "
+                "homography to the tracks, let the scene filter estimate the rest, and apply "
+                "the similarity closest to that homography at the image corners"),
+      NumberField("inlier_px", &O::inlier_px, AboveUpTo(0, 100), "px",
+                  "tracks within this of the RANSAC similarity enter the perspective fit"),
+  };
+  return fields;
+}
+
+void PerspectiveOptions::Validate(std::string_view prefix) const {
+  CheckFields(*this, Fields(), prefix);
+}
+
+std::optional<Eigen::Vector2d> FitPerspective(std::span<const PointTrack> tracks,
+                                              const SimilarityMotion& guide, double inlier_px,
+                                              const Eigen::Vector2d& centre) {
+  const double k = std::exp(guide.log_scale);
+  const double ga = k * std::cos(guide.rotation_rad);
+  const double gb = k * std::sin(guide.rotation_rad);
+  using Vec6 = Eigen::Matrix<double, 6, 1>;
+  Eigen::Matrix<double, 6, 6> normal = Eigen::Matrix<double, 6, 6>::Zero();
+  Vec6 rhs = Vec6::Zero();
+  int used = 0;
+  for (const PointTrack& t : tracks) {
+    if (!t.p.allFinite() || !t.q.allFinite()) continue;
+    const double ex = ga * t.p.x() - gb * t.p.y() + guide.tx_px - t.q.x();
+    const double ey = gb * t.p.x() + ga * t.p.y() + guide.ty_px - t.q.y();
+    if (!(std::hypot(ex, ey) <= inlier_px)) continue;
+    const Eigen::Vector2d x = t.p - centre;
+    const Eigen::Vector2d q = t.q - centre;
+    // Unknowns (a, b, tx, ty, g, h): q = a x + t - q (g x + h y), complex a = a + i b.
+    Vec6 row_x, row_y;
+    row_x << x.x(), -x.y(), 1.0, 0.0, -q.x() * x.x(), -q.x() * x.y();
+    row_y << x.y(), x.x(), 0.0, 1.0, -q.y() * x.x(), -q.y() * x.y();
+    normal += row_x * row_x.transpose() + row_y * row_y.transpose();
+    rhs += row_x * q.x() + row_y * q.y();
+    ++used;
+  }
+  if (used < 8) return std::nullopt;
+  const Eigen::LLT<Eigen::Matrix<double, 6, 6>> llt(normal);
+  if (llt.info() != Eigen::Success) return std::nullopt;
+  const Vec6 v = llt.solve(rhs);
+  if (!v.allFinite()) return std::nullopt;
+  return Eigen::Vector2d(v(4), v(5));
+}
+
+Eigen::Matrix3d PerspectiveHomography(const SimilarityMotion& numerator, const Eigen::Vector2d& gh,
+                                      const Eigen::Vector2d& centre) {
+  const double k = std::exp(numerator.log_scale);
+  const double a = k * std::cos(numerator.rotation_rad);
+  const double b = k * std::sin(numerator.rotation_rad);
+  // S about the centre: S_c(x) = S(x + c) - c = A x + (A c + t - c).
+  const Eigen::Vector2d t_c(a * centre.x() - b * centre.y() + numerator.tx_px - centre.x(),
+                            b * centre.x() + a * centre.y() + numerator.ty_px - centre.y());
+  Eigen::Matrix3d centred;
+  centred << a, -b, t_c.x(), b, a, t_c.y(), gh.x(), gh.y(), 1.0;
+  Eigen::Matrix3d to_centred = Eigen::Matrix3d::Identity();
+  to_centred(0, 2) = -centre.x();
+  to_centred(1, 2) = -centre.y();
+  Eigen::Matrix3d from_centred = Eigen::Matrix3d::Identity();
+  from_centred(0, 2) = centre.x();
+  from_centred(1, 2) = centre.y();
+  return from_centred * centred * to_centred;
+}
+
+std::vector<PointTrack> RemovePerspective(std::span<const PointTrack> tracks,
+                                          const Eigen::Vector2d& gh,
+                                          const Eigen::Vector2d& centre) {
+  std::vector<PointTrack> out(tracks.begin(), tracks.end());
+  for (PointTrack& t : out) {
+    const Eigen::Vector2d x = t.p - centre;
+    t.q = centre + (t.q - centre) * (1.0 + gh.dot(x));
+  }
+  return out;
 }
 
 std::vector<PointTrack> TrackBackgroundPoints(const ImageView& previous, const ImageView& current,

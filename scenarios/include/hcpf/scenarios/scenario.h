@@ -182,6 +182,8 @@ struct Scenario {
   // shared by scene_filter and ransac; the RANSAC baseline's settings).
   vision::PointTrackerOptions point_tracker;
   vision::RansacOptions ransac;
+  // `tracker.perspective.*`: the scene filter's perspective stage.
+  vision::PerspectiveOptions perspective;
   MetricsConfig metrics;
   // Which of `seeds` the input gave explicitly (bits kPinned*): Reseeded keeps
   // those and derives the others from the new seed.
@@ -197,6 +199,11 @@ struct Scenario {
 // config hash) holds a section only when it takes effect.
 bool UsesPointTracker(const Scenario& scenario);
 bool UsesRansac(const Scenario& scenario);
+// Whether the scene filter's perspective stage runs (tracker.perspective.enabled
+// with camera_motion scene_filter; written to the resolved YAML only then,
+// so every other scenario's config hash is unchanged). It fits the RANSAC
+// similarity for its inliers, so `tracker.ransac` takes effect too.
+bool UsesPerspective(const Scenario& scenario);
 
 // The declared fields of the scenario's own keys (scenario_fields.cc), from
 // which the reader, the resolved-YAML writer and docs/scenario.md are made;

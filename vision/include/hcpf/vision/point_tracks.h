@@ -108,4 +108,37 @@ struct RansacOptions {
 std::optional<SimilarityMotion> EstimateSimilarityRansac(std::span<const PointTrack> tracks,
                                                          const RansacOptions& options);
 
+// `tracker.perspective.*`: the scene filter's perspective stage (docs/tracker.md).
+struct PerspectiveOptions {
+  // Whether the scene filter fits the perspective terms each frame.
+  bool enabled = false;
+  // Tracks within this of the RANSAC similarity enter the fit, px.
+  double inlier_px = 2.0;
+  static std::span<const Field<PerspectiveOptions>> Fields();
+  void Validate(std::string_view prefix = "tracker.perspective") const;
+};
+
+// The perspective terms (g, h) of a frame-to-frame homography of the form
+//   H = [a -b tx; b a ty; g h 1]  (a similarity with perspective)
+// in coordinates centred on `centre` (x = p - centre), fitted by linear least
+// squares over the tracks that `guide` maps within `inlier_px` of their q:
+// q (1 + g x + h y) = a x + t (complex form; every track two rows of a
+// 6-parameter system, DLT-style). nullopt with fewer than 8 such tracks or a
+// system that is not positive definite. Cost O(n).
+std::optional<Eigen::Vector2d> FitPerspective(std::span<const PointTrack> tracks,
+                                              const SimilarityMotion& guide, double inlier_px,
+                                              const Eigen::Vector2d& centre);
+
+// The homography in pixels of similarity `numerator` (pixels) with perspective
+// terms `gh` in coordinates centred on `centre`: q = S(p) / (1 + g x + h y) in
+// centred coordinates, where S is `numerator` re-expressed about `centre`.
+Eigen::Matrix3d PerspectiveHomography(const SimilarityMotion& numerator, const Eigen::Vector2d& gh,
+                                      const Eigen::Vector2d& centre);
+
+// The tracks with q replaced by q' = centre + (q - centre) (1 + g x + h y):
+// the points a similarity maps p to when the motion is
+// PerspectiveHomography(S, gh, centre).
+std::vector<PointTrack> RemovePerspective(std::span<const PointTrack> tracks,
+                                          const Eigen::Vector2d& gh, const Eigen::Vector2d& centre);
+
 }  // namespace hcpf::vision

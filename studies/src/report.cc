@@ -302,6 +302,9 @@ std::string PlotSvg(const Layout& layout, const std::string& metric, const std::
   const fs::path script = work / fmt::format("plot_{}.gp", p);
   std::string text;
   std::vector<bool> has_data(lines.size(), false);
+  // The smallest and largest value drawn (means and band edges), for the y axis.
+  double y_min = std::numeric_limits<double>::infinity();
+  double y_max = -std::numeric_limits<double>::infinity();
   for (size_t l = 0; l < lines.size(); ++l) {
     std::vector<std::pair<double, const Cell*>> points;
     for (const Cell* c : layout.line_cells.at(lines[l])) {
@@ -319,6 +322,9 @@ std::string PlotSvg(const Layout& layout, const std::string& metric, const std::
       const Interval& s = c->stats.at(metric);
       if (s.n == 0) continue;
       has_data[l] = true;
+      for (const double v : {s.mean, s.lower, s.upper}) {
+        if (std::isfinite(v)) y_min = std::min(y_min, v), y_max = std::max(y_max, v);
+      }
       text +=
           fmt::format("{} {} {} {}\n", Number(x), Number(s.mean), Number(s.lower), Number(s.upper));
     }
@@ -360,6 +366,12 @@ std::string PlotSvg(const Layout& layout, const std::string& metric, const std::
                            : "set grid\nset key outside right top noenhanced\n";
   gp += "set style fill transparent solid 0.18 noborder\n";
   if (log_x) gp += "set logscale x\n";
+  // A logarithmic y axis when every value drawn is positive and they span
+  // more than 20x (a camera-motion error of 2.3 px beside ones of 0.07 px:
+  // on a linear axis the small ones are one line at the bottom). Not for
+  // differences, which change sign.
+  const bool log_y = !difference && y_min > 0.0 && y_max / y_min > 20.0;
+  if (log_y) gp += "set logscale y\n";
   if (!numeric_x) {
     std::string tics;
     for (size_t i = 0; i < x_values.size(); ++i) {
@@ -388,7 +400,8 @@ std::string PlotSvg(const Layout& layout, const std::string& metric, const std::
     // external tracker has no particle filters to score). An empty frame on a
     // linear axis: [0, 1] is not a range a log axis can take.
     gp +=
-        "unset logscale x\nset label 1 'no values of this metric' at graph 0.5, 0.5 center\n"
+        "unset logscale x\nunset logscale y\n"
+        "set label 1 'no values of this metric' at graph 0.5, 0.5 center\n"
         "plot [0:1] [0:1] NaN notitle\n";
   } else {
     gp += "plot " + fmt::format("{}", fmt::join(plots, ", \\\n     ")) + "\n";

@@ -204,8 +204,8 @@ class GlSceneRenderer final : public SceneRenderer {
   Eigen::Matrix4f LightViewProj(const CameraState& camera, double* depth_range_m) const;
   Eigen::Matrix4f ViewProj(const CameraState& camera, double* far_m) const;
   // The count pass's bookkeeping for one target of a submitted frame.
+  // count[i] belongs to targets[i].
   struct CountTarget {
-    size_t target = 0;  // index in InFlight::targets
     double u_lo = 0.0, v_lo = 0.0, u_hi = 0.0, v_hi = 0.0;
     bool behind = false;
     bool any_in_front = false;
@@ -229,13 +229,12 @@ class GlSceneRenderer final : public SceneRenderer {
     double far_m = 0.0;
     std::vector<TargetInstance> targets;
     std::vector<CountTarget> count;
-    std::vector<CountLayer> layers;
-    size_t count_bytes = 0;
+    std::vector<CountLayer> layers;  // packed one after the other in count_pbo
     GLuint colour_pbo = 0, depth_pbo = 0, count_pbo = 0;
     size_t colour_capacity = 0, depth_capacity = 0, count_capacity = 0;
     GLsync fence = nullptr;
   };
-  void SubmitCountPass(InFlight& s);
+  void SubmitCountPass(InFlight& s, const Eigen::Matrix4f& view_proj);
   FrameGroundTruth GroundTruth(InFlight& s, const std::vector<uint8_t>& rgba);
   // Binds `buffer` (created on first use) to GL_PIXEL_PACK_BUFFER with room
   // for `bytes`.
@@ -1118,7 +1117,7 @@ void GlSceneRenderer::Submit(int frame) {
   gl_.CheckError("readback");
   s.count.clear();
   s.layers.clear();
-  if (options_.ground_truth) SubmitCountPass(s);
+  if (options_.ground_truth) SubmitCountPass(s, view_proj);
   s.fence = gl_.FenceSync(GL_SYNC_GPU_COMMANDS_COMPLETE, 0);
   gl_.Flush();
   gl_.CheckError("submit");
@@ -1197,7 +1196,7 @@ RenderedFrame GlSceneRenderer::Collect() {
   return out;
 }
 
-void GlSceneRenderer::SubmitCountPass(InFlight& s) {
+void GlSceneRenderer::SubmitCountPass(InFlight& s, const Eigen::Matrix4f& view_proj) {
   // Count pass: each target alone (same program, same vertex stage, so the
   // same pixels as in the colour pass) inside a scissor around its projected
   // vertices. Targets whose scissors do not overlap share one layer: one
@@ -1210,7 +1209,6 @@ void GlSceneRenderer::SubmitCountPass(InFlight& s) {
     const TargetInstance& t = s.targets[i];
     CountTarget& p = s.count[i];
     p = CountTarget{};
-    p.target = i;
     p.u_lo = p.v_lo = std::numeric_limits<double>::max();
     p.u_hi = p.v_hi = -std::numeric_limits<double>::max();
     for (const Eigen::Vector3f& q : models_[target_model_[t.slot]].positions) {
@@ -1284,19 +1282,15 @@ void GlSceneRenderer::SubmitCountPass(InFlight& s) {
 
   gl_.BindFramebuffer(GL_FRAMEBUFFER, main_fbo_);
   Use(id_program_);
-  {
-    // Same view-projection as the colour pass (identical vertex stage).
-    double far_m = 0.0;
-    const Eigen::Matrix4f view_proj = ViewProj(camera, &far_m);
-    gl_.UniformMatrix4fv(U("u_view_proj"), 1, GL_FALSE, view_proj.data());
-  }
+  // The colour pass's view-projection (identical vertex stage).
+  gl_.UniformMatrix4fv(U("u_view_proj"), 1, GL_FALSE, view_proj.data());
   gl_.Enable(GL_SCISSOR_TEST);
   gl_.ClearColor(0.0f, 0.0f, 0.0f, 0.0f);
   EnsurePackBuffer(s.count_pbo, s.count_capacity, bytes);
   for (const CountLayer& layer : s.layers) {
     for (size_t i : layer.members) {
       const CountTarget& p = s.count[i];
-      const TargetInstance& t = s.targets[p.target];
+      const TargetInstance& t = s.targets[i];
       gl_.Scissor(p.sx0, p.sy0, p.sx1 - p.sx0, p.sy1 - p.sy0);
       gl_.Clear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
       gl_.Uniform1f(U("u_id"), static_cast<float>(t.slot + 1) / 255.0f);
@@ -1309,7 +1303,6 @@ void GlSceneRenderer::SubmitCountPass(InFlight& s) {
   gl_.BindBuffer(GL_PIXEL_PACK_BUFFER, 0);
   gl_.Disable(GL_SCISSOR_TEST);
   gl_.CheckError("ground-truth pass");
-  s.count_bytes = bytes;
 }
 
 FrameGroundTruth GlSceneRenderer::GroundTruth(InFlight& s, const std::vector<uint8_t>& rgba) {
@@ -1336,14 +1329,15 @@ FrameGroundTruth GlSceneRenderer::GroundTruth(InFlight& s, const std::vector<uin
 
   // Unoccluded totals and amodal bounds from the count pass's layers.
   if (!s.layers.empty()) {
-    region_.resize(s.count_bytes);
-    ReadPackBuffer(s.count_pbo, s.count_bytes, region_.data());
+    const CountLayer& last = s.layers.back();
+    region_.resize(last.offset + 4 * static_cast<size_t>(last.w) * last.h);
+    ReadPackBuffer(s.count_pbo, region_.size(), region_.data());
   }
   for (const CountLayer& layer : s.layers) {
     const uint8_t* base = region_.data() + layer.offset;
     for (size_t i : layer.members) {
       CountTarget& p = s.count[i];
-      const auto id = static_cast<uint8_t>(s.targets[p.target].slot + 1);
+      const auto id = static_cast<uint8_t>(s.targets[i].slot + 1);
       for (int y = p.sy0; y < p.sy1; ++y) {
         const uint8_t* row = base + 4 * (static_cast<size_t>(y - layer.y0) * layer.w);
         for (int x = p.sx0; x < p.sx1; ++x) {
@@ -1358,8 +1352,9 @@ FrameGroundTruth GlSceneRenderer::GroundTruth(InFlight& s, const std::vector<uin
     }
   }
   const BoxPx image{0.0, 0.0, static_cast<double>(width_), static_cast<double>(height_)};
-  for (CountTarget& p : s.count) {
-    const TargetInstance& t = s.targets[p.target];
+  for (size_t i = 0; i < s.count.size(); ++i) {
+    const CountTarget& p = s.count[i];
+    const TargetInstance& t = s.targets[i];
     const TargetSpec& spec = world_.targets[t.slot];
     GroundTruthObject obj;
     obj.id = spec.id;

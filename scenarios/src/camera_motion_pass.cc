@@ -120,6 +120,14 @@ std::vector<PointTrack> CameraMotionPass::Tracks(const FrameGroundTruth& current
                                        point_tracker_);
 }
 
+std::vector<PointTrack> CameraMotionPass::Background(std::vector<PointTrack> tracks,
+                                                     std::span<const BoxPx> exclude) const {
+  std::erase_if(tracks, [&](const PointTrack& t) {
+    return tracker::InsideDilatedBoxes(t.p, exclude, options_.mask_dilation_px);
+  });
+  return tracks;
+}
+
 std::optional<SimilarityMotion> CameraMotionPass::Step(const FrameGroundTruth& current,
                                                        std::span<const BoxPx> exclude,
                                                        const RgbImage* image) {
@@ -153,10 +161,7 @@ std::optional<SimilarityMotion> CameraMotionPass::Step(const FrameGroundTruth& c
         std::optional<Eigen::Vector2d> gh;
         const Eigen::Vector2d centre(0.5 * width_, 0.5 * height_);
         if (perspective_) {
-          std::vector<PointTrack> background = tracks;
-          std::erase_if(background, [&](const PointTrack& t) {
-            return tracker::InsideDilatedBoxes(t.p, exclude, options_.mask_dilation_px);
-          });
+          const std::vector<PointTrack> background = Background(tracks, exclude);
           if (const auto guide = vision::EstimateSimilarityRansac(background, ransac_)) {
             gh = vision::FitPerspective(background, *guide, perspective_inlier_px_, centre);
           }
@@ -175,12 +180,9 @@ std::optional<SimilarityMotion> CameraMotionPass::Step(const FrameGroundTruth& c
       // The common recipe: RANSAC on the same tracks, targets masked as for
       // the scene filter; identity when too few tracks survive (the
       // documented fallback of a low-texture frame).
-      std::vector<PointTrack> tracks = Tracks(current, exclude, image);
-      std::erase_if(tracks, [&](const PointTrack& t) {
-        return tracker::InsideDilatedBoxes(t.p, exclude, options_.mask_dilation_px);
-      });
-      record.motion =
-          vision::EstimateSimilarityRansac(tracks, ransac_).value_or(SimilarityMotion{});
+      record.motion = vision::EstimateSimilarityRansac(
+                          Background(Tracks(current, exclude, image), exclude), ransac_)
+                          .value_or(SimilarityMotion{});
       break;
     }
   }
@@ -194,18 +196,12 @@ std::optional<SimilarityMotion> CameraMotionPass::Step(const FrameGroundTruth& c
   return record.motion;
 }
 
-metrics::CameraMotionErrorSummary CameraMotionPass::Summary() const {
-  std::vector<double> errors;
-  errors.reserve(records_.size());
-  for (const CameraMotionRecord& r : records_) errors.push_back(r.error_px);
-  return metrics::SummariseCameraMotionError(errors);
-}
-
-metrics::CameraMotionErrorSummary CameraMotionPass::FloorSummary() const {
-  std::vector<double> floors;
-  floors.reserve(records_.size());
-  for (const CameraMotionRecord& r : records_) floors.push_back(r.floor_px);
-  return metrics::SummariseCameraMotionError(floors);
+metrics::CameraMotionErrorSummary CameraMotionPass::Summarise(
+    double CameraMotionRecord::*column) const {
+  std::vector<double> values;
+  values.reserve(records_.size());
+  for (const CameraMotionRecord& r : records_) values.push_back(r.*column);
+  return metrics::SummariseCameraMotionError(values);
 }
 
 }  // namespace hcpf::scenarios::internal

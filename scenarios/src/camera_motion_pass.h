@@ -47,9 +47,13 @@ class CameraMotionPass {
                                        std::span<const BoxPx> exclude,
                                        const RgbImage* image = nullptr);
   const std::vector<CameraMotionRecord>& records() const { return records_; }
-  metrics::CameraMotionErrorSummary Summary() const;
-  // The per-frame floor (CameraMotionRecord::floor_px) summarised alike.
-  metrics::CameraMotionErrorSummary FloorSummary() const;
+  // The per-frame errors summarised, and the per-frame floors alike.
+  metrics::CameraMotionErrorSummary Summary() const {
+    return Summarise(&CameraMotionRecord::error_px);
+  }
+  metrics::CameraMotionErrorSummary FloorSummary() const {
+    return Summarise(&CameraMotionRecord::floor_px);
+  }
 
  private:
   std::vector<PointTrack> SimulateTracks(const FrameGroundTruth& previous,
@@ -57,6 +61,12 @@ class CameraMotionPass {
   // The frame's point tracks from the configured evidence (simulated or image).
   std::vector<PointTrack> Tracks(const FrameGroundTruth& current, std::span<const BoxPx> exclude,
                                  const RgbImage* image) const;
+  // `tracks` without those starting inside the targets' dilated boxes (what
+  // PointTrackEvidence ignores): the input of RANSAC, in the ransac mode and
+  // the perspective stage.
+  metrics::CameraMotionErrorSummary Summarise(double CameraMotionRecord::*column) const;
+  std::vector<PointTrack> Background(std::vector<PointTrack> tracks,
+                                     std::span<const BoxPx> exclude) const;
 
   tracker::CameraMotionMode mode_;
   tracker::SceneMotionOptions options_;

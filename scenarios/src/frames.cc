@@ -66,11 +66,9 @@ SceneFrames ProduceFrames(const Scenario& scenario, const FrameSourceOptions& op
   // truth, sensor effects, the cache write, on_frame). Frames come back in
   // order and byte-identical to unpipelined rendering.
   std::deque<int> submitted;
-  const auto render_ahead = [&](int f) {
-    if (f < frames && !(cache && cache->Contains(f))) {
-      scene->Submit(f);
-      submitted.push_back(f);
-    }
+  const auto submit = [&](int f) {
+    scene->Submit(f);
+    submitted.push_back(f);
   };
   Progress progress("render", frames, options.show_progress);
   for (int f = 0; f < frames; ++f) {
@@ -85,11 +83,8 @@ SceneFrames ProduceFrames(const Scenario& scenario, const FrameSourceOptions& op
             renderer::SceneRenderer::Create(scenario.world, ropts, Rng(scenario.seeds.renderer));
         out.gl = scene->gl_info();
       }
-      if (!in_flight) {
-        scene->Submit(f);
-        submitted.push_back(f);
-      }
-      render_ahead(f + 1);
+      if (!in_flight) submit(f);
+      if (f + 1 < frames && !(cache && cache->Contains(f + 1))) submit(f + 1);
       frame = scene->Collect();
       HCPF_CHECK(frame->frame == f) << "collected frame " << frame->frame << ", expected " << f;
       submitted.pop_front();

@@ -30,9 +30,6 @@ double CornerDisplacementPx(const SimilarityMotion& estimate,
     throw InputError(fmt::format(
         "camera-motion error: image size must be at least 1 x 1, got {} x {}", width, height));
   }
-  const double scale = std::exp(estimate.log_scale);
-  const double a = scale * std::cos(estimate.rotation_rad);
-  const double b = scale * std::sin(estimate.rotation_rad);
   const double w = width;
   const double h = height;
   double sum = 0.0;
@@ -45,9 +42,7 @@ double CornerDisplacementPx(const SimilarityMotion& estimate,
           "expected a positive number",
           c.x(), c.y(), t.z()));
     }
-    const Eigen::Vector2d s(a * c.x() - b * c.y() + estimate.tx_px,
-                            b * c.x() + a * c.y() + estimate.ty_px);
-    sum += (s - Eigen::Vector2d(t.x() / t.z(), t.y() / t.z())).norm();
+    sum += (Apply(estimate, c) - Eigen::Vector2d(t.x() / t.z(), t.y() / t.z())).norm();
   }
   return sum / 4.0;
 }

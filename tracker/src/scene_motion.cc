@@ -67,13 +67,6 @@ void SceneMotionOptions::Validate(std::string_view prefix) const {
   }
 }
 
-Eigen::Vector2d Apply(const SimilarityMotion& motion, const Eigen::Vector2d& p) {
-  const double scale = std::exp(motion.log_scale);
-  const double a = scale * std::cos(motion.rotation_rad);
-  const double b = scale * std::sin(motion.rotation_rad);
-  return {a * p.x() - b * p.y() + motion.tx_px, b * p.x() + a * p.y() + motion.ty_px};
-}
-
 PointTrackEvidence::PointTrackEvidence(std::vector<PointTrack> tracks,
                                        const SceneMotionOptions& options)
     : tracks_(std::move(tracks)), options_(options) {

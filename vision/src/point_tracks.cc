@@ -153,18 +153,14 @@ void PerspectiveOptions::Validate(std::string_view prefix) const {
 std::optional<Eigen::Vector2d> FitPerspective(std::span<const PointTrack> tracks,
                                               const SimilarityMotion& guide, double inlier_px,
                                               const Eigen::Vector2d& centre) {
-  const double k = std::exp(guide.log_scale);
-  const double ga = k * std::cos(guide.rotation_rad);
-  const double gb = k * std::sin(guide.rotation_rad);
   using Vec6 = Eigen::Matrix<double, 6, 1>;
   Eigen::Matrix<double, 6, 6> normal = Eigen::Matrix<double, 6, 6>::Zero();
   Vec6 rhs = Vec6::Zero();
   int used = 0;
   for (const PointTrack& t : tracks) {
     if (!t.p.allFinite() || !t.q.allFinite()) continue;
-    const double ex = ga * t.p.x() - gb * t.p.y() + guide.tx_px - t.q.x();
-    const double ey = gb * t.p.x() + ga * t.p.y() + guide.ty_px - t.q.y();
-    if (!(std::hypot(ex, ey) <= inlier_px)) continue;
+    const Eigen::Vector2d e = Apply(guide, t.p) - t.q;
+    if (!(std::hypot(e.x(), e.y()) <= inlier_px)) continue;
     const Eigen::Vector2d x = t.p - centre;
     const Eigen::Vector2d q = t.q - centre;
     // Unknowns (a, b, tx, ty, g, h): q = a x + t - q (g x + h y), complex a = a + i b.

@@ -17,12 +17,6 @@ namespace {
 constexpr int kWidth = 640;
 constexpr int kHeight = 480;
 
-Eigen::Vector2d Apply(const SimilarityMotion& s, const Eigen::Vector2d& p) {
-  const double k = std::exp(s.log_scale);
-  const double c = k * std::cos(s.rotation_rad), n = k * std::sin(s.rotation_rad);
-  return {c * p.x() - n * p.y() + s.tx_px, n * p.x() + c * p.y() + s.ty_px};
-}
-
 Eigen::Vector2d ApplyInverse(const SimilarityMotion& s, const Eigen::Vector2d& q) {
   const double k = std::exp(-s.log_scale);
   const Eigen::Vector2d d(q.x() - s.tx_px, q.y() - s.ty_px);

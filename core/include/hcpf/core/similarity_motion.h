@@ -4,6 +4,7 @@
 // that score it.
 
 #include <Eigen/Core>
+#include <cmath>
 
 namespace hcpf {
 
@@ -19,6 +20,14 @@ struct SimilarityMotion {
   double rotation_rad = 0.0;
   friend bool operator==(const SimilarityMotion&, const SimilarityMotion&) = default;
 };
+
+// Maps a point by a similarity: exp(log_scale) R(rotation) p + t.
+inline Eigen::Vector2d Apply(const SimilarityMotion& motion, const Eigen::Vector2d& p) {
+  const double scale = std::exp(motion.log_scale);
+  const double a = scale * std::cos(motion.rotation_rad);
+  const double b = scale * std::sin(motion.rotation_rad);
+  return {a * p.x() - b * p.y() + motion.tx_px, b * p.x() + a * p.y() + motion.ty_px};
+}
 
 // One point correspondence between consecutive frames: p in frame t-1, q in
 // frame t (pixels). vision/ produces them from images (corner tracks), the

@@ -158,9 +158,6 @@ struct SceneMotionOptions {
   void Validate(std::string_view prefix = "tracker.scene_filter") const;
 };
 
-// Maps a point by a similarity: exp(log_scale) R(rotation) p + t.
-Eigen::Vector2d Apply(const SimilarityMotion& motion, const Eigen::Vector2d& p);
-
 // Whether `p` lies inside (boundary included) any of the boxes grown by
 // `dilation_px` on every side: the target mask of point-track evidence.
 bool InsideDilatedBoxes(const Eigen::Vector2d& p, std::span<const BoxPx> boxes, double dilation_px);

@@ -22,7 +22,8 @@ namespace {
 
 // What RunScenario (run.cc) and RenderToFolder (render_folder.cc) write at
 // the top of their folder, and report.html that `hcpf report RUN_DIR` adds
-// (studies/src/run_report.cc); gt/ and frames/ are checked file by file below.
+// (studies/src/run_report.cc); gt/, det/ (rendered runs) and frames/ are
+// checked file by file below.
 constexpr std::array<std::string_view, 12> kOutputFiles = {
     "manifest.json",     "scenario.resolved.yaml", "seqinfo.ini",
     "gt.json",           "detections.txt",         "tracks.txt",
@@ -73,13 +74,13 @@ std::string WhyNotOurOutput(const fs::path& dir) {
         std::find(kOutputFiles.begin(), kOutputFiles.end(), name) != kOutputFiles.end() &&
         entry.is_regular_file(ec) && !entry.is_symlink(ec);
     if (known_file) continue;
-    bool known_dir =
-        (name == "gt" || name == "frames") && entry.is_directory(ec) && !entry.is_symlink(ec);
+    bool known_dir = (name == "gt" || name == "det" || name == "frames") &&
+                     entry.is_directory(ec) && !entry.is_symlink(ec);
     if (known_dir) {
       for (const auto& inner : fs::directory_iterator(entry.path(), ec)) {
         const std::string inner_name = inner.path().filename().string();
         const bool ok = inner.is_regular_file(ec) && !inner.is_symlink(ec) &&
-                        (name == "gt" ? inner_name == "gt.txt" : IsFrameFile(inner_name));
+                        (name == "frames" ? IsFrameFile(inner_name) : inner_name == name + ".txt");
         if (!ok) {
           known_dir = false;
           break;

@@ -54,6 +54,17 @@ TEST(RenderedRun, PixelExactTruthAndFrameCacheReuse) {
   EXPECT_EQ(ReadFile(dir / "a" / "gt" / "gt.txt"), ReadFile(dir / "b" / "gt" / "gt.txt"));
   EXPECT_EQ(ReadFile(dir / "a" / "detections.txt"), ReadFile(dir / "b" / "detections.txt"));
   EXPECT_NE(ReadFile(dir / "a" / "tracks.txt"), ReadFile(dir / "b" / "tracks.txt"));
+
+  // A rendered run's folder (it holds det/det.txt) is an earlier output that
+  // the same command replaces; a file of the user's inside det/ is not.
+  r = RunCommand(common + " --set tracker.particles=50 --out " + (dir / "a").string());
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_EQ(ReadFile(dir / "a" / "tracks.txt"), ReadFile(dir / "b" / "tracks.txt"));
+  std::ofstream(dir / "a" / "det" / "mine.txt") << "mine";
+  r = RunCommand(common + " --out " + (dir / "a").string());
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_NE(r.output.find("\"det\""), std::string::npos) << r.output;
+  EXPECT_EQ(ReadFile(dir / "a" / "det" / "mine.txt"), "mine");
 }
 
 // Rendering is pipelined one frame ahead (SceneRenderer::Submit / Collect),

@@ -2,9 +2,12 @@
 
 #include <algorithm>
 #include <atomic>
+#include <condition_variable>
+#include <deque>
 #include <exception>
 #include <mutex>
 #include <thread>
+#include <utility>
 #include <vector>
 
 namespace hcpf {
@@ -37,6 +40,81 @@ void ParallelFor(size_t count, int workers, const std::function<void(size_t)>& b
     work();
   }  // joins
   if (first_error) std::rethrow_exception(first_error);
+}
+
+struct SerialWorker::State {
+  explicit State(size_t depth) : queue_depth(depth) {}
+  size_t queue_depth;
+  std::mutex mutex;
+  std::condition_variable changed;
+  std::deque<std::function<void()>> queue;
+  bool busy = false;  // a job is running, outside the queue
+  bool closing = false;
+  std::exception_ptr error;  // thrown by a job, not yet rethrown
+  std::thread thread;
+
+  void Run() {
+    std::unique_lock lock(mutex);
+    while (true) {
+      changed.wait(lock, [&] { return closing || !queue.empty(); });
+      if (queue.empty()) return;  // closing and drained
+      std::function<void()> job = std::move(queue.front());
+      queue.pop_front();
+      busy = true;
+      changed.notify_all();  // room in the queue
+      lock.unlock();
+      std::exception_ptr failure;
+      try {
+        job();
+      } catch (...) {
+        failure = std::current_exception();
+      }
+      job = nullptr;  // what the job holds goes before the poster is told
+      lock.lock();
+      busy = false;
+      if (failure) {
+        if (!error) error = failure;
+        queue.clear();
+      }
+      changed.notify_all();
+    }
+  }
+
+  // With `lock` held: rethrows (and forgets) a job's exception.
+  void RethrowError() {
+    if (!error) return;
+    std::exception_ptr e = std::exchange(error, nullptr);
+    std::rethrow_exception(e);
+  }
+};
+
+SerialWorker::SerialWorker(int queue_depth)
+    : state_(std::make_unique<State>(static_cast<size_t>(std::max(1, queue_depth)))) {
+  state_->thread = std::thread([s = state_.get()] { s->Run(); });
+}
+
+SerialWorker::~SerialWorker() {
+  {
+    std::lock_guard lock(state_->mutex);
+    state_->closing = true;
+  }
+  state_->changed.notify_all();
+  if (state_->thread.joinable()) state_->thread.join();
+}
+
+void SerialWorker::Post(std::function<void()> job) {
+  std::unique_lock lock(state_->mutex);
+  state_->changed.wait(
+      lock, [&] { return state_->error != nullptr || state_->queue.size() < state_->queue_depth; });
+  state_->RethrowError();
+  state_->queue.push_back(std::move(job));
+  state_->changed.notify_all();
+}
+
+void SerialWorker::Wait() {
+  std::unique_lock lock(state_->mutex);
+  state_->changed.wait(lock, [&] { return state_->queue.empty() && !state_->busy; });
+  state_->RethrowError();
 }
 
 }  // namespace hcpf

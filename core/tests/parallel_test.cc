@@ -3,7 +3,9 @@
 #include <gtest/gtest.h>
 
 #include <atomic>
+#include <future>
 #include <stdexcept>
+#include <thread>
 #include <vector>
 
 #include "hcpf/core/subprocess.h"
@@ -61,6 +63,53 @@ TEST(RunProcess, ExitCodesSignalsAndOutputInTheLog) {
   s = RunProcess({"/nonexistent/program"}, log);
   EXPECT_EQ(s.exit_code, 127);
   EXPECT_TRUE(RunProcess({"true"}, log).ok());
+}
+
+TEST(SerialWorker, RunsJobsInPostOrderOnOneOtherThread) {
+  std::vector<int> order;
+  std::vector<std::thread::id> threads;
+  {
+    SerialWorker worker(2);
+    for (int i = 0; i < 50; ++i) {
+      worker.Post([&, i] {
+        order.push_back(i);
+        threads.push_back(std::this_thread::get_id());
+      });
+    }
+    worker.Wait();
+    ASSERT_EQ(order.size(), 50u);
+    for (int i = 0; i < 50; ++i) EXPECT_EQ(order[i], i);
+    for (const std::thread::id& t : threads) {
+      EXPECT_EQ(t, threads.front());
+      EXPECT_NE(t, std::this_thread::get_id());
+    }
+    worker.Post([&] { order.push_back(50); });
+  }  // the destructor waits for the last job
+  EXPECT_EQ(order.size(), 51u);
+}
+
+TEST(SerialWorker, AFailedJobDropsTheQueuedOnesAndTheNextPostRethrows) {
+  SerialWorker worker(1);
+  std::promise<void> gate;
+  std::shared_future<void> opened = gate.get_future().share();
+  int ran = 0;
+  worker.Post([opened] {
+    opened.wait();
+    throw std::runtime_error("job 1 failed");
+  });
+  worker.Post([&] { ++ran; });  // queued behind job 1: the queue is full
+  gate.set_value();
+  // Room in the queue comes only when job 1 ends, and job 1 ends by
+  // throwing: this Post sees the failure instead of queuing.
+  EXPECT_THROW(worker.Post([&] { ++ran; }), std::runtime_error);
+  worker.Wait();  // rethrown once only
+  EXPECT_EQ(ran, 0);
+  // The worker goes on after a failure.
+  worker.Post([&] { ++ran; });
+  worker.Wait();
+  EXPECT_EQ(ran, 1);
+  worker.Post([] { throw std::logic_error("job 4 failed"); });
+  EXPECT_THROW(worker.Wait(), std::logic_error);
 }
 
 }  // namespace

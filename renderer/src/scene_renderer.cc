@@ -34,6 +34,12 @@ RenderedFrame SceneRenderer::Render(int frame) {
   return Collect();
 }
 
+RenderedFrame SceneRenderer::Collect() {
+  RenderedFrame frame = CollectClean();
+  ApplySensor(frame);
+  return frame;
+}
+
 namespace {
 
 using internal::GlApi;
@@ -163,7 +169,8 @@ class GlSceneRenderer final : public SceneRenderer {
   const GlInfo& gl_info() const override { return context_->info(); }
 
   void Submit(int frame) override;
-  RenderedFrame Collect() override;
+  RenderedFrame CollectClean() override;
+  void ApplySensor(RenderedFrame& frame) const override;
   int in_flight() const override { return in_flight_; }
 
  private:
@@ -1124,7 +1131,7 @@ void GlSceneRenderer::Submit(int frame) {
   ++in_flight_;
 }
 
-RenderedFrame GlSceneRenderer::Collect() {
+RenderedFrame GlSceneRenderer::CollectClean() {
   HCPF_CHECK(in_flight_ > 0) << "Collect with no submitted frame";
   context_->MakeCurrent();
   InFlight& s = slots_[head_];
@@ -1190,10 +1197,13 @@ RenderedFrame GlSceneRenderer::Collect() {
     out.ground_truth.image_from_ground = s.camera.ImageFromGround(0.0);
   }
   gl_.CheckError("collect");
-  if (options_.sensor.active()) {
-    ApplySensorEffects(options_.sensor, rng_.Fork("renderer/sensor", s.frame), out.rgb);
-  }
   return out;
+}
+
+void GlSceneRenderer::ApplySensor(RenderedFrame& frame) const {
+  if (options_.sensor.active()) {
+    ApplySensorEffects(options_.sensor, rng_.Fork("renderer/sensor", frame.frame), frame.rgb);
+  }
 }
 
 void GlSceneRenderer::SubmitCountPass(InFlight& s, const Eigen::Matrix4f& view_proj) {

@@ -10,6 +10,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <numbers>
+#include <thread>
 #include <vector>
 
 #include "hcpf/core/error.h"
@@ -584,6 +585,32 @@ TEST_F(RendererGl, PipelinedFramesEqualRenderedOnes) {
   no_truth->Submit(4);
   EXPECT_EQ(no_truth->Collect().rgb, expected.at(3).rgb);
   EXPECT_EQ(no_truth->Collect().rgb, expected.at(4).rgb);
+}
+
+// Collect in two steps (scenarios' ProduceFrames): CollectClean gives the
+// frame before the sensor effects, and ApplySensor, run on another thread
+// while this one renders the next frame, makes it Render's frame.
+TEST_F(RendererGl, SensorEffectsOnAnotherThreadGiveRendersFrames) {
+  const WorldSpec w = GoldenWorld();
+  RendererOptions options;
+  options.sensor.noise_sigma = 3.0;
+  options.sensor.blur_px = 0.7;
+  options.sensor.jpeg_quality = 85;
+  auto reference = Make(w, options, 7);
+  auto two_step = Make(w, options, 7);
+  RendererOptions clean_options = options;
+  clean_options.sensor = {};
+  auto clean = Make(w, clean_options, 7);
+  for (int frame = 0; frame < 4; ++frame) {
+    two_step->Submit(frame);
+    RenderedFrame f = two_step->CollectClean();
+    EXPECT_EQ(f.rgb, clean->Render(frame).rgb) << "frame " << frame;
+    std::thread finisher([&] { two_step->ApplySensor(f); });
+    two_step->Submit(frame + 1);  // renders while the other thread works
+    finisher.join();
+    ExpectSameFrame(f, reference->Render(frame));
+    ExpectSameFrame(two_step->Collect(), reference->Render(frame + 1));
+  }
 }
 
 using RendererGlDeathTest = RendererGl;

@@ -4,10 +4,10 @@
 #include <spdlog/spdlog.h>
 
 #include <cstdlib>
-#include <deque>
 #include <memory>
 
 #include "hcpf/core/check.h"
+#include "hcpf/core/parallel.h"
 #include "hcpf/renderer/image_io.h"
 #include "hcpf/scenarios/progress.h"
 
@@ -61,45 +61,57 @@ SceneFrames ProduceFrames(const Scenario& scenario, const FrameSourceOptions& op
   // Misses are stored on a worker thread while the next frame renders.
   std::unique_ptr<renderer::FrameCacheWriter> cache_writer;
   std::unique_ptr<renderer::SceneRenderer> scene;  // created on the first cache miss
-  // Rendering is pipelined one frame ahead: frame f + 1 is submitted before
-  // frame f is collected, so its GL work overlaps frame f's CPU work (ground
-  // truth, sensor effects, the cache write, on_frame). Frames come back in
-  // order and byte-identical to unpipelined rendering.
-  std::deque<int> submitted;
-  const auto submit = [&](int f) {
-    scene->Submit(f);
-    submitted.push_back(f);
-  };
   Progress progress("render", frames, options.show_progress);
+  // Two stages: this thread renders frame f + 1 (or reads it from the cache)
+  // while `finisher` finishes frame f: its sensor effects, the cache write,
+  // on_frame, the truth and the image. On llvmpipe, whose readback waits for
+  // the frame, this is the overlap there is (the sensor effects and a
+  // detector's work run beside the rasteriser); on a GPU the GL work runs
+  // beside both. One worker, so frames are finished in order, and the bytes
+  // are those of Render(f) frame after frame. Declared last: destroyed first,
+  // it waits for its jobs before what they use goes.
+  SerialWorker finisher;
+  const auto finish = [&](renderer::RenderedFrame frame, bool rendered) {
+    finisher.Post([&, frame = std::move(frame), rendered]() mutable {
+      if (rendered) {
+        scene->ApplySensor(frame);
+        if (cache) {
+          if (!cache_writer) cache_writer = std::make_unique<renderer::FrameCacheWriter>(*cache);
+          cache_writer->Submit(frame);  // a copy: the frame is used below
+        }
+      }
+      if (options.on_frame) options.on_frame(frame);
+      out.truth.push_back(options.analytic_truth ? ComputeGroundTruth(scenario.world, frame.frame)
+                                                 : std::move(frame.ground_truth));
+      if (options.keep_images) out.images.push_back(std::move(frame.rgb));
+      progress.Advance();
+    });
+  };
+  const auto submit = [&](int f) {
+    if (!scene) {
+      scene = renderer::SceneRenderer::Create(scenario.world, ropts, Rng(scenario.seeds.renderer));
+      out.gl = scene->gl_info();
+    }
+    scene->Submit(f);
+  };
+  bool submitted = false;  // frame f was submitted by the previous step
   for (int f = 0; f < frames; ++f) {
     std::optional<renderer::RenderedFrame> frame;
-    const bool in_flight = !submitted.empty() && submitted.front() == f;
-    if (cache && !in_flight) frame = cache->Load(f);
+    if (cache && !submitted) frame = cache->Load(f);
+    const bool rendered = !frame;
     if (frame) {
       ++out.frames_from_cache;
     } else {
-      if (!scene) {
-        scene =
-            renderer::SceneRenderer::Create(scenario.world, ropts, Rng(scenario.seeds.renderer));
-        out.gl = scene->gl_info();
-      }
-      if (!in_flight) submit(f);
-      if (f + 1 < frames && !(cache && cache->Contains(f + 1))) submit(f + 1);
-      frame = scene->Collect();
+      if (!submitted) submit(f);
+      frame = scene->CollectClean();
       HCPF_CHECK(frame->frame == f) << "collected frame " << frame->frame << ", expected " << f;
-      submitted.pop_front();
       ++out.frames_rendered;
-      if (cache) {
-        if (!cache_writer) cache_writer = std::make_unique<renderer::FrameCacheWriter>(*cache);
-        cache_writer->Submit(*frame);  // a copy: the frame is used below
-      }
     }
-    if (options.on_frame) options.on_frame(*frame);
-    out.truth.push_back(options.analytic_truth ? ComputeGroundTruth(scenario.world, f)
-                                               : std::move(frame->ground_truth));
-    if (options.keep_images) out.images.push_back(std::move(frame->rgb));
-    progress.Advance();
+    finish(std::move(*frame), rendered);
+    submitted = f + 1 < frames && !(cache && cache->Contains(f + 1));
+    if (submitted) submit(f + 1);
   }
+  finisher.Wait();
   if (cache_writer) cache_writer->Finish();
   progress.Finish();
   if (out.frames_from_cache > 0) {

@@ -1,8 +1,10 @@
 #pragma once
-// The project's one worker pool: a parallel loop over independent items.
+// The project's worker threads: a parallel loop over independent items, and
+// a serial worker for a two-stage pipeline.
 
 #include <cstddef>
 #include <functional>
+#include <memory>
 
 namespace hcpf {
 
@@ -15,5 +17,35 @@ namespace hcpf {
 // rethrown once every thread has finished. workers <= 1 runs in order on the
 // calling thread.
 void ParallelFor(size_t count, int workers, const std::function<void(size_t)>& body);
+
+// One thread that runs posted jobs one at a time, in the order they were
+// posted: the second stage of a pipeline whose first stage is the posting
+// thread (ProduceFrames renders frame t + 1 while it finishes frame t). A job
+// may touch state that later jobs touch too (they never overlap); the poster
+// must not touch it until Wait() returns.
+class SerialWorker {
+ public:
+  // `queue_depth` (at least 1): how many jobs may wait besides the running
+  // one before Post blocks, which bounds the memory jobs hold.
+  explicit SerialWorker(int queue_depth = 1);
+  // Waits for the posted jobs; an exception one of them threw is dropped
+  // (call Wait to see it).
+  ~SerialWorker();
+  SerialWorker(const SerialWorker&) = delete;
+  SerialWorker& operator=(const SerialWorker&) = delete;
+
+  // Queues `job`, blocking while queue_depth jobs wait. Once a job has
+  // thrown, the jobs queued after it are dropped unrun, and the next Post or
+  // Wait rethrows that exception (once) instead of queuing: the poster learns
+  // of a failure at its next step, not at the end.
+  void Post(std::function<void()> job);
+  // Returns when every posted job has run or been dropped; rethrows a job's
+  // exception not yet rethrown.
+  void Wait();
+
+ private:
+  struct State;
+  std::unique_ptr<State> state_;
+};
 
 }  // namespace hcpf

@@ -142,8 +142,16 @@ class SceneRenderer {
   // nothing submitted are programming errors (HCPF_CHECK).
   static constexpr int kMaxInFlight = 2;
   virtual void Submit(int frame) = 0;
-  virtual RenderedFrame Collect() = 0;
+  RenderedFrame Collect();
   virtual int in_flight() const = 0;
+
+  // Collect in two steps: Collect() is CollectClean() then ApplySensor() on
+  // its frame. ApplySensor uses no GL and nothing Submit or Collect change,
+  // so it may run on another thread while this one renders the next frame
+  // (scenarios' ProduceFrames does: on llvmpipe, whose readback waits for
+  // the frame, it is the only overlap there is). The frames equal Collect's.
+  virtual RenderedFrame CollectClean() = 0;
+  virtual void ApplySensor(RenderedFrame& frame) const = 0;
 
   virtual const GlInfo& gl_info() const = 0;
 

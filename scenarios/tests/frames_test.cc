@@ -1,0 +1,111 @@
+// ProduceFrames: rendering in two stages (this thread renders frame f + 1
+// while a worker finishes frame f) gives Render's frames, in order, with the
+// cache and without.
+
+#include "hcpf/scenarios/frames.h"
+
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <stdexcept>
+#include <thread>
+#include <vector>
+
+#include "hcpf/renderer/renderer.h"
+#include "support/process.h"
+#include "support/test_scenarios.h"
+
+namespace hcpf::scenarios {
+namespace {
+
+namespace fs = std::filesystem;
+using ::hcpf::testing::FreshDir;
+using testing::kMinimal;
+
+class Frames : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    if (!HCPF_UNIT_TESTS_MAY_RENDER) {
+      GTEST_SKIP() << "renders with OSMesa: not in a build with HCPF_GL_TESTS=OFF (the "
+                      "sanitizer build, where OSMesa's own context allocations leak)";
+    }
+  }
+
+  // kMinimal, rendered small, with every sensor effect.
+  static Scenario Noisy() {
+    return LoadScenarioText(kMinimal, "noisy.yaml",
+                            {ParseOverride("frames=6"), ParseOverride("camera.resolution=[160, 120]"),
+                             ParseOverride("observation.source=rendered"),
+                             ParseOverride("sensor.noise_sigma=3"), ParseOverride("sensor.blur_px=0.7"),
+                             ParseOverride("sensor.jpeg_quality=85")});
+  }
+};
+
+TEST_F(Frames, TwoStagesGiveRendersFramesInOrder) {
+  const Scenario s = Noisy();
+  auto reference = renderer::SceneRenderer::Create(s.world, RendererOptionsOf(s),
+                                                   Rng(s.seeds.renderer));
+  std::vector<renderer::RenderedFrame> expected;
+  for (int f = 0; f < s.world.frames; ++f) expected.push_back(reference->Render(f));
+
+  for (const bool cached : {false, true}) {
+    const fs::path dir = FreshDir("frames-two-stage");
+    FrameSourceOptions options;
+    options.keep_images = true;
+    options.show_progress = false;
+    if (cached) options.cache_dir = (dir / "cache").string();
+    std::vector<int> order;
+    std::vector<std::thread::id> threads;
+    options.on_frame = [&](const renderer::RenderedFrame& frame) {
+      order.push_back(frame.frame);
+      threads.push_back(std::this_thread::get_id());
+      EXPECT_EQ(frame.rgb, expected.at(static_cast<size_t>(frame.frame)).rgb)
+          << "frame " << frame.frame << (cached ? ", cached run" : "");
+    };
+    // Twice with a cache: rendered and stored, then all read back.
+    for (int pass = 0; pass < (cached ? 2 : 1); ++pass) {
+      order.clear();
+      threads.clear();
+      const SceneFrames out = ProduceFrames(s, options);
+      EXPECT_EQ(out.frames_rendered, pass == 0 ? s.world.frames : 0);
+      ASSERT_EQ(out.images.size(), expected.size());
+      ASSERT_EQ(out.truth.size(), expected.size());
+      for (size_t f = 0; f < expected.size(); ++f) {
+        EXPECT_EQ(out.images[f], expected[f].rgb) << "frame " << f;
+        EXPECT_EQ(out.truth[f].frame, static_cast<int>(f));
+        ASSERT_EQ(out.truth[f].objects.size(), expected[f].ground_truth.objects.size());
+        for (size_t k = 0; k < out.truth[f].objects.size(); ++k) {
+          EXPECT_EQ(out.truth[f].objects[k].pixels_visible,
+                    expected[f].ground_truth.objects[k].pixels_visible);
+        }
+      }
+      ASSERT_EQ(order.size(), expected.size());
+      for (size_t f = 0; f < order.size(); ++f) EXPECT_EQ(order[f], static_cast<int>(f));
+      // Finished on one worker, not on the thread that renders.
+      for (const std::thread::id& t : threads) {
+        EXPECT_EQ(t, threads.front());
+        EXPECT_NE(t, std::this_thread::get_id());
+      }
+    }
+    fs::remove_all(dir);
+  }
+}
+
+// A failure in the finishing stage (here on_frame) reaches the caller, and
+// the frames queued behind the failed one are not finished.
+TEST_F(Frames, AFailureWhileFinishingAFrameStopsTheRun) {
+  Scenario s = Noisy();
+  s.world.frames = 40;
+  FrameSourceOptions options;
+  options.show_progress = false;
+  int finished = 0;
+  options.on_frame = [&](const renderer::RenderedFrame& frame) {
+    ++finished;
+    if (frame.frame == 2) throw std::runtime_error("on_frame failed at frame 2");
+  };
+  EXPECT_THROW(ProduceFrames(s, options), std::runtime_error);
+  EXPECT_EQ(finished, 3);
+}
+
+}  // namespace
+}  // namespace hcpf::scenarios

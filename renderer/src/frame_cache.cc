@@ -5,12 +5,9 @@
 #include <zstd.h>
 
 #include <algorithm>
-#include <condition_variable>
-#include <deque>
 #include <filesystem>
 #include <fstream>
 #include <functional>
-#include <mutex>
 #include <nlohmann/json.hpp>
 #include <sstream>
 #include <system_error>
@@ -18,6 +15,7 @@
 
 #include "hcpf/core/error.h"
 #include "hcpf/core/ground_truth_json.h"
+#include "hcpf/core/parallel.h"
 #include "hcpf/core/text_file.h"
 #include "hcpf/renderer/renderer.h"
 
@@ -272,68 +270,34 @@ void FrameCache::Store(const RenderedFrame& frame) const {
 }
 
 struct FrameCacheWriter::State {
-  State(FrameCache c, size_t depth) : cache(std::move(c)), queue_depth(depth) {}
+  State(FrameCache c, int depth) : cache(std::move(c)), worker(depth) {}
   FrameCache cache;
-  size_t queue_depth;
-  std::mutex mutex;
-  std::condition_variable changed;
-  std::deque<RenderedFrame> queue;
-  bool busy = false;  // the worker holds a frame outside the queue
-  bool closing = false;
-  std::string error;  // the first store's failure
-  std::thread worker;
+  SerialWorker worker;
 
-  void Run() {
-    std::unique_lock lock(mutex);
-    while (true) {
-      changed.wait(lock, [&] { return closing || !queue.empty(); });
-      if (queue.empty()) return;  // closing and drained
-      RenderedFrame frame = std::move(queue.front());
-      queue.pop_front();
-      busy = true;
-      changed.notify_all();  // room in the queue
-      lock.unlock();
-      std::string failure;
-      try {
-        cache.Store(frame);
-      } catch (const std::exception& e) {
-        failure = e.what();
-      }
-      lock.lock();
-      busy = false;
-      if (!failure.empty() && error.empty()) error = failure;
-      changed.notify_all();
-    }
+  // A store's failure, rethrown by the worker, named after the cache.
+  [[noreturn]] void Rethrow(const std::exception& e) const {
+    throw RunError(fmt::format("frame cache {}: {}", cache.dir().string(), e.what()));
   }
 };
 
 FrameCacheWriter::FrameCacheWriter(FrameCache cache, int queue_depth)
-    : state_(std::make_unique<State>(std::move(cache),
-                                     static_cast<size_t>(std::max(1, queue_depth)))) {
-  state_->worker = std::thread([s = state_.get()] { s->Run(); });
-}
+    : state_(std::make_unique<State>(std::move(cache), queue_depth)) {}
 
-FrameCacheWriter::~FrameCacheWriter() {
-  {
-    std::lock_guard lock(state_->mutex);
-    state_->closing = true;
-  }
-  state_->changed.notify_all();
-  if (state_->worker.joinable()) state_->worker.join();
-}
+FrameCacheWriter::~FrameCacheWriter() = default;  // the worker waits for its stores
 
 void FrameCacheWriter::Submit(RenderedFrame frame) {
-  std::unique_lock lock(state_->mutex);
-  state_->changed.wait(lock, [&] { return state_->queue.size() < state_->queue_depth; });
-  state_->queue.push_back(std::move(frame));
-  state_->changed.notify_all();
+  try {
+    state_->worker.Post([s = state_.get(), f = std::move(frame)] { s->cache.Store(f); });
+  } catch (const std::exception& e) {
+    state_->Rethrow(e);
+  }
 }
 
 void FrameCacheWriter::Finish() {
-  std::unique_lock lock(state_->mutex);
-  state_->changed.wait(lock, [&] { return state_->queue.empty() && !state_->busy; });
-  if (!state_->error.empty()) {
-    throw RunError(fmt::format("frame cache {}: {}", state_->cache.dir().string(), state_->error));
+  try {
+    state_->worker.Wait();
+  } catch (const std::exception& e) {
+    state_->Rethrow(e);
   }
 }
 

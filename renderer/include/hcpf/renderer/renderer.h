@@ -196,11 +196,13 @@ class FrameCache {
 };
 
 // FrameCache::Store on a worker thread, so encoding and writing frame t
-// overlap the rendering of frame t + 1. Submit copies nothing more than the
-// frame it is given and blocks while `queue_depth` frames wait (bounded
-// memory). Finish waits for every submitted frame and throws the first
-// RunError a store raised; the destructor waits too (and drops errors: call
-// Finish). The files written are those Store writes, whatever the timing.
+// overlap the rendering of frame t + 1 (a SerialWorker, core/parallel.h).
+// Submit copies nothing more than the frame it is given and blocks while
+// `queue_depth` frames wait (bounded memory). Once a store has failed, the
+// frames queued after it are not stored, and the next Submit or Finish throws
+// RunError naming the cache and the failure; Finish waits for every submitted
+// frame first. The destructor waits too (and drops errors: call Finish). The
+// files written are those Store writes, whatever the timing.
 class FrameCacheWriter {
  public:
   explicit FrameCacheWriter(FrameCache cache, int queue_depth = 4);

@@ -33,18 +33,18 @@ class Frames : public ::testing::Test {
 
   // kMinimal, rendered small, with every sensor effect.
   static Scenario Noisy() {
-    return LoadScenarioText(kMinimal, "noisy.yaml",
-                            {ParseOverride("frames=6"), ParseOverride("camera.resolution=[160, 120]"),
-                             ParseOverride("observation.source=rendered"),
-                             ParseOverride("sensor.noise_sigma=3"), ParseOverride("sensor.blur_px=0.7"),
-                             ParseOverride("sensor.jpeg_quality=85")});
+    return LoadScenarioText(
+        kMinimal, "noisy.yaml",
+        {ParseOverride("frames=6"), ParseOverride("camera.resolution=[160, 120]"),
+         ParseOverride("observation.source=rendered"), ParseOverride("sensor.noise_sigma=3"),
+         ParseOverride("sensor.blur_px=0.7"), ParseOverride("sensor.jpeg_quality=85")});
   }
 };
 
 TEST_F(Frames, TwoStagesGiveRendersFramesInOrder) {
   const Scenario s = Noisy();
-  auto reference = renderer::SceneRenderer::Create(s.world, RendererOptionsOf(s),
-                                                   Rng(s.seeds.renderer));
+  auto reference =
+      renderer::SceneRenderer::Create(s.world, RendererOptionsOf(s), Rng(s.seeds.renderer));
   std::vector<renderer::RenderedFrame> expected;
   for (int f = 0; f < s.world.frames; ++f) expected.push_back(reference->Render(f));
 

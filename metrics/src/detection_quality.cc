@@ -17,6 +17,7 @@ constexpr double kForbidden = 1e6;
 
 const std::vector<double> kSizeEdges = {0, 8, 16, 32, 64, kInf};
 const std::vector<double> kVisibilityEdges = {0, 0.25, 0.5, 0.75, kInf};
+const std::vector<double> kTruncationEdges = {0, 0.15, 0.3, 0.5, kInf};
 
 double Ratio(int64_t num, int64_t den) {
   return den > 0 ? static_cast<double>(num) / static_cast<double>(den) : kNaN;
@@ -98,6 +99,7 @@ DetectionQuality ScoreDetections(std::span<const DetectionFrame> frames,
   DetectionQuality q;
   q.by_size = Bins(kSizeEdges, kInf);
   q.by_visibility = Bins(kVisibilityEdges, 1.0);
+  q.by_truncation = Bins(kTruncationEdges, 1.0);
   AssignmentSolver solver;
   double centre_error_sum = 0.0, iou_sum = 0.0;
   std::vector<double> sizes;
@@ -124,9 +126,11 @@ DetectionQuality ScoreDetections(std::span<const DetectionFrame> frames,
         DetectionCounts& by_size = counts(q.by_size[BinOf(kSizeEdges, SizeOf(truth.box))]);
         DetectionCounts& by_vis =
             counts(q.by_visibility[BinOf(kVisibilityEdges, truth.visible_fraction)]);
+        DetectionCounts& by_trunc =
+            counts(q.by_truncation[BinOf(kTruncationEdges, truth.truncation)]);
         if (d >= 0) {
           used[static_cast<size_t>(d)] = 1;
-          ++total.tp, ++by_size.tp, ++by_vis.tp;
+          ++total.tp, ++by_size.tp, ++by_vis.tp, ++by_trunc.tp;
           if (rule == Rule::kIou) {
             const Detection& det = f.detections[static_cast<size_t>(d)];
             centre_error_sum += std::hypot(det.box.centre_x() - truth.box.centre_x(),
@@ -134,7 +138,7 @@ DetectionQuality ScoreDetections(std::span<const DetectionFrame> frames,
             iou_sum += Iou(det.box, truth.box);
           }
         } else {
-          ++total.fn, ++by_size.fn, ++by_vis.fn;
+          ++total.fn, ++by_size.fn, ++by_vis.fn, ++by_trunc.fn;
         }
       }
       for (size_t d = 0; d < f.detections.size(); ++d) {

@@ -241,7 +241,8 @@ std::string RunMetricsToJson(const RunMetrics& m) {
                       {"mean_iou", Number(d.mean_iou)},
                       {"median_size_px", Number(d.median_size_px)},
                       {"by_size_px", BinsJson(d.by_size)},
-                      {"by_visibility", BinsJson(d.by_visibility)}};
+                      {"by_visibility", BinsJson(d.by_visibility)},
+                      {"by_truncation", BinsJson(d.by_truncation)}};
   }
   if (m.camera_motion) {
     const CameraMotionErrorSummary& e = m.camera_motion->error;

@@ -81,6 +81,34 @@ TEST(DetectionQuality, BinnedBySizeAndVisibility) {
   for (const DetectionBin& b : q.by_visibility) EXPECT_EQ(b.iou.fp, 0);
 }
 
+// Truncation bins [0, 0.15), [0.15, 0.3), [0.3, 0.5), [0.5, 1]: the hand
+// frames' targets are all untruncated, so their counts (IoU: tp 2, fn 1) are
+// all in the first bin. Here A is truncated 0.6 (-> [0.5, 1]) and found, B
+// 0.2 (-> [0.15, 0.3)) and missed, C 0.3 (-> [0.3, 0.5), the lower edge
+// belongs to the bin) and found; the false detection counts in none.
+TEST(DetectionQuality, BinnedByTruncation) {
+  const DetectionQuality hand = ScoreDetections(HandFrames());
+  ASSERT_EQ(hand.by_truncation.size(), 4u);
+  EXPECT_EQ(hand.by_truncation[0].iou.tp, 2);
+  EXPECT_EQ(hand.by_truncation[0].iou.fn, 1);
+  EXPECT_EQ(hand.by_truncation[0].iou.fp, 0);
+  EXPECT_EQ(hand.by_truncation[3].hi, 1.0);
+
+  DetectionFrame f;
+  f.truth = {{ObjectId{1}, BoxPx{0, 0, 10, 10}, 1.0, 0.6},
+             {ObjectId{2}, BoxPx{100, 100, 20, 20}, 1.0, 0.2},
+             {ObjectId{3}, BoxPx{200, 0, 10, 10}, 1.0, 0.3}};
+  f.detections = {Det(0, 0, 10, 10), Det(200, 0, 10, 10), Det(400, 400, 10, 10)};
+  const DetectionQuality q = ScoreDetections(std::vector<DetectionFrame>{f});
+  EXPECT_EQ(q.by_truncation[0].iou.tp + q.by_truncation[0].iou.fn, 0);
+  EXPECT_EQ(q.by_truncation[1].iou.tp, 0);
+  EXPECT_EQ(q.by_truncation[1].iou.fn, 1);
+  EXPECT_EQ(q.by_truncation[2].iou.tp, 1);
+  EXPECT_EQ(q.by_truncation[3].iou.tp, 1);
+  for (const DetectionBin& b : q.by_truncation) EXPECT_EQ(b.iou.fp, 0);
+  EXPECT_EQ(q.iou.fp, 1);
+}
+
 // A target-specific detection matches only its own target: labelled 2 on A
 // (target 1), it is a miss and a false detection, though it covers A exactly.
 TEST(DetectionQuality, TargetSpecificDetectionsMatchOnlyTheirTarget) {

@@ -248,14 +248,16 @@ RunSummary RunScenario(const Scenario& scenario, const RunOptions& options) {
   metrics_input.point_options = scenario.metrics.points;
   if (scene.rendered) {
     // Detection quality against the pixel-exact truth: each in-frame
-    // target's box clipped to the image, with its visible fraction.
+    // target's box clipped to the image, with its visible fraction and its
+    // truncation by the image border.
     const BoxPx image{0.0, 0.0, static_cast<double>(scenario.world.camera.width_px),
                       static_cast<double>(scenario.world.camera.height_px)};
     std::vector<metrics::DetectionFrame> frames(truth.size());
     for (size_t f = 0; f < truth.size(); ++f) {
       for (const GroundTruthObject& o : truth[f].objects) {
         if (!o.in_frame) continue;
-        frames[f].truth.push_back({o.id, Intersect(o.amodal_box, image), o.visible_fraction});
+        frames[f].truth.push_back(
+            {o.id, Intersect(o.amodal_box, image), o.visible_fraction, o.truncation});
       }
       frames[f].detections = observations[f].detections;
     }

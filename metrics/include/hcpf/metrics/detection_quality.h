@@ -3,7 +3,8 @@
 // find the targets, frame by frame, before any tracking. Precision, recall
 // and F1 under two matching rules (IoU >= 0.5, and the detection's centre
 // within half the target's box), the localisation error of the matches, and
-// the same counts binned by the target's apparent size and visible fraction.
+// the same counts binned by the target's apparent size, visible fraction and
+// truncation by the image border.
 
 #include <optional>
 #include <span>
@@ -18,6 +19,10 @@ struct DetectionTruth {
   ObjectId target{};
   BoxPx box;                      // the target's box clipped to the image, px
   double visible_fraction = 1.0;  // of the unoccluded target inside the image
+  // The fraction of the target's amodal box outside the image (KITTI's
+  // truncation): a target entering across the border is fully "visible" by
+  // visible_fraction while most of it is not yet in the image.
+  double truncation = 0.0;
 };
 
 struct DetectionFrame {
@@ -58,9 +63,12 @@ struct DetectionQuality {
   // Size: sqrt(box area) in px, bins [0, 8), [8, 16), [16, 32), [32, 64),
   // [64, inf); a false detection counts in its own box's bin. Visibility:
   // [0, 0.25), [0.25, 0.5), [0.5, 0.75), [0.75, 1]; false detections have no
-  // visibility, so these bins give recall only (fp = 0).
+  // visibility, so these bins give recall only (fp = 0). Truncation: [0,
+  // 0.15), [0.15, 0.3), [0.3, 0.5), [0.5, 1] (KITTI's limits for its easy,
+  // moderate and hard targets), recall only as well.
   std::vector<DetectionBin> by_size;
   std::vector<DetectionBin> by_visibility;
+  std::vector<DetectionBin> by_truncation;
 };
 
 // Matching, per frame and rule: a one-to-one assignment (core/assignment.h)

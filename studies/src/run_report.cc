@@ -207,6 +207,83 @@ std::string CameraMotionSvg(const std::vector<CameraMotionRow>& rows, const std:
   return InlineSvg(ReadWholeFile(svg));
 }
 
+// tp, fp, fn of one rule in a metrics.json detection block (0 when absent).
+struct Counts {
+  int64_t tp = 0, fp = 0, fn = 0;
+};
+
+Counts CountsOf(const json& j) {
+  const auto get = [&](const char* key) -> int64_t {
+    return j.is_object() && j.contains(key) && j[key].is_number_integer() ? j[key].get<int64_t>()
+                                                                          : 0;
+  };
+  return {get("tp"), get("fp"), get("fn")};
+}
+
+// A ratio with three decimals, "–" when undefined.
+std::string Ratio(int64_t num, int64_t den) {
+  return den > 0 ? fmt::format("{:.3f}", static_cast<double>(num) / static_cast<double>(den)) : "–";
+}
+
+// One table row: IoU counts, precision and recall, and the centre rule's
+// recall. `with_precision`: false detections are counted in this row (the
+// totals and the size bins), so precision is defined.
+std::string DetectionRow(const std::string& label, const json& row, bool with_precision) {
+  const Counts iou = CountsOf(row.is_object() && row.contains("iou") ? row["iou"] : json());
+  const Counts centre =
+      CountsOf(row.is_object() && row.contains("centre") ? row["centre"] : json());
+  return fmt::format(
+      "<tr><td class=\"k\">{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td>"
+      "<td>{}</td></tr>\n",
+      EscapeMarkup(label), iou.tp, iou.fn, with_precision ? std::to_string(iou.fp) : "–",
+      with_precision ? Ratio(iou.tp, iou.tp + iou.fp) : "–", Ratio(iou.tp, iou.tp + iou.fn),
+      Ratio(centre.tp, centre.tp + centre.fn));
+}
+
+// The rows of one binning of a metrics.json detection block ("by_size_px",
+// "by_visibility", "by_truncation"), bins that hold no target or detection
+// left out.
+std::string DetectionBinRows(const json& detection, const char* key, const char* what,
+                             const char* unit, bool with_precision) {
+  std::string rows;
+  if (!detection.contains(key) || !detection[key].is_array()) return rows;
+  for (const json& bin : detection[key]) {
+    const Counts c = CountsOf(bin.is_object() && bin.contains("iou") ? bin["iou"] : json());
+    if (c.tp + c.fp + c.fn == 0) continue;
+    const double lo = JsonDouble(bin, "lo");
+    const std::string hi =
+        bin.contains("hi") && bin["hi"].is_number() ? Number(bin["hi"].get<double>()) : "∞";
+    rows +=
+        DetectionRow(fmt::format("{} {}–{}{}", what, Number(lo), hi, unit), bin, with_precision);
+  }
+  return rows;
+}
+
+// The detection-quality section of a rendered run with a detector.
+std::string DetectionSection(const json& metrics, const std::string& detector) {
+  if (!metrics.is_object() || !metrics.contains("detection") || !metrics["detection"].is_object()) {
+    return "";
+  }
+  const json& d = metrics["detection"];
+  std::string h = "<h2>Detection quality</h2>\n";
+  h += fmt::format(
+      "<p>Detector <code>{}</code> against the pixel-exact truth, frame by frame before any "
+      "tracking: a detection matches a target when their IoU is at least 0.5 (the centre rule "
+      "instead asks the detection's centre to lie within half the target's box). Targets less "
+      "visible than <code>metrics.min_visible</code> are not counted. False detections have a "
+      "size but no visibility or truncation, so those rows give recall only. Truncation is the "
+      "fraction of the target's box outside the image.</p>\n",
+      EscapeMarkup(detector));
+  h += "<table><tr><th>targets</th><th>found (IoU)</th><th>missed</th><th>false</th>"
+       "<th>precision</th><th>recall</th><th>recall (centre)</th></tr>\n";
+  h += DetectionRow("all", d, true);
+  h += DetectionBinRows(d, "by_size_px", "size", " px", true);
+  h += DetectionBinRows(d, "by_visibility", "visible", "", false);
+  h += DetectionBinRows(d, "by_truncation", "truncated", "", false);
+  h += "</table>\n";
+  return h;
+}
+
 }  // namespace
 
 ReportResult WriteRunReport(const ReportOptions& options) {
@@ -316,6 +393,7 @@ ReportResult WriteRunReport(const ReportOptions& options) {
     h += "<p>No per-frame camera motion to plot (camera_motion.csv is absent or has no "
          "rows).</p>\n";
   }
+  h += DetectionSection(metrics, JsonText(manifest, "detector"));
   const fs::path resolved = dir / "scenario.resolved.yaml";
   if (fs::is_regular_file(resolved, ec)) {
     h += "<h2>Scenario (resolved)</h2>\n<pre>" + EscapeMarkup(ReadWholeFile(resolved)) + "</pre>\n";

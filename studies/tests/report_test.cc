@@ -319,6 +319,54 @@ TEST(RunReport, PlotsPerFrameCameraMotionErrorWithModeAndEss) {
   EXPECT_EQ(scenarios::WhyNotOurOutput(run), "");
 }
 
+// A rendered run with a detector: the report's detection-quality table, one
+// row for all targets and one per non-empty bin, from metrics.json's
+// detection block (written here by hand, so every cell is derived below).
+TEST(RunReport, DetectionQualityTableHasARowPerNonEmptyBin) {
+  const auto dir = testing::SweepFolder("run-report-detection");
+  const fs::path run = RunMinimal(dir, "none");
+  EXPECT_EQ(Read(run / "metrics.json").find("\"detection\""), std::string::npos)
+      << "a simulated run has no detection block";
+  EXPECT_EQ(Read(WriteReport({.dir = run.string()}).html_path).find("Detection quality"),
+            std::string::npos);
+  auto metrics = nlohmann::json::parse(Read(run / "metrics.json"));
+  const auto counts = [](int tp, int fp, int fn) {
+    return nlohmann::json{{"tp", tp}, {"fp", fp}, {"fn", fn}};
+  };
+  metrics["detection"] = {
+      {"iou", counts(8, 2, 2)},
+      {"centre", counts(9, 1, 1)},
+      {"by_size_px",
+       {{{"lo", 0.0}, {"hi", 8.0}, {"iou", counts(0, 0, 0)}, {"centre", counts(0, 0, 0)}},
+        {{"lo", 16.0}, {"hi", 32.0}, {"iou", counts(8, 2, 2)}, {"centre", counts(9, 1, 1)}},
+        {{"lo", 64.0}, {"hi", "inf"}, {"iou", counts(0, 0, 0)}, {"centre", counts(0, 0, 0)}}}},
+      {"by_visibility",
+       {{{"lo", 0.5}, {"hi", 0.75}, {"iou", counts(0, 0, 1)}, {"centre", counts(0, 0, 1)}},
+        {{"lo", 0.75}, {"hi", 1.0}, {"iou", counts(8, 0, 1)}, {"centre", counts(9, 0, 0)}}}},
+      {"by_truncation",
+       {{{"lo", 0.0}, {"hi", 0.15}, {"iou", counts(8, 0, 1)}, {"centre", counts(9, 0, 0)}},
+        {{"lo", 0.5}, {"hi", 1.0}, {"iou", counts(0, 0, 1)}, {"centre", counts(0, 0, 1)}}}}};
+  std::ofstream(run / "metrics.json") << metrics.dump();
+  const std::string html = Read(WriteReport({.dir = run.string()}).html_path);
+  EXPECT_NE(html.find("<h2>Detection quality</h2>"), std::string::npos);
+  // All: precision 8 / 10, recall 8 / 10, centre recall 9 / 10.
+  EXPECT_NE(html.find("<tr><td class=\"k\">all</td><td>8</td><td>2</td><td>2</td>"
+                      "<td>0.800</td><td>0.800</td><td>0.900</td></tr>"),
+            std::string::npos)
+      << html;
+  EXPECT_NE(html.find("<tr><td class=\"k\">size 16–32 px</td><td>8</td><td>2</td><td>2</td>"),
+            std::string::npos);
+  EXPECT_EQ(html.find("size 0–8 px"), std::string::npos) << "an empty bin has no row";
+  EXPECT_EQ(html.find("size 64–"), std::string::npos) << "an empty bin has no row";
+  // Visibility and truncation rows: recall only (8 / 9; 0 / 1).
+  EXPECT_NE(html.find("<tr><td class=\"k\">visible 0.75–1</td><td>8</td><td>1</td><td>–</td>"
+                      "<td>–</td><td>0.889</td><td>1.000</td></tr>"),
+            std::string::npos);
+  EXPECT_NE(html.find("<tr><td class=\"k\">truncated 0.5–1</td><td>0</td><td>1</td><td>–</td>"
+                      "<td>–</td><td>0.000</td><td>0.000</td></tr>"),
+            std::string::npos);
+}
+
 // mode none: no scene filter, so no ESS column values and no ESS line.
 TEST(RunReport, ModeNoneHasNoEssLine) {
   const auto dir = testing::SweepFolder("run-report-none");

@@ -245,15 +245,16 @@ std::string RunMetricsToJson(const RunMetrics& m) {
                       {"by_truncation", BinsJson(d.by_truncation)}};
   }
   if (m.camera_motion) {
-    const CameraMotionErrorSummary& e = m.camera_motion->error;
-    j["camera_motion"] = {{"mode", m.camera_motion->mode}, {"frames", e.frames},
-                          {"mean_px", Number(e.mean_px)},  {"median_px", Number(e.median_px)},
-                          {"p95_px", Number(e.p95_px)},    {"max_px", Number(e.max_px)}};
-    const CameraMotionErrorSummary& f = m.camera_motion->floor;
-    j["camera_motion"]["floor"] = {{"mean_px", Number(f.mean_px)},
-                                   {"median_px", Number(f.median_px)},
-                                   {"p95_px", Number(f.p95_px)},
-                                   {"max_px", Number(f.max_px)}};
+    const auto summary = [](const CameraMotionErrorSummary& e) {
+      return json{{"mean_px", Number(e.mean_px)},
+                  {"median_px", Number(e.median_px)},
+                  {"p95_px", Number(e.p95_px)},
+                  {"max_px", Number(e.max_px)}};
+    };
+    json& camera = j["camera_motion"] = summary(m.camera_motion->error);
+    camera["mode"] = m.camera_motion->mode;
+    camera["frames"] = m.camera_motion->error.frames;
+    camera["floor"] = summary(m.camera_motion->floor);
   }
   if (m.filters) {
     const FilterMetrics& f = *m.filters;

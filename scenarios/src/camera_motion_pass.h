@@ -61,10 +61,11 @@ class CameraMotionPass {
   // The frame's point tracks from the configured evidence (simulated or image).
   std::vector<PointTrack> Tracks(const FrameGroundTruth& current, std::span<const BoxPx> exclude,
                                  const RgbImage* image) const;
+  // One column of the records summarised.
+  metrics::CameraMotionErrorSummary Summarise(double CameraMotionRecord::*column) const;
   // `tracks` without those starting inside the targets' dilated boxes (what
   // PointTrackEvidence ignores): the input of RANSAC, in the ransac mode and
   // the perspective stage.
-  metrics::CameraMotionErrorSummary Summarise(double CameraMotionRecord::*column) const;
   std::vector<PointTrack> Background(std::vector<PointTrack> tracks,
                                      std::span<const BoxPx> exclude) const;
 

@@ -154,6 +154,12 @@ std::string JsonText(const json& j, const char* key) {
   return j[key].is_string() ? j[key].get<std::string>() : j[key].dump();
 }
 
+// j[key], or null when j is not an object or lacks the key.
+const json& JsonMember(const json& j, const char* key) {
+  static const json kNull;
+  return j.is_object() && j.contains(key) ? j[key] : kNull;
+}
+
 // The per-frame plot: error_px on the left axis with the similarity floor
 // when the file has it; ESS on the right when the file has any. Returns the
 // inline SVG.
@@ -229,9 +235,8 @@ std::string Ratio(int64_t num, int64_t den) {
 // recall. `with_precision`: false detections are counted in this row (the
 // totals and the size bins), so precision is defined.
 std::string DetectionRow(const std::string& label, const json& row, bool with_precision) {
-  const Counts iou = CountsOf(row.is_object() && row.contains("iou") ? row["iou"] : json());
-  const Counts centre =
-      CountsOf(row.is_object() && row.contains("centre") ? row["centre"] : json());
+  const Counts iou = CountsOf(JsonMember(row, "iou"));
+  const Counts centre = CountsOf(JsonMember(row, "centre"));
   return fmt::format(
       "<tr><td class=\"k\">{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td>"
       "<td>{}</td></tr>\n",
@@ -246,9 +251,10 @@ std::string DetectionRow(const std::string& label, const json& row, bool with_pr
 std::string DetectionBinRows(const json& detection, const char* key, const char* what,
                              const char* unit, bool with_precision) {
   std::string rows;
-  if (!detection.contains(key) || !detection[key].is_array()) return rows;
-  for (const json& bin : detection[key]) {
-    const Counts c = CountsOf(bin.is_object() && bin.contains("iou") ? bin["iou"] : json());
+  const json& bins = JsonMember(detection, key);
+  if (!bins.is_array()) return rows;
+  for (const json& bin : bins) {
+    const Counts c = CountsOf(JsonMember(bin, "iou"));
     if (c.tp + c.fp + c.fn == 0) continue;
     const double lo = JsonDouble(bin, "lo");
     const std::string hi =
@@ -261,10 +267,8 @@ std::string DetectionBinRows(const json& detection, const char* key, const char*
 
 // The detection-quality section of a rendered run with a detector.
 std::string DetectionSection(const json& metrics, const std::string& detector) {
-  if (!metrics.is_object() || !metrics.contains("detection") || !metrics["detection"].is_object()) {
-    return "";
-  }
-  const json& d = metrics["detection"];
+  const json& d = JsonMember(metrics, "detection");
+  if (!d.is_object()) return "";
   std::string h = "<h2>Detection quality</h2>\n";
   h += fmt::format(
       "<p>Detector <code>{}</code> against the pixel-exact truth, frame by frame before any "
@@ -308,8 +312,7 @@ ReportResult WriteRunReport(const ReportOptions& options) {
     throw InputError(SourceLocation{dir.string(), 0, 0, ""},
                      "a run folder with metrics.json and manifest.json", e.what());
   }
-  const json camera =
-      metrics.is_object() && metrics.contains("camera_motion") ? metrics["camera_motion"] : json();
+  const json& camera = JsonMember(metrics, "camera_motion");
   const std::string mode =
       camera.is_object() && camera.contains("mode") && camera["mode"].is_string()
           ? camera["mode"].get<std::string>()
@@ -324,9 +327,9 @@ ReportResult WriteRunReport(const ReportOptions& options) {
   if (!rows.empty()) {
     const fs::path work = MakePlotWorkDir(out, options.out_dir.empty());
     try {
-      const json floor = camera.is_object() && camera.contains("floor") ? camera["floor"] : json();
-      svg = CameraMotionSvg(rows, mode, JsonDouble(camera, "mean_px"), JsonDouble(floor, "mean_px"),
-                            work, options.gnuplot);
+      svg = CameraMotionSvg(rows, mode, JsonDouble(camera, "mean_px"),
+                            JsonDouble(JsonMember(camera, "floor"), "mean_px"), work,
+                            options.gnuplot);
     } catch (...) {
       fs::remove_all(work, ec);
       throw;
@@ -372,17 +375,17 @@ ReportResult WriteRunReport(const ReportOptions& options) {
         "frame-to-frame motion, over {} frames; the floor is the same for the similarity "
         "closest to the true motion at the corners, the best any similarity estimate "
         "could do on these frames.</p>\n<table><tr><th></th><th>mean, px</th><th>median, "
-        "px</th><th>p95, px</th><th>max, px</th></tr>\n<tr><td>error</td><td>{}</td><td>{}"
-        "</td><td>{}</td><td>{}</td></tr>\n",
-        EscapeMarkup(mode), EscapeMarkup(JsonText(camera, "frames")),
-        Number(JsonDouble(camera, "mean_px")), Number(JsonDouble(camera, "median_px")),
-        Number(JsonDouble(camera, "p95_px")), Number(JsonDouble(camera, "max_px")));
-    if (camera.contains("floor")) {
-      const json& floor = camera["floor"];
-      h += fmt::format("<tr><td>floor</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td></tr>\n",
-                       Number(JsonDouble(floor, "mean_px")), Number(JsonDouble(floor, "median_px")),
-                       Number(JsonDouble(floor, "p95_px")), Number(JsonDouble(floor, "max_px")));
-    }
+        "px</th><th>p95, px</th><th>max, px</th></tr>\n",
+        EscapeMarkup(mode), EscapeMarkup(JsonText(camera, "frames")));
+    // One row per summary: the error, and the floor when metrics.json has it.
+    const auto row = [&h](const char* label, const json& summary) {
+      h += fmt::format(
+          "<tr><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td></tr>\n", label,
+          Number(JsonDouble(summary, "mean_px")), Number(JsonDouble(summary, "median_px")),
+          Number(JsonDouble(summary, "p95_px")), Number(JsonDouble(summary, "max_px")));
+    };
+    row("error", camera);
+    if (camera.contains("floor")) row("floor", camera["floor"]);
     h += "</table>\n";
   } else {
     h += "<p>metrics.json has no <code>camera_motion</code> block.</p>\n";

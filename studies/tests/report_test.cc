@@ -52,6 +52,17 @@ std::string RunQuietly(const SweepSpec& spec, const fs::path& dir) {
   return o.out_dir;
 }
 
+// A gnuplot that keeps a copy of the data files and the script of every
+// plot in `kept`.
+fs::path KeepingGnuplot(const fs::path& dir, const fs::path& kept) {
+  fs::create_directories(kept);
+  const fs::path wrapper = dir / "gnuplot.sh";
+  std::ofstream(wrapper) << "#!/bin/sh\ncp \"$(dirname \"$1\")\"/*.dat \"$(dirname \"$1\")\"/*.gp "
+                         << kept.string() << "/\nexec gnuplot \"$@\"\n";
+  fs::permissions(wrapper, fs::perms::owner_all);
+  return wrapper;
+}
+
 TEST(Report, HtmlHasOnePlotWithDataPerMetricAndCsvHasOneRowPerCell) {
   const auto dir = testing::SweepFolder("report-files");
   const SweepSpec spec = LoadSweepFile(
@@ -142,12 +153,7 @@ TEST(Report, XMetricPlacesEachCellAtItsMeanOfThatMetric) {
   ASSERT_EQ(spec.report.x_metric, "idf1");
   const std::string out = RunQuietly(spec, dir);
   const fs::path kept = dir / "kept";
-  fs::create_directories(kept);
-  const fs::path wrapper = dir / "gnuplot.sh";
-  std::ofstream(wrapper) << "#!/bin/sh\ncp \"$(dirname \"$1\")\"/plot_*.dat " << kept.string()
-                         << "/\nexec gnuplot \"$@\"\n";
-  fs::permissions(wrapper, fs::perms::owner_all);
-  const ReportResult r = WriteReport({.dir = out, .gnuplot = wrapper.string()});
+  const ReportResult r = WriteReport({.dir = out, .gnuplot = KeepingGnuplot(dir, kept).string()});
   const std::string html = Read(r.html_path);
   EXPECT_NE(html.find("(idf1; mean per cell, lines follow tracker.particles)"), std::string::npos);
   std::stringstream rows(Read(kept / "plot_0.dat"));
@@ -251,16 +257,6 @@ fs::path RunMinimal(const fs::path& dir, const std::string& mode) {
                                    {"tracker.scene_filter.particles", "100"}});
   scenarios::RunScenario(scenario, {.out_dir = out.string()});
   return out;
-}
-
-// A gnuplot that keeps a copy of the data files of every plot in `kept`.
-fs::path KeepingGnuplot(const fs::path& dir, const fs::path& kept) {
-  fs::create_directories(kept);
-  const fs::path wrapper = dir / "gnuplot.sh";
-  std::ofstream(wrapper) << "#!/bin/sh\ncp \"$(dirname \"$1\")\"/*.dat " << kept.string()
-                         << "/\nexec gnuplot \"$@\"\n";
-  fs::permissions(wrapper, fs::perms::owner_all);
-  return wrapper;
 }
 
 // hcpf report RUN_DIR: report.html in the run folder with the headline
@@ -571,12 +567,7 @@ TEST(Report, WideRangesGetALogarithmicYAxis) {
                           "y: [camera_motion_error_px, da_accuracy, mota]}\n"));
   const std::string out = RunQuietly(spec, dir);
   const fs::path kept = dir / "kept";
-  fs::create_directories(kept);
-  const fs::path wrapper = dir / "gnuplot-keep.sh";
-  std::ofstream(wrapper) << "#!/bin/sh\ncp \"$(dirname \"$1\")\"/*.dat \"$(dirname \"$1\")\"/*.gp "
-                         << kept.string() << "/\nexec gnuplot \"$@\"\n";
-  fs::permissions(wrapper, fs::perms::owner_all);
-  WriteReport({.dir = out, .gnuplot = wrapper.string()});
+  WriteReport({.dir = out, .gnuplot = KeepingGnuplot(dir, kept).string()});
   int log_plots = 0, linear_plots = 0;
   for (const auto& entry : fs::directory_iterator(kept)) {
     if (entry.path().extension() != ".gp") continue;

@@ -184,9 +184,8 @@ Eigen::Matrix3d PerspectiveHomography(const SimilarityMotion& numerator, const E
   const double k = std::exp(numerator.log_scale);
   const double a = k * std::cos(numerator.rotation_rad);
   const double b = k * std::sin(numerator.rotation_rad);
-  // S about the centre: S_c(x) = S(x + c) - c = A x + (A c + t - c).
-  const Eigen::Vector2d t_c(a * centre.x() - b * centre.y() + numerator.tx_px - centre.x(),
-                            b * centre.x() + a * centre.y() + numerator.ty_px - centre.y());
+  // S about the centre: S_c(x) = S(x + c) - c = A x + (S(c) - c).
+  const Eigen::Vector2d t_c = Apply(numerator, centre) - centre;
   Eigen::Matrix3d centred;
   centred << a, -b, t_c.x(), b, a, t_c.y(), gh.x(), gh.y(), 1.0;
   Eigen::Matrix3d to_centred = Eigen::Matrix3d::Identity();

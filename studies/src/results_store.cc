@@ -193,7 +193,18 @@ double JsonNumber(const json& j, const std::vector<std::string>& path) {
 
 ResultsStore::ResultsStore(std::string path, sqlite3* db) : path_(std::move(path)), db_(db) {}
 
-ResultsStore::~ResultsStore() { sqlite3_close(db_); }
+ResultsStore::~ResultsStore() {
+  if (writable_) {
+    // Back to a rollback journal once the writer is done, so the finished
+    // store is one file and read-only readers (report, export, merge) create
+    // no -wal or -shm beside it. Needs the only connection: with a reader
+    // still open the switch fails at once (no busy wait) and the store stays
+    // in WAL mode, readable as before.
+    sqlite3_busy_timeout(db_, 0);
+    sqlite3_exec(db_, "PRAGMA journal_mode=DELETE", nullptr, nullptr, nullptr);
+  }
+  sqlite3_close(db_);
+}
 
 void ResultsStore::Exec(const std::string& sql) const {
   const int rc = sqlite3_exec(db_, sql.c_str(), nullptr, nullptr, nullptr);
@@ -253,6 +264,14 @@ std::unique_ptr<ResultsStore> ResultsStore::Open(const std::string& path, StoreA
                                std::strerror(errno)));
   }
   std::unique_ptr<ResultsStore> store(new ResultsStore(path, OpenDb(path, access, false)));
+  if (access == StoreAccess::kReadWrite) {
+    // Writers use WAL: readers (a report while the sweep runs) do not block
+    // them. The destructor switches back. Where WAL cannot be had (a reader
+    // holding the file past the busy timeout, a file system without shared
+    // memory) the store stays in rollback mode, slower for readers, as valid.
+    sqlite3_exec(store->db_, "PRAGMA journal_mode=WAL", nullptr, nullptr, nullptr);
+    store->writable_ = true;
+  }
   try {
     store->ReadMeta();
     store->AddMissingMetricColumns(access);
@@ -311,9 +330,7 @@ std::unique_ptr<ResultsStore> ResultsStore::OpenOrCreate(const std::string& path
   }
   // Created under a temporary name and renamed: a store never exists without its meta.
   fs::rename(temp, path);
-  auto store = Open(path, StoreAccess::kReadWrite);
-  store->Exec("PRAGMA journal_mode=WAL");
-  return store;
+  return Open(path, StoreAccess::kReadWrite);
 }
 
 void ResultsStore::Put(const RunRecord& r) {

@@ -102,6 +102,75 @@ TEST(ResultsStore, PutRunsRoundTripAndRefusesAnotherSweep) {
   EXPECT_THROW(ResultsStore::OpenOrCreate(path, meta), InputError);
 }
 
+// The journal mode a fresh connection finds in the file (persistent for WAL).
+std::string JournalMode(const std::string& path) {
+  sqlite3* db = nullptr;
+  EXPECT_EQ(sqlite3_open_v2(path.c_str(), &db, SQLITE_OPEN_READONLY, nullptr), SQLITE_OK);
+  sqlite3_stmt* s = nullptr;
+  EXPECT_EQ(sqlite3_prepare_v2(db, "PRAGMA journal_mode", -1, &s, nullptr), SQLITE_OK);
+  std::string mode;
+  if (sqlite3_step(s) == SQLITE_ROW)
+    mode = reinterpret_cast<const char*>(sqlite3_column_text(s, 0));
+  sqlite3_finalize(s);
+  sqlite3_close(db);
+  return mode;
+}
+
+// A writer works in WAL mode (readers do not block it); once it is done the
+// store is one file again, and reading it (report, export, merge) leaves no
+// -wal or -shm beside it. A reader still open when the writer finishes keeps
+// the store in WAL mode, readable; the next writer finishes the switch.
+TEST(ResultsStore, AFinishedStoreIsOneFileThatReadersLeaveAlone) {
+  const auto dir = SweepFolder("journal");
+  StoreMeta meta;
+  meta.sweep_hash = "abc";
+  meta.swept_keys = {"tracker.particles"};
+  meta.report = {"tracker.particles", {"idf1"}, ""};
+  const std::string path = (dir / "results.sqlite").string();
+  const auto sidecars = [&] {
+    return static_cast<int>(fs::exists(path + "-wal")) +
+           static_cast<int>(fs::exists(path + "-shm"));
+  };
+  RunRecord r;
+  r.key = "k";
+  r.values = {"50"};
+  r.ok = true;
+  r.metrics = {{"idf1", 0.5}};
+  {
+    auto store = ResultsStore::OpenOrCreate(path, meta);
+    store->Put(r);
+    EXPECT_EQ(JournalMode(path), "wal");
+    EXPECT_TRUE(fs::exists(path + "-wal"));
+  }
+  EXPECT_EQ(JournalMode(path), "delete");
+  EXPECT_EQ(sidecars(), 0);
+  EXPECT_EQ(ResultsStore::Open(path)->Runs().size(), 1U);
+  EXPECT_EQ(sidecars(), 0) << "a read-only open left files beside the store";
+  // Resumed: WAL again while writing, one file again after.
+  {
+    auto store = ResultsStore::OpenOrCreate(path, meta);
+    EXPECT_EQ(JournalMode(path), "wal");
+    r.key = "k2";
+    store->Put(r);
+  }
+  EXPECT_EQ(JournalMode(path), "delete");
+  EXPECT_EQ(sidecars(), 0);
+  // A reader open while the writer finishes: the store stays in WAL mode,
+  // with both rows readable.
+  {
+    auto writer = ResultsStore::OpenOrCreate(path, meta);
+    auto reader = ResultsStore::Open(path);
+    EXPECT_EQ(reader->Runs().size(), 2U);
+    writer.reset();
+    EXPECT_EQ(JournalMode(path), "wal");
+    EXPECT_EQ(reader->Runs().size(), 2U);
+  }
+  EXPECT_EQ(ResultsStore::Open(path)->Runs().size(), 2U);
+  ResultsStore::OpenOrCreate(path, meta).reset();
+  EXPECT_EQ(JournalMode(path), "delete");
+  EXPECT_EQ(sidecars(), 0);
+}
+
 // Every catalogue metric is found in a real run folder: a field renamed in
 // metrics.json or manifest.json would otherwise become a column of NaNs.
 TEST(MetricCatalogue, EveryEntryIsReadFromARealRunFolder) {

@@ -21,6 +21,7 @@
 #include "hcpf/renderer/mesh.h"
 #include "hcpf/renderer/renderer.h"
 #include "logging.h"
+#include "rgba_split.h"
 #include "shaders.h"
 #include "textures.h"
 
@@ -242,7 +243,7 @@ class GlSceneRenderer final : public SceneRenderer {
     GLsync fence = nullptr;
   };
   void SubmitCountPass(InFlight& s, const Eigen::Matrix4f& view_proj);
-  FrameGroundTruth GroundTruth(InFlight& s, const std::vector<uint8_t>& rgba);
+  FrameGroundTruth GroundTruth(InFlight& s, const internal::VisibleIds& visible);
   // Binds `buffer` (created on first use) to GL_PIXEL_PACK_BUFFER with room
   // for `bytes`.
   void EnsurePackBuffer(GLuint& buffer, size_t& capacity, size_t bytes);
@@ -1173,11 +1174,9 @@ RenderedFrame GlSceneRenderer::CollectClean() {
   out.rgb.width = width_;
   out.rgb.height = height_;
   out.rgb.pixels.resize(3 * pixels);
-  for (size_t i = 0; i < pixels; ++i) {
-    out.rgb.pixels[3 * i] = rgba_[4 * i];
-    out.rgb.pixels[3 * i + 1] = rgba_[4 * i + 1];
-    out.rgb.pixels[3 * i + 2] = rgba_[4 * i + 2];
-  }
+  internal::VisibleIds visible(world_.targets.size() + 1, width_, height_);
+  internal::SplitRgba(rgba_.data(), width_, height_, out.rgb.pixels.data(),
+                      options_.ground_truth ? &visible : nullptr);
   if (options_.output_instance_ids) {
     InstanceImage ids;
     ids.width = width_;
@@ -1190,7 +1189,7 @@ RenderedFrame GlSceneRenderer::CollectClean() {
     out.instance_ids = std::move(ids);
   }
   if (options_.ground_truth) {
-    out.ground_truth = GroundTruth(s, rgba_);
+    out.ground_truth = GroundTruth(s, visible);
   } else {
     out.ground_truth.frame = s.frame;
     out.ground_truth.camera = s.camera;
@@ -1315,27 +1314,13 @@ void GlSceneRenderer::SubmitCountPass(InFlight& s, const Eigen::Matrix4f& view_p
   gl_.CheckError("ground-truth pass");
 }
 
-FrameGroundTruth GlSceneRenderer::GroundTruth(InFlight& s, const std::vector<uint8_t>& rgba) {
+FrameGroundTruth GlSceneRenderer::GroundTruth(InFlight& s, const internal::VisibleIds& visible) {
   FrameGroundTruth gt;
   gt.frame = s.frame;
   gt.camera = s.camera;
   gt.image_from_ground = s.camera.ImageFromGround(0.0);
-  const size_t n = world_.targets.size();
-  // Visible pixels and their bounds per slot, from the colour pass's ids.
-  std::vector<int64_t> count(n + 1, 0);
-  std::vector<int> x0(n + 1, width_), y0(n + 1, height_), x1(n + 1, -1), y1(n + 1, -1);
-  for (int y = 0; y < height_; ++y) {
-    const uint8_t* row = rgba.data() + 4 * static_cast<size_t>(y) * width_;
-    for (int x = 0; x < width_; ++x) {
-      const uint8_t id = row[4 * x + 3];
-      if (id == 0) continue;
-      ++count[id];
-      x0[id] = std::min(x0[id], x);
-      x1[id] = std::max(x1[id], x);
-      y0[id] = std::min(y0[id], y);
-      y1[id] = std::max(y1[id], y);
-    }
-  }
+  const std::vector<int64_t>& count = visible.count;
+  const std::vector<int>&x0 = visible.x0, &y0 = visible.y0, &x1 = visible.x1, &y1 = visible.y1;
 
   // Unoccluded totals and amodal bounds from the count pass's layers.
   if (!s.layers.empty()) {

@@ -60,54 +60,30 @@ SimilarityMotion CornerOptimalSimilarity(const Eigen::Matrix3d& true_frame_to_fr
     const Eigen::Vector3d t = true_frame_to_frame * Eigen::Vector3d(p[i].real(), p[i].imag(), 1.0);
     q[i] = Complex(t.x() / t.z(), t.y() / t.z());
   }
-  // Weighted least squares of q = a p + b (closed form, complex regression).
-  const auto fit = [&](const std::array<double, 4>& weight, Complex& a, Complex& b) {
-    double total = 0.0;
-    Complex pm = 0.0, qm = 0.0;
-    for (size_t i = 0; i < 4; ++i) {
-      total += weight[i];
-      pm += weight[i] * p[i];
-      qm += weight[i] * q[i];
-    }
-    pm /= total;
-    qm /= total;
-    Complex num = 0.0;
-    double den = 0.0;
-    for (size_t i = 0; i < 4; ++i) {
-      num += weight[i] * (q[i] - qm) * std::conj(p[i] - pm);
-      den += weight[i] * std::norm(p[i] - pm);
-    }
-    a = num / den;
-    b = qm - a * pm;
-  };
-  const auto mean_distance = [&](Complex a, Complex b) {
+  const auto mean_distance = [&](const ComplexSimilarity& s) {
     double sum = 0.0;
-    for (size_t i = 0; i < 4; ++i) sum += std::abs(a * p[i] + b - q[i]);
+    for (size_t i = 0; i < 4; ++i) sum += std::abs(s.a * p[i] + s.b - q[i]);
     return sum / 4.0;
   };
   std::array<double, 4> weight = {1.0, 1.0, 1.0, 1.0};
-  Complex a, b;
-  fit(weight, a, b);
-  double best = mean_distance(a, b);
-  for (int iteration = 0; iteration < 500 && best > 0.0; ++iteration) {
+  ComplexSimilarity best = FitComplexSimilarity(p, q, weight);
+  double best_mean = mean_distance(best);
+  for (int iteration = 0; iteration < 500 && best_mean > 0.0; ++iteration) {
     // Weiszfeld: weights 1 / residual, floored so an exactly met corner
     // does not divide by zero.
-    for (size_t i = 0; i < 4; ++i) weight[i] = 1.0 / std::max(std::abs(a * p[i] + b - q[i]), 1e-12);
-    Complex a2, b2;
-    fit(weight, a2, b2);
-    const double next = mean_distance(a2, b2);
-    if (!(next < best - 1e-13)) {
-      if (next < best) a = a2, b = b2, best = next;
+    for (size_t i = 0; i < 4; ++i) {
+      weight[i] = 1.0 / std::max(std::abs(best.a * p[i] + best.b - q[i]), 1e-12);
+    }
+    const ComplexSimilarity next = FitComplexSimilarity(p, q, weight);
+    const double next_mean = mean_distance(next);
+    if (!(next_mean < best_mean - 1e-13)) {
+      if (next_mean < best_mean) best = next, best_mean = next_mean;
       break;
     }
-    a = a2;
-    b = b2;
     best = next;
+    best_mean = next_mean;
   }
-  return {.tx_px = b.real(),
-          .ty_px = b.imag(),
-          .log_scale = std::log(std::abs(a)),
-          .rotation_rad = std::arg(a)};
+  return best.motion();
 }
 
 CameraMotionErrorSummary SummariseCameraMotionError(std::span<const double> per_frame_px) {

@@ -39,23 +39,7 @@ SimilarityMotion BestSimilarity(const Eigen::Matrix3d& h, int width, int height)
     }
   }
   if (p.size() < 2) return {};
-  Complex pm = 0.0, qm = 0.0;
-  for (size_t k = 0; k < p.size(); ++k) pm += p[k], qm += q[k];
-  pm /= static_cast<double>(p.size());
-  qm /= static_cast<double>(q.size());
-  Complex num = 0.0;
-  double den = 0.0;
-  for (size_t k = 0; k < p.size(); ++k) {
-    num += (q[k] - qm) * std::conj(p[k] - pm);
-    den += std::norm(p[k] - pm);
-  }
-  // q = a p + b with a = s e^{i theta}: the similarity p' = s R(theta) p + t.
-  const Complex a = num / den;
-  const Complex b = qm - a * pm;
-  return {.tx_px = b.real(),
-          .ty_px = b.imag(),
-          .log_scale = std::log(std::abs(a)),
-          .rotation_rad = std::arg(a)};
+  return FitComplexSimilarity(p, q).motion();
 }
 
 CameraMotionPass::CameraMotionPass(const Scenario& scenario)

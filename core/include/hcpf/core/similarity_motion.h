@@ -5,6 +5,8 @@
 
 #include <Eigen/Core>
 #include <cmath>
+#include <complex>
+#include <span>
 
 namespace hcpf {
 
@@ -27,6 +29,49 @@ inline Eigen::Vector2d Apply(const SimilarityMotion& motion, const Eigen::Vector
   const double a = scale * std::cos(motion.rotation_rad);
   const double b = scale * std::sin(motion.rotation_rad);
   return {a * p.x() - b * p.y() + motion.tx_px, b * p.x() + a * p.y() + motion.ty_px};
+}
+
+// A similarity in complex form, p' = a p + b with a = exp(log_scale)
+// e^{i rotation} and b = tx + i ty (points as x + i y).
+struct ComplexSimilarity {
+  std::complex<double> a = 1.0;
+  std::complex<double> b = 0.0;
+  SimilarityMotion motion() const {
+    return {.tx_px = b.real(),
+            .ty_px = b.imag(),
+            .log_scale = std::log(std::abs(a)),
+            .rotation_rad = std::arg(a)};
+  }
+};
+
+// The weighted least-squares similarity q_i ~ a p_i + b (closed form: with
+// weighted means p_m, q_m, a = sum w (q - q_m) conj(p - p_m) / sum w |p - p_m|^2
+// and b = q_m - a p_m). Empty `weights`: all 1. p and q (and weights) have
+// the same size; at least two distinct p with non-zero weight, else a is not
+// finite.
+inline ComplexSimilarity FitComplexSimilarity(std::span<const std::complex<double>> p,
+                                              std::span<const std::complex<double>> q,
+                                              std::span<const double> weights = {}) {
+  const auto w = [&](size_t i) { return weights.empty() ? 1.0 : weights[i]; };
+  double total = 0.0;
+  std::complex<double> pm = 0.0, qm = 0.0;
+  for (size_t i = 0; i < p.size(); ++i) {
+    total += w(i);
+    pm += w(i) * p[i];
+    qm += w(i) * q[i];
+  }
+  pm /= total;
+  qm /= total;
+  std::complex<double> num = 0.0;
+  double den = 0.0;
+  for (size_t i = 0; i < p.size(); ++i) {
+    num += w(i) * (q[i] - qm) * std::conj(p[i] - pm);
+    den += w(i) * std::norm(p[i] - pm);
+  }
+  ComplexSimilarity fit;
+  fit.a = num / den;
+  fit.b = qm - fit.a * pm;
+  return fit;
 }
 
 // One point correspondence between consecutive frames: p in frame t-1, q in

@@ -1319,8 +1319,6 @@ FrameGroundTruth GlSceneRenderer::GroundTruth(InFlight& s, const internal::Visib
   gt.frame = s.frame;
   gt.camera = s.camera;
   gt.image_from_ground = s.camera.ImageFromGround(0.0);
-  const std::vector<int64_t>& count = visible.count;
-  const std::vector<int>&x0 = visible.x0, &y0 = visible.y0, &x1 = visible.x1, &y1 = visible.y1;
 
   // Unoccluded totals and amodal bounds from the count pass's layers.
   if (!s.layers.empty()) {
@@ -1358,10 +1356,11 @@ FrameGroundTruth GlSceneRenderer::GroundTruth(InFlight& s, const internal::Visib
     obj.dimensions_m = spec.dimensions_m;
     const size_t id = t.slot + 1;
     obj.pixels_total = p.total;
-    obj.pixels_visible = count[id];
-    obj.visible_fraction = p.total > 0 ? static_cast<double>(count[id]) / p.total : 0.0;
-    if (count[id] > 0) {
-      obj.visible_box = BoxPx::FromCorners(x0[id], y0[id], x1[id] + 1, y1[id] + 1);
+    obj.pixels_visible = visible.count[id];
+    obj.visible_fraction = p.total > 0 ? static_cast<double>(visible.count[id]) / p.total : 0.0;
+    if (visible.count[id] > 0) {
+      obj.visible_box = BoxPx::FromCorners(visible.x0[id], visible.y0[id], visible.x1[id] + 1,
+                                           visible.y1[id] + 1);
     }
     BoxPx amodal;
     if (p.total > 0) amodal = BoxPx::FromCorners(p.ax0, p.ay0, p.ax1 + 1, p.ay1 + 1);

@@ -194,7 +194,7 @@ double JsonNumber(const json& j, const std::vector<std::string>& path) {
 ResultsStore::ResultsStore(std::string path, sqlite3* db) : path_(std::move(path)), db_(db) {}
 
 ResultsStore::~ResultsStore() {
-  if (writable_) {
+  if (sqlite3_db_readonly(db_, "main") == 0) {
     // Back to a rollback journal once the writer is done, so the finished
     // store is one file and read-only readers (report, export, merge) create
     // no -wal or -shm beside it. Needs the only connection: with a reader
@@ -270,7 +270,6 @@ std::unique_ptr<ResultsStore> ResultsStore::Open(const std::string& path, StoreA
     // holding the file past the busy timeout, a file system without shared
     // memory) the store stays in rollback mode, slower for readers, as valid.
     sqlite3_exec(store->db_, "PRAGMA journal_mode=WAL", nullptr, nullptr, nullptr);
-    store->writable_ = true;
   }
   try {
     store->ReadMeta();

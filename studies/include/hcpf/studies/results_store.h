@@ -83,7 +83,6 @@ class ResultsStore {
 
   std::string path_;
   sqlite3* db_ = nullptr;
-  bool writable_ = false;  // opened kReadWrite: WAL while open, see ~ResultsStore
   StoreMeta meta_;
   std::set<std::string> absent_metrics_;  // read-only stores of an older catalogue
   mutable std::mutex mutex_;

@@ -9,53 +9,42 @@
 
 #include "codecs.h"
 #include "hcpf/core/error.h"
-#include "hcpf/core/normal.h"
 #include "hcpf/renderer/renderer.h"
+#include "rounded_gaussian.h"
 
 namespace hcpf::renderer {
 namespace {
 
-// Normals are drawn a block at a time into a buffer that stays in L1 (32 KiB
-// of doubles), then added in AddRoundClamp's tight loop.
-constexpr size_t kNoiseBlock = 4096;
-// AddRoundClamp's inner loop runs over fixed chunks of this many values: GCC
-// 12 at -O2 (the "very cheap" vectoriser cost model) vectorises only loops
-// whose trip count is a compile-time constant.
-constexpr size_t kChunk = 16;
-
-// p = clamp(round(p + sigma * z), 0, 255), rounding half up. Clamping first
-// makes the value non-negative, so truncation after adding 0.5 is rounding
-// (no std::round / lrint call, and the conversion vectorises). The same rule
-// as the old round-then-clamp (now on a float sum, whose error, ~1e-4 grey
-// levels for sigma <= 100, matters only at exact half-levels): a sum in
-// [-0.5, 0) rounded to -0 and was clamped to 0; one in [255, 255.5) to 255.
-inline void AddRoundClampOne(float sigma, double z, uint8_t& p) {
-  float x = static_cast<float>(p) + sigma * static_cast<float>(z);
-  x = std::max(x, 0.0f);
-  x = std::min(x, 255.0f);
-  p = static_cast<uint8_t>(static_cast<int32_t>(x + 0.5f));
-}
-
-void AddRoundClamp(float sigma, const double* __restrict z, uint8_t* __restrict p, size_t n) {
-  size_t i = 0;
-  for (; i + kChunk <= n; i += kChunk) {
-    for (size_t j = 0; j < kChunk; ++j) AddRoundClampOne(sigma, z[i + j], p[i + j]);
-  }
-  for (; i < n; ++i) AddRoundClampOne(sigma, z[i], p[i]);
-}
+// Random words are drawn a block at a time into a buffer that stays in L1
+// (two noise values per 64-bit word), then turned into noise.
+constexpr size_t kNoiseBlock = 8192;
 
 // Independent N(0, sigma^2) noise on every byte (pixel and channel), in
-// memory order, from the ziggurat generator (core/normal.h): no
-// transcendental call for ~99 % of values (the rest take the ziggurat's exact
-// rejection step, one exp), and the same seed gives the same bytes on every
-// platform.
+// memory order, rounded to the nearest level and clamped to [0, 255]:
+// p = clamp(p + K, 0, 255), where K = round(sigma z) is drawn directly from
+// its exact distribution (rounded_gaussian.h), 32 bits of hcpf::Rng per
+// value: no normal variate and no floating point per value, and the same seed
+// gives the same bytes on every platform.
 void AddNoise(double sigma, Rng& rng, std::span<uint8_t> pixels) {
-  std::array<double, kNoiseBlock> normals;
-  const auto sigma_f = static_cast<float>(sigma);
+  const internal::RoundedGaussianTable table(sigma);
+  std::array<uint64_t, kNoiseBlock / 2> words;
   for (size_t start = 0; start < pixels.size(); start += kNoiseBlock) {
     const size_t m = std::min(kNoiseBlock, pixels.size() - start);
-    FillStandardNormal(rng, std::span<double>(normals.data(), m));
-    AddRoundClamp(sigma_f, normals.data(), pixels.data() + start, m);
+    const size_t word_count = (m + 1) / 2;
+    for (size_t i = 0; i < word_count; ++i) words[i] = rng.NextU64();
+    uint8_t* p = pixels.data() + start;
+    const auto add = [&](size_t i, uint32_t u) {
+      p[i] = static_cast<uint8_t>(std::clamp(int32_t{p[i]} + table.Sample(u), 0, 255));
+    };
+    // The low half of word i / 2 for even i, the high half for odd i (an
+    // odd last value leaves the high half unused).
+    size_t i = 0;
+    for (; i + 1 < m; i += 2) {
+      const uint64_t w = words[i / 2];
+      add(i, static_cast<uint32_t>(w));
+      add(i + 1, static_cast<uint32_t>(w >> 32));
+    }
+    if (i < m) add(i, static_cast<uint32_t>(words[i / 2]));
   }
 }
 

@@ -1,0 +1,120 @@
+// The sensor noise's integer sampler (src/rounded_gaussian.h).
+
+#include "rounded_gaussian.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdint>
+#include <numeric>
+#include <vector>
+
+namespace hcpf::renderer::internal {
+namespace {
+
+constexpr long double kUnits = 4294967296.0L;  // 2^32
+
+// P(round(sigma z) = k), z ~ N(0, 1), in long double from erf (the code
+// under test uses erfc tails in double): P(a <= sigma z < b) with a, b the
+// half levels; +-kmax take their whole tail.
+long double Probability(double sigma, int k, int kmax) {
+  const long double s = sigma * std::sqrt(2.0L);
+  const auto cdf = [&](long double t) { return 0.5L * (1.0L + std::erf(t / s)); };
+  const long double lo = k == -kmax ? 0.0L : cdf(k - 0.5L);
+  const long double hi = k == kmax ? 1.0L : cdf(k + 0.5L);
+  return hi - lo;
+}
+
+TEST(RoundedGaussian, KmaxIsEightSigmaUpTo255) {
+  EXPECT_EQ(RoundedGaussianKmax(0.05), 1);
+  EXPECT_EQ(RoundedGaussianKmax(0.1), 1);
+  EXPECT_EQ(RoundedGaussianKmax(0.7), 6);  // ceil(5.6)
+  EXPECT_EQ(RoundedGaussianKmax(3.0), 24);
+  EXPECT_EQ(RoundedGaussianKmax(31.875), 255);
+  EXPECT_EQ(RoundedGaussianKmax(100.0), 255);
+}
+
+TEST(RoundedGaussian, WeightsAreTheClosedFormProbabilitiesInUnitsOfTwoToMinus32) {
+  for (const double sigma : {0.1, 0.5, 0.7, 1.0, 3.0, 5.0, 12.5, 40.0, 100.0}) {
+    const int kmax = RoundedGaussianKmax(sigma);
+    const std::vector<uint64_t> w = RoundedGaussianWeights(sigma, kmax);
+    ASSERT_EQ(w.size(), 2 * static_cast<size_t>(kmax) + 1);
+    EXPECT_EQ(std::accumulate(w.begin(), w.end(), uint64_t{0}), uint64_t{1} << 32) << sigma;
+    for (int k = -kmax; k <= kmax; ++k) {
+      const long double exact = Probability(sigma, k, kmax) * kUnits;
+      const auto got = static_cast<long double>(w[static_cast<size_t>(k + kmax)]);
+      // Rounded to the nearest unit: within 1/2, plus the double erfc's error
+      // (relative ~1e-15 of P, under 0.01 units). k = 0 takes the other
+      // values' rounding too: under 1/2 unit each.
+      const long double tolerance = k == 0 ? 0.51L + 0.5L * 2 * kmax : 0.51L;
+      EXPECT_NEAR(static_cast<double>(got), static_cast<double>(exact),
+                  static_cast<double>(tolerance))
+          << "sigma " << sigma << " k " << k;
+    }
+    // Symmetric: K and -K alike.
+    for (int k = 1; k <= kmax; ++k) {
+      EXPECT_EQ(w[static_cast<size_t>(kmax + k)], w[static_cast<size_t>(kmax - k)]);
+    }
+  }
+}
+
+TEST(RoundedGaussian, TheTableRealisesTheWeightsExactly) {
+  for (const double sigma : {0.1, 0.7, 3.0, 5.0, 40.0, 100.0}) {
+    const RoundedGaussianTable table(sigma);
+    const int kmax = table.kmax();
+    const std::vector<uint64_t> w = RoundedGaussianWeights(sigma, kmax);
+    for (int k = -kmax; k <= kmax; ++k) {
+      EXPECT_EQ(table.Count(k), w[static_cast<size_t>(k + kmax)])
+          << "sigma " << sigma << " k " << k;
+    }
+    EXPECT_EQ(table.Count(kmax + 1), 0u);
+    EXPECT_EQ(table.Count(-kmax - 1), 0u);
+  }
+}
+
+TEST(RoundedGaussian, SampleMatchesTheCountsOnEverySmallTable) {
+  // sigma 0.1: 3 values in 4 bins of 2^30 inputs each. Sample's output
+  // depends on the bin (top 2 bits) and on whether the rest is below the
+  // bin's threshold, so counting Sample over the rest's extremes and either
+  // side of every threshold, weighted by the inputs each stands for, must give
+  // Count. Checked by walking each bin's input range in steps of 2^10 plus
+  // the exact boundary: 4 * 2^20 calls.
+  const RoundedGaussianTable table(0.1);
+  ASSERT_EQ(table.kmax(), 1);
+  std::vector<uint64_t> counted(3, 0);
+  for (uint64_t bin = 0; bin < 4; ++bin) {
+    // Sample(u) is piecewise constant in u within a bin, with at most one
+    // change: find it by scanning, then count both pieces exactly.
+    const uint64_t base = bin << 30;
+    int32_t first = table.Sample(static_cast<uint32_t>(base));
+    uint64_t change = uint64_t{1} << 30;  // first input of the second piece
+    for (uint64_t r = 0; r < (uint64_t{1} << 30); r += 1024) {
+      if (table.Sample(static_cast<uint32_t>(base + r)) != first) {
+        uint64_t lo = r - 1024, hi = r;  // change in (lo, hi]
+        while (hi - lo > 1) {
+          const uint64_t mid = (lo + hi) / 2;
+          (table.Sample(static_cast<uint32_t>(base + mid)) == first ? lo : hi) = mid;
+        }
+        change = hi;
+        break;
+      }
+    }
+    counted[static_cast<size_t>(first + 1)] += change;
+    if (change < (uint64_t{1} << 30)) {
+      const int32_t second = table.Sample(static_cast<uint32_t>(base + change));
+      ASSERT_GE(second, -1);
+      ASSERT_LE(second, 1);
+      counted[static_cast<size_t>(second + 1)] += (uint64_t{1} << 30) - change;
+      // One change only: the last input of the bin gives the second value.
+      EXPECT_EQ(table.Sample(static_cast<uint32_t>(base + (uint64_t{1} << 30) - 1)), second);
+    }
+  }
+  for (int k = -1; k <= 1; ++k) {
+    EXPECT_EQ(counted[static_cast<size_t>(k + 1)], table.Count(k)) << k;
+  }
+  // P(K = +-1) = P(|z| > 5) / 2 each: 2.87e-7, about 1232 units.
+  EXPECT_NEAR(static_cast<double>(table.Count(1)), 1232.0, 2.0);
+}
+
+}  // namespace
+}  // namespace hcpf::renderer::internal

@@ -228,7 +228,12 @@ TrackEvalExportResult ExportTrackEval(const TrackEvalExportOptions& options) {
     const fs::path trackers_root = staging / "trackers" / "mot_challenge" / result.bench;
     std::string seqmap = "name\n";
     std::string csv = "sequence,tracker,run_key,run_index,seed_index,seed,run_dir";
-    for (const std::string& key : meta.swept_keys) csv += "," + Csv(key);
+    // Appended piecewise: GCC 12's -Wrestrict misfires on "," + string&&
+    // (a known false positive) and command (1)'s release build shows it.
+    for (const std::string& key : meta.swept_keys) {
+      csv += ',';
+      csv += Csv(key);
+    }
     csv += "\n";
     for (const std::string& sequence : sequences) {
       seqmap += sequence + "\n";
@@ -265,7 +270,10 @@ TrackEvalExportResult ExportTrackEval(const TrackEvalExportOptions& options) {
         const RunRecord& r = *run->record;
         csv += fmt::format("{},{},{},{},{},{},{}", Csv(sequence), Csv(tracker), r.key, r.index,
                            r.seed_index, r.seed, Csv(r.run_dir));
-        for (const std::string& v : r.values) csv += "," + Csv(v);
+        for (const std::string& v : r.values) {
+          csv += ',';
+          csv += Csv(v);
+        }
         csv += "\n";
         ++result.runs;
       }

@@ -21,7 +21,8 @@ class FusedDetector final : public Detector {
  public:
   explicit FusedDetector(std::vector<std::unique_ptr<Detector>> parts) : parts_(std::move(parts)) {
     for (const auto& p : parts_) {
-      name_ += (name_.empty() ? "" : "+") + std::string(p->name());
+      if (!name_.empty()) name_ += '+';
+      name_ += p->name();
       history_ = std::max(history_, p->history());
       uses_models_ = uses_models_ || p->uses_models();
     }

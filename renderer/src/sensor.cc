@@ -16,35 +16,46 @@ namespace hcpf::renderer {
 namespace {
 
 // Random words are drawn a block at a time into a buffer that stays in L1
-// (two noise values per 64-bit word), then turned into noise.
+// (two noise values per 64-bit word), turned into integer noise, then added.
 constexpr size_t kNoiseBlock = 8192;
+// The add-clamp loop runs over fixed chunks of this many values: GCC 12 at
+// -O2 (the "very cheap" vectoriser cost model) vectorises only loops whose
+// trip count is a compile-time constant.
+constexpr size_t kChunk = 16;
+
+inline uint8_t AddClamp(uint8_t p, int16_t k) {
+  return static_cast<uint8_t>(std::clamp<int16_t>(static_cast<int16_t>(p + k), 0, 255));
+}
 
 // Independent N(0, sigma^2) noise on every byte (pixel and channel), in
 // memory order, rounded to the nearest level and clamped to [0, 255]:
 // p = clamp(p + K, 0, 255), where K = round(sigma z) is drawn directly from
 // its exact distribution (rounded_gaussian.h), 32 bits of hcpf::Rng per
-// value: no normal variate and no floating point per value, and the same seed
-// gives the same bytes on every platform.
+// value (the low half of each 64-bit word first): no normal variate and no
+// floating point per value, and the same seed gives the same bytes on every
+// platform. Two passes per block: the table lookups (scalar), then the
+// add-clamp (vectorised).
 void AddNoise(double sigma, Rng& rng, std::span<uint8_t> pixels) {
   const internal::RoundedGaussianTable table(sigma);
   std::array<uint64_t, kNoiseBlock / 2> words;
+  std::array<int16_t, kNoiseBlock> noise;  // |K| <= 255
   for (size_t start = 0; start < pixels.size(); start += kNoiseBlock) {
     const size_t m = std::min(kNoiseBlock, pixels.size() - start);
-    const size_t word_count = (m + 1) / 2;
-    for (size_t i = 0; i < word_count; ++i) words[i] = rng.NextU64();
-    uint8_t* p = pixels.data() + start;
-    const auto add = [&](size_t i, uint32_t u) {
-      p[i] = static_cast<uint8_t>(std::clamp(int32_t{p[i]} + table.Sample(u), 0, 255));
-    };
-    // The low half of word i / 2 for even i, the high half for odd i (an
-    // odd last value leaves the high half unused).
+    for (size_t i = 0; i < (m + 1) / 2; ++i) words[i] = rng.NextU64();
     size_t i = 0;
     for (; i + 1 < m; i += 2) {
       const uint64_t w = words[i / 2];
-      add(i, static_cast<uint32_t>(w));
-      add(i + 1, static_cast<uint32_t>(w >> 32));
+      noise[i] = static_cast<int16_t>(table.Sample(static_cast<uint32_t>(w)));
+      noise[i + 1] = static_cast<int16_t>(table.Sample(static_cast<uint32_t>(w >> 32)));
     }
-    if (i < m) add(i, static_cast<uint32_t>(words[i / 2]));
+    if (i < m) noise[i] = static_cast<int16_t>(table.Sample(static_cast<uint32_t>(words[i / 2])));
+    uint8_t* __restrict p = pixels.data() + start;
+    const int16_t* __restrict k = noise.data();
+    size_t c = 0;
+    for (; c + kChunk <= m; c += kChunk) {
+      for (size_t j = 0; j < kChunk; ++j) p[c + j] = AddClamp(p[c + j], k[c + j]);
+    }
+    for (; c < m; ++c) p[c] = AddClamp(p[c], k[c]);
   }
 }
 

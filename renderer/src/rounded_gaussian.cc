@@ -9,7 +9,7 @@
 namespace hcpf::renderer::internal {
 namespace {
 
-constexpr double kTwoTo32 = 4294967296.0;
+constexpr uint64_t kUnits = uint64_t{1} << 32;  // the weights' unit is 2^-32
 
 }  // namespace
 
@@ -26,15 +26,15 @@ std::vector<uint64_t> RoundedGaussianWeights(double sigma, int kmax) {
   std::vector<uint64_t> w(2 * static_cast<size_t>(kmax) + 1, 0);
   for (int k = 1; k <= kmax; ++k) {
     const double p = k < kmax ? upper(k - 0.5) - upper(k + 0.5) : upper(k - 0.5);
-    const auto units = static_cast<uint64_t>(std::llround(p * kTwoTo32));
+    const auto units = static_cast<uint64_t>(std::llround(p * static_cast<double>(kUnits)));
     w[static_cast<size_t>(kmax + k)] = units;
     w[static_cast<size_t>(kmax - k)] = units;
   }
   // K = 0 takes the rest, which is its own probability erf(1 / (2 sqrt 2 s))
   // rounded, give or take the other values' rounding (under one unit each).
   const uint64_t others = std::accumulate(w.begin(), w.end(), uint64_t{0});
-  HCPF_CHECK(others <= uint64_t{1} << 32) << "the tails of sigma " << sigma << " exceed one";
-  w[static_cast<size_t>(kmax)] = (uint64_t{1} << 32) - others;
+  HCPF_CHECK(others <= kUnits) << "the tails of sigma " << sigma << " exceed one";
+  w[static_cast<size_t>(kmax)] = kUnits - others;
   return w;
 }
 

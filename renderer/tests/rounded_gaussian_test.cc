@@ -72,41 +72,39 @@ TEST(RoundedGaussian, TheTableRealisesTheWeightsExactly) {
   }
 }
 
-TEST(RoundedGaussian, SampleMatchesTheCountsOnEverySmallTable) {
-  // sigma 0.1: 3 values in 4 bins of 2^30 inputs each. Sample's output
-  // depends on the bin (top 2 bits) and on whether the rest is below the
-  // bin's threshold, so counting Sample over the rest's extremes and either
-  // side of every threshold, weighted by the inputs each stands for, must give
-  // Count. Checked by walking each bin's input range in steps of 2^10 plus
-  // the exact boundary: 4 * 2^20 calls.
+TEST(RoundedGaussian, SampleMatchesTheCountsOfASmallTable) {
+  // sigma 0.1: 3 values in 4 bins of 2^30 inputs each. Within a bin (top 2
+  // bits) Sample gives the bin's value while the other 30 bits are below its
+  // threshold and its alias from there on: at most one change. Each bin's
+  // change is found by bisection between its first and last input, and both
+  // pieces are counted exactly, which must give Count.
   const RoundedGaussianTable table(0.1);
   ASSERT_EQ(table.kmax(), 1);
+  constexpr uint64_t kBin = uint64_t{1} << 30;
   std::vector<uint64_t> counted(3, 0);
   for (uint64_t bin = 0; bin < 4; ++bin) {
-    // Sample(u) is piecewise constant in u within a bin, with at most one
-    // change: find it by scanning, then count both pieces exactly.
-    const uint64_t base = bin << 30;
-    int32_t first = table.Sample(static_cast<uint32_t>(base));
-    uint64_t change = uint64_t{1} << 30;  // first input of the second piece
-    for (uint64_t r = 0; r < (uint64_t{1} << 30); r += 1024) {
-      if (table.Sample(static_cast<uint32_t>(base + r)) != first) {
-        uint64_t lo = r - 1024, hi = r;  // change in (lo, hi]
-        while (hi - lo > 1) {
-          const uint64_t mid = (lo + hi) / 2;
-          (table.Sample(static_cast<uint32_t>(base + mid)) == first ? lo : hi) = mid;
-        }
-        change = hi;
-        break;
+    const auto sample = [&](uint64_t r) {
+      return table.Sample(static_cast<uint32_t>(bin * kBin + r));
+    };
+    const int32_t first = sample(0);
+    const int32_t last = sample(kBin - 1);
+    uint64_t change = kBin;  // first input of the second piece
+    if (last != first) {
+      uint64_t lo = 0, hi = kBin - 1;  // sample(lo) == first, sample(hi) != first
+      while (hi - lo > 1) {
+        const uint64_t mid = (lo + hi) / 2;
+        (sample(mid) == first ? lo : hi) = mid;
       }
+      change = hi;
     }
     counted[static_cast<size_t>(first + 1)] += change;
-    if (change < (uint64_t{1} << 30)) {
-      const int32_t second = table.Sample(static_cast<uint32_t>(base + change));
+    if (change < kBin) {
+      const int32_t second = sample(change);
       ASSERT_GE(second, -1);
       ASSERT_LE(second, 1);
-      counted[static_cast<size_t>(second + 1)] += (uint64_t{1} << 30) - change;
+      counted[static_cast<size_t>(second + 1)] += kBin - change;
       // One change only: the last input of the bin gives the second value.
-      EXPECT_EQ(table.Sample(static_cast<uint32_t>(base + (uint64_t{1} << 30) - 1)), second);
+      EXPECT_EQ(last, second);
     }
   }
   for (int k = -1; k <= 1; ++k) {

@@ -16,7 +16,7 @@ namespace hcpf::metrics {
 namespace {
 
 // TrackEval compares against thresholds with numpy's float64 epsilon.
-constexpr double kEps = std::numeric_limits<double>::epsilon();
+constexpr double kIouEps = std::numeric_limits<double>::epsilon();
 
 // A gt/hyp pair of one frame with IoU > 0.
 struct Overlap {
@@ -206,7 +206,7 @@ ClearMetrics ClearOf(const Prepared& p, std::vector<MotEvent>* events) {
     edge_overlap.clear();
     for (int k = p.ov_begin[t]; k < p.ov_begin[t + 1]; ++k) {
       const Overlap& o = p.overlaps[k];
-      if (o.iou < kMotIouThreshold - kEps) continue;
+      if (o.iou < kMotIouThreshold - kIouEps) continue;
       const int g = p.gt_id[gt0 + o.gl];
       const int h = p.hyp_id[hyp0 + o.hl];
       // Continuing last frame's pair has priority over any IoU gain.
@@ -223,7 +223,7 @@ ClearMetrics ClearOf(const Prepared& p, std::vector<MotEvent>* events) {
     std::sort(chosen.begin(), chosen.end(),
               [&](int a, int b) { return edges[a].row < edges[b].row; });
     for (int k : chosen) {
-      if (!(edges[k].weight > kEps)) continue;
+      if (!(edges[k].weight > kIouEps)) continue;
       const Overlap& o = p.overlaps[edge_overlap[k]];
       const int g = p.gt_id[gt0 + o.gl];
       const int h = p.hyp_id[hyp0 + o.hl];
@@ -257,7 +257,7 @@ ClearMetrics ClearOf(const Prepared& p, std::vector<MotEvent>* events) {
     // prev_t holds this frame's matches only (TrackEval resets it to NaN).
     for (int g : prev_matched_gts) prev_t[g] = -1;
     for (int k : chosen) {
-      if (!(edges[k].weight > kEps)) continue;
+      if (!(edges[k].weight > kIouEps)) continue;
       const Overlap& o = p.overlaps[edge_overlap[k]];
       prev_t[p.gt_id[gt0 + o.gl]] = p.hyp_id[hyp0 + o.hl];
     }
@@ -341,7 +341,7 @@ HotaMetrics HotaOf(const Prepared& p) {
     for (int k = p.ov_begin[t]; k < p.ov_begin[t + 1]; ++k) {
       const Overlap& o = p.overlaps[k];
       const double denom = row_sum[o.gl] + col_sum[o.hl] - o.iou;
-      if (denom > kEps) potential[o.pair] += o.iou / denom;
+      if (denom > kIouEps) potential[o.pair] += o.iou / denom;
     }
   }
   std::vector<double> alignment(num_pairs, 0.0);
@@ -379,7 +379,7 @@ HotaMetrics HotaOf(const Prepared& p) {
     for (int k : chosen) {
       const Overlap& o = p.overlaps[edge_overlap[k]];
       int32_t* counts = &matches[static_cast<size_t>(o.pair) * kNumHotaAlphas];
-      for (int a = 0; a < kNumHotaAlphas && o.iou >= alphas[a] - kEps; ++a) {
+      for (int a = 0; a < kNumHotaAlphas && o.iou >= alphas[a] - kIouEps; ++a) {
         ++tp_frame[a];
         loca_sum[a] += o.iou;
         ++counts[a];

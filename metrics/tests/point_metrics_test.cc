@@ -9,16 +9,16 @@
 namespace hcpf::metrics {
 namespace {
 
-constexpr double kTol = 1e-12;
+constexpr double kPointTol = 1e-12;
 
 TEST(Ospa, HandCheckedValues) {
   const std::vector<IdPoint> one = {{1, 0, 0}};
   const std::vector<IdPoint> two = {{1, 0, 0}, {2, 100, 0}};
   const std::vector<IdPoint> est = {{7, 3, 4}};
   // d = 5 < c = 10, equal cardinality: OSPA = (5^2 / 1)^(1/2) = 5.
-  EXPECT_NEAR(Ospa(one, est, 10.0, 2.0), 5.0, kTol);
+  EXPECT_NEAR(Ospa(one, est, 10.0, 2.0), 5.0, kPointTol);
   // p = 1: (5 + 10 * (2 - 1)) / 2 = 7.5 (the far truth costs the cut-off).
-  EXPECT_NEAR(Ospa(two, est, 10.0, 1.0), 7.5, kTol);
+  EXPECT_NEAR(Ospa(two, est, 10.0, 1.0), 7.5, kPointTol);
   // Conventions: both empty 0, one empty c.
   EXPECT_EQ(Ospa({}, {}, 10.0, 2.0), 0.0);
   EXPECT_EQ(Ospa(one, {}, 10.0, 2.0), 10.0);
@@ -30,17 +30,17 @@ TEST(Gospa, HandCheckedValues) {
   const std::vector<IdPoint> est = {{7, 3, 4}};
   // c = 10, p = 2: localisation 5^2 = 25, one missed truth c^2/2 = 50: sqrt(75).
   const GospaTerms g = Gospa(two, est, 10.0, 2.0);
-  EXPECT_NEAR(g.localisation, 25.0, kTol);
-  EXPECT_NEAR(g.missed, 50.0, kTol);
+  EXPECT_NEAR(g.localisation, 25.0, kPointTol);
+  EXPECT_NEAR(g.missed, 50.0, kPointTol);
   EXPECT_EQ(g.false_alarm, 0.0);
   EXPECT_EQ(g.num_assigned, 1);
-  EXPECT_NEAR(g.distance, std::sqrt(75.0), kTol);
+  EXPECT_NEAR(g.distance, std::sqrt(75.0), kPointTol);
   // A pair at d = 20 >= c = 10 counts as one missed + one false: sqrt(50 + 50) = 10.
   const std::vector<IdPoint> far = {{7, 20, 0}};
   const GospaTerms h = Gospa({two.data(), 1}, far, 10.0, 2.0);
   EXPECT_EQ(h.num_missed, 1);
   EXPECT_EQ(h.num_false, 1);
-  EXPECT_NEAR(h.distance, 10.0, kTol);
+  EXPECT_NEAR(h.distance, 10.0, kPointTol);
 }
 
 // Switching term, c = 10, p = 1, gamma = 2:
@@ -58,17 +58,17 @@ TEST(Gospa, SwitchingTerm) {
   const PointMetrics m =
       ComputePointMetrics(frames, {.cutoff_px = 10, .order = 1, .switching_penalty = 2});
   ASSERT_EQ(m.gospa.size(), 3u);
-  EXPECT_NEAR(m.gospa[0].distance, 0.0, kTol);
-  EXPECT_NEAR(m.gospa[1].distance, 4.0, kTol);
-  EXPECT_NEAR(m.gospa[2].distance, 6.0, kTol);
-  EXPECT_NEAR(m.total_switches, 2.5, kTol);
-  EXPECT_NEAR(m.mean_gospa, 10.0 / 3.0, kTol);
-  EXPECT_NEAR(m.ospa[2], 5.0, kTol);
-  EXPECT_NEAR(m.mean_ospa, 5.0 / 3.0, kTol);
+  EXPECT_NEAR(m.gospa[0].distance, 0.0, kPointTol);
+  EXPECT_NEAR(m.gospa[1].distance, 4.0, kPointTol);
+  EXPECT_NEAR(m.gospa[2].distance, 6.0, kPointTol);
+  EXPECT_NEAR(m.total_switches, 2.5, kPointTol);
+  EXPECT_NEAR(m.mean_gospa, 10.0 / 3.0, kPointTol);
+  EXPECT_NEAR(m.ospa[2], 5.0, kPointTol);
+  EXPECT_NEAR(m.mean_ospa, 5.0 / 3.0, kPointTol);
   // Without the term the switches cost nothing.
   const PointMetrics plain = ComputePointMetrics(frames, {.cutoff_px = 10, .order = 1});
-  EXPECT_NEAR(plain.gospa[1].distance, 0.0, kTol);
-  EXPECT_NEAR(plain.gospa[2].distance, 5.0, kTol);
+  EXPECT_NEAR(plain.gospa[1].distance, 0.0, kPointTol);
+  EXPECT_NEAR(plain.gospa[2].distance, 5.0, kPointTol);
 }
 
 TEST(PointMetricsOptions, DefaultsValidateAndBadFieldsAreNamed) {

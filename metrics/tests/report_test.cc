@@ -13,7 +13,7 @@ namespace {
 
 namespace fs = std::filesystem;
 
-std::string DataPath(const std::string& name) {
+std::string ReportDataPath(const std::string& name) {
   return std::string(HCPF_SOURCE_DIR) + "/metrics/tests/data/" + name;
 }
 
@@ -26,8 +26,8 @@ void WriteText(const fs::path& path, const std::string& text) {
 // IDSW 1) scored through the file entry point, table and JSON.
 TEST(Report, ScoreFilesTableAndJson) {
   ScoreFilesOptions o;
-  o.gt_path = DataPath("switch_gt.txt");
-  o.hyp_path = DataPath("switch_hyp.txt");
+  o.gt_path = ReportDataPath("switch_gt.txt");
+  o.hyp_path = ReportDataPath("switch_hyp.txt");
   o.keep_events = true;
   const ScoredSequence s = ScoreFiles(o);
   EXPECT_EQ(s.seq_length, 3);  // no seqinfo: last frame in the files
@@ -71,7 +71,7 @@ TEST(Report, ScoreFilesOfAHugeFrameNumberCostsWhatItsRowsCost) {
 TEST(Report, TrackEvalRootWithCombinedRow) {
   const fs::path root = fs::temp_directory_path() / "hcpf_metrics_trackeval_root";
   fs::remove_all(root);
-  std::ifstream gt_in(DataPath("switch_gt.txt")), hyp_in(DataPath("switch_hyp.txt"));
+  std::ifstream gt_in(ReportDataPath("switch_gt.txt")), hyp_in(ReportDataPath("switch_hyp.txt"));
   const std::string gt((std::istreambuf_iterator<char>(gt_in)), {});
   const std::string hyp((std::istreambuf_iterator<char>(hyp_in)), {});
   for (const std::string seq : {"SEQ-A", "SEQ-B"}) {

@@ -8,7 +8,6 @@
 #include <span>
 
 #include "codecs.h"
-#include "hcpf/core/error.h"
 #include "hcpf/renderer/renderer.h"
 #include "rounded_gaussian.h"
 

@@ -9,7 +9,7 @@
 namespace hcpf::scenarios {
 namespace {
 
-std::string Clock(double seconds) {
+std::string ClockText(double seconds) {
   const auto s = static_cast<int64_t>(seconds + 0.5);
   if (s >= 3600) return fmt::format("{}:{:02}:{:02}", s / 3600, s / 60 % 60, s % 60);
   return fmt::format("{}:{:02}", s / 60, s % 60);
@@ -34,9 +34,9 @@ std::string Progress::Format(const std::string& label, int64_t done, int64_t tot
   const double fraction = total > 0 ? static_cast<double>(done) / total : 1.0;
   std::string line = fmt::format("{} {}/{} ({:.0f}%)", label, done, total, 100.0 * fraction);
   if (failed > 0) line += fmt::format(" {} failed,", failed);
-  line += fmt::format(" {} elapsed", Clock(elapsed_s));
+  line += fmt::format(" {} elapsed", ClockText(elapsed_s));
   if (done > 0 && done < total) {
-    line += fmt::format(", ETA {}", Clock(elapsed_s * (total - done) / done));
+    line += fmt::format(", ETA {}", ClockText(elapsed_s * (total - done) / done));
   }
   return line;
 }

@@ -16,6 +16,7 @@
 #include "hcpf/core/text_file.h"
 #include "hcpf/metrics/mot_io.h"
 #include "hcpf/studies/results_store.h"
+#include "text.h"
 
 namespace hcpf::studies {
 
@@ -55,13 +56,6 @@ std::string Sanitise(const std::string& text) {
   const size_t last = out.find_last_not_of('_');
   out = first == std::string::npos ? std::string() : out.substr(first, last - first + 1);
   return out.empty() ? "_" : out;
-}
-
-std::string Csv(const std::string& text) {
-  if (text.find_first_of(",\"\n") == std::string::npos) return text;
-  std::string out = "\"";
-  for (char c : text) out += c == '"' ? std::string("\"\"") : std::string(1, c);
-  return out + "\"";
 }
 
 // The label of one group of runs: "<key>-<value>" parts joined by '_'.

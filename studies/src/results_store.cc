@@ -20,6 +20,7 @@
 #include "hcpf/core/text_file.h"
 #include "hcpf/scenarios/output_folder.h"
 #include "hcpf/studies/metric_catalogue.h"
+#include "text.h"
 
 namespace hcpf::studies {
 
@@ -27,8 +28,6 @@ namespace fs = std::filesystem;
 using nlohmann::json;
 
 namespace {
-
-constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
 std::string Quote(const std::string& identifier) {
   std::string out = "\"";

@@ -31,7 +31,6 @@ using nlohmann::json;
 
 namespace {
 
-constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 // Run files are small (camera_motion.csv: ~100 bytes a frame); this bound
 // only keeps a wrong file (a video renamed) from being read whole.
 constexpr std::uint64_t kMaxRunFileBytes = std::uint64_t{256} << 20;
@@ -138,11 +137,6 @@ json ReadRunJson(const fs::path& path) {
     throw InputError(SourceLocation{file, 0, 0, ""}, "JSON written by hcpf run",
                      fmt::format("text that does not parse ({})", e.what()));
   }
-}
-
-std::string Number(double v) {
-  if (!std::isfinite(v)) return "nan";
-  return fmt::format("{:.6g}", v);
 }
 
 double JsonDouble(const json& j, const char* key) {

@@ -5,12 +5,11 @@
 #include <vector>
 
 #include "hcpf/core/check.h"
+#include "text.h"
 
 namespace hcpf::studies {
 
 namespace {
-
-constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
 std::vector<double> Finite(std::span<const double> values) {
   std::vector<double> out;

@@ -1,5 +1,8 @@
 #include "text.h"
 
+#include <fmt/format.h>
+
+#include <cmath>
 #include <cstdint>
 #include <filesystem>
 
@@ -56,6 +59,18 @@ std::string Base64(const std::string& bytes) {
     out += '=';
   }
   return out;
+}
+
+std::string Csv(const std::string& text) {
+  if (text.find_first_of(",\"\n") == std::string::npos) return text;
+  std::string out = "\"";
+  for (char c : text) out += c == '"' ? std::string("\"\"") : std::string(1, c);
+  return out + "\"";
+}
+
+std::string Number(double v) {
+  if (!std::isfinite(v)) return "nan";
+  return fmt::format("{:.6g}", v);
 }
 
 }  // namespace hcpf::studies

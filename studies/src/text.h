@@ -2,6 +2,7 @@
 // Small text helpers shared by the writers of scenarios/ (reports, JUnit,
 // manifests).
 
+#include <limits>
 #include <optional>
 #include <string>
 #include <vector>
@@ -13,5 +14,14 @@ std::string EscapeMarkup(const std::string& text);
 
 // Standard base64 (RFC 4648, with padding), for data: URIs in reports.
 std::string Base64(const std::string& bytes);
+
+// A CSV field: quoted (with "" for ") when it holds a comma, quote or newline.
+std::string Csv(const std::string& text);
+
+// A number for tables and CSV: "{:.6g}", "nan" when not finite.
+std::string Number(double v);
+
+// A missing value (a metric a run did not report, a cell without runs).
+inline constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
 }  // namespace hcpf::studies

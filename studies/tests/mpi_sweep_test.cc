@@ -41,7 +41,7 @@ TEST(MpiLaunch, RankCountFromTheLauncherEnvironment) {
 }
 
 // Two particle counts x 2 seeds of the fixture's base scenario.
-constexpr const char* kSweep = R"(base: base.yaml
+constexpr const char* kMpiSweep = R"(base: base.yaml
 seeds: 2
 grid:
   tracker.particles: [50, 100]
@@ -49,7 +49,7 @@ grid:
 
 TEST(RunSweepMpi, WithoutALauncherIsTheThreadPool) {
   const auto dir = testing::SweepFolder("mpi-no-launcher");
-  const SweepSpec spec = LoadSweepFile(testing::WriteSweep(dir, kSweep));
+  const SweepSpec spec = LoadSweepFile(testing::WriteSweep(dir, kMpiSweep));
   SweepOptions options;
   options.out_dir = (dir / "out").string();
   options.jobs = 2;
@@ -67,7 +67,7 @@ TEST(RunSweepMpi, WithoutALauncherIsTheThreadPool) {
 TEST(RunSweepMpi, ABuildWithoutMpiLaunchedAsSeveralRanksRefusesToStart) {
   if (MpiExecutorBuilt()) GTEST_SKIP() << "this build has MPI (tests/e2e/sweep_mpi_test.cc)";
   const auto dir = testing::SweepFolder("mpi-not-built");
-  const SweepSpec spec = LoadSweepFile(testing::WriteSweep(dir, kSweep));
+  const SweepSpec spec = LoadSweepFile(testing::WriteSweep(dir, kMpiSweep));
   SweepOptions options;
   options.out_dir = (dir / "out").string();
   options.progress = false;

@@ -21,7 +21,7 @@ using testing::LibraryScenario;
 using testing::ReadFile;
 using testing::RunCommand;
 
-const std::string kHcpf = HCPF_EXE;
+using testing::kHcpf;
 
 TEST(Cli, VersionAndHelp) {
   auto r = RunCommand(kHcpf + " --version");

@@ -22,7 +22,7 @@ using testing::FreshDir;
 using testing::ReadFile;
 using testing::RunCommand;
 
-const std::string kHcpf = HCPF_EXE;
+using testing::kHcpf;
 
 TEST(ExportCli, TrackEvalLayoutScoresToTheRunsOwnMetrics) {
   const fs::path dir = FreshDir("export-cli");

@@ -25,7 +25,7 @@ using testing::LibraryScenario;
 using testing::ReadFile;
 using testing::RunCommand;
 
-const std::string kHcpf = HCPF_EXE;
+using testing::kHcpf;
 
 // A small detection-level scenario; `extra` is appended as more top-level
 // keys, `model` (when set) replaces the target's box by a model file.

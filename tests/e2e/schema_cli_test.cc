@@ -25,7 +25,7 @@ namespace fs = std::filesystem;
 using testing::FreshDir;
 using testing::RunCommand;
 
-const std::string kHcpf = HCPF_EXE;
+using testing::kHcpf;
 
 // One number, integer or vector row of `hcpf schema`: its section ("camera",
 // "targets[i].path type=constant_turn", "scenario" for the top level) and key.

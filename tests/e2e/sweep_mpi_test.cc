@@ -31,7 +31,7 @@ using testing::FreshDir;
 using testing::ReadFile;
 using testing::RunCommand;
 
-const std::string kHcpf = HCPF_EXE;
+using testing::kHcpf;
 
 // mpirun as root (CI runs as root; Open MPI refuses without both variables),
 // more ranks than the 2 cores of CI (--oversubscribe) and no core binding

@@ -31,7 +31,7 @@ using testing::FreshDir;
 using testing::ReadFile;
 using testing::RunCommand;
 
-const std::string kHcpf = HCPF_EXE;
+using testing::kHcpf;
 const fs::path kSource = HCPF_SOURCE_DIR;
 
 // Rows of a results store as text (deterministic columns only: no timings).

@@ -14,6 +14,11 @@
 
 namespace hcpf::testing {
 
+#ifdef HCPF_EXE
+// The hcpf executable under test (end-to-end targets define HCPF_EXE).
+inline const std::string kHcpf = HCPF_EXE;
+#endif
+
 struct ProcessResult {
   int exit_code = -1;
   std::string output;  // stdout and stderr, interleaved

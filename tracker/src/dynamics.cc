@@ -11,11 +11,11 @@
 namespace hcpf::tracker {
 namespace {
 
-// Noise is drawn in chunks of kChunk particles into a stack buffer, one
+// Noise is drawn in chunks of kNoiseChunk particles into a stack buffer, one
 // contiguous block per state component, so the update loops vectorise without
 // heap traffic. The draw order (component-major within each chunk) is part of
-// the determinism contract: changing kChunk changes the numbers.
-constexpr size_t kChunk = 256;
+// the determinism contract: changing kNoiseChunk changes the numbers.
+constexpr size_t kNoiseChunk = 256;
 
 }  // namespace
 
@@ -40,11 +40,11 @@ void DynamicsOptions::Validate(std::string_view prefix) const {
 RandomWalkDynamics::RandomWalkDynamics(double sigma_pos_px) : sigma_pos_px_(sigma_pos_px) {}
 
 void RandomWalkDynamics::Predict(ParticleSet& set, Rng& rng) const {
-  std::array<double, 2 * kChunk> noise;
+  std::array<double, 2 * kNoiseChunk> noise;
   const size_t n = set.size();
   const double sp = sigma_pos_px_;
-  for (size_t begin = 0; begin < n; begin += kChunk) {
-    const size_t m = std::min(kChunk, n - begin);
+  for (size_t begin = 0; begin < n; begin += kNoiseChunk) {
+    const size_t m = std::min(kNoiseChunk, n - begin);
     FillStandardNormal(rng, std::span<double>(noise.data(), 2 * m));
     double* px = set.px.data() + begin;
     double* py = set.py.data() + begin;
@@ -80,10 +80,10 @@ void ConstantVelocityChunk(double* px, double* py, double* vx, double* vy, const
 }  // namespace
 
 void ConstantVelocityDynamics::Predict(ParticleSet& set, Rng& rng) const {
-  std::array<double, 4 * kChunk> noise;
+  std::array<double, 4 * kNoiseChunk> noise;
   const size_t n = set.size();
-  for (size_t begin = 0; begin < n; begin += kChunk) {
-    const size_t m = std::min(kChunk, n - begin);
+  for (size_t begin = 0; begin < n; begin += kNoiseChunk) {
+    const size_t m = std::min(kNoiseChunk, n - begin);
     FillStandardNormal(rng, std::span<double>(noise.data(), 4 * m));
     ConstantVelocityChunk(set.px.data() + begin, set.py.data() + begin, set.vx.data() + begin,
                           set.vy.data() + begin, noise.data(), m, sigma_pos_px_, sigma_vel_px_);
@@ -96,10 +96,10 @@ ConstantVelocityScaleDynamics::ConstantVelocityScaleDynamics(double sigma_pos_px
     : sigma_pos_px_(sigma_pos_px), sigma_vel_px_(sigma_vel_px), sigma_log_scale_(sigma_log_scale) {}
 
 void ConstantVelocityScaleDynamics::Predict(ParticleSet& set, Rng& rng) const {
-  std::array<double, 5 * kChunk> noise;
+  std::array<double, 5 * kNoiseChunk> noise;
   const size_t n = set.size();
-  for (size_t begin = 0; begin < n; begin += kChunk) {
-    const size_t m = std::min(kChunk, n - begin);
+  for (size_t begin = 0; begin < n; begin += kNoiseChunk) {
+    const size_t m = std::min(kNoiseChunk, n - begin);
     FillStandardNormal(rng, std::span<double>(noise.data(), 5 * m));
     ConstantVelocityChunk(set.px.data() + begin, set.py.data() + begin, set.vx.data() + begin,
                           set.vy.data() + begin, noise.data(), m, sigma_pos_px_, sigma_vel_px_);

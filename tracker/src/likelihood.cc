@@ -38,7 +38,7 @@ namespace {
 
 using Component = internal::MixtureComponent;
 
-constexpr size_t kChunk = 256;
+constexpr size_t kWeightChunk = 256;
 // Below this a mixture sum may be subnormal (FastLog is exact only for normal
 // numbers, and FastExpF flushes exponents below -87 to zero): such particles
 // are recomputed with the exact log-sum-exp. 1e-300 leaves eight decades of
@@ -147,11 +147,11 @@ bool DetectionsMixtureLikelihood::AddLogLikelihood(ParticleSet& set,
                                               : -std::numeric_limits<double>::infinity();
   std::vector<Component> active;
   active.reserve(comps.size());
-  std::array<double, kChunk> sum;
-  std::array<double, kChunk> log_s;
+  std::array<double, kWeightChunk> sum;
+  std::array<double, kWeightChunk> log_s;
   const size_t n = set.size();
-  for (size_t begin = 0; begin < n; begin += kChunk) {
-    const size_t m = std::min(kChunk, n - begin);
+  for (size_t begin = 0; begin < n; begin += kWeightChunk) {
+    const size_t m = std::min(kWeightChunk, n - begin);
     const double* px = set.px.data() + begin;
     const double* py = set.py.data() + begin;
     const double* s = set.s.data() + begin;

@@ -12,7 +12,7 @@
 namespace hcpf::tracker {
 namespace {
 
-constexpr double kInf = std::numeric_limits<double>::infinity();
+constexpr double kInfinity = std::numeric_limits<double>::infinity();
 
 // Brute force over every partial injective row -> column map using finite
 // entries only; best = most pairs, then least total cost.
@@ -42,7 +42,7 @@ TEST(SolveAssignment, MatchesBruteForceOnRandomSmallCases) {
     const int rows = 1 + static_cast<int>(rng.UniformInt(6));
     const int cols = 1 + static_cast<int>(rng.UniformInt(6));
     std::vector<double> cost(static_cast<size_t>(rows) * cols);
-    for (double& c : cost) c = rng.Uniform() < 0.3 ? kInf : std::floor(rng.Uniform(0.0, 20.0));
+    for (double& c : cost) c = rng.Uniform() < 0.3 ? kInfinity : std::floor(rng.Uniform(0.0, 20.0));
     const std::vector<int> a = SolveAssignment(cost, rows, cols);
     ASSERT_EQ(a.size(), static_cast<size_t>(rows));
     std::vector<char> seen(static_cast<size_t>(cols), 0);
@@ -60,7 +60,7 @@ TEST(SolveAssignment, MatchesBruteForceOnRandomSmallCases) {
     }
     std::vector<char> used(static_cast<size_t>(cols), 0);
     int best_pairs = -1;
-    double best_total = kInf;
+    double best_total = kInfinity;
     BruteForce(cost, rows, cols, 0, used, 0, 0.0, &best_pairs, &best_total);
     EXPECT_EQ(pairs, best_pairs) << "trial " << trial;
     EXPECT_NEAR(total, best_total, 1e-9) << "trial " << trial;
@@ -85,7 +85,7 @@ TrackPrediction Track(double x, double y) {
   t.box = BoxPx::FromCentre(x, y, 10, 10);
   return t;
 }
-Detection Det(double x, double y) { return {.box = BoxPx::FromCentre(x, y, 10, 10)}; }
+Detection DetAt(double x, double y) { return {.box = BoxPx::FromCentre(x, y, 10, 10)}; }
 
 TEST(GnnAssociator, BeatsGreedyWhereGreedyLosesAPair) {
   // Zero covariance, measurement sigma 1: cost = squared distance, gate 9.21.
@@ -95,7 +95,7 @@ TEST(GnnAssociator, BeatsGreedyWhereGreedyLosesAPair) {
   AssociationOptions o;
   o.measurement_sigma_px = 1.0;
   const std::vector<TrackPrediction> tracks = {Track(0, 0), Track(3, 0)};
-  const std::vector<Detection> dets = {Det(1, 0), Det(-1.5, 0)};
+  const std::vector<Detection> dets = {DetAt(1, 0), DetAt(-1.5, 0)};
   EXPECT_EQ(GnnAssociator(o).Associate(tracks, dets), (std::vector<int>{1, 0}));
   EXPECT_EQ(NearestNeighbourAssociator(o).Associate(tracks, dets), (std::vector<int>{0, -1}));
   EXPECT_EQ(NoAssociator().Associate(tracks, dets), (std::vector<int>{-1, -1}));
@@ -107,10 +107,10 @@ TEST(GatedCost, MahalanobisUsesCovariancePlusMeasurementNoise) {
   o.measurement_sigma_px = 2.0;
   TrackPrediction t = Track(0, 0);
   t.cov << 5, 0, 0, 0;
-  const auto c = GatedCost(t, Det(3, 2), o);
+  const auto c = GatedCost(t, DetAt(3, 2), o);
   ASSERT_TRUE(c.has_value());
   EXPECT_NEAR(*c, 2.0, 1e-12);
-  EXPECT_FALSE(GatedCost(t, Det(30, 2), o).has_value());
+  EXPECT_FALSE(GatedCost(t, DetAt(30, 2), o).has_value());
 }
 
 TEST(GatedCost, IouGate) {
@@ -118,11 +118,11 @@ TEST(GatedCost, IouGate) {
   AssociationOptions o;
   o.gate = GateKind::kIou;
   o.min_iou = 0.3;
-  const auto c = GatedCost(Track(0, 0), Det(5, 0), o);
+  const auto c = GatedCost(Track(0, 0), DetAt(5, 0), o);
   ASSERT_TRUE(c.has_value());
   EXPECT_NEAR(*c, 1.0 - 1.0 / 3.0, 1e-12);
   o.min_iou = 0.4;
-  EXPECT_FALSE(GatedCost(Track(0, 0), Det(5, 0), o).has_value());
+  EXPECT_FALSE(GatedCost(Track(0, 0), DetAt(5, 0), o).has_value());
 }
 
 TEST(MrfInteraction, HandComputedPenalty) {
@@ -178,7 +178,7 @@ TEST_P(AssociatorContract, AssignsOnlyGatedPairsAndEachDetectionOnce) {
       t.cov << rng.Uniform(0, 9), 0, 0, rng.Uniform(0, 9);
     }
     std::vector<Detection> dets(rng.UniformInt(6));
-    for (auto& d : dets) d = Det(rng.Uniform(0, 40), rng.Uniform(0, 40));
+    for (auto& d : dets) d = DetAt(rng.Uniform(0, 40), rng.Uniform(0, 40));
     const std::vector<int> a = assoc->Associate(tracks, dets);
     ASSERT_EQ(a.size(), tracks.size());
     std::vector<int> used(dets.size(), 0);

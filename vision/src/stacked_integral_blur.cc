@@ -110,7 +110,8 @@ class MarginalObjective {
   std::vector<double> inside_;  // C_r
 };
 
-struct Candidate {
+// One candidate kernel: its box radii, weights and error.
+struct BoxSet {
   std::array<int, kMaxBoxes> radii{};
   std::array<double, kMaxBoxes> weights{};
   double error = std::numeric_limits<double>::infinity();
@@ -125,7 +126,7 @@ struct Candidate {
 // nonsingular; LU with partial pivoting meets both constraints to 4e-16
 // relative (worst over sigma in [0.5, 64], K = 3..5).
 template <int M>
-Candidate SolveFixed(const MarginalObjective& objective, const std::array<int, kMaxBoxes>& radii) {
+BoxSet SolveFixed(const MarginalObjective& objective, const std::array<int, kMaxBoxes>& radii) {
   Eigen::Matrix<double, M + 2, M + 2> kkt = Eigen::Matrix<double, M + 2, M + 2>::Zero();
   Eigen::Matrix<double, M + 2, 1> rhs = Eigen::Matrix<double, M + 2, 1>::Zero();
   for (int i = 0; i < M; ++i) {
@@ -137,7 +138,7 @@ Candidate SolveFixed(const MarginalObjective& objective, const std::array<int, k
   rhs(M) = 1.0;
   rhs(M + 1) = objective.variance();
   const Eigen::Matrix<double, M + 2, 1> solution = kkt.partialPivLu().solve(rhs);
-  Candidate c;
+  BoxSet c;
   c.radii = radii;
   c.feasible = true;
   for (int i = 0; i < M; ++i) {
@@ -154,8 +155,7 @@ Candidate SolveFixed(const MarginalObjective& objective, const std::array<int, k
   return c;
 }
 
-Candidate Solve(const MarginalObjective& objective, const std::array<int, kMaxBoxes>& radii,
-                int m) {
+BoxSet Solve(const MarginalObjective& objective, const std::array<int, kMaxBoxes>& radii, int m) {
   switch (m) {
     case 2:
       return SolveFixed<2>(objective, radii);
@@ -170,7 +170,7 @@ Candidate Solve(const MarginalObjective& objective, const std::array<int, kMaxBo
   return {};
 }
 
-bool Better(const Candidate& a, const Candidate& b) {
+bool Better(const BoxSet& a, const BoxSet& b) {
   return a.feasible && (!b.feasible || a.error < b.error);
 }
 
@@ -181,12 +181,12 @@ double Binomial(int n, int k) {
 }
 
 // Every strictly increasing m-tuple in [0, max_radius], in lexicographic order.
-Candidate Exhaustive(const MarginalObjective& objective, int m, int max_radius) {
+BoxSet Exhaustive(const MarginalObjective& objective, int m, int max_radius) {
   std::array<int, kMaxBoxes> radii{};
   for (int k = 0; k < m; ++k) radii[k] = k;
-  Candidate best;
+  BoxSet best;
   while (true) {
-    const Candidate c = Solve(objective, radii, m);
+    const BoxSet c = Solve(objective, radii, m);
     if (Better(c, best)) best = c;
     // Next tuple: bump the rightmost radius that can still grow, reset the rest.
     int k = m - 1;
@@ -200,9 +200,9 @@ Candidate Exhaustive(const MarginalObjective& objective, int m, int max_radius) 
 
 // Coordinate descent: move one radius at a time to its best value between
 // its neighbours, in order, until a sweep changes nothing.
-Candidate Descent(const MarginalObjective& objective, int m, int max_radius,
-                  std::array<int, kMaxBoxes> radii) {
-  Candidate best = Solve(objective, radii, m);
+BoxSet Descent(const MarginalObjective& objective, int m, int max_radius,
+               std::array<int, kMaxBoxes> radii) {
+  BoxSet best = Solve(objective, radii, m);
   for (bool changed = true; changed;) {
     changed = false;
     for (int k = 0; k < m; ++k) {
@@ -212,7 +212,7 @@ Candidate Descent(const MarginalObjective& objective, int m, int max_radius,
       for (int r = lo; r <= hi; ++r) {
         if (r == best.radii[k]) continue;
         trial[k] = r;
-        const Candidate c = Solve(objective, trial, m);
+        const BoxSet c = Solve(objective, trial, m);
         if (Better(c, best)) {
           best = c;
           changed = true;
@@ -223,7 +223,7 @@ Candidate Descent(const MarginalObjective& objective, int m, int max_radius,
   return best;
 }
 
-Candidate BestSet(double sigma, int m) {
+BoxSet BestSet(double sigma, int m) {
   const int max_radius = static_cast<int>(std::ceil(3.0 * sigma)) + m;
   const MarginalObjective objective(sigma, max_radius);
   if (Binomial(max_radius + 1, m) <= kExhaustiveLimit) return Exhaustive(objective, m, max_radius);
@@ -232,7 +232,7 @@ Candidate BestSet(double sigma, int m) {
   // the other starts guard against a local minimum.
   constexpr std::array<std::array<double, 2>, 4> kStarts = {
       {{0.5, 1.7}, {0.3, 2.0}, {0.8, 1.5}, {0.4, 2.2}}};
-  Candidate best;
+  BoxSet best;
   for (const auto& [a, b] : kStarts) {
     std::array<int, kMaxBoxes> radii{};
     for (int k = 0; k < m; ++k) {
@@ -240,7 +240,7 @@ Candidate BestSet(double sigma, int m) {
       radii[k] =
           std::clamp(k == 0 ? r : std::max(r, radii[k - 1] + 1), k, max_radius - (m - 1 - k));
     }
-    const Candidate c = Descent(objective, m, max_radius, radii);
+    const BoxSet c = Descent(objective, m, max_radius, radii);
     if (Better(c, best)) best = c;
   }
   return best;
@@ -368,7 +368,7 @@ void CheckInput(const GreyImage& input, const StackedBoxKernel& kernel) {
 // to `finish(y, sums)`. Reads `input` only while building the integral image,
 // before the first row is finished.
 template <typename Finish>
-void Blur(const GreyImage& input, const StackedBoxKernel& kernel, Finish finish) {
+void BlurRows(const GreyImage& input, const StackedBoxKernel& kernel, Finish finish) {
   if (input.width == 0 || input.height == 0) return;
   const int pad = kernel.max_radius();
   const size_t width = RoundUpToChunk(input.width);
@@ -413,7 +413,7 @@ StackedBoxKernel MakeStackedBoxKernel(double sigma, int boxes) {
   // `boxes` boxes if any such set has positive weights, else fewer (tiny
   // sigma); two boxes always have one (radii 0 and r with (n^2 - 1) / 12 >
   // sigma^2 bracket the variance).
-  Candidate best;
+  BoxSet best;
   int m = boxes;
   for (; m >= 2; --m) {
     best = BestSet(sigma, m);
@@ -430,19 +430,19 @@ StackedBoxKernel MakeStackedBoxKernel(double sigma, int boxes) {
 void StackedIntegralBlur(const GreyImage& input, const StackedBoxKernel& kernel,
                          GreyImage& output) {
   CheckInput(input, kernel);
-  // When `output` is `input` this changes nothing (same size), and Blur reads
+  // When `output` is `input` this changes nothing (same size), and BlurRows reads
   // the input only before it finishes the first row.
   ResizeLike(input, output);
-  Blur(input, kernel,
-       [&](int y, const float* sums) { RoundToBytes(sums, output.row(y), input.width); });
+  BlurRows(input, kernel,
+           [&](int y, const float* sums) { RoundToBytes(sums, output.row(y), input.width); });
 }
 
 void StackedIntegralBlur(const GreyImage& input, const StackedBoxKernel& kernel,
                          GreyImageF& output) {
   CheckInput(input, kernel);
   ResizeLike(input, output);
-  Blur(input, kernel,
-       [&](int y, const float* sums) { std::copy_n(sums, input.width, output.row(y)); });
+  BlurRows(input, kernel,
+           [&](int y, const float* sums) { std::copy_n(sums, input.width, output.row(y)); });
 }
 
 }  // namespace hcpf::vision

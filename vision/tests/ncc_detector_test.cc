@@ -8,14 +8,8 @@ namespace hcpf::vision {
 namespace {
 
 using testing::Frame;
+using testing::ModelsAtFrame0;
 using testing::Targets;
-
-std::vector<TargetModel> ModelsAtFrame0() {
-  const RgbImage first = Frame(Targets());
-  std::vector<TargetModel> models;
-  for (const auto& t : Targets()) models.push_back(CutTargetModel(first, t.box, t.id, 0));
-  return models;
-}
 
 TEST(TargetModel, CutsTheBoxRoundedOutwardsAndClipped) {
   const RgbImage image = Frame(Targets());

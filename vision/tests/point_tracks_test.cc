@@ -14,8 +14,8 @@
 namespace hcpf::vision {
 namespace {
 
-constexpr int kWidth = 640;
-constexpr int kHeight = 480;
+constexpr int kFrameWidth = 640;
+constexpr int kFrameHeight = 480;
 
 Eigen::Vector2d ApplyInverse(const SimilarityMotion& s, const Eigen::Vector2d& q) {
   const double k = std::exp(-s.log_scale);
@@ -28,8 +28,9 @@ Eigen::Vector2d ApplyInverse(const SimilarityMotion& s, const Eigen::Vector2d& q
 // metric of metrics::CornerDisplacementPx, between two similarities).
 double CornerDisplacement(const SimilarityMotion& a, const SimilarityMotion& b) {
   double sum = 0.0;
-  for (const Eigen::Vector2d& c : {Eigen::Vector2d(0, 0), Eigen::Vector2d(kWidth, 0),
-                                   Eigen::Vector2d(kWidth, kHeight), Eigen::Vector2d(0, kHeight)}) {
+  for (const Eigen::Vector2d& c :
+       {Eigen::Vector2d(0, 0), Eigen::Vector2d(kFrameWidth, 0),
+        Eigen::Vector2d(kFrameWidth, kFrameHeight), Eigen::Vector2d(0, kFrameHeight)}) {
     sum += (Apply(a, c) - Apply(b, c)).norm();
   }
   return sum / 4.0;
@@ -43,8 +44,8 @@ class Texture {
   Texture() {
     Rng rng(2024);
     for (Octave& o : octaves_) {
-      o.nx = static_cast<int>((kWidth + 2 * kMargin) / o.cell) + 3;
-      o.ny = static_cast<int>((kHeight + 2 * kMargin) / o.cell) + 3;
+      o.nx = static_cast<int>((kFrameWidth + 2 * kMargin) / o.cell) + 3;
+      o.ny = static_cast<int>((kFrameHeight + 2 * kMargin) / o.cell) + 3;
       o.values.resize(static_cast<size_t>(o.nx) * o.ny);
       for (double& v : o.values) v = rng.Uniform();
     }
@@ -96,10 +97,10 @@ struct Patch {
 // exactly the map from frame t-1 to frame t pixels in the project's
 // convention.
 RgbImage Render(const SimilarityMotion& motion, const std::vector<Patch>& patches = {}) {
-  RgbImage image{.width = kWidth, .height = kHeight};
-  image.pixels.resize(3 * static_cast<size_t>(kWidth) * kHeight);
-  for (int y = 0; y < kHeight; ++y) {
-    for (int x = 0; x < kWidth; ++x) {
+  RgbImage image{.width = kFrameWidth, .height = kFrameHeight};
+  image.pixels.resize(3 * static_cast<size_t>(kFrameWidth) * kFrameHeight);
+  for (int y = 0; y < kFrameHeight; ++y) {
+    for (int x = 0; x < kFrameWidth; ++x) {
       const Eigen::Vector2d g = ApplyInverse(motion, {x + 0.5, y + 0.5});
       double v = 40.0 + 180.0 * GroundTexture()(g.x(), g.y());
       for (const Patch& p : patches) {
@@ -163,7 +164,7 @@ TEST(TrackBackgroundPoints, TracksFollowAKnownSimilarity) {
   EXPECT_LT(a.median_px, 0.05);
   EXPECT_LT(a.max_px, 0.15);
   for (const PointTrack& t : tracks) {
-    EXPECT_TRUE(t.q.x() >= 0 && t.q.y() >= 0 && t.q.x() < kWidth && t.q.y() < kHeight);
+    EXPECT_TRUE(t.q.x() >= 0 && t.q.y() >= 0 && t.q.x() < kFrameWidth && t.q.y() < kFrameHeight);
   }
 }
 
@@ -226,9 +227,9 @@ TEST(EstimateSimilarityRansac, RecoversTheSimilarityDespite30PercentOutliers) {
   Rng rng(99);
   std::vector<PointTrack> tracks;
   for (int i = 0; i < 200; ++i) {
-    const Eigen::Vector2d p(rng.Uniform(0, kWidth), rng.Uniform(0, kHeight));
+    const Eigen::Vector2d p(rng.Uniform(0, kFrameWidth), rng.Uniform(0, kFrameHeight));
     Eigen::Vector2d q = Apply(kMotion, p) + 0.1 * Eigen::Vector2d(rng.Normal(), rng.Normal());
-    if (i % 10 < 3) q = Eigen::Vector2d(rng.Uniform(0, kWidth), rng.Uniform(0, kHeight));
+    if (i % 10 < 3) q = Eigen::Vector2d(rng.Uniform(0, kFrameWidth), rng.Uniform(0, kFrameHeight));
     tracks.push_back({p, q});
   }
   const std::optional<SimilarityMotion> s = EstimateSimilarityRansac(tracks, RansacOptions{});
@@ -268,15 +269,15 @@ Eigen::Vector2d MapH(const Eigen::Matrix3d& h, const Eigen::Vector2d& p) {
 // better). Exact tracks with the perspective removed are the numerator
 // similarity's; without perspective the fit gives (0, 0).
 TEST(FitPerspective, RecoversThePerspectiveTermsOfAHomography) {
-  const Eigen::Vector2d centre(0.5 * kWidth, 0.5 * kHeight);
+  const Eigen::Vector2d centre(0.5 * kFrameWidth, 0.5 * kFrameHeight);
   const Eigen::Vector2d gh(2e-5, -3e-5);
   const Eigen::Matrix3d h = PerspectiveHomography(kMotion, gh, centre);
   Rng rng(5);
   std::vector<PointTrack> tracks;
   for (int i = 0; i < 300; ++i) {
-    const Eigen::Vector2d p(rng.Uniform(0, kWidth), rng.Uniform(0, kHeight));
+    const Eigen::Vector2d p(rng.Uniform(0, kFrameWidth), rng.Uniform(0, kFrameHeight));
     Eigen::Vector2d q = MapH(h, p) + 0.1 * Eigen::Vector2d(rng.Normal(), rng.Normal());
-    if (i % 5 == 0) q = Eigen::Vector2d(rng.Uniform(0, kWidth), rng.Uniform(0, kHeight));
+    if (i % 5 == 0) q = Eigen::Vector2d(rng.Uniform(0, kFrameWidth), rng.Uniform(0, kFrameHeight));
     tracks.push_back({p, q});
   }
   const std::optional<SimilarityMotion> guide = EstimateSimilarityRansac(tracks, RansacOptions{});
@@ -305,13 +306,13 @@ TEST(FitPerspective, RecoversThePerspectiveTermsOfAHomography) {
 
 TEST(TrackBackgroundPoints, EmptyAndUniformFramesGiveNoTracks) {
   EXPECT_TRUE(TrackBackgroundPoints(ImageView{}, ImageView{}, {}, 0.0, {}).empty());
-  RgbImage grey{.width = kWidth, .height = kHeight};
-  grey.pixels.assign(3 * static_cast<size_t>(kWidth) * kHeight, 128);
+  RgbImage grey{.width = kFrameWidth, .height = kFrameHeight};
+  grey.pixels.assign(3 * static_cast<size_t>(kFrameWidth) * kFrameHeight, 128);
   EXPECT_TRUE(TrackBackgroundPoints(grey, grey, {}, 0.0, {}).empty());
   // Uniform frame t-1, textured frame t: no corner to start from.
   EXPECT_TRUE(TrackBackgroundPoints(grey, Render({}), {}, 0.0, {}).empty());
   // Frame t-1 masked everywhere.
-  const std::vector<BoxPx> all = {{0, 0, kWidth, kHeight}};
+  const std::vector<BoxPx> all = {{0, 0, kFrameWidth, kFrameHeight}};
   EXPECT_TRUE(TrackBackgroundPoints(Render({}), Render(kMotion), all, 0.0, {}).empty());
   // A tiny frame: smaller than the Lucas-Kanade window.
   RgbImage tiny{.width = 4, .height = 3};

@@ -20,6 +20,7 @@ namespace hcpf::vision {
 namespace {
 
 using testing::Frame;
+using testing::ModelsAtFrame0;
 using testing::Targets;
 
 // Float accumulation and single-precision colour normalisation: the hand
@@ -363,13 +364,6 @@ TEST(PrcaVoteCircle, RingProfileAndOffsetAccumulator) {
   prca::VoteCircle(part, 10.5, 10.5, 5.0, 1.5, 0.0);
   EXPECT_EQ(part.at(15, 10), full.at(15, 10));
   EXPECT_EQ(prca::ArgMax(prca::Accumulator{}).x, -1);
-}
-
-std::vector<TargetModel> ModelsAtFrame0() {
-  const RgbImage first = Frame(Targets());
-  std::vector<TargetModel> models;
-  for (const auto& t : Targets()) models.push_back(CutTargetModel(first, t.box, t.id, 0));
-  return models;
 }
 
 DetectorOutput RunPrca(const PrcaOptions& options, const ImageView& image,

@@ -116,8 +116,8 @@ cv::Mat Render(const std::vector<Vehicle>& vehicles, uint64_t ground_seed) {
 // scaled by `scale` about the frame's centre, area-averaged to kWidth x
 // kHeight, plus uniform sensor noise of +-4 grey levels seeded by
 // `noise_seed` (0: none).
-RgbImage Frame(const std::vector<Vehicle>& vehicles, double deg = 0.0, double scale = 1.0,
-               uint64_t ground_seed = 3, uint64_t noise_seed = 100) {
+RgbImage VehicleFrame(const std::vector<Vehicle>& vehicles, double deg = 0.0, double scale = 1.0,
+                      uint64_t ground_seed = 3, uint64_t noise_seed = 100) {
   cv::Mat hi = Render(vehicles, ground_seed);
   if (deg != 0.0 || scale != 1.0) {
     const cv::Mat m = cv::getRotationMatrix2D(
@@ -153,7 +153,7 @@ BoxPx BoxAt(double cx, double cy, double deg, double scale) {
                            scale * (s * kLength + c * kBreadth));
 }
 
-// Where a point of the unwarped frame lands in Frame(.., deg, scale).
+// Where a point of the unwarped frame lands in VehicleFrame(.., deg, scale).
 std::array<double, 2> Warped(double x, double y, double deg, double scale) {
   const double a = deg * std::numbers::pi / 180.0;
   const double dx = x - kWidth / 2.0, dy = y - kHeight / 2.0;
@@ -162,7 +162,7 @@ std::array<double, 2> Warped(double x, double y, double deg, double scale) {
 }
 
 std::vector<TargetModel> Models(const std::vector<Vehicle>& vehicles) {
-  const RgbImage first = Frame(vehicles);
+  const RgbImage first = VehicleFrame(vehicles);
   std::vector<TargetModel> models;
   for (const Vehicle& v : vehicles) {
     models.push_back(CutTargetModel(first, BoxAt(v.cx, v.cy, v.heading_deg, 1.0), v.id, 0));
@@ -200,7 +200,7 @@ TEST(SksDetector, IsTheModelBasedSksDetector) {
 TEST(SksDetector, FindsEachVehicleWhereItMoved) {
   const std::vector<TargetModel> models = Models(Vehicles());
   for (const auto& [dx, dy] : {std::pair{8.0, -4.0}, std::pair{7.0, -5.0}}) {
-    const DetectorOutput out = DetectIn(Frame(Vehicles(dx, dy), 0.0, 1.0, 3, 101), models);
+    const DetectorOutput out = DetectIn(VehicleFrame(Vehicles(dx, dy), 0.0, 1.0, 3, 101), models);
     EXPECT_EQ(out.detections.size(), 3u);
     for (const Vehicle& v : Vehicles(dx, dy)) {
       SCOPED_TRACE(::testing::Message()
@@ -232,7 +232,7 @@ TEST(SksDetector, FindsAVehicleWhoseOnlyCornersAreItsOutline) {
   const std::vector<TargetModel> models = Models(slab(0.0, 0.0));
   for (const auto& [dx, dy] : {std::pair{8.0, -4.0}, std::pair{7.0, -5.0}}) {
     SCOPED_TRACE(::testing::Message() << "moved " << dx << ", " << dy);
-    const DetectorOutput out = DetectIn(Frame(slab(dx, dy), 0.0, 1.0, 3, 101), models);
+    const DetectorOutput out = DetectIn(VehicleFrame(slab(dx, dy), 0.0, 1.0, 3, 101), models);
     const Detection* d = Of(out, ObjectId{1});
     ASSERT_NE(d, nullptr);
     EXPECT_NEAR(d->box.centre_x(), 152 + dx, 1.0);
@@ -243,7 +243,8 @@ TEST(SksDetector, FindsAVehicleWhoseOnlyCornersAreItsOutline) {
   // The same model without its context: the patch alone has nothing to find.
   std::vector<TargetModel> bare = models;
   bare[0].context = {};
-  EXPECT_EQ(Of(DetectIn(Frame(slab(8.0, -4.0), 0.0, 1.0, 3, 101), bare), ObjectId{1}), nullptr);
+  EXPECT_EQ(Of(DetectIn(VehicleFrame(slab(8.0, -4.0), 0.0, 1.0, 3, 101), bare), ObjectId{1}),
+            nullptr);
 }
 
 // The thesis's invariance claims: the whole frame rotated by 30-90 degrees
@@ -260,7 +261,7 @@ class SksPose : public ::testing::TestWithParam<std::pair<double, double>> {};
 TEST_P(SksPose, FindsEachVehicleTurnedAndZoomed) {
   const auto [deg, scale] = GetParam();
   const std::vector<TargetModel> models = Models(Vehicles());
-  const DetectorOutput out = DetectIn(Frame(Vehicles(), deg, scale), models);
+  const DetectorOutput out = DetectIn(VehicleFrame(Vehicles(), deg, scale), models);
   for (const Vehicle& v : Vehicles()) {
     // The one miss of this grid (docs/vision.md, SKS, "Limits"): zoomed out
     // to 0.8, the truck's finest keypoints fall below the smallest scale and
@@ -293,7 +294,7 @@ INSTANTIATE_TEST_SUITE_P(
 TEST(SksDetector, NoDetectionOnGroundWithoutVehicles) {
   const std::vector<TargetModel> models = Models(Vehicles());
   for (uint64_t seed = 10; seed < 16; ++seed) {
-    const DetectorOutput out = DetectIn(Frame({}, 0.0, 1.0, seed, seed), models);
+    const DetectorOutput out = DetectIn(VehicleFrame({}, 0.0, 1.0, seed, seed), models);
     EXPECT_TRUE(out.detections.empty()) << "ground seed " << seed;
     ASSERT_EQ(out.maps.size(), models.size());
     for (const TargetMap& m : out.maps) {
@@ -335,7 +336,7 @@ TEST(SksDetector, UniformAndEmptyFramesGiveNothing) {
 TEST(SksDetector, MapPeaksAtTheTarget) {
   const std::vector<TargetModel> models = Models(Vehicles());
   const std::vector<Vehicle> moved = Vehicles(8.0, -4.0);
-  const DetectorOutput out = DetectIn(Frame(moved), models);
+  const DetectorOutput out = DetectIn(VehicleFrame(moved), models);
   ASSERT_EQ(out.maps.size(), 3u);
   for (size_t i = 0; i < 3; ++i) {
     const Vehicle& v = moved[i];
@@ -367,7 +368,7 @@ TEST(SksDetector, WindowedSearchIgnoresALookAlikeOutsideTheWindow) {
   scene[0].cy += 2.0;
   const Vehicle twin{ObjectId{9}, 0, 240.0, 190.0, {200, 40, 30}};
   scene.push_back(twin);
-  const RgbImage frame = Frame(scene);
+  const RgbImage frame = VehicleFrame(scene);
 
   const DetectorOutput whole = DetectIn(frame, car);
   ASSERT_EQ(whole.detections.size(), 1u);
@@ -396,7 +397,7 @@ TEST(SksDetector, WindowedSearchIgnoresALookAlikeOutsideTheWindow) {
 // SKS draws nothing: the Rng's seed changes nothing, and two calls agree.
 TEST(SksDetector, DeterministicAndIndependentOfTheRng) {
   const std::vector<TargetModel> models = Models(Vehicles());
-  const RgbImage frame = Frame(Vehicles(3.0, 1.0), 35.0, 1.1);
+  const RgbImage frame = VehicleFrame(Vehicles(3.0, 1.0), 35.0, 1.1);
   const DetectorOutput a = DetectIn(frame, models, {}, 1);
   const DetectorOutput b = DetectIn(frame, models, {}, 99);
   EXPECT_FALSE(a.detections.empty());
@@ -409,9 +410,9 @@ TEST(SksDetector, DeterministicAndIndependentOfTheRng) {
 // map slot, all zeros, beside the others.
 TEST(SksDetector, EmptyModelGivesAZeroMapAndNoDetection) {
   std::vector<TargetModel> models = Models(Vehicles());
-  models.push_back(CutTargetModel(Frame(Vehicles()), BoxPx{400, 10, 5, 5}, ObjectId{7}, 0));
+  models.push_back(CutTargetModel(VehicleFrame(Vehicles()), BoxPx{400, 10, 5, 5}, ObjectId{7}, 0));
   ASSERT_EQ(models.back().patch.width, 0);
-  const DetectorOutput out = DetectIn(Frame(Vehicles(8.0, -4.0)), models);
+  const DetectorOutput out = DetectIn(VehicleFrame(Vehicles(8.0, -4.0)), models);
   EXPECT_EQ(Of(out, ObjectId{7}), nullptr);
   ASSERT_EQ(out.maps.size(), 4u);
   EXPECT_EQ(out.maps[3].target, ObjectId{7});

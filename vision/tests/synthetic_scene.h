@@ -8,6 +8,7 @@
 #include "hcpf/core/image.h"
 #include "hcpf/core/rng.h"
 #include "hcpf/core/types.h"
+#include "hcpf/vision/detector.h"
 
 namespace hcpf::vision::testing {
 
@@ -61,6 +62,14 @@ inline RgbImage Frame(const std::vector<SyntheticTarget>& targets) {
     }
   }
   return image;
+}
+
+// One model per target of Targets(), cut from Frame(Targets()) at frame 0.
+inline std::vector<TargetModel> ModelsAtFrame0() {
+  const RgbImage first = Frame(Targets());
+  std::vector<TargetModel> models;
+  for (const auto& t : Targets()) models.push_back(CutTargetModel(first, t.box, t.id, 0));
+  return models;
 }
 
 // Frame `f` of a short video for model-free detectors: ground of 8 x 8 px

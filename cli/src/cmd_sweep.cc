@@ -9,6 +9,7 @@
 #include <filesystem>
 #include <memory>
 #include <optional>
+#include <string>
 #include <thread>
 
 #include "command.h"
@@ -94,12 +95,13 @@ Command AddSweepCommand(CLI::App& parent) {
           if (ec) throw RunError("--isolate: cannot find the hcpf executable (/proc/self/exe)");
         }
         sweep_options.Validate();
-        // Rendered runs: one llvmpipe (Mesa software rasteriser) thread per
-        // worker (thread or MPI rank), since the workers already use every
-        // core. Must be set before the first GL context; an explicit setting
-        // is kept.
-        if (sweep_options.jobs > 1 || studies::LaunchedRankCount() > 1)
-          ::setenv("LP_NUM_THREADS", "1", 0);
+        // Rendered runs: llvmpipe's rasteriser threads (SweepOptions::
+        // RasteriserThreads). Must be set before the first GL context; an
+        // explicit setting is kept.
+        if (const std::optional<int> threads =
+                sweep_options.RasteriserThreads(studies::LaunchedRankCount())) {
+          ::setenv("LP_NUM_THREADS", std::to_string(*threads).c_str(), 0);
+        }
         const studies::SweepSpec spec = studies::LoadSweepFile(options->file);
         const std::vector<studies::SweepRun> runs = studies::ExpandSweep(spec);
         // The thread pool, or MPI ranks when mpirun started several.

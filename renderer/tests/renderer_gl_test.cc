@@ -9,7 +9,9 @@
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
+#include <fstream>
 #include <numbers>
+#include <string>
 #include <thread>
 #include <vector>
 
@@ -611,6 +613,40 @@ TEST_F(RendererGl, SensorEffectsOnAnotherThreadGiveRendersFrames) {
     ExpectSameFrame(f, reference->Render(frame));
     ExpectSameFrame(two_step->Collect(), reference->Render(frame + 1));
   }
+}
+
+// Threads of this process named "llvmpipe-N": Mesa's rasteriser threads.
+int LlvmpipeThreads() {
+  int n = 0;
+  for (const auto& task : std::filesystem::directory_iterator("/proc/self/task")) {
+    std::string name;
+    std::ifstream(task.path() / "comm") >> name;
+    n += name.rfind("llvmpipe-", 0) == 0 ? 1 : 0;
+  }
+  return n;
+}
+
+// hcpf sweep leaves llvmpipe its rasteriser threads when runs share a process
+// (SweepOptions::RasteriserThreads), because a process has one rasteriser
+// for all its contexts: one thread there would render every worker's frames
+// in turn. This checks that premise on the Mesa in use: a second context,
+// drawing on a second thread, starts no rasteriser thread of its own.
+TEST_F(RendererGl, ContextsOfOneProcessShareOneRasteriser) {
+  if (g_context->info().renderer.find("llvmpipe") == std::string::npos) {
+    GTEST_SKIP() << "not llvmpipe: " << g_context->info().renderer;
+  }
+  Make(NadirWorld(50.0))->Render(0);
+  const int threads = LlvmpipeThreads();
+  if (threads == 0) GTEST_SKIP() << "LP_NUM_THREADS=0: llvmpipe rasterises on the calling thread";
+  std::thread second([&] {
+    const std::shared_ptr<GlContext> context =
+        GlContext::Create(ParseGlBackend(HCPF_TEST_GL_BACKEND));
+    const RenderedFrame f = SceneRenderer::Create(NadirWorld(50.0), {}, Rng(1), context)->Render(0);
+    EXPECT_EQ(f.rgb.width, kWidth);
+    EXPECT_EQ(LlvmpipeThreads(), threads);
+  });
+  second.join();
+  EXPECT_EQ(LlvmpipeThreads(), threads);
 }
 
 using RendererGlDeathTest = RendererGl;

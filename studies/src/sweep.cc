@@ -448,4 +448,14 @@ void SweepOptions::Validate() const {
   }
 }
 
+std::optional<int> SweepOptions::RasteriserThreads(int launched_ranks) const {
+  // One llvmpipe screen per process, and one rasteriser per screen: it takes
+  // every context's scenes in turn (with 0 threads each context rasterises on
+  // its own thread, but under the screen's lock). Worker threads of one
+  // process can only render in parallel through that rasteriser's threads.
+  const bool own_processes = launched_ranks > 1 || (!isolate_exe.empty() && jobs > 1);
+  if (own_processes) return 1;
+  return std::nullopt;
+}
+
 }  // namespace hcpf::studies

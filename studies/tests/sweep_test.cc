@@ -339,6 +339,21 @@ TEST(SweepOptions, ValidateNamesTheField) {
   }
 }
 
+TEST(SweepOptions, OneRasteriserThreadOnlyForRunsInProcessesOfTheirOwn) {
+  SweepOptions o;
+  o.out_dir = "x";
+  o.jobs = 4;
+  // Worker threads share the process's one rasteriser: Mesa's default.
+  EXPECT_EQ(o.RasteriserThreads(1), std::nullopt);
+  // MPI ranks, and --isolate children side by side, fill the cores already.
+  EXPECT_EQ(o.RasteriserThreads(3), 1);
+  o.isolate_exe = "/usr/bin/hcpf";
+  EXPECT_EQ(o.RasteriserThreads(1), 1);
+  // One child at a time may use every core.
+  o.jobs = 1;
+  EXPECT_EQ(o.RasteriserThreads(1), std::nullopt);
+}
+
 }  // namespace
 }  // namespace hcpf::studies
 

@@ -16,6 +16,7 @@
 
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -138,6 +139,13 @@ struct SweepOptions {
   // failed and the sweep goes on. "" = runs in worker threads of this process.
   std::string isolate_exe;
   void Validate() const;
+  // Rendered runs: the llvmpipe rasteriser threads (LP_NUM_THREADS) to set
+  // when the user has not, or nullopt for Mesa's default (one per core), given
+  // how many MPI ranks were launched. A process has one llvmpipe rasteriser,
+  // shared by every GL context in it: runs in worker threads leave it its
+  // threads; runs in processes of their own (MPI ranks, --isolate children
+  // with jobs > 1), which already fill the cores, get one each.
+  std::optional<int> RasteriserThreads(int launched_ranks) const;
 };
 
 struct SweepResult {

@@ -55,12 +55,8 @@ std::string ResolvePath(const YamlReader& where, const std::string& path, const 
       "folder)");
 }
 
-std::string Num(double v) { return std::isfinite(v) ? fmt::format("{:.6g}", v) : "nan"; }
-
 json JsonNumber(double v) { return std::isfinite(v) ? json(v) : json("nan"); }
-double FromJson(const json& j) {
-  return j.is_number() ? j.get<double>() : std::numeric_limits<double>::quiet_NaN();
-}
+double FromJson(const json& j) { return j.is_number() ? j.get<double>() : kNaN; }
 
 }  // namespace
 
@@ -190,8 +186,7 @@ RegressRow CompareSeeds(std::span<const double> baseline, std::span<const double
   const auto mean = [](const std::vector<double>& x) {
     double sum = 0.0;
     for (double value : x) sum += value;
-    return x.empty() ? std::numeric_limits<double>::quiet_NaN()
-                     : sum / static_cast<double>(x.size());
+    return x.empty() ? kNaN : sum / static_cast<double>(x.size());
   };
   row.baseline = mean(b);
   row.current = mean(v);
@@ -242,7 +237,7 @@ double Delta(const RegressRow& r) { return r.seeds > 0 ? r.difference : r.curren
 // "[lower, upper]" of a seeded row with an interval; `none` otherwise.
 std::string IntervalText(const RegressRow& r, const char* none) {
   if (r.seeds == 0 || r.pairs < 2) return none;
-  return fmt::format("[{}, {}]", Num(r.lower), Num(r.upper));
+  return fmt::format("[{}, {}]", Number(r.lower), Number(r.upper));
 }
 
 std::string SeedsText(const RegressRow& r) {
@@ -252,17 +247,17 @@ std::string SeedsText(const RegressRow& r) {
 
 // One sentence saying what was compared and how it came out.
 std::string Describe(const RegressRow& r) {
-  const std::string rule = fmt::format("{} is better, tolerance {}",
-                                       r.higher_is_better ? "higher" : "lower", Num(r.tolerance));
+  const std::string rule = fmt::format(
+      "{} is better, tolerance {}", r.higher_is_better ? "higher" : "lower", Number(r.tolerance));
   if (r.seeds == 0) {
-    return fmt::format("{} {}: {} against baseline {} ({})", r.scene, r.metric, Num(r.current),
-                       Num(r.baseline), rule);
+    return fmt::format("{} {}: {} against baseline {} ({})", r.scene, r.metric, Number(r.current),
+                       Number(r.baseline), rule);
   }
   std::string out = fmt::format(
       "{} {}: mean paired difference {} (current − baseline), 95 % interval {}, over {} of {} "
       "seeds; current mean {} against baseline mean {} ({})",
-      r.scene, r.metric, Num(r.difference), IntervalText(r, "none (fewer than 2 pairs)"), r.pairs,
-      r.seeds, Num(r.current), Num(r.baseline), rule);
+      r.scene, r.metric, Number(r.difference), IntervalText(r, "none (fewer than 2 pairs)"),
+      r.pairs, r.seeds, Number(r.current), Number(r.baseline), rule);
   if (r.nan_mismatches > 0)
     out += fmt::format("; {} seed(s) with a number on one side and NaN on the other",
                        r.nan_mismatches);
@@ -282,9 +277,9 @@ std::string FormatRegressTable(const std::vector<RegressRow>& rows) {
       "baseline", "current", "delta", "95% interval", wi, "seeds", "tolerance", "verdict");
   for (const RegressRow& r : rows) {
     out += fmt::format("{:<{}}  {:<17}  {:>10}  {:>10}  {:>10}  {:<{}}  {:>5}  {:>9}  {}\n",
-                       r.scene, w, r.metric, Num(r.baseline), Num(r.current), Num(Delta(r)),
-                       IntervalText(r, "-"), wi, SeedsText(r),
-                       fmt::format("{}{}", r.higher_is_better ? "-" : "+", Num(r.tolerance)),
+                       r.scene, w, r.metric, Number(r.baseline), Number(r.current),
+                       Number(Delta(r)), IntervalText(r, "-"), wi, SeedsText(r),
+                       fmt::format("{}{}", r.higher_is_better ? "-" : "+", Number(r.tolerance)),
                        RegressVerdictName(r.verdict));
   }
   return out;
@@ -343,9 +338,9 @@ std::string FormatRegressMarkdown(const RegressResult& result) {
       "|\n|---|---|---:|---:|---:|---|---:|---:|---|\n";
   for (const RegressRow& r : result.rows) {
     out += fmt::format(
-        "| {} | {} | {} | {} | {} | {} | {} | {}{} | {} |\n", r.scene, r.metric, Num(r.baseline),
-        Num(r.current), Num(Delta(r)), IntervalText(r, "—"), SeedsText(r),
-        r.higher_is_better ? "−" : "+", Num(r.tolerance),
+        "| {} | {} | {} | {} | {} | {} | {} | {}{} | {} |\n", r.scene, r.metric, Number(r.baseline),
+        Number(r.current), Number(Delta(r)), IntervalText(r, "—"), SeedsText(r),
+        r.higher_is_better ? "−" : "+", Number(r.tolerance),
         r.verdict == RegressVerdict::kWorse ? "**WORSE**" : RegressVerdictName(r.verdict));
   }
   return out;

@@ -148,7 +148,7 @@ struct Layout {
     if (!x_metric.empty()) {
       if (c.x_at) return *c.x_at;
       const Interval& s = c.stats.at(x_metric);
-      return s.n > 0 ? s.mean : std::numeric_limits<double>::quiet_NaN();
+      return s.n > 0 ? s.mean : kNaN;
     }
     const std::string v = x_index >= 0 ? c.values[x_index] : "";
     if (numeric_x) return *ParseNumber(v);
@@ -561,7 +561,7 @@ std::vector<Cell> DifferenceCells(const Paired& paired, const StoreMeta& meta) {
     for (const auto& [m, c] : row.metrics) d.stats[m] = c.difference;
     if (!meta.report.x_metric.empty()) {
       const Interval& at = row.cell->stats.at(meta.report.x_metric);
-      d.x_at = at.n > 0 ? at.mean : std::numeric_limits<double>::quiet_NaN();
+      d.x_at = at.n > 0 ? at.mean : kNaN;
     }
     out.push_back(std::move(d));
   }

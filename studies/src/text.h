@@ -1,6 +1,6 @@
 #pragma once
-// Small text helpers shared by the writers of scenarios/ (reports, JUnit,
-// manifests).
+// Small helpers shared by the writers of studies/ (reports, JUnit, CSV,
+// manifests): text, numbers and the missing value.
 
 #include <limits>
 #include <optional>

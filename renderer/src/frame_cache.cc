@@ -27,8 +27,10 @@ namespace {
 // 2: shader variants, border-lit shadow map; 3: ground truth records in the
 // gt.json frame encoding (core/ground_truth_json.h); 4: sensor noise from the
 // ziggurat generator (core/normal.h) instead of Box-Muller; 5: sensor noise
-// drawn as rounded integers (src/rounded_gaussian.h), same distribution.
-constexpr int kRendererVersion = 5;
+// drawn as rounded integers (src/rounded_gaussian.h), same distribution; 6:
+// terrain lit and its texture and shadow coordinates computed per vertex
+// (shaders.h).
+constexpr int kRendererVersion = 6;
 
 std::string FileDigest(const std::string& path) {
   std::ifstream in(path, std::ios::binary);

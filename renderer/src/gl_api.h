@@ -101,8 +101,7 @@ using DrawElementsFn = void(APIENTRYP)(GLenum mode, GLsizei count, GLenum type,
   X(PFNGLFLUSHPROC, Flush, "glFlush")                                                       \
   X(PFNGLVERTEXATTRIBPOINTERPROC, VertexAttribPointer, "glVertexAttribPointer")             \
   X(PFNGLENABLEVERTEXATTRIBARRAYPROC, EnableVertexAttribArray, "glEnableVertexAttribArray") \
-  X(DrawElementsFn, DrawElements, "glDrawElements")                                         \
-  X(PFNGLMULTIDRAWELEMENTSPROC, MultiDrawElements, "glMultiDrawElements")
+  X(DrawElementsFn, DrawElements, "glDrawElements")
 
 struct GlApi {
 #define HCPF_GL_MEMBER(type, member, name) type member = nullptr;

@@ -70,16 +70,18 @@ struct GpuMesh {
   GLsizei index_count = 0;
 };
 
-// A block of terrain cells drawn or culled together.
+// A block of terrain cells culled together: cells [i0, i1) x [j0, j1) and
+// the bounding box of their vertices.
 struct TerrainTile {
-  size_t first = 0;  // first index
-  // The tile's cells in three runs (see BuildTerrainIndices): part 0 cells a
-  // road may touch, part 1 other cells a shadow may fall on, part 2 the rest;
-  // part k is [first + start[k], first + start[k + 1]).
-  std::array<GLsizei, 4> start{};
+  int i0 = 0, i1 = 0, j0 = 0, j1 = 0;
   Eigen::Vector3f lo;
   Eigen::Vector3f hi;
 };
+
+// The terrain's shader variants, one per part of a frame's cells (see
+// GlSceneRenderer::PrepareTerrain): every lookup, road lookups only, shadow
+// lookups only, neither.
+enum TerrainPart { kTerrainFull = 0, kTerrainRoad, kTerrainShadow, kTerrainPlain, kTerrainParts };
 
 constexpr int kTerrainTileCells = 8;
 
@@ -130,7 +132,7 @@ class GlSceneRenderer final : public SceneRenderer {
     BuildTerrain();
     BuildOccluders();
     BuildVehicles();
-    BuildTerrainIndices(road_mask);
+    BuildTerrainCells(road_mask);
     gl_.CheckError("scene upload");
   }
 
@@ -156,6 +158,7 @@ class GlSceneRenderer final : public SceneRenderer {
     gl_.DeleteRenderbuffers(2, rbs);
     gl_.DeleteProgram(object_program_.id);
     gl_.DeleteProgram(terrain_program_.id);
+    if (terrain_road_program_.id != 0) gl_.DeleteProgram(terrain_road_program_.id);
     if (terrain_shadow_program_.id != 0) gl_.DeleteProgram(terrain_shadow_program_.id);
     if (terrain_plain_program_.id != 0) gl_.DeleteProgram(terrain_plain_program_.id);
     gl_.DeleteProgram(id_program_.id);
@@ -187,16 +190,22 @@ class GlSceneRenderer final : public SceneRenderer {
   void BuildFramebuffers();
   void BuildTextures(const internal::Texture8& road_mask);
   void BuildTerrain();
-  // The terrain's index buffer, cells grouped by tile and by part (needs the
-  // occluders and vehicles: BuildTerrain has uploaded the vertices).
-  void BuildTerrainIndices(const internal::Texture8& road_mask);
-  // Ground rectangles outside which no shadow falls in any frame: every
-  // caster's box swept along the sun to the terrain, plus the shadow map's
-  // filter footprint. One rectangle over the whole terrain when the sun is
-  // too low to bound the shadows.
-  std::vector<Eigen::AlignedBox2d> ShadowFootprints() const;
-  // Draws part `part` (0, 1, 2: see TerrainTile) of the visible tiles.
-  void DrawTerrain(const Eigen::Matrix4f& view_proj, int part) const;
+  // The terrain's tiles and the cells a road may touch (BuildTerrain has
+  // placed the vertices).
+  void BuildTerrainCells(const internal::Texture8& road_mask);
+  // Marks in shadow_cells_ the cells on which a shadow may fall in this
+  // frame: every occluder's box and every present vehicle's box at its pose,
+  // swept along the sun to the terrain, plus the shadow filter's footprint
+  // for the frame's shadow-map texel (`texel_m`, metres). Every cell when the
+  // sun is too low to bound the shadows.
+  void MarkShadowCells(const std::vector<TargetInstance>& targets, double texel_m);
+  // Sorts the cells of the tiles in view into the TerrainParts (cells a road
+  // may touch or not, x cells marked by MarkShadowCells or not; every cell is
+  // kTerrainFull without split_road_cells) and uploads their indices, part
+  // after part, into the terrain's index buffer. Returns each part's first
+  // index and count.
+  std::array<std::pair<size_t, GLsizei>, kTerrainParts> PrepareTerrain(
+      const Eigen::Matrix4f& view_proj, const std::vector<TargetInstance>& targets, double texel_m);
   // Height of the rendered terrain mesh (the triangles, not the analytic
   // field) at (x, y): vehicles stand on what is drawn.
   double MeshHeightAt(double x_m, double y_m) const;
@@ -209,7 +218,10 @@ class GlSceneRenderer final : public SceneRenderer {
     gl_.DrawElements(GL_TRIANGLES, mesh.index_count, GL_UNSIGNED_INT, nullptr);
   }
   void SetModel(const Eigen::Matrix4f& model) const;
-  Eigen::Matrix4f LightViewProj(const CameraState& camera, double* depth_range_m) const;
+  // The sun's view-projection for the frame's shadow map; its depth range and
+  // the size of one shadow-map texel (metres, the larger side).
+  Eigen::Matrix4f LightViewProj(const CameraState& camera, double* depth_range_m,
+                                double* texel_m) const;
   Eigen::Matrix4f ViewProj(const CameraState& camera, double* far_m) const;
   // The count pass's bookkeeping for one target of a submitted frame.
   // count[i] belongs to targets[i].
@@ -247,8 +259,26 @@ class GlSceneRenderer final : public SceneRenderer {
   // Binds `buffer` (created on first use) to GL_PIXEL_PACK_BUFFER with room
   // for `bytes`.
   void EnsurePackBuffer(GLuint& buffer, size_t& capacity, size_t bytes);
-  // Copies the first `bytes` of a pack buffer to `out` (waits for its writes).
-  void ReadPackBuffer(GLuint buffer, size_t bytes, void* out) const;
+  // The first `bytes` of a pack buffer mapped for reading (mapping waits for
+  // its writes), bound to GL_PIXEL_PACK_BUFFER until unmapped at the end of
+  // the scope. Readers take the pixels straight from the mapping.
+  class MappedPackBuffer {
+   public:
+    MappedPackBuffer(const GlApi& gl, GLuint buffer, size_t bytes);
+    ~MappedPackBuffer();
+    MappedPackBuffer(const MappedPackBuffer&) = delete;
+    MappedPackBuffer& operator=(const MappedPackBuffer&) = delete;
+    const uint8_t* data() const { return data_; }
+
+   private:
+    const GlApi& gl_;
+    const uint8_t* data_ = nullptr;
+  };
+  // Copies the first `bytes` of a pack buffer to `out`.
+  void ReadPackBuffer(GLuint buffer, size_t bytes, void* out) const {
+    const MappedPackBuffer mapped(gl_, buffer, bytes);
+    std::memcpy(out, mapped.data(), bytes);
+  }
 
   std::array<InFlight, kMaxInFlight> slots_;
   int head_ = 0;  // the oldest submitted slot
@@ -271,11 +301,12 @@ class GlSceneRenderer final : public SceneRenderer {
   };
   // Colour-pass variants (see shaders.h) and the count-pass program.
   Program object_program_;
-  // Terrain variants for the three parts of each tile (TerrainTile): all
-  // features on; without the road lookups (cells the road mask does not
-  // touch); without road and shadow lookups (cells no shadow can reach
-  // either). Ids are 0 when not built (split_road_cells off).
+  // Terrain variants for the TerrainParts: all features on; without the
+  // shadow lookups (built only with roads and shadows: otherwise
+  // terrain_program_ is that variant); without the road lookups; without
+  // road and shadow lookups. Ids are 0 when not built (split_road_cells off).
   Program terrain_program_;
+  Program terrain_road_program_;
   Program terrain_shadow_program_;
   Program terrain_plain_program_;
   Program id_program_;
@@ -303,12 +334,15 @@ class GlSceneRenderer final : public SceneRenderer {
   GpuMesh terrain_;
   std::vector<TerrainTile> tiles_;
   int terrain_cells_ = 1;
+  std::vector<uint8_t> road_cells_;    // per cell (row-major): a road may touch it
+  std::vector<uint8_t> shadow_cells_;  // per cell: MarkShadowCells' marks for this frame
+  std::array<std::vector<uint32_t>, kTerrainParts> part_indices_;  // PrepareTerrain's scratch
+  std::vector<uint32_t> terrain_indices_;                          // the parts, concatenated
   std::vector<float> terrain_heights_;  // (cells+1)^2 vertex heights, row-major
 
   GpuMesh occluders_;
   std::vector<VehicleModel> models_;
   std::vector<size_t> target_model_;  // per target: index into models_
-  std::vector<uint8_t> rgba_;
   std::vector<uint8_t> region_;
   // World boxes of the occluders, for the cells their shadows may reach.
   std::vector<Eigen::AlignedBox3d> occluder_boxes_;
@@ -357,9 +391,10 @@ GLuint GlSceneRenderer::Link(const char* vs, const char* fs) {
 }
 
 GlSceneRenderer::Program GlSceneRenderer::MakeProgram(const std::string& defines) {
+  const std::string vs = "#version 330 core\n" + defines + internal::kSceneVertexBody;
   const std::string fs = "#version 330 core\n" + defines + internal::kSceneFragmentBody;
   Program program;
-  program.id = Link(internal::kSceneVertexShader, fs.c_str());
+  program.id = Link(vs.c_str(), fs.c_str());
   for (const char* name :
        {"u_model", "u_normal_matrix", "u_view_proj", "u_light_view_proj", "u_id", "u_tint",
         "u_sun_dir", "u_sun_color", "u_sky_color", "u_ground_color", "u_shadow_texel",
@@ -384,6 +419,9 @@ void GlSceneRenderer::BuildPrograms() {
   terrain_program_ =
       MakeProgram(common + "#define TERRAIN\n" + (world_.terrain.roads ? "#define ROADS\n" : ""));
   if (options_.split_road_cells) {
+    if (shadows_ && world_.terrain.roads) {
+      terrain_road_program_ = MakeProgram("#define TERRAIN\n#define ROADS\n");
+    }
     terrain_shadow_program_ = MakeProgram(common + "#define TERRAIN\n");
     terrain_plain_program_ = MakeProgram("#define TERRAIN\n");
   }
@@ -563,42 +601,11 @@ void GlSceneRenderer::BuildTerrain() {
   scene_top_m_ = 0.5 * t.relief_m;
 }
 
-void GlSceneRenderer::BuildTerrainIndices(const internal::Texture8& road_mask) {
+void GlSceneRenderer::BuildTerrainCells(const internal::Texture8& road_mask) {
   const int grid = terrain_cells_;
   const TerrainSpec& t = world_.terrain;
-  const auto v = [&](int i, int j) { return static_cast<uint32_t>(j * (grid + 1) + i); };
-  // Vertex q as BuildTerrain placed it (for the tiles' culling boxes).
-  const auto terrain_vertex = [&](uint32_t q) {
-    const int i = static_cast<int>(q % static_cast<uint32_t>(grid + 1));
-    const int j = static_cast<int>(q / static_cast<uint32_t>(grid + 1));
-    return Eigen::Vector3f(static_cast<float>(-0.5 * t.size_m.x() + t.size_m.x() * i / grid),
-                           static_cast<float>(-0.5 * t.size_m.y() + t.size_m.y() * j / grid),
-                           terrain_heights_[q]);
-  };
-  // The part of each cell (see TerrainTile). The cheaper variants change no
-  // pixel where they are used: there the road mask samples to exactly 0 (and
-  // mix(albedo, road, 0) is albedo), and every shadow-map tap reads the
-  // cleared depth 1 or the border (so Lit() is exactly 1). Without the split
-  // every cell is part 0, drawn with every feature.
   const auto cell = [&](int i, int j) { return static_cast<size_t>(j) * grid + i; };
-  std::vector<int> parts(static_cast<size_t>(grid) * grid, options_.split_road_cells ? 2 : 0);
-  if (options_.split_road_cells && shadows_) {
-    // Each footprint marks the cells its rectangle overlaps (cost: the cells
-    // covered, not cells x footprints).
-    const auto cell_range = [&](double lo, double hi, double size) {
-      const double c0 = std::floor((lo + 0.5 * size) / size * grid);
-      const double c1 = std::floor((hi + 0.5 * size) / size * grid);
-      return std::pair(static_cast<int>(std::clamp(c0, 0.0, grid - 1.0)),
-                       static_cast<int>(std::clamp(c1, 0.0, grid - 1.0)));
-    };
-    for (const Eigen::AlignedBox2d& f : ShadowFootprints()) {
-      const auto [i0, i1] = cell_range(f.min().x(), f.max().x(), t.size_m.x());
-      const auto [j0, j1] = cell_range(f.min().y(), f.max().y(), t.size_m.y());
-      for (int j = j0; j <= j1; ++j) {
-        for (int i = i0; i <= i1; ++i) parts[cell(i, j)] = 1;
-      }
-    }
-  }
+  road_cells_.assign(static_cast<size_t>(grid) * grid, options_.split_road_cells ? 0 : 1);
   if (options_.split_road_cells && t.roads) {
     // A cell is a road cell when the mask may be non-zero anywhere the shader
     // samples it: the cell spans [i, i+1] x [j, j+1] / grid in mask
@@ -622,112 +629,149 @@ void GlSceneRenderer::BuildTerrainIndices(const internal::Texture8& road_mask) {
       return false;
     };
     for (int j = 0; j < grid; ++j) {
-      for (int i = 0; i < grid; ++i) {
-        if (road_may_touch(i, j)) parts[cell(i, j)] = 0;
-      }
+      for (int i = 0; i < grid; ++i) road_cells_[cell(i, j)] = road_may_touch(i, j) ? 1 : 0;
     }
   }
-  std::vector<uint32_t> indices;
-  // Indices grouped by tile so that tiles outside the view can be skipped
-  // (llvmpipe's geometry stage is single-threaded: unseen triangles cost),
-  // and by part within a tile.
+  // Tiles of cells, culled together against the view (llvmpipe's geometry
+  // stage is single-threaded: unseen triangles cost). Their boxes hold the
+  // vertices as BuildTerrain placed them.
+  const auto vertex = [&](int i, int j) {
+    return Eigen::Vector3f(static_cast<float>(-0.5 * t.size_m.x() + t.size_m.x() * i / grid),
+                           static_cast<float>(-0.5 * t.size_m.y() + t.size_m.y() * j / grid),
+                           terrain_heights_[static_cast<size_t>(j) * (grid + 1) + i]);
+  };
   for (int tj = 0; tj < grid; tj += kTerrainTileCells) {
     for (int ti = 0; ti < grid; ti += kTerrainTileCells) {
       TerrainTile tile;
-      tile.first = indices.size();
+      tile.i0 = ti;
+      tile.i1 = std::min(grid, ti + kTerrainTileCells);
+      tile.j0 = tj;
+      tile.j1 = std::min(grid, tj + kTerrainTileCells);
       tile.lo = Eigen::Vector3f::Constant(std::numeric_limits<float>::max());
       tile.hi = -tile.lo;
-      for (int part = 0; part < 3; ++part) {
-        tile.start[static_cast<size_t>(part)] = static_cast<GLsizei>(indices.size() - tile.first);
-        for (int j = tj; j < std::min(grid, tj + kTerrainTileCells); ++j) {
-          for (int i = ti; i < std::min(grid, ti + kTerrainTileCells); ++i) {
-            if (parts[cell(i, j)] != part) continue;
-            const uint32_t quad[6] = {v(i, j), v(i + 1, j),     v(i + 1, j + 1),
-                                      v(i, j), v(i + 1, j + 1), v(i, j + 1)};
-            for (uint32_t q : quad) {
-              indices.push_back(q);
-              const Eigen::Vector3f p = terrain_vertex(q);
-              tile.lo = tile.lo.cwiseMin(p);
-              tile.hi = tile.hi.cwiseMax(p);
-            }
-          }
+      for (int j = tile.j0; j <= tile.j1; ++j) {
+        for (int i = tile.i0; i <= tile.i1; ++i) {
+          tile.lo = tile.lo.cwiseMin(vertex(i, j));
+          tile.hi = tile.hi.cwiseMax(vertex(i, j));
         }
       }
-      tile.start[3] = static_cast<GLsizei>(indices.size() - tile.first);
       tiles_.push_back(tile);
     }
   }
-  gl_.BindVertexArray(terrain_.vao);
-  gl_.BindBuffer(GL_ELEMENT_ARRAY_BUFFER, terrain_.ibo);
-  gl_.BufferData(GL_ELEMENT_ARRAY_BUFFER,
-                 static_cast<GLsizeiptr>(indices.size() * sizeof(uint32_t)), indices.data(),
-                 GL_STATIC_DRAW);
-  gl_.BindVertexArray(0);
-  terrain_.index_count = static_cast<GLsizei>(indices.size());
+  shadow_cells_.assign(road_cells_.size(), 0);
 }
 
-std::vector<Eigen::AlignedBox2d> GlSceneRenderer::ShadowFootprints() const {
+void GlSceneRenderer::MarkShadowCells(const std::vector<TargetInstance>& targets, double texel_m) {
   const TerrainSpec& t = world_.terrain;
+  const int grid = terrain_cells_;
   const Eigen::Vector3d sun = world_.sun.Direction().normalized();
-  const Eigen::AlignedBox2d everywhere(-0.5 * t.size_m - Eigen::Vector2d::Ones(),
-                                       0.5 * t.size_m + Eigen::Vector2d::Ones());
   // Below ~3 degrees shadows run for kilometres: no bound worth having.
-  if (sun.z() < 0.05) return {everywhere};
-  // A shadow-map texel is at most the light-space extent of the scene box
-  // over the map size (the map is fitted to the view, never beyond the
-  // terrain), and a texel seen obliquely covers 1 / sin(elevation) of that on
-  // the ground. The filter reads pcf_radius + 1 texels either side of the
-  // point; one more texel and a metre cover rounding.
+  if (sun.z() < 0.05) {
+    std::fill(shadow_cells_.begin(), shadow_cells_.end(), 1);
+    return;
+  }
+  std::fill(shadow_cells_.begin(), shadow_cells_.end(), 0);
+  // The filter reads pcf_radius + 1 texels either side of a point, and a
+  // texel seen obliquely covers 1 / sin(elevation) of its size on the
+  // ground; one more texel and a metre cover rounding.
   const double bottom = scene_bottom_m_ - 1.0;
   const double top = 0.5 * t.relief_m + 1.0;  // highest terrain point, + 1 m
-  const double extent = t.size_m.x() + t.size_m.y() + (scene_top_m_ - scene_bottom_m_) + 4.0;
-  const double texel = extent / shadow_size_;
-  const double margin = (options_.pcf_radius + 2) * texel / sun.z() + 1.0;
-  std::vector<Eigen::AlignedBox2d> out;
-  const auto add = [&](const Eigen::AlignedBox3d& box) {
+  const double margin = (options_.pcf_radius + 2) * texel_m / sun.z() + 1.0;
+  const auto cell_range = [&](double lo, double hi, double size) {
+    const double c0 = std::floor((lo + 0.5 * size) / size * grid);
+    const double c1 = std::floor((hi + 0.5 * size) / size * grid);
+    return std::pair(static_cast<int>(std::clamp(c0, 0.0, grid - 1.0)),
+                     static_cast<int>(std::clamp(c1, 0.0, grid - 1.0)));
+  };
+  const auto mark = [&](const Eigen::AlignedBox3d& box) {
+    // The ground rectangle of the box and of where the rays from its corners
+    // away from the sun meet the lowest and the highest terrain: the box's
+    // shadow lies inside.
     Eigen::AlignedBox2d f;
     for (int c = 0; c < 8; ++c) {
       const Eigen::Vector3d p = box.corner(static_cast<Eigen::AlignedBox3d::CornerType>(c));
       f.extend(p.head<2>());
-      // Where the ray from p away from the sun meets the lowest and the
-      // highest terrain: the shadow of p lies between the two.
       for (const double z : {bottom, top}) {
         if (p.z() <= z) continue;
         f.extend((p - (p.z() - z) / sun.z() * sun).head<2>());
       }
     }
-    f.min().array() -= margin;
-    f.max().array() += margin;
-    out.push_back(f);
+    // Cost: the cells covered, not cells x boxes.
+    const auto [i0, i1] = cell_range(f.min().x() - margin, f.max().x() + margin, t.size_m.x());
+    const auto [j0, j1] = cell_range(f.min().y() - margin, f.max().y() + margin, t.size_m.y());
+    for (int j = j0; j <= j1; ++j) {
+      std::fill_n(shadow_cells_.begin() + static_cast<ptrdiff_t>(j) * grid + i0, i1 - i0 + 1, 1);
+    }
   };
-  for (const Eigen::AlignedBox3d& box : occluder_boxes_) add(box);
-  // Vehicles: a box around their positions over a few frames (radius: half
-  // the diagonal of the footprint, so any heading; the distance driven
-  // between frames is added), from the ground to roof height.
-  constexpr int kFramesPerBox = 8;
-  for (const TargetSpec& spec : world_.targets) {
-    const double radius = 0.5 * spec.dimensions_m.head<2>().norm();
-    Eigen::AlignedBox3d box;
-    int in_box = 0;
-    std::optional<Eigen::Vector3d> last;
-    for (int f = 0; f < std::max(world_.frames, 1); ++f) {
-      const TargetPose pose = EvaluateTarget(spec, t, f, world_.fps);
-      if (!pose.present) continue;
-      const Eigen::Vector3d at = pose.position_m;
-      const double step = last ? (at - *last).head<2>().norm() : 0.0;
-      last = at;
-      const double r = radius + step + 0.5;
-      box.extend(Eigen::Vector3d(at.x() - r, at.y() - r, bottom));
-      box.extend(Eigen::Vector3d(at.x() + r, at.y() + r, top + spec.dimensions_m.z()));
-      if (++in_box == kFramesPerBox) {
-        add(box);
-        box.setEmpty();
-        in_box = 0;
+  for (const Eigen::AlignedBox3d& box : occluder_boxes_) mark(box);
+  // A vehicle's mesh fills its dimensions (BuildVehicles scales it so),
+  // standing on the drawn terrain at its pose: any heading stays within half
+  // its footprint's diagonal of the position. Half a metre of slack.
+  for (const TargetInstance& target : targets) {
+    const Eigen::Vector3d& dims = world_.targets[target.slot].dimensions_m;
+    const Eigen::Vector3d at(target.model(0, 3), target.model(1, 3), target.model(2, 3));
+    const double r = 0.5 * dims.head<2>().norm() + 0.5;
+    mark(Eigen::AlignedBox3d(at - Eigen::Vector3d(r, r, 0.5),
+                             at + Eigen::Vector3d(r, r, dims.z() + 0.5)));
+  }
+}
+
+std::array<std::pair<size_t, GLsizei>, kTerrainParts> GlSceneRenderer::PrepareTerrain(
+    const Eigen::Matrix4f& view_proj, const std::vector<TargetInstance>& targets, double texel_m) {
+  const int grid = terrain_cells_;
+  const bool split = options_.split_road_cells;
+  if (split && shadows_) MarkShadowCells(targets, texel_m);
+  for (std::vector<uint32_t>& part : part_indices_) part.clear();
+  const auto v = [&](int i, int j) { return static_cast<uint32_t>(j * (grid + 1) + i); };
+  for (const TerrainTile& tile : tiles_) {
+    // Clip-space test of the tile's box: culled when all 8 corners lie
+    // outside the same frustum plane.
+    int outside[6] = {0, 0, 0, 0, 0, 0};
+    for (int c = 0; c < 8; ++c) {
+      const Eigen::Vector4f p((c & 1) ? tile.hi.x() : tile.lo.x(),
+                              (c & 2) ? tile.hi.y() : tile.lo.y(),
+                              (c & 4) ? tile.hi.z() : tile.lo.z(), 1.0f);
+      const Eigen::Vector4f q = view_proj * p;
+      outside[0] += q.x() < -q.w();
+      outside[1] += q.x() > q.w();
+      outside[2] += q.y() < -q.w();
+      outside[3] += q.y() > q.w();
+      outside[4] += q.z() < -q.w();
+      outside[5] += q.z() > q.w();
+    }
+    if (std::any_of(std::begin(outside), std::end(outside), [](int n) { return n == 8; })) {
+      continue;
+    }
+    for (int j = tile.j0; j < tile.j1; ++j) {
+      for (int i = tile.i0; i < tile.i1; ++i) {
+        const size_t c = static_cast<size_t>(j) * grid + i;
+        int part = kTerrainFull;
+        if (split) {
+          const bool road = road_cells_[c] != 0;
+          const bool shadow = shadow_cells_[c] != 0;
+          part = road ? (shadow ? kTerrainFull : kTerrainRoad)
+                      : (shadow ? kTerrainShadow : kTerrainPlain);
+        }
+        part_indices_[static_cast<size_t>(part)].insert(
+            part_indices_[static_cast<size_t>(part)].end(),
+            {v(i, j), v(i + 1, j), v(i + 1, j + 1), v(i, j), v(i + 1, j + 1), v(i, j + 1)});
       }
     }
-    if (in_box > 0) add(box);
   }
-  return out;
+  std::array<std::pair<size_t, GLsizei>, kTerrainParts> ranges{};
+  terrain_indices_.clear();
+  for (size_t k = 0; k < part_indices_.size(); ++k) {
+    ranges[k] = {terrain_indices_.size(), static_cast<GLsizei>(part_indices_[k].size())};
+    terrain_indices_.insert(terrain_indices_.end(), part_indices_[k].begin(),
+                            part_indices_[k].end());
+  }
+  // New storage each frame: a frame still queued keeps the indices it was
+  // submitted with, and nothing waits for it.
+  gl_.BindVertexArray(terrain_.vao);
+  gl_.BufferData(GL_ELEMENT_ARRAY_BUFFER,
+                 static_cast<GLsizeiptr>(terrain_indices_.size() * sizeof(uint32_t)),
+                 terrain_indices_.data(), GL_STREAM_DRAW);
+  return ranges;
 }
 
 void GlSceneRenderer::BuildOccluders() {
@@ -835,8 +879,8 @@ Eigen::Matrix4f GlSceneRenderer::ViewProj(const CameraState& camera, double* far
   return (p * view).cast<float>();
 }
 
-Eigen::Matrix4f GlSceneRenderer::LightViewProj(const CameraState& camera,
-                                               double* depth_range_m) const {
+Eigen::Matrix4f GlSceneRenderer::LightViewProj(const CameraState& camera, double* depth_range_m,
+                                               double* texel_m) const {
   const Eigen::Vector3d sun = world_.sun.Direction().normalized();
   const Eigen::Vector3d forward = -sun;
   const Eigen::Vector3d up_hint =
@@ -881,6 +925,7 @@ Eigen::Matrix4f GlSceneRenderer::LightViewProj(const CameraState& camera,
   }
   lo.array() -= 1.0;
   hi.array() += 1.0;
+  *texel_m = (hi - lo).maxCoeff() / shadow_size_;
   // Depth: every caster in the scene box, so casters outside the view still
   // shadow what is seen.
   double zmin = std::numeric_limits<double>::max();
@@ -924,49 +969,6 @@ double GlSceneRenderer::MeshHeightAt(double x_m, double y_m) const {
   return h(i, j) + fy * (h(i, j + 1) - h(i, j)) + fx * (h(i + 1, j + 1) - h(i, j + 1));
 }
 
-void GlSceneRenderer::DrawTerrain(const Eigen::Matrix4f& view_proj, int part) const {
-  gl_.BindVertexArray(terrain_.vao);
-  // Clip-space test of each tile's box: culled when all 8 corners lie
-  // outside the same frustum plane. The visible tiles' parts go out in one
-  // glMultiDrawElements, adjacent parts merged.
-  std::vector<GLsizei> counts;
-  std::vector<const void*> offsets;
-  size_t run_end = 0;  // index after the last part added
-  for (const TerrainTile& tile : tiles_) {
-    const auto k = static_cast<size_t>(part);
-    const size_t first = tile.first + static_cast<size_t>(tile.start[k]);
-    const GLsizei count = tile.start[k + 1] - tile.start[k];
-    if (count == 0) continue;
-    int outside[6] = {0, 0, 0, 0, 0, 0};
-    for (int c = 0; c < 8; ++c) {
-      const Eigen::Vector4f p((c & 1) ? tile.hi.x() : tile.lo.x(),
-                              (c & 2) ? tile.hi.y() : tile.lo.y(),
-                              (c & 4) ? tile.hi.z() : tile.lo.z(), 1.0f);
-      const Eigen::Vector4f q = view_proj * p;
-      outside[0] += q.x() < -q.w();
-      outside[1] += q.x() > q.w();
-      outside[2] += q.y() < -q.w();
-      outside[3] += q.y() > q.w();
-      outside[4] += q.z() < -q.w();
-      outside[5] += q.z() > q.w();
-    }
-    const bool culled =
-        std::any_of(std::begin(outside), std::end(outside), [](int n) { return n == 8; });
-    if (culled) continue;
-    if (!counts.empty() && run_end == first) {
-      counts.back() += count;
-    } else {
-      counts.push_back(count);
-      offsets.push_back(reinterpret_cast<const void*>(first * sizeof(uint32_t)));
-    }
-    run_end = first + static_cast<size_t>(count);
-  }
-  if (!counts.empty()) {
-    gl_.MultiDrawElements(GL_TRIANGLES, counts.data(), GL_UNSIGNED_INT, offsets.data(),
-                          static_cast<GLsizei>(counts.size()));
-  }
-}
-
 void GlSceneRenderer::EnsurePackBuffer(GLuint& buffer, size_t& capacity, size_t bytes) {
   if (buffer == 0) gl_.GenBuffers(1, &buffer);
   gl_.BindBuffer(GL_PIXEL_PACK_BUFFER, buffer);
@@ -977,16 +979,19 @@ void GlSceneRenderer::EnsurePackBuffer(GLuint& buffer, size_t& capacity, size_t 
   }
 }
 
-void GlSceneRenderer::ReadPackBuffer(GLuint buffer, size_t bytes, void* out) const {
+GlSceneRenderer::MappedPackBuffer::MappedPackBuffer(const GlApi& gl, GLuint buffer, size_t bytes)
+    : gl_(gl) {
   gl_.BindBuffer(GL_PIXEL_PACK_BUFFER, buffer);
-  const void* mapped =
-      gl_.MapBufferRange(GL_PIXEL_PACK_BUFFER, 0, static_cast<GLsizeiptr>(bytes), GL_MAP_READ_BIT);
-  if (mapped == nullptr) {
+  data_ = static_cast<const uint8_t*>(
+      gl_.MapBufferRange(GL_PIXEL_PACK_BUFFER, 0, static_cast<GLsizeiptr>(bytes), GL_MAP_READ_BIT));
+  if (data_ == nullptr) {
     gl_.BindBuffer(GL_PIXEL_PACK_BUFFER, 0);
     gl_.CheckError("mapping a pixel-buffer object");
     throw RunError("renderer: mapping a pixel-buffer object failed");
   }
-  std::memcpy(out, mapped, bytes);
+}
+
+GlSceneRenderer::MappedPackBuffer::~MappedPackBuffer() {
   gl_.UnmapBuffer(GL_PIXEL_PACK_BUFFER);
   gl_.BindBuffer(GL_PIXEL_PACK_BUFFER, 0);
 }
@@ -1026,11 +1031,12 @@ void GlSceneRenderer::Submit(int frame) {
   const Eigen::Matrix4f view_proj = ViewProj(camera, &s.far_m);
   Eigen::Matrix4f light_view_proj = Eigen::Matrix4f::Identity();
   double light_depth_m = 1.0;
+  double light_texel_m = 0.0;
 
   // Shadow pass: occluders and vehicles cast; the terrain only receives
   // (its relief is gentle, and skipping it keeps the pass cheap).
   if (shadows_) {
-    light_view_proj = LightViewProj(camera, &light_depth_m);
+    light_view_proj = LightViewProj(camera, &light_depth_m, &light_texel_m);
     gl_.BindFramebuffer(GL_FRAMEBUFFER, shadow_fbo_);
     gl_.Viewport(0, 0, shadow_size_, shadow_size_);
     gl_.Disable(GL_SCISSOR_TEST);
@@ -1095,19 +1101,20 @@ void GlSceneRenderer::Submit(int frame) {
   gl_.Uniform1f(U("u_id"), 0.0f);
   SetModel(Eigen::Matrix4f::Identity());
   if (occluders_.index_count > 0) Draw(occluders_);
-  Use(terrain_program_);
-  SetFrameUniforms(view_proj, light_view_proj, light_depth_m);
-  SetModel(Eigen::Matrix4f::Identity());
-  DrawTerrain(view_proj, 0);
-  if (options_.split_road_cells) {
-    Use(terrain_shadow_program_);
+  // The terrain, part by part (the cheaper variants change no pixel where
+  // they are drawn: see PrepareTerrain and MarkShadowCells).
+  const auto ranges = PrepareTerrain(view_proj, targets, light_texel_m);
+  const std::array<const Program*, kTerrainParts> programs = {
+      &terrain_program_, terrain_road_program_.id != 0 ? &terrain_road_program_ : &terrain_program_,
+      &terrain_shadow_program_, &terrain_plain_program_};
+  for (size_t k = 0; k < ranges.size(); ++k) {
+    const auto [first, count] = ranges[k];
+    if (count == 0) continue;
+    Use(*programs[k]);
     SetFrameUniforms(view_proj, light_view_proj, light_depth_m);
     SetModel(Eigen::Matrix4f::Identity());
-    DrawTerrain(view_proj, 1);
-    Use(terrain_plain_program_);
-    SetFrameUniforms(view_proj, light_view_proj, light_depth_m);
-    SetModel(Eigen::Matrix4f::Identity());
-    DrawTerrain(view_proj, 2);
+    gl_.DrawElements(GL_TRIANGLES, count, GL_UNSIGNED_INT,
+                     reinterpret_cast<const void*>(first * sizeof(uint32_t)));
   }
   gl_.CheckError("colour pass");
 
@@ -1150,8 +1157,6 @@ RenderedFrame GlSceneRenderer::CollectClean() {
   RenderedFrame out;
   out.frame = s.frame;
   const size_t pixels = static_cast<size_t>(width_) * height_;
-  rgba_.resize(4 * pixels);
-  ReadPackBuffer(s.colour_pbo, rgba_.size(), rgba_.data());
   if (options_.output_depth) {
     DepthImage depth;
     depth.width = width_;
@@ -1175,18 +1180,22 @@ RenderedFrame GlSceneRenderer::CollectClean() {
   out.rgb.height = height_;
   out.rgb.pixels.resize(3 * pixels);
   internal::VisibleIds visible(world_.targets.size() + 1, width_, height_);
-  internal::SplitRgba(rgba_.data(), width_, height_, out.rgb.pixels.data(),
-                      options_.ground_truth ? &visible : nullptr);
-  if (options_.output_instance_ids) {
-    InstanceImage ids;
-    ids.width = width_;
-    ids.height = height_;
-    ids.ids.resize(pixels);
-    for (size_t i = 0; i < pixels; ++i) {
-      const uint8_t a = rgba_[4 * i + 3];
-      ids.ids[i] = a == 0 ? -1 : Value(world_.targets[a - 1].id);
+  {
+    // Split straight from the mapping: one pass over the readback, no copy.
+    const MappedPackBuffer rgba(gl_, s.colour_pbo, 4 * pixels);
+    internal::SplitRgba(rgba.data(), width_, height_, out.rgb.pixels.data(),
+                        options_.ground_truth ? &visible : nullptr);
+    if (options_.output_instance_ids) {
+      InstanceImage ids;
+      ids.width = width_;
+      ids.height = height_;
+      ids.ids.resize(pixels);
+      for (size_t i = 0; i < pixels; ++i) {
+        const uint8_t a = rgba.data()[4 * i + 3];
+        ids.ids[i] = a == 0 ? -1 : Value(world_.targets[a - 1].id);
+      }
+      out.instance_ids = std::move(ids);
     }
-    out.instance_ids = std::move(ids);
   }
   if (options_.ground_truth) {
     out.ground_truth = GroundTruth(s, visible);

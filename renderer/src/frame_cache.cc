@@ -29,8 +29,9 @@ namespace {
 // ziggurat generator (core/normal.h) instead of Box-Muller; 5: sensor noise
 // drawn as rounded integers (src/rounded_gaussian.h), same distribution; 6:
 // terrain lit and its texture and shadow coordinates computed per vertex
-// (shaders.h).
-constexpr int kRendererVersion = 6;
+// (shaders.h); 7: sensor noise words from eight interleaved generator lanes
+// (sensor.cc), same distribution.
+constexpr int kRendererVersion = 7;
 
 std::string FileDigest(const std::string& path) {
   std::ifstream in(path, std::ios::binary);

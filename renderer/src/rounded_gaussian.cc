@@ -1,5 +1,7 @@
 #include "rounded_gaussian.h"
 
+#include <immintrin.h>
+
 #include <algorithm>
 #include <cmath>
 #include <numeric>
@@ -82,6 +84,85 @@ RoundedGaussianTable::RoundedGaussianTable(double sigma) {
     bins_[j].threshold = static_cast<uint32_t>(capacity);
   }
   HCPF_CHECK(small.empty()) << "weights do not sum to 2^32";
+  if (bins_.size() <= kVectorBins) {
+    for (size_t j = 0; j < bins_.size(); ++j) {
+      thresholds_[j] = bins_[j].threshold;
+      values_[j] = static_cast<uint16_t>(bins_[j].value) |
+                   (static_cast<uint32_t>(static_cast<uint16_t>(bins_[j].alias)) << 16);
+    }
+  }
+}
+
+namespace {
+
+bool CpuHasAvx512() {
+  static const bool has = __builtin_cpu_supports("avx512f") && __builtin_cpu_supports("avx512bw");
+  return has;
+}
+
+// GCC 12's AVX-512 intrinsics start some results from an "undefined"
+// register, which -Wmaybe-uninitialized reports at every use (GCC bug
+// 105593); nothing here reads an undefined value.
+#if defined(__GNUC__) && !defined(__clang__)
+#pragma GCC diagnostic push
+#pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
+#endif
+// Sixteen 32-bit inputs at a time (eight words): the bin index u >> shift
+// picks a threshold and a value-alias pair from the 64-entry arrays by two
+// two-register permutes each (bit 5 of the index chooses between them), the
+// low bits compared with the threshold choose value or alias.
+__attribute__((target("avx512f,avx512bw"))) void SampleWordsAvx512(const uint32_t* thresholds,
+                                                                   const uint32_t* values,
+                                                                   int shift, uint32_t mask,
+                                                                   const uint64_t* words,
+                                                                   size_t count, int16_t* out) {
+  const __m512i t0 = _mm512_load_si512(thresholds);
+  const __m512i t1 = _mm512_load_si512(thresholds + 16);
+  const __m512i t2 = _mm512_load_si512(thresholds + 32);
+  const __m512i t3 = _mm512_load_si512(thresholds + 48);
+  const __m512i v0 = _mm512_load_si512(values);
+  const __m512i v1 = _mm512_load_si512(values + 16);
+  const __m512i v2 = _mm512_load_si512(values + 32);
+  const __m512i v3 = _mm512_load_si512(values + 48);
+  const __m512i low_bits = _mm512_set1_epi32(static_cast<int>(mask));
+  const __m512i bit5 = _mm512_set1_epi32(32);
+  const __m128i shift_count = _mm_cvtsi32_si128(shift);
+  for (size_t i = 0; i < count; i += 8) {
+    const __m512i u = _mm512_loadu_si512(words + i);  // little-endian: low half first
+    const __m512i bin = _mm512_srl_epi32(u, shift_count);
+    const __mmask16 upper = _mm512_test_epi32_mask(bin, bit5);
+    const __m512i threshold = _mm512_mask_blend_epi32(upper, _mm512_permutex2var_epi32(t0, bin, t1),
+                                                      _mm512_permutex2var_epi32(t2, bin, t3));
+    const __m512i pair = _mm512_mask_blend_epi32(upper, _mm512_permutex2var_epi32(v0, bin, v1),
+                                                 _mm512_permutex2var_epi32(v2, bin, v3));
+    const __mmask16 below = _mm512_cmplt_epu32_mask(_mm512_and_si512(u, low_bits), threshold);
+    const __m512i value = _mm512_srai_epi32(_mm512_slli_epi32(pair, 16), 16);
+    const __m512i alias = _mm512_srai_epi32(pair, 16);
+    const __m512i k = _mm512_mask_blend_epi32(below, alias, value);
+    _mm256_storeu_si256(reinterpret_cast<__m256i*>(out + 2 * i), _mm512_cvtepi32_epi16(k));
+  }
+}
+#if defined(__GNUC__) && !defined(__clang__)
+#pragma GCC diagnostic pop
+#endif
+
+}  // namespace
+
+bool RoundedGaussianTable::HasVectorPath() const {
+  return bins_.size() <= kVectorBins && CpuHasAvx512();
+}
+
+void RoundedGaussianTable::SampleWords(const uint64_t* words, size_t count, int16_t* out,
+                                       bool scalar) const {
+  size_t i = 0;
+  if (!scalar && HasVectorPath()) {
+    i = count - count % 8;
+    SampleWordsAvx512(thresholds_.data(), values_.data(), shift_, mask_, words, i, out);
+  }
+  for (; i < count; ++i) {
+    out[2 * i] = static_cast<int16_t>(Sample(static_cast<uint32_t>(words[i])));
+    out[2 * i + 1] = static_cast<int16_t>(Sample(static_cast<uint32_t>(words[i] >> 32)));
+  }
 }
 
 uint64_t RoundedGaussianTable::Count(int k) const {

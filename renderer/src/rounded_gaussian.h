@@ -18,6 +18,8 @@
 // ceil(8 sigma)) are folded into +-kmax: beyond 255 the clamp makes them the
 // same; beyond 8 sigma their mass (< 1.3e-15) is below one unit.
 
+#include <array>
+#include <cstddef>
 #include <cstdint>
 #include <vector>
 
@@ -37,6 +39,16 @@ class RoundedGaussianTable {
     return b.alias + ((b.value - b.alias) & below);
   }
 
+  // Two values per 64-bit word, the low half first: out[2i] = Sample(low
+  // half of words[i]), out[2i + 1] = Sample(high half); `out` holds 2 x
+  // `count` values. With AVX-512 and at most 64 bins (sigma <= 3.875, where
+  // kmax <= 31) the bins are looked up sixteen at a time by register
+  // permutes; otherwise, or when `scalar`, one at a time with Sample. Both
+  // give the same values (RoundedGaussian.VectorLookupsEqualSample).
+  void SampleWords(const uint64_t* words, size_t count, int16_t* out, bool scalar = false) const;
+  // Whether SampleWords has its vector path on this machine and table.
+  bool HasVectorPath() const;
+
   int kmax() const { return kmax_; }
   // The number of 32-bit inputs u for which Sample(u) == k (0 outside
   // [-kmax, kmax]); these sum to 2^32.
@@ -52,6 +64,12 @@ class RoundedGaussianTable {
   int shift_ = 0;
   uint32_t mask_ = 0;
   std::vector<Bin> bins_;
+  // The bins again as two arrays of 64, for the vector path (filled when
+  // there are at most 64 bins; unused entries zero): thresholds, and value
+  // (low 16 bits) with alias (high 16 bits).
+  static constexpr size_t kVectorBins = 64;
+  alignas(64) std::array<uint32_t, kVectorBins> thresholds_{};
+  alignas(64) std::array<uint32_t, kVectorBins> values_{};
 };
 
 // The weights the table realises: P(K = k) for k = -kmax..kmax (index

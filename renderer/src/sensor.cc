@@ -8,6 +8,7 @@
 #include <span>
 
 #include "codecs.h"
+#include "hcpf/core/rng.h"
 #include "hcpf/renderer/renderer.h"
 #include "rounded_gaussian.h"
 
@@ -22,6 +23,52 @@ constexpr size_t kNoiseBlock = 8192;
 // trip count is a compile-time constant.
 constexpr size_t kChunk = 16;
 
+// Eight xoshiro256** streams advanced in lockstep, lane l seeded as
+// Rng::Fork("noise/lane", l) of the frame's stream: no step depends on
+// another lane's, so the step vectorises (fixed trip count; clones for
+// AVX-512, AVX2 and the baseline give the same words). Word 8k + l of the
+// output is lane l's k-th draw. One stream made the noise wait on its own
+// serial dependency chain (~0.9 ns a word, 720,000 words a 800 x 600 frame).
+class NoiseWords {
+ public:
+  static constexpr size_t kLanes = 8;
+  explicit NoiseWords(const Rng& rng) {
+    for (size_t l = 0; l < kLanes; ++l) {
+      // As Rng seeds itself from its identity (core/src/rng.cc).
+      uint64_t x = rng.Fork("noise/lane", static_cast<int64_t>(l)).identity();
+      for (std::array<uint64_t, kLanes>* s : {&s0_, &s1_, &s2_, &s3_}) {
+        x = Mix64(x);
+        (*s)[l] = x;
+      }
+    }
+  }
+  // `n` words, a multiple of kLanes.
+  void Fill(uint64_t* out, size_t n) {
+    FillLanes(s0_.data(), s1_.data(), s2_.data(), s3_.data(), out, n);
+  }
+
+ private:
+  __attribute__((target_clones("avx512f", "avx2", "default"))) static void FillLanes(
+      uint64_t* __restrict s0, uint64_t* __restrict s1, uint64_t* __restrict s2,
+      uint64_t* __restrict s3, uint64_t* __restrict out, size_t n) {
+    const auto rotl = [](uint64_t x, int k) { return (x << k) | (x >> (64 - k)); };
+    for (size_t k = 0; k < n; k += kLanes) {
+      for (size_t l = 0; l < kLanes; ++l) {
+        out[k + l] = rotl(s1[l] * 5, 7) * 9;
+        const uint64_t t = s1[l] << 17;
+        s2[l] ^= s0[l];
+        s3[l] ^= s1[l];
+        s1[l] ^= s2[l];
+        s0[l] ^= s3[l];
+        s2[l] ^= t;
+        s3[l] = rotl(s3[l], 45);
+      }
+    }
+  }
+
+  alignas(64) std::array<uint64_t, kLanes> s0_{}, s1_{}, s2_{}, s3_{};
+};
+
 inline uint8_t AddClamp(uint8_t p, int16_t k) {
   return static_cast<uint8_t>(std::clamp<int16_t>(static_cast<int16_t>(p + k), 0, 255));
 }
@@ -29,25 +76,22 @@ inline uint8_t AddClamp(uint8_t p, int16_t k) {
 // Independent N(0, sigma^2) noise on every byte (pixel and channel), in
 // memory order, rounded to the nearest level and clamped to [0, 255]:
 // p = clamp(p + K, 0, 255), where K = round(sigma z) is drawn directly from
-// its exact distribution (rounded_gaussian.h), 32 bits of hcpf::Rng per
+// its exact distribution (rounded_gaussian.h), 32 bits of NoiseWords per
 // value (the low half of each 64-bit word first): no normal variate and no
 // floating point per value, and the same seed gives the same bytes on every
-// platform. Two passes per block: the table lookups (scalar), then the
-// add-clamp (vectorised).
-void AddNoise(double sigma, Rng& rng, std::span<uint8_t> pixels) {
+// platform. Three passes per block: the words, the table lookups (sixteen at
+// a time where the table allows), the add-clamp (vectorised).
+void AddNoise(double sigma, const Rng& rng, std::span<uint8_t> pixels) {
   const internal::RoundedGaussianTable table(sigma);
-  std::array<uint64_t, kNoiseBlock / 2> words;
-  std::array<int16_t, kNoiseBlock> noise;  // |K| <= 255
+  NoiseWords draws(rng);
+  alignas(64) std::array<uint64_t, kNoiseBlock / 2> words;
+  alignas(64) std::array<int16_t, kNoiseBlock> noise;  // |K| <= 255
   for (size_t start = 0; start < pixels.size(); start += kNoiseBlock) {
     const size_t m = std::min(kNoiseBlock, pixels.size() - start);
-    for (size_t i = 0; i < (m + 1) / 2; ++i) words[i] = rng.NextU64();
-    size_t i = 0;
-    for (; i + 1 < m; i += 2) {
-      const uint64_t w = words[i / 2];
-      noise[i] = static_cast<int16_t>(table.Sample(static_cast<uint32_t>(w)));
-      noise[i + 1] = static_cast<int16_t>(table.Sample(static_cast<uint32_t>(w >> 32)));
-    }
-    if (i < m) noise[i] = static_cast<int16_t>(table.Sample(static_cast<uint32_t>(words[i / 2])));
+    // Whole blocks of words even for the last, shorter block: a value's
+    // words depend on its position only.
+    draws.Fill(words.data(), words.size());
+    table.SampleWords(words.data(), words.size(), noise.data());
     uint8_t* __restrict p = pixels.data() + start;
     const int16_t* __restrict k = noise.data();
     size_t c = 0;

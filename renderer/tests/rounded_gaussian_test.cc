@@ -114,5 +114,47 @@ TEST(RoundedGaussian, SampleMatchesTheCountsOfASmallTable) {
   EXPECT_NEAR(static_cast<double>(table.Count(1)), 1232.0, 2.0);
 }
 
+TEST(RoundedGaussian, VectorLookupsEqualSample) {
+  // SampleWords' vector path (AVX-512 register permutes, tables of up to 64
+  // bins) against Sample on each half of each word, for sigmas on both sides
+  // of the 64-bin limit (kmax 31, sigma 3.875), over words that hit every
+  // bin and both sides of every threshold: random words, and the edges of
+  // every bin of the largest table.
+  std::vector<uint64_t> words(4096 + 128);
+  uint64_t x = 0x9E3779B97F4A7C15ULL;
+  for (size_t i = 0; i < 4096; ++i) {
+    x ^= x << 13;
+    x ^= x >> 7;
+    x ^= x << 17;
+    words[i] = x;
+  }
+  for (uint64_t b = 0; b < 64; ++b) {
+    const uint64_t first = b << 26;  // 64 bins: shift 26
+    const uint64_t last = first | ((uint64_t{1} << 26) - 1);
+    words[4096 + 2 * b] = first | (last << 32);
+    words[4096 + 2 * b + 1] = (first + 1) | ((last - 1) << 32);
+  }
+  // An odd count: the last words go through the scalar tail.
+  const size_t count = words.size() - 3;
+  bool vector_ran = false;
+  for (const double sigma : {0.05, 0.7, 1.0, 2.0, 3.0, 3.875, 3.9, 10.0}) {
+    const RoundedGaussianTable table(sigma);
+    vector_ran = vector_ran || table.HasVectorPath();
+    std::vector<int16_t> fast(2 * count), reference(2 * count);
+    table.SampleWords(words.data(), count, fast.data());
+    table.SampleWords(words.data(), count, reference.data(), /*scalar=*/true);
+    for (size_t i = 0; i < count; ++i) {
+      ASSERT_EQ(reference[2 * i], table.Sample(static_cast<uint32_t>(words[i]))) << i;
+      ASSERT_EQ(reference[2 * i + 1], table.Sample(static_cast<uint32_t>(words[i] >> 32))) << i;
+    }
+    EXPECT_EQ(fast, reference) << "sigma " << sigma;
+    // Tables beyond 64 bins have no vector path.
+    if (RoundedGaussianKmax(sigma) > 31) {
+      EXPECT_FALSE(table.HasVectorPath()) << sigma;
+    }
+  }
+  if (!vector_ran) GTEST_SKIP() << "no AVX-512 on this machine: only the scalar path ran";
+}
+
 }  // namespace
 }  // namespace hcpf::renderer::internal

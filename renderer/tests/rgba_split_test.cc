@@ -13,10 +13,12 @@ namespace hcpf::renderer::internal {
 namespace {
 
 // Widths around the four-pixel step (the tail loop runs for 1-3 leftover
-// pixels), ids sparse as in a frame (most pixels 0) and dense, ids up to 255.
+// pixels) and the sixteen-pixel step (0-15 leftover), ids sparse as in a
+// frame (most pixels 0) and dense, ids up to 255; both paths (the sixteen-
+// pixel one runs only where the CPU has AVX-512 VBMI).
 TEST(RgbaSplit, MatchesAPerPixelSplitAtEveryWidth) {
   std::mt19937 random(7);
-  for (int width : {1, 2, 3, 4, 5, 6, 7, 8, 9, 13, 64, 67}) {
+  for (int width : {1, 2, 3, 4, 5, 6, 7, 8, 9, 13, 15, 16, 17, 20, 31, 32, 33, 64, 67, 650}) {
     for (int dense : {0, 1}) {
       const int height = 5;
       const size_t pixels = static_cast<size_t>(width) * height;
@@ -43,19 +45,21 @@ TEST(RgbaSplit, MatchesAPerPixelSplitAtEveryWidth) {
           y1[id] = std::max(y1[id], y);
         }
       }
-      std::vector<uint8_t> rgb(3 * pixels, 0xAB);
-      VisibleIds ids(256, width, height);
-      SplitRgba(rgba.data(), width, height, rgb.data(), &ids);
-      EXPECT_EQ(rgb, expected_rgb) << "width " << width;
-      EXPECT_EQ(ids.count, count) << "width " << width;
-      EXPECT_EQ(ids.x0, x0) << "width " << width;
-      EXPECT_EQ(ids.x1, x1) << "width " << width;
-      EXPECT_EQ(ids.y0, y0) << "width " << width;
-      EXPECT_EQ(ids.y1, y1) << "width " << width;
-      // Without ids (no ground truth) the colour is the same.
-      std::vector<uint8_t> colour_only(3 * pixels, 0xCD);
-      SplitRgba(rgba.data(), width, height, colour_only.data(), nullptr);
-      EXPECT_EQ(colour_only, expected_rgb) << "width " << width;
+      for (const bool words_only : {false, true}) {
+        std::vector<uint8_t> rgb(3 * pixels, 0xAB);
+        VisibleIds ids(256, width, height);
+        SplitRgba(rgba.data(), width, height, rgb.data(), &ids, words_only);
+        EXPECT_EQ(rgb, expected_rgb) << "width " << width << " words only " << words_only;
+        EXPECT_EQ(ids.count, count) << "width " << width << " words only " << words_only;
+        EXPECT_EQ(ids.x0, x0) << "width " << width << " words only " << words_only;
+        EXPECT_EQ(ids.x1, x1) << "width " << width << " words only " << words_only;
+        EXPECT_EQ(ids.y0, y0) << "width " << width << " words only " << words_only;
+        EXPECT_EQ(ids.y1, y1) << "width " << width << " words only " << words_only;
+        // Without ids (no ground truth) the colour is the same.
+        std::vector<uint8_t> colour_only(3 * pixels, 0xCD);
+        SplitRgba(rgba.data(), width, height, colour_only.data(), nullptr, words_only);
+        EXPECT_EQ(colour_only, expected_rgb) << "width " << width << " words only " << words_only;
+      }
     }
   }
 }

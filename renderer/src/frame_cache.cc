@@ -30,8 +30,9 @@ namespace {
 // drawn as rounded integers (src/rounded_gaussian.h), same distribution; 6:
 // terrain lit and its texture and shadow coordinates computed per vertex
 // (shaders.h); 7: sensor noise words from eight interleaved generator lanes
-// (sensor.cc), same distribution.
-constexpr int kRendererVersion = 7;
+// (sensor.cc), same distribution; 8: the shadow pass culls the back faces of
+// closed casters (a few texels at shadow silhouettes move).
+constexpr int kRendererVersion = 8;
 
 std::string FileDigest(const std::string& path) {
   std::ifstream in(path, std::ios::binary);

@@ -3,9 +3,13 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <filesystem>
+#include <limits>
+#include <map>
 #include <numbers>
+#include <utility>
 
 #include "hcpf/core/check.h"
 #include "hcpf/core/error.h"
@@ -28,6 +32,66 @@ void MeshData::Append(const MeshData& other) {
   colors.insert(colors.end(), other.colors.begin(), other.colors.end());
   indices.reserve(indices.size() + other.indices.size());
   for (uint32_t i : other.indices) indices.push_back(i + offset);
+}
+
+bool MeshData::IsClosed() const {
+  // Weld: vertices within eps of one another are one (generators and
+  // exporters duplicate vertices per face, and recompute a shared corner
+  // with other rounding: the capped cylinders' seams differ in the last
+  // bit). eps is 1e-5 of the mesh's size, far above float rounding and far
+  // below any gap a model means to have. A hash grid of eps-cells finds
+  // earlier vertices in the 27 cells around a vertex.
+  const Eigen::AlignedBox3f bounds = Bounds();
+  const float size = bounds.isEmpty() ? 0.0f : (bounds.max() - bounds.min()).maxCoeff();
+  const float eps = std::max(1e-5f * size, std::numeric_limits<float>::min());
+  const auto cell_of = [&](const Eigen::Vector3f& p) {
+    return std::array<int64_t, 3>{static_cast<int64_t>(std::floor(p.x() / eps)),
+                                  static_cast<int64_t>(std::floor(p.y() / eps)),
+                                  static_cast<int64_t>(std::floor(p.z() / eps))};
+  };
+  std::map<std::array<int64_t, 3>, std::vector<uint32_t>> grid;  // cell -> welded ids
+  std::vector<Eigen::Vector3f> welded;
+  std::vector<uint32_t> weld(positions.size());
+  for (size_t i = 0; i < positions.size(); ++i) {
+    const Eigen::Vector3f& p = positions[i];
+    const std::array<int64_t, 3> c = cell_of(p);
+    uint32_t id = static_cast<uint32_t>(welded.size());
+    for (int64_t dz = -1; dz <= 1 && id == welded.size(); ++dz) {
+      for (int64_t dy = -1; dy <= 1 && id == welded.size(); ++dy) {
+        for (int64_t dx = -1; dx <= 1 && id == welded.size(); ++dx) {
+          const auto it = grid.find({c[0] + dx, c[1] + dy, c[2] + dz});
+          if (it == grid.end()) continue;
+          for (const uint32_t w : it->second) {
+            if ((welded[w] - p).cwiseAbs().maxCoeff() <= eps) {
+              id = w;
+              break;
+            }
+          }
+        }
+      }
+    }
+    if (id == welded.size()) {
+      welded.push_back(p);
+      grid[c].push_back(id);
+    }
+    weld[i] = id;
+  }
+  // +1 for each directed edge a -> b with a < b, -1 for each b -> a.
+  std::map<std::pair<uint32_t, uint32_t>, int> balance;
+  for (size_t t = 0; t + 2 < indices.size(); t += 3) {
+    const uint32_t v[3] = {weld[indices[t]], weld[indices[t + 1]], weld[indices[t + 2]]};
+    if (v[0] == v[1] || v[1] == v[2] || v[2] == v[0]) continue;
+    for (int e = 0; e < 3; ++e) {
+      const uint32_t a = v[e];
+      const uint32_t b = v[(e + 1) % 3];
+      if (a < b) {
+        ++balance[{a, b}];
+      } else {
+        --balance[{b, a}];
+      }
+    }
+  }
+  return std::all_of(balance.begin(), balance.end(), [](const auto& e) { return e.second == 0; });
 }
 
 void MeshData::Transform(const Eigen::Vector3f& scale, const Eigen::Vector3f& offset) {

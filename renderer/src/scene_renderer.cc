@@ -68,6 +68,7 @@ struct GpuMesh {
   GLuint vbo = 0;
   GLuint ibo = 0;
   GLsizei index_count = 0;
+  bool closed = false;  // MeshData::IsClosed: the shadow pass may cull its back faces
 };
 
 // A block of terrain cells culled together: cells [i0, i1) x [j0, j1) and
@@ -569,6 +570,7 @@ GpuMesh GlSceneRenderer::Upload(const MeshData& mesh) {
   }
   gl_.BindVertexArray(0);
   gpu.index_count = static_cast<GLsizei>(mesh.indices.size());
+  gpu.closed = mesh.IsClosed();
   return gpu;
 }
 
@@ -1050,14 +1052,29 @@ void GlSceneRenderer::Submit(int frame) {
     gl_.PolygonOffset(1.5f, 2.0f);
     gl_.UseProgram(shadow_program_);
     gl_.UniformMatrix4fv(shadow_vp_loc_, 1, GL_FALSE, light_view_proj.data());
+    // A closed mesh's nearest surface seen from the sun faces the sun, so its
+    // faces turned away are culled: the same nearest depths for half the
+    // fragments. (The sun's projection does not flip, so counter-clockwise
+    // is front; the model matrices scale by positive factors only.) Open
+    // meshes keep both sides.
+    gl_.FrontFace(GL_CCW);
+    gl_.CullFace(GL_BACK);
+    const auto draw_caster = [&](const GpuMesh& mesh) {
+      if (mesh.closed) {
+        gl_.Enable(GL_CULL_FACE);
+      } else {
+        gl_.Disable(GL_CULL_FACE);
+      }
+      Draw(mesh);
+    };
     const Eigen::Matrix4f identity = Eigen::Matrix4f::Identity();
     if (occluders_.index_count > 0) {
       gl_.UniformMatrix4fv(shadow_model_loc_, 1, GL_FALSE, identity.data());
-      Draw(occluders_);
+      draw_caster(occluders_);
     }
     for (const TargetInstance& t : targets) {
       gl_.UniformMatrix4fv(shadow_model_loc_, 1, GL_FALSE, t.model.data());
-      Draw(models_[target_model_[t.slot]].gpu);
+      draw_caster(models_[target_model_[t.slot]].gpu);
     }
     gl_.Disable(GL_POLYGON_OFFSET_FILL);
     gl_.CheckError("shadow pass");

@@ -75,6 +75,49 @@ TEST(MeshBuilder, CylinderWindingIsOutward) {
   }
 }
 
+TEST(MeshData, ClosedMeansEveryEdgeIsMatchedByItsReverse) {
+  // Boxes and capped cylinders bound solids (their faces share corner
+  // positions, not vertices: the weld joins them), and so do several of them.
+  EXPECT_TRUE(Box4x2x15().IsClosed());
+  EXPECT_TRUE(
+      MeshBuilder().AddCylinder({0, 0, 0}, {0, 0, 2}, 1.0f, 8, {1, 1, 1}).Take().IsClosed());
+  MeshData two = Box4x2x15();
+  two.Append(MeshBuilder().AddBox({5.0f, 0.0f, 0.0f}, {6.0f, 1.0f, 3.0f}, {1, 1, 1}).Take());
+  EXPECT_TRUE(two.IsClosed());
+  EXPECT_TRUE(MeshData().IsClosed());
+  // A box without its top face has a hole; one with a face wound inwards
+  // has edges that run the same way as their neighbours'.
+  MeshData open = Box4x2x15();
+  for (size_t t = 0; t < open.indices.size(); t += 3) {
+    const auto top = [&](size_t k) { return open.positions[open.indices[t + k]].z() > 1.4f; };
+    if (top(0) && top(1) && top(2)) {
+      open.indices.erase(open.indices.begin() + static_cast<ptrdiff_t>(t),
+                         open.indices.begin() + static_cast<ptrdiff_t>(t + 3));
+      t -= 3;
+    }
+  }
+  EXPECT_EQ(open.triangle_count(), 10u);
+  EXPECT_FALSE(open.IsClosed());
+  MeshData flipped = Box4x2x15();
+  std::swap(flipped.indices[1], flipped.indices[2]);
+  std::swap(flipped.indices[4], flipped.indices[5]);
+  EXPECT_FALSE(flipped.IsClosed());
+  // Corners a millimetre apart on a 4 m box are a gap, not rounding.
+  MeshData gap = Box4x2x15();
+  for (size_t t = 0; t < 6; ++t) gap.positions[gap.indices[t]].z() += 1e-3f;
+  EXPECT_FALSE(gap.IsClosed());
+  // A single quad (a billboard, a sign) is open.
+  MeshData quad;
+  quad.positions = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}};
+  quad.indices = {0, 1, 2, 0, 2, 3};
+  EXPECT_FALSE(quad.IsClosed());
+  // The stock vehicles are closed (so the shadow pass may cull their faces
+  // turned away from the sun).
+  for (const char* file : {"tank.glb", "truck.glb", "car.glb"}) {
+    EXPECT_TRUE(LoadMesh(Asset(file)).IsClosed()) << file;
+  }
+}
+
 TEST(MeshIo, GlbRoundTripKeepsDimensions) {
   const std::string path = (TempDir() / "box.glb").string();
   WriteGlb(Box4x2x15(), path);

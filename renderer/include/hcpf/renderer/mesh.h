@@ -37,6 +37,13 @@ struct MeshData {
   Eigen::AlignedBox3f Bounds() const;
   // Appends `other`, offsetting its indices.
   void Append(const MeshData& other);
+  // Whether the triangles bound a solid, consistently wound: with vertices
+  // within 1e-5 of the mesh's size taken as one, every directed edge a -> b is matched
+  // by as many b -> a (degenerate triangles are ignored; an empty mesh is
+  // closed). Seen from outside, the first surface a ray meets is then one
+  // facing the ray, so a depth pass that culls the faces turned away from
+  // its eye keeps the same nearest depths.
+  bool IsClosed() const;
   // Applies x -> scale.cwiseProduct(x) + offset to positions and fixes the normals.
   void Transform(const Eigen::Vector3f& scale, const Eigen::Vector3f& offset);
   // Checks the invariants above; throws hcpf::InputError naming `source`.

@@ -41,13 +41,20 @@ bool MeshData::IsClosed() const {
   // bit). eps is 1e-5 of the mesh's size, far above float rounding and far
   // below any gap a model means to have. A hash grid of eps-cells finds
   // earlier vertices in the 27 cells around a vertex.
+  // (Cells are counted from the bounds' corner, so they stay below 1e5 + 1
+  // whatever the coordinates; a mesh with a non-finite position, which
+  // Validate refuses, is not closed.)
+  for (const Eigen::Vector3f& p : positions) {
+    if (!p.allFinite()) return false;
+  }
   const Eigen::AlignedBox3f bounds = Bounds();
   const float size = bounds.isEmpty() ? 0.0f : (bounds.max() - bounds.min()).maxCoeff();
   const float eps = std::max(1e-5f * size, std::numeric_limits<float>::min());
   const auto cell_of = [&](const Eigen::Vector3f& p) {
-    return std::array<int64_t, 3>{static_cast<int64_t>(std::floor(p.x() / eps)),
-                                  static_cast<int64_t>(std::floor(p.y() / eps)),
-                                  static_cast<int64_t>(std::floor(p.z() / eps))};
+    const Eigen::Vector3f q = (p - bounds.min()) / eps;
+    return std::array<int64_t, 3>{static_cast<int64_t>(std::floor(q.x())),
+                                  static_cast<int64_t>(std::floor(q.y())),
+                                  static_cast<int64_t>(std::floor(q.z()))};
   };
   std::map<std::array<int64_t, 3>, std::vector<uint32_t>> grid;  // cell -> welded ids
   std::vector<Eigen::Vector3f> welded;

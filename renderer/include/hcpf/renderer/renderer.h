@@ -77,10 +77,10 @@ struct RendererOptions {
   bool output_depth = false;         // fill RenderedFrame::depth
   bool output_instance_ids = false;  // fill RenderedFrame::instance_ids
   // Draw terrain cells the road mask cannot touch with a shader variant that
-  // skips the two road lookups, and cells no shadow can reach (any frame)
-  // without the shadow lookup too: ~35 % of a frame. Changes no pixel
-  // (tested), so it is not part of the frame-cache key; false exists for
-  // that test.
+  // skips the two road lookups, and cells no shadow can reach in the frame
+  // (the vehicles placed at that frame's poses) without the shadow lookups:
+  // ~35 % of a frame. Changes no pixel (tested), so it is not part of the
+  // frame-cache key; false exists for that test.
   bool split_road_cells = true;
   // The range-checked fields (core/fields.h); the scenario's `renderer.*`
   // keys take their ranges from here.

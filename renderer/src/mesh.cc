@@ -41,17 +41,21 @@ bool MeshData::IsClosed() const {
   // bit). eps is 1e-5 of the mesh's size, far above float rounding and far
   // below any gap a model means to have. A hash grid of eps-cells finds
   // earlier vertices in the 27 cells around a vertex.
-  // (Cells are counted from the bounds' corner, so they stay below 1e5 + 1
-  // whatever the coordinates; a mesh with a non-finite position, which
-  // Validate refuses, is not closed.)
+  // Cells are counted from the bounds' corner, in double: a float mesh's
+  // extent reaches 6.8e38 (bounds at -+3.4e38, which overflows float), so
+  // its size, eps and the offsets from the corner stay finite and the cells
+  // stay below 1e5 + 1 whatever the coordinates. A mesh with a non-finite
+  // position, which Validate refuses, is not closed.
   for (const Eigen::Vector3f& p : positions) {
     if (!p.allFinite()) return false;
   }
   const Eigen::AlignedBox3f bounds = Bounds();
-  const float size = bounds.isEmpty() ? 0.0f : (bounds.max() - bounds.min()).maxCoeff();
-  const float eps = std::max(1e-5f * size, std::numeric_limits<float>::min());
+  const Eigen::Vector3d lo = bounds.isEmpty() ? Eigen::Vector3d(Eigen::Vector3d::Zero())
+                                              : Eigen::Vector3d(bounds.min().cast<double>());
+  const double size = bounds.isEmpty() ? 0.0 : (bounds.max().cast<double>() - lo).maxCoeff();
+  const double eps = std::max(1e-5 * size, static_cast<double>(std::numeric_limits<float>::min()));
   const auto cell_of = [&](const Eigen::Vector3f& p) {
-    const Eigen::Vector3f q = (p - bounds.min()) / eps;
+    const Eigen::Vector3d q = (p.cast<double>() - lo) / eps;
     return std::array<int64_t, 3>{static_cast<int64_t>(std::floor(q.x())),
                                   static_cast<int64_t>(std::floor(q.y())),
                                   static_cast<int64_t>(std::floor(q.z()))};
@@ -69,7 +73,7 @@ bool MeshData::IsClosed() const {
           const auto it = grid.find({c[0] + dx, c[1] + dy, c[2] + dz});
           if (it == grid.end()) continue;
           for (const uint32_t w : it->second) {
-            if ((welded[w] - p).cwiseAbs().maxCoeff() <= eps) {
+            if ((welded[w].cast<double>() - p.cast<double>()).cwiseAbs().maxCoeff() <= eps) {
               id = w;
               break;
             }

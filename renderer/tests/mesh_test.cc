@@ -111,6 +111,14 @@ TEST(MeshData, ClosedMeansEveryEdgeIsMatchedByItsReverse) {
   quad.positions = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}};
   quad.indices = {0, 1, 2, 0, 2, 3};
   EXPECT_FALSE(quad.IsClosed());
+  // Near float's range the extent overflows float (-3e38 .. 3e38): a
+  // closed box stays closed and one with a gap of 1/600 of its size stays
+  // open (computed in float, eps was infinite and the gap welded shut).
+  MeshData huge = MeshBuilder().AddBox({-1, -1, -1}, {1, 1, 1}, {1, 1, 1}).Take();
+  for (Eigen::Vector3f& p : huge.positions) p *= 3e38f;
+  EXPECT_TRUE(huge.IsClosed());
+  for (size_t t = 0; t < 6; ++t) huge.positions[huge.indices[t]].z() += 1e36f;
+  EXPECT_FALSE(huge.IsClosed());
   // The stock vehicles are closed (so the shadow pass may cull their faces
   // turned away from the sun).
   for (const char* file : {"tank.glb", "truck.glb", "car.glb"}) {

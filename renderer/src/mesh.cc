@@ -39,7 +39,7 @@ bool MeshData::IsClosed() const {
   // exporters duplicate vertices per face, and recompute a shared corner
   // with other rounding: the capped cylinders' seams differ in the last
   // bit). eps is 1e-5 of the mesh's size, far above float rounding and far
-  // below any gap a model means to have. A hash grid of eps-cells finds
+  // below any gap a model means to have. A map of eps-cells finds
   // earlier vertices in the 27 cells around a vertex.
   // Cells are counted from the bounds' corner, in double: a float mesh's
   // extent reaches 6.8e38 (bounds at -+3.4e38, which overflows float), so
@@ -49,6 +49,10 @@ bool MeshData::IsClosed() const {
   for (const Eigen::Vector3f& p : positions) {
     if (!p.allFinite()) return false;
   }
+  // Without a triangle there is nothing to weld (the renderer's terrain
+  // arrives so: its indices are chosen per frame; at 1024 cells a side the
+  // weld alone took 1.6 s).
+  if (indices.size() < 3) return true;
   const Eigen::AlignedBox3f bounds = Bounds();
   const Eigen::Vector3d lo = bounds.isEmpty() ? Eigen::Vector3d(Eigen::Vector3d::Zero())
                                               : Eigen::Vector3d(bounds.min().cast<double>());

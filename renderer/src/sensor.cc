@@ -23,23 +23,22 @@ constexpr size_t kNoiseBlock = 8192;
 // trip count is a compile-time constant.
 constexpr size_t kChunk = 16;
 
-// Eight xoshiro256** streams advanced in lockstep, lane l seeded as
-// Rng::Fork("noise/lane", l) of the frame's stream: no step depends on
-// another lane's, so the step vectorises (fixed trip count; clones for
-// AVX-512, AVX2 and the baseline give the same words). Word 8k + l of the
-// output is lane l's k-th draw. One stream made the noise wait on its own
-// serial dependency chain (~0.9 ns a word, 720,000 words a 800 x 600 frame).
+// Eight xoshiro256** streams advanced in lockstep, lane l the stream
+// Rng::Fork("noise/lane", l) of the frame's: no step depends on another
+// lane's, so the step vectorises (fixed trip count; clones for AVX-512, AVX2
+// and the baseline give the same words). Word 8k + l of the output is lane
+// l's k-th draw. One stream made the noise wait on its own serial
+// dependency chain (~0.9 ns a word, 720,000 words a 800 x 600 frame).
 class NoiseWords {
  public:
   static constexpr size_t kLanes = 8;
   explicit NoiseWords(const Rng& rng) {
     for (size_t l = 0; l < kLanes; ++l) {
-      // As Rng seeds itself from its identity (core/src/rng.cc).
-      uint64_t x = rng.Fork("noise/lane", static_cast<int64_t>(l)).identity();
-      for (std::array<uint64_t, kLanes>* s : {&s0_, &s1_, &s2_, &s3_}) {
-        x = Mix64(x);
-        (*s)[l] = x;
-      }
+      const std::array<uint64_t, 4> s = rng.Fork("noise/lane", static_cast<int64_t>(l)).state();
+      s0_[l] = s[0];
+      s1_[l] = s[1];
+      s2_[l] = s[2];
+      s3_[l] = s[3];
     }
   }
   // `n` words, a multiple of kLanes.
@@ -51,18 +50,9 @@ class NoiseWords {
   __attribute__((target_clones("avx512f", "avx2", "default"))) static void FillLanes(
       uint64_t* __restrict s0, uint64_t* __restrict s1, uint64_t* __restrict s2,
       uint64_t* __restrict s3, uint64_t* __restrict out, size_t n) {
-    const auto rotl = [](uint64_t x, int k) { return (x << k) | (x >> (64 - k)); };
     for (size_t k = 0; k < n; k += kLanes) {
-      for (size_t l = 0; l < kLanes; ++l) {
-        out[k + l] = rotl(s1[l] * 5, 7) * 9;
-        const uint64_t t = s1[l] << 17;
-        s2[l] ^= s0[l];
-        s3[l] ^= s1[l];
-        s1[l] ^= s2[l];
-        s0[l] ^= s3[l];
-        s2[l] ^= t;
-        s3[l] = rotl(s3[l], 45);
-      }
+      for (size_t l = 0; l < kLanes; ++l)
+        out[k + l] = Xoshiro256StarStar(s0[l], s1[l], s2[l], s3[l]);
     }
   }
 

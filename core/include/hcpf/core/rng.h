@@ -14,12 +14,30 @@
 // (not std::*_distribution, whose algorithms differ between standard libraries),
 // so a seed gives the same numbers with every compiler and library.
 
+#include <array>
+#include <bit>
 #include <cmath>
 #include <cstdint>
 #include <span>
 #include <string_view>
 
 namespace hcpf {
+
+// One xoshiro256** step: returns the output of state (s0, s1, s2, s3) and
+// advances it. Rng::NextU64 is this on its own state; code that steps
+// several streams in lockstep calls it per stream (the renderer's noise
+// lanes, renderer/src/sensor.cc), so the compiler can vectorise across them.
+inline uint64_t Xoshiro256StarStar(uint64_t& s0, uint64_t& s1, uint64_t& s2, uint64_t& s3) {
+  const uint64_t result = std::rotl(s1 * 5, 7) * 9;
+  const uint64_t t = s1 << 17;
+  s2 ^= s0;
+  s3 ^= s1;
+  s1 ^= s2;
+  s0 ^= s3;
+  s2 ^= t;
+  s3 = std::rotl(s3, 45);
+  return result;
+}
 
 class Rng {
  public:
@@ -33,17 +51,10 @@ class Rng {
   // The identity this stream was created from (seed mixed with its fork path).
   uint64_t identity() const { return identity_; }
 
-  uint64_t NextU64() {
-    const uint64_t result = Rotl(s_[1] * 5, 7) * 9;
-    const uint64_t t = s_[1] << 17;
-    s_[2] ^= s_[0];
-    s_[3] ^= s_[1];
-    s_[1] ^= s_[2];
-    s_[0] ^= s_[3];
-    s_[2] ^= t;
-    s_[3] = Rotl(s_[3], 45);
-    return result;
-  }
+  uint64_t NextU64() { return Xoshiro256StarStar(s_[0], s_[1], s_[2], s_[3]); }
+  // The generator's state (s0, s1, s2, s3) for Xoshiro256StarStar: stepping
+  // a copy gives the numbers NextU64 would.
+  std::array<uint64_t, 4> state() const { return {s_[0], s_[1], s_[2], s_[3]}; }
 
   // Uniform in [0, 1) with 53 random bits.
   double Uniform() { return static_cast<double>(NextU64() >> 11) * 0x1.0p-53; }
@@ -76,7 +87,6 @@ class Rng {
   bool Bernoulli(double p) { return Uniform() < p; }
 
  private:
-  static uint64_t Rotl(uint64_t x, int k) { return (x << k) | (x >> (64 - k)); }
   void Reseed(uint64_t identity);
 
   uint64_t identity_ = 0;

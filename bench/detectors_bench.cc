@@ -1,13 +1,15 @@
 // Detector benchmarks (issue 11 targets, one core, 640x480, 5 target
 // models): NCC in windows <= 2 ms, differencing <= 10 ms; also NCC and colour
 // over the whole frame, colour in windows, and PRCA + SKS fused. The frames:
-// bench/aerial_frames.h. items_per_second is frames per second.
+// bench/aerial_frames.h. items_per_second is frames per second. One core:
+// OpenCV's own threads are switched off (cv::setNumThreads(1)).
 //   BM_Ncc/frame, BM_Ncc/windows        NCC template matching
 //   BM_Colour/frame, BM_Colour/windows  colour-histogram back-projection
 //   BM_Diff                             motion-compensated 3-frame differencing
 //   BM_FusedSksPrca                     SKS and PRCA run together and fused
 #include <benchmark/benchmark.h>
 
+#include <opencv2/core/utility.hpp>
 #include <span>
 #include <string>
 #include <vector>
@@ -22,6 +24,7 @@ using namespace hcpf::vision;
 using namespace hcpf::bench;
 
 void RunDetector(benchmark::State& state, const std::string& name, bool windows) {
+  cv::setNumThreads(1);
   const Scene& scene = GetScene(0.0);
   const auto detector = MakeDetector(name, DetectorOptions{});
   Rng rng(1);
@@ -54,6 +57,7 @@ BENCHMARK_CAPTURE(RunDetector, fused_sks_prca_frame, std::string("sks+prca"), fa
 // vehicles of frames 10, 5 and 0 over the same ground (a still camera; the
 // registration still runs: corners, LK, RANSAC).
 void BM_Diff(benchmark::State& state) {
+  cv::setNumThreads(1);
   const DiffOptions options;
   const int g = options.frame_gap;
   const RgbImage now = MakeFrame(Vehicles(2 * g), 0.0, 3);

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <limits>
 #include <memory>
+#include <opencv2/imgproc.hpp>
 
 #include "hcpf/core/check.h"
 
@@ -17,16 +18,12 @@ GreyImage ToGrey(const ImageView& rgb) {
   grey.width = rgb.width;
   grey.height = rgb.height;
   grey.pixels.resize(static_cast<size_t>(rgb.width) * rgb.height);
-  for (int y = 0; y < rgb.height; ++y) {
-    const uint8_t* src = rgb.at(0, y);
-    uint8_t* dst = grey.row(y);
-    for (int x = 0; x < rgb.width; ++x, src += 3) {
-      // 15-bit BT.601 coefficients, as OpenCV 4's RGB2Gray<uchar>: the
-      // largest sum, 255 * 2^15 + 2^14, fits easily in 32 bits.
-      const uint32_t sum = 9798u * src[0] + 19235u * src[1] + 3735u * src[2] + 16384u;
-      dst[x] = static_cast<uint8_t>(sum >> 15);
-    }
-  }
+  // OpenCV's vectorised conversion (15-bit BT.601 coefficients, rounded half
+  // up): 0.07 ms for 640 x 480 on one core against 0.37 ms for the plain
+  // per-pixel loop this replaced, with the same bits (docs/performance.md).
+  const cv::Mat src(rgb.height, rgb.width, CV_8UC3, const_cast<uint8_t*>(rgb.data), rgb.stride);
+  cv::Mat dst(grey.height, grey.width, CV_8U, grey.pixels.data());
+  cv::cvtColor(src, dst, cv::COLOR_RGB2GRAY);
   return grey;
 }
 

@@ -87,7 +87,8 @@ struct DetectorOutput {
 // above with values >= 0; an empty image or a uniform frame gives no
 // detection and no error; cost O(pixels) per model (a windowed search
 // O(window pixels)). A contract suite (vision/tests/detector_contract_test.cc)
-// runs against every registered detector.
+// runs against every registered detector; the cost clause, a matter of time,
+// is measured by bench/detector_cost_bench.cc instead.
 class Detector {
  public:
   virtual ~Detector() = default;

@@ -1,0 +1,91 @@
+// The Detector contract's cost clause, measured (vision/include/hcpf/vision/
+// detector.h: "cost O(pixels) per model"): every registered detector, and
+// SKS + PRCA fused, on the benchmark frame of bench/aerial_frames.h tiled
+// k x k (k = 1, 2, 3: 640x480, 1280x960, 1920x1440, so the content per pixel
+// stays the same: 5 vehicles, a road and three trees per tile) with the same
+// 5 target models, whole-frame search. Google Benchmark fits time = a * N
+// (N = pixels) and prints the coefficient (BigO, time per pixel) and the
+// fit's relative RMS error: a linear cost fits with a small RMS; a cost
+// growing faster than the pixels (e.g. N log N or N^2) leaves a large one.
+// items_per_second is pixels per second at each size. One core: OpenCV's own
+// threads are switched off (cv::setNumThreads(1)).
+//   BM_DetectorCost/<name>/<k>
+#include <benchmark/benchmark.h>
+
+#include <algorithm>
+#include <opencv2/core/utility.hpp>
+#include <string>
+#include <vector>
+
+#include "aerial_frames.h"
+#include "hcpf/vision/detectors.h"
+
+namespace {
+
+using namespace hcpf;
+using namespace hcpf::vision;
+using namespace hcpf::bench;
+
+// `image` repeated k times across and k times down.
+RgbImage Tile(const RgbImage& image, int k) {
+  RgbImage out{.width = image.width * k, .height = image.height * k};
+  out.pixels.resize(3 * static_cast<size_t>(out.width) * out.height);
+  const size_t row = 3 * static_cast<size_t>(image.width);
+  for (int y = 0; y < out.height; ++y) {
+    const uint8_t* src = image.pixels.data() + static_cast<size_t>(y % image.height) * row;
+    for (int i = 0; i < k; ++i) std::copy(src, src + row, out.at(i * image.width, y));
+  }
+  return out;
+}
+
+void BM_DetectorCost(benchmark::State& state, const std::string& name) {
+  cv::setNumThreads(1);
+  const int k = static_cast<int>(state.range(0));
+  const Scene& scene = GetScene(0.0);
+  const RgbImage frame = Tile(scene.frame, k);
+  // Differencing reads frames t - g and t - 2g (as BM_Diff in
+  // detectors_bench): the vehicles of frames 2g, g and 0, tiled alike.
+  const DetectorOptions options;
+  const int g = options.diff.frame_gap;
+  const bool video = name == "diff";
+  const RgbImage now = video ? Tile(MakeFrame(Vehicles(2 * g), 0.0, 3), k) : frame;
+  std::vector<RgbImage> earlier;
+  std::vector<ImageView> previous;
+  if (video) {
+    earlier = {Tile(MakeFrame(Vehicles(g), 0.0, 2), k), Tile(MakeFrame(Vehicles(0), 0.0, 1), k)};
+    previous.assign(2 * static_cast<size_t>(g), ImageView(earlier[0]));
+    previous.back() = earlier[1];
+  }
+  const auto detector = MakeDetector(name, options);
+  Rng rng(1);
+  size_t found = 0;
+  for (auto _ : state) {
+    const DetectorOutput out = detector->Detect(
+        {.image = now,
+         .previous = previous,
+         .models = detector->uses_models() ? std::span<const TargetModel>(scene.models)
+                                           : std::span<const TargetModel>()},
+        rng);
+    found = out.detections.size();
+    benchmark::DoNotOptimize(out.maps.data());
+  }
+  const auto pixels = static_cast<int64_t>(now.width) * now.height;
+  state.SetComplexityN(pixels);
+  state.counters["detections"] = static_cast<double>(found);
+  state.SetItemsProcessed(state.iterations() * pixels);
+}
+
+const bool kRegistered = [] {
+  std::vector<std::string> names;
+  for (std::string_view n : DetectorNames()) names.emplace_back(n);
+  names.emplace_back("sks+prca");
+  for (const std::string& name : names) {
+    benchmark::RegisterBenchmark(("BM_DetectorCost/" + name).c_str(), BM_DetectorCost, name)
+        ->DenseRange(1, 3)
+        ->Complexity(benchmark::oN)
+        ->Unit(benchmark::kMillisecond);
+  }
+  return true;
+}();
+
+}  // namespace

@@ -146,6 +146,26 @@ inline BoxPx BoxOf(const Vehicle& v) {
   return BoxPx::FromCentre(v.cx, v.cy, w, h);
 }
 
+// What the differencing detector reads, which looks g frames back and 2g
+// (g = frame_gap): the vehicles of frames 2g (now), g (before) and 0
+// (earlier) over the same ground, a still camera (its registration still
+// runs: corners, LK, RANSAC).
+struct DiffVideo {
+  RgbImage now, before, earlier;
+  // DetectorInput::previous: previous[i] is frame 2g - 1 - i; the detector
+  // reads only frames g and 0. Views of this video's frames.
+  std::vector<ImageView> Previous(int g) const {
+    std::vector<ImageView> previous(2 * static_cast<size_t>(g), ImageView(before));
+    previous.back() = earlier;
+    return previous;
+  }
+};
+
+inline DiffVideo MakeDiffVideo(int g) {
+  return {MakeFrame(Vehicles(2 * g), 0.0, 3), MakeFrame(Vehicles(g), 0.0, 2),
+          MakeFrame(Vehicles(0), 0.0, 1)};
+}
+
 struct Scene {
   RgbImage frame;
   std::vector<TargetModel> models;

@@ -42,21 +42,20 @@ void BM_DetectorCost(benchmark::State& state, const std::string& name) {
   cv::setNumThreads(1);
   const int k = static_cast<int>(state.range(0));
   const Scene& scene = GetScene(0.0);
-  const RgbImage frame = Tile(scene.frame, k);
-  // Differencing reads frames t - g and t - 2g (as BM_Diff in
-  // detectors_bench): the vehicles of frames 2g, g and 0, tiled alike.
   const DetectorOptions options;
-  const int g = options.diff.frame_gap;
-  const bool video = name == "diff";
-  const RgbImage now = video ? Tile(MakeFrame(Vehicles(2 * g), 0.0, 3), k) : frame;
-  std::vector<RgbImage> earlier;
-  std::vector<ImageView> previous;
-  if (video) {
-    earlier = {Tile(MakeFrame(Vehicles(g), 0.0, 2), k), Tile(MakeFrame(Vehicles(0), 0.0, 1), k)};
-    previous.assign(2 * static_cast<size_t>(g), ImageView(earlier[0]));
-    previous.back() = earlier[1];
-  }
   const auto detector = MakeDetector(name, options);
+  // A detector that reads earlier frames (the differencing) sees
+  // bench/aerial_frames.h's DiffVideo, as BM_Diff in detectors_bench; every
+  // frame tiled alike.
+  const bool video = detector->history() > 0;
+  const int g = options.diff.frame_gap;
+  const DiffVideo frames = [&] {
+    if (!video) return DiffVideo{.now = Tile(scene.frame, k)};
+    const DiffVideo one = MakeDiffVideo(g);
+    return DiffVideo{Tile(one.now, k), Tile(one.before, k), Tile(one.earlier, k)};
+  }();
+  const RgbImage& now = frames.now;
+  const std::vector<ImageView> previous = video ? frames.Previous(g) : std::vector<ImageView>();
   Rng rng(1);
   size_t found = 0;
   for (auto _ : state) {

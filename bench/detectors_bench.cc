@@ -53,26 +53,20 @@ BENCHMARK_CAPTURE(RunDetector, colour_windows, std::string("colour"), true)
 BENCHMARK_CAPTURE(RunDetector, fused_sks_prca_frame, std::string("sks+prca"), false)
     ->Unit(benchmark::kMillisecond);
 
-// Differencing reads frames t - g and t - 2g (g = frame_gap, default 5): the
-// vehicles of frames 10, 5 and 0 over the same ground (a still camera; the
-// registration still runs: corners, LK, RANSAC).
+// Differencing on bench/aerial_frames.h's DiffVideo (g = frame_gap, default
+// 5: the vehicles of frames 10, 5 and 0).
 void BM_Diff(benchmark::State& state) {
   cv::setNumThreads(1);
   const DiffOptions options;
-  const int g = options.frame_gap;
-  const RgbImage now = MakeFrame(Vehicles(2 * g), 0.0, 3);
-  const RgbImage before = MakeFrame(Vehicles(g), 0.0, 2);
-  const RgbImage earlier = MakeFrame(Vehicles(0), 0.0, 1);
-  // previous[i] is frame t - 1 - i; the detector reads only t - g and t - 2g.
-  std::vector<ImageView> previous(2 * static_cast<size_t>(g), ImageView(before));
-  previous[2 * static_cast<size_t>(g) - 1] = earlier;
+  const DiffVideo video = MakeDiffVideo(options.frame_gap);
+  const std::vector<ImageView> previous = video.Previous(options.frame_gap);
   DetectorOptions all;
   all.diff = options;
   const auto detector = MakeDetector("diff", all);
   Rng rng(1);
   size_t found = 0;
   for (auto _ : state) {
-    const DetectorOutput out = detector->Detect({.image = now, .previous = previous}, rng);
+    const DetectorOutput out = detector->Detect({.image = video.now, .previous = previous}, rng);
     found = out.detections.size();
     benchmark::DoNotOptimize(out.detections.data());
   }

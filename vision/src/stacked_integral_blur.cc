@@ -8,6 +8,7 @@
 #include <memory>
 #include <opencv2/imgproc.hpp>
 
+#include "cv_image.h"
 #include "hcpf/core/check.h"
 
 namespace hcpf::vision {
@@ -21,9 +22,8 @@ GreyImage ToGrey(const ImageView& rgb) {
   // OpenCV's vectorised conversion (15-bit BT.601 coefficients, rounded half
   // up): 0.07 ms for 640 x 480 on one core against 0.37 ms for the plain
   // per-pixel loop this replaced, with the same bits (docs/performance.md).
-  const cv::Mat src(rgb.height, rgb.width, CV_8UC3, const_cast<uint8_t*>(rgb.data), rgb.stride);
   cv::Mat dst(grey.height, grey.width, CV_8U, grey.pixels.data());
-  cv::cvtColor(src, dst, cv::COLOR_RGB2GRAY);
+  cv::cvtColor(internal::RgbMat(rgb), dst, cv::COLOR_RGB2GRAY);
   return grey;
 }
 

@@ -63,18 +63,21 @@ std::string DetectionPass::Key(const renderer::RenderedFrame& frame, const XXH12
   return key.Finish();
 }
 
+bool DetectionPass::Detects(ObjectId target) const {
+  return !detector_->uses_models() ||
+         std::any_of(models_.begin(), models_.end(),
+                     [&](const vision::TargetModel& m) { return m.target == target; });
+}
+
 const Observation& DetectionPass::Add(const renderer::RenderedFrame& frame,
                                       std::span<const vision::SearchWindow> windows) {
   if (detector_->uses_models()) {
     for (const GroundTruthObject& o : frame.ground_truth.objects) {
-      const bool known =
-          std::any_of(models_.begin(), models_.end(),
-                      [&](const vision::TargetModel& m) { return m.target == o.id; });
       // Cut when the target is first wholly inside the image and mostly
-      // visible: its first in-frame appearance (where its filter is born) is
-      // often a sliver at the border, a model of a few pixels.
+      // visible: its first in-frame appearance is often a sliver at the
+      // border, a model of a few pixels.
       const bool whole = o.in_frame && o.truncation == 0.0 && o.visible_fraction >= kModelVisible;
-      if (whole && !known) {
+      if (whole && !Detects(o.id)) {
         models_.push_back(vision::CutTargetModel(frame.rgb, o.amodal_box, o.id, frame.frame));
         model_digests_.push_back(PixelDigest(models_.back().patch));
         context_digests_.push_back(PixelDigest(models_.back().context));

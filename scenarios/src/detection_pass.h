@@ -4,8 +4,8 @@
 // ProduceFrames hands them out, rendered or from the cache), cuts each
 // target's model from the frame's pixels at its pixel-exact ground-truth box
 // in the first frame where the target is wholly inside the image and at least
-// 75 % visible (its filter is born earlier, at its first in-frame appearance;
-// until its model exists the target has no detections), and runs the
+// 75 % visible (under `init: ground_truth` its filter is born then, from the
+// same box: until its model exists nothing can detect the target), and runs the
 // detector on the frame, or reads its output from the detection cache
 // (detection_cache.h) when the frame cache is on.
 
@@ -34,6 +34,10 @@ class DetectionPass {
   // The observations of every frame added, in order.
   std::vector<Observation> Take() { return std::move(observations_); }
   const std::vector<vision::TargetModel>& models() const { return models_; }
+  // Whether the detector can report `target` from the frame last added on:
+  // always for a model-free detector, once its model is cut for a model-based
+  // one.
+  bool Detects(ObjectId target) const;
 
  private:
   std::string Key(const renderer::RenderedFrame& frame, const XXH128_hash_t& digest, const Rng& rng,

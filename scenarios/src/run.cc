@@ -83,7 +83,9 @@ RunSummary RunScenario(const Scenario& scenario, const RunOptions& options) {
   }
   // The tracker. Filters are born from ground truth at each target's first
   // in-frame appearance when the scenario asks for it (the pipeline passes
-  // the box; the tracker never sees ground truth otherwise).
+  // the box; the tracker never sees ground truth otherwise); with a
+  // model-based detector, in the frame its target's model is cut, from the
+  // same box (detection_pass.h): before it nothing can support the filter.
   tracker::TrackerOptions tracker_options = scenario.tracker;
   tracker_options.threads = options.threads;
   double tracker_seconds = 0.0;
@@ -110,6 +112,9 @@ RunSummary RunScenario(const Scenario& scenario, const RunOptions& options) {
     tracker = tracker::MakeTracker(tracker_options, Rng(scenario.seeds.tracker));
   }
   std::set<int32_t> born;
+  // The vision/ detector's pass over the frames (none with the oracle), made
+  // below.
+  std::unique_ptr<internal::DetectionPass> detection;
   std::vector<tracker::FrameReport> reports;
   reports.reserve(static_cast<size_t>(scenario.world.frames));
   // The hierarchical filter's scene half: the camera's motion from frame to
@@ -143,7 +148,8 @@ RunSummary RunScenario(const Scenario& scenario, const RunOptions& options) {
     }
     if (tracker_options.init == tracker::InitMode::kGroundTruth) {
       for (const GroundTruthObject& o : gt.objects) {
-        if (o.in_frame && born.insert(Value(o.id)).second) {
+        if (o.in_frame && (!detection || detection->Detects(o.id)) &&
+            born.insert(Value(o.id)).second) {
           tracker->BirthTrack(TrackId{Value(o.id)}, o.amodal_box);
         }
       }
@@ -156,7 +162,6 @@ RunSummary RunScenario(const Scenario& scenario, const RunOptions& options) {
   // never holds every image), and the tracker steps right after it: with
   // `observation.search: window` the detector searches around each filter's
   // estimate of the previous frame.
-  std::unique_ptr<internal::DetectionPass> detection;
   if (!scenario.observation.oracle()) {
     detection = std::make_unique<internal::DetectionPass>(scenario, options.frame_cache_dir);
     const bool windowed = scenario.observation.search == SearchMode::kWindow;

@@ -25,9 +25,9 @@ TEST(ShippedSweeps, EveryFileLoadsAndExpands) {
     EXPECT_EQ(static_cast<int64_t>(runs.size()), spec.RunCount());
     EXPECT_GT(runs.size(), 0u);
   }
-  EXPECT_GE(files, 8) << "default, detector-size, detector-sun, thesis-ch10-crossing/parallel, "
-                         "external-sort, "
-                         "crossing-rendered, thesis-ch11";
+  EXPECT_GE(files, 10) << "default, detector-size, detector-sun, thesis-ch10-crossing/parallel/"
+                          "hierarchical, external-sort, crossing-rendered, thesis-ch11, "
+                          "climb-hierarchical";
 }
 
 // The honest baselines (#14): the main job and the thesis ch. 10 sweeps

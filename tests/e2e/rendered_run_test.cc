@@ -10,7 +10,9 @@
 #include <fstream>
 #include <map>
 #include <nlohmann/json.hpp>
+#include <sstream>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "support/process.h"
@@ -22,6 +24,23 @@ namespace fs = std::filesystem;
 using testing::FreshDir;
 using testing::ReadFile;
 using testing::RunCommand;
+
+// Each filter's first and last frame in filters.csv (1-based), by filter id.
+std::map<int, std::pair<int, int>> FilterLifetimes(const std::string& csv) {
+  std::map<int, std::pair<int, int>> lifetimes;
+  std::istringstream lines(csv);
+  std::string line;
+  std::getline(lines, line);  // the header
+  while (std::getline(lines, line)) {
+    int frame = 0, filter = 0;
+    char comma = 0;
+    std::istringstream fields(line);
+    fields >> frame >> comma >> filter;
+    auto [it, fresh] = lifetimes.try_emplace(filter, frame, frame);
+    if (!fresh) it->second.second = frame;
+  }
+  return lifetimes;
+}
 
 TEST(RenderedRun, PixelExactTruthAndFrameCacheReuse) {
   const fs::path dir = FreshDir("rendered-run");
@@ -104,7 +123,7 @@ TEST(RenderedRun, CacheWithHolesRendersOnlyTheMissingFramesAndChangesNothing) {
 }
 
 // Pixels reach the tracker: a vision/ detector on the rendered frames, with
-// target models cut at each target's first in-frame appearance, gives the
+// target models cut when each target is first wholly in view, gives the
 // filters their own target's detections; det/det.txt holds them in
 // MOTChallenge's format; the manifest names the detector and its models.
 TEST(RenderedRun, ADetectorOnTheRenderedFramesFeedsTheTracker) {
@@ -130,6 +149,16 @@ TEST(RenderedRun, ADetectorOnTheRenderedFramesFeedsTheTracker) {
       EXPECT_GE(m["patch"][0].get<int>(), 10) << m;
       EXPECT_GE(m["patch"][1].get<int>(), 10) << m;
     }
+    // Each filter is born with its target's model, from the same box
+    // (filters.csv counts frames from 1): target 2's is not born at the
+    // sliver, 41 frames before anything can detect it, and deleted unseen
+    // after max_missed_frames (30), but tracks the truck to the last frame.
+    const auto lifetimes = FilterLifetimes(ReadFile(out / "filters.csv"));
+    ASSERT_EQ(lifetimes.size(), 2u) << detector;
+    EXPECT_EQ(lifetimes.at(1), std::make_pair(1, 90)) << detector;
+    EXPECT_EQ(lifetimes.at(2).first, manifest["target_model_sources"][1]["frame"].get<int>() + 1)
+        << detector;
+    EXPECT_EQ(lifetimes.at(2).second, 90) << detector;
     const std::string det = ReadFile(out / "det" / "det.txt");
     EXPECT_EQ(det, ReadFile(out / "detections.txt"));
     // One detection per model at most per frame (at most 90 + 58 rows), and
@@ -159,6 +188,9 @@ TEST(RenderedRun, ADetectorOnTheRenderedFramesFeedsTheTracker) {
   EXPECT_TRUE(fs::exists(dir / "oracle" / "det" / "det.txt"));
   EXPECT_EQ(nlohmann::json::parse(ReadFile(dir / "oracle" / "manifest.json"))["detector"],
             "oracle (noisy ground truth)");
+  // Without target models a filter is born at its target's first in-frame
+  // appearance: target 2's in frame 33, as it starts to cross the border.
+  EXPECT_EQ(FilterLifetimes(ReadFile(dir / "oracle" / "filters.csv")).at(2).first, 33);
 }
 
 // Issue 11 item 6: the detection cache. Runs that differ only in tracker

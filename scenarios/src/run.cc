@@ -202,6 +202,23 @@ RunSummary RunScenario(const Scenario& scenario, const RunOptions& options) {
   std::vector<Observation> observations;
   if (detection) {
     observations = detection->Take();
+    // A target in view that never got a model was never detectable, and
+    // under init: ground_truth never got a filter: say so, by name.
+    std::set<int32_t> unmodelled;
+    for (const FrameGroundTruth& gt : truth) {
+      for (const GroundTruthObject& o : gt.objects) {
+        if (o.in_frame && !detection->Detects(o.id)) unmodelled.insert(Value(o.id));
+      }
+    }
+    for (int32_t id : unmodelled) {
+      spdlog::warn(
+          "target {}: never wholly inside the image and at least 75 % visible, so no model was "
+          "cut and {} cannot detect it{}; its frames count as missed",
+          id, scenario.observation.DetectorName(),
+          tracker_options.init == tracker::InitMode::kGroundTruth && !external
+              ? " (and init: ground_truth gave it no filter)"
+              : "");
+    }
   } else if (interleave_oracle) {
     observations = std::move(interleaved);
   } else {

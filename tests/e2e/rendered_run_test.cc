@@ -193,6 +193,37 @@ TEST(RenderedRun, ADetectorOnTheRenderedFramesFeedsTheTracker) {
   EXPECT_EQ(FilterLifetimes(ReadFile(dir / "oracle" / "filters.csv")).at(2).first, 33);
 }
 
+// A target that is never wholly in view gets no model, so a model-based
+// detector cannot find it and init: ground_truth gives it no filter: the run
+// says so by name, and the oracle still gives it a filter. On crossing cut
+// at 40 frames the truck is still crossing the bottom edge.
+TEST(RenderedRun, ATargetWithoutAModelIsNamedAndGetsNoFilter) {
+  const fs::path dir = FreshDir("detector-unmodelled");
+  const std::string common =
+      std::string(HCPF_EXE) + " run " + testing::LibraryScenario("crossing") +
+      " --set observation.source=rendered --set frames=40 --cache " + (dir / "cache").string();
+  const auto r =
+      RunCommand(common + " --set observation.detector=colour --out " + (dir / "colour").string());
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("target 2: never wholly inside the image and at least 75 % visible, so "
+                          "no model was cut and colour cannot detect it (and init: ground_truth "
+                          "gave it no filter)"),
+            std::string::npos)
+      << r.output;
+  EXPECT_EQ(r.output.find("target 1:"), std::string::npos) << r.output;
+  const auto manifest = nlohmann::json::parse(ReadFile(dir / "colour" / "manifest.json"));
+  ASSERT_EQ(manifest["target_model_sources"].size(), 1u);
+  EXPECT_EQ(manifest["target_model_sources"][0]["target"], 1);
+  const auto lifetimes = FilterLifetimes(ReadFile(dir / "colour" / "filters.csv"));
+  EXPECT_EQ(lifetimes.size(), 1u);
+  EXPECT_EQ(lifetimes.count(2), 0u);
+  const auto oracle = RunCommand(common + " --out " + (dir / "oracle").string());
+  ASSERT_EQ(oracle.exit_code, 0) << oracle.output;
+  EXPECT_EQ(oracle.output.find("never wholly inside"), std::string::npos) << oracle.output;
+  EXPECT_EQ(FilterLifetimes(ReadFile(dir / "oracle" / "filters.csv")).at(2),
+            std::make_pair(33, 40));
+}
+
 // Issue 11 item 6: the detection cache. Runs that differ only in tracker
 // settings read the first run's detections; a change of a detector option
 // misses; a damaged entry is recomputed; the output is the same either way.

@@ -8,8 +8,6 @@
 
 namespace hcpf::scenarios::internal {
 namespace {
-constexpr double kModelVisible = 0.75;  // visible fraction a model is cut at
-
 template <class O>
 void AppendOptions(std::string& text, std::string_view name, const O& options) {
   text += fmt::format("[{}]", name);

@@ -24,6 +24,10 @@ namespace hcpf::scenarios::internal {
 
 class DetectionPass {
  public:
+  // The visible fraction a target needs, wholly inside the image, for its
+  // model to be cut.
+  static constexpr double kModelVisible = 0.75;
+
   // `cache_dir`: the frame cache's folder ("" = no detection cache).
   DetectionPass(const Scenario& scenario, const std::string& cache_dir);
   // Detects in `frame` (searching each model's window, when given, else the

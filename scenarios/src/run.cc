@@ -212,9 +212,9 @@ RunSummary RunScenario(const Scenario& scenario, const RunOptions& options) {
     }
     for (int32_t id : unmodelled) {
       spdlog::warn(
-          "target {}: never wholly inside the image and at least 75 % visible, so no model was "
-          "cut and {} cannot detect it{}; its frames count as missed",
-          id, scenario.observation.DetectorName(),
+          "target {}: never wholly inside the image and at least {:g} % visible, so no model "
+          "was cut and {} cannot detect it{}; its frames count as missed",
+          id, 100.0 * internal::DetectionPass::kModelVisible, scenario.observation.DetectorName(),
           tracker_options.init == tracker::InitMode::kGroundTruth && !external
               ? " (and init: ground_truth gave it no filter)"
               : "");

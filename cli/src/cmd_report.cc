@@ -16,7 +16,8 @@ Command AddReportCommand(CLI::App& parent) {
   CLI::App* app = parent.add_subcommand(
       "report",
       "Write DIR/report.html from a sweep (plots, cells, base scenario; and DIR/summary.csv) "
-      "or from a run (headline metrics, per-frame camera-motion error)");
+      "or from a run (headline metrics, per-frame camera-motion error, detection quality, a "
+      "timeline of targets, detections and filters)");
   app->add_option("dir", options->dir, "A sweep's or a run's --out folder")->required();
   app->add_option("--out", options->out_dir,
                   "Write report.html (and a sweep's summary.csv) here instead of DIR (DIR is "

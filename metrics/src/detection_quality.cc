@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <map>
 
 #include "hcpf/core/assignment.h"
 
@@ -93,6 +94,10 @@ std::vector<int> Match(const DetectionFrame& f, Rule rule, double iou_threshold,
 double DetectionCounts::precision() const { return Ratio(tp, tp + fp); }
 double DetectionCounts::recall() const { return Ratio(tp, tp + fn); }
 double DetectionCounts::f1() const { return Ratio(2 * tp, 2 * tp + fp + fn); }
+double TargetDetections::recall() const { return Ratio(found, found + missed); }
+double TargetDetections::recall_centre() const {
+  return Ratio(found_centre, found_centre + missed_centre);
+}
 
 DetectionQuality ScoreDetections(std::span<const DetectionFrame> frames,
                                  const DetectionQualityOptions& options) {
@@ -103,8 +108,11 @@ DetectionQuality ScoreDetections(std::span<const DetectionFrame> frames,
   AssignmentSolver solver;
   double centre_error_sum = 0.0, iou_sum = 0.0;
   std::vector<double> sizes;
-  for (const DetectionFrame& f : frames) {
+  std::map<int32_t, TargetDetections> by_target;
+  for (size_t i = 0; i < frames.size(); ++i) {
+    const DetectionFrame& f = frames[i];
     for (const DetectionTruth& truth : f.truth) {
+      by_target[Value(truth.target)].target = truth.target;
       if (truth.visible_fraction >= options.min_visible) sizes.push_back(SizeOf(truth.box));
     }
     for (const Rule rule : {Rule::kIou, Rule::kCentre}) {
@@ -128,6 +136,14 @@ DetectionQuality ScoreDetections(std::span<const DetectionFrame> frames,
             counts(q.by_visibility[BinOf(kVisibilityEdges, truth.visible_fraction)]);
         DetectionCounts& by_trunc =
             counts(q.by_truncation[BinOf(kTruncationEdges, truth.truncation)]);
+        TargetDetections& mine = by_target[Value(truth.target)];
+        const int frame = static_cast<int>(i);
+        if (rule == Rule::kIou) {
+          ++(d >= 0 ? mine.found : mine.missed);
+          (d >= 0 ? mine.found_frames : mine.missed_frames).push_back(frame);
+        } else {
+          ++(d >= 0 ? mine.found_centre : mine.missed_centre);
+        }
         if (d >= 0) {
           used[static_cast<size_t>(d)] = 1;
           ++total.tp, ++by_size.tp, ++by_vis.tp, ++by_trunc.tp;
@@ -148,6 +164,7 @@ DetectionQuality ScoreDetections(std::span<const DetectionFrame> frames,
       }
     }
   }
+  for (auto& [id, t] : by_target) q.by_target.push_back(std::move(t));
   q.mean_centre_error_px = q.iou.tp > 0 ? centre_error_sum / q.iou.tp : kNaN;
   q.mean_iou = q.iou.tp > 0 ? iou_sum / q.iou.tp : kNaN;
   q.median_size_px = kNaN;

@@ -210,6 +210,34 @@ json BinsJson(const std::vector<DetectionBin>& bins) {
   return out;
 }
 
+// Increasing frame indices as inclusive runs [[first, last], ...].
+json FrameRuns(const std::vector<int>& frames) {
+  json out = json::array();
+  for (size_t i = 0; i < frames.size();) {
+    size_t j = i;
+    while (j + 1 < frames.size() && frames[j + 1] == frames[j] + 1) ++j;
+    out.push_back({frames[i], frames[j]});
+    i = j + 1;
+  }
+  return out;
+}
+
+json TargetsJson(const std::vector<TargetDetections>& targets) {
+  json out = json::array();
+  for (const TargetDetections& t : targets) {
+    out.push_back({{"target", Value(t.target)},
+                   {"found", t.found},
+                   {"missed", t.missed},
+                   {"recall", Number(t.recall())},
+                   {"found_centre", t.found_centre},
+                   {"missed_centre", t.missed_centre},
+                   {"recall_centre", Number(t.recall_centre())},
+                   {"found_frames", FrameRuns(t.found_frames)},
+                   {"missed_frames", FrameRuns(t.missed_frames)}});
+  }
+  return out;
+}
+
 }  // namespace
 
 std::string RunMetricsToJson(const RunMetrics& m) {
@@ -242,7 +270,8 @@ std::string RunMetricsToJson(const RunMetrics& m) {
                       {"median_size_px", Number(d.median_size_px)},
                       {"by_size_px", BinsJson(d.by_size)},
                       {"by_visibility", BinsJson(d.by_visibility)},
-                      {"by_truncation", BinsJson(d.by_truncation)}};
+                      {"by_truncation", BinsJson(d.by_truncation)},
+                      {"by_target", TargetsJson(d.by_target)}};
   }
   if (m.camera_motion) {
     const auto summary = [](const CameraMotionErrorSummary& e) {

@@ -139,12 +139,55 @@ TEST(DetectionQuality, OneToOneAssignment) {
   EXPECT_NEAR(q.mean_iou, 90.0 / 110.0, 1e-12);
 }
 
+// Per target, from the hand frames (comment above HandFrames) and a third
+// frame where A is missed under both rules (no detection) and B found:
+//   A: frame 0 found under both rules; frame 1 missed under IoU (0.43),
+//      found under the centre rule; frame 2 missed under both. IoU 1 found,
+//      2 missed (frames [0] and [1, 2]); centre 2 found, 1 missed.
+//   B: frame 0 found (IoU 0.6), frame 1 absent, frame 2 found: IoU 2 found
+//      (frames 0 and 2: two runs, not one), centre 2 found.
+//   C: only "don't care" (visible 0.05): listed, with no counts.
+// The sum over targets is the total: IoU tp 1 + 2 = 3 and fn 2.
+TEST(DetectionQuality, PerTargetCountsAndFrames) {
+  std::vector<DetectionFrame> frames = HandFrames();
+  DetectionFrame f3;
+  f3.truth = {{ObjectId{2}, BoxPx{100, 100, 20, 20}, 0.5}, {ObjectId{1}, BoxPx{0, 0, 10, 10}, 1.0}};
+  f3.detections = {Det(100, 100, 20, 20)};
+  frames.push_back(f3);
+  const DetectionQuality q = ScoreDetections(frames);
+  ASSERT_EQ(q.by_target.size(), 3u);
+  const TargetDetections& a = q.by_target[0];
+  const TargetDetections& b = q.by_target[1];
+  const TargetDetections& c = q.by_target[2];
+  EXPECT_EQ(a.target, ObjectId{1});
+  EXPECT_EQ(b.target, ObjectId{2});
+  EXPECT_EQ(c.target, ObjectId{3});
+  EXPECT_EQ(a.found, 1);
+  EXPECT_EQ(a.missed, 2);
+  EXPECT_EQ(a.found_frames, std::vector<int>({0}));
+  EXPECT_EQ(a.missed_frames, std::vector<int>({1, 2}));
+  EXPECT_EQ(a.found_centre, 2);
+  EXPECT_EQ(a.missed_centre, 1);
+  EXPECT_DOUBLE_EQ(a.recall(), 1.0 / 3.0);
+  EXPECT_DOUBLE_EQ(a.recall_centre(), 2.0 / 3.0);
+  EXPECT_EQ(b.found, 2);
+  EXPECT_EQ(b.missed, 0);
+  EXPECT_EQ(b.found_frames, std::vector<int>({0, 2}));
+  EXPECT_TRUE(b.missed_frames.empty());
+  EXPECT_EQ(b.found_centre, 2);
+  EXPECT_EQ(c.found + c.missed + c.found_centre + c.missed_centre, 0);
+  EXPECT_TRUE(std::isnan(c.recall()));
+  EXPECT_EQ(a.found + b.found, q.iou.tp);
+  EXPECT_EQ(a.missed + b.missed, q.iou.fn);
+}
+
 TEST(DetectionQuality, NoFramesGiveUndefinedRatios) {
   const DetectionQuality q = ScoreDetections({});
   EXPECT_TRUE(std::isnan(q.iou.precision()));
   EXPECT_TRUE(std::isnan(q.iou.recall()));
   EXPECT_TRUE(std::isnan(q.mean_iou));
   EXPECT_TRUE(std::isnan(q.median_size_px));
+  EXPECT_TRUE(q.by_target.empty());
 }
 
 }  // namespace

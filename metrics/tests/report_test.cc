@@ -114,6 +114,32 @@ TEST(Report, RunMetricsJsonHasEveryFamily) {
   EXPECT_EQ(j["filters"]["da_accuracy"], 1.0);
   EXPECT_EQ(j["filters"]["states"]["CORRECT"], 2);
   EXPECT_EQ(j["filters"]["per_frame_states"].size(), 2u);
+  EXPECT_FALSE(j.contains("detection")) << "no detector, no detection block";
+}
+
+// The detection block's per-target records: frames 0-based (as elsewhere in
+// metrics.json) as inclusive runs. Target 7 is found in frames 0, 1 and 3
+// (a detection on its box) and missed in frame 2 (none): found runs [0, 1]
+// and [3, 3], missed [2, 2], recall 3 / 4.
+TEST(Report, RunMetricsJsonHasPerTargetDetectionRuns) {
+  RunMetricsInput in;
+  in.sequence.frames.resize(4);
+  std::vector<DetectionFrame> frames(4);
+  for (int t = 0; t < 4; ++t) {
+    frames[t].truth = {{ObjectId{7}, BoxPx{0, 0, 10, 10}, 1.0}};
+    if (t != 2) frames[t].detections = {Detection{.box = BoxPx{0, 0, 10, 10}}};
+  }
+  in.detections = frames;
+  const auto j = nlohmann::json::parse(RunMetricsToJson(ComputeRunMetrics(in)));
+  ASSERT_EQ(j["detection"]["by_target"].size(), 1u);
+  const auto& t = j["detection"]["by_target"][0];
+  EXPECT_EQ(t["target"], 7);
+  EXPECT_EQ(t["found"], 3);
+  EXPECT_EQ(t["missed"], 1);
+  EXPECT_EQ(t["recall"], 0.75);
+  EXPECT_EQ(t["found_centre"], 3);
+  EXPECT_EQ(t["found_frames"], nlohmann::json::parse("[[0, 1], [3, 3]]"));
+  EXPECT_EQ(t["missed_frames"], nlohmann::json::parse("[[2, 2]]"));
 }
 
 }  // namespace

@@ -1,6 +1,7 @@
 // `hcpf report RUN_DIR`: one run's folder -> RUN_DIR/report.html (headline
 // metrics, the per-frame camera-motion error and scene-filter ESS as an
-// inline gnuplot SVG, the resolved scenario).
+// inline gnuplot SVG, detection quality, a timeline of every target, its
+// detections and its filters, the resolved scenario).
 
 #include <fmt/format.h>
 
@@ -12,12 +13,14 @@
 #include <map>
 #include <nlohmann/json.hpp>
 #include <optional>
+#include <set>
 #include <string>
 #include <vector>
 
 #include "gnuplot.h"
 #include "hcpf/core/error.h"
 #include "hcpf/core/text_file.h"
+#include "hcpf/metrics/mot_io.h"
 #include "hcpf/scenarios/output_folder.h"
 #include "hcpf/studies/metric_catalogue.h"
 #include "hcpf/studies/report.h"
@@ -278,8 +281,234 @@ std::string DetectionSection(const json& metrics, const std::string& detector) {
   h += DetectionBinRows(d, "by_size_px", "size", " px", true);
   h += DetectionBinRows(d, "by_visibility", "visible", "", false);
   h += DetectionBinRows(d, "by_truncation", "truncated", "", false);
+  const json& targets = JsonMember(d, "by_target");
+  if (targets.is_array()) {
+    for (const json& t : targets) {
+      const auto count = [&t](const char* key) {
+        return t.contains(key) && t[key].is_number_integer() ? t[key].get<int64_t>() : 0;
+      };
+      const int64_t found = count("found"), missed = count("missed");
+      if (found + missed == 0) continue;  // never counted
+      const int64_t found_centre = count("found_centre"), missed_centre = count("missed_centre");
+      h += fmt::format(
+          "<tr><td class=\"k\">target {}</td><td>{}</td><td>{}</td><td>–</td><td>–</td>"
+          "<td>{}</td><td>{}</td></tr>\n",
+          EscapeMarkup(JsonText(t, "target")), found, missed, Ratio(found, found + missed),
+          Ratio(found_centre, found_centre + missed_centre));
+    }
+  }
   h += "</table>\n";
   return h;
+}
+
+// The timeline: rows of coloured segments over the frames (counted from 1, as
+// gt/gt.txt and filters.csv count them).
+struct TimelineRow {
+  std::string label;
+  // Per frame (index = frame - 1): the segment's colour, 0xRRGGBB, or -1.
+  std::vector<int> colour;
+  std::vector<int> markers;  // frames (from 1) marked with a diamond: the model's cut
+};
+
+// Colours of the timeline, and the legend's names for them.
+struct TimelineColour {
+  int rgb;
+  const char* name;
+};
+constexpr TimelineColour kVisibleMost{0x404040, "target in view, visible ≥ 0.75"};
+constexpr TimelineColour kVisibleHalf{0x9a9a9a, "visible 0.25–0.75"};
+constexpr TimelineColour kVisibleLittle{0xd4d4d4, "visible under 0.25 (or hidden)"};
+constexpr TimelineColour kFound{0x2ca02c, "detector found it (IoU ≥ 0.5)"};
+constexpr TimelineColour kMissed{0xf4a0a0, "detector missed it"};
+// Filter states (metrics/filter_metrics.h, docs/metrics.md).
+constexpr TimelineColour kStateColours[] = {{0x1f77b4, "CORRECT"},  {0xff7f0e, "SWAPPED"},
+                                            {0xd62728, "HIJACKED"}, {0x8c564b, "STRAYED"},
+                                            {0x111111, "LOST"},     {0x9ecae1, "COASTING"}};
+
+int StateColour(const std::string& state) {
+  for (const TimelineColour& c : kStateColours) {
+    if (state == c.name) return c.rgb;
+  }
+  return 0xe377c2;  // a state this report does not know: visible, not hidden
+}
+
+std::string RgbText(int rgb) { return fmt::format("#{:06x}", rgb); }
+
+// Integer members of a JSON value, or nullopt when absent or not integers.
+std::optional<int64_t> JsonInt(const json& j, const char* key) {
+  if (!j.is_object() || !j.contains(key) || !j[key].is_number_integer()) return std::nullopt;
+  return j[key].get<int64_t>();
+}
+
+// Rows: per target (gt/gt.txt, increasing id) its visibility; under it, in a
+// rendered run with a detector, the frames where the detector found or missed
+// it (metrics.json detection.by_target) and the frame its model was cut
+// (manifest.json target_model_sources); then each filter the identity
+// mapping gives that target (metrics.json filters.mapping), coloured by its
+// state each frame (filters.per_frame_states). Filters mapped to no target
+// come last. Frames outside 1..frames are ignored (never drawn off the axis).
+std::vector<TimelineRow> TimelineRows(const metrics::MotFile& gt, const json& metrics,
+                                      const json& manifest, int frames) {
+  const auto row_of = [frames](std::string label) {
+    return TimelineRow{std::move(label), std::vector<int>(static_cast<size_t>(frames), -1), {}};
+  };
+  const auto in_range = [frames](int64_t frame) { return frame >= 1 && frame <= frames; };
+  std::map<int64_t, TimelineRow> truth;
+  for (const metrics::MotRow& r : gt.rows) {
+    auto [it, inserted] = truth.try_emplace(r.id, row_of(fmt::format("target {}", r.id)));
+    if (!in_range(r.frame)) continue;
+    const double v = r.col9;
+    it->second.colour[static_cast<size_t>(r.frame - 1)] =
+        v >= 0.75 ? kVisibleMost.rgb : (v >= 0.25 ? kVisibleHalf.rgb : kVisibleLittle.rgb);
+  }
+  // Detection rows, by target.
+  std::map<int64_t, TimelineRow> detected;
+  const json& by_target = JsonMember(JsonMember(metrics, "detection"), "by_target");
+  if (by_target.is_array()) {
+    for (const json& t : by_target) {
+      const std::optional<int64_t> id = JsonInt(t, "target");
+      if (!id) continue;
+      TimelineRow& row = detected.try_emplace(*id, row_of("detections")).first->second;
+      for (const auto& [key, rgb] :
+           {std::pair{"found_frames", kFound.rgb}, std::pair{"missed_frames", kMissed.rgb}}) {
+        const json& runs = JsonMember(t, key);
+        if (!runs.is_array()) continue;
+        for (const json& run : runs) {
+          if (!run.is_array() || run.size() != 2 || !run[0].is_number_integer() ||
+              !run[1].is_number_integer()) {
+            continue;
+          }
+          // metrics.json counts frames from 0.
+          for (int64_t f = run[0].get<int64_t>() + 1; f <= run[1].get<int64_t>() + 1; ++f) {
+            if (in_range(f)) row.colour[static_cast<size_t>(f - 1)] = rgb;
+          }
+        }
+      }
+      truth.try_emplace(*id, row_of(fmt::format("target {}", *id)));
+    }
+    const json& models = JsonMember(manifest, "target_model_sources");
+    if (models.is_array()) {
+      for (const json& m : models) {
+        const std::optional<int64_t> id = JsonInt(m, "target");
+        const std::optional<int64_t> frame = JsonInt(m, "frame");
+        if (!id || !frame || !in_range(*frame + 1)) continue;
+        detected.try_emplace(*id, row_of("detections"))
+            .first->second.markers.push_back(static_cast<int>(*frame + 1));
+      }
+    }
+  }
+  // Filter rows, by filter id, and the target each is mapped to.
+  const json& filters = JsonMember(metrics, "filters");
+  std::map<int64_t, TimelineRow> filter_rows;
+  const json& states = JsonMember(filters, "per_frame_states");
+  if (states.is_array()) {
+    for (const json& r : states) {
+      const std::optional<int64_t> filter = JsonInt(r, "filter");
+      const std::optional<int64_t> frame = JsonInt(r, "frame");
+      if (!filter || !frame) continue;
+      TimelineRow& row =
+          filter_rows.try_emplace(*filter, row_of(fmt::format("filter {}", *filter))).first->second;
+      if (in_range(*frame + 1)) {
+        row.colour[static_cast<size_t>(*frame)] = StateColour(JsonText(r, "state"));
+      }
+    }
+  }
+  std::map<int64_t, std::vector<int64_t>> filters_of_target;
+  std::set<int64_t> mapped;
+  const json& mapping = JsonMember(filters, "mapping");
+  if (mapping.is_array()) {
+    for (const json& m : mapping) {
+      const std::optional<int64_t> filter = JsonInt(m, "filter");
+      const std::optional<int64_t> target = JsonInt(m, "target");
+      if (!filter || !target || !filter_rows.contains(*filter) || !truth.contains(*target)) {
+        continue;
+      }
+      if (mapped.insert(*filter).second) filters_of_target[*target].push_back(*filter);
+    }
+  }
+  std::vector<TimelineRow> rows;
+  for (auto& [id, row] : truth) {
+    rows.push_back(std::move(row));
+    if (const auto it = detected.find(id); it != detected.end()) rows.push_back(it->second);
+    for (const int64_t f : filters_of_target[id]) rows.push_back(filter_rows.at(f));
+  }
+  for (auto& [id, row] : filter_rows) {
+    if (!mapped.contains(id)) {
+      row.label = fmt::format("filter {} (no target)", id);
+      rows.push_back(std::move(row));
+    }
+  }
+  return rows;
+}
+
+// The timeline's inline SVG: each row's runs of one colour as thick
+// segments, top to bottom in row order, with a legend of the colours used.
+std::string TimelineSvg(const std::vector<TimelineRow>& rows, int frames, const std::string& title,
+                        const fs::path& work, const std::string& gnuplot) {
+  const fs::path data = work / "timeline.dat";
+  const fs::path marks = work / "timeline_marks.dat";
+  const fs::path svg = work / "timeline.svg";
+  const fs::path script = work / "timeline.gp";
+  std::string text = "# first_frame-0.5 row length colour (rows from 0 at the top, y = -row)\n";
+  std::string mark_text = "# frame row\n";
+  std::set<int> used;
+  bool has_marks = false;
+  for (size_t r = 0; r < rows.size(); ++r) {
+    const std::vector<int>& c = rows[r].colour;
+    for (size_t i = 0; i < c.size();) {
+      size_t j = i;
+      while (j + 1 < c.size() && c[j + 1] == c[i]) ++j;
+      if (c[i] >= 0) {
+        text += fmt::format("{} {} {} {}\n", static_cast<double>(i) + 0.5, -static_cast<int>(r),
+                            j - i + 1, c[i]);
+        used.insert(c[i]);
+      }
+      i = j + 1;
+    }
+    for (const int f : rows[r].markers) {
+      mark_text += fmt::format("{} {}\n", f, -static_cast<int>(r));
+      has_marks = true;
+    }
+  }
+  WriteTextFile(data.string(), text);
+  WriteTextFile(marks.string(), mark_text);
+  const int n = static_cast<int>(rows.size());
+  std::string gp;
+  gp += fmt::format("set terminal svg size 820,{} dynamic font 'sans,11' background rgb 'white'\n",
+                    170 + 22 * n);
+  gp += fmt::format("set output {}\n", GpString(svg.string()));
+  gp += fmt::format("set title {} noenhanced\n", GpString(title));
+  gp += "set xlabel 'frame (from 1, as in gt/gt.txt and filters.csv)' noenhanced\n";
+  gp += fmt::format("set xrange [0.5:{}]\n", frames + 0.5);
+  gp += fmt::format("set yrange [{}:0.8]\n", -n + 0.2);
+  std::string tics;
+  for (int r = 0; r < n; ++r) {
+    tics += fmt::format("{}{} {}", r ? ", " : "", GpString(rows[static_cast<size_t>(r)].label), -r);
+  }
+  gp += fmt::format("set ytics ({}) noenhanced\n", tics);
+  gp += "set grid xtics\nset key below noenhanced maxcols 3\n";
+  std::string plot =
+      fmt::format("plot {} using 1:2:3:(0):4 with vectors nohead lw 9 lc rgb variable notitle",
+                  GpString(data.string()));
+  const auto legend = [&](const TimelineColour& c) {
+    if (used.contains(c.rgb)) {
+      plot += fmt::format(", \\\n     NaN with lines lw 9 lc rgb '{}' title {}", RgbText(c.rgb),
+                          GpString(c.name));
+    }
+  };
+  for (const TimelineColour& c : {kVisibleMost, kVisibleHalf, kVisibleLittle, kFound, kMissed}) {
+    legend(c);
+  }
+  for (const TimelineColour& c : kStateColours) legend(c);
+  if (has_marks) {
+    plot += fmt::format(
+        ", \\\n     {} using 1:2 with points pt 13 ps 1.3 lc rgb 'black' title 'model cut'",
+        GpString(marks.string()));
+  }
+  gp += plot + "\n";
+  WriteTextFile(script.string(), gp);
+  RunGnuplot(gnuplot, script);
+  return InlineSvg(ReadWholeFile(svg));
 }
 
 }  // namespace
@@ -316,20 +545,45 @@ ReportResult WriteRunReport(const ReportOptions& options) {
   const fs::path csv = dir / "camera_motion.csv";
   if (fs::exists(csv, ec)) rows = ReadCameraMotionCsv(csv);
 
+  // The timeline needs the ground truth's rows and the run's frame count.
+  std::vector<TimelineRow> timeline;
+  const fs::path gt_txt = dir / "gt" / "gt.txt";
+  const std::optional<int64_t> frames = JsonInt(manifest, "frames");
+  if (frames && *frames > 0 && fs::is_regular_file(gt_txt, ec)) {
+    timeline =
+        TimelineRows(metrics::ReadMotFile(gt_txt.string(), metrics::MotFileKind::kGroundTruth,
+                                          static_cast<int>(*frames)),
+                     metrics, manifest, static_cast<int>(*frames));
+  }
+
   ReportResult result;
   std::string svg;
-  if (!rows.empty()) {
+  std::string timeline_svg;
+  if (!rows.empty() || !timeline.empty()) {
     const fs::path work = MakePlotWorkDir(out, options.out_dir.empty());
     try {
-      svg = CameraMotionSvg(rows, mode, JsonDouble(camera, "mean_px"),
-                            JsonDouble(JsonMember(camera, "floor"), "mean_px"), work,
-                            options.gnuplot);
+      if (!rows.empty()) {
+        svg = CameraMotionSvg(rows, mode, JsonDouble(camera, "mean_px"),
+                              JsonDouble(JsonMember(camera, "floor"), "mean_px"), work,
+                              options.gnuplot);
+        ++result.plots;
+      }
+      if (!timeline.empty()) {
+        const bool detected = JsonMember(JsonMember(metrics, "detection"), "by_target").is_array();
+        const bool filtered = JsonMember(metrics, "filters").is_object();
+        const std::string title =
+            fmt::format("targets{}{}, frame by frame",
+                        detected ? (filtered ? ", detections" : " and detections") : "",
+                        filtered ? " and filters" : "");
+        timeline_svg =
+            TimelineSvg(timeline, static_cast<int>(*frames), title, work, options.gnuplot);
+        ++result.plots;
+      }
     } catch (...) {
       fs::remove_all(work, ec);
       throw;
     }
     fs::remove_all(work, ec);
-    ++result.plots;
   }
 
   const std::string name = JsonText(manifest, "scenario");
@@ -391,6 +645,17 @@ ReportResult WriteRunReport(const ReportOptions& options) {
          "rows).</p>\n";
   }
   h += DetectionSection(metrics, JsonText(manifest, "detector"));
+  if (!timeline_svg.empty()) {
+    h += "<h2>Targets, detections and filters over time</h2>\n";
+    h += "<p>One row per target, grey where it is in view (darker the more of it is visible). "
+         "In a rendered run with a detector, the row under it shows the frames where the "
+         "detector found it (IoU ≥ 0.5, as the table above counts) and where it missed it, of "
+         "the frames it is counted in, with ◆ at the frame its model was cut. Then each filter "
+         "that the identity mapping gives that target, coloured by its state in each frame "
+         "(docs/metrics.md); a filter the mapping gives no target comes last. A target with "
+         "no filter row was never tracked.</p>\n";
+    h += fmt::format("<div class=\"plot\" id=\"plot-timeline\">\n{}\n</div>\n", timeline_svg);
+  }
   const fs::path resolved = dir / "scenario.resolved.yaml";
   if (fs::is_regular_file(resolved, ec)) {
     h += "<h2>Scenario (resolved)</h2>\n<pre>" + EscapeMarkup(ReadWholeFile(resolved)) + "</pre>\n";

@@ -273,7 +273,7 @@ TEST(RunReport, PlotsPerFrameCameraMotionErrorWithModeAndEss) {
       WriteReport({.dir = run.string(), .gnuplot = KeepingGnuplot(dir, kept).string()});
   EXPECT_EQ(r.html_path, (run / "report.html").string());
   EXPECT_TRUE(r.csv_path.empty());
-  EXPECT_EQ(r.plots, 1);
+  EXPECT_EQ(r.plots, 2) << "camera motion and the timeline";
   const std::string html = Read(run / "report.html");
   const size_t at = html.find("id=\"plot-camera_motion\"");
   ASSERT_NE(at, std::string::npos) << "no camera-motion plot";
@@ -360,6 +360,96 @@ TEST(RunReport, DetectionQualityTableHasARowPerNonEmptyBin) {
             std::string::npos);
   EXPECT_NE(html.find("<tr><td class=\"k\">truncated 0.5–1</td><td>0</td><td>1</td><td>–</td>"
                       "<td>–</td><td>0.000</td><td>0.000</td></tr>"),
+            std::string::npos);
+}
+
+// The timeline: rows and segments from gt/gt.txt, metrics.json's
+// filters.mapping and per_frame_states and detection.by_target, and the
+// manifest's model frames, all written here by hand (metrics.json and the
+// manifest count frames from 0, gt.txt and the plot from 1). Rows, top
+// (y = 0) to bottom: target 1, its detections, filter 1 (mapped to it),
+// target 2, its detections, filter 9 (mapped to it), filter 5 (no target).
+// Segments "x0 y length colour", x0 = first frame − 0.5, one per run of a
+// colour: target 1 visible 1.0 in frames 1–4, 0.5 in 5, 0.1 in 6; found in
+// 1–2, missed in 3–4; filter 1 CORRECT 1–4, HIJACKED 5, CORRECT 6. Target 2
+// in frames 3–6, missed in 3, found in 4–6, model cut in frame 3; filter 9
+// CORRECT 3–4; filter 5 LOST in 1.
+TEST(RunReport, TimelineDrawsTargetsTheirDetectionsAndTheirFilters) {
+  const auto dir = testing::SweepFolder("run-report-timeline");
+  const fs::path run = RunMinimal(dir, "none");
+  std::ofstream(run / "gt" / "gt.txt")
+      << "1,1,10,10,20,10,1,1,1\n2,1,11,10,20,10,1,1,1\n3,1,12,10,20,10,1,1,1\n"
+         "4,1,13,10,20,10,1,1,1\n5,1,14,10,20,10,1,1,0.5\n6,1,15,10,20,10,1,1,0.1\n"
+         "3,2,50,50,20,10,1,1,1\n4,2,50,51,20,10,1,1,1\n5,2,50,52,20,10,1,1,1\n"
+         "6,2,50,53,20,10,1,1,1\n";
+  auto metrics = nlohmann::json::parse(Read(run / "metrics.json"));
+  metrics["filters"]["mapping"] =
+      nlohmann::json::parse(R"([{"filter": 1, "target": 1}, {"filter": 9, "target": 2}])");
+  nlohmann::json states = nlohmann::json::array();
+  const auto state = [&states](int frame, int filter, const char* name) {
+    states.push_back({{"frame", frame}, {"filter", filter}, {"state", name}});
+  };
+  for (int f = 0; f < 6; ++f) state(f, 1, f == 4 ? "HIJACKED" : "CORRECT");
+  state(2, 9, "CORRECT");
+  state(3, 9, "CORRECT");
+  state(0, 5, "LOST");
+  metrics["filters"]["per_frame_states"] = states;
+  metrics["detection"] = nlohmann::json::parse(R"({"by_target": [
+      {"target": 1, "found": 2, "missed": 2, "found_centre": 2, "missed_centre": 2,
+       "found_frames": [[0, 1]], "missed_frames": [[2, 3]]},
+      {"target": 2, "found": 3, "missed": 1, "found_centre": 4, "missed_centre": 0,
+       "found_frames": [[3, 5]], "missed_frames": [[2, 2]]}]})");
+  std::ofstream(run / "metrics.json") << metrics.dump();
+  auto manifest = nlohmann::json::parse(Read(run / "manifest.json"));
+  manifest["target_model_sources"] = nlohmann::json::parse(R"([{"target": 2, "frame": 2}])");
+  std::ofstream(run / "manifest.json") << manifest.dump();
+
+  const fs::path kept = dir / "kept";
+  const ReportResult r =
+      WriteReport({.dir = run.string(), .gnuplot = KeepingGnuplot(dir, kept).string()});
+  EXPECT_EQ(r.plots, 2);
+  const std::string html = Read(r.html_path);
+  ASSERT_NE(html.find("id=\"plot-timeline\""), std::string::npos);
+  std::vector<std::string> segments;
+  std::stringstream dat(Read(kept / "timeline.dat"));
+  for (std::string line; std::getline(dat, line);) {
+    if (!line.empty() && line[0] != '#') segments.push_back(line);
+  }
+  const std::string dark = std::to_string(0x404040), half = std::to_string(0x9a9a9a),
+                    little = std::to_string(0xd4d4d4), found = std::to_string(0x2ca02c),
+                    missed = std::to_string(0xf4a0a0), correct = std::to_string(0x1f77b4),
+                    hijacked = std::to_string(0xd62728), lost = std::to_string(0x111111);
+  EXPECT_EQ(segments,
+            std::vector<std::string>(
+                {"0.5 0 4 " + dark, "4.5 0 1 " + half, "5.5 0 1 " + little, "0.5 -1 2 " + found,
+                 "2.5 -1 2 " + missed, "0.5 -2 4 " + correct, "4.5 -2 1 " + hijacked,
+                 "5.5 -2 1 " + correct, "2.5 -3 4 " + dark, "2.5 -4 1 " + missed,
+                 "3.5 -4 3 " + found, "2.5 -5 2 " + correct, "0.5 -6 1 " + lost}));
+  EXPECT_NE(Read(kept / "timeline_marks.dat").find("\n3 -4\n"), std::string::npos);
+  const std::string gp = Read(kept / "timeline.gp");
+  EXPECT_NE(gp.find("set ytics ('target 1' 0, 'detections' -1, 'filter 1' -2, 'target 2' -3, "
+                    "'detections' -4, 'filter 9' -5, 'filter 5 (no target)' -6)"),
+            std::string::npos)
+      << gp;
+  EXPECT_NE(gp.find("set xrange [0.5:20.5]"), std::string::npos) << "the run's 20 frames";
+  // The legend names the colours drawn and no other.
+  EXPECT_NE(gp.find("title 'HIJACKED'"), std::string::npos);
+  EXPECT_NE(gp.find("title 'model cut'"), std::string::npos);
+  EXPECT_EQ(gp.find("title 'SWAPPED'"), std::string::npos);
+  // The detection table's per-target rows: recall 2 / 4 and 3 / 4, centre 2 / 4 and 4 / 4.
+  EXPECT_NE(html.find("<tr><td class=\"k\">target 1</td><td>2</td><td>2</td><td>–</td>"
+                      "<td>–</td><td>0.500</td><td>0.500</td></tr>"),
+            std::string::npos);
+  EXPECT_NE(html.find("<tr><td class=\"k\">target 2</td><td>3</td><td>1</td><td>–</td>"
+                      "<td>–</td><td>0.750</td><td>1.000</td></tr>"),
+            std::string::npos);
+
+  // Without filters (an external tracker) or a detector: the targets alone.
+  metrics.erase("filters");
+  metrics.erase("detection");
+  std::ofstream(run / "metrics.json") << metrics.dump();
+  WriteReport({.dir = run.string(), .gnuplot = KeepingGnuplot(dir, kept).string()});
+  EXPECT_NE(Read(kept / "timeline.gp").find("set ytics ('target 1' 0, 'target 2' -1)"),
             std::string::npos);
 }
 

@@ -181,6 +181,20 @@ TEST(RenderedRun, ADetectorOnTheRenderedFramesFeedsTheTracker) {
       targets += bin["iou"]["tp"].get<int>() + bin["iou"]["fn"].get<int>();
     }
     EXPECT_EQ(targets, detection["iou"]["tp"].get<int>() + detection["iou"]["fn"].get<int>());
+    // Per target (frames counted from 0, as in the manifest): target 2 is
+    // counted from its first frame in view but found only from its model's
+    // frame on; the per-target counts add up to the total.
+    const auto& by_target = detection["by_target"];
+    ASSERT_EQ(by_target.size(), 2u);
+    EXPECT_EQ(by_target[1]["target"], 2);
+    const int model_frame = manifest["target_model_sources"][1]["frame"].get<int>();
+    ASSERT_FALSE(by_target[1]["found_frames"].empty()) << detector;
+    EXPECT_GE(by_target[1]["found_frames"][0][0].get<int>(), model_frame) << detector;
+    EXPECT_LT(by_target[1]["missed_frames"][0][0].get<int>(), model_frame) << detector;
+    EXPECT_EQ(by_target[0]["found"].get<int>() + by_target[1]["found"].get<int>(),
+              detection["iou"]["tp"].get<int>());
+    EXPECT_EQ(by_target[0]["missed"].get<int>() + by_target[1]["missed"].get<int>(),
+              detection["iou"]["fn"].get<int>());
   }
   // The oracle on rendered frames also writes det/det.txt and keeps its label.
   const auto r = RunCommand(common + " --out " + (dir / "oracle").string());

@@ -45,6 +45,21 @@ struct DetectionCounts {
   double f1() const;
 };
 
+// One target's record over the frames it is counted in (visible at least
+// min_visible): its counts under both rules, and the frames (indices into
+// ScoreDetections' frames, increasing) where the IoU rule found it and where
+// it did not. Frames where the target is absent or "don't care" are in
+// neither list.
+struct TargetDetections {
+  ObjectId target{};
+  int64_t found = 0, missed = 0;                // IoU rule: tp and fn
+  int64_t found_centre = 0, missed_centre = 0;  // centre rule
+  std::vector<int> found_frames;
+  std::vector<int> missed_frames;
+  double recall() const;         // IoU rule; NaN when never counted
+  double recall_centre() const;  // centre rule
+};
+
 // Counts of the targets (and, by size, of the detections) in [lo, hi).
 struct DetectionBin {
   double lo = 0.0, hi = 0.0;
@@ -69,6 +84,10 @@ struct DetectionQuality {
   std::vector<DetectionBin> by_size;
   std::vector<DetectionBin> by_visibility;
   std::vector<DetectionBin> by_truncation;
+  // Per target, in increasing target id: every target that appears in any
+  // frame, with or without counted frames (a target only ever "don't care"
+  // has zero counts and empty frame lists).
+  std::vector<TargetDetections> by_target;
 };
 
 // Matching, per frame and rule: a one-to-one assignment (core/assignment.h)

@@ -615,6 +615,17 @@ ReportResult WriteRunReport(const ReportOptions& options) {
   }
   h += "</table>\n";
 
+  if (!timeline_svg.empty()) {
+    h += "<h2>Targets, detections and filters over time</h2>\n";
+    h += "<p>One row per target, grey where it is in view (darker the more of it is visible). "
+         "In a rendered run with a detector, the row under it shows the frames where the "
+         "detector found it (IoU ≥ 0.5, as the detection-quality table below counts) and where it missed it, of "
+         "the frames it is counted in, with ◆ at the frame its model was cut. Then each filter "
+         "that the identity mapping gives that target, coloured by its state in each frame "
+         "(docs/metrics.md); a filter the mapping gives no target comes last. A target with "
+         "no filter row was never tracked.</p>\n";
+    h += fmt::format("<div class=\"plot\" id=\"plot-timeline\">\n{}\n</div>\n", timeline_svg);
+  }
   h += "<h2>Camera motion</h2>\n";
   if (camera.is_object()) {
     h += fmt::format(
@@ -645,17 +656,6 @@ ReportResult WriteRunReport(const ReportOptions& options) {
          "rows).</p>\n";
   }
   h += DetectionSection(metrics, JsonText(manifest, "detector"));
-  if (!timeline_svg.empty()) {
-    h += "<h2>Targets, detections and filters over time</h2>\n";
-    h += "<p>One row per target, grey where it is in view (darker the more of it is visible). "
-         "In a rendered run with a detector, the row under it shows the frames where the "
-         "detector found it (IoU ≥ 0.5, as the table above counts) and where it missed it, of "
-         "the frames it is counted in, with ◆ at the frame its model was cut. Then each filter "
-         "that the identity mapping gives that target, coloured by its state in each frame "
-         "(docs/metrics.md); a filter the mapping gives no target comes last. A target with "
-         "no filter row was never tracked.</p>\n";
-    h += fmt::format("<div class=\"plot\" id=\"plot-timeline\">\n{}\n</div>\n", timeline_svg);
-  }
   const fs::path resolved = dir / "scenario.resolved.yaml";
   if (fs::is_regular_file(resolved, ec)) {
     h += "<h2>Scenario (resolved)</h2>\n<pre>" + EscapeMarkup(ReadWholeFile(resolved)) + "</pre>\n";

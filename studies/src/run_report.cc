@@ -619,12 +619,27 @@ ReportResult WriteRunReport(const ReportOptions& options) {
     h += "<h2>Targets, detections and filters over time</h2>\n";
     h += "<p>One row per target, grey where it is in view (darker the more of it is visible). "
          "In a rendered run with a detector, the row under it shows the frames where the "
-         "detector found it (IoU ≥ 0.5, as the detection-quality table below counts) and where it missed it, of "
+         "detector found it (IoU ≥ 0.5, as the detection-quality table below counts) and where it "
+         "missed it, of "
          "the frames it is counted in, with ◆ at the frame its model was cut. Then each filter "
          "that the identity mapping gives that target, coloured by its state in each frame "
          "(docs/metrics.md); a filter the mapping gives no target comes last. A target with "
          "no filter row was never tracked.</p>\n";
     h += fmt::format("<div class=\"plot\" id=\"plot-timeline\">\n{}\n</div>\n", timeline_svg);
+  }
+  // The overlay video (hcpf run --video), linked from the report's folder.
+  if (fs::is_regular_file(dir / "overlay.mp4", ec)) {
+    std::string link = "overlay.mp4";
+    if (!options.out_dir.empty()) {
+      const fs::path rel = fs::relative(fs::absolute(dir / "overlay.mp4"), fs::absolute(out), ec);
+      link = ec || rel.empty() ? fs::absolute(dir / "overlay.mp4").generic_string()
+                               : rel.generic_string();
+    }
+    h += fmt::format(
+        "<p>Overlay video: <a href=\"{}\">overlay.mp4</a> (frames with ground truth, estimates "
+        "and each filter's state; MPEG-4 Part 2, which VLC and mpv play and most browsers "
+        "do not).</p>\n",
+        EscapeMarkup(link));
   }
   h += "<h2>Camera motion</h2>\n";
   if (camera.is_object()) {

@@ -469,6 +469,24 @@ TEST(RunReport, ModeNoneHasNoEssLine) {
   EXPECT_EQ(svg.find("ESS"), std::string::npos);
 }
 
+// A run written with --video: the report links overlay.mp4, from the report's
+// own folder (the run folder, or --out elsewhere).
+TEST(RunReport, LinksTheOverlayVideoWhenTheRunHasOne) {
+  const auto dir = testing::SweepFolder("run-report-video");
+  const fs::path run = RunMinimal(dir, "none");
+  EXPECT_EQ(Read(WriteReport({.dir = run.string()}).html_path).find("overlay.mp4"),
+            std::string::npos)
+      << "no video, no link";
+  std::ofstream(run / "overlay.mp4") << "stand-in bytes: the report only links the file";
+  EXPECT_NE(Read(WriteReport({.dir = run.string()}).html_path)
+                .find("<a href=\"overlay.mp4\">overlay.mp4</a>"),
+            std::string::npos);
+  const fs::path out = dir / "elsewhere";
+  EXPECT_NE(Read(WriteReport({.dir = run.string(), .out_dir = out.string()}).html_path)
+                .find("<a href=\"../run-none/overlay.mp4\">"),
+            std::string::npos);
+}
+
 // Bad input: a folder that is neither a sweep's nor a run's names the folder,
 // both kinds expected, and what it is.
 TEST(RunReport, FolderThatIsNeitherSweepNorRunIsBadInput) {

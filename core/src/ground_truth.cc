@@ -107,4 +107,27 @@ FrameGroundTruth ComputeGroundTruth(const WorldSpec& world, int frame,
   return gt;
 }
 
+std::optional<Eigen::Vector2d> ImageVelocity(const FrameGroundTruth& previous,
+                                             const FrameGroundTruth& current, ObjectId id,
+                                             bool without_camera_motion) {
+  const auto centre = [id](const FrameGroundTruth& gt) -> std::optional<Eigen::Vector2d> {
+    for (const GroundTruthObject& o : gt.objects) {
+      if (o.id == id) return Eigen::Vector2d(o.amodal_box.centre_x(), o.amodal_box.centre_y());
+    }
+    return std::nullopt;
+  };
+  const std::optional<Eigen::Vector2d> before = centre(previous);
+  const std::optional<Eigen::Vector2d> now = centre(current);
+  if (!before || !now) return std::nullopt;
+  Eigen::Vector2d from = *before;
+  if (without_camera_motion) {
+    const Eigen::Vector3d carried = current.image_from_ground *
+                                    previous.image_from_ground.inverse() *
+                                    Eigen::Vector3d(before->x(), before->y(), 1.0);
+    from = carried.head<2>() / carried.z();
+    if (!from.allFinite()) return std::nullopt;
+  }
+  return *now - from;
+}
+
 }  // namespace hcpf

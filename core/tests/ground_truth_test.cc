@@ -41,6 +41,59 @@ TEST(ComputeGroundTruth, NadirTargetSpansFocalTimesLengthOverAltitude) {
   EXPECT_EQ(gt.objects[0].truncation, 0.0);
 }
 
+// Hand-made frames: target 1's centre moves from (100, 50) to (104, 53).
+// Without camera motion in the homographies (both identity) its velocity is
+// (4, 3) either way. When the current frame's ground homography is shifted by
+// (10, 0) px (the camera panned), the previous centre is carried to
+// (110, 50) and the target's own motion is (-6, 3); scaled by 2 (the camera
+// halved its altitude), carried to (200, 100): (-96, -47). A target absent
+// from one of the frames has none.
+TEST(ImageVelocity, DisplacementOfTheCentreLessTheCameraMotion) {
+  FrameGroundTruth previous, current;
+  GroundTruthObject o;
+  o.id = ObjectId{1};
+  o.amodal_box = BoxPx{90, 40, 20, 20};
+  previous.objects = {o};
+  o.amodal_box = BoxPx{94, 43, 20, 20};
+  current.objects = {o};
+  const auto near = [](const std::optional<Eigen::Vector2d>& v, double x, double y) {
+    return v && std::abs(v->x() - x) < 1e-9 && std::abs(v->y() - y) < 1e-9;
+  };
+  EXPECT_TRUE(near(ImageVelocity(previous, current, ObjectId{1}, false), 4, 3));
+  EXPECT_TRUE(near(ImageVelocity(previous, current, ObjectId{1}, true), 4, 3));
+  current.image_from_ground << 1, 0, 10, 0, 1, 0, 0, 0, 1;
+  EXPECT_TRUE(near(ImageVelocity(previous, current, ObjectId{1}, false), 4, 3));
+  EXPECT_TRUE(near(ImageVelocity(previous, current, ObjectId{1}, true), -6, 3));
+  current.image_from_ground = Eigen::Vector3d(2, 2, 1).asDiagonal();
+  EXPECT_TRUE(near(ImageVelocity(previous, current, ObjectId{1}, true), -96, -47));
+  EXPECT_FALSE(ImageVelocity(previous, current, ObjectId{2}, false));
+  previous.objects.clear();
+  EXPECT_FALSE(ImageVelocity(previous, current, ObjectId{1}, false));
+}
+
+// A target driving east at 6 m/s under a still nadir camera at 100 m, 30 fps:
+// 0.2 m a frame, about f · 0.2 / 100 px = 3.63 px/frame along x (f = 1814.8
+// px), none along y; the camera does not move, so the same without its
+// motion. Exactly: the target is 1 cm tall and wholly on one side of the
+// nadir, so its box's outer edge is its top face's (99.99 m away) and its
+// inner edge its base's (100 m): the centre moves f · 0.2 · (1/99.99 + 1/100) / 2.
+TEST(ImageVelocity, ADrivingTargetUnderAStillNadirCamera) {
+  WorldSpec w = NadirWorld(100.0, {4.0, 2.0, 0.01});
+  w.frames = 2;
+  w.fps = 30;
+  w.targets[0].path.waypoints_m = {{-10, 0}, {10, 0}};
+  w.targets[0].path.speed_mps = 6.0;
+  const FrameGroundTruth a = ComputeGroundTruth(w, 0);
+  const FrameGroundTruth b = ComputeGroundTruth(w, 1);
+  const double f = 320.0 / std::tan(10.0 * std::numbers::pi / 180.0);
+  for (const bool without : {false, true}) {
+    const std::optional<Eigen::Vector2d> v = ImageVelocity(a, b, ObjectId{1}, without);
+    ASSERT_TRUE(v);
+    EXPECT_NEAR(std::abs(v->x()), f * 0.2 * (1.0 / 99.99 + 1.0 / 100.0) / 2.0, 1e-9);
+    EXPECT_NEAR(v->y(), 0.0, 1e-6);
+  }
+}
+
 TEST(ComputeGroundTruth, BuildingCoveringHalfTheVehicle) {
   WorldSpec w = NadirWorld(100.0, {4.0, 2.0, 0.01});
   OccluderSpec building;

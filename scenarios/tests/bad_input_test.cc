@@ -163,6 +163,12 @@ std::vector<BadCase> Cases() {
        m + "  likelihood: {model: associated}\n  association: {method: none}\n",
        {},
        {"bad.yaml:20:", "tracker.association.method", "gnn or nearest"}},
+      // A birth velocity from ground truth needs births from ground truth.
+      {"BirthVelocityWithoutGroundTruthBirths",
+       m + "  init: detections\n  management: {birth_velocity: ground_truth}\n",
+       {},
+       {"bad.yaml:20:", "tracker.management.birth_velocity", "zero (tracker.init is detections",
+        "ground_truth with tracker.init: detections"}},
       // Issue 15, item 4: a second YAML document used to drop the rest of the
       // file silently (here: the whole tracker section).
       {"StrayDocumentSeparator",

@@ -34,6 +34,12 @@ std::span<const Field<TrackManagementOptions>> TrackManagementOptions::Fields() 
                   "spread of a newborn filter's velocity"),
       NumberField("birth_sigma_log_scale", &O::birth_sigma_log_scale, Closed(0, 10), "",
                   "spread of a newborn filter's log-scale"),
+      ChoiceField<&O::birth_velocity>(
+          "birth_velocity",
+          "init ground_truth: a newborn filter's mean velocity. zero: at rest; ground_truth: "
+          "its target's image displacement from its birth frame to the next (from the frame "
+          "before at the last frame), less the camera's motion when tracker.camera_motion "
+          "moves the particles"),
   };
   return fields;
 }
@@ -78,6 +84,12 @@ void TrackerOptions::Validate() const {
   interaction.Validate("tracker.interaction");
   association.Validate("tracker.association");
   management.Validate("tracker.management");
+  if (init == InitMode::kDetections && management.birth_velocity != BirthVelocity::kZero) {
+    FailOption("tracker.management", "birth_velocity",
+               "zero (tracker.init is detections: a confirmed track's velocity comes from its "
+               "detections)",
+               "ground_truth with tracker.init: detections");
+  }
   scene_filter.Validate("tracker.scene_filter");
   if (camera_motion == CameraMotionMode::kRansac &&
       scene_filter.evidence == SceneEvidenceKind::kOracle) {

@@ -4,6 +4,7 @@
 // sampling against occluders); the renderer fills the same types pixel-exactly.
 
 #include <cstdint>
+#include <optional>
 #include <vector>
 
 #include "hcpf/core/camera.h"
@@ -43,6 +44,19 @@ struct AnalyticVisibilityOptions {
 // casting rays against occluder boxes and the other targets' boxes.
 FrameGroundTruth ComputeGroundTruth(const WorldSpec& world, int frame,
                                     const AnalyticVisibilityOptions& options = {});
+
+// Target `id`'s image motion into `current` from `previous` (the frame
+// before), px/frame: the displacement of its amodal box's centre. With
+// `without_camera_motion` the part the camera's own motion explains is taken
+// out: the previous centre is first carried into `current`'s image through
+// the ground plane (current.image_from_ground · previous.image_from_ground⁻¹),
+// so what remains is the target's motion over the ground as `current` sees it
+// (the velocity a particle needs when the camera's motion is applied to it
+// separately). nullopt when the target is absent from either frame or the
+// carried centre is not finite (the ground plane seen edge-on).
+std::optional<Eigen::Vector2d> ImageVelocity(const FrameGroundTruth& previous,
+                                             const FrameGroundTruth& current, ObjectId id,
+                                             bool without_camera_motion);
 
 // Bounding box of the projection of a 3-D box; `all_in_front` is false when a
 // corner lies behind the camera (the box is then not usable).

@@ -34,7 +34,20 @@ enum class InitMode {
   kGroundTruth,  // "ground_truth": the pipeline calls BirthTrack(id, box)
   kDetections,   // "detections": M-of-N confirmation from unassigned detections
 };
+
+// init = ground_truth: the mean velocity of a newborn filter's particles.
+enum class BirthVelocity {
+  kZero,         // "zero": at rest (the spread birth_sigma_vel_px about it)
+  kGroundTruth,  // "ground_truth": the target's image motion out of its birth frame
+};
 }  // namespace hcpf::tracker
+
+template <>
+struct hcpf::EnumNames<hcpf::tracker::BirthVelocity> {
+  static constexpr std::array kNames = {
+      std::pair{hcpf::tracker::BirthVelocity::kZero, std::string_view("zero")},
+      std::pair{hcpf::tracker::BirthVelocity::kGroundTruth, std::string_view("ground_truth")}};
+};
 
 template <>
 struct hcpf::EnumNames<hcpf::tracker::InitMode> {
@@ -66,6 +79,12 @@ struct TrackManagementOptions {
   double birth_sigma_px = 2.0;
   double birth_sigma_vel_px = 0.5;
   double birth_sigma_log_scale = 0.05;
+  // init = ground_truth: the velocity the pipeline passes to BirthTrack. zero:
+  // none (a target moving several px/frame then outruns a filter with low
+  // process noise before its velocity catches up); ground_truth: the
+  // target's image displacement from its birth frame to the next (the run
+  // pipeline computes it from the ground truth; docs/tracker.md).
+  BirthVelocity birth_velocity = BirthVelocity::kZero;
 
   // The scenario keys of these options, with unit, range and doc (core/fields.h);
   // Validate() checks their ranges, then the rules between fields.

@@ -168,10 +168,7 @@ RunSummary RunScenario(const Scenario& scenario, const RunOptions& options) {
       for (const GroundTruthObject& o : gt.objects) {
         if (o.in_frame && (!detection || detection->Detects(o.id)) &&
             born.insert(Value(o.id)).second) {
-          // tracker.management.birth_velocity: at rest, or the target's
-          // motion from this frame to the next (from the frame before at the
-          // last frame), less the camera's when the particles are moved by
-          // it; from the analytic ground truth, which knows every frame.
+          // tracker.management.birth_velocity: at rest, or the target's own.
           Eigen::Vector2d velocity = Eigen::Vector2d::Zero();
           if (tracker_options.management.birth_velocity == tracker::BirthVelocity::kGroundTruth) {
             velocity = GroundTruthBirthVelocity(scenario, gt.frame, o.id);

@@ -1050,9 +1050,7 @@ ReportResult WriteReport(const ReportOptions& options) {
   // Links to run folders (overlay videos) from the report's folder.
   std::string link_prefix;
   if (!options.out_dir.empty()) {
-    link_prefix = fs::relative(fs::absolute(dir), fs::absolute(out), ec).generic_string();
-    if (ec || link_prefix.empty()) link_prefix = fs::absolute(dir).generic_string();
-    link_prefix += "/";
+    link_prefix = LinkFrom(out, dir) + "/";
   }
   ReportResult result;
   std::vector<std::pair<std::string, std::string>> svgs =

@@ -151,6 +151,13 @@ std::string JsonText(const json& j, const char* key) {
   return j[key].is_string() ? j[key].get<std::string>() : j[key].dump();
 }
 
+// j[key] as an integer, or nullopt when j is not an object, lacks the key or
+// holds something else there.
+std::optional<int64_t> JsonInt(const json& j, const char* key) {
+  if (!j.is_object() || !j.contains(key) || !j[key].is_number_integer()) return std::nullopt;
+  return j[key].get<int64_t>();
+}
+
 // j[key], or null when j is not an object or lacks the key.
 const json& JsonMember(const json& j, const char* key) {
   static const json kNull;
@@ -216,11 +223,7 @@ struct Counts {
 };
 
 Counts CountsOf(const json& j) {
-  const auto get = [&](const char* key) -> int64_t {
-    return j.is_object() && j.contains(key) && j[key].is_number_integer() ? j[key].get<int64_t>()
-                                                                          : 0;
-  };
-  return {get("tp"), get("fp"), get("fn")};
+  return {JsonInt(j, "tp").value_or(0), JsonInt(j, "fp").value_or(0), JsonInt(j, "fn").value_or(0)};
 }
 
 // A ratio with three decimals, "–" when undefined.
@@ -284,9 +287,7 @@ std::string DetectionSection(const json& metrics, const std::string& detector) {
   const json& targets = JsonMember(d, "by_target");
   if (targets.is_array()) {
     for (const json& t : targets) {
-      const auto count = [&t](const char* key) {
-        return t.contains(key) && t[key].is_number_integer() ? t[key].get<int64_t>() : 0;
-      };
+      const auto count = [&t](const char* key) { return JsonInt(t, key).value_or(0); };
       const int64_t found = count("found"), missed = count("missed");
       if (found + missed == 0) continue;  // never counted
       const int64_t found_centre = count("found_centre"), missed_centre = count("missed_centre");
@@ -333,12 +334,6 @@ int StateColour(const std::string& state) {
 }
 
 std::string RgbText(int rgb) { return fmt::format("#{:06x}", rgb); }
-
-// Integer members of a JSON value, or nullopt when absent or not integers.
-std::optional<int64_t> JsonInt(const json& j, const char* key) {
-  if (!j.is_object() || !j.contains(key) || !j[key].is_number_integer()) return std::nullopt;
-  return j[key].get<int64_t>();
-}
 
 // Rows: per target (gt/gt.txt, increasing id) its visibility; under it, in a
 // rendered run with a detector, the frames where the detector found or missed
@@ -629,12 +624,8 @@ ReportResult WriteRunReport(const ReportOptions& options) {
   }
   // The overlay video (hcpf run --video), linked from the report's folder.
   if (fs::is_regular_file(dir / "overlay.mp4", ec)) {
-    std::string link = "overlay.mp4";
-    if (!options.out_dir.empty()) {
-      const fs::path rel = fs::relative(fs::absolute(dir / "overlay.mp4"), fs::absolute(out), ec);
-      link = ec || rel.empty() ? fs::absolute(dir / "overlay.mp4").generic_string()
-                               : rel.generic_string();
-    }
+    const std::string link =
+        options.out_dir.empty() ? "overlay.mp4" : LinkFrom(out, dir / "overlay.mp4");
     h += fmt::format(
         "<p>Overlay video: <a href=\"{}\">overlay.mp4</a> (frames with ground truth, estimates "
         "and each filter's state; MPEG-4 Part 2, which VLC and mpv play and most browsers "

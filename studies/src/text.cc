@@ -68,6 +68,12 @@ std::string Csv(const std::string& text) {
   return out + "\"";
 }
 
+std::string LinkFrom(const fs::path& page_dir, const fs::path& target) {
+  std::error_code ec;
+  const fs::path rel = fs::relative(fs::absolute(target), fs::absolute(page_dir), ec);
+  return ec || rel.empty() ? fs::absolute(target).generic_string() : rel.generic_string();
+}
+
 std::string Number(double v) {
   if (!std::isfinite(v)) return "nan";
   return fmt::format("{:.6g}", v);

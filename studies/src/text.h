@@ -1,7 +1,8 @@
 #pragma once
 // Small helpers shared by the writers of studies/ (reports, JUnit, CSV,
-// manifests): text, numbers and the missing value.
+// manifests): text, numbers, links and the missing value.
 
+#include <filesystem>
 #include <limits>
 #include <optional>
 #include <string>
@@ -17,6 +18,10 @@ std::string Base64(const std::string& bytes);
 
 // A CSV field: quoted (with "" for ") when it holds a comma, quote or newline.
 std::string Csv(const std::string& text);
+
+// `target` as a link from a page in the folder `page_dir`: the relative path
+// when there is one, else the absolute path; '/' separators.
+std::string LinkFrom(const std::filesystem::path& page_dir, const std::filesystem::path& target);
 
 // A number for tables and CSV: "{:.6g}", "nan" when not finite.
 std::string Number(double v);

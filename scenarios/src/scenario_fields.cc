@@ -364,6 +364,14 @@ void ObservationOptions::Validate(const tracker::TrackerOptions& tracker) const 
     FailOption("tracker.scene_filter", "evidence",
                "simulated or oracle (image evidence needs observation.source: rendered)", "image");
   }
+  const bool reacquire = tracker.management.reacquire != tracker::ReacquireMode::kNone;
+  constexpr std::string_view kReacquireNeeds =
+      "none, or a model-based observation.detector (a filter is found again from its own "
+      "target's detections, which only a detector with target models labels)";
+  if (reacquire && oracle()) {
+    FailOption("tracker.management", "reacquire", kReacquireNeeds,
+               "own_detections with observation.detector: oracle");
+  }
   if (oracle()) return;
   if (detector == "fusion") {
     const bool first = vision::MakeDetector(fused.front(), detectors)->uses_models();
@@ -387,6 +395,10 @@ void ObservationOptions::Validate(const tracker::TrackerOptions& tracker) const 
     FailOption("observation", "search",
                "frame, or a model-based observation.detector (windows belong to target models)",
                "window with observation.detector: " + name);
+  }
+  if (reacquire && !made->uses_models()) {
+    FailOption("tracker.management", "reacquire", kReacquireNeeds,
+               "own_detections with observation.detector: " + name);
   }
   if (made->uses_models() && tracker.init != tracker::InitMode::kGroundTruth) {
     FailOption("observation", "detector",

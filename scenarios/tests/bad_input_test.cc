@@ -169,6 +169,23 @@ std::vector<BadCase> Cases() {
        {},
        {"bad.yaml:20:", "tracker.management.birth_velocity", "zero (tracker.init is detections",
         "ground_truth with tracker.init: detections"}},
+      // Re-acquisition reads target-specific detections: a model-based detector.
+      {"ReacquireWithTheOracle",
+       m + "  management: {reacquire: own_detections}\n",
+       {},
+       {"bad.yaml:19:", "tracker.management.reacquire", "a model-based observation.detector",
+        "own_detections with observation.detector: oracle"}},
+      {"ReacquireWithAModelFreeDetector",
+       m + "  management: {reacquire: own_detections}\nobservation: {source: rendered, detector: "
+           "diff}\n",
+       {},
+       {"bad.yaml:19:", "tracker.management.reacquire", "a model-based observation.detector",
+        "own_detections with observation.detector: diff"}},
+      {"ReacquireWithDetectionBirths",
+       m + "  init: detections\n  management: {reacquire: own_detections}\n",
+       {},
+       {"bad.yaml:20:", "tracker.management.reacquire", "none (tracker.init is detections",
+        "own_detections with tracker.init: detections"}},
       // Issue 15, item 4: a second YAML document used to drop the rest of the
       // file silently (here: the whole tracker section).
       {"StrayDocumentSeparator",

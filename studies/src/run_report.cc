@@ -309,6 +309,9 @@ struct TimelineRow {
   // Per frame (index = frame - 1): the segment's colour, 0xRRGGBB, or -1.
   std::vector<int> colour;
   std::vector<int> markers;  // frames (from 1) marked with a diamond: the model's cut
+  // Frames (from 1) marked with a ring: the filter found again from its own
+  // target's detections at the end of that frame (tracker.management.reacquire).
+  std::vector<int> reacquired;
 };
 
 // Colours of the timeline, and the legend's names for them.
@@ -340,7 +343,8 @@ std::string RgbText(int rgb) { return fmt::format("#{:06x}", rgb); }
 // it (metrics.json detection.by_target) and the frame its model was cut
 // (manifest.json target_model_sources); then each filter the identity
 // mapping gives that target (metrics.json filters.mapping), coloured by its
-// state each frame (filters.per_frame_states). Filters mapped to no target
+// state each frame (filters.per_frame_states), ringed where it was
+// re-acquired (manifest.json tracker.reacquired). Filters mapped to no target
 // come last. Frames outside 1..frames are ignored (never drawn off the axis).
 std::vector<TimelineRow> TimelineRows(const metrics::MotFile& gt, const json& metrics,
                                       const json& manifest, int frames) {
@@ -408,6 +412,16 @@ std::vector<TimelineRow> TimelineRows(const metrics::MotFile& gt, const json& me
       }
     }
   }
+  const json& reacquired = JsonMember(JsonMember(manifest, "tracker"), "reacquired");
+  if (reacquired.is_array()) {
+    for (const json& r : reacquired) {
+      const std::optional<int64_t> filter = JsonInt(r, "filter");
+      const std::optional<int64_t> frame = JsonInt(r, "frame");
+      const auto row = filter ? filter_rows.find(*filter) : filter_rows.end();
+      if (row == filter_rows.end() || !frame || !in_range(*frame + 1)) continue;
+      row->second.reacquired.push_back(static_cast<int>(*frame + 1));
+    }
+  }
   std::map<int64_t, std::vector<int64_t>> filters_of_target;
   std::set<int64_t> mapped;
   const json& mapping = JsonMember(filters, "mapping");
@@ -442,12 +456,15 @@ std::string TimelineSvg(const std::vector<TimelineRow>& rows, int frames, const 
                         const fs::path& work, const std::string& gnuplot) {
   const fs::path data = work / "timeline.dat";
   const fs::path marks = work / "timeline_marks.dat";
+  const fs::path rings = work / "timeline_reacquired.dat";
   const fs::path svg = work / "timeline.svg";
   const fs::path script = work / "timeline.gp";
   std::string text = "# first_frame-0.5 row length colour (rows from 0 at the top, y = -row)\n";
   std::string mark_text = "# frame row\n";
+  std::string ring_text = "# frame row\n";
   std::set<int> used;
   bool has_marks = false;
+  bool has_rings = false;
   for (size_t r = 0; r < rows.size(); ++r) {
     const std::vector<int>& c = rows[r].colour;
     for (size_t i = 0; i < c.size();) {
@@ -464,9 +481,14 @@ std::string TimelineSvg(const std::vector<TimelineRow>& rows, int frames, const 
       mark_text += fmt::format("{} {}\n", f, -static_cast<int>(r));
       has_marks = true;
     }
+    for (const int f : rows[r].reacquired) {
+      ring_text += fmt::format("{} {}\n", f, -static_cast<int>(r));
+      has_rings = true;
+    }
   }
   WriteTextFile(data.string(), text);
   WriteTextFile(marks.string(), mark_text);
+  WriteTextFile(rings.string(), ring_text);
   const int n = static_cast<int>(rows.size());
   std::string gp;
   gp += fmt::format("set terminal svg size 820,{} dynamic font 'sans,11' background rgb 'white'\n",
@@ -499,6 +521,11 @@ std::string TimelineSvg(const std::vector<TimelineRow>& rows, int frames, const 
     plot += fmt::format(
         ", \\\n     {} using 1:2 with points pt 13 ps 1.3 lc rgb 'black' title 'model cut'",
         GpString(marks.string()));
+  }
+  if (has_rings) {
+    plot += fmt::format(
+        ", \\\n     {} using 1:2 with points pt 6 ps 1.6 lw 2 lc rgb 'black' title 're-acquired'",
+        GpString(rings.string()));
   }
   gp += plot + "\n";
   WriteTextFile(script.string(), gp);
@@ -618,8 +645,9 @@ ReportResult WriteRunReport(const ReportOptions& options) {
          "missed it, of "
          "the frames it is counted in, with ◆ at the frame its model was cut. Then each filter "
          "that the identity mapping gives that target, coloured by its state in each frame "
-         "(docs/metrics.md); a filter the mapping gives no target comes last. A target with "
-         "no filter row was never tracked.</p>\n";
+         "(docs/metrics.md), with ○ where it was re-acquired from its own target's detections "
+         "(tracker.management.reacquire); a filter the mapping gives no target comes last. A "
+         "target with no filter row was never tracked.</p>\n";
     h += fmt::format("<div class=\"plot\" id=\"plot-timeline\">\n{}\n</div>\n", timeline_svg);
   }
   // The overlay video (hcpf run --video), linked from the report's folder.

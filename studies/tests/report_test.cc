@@ -402,6 +402,10 @@ TEST(RunReport, TimelineDrawsTargetsTheirDetectionsAndTheirFilters) {
   std::ofstream(run / "metrics.json") << metrics.dump();
   auto manifest = nlohmann::json::parse(Read(run / "manifest.json"));
   manifest["target_model_sources"] = nlohmann::json::parse(R"([{"target": 2, "frame": 2}])");
+  // Filter 1 re-acquired at the end of frame 5 (from 0: frame 4), and a
+  // frame past the run's end that is not drawn.
+  manifest["tracker"]["reacquired"] =
+      nlohmann::json::parse(R"([{"frame": 4, "filter": 1}, {"frame": 20, "filter": 1}])");
   std::ofstream(run / "manifest.json") << manifest.dump();
 
   const fs::path kept = dir / "kept";
@@ -426,6 +430,7 @@ TEST(RunReport, TimelineDrawsTargetsTheirDetectionsAndTheirFilters) {
                  "5.5 -2 1 " + correct, "2.5 -3 4 " + dark, "2.5 -4 1 " + missed,
                  "3.5 -4 3 " + found, "2.5 -5 2 " + correct, "0.5 -6 1 " + lost}));
   EXPECT_NE(Read(kept / "timeline_marks.dat").find("\n3 -4\n"), std::string::npos);
+  EXPECT_EQ(Read(kept / "timeline_reacquired.dat"), "# frame row\n5 -2\n");
   const std::string gp = Read(kept / "timeline.gp");
   EXPECT_NE(gp.find("set ytics ('target 1' 0, 'detections' -1, 'filter 1' -2, 'target 2' -3, "
                     "'detections' -4, 'filter 9' -5, 'filter 5 (no target)' -6)"),
@@ -435,6 +440,7 @@ TEST(RunReport, TimelineDrawsTargetsTheirDetectionsAndTheirFilters) {
   // The legend names the colours drawn and no other.
   EXPECT_NE(gp.find("title 'HIJACKED'"), std::string::npos);
   EXPECT_NE(gp.find("title 'model cut'"), std::string::npos);
+  EXPECT_NE(gp.find("title 're-acquired'"), std::string::npos);
   EXPECT_EQ(gp.find("title 'SWAPPED'"), std::string::npos);
   // The detection table's per-target rows: recall 2 / 4 and 3 / 4, centre 2 / 4 and 4 / 4.
   EXPECT_NE(html.find("<tr><td class=\"k\">target 1</td><td>2</td><td>2</td><td>–</td>"
@@ -451,6 +457,8 @@ TEST(RunReport, TimelineDrawsTargetsTheirDetectionsAndTheirFilters) {
   WriteReport({.dir = run.string(), .gnuplot = KeepingGnuplot(dir, kept).string()});
   EXPECT_NE(Read(kept / "timeline.gp").find("set ytics ('target 1' 0, 'target 2' -1)"),
             std::string::npos);
+  EXPECT_EQ(Read(kept / "timeline.gp").find("re-acquired"), std::string::npos)
+      << "no filter row, so no ring";
 }
 
 // mode none: no scene filter, so no ESS column values and no ESS line.

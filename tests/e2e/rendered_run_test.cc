@@ -238,6 +238,49 @@ TEST(RenderedRun, ATargetWithoutAModelIsNamedAndGetsNoFilter) {
             std::make_pair(33, 40));
 }
 
+// tracker.management.reacquire through the pipeline. An IoU gate of 1 lets no
+// detection support the tank's filter (target 1, the only one modelled in
+// these 40 frames), so it coasts and is deleted after 2 frames. With none it
+// never returns; with own_detections the colour detector's detections of the
+// tank (3 of 5 frames) bear it again, over and over: filters.csv has it in
+// late frames with gaps, and the manifest lists each time, in frame order.
+TEST(RenderedRun, ReacquireBearsADeletedFilterAgainFromItsTargetsDetections) {
+  const fs::path dir = FreshDir("detector-reacquire");
+  const std::string common =
+      std::string(HCPF_EXE) + " run " + testing::LibraryScenario("crossing") +
+      " --set observation.source=rendered --set frames=40 --set observation.detector=colour"
+      " --set tracker.association.gate=iou --set tracker.association.min_iou=1"
+      " --set tracker.management.max_missed_frames=2 --cache " +
+      (dir / "cache").string();
+  std::map<std::string, nlohmann::json> manifests;
+  std::map<std::string, std::string> filters;
+  for (const std::string mode : {"none", "own_detections"}) {
+    const auto r = RunCommand(common + " --set tracker.management.reacquire=" + mode + " --out " +
+                              (dir / mode).string());
+    ASSERT_EQ(r.exit_code, 0) << r.output;
+    manifests[mode] = nlohmann::json::parse(ReadFile(dir / mode / "manifest.json"));
+    filters[mode] = ReadFile(dir / mode / "filters.csv");
+  }
+  EXPECT_FALSE(manifests["none"]["tracker"].contains("reacquired"));
+  const auto none = FilterLifetimes(filters["none"]);
+  ASSERT_EQ(none.count(1), 1u);
+  EXPECT_LE(none.at(1).second, 3) << "deleted after 2 unsupported frames";
+  const nlohmann::json& reacquired = manifests["own_detections"]["tracker"]["reacquired"];
+  ASSERT_TRUE(reacquired.is_array());
+  ASSERT_GE(reacquired.size(), 3u) << reacquired.dump();
+  int previous = -1;
+  for (const auto& e : reacquired) {
+    EXPECT_EQ(e["filter"], 1);
+    EXPECT_GT(e["frame"].get<int>(), previous);
+    previous = e["frame"].get<int>();
+  }
+  EXPECT_GE(FilterLifetimes(filters["own_detections"]).at(1).second, 35);
+  // Gaps: frames without the filter between its deletions and rebirths.
+  const auto rows =
+      std::count(filters["own_detections"].begin(), filters["own_detections"].end(), '\n') - 1;
+  EXPECT_LT(rows, 40) << filters["own_detections"];
+}
+
 // Issue 11 item 6: the detection cache. Runs that differ only in tracker
 // settings read the first run's detections; a change of a detector option
 // misses; a damaged entry is recomputed; the output is the same either way.

@@ -40,6 +40,13 @@ std::span<const Field<TrackManagementOptions>> TrackManagementOptions::Fields() 
           "its target's image displacement from its birth frame to the next (from the frame "
           "before at the last frame), less the camera's motion when tracker.camera_motion "
           "moves the particles"),
+      ChoiceField<&O::reacquire>(
+          "reacquire",
+          "init ground_truth with a model-based detector. none: a filter that loses its target "
+          "coasts and is deleted; own_detections: once its target's detections that no filter "
+          "was given and no other filter is on confirm (confirm_hits of confirm_window, within "
+          "tentative_gate_px), the filter is re-seeded there (born again with its id if it was "
+          "deleted)"),
   };
   return fields;
 }
@@ -89,6 +96,11 @@ void TrackerOptions::Validate() const {
                "zero (tracker.init is detections: a confirmed track's velocity comes from its "
                "detections)",
                "ground_truth with tracker.init: detections");
+  }
+  if (init == InitMode::kDetections && management.reacquire != ReacquireMode::kNone) {
+    FailOption("tracker.management", "reacquire",
+               "none (tracker.init is detections: unclaimed detections already begin new tracks)",
+               "own_detections with tracker.init: detections");
   }
   scene_filter.Validate("tracker.scene_filter");
   if (camera_motion == CameraMotionMode::kRansac &&
@@ -168,25 +180,35 @@ void MultiTargetTracker::BirthTrack(TrackId id, const BoxPx& initial_box,
   auto f = std::make_unique<Filter>();
   f->id = id;
   f->rng = rng_.Fork("tracker/filter", Value(id));
-  f->base_w_px = initial_box.width;
-  f->base_h_px = initial_box.height;
+  Seed(*f, initial_box, velocity_px);
+  Insert(std::move(f));
+}
+
+void MultiTargetTracker::Seed(Filter& f, const BoxPx& box,
+                              const Eigen::Vector2d& velocity_px) const {
+  f.base_w_px = box.width;
+  f.base_h_px = box.height;
   const auto n = static_cast<size_t>(options_.particles);
-  f->set.Resize(n);
-  f->ancestors.resize(n);
+  f.set.Resize(n);
+  f.ancestors.resize(n);
   const TrackManagementOptions& m = options_.management;
   std::vector<double> noise(5 * n);
-  FillStandardNormal(f->rng, noise);
-  const double cx = initial_box.centre_x();
-  const double cy = initial_box.centre_y();
+  FillStandardNormal(f.rng, noise);
+  const double cx = box.centre_x();
+  const double cy = box.centre_y();
   for (size_t i = 0; i < n; ++i) {
-    f->set.px[i] = cx + m.birth_sigma_px * noise[i];
-    f->set.py[i] = cy + m.birth_sigma_px * noise[n + i];
-    f->set.vx[i] = velocity_px.x() + m.birth_sigma_vel_px * noise[2 * n + i];
-    f->set.vy[i] = velocity_px.y() + m.birth_sigma_vel_px * noise[3 * n + i];
-    f->set.s[i] = std::exp(m.birth_sigma_log_scale * noise[4 * n + i]);
+    f.set.px[i] = cx + m.birth_sigma_px * noise[i];
+    f.set.py[i] = cy + m.birth_sigma_px * noise[n + i];
+    f.set.vx[i] = velocity_px.x() + m.birth_sigma_vel_px * noise[2 * n + i];
+    f.set.vy[i] = velocity_px.y() + m.birth_sigma_vel_px * noise[3 * n + i];
+    f.set.s[i] = std::exp(m.birth_sigma_log_scale * noise[4 * n + i]);
   }
+}
+
+void MultiTargetTracker::Insert(std::unique_ptr<Filter> f) {
+  ever_born_.insert(Value(f->id));
   const auto pos =
-      std::lower_bound(filters_.begin(), filters_.end(), id,
+      std::lower_bound(filters_.begin(), filters_.end(), f->id,
                        [](const auto& a, TrackId b) { return Value(a->id) < Value(b); });
   filters_.insert(pos, std::move(f));
 }
@@ -411,6 +433,10 @@ void MultiTargetTracker::ManageTracks(const Observation& observation,
     }
   }
   filters_ = std::move(kept);
+  if (options_.management.reacquire == ReacquireMode::kOwnDetections &&
+      observation.target_specific()) {
+    Reacquire(observation, assignment, predictions, report);
+  }
 
   // Births from the detections no filter claims: not assigned and not inside
   // any filter's gate (so association = none does not spawn duplicates of
@@ -434,6 +460,77 @@ void MultiTargetTracker::ManageTracks(const Observation& observation,
       if (f->id == id) f->just_born = false;
     }
     report.born.push_back(id);
+  }
+}
+
+void MultiTargetTracker::Reacquire(const Observation& observation,
+                                   const std::vector<int>& assignment,
+                                   const std::vector<TrackPrediction>& predictions,
+                                   FrameReport& report) {
+  // A filter with support this frame has its target: its tentative ends.
+  for (const auto& f : filters_) {
+    if (f->supported) reacquiring_.erase(Value(f->id));
+  }
+  // Each target's best detection (highest score, then first) that no filter
+  // was given and whose centre lies in no other filter's predicted box (that
+  // filter is on whatever the detector found there), for the targets ever
+  // born whose filter is gone or unsupported.
+  std::map<int32_t, size_t> best;
+  for (size_t d = 0; d < observation.detections.size(); ++d) {
+    const Detection& det = observation.detections[d];
+    if (!det.target) continue;
+    const int32_t target = Value(*det.target);
+    if (!ever_born_.contains(target) ||
+        std::find(assignment.begin(), assignment.end(), static_cast<int>(d)) != assignment.end()) {
+      continue;
+    }
+    const auto f = std::find_if(filters_.begin(), filters_.end(),
+                                [&](const auto& g) { return Value(g->id) == target; });
+    if (f != filters_.end() && (*f)->supported) continue;
+    const bool explained = std::any_of(predictions.begin(), predictions.end(), [&](const auto& p) {
+      const double x = det.box.centre_x();
+      const double y = det.box.centre_y();
+      return Value(p.id) != target && x >= p.box.left && x < p.box.right() && y >= p.box.top &&
+             y < p.box.bottom();
+    });
+    if (explained) continue;
+    const auto [it, inserted] = best.try_emplace(target, d);
+    if (!inserted && det.score > observation.detections[it->second].score) it->second = d;
+  }
+  // Every open tentative steps each frame, with or without a detection, so
+  // that one which can no longer reach confirm_hits ends as under init:
+  // detections.
+  std::set<int32_t> targets;
+  for (const auto& [target, tentative] : reacquiring_) targets.insert(target);
+  for (const auto& [target, d] : best) targets.insert(target);
+  for (const int32_t target : targets) {
+    auto tentative = reacquiring_.try_emplace(target, options_.management).first;
+    const auto candidate = best.find(target);
+    const std::vector<Birth> confirmed =
+        candidate == best.end()
+            ? tentative->second.Step(observation, {})
+            : tentative->second.Step(observation, std::span<const size_t>(&candidate->second, 1));
+    if (confirmed.empty()) continue;
+    reacquiring_.erase(tentative);
+    const Birth& birth = confirmed.front();
+    const TrackId id{target};
+    const auto f =
+        std::find_if(filters_.begin(), filters_.end(), [&](const auto& g) { return g->id == id; });
+    if (f != filters_.end()) {
+      // Lost but not deleted: its particles start again at its target, drawn
+      // from its own stream; its support count starts again too.
+      Seed(**f, birth.box, birth.velocity_px);
+      (*f)->missed_frames = 0;
+    } else {
+      auto g = std::make_unique<Filter>();
+      g->id = id;
+      g->rng = rng_.Fork("tracker/filter", target).Fork("reacquired", ++rebirths_[target]);
+      Seed(*g, birth.box, birth.velocity_px);
+      // Born from this frame's detection: it predicts at the next Step.
+      g->just_born = false;
+      Insert(std::move(g));
+    }
+    report.reacquired.push_back(id);
   }
 }
 

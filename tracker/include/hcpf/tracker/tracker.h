@@ -9,8 +9,10 @@
 #include <Eigen/Core>
 #include <array>
 #include <cstdint>
+#include <map>
 #include <memory>
 #include <optional>
+#include <set>
 #include <span>
 #include <string_view>
 #include <vector>
@@ -40,7 +42,21 @@ enum class BirthVelocity {
   kZero,         // "zero": at rest (the spread birth_sigma_vel_px about it)
   kGroundTruth,  // "ground_truth": the target's image motion out of its birth frame
 };
+
+// init = ground_truth with target-specific detections: whether a filter that
+// has lost its target is found again from that target's own detections.
+enum class ReacquireMode {
+  kNone,           // "none": a lost filter coasts and is deleted; it never returns
+  kOwnDetections,  // "own_detections": M-of-N on the target's unclaimed detections
+};
 }  // namespace hcpf::tracker
+
+template <>
+struct hcpf::EnumNames<hcpf::tracker::ReacquireMode> {
+  static constexpr std::array kNames = {
+      std::pair{hcpf::tracker::ReacquireMode::kNone, std::string_view("none")},
+      std::pair{hcpf::tracker::ReacquireMode::kOwnDetections, std::string_view("own_detections")}};
+};
 
 template <>
 struct hcpf::EnumNames<hcpf::tracker::BirthVelocity> {
@@ -85,6 +101,13 @@ struct TrackManagementOptions {
   // target's image displacement from its birth frame to the next (the run
   // pipeline computes it from the ground truth; docs/tracker.md).
   BirthVelocity birth_velocity = BirthVelocity::kZero;
+  // init = ground_truth, target-specific detections (a model-based detector
+  // labels each detection with its model's target): own_detections lets the
+  // detections of a target whose filter is unsupported or deleted, and that
+  // no filter was given, feed an M-of-N tentative per target (confirm_hits of
+  // confirm_window, continued within tentative_gate_px); when it confirms, the
+  // filter is re-seeded there (or, deleted, born again with its old id).
+  ReacquireMode reacquire = ReacquireMode::kNone;
 
   // The scenario keys of these options, with unit, range and doc (core/fields.h);
   // Validate() checks their ranges, then the rules between fields.
@@ -152,7 +175,10 @@ struct FrameReport {
   std::vector<FilterReport> filters;  // every filter that ran this frame, by TrackId
   std::vector<TrackId> born;          // filters born at the end of this frame
   std::vector<TrackId> deleted;       // filters deleted at the end of this frame
-  int64_t degenerate_filters = 0;     // filters whose weights were reset this frame
+  // Filters re-seeded (or, deleted earlier, born again) at the end of this
+  // frame from their own target's detections (management.reacquire).
+  std::vector<TrackId> reacquired;
+  int64_t degenerate_filters = 0;  // filters whose weights were reset this frame
 };
 
 // Estimates for the MOT output: one per reported filter (confidence = ESS / N).
@@ -212,6 +238,14 @@ class MultiTargetTracker {
   void Resample(const std::vector<FilterSummary>& posterior, FrameReport& report);
   void ManageTracks(const Observation& observation, const std::vector<int>& assignment,
                     const std::vector<TrackPrediction>& predictions, FrameReport& report);
+  // management.reacquire: feeds each lost target's best unclaimed detection
+  // to its tentative and re-seeds (or re-births) the filters confirmed.
+  void Reacquire(const Observation& observation, const std::vector<int>& assignment,
+                 const std::vector<TrackPrediction>& predictions, FrameReport& report);
+  // Draws f's particles about `box` (centre, size) with mean velocity
+  // `velocity_px` and the birth spreads, from f's own stream; sets its base size.
+  void Seed(Filter& f, const BoxPx& box, const Eigen::Vector2d& velocity_px) const;
+  void Insert(std::unique_ptr<Filter> f);
   template <typename Fn>
   void ForEachFilter(Fn&& fn);
 
@@ -220,6 +254,11 @@ class MultiTargetTracker {
   Rng rng_;
   std::vector<std::unique_ptr<Filter>> filters_;  // sorted by TrackId
   int32_t next_track_id_ = 1;
+  // management.reacquire: every id ever born, the tentative of each target
+  // whose filter is lost, and how often each id was born again (its stream).
+  std::set<int32_t> ever_born_;
+  std::map<int32_t, MofNInitiator> reacquiring_;
+  std::map<int32_t, int> rebirths_;
 };
 
 // The initiator of `options.init`: MofNInitiator for detections, else NoInitiator.

@@ -72,6 +72,37 @@ TEST(FilterMetrics, EveryStateOnAHandBuiltSequence) {
   EXPECT_EQ(m.hijack_rate, 0.0);
 }
 
+// Re-acquisitions (the tracker's management.reacquire). Target 1 at (0,0) in
+// frames 0-5; filter 10 (born for it) at (0,0), (50,50), (0,0), (0,0),
+// (60,60), (0,0): CORRECT, LOST, CORRECT, CORRECT, LOST, CORRECT. It is
+// re-acquired at the end of frames 1 and 3: the first one's frames are 2-3
+// (to the next one's frame, inclusive: 2 scored, 2 CORRECT), the second's
+// 4-5 (2 scored, 1 CORRECT). Target 2 is present in frame 0 only; filter 20
+// (born for it), re-acquired at the end of frame 0, then sits far from
+// everything while its target is absent: COASTING, not scored. Totals: 3
+// re-acquisitions, 4 scored frames after them, 3 CORRECT.
+TEST(FilterMetrics, ReacquisitionsCountTheScoredFramesAfterEach) {
+  FilterSequence seq;
+  seq.birth_target = {{{10, 1}, {20, 2}}};
+  const double x[] = {0, 50, 0, 0, 60, 0};
+  for (int t = 0; t < 6; ++t) {
+    FilterFrame f;
+    f.targets = {Target(1, 0, 0)};
+    if (t == 0) f.targets.push_back(Target(2, 100, 0));
+    f.filters = {Filter(10, x[t], x[t]), Filter(20, t == 0 ? 100 : 500, 500 * (t > 0))};
+    seq.frames.push_back(f);
+  }
+  seq.reacquired = {{0, 20}, {1, 10}, {3, 10}};
+  const FilterMetrics m = ComputeFilterMetrics(seq, {});
+  EXPECT_EQ(m.reacquisitions.count, 3);
+  EXPECT_EQ(m.reacquisitions.scored_after, 4);
+  EXPECT_EQ(m.reacquisitions.correct_after, 3);
+  seq.reacquired.clear();
+  const FilterMetrics none = ComputeFilterMetrics(seq, {});
+  EXPECT_EQ(none.reacquisitions.count, 0);
+  EXPECT_EQ(none.reacquisitions.scored_after, 0);
+}
+
 // Two targets: 1 fixed at (0,0); 2 at x = 50, 15, 10, 15, 50, 50 (frames 0-5).
 // Mean size 10, encounter_factor 2: close when distance < 20 -> frames 1-3, one encounter;
 // post_window 2 -> evaluated at frame 5. Filters 10 -> 1, 20 -> 2 follow their targets

@@ -115,6 +115,15 @@ TEST(Report, RunMetricsJsonHasEveryFamily) {
   EXPECT_EQ(j["filters"]["states"]["CORRECT"], 2);
   EXPECT_EQ(j["filters"]["per_frame_states"].size(), 2u);
   EXPECT_FALSE(j.contains("detection")) << "no detector, no detection block";
+  // Nothing re-acquired: a count of 0 and no fraction of nothing.
+  EXPECT_EQ(j["filters"]["reacquisitions"],
+            nlohmann::json::parse(R"({"count": 0, "scored_after": 0, "correct_after": 0})"));
+  // Re-acquired at the end of frame 0: frame 1 (CORRECT) follows.
+  in.filters->reacquired = {{0, 5}};
+  const auto again = nlohmann::json::parse(RunMetricsToJson(ComputeRunMetrics(in)));
+  EXPECT_EQ(again["filters"]["reacquisitions"],
+            nlohmann::json::parse(
+                R"({"count": 1, "scored_after": 1, "correct_after": 1, "correct_fraction": 1.0})"));
 }
 
 // The detection block's per-target records: frames 0-based (as elsewhere in

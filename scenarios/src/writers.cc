@@ -94,6 +94,9 @@ metrics::FilterSequence FilterInputs(const std::vector<FrameGroundTruth>& truth,
       filter_ids.insert(e.id);
       frame.filters.push_back(std::move(e));
     }
+    for (const TrackId id : reports[f].reacquired) {
+      seq.reacquired.emplace_back(static_cast<int>(f), Value(id));
+    }
     seq.frames.push_back(std::move(frame));
   }
   if (init == tracker::InitMode::kGroundTruth) {

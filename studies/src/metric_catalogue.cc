@@ -62,6 +62,12 @@ std::span<const CatalogueMetric> MetricCatalogue() {
        "detection precision, centre rule", "", kProportion},
       {"det_size_px", "metrics.json", "/detection/median_size_px", true,
        "median target size (sqrt of box area)", "px", kNonNegative},
+      // tracker.management.reacquire: how often a filter was found again, and
+      // the share of its scored frames after that in which it was CORRECT.
+      {"reacquisitions", "metrics.json", "/filters/reacquisitions/count", false,
+       "filters re-acquired", "", kCount},
+      {"reacquired_correct_fraction", "metrics.json", "/filters/reacquisitions/correct_fraction",
+       true, "fraction of filter-frames CORRECT after a re-acquisition", "", kProportion},
   };
   return kMetrics;
 }

@@ -275,6 +275,9 @@ TEST(RenderedRun, ReacquireBearsADeletedFilterAgainFromItsTargetsDetections) {
     previous = e["frame"].get<int>();
   }
   EXPECT_GE(FilterLifetimes(filters["own_detections"]).at(1).second, 35);
+  const auto metrics = nlohmann::json::parse(ReadFile(dir / "own_detections" / "metrics.json"));
+  EXPECT_EQ(metrics["filters"]["reacquisitions"]["count"], reacquired.size());
+  EXPECT_GT(metrics["filters"]["reacquisitions"]["scored_after"].get<int>(), 0);
   // Gaps: frames without the filter between its deletions and rebirths.
   const auto rows =
       std::count(filters["own_detections"].begin(), filters["own_detections"].end(), '\n') - 1;

@@ -67,6 +67,10 @@ struct FilterSequence {
   // filter id -> target id it was born for (init: ground_truth). When absent the
   // IDF1 matching of filter boxes to target boxes decides.
   std::optional<std::vector<std::pair<int64_t, int64_t>>> birth_target;
+  // (frame index, filter id): the filter was re-seeded, or born again, from
+  // its own target's detections at the end of that frame (the tracker's
+  // management.reacquire), in frame order.
+  std::vector<std::pair<int, int64_t>> reacquired;
 };
 
 enum class FilterState { kCorrect, kSwapped, kHijacked, kStrayed, kLost, kCoasting };
@@ -96,6 +100,15 @@ struct VisibilityBin {
   double accuracy = 0.0;  // correct / scored, 0 when nothing scored
 };
 
+// What became of the filters re-acquired (FilterSequence::reacquired): over
+// each one's frames after its re-acquisition, up to and including the frame
+// of its next one (or the end), the scored filter-frames and the CORRECT ones.
+struct Reacquisitions {
+  int64_t count = 0;
+  int64_t scored_after = 0;
+  int64_t correct_after = 0;
+};
+
 struct FilterMetrics {
   std::vector<std::pair<int64_t, int64_t>> mapping;  // filter id -> target id used
   std::vector<FilterFrameRecord> records;            // frame-major, filters in input order
@@ -111,6 +124,7 @@ struct FilterMetrics {
   std::vector<VisibilityBin> da_by_visibility;
   double mean_mass_on_other = 0.0;  // over filter-frames with a cloud
   int64_t frames_with_cloud = 0;
+  Reacquisitions reacquisitions;
 };
 
 FilterMetrics ComputeFilterMetrics(const FilterSequence& seq, const FilterMetricsOptions& options);

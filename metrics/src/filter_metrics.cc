@@ -266,27 +266,21 @@ FilterMetrics ComputeFilterMetrics(const FilterSequence& seq, const FilterMetric
                         ? 0.0
                         : static_cast<double>(out.hijacked_encounters) / out.encounters.size();
 
-  // Re-acquisitions: each one's frames run from the next frame to the frame
-  // of the same filter's next re-acquisition (inclusive: it is re-seeded at
-  // that frame's end), or to the last frame.
+  // Re-acquisitions. Each one's frames run from the next frame to the frame
+  // of the same filter's next one (inclusive: it is re-seeded at that frame's
+  // end) or to the last frame, so together they are the frames after the
+  // filter's first re-acquisition.
   out.reacquisitions.count = static_cast<int64_t>(seq.reacquired.size());
-  for (size_t i = 0; i < seq.reacquired.size(); ++i) {
-    const auto [frame, filter] = seq.reacquired[i];
-    int last = num_frames - 1;
-    for (size_t j = i + 1; j < seq.reacquired.size(); ++j) {
-      if (seq.reacquired[j].second == filter) {
-        last = seq.reacquired[j].first;
-        break;
-      }
+  std::map<int64_t, int> first_reacquired;
+  for (const auto& [frame, filter] : seq.reacquired) first_reacquired.try_emplace(filter, frame);
+  for (const FilterFrameRecord& rec : out.records) {
+    const auto first = first_reacquired.find(rec.filter);
+    if (first == first_reacquired.end() || rec.frame <= first->second ||
+        rec.state == FilterState::kCoasting) {
+      continue;
     }
-    for (const FilterFrameRecord& rec : out.records) {
-      if (rec.filter != filter || rec.frame <= frame || rec.frame > last ||
-          rec.state == FilterState::kCoasting) {
-        continue;
-      }
-      ++out.reacquisitions.scored_after;
-      out.reacquisitions.correct_after += rec.state == FilterState::kCorrect;
-    }
+    ++out.reacquisitions.scored_after;
+    out.reacquisitions.correct_after += rec.state == FilterState::kCorrect;
   }
   return out;
 }

@@ -103,6 +103,7 @@ struct VisibilityBin {
 // What became of the filters re-acquired (FilterSequence::reacquired): over
 // each one's frames after its re-acquisition, up to and including the frame
 // of its next one (or the end), the scored filter-frames and the CORRECT ones.
+// Together those are each filter's frames after its first re-acquisition.
 struct Reacquisitions {
   int64_t count = 0;
   int64_t scored_after = 0;

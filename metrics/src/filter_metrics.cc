@@ -270,17 +270,20 @@ FilterMetrics ComputeFilterMetrics(const FilterSequence& seq, const FilterMetric
   // of the same filter's next one (inclusive: it is re-seeded at that frame's
   // end) or to the last frame, so together they are the frames after the
   // filter's first re-acquisition.
-  out.reacquisitions.count = static_cast<int64_t>(seq.reacquired.size());
-  std::map<int64_t, int> first_reacquired;
-  for (const auto& [frame, filter] : seq.reacquired) first_reacquired.try_emplace(filter, frame);
-  for (const FilterFrameRecord& rec : out.records) {
-    const auto first = first_reacquired.find(rec.filter);
-    if (first == first_reacquired.end() || rec.frame <= first->second ||
-        rec.state == FilterState::kCoasting) {
-      continue;
+  if (seq.reacquired) {
+    Reacquisitions& r = out.reacquisitions.emplace();
+    r.count = static_cast<int64_t>(seq.reacquired->size());
+    std::map<int64_t, int> first_reacquired;
+    for (const auto& [frame, filter] : *seq.reacquired) first_reacquired.try_emplace(filter, frame);
+    for (const FilterFrameRecord& rec : out.records) {
+      const auto first = first_reacquired.find(rec.filter);
+      if (first == first_reacquired.end() || rec.frame <= first->second ||
+          rec.state == FilterState::kCoasting) {
+        continue;
+      }
+      ++r.scored_after;
+      r.correct_after += rec.state == FilterState::kCorrect;
     }
-    ++out.reacquisitions.scored_after;
-    out.reacquisitions.correct_after += rec.state == FilterState::kCorrect;
   }
   return out;
 }

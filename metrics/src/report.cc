@@ -302,14 +302,16 @@ std::string RunMetricsToJson(const RunMetrics& m) {
     fj["hijacked_fraction_per_frame"] = f.hijacked_fraction;
     fj["mean_mass_on_other"] = f.mean_mass_on_other;
     fj["frames_with_cloud"] = f.frames_with_cloud;
-    const Reacquisitions& r = f.reacquisitions;
-    json reacquisitions = {
-        {"count", r.count}, {"scored_after", r.scored_after}, {"correct_after", r.correct_after}};
-    // A fraction of nothing is absent, not 0.
-    if (r.scored_after > 0) {
-      reacquisitions["correct_fraction"] = static_cast<double>(r.correct_after) / r.scored_after;
+    if (f.reacquisitions) {
+      const Reacquisitions& r = *f.reacquisitions;
+      json reacquisitions = {
+          {"count", r.count}, {"scored_after", r.scored_after}, {"correct_after", r.correct_after}};
+      // A fraction of nothing is absent, not 0.
+      if (r.scored_after > 0) {
+        reacquisitions["correct_fraction"] = static_cast<double>(r.correct_after) / r.scored_after;
+      }
+      fj["reacquisitions"] = std::move(reacquisitions);
     }
-    fj["reacquisitions"] = std::move(reacquisitions);
     json mapping = json::array();
     for (const auto& [filter, target] : f.mapping)
       mapping.push_back({{"filter", filter}, {"target", target}});

@@ -94,13 +94,18 @@ TEST(FilterMetrics, ReacquisitionsCountTheScoredFramesAfterEach) {
   }
   seq.reacquired = {{0, 20}, {1, 10}, {3, 10}};
   const FilterMetrics m = ComputeFilterMetrics(seq, {});
-  EXPECT_EQ(m.reacquisitions.count, 3);
-  EXPECT_EQ(m.reacquisitions.scored_after, 4);
-  EXPECT_EQ(m.reacquisitions.correct_after, 3);
-  seq.reacquired.clear();
+  ASSERT_TRUE(m.reacquisitions.has_value());
+  EXPECT_EQ(m.reacquisitions->count, 3);
+  EXPECT_EQ(m.reacquisitions->scored_after, 4);
+  EXPECT_EQ(m.reacquisitions->correct_after, 3);
+  seq.reacquired->clear();
   const FilterMetrics none = ComputeFilterMetrics(seq, {});
-  EXPECT_EQ(none.reacquisitions.count, 0);
-  EXPECT_EQ(none.reacquisitions.scored_after, 0);
+  ASSERT_TRUE(none.reacquisitions.has_value());
+  EXPECT_EQ(none.reacquisitions->count, 0);
+  EXPECT_EQ(none.reacquisitions->scored_after, 0);
+  seq.reacquired.reset();
+  EXPECT_FALSE(ComputeFilterMetrics(seq, {}).reacquisitions.has_value())
+      << "a tracker that does not re-acquire: no figure, not 0";
 }
 
 // Two targets: 1 fixed at (0,0); 2 at x = 50, 15, 10, 15, 50, 50 (frames 0-5).

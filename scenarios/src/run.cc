@@ -289,7 +289,7 @@ RunSummary RunScenario(const Scenario& scenario, const RunOptions& options) {
                                                   metrics::Benchmark::kMot17, {}, scenario.name);
   // Filter-level metrics (DA accuracy, hijacks) need the particle filters'
   // identities: absent for an external tracker.
-  if (!external) metrics_input.filters = FilterInputs(truth, reports, tracker_options.init);
+  if (!external) metrics_input.filters = FilterInputs(truth, reports, tracker_options);
   metrics_input.point_options = scenario.metrics.points;
   if (scene.rendered) {
     // Detection quality against the pixel-exact truth: each in-frame

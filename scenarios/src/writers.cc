@@ -68,8 +68,9 @@ std::vector<metrics::MotRow> ExternalTrackRows(
 
 metrics::FilterSequence FilterInputs(const std::vector<FrameGroundTruth>& truth,
                                      const std::vector<tracker::FrameReport>& reports,
-                                     tracker::InitMode init) {
+                                     const tracker::TrackerOptions& tracker) {
   metrics::FilterSequence seq;
+  if (tracker.management.reacquire != tracker::ReacquireMode::kNone) seq.reacquired.emplace();
   std::set<int64_t> filter_ids;
   for (size_t f = 0; f < truth.size(); ++f) {
     metrics::FilterFrame frame;
@@ -95,11 +96,11 @@ metrics::FilterSequence FilterInputs(const std::vector<FrameGroundTruth>& truth,
       frame.filters.push_back(std::move(e));
     }
     for (const TrackId id : reports[f].reacquired) {
-      seq.reacquired.emplace_back(static_cast<int>(f), Value(id));
+      seq.reacquired->emplace_back(static_cast<int>(f), Value(id));
     }
     seq.frames.push_back(std::move(frame));
   }
-  if (init == tracker::InitMode::kGroundTruth) {
+  if (tracker.init == tracker::InitMode::kGroundTruth) {
     std::vector<std::pair<int64_t, int64_t>> birth;
     for (int64_t id : filter_ids) birth.emplace_back(id, id);
     seq.birth_target = std::move(birth);

@@ -35,10 +35,11 @@ std::vector<metrics::MotRow> ExternalTrackRows(
     const std::vector<std::vector<internal::ExternalTrack>>& frames);
 // Filter-level metric inputs: in-frame targets and the filters' estimates per
 // frame (with their particle clouds when kept); filters born from ground truth
-// map to the target of the same id.
+// map to the target of the same id; under management.reacquire the filters
+// re-acquired (none otherwise: the metric is then absent, not 0).
 metrics::FilterSequence FilterInputs(const std::vector<FrameGroundTruth>& truth,
                                      const std::vector<tracker::FrameReport>& reports,
-                                     tracker::InitMode init);
+                                     const tracker::TrackerOptions& tracker);
 // filters.csv: frame,filter,cx,cy,w,h,spread_px,ess,rejections,coasting,degenerate,state.
 std::string FormatFiltersCsv(const std::vector<tracker::FrameReport>& reports,
                              const std::optional<metrics::FilterMetrics>& filter_metrics);

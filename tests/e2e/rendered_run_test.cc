@@ -262,6 +262,8 @@ TEST(RenderedRun, ReacquireBearsADeletedFilterAgainFromItsTargetsDetections) {
     filters[mode] = ReadFile(dir / mode / "filters.csv");
   }
   EXPECT_FALSE(manifests["none"]["tracker"].contains("reacquired"));
+  EXPECT_FALSE(nlohmann::json::parse(ReadFile(dir / "none" / "metrics.json"))["filters"].contains(
+      "reacquisitions"));
   const auto none = FilterLifetimes(filters["none"]);
   ASSERT_EQ(none.count(1), 1u);
   EXPECT_LE(none.at(1).second, 3) << "deleted after 2 unsupported frames";

@@ -68,9 +68,9 @@ struct FilterSequence {
   // IDF1 matching of filter boxes to target boxes decides.
   std::optional<std::vector<std::pair<int64_t, int64_t>>> birth_target;
   // (frame index, filter id): the filter was re-seeded, or born again, from
-  // its own target's detections at the end of that frame (the tracker's
-  // management.reacquire), in frame order.
-  std::vector<std::pair<int, int64_t>> reacquired;
+  // its own target's detections at the end of that frame, in frame order.
+  // Absent when the tracker did not re-acquire (management.reacquire: none).
+  std::optional<std::vector<std::pair<int, int64_t>>> reacquired;
 };
 
 enum class FilterState { kCorrect, kSwapped, kHijacked, kStrayed, kLost, kCoasting };
@@ -125,7 +125,7 @@ struct FilterMetrics {
   std::vector<VisibilityBin> da_by_visibility;
   double mean_mass_on_other = 0.0;  // over filter-frames with a cloud
   int64_t frames_with_cloud = 0;
-  Reacquisitions reacquisitions;
+  std::optional<Reacquisitions> reacquisitions;  // when FilterSequence::reacquired is set
 };
 
 FilterMetrics ComputeFilterMetrics(const FilterSequence& seq, const FilterMetricsOptions& options);

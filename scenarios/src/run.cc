@@ -392,14 +392,12 @@ RunSummary RunScenario(const Scenario& scenario, const RunOptions& options) {
                            {"name", external_tracker->name()}};
   } else {
     manifest["tracker"] = {{"type", "particle_filter"}};
-    if (tracker_options.management.reacquire != tracker::ReacquireMode::kNone) {
+    if (metrics_input.filters && metrics_input.filters->reacquired) {
       // Each filter found again from its target's own detections: the frame
       // (from 0, as target_model_sources) at whose end it was re-seeded.
       nlohmann::json reacquired = nlohmann::json::array();
-      for (const tracker::FrameReport& r : reports) {
-        for (const TrackId id : r.reacquired) {
-          reacquired.push_back({{"frame", r.frame}, {"filter", Value(id)}});
-        }
+      for (const auto& [frame, filter] : *metrics_input.filters->reacquired) {
+        reacquired.push_back({{"frame", frame}, {"filter", filter}});
       }
       manifest["tracker"]["reacquired"] = std::move(reacquired);
     }

@@ -5,6 +5,7 @@
 
 #include <fmt/format.h>
 
+#include <array>
 #include <charconv>
 #include <cmath>
 #include <cstdint>
@@ -308,11 +309,25 @@ struct TimelineRow {
   std::string label;
   // Per frame (index = frame - 1): the segment's colour, 0xRRGGBB, or -1.
   std::vector<int> colour;
-  std::vector<int> markers;  // frames (from 1) marked with a diamond: the model's cut
-  // Frames (from 1) marked with a ring: the filter found again from its own
-  // target's detections at the end of that frame (tracker.management.reacquire).
-  std::vector<int> reacquired;
+  // Frames (from 1) marked with each kMarks symbol.
+  std::array<std::vector<int>, 2> marks;
 };
+
+// The timeline's point symbols, one data file and legend entry each.
+struct TimelineMark {
+  const char* file;
+  const char* style;  // gnuplot point style
+  const char* title;
+};
+constexpr std::array<TimelineMark, 2> kMarks = {{
+    // A detection row: the frame its target's model was cut.
+    {"timeline_marks.dat", "pt 13 ps 1.3", "model cut"},
+    // A filter row: the frame at whose end it was found again from its own
+    // target's detections (tracker.management.reacquire).
+    {"timeline_reacquired.dat", "pt 6 ps 1.6 lw 2", "re-acquired"},
+}};
+constexpr size_t kModelCut = 0;
+constexpr size_t kReacquired = 1;
 
 // Colours of the timeline, and the legend's names for them.
 struct TimelineColour {
@@ -392,7 +407,8 @@ std::vector<TimelineRow> TimelineRows(const metrics::MotFile& gt, const json& me
         const std::optional<int64_t> frame = JsonInt(m, "frame");
         if (!id || !frame || !in_range(*frame + 1)) continue;
         detected.try_emplace(*id, row_of("detections"))
-            .first->second.markers.push_back(static_cast<int>(*frame + 1));
+            .first->second.marks[kModelCut]
+            .push_back(static_cast<int>(*frame + 1));
       }
     }
   }
@@ -419,7 +435,7 @@ std::vector<TimelineRow> TimelineRows(const metrics::MotFile& gt, const json& me
       const std::optional<int64_t> frame = JsonInt(r, "frame");
       const auto row = filter ? filter_rows.find(*filter) : filter_rows.end();
       if (row == filter_rows.end() || !frame || !in_range(*frame + 1)) continue;
-      row->second.reacquired.push_back(static_cast<int>(*frame + 1));
+      row->second.marks[kReacquired].push_back(static_cast<int>(*frame + 1));
     }
   }
   std::map<int64_t, std::vector<int64_t>> filters_of_target;
@@ -455,16 +471,13 @@ std::vector<TimelineRow> TimelineRows(const metrics::MotFile& gt, const json& me
 std::string TimelineSvg(const std::vector<TimelineRow>& rows, int frames, const std::string& title,
                         const fs::path& work, const std::string& gnuplot) {
   const fs::path data = work / "timeline.dat";
-  const fs::path marks = work / "timeline_marks.dat";
-  const fs::path rings = work / "timeline_reacquired.dat";
   const fs::path svg = work / "timeline.svg";
   const fs::path script = work / "timeline.gp";
   std::string text = "# first_frame-0.5 row length colour (rows from 0 at the top, y = -row)\n";
-  std::string mark_text = "# frame row\n";
-  std::string ring_text = "# frame row\n";
+  std::array<std::string, kMarks.size()> mark_text;
+  mark_text.fill("# frame row\n");
+  std::array<bool, kMarks.size()> has_marks{};
   std::set<int> used;
-  bool has_marks = false;
-  bool has_rings = false;
   for (size_t r = 0; r < rows.size(); ++r) {
     const std::vector<int>& c = rows[r].colour;
     for (size_t i = 0; i < c.size();) {
@@ -477,18 +490,17 @@ std::string TimelineSvg(const std::vector<TimelineRow>& rows, int frames, const 
       }
       i = j + 1;
     }
-    for (const int f : rows[r].markers) {
-      mark_text += fmt::format("{} {}\n", f, -static_cast<int>(r));
-      has_marks = true;
-    }
-    for (const int f : rows[r].reacquired) {
-      ring_text += fmt::format("{} {}\n", f, -static_cast<int>(r));
-      has_rings = true;
+    for (size_t k = 0; k < kMarks.size(); ++k) {
+      for (const int f : rows[r].marks[k]) {
+        mark_text[k] += fmt::format("{} {}\n", f, -static_cast<int>(r));
+        has_marks[k] = true;
+      }
     }
   }
   WriteTextFile(data.string(), text);
-  WriteTextFile(marks.string(), mark_text);
-  WriteTextFile(rings.string(), ring_text);
+  for (size_t k = 0; k < kMarks.size(); ++k) {
+    WriteTextFile((work / kMarks[k].file).string(), mark_text[k]);
+  }
   const int n = static_cast<int>(rows.size());
   std::string gp;
   gp += fmt::format("set terminal svg size 820,{} dynamic font 'sans,11' background rgb 'white'\n",
@@ -517,15 +529,12 @@ std::string TimelineSvg(const std::vector<TimelineRow>& rows, int frames, const 
     legend(c);
   }
   for (const TimelineColour& c : kStateColours) legend(c);
-  if (has_marks) {
-    plot += fmt::format(
-        ", \\\n     {} using 1:2 with points pt 13 ps 1.3 lc rgb 'black' title 'model cut'",
-        GpString(marks.string()));
-  }
-  if (has_rings) {
-    plot += fmt::format(
-        ", \\\n     {} using 1:2 with points pt 6 ps 1.6 lw 2 lc rgb 'black' title 're-acquired'",
-        GpString(rings.string()));
+  for (size_t k = 0; k < kMarks.size(); ++k) {
+    if (has_marks[k]) {
+      plot +=
+          fmt::format(", \\\n     {} using 1:2 with points {} lc rgb 'black' title '{}'",
+                      GpString((work / kMarks[k].file).string()), kMarks[k].style, kMarks[k].title);
+    }
   }
   gp += plot + "\n";
   WriteTextFile(script.string(), gp);

@@ -175,13 +175,22 @@ const ParticleSet* MultiTargetTracker::particles(TrackId id) const {
 
 void MultiTargetTracker::BirthTrack(TrackId id, const BoxPx& initial_box,
                                     Eigen::Vector2d velocity_px) {
-  HCPF_CHECK(!initial_box.empty()) << "birth box must have positive size";
+  Bear(id, rng_.Fork("tracker/filter", Value(id)), initial_box, velocity_px);
+}
+
+MultiTargetTracker::Filter& MultiTargetTracker::Bear(TrackId id, Rng rng, const BoxPx& box,
+                                                     const Eigen::Vector2d& velocity_px) {
+  HCPF_CHECK(!box.empty()) << "birth box must have positive size";
   HCPF_CHECK(particles(id) == nullptr) << "track " << Value(id) << " already exists";
   auto f = std::make_unique<Filter>();
   f->id = id;
-  f->rng = rng_.Fork("tracker/filter", Value(id));
-  Seed(*f, initial_box, velocity_px);
-  Insert(std::move(f));
+  f->rng = rng;
+  Seed(*f, box, velocity_px);
+  ever_born_.insert(Value(id));
+  const auto pos =
+      std::lower_bound(filters_.begin(), filters_.end(), id,
+                       [](const auto& a, TrackId b) { return Value(a->id) < Value(b); });
+  return **filters_.insert(pos, std::move(f));
 }
 
 void MultiTargetTracker::Seed(Filter& f, const BoxPx& box,
@@ -203,14 +212,6 @@ void MultiTargetTracker::Seed(Filter& f, const BoxPx& box,
     f.set.vy[i] = velocity_px.y() + m.birth_sigma_vel_px * noise[3 * n + i];
     f.set.s[i] = std::exp(m.birth_sigma_log_scale * noise[4 * n + i]);
   }
-}
-
-void MultiTargetTracker::Insert(std::unique_ptr<Filter> f) {
-  ever_born_.insert(Value(f->id));
-  const auto pos =
-      std::lower_bound(filters_.begin(), filters_.end(), f->id,
-                       [](const auto& a, TrackId b) { return Value(a->id) < Value(b); });
-  filters_.insert(pos, std::move(f));
 }
 
 template <typename Fn>
@@ -433,9 +434,13 @@ void MultiTargetTracker::ManageTracks(const Observation& observation,
     }
   }
   filters_ = std::move(kept);
+  std::vector<char> assigned(observation.detections.size(), 0);
+  for (const int d : assignment) {
+    if (d >= 0) assigned[static_cast<size_t>(d)] = 1;
+  }
   if (options_.management.reacquire == ReacquireMode::kOwnDetections &&
       observation.target_specific()) {
-    Reacquire(observation, assignment, predictions, report);
+    Reacquire(observation, assigned, predictions, report);
   }
 
   // Births from the detections no filter claims: not assigned and not inside
@@ -443,9 +448,7 @@ void MultiTargetTracker::ManageTracks(const Observation& observation,
   // existing tracks).
   std::vector<size_t> free_detections;
   for (size_t d = 0; d < observation.detections.size(); ++d) {
-    const bool assigned =
-        std::find(assignment.begin(), assignment.end(), static_cast<int>(d)) != assignment.end();
-    if (assigned) continue;
+    if (assigned[d]) continue;
     const bool gated = std::any_of(predictions.begin(), predictions.end(), [&](const auto& p) {
       return GatedCost(p, observation.detections[d], options_.association).has_value();
     });
@@ -453,18 +456,16 @@ void MultiTargetTracker::ManageTracks(const Observation& observation,
   }
   for (const Birth& birth : components_.initiator->Step(observation, free_detections)) {
     const TrackId id{next_track_id_++};
-    BirthTrack(id, birth.box, birth.velocity_px);
     // Born from this frame's detection, so it describes this frame and must
     // predict at the next Step (unlike a BirthTrack before a Step).
-    for (auto& f : filters_) {
-      if (f->id == id) f->just_born = false;
-    }
+    Bear(id, rng_.Fork("tracker/filter", Value(id)), birth.box, birth.velocity_px).just_born =
+        false;
     report.born.push_back(id);
   }
 }
 
 void MultiTargetTracker::Reacquire(const Observation& observation,
-                                   const std::vector<int>& assignment,
+                                   const std::vector<char>& assigned,
                                    const std::vector<TrackPrediction>& predictions,
                                    FrameReport& report) {
   // A filter with support this frame has its target: its tentative ends.
@@ -480,16 +481,13 @@ void MultiTargetTracker::Reacquire(const Observation& observation,
     const Detection& det = observation.detections[d];
     if (!det.target) continue;
     const int32_t target = Value(*det.target);
-    if (!ever_born_.contains(target) ||
-        std::find(assignment.begin(), assignment.end(), static_cast<int>(d)) != assignment.end()) {
-      continue;
-    }
+    if (!ever_born_.contains(target) || assigned[d]) continue;
     const auto f = std::find_if(filters_.begin(), filters_.end(),
                                 [&](const auto& g) { return Value(g->id) == target; });
     if (f != filters_.end() && (*f)->supported) continue;
+    const double x = det.box.centre_x();
+    const double y = det.box.centre_y();
     const bool explained = std::any_of(predictions.begin(), predictions.end(), [&](const auto& p) {
-      const double x = det.box.centre_x();
-      const double y = det.box.centre_y();
       return Value(p.id) != target && x >= p.box.left && x < p.box.right() && y >= p.box.top &&
              y < p.box.bottom();
     });
@@ -522,13 +520,10 @@ void MultiTargetTracker::Reacquire(const Observation& observation,
       Seed(**f, birth.box, birth.velocity_px);
       (*f)->missed_frames = 0;
     } else {
-      auto g = std::make_unique<Filter>();
-      g->id = id;
-      g->rng = rng_.Fork("tracker/filter", target).Fork("reacquired", ++rebirths_[target]);
-      Seed(*g, birth.box, birth.velocity_px);
       // Born from this frame's detection: it predicts at the next Step.
-      g->just_born = false;
-      Insert(std::move(g));
+      Bear(id, rng_.Fork("tracker/filter", target).Fork("reacquired", ++rebirths_[target]),
+           birth.box, birth.velocity_px)
+          .just_born = false;
     }
     report.reacquired.push_back(id);
   }

@@ -240,12 +240,16 @@ class MultiTargetTracker {
                     const std::vector<TrackPrediction>& predictions, FrameReport& report);
   // management.reacquire: feeds each lost target's best unclaimed detection
   // to its tentative and re-seeds (or re-births) the filters confirmed.
-  void Reacquire(const Observation& observation, const std::vector<int>& assignment,
+  // `assigned`: per detection, whether a filter was given it this frame.
+  void Reacquire(const Observation& observation, const std::vector<char>& assigned,
                  const std::vector<TrackPrediction>& predictions, FrameReport& report);
   // Draws f's particles about `box` (centre, size) with mean velocity
   // `velocity_px` and the birth spreads, from f's own stream; sets its base size.
   void Seed(Filter& f, const BoxPx& box, const Eigen::Vector2d& velocity_px) const;
-  void Insert(std::unique_ptr<Filter> f);
+  // A new filter `id` drawing from `rng`, seeded at `box`, in id order (it
+  // joins the next Step without a predict until just_born is cleared).
+  // HCPF_CHECKs that `id` is new and the box is non-empty.
+  Filter& Bear(TrackId id, Rng rng, const BoxPx& box, const Eigen::Vector2d& velocity_px);
   template <typename Fn>
   void ForEachFilter(Fn&& fn);
 

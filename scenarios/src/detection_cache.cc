@@ -1,6 +1,7 @@
 #include "detection_cache.h"
 
 #include <fmt/format.h>
+#include <link.h>
 #include <unistd.h>
 
 #include <cstring>
@@ -140,9 +141,40 @@ XXH128_hash_t PixelDigest(const ImageView& image) {
   return digest;
 }
 
+std::string CodeFile() {
+  // The loaded object whose segments hold this function: the executable
+  // (dl_iterate_phdr names it "") or a shared library, by the path it was
+  // loaded from. The `hcpf` launcher loads libhcpf_cli.so, which holds the
+  // detectors: hashing the launcher alone would let a rebuilt detector read
+  // the outputs of the build before it.
+  struct Search {
+    uintptr_t address = 0;
+    std::string file;
+    bool found = false;
+  } search{.address = reinterpret_cast<uintptr_t>(&CodeFile)};
+  dl_iterate_phdr(
+      [](dl_phdr_info* info, size_t, void* data) -> int {
+        auto* s = static_cast<Search*>(data);
+        for (int i = 0; i < info->dlpi_phnum; ++i) {
+          const ElfW(Phdr)& ph = info->dlpi_phdr[i];
+          if (ph.p_type != PT_LOAD) continue;
+          const uintptr_t start = info->dlpi_addr + ph.p_vaddr;
+          if (s->address >= start && s->address < start + ph.p_memsz) {
+            s->file = info->dlpi_name != nullptr ? info->dlpi_name : "";
+            s->found = true;
+            return 1;
+          }
+        }
+        return 0;
+      },
+      &search);
+  if (!search.found || search.file.empty()) return "/proc/self/exe";
+  return search.file;
+}
+
 const std::optional<XXH128_hash_t>& ProgramDigest() {
   static const std::optional<XXH128_hash_t> digest = []() -> std::optional<XXH128_hash_t> {
-    std::ifstream in("/proc/self/exe", std::ios::binary);
+    std::ifstream in(CodeFile(), std::ios::binary);
     if (!in) return std::nullopt;
     XXH3_state_t* state = XXH3_createState();
     HCPF_CHECK(state != nullptr) << "XXH3_createState";

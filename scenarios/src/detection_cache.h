@@ -22,10 +22,16 @@ namespace hcpf::scenarios::internal {
 // XXH3-128 of an image's size and pixels.
 XXH128_hash_t PixelDigest(const ImageView& image);
 
-// XXH3-128 of the running executable (/proc/self/exe), computed once: part of
-// every key, so a rebuilt detector (any code change relinks the program:
-// its modules are static libraries) never reads an older build's output.
-// nullopt when the executable cannot be read: then no detection is cached.
+// The file of the loaded object that holds the detection code (this
+// module's): the running executable when it is linked in (the tests;
+// "/proc/self/exe"), or the shared library that holds it (the `hcpf`
+// launcher loads libhcpf_cli.so, which links every module).
+std::string CodeFile();
+
+// XXH3-128 of CodeFile(), computed once: part of every key, so a rebuilt
+// detector (any code change relinks that file: the modules are static
+// libraries) never reads an older build's output. nullopt when the file
+// cannot be read: then no detection is cached.
 const std::optional<XXH128_hash_t>& ProgramDigest();
 
 // Builds a key: feed every input, then Finish().

@@ -308,23 +308,28 @@ TEST(RenderedRun, TheDetectionCacheServesTrackerSweepsAndNeverMisreads) {
   EXPECT_NE(ReadFile(dir / "a" / "det" / "det.txt"), ReadFile(dir / "c" / "det" / "det.txt"));
   // Another seed draws another scene: misses too.
   EXPECT_EQ(run("d", " --set seed=99")["detections_from_cache"], 0);
-  // Another build of the program (here: the same binary with a byte
-  // appended, which still runs) never reads this build's detections.
-  const fs::path rebuilt = dir / "hcpf-rebuilt";
-  fs::copy_file(HCPF_EXE, rebuilt);
-  std::ofstream(rebuilt, std::ios::app | std::ios::binary) << 'x';
-  fs::permissions(rebuilt, fs::perms::owner_all);
-  {
-    std::string command = common + " --out " + (dir / "rebuilt").string();
-    command.replace(0, std::string(HCPF_EXE).size(), rebuilt.string());
+  // Another build of the program never reads this build's detections. The
+  // detectors live in libhcpf_cli.so, which the `hcpf` launcher loads from
+  // its own folder first: a launcher copied next to a rebuilt library (here:
+  // the same library with a byte appended, which still loads) misses every
+  // frame; next to an unchanged copy of the library it reads them all.
+  // (Keyed by the launcher's bytes, as it was, the rebuilt library's run
+  // read the old build's detections.)
+  const auto run_with = [&](const std::string& folder, bool rebuild) {
+    const fs::path bin = dir / folder;
+    fs::create_directories(bin);
+    fs::copy_file(HCPF_EXE, bin / "hcpf");
+    fs::copy_file(HCPF_CLI_LIBRARY, bin / "libhcpf_cli.so");
+    if (rebuild) std::ofstream(bin / "libhcpf_cli.so", std::ios::app | std::ios::binary) << 'x';
+    std::string command = common + " --out " + (bin / "out").string();
+    command.replace(0, std::string(HCPF_EXE).size(), (bin / "hcpf").string());
     const auto r = RunCommand(command);
-    ASSERT_EQ(r.exit_code, 0) << r.output;
-    EXPECT_EQ(
-        nlohmann::json::parse(ReadFile(dir / "rebuilt" / "manifest.json"))["detections_from_cache"],
-        0);
-    EXPECT_EQ(ReadFile(dir / "a" / "det" / "det.txt"),
-              ReadFile(dir / "rebuilt" / "det" / "det.txt"));
-  }
+    EXPECT_EQ(r.exit_code, 0) << r.output;
+    EXPECT_EQ(ReadFile(dir / "a" / "det" / "det.txt"), ReadFile(bin / "out" / "det" / "det.txt"));
+    return nlohmann::json::parse(ReadFile(bin / "out" / "manifest.json"))["detections_from_cache"];
+  };
+  EXPECT_EQ(run_with("same-build", false), 30);
+  EXPECT_EQ(run_with("rebuilt", true), 0);
   // Damage two entries (one truncated, one with a flipped byte): both are
   // recomputed, and the detections are unchanged.
   fs::remove_all(dir / "cache" / "detections");

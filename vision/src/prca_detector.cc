@@ -47,6 +47,12 @@ std::span<const Field<PrcaOptions>> PrcaOptions::Fields() {
                   "half-width of the vote ring at distance D"),
       NumberField("min_score", &O::min_score, AboveUpTo(0, 1), "",
                   "normalised peak vote (peak / N_m) needed for a detection"),
+      NumberField("scale_min", &O::scale_min, Closed(0.25, 1), "",
+                  "smallest scale searched (target size / model size; 1: the thesis)"),
+      NumberField("scale_max", &O::scale_max, Closed(1, 4), "",
+                  "largest scale searched (1: the thesis)"),
+      NumberField("scale_step", &O::scale_step, Closed(1.05, 2), "",
+                  "ratio of successive scales searched (2^(1/4): four per octave)"),
       NumberField("window_scale", &O::window_scale, Closed(1, 20), "",
                   "windowed search: window side = scale × predicted box side"),
       NumberField("cell_px", &O::cell_px, Closed(1, 64), "px", "map cell size"),
@@ -55,6 +61,24 @@ std::span<const Field<PrcaOptions>> PrcaOptions::Fields() {
 }
 
 void PrcaOptions::Validate(std::string_view prefix) const { CheckFields(*this, Fields(), prefix); }
+
+std::vector<double> PrcaOptions::Scales() const {
+  // k from the lowest with step^k >= scale_min to the highest with step^k <=
+  // scale_max; the 1e-9 keeps an end that is meant to be a power of the step
+  // (scale_max = step^2) in spite of rounding in the logarithms.
+  const double log_step = std::log(scale_step);
+  const int k_lo = static_cast<int>(std::ceil(std::log(scale_min) / log_step - 1e-9));
+  const int k_hi = static_cast<int>(std::floor(std::log(scale_max) / log_step + 1e-9));
+  std::vector<int> ks;
+  for (int k = k_lo; k <= k_hi; ++k) ks.push_back(k);
+  // 0 first, then -1, 1, -2, 2, ...: by distance from 1 in octaves, smaller first.
+  std::stable_sort(ks.begin(), ks.end(), [](int a, int b) {
+    return std::abs(a) < std::abs(b) || (std::abs(a) == std::abs(b) && a < b);
+  });
+  std::vector<double> scales;
+  for (int k : ks) scales.push_back(k == 0 ? 1.0 : std::pow(scale_step, k));
+  return scales;
+}
 
 namespace prca {
 namespace {
@@ -427,10 +451,23 @@ struct Model {
   int count() const { return static_cast<int>(stats.size()); }
 };
 
-Model PrepareModel(const TargetModel& target, const PrcaOptions& options) {
+Model PrepareModel(const TargetModel& target, const PrcaOptions& options, double scale) {
   Model m;
   if (target.patch.width <= 0 || target.patch.height <= 0) return m;
-  const ImageView patch(target.patch);
+  // At a scale other than 1, the patch resampled to scale x its size: area
+  // averaging when shrinking (each pixel the mean of what it covers, as a
+  // camera further away would record it), bilinear when enlarging.
+  const cv::Mat original(target.patch.height, target.patch.width, CV_8UC3,
+                         const_cast<uint8_t*>(target.patch.pixels.data()));
+  cv::Mat resampled;
+  if (scale != 1.0) {
+    const cv::Size size(std::max(1, static_cast<int>(std::lround(scale * original.cols))),
+                        std::max(1, static_cast<int>(std::lround(scale * original.rows))));
+    cv::resize(original, resampled, size, 0, 0, scale < 1.0 ? cv::INTER_AREA : cv::INTER_LINEAR);
+  } else {
+    resampled = original;
+  }
+  const ImageView patch(resampled.data, resampled.cols, resampled.rows, resampled.step[0]);
   m.clusters = FormClusters(patch, options);
   std::vector<ClusterStats> all = ClusterStatistics(patch, m.clusters, options.colour_norm);
   std::vector<int32_t> order(all.size());
@@ -450,8 +487,8 @@ Model PrepareModel(const TargetModel& target, const PrcaOptions& options) {
   }
   m.clusters.count = static_cast<int>(keep);
   // The reference point: the centre of the model image.
-  const double rx = 0.5 * target.patch.width;
-  const double ry = 0.5 * target.patch.height;
+  const double rx = 0.5 * patch.width;
+  const double ry = 0.5 * patch.height;
   for (const ClusterStats& s : m.stats) m.d_px.push_back(std::hypot(s.cx - rx, s.cy - ry));
   const int n = m.count();
   m.walk.assign(static_cast<size_t>(n) * n, 0.0);
@@ -474,9 +511,10 @@ struct Circle {
   double weight = 0.0;
 };
 
+// One model's votes at each scale searched (PrcaOptions::Scales order).
 struct ModelVotes {
-  int clusters = 0;  // N_m
-  std::vector<Circle> circles;
+  int clusters = 0;                          // N_m
+  std::vector<std::vector<Circle>> circles;  // per scale
 };
 
 // The scene's walk ratios, computed on first use and shared by every model
@@ -501,7 +539,10 @@ class SceneWalks {
 
 class PrcaDetector final : public Detector {
  public:
-  explicit PrcaDetector(const PrcaOptions& options) : options_(options) { options_.Validate(); }
+  explicit PrcaDetector(const PrcaOptions& options) : options_(options) {
+    options_.Validate();
+    scales_ = options_.Scales();
+  }
 
   DetectorOutput Detect(const DetectorInput& input, Rng&) const override {
     DetectorOutput out;
@@ -511,34 +552,62 @@ class PrcaDetector final : public Detector {
     // after (the clustered image is gone by then, so one frame never holds
     // both pixel-sized buffers).
     std::vector<ModelVotes> votes = Match(input, width, height);
-    std::vector<float> buffer;  // the accumulators' storage, reused model after model
+    std::vector<float> buffer;         // the accumulators' storage, reused model after model
+    std::vector<float> merged_buffer;  // the maximum over scales (several scales only)
     for (size_t m = 0; m < input.models.size(); ++m) {
       const TargetModel& target = input.models[m];
       const ModelVotes& model = votes[m];
-      // Each accumulator covers only the pixels its circles reach.
-      Accumulator accumulator = AccumulatorOver(model.circles, width, height, std::move(buffer));
-      for (const Circle& c : model.circles) {
-        VoteCircle(accumulator, c.cx, c.cy, c.radius_px, options_.ring_px, c.weight);
+      // Each scale's accumulator covers only the pixels its circles reach;
+      // with several scales the map is their maximum over all their pixels.
+      Peak peak;
+      double peak_scale = 1.0;
+      Accumulator merged;
+      if (scales_.size() > 1) {
+        merged = AccumulatorOver(model.circles, width, height, std::move(merged_buffer));
+      }
+      for (size_t k = 0; k < scales_.size(); ++k) {
+        const std::span<const Circle> circles = k < model.circles.size()
+                                                    ? std::span<const Circle>(model.circles[k])
+                                                    : std::span<const Circle>();
+        Accumulator accumulator =
+            AccumulatorOver(std::span(&circles, 1), width, height, std::move(buffer));
+        for (const Circle& c : circles) {
+          VoteCircle(accumulator, c.cx, c.cy, c.radius_px, options_.ring_px, c.weight);
+        }
+        // The argmax (eq. 3.10); an earlier scale keeps a tie.
+        const Peak at_scale = ArgMax(accumulator);
+        if (at_scale.x >= 0 && (peak.x < 0 || at_scale.votes > peak.votes)) {
+          peak = at_scale;
+          peak_scale = scales_[k];
+        }
+        if (scales_.size() == 1) {
+          merged = std::move(accumulator);
+          break;
+        }
+        MaxInto(merged, accumulator);
+        buffer = std::move(accumulator.votes);
       }
       // The map: votes / N_m, max-pooled into cells.
       const double per_cluster = model.clusters > 0 ? 1.0 / model.clusters : 0.0;
       const cv::Mat region =
-          accumulator.votes.empty()
-              ? cv::Mat()
-              : cv::Mat(accumulator.height, accumulator.width, CV_32F, accumulator.votes.data());
-      TargetMap map{target.target, internal::PoolToMap(region, accumulator.x0, accumulator.y0,
-                                                       width, height, options_.cell_px)};
+          merged.votes.empty() ? cv::Mat()
+                               : cv::Mat(merged.height, merged.width, CV_32F, merged.votes.data());
+      TargetMap map{target.target, internal::PoolToMap(region, merged.x0, merged.y0, width, height,
+                                                       options_.cell_px)};
       for (float& v : map.map.values) v = static_cast<float>(v * per_cluster);
       out.maps.push_back(std::move(map));
-      // The argmax (eq. 3.10): a detection where its normalised vote
-      // reaches min_score.
-      const Peak peak = ArgMax(accumulator);
-      buffer = std::move(accumulator.votes);
+      if (scales_.size() == 1) {
+        buffer = std::move(merged.votes);
+      } else {
+        merged_buffer = std::move(merged.votes);
+      }
+      // A detection where the argmax's normalised vote reaches min_score: a
+      // box of the model's size at the winning scale.
       const double score = std::min(1.0, peak.votes * per_cluster);
       if (!(peak.votes > 0.0f) || score < options_.min_score) continue;
-      const BoxPx box =
-          BoxPx::FromCentre(peak.x + 0.5, peak.y + 0.5, static_cast<double>(target.patch.width),
-                            static_cast<double>(target.patch.height));
+      const BoxPx box = BoxPx::FromCentre(peak.x + 0.5, peak.y + 0.5,
+                                          peak_scale * static_cast<double>(target.patch.width),
+                                          peak_scale * static_cast<double>(target.patch.height));
       if (const auto inside = internal::ClipToImage(box, width, height)) {
         out.detections.push_back({.box = *inside, .score = score, .target = target.target});
       }
@@ -584,47 +653,57 @@ class PrcaDetector final : public Detector {
     std::iota(all_clusters.begin(), all_clusters.end(), 0);
     for (size_t m = 0; m < input.models.size(); ++m) {
       const TargetModel& target = input.models[m];
-      const Model model = PrepareModel(target, options_);
-      const int n = model.count();
-      votes[m].clusters = n;
-      if (n == 0) continue;
       const std::vector<int32_t> candidates =
           Candidates(input, target, width, height, scene_stats, all_clusters);
-      std::vector<std::vector<RankedMatch>> lists;
-      for (const ClusterStats& s : model.stats) {
-        lists.push_back(
-            RankedList(s, scene_stats, candidates, options_.lambda, options_.max_matches));
-      }
-      const std::function<double(int, int)> model_walk = [&](int i, int q) {
-        return model.walk[static_cast<size_t>(i) * n + q];
-      };
-      for (int i = 0; i < n; ++i) {
-        for (const RankedMatch& match : lists[static_cast<size_t>(i)]) {
-          const double pes = PairErrorSum(i, match.scene, lists, model_walk, scene_walk_fn);
-          const ClusterStats& s = scene_stats[static_cast<size_t>(match.scene)];
-          votes[m].circles.push_back({.cx = s.cx,
-                                      .cy = s.cy,
-                                      .radius_px = model.d_px[static_cast<size_t>(i)],
-                                      .weight = VoteWeight(match.eta, pes, options_.lambda)});
+      for (const double scale : scales_) {
+        // The model as the target would look at this scale (PrepareModel).
+        const Model model = PrepareModel(target, options_, scale);
+        const int n = model.count();
+        // N_m is the model's at its own scale: the score is the share of its
+        // clusters whose votes agree, and a scale at which some of them
+        // vanish cannot win by having fewer to agree.
+        if (scale == 1.0) votes[m].clusters = n;
+        std::vector<Circle>& circles = votes[m].circles.emplace_back();
+        if (n == 0) continue;
+        std::vector<std::vector<RankedMatch>> lists;
+        for (const ClusterStats& s : model.stats) {
+          lists.push_back(
+              RankedList(s, scene_stats, candidates, options_.lambda, options_.max_matches));
+        }
+        const std::function<double(int, int)> model_walk = [&](int i, int q) {
+          return model.walk[static_cast<size_t>(i) * n + q];
+        };
+        for (int i = 0; i < n; ++i) {
+          for (const RankedMatch& match : lists[static_cast<size_t>(i)]) {
+            const double pes = PairErrorSum(i, match.scene, lists, model_walk, scene_walk_fn);
+            const ClusterStats& s = scene_stats[static_cast<size_t>(match.scene)];
+            circles.push_back({.cx = s.cx,
+                               .cy = s.cy,
+                               .radius_px = model.d_px[static_cast<size_t>(i)],
+                               .weight = VoteWeight(match.eta, pes, options_.lambda)});
+          }
         }
       }
     }
     return votes;
   }
 
-  // A zeroed accumulator over the pixels the circles' rings may reach
-  // (clipped to the image; empty when there are no circles), its storage
-  // taken from `buffer`.
-  Accumulator AccumulatorOver(std::span<const Circle> circles, int width, int height,
+  // A zeroed accumulator over the pixels the rings of all `groups` of
+  // circles may reach (clipped to the image; empty when there are no
+  // circles), its storage taken from `buffer`.
+  template <class Groups>
+  Accumulator AccumulatorOver(const Groups& groups, int width, int height,
                               std::vector<float> buffer) const {
     Accumulator a;
     int x0 = width, y0 = height, x1 = 0, y1 = 0;
-    for (const Circle& c : circles) {
-      const double outer = c.radius_px + options_.ring_px;
-      x0 = std::min(x0, std::max(0, static_cast<int>(std::floor(c.cx - outer))));
-      y0 = std::min(y0, std::max(0, static_cast<int>(std::floor(c.cy - outer))));
-      x1 = std::max(x1, std::min(width, static_cast<int>(std::ceil(c.cx + outer)) + 1));
-      y1 = std::max(y1, std::min(height, static_cast<int>(std::ceil(c.cy + outer)) + 1));
+    for (const auto& circles : groups) {
+      for (const Circle& c : circles) {
+        const double outer = c.radius_px + options_.ring_px;
+        x0 = std::min(x0, std::max(0, static_cast<int>(std::floor(c.cx - outer))));
+        y0 = std::min(y0, std::max(0, static_cast<int>(std::floor(c.cy - outer))));
+        x1 = std::max(x1, std::min(width, static_cast<int>(std::ceil(c.cx + outer)) + 1));
+        y1 = std::max(y1, std::min(height, static_cast<int>(std::ceil(c.cy + outer)) + 1));
+      }
     }
     a.votes = std::move(buffer);
     a.votes.clear();
@@ -637,7 +716,19 @@ class PrcaDetector final : public Detector {
     return a;
   }
 
+  // merged = max(merged, part) over part's pixels (merged covers them all).
+  static void MaxInto(Accumulator& merged, const Accumulator& part) {
+    for (int y = 0; y < part.height; ++y) {
+      const float* from = part.votes.data() + static_cast<size_t>(y) * part.width;
+      float* to = merged.votes.data() +
+                  static_cast<size_t>(y + part.y0 - merged.y0) * merged.width +
+                  (part.x0 - merged.x0);
+      for (int x = 0; x < part.width; ++x) to[x] = std::max(to[x], from[x]);
+    }
+  }
+
   PrcaOptions options_;
+  std::vector<double> scales_;  // options_.Scales()
 };
 
 }  // namespace

@@ -580,6 +580,90 @@ TEST(PrcaDetector, WindowedSearchIgnoresALookAlikeOutsideTheWindow) {
   EXPECT_EQ(RunPrca(PrcaOptions{}, image, one, other).detections, whole.detections);
 }
 
+// A 40 x 24 px target of three blocks (red top left, blue top right, white
+// bottom half: centroids not on one line, so the circles meet at one point)
+// drawn at `scale` times its size with 4 x 4 supersampling on the empty
+// synthetic ground, its top left corner at (left, top).
+RgbImage BlockTarget(double left, double top, double scale) {
+  static const double kColours[3][3] = {{220, 40, 40}, {40, 60, 200}, {230, 230, 230}};
+  RgbImage image = Frame({});
+  for (int y = static_cast<int>(top) - 1; y <= static_cast<int>(top + 24 * scale) + 1; ++y) {
+    for (int x = static_cast<int>(left) - 1; x <= static_cast<int>(left + 40 * scale) + 1; ++x) {
+      double sum[3] = {0, 0, 0};
+      int covered = 0;
+      for (int s = 0; s < 16; ++s) {
+        const double u = (x + (s % 4 + 0.5) / 4.0 - left) / scale;
+        const double v = (y + (s / 4 + 0.5) / 4.0 - top) / scale;
+        if (u < 0 || u >= 40 || v < 0 || v >= 24) continue;
+        ++covered;
+        const double* c = kColours[v >= 12 ? 2 : u < 20 ? 0 : 1];
+        for (int k = 0; k < 3; ++k) sum[k] += c[k];
+      }
+      uint8_t* p = image.at(x, y);
+      for (int k = 0; k < 3; ++k) {
+        p[k] = static_cast<uint8_t>(std::lround((sum[k] + (16 - covered) * p[k]) / 16.0));
+      }
+    }
+  }
+  return image;
+}
+
+// The model is cut from the block target at full size at (40, 30); the
+// scene shows it at (180, 120) at 2^(-1/4) = 0.84, 2^(-1/2) = 0.71 and 0.5
+// of that size (a camera 1.19, 1.41 and 2 times as high), powers of the
+// default step, so one of the scales searched (0.5 ... 1) is the target's.
+// Resampled to that scale, the model's clusters are the scene's (sizes,
+// centroids and walk ratios), and the three circles meet at the target's
+// centre (180 + 20 s, 120 + 12 s): found within the ring half-width plus half
+// a pixel (2 px), with a box of 40 x 24 times s.
+// The thesis's PRCA (scale 1 only) finds none of them there: at 0.71 and
+// 0.5 every block is half the area of its model cluster or less, so the size
+// term of eta alone is >= 0.5 = lambda and nothing matches near the target;
+// at 0.84 the blocks match (size term 0.29) but their circles, of the
+// model's radii, do not meet at the centre.
+TEST(PrcaDetector, FindsTargetsSmallerThanTheirModelsAtTheScalesItSearches) {
+  const std::vector<TargetModel> models = {
+      CutTargetModel(BlockTarget(40, 30, 1.0), BoxPx{40, 30, 40, 24}, ObjectId{1}, 0)};
+  PrcaOptions scales;
+  scales.scale_min = 0.5;
+  for (const double s : {std::pow(2.0, -0.25), std::sqrt(0.5), 0.5}) {
+    SCOPED_TRACE(s);
+    const RgbImage scene = BlockTarget(180, 120, s);
+    const double cx = 180 + 20 * s, cy = 120 + 12 * s;
+    const auto near_centre = [&](const Detection& d) {
+      return std::hypot(d.box.centre_x() - cx, d.box.centre_y() - cy) <= 2.0;
+    };
+    for (const Detection& d : RunPrca(PrcaOptions{}, scene, models).detections) {
+      EXPECT_FALSE(near_centre(d)) << "found at the model's scale";
+    }
+    const DetectorOutput out = RunPrca(scales, scene, models);
+    ASSERT_EQ(out.detections.size(), 1u);
+    const Detection& d = out.detections[0];
+    EXPECT_TRUE(near_centre(d)) << d.box.centre_x() << ", " << d.box.centre_y();
+    EXPECT_NEAR(d.box.width, 40.0 * s, 1e-9);
+    EXPECT_NEAR(d.box.height, 24.0 * s, 1e-9);
+    // The map is the maximum over the scales: its peak is the detection's score.
+    EXPECT_NEAR(MapMax(out.maps[0]), d.score, 1e-6);
+  }
+}
+
+// Searching several scales adds candidates; it never changes the votes at
+// scale 1: on the unscaled frame the search over 0.5 ... 1.41 finds each
+// vehicle where the thesis's PRCA does (scale 1 is tried first and keeps a
+// tie; another scale can win only with more votes, and at scale 1 every
+// cluster matches its own exactly).
+TEST(PrcaDetector, SearchingScalesKeepsTheModelScaleWhereItFitsBest) {
+  const std::vector<TargetModel> models = ModelsAtFrame0();
+  const RgbImage frame = Frame(Targets(3.0, -2.0));
+  const DetectorOutput thesis = RunPrca(PrcaOptions{}, frame, models);
+  PrcaOptions scales;
+  scales.scale_min = 0.5;
+  scales.scale_max = std::sqrt(2.0);
+  const DetectorOutput out = RunPrca(scales, frame, models);
+  ASSERT_EQ(thesis.detections.size(), 3u);
+  EXPECT_EQ(out.detections, thesis.detections);
+}
+
 TEST(PrcaDetector, DeterministicAndIndependentOfTheRng) {
   const std::vector<TargetModel> models = ModelsAtFrame0();
   const RgbImage frame = Frame(Targets(3.0, -2.0));
@@ -616,6 +700,12 @@ TEST(PrcaOptions, DefaultsValidateAndRangesAreChecked) {
       broken([](PrcaOptions& o) { o.ring_px = 0.4; }),
       broken([](PrcaOptions& o) { o.min_score = 0.0; }),
       broken([](PrcaOptions& o) { o.min_score = 1.5; }),
+      broken([](PrcaOptions& o) { o.scale_min = 0.2; }),
+      broken([](PrcaOptions& o) { o.scale_min = 1.1; }),
+      broken([](PrcaOptions& o) { o.scale_max = 0.9; }),
+      broken([](PrcaOptions& o) { o.scale_max = 5.0; }),
+      broken([](PrcaOptions& o) { o.scale_step = 1.0; }),
+      broken([](PrcaOptions& o) { o.scale_step = 2.5; }),
       broken([](PrcaOptions& o) { o.window_scale = 0.5; }),
       broken([](PrcaOptions& o) { o.cell_px = 0.5; }),
   };
@@ -629,6 +719,33 @@ TEST(PrcaOptions, DefaultsValidateAndRangesAreChecked) {
   } catch (const InputError& e) {
     EXPECT_EQ(e.where().key, "observation.prca.rho");
   }
+}
+
+// Scales: step^k for every integer k with scale_min <= step^k <= scale_max,
+// 1 first, then by |k|, the smaller of +-k first.
+//   default (1, 1): {1}.
+//   0.5 .. 1.19, step 2^(1/4): k = -4 .. 1 -> 1, 2^(-1/4) = 0.840896,
+//     2^(1/4) = 1.189207, 2^(-1/2) = 0.707107, 2^(-3/4) = 0.594604, 0.5.
+//   0.7 .. 1.5, step 1.2: log 0.7 / log 1.2 = -1.96 -> k from -1; log 1.5 /
+//     log 1.2 = 2.22 -> k to 2: 1, 1 / 1.2, 1.2, 1.44.
+TEST(PrcaOptions, ScalesArePowersOfTheStepTheModelScaleFirst) {
+  EXPECT_EQ(PrcaOptions{}.Scales(), std::vector<double>{1.0});
+  PrcaOptions o;
+  o.scale_min = 0.5;
+  o.scale_max = 1.19;
+  const std::vector<double> expected = {1.0, 0.840896, 1.189207, 0.707107, 0.594604, 0.5};
+  const std::vector<double> got = o.Scales();
+  ASSERT_EQ(got.size(), expected.size());
+  for (size_t i = 0; i < got.size(); ++i) EXPECT_NEAR(got[i], expected[i], 1e-6) << i;
+  o.scale_min = 0.7;
+  o.scale_max = 1.5;
+  o.scale_step = 1.2;
+  const std::vector<double> b = o.Scales();
+  ASSERT_EQ(b.size(), 4u);
+  EXPECT_EQ(b[0], 1.0);
+  EXPECT_NEAR(b[1], 1.0 / 1.2, 1e-12);
+  EXPECT_NEAR(b[2], 1.2, 1e-12);
+  EXPECT_NEAR(b[3], 1.44, 1e-12);
 }
 
 }  // namespace

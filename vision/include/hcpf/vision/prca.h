@@ -75,10 +75,26 @@ struct PrcaOptions {
   // Detection (eq. 3.10): the argmax's normalised vote (peak / N_m, at most
   // 1) needed for a detection; it is also the detection's score.
   double min_score = 0.25;
+  // Scales searched (an extension; the thesis matches the model at its own
+  // scale only): s = scale_step^k for every integer k with scale_min <= s <=
+  // scale_max. At scale s the model is its patch resampled to s times its
+  // size (area averaging when shrinking, bilinear when enlarging), clustered
+  // and measured like the patch itself, so that its clusters are those the
+  // target shows from s times nearer: sizes, centroids, D and walk ratios
+  // (and the clusters lost to mixed pixels at their borders) all follow. The
+  // scale whose argmax has the most votes gives the detection, a box of the
+  // model's size times s. The default, 1 and 1, is the thesis's PRCA.
+  double scale_min = 1.0;
+  double scale_max = 1.0;
+  double scale_step = 1.189207115002721;  // 2^(1/4): four scales per octave
   double window_scale = 3.0;  // windowed search: window side = scale x predicted box side
   double cell_px = 4.0;       // map cell size
   static std::span<const Field<PrcaOptions>> Fields();
   void Validate(std::string_view prefix = "observation.prca") const;
+  // The scales searched, in the order they are tried: 1 (always in
+  // [scale_min, scale_max]), then by distance from 1 in octaves, the smaller
+  // of two equally far first. An earlier scale keeps a tie of votes.
+  std::vector<double> Scales() const;
 };
 
 // The PRCA detector with `options` validated (throws InputError otherwise).

@@ -844,6 +844,56 @@ std::vector<Finding> FindingsOf(const std::vector<Cell>& cells, const Paired& pa
   return findings;
 }
 
+// The findings at a glance: per report.y metric and compared series value,
+// in how many of its paired cells the difference against the reference is a
+// finding for better, for worse, not one, or has no pairs. A sweep of many
+// panels gives one sentence per metric and panel; this is the line a reader
+// scans first.
+struct Glance {
+  std::string metric;
+  std::string compared;  // the series value compared with the reference
+  int better = 0;
+  int worse = 0;
+  int not_significant = 0;
+  int no_pairs = 0;
+  int cells() const { return better + worse + not_significant + no_pairs; }
+};
+
+std::vector<Glance> GlanceOf(const Paired& paired, const StoreMeta& meta) {
+  std::vector<Glance> out;
+  if (paired.series_index < 0) return out;
+  const auto si = static_cast<size_t>(paired.series_index);
+  for (const std::string& m : meta.report.y) {
+    const size_t first = out.size();
+    for (const PairedRow& row : paired.rows) {
+      const std::string& s = row.cell->values[si];
+      auto it = std::find_if(out.begin() + static_cast<std::ptrdiff_t>(first), out.end(),
+                             [&](const Glance& g) { return g.compared == s; });
+      if (it == out.end()) {
+        out.push_back({.metric = m, .compared = s});
+        it = out.end() - 1;
+      }
+      const PairedComparison& c = row.metrics.at(m);
+      if (c.pairs == 0) {
+        ++it->no_pairs;
+        continue;
+      }
+      switch (VerdictOf(c, m)) {
+        case PairedVerdict::kBetter:
+          ++it->better;
+          break;
+        case PairedVerdict::kWorse:
+          ++it->worse;
+          break;
+        case PairedVerdict::kNotSignificant:
+          ++it->not_significant;
+          break;
+      }
+    }
+  }
+  return out;
+}
+
 std::string FindingsIntro(const Paired& paired, const StoreMeta& meta) {
   return fmt::format(
       "Generated from the runs: for every metric, which {0} value has the best mean at each x, "
@@ -853,11 +903,39 @@ std::string FindingsIntro(const Paired& paired, const StoreMeta& meta) {
       meta.report.series, paired.reference);
 }
 
+std::string GlanceIntro(const Paired& paired, const StoreMeta& meta) {
+  return fmt::format(
+      "At a glance: for each metric and {} value, in how many of its cells (every combination "
+      "of the other swept values) the paired difference against {} is a finding for better or "
+      "for worse, and in how many it is not.",
+      meta.report.series, paired.reference);
+}
+
 std::string FindingsHtml(const std::vector<Finding>& findings, const Paired& paired,
                          const StoreMeta& meta) {
   if (findings.empty()) return {};
   std::string h = "<h2 id=\"findings\">Findings</h2>\n<p>" +
-                  EscapeMarkup(FindingsIntro(paired, meta)) + "</p>\n<ul>\n";
+                  EscapeMarkup(FindingsIntro(paired, meta)) + "</p>\n";
+  const std::vector<Glance> glance = GlanceOf(paired, meta);
+  bool any_no_pairs = false;
+  for (const Glance& g : glance) any_no_pairs = any_no_pairs || g.no_pairs > 0;
+  h += "<p>" + EscapeMarkup(GlanceIntro(paired, meta)) +
+       "</p>\n<table id=\"glance\"><tr><th>metric</th><th>compared</th><th>better</th>"
+       "<th>worse</th><th>not significant</th>" +
+       std::string(any_no_pairs ? "<th>no pairs</th>" : "") + "<th>cells</th></tr>\n";
+  for (const Glance& g : glance) {
+    const auto coloured = [](int n, const char* colour) {
+      return n > 0 ? fmt::format("<td style=\"background:{}\">{}</td>", colour, n)
+                   : fmt::format("<td>{}</td>", n);
+    };
+    h += fmt::format(
+        "<tr><td class=\"k\">{}</td><td class=\"k\">{} &minus; {}</td>{}{}<td>{}</td>{}"
+        "<td>{}</td></tr>\n",
+        EscapeMarkup(g.metric), EscapeMarkup(g.compared), EscapeMarkup(paired.reference),
+        coloured(g.better, "#dff3df"), coloured(g.worse, "#f8dede"), g.not_significant,
+        any_no_pairs ? fmt::format("<td>{}</td>", g.no_pairs) : "", g.cells());
+  }
+  h += "</table>\n<ul>\n";
   for (const Finding& f : findings) {
     h += fmt::format("<li><b>{}</b>{}: {}</li>\n", EscapeMarkup(f.metric),
                      f.group.empty() ? "" : " (" + EscapeMarkup(f.group) + ")",
@@ -869,6 +947,18 @@ std::string FindingsHtml(const std::vector<Finding>& findings, const Paired& pai
 std::string FindingsMarkdown(const std::vector<Finding>& findings, const Paired& paired,
                              const StoreMeta& meta) {
   std::string md = "# Findings\n\n" + FindingsIntro(paired, meta) + "\n\n";
+  const std::vector<Glance> glance = GlanceOf(paired, meta);
+  bool any_no_pairs = false;
+  for (const Glance& g : glance) any_no_pairs = any_no_pairs || g.no_pairs > 0;
+  md += GlanceIntro(paired, meta) + "\n\n| metric | compared | better | worse | not significant |" +
+        std::string(any_no_pairs ? " no pairs |" : "") + " cells |\n|---|---|---|---|---|" +
+        std::string(any_no_pairs ? "---|" : "") + "---|\n";
+  for (const Glance& g : glance) {
+    md += fmt::format("| {} | {} \u2212 {} | {} | {} | {} |{} {} |\n", g.metric, g.compared,
+                      paired.reference, g.better, g.worse, g.not_significant,
+                      any_no_pairs ? fmt::format(" {} |", g.no_pairs) : "", g.cells());
+  }
+  md += "\n";
   for (const Finding& f : findings) {
     md += fmt::format("- **{}**{}: {}\n", f.metric, f.group.empty() ? "" : " (" + f.group + ")",
                       f.text);

@@ -902,8 +902,20 @@ TEST(Report, FindingsSayWhichSeriesIsBestAndWhereTheDifferenceIsSignificant) {
                     "seed pairs per tracker.particles).\n"),
             std::string::npos)
       << md;
+  // At a glance: hijack_rate a finding for better at one x of two, mota at
+  // none.
+  EXPECT_NE(md.find("| metric | compared | better | worse | not significant | cells |\n"
+                    "|---|---|---|---|---|---|\n"
+                    "| hijack_rate | charged \u2212 systematic | 1 | 0 | 1 | 2 |\n"
+                    "| mota | charged \u2212 systematic | 0 | 0 | 2 | 2 |\n"),
+            std::string::npos)
+      << md;
   const std::string html = Read(r.html_path);
   EXPECT_NE(html.find("<h2 id=\"findings\">Findings</h2>"), std::string::npos);
+  EXPECT_NE(html.find("<tr><td class=\"k\">hijack_rate</td><td class=\"k\">charged &minus; "
+                      "systematic</td><td style=\"background:#dff3df\">1</td><td>0</td><td>1</td>"
+                      "<td>2</td></tr>"),
+            std::string::npos);
   EXPECT_LT(html.find("id=\"findings\""), html.find("<h2>Plots</h2>"));
   EXPECT_NE(html.find("<li><b>hijack_rate</b>: best mean (lower is better): charged"),
             std::string::npos);
@@ -915,6 +927,9 @@ TEST(Report, FindingsSayWhichSeriesIsBestAndWhereTheDifferenceIsSignificant) {
                       "not significantly different at tracker.particles = 1000"),
             std::string::npos)
       << Read(flipped / "findings.md");
+  EXPECT_NE(Read(flipped / "findings.md")
+                .find("| hijack_rate | systematic \u2212 charged | 0 | 1 | 1 | 2 |\n"),
+            std::string::npos);
 }
 
 // Without a series there is nothing to compare: no findings, no file.
@@ -991,6 +1006,9 @@ TEST(Report, FindingsIgnoreKeysThatFollowTheSeries) {
                     "tracker.particles. sort \u2212 pf: no pairs (the metric is absent from one "
                     "of them).\n"),
             std::string::npos)
+      << md;
+  // At a glance, da_accuracy has no pairs in either cell.
+  EXPECT_NE(md.find("| da_accuracy | sort \u2212 pf | 0 | 0 | 0 | 2 | 2 |\n"), std::string::npos)
       << md;
   // Three pairs: the rank test cannot reach p < 0.05 (2/8 = 0.25).
   EXPECT_NE(md.find("- **mota**: best mean (higher is better): pf at every tracker.particles. "

@@ -295,11 +295,13 @@ TEST(ReportInChromium, EveryPlotRendersWithData) {
                  " --disable-background-networking --disable-component-update --disable-sync"
                  " --user-data-dir=" +
                  profile.string() + " --screenshot=" + png.string() +
-                 " --window-size=1200,2400 file://" + fs::absolute(html).string());
+                 " --window-size=1200,3000 file://" + fs::absolute(html).string());
   ASSERT_TRUE(fs::exists(png)) << shot.output;
   const cv::Mat image = cv::imread(png.string(), cv::IMREAD_COLOR);
   ASSERT_EQ(image.cols, 1200);
-  ASSERT_EQ(image.rows, 2400);
+  // Tall enough for the findings (sentences and the table at a glance) and
+  // the first three plots below them.
+  ASSERT_EQ(image.rows, 3000);
   // Find each plot's frame: gnuplot draws the axes box in black, so the top
   // and bottom edges are rows with a long run of dark pixels (grid lines are
   // dotted grey, table borders light grey). Inside each frame the two series

@@ -27,5 +27,6 @@ Command AddReportCommand(CLI::App& parent);
 Command AddRegressCommand(CLI::App& parent);
 Command AddRenderCommand(CLI::App& parent);
 Command AddSchemaCommand(CLI::App& parent);
+Command AddCacheCommand(CLI::App& parent);
 
 }  // namespace hcpf::cli

@@ -14,6 +14,7 @@
 
 #include "hcpf/core/check.h"
 #include "hcpf/core/error.h"
+#include "hcpf/scenarios/cache.h"
 
 namespace hcpf::scenarios::internal {
 namespace {
@@ -231,7 +232,9 @@ std::optional<vision::DetectorOutput> DetectionCache::Load(const std::string& ke
   uint64_t checksum = 0;
   std::memcpy(&checksum, payload + payload_size, sizeof(checksum));
   if (checksum != XXH3_64bits(payload, payload_size)) return std::nullopt;
-  return Decode(payload, payload_size);
+  std::optional<vision::DetectorOutput> out = Decode(payload, payload_size);
+  if (out) MarkUsed(dir_ / (key + ".det"));  // `hcpf cache --max-size` prunes the least used
+  return out;
 }
 
 void DetectionCache::Store(const std::string& key, const vision::DetectorOutput& output) const {

@@ -9,6 +9,7 @@
 #include "hcpf/core/check.h"
 #include "hcpf/core/parallel.h"
 #include "hcpf/renderer/image_io.h"
+#include "hcpf/scenarios/cache.h"
 #include "hcpf/scenarios/progress.h"
 
 namespace hcpf::scenarios {
@@ -57,6 +58,7 @@ SceneFrames ProduceFrames(const Scenario& scenario, const FrameSourceOptions& op
   if (!options.cache_dir.empty() && !ropts.output_depth && !ropts.output_instance_ids) {
     cache = std::make_unique<renderer::FrameCache>(
         options.cache_dir, renderer::PixelHash(scenario.world, ropts, scenario.seeds.renderer));
+    MarkUsed(cache->dir());  // `hcpf cache --max-size` prunes the scenes used least recently
   }
   // Misses are stored on a worker thread while the next frame renders.
   std::unique_ptr<renderer::FrameCacheWriter> cache_writer;

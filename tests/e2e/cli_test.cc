@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -48,6 +49,54 @@ TEST(Cli, NoOrUnknownSubcommandIsBadInput) {
   EXPECT_EQ(typo.exit_code, 2);
   EXPECT_NE(typo.output.find("did you mean \"validate\"?"), std::string::npos) << typo.output;
   EXPECT_EQ(RunCommand(kHcpf + " run").exit_code, 2);  // missing scenario and --out
+}
+
+// hcpf cache on a hand-built cache folder: a scene of 3000 bytes used two
+// days ago, one of 1000 used now, a detector output of 500 used a day ago.
+// It reports what is there; --max-size 2K (2048) removes the least recently
+// used until the rest fits: the old scene (leaving 1500); --dry-run removes
+// nothing; a size it cannot read is bad input (exit 2, naming the option).
+TEST(Cli, CacheReportsAndPrunesTheLeastRecentlyUsed) {
+  const fs::path cache = FreshDir("cache-command");
+  const auto write = [](const fs::path& p, size_t n) {
+    fs::create_directories(p.parent_path());
+    std::ofstream(p, std::ios::binary) << std::string(n, 'x');
+  };
+  const fs::path old_scene = cache / "00000000000000000000000000000001";
+  const fs::path new_scene = cache / "00000000000000000000000000000002";
+  const fs::path det = cache / "detections" / "k.det";
+  write(old_scene / "000000.frame", 3000);
+  write(new_scene / "000000.frame", 1000);
+  write(det, 500);
+  const auto now = fs::file_time_type::clock::now();
+  fs::last_write_time(old_scene, now - std::chrono::hours(48));
+  fs::last_write_time(det, now - std::chrono::hours(24));
+  const std::string base = kHcpf + " cache --cache " + cache.string();
+
+  auto r = RunCommand(base);
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("2 scene(s) of rendered frames: 3.9 KiB"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("1 detector output(s): 500 B"), std::string::npos) << r.output;
+
+  r = RunCommand(base + " --max-size 2K --dry-run");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("would remove " + old_scene.string()), std::string::npos) << r.output;
+  EXPECT_TRUE(fs::exists(old_scene));
+
+  r = RunCommand(base + " --max-size 2K");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("removed 1 scene(s) and 0 detector output(s), 2.9 KiB"),
+            std::string::npos)
+      << r.output;
+  EXPECT_FALSE(fs::exists(old_scene));
+  EXPECT_TRUE(fs::exists(new_scene / "000000.frame"));
+  EXPECT_TRUE(fs::exists(det));
+
+  r = RunCommand(base + " --max-size 2KB");
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.output.find("--max-size: expected a size"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("found \"2KB\""), std::string::npos) << r.output;
+  EXPECT_TRUE(fs::exists(new_scene / "000000.frame"));
 }
 
 TEST(Cli, RunWritesEveryOutputAndSucceeds) {

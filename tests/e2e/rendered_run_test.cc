@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <chrono>
 #include <filesystem>
 #include <fstream>
 #include <map>
@@ -64,9 +65,18 @@ TEST(RenderedRun, PixelExactTruthAndFrameCacheReuse) {
   const auto gt = nlohmann::json::parse(ReadFile(dir / "a" / "gt.json"));
   EXPECT_GT(gt["frames"][0]["objects"][0]["pixels_total"].get<int64_t>(), 0);
 
-  // Other tracker settings: no frame is rendered again, the truth is the same.
+  // Other tracker settings: no frame is rendered again, the truth is the same;
+  // the scene's folder (dated two days back) is marked used (hcpf cache).
+  std::vector<fs::path> scenes;
+  for (const auto& e : fs::directory_iterator(dir / "cache")) {
+    if (e.is_directory() && e.path().filename().string().size() == 32) scenes.push_back(e.path());
+  }
+  ASSERT_EQ(scenes.size(), 1u);
+  const auto two_days_ago = fs::file_time_type::clock::now() - std::chrono::hours(48);
+  fs::last_write_time(scenes[0], two_days_ago);
   r = RunCommand(common + " --set tracker.particles=50 --out " + (dir / "b").string());
   ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_GT(fs::last_write_time(scenes[0]), two_days_ago + std::chrono::hours(47));
   manifest = nlohmann::json::parse(ReadFile(dir / "b" / "manifest.json"));
   EXPECT_EQ(manifest["frames_rendered"], 0);
   EXPECT_EQ(manifest["frames_from_cache"], 24);
@@ -301,7 +311,16 @@ TEST(RenderedRun, TheDetectionCacheServesTrackerSweepsAndNeverMisreads) {
     return nlohmann::json::parse(ReadFile(dir / name / "manifest.json"));
   };
   EXPECT_EQ(run("a", "")["detections_from_cache"], 0);
+  // Every hit marks its entry used (hcpf cache --max-size prunes the least
+  // recently used): entries dated two days back are dated now after run b.
+  const auto two_days_ago = fs::file_time_type::clock::now() - std::chrono::hours(48);
+  for (const auto& e : fs::directory_iterator(dir / "cache" / "detections")) {
+    fs::last_write_time(e.path(), two_days_ago);
+  }
   EXPECT_EQ(run("b", " --set tracker.particles=60")["detections_from_cache"], 30);
+  for (const auto& e : fs::directory_iterator(dir / "cache" / "detections")) {
+    EXPECT_GT(fs::last_write_time(e.path()), two_days_ago + std::chrono::hours(47)) << e.path();
+  }
   EXPECT_EQ(ReadFile(dir / "a" / "det" / "det.txt"), ReadFile(dir / "b" / "det" / "det.txt"));
   // Another detector option: other detections, none from the cache.
   EXPECT_EQ(run("c", " --set observation.ncc.min_correlation=0.95")["detections_from_cache"], 0);

@@ -1,0 +1,85 @@
+// hcpf cache [--cache DIR] [--max-size SIZE [--dry-run]]
+
+#include <fmt/format.h>
+#include <spdlog/spdlog.h>
+
+#include <chrono>
+#include <cstdio>
+#include <ctime>
+#include <memory>
+
+#include "command.h"
+#include "hcpf/scenarios/cache.h"
+#include "hcpf/scenarios/frames.h"
+
+namespace hcpf::cli {
+namespace {
+
+// "2026-11-28" (UTC) for an entry's last use.
+std::string Day(std::filesystem::file_time_type t) {
+  const std::time_t seconds = std::chrono::system_clock::to_time_t(
+      std::chrono::time_point_cast<std::chrono::system_clock::duration>(
+          std::chrono::file_clock::to_sys(t)));
+  std::tm utc{};
+  gmtime_r(&seconds, &utc);
+  return fmt::format("{:04}-{:02}-{:02}", utc.tm_year + 1900, utc.tm_mon + 1, utc.tm_mday);
+}
+
+}  // namespace
+
+Command AddCacheCommand(CLI::App& parent) {
+  struct Options {
+    std::string cache = scenarios::DefaultFrameCacheDir();
+    std::string max_size;
+    bool dry_run = false;
+  };
+  auto options = std::make_shared<Options>();
+  CLI::App* app = parent.add_subcommand(
+      "cache",
+      "Show what the frame and detection caches hold; with --max-size, remove the entries used "
+      "least recently until the rest fits");
+  app->add_option("--cache", options->cache, "The cache folder (as for hcpf run and sweep)")
+      ->capture_default_str();
+  app->add_option("--max-size", options->max_size,
+                  "Keep at most this much: bytes or a number with K, M, G or T (500M, 20G)");
+  app->add_flag("--dry-run", options->dry_run,
+                "With --max-size: list what would be removed, remove nothing");
+  return {app, [options] {
+            const uint64_t max_bytes =
+                options->max_size.empty() ? 0 : scenarios::ParseSize(options->max_size, "--max-size");
+            const scenarios::CacheContents contents = scenarios::ScanCache(options->cache);
+            std::printf("%s\n", options->cache.c_str());
+            std::printf("  %d scene(s) of rendered frames: %s\n", contents.scenes,
+                        scenarios::FormatSize(contents.scene_bytes).c_str());
+            std::printf("  %d detector output(s): %s\n", contents.detections,
+                        scenarios::FormatSize(contents.detection_bytes).c_str());
+            if (!contents.entries.empty()) {
+              std::printf("  used from %s to %s\n", Day(contents.entries.front().last_used).c_str(),
+                          Day(contents.entries.back().last_used).c_str());
+            }
+            if (options->max_size.empty()) return 0;
+            const std::vector<scenarios::CacheEntry> remove =
+                scenarios::PruneOrder(contents, max_bytes);
+            uint64_t freed = 0;
+            int scenes = 0;
+            for (const scenarios::CacheEntry& e : remove) {
+              freed += e.bytes;
+              scenes += e.kind == scenarios::CacheEntry::Kind::kScene;
+              if (options->dry_run) {
+                std::printf("  would remove %s (%s, last used %s)\n", e.path.string().c_str(),
+                            scenarios::FormatSize(e.bytes).c_str(), Day(e.last_used).c_str());
+              }
+            }
+            if (!options->dry_run) scenarios::RemoveCacheEntries(remove);
+            std::printf("  %s %d scene(s) and %d detector output(s), %s, least recently used "
+                        "first: %s left (--max-size %s)\n",
+                        options->dry_run ? "would remove" : "removed", scenes,
+                        static_cast<int>(remove.size()) - scenes,
+                        scenarios::FormatSize(freed).c_str(),
+                        scenarios::FormatSize(contents.bytes() - freed).c_str(),
+                        options->max_size.c_str());
+            return 0;
+          }};
+}
+
+}  // namespace hcpf::cli

@@ -1,0 +1,62 @@
+#pragma once
+// What the on-disk caches hold, and pruning them to a size (`hcpf cache`).
+// The cache folder (DefaultFrameCacheDir(), or --cache) holds one folder of
+// rendered frames per scene, named by its 32-hex-digit pixel hash
+// (renderer::FrameCache), and detections/*.det, one detector output per
+// frame and detector setting (the detection cache, docs/vision.md). Both
+// only grow: every rebuild of the detectors keys new entries, and every
+// scene or seed renders a new folder. Each use marks its entry (MarkUsed:
+// the file's or folder's modification time), so that pruning removes what
+// was used least recently. Nothing else in the folder is ever touched.
+
+#include <cstdint>
+#include <filesystem>
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace hcpf::scenarios {
+
+struct CacheEntry {
+  enum class Kind { kScene, kDetection };
+  Kind kind = Kind::kScene;
+  std::filesystem::path path;  // a scene's folder or a .det file
+  uint64_t bytes = 0;          // a scene: every file in its folder
+  std::filesystem::file_time_type last_used;
+};
+
+struct CacheContents {
+  std::vector<CacheEntry> entries;  // least recently used first (ties by path)
+  uint64_t scene_bytes = 0;
+  uint64_t detection_bytes = 0;
+  int scenes = 0;
+  int detections = 0;
+  uint64_t bytes() const { return scene_bytes + detection_bytes; }
+};
+
+// The scene folders (32 hex digits) and detection entries (detections/*.det)
+// under `root`; an absent root holds nothing. Throws hcpf::RunError when a
+// folder cannot be read.
+CacheContents ScanCache(const std::filesystem::path& root);
+
+// The entries to remove, least recently used first, so that what stays is
+// at most `max_bytes`: a prefix of contents.entries.
+std::vector<CacheEntry> PruneOrder(const CacheContents& contents, uint64_t max_bytes);
+
+// Removes `entries` (a scene's folder with its files); throws hcpf::RunError
+// naming the first that cannot be removed.
+void RemoveCacheEntries(const std::vector<CacheEntry>& entries);
+
+// Marks a cache entry used now (its modification time); errors are ignored:
+// a read-only cache is still a cache.
+void MarkUsed(const std::filesystem::path& path);
+
+// A size as written on the command line: bytes ("1048576") or a number with
+// the suffix K, M, G or T (powers of 1024, "500M", "1.5G"). Throws
+// hcpf::InputError naming `option`, what is expected and what was found.
+uint64_t ParseSize(std::string_view text, std::string_view option);
+
+// "1.4 GiB", "512 KiB", "300 B".
+std::string FormatSize(uint64_t bytes);
+
+}  // namespace hcpf::scenarios

@@ -1,0 +1,133 @@
+#include "hcpf/scenarios/cache.h"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cctype>
+#include <cmath>
+#include <string>
+#include <system_error>
+
+#include "hcpf/core/error.h"
+
+namespace hcpf::scenarios {
+namespace fs = std::filesystem;
+namespace {
+
+// A scene folder's name: renderer::PixelHash, 32 lower-case hex digits.
+bool IsSceneName(const std::string& name) {
+  return name.size() == 32 && std::all_of(name.begin(), name.end(), [](char c) {
+           return (c >= '0' && c <= '9') || (c >= 'a' && c <= 'f');
+         });
+}
+
+[[noreturn]] void CannotRead(const fs::path& path, const std::error_code& ec) {
+  throw RunError(fmt::format("cannot read the cache folder {}: {}", path.string(), ec.message()));
+}
+
+}  // namespace
+
+CacheContents ScanCache(const fs::path& root) {
+  CacheContents out;
+  std::error_code ec;
+  if (!fs::is_directory(root, ec)) return out;
+  for (fs::directory_iterator it(root, ec), end; !ec && it != end; it.increment(ec)) {
+    const fs::directory_entry& e = *it;
+    if (!e.is_directory(ec) || !IsSceneName(e.path().filename().string())) continue;
+    CacheEntry scene{.kind = CacheEntry::Kind::kScene, .path = e.path()};
+    scene.last_used = fs::last_write_time(e.path(), ec);
+    if (ec) CannotRead(e.path(), ec);
+    for (fs::directory_iterator f(e.path(), ec); !ec && f != end; f.increment(ec)) {
+      if (f->is_regular_file(ec)) scene.bytes += f->file_size(ec);
+    }
+    if (ec) CannotRead(e.path(), ec);
+    out.scene_bytes += scene.bytes;
+    ++out.scenes;
+    out.entries.push_back(std::move(scene));
+  }
+  if (ec) CannotRead(root, ec);
+  const fs::path detections = root / "detections";
+  if (fs::is_directory(detections, ec)) {
+    for (fs::directory_iterator it(detections, ec), end; !ec && it != end; it.increment(ec)) {
+      if (!it->is_regular_file(ec) || it->path().extension() != ".det") continue;
+      CacheEntry d{.kind = CacheEntry::Kind::kDetection, .path = it->path()};
+      d.bytes = it->file_size(ec);
+      if (!ec) d.last_used = it->last_write_time(ec);
+      if (ec) CannotRead(it->path(), ec);
+      out.detection_bytes += d.bytes;
+      ++out.detections;
+      out.entries.push_back(std::move(d));
+    }
+    if (ec) CannotRead(detections, ec);
+  }
+  std::sort(out.entries.begin(), out.entries.end(), [](const CacheEntry& a, const CacheEntry& b) {
+    return a.last_used != b.last_used ? a.last_used < b.last_used : a.path < b.path;
+  });
+  return out;
+}
+
+std::vector<CacheEntry> PruneOrder(const CacheContents& contents, uint64_t max_bytes) {
+  std::vector<CacheEntry> out;
+  uint64_t kept = contents.bytes();
+  for (const CacheEntry& e : contents.entries) {
+    if (kept <= max_bytes) break;
+    out.push_back(e);
+    kept -= e.bytes;
+  }
+  return out;
+}
+
+void RemoveCacheEntries(const std::vector<CacheEntry>& entries) {
+  for (const CacheEntry& e : entries) {
+    std::error_code ec;
+    fs::remove_all(e.path, ec);
+    if (ec) {
+      throw RunError(fmt::format("cannot remove the cache entry {}: {}", e.path.string(),
+                                 ec.message()));
+    }
+  }
+}
+
+void MarkUsed(const fs::path& path) {
+  std::error_code ec;
+  fs::last_write_time(path, fs::file_time_type::clock::now(), ec);
+}
+
+uint64_t ParseSize(std::string_view text, std::string_view option) {
+  const auto fail = [&]() -> uint64_t {
+    throw InputError(SourceLocation{.file = "command line", .key = std::string(option)},
+                     "a size: bytes (1048576) or a number with K, M, G or T (powers of 1024: "
+                     "500M, 1.5G)",
+                     fmt::format("\"{}\"", text));
+  };
+  std::string s(text);
+  if (s.empty()) return fail();
+  double unit = 1.0;
+  const char last = static_cast<char>(std::toupper(static_cast<unsigned char>(s.back())));
+  const std::string units = "KMGT";
+  if (const size_t at = units.find(last); at != std::string::npos) {
+    unit = std::pow(1024.0, static_cast<double>(at + 1));
+    s.pop_back();
+  }
+  if (s.empty() || !std::all_of(s.begin(), s.end(), [](char c) {
+        return (c >= '0' && c <= '9') || c == '.';
+      }) || std::count(s.begin(), s.end(), '.') > 1 || s == ".") {
+    return fail();
+  }
+  const double value = std::stod(s) * unit;
+  if (!std::isfinite(value) || value >= 9.0e18) return fail();  // llround's range
+  return static_cast<uint64_t>(std::llround(value));
+}
+
+std::string FormatSize(uint64_t bytes) {
+  static const char* const kUnits[] = {"B", "KiB", "MiB", "GiB", "TiB"};
+  double v = static_cast<double>(bytes);
+  int u = 0;
+  while (v >= 1024.0 && u < 4) {
+    v /= 1024.0;
+    ++u;
+  }
+  return u == 0 ? fmt::format("{} B", bytes) : fmt::format("{:.1f} {}", v, kUnits[u]);
+}
+
+}  // namespace hcpf::scenarios

@@ -1,0 +1,143 @@
+// hcpf/scenarios/cache.h: scanning a cache folder, the order of pruning,
+// sizes on the command line. The folder is built by hand: its sizes and
+// times are the test's, not the code's.
+
+#include "hcpf/scenarios/cache.h"
+
+#include <gtest/gtest.h>
+
+#include <chrono>
+#include <fstream>
+#include <string>
+
+#include "hcpf/core/error.h"
+
+namespace hcpf::scenarios {
+namespace {
+
+namespace fs = std::filesystem;
+using std::chrono::hours;
+
+fs::path FreshCacheDir(const std::string& name) {
+  const fs::path dir = fs::temp_directory_path() / ("hcpf-cache-test-" + name);
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  return dir;
+}
+
+void WriteBytes(const fs::path& path, size_t n) {
+  fs::create_directories(path.parent_path());
+  std::ofstream(path, std::ios::binary) << std::string(n, 'x');
+}
+
+// Two scenes (a: 300 + 100 bytes, used 30 h ago; b: 500 bytes, 10 h ago),
+// three detector outputs (d1 50 bytes 40 h ago, d2 70 bytes 20 h ago, d3 80
+// bytes now) and what the cache never touches: a folder whose name is not a
+// scene hash, a file at the top, a detections/ file that is not .det.
+struct HandCache {
+  fs::path root;
+  fs::path a, b, d1, d2, d3;
+};
+
+HandCache MakeHandCache(const std::string& name) {
+  HandCache c;
+  c.root = FreshCacheDir(name);
+  const auto now = fs::file_time_type::clock::now();
+  c.a = c.root / "0123456789abcdef0123456789abcdef";
+  c.b = c.root / "fedcba9876543210fedcba9876543210";
+  WriteBytes(c.a / "000000.frame", 300);
+  WriteBytes(c.a / "000000.json", 100);
+  WriteBytes(c.b / "000000.frame", 500);
+  fs::last_write_time(c.a, now - hours(30));
+  fs::last_write_time(c.b, now - hours(10));
+  c.d1 = c.root / "detections" / "k1.det";
+  c.d2 = c.root / "detections" / "k2.det";
+  c.d3 = c.root / "detections" / "k3.det";
+  WriteBytes(c.d1, 50);
+  WriteBytes(c.d2, 70);
+  WriteBytes(c.d3, 80);
+  fs::last_write_time(c.d1, now - hours(40));
+  fs::last_write_time(c.d2, now - hours(20));
+  WriteBytes(c.root / "not-a-scene" / "000000.frame", 1000);
+  WriteBytes(c.root / "notes.txt", 1000);
+  WriteBytes(c.root / "detections" / "k4.det.tmp", 1000);
+  return c;
+}
+
+TEST(Cache, ScanCountsScenesAndDetectionsLeastRecentlyUsedFirst) {
+  const HandCache c = MakeHandCache("scan");
+  const CacheContents contents = ScanCache(c.root);
+  EXPECT_EQ(contents.scenes, 2);
+  EXPECT_EQ(contents.detections, 3);
+  EXPECT_EQ(contents.scene_bytes, 900u);
+  EXPECT_EQ(contents.detection_bytes, 200u);
+  EXPECT_EQ(contents.bytes(), 1100u);
+  ASSERT_EQ(contents.entries.size(), 5u);
+  const std::vector<fs::path> order = {c.d1, c.a, c.d2, c.b, c.d3};
+  for (size_t i = 0; i < order.size(); ++i) EXPECT_EQ(contents.entries[i].path, order[i]) << i;
+  EXPECT_EQ(contents.entries[1].kind, CacheEntry::Kind::kScene);
+  EXPECT_EQ(contents.entries[1].bytes, 400u);
+  // An absent folder holds nothing.
+  EXPECT_EQ(ScanCache(c.root / "absent").entries.size(), 0u);
+}
+
+// 1100 bytes; to keep at most 600: d1 (50) leaves 1050, a (400) 650, d2
+// (70) 580. At most 1100: nothing. At most 0: everything.
+TEST(Cache, PruneRemovesTheLeastRecentlyUsedUntilTheRestFits) {
+  const HandCache c = MakeHandCache("prune");
+  const CacheContents contents = ScanCache(c.root);
+  const std::vector<CacheEntry> remove = PruneOrder(contents, 600);
+  ASSERT_EQ(remove.size(), 3u);
+  EXPECT_EQ(remove[0].path, c.d1);
+  EXPECT_EQ(remove[1].path, c.a);
+  EXPECT_EQ(remove[2].path, c.d2);
+  EXPECT_TRUE(PruneOrder(contents, 1100).empty());
+  EXPECT_EQ(PruneOrder(contents, 0).size(), 5u);
+
+  RemoveCacheEntries(remove);
+  EXPECT_FALSE(fs::exists(c.a));
+  EXPECT_FALSE(fs::exists(c.d1));
+  EXPECT_FALSE(fs::exists(c.d2));
+  EXPECT_TRUE(fs::exists(c.b / "000000.frame"));
+  EXPECT_TRUE(fs::exists(c.d3));
+  // What is not a cache entry stays.
+  EXPECT_TRUE(fs::exists(c.root / "not-a-scene" / "000000.frame"));
+  EXPECT_TRUE(fs::exists(c.root / "notes.txt"));
+  EXPECT_TRUE(fs::exists(c.root / "detections" / "k4.det.tmp"));
+  EXPECT_EQ(ScanCache(c.root).bytes(), 580u);
+}
+
+// A use moves an entry to the back of the order.
+TEST(Cache, MarkUsedMakesAnEntryTheMostRecent) {
+  const HandCache c = MakeHandCache("mark");
+  MarkUsed(c.d1);
+  MarkUsed(c.a);
+  const CacheContents contents = ScanCache(c.root);
+  EXPECT_EQ(contents.entries[0].path, c.d2);
+  EXPECT_EQ(contents.entries[1].path, c.b);
+  MarkUsed(c.root / "absent");  // ignored
+}
+
+TEST(Cache, SizesAreBytesOrPowersOf1024) {
+  EXPECT_EQ(ParseSize("1048576", "--max-size"), 1048576u);
+  EXPECT_EQ(ParseSize("500K", "--max-size"), 500u * 1024u);
+  EXPECT_EQ(ParseSize("500m", "--max-size"), 500u * 1024u * 1024u);
+  EXPECT_EQ(ParseSize("1.5G", "--max-size"), 1536u * 1024u * 1024u);
+  EXPECT_EQ(ParseSize("2T", "--max-size"), 2ull << 40);
+  EXPECT_EQ(ParseSize("0", "--max-size"), 0u);
+  for (const char* bad : {"", "G", "1.2.3G", "-5M", "5 M", "5MB", "ten", ".", "1e3"}) {
+    SCOPED_TRACE(bad);
+    try {
+      ParseSize(bad, "--max-size");
+      ADD_FAILURE() << "accepted";
+    } catch (const InputError& e) {
+      EXPECT_EQ(e.where().key, "--max-size");
+    }
+  }
+  EXPECT_EQ(FormatSize(300), "300 B");
+  EXPECT_EQ(FormatSize(512 * 1024), "512.0 KiB");
+  EXPECT_EQ(FormatSize(3u * 1024u * 1024u * 1024u / 2u), "1.5 GiB");
+}
+
+}  // namespace
+}  // namespace hcpf::scenarios

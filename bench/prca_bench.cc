@@ -20,19 +20,24 @@ using namespace hcpf;
 using namespace hcpf::vision;
 using namespace hcpf::bench;
 
-void BM_PrcaFrame(benchmark::State& state) {
-  const Scene& scene = GetScene(0.0);
-  const auto models = std::span(scene.models).first(static_cast<size_t>(state.range(0)));
-  const auto detector = MakePrcaDetector(PrcaOptions{});
+// Times `detector` on `input` and reports how many detections it made.
+void TimeDetect(benchmark::State& state, const PrcaOptions& options, const DetectorInput& input) {
+  const auto detector = MakePrcaDetector(options);
   Rng rng(1);
   size_t found = 0;
   for (auto _ : state) {
-    const DetectorOutput out = detector->Detect({.image = scene.frame, .models = models}, rng);
+    const DetectorOutput out = detector->Detect(input, rng);
     found = out.detections.size();
     benchmark::DoNotOptimize(out.maps.data());
   }
   state.counters["detections"] = static_cast<double>(found);
   state.SetItemsProcessed(state.iterations());
+}
+
+void BM_PrcaFrame(benchmark::State& state) {
+  const Scene& scene = GetScene(0.0);
+  const auto models = std::span(scene.models).first(static_cast<size_t>(state.range(0)));
+  TimeDetect(state, PrcaOptions{}, {.image = scene.frame, .models = models});
 }
 BENCHMARK(BM_PrcaFrame)->Arg(1)->Arg(5)->Unit(benchmark::kMillisecond);
 
@@ -43,34 +48,15 @@ void BM_PrcaFrameScales(benchmark::State& state) {
   const Scene& scene = GetScene(0.0);
   PrcaOptions options;
   options.scale_min = 0.5;
-  const auto detector = MakePrcaDetector(options);
-  Rng rng(1);
-  size_t found = 0;
-  for (auto _ : state) {
-    const DetectorOutput out =
-        detector->Detect({.image = scene.frame, .models = scene.models}, rng);
-    found = out.detections.size();
-    benchmark::DoNotOptimize(out.maps.data());
-  }
-  state.counters["detections"] = static_cast<double>(found);
-  state.SetItemsProcessed(state.iterations());
+  TimeDetect(state, options, {.image = scene.frame, .models = scene.models});
 }
 BENCHMARK(BM_PrcaFrameScales)->Unit(benchmark::kMillisecond);
 
 void BM_PrcaFrameWindowed(benchmark::State& state) {
   const Scene& scene = GetScene(0.0);
   const auto models = std::span(scene.models).first(static_cast<size_t>(state.range(0)));
-  const auto detector = MakePrcaDetector(PrcaOptions{});
-  Rng rng(1);
-  size_t found = 0;
-  for (auto _ : state) {
-    const DetectorOutput out =
-        detector->Detect({.image = scene.frame, .models = models, .windows = scene.windows}, rng);
-    found = out.detections.size();
-    benchmark::DoNotOptimize(out.maps.data());
-  }
-  state.counters["detections"] = static_cast<double>(found);
-  state.SetItemsProcessed(state.iterations());
+  TimeDetect(state, PrcaOptions{},
+             {.image = scene.frame, .models = models, .windows = scene.windows});
 }
 BENCHMARK(BM_PrcaFrameWindowed)->Arg(5)->Unit(benchmark::kMillisecond);
 
@@ -91,17 +77,7 @@ BENCHMARK_CAPTURE(BM_PrcaFormClusters, noise, 4.0)->Unit(benchmark::kMillisecond
 
 void BM_PrcaFrameNoise(benchmark::State& state) {
   const Scene& scene = GetScene(4.0);
-  const auto detector = MakePrcaDetector(PrcaOptions{});
-  Rng rng(1);
-  size_t found = 0;
-  for (auto _ : state) {
-    const DetectorOutput out =
-        detector->Detect({.image = scene.frame, .models = scene.models}, rng);
-    found = out.detections.size();
-    benchmark::DoNotOptimize(out.maps.data());
-  }
-  state.counters["detections"] = static_cast<double>(found);
-  state.SetItemsProcessed(state.iterations());
+  TimeDetect(state, PrcaOptions{}, {.image = scene.frame, .models = scene.models});
 }
 BENCHMARK(BM_PrcaFrameNoise)->Unit(benchmark::kMillisecond);
 

@@ -45,8 +45,9 @@ Command AddCacheCommand(CLI::App& parent) {
   app->add_flag("--dry-run", options->dry_run,
                 "With --max-size: list what would be removed, remove nothing");
   return {app, [options] {
-            const uint64_t max_bytes =
-                options->max_size.empty() ? 0 : scenarios::ParseSize(options->max_size, "--max-size");
+            const uint64_t max_bytes = options->max_size.empty()
+                                           ? 0
+                                           : scenarios::ParseSize(options->max_size, "--max-size");
             const scenarios::CacheContents contents = scenarios::ScanCache(options->cache);
             std::printf("%s\n", options->cache.c_str());
             std::printf("  %d scene(s) of rendered frames: %s\n", contents.scenes,
@@ -71,13 +72,12 @@ Command AddCacheCommand(CLI::App& parent) {
               }
             }
             if (!options->dry_run) scenarios::RemoveCacheEntries(remove);
-            std::printf("  %s %d scene(s) and %d detector output(s), %s, least recently used "
-                        "first: %s left (--max-size %s)\n",
-                        options->dry_run ? "would remove" : "removed", scenes,
-                        static_cast<int>(remove.size()) - scenes,
-                        scenarios::FormatSize(freed).c_str(),
-                        scenarios::FormatSize(contents.bytes() - freed).c_str(),
-                        options->max_size.c_str());
+            std::printf(
+                "  %s %d scene(s) and %d detector output(s), %s, least recently used "
+                "first: %s left (--max-size %s)\n",
+                options->dry_run ? "would remove" : "removed", scenes,
+                static_cast<int>(remove.size()) - scenes, scenarios::FormatSize(freed).c_str(),
+                scenarios::FormatSize(contents.bytes() - freed).c_str(), options->max_size.c_str());
             return 0;
           }};
 }

@@ -82,8 +82,8 @@ void RemoveCacheEntries(const std::vector<CacheEntry>& entries) {
     std::error_code ec;
     fs::remove_all(e.path, ec);
     if (ec) {
-      throw RunError(fmt::format("cannot remove the cache entry {}: {}", e.path.string(),
-                                 ec.message()));
+      throw RunError(
+          fmt::format("cannot remove the cache entry {}: {}", e.path.string(), ec.message()));
     }
   }
 }
@@ -109,9 +109,9 @@ uint64_t ParseSize(std::string_view text, std::string_view option) {
     unit = std::pow(1024.0, static_cast<double>(at + 1));
     s.pop_back();
   }
-  if (s.empty() || !std::all_of(s.begin(), s.end(), [](char c) {
-        return (c >= '0' && c <= '9') || c == '.';
-      }) || std::count(s.begin(), s.end(), '.') > 1 || s == ".") {
+  if (s.empty() ||
+      !std::all_of(s.begin(), s.end(), [](char c) { return (c >= '0' && c <= '9') || c == '.'; }) ||
+      std::count(s.begin(), s.end(), '.') > 1 || s == ".") {
     return fail();
   }
   const double value = std::stod(s) * unit;

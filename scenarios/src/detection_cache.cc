@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 #include <link.h>
 #include <unistd.h>
+#include <zstd.h>
 
 #include <cstring>
 #include <fstream>
@@ -21,7 +22,14 @@ namespace {
 
 // "HCPFDET" + format version. Bump the version when the layout or the
 // meaning of a stored output changes: entries of another version are misses.
-constexpr char kMagic[8] = {'H', 'C', 'P', 'F', 'D', 'E', 'T', '1'};
+// Version 2: the payload compressed by zstd (version 1 stored it raw; the
+// maps, mostly zeros and smooth, shrink to a fifth, docs/vision.md).
+constexpr char kMagic[8] = {'H', 'C', 'P', 'F', 'D', 'E', 'T', '2'};
+// zstd level 1: fast to write, and higher levels gain little on the maps.
+constexpr int kZstdLevel = 1;
+// No stored output is anywhere near this; a larger size read from a damaged
+// header is a miss, not an allocation.
+constexpr uint64_t kMaxPayloadBytes = uint64_t{1} << 30;
 
 class Writer {
  public:
@@ -222,17 +230,24 @@ std::optional<vision::DetectorOutput> DetectionCache::Load(const std::string& ke
   if (!in) return std::nullopt;
   const std::vector<char> bytes((std::istreambuf_iterator<char>(in)),
                                 std::istreambuf_iterator<char>());
-  // magic, payload, XXH3-64 of the payload
-  constexpr size_t kOverhead = sizeof(kMagic) + sizeof(uint64_t);
+  // magic, u64 payload bytes, the payload compressed by zstd, XXH3-64 of the
+  // payload.
+  constexpr size_t kOverhead = sizeof(kMagic) + 2 * sizeof(uint64_t);
   if (bytes.size() < kOverhead || std::memcmp(bytes.data(), kMagic, sizeof(kMagic)) != 0) {
     return std::nullopt;
   }
-  const char* payload = bytes.data() + sizeof(kMagic);
-  const size_t payload_size = bytes.size() - kOverhead;
+  uint64_t payload_size = 0;
   uint64_t checksum = 0;
-  std::memcpy(&checksum, payload + payload_size, sizeof(checksum));
-  if (checksum != XXH3_64bits(payload, payload_size)) return std::nullopt;
-  std::optional<vision::DetectorOutput> out = Decode(payload, payload_size);
+  std::memcpy(&payload_size, bytes.data() + sizeof(kMagic), sizeof(payload_size));
+  std::memcpy(&checksum, bytes.data() + bytes.size() - sizeof(checksum), sizeof(checksum));
+  if (payload_size > kMaxPayloadBytes) return std::nullopt;
+  const char* compressed = bytes.data() + sizeof(kMagic) + sizeof(payload_size);
+  const size_t compressed_size = bytes.size() - kOverhead;
+  std::vector<char> payload(static_cast<size_t>(payload_size));
+  const size_t got = ZSTD_decompress(payload.data(), payload.size(), compressed, compressed_size);
+  if (ZSTD_isError(got) || got != payload.size()) return std::nullopt;
+  if (checksum != XXH3_64bits(payload.data(), payload.size())) return std::nullopt;
+  std::optional<vision::DetectorOutput> out = Decode(payload.data(), payload.size());
   if (out) MarkUsed(dir_ / (key + ".det"));  // `hcpf cache --max-size` prunes the least used
   return out;
 }
@@ -245,7 +260,12 @@ void DetectionCache::Store(const std::string& key, const vision::DetectorOutput&
         fmt::format("cannot create detection cache {}: {}", dir_.string(), ec.message()));
   }
   const std::vector<char> payload = Encode(output);
+  const uint64_t payload_size = payload.size();
   const uint64_t checksum = XXH3_64bits(payload.data(), payload.size());
+  std::vector<char> compressed(ZSTD_compressBound(payload.size()));
+  const size_t compressed_size = ZSTD_compress(compressed.data(), compressed.size(), payload.data(),
+                                               payload.size(), kZstdLevel);
+  HCPF_CHECK(!ZSTD_isError(compressed_size)) << ZSTD_getErrorName(compressed_size);
   const auto path = dir_ / (key + ".det");
   // Unique to this process and thread: concurrent runs storing the same key
   // each write their own file and the last rename wins (same contents).
@@ -254,7 +274,8 @@ void DetectionCache::Store(const std::string& key, const vision::DetectorOutput&
   {
     std::ofstream out(tmp, std::ios::binary);
     out.write(kMagic, sizeof(kMagic));
-    out.write(payload.data(), static_cast<std::streamsize>(payload.size()));
+    out.write(reinterpret_cast<const char*>(&payload_size), sizeof(payload_size));
+    out.write(compressed.data(), static_cast<std::streamsize>(compressed_size));
     out.write(reinterpret_cast<const char*>(&checksum), sizeof(checksum));
     if (!out) throw RunError(fmt::format("cannot write {}", tmp.string()));
   }

@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <map>
@@ -322,6 +323,16 @@ TEST(RenderedRun, TheDetectionCacheServesTrackerSweepsAndNeverMisreads) {
     EXPECT_GT(fs::last_write_time(e.path()), two_days_ago + std::chrono::hours(47)) << e.path();
   }
   EXPECT_EQ(ReadFile(dir / "a" / "det" / "det.txt"), ReadFile(dir / "b" / "det" / "det.txt"));
+  // Each entry is stored compressed: "HCPFDET2", the payload's size, then
+  // zstd's frame of it, smaller than the payload (NCC's two maps of floats).
+  for (const auto& e : fs::directory_iterator(dir / "cache" / "detections")) {
+    const std::string bytes = ReadFile(e.path());
+    ASSERT_GT(bytes.size(), 16u);
+    EXPECT_EQ(bytes.substr(0, 8), "HCPFDET2");
+    uint64_t payload = 0;
+    std::memcpy(&payload, bytes.data() + 8, sizeof(payload));
+    EXPECT_LT(bytes.size(), payload) << e.path();
+  }
   // Another detector option: other detections, none from the cache.
   EXPECT_EQ(run("c", " --set observation.ncc.min_correlation=0.95")["detections_from_cache"], 0);
   EXPECT_NE(ReadFile(dir / "a" / "det" / "det.txt"), ReadFile(dir / "c" / "det" / "det.txt"));

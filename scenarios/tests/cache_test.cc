@@ -11,6 +11,7 @@
 #include <string>
 
 #include "hcpf/core/error.h"
+#include "support/process.h"
 
 namespace hcpf::scenarios {
 namespace {
@@ -18,12 +19,7 @@ namespace {
 namespace fs = std::filesystem;
 using std::chrono::hours;
 
-fs::path FreshCacheDir(const std::string& name) {
-  const fs::path dir = fs::temp_directory_path() / ("hcpf-cache-test-" + name);
-  fs::remove_all(dir);
-  fs::create_directories(dir);
-  return dir;
-}
+fs::path FreshCacheDir(const std::string& name) { return hcpf::testing::FreshDir("cache-" + name); }
 
 void WriteBytes(const fs::path& path, size_t n) {
   fs::create_directories(path.parent_path());

@@ -2,15 +2,20 @@
 // Runs a command line through the shell for end-to-end tests and captures
 // its exit code and output.
 
+#include <gtest/gtest.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
 #include <array>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <mutex>
 #include <sstream>
 #include <string>
+#include <system_error>
+#include <vector>
 
 namespace hcpf::testing {
 
@@ -44,13 +49,57 @@ inline std::string ReadFile(const std::filesystem::path& path) {
   return s.str();
 }
 
-// A fresh, empty temporary folder for one test. The process id is part of the
-// name: CTest runs tests in parallel processes, and two builds may test at once.
+namespace internal {
+
+// Removes the folders FreshDir made for a test when the test has passed: a
+// failed test's folder stays for inspection, and HCPF_KEEP_TEST_DIRS=1 keeps
+// every one. (Kept, they had grown to 27 GB of /tmp on the development
+// machine: every run of the suite leaves new ones, named by process id.)
+class FreshDirCleaner : public ::testing::EmptyTestEventListener {
+ public:
+  void Add(const std::filesystem::path& dir) {
+    const std::lock_guard<std::mutex> lock(mutex_);
+    dirs_.push_back(dir);
+  }
+  void OnTestEnd(const ::testing::TestInfo& info) override {
+    const std::lock_guard<std::mutex> lock(mutex_);
+    const char* keep = std::getenv("HCPF_KEEP_TEST_DIRS");
+    if (info.result()->Passed() && (keep == nullptr || std::string(keep) != "1")) {
+      for (const auto& dir : dirs_) {
+        std::error_code ec;
+        std::filesystem::remove_all(dir, ec);
+      }
+    }
+    dirs_.clear();
+  }
+
+ private:
+  std::mutex mutex_;
+  std::vector<std::filesystem::path> dirs_;
+};
+
+// The one cleaner of this test program, appended to GoogleTest's listeners
+// (which own it) on first use.
+inline FreshDirCleaner& Cleaner() {
+  static FreshDirCleaner* const cleaner = [] {
+    auto* c = new FreshDirCleaner;
+    ::testing::UnitTest::GetInstance()->listeners().Append(c);
+    return c;
+  }();
+  return *cleaner;
+}
+
+}  // namespace internal
+
+// A fresh, empty temporary folder for one test, removed when the test passes
+// (internal::FreshDirCleaner). The process id is part of the name: CTest runs
+// tests in parallel processes, and two builds may test at once.
 inline std::filesystem::path FreshDir(const std::string& name) {
   const auto dir = std::filesystem::temp_directory_path() /
                    ("hcpf-test-" + name + "-" + std::to_string(::getpid()));
   std::filesystem::remove_all(dir);
   std::filesystem::create_directories(dir);
+  internal::Cleaner().Add(dir);
   return dir;
 }
 

@@ -1,12 +1,16 @@
-// hcpf validate FILE.yaml [--set key=value ...] [--print]
+// hcpf validate FILE.yaml [--set key=value ...] [--print]; or a sweep file
 
+#include <fmt/format.h>
 #include <spdlog/spdlog.h>
 
+#include <algorithm>
 #include <iostream>
 #include <memory>
 
 #include "command.h"
+#include "hcpf/core/error.h"
 #include "hcpf/scenarios/scenario.h"
+#include "hcpf/studies/sweep.h"
 
 namespace hcpf::cli {
 
@@ -18,14 +22,33 @@ Command AddValidateCommand(CLI::App& parent) {
   };
   auto options = std::make_shared<Options>();
   CLI::App* app = parent.add_subcommand(
-      "validate", "Check a scenario file: every key, type and range; exit 0 if valid, 2 if not");
-  app->add_option("file", options->file, "Scenario YAML file")->required();
+      "validate",
+      "Check a scenario file (every key, type and range) or a sweep file (and every scenario "
+      "it expands to); exit 0 if valid, 2 if not");
+  app->add_option("file", options->file, "Scenario or sweep YAML file")->required();
   app->add_option("--set", options->sets,
                   "Override a key before validating, e.g. --set tracker.particles=1000 "
                   "(repeatable; list items by index: targets.0.path.speed_mps=4)");
   app->add_flag("--print", options->print,
                 "Print the resolved scenario (every default and seed filled in) to stdout");
   return {app, [options] {
+            // A sweep file: the same checks `hcpf sweep` makes before it runs
+            // anything (every cell's scenario loaded and validated).
+            if (studies::IsSweepFile(options->file)) {
+              if (!options->sets.empty() || options->print) {
+                throw InputError(
+                    SourceLocation{.file = "command line",
+                                   .key = options->sets.empty() ? "--print" : "--set"},
+                    "a scenario file (--set and --print apply to one scenario)",
+                    fmt::format("the sweep file {} (it has base, grid or zip)", options->file));
+              }
+              const studies::SweepSpec spec = studies::LoadSweepFile(options->file);
+              const std::vector<studies::SweepRun> runs = studies::ExpandSweep(spec);
+              const int seeds = std::max(spec.seeds, 1);
+              spdlog::info("{}: valid sweep: {} runs ({} cells x {} seed(s)), every scenario valid",
+                           options->file, runs.size(), runs.size() / seeds, seeds);
+              return 0;
+            }
             std::vector<scenarios::Override> overrides;
             for (const auto& s : options->sets) overrides.push_back(scenarios::ParseOverride(s));
             const scenarios::Scenario scenario =

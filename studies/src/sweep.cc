@@ -290,6 +290,17 @@ SweepSpec LoadSweepText(const std::string& text, const std::string& file_name,
   return ReadSweep(YamlReader::Parse(text, file_name), file_name, dir);
 }
 
+bool IsSweepFile(const std::string& path) {
+  std::error_code ec;
+  if (!fs::is_regular_file(path, ec)) return false;
+  try {
+    const YAML::Node root = YAML::LoadFile(path);
+    return root.IsMap() && (root["base"] || root["grid"] || root["zip"]);
+  } catch (const YAML::Exception&) {
+    return false;
+  }
+}
+
 SweepSpec LoadSweepFile(const std::string& path) {
   if (fs::is_directory(path)) {
     throw InputError(SourceLocation{path, 0, 0, ""}, "a sweep YAML file", "a directory");

@@ -99,6 +99,43 @@ TEST(Cli, CacheReportsAndPrunesTheLeastRecentlyUsed) {
   EXPECT_TRUE(fs::exists(new_scene / "000000.frame"));
 }
 
+// hcpf validate takes a sweep file too (a mapping with base, grid or zip at
+// the top), with the checks hcpf sweep makes before running: 3 particle
+// counts x 2 resamplers = 6 cells x 2 seeds = 12 runs, every scenario valid.
+// A swept value a scenario cannot take is bad input naming its line (line 3:
+// "lots"); --set and --print, which apply to one scenario, are bad input.
+// (Read as a scenario, as before, the sweep's `seeds: 2` was "expected a
+// mapping of keys".)
+TEST(Cli, ValidateChecksSweepFilesToo) {
+  const fs::path dir = FreshDir("validate-sweep");
+  const auto write = [&](const std::string& name, const std::string& particles) {
+    std::ofstream(dir / name) << "base: " << LibraryScenario("crossing") << "\n"
+                              << "grid:\n"
+                              << "  tracker.particles: [100, 200, " << particles << "]\n"
+                              << "  tracker.resampling.method: [systematic, charged]\n"
+                              << "seeds: 2\n";
+    return (dir / name).string();
+  };
+  const std::string good = write("good.yaml", "400");
+  auto r = RunCommand(kHcpf + " validate " + good);
+  EXPECT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("valid sweep: 12 runs (6 cells x 2 seed(s)), every scenario valid"),
+            std::string::npos)
+      << r.output;
+  const std::string bad = write("bad.yaml", "lots");
+  r = RunCommand(kHcpf + " validate " + bad);
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_NE(r.output.find("bad.yaml:3"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("\"lots\""), std::string::npos) << r.output;
+  r = RunCommand(kHcpf + " validate " + good + " --print");
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_NE(r.output.find("--print: expected a scenario file"), std::string::npos) << r.output;
+  // A scenario is validated as one, as before.
+  r = RunCommand(kHcpf + " validate " + LibraryScenario("crossing"));
+  EXPECT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("valid scenario \"crossing\""), std::string::npos) << r.output;
+}
+
 TEST(Cli, RunWritesEveryOutputAndSucceeds) {
   const fs::path out = FreshDir("run") / "crossing";
   const auto r =

@@ -105,6 +105,11 @@ struct SweepRun {
 // The derived seed of seed index i: Rng(sweep_seed).Fork("sweep/seed", i).identity().
 uint64_t SweepSeed(uint64_t sweep_seed, int index);
 
+// Whether `path` reads as a sweep file rather than a scenario: a YAML mapping
+// with `base`, `grid` or `zip` at the top, keys no scenario has. False when
+// it cannot be read or parsed (the scenario reader then says why).
+bool IsSweepFile(const std::string& path);
+
 // Loads and validates a sweep file. `base` is looked for relative to the
 // sweep file, then the current directory, then the project root. Throws
 // InputError (file:line:col, key, expected, found, did-you-mean).

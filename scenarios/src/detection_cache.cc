@@ -226,7 +226,8 @@ std::string DetectionKey::Finish() const {
 DetectionCache::DetectionCache(const std::filesystem::path& root) : dir_(root / "detections") {}
 
 std::optional<vision::DetectorOutput> DetectionCache::Load(const std::string& key) const {
-  std::ifstream in(dir_ / (key + ".det"), std::ios::binary);
+  const auto path = dir_ / (key + ".det");
+  std::ifstream in(path, std::ios::binary);
   if (!in) return std::nullopt;
   const std::vector<char> bytes((std::istreambuf_iterator<char>(in)),
                                 std::istreambuf_iterator<char>());
@@ -248,7 +249,7 @@ std::optional<vision::DetectorOutput> DetectionCache::Load(const std::string& ke
   if (ZSTD_isError(got) || got != payload.size()) return std::nullopt;
   if (checksum != XXH3_64bits(payload.data(), payload.size())) return std::nullopt;
   std::optional<vision::DetectorOutput> out = Decode(payload.data(), payload.size());
-  if (out) MarkUsed(dir_ / (key + ".det"));  // `hcpf cache --max-size` prunes the least used
+  if (out) MarkUsed(path);  // `hcpf cache --max-size` prunes the least used
   return out;
 }
 

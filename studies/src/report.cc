@@ -859,9 +859,17 @@ struct Glance {
   int cells() const { return better + worse + not_significant + no_pairs; }
 };
 
-std::vector<Glance> GlanceOf(const Paired& paired, const StoreMeta& meta) {
-  std::vector<Glance> out;
-  if (paired.series_index < 0) return out;
+// The table: one row per metric and compared value; the "no pairs" column
+// only when some row has a cell without pairs.
+struct GlanceTable {
+  std::vector<Glance> rows;
+  bool no_pairs_column = false;
+};
+
+GlanceTable GlanceOf(const Paired& paired, const StoreMeta& meta) {
+  GlanceTable table;
+  std::vector<Glance>& out = table.rows;
+  if (paired.series_index < 0) return table;
   const auto si = static_cast<size_t>(paired.series_index);
   for (const std::string& m : meta.report.y) {
     const size_t first = out.size();
@@ -891,7 +899,8 @@ std::vector<Glance> GlanceOf(const Paired& paired, const StoreMeta& meta) {
       }
     }
   }
-  return out;
+  for (const Glance& g : out) table.no_pairs_column = table.no_pairs_column || g.no_pairs > 0;
+  return table;
 }
 
 std::string FindingsIntro(const Paired& paired, const StoreMeta& meta) {
@@ -911,19 +920,17 @@ std::string GlanceIntro(const Paired& paired, const StoreMeta& meta) {
       meta.report.series, paired.reference);
 }
 
-std::string FindingsHtml(const std::vector<Finding>& findings, const Paired& paired,
-                         const StoreMeta& meta) {
+std::string FindingsHtml(const std::vector<Finding>& findings, const GlanceTable& glance,
+                         const Paired& paired, const StoreMeta& meta) {
   if (findings.empty()) return {};
   std::string h = "<h2 id=\"findings\">Findings</h2>\n<p>" +
                   EscapeMarkup(FindingsIntro(paired, meta)) + "</p>\n";
-  const std::vector<Glance> glance = GlanceOf(paired, meta);
-  bool any_no_pairs = false;
-  for (const Glance& g : glance) any_no_pairs = any_no_pairs || g.no_pairs > 0;
+  const bool any_no_pairs = glance.no_pairs_column;
   h += "<p>" + EscapeMarkup(GlanceIntro(paired, meta)) +
        "</p>\n<table id=\"glance\"><tr><th>metric</th><th>compared</th><th>better</th>"
        "<th>worse</th><th>not significant</th>" +
        std::string(any_no_pairs ? "<th>no pairs</th>" : "") + "<th>cells</th></tr>\n";
-  for (const Glance& g : glance) {
+  for (const Glance& g : glance.rows) {
     const auto coloured = [](int n, const char* colour) {
       return n > 0 ? fmt::format("<td style=\"background:{}\">{}</td>", colour, n)
                    : fmt::format("<td>{}</td>", n);
@@ -944,16 +951,14 @@ std::string FindingsHtml(const std::vector<Finding>& findings, const Paired& pai
   return h + "</ul>\n";
 }
 
-std::string FindingsMarkdown(const std::vector<Finding>& findings, const Paired& paired,
-                             const StoreMeta& meta) {
+std::string FindingsMarkdown(const std::vector<Finding>& findings, const GlanceTable& glance,
+                             const Paired& paired, const StoreMeta& meta) {
   std::string md = "# Findings\n\n" + FindingsIntro(paired, meta) + "\n\n";
-  const std::vector<Glance> glance = GlanceOf(paired, meta);
-  bool any_no_pairs = false;
-  for (const Glance& g : glance) any_no_pairs = any_no_pairs || g.no_pairs > 0;
+  const bool any_no_pairs = glance.no_pairs_column;
   md += GlanceIntro(paired, meta) + "\n\n| metric | compared | better | worse | not significant |" +
         std::string(any_no_pairs ? " no pairs |" : "") + " cells |\n|---|---|---|---|---|" +
         std::string(any_no_pairs ? "---|" : "") + "---|\n";
-  for (const Glance& g : glance) {
+  for (const Glance& g : glance.rows) {
     md += fmt::format("| {} | {} \u2212 {} | {} | {} | {} |{} {} |\n", g.metric, g.compared,
                       paired.reference, g.better, g.worse, g.not_significant,
                       any_no_pairs ? fmt::format(" {} |", g.no_pairs) : "", g.cells());
@@ -1160,9 +1165,10 @@ ReportResult WriteReport(const ReportOptions& options) {
   if (!paired.rows.empty()) WriteTextFile((out / "paired.csv").string(), PairedCsv(paired, meta));
   // The findings, also as findings.md (read without a browser).
   const std::vector<Finding> findings = FindingsOf(cells, paired, meta, layout);
+  const GlanceTable glance = GlanceOf(paired, meta);
   result.findings = static_cast<int>(findings.size());
   if (!findings.empty()) {
-    WriteTextFile((out / "findings.md").string(), FindingsMarkdown(findings, paired, meta));
+    WriteTextFile((out / "findings.md").string(), FindingsMarkdown(findings, glance, paired, meta));
   } else {
     fs::remove(out / "findings.md", ec);  // from an earlier report of this folder
   }
@@ -1170,7 +1176,7 @@ ReportResult WriteReport(const ReportOptions& options) {
   WriteTextFile(result.csv_path, SummaryCsv(cells, meta.swept_keys));
   result.html_path = (out / "report.html").string();
   WriteTextFile(result.html_path, ReportHtml(dir, link_prefix, meta, runs, cells, layout, svgs,
-                                             FindingsHtml(findings, paired, meta),
+                                             FindingsHtml(findings, glance, paired, meta),
                                              PairedHtml(paired, meta, layout, difference_svgs)));
   result.cells = static_cast<int>(cells.size());
   fs::remove_all(work, ec);

@@ -294,9 +294,11 @@ bool IsSweepFile(const std::string& path) {
   std::error_code ec;
   if (!fs::is_regular_file(path, ec)) return false;
   try {
-    const YAML::Node root = YAML::LoadFile(path);
+    // The reader every sweep and scenario goes through (its guards against
+    // yaml-cpp's hangs included).
+    const YAML::Node root = YamlReader::ParseFile(path);
     return root.IsMap() && (root["base"] || root["grid"] || root["zip"]);
-  } catch (const YAML::Exception&) {
+  } catch (const InputError&) {
     return false;
   }
 }

@@ -89,6 +89,114 @@ std::vector<int> Match(const DetectionFrame& f, Rule rule, double iou_threshold,
   return match;
 }
 
+// Greedy matching by score over the whole sequence (PrecisionRecall).
+PrecisionRecall ComputePrecisionRecall(std::span<const DetectionFrame> frames,
+                                       const DetectionQualityOptions& options) {
+  PrecisionRecall pr;
+  pr.best_f1 = pr.best_f1_precision = pr.best_f1_recall = pr.best_f1_min_score = kNaN;
+  struct Ranked {
+    double score;
+    size_t frame, detection;
+  };
+  std::vector<Ranked> ranked;
+  std::vector<std::vector<char>> taken(frames.size());
+  int64_t positives = 0;
+  for (size_t i = 0; i < frames.size(); ++i) {
+    for (const DetectionTruth& t : frames[i].truth) {
+      if (t.visible_fraction >= options.min_visible) ++positives;
+    }
+    taken[i].assign(frames[i].truth.size(), 0);
+    for (size_t d = 0; d < frames[i].detections.size(); ++d) {
+      ranked.push_back({frames[i].detections[d].score, i, d});
+    }
+  }
+  if (positives == 0) {
+    pr.average_precision = kNaN;
+    return pr;
+  }
+  // Highest score first; equal scores keep frame and detection order.
+  std::stable_sort(ranked.begin(), ranked.end(),
+                   [](const Ranked& a, const Ranked& b) { return a.score > b.score; });
+  // The target `r` matches: the unmatched compatible one it overlaps most at
+  // IoU >= threshold, among the counted targets (`care`) or the others.
+  const auto best = [&](const Ranked& r, bool care) {
+    const DetectionFrame& f = frames[r.frame];
+    const Detection& det = f.detections[r.detection];
+    int found = -1;
+    double found_iou = 0.0;
+    for (size_t t = 0; t < f.truth.size(); ++t) {
+      const DetectionTruth& truth = f.truth[t];
+      if (taken[r.frame][t] || (truth.visible_fraction >= options.min_visible) != care ||
+          !Compatible(det, truth)) {
+        continue;
+      }
+      const double iou = Iou(det.box, truth.box);
+      if (iou >= options.iou_threshold && (found < 0 || iou > found_iou)) {
+        found = static_cast<int>(t);
+        found_iou = iou;
+      }
+    }
+    return found;
+  };
+  struct Point {
+    double score, precision;
+    int64_t tp, fp;
+  };
+  std::vector<Point> points;  // after each distinct score
+  int64_t tp = 0, fp = 0;
+  for (size_t i = 0; i < ranked.size();) {
+    size_t j = i;
+    for (; j < ranked.size() && ranked[j].score == ranked[i].score; ++j) {
+      if (const int t = best(ranked[j], true); t >= 0) {
+        taken[ranked[j].frame][static_cast<size_t>(t)] = 1;
+        ++tp;
+      } else if (const int u = best(ranked[j], false); u >= 0) {
+        taken[ranked[j].frame][static_cast<size_t>(u)] = 1;  // on a "don't care" target
+      } else {
+        ++fp;
+      }
+    }
+    if (tp + fp > 0) points.push_back({ranked[i].score, Ratio(tp, tp + fp), tp, fp});
+    i = j;
+  }
+  // The envelope from the right: at each point, the best precision at this
+  // recall or more, and the point that has it (the larger recall on a tie).
+  std::vector<size_t> envelope(points.size());
+  for (size_t k = points.size(); k-- > 0;) {
+    envelope[k] = k + 1 < points.size() && points[envelope[k + 1]].precision >= points[k].precision
+                      ? envelope[k + 1]
+                      : k;
+  }
+  double sum = 0.0;
+  size_t first = 0;  // the first point whose recall reaches the current level
+  for (int level = 0; level <= 100; ++level) {
+    // recall >= level / 100, in integers: tp * 100 >= level * positives.
+    while (first < points.size() && points[first].tp * 100 < level * positives) ++first;
+    PrecisionAtRecall& p = pr.curve.emplace_back();
+    p.recall = level / 100.0;
+    if (first < points.size()) {
+      p.precision = points[envelope[first]].precision;
+      p.min_score = points[envelope[first]].score;
+    } else {
+      p.precision = 0.0;
+      p.min_score = kNaN;
+    }
+    sum += p.precision;
+  }
+  pr.average_precision = sum / 101.0;
+  for (const Point& p : points) {
+    if (p.tp == 0) continue;
+    const double f1 = Ratio(2 * p.tp, p.tp + p.fp + positives);
+    if (std::isnan(pr.best_f1) || f1 > pr.best_f1) {
+      pr.best_f1 = f1;
+      pr.best_f1_precision = p.precision;
+      pr.best_f1_recall = Ratio(p.tp, positives);
+      pr.best_f1_min_score = p.score;
+    }
+  }
+  return pr;
+}
+
 }  // namespace
 
 double DetectionCounts::precision() const { return Ratio(tp, tp + fp); }
@@ -174,6 +282,7 @@ DetectionQuality ScoreDetections(std::span<const DetectionFrame> frames,
     std::nth_element(sizes.begin(), mid, sizes.end());
     q.median_size_px = *mid;
   }
+  q.precision_recall = ComputePrecisionRecall(frames, options);
   return q;
 }
 

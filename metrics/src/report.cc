@@ -238,6 +238,22 @@ json TargetsJson(const std::vector<TargetDetections>& targets) {
   return out;
 }
 
+json PrecisionRecallJson(const PrecisionRecall& pr) {
+  json recall = json::array(), precision = json::array(), min_score = json::array();
+  for (const PrecisionAtRecall& p : pr.curve) {
+    recall.push_back(Number(p.recall));
+    precision.push_back(Number(p.precision));
+    min_score.push_back(Number(p.min_score));
+  }
+  return {{"average_precision", Number(pr.average_precision)},
+          {"best_f1",
+           {{"f1", Number(pr.best_f1)},
+            {"precision", Number(pr.best_f1_precision)},
+            {"recall", Number(pr.best_f1_recall)},
+            {"min_score", Number(pr.best_f1_min_score)}}},
+          {"curve", {{"recall", recall}, {"precision", precision}, {"min_score", min_score}}}};
+}
+
 }  // namespace
 
 std::string RunMetricsToJson(const RunMetrics& m) {
@@ -271,7 +287,8 @@ std::string RunMetricsToJson(const RunMetrics& m) {
                       {"by_size_px", BinsJson(d.by_size)},
                       {"by_visibility", BinsJson(d.by_visibility)},
                       {"by_truncation", BinsJson(d.by_truncation)},
-                      {"by_target", TargetsJson(d.by_target)}};
+                      {"by_target", TargetsJson(d.by_target)},
+                      {"precision_recall", PrecisionRecallJson(d.precision_recall)}};
   }
   if (m.camera_motion) {
     const auto summary = [](const CameraMotionErrorSummary& e) {

@@ -190,5 +190,117 @@ TEST(DetectionQuality, NoFramesGiveUndefinedRatios) {
   EXPECT_TRUE(q.by_target.empty());
 }
 
+Detection Scored(double x, double y, double score) {
+  Detection d = Det(x, y, 10, 10);
+  d.score = score;
+  return d;
+}
+
+// Ranking runs over every frame together. Target A (0,0,10,10) in three
+// frames (3 positives); frame 0 has only a false detection (score 0.8),
+// frames 1 and 2 an exact one (0.9 and 0.7). By score: 0.9 tp, 0.8 fp, 0.7
+// tp -> (precision, recall) (1, 1/3), (1/2, 1/3), (2/3, 2/3). Monotone from
+// the right: 1 up to recall 1/3 (the 34 levels 0..0.33, threshold 0.9), 2/3
+// up to 2/3 (0.34..0.66: 33 levels, threshold 0.7), 0 beyond (34 levels).
+// AP = (34 + 33 * 2/3) / 101 = 56/101. F1 = 2tp / (tp + fp + 3): 1/2, 2/5,
+// 2/3 -> the best at threshold 0.7.
+TEST(PrecisionRecall, RankedOverAllFrames) {
+  const DetectionTruth a{ObjectId{1}, BoxPx{0, 0, 10, 10}, 1.0};
+  std::vector<DetectionFrame> frames(3);
+  for (DetectionFrame& f : frames) f.truth = {a};
+  frames[0].detections = {Scored(300, 300, 0.8)};
+  frames[1].detections = {Scored(0, 0, 0.9)};
+  frames[2].detections = {Scored(0, 0, 0.7)};
+  const PrecisionRecall pr = ScoreDetections(frames).precision_recall;
+  ASSERT_EQ(pr.curve.size(), 101u);
+  EXPECT_NEAR(pr.average_precision, 56.0 / 101.0, 1e-12);
+  EXPECT_DOUBLE_EQ(pr.curve[0].precision, 1.0);
+  EXPECT_DOUBLE_EQ(pr.curve[33].precision, 1.0);
+  EXPECT_DOUBLE_EQ(pr.curve[33].min_score, 0.9);
+  EXPECT_DOUBLE_EQ(pr.curve[34].precision, 2.0 / 3.0);
+  EXPECT_DOUBLE_EQ(pr.curve[66].precision, 2.0 / 3.0);
+  EXPECT_DOUBLE_EQ(pr.curve[66].min_score, 0.7);
+  EXPECT_DOUBLE_EQ(pr.curve[67].precision, 0.0);
+  EXPECT_TRUE(std::isnan(pr.curve[67].min_score));
+  EXPECT_DOUBLE_EQ(pr.curve[100].recall, 1.0);
+  EXPECT_NEAR(pr.best_f1, 2.0 / 3.0, 1e-12);
+  EXPECT_NEAR(pr.best_f1_precision, 2.0 / 3.0, 1e-12);
+  EXPECT_NEAR(pr.best_f1_recall, 2.0 / 3.0, 1e-12);
+  EXPECT_DOUBLE_EQ(pr.best_f1_min_score, 0.7);
+}
+
+// Equal scores are one threshold: a true and a false detection both at 0.5
+// give one point (1/2, 1), AP 1/2. Taken one at a time in list order, the
+// true one first, they would give (1, 1) and AP 1.
+TEST(PrecisionRecall, EqualScoresAreOneThreshold) {
+  DetectionFrame f;
+  f.truth = {{ObjectId{1}, BoxPx{0, 0, 10, 10}, 1.0}};
+  f.detections = {Scored(0, 0, 0.5), Scored(300, 300, 0.5)};
+  const PrecisionRecall pr = ScoreDetections(std::vector<DetectionFrame>{f}).precision_recall;
+  EXPECT_DOUBLE_EQ(pr.average_precision, 0.5);
+  for (const PrecisionAtRecall& p : pr.curve) {
+    EXPECT_DOUBLE_EQ(p.precision, 0.5);
+    EXPECT_DOUBLE_EQ(p.min_score, 0.5);
+  }
+}
+
+// Greedy by score, one match per target, "don't care" targets and target
+// labels. A (id 1, 0,0,10,10) counted; C (id 3, 200,0,10,10) visible 0.05.
+//   0.99 labelled target 2, exactly on A: matches nothing -> fp;
+//   0.95 on C: ignored (neither true nor false);
+//   0.9 on A shifted by 1 px (IoU 0.818) -> tp: the greedy match, although
+//   0.6 exactly on A (IoU 1) would overlap more -> A is taken: fp.
+// Points: (0, 0), (0, 0) after the ignored one, (1/2, 1), (1/3, 1); one
+// positive. Every level reads the 0.9 point: AP 1/2, best F1 2/(1+1+1).
+// The optimal matching of the counts gives A to the IoU-1 detection instead
+// (tp 1, fp 2: the curve's last point, 1/3, is the same here).
+TEST(PrecisionRecall, GreedyOneMatchPerTargetDontCareAndLabels) {
+  DetectionFrame f;
+  f.truth = {{ObjectId{1}, BoxPx{0, 0, 10, 10}, 1.0}, {ObjectId{3}, BoxPx{200, 0, 10, 10}, 0.05}};
+  Detection labelled = Scored(0, 0, 0.99);
+  labelled.target = ObjectId{2};
+  f.detections = {Scored(0, 0, 0.6), Scored(1, 0, 0.9), Scored(200, 0, 0.95), labelled};
+  const DetectionQuality q = ScoreDetections(std::vector<DetectionFrame>{f});
+  const PrecisionRecall& pr = q.precision_recall;
+  EXPECT_DOUBLE_EQ(pr.average_precision, 0.5);
+  EXPECT_DOUBLE_EQ(pr.curve[0].min_score, 0.9);
+  EXPECT_DOUBLE_EQ(pr.curve[100].min_score, 0.9);
+  EXPECT_DOUBLE_EQ(pr.curve[100].precision, 0.5);
+  EXPECT_NEAR(pr.best_f1, 2.0 / 3.0, 1e-12);
+  EXPECT_DOUBLE_EQ(pr.best_f1_min_score, 0.9);
+  EXPECT_EQ(q.iou.tp, 1);
+  EXPECT_EQ(q.iou.fp, 2);
+  EXPECT_NEAR(q.mean_iou, 1.0, 1e-12);
+}
+
+// The hand frames: every score 1, one threshold: tp 2, fp 2 (the ignored
+// detection on C is neither), 3 positives -> (1/2, 2/3): 1/2 at the 67
+// levels 0..0.66, AP 67 * 0.5 / 101; its F1 is the counts' 4/7.
+TEST(PrecisionRecall, HandFramesAtOneThreshold) {
+  const DetectionQuality q = ScoreDetections(HandFrames());
+  EXPECT_NEAR(q.precision_recall.average_precision, 67 * 0.5 / 101, 1e-12);
+  EXPECT_DOUBLE_EQ(q.precision_recall.curve[66].precision, 0.5);
+  EXPECT_DOUBLE_EQ(q.precision_recall.curve[67].precision, 0.0);
+  EXPECT_NEAR(q.precision_recall.best_f1, 4.0 / 7.0, 1e-12);
+  EXPECT_NEAR(q.precision_recall.best_f1, q.iou.f1(), 1e-12);
+}
+
+// No detection: AP 0 and no operating point. No counted target: AP undefined.
+TEST(PrecisionRecall, NoDetectionsOrNoTargets) {
+  DetectionFrame f;
+  f.truth = {{ObjectId{1}, BoxPx{0, 0, 10, 10}, 1.0}};
+  PrecisionRecall pr = ScoreDetections(std::vector<DetectionFrame>{f}).precision_recall;
+  EXPECT_EQ(pr.average_precision, 0.0);
+  ASSERT_EQ(pr.curve.size(), 101u);
+  EXPECT_TRUE(std::isnan(pr.curve[0].min_score));
+  EXPECT_TRUE(std::isnan(pr.best_f1));
+  f.truth[0].visible_fraction = 0.05;
+  f.detections = {Scored(0, 0, 0.9)};
+  pr = ScoreDetections(std::vector<DetectionFrame>{f}).precision_recall;
+  EXPECT_TRUE(std::isnan(pr.average_precision));
+  EXPECT_TRUE(pr.curve.empty());
+  EXPECT_TRUE(std::isnan(pr.best_f1_min_score));
+}
+
 }  // namespace
 }  // namespace hcpf::metrics

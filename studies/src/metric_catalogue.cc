@@ -68,6 +68,10 @@ std::span<const CatalogueMetric> MetricCatalogue() {
        "filters re-acquired", "", kCount},
       {"reacquired_correct_fraction", "metrics.json", "/filters/reacquisitions/correct_fraction",
        true, "fraction of filter-frames CORRECT after a re-acquisition", "", kProportion},
+      // Rendered runs: the detector over every score threshold (COCO's
+      // 101-point AP at IoU >= 0.5, docs/vision.md).
+      {"det_ap", "metrics.json", "/detection/precision_recall/average_precision", true,
+       "detection average precision (AP50)", "", kUnit},
   };
   return kMetrics;
 }

@@ -266,8 +266,66 @@ std::string DetectionBinRows(const json& detection, const char* key, const char*
   return rows;
 }
 
-// The detection-quality section of a rendered run with a detector.
-std::string DetectionSection(const json& metrics, const std::string& detector) {
+// A ratio read from metrics.json with three decimals, "–" when undefined.
+std::string Fixed3(double v) { return std::isfinite(v) ? fmt::format("{:.3f}", v) : "–"; }
+
+// The precision-recall curve of metrics.json's detection.precision_recall
+// block (IoU rule, interpolated at 101 recalls) with its best-F1 point, or ""
+// when the block has no curve (no counted target).
+std::string PrecisionRecallSvg(const json& pr, const fs::path& work, const std::string& gnuplot) {
+  const json& curve = JsonMember(pr, "curve");
+  const json& recall = JsonMember(curve, "recall");
+  const json& precision = JsonMember(curve, "precision");
+  if (!recall.is_array() || !precision.is_array() || recall.empty() ||
+      recall.size() != precision.size()) {
+    return "";
+  }
+  const fs::path data = work / "precision_recall.dat";
+  const fs::path best = work / "precision_recall_best.dat";
+  const fs::path svg = work / "precision_recall.svg";
+  const fs::path script = work / "precision_recall.gp";
+  std::string text = "# recall precision\n";
+  for (size_t i = 0; i < recall.size(); ++i) {
+    const double r = recall[i].is_number() ? recall[i].get<double>() : kNaN;
+    const double p = precision[i].is_number() ? precision[i].get<double>() : kNaN;
+    text += fmt::format("{} {}\n", Number(r), Number(p));
+  }
+  WriteTextFile(data.string(), text);
+  const json& f1 = JsonMember(pr, "best_f1");
+  const double best_recall = JsonDouble(f1, "recall");
+  const double best_precision = JsonDouble(f1, "precision");
+  const bool has_best = std::isfinite(best_recall) && std::isfinite(best_precision);
+  WriteTextFile(best.string(), fmt::format("{} {}\n", Number(best_recall), Number(best_precision)));
+  std::string gp;
+  gp += "set terminal svg size 820,440 dynamic font 'sans,11' background rgb 'white'\n";
+  gp += fmt::format("set output {}\n", GpString(svg.string()));
+  gp += fmt::format("set title {} noenhanced\n",
+                    GpString(fmt::format("precision against recall (IoU >= 0.5), every score "
+                                         "threshold: average precision {}",
+                                         Fixed3(JsonDouble(pr, "average_precision")))));
+  gp += "set xlabel 'recall'\nset ylabel 'precision (best at this recall or more)'\n";
+  gp += "set grid\nset key below noenhanced\nset xrange [0:1]\nset yrange [0:1.02]\n";
+  std::string plot =
+      fmt::format("plot {} using 1:2 with lines lw 1.5 lc rgb '{}' title {}",
+                  GpString(data.string()), kPlotColours[0],
+                  GpString("interpolated precision at the 101 recalls 0, 0.01, ..., 1 (COCO)"));
+  if (has_best) {
+    plot +=
+        fmt::format(", \\\n     {} using 1:2 with points pt 7 ps 1.3 lc rgb '{}' title {}",
+                    GpString(best.string()), kPlotColours[1],
+                    GpString(fmt::format("best F1 {} at score >= {}", Fixed3(JsonDouble(f1, "f1")),
+                                         Number(JsonDouble(f1, "min_score")))));
+  }
+  gp += plot + "\n";
+  WriteTextFile(script.string(), gp);
+  RunGnuplot(gnuplot, script);
+  return InlineSvg(ReadWholeFile(svg));
+}
+
+// The detection-quality section of a rendered run with a detector, with the
+// precision-recall plot when there is one.
+std::string DetectionSection(const json& metrics, const std::string& detector,
+                             const std::string& precision_recall_svg) {
   const json& d = JsonMember(metrics, "detection");
   if (!d.is_object()) return "";
   std::string h = "<h2>Detection quality</h2>\n";
@@ -300,6 +358,25 @@ std::string DetectionSection(const json& metrics, const std::string& detector) {
     }
   }
   h += "</table>\n";
+  const json& pr = JsonMember(d, "precision_recall");
+  const json& f1 = JsonMember(pr, "best_f1");
+  if (std::isfinite(JsonDouble(pr, "average_precision"))) {
+    h += fmt::format(
+        "<p>Every score threshold (the detections ranked by score over all frames, each "
+        "matched greedily to the unmatched target it overlaps most, IoU ≥ 0.5): average "
+        "precision <b>{}</b> (COCO's 101-point AP50). {} Only the detections the detector "
+        "reported are ranked: its own thresholds end the curve at its recall.</p>\n",
+        Fixed3(JsonDouble(pr, "average_precision")),
+        std::isfinite(JsonDouble(f1, "f1"))
+            ? fmt::format("The best F1, {}, is at score ≥ {} (precision {}, recall {}).",
+                          Fixed3(JsonDouble(f1, "f1")), Number(JsonDouble(f1, "min_score")),
+                          Fixed3(JsonDouble(f1, "precision")), Fixed3(JsonDouble(f1, "recall")))
+            : std::string("No detection matches a target."));
+  }
+  if (!precision_recall_svg.empty()) {
+    h += fmt::format("<div class=\"plot\" id=\"plot-precision_recall\">\n{}\n</div>\n",
+                     precision_recall_svg);
+  }
   return h;
 }
 
@@ -590,7 +667,10 @@ ReportResult WriteRunReport(const ReportOptions& options) {
   ReportResult result;
   std::string svg;
   std::string timeline_svg;
-  if (!rows.empty() || !timeline.empty()) {
+  std::string precision_recall_svg;
+  const json& precision_recall = JsonMember(JsonMember(metrics, "detection"), "precision_recall");
+  const bool has_curve = !JsonMember(JsonMember(precision_recall, "curve"), "recall").empty();
+  if (!rows.empty() || !timeline.empty() || has_curve) {
     const fs::path work = MakePlotWorkDir(out, options.out_dir.empty());
     try {
       if (!rows.empty()) {
@@ -609,6 +689,10 @@ ReportResult WriteRunReport(const ReportOptions& options) {
         timeline_svg =
             TimelineSvg(timeline, static_cast<int>(*frames), title, work, options.gnuplot);
         ++result.plots;
+      }
+      if (has_curve) {
+        precision_recall_svg = PrecisionRecallSvg(precision_recall, work, options.gnuplot);
+        if (!precision_recall_svg.empty()) ++result.plots;
       }
     } catch (...) {
       fs::remove_all(work, ec);
@@ -698,7 +782,7 @@ ReportResult WriteRunReport(const ReportOptions& options) {
     h += "<p>No per-frame camera motion to plot (camera_motion.csv is absent or has no "
          "rows).</p>\n";
   }
-  h += DetectionSection(metrics, JsonText(manifest, "detector"));
+  h += DetectionSection(metrics, JsonText(manifest, "detector"), precision_recall_svg);
   const fs::path resolved = dir / "scenario.resolved.yaml";
   if (fs::is_regular_file(resolved, ec)) {
     h += "<h2>Scenario (resolved)</h2>\n<pre>" + EscapeMarkup(ReadWholeFile(resolved)) + "</pre>\n";

@@ -82,7 +82,9 @@ TEST(Report, HtmlHasOnePlotWithDataPerMetricAndCsvHasOneRowPerCell) {
   ASSERT_EQ(runs[3].seed_index, 0);
   std::ofstream(fs::path(o.out_dir) / "runs" / runs[3].key / "overlay.mp4") << "video";
   std::ofstream(fs::path(o.out_dir) / "runs" / runs[4].key / "overlay.mp4") << "video";
-  const ReportResult r = WriteReport({.dir = o.out_dir});
+  const fs::path kept = dir / "kept";
+  const ReportResult r =
+      WriteReport({.dir = o.out_dir, .gnuplot = KeepingGnuplot(dir, kept).string()});
   EXPECT_EQ(r.plots, 3);
   EXPECT_EQ(r.cells, 4);
   // charged − systematic at both x: two comparisons, one difference plot per metric.
@@ -95,10 +97,28 @@ TEST(Report, HtmlHasOnePlotWithDataPerMetricAndCsvHasOneRowPerCell) {
     ASSERT_NE(at, std::string::npos) << id;
     const size_t end = html.find("</svg>", at);
     const std::string svg = html.substr(at, end - at);
-    // Two lines (systematic, charged), each a <path> through its points, and a legend naming them.
-    EXPECT_GE(Count(svg, "<path"), 4U) << id;
+    // A legend naming the two lines.
     EXPECT_NE(svg.find("systematic"), std::string::npos);
     EXPECT_NE(svg.find("charged"), std::string::npos);
+  }
+  // The data behind each plot: two lines (a "# name" block each), each
+  // through its two cells, x = 20 and 200 particles, with a finite mean.
+  for (int p = 0; p < 3; ++p) {
+    std::stringstream data(Read(kept / ("plot_" + std::to_string(p) + ".dat")));
+    std::string line;
+    std::vector<std::vector<double>> xs;
+    while (std::getline(data, line)) {
+      if (line.rfind("# ", 0) == 0) {
+        xs.emplace_back();
+      } else if (!line.empty()) {
+        ASSERT_FALSE(xs.empty()) << line;
+        double x = 0, mean = 0;
+        std::stringstream(line) >> x >> mean;
+        EXPECT_TRUE(std::isfinite(mean)) << "plot " << p << ": " << line;
+        xs.back().push_back(x);
+      }
+    }
+    EXPECT_EQ(xs, std::vector<std::vector<double>>({{20, 200}, {20, 200}})) << "plot " << p;
   }
   // Self-contained: nothing loaded from elsewhere.
   EXPECT_EQ(html.find("src=\"http"), std::string::npos);
@@ -170,9 +190,12 @@ TEST(Report, XMetricPlacesEachCellAtItsMeanOfThatMetric) {
   // The x of the second plot (hota) is still idf1: its rows' x are the first plot's.
   std::stringstream a(Read(kept / "plot_0.dat")), b(Read(kept / "plot_1.dat"));
   std::string la, lb;
+  int compared = 0;
   while (std::getline(a, la) && std::getline(b, lb)) {
     EXPECT_EQ(la.substr(0, la.find(' ')), lb.substr(0, lb.find(' ')));
+    if (!la.empty() && la[0] != '#') ++compared;
   }
+  EXPECT_EQ(compared, 3) << "three cells in each plot";
 }
 
 // report.pool: the resampler's runs share a cell; each cell then holds
@@ -361,6 +384,47 @@ TEST(RunReport, DetectionQualityTableHasARowPerNonEmptyBin) {
   EXPECT_NE(html.find("<tr><td class=\"k\">truncated 0.5–1</td><td>0</td><td>1</td><td>–</td>"
                       "<td>–</td><td>0.000</td><td>0.000</td></tr>"),
             std::string::npos);
+}
+
+// The precision-recall block of metrics.json (written by hand): the AP and the
+// best-F1 point in the text, and a plot whose data file has one row per
+// curve point and whose legend names the best F1's threshold.
+TEST(RunReport, DetectionSectionPlotsThePrecisionRecallCurve) {
+  const auto dir = testing::SweepFolder("run-report-precision-recall");
+  const fs::path run = RunMinimal(dir, "none");
+  auto metrics = nlohmann::json::parse(Read(run / "metrics.json"));
+  metrics["detection"] = nlohmann::json::parse(R"({
+      "iou": {"tp": 2, "fp": 2, "fn": 0}, "centre": {"tp": 2, "fp": 2, "fn": 0},
+      "precision_recall": {"average_precision": 0.75,
+        "best_f1": {"f1": 0.8, "precision": 0.6667, "recall": 1, "min_score": 0.4},
+        "curve": {"recall": [0, 0.5, 1], "precision": [1, 1, 0.6667],
+                  "min_score": [0.9, 0.9, 0.4]}}})");
+  std::ofstream(run / "metrics.json") << metrics.dump();
+  const fs::path kept = dir / "kept";
+  const ReportResult r =
+      WriteReport({.dir = run.string(), .gnuplot = KeepingGnuplot(dir, kept).string()});
+  const std::string html = Read(r.html_path);
+  EXPECT_NE(html.find("average precision <b>0.750</b>"), std::string::npos) << html;
+  EXPECT_NE(html.find("The best F1, 0.800, is at score ≥ 0.4 (precision 0.667, recall 1.000)."),
+            std::string::npos);
+  EXPECT_NE(html.find("<code>det_ap</code>"), std::string::npos) << "a headline metric";
+  const size_t at = html.find("id=\"plot-precision_recall\"");
+  ASSERT_NE(at, std::string::npos) << "no precision-recall plot";
+  const std::string svg = html.substr(at, html.find("</svg>", at) - at);
+  EXPECT_NE(svg.find("best F1 0.800 at score >= 0.4"), std::string::npos);
+  EXPECT_EQ(Read(kept / "precision_recall.dat"), "# recall precision\n0 1\n0.5 1\n1 0.6667\n");
+  EXPECT_EQ(Read(kept / "precision_recall_best.dat"), "1 0.6667\n");
+
+  // Without a counted target the curve is empty and AP undefined: no plot,
+  // no AP sentence.
+  metrics["detection"]["precision_recall"] = nlohmann::json::parse(
+      R"({"average_precision": "nan", "best_f1": {"f1": "nan"},
+          "curve": {"recall": [], "precision": [], "min_score": []}})");
+  std::ofstream(run / "metrics.json") << metrics.dump();
+  const std::string bare = Read(WriteReport({.dir = run.string()}).html_path);
+  EXPECT_NE(bare.find("<h2>Detection quality</h2>"), std::string::npos);
+  EXPECT_EQ(bare.find("average precision"), std::string::npos);
+  EXPECT_EQ(bare.find("plot-precision_recall"), std::string::npos);
 }
 
 // The timeline: rows and segments from gt/gt.txt, metrics.json's

@@ -271,7 +271,7 @@ TEST(MetricCatalogue, ProportionsAreTheFractionsOfCountedEvents) {
     ASSERT_NE(FindMetric(name), nullptr) << name;
     EXPECT_TRUE(FindMetric(name)->range.proportion) << name;
   }
-  for (const char* name : {"idf1", "hota", "motp", "deta", "assa", "det_f1"}) {
+  for (const char* name : {"idf1", "hota", "motp", "deta", "assa", "det_f1", "det_ap"}) {
     EXPECT_FALSE(FindMetric(name)->range.proportion) << name;
     EXPECT_EQ(FindMetric(name)->range.lower, 0.0) << name;
     EXPECT_EQ(FindMetric(name)->range.upper, 1.0) << name;

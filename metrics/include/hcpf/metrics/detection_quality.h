@@ -67,6 +67,32 @@ struct DetectionBin {
   DetectionCounts centre;
 };
 
+// One point of the interpolated precision-recall curve (IoU rule): the best
+// precision any score threshold reaches at recall >= `recall`, and the
+// threshold that reaches it (report the detections scoring at least
+// `min_score`). Past the curve's largest recall: precision 0, min_score NaN.
+struct PrecisionAtRecall {
+  double recall = 0.0;
+  double precision = 0.0;
+  double min_score = 0.0;
+};
+
+// Average precision at IoU >= iou_threshold over the whole sequence, COCO's
+// way: detections ranked by score (every frame together; equal scores form
+// one threshold), each matched greedily to the unmatched compatible target it
+// overlaps most (a counted one first; one on a "don't care" target is
+// ignored), precision made monotone from the right and read at the 101
+// recalls 0, 0.01, ..., 1. Only the detections the detector reported are
+// ranked: a detector that drops low-score detections has a curve that ends
+// at its recall.
+struct PrecisionRecall {
+  double average_precision = 0.0;        // mean of the 101 precisions; NaN without targets
+  std::vector<PrecisionAtRecall> curve;  // 101 points; empty without targets
+  // The score threshold of the best F1 on the (uninterpolated) curve, and its
+  // precision and recall; all NaN when no detection matches.
+  double best_f1 = 0.0, best_f1_precision = 0.0, best_f1_recall = 0.0, best_f1_min_score = 0.0;
+};
+
 struct DetectionQuality {
   DetectionCounts iou;     // matched when IoU >= iou_threshold
   DetectionCounts centre;  // matched when the centre lies within half the box of the target
@@ -88,13 +114,16 @@ struct DetectionQuality {
   // frame, with or without counted frames (a target only ever "don't care"
   // has zero counts and empty frame lists).
   std::vector<TargetDetections> by_target;
+  PrecisionRecall precision_recall;  // IoU rule, every score threshold
 };
 
 // Matching, per frame and rule: a one-to-one assignment (core/assignment.h)
 // maximising the total IoU (IoU rule) or minimising the total normalised
 // centre distance (centre rule) over the pairs the rule allows. A detection
 // that carries Detection::target (a target-specific detector) may only match
-// that target.
+// that target. The precision-recall curve matches greedily by score instead
+// (PrecisionRecall), so its last point can differ from `iou` where the two
+// matchings disagree (overlapping targets).
 DetectionQuality ScoreDetections(std::span<const DetectionFrame> frames,
                                  const DetectionQualityOptions& options = {});
 

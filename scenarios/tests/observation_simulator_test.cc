@@ -83,9 +83,10 @@ TEST(SimulateObservation, BelowMinVisibleNeverDetected) {
   for (int f = 0; f < 50; ++f) {
     FrameGroundTruth gt = TwoTargets();
     gt.frame = f;
-    for (const Detection& d : SimulateObservation(gt, o, 2).detections) {
-      EXPECT_EQ(d.source, ObjectId{1});
-    }
+    // Target 1 (visible 1.0, p_detect 1) always; target 2 (0.5) never.
+    const std::vector<Detection> detections = SimulateObservation(gt, o, 2).detections;
+    ASSERT_EQ(detections.size(), 1u) << "frame " << f;
+    EXPECT_EQ(detections[0].source, ObjectId{1});
   }
 }
 

@@ -270,7 +270,19 @@ TEST(Sweep, ReportDefaultsAndValidation) {
                                "tracker.resampling.method: [charged]\n"));
   EXPECT_EQ(spec.report.x, "tracker.particles");
   EXPECT_EQ(spec.report.series, "");
-  EXPECT_EQ(spec.report.y.size(), 6U);
+  EXPECT_EQ(spec.report.y, std::vector<std::string>({"da_accuracy", "hijack_rate", "idf1", "hota",
+                                                     "mota", "ms_per_frame"}));
+  const std::string grid = "base: base.yaml\ngrid:\n  tracker.particles: [10]\n";
+  EXPECT_EQ(
+      LoadSweepFile(WriteSweep(dir, grid + "report: {y: [hota, det_ap]}\n", "y.yaml")).report.y,
+      std::vector<std::string>({"hota", "det_ap"}));
+  // A misspelt metric and an empty list are refused, naming file, line and key.
+  std::string e = ErrorOf(WriteSweep(dir, grid + "report: {y: [hota, idf2]}\n", "typo.yaml"));
+  EXPECT_NE(e.find("typo.yaml:4:"), std::string::npos) << e;
+  EXPECT_NE(e.find("report.y"), std::string::npos) << e;
+  EXPECT_NE(e.find("idf2"), std::string::npos) << e;
+  e = ErrorOf(WriteSweep(dir, grid + "report: {y: []}\n", "empty.yaml"));
+  EXPECT_NE(e.find("a non-empty list of metric names"), std::string::npos) << e;
 }
 
 TEST(Sweep, BadFilesNameLineKeyExpectedFoundAndHint) {

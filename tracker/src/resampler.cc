@@ -5,6 +5,7 @@
 #include <limits>
 #include <numeric>
 
+#include "charge_kernel.h"
 #include "fast_math.h"
 #include "hcpf/core/check.h"
 
@@ -212,11 +213,9 @@ ResampleResult EssGatedResampler::Resample(const ParticleSet& set, const Resampl
 
 namespace {
 
-// One other filter's charge, precomputed: mean and the symmetric matrix
-// M = (Sigma + eps^2 I)^-1 = [[a, b], [b, c]] (gaussian only).
-struct Charge {
-  double mx, my, a, b, c;
-};
+using internal::Charge;
+using internal::CoulombTerm;
+using internal::GaussianTerm;
 
 std::vector<Charge> MakeCharges(std::span<const FilterSummary> others, double eps) {
   std::vector<Charge> charges;
@@ -273,18 +272,6 @@ void DropNegligibleCharges(const ParticleSet& set, std::span<const FilterSummary
   *charges = std::move(kept);
 }
 
-inline double GaussianTerm(const Charge& ch, double x, double y) {
-  const double dx = x - ch.mx;
-  const double dy = y - ch.my;
-  return internal::FastExp(-0.5 * (ch.a * dx * dx + 2.0 * ch.b * dx * dy + ch.c * dy * dy));
-}
-
-inline double CoulombTerm(const Charge& ch, double x, double y, double eps2) {
-  const double dx = x - ch.mx;
-  const double dy = y - ch.my;
-  return 1.0 / (dx * dx + dy * dy + eps2);
-}
-
 double PotentialAt(const std::vector<Charge>& charges, ChargePotential potential, double q,
                    double eps2, double x, double y) {
   double u = 0.0;
@@ -296,24 +283,12 @@ double PotentialAt(const std::vector<Charge>& charges, ChargePotential potential
   return q * u;
 }
 
-// Vectorised pass: acceptance probability exp(-beta U) of every candidate.
-// Charge-outer, candidate-inner so the inner loop is a plain map.
+// Vectorised pass (charge_kernel.h): acceptance probability exp(-beta U) of
+// every candidate, in AVX-512, AVX2 and baseline clones.
 __attribute__((target_clones("avx512f", "avx2", "default"))) void AcceptanceProbabilities(
     const Charge* charges, size_t num_charges, bool gaussian, double q, double beta, double eps2,
     const double* x, const double* y, double* u, double* accept, size_t n) {
-  for (size_t i = 0; i < n; ++i) u[i] = 0.0;
-  for (size_t k = 0; k < num_charges; ++k) {
-    const Charge ch = charges[k];
-    if (gaussian) {
-      for (size_t i = 0; i < n; ++i) u[i] += GaussianTerm(ch, x[i], y[i]);
-    } else {
-      for (size_t i = 0; i < n; ++i) u[i] += CoulombTerm(ch, x[i], y[i], eps2);
-    }
-  }
-  for (size_t i = 0; i < n; ++i) {
-    u[i] *= q;
-    accept[i] = internal::FastExp(-beta * u[i]);
-  }
+  internal::AcceptanceKernel(charges, num_charges, gaussian, q, beta, eps2, x, y, u, accept, n);
 }
 
 }  // namespace

@@ -7,9 +7,12 @@
 // in one clone shows up as a mismatch.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cmath>
 #include <cstring>
 #include <vector>
 
+#include "charge_kernel.h"
 #include "fast_math.h"
 #include "hcpf/core/rng.h"
 #include "mixture_kernel.h"
@@ -17,10 +20,12 @@
 namespace hcpf::tracker {
 namespace {
 
+using internal::Charge;
 using internal::MixtureComponent;
 
 struct Inputs {
   std::vector<MixtureComponent> comps;
+  std::vector<Charge> charges;
   std::vector<double> px, py, log_s, x;
 };
 
@@ -35,6 +40,13 @@ Inputs MakeInputs(size_t n, uint64_t seed) {
     c.weight = std::exp(c.log_weight);
     c.log_size_offset = 0.2 * rng.Normal();
     in.comps.push_back(c);
+    // Charges of neighbours 60 px around, softened covariances of 5-20 px.
+    const double sxx = 25.0 + 375.0 * rng.Uniform(0.0, 1.0);
+    const double syy = 25.0 + 375.0 * rng.Uniform(0.0, 1.0);
+    const double sxy = 0.3 * std::sqrt(sxx * syy) * rng.Uniform(-1.0, 1.0);
+    const double det = sxx * syy - sxy * sxy;
+    in.charges.push_back({320.0 + 60.0 * rng.Normal(), 240.0 + 60.0 * rng.Normal(), syy / det,
+                          -sxy / det, sxx / det});
   }
   for (size_t i = 0; i < n; ++i) {
     in.px.push_back(320.0 + 40.0 * rng.Normal());
@@ -57,6 +69,10 @@ Inputs MakeInputs(size_t n, uint64_t seed) {
                                      in.log_s.data(), 1.0 / 18.0, 0.0, sum, m);                    \
     }                                                                                              \
   }                                                                                                \
+  ATTR void Accept##SUFFIX(const Inputs& in, bool gaussian, double* u, double* accept) {           \
+    internal::AcceptanceKernel(in.charges.data(), in.charges.size(), gaussian, 40.0, 0.5, 9.0,     \
+                               in.px.data(), in.py.data(), u, accept, in.px.size());               \
+  }                                                                                                \
   ATTR void Exp##SUFFIX(const std::vector<double>& x, double* out) {                               \
     for (size_t i = 0; i < x.size(); ++i) out[i] = internal::FastExp(x[i]);                        \
   }                                                                                                \
@@ -76,12 +92,14 @@ HCPF_KERNELS(Avx512, __attribute__((noinline, target("avx512f"))))
 #undef HCPF_KERNELS
 
 using Kernels = void (*)(const Inputs&, bool, double*);
+using Acceptance = void (*)(const Inputs&, bool, double*, double*);
 using Map = void (*)(const std::vector<double>&, double*);
 
 struct Isa {
   const char* name;
   bool supported;
   Kernels mixture;
+  Acceptance accept;
   Map exp;
   Map expf;
   Map log;
@@ -89,10 +107,12 @@ struct Isa {
 
 std::vector<Isa> Isas() {
   __builtin_cpu_init();
-  return {{"baseline", true, MixtureBaseline, ExpBaseline, ExpFBaseline, LogBaseline},
-          {"avx2", __builtin_cpu_supports("avx2") != 0, MixtureAvx2, ExpAvx2, ExpFAvx2, LogAvx2},
-          {"avx512f", __builtin_cpu_supports("avx512f") != 0, MixtureAvx512, ExpAvx512, ExpFAvx512,
-           LogAvx512}};
+  return {
+      {"baseline", true, MixtureBaseline, AcceptBaseline, ExpBaseline, ExpFBaseline, LogBaseline},
+      {"avx2", __builtin_cpu_supports("avx2") != 0, MixtureAvx2, AcceptAvx2, ExpAvx2, ExpFAvx2,
+       LogAvx2},
+      {"avx512f", __builtin_cpu_supports("avx512f") != 0, MixtureAvx512, AcceptAvx512, ExpAvx512,
+       ExpFAvx512, LogAvx512}};
 }
 
 bool SameBits(const std::vector<double>& a, const std::vector<double>& b) {
@@ -105,31 +125,42 @@ TEST(IsaClones, EveryInstructionSetComputesTheScalarBits) {
   const Inputs in = MakeInputs(1003, 77);
   const size_t n = in.px.size();
   std::vector<double> ref_mix(n), ref_mix_size(n), ref_exp(n), ref_expf(n), ref_log(n);
+  std::vector<double> ref_u_gauss(n), ref_gauss(n), ref_u_coulomb(n), ref_coulomb(n);
   MixtureScalar(in, false, ref_mix.data());
   MixtureScalar(in, true, ref_mix_size.data());
+  AcceptScalar(in, true, ref_u_gauss.data(), ref_gauss.data());
+  AcceptScalar(in, false, ref_u_coulomb.data(), ref_coulomb.data());
   ExpScalar(in.x, ref_exp.data());
   ExpFScalar(in.x, ref_expf.data());
   LogScalar(in.x, ref_log.data());
-  int checked = 0;
+  // The inputs reach the kernels' whole range: some candidates are repelled
+  // hard (acceptance near 0), some barely (near 1).
+  EXPECT_LT(*std::min_element(ref_gauss.begin(), ref_gauss.end()), 0.01);
+  EXPECT_GT(*std::max_element(ref_gauss.begin(), ref_gauss.end()), 0.99);
   for (const Isa& isa : Isas()) {
     if (!isa.supported) {
       std::printf("[ SKIPPED  ] %s: this CPU does not have it\n", isa.name);
       continue;
     }
     std::vector<double> mix(n), mix_size(n), e(n), ef(n), l(n);
+    std::vector<double> u_gauss(n), gauss(n), u_coulomb(n), coulomb(n);
     isa.mixture(in, false, mix.data());
     isa.mixture(in, true, mix_size.data());
+    isa.accept(in, true, u_gauss.data(), gauss.data());
+    isa.accept(in, false, u_coulomb.data(), coulomb.data());
     isa.exp(in.x, e.data());
     isa.expf(in.x, ef.data());
     isa.log(in.x, l.data());
     EXPECT_TRUE(SameBits(mix, ref_mix)) << isa.name << ": mixture (position only)";
     EXPECT_TRUE(SameBits(mix_size, ref_mix_size)) << isa.name << ": mixture with size";
+    EXPECT_TRUE(SameBits(u_gauss, ref_u_gauss)) << isa.name << ": gaussian potential";
+    EXPECT_TRUE(SameBits(gauss, ref_gauss)) << isa.name << ": gaussian acceptance";
+    EXPECT_TRUE(SameBits(u_coulomb, ref_u_coulomb)) << isa.name << ": coulomb potential";
+    EXPECT_TRUE(SameBits(coulomb, ref_coulomb)) << isa.name << ": coulomb acceptance";
     EXPECT_TRUE(SameBits(e, ref_exp)) << isa.name << ": FastExp";
     EXPECT_TRUE(SameBits(ef, ref_expf)) << isa.name << ": FastExpF";
     EXPECT_TRUE(SameBits(l, ref_log)) << isa.name << ": FastLog";
-    ++checked;
   }
-  EXPECT_GE(checked, 1);
 }
 
 }  // namespace

@@ -313,6 +313,9 @@ TEST(SceneMotionFilterTest, EssGateKeepsWeightsWhenNotResampling) {
   EXPECT_NEAR(filter.LastReport().ess, 200.0, 1e-9);
   EXPECT_FALSE(filter.LastReport().resampled);
   // The prior's spread: standard deviations near the prior's (8 px, 0.01).
+  // A sample standard deviation of N = 200 draws has a standard error of
+  // about sigma / sqrt(2N) = sigma / 20 (0.4 px, 0.0005): 1.5 px and 0.002
+  // are about 4 of them.
   EXPECT_NEAR(filter.LastReport().sd_tx_px, 8.0, 1.5);
   EXPECT_NEAR(filter.LastReport().sd_log_scale, 0.01, 0.002);
 }

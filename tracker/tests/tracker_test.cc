@@ -276,12 +276,17 @@ TEST(MultiTargetTracker, ReacquireFindsALostFilterAtItsOwnTargetsDetections) {
     if (mode == ReacquireMode::kNone) {
       EXPECT_TRUE(reacquired_at.empty());
       EXPECT_TRUE(r.filters[0].coasting);
+      // Coasting at rest (no detection in its gate), its mean only diffuses,
+      // well under 1 px in 8 frames: 5 px is generous and still 95 px short
+      // of the detections it must not jump to.
       EXPECT_NEAR(r.filters[0].box.centre_x(), 100.0, 5.0);
     } else {
       EXPECT_EQ(reacquired_at, std::vector<int>{2});
       // Re-seeded at frame 2's box (202, 12 px wide) moving +1 px/frame (its
       // first to last hit), then followed: 207 at frame 7. 3 px: the birth
-      // spread is 2 px and five frames of exact detections narrow it.
+      // spread is 2 px and five frames of exact detections narrow it. Width
+      // 12 px with a birth spread of 0.05 in log scale (0.6 px): 1.5 px is
+      // 2.5 of that for one particle, more for the mean.
       EXPECT_FALSE(r.filters[0].coasting);
       EXPECT_NEAR(r.filters[0].box.centre_x(), 207.0, 3.0);
       EXPECT_NEAR(r.filters[0].box.width, 12.0, 1.5);
@@ -312,6 +317,8 @@ TEST(MultiTargetTracker, ReacquireBearsADeletedFilterAgainWithItsId) {
     ASSERT_EQ(r.filters.size(), 2U);
     EXPECT_EQ(r.filters[0].id, TrackId{1});
     EXPECT_EQ(r.filters[0].assigned_detection, 0);
+    // Born again at frame 4 at the 150 px detection (birth spread 2 px), then
+    // two frames of exact detections there: within 3 px, as above.
     EXPECT_NEAR(r.filters[0].box.centre_x(), 150.0, 3.0);
     if (!last.empty()) {
       EXPECT_EQ(last[0], r.filters[0].box);
@@ -332,6 +339,8 @@ TEST(MultiTargetTracker, ReacquireLeavesASupportedFilterAloneAndNeedsAConsistent
                                    {BoxPx::FromCentre(250, 250, 10, 10), 1.0, 1}}));
     EXPECT_TRUE(r.reacquired.empty()) << t;
   }
+  // Ten frames of exact detections at 100 hold it to about a pixel (the
+  // birth spread, 2 px, narrowed); the stronger one is 150 px away.
   EXPECT_NEAR(r.filters[0].box.centre_x(), 100.0, 2.0);
   // Lost (its own detections gone from its gate); each one now lies 30 px
   // beyond the last, so no two continue one tentative.
@@ -367,7 +376,9 @@ TEST(MultiTargetTracker, ReacquireIgnoresDetectionsAnotherFilterIsOn) {
 TEST(MultiTargetTracker, ReacquiresAfterOcclusion) {
   // Target moving +1 px/frame; detections missing on frames 10..17 (coasting
   // on the constant-velocity prediction), back from 18. At frame 30 the
-  // estimate must be within 3 px of the truth (130, 60).
+  // estimate must be within 3 px of the truth (130, 60): 13 frames of exact
+  // detections after the gap leave the cloud's mean within about a pixel
+  // (born 2 px wide, 500 particles); 3 px fails a filter that lost it.
   TrackerOptions o;
   o.particles = 500;
   auto tracker = MakeTracker(o, Rng(4));

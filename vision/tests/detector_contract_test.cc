@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <set>
 #include <thread>
 
 #include "hcpf/vision/detectors.h"
@@ -134,13 +135,20 @@ TEST_P(DetectorContract, WindowedSearchStaysInsideItsWindow) {
   std::vector<SearchWindow> windows;
   for (const auto& t : Targets(3.0, -2.0)) windows.push_back({t.id, t.box});
   const DetectorOutput out = Run(frame_, windows);
+  // Every target is found in its window (each is there, 3 px right and 2 px
+  // up of the prediction), so an empty search cannot pass.
+  std::set<int32_t> found;
   for (const Detection& d : out.detections) {
     ASSERT_TRUE(d.target.has_value());
+    found.insert(Value(*d.target));
     const BoxPx& w = windows[static_cast<size_t>(Value(*d.target) - 1)].box;
     // Window side = window_scale (3 by default) x the predicted box side.
     EXPECT_GE(d.box.left, w.centre_x() - 1.5 * w.width - 1.0);
     EXPECT_LE(d.box.right(), w.centre_x() + 1.5 * w.width + 1.0);
+    EXPECT_GE(d.box.top, w.centre_y() - 1.5 * w.height - 1.0);
+    EXPECT_LE(d.box.bottom(), w.centre_y() + 1.5 * w.height + 1.0);
   }
+  EXPECT_EQ(found.size(), windows.size()) << GetParam();
 }
 
 INSTANTIATE_TEST_SUITE_P(Registered, DetectorContract, ::testing::ValuesIn(DetectorNames()),

@@ -108,9 +108,58 @@ class DocumentScanner final : public YAML::EventHandler {
   DocumentSpan span_;
 };
 
+// The offset of the first byte that does not belong to well-formed UTF-8
+// (Unicode's table 3-7: no overlong forms, surrogates or code points past
+// U+10FFFF), or npos.
+size_t FirstNonUtf8(const std::string& text) {
+  const auto byte = [&text](size_t i) { return static_cast<unsigned char>(text[i]); };
+  const auto in = [](unsigned char b, unsigned lo, unsigned hi) { return b >= lo && b <= hi; };
+  size_t i = 0;
+  while (i < text.size()) {
+    const unsigned char b = byte(i);
+    if (b < 0x80) {
+      ++i;
+      continue;
+    }
+    size_t more = 0;
+    unsigned lo = 0x80, hi = 0xBF;  // the range of the second byte
+    if (in(b, 0xC2, 0xDF)) {
+      more = 1;
+    } else if (in(b, 0xE0, 0xEF)) {
+      more = 2;
+      if (b == 0xE0) lo = 0xA0;
+      if (b == 0xED) hi = 0x9F;
+    } else if (in(b, 0xF0, 0xF4)) {
+      more = 3;
+      if (b == 0xF0) lo = 0x90;
+      if (b == 0xF4) hi = 0x8F;
+    } else {
+      return i;
+    }
+    if (i + more >= text.size() || !in(byte(i + 1), lo, hi)) return i;
+    for (size_t k = 2; k <= more; ++k) {
+      if (!in(byte(i + k), 0x80, 0xBF)) return i;
+    }
+    i += more + 1;
+  }
+  return std::string::npos;
+}
+
 }  // namespace
 
 YAML::Node YamlReader::Parse(const std::string& text, const std::string& file) {
+  if (const size_t bad = FirstNonUtf8(text); bad != std::string::npos) {
+    // yaml-cpp passes such bytes through into strings, where they break the
+    // JSON outputs much later: refuse them here, where the line is known.
+    const size_t line_start = text.rfind('\n', bad == 0 ? 0 : bad - 1);
+    const size_t first = line_start == std::string::npos || bad == 0 ? 0 : line_start + 1;
+    const int line = 1 + static_cast<int>(std::count(text.begin(), text.begin() + bad, '\n'));
+    throw InputError(SourceLocation{file, line, static_cast<int>(bad - first) + 1, ""},
+                     "UTF-8 text",
+                     fmt::format("the byte 0x{:02X}, which UTF-8 does not allow there",
+                                 static_cast<unsigned char>(text[bad])),
+                     "save the file as UTF-8; a Latin-1 editor writes é as the byte 0xE9");
+  }
   std::vector<DocumentSpan> documents;
   YAML::Node first;
   try {

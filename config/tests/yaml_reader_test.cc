@@ -118,4 +118,45 @@ TEST(YamlReader, StrayCommaIsASyntaxErrorNotAHang) {
   EXPECT_TRUE(YamlReader::Parse("# only a comment\n", "f.yaml").IsNull());
 }
 
+// Found by a bad-input audit: a name saved as Latin-1 ("caf\xE9") passed
+// hcpf validate, and hcpf run then failed writing its JSON (exit 1). Bytes
+// that are not UTF-8 are refused where they are, by line and column.
+TEST(YamlReader, TextThatIsNotUtf8IsRefusedAtItsByte) {
+  struct Case {
+    std::string text;
+    const char* where;
+    const char* byte;
+  };
+  const std::vector<Case> cases = {
+      {"name: caf\xE9\n", "f.yaml:1:10:", "0xE9"},       // Latin-1 é
+      {"a: 1\nname: ab\xC3\n", "f.yaml:2:9:", "0xC3"},   // cut short at the end
+      {"a: 1\nb: \xC0\xAF\n", "f.yaml:2:4:", "0xC0"},    // overlong '/'
+      {"b: \xED\xA0\x80\n", "f.yaml:1:4:", "0xED"},      // a surrogate
+      {"b: \xF4\x90\x80\x80\n", "f.yaml:1:4:", "0xF4"},  // past U+10FFFF
+      {"\xFF\xFE"
+       "a\0:\0 \0"
+       "1\0",
+       "f.yaml:1:1:", "0xFF"}};  // UTF-16
+  for (const Case& c : cases) {
+    try {
+      YamlReader::Parse(c.text, "f.yaml");
+      ADD_FAILURE() << "accepted: " << c.text;
+    } catch (const InputError& e) {
+      const std::string message = e.what();
+      EXPECT_NE(message.find(c.where), std::string::npos) << message;
+      EXPECT_NE(message.find("expected UTF-8 text"), std::string::npos) << message;
+      EXPECT_NE(message.find(c.byte), std::string::npos) << message;
+    }
+  }
+  // Well-formed UTF-8 of every length parses, a byte-order mark too.
+  EXPECT_EQ(YamlReader::Parse("name: caf\xC3\xA9 \xE2\x82\xAC \xF0\x9F\x9A\x97\n", "f.yaml")["name"]
+                .as<std::string>(),
+            "caf\xC3\xA9 \xE2\x82\xAC \xF0\x9F\x9A\x97");
+  EXPECT_EQ(YamlReader::Parse("\xEF\xBB\xBF"
+                              "a: 1\n",
+                              "f.yaml")["a"]
+                .as<int>(),
+            1);
+}
+
 }  // namespace hcpf::config

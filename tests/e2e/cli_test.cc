@@ -106,6 +106,31 @@ TEST(Cli, CacheReportsAndPrunesTheLeastRecentlyUsed) {
 // "lots"); --set and --print, which apply to one scenario, are bad input.
 // (Read as a scenario, as before, the sweep's `seeds: 2` was "expected a
 // mapping of keys".)
+// A scenario saved as Latin-1: hcpf validate had accepted it and hcpf run
+// failed (exit 1) writing its JSON. Both now refuse it at the byte, exit 2,
+// and the run leaves no output folder.
+TEST(Cli, ValidateAndRunRefuseTextThatIsNotUtf8) {
+  const fs::path dir = FreshDir("not-utf8");
+  std::ifstream library(LibraryScenario("crossing"));
+  std::ofstream scenario(dir / "latin1.yaml");
+  scenario << "name: caf\xE9\n";
+  std::string line;
+  while (std::getline(library, line)) {
+    if (line.rfind("name:", 0) != 0) scenario << line << "\n";
+  }
+  scenario.close();
+  const std::string file = (dir / "latin1.yaml").string();
+  for (const std::string& command :
+       {kHcpf + " validate " + file, kHcpf + " run " + file + " --out " + (dir / "out").string()}) {
+    const auto r = RunCommand(command);
+    EXPECT_EQ(r.exit_code, 2) << command << "\n" << r.output;
+    EXPECT_NE(r.output.find("latin1.yaml:1:10: expected UTF-8 text, found the byte 0xE9"),
+              std::string::npos)
+        << r.output;
+  }
+  EXPECT_FALSE(fs::exists(dir / "out"));
+}
+
 TEST(Cli, ValidateChecksSweepFilesToo) {
   const fs::path dir = FreshDir("validate-sweep");
   const auto write = [&](const std::string& name, const std::string& particles) {

@@ -43,6 +43,12 @@ std::vector<DetectionBin> Bins(const std::vector<double>& edges, double last_hi)
   return bins;
 }
 
+// Whether a target is counted (visible at least min_visible); the others are
+// "don't care".
+bool Counted(const DetectionTruth& t, const DetectionQualityOptions& options) {
+  return t.visible_fraction >= options.min_visible;
+}
+
 bool Compatible(const Detection& d, const DetectionTruth& t) {
   return !d.target.has_value() || *d.target == t.target;
 }
@@ -103,7 +109,7 @@ PrecisionRecall ComputePrecisionRecall(std::span<const DetectionFrame> frames,
   int64_t positives = 0;
   for (size_t i = 0; i < frames.size(); ++i) {
     for (const DetectionTruth& t : frames[i].truth) {
-      if (t.visible_fraction >= options.min_visible) ++positives;
+      if (Counted(t, options)) ++positives;
     }
     taken[i].assign(frames[i].truth.size(), 0);
     for (size_t d = 0; d < frames[i].detections.size(); ++d) {
@@ -126,8 +132,7 @@ PrecisionRecall ComputePrecisionRecall(std::span<const DetectionFrame> frames,
     double found_iou = 0.0;
     for (size_t t = 0; t < f.truth.size(); ++t) {
       const DetectionTruth& truth = f.truth[t];
-      if (taken[r.frame][t] || (truth.visible_fraction >= options.min_visible) != care ||
-          !Compatible(det, truth)) {
+      if (taken[r.frame][t] || Counted(truth, options) != care || !Compatible(det, truth)) {
         continue;
       }
       const double iou = Iou(det.box, truth.box);
@@ -221,7 +226,7 @@ DetectionQuality ScoreDetections(std::span<const DetectionFrame> frames,
     const DetectionFrame& f = frames[i];
     for (const DetectionTruth& truth : f.truth) {
       by_target[Value(truth.target)].target = truth.target;
-      if (truth.visible_fraction >= options.min_visible) sizes.push_back(SizeOf(truth.box));
+      if (Counted(truth, options)) sizes.push_back(SizeOf(truth.box));
     }
     for (const Rule rule : {Rule::kIou, Rule::kCentre}) {
       const std::vector<int> match = Match(f, rule, options.iou_threshold, solver);
@@ -233,7 +238,7 @@ DetectionQuality ScoreDetections(std::span<const DetectionFrame> frames,
       std::vector<char> ignored(f.detections.size(), 0);  // matched to a "don't care" one
       for (size_t t = 0; t < f.truth.size(); ++t) {
         const DetectionTruth& truth = f.truth[t];
-        const bool care = truth.visible_fraction >= options.min_visible;
+        const bool care = Counted(truth, options);
         const int d = match[t];
         if (!care) {
           if (d >= 0) ignored[static_cast<size_t>(d)] = 1;

@@ -227,9 +227,12 @@ Counts CountsOf(const json& j) {
   return {JsonInt(j, "tp").value_or(0), JsonInt(j, "fp").value_or(0), JsonInt(j, "fn").value_or(0)};
 }
 
-// A ratio with three decimals, "–" when undefined.
+// A ratio with three decimals, "–" when undefined (not finite).
+std::string Fixed3(double v) { return std::isfinite(v) ? fmt::format("{:.3f}", v) : "–"; }
+
+// num / den as Fixed3 writes it, "–" when den is 0.
 std::string Ratio(int64_t num, int64_t den) {
-  return den > 0 ? fmt::format("{:.3f}", static_cast<double>(num) / static_cast<double>(den)) : "–";
+  return den > 0 ? Fixed3(static_cast<double>(num) / static_cast<double>(den)) : "–";
 }
 
 // One table row: IoU counts, precision and recall, and the centre rule's
@@ -266,9 +269,6 @@ std::string DetectionBinRows(const json& detection, const char* key, const char*
   return rows;
 }
 
-// A ratio read from metrics.json with three decimals, "–" when undefined.
-std::string Fixed3(double v) { return std::isfinite(v) ? fmt::format("{:.3f}", v) : "–"; }
-
 // The precision-recall curve of metrics.json's detection.precision_recall
 // block (IoU rule, interpolated at 101 recalls) with its best-F1 point, or ""
 // when the block has no curve (no counted target).
@@ -295,7 +295,6 @@ std::string PrecisionRecallSvg(const json& pr, const fs::path& work, const std::
   const double best_recall = JsonDouble(f1, "recall");
   const double best_precision = JsonDouble(f1, "precision");
   const bool has_best = std::isfinite(best_recall) && std::isfinite(best_precision);
-  WriteTextFile(best.string(), fmt::format("{} {}\n", Number(best_recall), Number(best_precision)));
   std::string gp;
   gp += "set terminal svg size 820,440 dynamic font 'sans,11' background rgb 'white'\n";
   gp += fmt::format("set output {}\n", GpString(svg.string()));
@@ -310,6 +309,8 @@ std::string PrecisionRecallSvg(const json& pr, const fs::path& work, const std::
                   GpString(data.string()), kPlotColours[0],
                   GpString("interpolated precision at the 101 recalls 0, 0.01, ..., 1 (COCO)"));
   if (has_best) {
+    WriteTextFile(best.string(),
+                  fmt::format("{} {}\n", Number(best_recall), Number(best_precision)));
     plot +=
         fmt::format(", \\\n     {} using 1:2 with points pt 7 ps 1.3 lc rgb '{}' title {}",
                     GpString(best.string()), kPlotColours[1],

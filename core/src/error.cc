@@ -1,5 +1,7 @@
 #include "hcpf/core/error.h"
 
+#include <fmt/format.h>
+
 #include <cstdio>
 #include <cstdlib>
 
@@ -9,14 +11,25 @@ namespace hcpf {
 
 namespace {
 
-// User text in a message, with control characters (a NUL byte, a newline)
-// shown as escapes instead of being written to the terminal raw.
+// User text in a message, with control characters (a NUL byte, a newline,
+// NEL, U+2028: names.h) shown as escapes instead of being written to the
+// terminal raw.
 std::string Printable(const std::string& text) {
   std::string out;
   out.reserve(text.size());
-  for (const char c : text) {
+  for (size_t i = 0; i < text.size(); ++i) {
+    const char c = text[i];
     const auto u = static_cast<unsigned char>(c);
-    if (c == '\n') {
+    const auto next = [&](size_t k) {
+      return i + k < text.size() ? static_cast<unsigned char>(text[i + k]) : 0u;
+    };
+    if (u == 0xC2 && next(1) >= 0x80 && next(1) <= 0x9F) {
+      out += fmt::format("\\u{:04x}", next(1));
+      i += 1;
+    } else if (u == 0xE2 && next(1) == 0x80 && (next(2) == 0xA8 || next(2) == 0xA9)) {
+      out += next(2) == 0xA8 ? "\\u2028" : "\\u2029";
+      i += 2;
+    } else if (c == '\n') {
       out += "\\n";
     } else if (c == '\t') {
       out += "\\t";

@@ -37,9 +37,10 @@ Field<O> ModelField(std::string_view doc) {
 std::span<const Field<Scenario>> ScenarioFields() {
   using O = Scenario;
   static const std::vector<Field<O>> fields = {
-      DefaultDoc(TextField<&O::name>("name",
-                                     "no control characters (it is written into seqinfo.ini "
-                                     "and manifests)"),
+      DefaultDoc(TextField<&O::name>(
+                     "name",
+                     "no control characters, NEL or U+2028/9 (it is written into seqinfo.ini "
+                     "and manifests)"),
                  "file name without extension"),
       SeedField("seed", &O::seed, "drives every random stream"),
   };

@@ -16,6 +16,7 @@
 #include "hcpf/config/fields_yaml.h"
 #include "hcpf/config/file_lookup.h"
 #include "hcpf/config/yaml_reader.h"
+#include "hcpf/core/names.h"
 #include "hcpf/core/rng.h"
 #include "hcpf/scenarios/frames.h"
 #include "hcpf/scenarios/models.h"
@@ -314,13 +315,14 @@ Scenario ReadScenario(YamlReader root, const std::string& file) {
   ReadFields(root, s, ScenarioFields());  // name, seed
   // The name goes into seqinfo.ini, manifests and reports: a newline there
   // would make the run's own files unreadable (issue 15, item 13).
-  if (std::any_of(s.name.begin(), s.name.end(),
-                  [](unsigned char c) { return c < 0x20 || c == 0x7f; })) {
+  // NEL (U+0085) and U+2028/9 break lines in editors and browsers too.
+  if (const std::string c = FirstControlCharacter(s.name); !c.empty()) {
     if (root.Has("name"))
-      root.Child("name").Fail("a name without control characters (newline, tab)");
+      root.Child("name").Fail("a name without control characters (newline, tab, U+0085, U+2028)",
+                              "it holds " + c);
     throw InputError(SourceLocation{file, 0, 0, "name"},
                      "a file name without control characters (the default name)",
-                     fmt::format("\"{}\"", s.name));
+                     fmt::format("\"{}\", which holds {}", s.name, c));
   }
   DeriveSeeds(&s);
   if (auto seeds = root.Optional("seeds")) {

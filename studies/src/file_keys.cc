@@ -46,7 +46,9 @@ std::span<const FileKey> SuiteFileKeys() {
   static const FileKey keys[] = {
       {"scenes[i].scenario", "path", "**required**",
        "scenario file (relative to the suite, the current folder, the project folder)"},
-      {"scenes[i].name", "text", "the file's stem", "unique name; the key in the baseline"},
+      {"scenes[i].name", "text", "the file's stem",
+       "unique name; the key in the baseline and the run folder under --work, so no '/', '\\\\', "
+       "\".\", \"..\" or control characters"},
       {"scenes[i].set", "mapping: dotted key → value", "none", "applied like `--set`"},
       {"scenes[i].seed", "integer 0 … 2⁶⁴−1", "the scenario's own",
        "the scenario seed (with `seeds`: the root of the derived seeds)"},

@@ -20,6 +20,7 @@
 #include "hcpf/config/file_lookup.h"
 #include "hcpf/config/yaml_reader.h"
 #include "hcpf/core/check.h"
+#include "hcpf/core/names.h"
 #include "hcpf/core/parallel.h"
 #include "hcpf/core/text_file.h"
 #include "hcpf/scenarios/run.h"
@@ -80,6 +81,16 @@ RegressSuite LoadRegressSuite(const std::string& path) {
     YamlReader scenario_node = item.Child("scenario");
     scene.scenario_path = ResolvePath(scenario_node, item.String("scenario", std::nullopt), dir);
     scene.name = item.String("name", fs::path(scene.scenario_path).stem().string());
+    // The name is the scene's folder under --work: "../x" would escape it
+    // and replace a folder there.
+    if (const std::string problem = FolderNameProblem(scene.name); !problem.empty()) {
+      const std::string expected =
+          "a scene name that can name one folder (no '/', '\\', \".\", \"..\" or control "
+          "characters)";
+      if (item.Has("name")) item.Child("name").Fail(expected, "it is " + problem);
+      throw InputError(SourceLocation{path, 0, 0, "scenes.name"},
+                       expected + " (the scenario file's name, by default)", problem);
+    }
     if (!names.insert(scene.name).second)
       item.Child("name").Fail("a scene name used once in the suite");
     if (auto set = item.Optional("set")) {
@@ -349,18 +360,36 @@ std::string FormatRegressMarkdown(const RegressResult& result) {
 namespace {
 
 constexpr const char* kBaselineFormat = "hcpf-regress-baseline/2";
+// A baseline of 1,000 seeded scenes of every metric is a few MB.
+constexpr uint64_t kMaxBaselineBytes = uint64_t{256} << 20;
 
 // A baseline value: a number, or the string "nan" (how NaN is written).
 bool IsBaselineValue(const json& j) { return j.is_number() || j == json("nan"); }
 
-// Checks that `baseline` (parsed from `path`) holds what `suite` compares:
-// for an exact scene a value per metric, for a seeded one the suite's seeds
-// and a list of one value per seed for each metric.
-void CheckBaseline(const json& baseline, const std::string& path, const RegressSuite& suite) {
+// Refuses a key of `object` (at dotted key `at`) that is not one of `known`:
+// a misspelt "config_hash" was ignored, and the hash check with it.
+void CheckKeys(const json& object, const std::string& path, const std::string& at,
+               const std::vector<std::string>& known) {
+  for (auto it = object.begin(); it != object.end(); ++it) {
+    if (std::find(known.begin(), known.end(), it.key()) != known.end()) continue;
+    const std::string close = ClosestMatch(it.key(), known);
+    throw InputError(SourceLocation{path, 0, 0, at.empty() ? it.key() : at + "." + it.key()},
+                     fmt::format("one of the keys {}", fmt::join(known, ", ")),
+                     fmt::format("\"{}\"", it.key()),
+                     close.empty() ? "" : "did you mean \"" + close + "\"?");
+  }
+}
+
+// Checks the form of every scene of `baseline` (parsed from `path`), whether
+// or not the suite compares it: known keys, hashes as strings, metric names
+// of the catalogue and values a number ("nan") in the metric's range, or a
+// list of them.
+void CheckBaselineForm(const json& baseline, const std::string& path) {
   if (!baseline.is_object() || !baseline.contains("scenes") || !baseline["scenes"].is_object()) {
     throw InputError(SourceLocation{path, 0, 0, "scenes"},
                      "an object {\"scenes\": {name: {\"metrics\": {...}}}}", "something else");
   }
+  CheckKeys(baseline, path, "", {"format", "suite", "scenes"});
   if (baseline.contains("format")) {
     const json& format = baseline["format"];
     if (format != json("hcpf-regress-baseline/1") && format != json(kBaselineFormat)) {
@@ -369,6 +398,58 @@ void CheckBaseline(const json& baseline, const std::string& path, const RegressS
                        format.dump());
     }
   }
+  if (baseline.contains("suite") && !baseline["suite"].is_string()) {
+    throw InputError(SourceLocation{path, 0, 0, "suite"}, "the suite's file name (a string)",
+                     baseline["suite"].dump());
+  }
+  for (auto scene = baseline["scenes"].begin(); scene != baseline["scenes"].end(); ++scene) {
+    const std::string at = "scenes." + scene.key();
+    if (!scene->is_object()) {
+      throw InputError(SourceLocation{path, 0, 0, at}, "an object {\"metrics\": {...}}",
+                       scene->dump());
+    }
+    CheckKeys(*scene, path, at, {"config_hash", "config_hashes", "seeds", "metrics"});
+    if (scene->contains("config_hash") && !(*scene)["config_hash"].is_string()) {
+      throw InputError(SourceLocation{path, 0, 0, at + ".config_hash"},
+                       "a configuration hash (a string)", (*scene)["config_hash"].dump());
+    }
+    for (const char* list : {"config_hashes", "seeds"}) {
+      if (!scene->contains(list)) continue;
+      const json& v = (*scene)[list];
+      if (!v.is_array() ||
+          !std::all_of(v.begin(), v.end(), [](const json& item) { return item.is_string(); })) {
+        throw InputError(SourceLocation{path, 0, 0, at + "." + list},
+                         "a list of strings, one per seed", v.dump());
+      }
+    }
+    if (!scene->contains("metrics")) continue;  // reported below if the suite runs it
+    const json& metrics = (*scene)["metrics"];
+    if (!metrics.is_object()) continue;
+    CheckKeys(metrics, path, at + ".metrics", MetricNames());
+    for (auto m = metrics.begin(); m != metrics.end(); ++m) {
+      const MetricRange range = FindMetric(m.key())->range;
+      const auto in_range = [&](const json& v) {
+        if (!IsBaselineValue(v)) return false;
+        const double x = FromJson(v);
+        return std::isnan(x) || (x >= range.lower && x <= range.upper);
+      };
+      const bool ok = m->is_array() ? std::all_of(m->begin(), m->end(), in_range) : in_range(*m);
+      if (!ok) {
+        throw InputError(SourceLocation{path, 0, 0, at + ".metrics." + m.key()},
+                         fmt::format("a number in [{}, {}] (or \"nan\"), or a list of them, one "
+                                     "per seed",
+                                     range.lower, range.upper),
+                         m->dump());
+      }
+    }
+  }
+}
+
+// Checks that `baseline` (parsed from `path`) holds what `suite` compares:
+// for an exact scene a value per metric, for a seeded one the suite's seeds
+// and a list of one value per seed for each metric.
+void CheckBaseline(const json& baseline, const std::string& path, const RegressSuite& suite) {
+  CheckBaselineForm(baseline, path);
   const std::string refresh = "refresh the baseline with --update-baseline";
   const json& scenes = baseline["scenes"];
   for (const RegressScene& scene : suite.scenes) {
@@ -430,13 +511,15 @@ RegressResult RunRegress(const RegressOptions& options) {
 
   json baseline;
   if (!options.update_baseline) {
-    std::ifstream in(options.baseline_path);
-    if (!in) {
+    std::error_code exists_ec;
+    if (!fs::exists(options.baseline_path, exists_ec)) {
       throw InputError(SourceLocation{options.baseline_path, 0, 0, "--baseline"},
                        "a baseline JSON file", "no such file", "create it with --update-baseline");
     }
+    const std::string text =
+        ReadInputFile(options.baseline_path, "a baseline JSON file", kMaxBaselineBytes);
     try {
-      baseline = json::parse(in);
+      baseline = json::parse(text);
     } catch (const json::exception& e) {
       throw InputError(SourceLocation{options.baseline_path, 0, 0, ""}, "a baseline JSON file",
                        e.what());

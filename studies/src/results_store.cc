@@ -38,6 +38,12 @@ std::string Quote(const std::string& identifier) {
   return out + "\"";
 }
 
+// The column of swept key `key`: the key itself, except a swept `seed`
+// (a sweep of explicit seeds), whose name the run's own seed column has.
+std::string SweptColumn(const std::string& key) {
+  return Quote(key == "seed" ? "swept.seed" : key);
+}
+
 std::string StorePath(sqlite3* db) {
   const char* name = sqlite3_db_filename(db, "main");
   return name != nullptr && *name != '\0' ? name : "results store";
@@ -301,7 +307,7 @@ std::unique_ptr<ResultsStore> ResultsStore::OpenOrCreate(const std::string& path
   {
     ResultsStore store(temp, OpenDb(temp, StoreAccess::kReadWrite, true));
     std::string columns;
-    for (const std::string& k : meta.swept_keys) columns += ", " + Quote(k) + " TEXT";
+    for (const std::string& k : meta.swept_keys) columns += ", " + SweptColumn(k) + " TEXT";
     for (const std::string& m : MetricNames()) columns += ", " + Quote(m) + " REAL";
     store.Exec("BEGIN");
     store.Exec("CREATE TABLE meta(name TEXT PRIMARY KEY, value TEXT NOT NULL)");
@@ -337,7 +343,7 @@ void ResultsStore::Put(const RunRecord& r) {
   std::string columns = "key, run_index, seed_index, seed, status, error, run_dir";
   std::string marks = "?, ?, ?, ?, ?, ?, ?";
   for (const std::string& k : meta_.swept_keys) {
-    columns += ", " + Quote(k);
+    columns += ", " + SweptColumn(k);
     marks += ", ?";
   }
   for (const std::string& m : MetricNames()) {
@@ -371,7 +377,7 @@ void ResultsStore::Put(const RunRecord& r) {
 std::vector<RunRecord> ResultsStore::Runs() const {
   std::lock_guard lock(mutex_);
   std::string columns = "key, run_index, seed_index, seed, status, error, run_dir";
-  for (const std::string& k : meta_.swept_keys) columns += ", " + Quote(k);
+  for (const std::string& k : meta_.swept_keys) columns += ", " + SweptColumn(k);
   for (const std::string& m : MetricNames()) {
     columns += absent_metrics_.count(m) ? ", NULL AS " + Quote(m) : ", " + Quote(m);
   }
@@ -457,6 +463,10 @@ MergeResult MergeStores(const std::string& out_dir, const std::vector<std::strin
                                    inputs.back()->meta().sweep_file));
     }
   }
+  // Every input is read in full before OUT is touched: a damaged shard (its
+  // runs table gone) left a merged store holding the runs read before it.
+  std::vector<std::vector<RunRecord>> rows;
+  for (const auto& input : inputs) rows.push_back(input->Runs());
   std::error_code ec;
   fs::create_directories(out_dir, ec);
   if (ec) throw RunError(fmt::format("cannot create {}: {}", out_dir, ec.message()));
@@ -470,7 +480,7 @@ MergeResult MergeStores(const std::string& out_dir, const std::vector<std::strin
   }
   MergeResult result;
   for (size_t i = 0; i < inputs.size(); ++i) {
-    for (RunRecord r : inputs[i]->Runs()) {
+    for (RunRecord& r : rows[i]) {
       if (r.ok && !RunFolderIntact((fs::path(input_dirs[i]) / r.run_dir).string(), r)) {
         // Kept as a failed row: resuming the sweep on the merged folder recomputes it.
         r.ok = false;

@@ -181,6 +181,16 @@ TEST(Regress, BadSuitesAreLocated) {
     EXPECT_NE(e.find("scenes[0].seeds"), std::string::npos) << value << ": " << e;
     EXPECT_NE(e.find("an integer in [2, 1000]"), std::string::npos) << value << ": " << e;
   }
+  // The name is the scene's folder under --work: "../victim" escaped it and
+  // replaced a folder beside it (a bad-input audit).
+  for (const std::string name :
+       {"\"../victim\"", "\"\"", "a/b", "\"..\"", "\"a\\\\b\"", "\"a\\x85\""}) {
+    e = SuiteError(dir, "scenes:\n  - {name: " + name +
+                            ", scenario: base.yaml}\nmetrics:\n  idf1: {tolerance: 0.1}\n");
+    EXPECT_NE(e.find("bad.yaml:2:"), std::string::npos) << name << ": " << e;
+    EXPECT_NE(e.find("scenes[0].name"), std::string::npos) << name << ": " << e;
+    EXPECT_NE(e.find("can name one folder"), std::string::npos) << name << ": " << e;
+  }
   std::ofstream(dir / "ok.yaml") << "scenes:\n  - {scenario: base.yaml}\nmetrics:\n"
                                     "  ospa: {tolerance: 1}\n  idf1: {tolerance: 0.1}\n";
   const RegressSuite suite = LoadRegressSuite((dir / "ok.yaml").string());
@@ -263,6 +273,70 @@ TEST(Regress, BaselineRoundTripAndPlantedRegression) {
   EXPECT_EQ(r.better, 1);
 }
 
+// A baseline is bad input (InputError, exit 2) unless each of its keys is
+// known, its hashes are strings and its values are numbers in the metric's
+// range: a bad-input audit found a number for config_hash ending in a JSON
+// type error (exit 1), and a misspelt key, an unknown metric and an idf1 of
+// 7 accepted. Checked before anything runs.
+TEST(Regress, BadBaselinesAreBadInput) {
+  const auto dir = testing::SweepFolder("regress-bad-baseline");
+  std::ofstream(dir / "suite.yaml") << "scenes:\n  - {name: a, scenario: base.yaml}\n"
+                                       "metrics:\n  idf1: {tolerance: 0.01}\n";
+  RegressOptions o;
+  o.suite_path = (dir / "suite.yaml").string();
+  o.baseline_path = (dir / "baseline.json").string();
+  const auto error_of = [&](const std::string& text) -> std::string {
+    std::ofstream(o.baseline_path) << text;
+    try {
+      RunRegress(o);
+    } catch (const InputError& e) {
+      return e.what();
+    }
+    return "(accepted)";
+  };
+  const std::string scene = R"("a": {"config_hash": "0123", "metrics": {"idf1": 0.9}})";
+  const std::vector<std::pair<std::string, std::vector<std::string>>> cases = {
+      {R"({"scenes": {"a": {"config_hash": 17, "metrics": {"idf1": 0.9}}}})",
+       {"scenes.a.config_hash", "a string", "17"}},
+      {R"({"scenes": {"a": {"confighash": "0123", "metrics": {"idf1": 0.9}}}})",
+       {"scenes.a.confighash", "did you mean \"config_hash\"?"}},
+      {R"({"scenes": {"a": {"metrics": {"idf1": 0.9, "idf": 0.8}}}})",
+       {"scenes.a.metrics.idf", "did you mean \"idf1\"?"}},
+      {R"({"scenes": {"a": {"metrics": {"idf1": 7}}}})",
+       {"scenes.a.metrics.idf1", "a number in [0, 1]", "found 7"}},
+      {R"({"scenes": {"a": {"metrics": {"idf1": "0.9"}}}})", {"scenes.a.metrics.idf1", "\"0.9\""}},
+      {R"({"scene": {)" + scene + "}}", {"scenes", "something else"}},
+      {R"({"format": "hcpf-regress-baseline/2", "sweet": "x", "scenes": {)" + scene + "}}",
+       {"sweet", "one of the keys format, suite, scenes"}},
+      {R"({"format": 2, "scenes": {)" + scene + "}}", {"format", "found 2"}},
+      {R"({"scenes": {"a": [0.9]}})", {"scenes.a", "an object"}},
+      {R"({"scenes": {"b": {"metrics": {"idf1": 0.9}}}})", {"scenes.a.metrics", "none"}},
+      {"{\"scenes\": ", {"baseline.json", "a baseline JSON file"}},
+  };
+  for (const auto& [text, wanted] : cases) {
+    const std::string e = error_of(text);
+    for (const std::string& piece : wanted)
+      EXPECT_NE(e.find(piece), std::string::npos) << text << ": " << e;
+  }
+  // A folder given as the baseline is bad input too (it was exit 1).
+  fs::remove(o.baseline_path);
+  fs::create_directories(o.baseline_path);
+  try {
+    RunRegress(o);
+    ADD_FAILURE() << "a folder was accepted as the baseline";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("baseline.json"), std::string::npos) << e.what();
+  }
+  fs::remove(o.baseline_path);
+  // The well-formed baseline runs (NaN written "nan"; a scene the suite does
+  // not run is allowed, a baseline may outlive a trimmed suite).
+  std::ofstream(o.baseline_path) << R"({"scenes": {"a": {"metrics": {"idf1": "nan"}}, )"
+                                    R"("old": {"metrics": {"mota": -3}}}})";
+  const RegressResult r = RunRegress(o);
+  ASSERT_EQ(r.rows.size(), 1U);
+  EXPECT_TRUE(std::isnan(r.rows[0].baseline));
+}
+
 // A seeded scene beside an exact one: the baseline keeps per-seed values, a
 // consistent planted drop fails, the same mean drop on one seed does not, and
 // a baseline of other seeds is refused.
@@ -307,23 +381,28 @@ TEST(Regress, SeededSceneBaselineAndPairedVerdicts) {
       << junit.str();
 
   // Every seed's baseline 0.05 better than reality: a consistent drop, WORSE.
+  // (Planted on MOTA, whose values here leave room below its bound of 1: a
+  // baseline value out of the metric's range is refused.)
+  ASSERT_EQ(r.rows[1].metric, "mota");
   nlohmann::json planted = baseline;
-  for (auto& v : planted["scenes"]["s"]["metrics"]["idf1"]) v = v.get<double>() + 0.05;
+  for (auto& v : planted["scenes"]["s"]["metrics"]["mota"]) v = v.get<double>() + 0.05;
   std::ofstream(o.baseline_path) << planted.dump(2);
   r = RunRegress(o);
   EXPECT_EQ(r.worse, 1);
-  EXPECT_EQ(r.rows[0].verdict, RegressVerdict::kWorse);
-  EXPECT_NEAR(r.rows[0].difference, -0.05, 1e-12);
-  // The same mean drop on one seed only (+0.15): the interval holds zero.
+  EXPECT_EQ(r.rows[1].verdict, RegressVerdict::kWorse);
+  EXPECT_NEAR(r.rows[1].difference, -0.05, 1e-12);
+  // The same mean drop on one seed only (+0.15, on the seed with the lowest
+  // MOTA): the interval holds zero.
   planted = baseline;
-  auto& first = planted["scenes"]["s"]["metrics"]["idf1"][0];
-  first = first.get<double>() + 0.15;
+  auto& lowest = planted["scenes"]["s"]["metrics"]["mota"][2];
+  ASSERT_LE(lowest.get<double>() + 0.15, 1.0);
+  lowest = lowest.get<double>() + 0.15;
   std::ofstream(o.baseline_path) << planted.dump(2);
   r = RunRegress(o);
   EXPECT_EQ(r.worse, 0);
-  EXPECT_NEAR(r.rows[0].difference, -0.05, 1e-12);
-  EXPECT_LT(r.rows[0].lower, 0.0);
-  EXPECT_GT(r.rows[0].upper, 0.0);
+  EXPECT_NEAR(r.rows[1].difference, -0.05, 1e-12);
+  EXPECT_LT(r.rows[1].lower, 0.0);
+  EXPECT_GT(r.rows[1].upper, 0.0);
 
   // A baseline of other seeds, or a per-seed list for an exact scene: bad input.
   planted = baseline;

@@ -323,6 +323,31 @@ TEST(RunSweep, AFailingRunIsRecordedAndTheOthersFinish) {
   EXPECT_EQ(resumed.failed, 0);
 }
 
+// A sweep of explicit seeds (grid: {seed: [...]}, no seeds:) is allowed by
+// the sweep file; its store failed on "duplicate column name: seed" (a
+// bad-input audit). The swept values go to their own column, and each run's
+// seed column holds its seed.
+TEST(RunSweep, ASweptSeedIsStoredBesideTheRunSeed) {
+  const auto dir = SweepFolder("swept-seed");
+  const SweepSpec spec = LoadSweepFile(WriteSweep(dir,
+                                                  "base: base.yaml\n"
+                                                  "grid:\n"
+                                                  "  seed: [11, 12]\n"
+                                                  "  tracker.particles: [20]\n"));
+  const auto runs = ExpandSweep(spec);
+  const SweepResult r = RunSweep(spec, runs, Options(dir / "out", 2));
+  EXPECT_EQ(r.computed, 2);
+  EXPECT_EQ(r.failed, 0);
+  const auto stored = ResultsStore::Open((dir / "out" / "results.sqlite").string())->Runs();
+  ASSERT_EQ(stored.size(), 2U);
+  for (size_t i = 0; i < 2; ++i) {
+    ASSERT_EQ(stored[i].values.size(), 2U);
+    EXPECT_EQ(stored[i].values[0], i == 0 ? "11" : "12");
+    EXPECT_EQ(stored[i].seed, i == 0 ? 11U : 12U);
+    EXPECT_TRUE(stored[i].ok) << stored[i].error;
+  }
+}
+
 TEST(RunSweep, ShardsMergedEqualTheUnshardedSweep) {
   const auto dir = SweepFolder("shards");
   const SweepSpec spec = LoadSweepFile(WriteSweep(dir, kSweep));
@@ -364,6 +389,21 @@ TEST(RunSweep, ShardsMergedEqualTheUnshardedSweep) {
                InputError);
   // And so is resuming into a folder of another sweep.
   EXPECT_THROW(RunSweep(other, ExpandSweep(other), Options(dir / "all", 1)), InputError);
+  // A shard whose runs table is gone is bad input, found before anything is
+  // written: a bad-input audit found a merged store holding the two shards
+  // read before it, which a report then took for the whole sweep.
+  fs::copy(dir / "shard2", dir / "broken", fs::copy_options::recursive);
+  {
+    sqlite3* db = nullptr;
+    const std::string path = (dir / "broken" / "results.sqlite").string();
+    ASSERT_EQ(sqlite3_open(path.c_str(), &db), SQLITE_OK);
+    ASSERT_EQ(sqlite3_exec(db, "DROP TABLE runs", nullptr, nullptr, nullptr), SQLITE_OK);
+    sqlite3_close(db);
+  }
+  EXPECT_THROW(MergeStores((dir / "merged3").string(),
+                           {shard_dirs[0], shard_dirs[1], (dir / "broken").string()}),
+               InputError);
+  EXPECT_FALSE(fs::exists(dir / "merged3"));
 }
 
 }  // namespace

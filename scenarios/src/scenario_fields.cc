@@ -309,7 +309,8 @@ std::span<const Field<TrackerChoice>> TrackerChoice::Fields() {
       // 1 ms up to an hour: the program answers each frame, and a reply that
       // takes an hour is a hung program, not a slow one.
       NumberField("timeout_s", &O::timeout_s, Closed(0.001, 3600), "s",
-                  "type external only: how long to wait for each reply (the hello's too) "
+                  "type external only (checked, no effect otherwise): how long to wait for each "
+                  "reply (the hello's too) "
                   "before the run fails"),
   };
   return fields;
@@ -373,6 +374,23 @@ void ObservationOptions::Validate(const tracker::TrackerOptions& tracker) const 
     FailOption("tracker.management", "reacquire", kReacquireNeeds,
                "own_detections with observation.detector: oracle");
   }
+  // A map likelihood without maps leaves every filter unsupported: each one
+  // coasts on its dynamics alone until it is deleted (a bad-input audit).
+  const bool map_likelihood = tracker.likelihood.model == tracker::LikelihoodModel::kMap;
+  const auto map_needs = [this] {
+    std::vector<std::string> model_based;
+    for (std::string_view d : vision::DetectorNames()) {
+      if (vision::MakeDetector(d, detectors)->uses_models()) model_based.emplace_back(d);
+    }
+    return fmt::format(
+        "a likelihood with a map to read: observation.simulated.likelihood_map: true with the "
+        "oracle, or a model-based observation.detector ({})",
+        fmt::join(model_based, ", "));
+  };
+  if (map_likelihood && oracle() && !simulated.likelihood_map) {
+    FailOption("tracker.likelihood", "model", map_needs(),
+               "map with the oracle and observation.simulated.likelihood_map: false");
+  }
   if (oracle()) return;
   if (detector == "fusion") {
     const bool first = vision::MakeDetector(fused.front(), detectors)->uses_models();
@@ -396,6 +414,10 @@ void ObservationOptions::Validate(const tracker::TrackerOptions& tracker) const 
     FailOption("observation", "search",
                "frame, or a model-based observation.detector (windows belong to target models)",
                "window with observation.detector: " + name);
+  }
+  if (map_likelihood && !made->uses_models()) {
+    FailOption("tracker.likelihood", "model", map_needs(),
+               "map with observation.detector: " + name + ", which makes no maps");
   }
   if (reacquire && !made->uses_models()) {
     FailOption("tracker.management", "reacquire", kReacquireNeeds,

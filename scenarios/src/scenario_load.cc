@@ -214,17 +214,20 @@ bool OnPath(const std::string& name) {
 void ReadTrackerChoice(YamlReader& r, const std::string& file, TrackerChoice* c) {
   ReadFields(r, *c, TrackerChoice::Fields());
   if (!c->external()) {
-    // An empty command is the key not written (a sweep's zip can give
-    // particle-filter cells `[]`).
-    for (const char* key : {"command", "timeout_s"}) {
-      if (key == std::string_view("command") ? !c->command.empty() : r.Has(key)) {
-        r.Child(key).Fail(
-            fmt::format("no tracker.{} with tracker.type: particle_filter (it "
-                        "belongs to tracker.type: external)",
-                        key));
-      }
+    // The command names the program to run, so writing one asks for it: an
+    // error here. An empty command is the key not written (a sweep's zip can
+    // give particle-filter cells `[]`). timeout_s is an option of the
+    // external tracker, and like the options of every component not chosen
+    // (the particle filter's with type: external) it is checked, then takes
+    // no effect: back to its default, so the resolved YAML and config hash
+    // do not depend on it.
+    if (!c->command.empty()) {
+      r.Child("command").Fail(
+          "no tracker.command with tracker.type: particle_filter (it belongs to tracker.type: "
+          "external)");
     }
     c->command.clear();
+    c->timeout_s = TrackerChoice{}.timeout_s;
     return;
   }
   if (c->command.empty()) {

@@ -268,6 +268,16 @@ std::vector<BadCase> Cases() {
        m + "tracker: " + std::string(3000, '[') + std::string(3000, ']') + "\n",
        {},
        {"bad.yaml:19:", "YAML nested less deeply", "levels deep"}},
+      // A bad-input audit: a map likelihood with nothing making maps.
+      {"MapLikelihoodWithoutMaps",
+       m,
+       {{"tracker.likelihood.model", "map"}},
+       {"tracker.likelihood.model", "likelihood_map: true", "sks",
+        "found map with the oracle and observation.simulated.likelihood_map: false"}},
+      {"MapLikelihoodWithAModelFreeDetector",
+       m + "observation: {source: rendered, detector: diff}\n",
+       {{"tracker.likelihood.model", "map"}},
+       {"tracker.likelihood.model", "found map with observation.detector: diff"}},
       // Issue 11 item 6: detectors fused (thesis chapter 10).
       {"FusedDetectorUnknown",
        m + "observation: {source: rendered, detectors: [sks, prka]}\n",
@@ -330,6 +340,17 @@ TEST_P(BadInput, IsRejectedWithLocationKeyExpectedAndFound) {
           << "message lacks \"" << part << "\"\n  message: " << message;
     }
   }
+}
+
+// What a map likelihood needs, accepted: the oracle's maps, a model-based
+// detector's.
+TEST(BadInputFile, MapLikelihoodWithMapsIsAccepted) {
+  const std::string m = kMinimal;
+  EXPECT_NO_THROW(LoadScenarioText(
+      m, "ok.yaml",
+      {{"tracker.likelihood.model", "map"}, {"observation.simulated.likelihood_map", "true"}}));
+  EXPECT_NO_THROW(LoadScenarioText(m + "observation: {source: rendered, detector: sks}\n",
+                                   "ok.yaml", {{"tracker.likelihood.model", "map"}}));
 }
 
 // A NUL byte, a newline or NEL is never written into a message raw.

@@ -79,8 +79,14 @@ TEST(ExternalTrackerKeys, CommandBelongsToExternalOnly) {
   std::string e = LoadError(std::string(kMinimal) + "  command: [sleep]\n");
   EXPECT_NE(e.find("ext.yaml:19:12:"), std::string::npos) << e;
   EXPECT_NE(e.find("tracker.type: particle_filter"), std::string::npos) << e;
-  e = LoadError(std::string(kMinimal) + "  timeout_s: 3\n");
+  // timeout_s is an option of the external tracker: like the particle
+  // filter's options with type: external, it is checked and takes no effect
+  // (a bad-input audit found it the one unused option refused).
+  e = LoadError(std::string(kMinimal) + "  timeout_s: 0\n");
   EXPECT_NE(e.find("tracker.timeout_s"), std::string::npos) << e;
+  const Scenario unused = LoadScenarioText(std::string(kMinimal) + "  timeout_s: 3\n", "ext.yaml");
+  EXPECT_EQ(unused.tracker_choice.timeout_s, TrackerChoice{}.timeout_s);
+  EXPECT_EQ(ToResolvedYaml(unused), ToResolvedYaml(LoadScenarioText(kMinimal, "ext.yaml")));
   e = LoadError(std::string(kMinimal) + "  type: external\n");
   EXPECT_NE(e.find("command"), std::string::npos) << e;
   EXPECT_NE(e.find("missing"), std::string::npos) << e;

@@ -445,12 +445,31 @@ bool RunFolderIntact(const std::string& run_dir, const RunRecord& record) {
   return true;
 }
 
+void CheckSweepFolder(const std::string& dir, const std::string& option) {
+  scenarios::CheckFolderArgument(dir, option);
+  std::error_code ec;
+  if (!fs::is_directory(dir, ec) || fs::exists(fs::path(dir) / "results.sqlite", ec)) return;
+  for (const auto& entry : fs::directory_iterator(dir, ec)) {
+    const std::string name = entry.path().filename().string();
+    // What a sweep writes before its store exists (a sweep stopped early).
+    if (name == "runs" || name == "sweep.lock" || name == "results.sqlite.new") continue;
+    const bool run_folder = fs::exists(fs::path(dir) / "manifest.json", ec);
+    throw InputError(SourceLocation{dir, 0, 0, option},
+                     "a new or empty folder, or an earlier output folder of hcpf sweep or hcpf "
+                     "merge (one with results.sqlite)",
+                     run_folder ? std::string("an output folder of hcpf run or hcpf render "
+                                              "(manifest.json)")
+                                : fmt::format("a folder with other files in it (\"{}\")", name),
+                     "nothing was changed; name another folder");
+  }
+}
+
 MergeResult MergeStores(const std::string& out_dir, const std::vector<std::string>& input_dirs) {
   if (input_dirs.empty()) {
     throw InputError(SourceLocation{"hcpf merge", 0, 0, "DIR"}, "at least one shard folder",
                      "none");
   }
-  scenarios::CheckFolderArgument(out_dir, "OUT");
+  CheckSweepFolder(out_dir, "OUT");
   std::vector<std::unique_ptr<ResultsStore>> inputs;
   for (const std::string& dir : input_dirs) {
     inputs.push_back(

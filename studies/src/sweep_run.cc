@@ -99,7 +99,7 @@ SweepPlan PrepareSweep(const SweepSpec& spec, const std::vector<SweepRun>& runs,
   SweepPlan plan;
   plan.out = fs::path(options.out_dir);
   const fs::path& out = plan.out;
-  scenarios::CheckFolderArgument(options.out_dir, "--out");
+  CheckSweepFolder(options.out_dir, "--out");
   std::error_code ec;
   fs::create_directories(out / "runs", ec);
   if (ec)

@@ -348,6 +348,41 @@ TEST(RunSweep, ASweptSeedIsStoredBesideTheRunSeed) {
   }
 }
 
+// --out takes a new, empty or earlier sweep folder; a run folder or a
+// folder of someone else's files is refused before anything is written (a
+// bad-input audit found a sweep writing its store and runs/ into both).
+TEST(RunSweep, OutMustBeASweepFolder) {
+  const auto dir = SweepFolder("sweep-out");
+  const SweepSpec spec = LoadSweepFile(
+      WriteSweep(dir, "base: base.yaml\ngrid: {tracker.particles: [20]}\n", "one.yaml"));
+  const auto runs = ExpandSweep(spec);
+  fs::create_directories(dir / "notes");
+  std::ofstream(dir / "notes" / "todo.txt") << "mine\n";
+  fs::create_directories(dir / "run");
+  std::ofstream(dir / "run" / "manifest.json") << R"({"format": "hcpf-run/1"})";
+  const auto refused = [&](const fs::path& out, const std::string& found) {
+    try {
+      RunSweep(spec, runs, Options(out, 1));
+      ADD_FAILURE() << out << " was accepted";
+    } catch (const InputError& e) {
+      const std::string m = e.what();
+      EXPECT_NE(m.find("--out"), std::string::npos) << m;
+      EXPECT_NE(m.find(found), std::string::npos) << m;
+    }
+    EXPECT_FALSE(fs::exists(out / "runs")) << out;
+    EXPECT_FALSE(fs::exists(out / "results.sqlite")) << out;
+  };
+  refused(dir / "notes", "a folder with other files in it (\"todo.txt\")");
+  refused(dir / "run", "an output folder of hcpf run");
+  // A folder a sweep left before its store (runs/, sweep.lock) is taken.
+  fs::create_directories(dir / "stopped" / "runs");
+  std::ofstream(dir / "stopped" / "sweep.lock");
+  EXPECT_EQ(RunSweep(spec, runs, Options(dir / "stopped", 1)).computed, 1);
+  // And merge's OUT follows the same rule.
+  EXPECT_THROW(MergeStores((dir / "notes").string(), {(dir / "stopped").string()}), InputError);
+  EXPECT_FALSE(fs::exists(dir / "notes" / "results.sqlite"));
+}
+
 TEST(RunSweep, ShardsMergedEqualTheUnshardedSweep) {
   const auto dir = SweepFolder("shards");
   const SweepSpec spec = LoadSweepFile(WriteSweep(dir, kSweep));

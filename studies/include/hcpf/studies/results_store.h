@@ -98,6 +98,14 @@ std::map<std::string, double> ReadRunMetrics(const std::string& run_dir);
 // record's metrics. False when the folder was deleted or a file damaged.
 bool RunFolderIntact(const std::string& run_dir, const RunRecord& record);
 
+// Checks that `dir` may take a sweep's outputs (`option` names the argument:
+// "--out", "OUT"): a folder that does not exist yet, an empty one, or one a
+// sweep or merge wrote (it holds results.sqlite, or only what a sweep writes
+// before its store: runs/ and sweep.lock). Anything else, a run folder of
+// hcpf run among them, is an InputError naming what it holds: a sweep there
+// would mix its files with someone else's.
+void CheckSweepFolder(const std::string& dir, const std::string& option);
+
 struct MergeResult {
   int64_t added = 0;       // rows new to the output store
   int64_t duplicates = 0;  // rows whose key was already there (not counted twice)

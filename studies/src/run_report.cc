@@ -635,6 +635,13 @@ ReportResult WriteRunReport(const ReportOptions& options) {
 
   const json manifest = ReadRunJson(dir / "manifest.json");
   const json metrics = ReadRunJson(dir / "metrics.json");
+  // Every run's metrics.json has its MOT block, whatever the tracker: without
+  // it ("{}", a file of another tool) the report would be NaN throughout.
+  if (!JsonMember(metrics, "mot").is_object()) {
+    throw InputError(SourceLocation{(dir / "metrics.json").string(), 0, 0, "mot"},
+                     "the metrics.json of hcpf run (with its mot block)",
+                     metrics.is_object() ? "no mot block" : metrics.dump().substr(0, 40));
+  }
   std::map<std::string, double> headline;
   try {
     headline = ReadRunMetrics(dir.string());

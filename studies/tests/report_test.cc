@@ -526,6 +526,27 @@ TEST(RunReport, TimelineDrawsTargetsTheirDetectionsAndTheirFilters) {
 }
 
 // mode none: no scene filter, so no ESS column values and no ESS line.
+// A run folder whose metrics.json is not a run's (a bad-input audit: "{}"
+// gave a report of NaN with exit 0) is bad input naming the file and block.
+TEST(RunReport, MetricsJsonWithoutItsMotBlockIsBadInput) {
+  const auto dir = testing::SweepFolder("run-report-empty-metrics");
+  const fs::path run = RunMinimal(dir, "none");
+  for (const std::string text : {"{}", "[1, 2]", R"({"mot": 3})"}) {
+    std::ofstream(run / "metrics.json") << text;
+    try {
+      WriteReport({.dir = run.string()});
+      ADD_FAILURE() << text << " was accepted";
+    } catch (const InputError& e) {
+      const std::string m = e.what();
+      EXPECT_NE(m.find((run / "metrics.json").string() + ": mot: expected the metrics.json of "
+                                                         "hcpf run"),
+                std::string::npos)
+          << m;
+    }
+    EXPECT_FALSE(fs::exists(run / "report.html")) << text;
+  }
+}
+
 TEST(RunReport, ModeNoneHasNoEssLine) {
   const auto dir = testing::SweepFolder("run-report-none");
   const fs::path run = RunMinimal(dir, "none");

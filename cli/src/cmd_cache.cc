@@ -6,9 +6,11 @@
 #include <chrono>
 #include <cstdio>
 #include <ctime>
+#include <filesystem>
 #include <memory>
 
 #include "command.h"
+#include "hcpf/core/error.h"
 #include "hcpf/scenarios/cache.h"
 #include "hcpf/scenarios/frames.h"
 
@@ -38,48 +40,68 @@ Command AddCacheCommand(CLI::App& parent) {
       "cache",
       "Show what the frame and detection caches hold; with --max-size, remove the entries used "
       "least recently until the rest fits");
-  app->add_option("--cache", options->cache, "The cache folder (as for hcpf run and sweep)")
-      ->capture_default_str();
-  app->add_option("--max-size", options->max_size,
-                  "Keep at most this much: bytes or a number with K, M, G or T (500M, 20G)");
+  CLI::Option* cache =
+      app->add_option("--cache", options->cache, "The cache folder (as for hcpf run and sweep)")
+          ->capture_default_str();
+  CLI::Option* max_size =
+      app->add_option("--max-size", options->max_size,
+                      "Keep at most this much: bytes or a number with K, M, G or T (500M, 20G)");
   app->add_flag("--dry-run", options->dry_run,
-                "With --max-size: list what would be removed, remove nothing");
-  return {app, [options] {
-            const uint64_t max_bytes = options->max_size.empty()
-                                           ? 0
-                                           : scenarios::ParseSize(options->max_size, "--max-size");
-            const scenarios::CacheContents contents = scenarios::ScanCache(options->cache);
-            std::printf("%s\n", options->cache.c_str());
-            std::printf("  %d scene(s) of rendered frames: %s\n", contents.scenes,
-                        scenarios::FormatSize(contents.scene_bytes).c_str());
-            std::printf("  %d detector output(s): %s\n", contents.detections,
-                        scenarios::FormatSize(contents.detection_bytes).c_str());
-            if (!contents.entries.empty()) {
-              std::printf("  used from %s to %s\n", Day(contents.entries.front().last_used).c_str(),
-                          Day(contents.entries.back().last_used).c_str());
-            }
-            if (options->max_size.empty()) return 0;
-            const std::vector<scenarios::CacheEntry> remove =
-                scenarios::PruneOrder(contents, max_bytes);
-            uint64_t freed = 0;
-            int scenes = 0;
-            for (const scenarios::CacheEntry& e : remove) {
-              freed += e.bytes;
-              scenes += e.kind == scenarios::CacheEntry::Kind::kScene;
-              if (options->dry_run) {
-                std::printf("  would remove %s (%s, last used %s)\n", e.path.string().c_str(),
-                            scenarios::FormatSize(e.bytes).c_str(), Day(e.last_used).c_str());
-              }
-            }
-            if (!options->dry_run) scenarios::RemoveCacheEntries(remove);
-            std::printf(
-                "  %s %d scene(s) and %d detector output(s), %s, least recently used "
-                "first: %s left (--max-size %s)\n",
-                options->dry_run ? "would remove" : "removed", scenes,
-                static_cast<int>(remove.size()) - scenes, scenarios::FormatSize(freed).c_str(),
-                scenarios::FormatSize(contents.bytes() - freed).c_str(), options->max_size.c_str());
-            return 0;
-          }};
+                "With --max-size: list what would be removed, remove nothing")
+      ->needs(max_size);
+  return {
+      app, [options, cache, max_size] {
+        // Given, --max-size "" is a size not written, not "no limit".
+        const bool prune = max_size->count() > 0;
+        const uint64_t max_bytes =
+            prune ? scenarios::ParseSize(options->max_size, "--max-size") : 0;
+        // A folder named with --cache must exist: a misspelt path read as
+        // an empty cache. The default may not exist yet (nothing cached).
+        std::error_code ec;
+        const auto status = std::filesystem::status(options->cache, ec);
+        if (std::filesystem::exists(status) && !std::filesystem::is_directory(status)) {
+          throw InputError(SourceLocation{options->cache, 0, 0, "--cache"}, "a cache folder",
+                           "an existing file");
+        }
+        if (!std::filesystem::exists(status) && cache->count() > 0) {
+          throw InputError(
+              SourceLocation{options->cache, 0, 0, "--cache"}, "an existing cache folder",
+              "no such folder",
+              "hcpf run and sweep create it; the default is " + scenarios::DefaultFrameCacheDir());
+        }
+        const scenarios::CacheContents contents = scenarios::ScanCache(options->cache);
+        std::printf("%s%s\n", options->cache.c_str(),
+                    std::filesystem::exists(status) ? "" : " (not created yet: nothing cached)");
+        std::printf("  %d scene(s) of rendered frames: %s\n", contents.scenes,
+                    scenarios::FormatSize(contents.scene_bytes).c_str());
+        std::printf("  %d detector output(s): %s\n", contents.detections,
+                    scenarios::FormatSize(contents.detection_bytes).c_str());
+        if (!contents.entries.empty()) {
+          std::printf("  used from %s to %s\n", Day(contents.entries.front().last_used).c_str(),
+                      Day(contents.entries.back().last_used).c_str());
+        }
+        if (!prune) return 0;
+        const std::vector<scenarios::CacheEntry> remove =
+            scenarios::PruneOrder(contents, max_bytes);
+        uint64_t freed = 0;
+        int scenes = 0;
+        for (const scenarios::CacheEntry& e : remove) {
+          freed += e.bytes;
+          scenes += e.kind == scenarios::CacheEntry::Kind::kScene;
+          if (options->dry_run) {
+            std::printf("  would remove %s (%s, last used %s)\n", e.path.string().c_str(),
+                        scenarios::FormatSize(e.bytes).c_str(), Day(e.last_used).c_str());
+          }
+        }
+        if (!options->dry_run) scenarios::RemoveCacheEntries(remove);
+        std::printf(
+            "  %s %d scene(s) and %d detector output(s), %s, least recently used "
+            "first: %s left (--max-size %s)\n",
+            options->dry_run ? "would remove" : "removed", scenes,
+            static_cast<int>(remove.size()) - scenes, scenarios::FormatSize(freed).c_str(),
+            scenarios::FormatSize(contents.bytes() - freed).c_str(), options->max_size.c_str());
+        return 0;
+      }};
 }
 
 }  // namespace hcpf::cli

@@ -97,6 +97,26 @@ TEST(Cli, CacheReportsAndPrunesTheLeastRecentlyUsed) {
   EXPECT_NE(r.output.find("--max-size: expected a size"), std::string::npos) << r.output;
   EXPECT_NE(r.output.find("found \"2KB\""), std::string::npos) << r.output;
   EXPECT_TRUE(fs::exists(new_scene / "000000.frame"));
+
+  // A bad-input audit: --max-size "" (a size left out of a script's
+  // variable) listed the cache and exited 0; --cache naming a missing folder
+  // or a file read as an empty cache; --dry-run alone did nothing.
+  r = RunCommand(base + " --max-size ''");
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_NE(r.output.find("--max-size: expected a size"), std::string::npos) << r.output;
+  r = RunCommand(kHcpf + " cache --cache " + (cache / "nosuch").string());
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_NE(r.output.find("nosuch: --cache: expected an existing cache folder, found no such "
+                          "folder"),
+            std::string::npos)
+      << r.output;
+  r = RunCommand(kHcpf + " cache --cache " + det.string());
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_NE(r.output.find("found an existing file"), std::string::npos) << r.output;
+  r = RunCommand(base + " --dry-run");
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_NE(r.output.find("--max-size"), std::string::npos) << r.output;
+  EXPECT_TRUE(fs::exists(new_scene / "000000.frame"));
 }
 
 // hcpf validate takes a sweep file too (a mapping with base, grid or zip at

@@ -1,5 +1,6 @@
 // hcpf schema [SECTION ...] [--update FILE]
 
+#include <fmt/format.h>
 #include <spdlog/spdlog.h>
 
 #include <cerrno>
@@ -10,6 +11,7 @@
 #include <sstream>
 
 #include "command.h"
+#include "hcpf/core/did_you_mean.h"
 #include "hcpf/core/error.h"
 #include "hcpf/scenarios/schema.h"
 #include "hcpf/studies/file_keys.h"
@@ -17,11 +19,27 @@
 namespace hcpf::cli {
 namespace {
 
+std::vector<std::string> AllSections() {
+  std::vector<std::string> sections = scenarios::SchemaSections();
+  for (std::string_view s : studies::FileKeySections()) sections.emplace_back(s);
+  return sections;
+}
+
 // A scenario section (scenarios/schema.h) or a sweep-file / suite section
-// (studies/file_keys.h).
+// (studies/file_keys.h); an unknown one is an InputError listing both kinds.
 std::string AnyMarkdown(const std::string& section) {
   const std::string table = studies::FileKeysMarkdown(section);
-  return table.empty() ? scenarios::SchemaMarkdown(section) : table;
+  if (!table.empty()) return table;
+  try {
+    return scenarios::SchemaMarkdown(section);
+  } catch (const InputError&) {
+    const std::vector<std::string> all = AllSections();
+    const std::string close = ClosestMatch(section, all);
+    throw InputError(SourceLocation{"hcpf schema", 0, 0, "section"},
+                     fmt::format("one of {}", fmt::join(all, " | ")),
+                     fmt::format("\"{}\"", section),
+                     close.empty() ? "" : "did you mean \"" + close + "\"?");
+  }
 }
 
 }  // namespace
@@ -65,14 +83,14 @@ Command AddSchemaCommand(CLI::App& parent) {
               spdlog::info("{}: generated tables rewritten", options->update);
               return 0;
             }
-            std::vector<std::string> sections = options->sections;
-            if (sections.empty()) {
-              sections = scenarios::SchemaSections();
-              for (std::string_view s : studies::FileKeySections()) sections.emplace_back(s);
-            }
+            const std::vector<std::string> sections =
+                options->sections.empty() ? AllSections() : options->sections;
+            // Every table first: an unknown section prints nothing at all.
+            std::string text;
             for (const std::string& section : sections) {
-              std::cout << "## `" << section << "`\n\n" << AnyMarkdown(section) << "\n";
+              text += "## `" + section + "`\n\n" + AnyMarkdown(section) + "\n";
             }
+            std::cout << text;
             return 0;
           }};
 }

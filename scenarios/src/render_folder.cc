@@ -20,6 +20,7 @@ namespace fs = std::filesystem;
 
 RenderFolderSummary RenderToFolder(const Scenario& scenario, const RenderFolderOptions& options) {
   const auto start = std::chrono::steady_clock::now();
+  if (!options.cache_dir.empty()) CheckFolderArgument(options.cache_dir, "--cache");
   StagedFolder staged(options.out_dir);
   const fs::path& dir = staged.partial();
   std::error_code ec;

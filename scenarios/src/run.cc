@@ -62,6 +62,8 @@ Eigen::Vector2d GroundTruthBirthVelocity(const Scenario& scenario, int frame, Ob
 
 RunSummary RunScenario(const Scenario& scenario, const RunOptions& options) {
   const auto start = Clock::now();
+  // A file named as the cache failed mid-run (exit 1) creating a scene there.
+  if (!options.frame_cache_dir.empty()) CheckFolderArgument(options.frame_cache_dir, "--cache");
   StagedFolder staged(options.out_dir);
   const fs::path& partial = staged.partial();
   std::error_code ec;

@@ -442,6 +442,20 @@ Scenario LoadFromNode(YAML::Node root, const std::string& file,
     throw InputError(SourceLocation{file, 1, 1, ""}, "a scenario mapping (key: value lines)",
                      "a " + std::string(root.IsSequence() ? "list" : "single value"));
   }
+  // A sweep file (base:, grid: or zip: at the top, as hcpf validate tells
+  // them apart) given where a scenario goes: say so, instead of failing at
+  // its first key that a scenario reads differently (`seeds: 2`).
+  {
+    const YamlReader r(root, "", context);
+    for (auto it = root.begin(); it != root.end(); ++it) {
+      const std::string key = it->first.IsScalar() ? it->first.Scalar() : "";
+      if (key != "base" && key != "grid" && key != "zip") continue;
+      throw InputError(r.Key(it->first).Where(), "a scenario file",
+                       fmt::format("a sweep file (it has `{}:` at the top)", key),
+                       "hcpf sweep FILE --out DIR runs a sweep; a sweep's base and a regress "
+                       "suite's scenes are scenario files");
+    }
+  }
   ApplyOverrides(root, overrides, context.get());
   return ReadScenario(YamlReader(root, "", context), file);
 }

@@ -222,6 +222,14 @@ std::string UpdateGeneratedTables(
                      std::string("a closing line \"") + std::string(kEnd) + "\"",
                      "the end of the file");
   }
+  // A file without blocks has nothing to bring up to date: most likely the
+  // wrong file, which "up to date" would hide.
+  if (text.find(kBegin) == std::string::npos) {
+    throw InputError(SourceLocation{file_name, 0, 0, "generated table"},
+                     std::string("a markdown file with generated tables (\"") +
+                         std::string(kBegin) + "SECTION -->\" ... \"" + std::string(kEnd) + "\")",
+                     "none", "docs/scenario.md and docs/sweeps.md have them");
+  }
   return out;
 }
 

@@ -268,6 +268,11 @@ std::vector<BadCase> Cases() {
        m + "tracker: " + std::string(3000, '[') + std::string(3000, ']') + "\n",
        {},
        {"bad.yaml:19:", "YAML nested less deeply", "levels deep"}},
+      // A bad-input audit: a sweep file where a scenario goes.
+      {"SweepFileAsScenario",
+       "seeds: 2\ngrid:\n  tracker.particles: [10, 20]\n",
+       {},
+       {"bad.yaml:2:1:", "grid", "expected a scenario file", "found a sweep file", "hcpf sweep"}},
       // A bad-input audit: a map likelihood with nothing making maps.
       {"MapLikelihoodWithoutMaps",
        m,

@@ -53,6 +53,17 @@ TEST(Schema, UnclosedOrUnknownBlocksAreLocatedErrors) {
     EXPECT_NE(std::string(e.what()).find("x.md:1:1"), std::string::npos) << e.what();
     EXPECT_NE(std::string(e.what()).find("trakcer"), std::string::npos) << e.what();
   }
+  // A file without any block is an error, not "up to date" (a bad-input
+  // audit: the wrong file named to --update passed silently).
+  try {
+    UpdateGeneratedTables("# Notes\n\nno tables here\n", "notes.md");
+    FAIL();
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("notes.md: generated table: expected a markdown file "
+                                         "with generated tables"),
+              std::string::npos)
+        << e.what();
+  }
 }
 
 // A value just outside a field's range: below lo (or lo itself when open),

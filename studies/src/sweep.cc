@@ -13,6 +13,7 @@
 #include "hcpf/config/file_lookup.h"
 #include "hcpf/config/yaml_reader.h"
 #include "hcpf/core/rng.h"
+#include "hcpf/scenarios/output_folder.h"
 #include "hcpf/scenarios/progress.h"
 #include "hcpf/studies/file_keys.h"
 #include "hcpf/studies/metric_catalogue.h"
@@ -451,6 +452,7 @@ std::string SweepHash(const std::vector<SweepRun>& runs) {
 void SweepOptions::Validate() const {
   if (out_dir.empty())
     throw InputError(SourceLocation{"hcpf sweep", 0, 0, "--out"}, "a folder", "nothing");
+  if (!frame_cache_dir.empty()) scenarios::CheckFolderArgument(frame_cache_dir, "--cache");
   if (jobs < 1) {
     throw InputError(SourceLocation{"hcpf sweep", 0, 0, "--jobs"}, "an integer >= 1",
                      std::to_string(jobs));

@@ -49,6 +49,13 @@ TEST(Cli, NoOrUnknownSubcommandIsBadInput) {
   EXPECT_EQ(typo.exit_code, 2);
   EXPECT_NE(typo.output.find("did you mean \"validate\"?"), std::string::npos) << typo.output;
   EXPECT_EQ(RunCommand(kHcpf + " run").exit_code, 2);  // missing scenario and --out
+  // An unknown schema section prints no table before its error (a bad-input
+  // audit found the header of the unknown section printed), and sweep-file
+  // sections are among those offered.
+  const auto schema = RunCommand(kHcpf + " schema tracker swep");
+  EXPECT_EQ(schema.exit_code, 2) << schema.output;
+  EXPECT_EQ(schema.output.find("## `"), std::string::npos) << schema.output;
+  EXPECT_NE(schema.output.find("did you mean \"sweep\"?"), std::string::npos) << schema.output;
 }
 
 // hcpf cache on a hand-built cache folder: a scene of 3000 bytes used two
@@ -288,6 +295,28 @@ TEST(Cli, BadInputExitsTwoAndWritesNothing) {
                  (dir / "mine").string());
   EXPECT_EQ(r.exit_code, 2) << r.output;
   EXPECT_TRUE(fs::exists(dir / "mine" / "thesis.tex"));
+  // A bad-input audit: a sweep file where a scenario goes (run, a sweep's
+  // base, a suite's scene) failed at its `seeds: 2` ("expected a mapping of
+  // keys"); a file as --cache failed a rendered run midway with exit 1.
+  std::ofstream(dir / "sweep.yaml") << "base: " << LibraryScenario("crossing")
+                                    << "\nseeds: 2\ngrid: {tracker.particles: [10, 20]}\n";
+  r = RunCommand(kHcpf + " run " + (dir / "sweep.yaml").string() + " --out " +
+                 (dir / "out").string());
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_NE(r.output.find("sweep.yaml:1:1: base: expected a scenario file, found a sweep file"),
+            std::string::npos)
+      << r.output;
+  std::ofstream(dir / "cache") << "x";
+  for (const std::string command : {"run", "render"}) {
+    r = RunCommand(kHcpf + " " + command + " " + LibraryScenario("crossing") +
+                   " --set observation.source=rendered --cache " + (dir / "cache").string() +
+                   " --out " + (dir / "out").string());
+    EXPECT_EQ(r.exit_code, 2) << command << ": " << r.output;
+    EXPECT_NE(r.output.find("--cache: expected a folder (new or existing), found an existing file"),
+              std::string::npos)
+        << command << ": " << r.output;
+  }
+  EXPECT_FALSE(fs::exists(dir / "out"));
 }
 
 TEST(Cli, FailingRunExitsOneAndLeavesNoFolder) {

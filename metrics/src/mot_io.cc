@@ -14,6 +14,7 @@
 #include <cstdio>
 #include <cstring>
 #include <limits>
+#include <map>
 #include <span>
 #include <string_view>
 #include <unordered_set>
@@ -605,6 +606,7 @@ SeqInfo ParseSeqInfo(const std::string& text, const std::string& path) {
   SeqInfo info;
   bool have_length = false;
   bool in_sequence = false;
+  std::map<std::string, int> first_line;  // key -> line
   std::string_view rest(text);
   int line_no = 0;
   while (!rest.empty()) {
@@ -625,6 +627,13 @@ SeqInfo ParseSeqInfo(const std::string& text, const std::string& path) {
     }
     const std::string key(Trim(line.substr(0, eq)));
     const std::string_view value = Trim(line.substr(eq + 1));
+    // TrackEval's configparser refuses a key given twice; taking the last
+    // silently would score another sequence length than the reader meant.
+    if (const auto [at, fresh] = first_line.emplace(key, line_no); !fresh) {
+      throw InputError(SourceLocation{path, line_no, 0, "Sequence." + key},
+                       "each key once in [Sequence]",
+                       fmt::format("{} again (first at line {})", key, at->second));
+    }
     auto parse_int = [&](int minimum) {
       int out = 0;
       const auto [ptr, ec] = std::from_chars(value.data(), value.data() + value.size(), out);

@@ -108,9 +108,21 @@ std::vector<TrackEvalResult> ScoreTrackEvalRoot(const std::string& root, Benchma
         rules = Benchmark::kMot17;
       }
     }
+    // Every folder of the benchmark is a sequence: one without its gt.txt
+    // is an error, as TrackEval's is for a sequence of its seqmap (it was
+    // left out silently, and with it that sequence's share of COMBINED).
     std::vector<fs::path> seqs;
     for (const auto& e : fs::directory_iterator(bench_dir)) {
-      if (e.is_directory() && fs::exists(e.path() / "gt" / "gt.txt")) seqs.push_back(e.path());
+      if (!e.is_directory()) continue;
+      const fs::path gt = e.path() / "gt" / "gt.txt";
+      if (!fs::is_regular_file(gt)) {
+        throw InputError(SourceLocation{gt.string(), 0, 0, {}},
+                         fmt::format("the ground truth of sequence {} (every folder of {} is a "
+                                     "sequence)",
+                                     e.path().filename().string(), bench_dir.string()),
+                         "no file");
+      }
+      seqs.push_back(e.path());
     }
     std::sort(seqs.begin(), seqs.end());
     const fs::path bench_trackers = trackers_root / bench;

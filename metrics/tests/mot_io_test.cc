@@ -278,6 +278,17 @@ TEST(MotIo, SeqInfo) {
   } catch (const InputError& e) {
     EXPECT_NE(std::string(e.what()).find("s.ini:2"), std::string::npos) << e.what();
   }
+  // A key given twice is refused, as TrackEval's configparser refuses it (a
+  // bad-input audit found the last seqLength taken silently).
+  try {
+    ParseSeqInfo("[Sequence]\nseqLength=40\nname=A\nseqLength=400\n", "s.ini");
+    ADD_FAILURE();
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("s.ini:4: Sequence.seqLength: expected each key once in "
+                                         "[Sequence], found seqLength again (first at line 2)"),
+              std::string::npos)
+        << e.what();
+  }
 }
 
 // MOT17 preprocessing, worked by hand on one frame:

@@ -88,6 +88,19 @@ TEST(Report, TrackEvalRootWithCombinedRow) {
   EXPECT_EQ(results[0].combined.clear.idsw, 2);
   EXPECT_EQ(results[0].combined.clear.tp, 6);
   EXPECT_NEAR(results[0].combined.clear.mota, 2.0 / 3.0, 1e-12);
+  // A sequence folder without its gt.txt is bad input (a bad-input audit
+  // found it left out of the sequences and of COMBINED silently).
+  fs::remove(root / "gt/mot_challenge/MOT15-train/SEQ-A/gt/gt.txt");
+  try {
+    ScoreTrackEvalRoot(root.string());
+    ADD_FAILURE() << "a sequence without gt.txt was accepted";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("SEQ-A/gt/gt.txt: expected the ground truth of "
+                                         "sequence SEQ-A"),
+              std::string::npos)
+        << e.what();
+  }
+  WriteText(root / "gt/mot_challenge/MOT15-train/SEQ-A/gt/gt.txt", gt);
   // A missing tracker file is bad input.
   fs::remove(root / "trackers/mot_challenge/MOT15-train/mine/data/SEQ-B.txt");
   EXPECT_THROW(ScoreTrackEvalRoot(root.string()), InputError);

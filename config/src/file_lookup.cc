@@ -25,4 +25,15 @@ std::optional<std::string> FindFile(const std::string& written, const std::strin
   return std::nullopt;
 }
 
+std::string NotFoundText(const std::string& written, const std::vector<std::string>& looked_at) {
+  std::error_code ec;
+  std::string list;
+  for (const std::string& l : looked_at) {
+    if (fs::is_directory(l, ec))
+      return "\"" + written + "\", which is a folder, not a file (" + l + ")";
+    list += (list.empty() ? "" : ", ") + l;
+  }
+  return "\"" + written + "\", which does not exist (looked at " + list + ")";
+}
+
 }  // namespace hcpf::config

@@ -22,10 +22,8 @@ std::string ResolveModelPath(const std::string& written, const std::string& scen
       from_file ? fs::absolute(fs::path(scenario_file)).parent_path().string() : std::string();
   std::vector<std::string> looked;
   if (auto found = FindFile(written, beside, &looked)) return fs::weakly_canonical(*found).string();
-  std::string list;
-  for (const auto& l : looked) list += (list.empty() ? "" : ", ") + l;
   throw InputError(where, "the path of an existing model file",
-                   fmt::format("\"{}\", which does not exist (looked at {})", written, list));
+                   config::NotFoundText(written, looked));
 }
 
 std::string PortableModelPath(const std::string& resolved) {

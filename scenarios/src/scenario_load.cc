@@ -252,10 +252,8 @@ void ReadTrackerChoice(YamlReader& r, const std::string& file, TrackerChoice* c)
   std::vector<std::string> looked;
   const auto found = config::FindFile(program, beside, &looked);
   if (!found) {
-    std::string list;
-    for (const auto& l : looked) list += (list.empty() ? "" : ", ") + l;
     throw InputError(where, "the path of an existing executable file",
-                     fmt::format("\"{}\", which does not exist (looked at {})", program, list));
+                     config::NotFoundText(program, looked));
   }
   const std::string resolved = std::filesystem::weakly_canonical(*found).string();
   if (::access(resolved.c_str(), X_OK) != 0) {

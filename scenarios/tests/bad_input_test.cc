@@ -268,6 +268,11 @@ std::vector<BadCase> Cases() {
        m + "tracker: " + std::string(3000, '[') + std::string(3000, ']') + "\n",
        {},
        {"bad.yaml:19:", "YAML nested less deeply", "levels deep"}},
+      // A bad-input audit: a folder named as a model "does not exist".
+      {"ModelIsAFolder",
+       m,
+       {{"targets.0.model", "assets"}},
+       {"targets[0].model", "found \"assets\", which is a folder, not a file"}},
       // A bad-input audit: a sweep file where a scenario goes.
       {"SweepFileAsScenario",
        "seeds: 2\ngrid:\n  tracker.particles: [10, 20]\n",

@@ -50,10 +50,12 @@ using nlohmann::json;
 namespace {
 
 std::string ResolvePath(const YamlReader& where, const std::string& path, const std::string& dir) {
-  if (auto found = FindFile(path, dir)) return *found;
-  where.Fail(
-      "a scenario file (looked next to the suite, in the current folder and in the project "
-      "folder)");
+  std::vector<std::string> looked;
+  if (auto found = FindFile(path, dir, &looked)) return *found;
+  throw InputError(where.Where(),
+                   "a scenario file (looked next to the suite, in the current folder and in the "
+                   "project folder)",
+                   config::NotFoundText(path, looked));
 }
 
 json JsonNumber(double v) { return std::isfinite(v) ? json(v) : json("nan"); }

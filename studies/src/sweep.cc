@@ -34,11 +34,12 @@ namespace fs = std::filesystem;
 namespace {
 
 std::string ResolveBase(const YamlReader& where, const std::string& base, const std::string& dir) {
-  if (auto found = FindFile(base, dir)) return *found;
-  where.Fail(
-      "a scenario file (looked next to the sweep file, in the current folder and in the project "
-      "folder)",
-      "");
+  std::vector<std::string> looked;
+  if (auto found = FindFile(base, dir, &looked)) return *found;
+  throw InputError(where.Where(),
+                   "a scenario file (looked next to the sweep file, in the current folder and in "
+                   "the project folder)",
+                   config::NotFoundText(base, looked));
 }
 
 // Reads a `grid:`/`zip:` mapping of dotted keys to non-empty lists. The

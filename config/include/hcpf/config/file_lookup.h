@@ -15,4 +15,10 @@ namespace hcpf::config {
 std::optional<std::string> FindFile(const std::string& written, const std::string& beside_dir,
                                     std::vector<std::string>* looked_at = nullptr);
 
+// What was found when FindFile found nothing, for an error message:
+// "\"x\", which does not exist (looked at a, b)", or, when a candidate is a
+// folder, "\"x\", which is a folder, not a file (a)": "does not exist" sent
+// users looking for a file that was there.
+std::string NotFoundText(const std::string& written, const std::vector<std::string>& looked_at);
+
 }  // namespace hcpf::config

@@ -212,8 +212,11 @@ double TargetDetections::recall_centre() const {
   return Ratio(found_centre, found_centre + missed_centre);
 }
 
-DetectionQuality ScoreDetections(std::span<const DetectionFrame> frames,
-                                 const DetectionQualityOptions& options) {
+namespace {
+
+// Everything but the mostly-visible subset, which ScoreDetections adds.
+DetectionQuality ScoreAll(std::span<const DetectionFrame> frames,
+                          const DetectionQualityOptions& options) {
   DetectionQuality q;
   q.by_size = Bins(kSizeEdges, kInf);
   q.by_visibility = Bins(kVisibilityEdges, 1.0);
@@ -288,6 +291,27 @@ DetectionQuality ScoreDetections(std::span<const DetectionFrame> frames,
     q.median_size_px = *mid;
   }
   q.precision_recall = ComputePrecisionRecall(frames, options);
+  return q;
+}
+
+}  // namespace
+
+DetectionQuality ScoreDetections(std::span<const DetectionFrame> frames,
+                                 const DetectionQualityOptions& options) {
+  DetectionQuality q = ScoreAll(frames, options);
+  if (options.min_visible >= kMostlyVisible) {
+    q.iou_mostly_visible = q.iou;
+    q.precision_recall_mostly_visible = q.precision_recall;
+    return q;
+  }
+  // The same matching with the less visible targets "don't care" (the
+  // per-frame assignment is over every target either way, so the subset's
+  // true positives are those of the bin [0.75, 1]).
+  DetectionQualityOptions mostly = options;
+  mostly.min_visible = kMostlyVisible;
+  DetectionQuality subset = ScoreAll(frames, mostly);
+  q.iou_mostly_visible = subset.iou;
+  q.precision_recall_mostly_visible = std::move(subset.precision_recall);
   return q;
 }
 

@@ -291,16 +291,21 @@ std::string RunMetricsToJson(const RunMetrics& m) {
   j["gospa"] = gospa;
   if (m.detection) {
     const DetectionQuality& d = *m.detection;
-    j["detection"] = {{"iou", CountsJson(d.iou)},
-                      {"centre", CountsJson(d.centre)},
-                      {"mean_centre_error_px", Number(d.mean_centre_error_px)},
-                      {"mean_iou", Number(d.mean_iou)},
-                      {"median_size_px", Number(d.median_size_px)},
-                      {"by_size_px", BinsJson(d.by_size)},
-                      {"by_visibility", BinsJson(d.by_visibility)},
-                      {"by_truncation", BinsJson(d.by_truncation)},
-                      {"by_target", TargetsJson(d.by_target)},
-                      {"precision_recall", PrecisionRecallJson(d.precision_recall)}};
+    j["detection"] = {
+        {"iou", CountsJson(d.iou)},
+        {"centre", CountsJson(d.centre)},
+        {"mean_centre_error_px", Number(d.mean_centre_error_px)},
+        {"mean_iou", Number(d.mean_iou)},
+        {"median_size_px", Number(d.median_size_px)},
+        {"by_size_px", BinsJson(d.by_size)},
+        {"by_visibility", BinsJson(d.by_visibility)},
+        {"by_truncation", BinsJson(d.by_truncation)},
+        {"by_target", TargetsJson(d.by_target)},
+        {"precision_recall", PrecisionRecallJson(d.precision_recall)},
+        {"mostly_visible",
+         {{"min_visible", kMostlyVisible},
+          {"iou", CountsJson(d.iou_mostly_visible)},
+          {"precision_recall", PrecisionRecallJson(d.precision_recall_mostly_visible)}}}};
   }
   if (m.camera_motion) {
     const auto summary = [](const CameraMotionErrorSummary& e) {

@@ -285,6 +285,28 @@ TEST(PrecisionRecall, HandFramesAtOneThreshold) {
   EXPECT_NEAR(q.precision_recall.best_f1, q.iou.f1(), 1e-12);
 }
 
+// The mostly visible subset of the hand frames: A (visible 1.0) is counted,
+// B (0.5) joins C as "don't care". Frame 1: d0 true on A, d1 on B and d2 on C
+// ignored, d3 false; frame 2: A missed, d0 false. tp 1, fp 2, fn 1: precision
+// 1/3 (the visibility bin [0.75, 1] has no precision: fp 0 there), recall
+// 1/2, the bin's recall. One threshold (every score 0): AP = 51 levels
+// (recall 0 .. 0.5) at 1/3, over 101.
+TEST(PrecisionRecall, MostlyVisibleSubsetHasItsOwnPrecision) {
+  const DetectionQuality q = ScoreDetections(HandFrames());
+  EXPECT_EQ(q.iou_mostly_visible.tp, 1);
+  EXPECT_EQ(q.iou_mostly_visible.fp, 2);
+  EXPECT_EQ(q.iou_mostly_visible.fn, 1);
+  EXPECT_DOUBLE_EQ(q.iou_mostly_visible.recall(), q.by_visibility[3].iou.recall());
+  EXPECT_NEAR(q.precision_recall_mostly_visible.average_precision, 51.0 / 3.0 / 101.0, 1e-12);
+  EXPECT_NEAR(q.precision_recall_mostly_visible.best_f1, 2.0 / 5.0, 1e-12);  // 2/(1+2+2)
+  // With min_visible already at 0.75 the subset is the whole.
+  const DetectionQuality same = ScoreDetections(HandFrames(), {.min_visible = 0.8});
+  EXPECT_EQ(same.iou_mostly_visible.tp, same.iou.tp);
+  EXPECT_EQ(same.iou_mostly_visible.fp, same.iou.fp);
+  EXPECT_EQ(same.precision_recall_mostly_visible.average_precision,
+            same.precision_recall.average_precision);
+}
+
 // No detection: AP 0 and no operating point. No counted target: AP undefined.
 TEST(PrecisionRecall, NoDetectionsOrNoTargets) {
   DetectionFrame f;

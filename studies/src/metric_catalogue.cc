@@ -56,6 +56,10 @@ std::span<const CatalogueMetric> MetricCatalogue() {
       // counts are about (sweeps against target size: report.x_metric).
       {"det_recall_visible", "metrics.json", "/detection/by_visibility/3/iou/recall", true,
        "detection recall at visible fraction >= 0.75", "", kProportion},
+      // The same subset with a precision: detections on less visible
+      // targets neither true nor false (metrics.json detection.mostly_visible).
+      {"det_precision_visible", "metrics.json", "/detection/mostly_visible/iou/precision", true,
+       "detection precision at visible fraction >= 0.75", "", kProportion},
       {"det_recall_centre", "metrics.json", "/detection/centre/recall", true,
        "detection recall, centre rule", "", kProportion},
       {"det_precision_centre", "metrics.json", "/detection/centre/precision", true,
@@ -72,6 +76,9 @@ std::span<const CatalogueMetric> MetricCatalogue() {
       // 101-point AP at IoU >= 0.5, docs/vision.md).
       {"det_ap", "metrics.json", "/detection/precision_recall/average_precision", true,
        "detection average precision (AP50)", "", kUnit},
+      {"det_ap_visible", "metrics.json",
+       "/detection/mostly_visible/precision_recall/average_precision", true,
+       "detection AP50 at visible fraction >= 0.75", "", kUnit},
   };
   return kMetrics;
 }

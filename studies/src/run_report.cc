@@ -341,6 +341,14 @@ std::string DetectionSection(const json& metrics, const std::string& detector,
   h += "<table><tr><th>targets</th><th>found (IoU)</th><th>missed</th><th>false</th>"
        "<th>precision</th><th>recall</th><th>recall (centre)</th></tr>\n";
   h += DetectionRow("all", d, true);
+  const json& mostly = JsonMember(d, "mostly_visible");
+  if (mostly.is_object()) {
+    // The subset has a precision: detections on the less visible targets
+    // are neither true nor false there.
+    h += DetectionRow(fmt::format("visible ≥ {} (the others not counted)",
+                                  Number(JsonDouble(mostly, "min_visible"))),
+                      mostly, true);
+  }
   h += DetectionBinRows(d, "by_size_px", "size", " px", true);
   h += DetectionBinRows(d, "by_visibility", "visible", "", false);
   h += DetectionBinRows(d, "by_truncation", "truncated", "", false);
@@ -373,6 +381,14 @@ std::string DetectionSection(const json& metrics, const std::string& detector,
                           Fixed3(JsonDouble(f1, "f1")), Number(JsonDouble(f1, "min_score")),
                           Fixed3(JsonDouble(f1, "precision")), Fixed3(JsonDouble(f1, "recall")))
             : std::string("No detection matches a target."));
+    const double mostly_ap =
+        JsonDouble(JsonMember(mostly, "precision_recall"), "average_precision");
+    if (std::isfinite(mostly_ap)) {
+      h += fmt::format(
+          "<p>The same for the targets visible at least {} alone (a detection on a less visible "
+          "target neither true nor false): average precision <b>{}</b>.</p>\n",
+          Number(JsonDouble(mostly, "min_visible")), Fixed3(mostly_ap));
+    }
   }
   if (!precision_recall_svg.empty()) {
     h += fmt::format("<div class=\"plot\" id=\"plot-precision_recall\">\n{}\n</div>\n",

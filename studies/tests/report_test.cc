@@ -364,9 +364,19 @@ TEST(RunReport, DetectionQualityTableHasARowPerNonEmptyBin) {
         {{"lo", 0.75}, {"hi", 1.0}, {"iou", counts(8, 0, 1)}, {"centre", counts(9, 0, 0)}}}},
       {"by_truncation",
        {{{"lo", 0.0}, {"hi", 0.15}, {"iou", counts(8, 0, 1)}, {"centre", counts(9, 0, 0)}},
-        {{"lo", 0.5}, {"hi", 1.0}, {"iou", counts(0, 0, 1)}, {"centre", counts(0, 0, 1)}}}}};
+        {{"lo", 0.5}, {"hi", 1.0}, {"iou", counts(0, 0, 1)}, {"centre", counts(0, 0, 1)}}}},
+      {"mostly_visible",
+       {{"min_visible", 0.75},
+        {"iou", counts(8, 1, 1)},
+        {"precision_recall", {{"average_precision", 0.625}}}}}};
   std::ofstream(run / "metrics.json") << metrics.dump();
   const std::string html = Read(WriteReport({.dir = run.string()}).html_path);
+  // The mostly visible subset with its precision (8 / 9) and recall (8 / 9),
+  // no centre rule; its AP sentence.
+  EXPECT_NE(html.find("<tr><td class=\"k\">visible ≥ 0.75 (the others not counted)</td>"
+                      "<td>8</td><td>1</td><td>1</td><td>0.889</td><td>0.889</td><td>–</td></tr>"),
+            std::string::npos)
+      << html;
   EXPECT_NE(html.find("<h2>Detection quality</h2>"), std::string::npos);
   // All: precision 8 / 10, recall 8 / 10, centre recall 9 / 10.
   EXPECT_NE(html.find("<tr><td class=\"k\">all</td><td>8</td><td>2</td><td>2</td>"
@@ -398,7 +408,9 @@ TEST(RunReport, DetectionSectionPlotsThePrecisionRecallCurve) {
       "precision_recall": {"average_precision": 0.75,
         "best_f1": {"f1": 0.8, "precision": 0.6667, "recall": 1, "min_score": 0.4},
         "curve": {"recall": [0, 0.5, 1], "precision": [1, 1, 0.6667],
-                  "min_score": [0.9, 0.9, 0.4]}}})");
+                  "min_score": [0.9, 0.9, 0.4]}},
+      "mostly_visible": {"min_visible": 0.75, "iou": {"tp": 1, "fp": 1, "fn": 0},
+        "precision_recall": {"average_precision": 0.625}}})");
   std::ofstream(run / "metrics.json") << metrics.dump();
   const fs::path kept = dir / "kept";
   const ReportResult r =
@@ -408,6 +420,10 @@ TEST(RunReport, DetectionSectionPlotsThePrecisionRecallCurve) {
   EXPECT_NE(html.find("The best F1, 0.800, is at score ≥ 0.4 (precision 0.667, recall 1.000)."),
             std::string::npos);
   EXPECT_NE(html.find("<code>det_ap</code>"), std::string::npos) << "a headline metric";
+  EXPECT_NE(html.find("targets visible at least 0.75 alone (a detection on a less visible target "
+                      "neither true nor false): average precision <b>0.625</b>"),
+            std::string::npos)
+      << html;
   const size_t at = html.find("id=\"plot-precision_recall\"");
   ASSERT_NE(at, std::string::npos) << "no precision-recall plot";
   const std::string svg = html.substr(at, html.find("</svg>", at) - at);

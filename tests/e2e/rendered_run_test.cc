@@ -228,6 +228,16 @@ TEST(RenderedRun, ADetectorOnTheRenderedFramesFeedsTheTracker) {
     EXPECT_GT(pr["average_precision"].get<double>(), 0.6) << detector;
     EXPECT_GE(pr["best_f1"]["f1"].get<double>(), detection["iou"]["f1"].get<double>() - 1e-12)
         << detector;
+    // The mostly visible subset: the bin [0.75, 1]'s true positives and
+    // misses (the same matching), and as many false detections as in all or
+    // fewer (those on less visible targets are ignored there).
+    const auto& mostly = detection["mostly_visible"];
+    const auto& bin = detection["by_visibility"][3]["iou"];
+    EXPECT_EQ(mostly["min_visible"].get<double>(), 0.75);
+    EXPECT_EQ(mostly["iou"]["tp"].get<int>(), bin["tp"].get<int>()) << detector;
+    EXPECT_EQ(mostly["iou"]["fn"].get<int>(), bin["fn"].get<int>()) << detector;
+    EXPECT_LE(mostly["iou"]["fp"].get<int>(), detection["iou"]["fp"].get<int>()) << detector;
+    EXPECT_EQ(mostly["precision_recall"]["curve"]["precision"].size(), 101u) << detector;
   }
   // The oracle on rendered frames also writes det/det.txt and keeps its label.
   const auto r = RunCommand(common + " --out " + (dir / "oracle").string());

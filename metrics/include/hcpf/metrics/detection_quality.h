@@ -115,7 +115,20 @@ struct DetectionQuality {
   // has zero counts and empty frame lists).
   std::vector<TargetDetections> by_target;
   PrecisionRecall precision_recall;  // IoU rule, every score threshold
+  // The mostly visible targets alone, the way COCO scores a subset: targets
+  // visible at least kMostlyVisible are counted and the less visible ones are
+  // "don't care" too, so a detection on one of them is neither true nor
+  // false. The visibility bin [0.75, 1] gives this subset's recall only (a
+  // false detection has no visibility); here it has a precision as well.
+  // IoU rule; the same as `iou` and `precision_recall` when min_visible is
+  // already at least kMostlyVisible.
+  DetectionCounts iou_mostly_visible;
+  PrecisionRecall precision_recall_mostly_visible;
 };
+
+// The visible fraction from which a target counts as mostly visible: the
+// lower edge of the last visibility bin.
+inline constexpr double kMostlyVisible = 0.75;
 
 // Matching, per frame and rule: a one-to-one assignment (core/assignment.h)
 // maximising the total IoU (IoU rule) or minimising the total normalised

@@ -36,4 +36,11 @@ std::string NotFoundText(const std::string& written, const std::vector<std::stri
   return "\"" + written + "\", which does not exist (looked at " + list + ")";
 }
 
+std::string FindFileOrFail(const SourceLocation& where, const std::string& written,
+                           const std::string& beside_dir, const std::string& expected) {
+  std::vector<std::string> looked;
+  if (auto found = FindFile(written, beside_dir, &looked)) return *found;
+  throw InputError(where, expected, NotFoundText(written, looked));
+}
+
 }  // namespace hcpf::config

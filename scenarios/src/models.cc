@@ -11,8 +11,6 @@
 
 namespace hcpf::scenarios {
 
-using config::FindFile;
-
 namespace fs = std::filesystem;
 
 std::string ResolveModelPath(const std::string& written, const std::string& scenario_file,
@@ -20,10 +18,9 @@ std::string ResolveModelPath(const std::string& written, const std::string& scen
   const bool from_file = !scenario_file.empty() && scenario_file.rfind("--set", 0) != 0;
   const std::string beside =
       from_file ? fs::absolute(fs::path(scenario_file)).parent_path().string() : std::string();
-  std::vector<std::string> looked;
-  if (auto found = FindFile(written, beside, &looked)) return fs::weakly_canonical(*found).string();
-  throw InputError(where, "the path of an existing model file",
-                   config::NotFoundText(written, looked));
+  return fs::weakly_canonical(
+             config::FindFileOrFail(where, written, beside, "the path of an existing model file"))
+      .string();
 }
 
 std::string PortableModelPath(const std::string& resolved) {

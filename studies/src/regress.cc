@@ -39,7 +39,6 @@ using scenarios::RunOptions;
 using scenarios::RunScenario;
 using scenarios::Scenario;
 
-using config::FindFile;
 using config::FlowText;
 using config::YamlContext;
 using config::YamlReader;
@@ -48,15 +47,6 @@ namespace fs = std::filesystem;
 using nlohmann::json;
 
 namespace {
-
-std::string ResolvePath(const YamlReader& where, const std::string& path, const std::string& dir) {
-  std::vector<std::string> looked;
-  if (auto found = FindFile(path, dir, &looked)) return *found;
-  throw InputError(where.Where(),
-                   "a scenario file (looked next to the suite, in the current folder and in the "
-                   "project folder)",
-                   config::NotFoundText(path, looked));
-}
 
 json JsonNumber(double v) { return std::isfinite(v) ? json(v) : json("nan"); }
 double FromJson(const json& j) { return j.is_number() ? j.get<double>() : kNaN; }
@@ -81,7 +71,10 @@ RegressSuite LoadRegressSuite(const std::string& path) {
     item.ExpectMap();
     RegressScene scene;
     YamlReader scenario_node = item.Child("scenario");
-    scene.scenario_path = ResolvePath(scenario_node, item.String("scenario", std::nullopt), dir);
+    scene.scenario_path = config::FindFileOrFail(
+        scenario_node.Where(), item.String("scenario", std::nullopt), dir,
+        "a scenario file (looked next to the suite, in the current folder and in the project "
+        "folder)");
     scene.name = item.String("name", fs::path(scene.scenario_path).stem().string());
     // The name is the scene's folder under --work: "../x" would escape it
     // and replace a folder there.

@@ -24,7 +24,6 @@ namespace hcpf::studies {
 using scenarios::ConfigHash;
 using scenarios::LoadScenarioFile;
 
-using config::FindFile;
 using config::FlowText;
 using config::YamlContext;
 using config::YamlReader;
@@ -34,12 +33,9 @@ namespace fs = std::filesystem;
 namespace {
 
 std::string ResolveBase(const YamlReader& where, const std::string& base, const std::string& dir) {
-  std::vector<std::string> looked;
-  if (auto found = FindFile(base, dir, &looked)) return *found;
-  throw InputError(where.Where(),
-                   "a scenario file (looked next to the sweep file, in the current folder and in "
-                   "the project folder)",
-                   config::NotFoundText(base, looked));
+  return config::FindFileOrFail(where.Where(), base, dir,
+                                "a scenario file (looked next to the sweep file, in the current "
+                                "folder and in the project folder)");
 }
 
 // Reads a `grid:`/`zip:` mapping of dotted keys to non-empty lists. The

@@ -6,6 +6,8 @@
 #include <string>
 #include <vector>
 
+#include "hcpf/core/error.h"
+
 namespace hcpf::config {
 
 // A file named in a YAML file: an absolute path as is; a relative one is
@@ -20,5 +22,10 @@ std::optional<std::string> FindFile(const std::string& written, const std::strin
 // folder, "\"x\", which is a folder, not a file (a)": "does not exist" sent
 // users looking for a file that was there.
 std::string NotFoundText(const std::string& written, const std::vector<std::string>& looked_at);
+
+// FindFile, or an InputError at `where` (the YAML value that names the file)
+// saying `expected` and NotFoundText.
+std::string FindFileOrFail(const SourceLocation& where, const std::string& written,
+                           const std::string& beside_dir, const std::string& expected);
 
 }  // namespace hcpf::config

@@ -500,9 +500,62 @@ struct SceneRun {
 
 }  // namespace
 
+namespace {
+
+// The files regress writes (the baseline with --update-baseline, --junit,
+// --markdown) and its --work folder, checked before anything runs: each
+// output is a file in an existing folder, none is a file regress reads (the
+// suite, a scene's scenario, the baseline it compares with) or another
+// output. A bad-input audit found --junit naming the baseline replace it,
+// and a missing folder fail with exit 1 after the whole suite had run.
+void CheckOutputs(const RegressOptions& o, const RegressSuite& suite) {
+  std::error_code ec;
+  std::vector<std::pair<std::string, std::string>> reads = {{suite.file, "the suite"}};
+  if (!o.update_baseline) reads.push_back({o.baseline_path, "the baseline it compares with"});
+  for (const RegressScene& scene : suite.scenes) {
+    reads.push_back({scene.scenario_path, fmt::format("the scenario of scene \"{}\"", scene.name)});
+  }
+  std::vector<std::pair<std::string, std::string>> writes;  // path, option
+  if (o.update_baseline) writes.push_back({o.baseline_path, "--baseline"});
+  if (!o.junit_path.empty()) writes.push_back({o.junit_path, "--junit"});
+  if (!o.markdown_path.empty()) writes.push_back({o.markdown_path, "--markdown"});
+  for (size_t i = 0; i < writes.size(); ++i) {
+    const auto& [path, option] = writes[i];
+    const SourceLocation where{path, 0, 0, option};
+    if (fs::is_directory(path, ec)) throw InputError(where, "a file to write", "a folder");
+    const fs::path parent = fs::path(path).parent_path();
+    if (!parent.empty() && !fs::is_directory(parent, ec)) {
+      throw InputError(where, "a file in an existing folder",
+                       fmt::format("no folder {}", parent.string()));
+    }
+    if (fs::exists(path, ec)) {
+      for (const auto& [read, what] : reads) {
+        if (fs::equivalent(path, read, ec)) {
+          throw InputError(where, "a file regress does not read", what,
+                           "nothing was run or written");
+        }
+      }
+    }
+    const fs::path mine = fs::weakly_canonical(path, ec);
+    for (size_t k = 0; k < i; ++k) {
+      if (fs::weakly_canonical(writes[k].first, ec) == mine) {
+        throw InputError(where, "a file of its own",
+                         fmt::format("the file {} writes too", writes[k].second));
+      }
+    }
+  }
+  if (!o.work_dir.empty() && fs::exists(o.work_dir, ec) && !fs::is_directory(o.work_dir, ec)) {
+    throw InputError(SourceLocation{o.work_dir, 0, 0, "--work"}, "a folder (new or existing)",
+                     "an existing file");
+  }
+}
+
+}  // namespace
+
 RegressResult RunRegress(const RegressOptions& options) {
   options.Validate();
   const RegressSuite suite = LoadRegressSuite(options.suite_path);
+  CheckOutputs(options, suite);
 
   json baseline;
   if (!options.update_baseline) {

@@ -337,6 +337,55 @@ TEST(Regress, BadBaselinesAreBadInput) {
   EXPECT_TRUE(std::isnan(r.rows[0].baseline));
 }
 
+// Outputs are checked before anything runs (a bad-input audit: --junit
+// naming the baseline replaced it with XML, exit 0; --update-baseline onto
+// the suite replaced the suite; a missing folder failed with exit 1 after
+// the whole suite had run, which a CI gate reads as a regression).
+std::string ReadText(const fs::path& path) {
+  std::stringstream text;
+  text << std::ifstream(path).rdbuf();
+  return text.str();
+}
+
+TEST(Regress, OutputsThatWouldReplaceAnInputOrCannotBeWrittenAreRefused) {
+  const auto dir = testing::SweepFolder("regress-outputs");
+  std::ofstream(dir / "suite.yaml") << "scenes:\n  - {name: a, scenario: base.yaml}\n"
+                                       "metrics:\n  idf1: {tolerance: 0.01}\n";
+  std::ofstream(dir / "baseline.json") << R"({"scenes": {"a": {"metrics": {"idf1": 0.5}}}})";
+  fs::create_directories(dir / "folder");
+  const auto refused = [&](RegressOptions o, const std::string& wanted) {
+    o.suite_path = (dir / "suite.yaml").string();
+    if (o.baseline_path.empty()) o.baseline_path = (dir / "baseline.json").string();
+    const std::string suite_before = ReadText(dir / "suite.yaml");
+    const std::string baseline_before = ReadText(dir / "baseline.json");
+    const std::string scenario_before = ReadText(dir / "base.yaml");
+    try {
+      RunRegress(o);
+      ADD_FAILURE() << wanted << ": accepted";
+    } catch (const InputError& e) {
+      EXPECT_NE(std::string(e.what()).find(wanted), std::string::npos) << e.what();
+    }
+    EXPECT_EQ(ReadText(dir / "suite.yaml"), suite_before);
+    EXPECT_EQ(ReadText(dir / "baseline.json"), baseline_before);
+    EXPECT_EQ(ReadText(dir / "base.yaml"), scenario_before);
+    EXPECT_FALSE(fs::exists(dir / "a")) << "nothing ran";
+  };
+  const std::string at = dir.string() + "/";
+  refused({.junit_path = at + "baseline.json"},
+          "--junit: expected a file regress does not read, found the baseline it compares with");
+  refused({.markdown_path = at + "suite.yaml"},
+          "--markdown: expected a file regress does not "
+          "read, found the suite");
+  refused({.junit_path = at + "base.yaml"}, "found the scenario of scene \"a\"");
+  refused({.baseline_path = at + "suite.yaml", .update_baseline = true},
+          "--baseline: expected a file regress does not read, found the suite");
+  refused({.junit_path = at + "out.xml", .markdown_path = at + "out.xml"},
+          "--markdown: expected a file of its own, found the file --junit writes too");
+  refused({.junit_path = at + "nodir/j.xml"}, "expected a file in an existing folder");
+  refused({.markdown_path = at + "folder"}, "--markdown: expected a file to write, found a folder");
+  refused({.work_dir = at + "suite.yaml"}, "--work: expected a folder (new or existing)");
+}
+
 // A seeded scene beside an exact one: the baseline keeps per-seed values, a
 // consistent planted drop fails, the same mean drop on one seed does not, and
 // a baseline of other seeds is refused.

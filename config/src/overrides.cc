@@ -92,6 +92,11 @@ std::string OverridePath(const std::string& key) {
 
 }  // namespace
 
+bool IsKeyInside(const std::string& key, const std::string& parent) {
+  return key.size() > parent.size() && key.compare(0, parent.size(), parent) == 0 &&
+         key[parent.size()] == '.';
+}
+
 Override ParseOverride(const std::string& text) {
   const size_t eq = text.find('=');
   if (eq == std::string::npos || eq == 0) {

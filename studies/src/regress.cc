@@ -18,6 +18,7 @@
 #include <thread>
 
 #include "hcpf/config/file_lookup.h"
+#include "hcpf/config/overrides.h"
 #include "hcpf/config/yaml_reader.h"
 #include "hcpf/core/check.h"
 #include "hcpf/core/names.h"
@@ -93,6 +94,16 @@ RegressSuite LoadRegressSuite(const std::string& path) {
       for (auto it = set->node().begin(); it != set->node().end(); ++it) {
         const std::string key = it->first.Scalar();
         set->Child(key);  // mark as read
+        // `tracker` and `tracker.particles` together: the later one wins
+        // while the suite reads as if both applied (a bad-input audit).
+        for (const config::Override& o : scene.overrides) {
+          if (config::IsKeyInside(key, o.key) || config::IsKeyInside(o.key, key)) {
+            set->Key(it->first).Fail(
+                fmt::format("keys set once, none inside another ({} is "
+                            "set too)",
+                            o.key));
+          }
+        }
         scene.overrides.push_back({key, FlowText(it->second)});
       }
     }

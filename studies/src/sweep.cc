@@ -11,6 +11,7 @@
 #include <set>
 
 #include "hcpf/config/file_lookup.h"
+#include "hcpf/config/overrides.h"
 #include "hcpf/config/yaml_reader.h"
 #include "hcpf/core/rng.h"
 #include "hcpf/scenarios/output_folder.h"
@@ -115,6 +116,17 @@ SweepSpec ReadSweep(YAML::Node root, const std::string& file, const std::string&
       if (!seen.insert(a.key).second) {
         throw InputError(SourceLocation{at.file, at.line, at.column, a.key},
                          "each key swept once (in grid or zip)", "a key swept twice");
+      }
+      // A key and one inside it (`tracker` and `tracker.particles`): the
+      // runs take whichever override comes last while the store labels them
+      // with both (a bad-input audit found plots against values no run used).
+      for (const std::string& other : seen) {
+        if (config::IsKeyInside(a.key, other) || config::IsKeyInside(other, a.key)) {
+          throw InputError(SourceLocation{at.file, at.line, at.column, a.key},
+                           "each key swept once (in grid or zip), and no key inside another "
+                           "swept key",
+                           fmt::format("{} with {} also swept", a.key, other));
+        }
       }
       if (a.key == "seed" && spec.seeds > 0) {
         throw InputError(SourceLocation{at.file, at.line, at.column, a.key},

@@ -181,6 +181,13 @@ TEST(Regress, BadSuitesAreLocated) {
     EXPECT_NE(e.find("scenes[0].seeds"), std::string::npos) << value << ": " << e;
     EXPECT_NE(e.find("an integer in [2, 1000]"), std::string::npos) << value << ": " << e;
   }
+  // A key and one inside it in one scene's set: the later won (a bad-input
+  // audit).
+  e = SuiteError(dir,
+                 "scenes:\n  - {scenario: base.yaml, set: {tracker.particles: 30, tracker: "
+                 "{particles: 40}}}\nmetrics:\n  idf1: {tolerance: 0.1}\n");
+  EXPECT_NE(e.find("bad.yaml:2:"), std::string::npos) << e;
+  EXPECT_NE(e.find("none inside another (tracker.particles is set too)"), std::string::npos) << e;
   // The name is the scene's folder under --work: "../victim" escaped it and
   // replaced a folder beside it (a bad-input audit).
   for (const std::string name :

@@ -336,6 +336,21 @@ TEST(Sweep, BadFilesNameLineKeyExpectedFoundAndHint) {
   EXPECT_NE(e.find("runs 0 and 2 resolve to the same scenario"), std::string::npos) << e;
   e = ErrorOf(WriteSweep(dir, "base: base.yaml\nseeds: 0\n", "j.yaml"));
   EXPECT_NE(e.find("j.yaml:2:8: seeds"), std::string::npos) << e;
+  // A key and one inside it, in either order and across grid and zip: the
+  // runs used the last override while the store labelled them with both (a
+  // bad-input audit). `tracker.particles_x` is not inside `tracker.particles`.
+  e = ErrorOf(WriteSweep(dir,
+                         "base: base.yaml\nzip:\n  tracker.particles: [30, 40]\n"
+                         "  tracker: [{particles: 20}, {particles: 25}]\n",
+                         "l.yaml"));
+  EXPECT_NE(e.find("l.yaml:4:13: tracker: expected each key swept once"), std::string::npos) << e;
+  EXPECT_NE(e.find("found tracker with tracker.particles also swept"), std::string::npos) << e;
+  e = ErrorOf(WriteSweep(dir,
+                         "base: base.yaml\ngrid:\n  targets.0: [{id: 1}]\n"
+                         "zip:\n  targets.0.path.speed_mps: [2, 3]\n",
+                         "m.yaml"));
+  EXPECT_NE(e.find("m.yaml:5:"), std::string::npos) << e;
+  EXPECT_NE(e.find("targets.0.path.speed_mps with targets.0 also swept"), std::string::npos) << e;
 }
 
 TEST(SweepOptions, ValidateNamesTheField) {

@@ -18,4 +18,9 @@ struct Override {
 // Parses "key=value"; throws InputError when there is no '=' or no key.
 Override ParseOverride(const std::string& text);
 
+// Whether dotted key `key` lies inside `parent` (`tracker.particles` inside
+// `tracker`; not `tracker.particles_x` inside `tracker.particles`). Two such
+// overrides of one document conflict: the later one wins.
+bool IsKeyInside(const std::string& key, const std::string& parent);
+
 }  // namespace hcpf::config

@@ -121,9 +121,13 @@ TargetSpec ReadTarget(YamlReader r, int frames, const std::string& scenario_file
   TargetSpec t;
   const bool dimensions_given = r.Has("dimensions_m");
   ReadFields(r, t, TargetFields(), ModelResolver(scenario_file));
-  if (!dimensions_given) {
-    if (t.model.empty()) r.Child("dimensions_m");  // neither a model nor dimensions: missing key
-    t.dimensions_m = ModelDimensions(t.model, r.Child("model").Where());
+  if (!dimensions_given && t.model.empty()) r.Child("dimensions_m");  // neither: missing key
+  if (!t.model.empty()) {
+    // Read even when the dimensions are given, so that `hcpf validate`
+    // refuses a model the rendered run cannot load (a bad-input audit found
+    // a garbage .glb valid, then the run failing without a key or line).
+    const Eigen::Vector3d dims = ModelDimensions(t.model, r.Child("model").Where());
+    if (!dimensions_given) t.dimensions_m = dims;
   }
   t.path = ReadPath(r.Child("path"), frames);
   r.Finish();

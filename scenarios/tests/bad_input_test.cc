@@ -273,6 +273,12 @@ std::vector<BadCase> Cases() {
        m,
        {{"targets.0.model", "assets"}},
        {"targets[0].model", "found \"assets\", which is a folder, not a file"}},
+      // A second bad-input audit: with its dimensions given, a target's model
+      // was not read until the rendered run, which then failed.
+      {"UnreadableModelWithDimensions",
+       m,
+       {{"targets.0.model", "README.md"}},
+       {"targets[0].model", "expected a readable mesh file", "found extension \".md\""}},
       // A bad-input audit: a sweep file where a scenario goes.
       {"SweepFileAsScenario",
        "seeds: 2\ngrid:\n  tracker.particles: [10, 20]\n",

@@ -7,6 +7,7 @@
 
 #include "hcpf/core/error.h"
 #include "hcpf/core/subprocess.h"
+#include "hcpf/scenarios/output_folder.h"
 
 namespace hcpf::studies {
 
@@ -56,6 +57,34 @@ std::filesystem::path MakePlotWorkDir(const std::filesystem::path& out, bool out
                     out_is_input ? " (use --out to write the report to another folder)" : ""));
   }
   return work;
+}
+
+void CheckReportOut(const std::string& out_dir) {
+  namespace fs = std::filesystem;
+  scenarios::CheckFolderArgument(out_dir, "--out");
+  const SourceLocation where{out_dir, 0, 0, "--out"};
+  const std::string expected =
+      "a new or empty folder, or one holding only an earlier report (report.html, summary.csv, "
+      "paired.csv, findings.md)";
+  std::error_code ec;
+  if (fs::is_symlink(fs::symlink_status(out_dir, ec))) {
+    throw InputError(where, expected, "a symbolic link", "nothing was changed; name a folder");
+  }
+  if (!fs::is_directory(out_dir, ec)) return;
+  for (const auto& entry : fs::directory_iterator(out_dir, ec)) {
+    const std::string name = entry.path().filename().string();
+    const bool report_file = name == "report.html" || name == "summary.csv" ||
+                             name == "paired.csv" || name == "findings.md";
+    if ((report_file && entry.is_regular_file(ec)) ||
+        (name == ".report-work" && entry.is_directory(ec))) {
+      continue;
+    }
+    // A second bad-input audit: a sweep's report written over another
+    // sweep's, into a run folder (which hcpf run then refused), or into a
+    // TrackEval export.
+    throw InputError(where, expected, fmt::format("a folder with other files in it (\"{}\")", name),
+                     "nothing was changed; name another folder");
+  }
 }
 
 }  // namespace hcpf::studies

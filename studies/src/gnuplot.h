@@ -27,6 +27,12 @@ std::string InlineSvg(const std::string& svg);
 // --out when the report writes into the folder it reads (`out_is_input`).
 std::filesystem::path MakePlotWorkDir(const std::filesystem::path& out, bool out_is_input);
 
+// Checks a report's --out folder: new, empty, or holding only what a report
+// writes (report.html, summary.csv, paired.csv, findings.md, .report-work);
+// anything else, another sweep, a run folder or a symbolic link, is an
+// InputError naming what it holds, before anything is written.
+void CheckReportOut(const std::string& out_dir);
+
 // Line colours of every plot, in order (tab10).
 inline constexpr const char* kPlotColours[] = {"#1f77b4", "#d62728", "#2ca02c", "#ff7f0e",
                                                "#9467bd", "#8c564b", "#e377c2", "#7f7f7f",

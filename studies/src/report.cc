@@ -1132,7 +1132,7 @@ ReportResult WriteReport(const ReportOptions& options) {
   options.Validate();
   if (ClassifyReportFolder(options.dir) == ReportFolder::kRun) return WriteRunReport(options);
   const fs::path dir(options.dir);
-  if (!options.out_dir.empty()) scenarios::CheckFolderArgument(options.out_dir, "--out");
+  if (!options.out_dir.empty()) CheckReportOut(options.out_dir);
   const fs::path out = options.out_dir.empty() ? dir : fs::path(options.out_dir);
   auto store = ResultsStore::Open((dir / "results.sqlite").string(), StoreAccess::kReadOnly);
   const StoreMeta& meta = store->meta();
@@ -1162,7 +1162,11 @@ ReportResult WriteReport(const ReportOptions& options) {
   }
   result.difference_plots = static_cast<int>(difference_svgs.size());
   result.comparisons = static_cast<int>(paired.rows.size());
-  if (!paired.rows.empty()) WriteTextFile((out / "paired.csv").string(), PairedCsv(paired, meta));
+  if (!paired.rows.empty()) {
+    WriteTextFile((out / "paired.csv").string(), PairedCsv(paired, meta));
+  } else {
+    fs::remove(out / "paired.csv", ec);  // from an earlier report in this folder
+  }
   // The findings, also as findings.md (read without a browser).
   const std::vector<Finding> findings = FindingsOf(cells, paired, meta, layout);
   const GlanceTable glance = GlanceOf(paired, meta);

@@ -646,7 +646,7 @@ ReportResult WriteRunReport(const ReportOptions& options) {
                      "a sweep folder (use hcpf report on it as a sweep)");
   }
   const fs::path dir(options.dir);
-  if (!options.out_dir.empty()) scenarios::CheckFolderArgument(options.out_dir, "--out");
+  if (!options.out_dir.empty()) CheckReportOut(options.out_dir);
   const fs::path out = options.out_dir.empty() ? dir : fs::path(options.out_dir);
 
   const json manifest = ReadRunJson(dir / "manifest.json");

@@ -563,6 +563,37 @@ TEST(RunReport, MetricsJsonWithoutItsMotBlockIsBadInput) {
   }
 }
 
+// --out takes a new or empty folder, or an earlier report's: a second
+// bad-input audit found a report written into another sweep (replacing its
+// report), into a run folder (which hcpf run then refused to reuse) and into
+// a TrackEval export. Refused before anything is written.
+TEST(RunReport, OutMustBeNewEmptyOrAnEarlierReport) {
+  const auto dir = testing::SweepFolder("run-report-out");
+  const fs::path run = RunMinimal(dir, "none");
+  const fs::path other = RunMinimal(dir / "other", "none");
+  fs::create_directories(dir / "notes");
+  std::ofstream(dir / "notes" / "todo.txt") << "mine\n";
+  for (const fs::path& out : {other, dir / "notes"}) {
+    const std::string before = Read(out / (out == other ? "manifest.json" : "todo.txt"));
+    try {
+      WriteReport({.dir = run.string(), .out_dir = out.string()});
+      ADD_FAILURE() << out << " was accepted";
+    } catch (const InputError& e) {
+      EXPECT_NE(std::string(e.what()).find("--out: expected a new or empty folder, or one holding "
+                                           "only an earlier report"),
+                std::string::npos)
+          << e.what();
+    }
+    EXPECT_FALSE(fs::exists(out / "report.html")) << out;
+  }
+  fs::create_directory_symlink(dir / "notes", dir / "link");
+  EXPECT_THROW(WriteReport({.dir = run.string(), .out_dir = (dir / "link").string()}), InputError);
+  // An earlier report's folder is written again.
+  const fs::path reports = dir / "reports";
+  WriteReport({.dir = run.string(), .out_dir = reports.string()});
+  EXPECT_NO_THROW(WriteReport({.dir = run.string(), .out_dir = reports.string()}));
+}
+
 TEST(RunReport, ModeNoneHasNoEssLine) {
   const auto dir = testing::SweepFolder("run-report-none");
   const fs::path run = RunMinimal(dir, "none");

@@ -17,6 +17,7 @@
 
 #include "hcpf/core/check.h"
 #include "hcpf/core/error.h"
+#include "hcpf/core/names.h"
 #include "hcpf/core/text_file.h"
 #include "hcpf/scenarios/output_folder.h"
 #include "hcpf/studies/metric_catalogue.h"
@@ -393,6 +394,14 @@ std::vector<RunRecord> ResultsStore::Runs() const {
     r.ok = s.Text(i++) == "ok";
     r.error = s.Text(i++);
     r.run_dir = s.Text(i++);
+    // Keys and run folders become paths under the sweep folder (merge copies
+    // them, export and report read them): a key like "../../x" would reach
+    // outside it (a second bad-input audit, on a store edited by hand).
+    if (!FolderNameProblem(r.key).empty() || (!r.run_dir.empty() && r.run_dir != "runs/" + r.key)) {
+      throw InputError(SourceLocation{path_, 0, 0, "runs"},
+                       "rows whose key names one folder and whose run_dir is runs/<key> (or empty)",
+                       fmt::format("key \"{}\" with run_dir \"{}\"", r.key, r.run_dir));
+    }
     for (size_t k = 0; k < meta_.swept_keys.size(); ++k) r.values.push_back(s.Text(i++));
     for (const std::string& m : MetricNames()) r.metrics[m] = s.Real(i++);
     out.push_back(std::move(r));

@@ -439,6 +439,28 @@ TEST(RunSweep, ShardsMergedEqualTheUnshardedSweep) {
                            {shard_dirs[0], shard_dirs[1], (dir / "broken").string()}),
                InputError);
   EXPECT_FALSE(fs::exists(dir / "merged3"));
+  // A row whose key leads out of the folder (a store edited by hand: merge
+  // copied that run beside OUT, a second bad-input audit) is bad input.
+  fs::remove_all(dir / "broken");
+  fs::copy(dir / "shard2", dir / "broken", fs::copy_options::recursive);
+  {
+    sqlite3* db = nullptr;
+    const std::string path = (dir / "broken" / "results.sqlite").string();
+    ASSERT_EQ(sqlite3_open(path.c_str(), &db), SQLITE_OK);
+    ASSERT_EQ(sqlite3_exec(db,
+                           "UPDATE runs SET key = '../../victim', run_dir = 'runs/../../victim' "
+                           "WHERE run_index = 2",
+                           nullptr, nullptr, nullptr),
+              SQLITE_OK);
+    sqlite3_close(db);
+  }
+  try {
+    MergeStores((dir / "merged4").string(), {(dir / "broken").string()});
+    ADD_FAILURE() << "a key leading out of the folder was merged";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("key \"../../victim\""), std::string::npos) << e.what();
+  }
+  EXPECT_FALSE(fs::exists(dir / "victim"));
 }
 
 }  // namespace

@@ -12,6 +12,23 @@
 namespace hcpf::config {
 namespace {
 
+// How many places of the tree under `root` hold `node` (aliases of one
+// anchor share their node), stopping at 2 or after `budget` nodes visited.
+int References(const YAML::Node& root, const YAML::Node& node, int depth, int64_t* budget) {
+  if (--*budget < 0 || depth > 600) return 0;
+  int count = root.is(node) ? 1 : 0;
+  if (root.IsMap()) {
+    for (auto it = root.begin(); it != root.end() && count < 2; ++it) {
+      count += References(it->second, node, depth + 1, budget);
+    }
+  } else if (root.IsSequence()) {
+    for (auto it = root.begin(); it != root.end() && count < 2; ++it) {
+      count += References(*it, node, depth + 1, budget);
+    }
+  }
+  return count;
+}
+
 // Sets `value` at the dotted `key` below `root`, creating mappings on the way;
 // numeric segments index into lists.
 void ApplyOverride(YAML::Node root, const Override& o, int index) {
@@ -41,6 +58,41 @@ void ApplyOverride(YAML::Node root, const Override& o, int index) {
     }
     YAML::Node current = chain.back();
     const bool last = i + 1 == parts.size();
+    // A node an alias shares (`path: *p`) would change in every place that
+    // holds it: a second bad-input audit found --set targets.0.path.speed_mps
+    // moving target 1 too. The file writes the node out, or the key is
+    // refused.
+    // The last node itself too: yaml-cpp assigns a value into the node in
+    // place, so replacing an alias replaces the anchor's node everywhere.
+    // (Nodes are only ever copy-constructed here: assigning to a YAML::Node
+    // that refers to a node rewrites that node.)
+    const auto reached_node = [&]() -> YAML::Node {
+      const YAML::Node& view = current;  // const: no insertion on lookup
+      if (!last) return current;
+      if (view.IsMap() && view[part].IsDefined()) return view[part];
+      if (view.IsSequence()) {
+        size_t at_index = 0;
+        const auto [ptr, ec] = std::from_chars(part.data(), part.data() + part.size(), at_index);
+        if (ec == std::errc() && ptr == part.data() + part.size() && at_index < view.size()) {
+          return view[at_index];
+        }
+      }
+      return current;
+    };
+    const YAML::Node reached = reached_node();
+    for (const YAML::Node& node : {current, reached}) {
+      if (node.is(root)) continue;
+      int64_t budget = 1'000'000;
+      if (References(root, node, 0, &budget) > 1) {
+        throw InputError(at,
+                         "a key inside no node that a YAML alias shares (an override there would "
+                         "change every copy)",
+                         fmt::format("\"{}\" inside a node written once with an anchor (&) and "
+                                     "used again with an alias (*)",
+                                     part),
+                         "write that node out in full where it is overridden");
+      }
+    }
     if (current.IsSequence()) {
       size_t index = 0;
       auto [ptr, ec] = std::from_chars(part.data(), part.data() + part.size(), index);

@@ -273,6 +273,13 @@ std::vector<BadCase> Cases() {
        m,
        {{"targets.0.model", "assets"}},
        {"targets[0].model", "found \"assets\", which is a folder, not a file"}},
+      // A second bad-input audit: an override inside a node an alias shares
+      // changed every copy (both targets' dimensions here).
+      {"OverrideInsideAnAliasedNode",
+       Replace(Replace(m, "dimensions_m: [4.5, 2.0, 1.6]", "dimensions_m: &d [4.5, 2.0, 1.6]"),
+               "dimensions_m: [5, 2.2, 2]", "dimensions_m: *d"),
+       {{"targets.0.dimensions_m.0", "3"}},
+       {"--set targets.0.dimensions_m.0=3", "a YAML alias shares", "write that node out"}},
       // A second bad-input audit: with its dimensions given, a target's model
       // was not read until the rendered run, which then failed.
       {"UnreadableModelWithDimensions",
@@ -367,6 +374,22 @@ TEST(BadInputFile, MapLikelihoodWithMapsIsAccepted) {
       {{"tracker.likelihood.model", "map"}, {"observation.simulated.likelihood_map", "true"}}));
   EXPECT_NO_THROW(LoadScenarioText(m + "observation: {source: rendered, detector: sks}\n",
                                    "ok.yaml", {{"tracker.likelihood.model", "map"}}));
+}
+
+// Replacing an aliased node as a whole is refused as well (yaml-cpp assigns
+// into the shared node, so the alias would change too); overrides elsewhere
+// in the file go through, and leave both places alike.
+TEST(BadInputFile, AliasedNodesAreOverriddenNowhere) {
+  const std::string m = Replace(
+      Replace(kMinimal, "dimensions_m: [4.5, 2.0, 1.6]", "dimensions_m: &d [4.5, 2.0, 1.6]"),
+      "dimensions_m: [5, 2.2, 2]", "dimensions_m: *d");
+  EXPECT_THROW(LoadScenarioText(m, "ok.yaml", {{"targets.0.dimensions_m", "[3, 2, 1]"}}),
+               InputError);
+  EXPECT_THROW(LoadScenarioText(m, "ok.yaml", {{"targets.1.dimensions_m", "[3, 2, 1]"}}),
+               InputError);
+  const Scenario s = LoadScenarioText(m, "ok.yaml", {{"targets.1.id", "3"}});
+  EXPECT_EQ(s.world.targets[0].dimensions_m.x(), 4.5);
+  EXPECT_EQ(s.world.targets[1].dimensions_m.x(), 4.5);
 }
 
 // A NUL byte, a newline or NEL is never written into a message raw.

@@ -66,6 +66,19 @@ int RunApp(int argc, char** argv, std::span<const AddCommandFn> adders,
   for (const auto& command : commands) {
     if (!command.app->parsed()) continue;
     try {
+      // An option given an empty value (`--shard "$TASK"` with TASK unset)
+      // is bad input, never "not given": a second bad-input audit found
+      // --shard '' running the whole sweep, report --out '' writing into
+      // DIR and regress --junit '' writing nothing, each with exit 0.
+      for (const CLI::Option* option : command.app->get_options()) {
+        if (option->get_expected_max() == 0) continue;  // a flag
+        for (const std::string& value : option->results()) {
+          if (!value.empty()) continue;
+          const std::string name =
+              option->get_lnames().empty() ? option->get_name() : "--" + option->get_lnames()[0];
+          throw InputError(SourceLocation{"command line", 0, 0, name}, "a value", "an empty value");
+        }
+      }
       return command.run();
     } catch (const hcpf::InputError& e) {
       spdlog::error("{}", e.what());

@@ -42,6 +42,14 @@ void ApplyOverride(YAML::Node root, const Override& o, int index) {
     where.override_index = index;
     throw InputError(where, e.expected(), e.found(), e.hint());
   }
+  // Nothing (`tracker=`, `tracker=~`) would replace a whole section of the
+  // file with its defaults (a second bad-input audit: particles 500 instead
+  // of the file's 50, exit 0), and a value with "nothing" is refused anyway.
+  if (!value.IsDefined() || value.IsNull()) {
+    throw InputError(at, "a value", "nothing",
+                     "an override sets a value; to take a key's default, leave it out of the "
+                     "file");
+  }
   std::vector<std::string> parts;
   size_t start = 0;
   while (true) {

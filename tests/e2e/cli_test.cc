@@ -110,7 +110,34 @@ TEST(Cli, CacheReportsAndPrunesTheLeastRecentlyUsed) {
   // or a file read as an empty cache; --dry-run alone did nothing.
   r = RunCommand(base + " --max-size ''");
   EXPECT_EQ(r.exit_code, 2) << r.output;
-  EXPECT_NE(r.output.find("--max-size: expected a size"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("--max-size: expected a value, found an empty value"), std::string::npos)
+      << r.output;
+  // So is any option given an empty value (a second bad-input audit:
+  // --shard '' ran the whole sweep, report --out '' wrote into DIR,
+  // regress --junit '' wrote nothing, --cache '' turned the cache off, all
+  // with exit 0), and an empty --set value, which replaced a whole section
+  // with its defaults.
+  const std::string scenario = LibraryScenario("crossing");
+  const fs::path source(HCPF_SOURCE_DIR);
+  for (const std::string& args :
+       {" sweep " + (source / "scenarios/sweeps/default.yaml").string() + " --out " +
+            (cache / "sw").string() + " --shard ''",
+        " report " + cache.string() + " --out ''",
+        " regress " + (source / "scenarios/regress/suite.yaml").string() +
+            " --baseline x.json --update-baseline --junit ''",
+        " run " + scenario + " --out " + (cache / "r").string() + " --cache ''"}) {
+    r = RunCommand(kHcpf + args);
+    EXPECT_EQ(r.exit_code, 2) << args << ": " << r.output;
+    EXPECT_NE(r.output.find("expected a value, found an empty value"), std::string::npos)
+        << args << ": " << r.output;
+  }
+  EXPECT_FALSE(fs::exists(cache / "sw"));
+  EXPECT_FALSE(fs::exists(cache / "r"));
+  r = RunCommand(kHcpf + " validate " + scenario + " --set tracker=");
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_NE(r.output.find("--set tracker=: tracker: expected a value, found nothing"),
+            std::string::npos)
+      << r.output;
   r = RunCommand(kHcpf + " cache --cache " + (cache / "nosuch").string());
   EXPECT_EQ(r.exit_code, 2) << r.output;
   EXPECT_NE(r.output.find("nosuch: --cache: expected an existing cache folder, found no such "

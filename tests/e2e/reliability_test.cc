@@ -425,7 +425,8 @@ TEST(Reliability, BadOutputArgumentsAreBadInput) {
         kHcpf + " merge " + file.string() + " " + dir.string()}) {
     const auto r = RunCommand(command);
     EXPECT_EQ(r.exit_code, 2) << command << "\n" << r.output;
-    EXPECT_TRUE(r.output.find("an empty path") != std::string::npos ||
+    EXPECT_TRUE(r.output.find("--out: expected a value, found an empty value") !=
+                    std::string::npos ||
                 r.output.find("found an existing file") != std::string::npos)
         << command << "\n"
         << r.output;

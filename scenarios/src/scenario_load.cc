@@ -238,6 +238,14 @@ void ReadTrackerChoice(YamlReader& r, const std::string& file, TrackerChoice* c)
     YamlReader command = r.Child("command");  // absent: the missing-key error
     command.Fail("a non-empty list: the program to run and its arguments");
   }
+  // A NUL ends a C string: the program would run with its name or an
+  // argument cut there (a second bad-input audit: exit 0, "a" for "a\0b").
+  const std::vector<YamlReader> words = r.Child("command").Items();
+  for (size_t i = 0; i < c->command.size() && i < words.size(); ++i) {
+    if (c->command[i].find('\0') != std::string::npos) {
+      words[i].Fail("a program or argument without a NUL character (\\0 would cut it short)");
+    }
+  }
   const std::string& program = c->command.front();
   const SourceLocation where = r.Child("command").Items().front().Where();
   if (program.find('/') == std::string::npos) {

@@ -90,6 +90,11 @@ TEST(ExternalTrackerKeys, CommandBelongsToExternalOnly) {
   e = LoadError(std::string(kMinimal) + "  type: external\n");
   EXPECT_NE(e.find("command"), std::string::npos) << e;
   EXPECT_NE(e.find("missing"), std::string::npos) << e;
+  // A NUL in the program or an argument would cut it short (a second
+  // bad-input audit).
+  e = LoadError(kExternal, {ParseOverride("tracker.command=[sleep, \"1\\0x\"]")});
+  EXPECT_NE(e.find("tracker.command[1]"), std::string::npos) << e;
+  EXPECT_NE(e.find("without a NUL character"), std::string::npos) << e;
   // `[]` is the key not written (a sweep's zip): fine with a particle filter.
   EXPECT_NO_THROW(LoadScenarioText(std::string(kMinimal) + "  command: []\n", "ext.yaml"));
 }

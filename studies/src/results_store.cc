@@ -1,6 +1,7 @@
 #include "hcpf/studies/results_store.h"
 
 #include <fmt/format.h>
+#include <spdlog/spdlog.h>
 #include <sqlite3.h>
 #include <unistd.h>
 
@@ -300,6 +301,26 @@ std::unique_ptr<ResultsStore> ResultsStore::OpenOrCreate(const std::string& path
           fmt::format("a store of this sweep (hash {}); use another --out", meta.sweep_hash),
           fmt::format("a store of another sweep (hash {}, from {})", store->meta().sweep_hash,
                       store->meta().sweep_file));
+    }
+    // The report: block and the file's name change no run (they are not in
+    // the sweep hash): the file resumed from now says how the store is
+    // reported. A second bad-input audit found an edited report: block kept
+    // from the first sweep without a word.
+    const std::string report = ReportToJson(meta.report).dump();
+    if (ReportToJson(store->meta().report).dump() != report ||
+        store->meta().sweep_file != meta.sweep_file) {
+      store->Exec("BEGIN IMMEDIATE");
+      for (const auto& [name, value] : {std::pair<const char*, std::string>{"report", report},
+                                        {"sweep_file", meta.sweep_file}}) {
+        Statement s(store->db_, "UPDATE meta SET value = ? WHERE name = ?");
+        s.Bind(1, value);
+        s.Bind(2, std::string(name));
+        s.Step();
+      }
+      store->Exec("COMMIT");
+      store->ReadMeta();
+      spdlog::info("{}: report settings taken from {} (the runs are unchanged)", path,
+                   meta.sweep_file);
     }
     return store;
   }

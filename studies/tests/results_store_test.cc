@@ -348,6 +348,26 @@ TEST(RunSweep, ASweptSeedIsStoredBesideTheRunSeed) {
   }
 }
 
+// Resuming with an edited report: block (the same runs) takes the new
+// settings: a second bad-input audit found the first sweep's kept without a
+// word, so `hcpf report` drew what the file no longer said.
+TEST(RunSweep, ResumingWithAnEditedReportBlockTakesTheNewSettings) {
+  const auto dir = SweepFolder("report-edit");
+  const SweepSpec first = LoadSweepFile(WriteSweep(dir, kSweep, "first.yaml"));
+  RunSweep(first, ExpandSweep(first), Options(dir / "out", 2));
+  std::string edited = kSweep;
+  edited.replace(edited.find("report:"), std::string::npos,
+                 "report: {x: tracker.particles, y: [hota]}\n");
+  const SweepSpec second = LoadSweepFile(WriteSweep(dir, edited, "second.yaml"));
+  const SweepResult r = RunSweep(second, ExpandSweep(second), Options(dir / "out", 2));
+  EXPECT_EQ(r.computed, 0);
+  EXPECT_EQ(r.reused, 8);
+  const StoreMeta meta = ResultsStore::Open((dir / "out" / "results.sqlite").string())->meta();
+  EXPECT_EQ(meta.report.y, std::vector<std::string>{"hota"});
+  EXPECT_EQ(meta.report.series, "");
+  EXPECT_EQ(fs::path(meta.sweep_file).filename(), "second.yaml");
+}
+
 // --out takes a new, empty or earlier sweep folder; a run folder or a
 // folder of someone else's files is refused before anything is written (a
 // bad-input audit found a sweep writing its store and runs/ into both).

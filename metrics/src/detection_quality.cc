@@ -17,7 +17,7 @@ constexpr double kInf = std::numeric_limits<double>::infinity();
 constexpr double kForbidden = 1e6;
 
 const std::vector<double> kSizeEdges = {0, 8, 16, 32, 64, kInf};
-const std::vector<double> kVisibilityEdges = {0, 0.25, 0.5, 0.75, kInf};
+const std::vector<double> kVisibilityEdges = {0, 0.25, 0.5, kMostlyVisible, kInf};
 const std::vector<double> kTruncationEdges = {0, 0.15, 0.3, 0.5, kInf};
 
 double Ratio(int64_t num, int64_t den) {
@@ -212,11 +212,8 @@ double TargetDetections::recall_centre() const {
   return Ratio(found_centre, found_centre + missed_centre);
 }
 
-namespace {
-
-// Everything but the mostly-visible subset, which ScoreDetections adds.
-DetectionQuality ScoreAll(std::span<const DetectionFrame> frames,
-                          const DetectionQualityOptions& options) {
+DetectionQuality ScoreDetections(std::span<const DetectionFrame> frames,
+                                 const DetectionQualityOptions& options) {
   DetectionQuality q;
   q.by_size = Bins(kSizeEdges, kInf);
   q.by_visibility = Bins(kVisibilityEdges, 1.0);
@@ -291,27 +288,22 @@ DetectionQuality ScoreAll(std::span<const DetectionFrame> frames,
     q.median_size_px = *mid;
   }
   q.precision_recall = ComputePrecisionRecall(frames, options);
-  return q;
-}
-
-}  // namespace
-
-DetectionQuality ScoreDetections(std::span<const DetectionFrame> frames,
-                                 const DetectionQualityOptions& options) {
-  DetectionQuality q = ScoreAll(frames, options);
   if (options.min_visible >= kMostlyVisible) {
     q.iou_mostly_visible = q.iou;
     q.precision_recall_mostly_visible = q.precision_recall;
     return q;
   }
-  // The same matching with the less visible targets "don't care" (the
-  // per-frame assignment is over every target either way, so the subset's
-  // true positives are those of the bin [0.75, 1]).
+  // The subset's counts follow from these: the per-frame matching is over
+  // every target either way, so its true positives and misses are those of
+  // the last visibility bin, and its false detections those matched to no
+  // target at all, as here (a match to a less visible target is ignored in
+  // both). Only the greedy curve is drawn again, with the subset's
+  // "don't care".
+  const DetectionCounts& mostly_visible = q.by_visibility.back().iou;
+  q.iou_mostly_visible = {.tp = mostly_visible.tp, .fp = q.iou.fp, .fn = mostly_visible.fn};
   DetectionQualityOptions mostly = options;
   mostly.min_visible = kMostlyVisible;
-  DetectionQuality subset = ScoreAll(frames, mostly);
-  q.iou_mostly_visible = subset.iou;
-  q.precision_recall_mostly_visible = std::move(subset.precision_recall);
+  q.precision_recall_mostly_visible = ComputePrecisionRecall(frames, mostly);
   return q;
 }
 

@@ -121,7 +121,9 @@ struct DetectionQuality {
   // false. The visibility bin [0.75, 1] gives this subset's recall only (a
   // false detection has no visibility); here it has a precision as well.
   // IoU rule; the same as `iou` and `precision_recall` when min_visible is
-  // already at least kMostlyVisible.
+  // already at least kMostlyVisible. Its tp and fn are the last visibility
+  // bin's and its fp the total's (the same matching), so only its curve is
+  // computed again.
   DetectionCounts iou_mostly_visible;
   PrecisionRecall precision_recall_mostly_visible;
 };

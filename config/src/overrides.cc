@@ -68,30 +68,29 @@ void ApplyOverride(YAML::Node root, const Override& o, int index) {
     const bool last = i + 1 == parts.size();
     // A node an alias shares (`path: *p`) would change in every place that
     // holds it: a second bad-input audit found --set targets.0.path.speed_mps
-    // moving target 1 too. The file writes the node out, or the key is
-    // refused.
-    // The last node itself too: yaml-cpp assigns a value into the node in
-    // place, so replacing an alias replaces the anchor's node everywhere.
-    // (Nodes are only ever copy-constructed here: assigning to a YAML::Node
+    // moving target 1 too. Checked once, at the node the override reaches:
+    // the one it replaces, or the mapping it adds a key to. Anything inside
+    // a shared node is reached through each of its holders, so that node is
+    // shared too. (yaml-cpp assigns a value into a node in place, so
+    // replacing an alias would replace the anchor's node everywhere; and the
+    // nodes are only copy-constructed here, since assigning to a YAML::Node
     // that refers to a node rewrites that node.)
-    const auto reached_node = [&]() -> YAML::Node {
-      const YAML::Node& view = current;  // const: no insertion on lookup
-      if (!last) return current;
-      if (view.IsMap() && view[part].IsDefined()) return view[part];
-      if (view.IsSequence()) {
-        size_t at_index = 0;
-        const auto [ptr, ec] = std::from_chars(part.data(), part.data() + part.size(), at_index);
-        if (ec == std::errc() && ptr == part.data() + part.size() && at_index < view.size()) {
-          return view[at_index];
+    if (last) {
+      const auto reached_node = [&]() -> YAML::Node {
+        const YAML::Node& view = current;  // const: no insertion on lookup
+        if (view.IsMap() && view[part].IsDefined()) return view[part];
+        if (view.IsSequence()) {
+          size_t at_index = 0;
+          const auto [ptr, ec] = std::from_chars(part.data(), part.data() + part.size(), at_index);
+          if (ec == std::errc() && ptr == part.data() + part.size() && at_index < view.size()) {
+            return view[at_index];
+          }
         }
-      }
-      return current;
-    };
-    const YAML::Node reached = reached_node();
-    for (const YAML::Node& node : {current, reached}) {
-      if (node.is(root)) continue;
+        return current;
+      };
+      const YAML::Node reached = reached_node();
       int64_t budget = 1'000'000;
-      if (References(root, node, 0, &budget) > 1) {
+      if (!reached.is(root) && References(root, reached, 0, &budget) > 1) {
         throw InputError(at,
                          "a key inside no node that a YAML alias shares (an override there would "
                          "change every copy)",

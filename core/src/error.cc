@@ -6,6 +6,7 @@
 #include <cstdlib>
 
 #include "hcpf/core/check.h"
+#include "hcpf/core/names.h"
 
 namespace hcpf {
 
@@ -17,31 +18,23 @@ namespace {
 std::string Printable(const std::string& text) {
   std::string out;
   out.reserve(text.size());
-  for (size_t i = 0; i < text.size(); ++i) {
-    const char c = text[i];
-    const auto u = static_cast<unsigned char>(c);
-    const auto next = [&](size_t k) {
-      return i + k < text.size() ? static_cast<unsigned char>(text[i + k]) : 0u;
-    };
-    if (u == 0xC2 && next(1) >= 0x80 && next(1) <= 0x9F) {
-      out += fmt::format("\\u{:04x}", next(1));
-      i += 1;
-    } else if (u == 0xE2 && next(1) == 0x80 && (next(2) == 0xA8 || next(2) == 0xA9)) {
-      out += next(2) == 0xA8 ? "\\u2028" : "\\u2029";
-      i += 2;
-    } else if (c == '\n') {
+  for (size_t i = 0; i < text.size();) {
+    const ControlCharacter c = ControlCharacterAt(text, i);
+    if (c.bytes == 0) {
+      out += text[i++];
+      continue;
+    }
+    i += c.bytes;
+    if (c.code == '\n') {
       out += "\\n";
-    } else if (c == '\t') {
+    } else if (c.code == '\t') {
       out += "\\t";
-    } else if (c == '\r') {
+    } else if (c.code == '\r') {
       out += "\\r";
-    } else if (u < 0x20 || u == 0x7f) {
-      static const char kHex[] = "0123456789abcdef";
-      out += "\\x";
-      out += kHex[u >> 4];
-      out += kHex[u & 15];
+    } else if (c.code < 0x80) {
+      out += fmt::format("\\x{:02x}", static_cast<uint32_t>(c.code));
     } else {
-      out += c;
+      out += fmt::format("\\u{:04x}", static_cast<uint32_t>(c.code));
     }
   }
   return out;

@@ -2,10 +2,21 @@
 // Checks on the names a user gives (a scenario's name, a regress scene's
 // name): what may be printed on one line, and what may name one folder.
 
+#include <cstddef>
 #include <string>
 #include <string_view>
 
 namespace hcpf {
+
+// A character that breaks or hides a line (see FirstControlCharacter) found
+// at a byte of a text: its code point and its length in bytes (0: none).
+struct ControlCharacter {
+  char32_t code = 0;
+  size_t bytes = 0;
+};
+
+// The control character that starts at byte `i` of the UTF-8 `text`, if any.
+ControlCharacter ControlCharacterAt(std::string_view text, size_t i);
 
 // The first character of the UTF-8 `text` that would break or hide a line
 // where the text is printed (a log line, seqinfo.ini, a table row), written

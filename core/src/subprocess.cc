@@ -5,7 +5,10 @@
 #include <unistd.h>
 
 #include <cerrno>
+#include <cstdlib>
 #include <cstring>
+#include <filesystem>
+#include <string_view>
 
 #include "hcpf/core/check.h"
 
@@ -43,6 +46,23 @@ ProcessStatus RunProcess(const std::vector<std::string>& argv, const std::string
     status.exit_code = WEXITSTATUS(raw);
   }
   return status;
+}
+
+bool ExecutableOnPath(const std::string& name) {
+  const char* path = std::getenv("PATH");
+  std::string_view dirs = path != nullptr ? path : "";
+  while (true) {
+    const size_t colon = dirs.find(':');
+    const std::string_view dir = dirs.substr(0, colon);
+    const std::filesystem::path candidate =
+        std::filesystem::path(dir.empty() ? "." : std::string(dir)) / name;
+    std::error_code ec;
+    if (std::filesystem::is_regular_file(candidate, ec) && ::access(candidate.c_str(), X_OK) == 0) {
+      return true;
+    }
+    if (colon == std::string_view::npos) return false;
+    dirs.remove_prefix(colon + 1);
+  }
 }
 
 }  // namespace hcpf

@@ -120,11 +120,36 @@ void CheckFolderArgument(const std::string& path, const std::string& option) {
   if (path.empty()) {
     throw InputError(SourceLocation{"command line", 0, 0, option}, "a folder", "an empty path");
   }
+  const SourceLocation where{path, 0, 0, option};
   std::error_code ec;
   const fs::file_status st = fs::status(path, ec);
-  if (fs::exists(st) && !fs::is_directory(st)) {
-    throw InputError(SourceLocation{path, 0, 0, option}, "a folder (new or existing)",
-                     "an existing file", "name a folder");
+  if (fs::exists(st)) {
+    if (!fs::is_directory(st)) {
+      throw InputError(where, "a folder (new or existing)", "an existing file", "name a folder");
+    }
+    return;
+  }
+  // A second bad-input audit: a link to nothing, or a path below a file,
+  // failed later with exit 1 ("cannot create ...: File exists"). The
+  // nearest part of the path that exists must be a folder.
+  const fs::path whole = fs::path(path).lexically_normal();
+  for (fs::path at = whole; !at.empty(); at = at.parent_path()) {
+    if (fs::exists(fs::status(at, ec))) {
+      if (!fs::is_directory(fs::status(at, ec))) {
+        throw InputError(where, "a folder (new or existing)",
+                         fmt::format("a path below the file {}", at.string()),
+                         "nothing was changed; name a folder");
+      }
+      break;
+    }
+    if (fs::is_symlink(fs::symlink_status(at, ec))) {
+      throw InputError(
+          where, "a folder (new or existing)",
+          fmt::format("{}a symbolic link to nothing ({} -> {})", at == whole ? "" : "a path below ",
+                      at.string(), fs::read_symlink(at, ec).string()),
+          "nothing was changed; name a folder, or create the one the link names");
+    }
+    if (at == at.parent_path()) break;
   }
 }
 

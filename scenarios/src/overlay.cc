@@ -66,6 +66,19 @@ void WriteOverlayVideo(const std::string& path, const Scenario& scenario,
   WriteOverlayVideo(path, scenario, truth, reports, filters, source);
 }
 
+void CheckVideoFits(const Scenario& scenario, const std::string& option) {
+  const int width = scenario.world.camera.width_px;
+  const int height = scenario.world.camera.height_px;
+  if (width <= kMaxVideoSide && height <= kMaxVideoSide) return;
+  throw InputError(
+      SourceLocation{"command line", 0, 0, option},
+      fmt::format(
+          "a camera.resolution of at most [{0}, {0}] for the overlay video (MPEG-4's limit)",
+          kMaxVideoSide),
+      fmt::format("[{}, {}] in scenario \"{}\"", width, height, scenario.name),
+      "nothing was run; leave out " + option + " or lower camera.resolution");
+}
+
 void WriteOverlayVideo(const std::string& path, const Scenario& scenario,
                        const std::vector<FrameGroundTruth>& truth,
                        const std::vector<tracker::FrameReport>& reports,

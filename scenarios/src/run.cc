@@ -64,6 +64,7 @@ RunSummary RunScenario(const Scenario& scenario, const RunOptions& options) {
   const auto start = Clock::now();
   // A file named as the cache failed mid-run (exit 1) creating a scene there.
   if (!options.frame_cache_dir.empty()) CheckFolderArgument(options.frame_cache_dir, "--cache");
+  if (options.video) CheckVideoFits(scenario, "--video");
   StagedFolder staged(options.out_dir);
   const fs::path& partial = staged.partial();
   std::error_code ec;

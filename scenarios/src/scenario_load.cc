@@ -18,6 +18,7 @@
 #include "hcpf/config/yaml_reader.h"
 #include "hcpf/core/names.h"
 #include "hcpf/core/rng.h"
+#include "hcpf/core/subprocess.h"
 #include "hcpf/scenarios/frames.h"
 #include "hcpf/scenarios/models.h"
 #include "hcpf/scenarios/scenario.h"
@@ -194,24 +195,6 @@ void ReadSimulated(YamlReader r, const std::set<int32_t>& ids, SimulatedObservat
   r.Finish();
 }
 
-// Whether `name` (no '/') names an executable file in a folder of PATH.
-bool OnPath(const std::string& name) {
-  const char* path = std::getenv("PATH");
-  std::string_view dirs = path != nullptr ? path : "";
-  while (true) {
-    const size_t colon = dirs.find(':');
-    const std::string_view dir = dirs.substr(0, colon);
-    const std::filesystem::path candidate =
-        std::filesystem::path(dir.empty() ? "." : std::string(dir)) / name;
-    std::error_code ec;
-    if (std::filesystem::is_regular_file(candidate, ec) && ::access(candidate.c_str(), X_OK) == 0) {
-      return true;
-    }
-    if (colon == std::string_view::npos) return false;
-    dirs.remove_prefix(colon + 1);
-  }
-}
-
 // tracker.type, tracker.command, tracker.timeout_s: the rules across them,
 // and command[0] found now, so `hcpf validate` rejects a program that
 // cannot be started at the line that names it.
@@ -247,9 +230,9 @@ void ReadTrackerChoice(YamlReader& r, const std::string& file, TrackerChoice* c)
     }
   }
   const std::string& program = c->command.front();
-  const SourceLocation where = r.Child("command").Items().front().Where();
+  const SourceLocation where = words.front().Where();
   if (program.find('/') == std::string::npos) {
-    if (!OnPath(program)) {
+    if (!ExecutableOnPath(program)) {
       throw InputError(where, "a program on PATH, or a path with a '/'",
                        fmt::format("\"{}\", which is not an executable file in any folder of "
                                    "PATH",

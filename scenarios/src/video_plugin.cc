@@ -30,8 +30,10 @@ extern "C" __attribute__((visibility("default"))) hcpf::scenarios::VideoSink* hc
     cv::VideoWriter writer(path, cv::CAP_FFMPEG, fourcc, fps, cv::Size(width, height), true);
     if (!writer.isOpened()) writer.open(path, fourcc, fps, cv::Size(width, height), true);
     if (!writer.isOpened()) {
-      std::snprintf(error, static_cast<size_t>(error_size), "%s",
-                    "OpenCV's VideoWriter cannot open it (no FFmpeg backend?)");
+      std::snprintf(error, static_cast<size_t>(error_size),
+                    "OpenCV's VideoWriter cannot open it for %dx%d at %g fps (FFmpeg's MPEG-4 "
+                    "encoder refused it, or OpenCV has no FFmpeg backend)",
+                    width, height, fps);
       return nullptr;
     }
     return new OpenCvVideoSink(std::move(writer));

@@ -13,8 +13,10 @@
 #include <vector>
 
 #include "hcpf/core/error.h"
+#include "hcpf/core/rng.h"
 #include "hcpf/core/text_file.h"
 #include "hcpf/metrics/mot_io.h"
+#include "hcpf/scenarios/output_folder.h"
 #include "hcpf/studies/results_store.h"
 #include "text.h"
 
@@ -33,9 +35,9 @@ bool NameChar(char c) {
 }
 
 void CheckName(const std::string& value, const std::string& option) {
-  if (value.empty() || !std::all_of(value.begin(), value.end(), NameChar)) {
-    throw InputError(SourceLocation{"hcpf export", 0, 0, option}, "a name of letters, digits and _",
-                     value.empty() ? "nothing" : value);
+  if (value.empty() || value.size() > 100 || !std::all_of(value.begin(), value.end(), NameChar)) {
+    throw InputError(SourceLocation{"hcpf export", 0, 0, option},
+                     "a name of 1 to 100 letters, digits and _", value.empty() ? "nothing" : value);
   }
 }
 
@@ -73,6 +75,19 @@ std::string Label(const std::vector<std::string>& keys, const std::vector<std::s
   return out;
 }
 
+// A folder or file name may hold 255 bytes (NAME_MAX); a label longer than
+// kMaxLabelBytes keeps its first bytes and ends in a hash of the whole, so
+// two long labels that share their start still differ (a second bad-input
+// audit: long swept values failed the export with "File name too long").
+// What each name stands for is in runs.csv.
+constexpr size_t kMaxLabelBytes = 200;
+
+std::string Bounded(const std::string& label) {
+  if (label.size() <= kMaxLabelBytes) return label;
+  const std::string tail = fmt::format("-{:016x}", HashName(label));
+  return label.substr(0, kMaxLabelBytes - tail.size()) + tail;
+}
+
 // Names for distinct groups, in the order first seen: `label`, and `label-2`,
 // `label-3`, ... when sanitising made two groups' labels equal.
 class Namer {
@@ -80,8 +95,9 @@ class Namer {
   std::string NameOf(const std::vector<std::string>& group, const std::string& label) {
     auto it = names_.find(group);
     if (it != names_.end()) return it->second;
-    std::string name = label;
-    for (int k = 2; used_.count(name) > 0; ++k) name = fmt::format("{}-{}", label, k);
+    const std::string bounded = Bounded(label);
+    std::string name = bounded;
+    for (int k = 2; used_.count(name) > 0; ++k) name = fmt::format("{}-{}", bounded, k);
     used_.insert(name);
     names_[group] = name;
     return name;
@@ -100,6 +116,7 @@ struct ExportRun {
 };
 
 void CheckOutFolder(const fs::path& out) {
+  scenarios::CheckFolderArgument(out.string(), "--trackeval");
   std::error_code ec;
   const fs::file_status status = fs::symlink_status(out, ec);
   if (!fs::exists(status)) return;

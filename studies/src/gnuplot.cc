@@ -1,6 +1,7 @@
 #include "gnuplot.h"
 
 #include <fmt/format.h>
+#include <unistd.h>
 
 #include <fstream>
 #include <sstream>
@@ -32,6 +33,32 @@ void RunGnuplot(const std::string& gnuplot, const fs::path& script) {
   throw RunError(fmt::format(
       "gnuplot failed ({} {}) on {}: {}", status.signal != 0 ? "signal" : "status",
       status.signal != 0 ? status.signal : status.exit_code, script.string(), messages));
+}
+
+void CheckGnuplot(const std::string& gnuplot) {
+  const SourceLocation where{"command line", 0, 0, "--gnuplot"};
+  const std::string hint =
+      "install Debian gnuplot-nox (scripts/setup.sh does), or pass --gnuplot PATH";
+  if (gnuplot.find('/') == std::string::npos) {
+    if (!ExecutableOnPath(gnuplot)) {
+      throw InputError(
+          where, "gnuplot on PATH, or a path with a '/'",
+          fmt::format("\"{}\", which is not an executable file in any folder of PATH", gnuplot),
+          hint);
+    }
+    return;
+  }
+  std::error_code ec;
+  const fs::file_status st = fs::status(gnuplot, ec);
+  std::string found;
+  if (!fs::exists(st)) {
+    found = fmt::format("\"{}\", which does not exist", gnuplot);
+  } else if (fs::is_directory(st)) {
+    found = fmt::format("\"{}\", which is a folder", gnuplot);
+  } else if (!fs::is_regular_file(st) || ::access(gnuplot.c_str(), X_OK) != 0) {
+    found = fmt::format("\"{}\", which is not an executable file", gnuplot);
+  }
+  if (!found.empty()) throw InputError(where, "the path of the gnuplot executable", found, hint);
 }
 
 std::string ReadWholeFile(const fs::path& path) {

@@ -16,6 +16,12 @@ std::string GpString(const std::string& text);
 // executable cannot be run.
 void RunGnuplot(const std::string& gnuplot, const std::filesystem::path& script);
 
+// Checks --gnuplot before a report writes anything: a path with a '/' must
+// name an executable file, a bare name one on PATH. InputError naming
+// --gnuplot otherwise (a second bad-input audit: a folder given as gnuplot
+// failed the report midway and left its --out folder behind, empty).
+void CheckGnuplot(const std::string& gnuplot);
+
 // The whole of a file the report wrote itself ("" when it cannot be read).
 std::string ReadWholeFile(const std::filesystem::path& path);
 

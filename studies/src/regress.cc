@@ -24,6 +24,7 @@
 #include "hcpf/core/names.h"
 #include "hcpf/core/parallel.h"
 #include "hcpf/core/text_file.h"
+#include "hcpf/scenarios/output_folder.h"
 #include "hcpf/scenarios/run.h"
 #include "hcpf/studies/file_keys.h"
 #include "hcpf/studies/metric_catalogue.h"
@@ -555,10 +556,7 @@ void CheckOutputs(const RegressOptions& o, const RegressSuite& suite) {
       }
     }
   }
-  if (!o.work_dir.empty() && fs::exists(o.work_dir, ec) && !fs::is_directory(o.work_dir, ec)) {
-    throw InputError(SourceLocation{o.work_dir, 0, 0, "--work"}, "a folder (new or existing)",
-                     "an existing file");
-  }
+  if (!o.work_dir.empty()) scenarios::CheckFolderArgument(o.work_dir, "--work");
 }
 
 }  // namespace

@@ -71,6 +71,7 @@ Interval CellInterval(const std::string& m, const std::vector<double>& values) {
 void ReportOptions::Validate() const {
   if (dir.empty())
     throw InputError(SourceLocation{"hcpf report", 0, 0, "DIR"}, "a sweep folder", "nothing");
+  CheckGnuplot(gnuplot);
 }
 
 namespace {

@@ -20,6 +20,7 @@
 #include "hcpf/renderer/renderer.h"
 #include "hcpf/scenarios/frames.h"
 #include "hcpf/scenarios/output_folder.h"
+#include "hcpf/scenarios/overlay.h"
 #include "hcpf/scenarios/progress.h"
 #include "hcpf/scenarios/run.h"
 #include "hcpf/studies/results_store.h"
@@ -100,6 +101,9 @@ SweepPlan PrepareSweep(const SweepSpec& spec, const std::vector<SweepRun>& runs,
   plan.out = fs::path(options.out_dir);
   const fs::path& out = plan.out;
   CheckSweepFolder(options.out_dir, "--out");
+  if (options.video) {
+    for (const SweepRun& run : runs) scenarios::CheckVideoFits(*run.cell, "--video");
+  }
   std::error_code ec;
   fs::create_directories(out / "runs", ec);
   if (ec)

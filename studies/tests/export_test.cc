@@ -164,6 +164,36 @@ TEST(ExportTrackEval, NamesAreSanitisedAndUnique) {
                                   "camera.resolution-320_240_name-a_b_seed0.txt"));
 }
 
+// Labels longer than a file name may be keep their first 183 bytes and end
+// in a hash of the whole label: two long names that differ only at the end
+// give two sequences, each name at most 200 bytes (a second bad-input audit:
+// the export failed with "File name too long").
+TEST(ExportTrackEval, LongLabelsAreBoundedAndDistinct) {
+  const auto dir = testing::SweepFolder("export-long");
+  const std::string stem(300, 'a');
+  const SweepSpec spec = LoadSweepFile(
+      testing::WriteSweep(dir, "base: base.yaml\ngrid:\n  name: [" + stem + "1, " + stem + "2]\n"));
+  SweepOptions o;
+  o.out_dir = (dir / "sweep").string();
+  o.progress = false;
+  RunSweep(spec, ExpandSweep(spec), o);
+  const TrackEvalExportResult r = ExportTrackEval({.dir = o.out_dir, .out = (dir / "te").string()});
+  EXPECT_EQ(r.sequences, 2);
+  const std::string seqmap =
+      ReadFile(dir / "te" / "gt" / "mot_challenge" / "seqmaps" / "HCPF-train.txt");
+  std::vector<std::string> names;
+  std::stringstream lines(seqmap);
+  for (std::string line; std::getline(lines, line);) names.push_back(line);
+  ASSERT_EQ(names.size(), 3u) << seqmap;
+  for (size_t i = 1; i < 3; ++i) {
+    EXPECT_EQ(names[i].size(), 200u) << names[i];
+    EXPECT_EQ(names[i].rfind("name-aaaa", 0), 0u) << names[i];
+    EXPECT_TRUE(fs::is_directory(dir / "te" / "gt" / "mot_challenge" / "HCPF-train" / names[i]));
+  }
+  EXPECT_NE(names[1], names[2]);
+  EXPECT_EQ(names[1].substr(0, 183), names[2].substr(0, 183));
+}
+
 std::string ErrorOf(const TrackEvalExportOptions& o) {
   try {
     ExportTrackEval(o);
@@ -189,8 +219,21 @@ TEST(ExportTrackEval, BadInputs) {
   EXPECT_EQ(std::distance(fs::directory_iterator(dir / "full"), fs::directory_iterator()), 1);
   std::ofstream(dir / "file") << "x";
   e = ErrorOf({.dir = sweep.string(), .out = (dir / "file").string()});
-  EXPECT_NE(e.find("a new or empty folder"), std::string::npos) << e;
-  // Names TrackEval joins as <BENCHMARK>-<SPLIT>: no '-' or '/'.
+  EXPECT_NE(e.find("--trackeval: expected a folder (new or existing), found an existing file"),
+            std::string::npos)
+      << e;
+  // A link to nothing, or a path below a file: refused before anything is
+  // written (both failed with exit 1 before).
+  fs::create_symlink(dir / "nowhere", dir / "dangling");
+  e = ErrorOf({.dir = sweep.string(), .out = (dir / "dangling").string()});
+  EXPECT_NE(e.find("a symbolic link to nothing"), std::string::npos) << e;
+  EXPECT_FALSE(fs::exists(dir / "nowhere"));
+  e = ErrorOf({.dir = sweep.string(), .out = (dir / "file" / "te").string()});
+  EXPECT_NE(e.find("a path below the file"), std::string::npos) << e;
+  // Names TrackEval joins as <BENCHMARK>-<SPLIT>: no '-' or '/', and short.
+  e = ErrorOf(
+      {.dir = sweep.string(), .out = (dir / "o2").string(), .benchmark = std::string(101, 'B')});
+  EXPECT_NE(e.find("1 to 100 letters"), std::string::npos) << e;
   e = ErrorOf({.dir = sweep.string(), .out = (dir / "o2").string(), .benchmark = "MOT-17"});
   EXPECT_NE(e.find("--benchmark"), std::string::npos) << e;
   e = ErrorOf({.dir = sweep.string(), .out = (dir / "o2").string(), .split = "../x"});

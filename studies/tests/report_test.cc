@@ -594,6 +594,34 @@ TEST(RunReport, OutMustBeNewEmptyOrAnEarlierReport) {
   EXPECT_NO_THROW(WriteReport({.dir = run.string(), .out_dir = reports.string()}));
 }
 
+// --gnuplot is checked before anything is written: a folder, a missing or
+// non-executable file, or a bare name not on PATH is bad input naming
+// --gnuplot, and --out is not created (a second bad-input audit: a folder as
+// gnuplot failed the report with exit 1 and left --out behind, empty).
+TEST(RunReport, GnuplotThatCannotRunIsBadInputBeforeAnythingIsWritten) {
+  const auto dir = testing::SweepFolder("run-report-gnuplot");
+  const fs::path run = RunMinimal(dir, "none");
+  std::ofstream(dir / "plain.txt") << "not a program\n";
+  const std::vector<std::pair<std::string, std::string>> cases = {
+      {dir.string(), "which is a folder"},
+      {(dir / "missing").string(), "which does not exist"},
+      {(dir / "plain.txt").string(), "which is not an executable file"},
+      {"hcpf-no-such-gnuplot", "not an executable file in any folder of PATH"}};
+  for (const auto& [gnuplot, found] : cases) {
+    const fs::path out = dir / "out";
+    try {
+      WriteReport({.dir = run.string(), .out_dir = out.string(), .gnuplot = gnuplot});
+      ADD_FAILURE() << gnuplot << " was accepted";
+    } catch (const InputError& e) {
+      const std::string what = e.what();
+      EXPECT_NE(what.find("--gnuplot: expected"), std::string::npos) << what;
+      EXPECT_NE(what.find(found), std::string::npos) << what;
+    }
+    EXPECT_FALSE(fs::exists(out)) << gnuplot;
+    EXPECT_FALSE(fs::exists(run / "report.html")) << gnuplot;
+  }
+}
+
 TEST(RunReport, ModeNoneHasNoEssLine) {
   const auto dir = testing::SweepFolder("run-report-none");
   const fs::path run = RunMinimal(dir, "none");

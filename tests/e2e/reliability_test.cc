@@ -434,6 +434,77 @@ TEST(Reliability, BadOutputArgumentsAreBadInput) {
   EXPECT_EQ(ReadFile(file), "not a folder\n");
 }
 
+// A second bad-input audit: an output or cache folder given as a link to
+// nothing, or below a file, failed midway with exit 1 ("cannot create
+// .../runs: File exists", "Not a directory"). Each is bad input before
+// anything is written, for every option that names a folder.
+TEST(Reliability, FoldersThroughDanglingLinksOrBelowFilesAreBadInput) {
+  const fs::path dir = FreshDir("bad-folder");
+  const fs::path file = Write(dir / "a-file", "not a folder\n");
+  const fs::path scenario = Write(dir / "s.yaml", SmallScenario());
+  const fs::path sweep =
+      Write(dir / "sweep.yaml",
+            "base: " + scenario.string() + "\nseeds: 1\ngrid: {tracker.particles: [10]}\n");
+  const fs::path suite = fs::path(HCPF_SOURCE_DIR) / "scenarios" / "regress" / "suite.yaml";
+  const fs::path link = dir / "link";
+  fs::create_symlink(dir / "nowhere", link);
+  const std::string below = (file / "sub").string();
+  const std::string via_link = (link / "sub").string();
+  for (const std::string& folder : {link.string(), below, via_link}) {
+    for (const std::string& command :
+         {kHcpf + " run " + scenario.string() + " --out " + folder,
+          kHcpf + " run " + scenario.string() + " --out " + (dir / "o").string() + " --cache " +
+              folder,
+          kHcpf + " render " + scenario.string() + " --out " + folder,
+          kHcpf + " sweep " + sweep.string() + " --out " + folder,
+          kHcpf + " merge " + folder + " " + dir.string(),
+          kHcpf + " regress " + suite.string() + " --baseline " + (dir / "b.json").string() +
+              " --update-baseline --work " + folder}) {
+      const auto r = RunCommand(command);
+      EXPECT_EQ(r.exit_code, 2) << command << "\n" << r.output;
+      EXPECT_TRUE(r.output.find("a symbolic link to nothing") != std::string::npos ||
+                  r.output.find("found a path below the file") != std::string::npos)
+          << command << "\n"
+          << r.output;
+    }
+  }
+  EXPECT_FALSE(fs::exists(dir / "nowhere"));
+  EXPECT_FALSE(fs::exists(dir / "o"));
+  EXPECT_FALSE(fs::exists(dir / "b.json"));
+  EXPECT_EQ(ReadFile(file), "not a folder\n");
+}
+
+// A second bad-input audit: --video with a camera wider or taller than MPEG-4
+// codes (8192 is in camera.resolution's range) ran the whole scene, then
+// failed with exit 1 and a hint about a missing FFmpeg backend. Now bad
+// input before the run, for run and for a sweep with such a cell; 8191 is
+// written.
+TEST(Reliability, VideoLargerThanMpeg4CodesIsBadInputBeforeTheRun) {
+  const fs::path dir = FreshDir("video-size");
+  const fs::path scenario = Write(dir / "s.yaml", SmallScenario());
+  const fs::path sweep = Write(dir / "sweep.yaml", "base: " + scenario.string() +
+                                                       "\ngrid: {camera.resolution: [[320, 240], "
+                                                       "[64, 8192]]}\n");
+  for (const std::string& command :
+       {kHcpf + " run " + scenario.string() + " --set camera.resolution=[8192,64] --video --out " +
+            (dir / "run").string(),
+        kHcpf + " sweep " + sweep.string() + " --video --out " + (dir / "sweep").string()}) {
+    const auto r = RunCommand(command);
+    EXPECT_EQ(r.exit_code, 2) << command << "\n" << r.output;
+    EXPECT_NE(r.output.find("--video: expected a camera.resolution of at most [8191, 8191]"),
+              std::string::npos)
+        << command << "\n"
+        << r.output;
+  }
+  EXPECT_FALSE(fs::exists(dir / "run"));
+  EXPECT_FALSE(fs::exists(dir / "sweep"));
+  const auto r =
+      RunCommand(kHcpf + " run " + scenario.string() +
+                 " --set camera.resolution=[8191,64] --video --out " + (dir / "ok").string());
+  EXPECT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_GT(fs::file_size(dir / "ok" / "overlay.mp4"), 0u);
+}
+
 // Found by the fuzzer: Debian 12's assimp PLY reader hangs, crashes or aborts
 // on small malformed files (fuzz/regressions/assimp/*.ply, whose first byte is
 // the fuzz target's format selector). A model must never take the tool down:

@@ -22,4 +22,8 @@ struct ProcessStatus {
 // calls, so this is safe to call from a threaded process.
 ProcessStatus RunProcess(const std::vector<std::string>& argv, const std::string& log_path);
 
+// Whether `name` (no '/') names an executable file in a folder of PATH, as
+// RunProcess would look it up.
+bool ExecutableOnPath(const std::string& name);
+
 }  // namespace hcpf

@@ -12,8 +12,9 @@
 namespace hcpf::scenarios {
 
 // Checks a folder given on the command line as `option` (e.g. "--out"): not
-// empty, and not an existing file (or a link to one). InputError naming the
-// option otherwise; a missing folder is fine (it is created).
+// empty, not an existing file (or a link to one), not a link to nothing, and
+// not below a file or a link to nothing. InputError naming the option
+// otherwise; a missing folder is fine (it is created).
 void CheckFolderArgument(const std::string& path, const std::string& option);
 
 class StagedFolder {

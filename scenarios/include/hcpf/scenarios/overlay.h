@@ -43,4 +43,13 @@ void WriteOverlayVideo(const std::string& path, const Scenario& scenario,
                        const std::optional<metrics::FilterMetrics>& filters,
                        const OverlayFrameSource& frame_at);
 
+// The largest width and height an overlay video may have: MPEG-4 Part 2
+// codes them in 13 bits, and FFmpeg's encoder refuses 8192.
+inline constexpr int kMaxVideoSide = 8191;
+
+// InputError naming `option` (e.g. "--video") when the scenario's camera is
+// larger than kMaxVideoSide either way: checked before a run starts, so a
+// run asked for a video does not fail at its end (a second bad-input audit).
+void CheckVideoFits(const Scenario& scenario, const std::string& option);
+
 }  // namespace hcpf::scenarios

@@ -974,6 +974,32 @@ std::string FindingsMarkdown(const std::vector<Finding>& findings, const GlanceT
 
 // Stage 4, the page. `link_prefix` leads from the report's folder to `dir`
 // ("" when the report is written into the sweep folder).
+// The metrics of report.y that no finished run measured (NaN in every ok
+// run): their plots are empty frames, which the report and the log say why
+// (a second bad-input audit: e.g. det_ap on a sweep of detection-level runs
+// gave empty plots without a word). Empty when no run finished at all.
+std::vector<std::string> UnmeasuredMetrics(const std::vector<RunRecord>& runs,
+                                           const std::vector<std::string>& y) {
+  std::vector<std::string> out;
+  const bool any_ok =
+      std::any_of(runs.begin(), runs.end(), [](const RunRecord& r) { return r.ok; });
+  if (!any_ok) return out;
+  for (const std::string& metric : y) {
+    const bool measured = std::any_of(runs.begin(), runs.end(), [&](const RunRecord& r) {
+      const auto it = r.metrics.find(metric);
+      return r.ok && it != r.metrics.end() && !std::isnan(it->second);
+    });
+    if (!measured) out.push_back(metric);
+  }
+  return out;
+}
+
+// "det_ap (metrics.json /detection/precision_recall/average_precision)".
+std::string WhereMeasured(const std::string& metric) {
+  const CatalogueMetric* entry = FindMetric(metric);
+  return entry == nullptr ? metric : fmt::format("{} ({} {})", metric, entry->file, entry->pointer);
+}
+
 std::string ReportHtml(const fs::path& dir, const std::string& link_prefix, const StoreMeta& meta,
                        const std::vector<RunRecord>& runs, const std::vector<Cell>& cells,
                        const Layout& layout,
@@ -1025,6 +1051,17 @@ std::string ReportHtml(const fs::path& dir, const std::string& link_prefix, cons
   }
   h += findings_html;
   h += "<h2>Plots</h2>\n";
+  if (const std::vector<std::string> unmeasured = UnmeasuredMetrics(runs, meta.report.y);
+      !unmeasured.empty()) {
+    std::vector<std::string> items;
+    for (const std::string& m : unmeasured) items.push_back(EscapeMarkup(WhereMeasured(m)));
+    h += fmt::format(
+        "<p class=\"note\">No finished run of this sweep measured {}: {} plot{} empty (detection "
+        "metrics are measured by rendered runs, <code>observation.source: rendered</code>; "
+        "filter metrics by the particle filter, not an external tracker).</p>\n",
+        fmt::join(items, ", "), unmeasured.size() == 1 ? "its" : "their",
+        unmeasured.size() == 1 ? " is" : "s are");
+  }
   for (const auto& [id, svg] : svgs) {
     h += fmt::format("<div class=\"plot\" id=\"plot-{}\">\n{}\n</div>\n", EscapeMarkup(id), svg);
   }
@@ -1149,6 +1186,9 @@ ReportResult WriteReport(const ReportOptions& options) {
     link_prefix = LinkFrom(out, dir) + "/";
   }
   ReportResult result;
+  for (const std::string& metric : UnmeasuredMetrics(runs, meta.report.y)) {
+    spdlog::warn("report: no finished run measured {}: its plot is empty", WhereMeasured(metric));
+  }
   std::vector<std::pair<std::string, std::string>> svgs =
       Plots(cells, layout, meta, work, options.gnuplot, "", "");
   result.plots = static_cast<int>(svgs.size());

@@ -5,6 +5,7 @@
 #include <sqlite3.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cctype>
 #include <cerrno>
 #include <cmath>
@@ -226,6 +227,15 @@ void ResultsStore::ReadMeta() {
     throw InputError(SourceLocation{path_, 0, 0, "meta.sweep_hash"},
                      "a results store of hcpf sweep", "a database without the sweep's hash");
   }
+  // A second bad-input audit: a store of another format version was read as
+  // this one's.
+  if (m["format"] != kStoreFormat) {
+    throw InputError(
+        SourceLocation{path_, 0, 0, "meta.format"},
+        fmt::format("a results store of this hcpf sweep (format \"{}\")", kStoreFormat),
+        m.count("format") ? fmt::format("format \"{}\"", m["format"]) : std::string("no format"),
+        "a store of another hcpf version is read by that version");
+  }
   meta_.sweep_hash = m["sweep_hash"];
   meta_.sweep_file = m["sweep_file"];
   meta_.base_resolved = m["base_resolved"];
@@ -239,6 +249,66 @@ void ResultsStore::ReadMeta() {
   meta_.report.pool = report.value("pool", std::vector<std::string>{});
   meta_.report.panels = report.value("panels", "");
   meta_.report.reference = report.value("reference", "");
+  CheckStoredMeta();
+}
+
+void ResultsStore::CheckStoredMeta() const {
+  // A second bad-input audit: a store's meta edited by hand (or by another
+  // program) gave "map::at" (exit 1) for an unknown metric, an empty report,
+  // and a swept key without a column read as its own name (SQLite takes a
+  // quoted unknown identifier for a string). What the sweep file's report:
+  // block is held to (sweep.cc) holds here too.
+  std::set<std::string> columns;
+  {
+    Statement s(db_, "PRAGMA table_info(runs)");
+    while (s.Step()) columns.insert(s.Text(1));
+  }
+  const auto fail = [&](const std::string& key, const std::string& expected,
+                        const std::string& found) {
+    throw InputError(SourceLocation{path_, 0, 0, "meta." + key},
+                     "a results store of hcpf sweep: " + expected, found,
+                     "the store's meta table was changed after the sweep wrote it");
+  };
+  const std::vector<std::string>& swept = meta_.swept_keys;
+  for (size_t i = 0; i < swept.size(); ++i) {
+    const std::string column = swept[i] == "seed" ? "swept.seed" : swept[i];
+    if (columns.count(column) == 0 ||
+        std::find(swept.begin(), swept.begin() + static_cast<ptrdiff_t>(i), swept[i]) !=
+            swept.begin() + static_cast<ptrdiff_t>(i)) {
+      fail("swept_keys", "swept keys listed once, each a column of the runs table",
+           fmt::format("\"{}\"", swept[i]));
+    }
+  }
+  const ReportSpec& report = meta_.report;
+  const auto is_swept = [&](const std::string& key) {
+    return std::find(swept.begin(), swept.end(), key) != swept.end();
+  };
+  for (const auto& [name, key] : {std::pair<const char*, const std::string*>{"x", &report.x},
+                                  {"series", &report.series},
+                                  {"panels", &report.panels}}) {
+    if (!key->empty() && !is_swept(*key)) {
+      fail(std::string("report.") + name, "a swept key", fmt::format("\"{}\"", *key));
+    }
+  }
+  for (const std::string& key : report.pool) {
+    if (!is_swept(key)) fail("report.pool", "swept keys", fmt::format("\"{}\"", key));
+  }
+  const std::vector<std::string>& known = MetricNames();
+  const auto is_metric = [&](const std::string& name) {
+    return std::find(known.begin(), known.end(), name) != known.end();
+  };
+  if (report.y.empty()) fail("report.y", "a non-empty list of metric names", "an empty list");
+  for (size_t i = 0; i < report.y.size(); ++i) {
+    const std::string& name = report.y[i];
+    if (!is_metric(name) ||
+        std::find(report.y.begin(), report.y.begin() + static_cast<ptrdiff_t>(i), name) !=
+            report.y.begin() + static_cast<ptrdiff_t>(i)) {
+      fail("report.y", "metric names of this hcpf, each listed once", fmt::format("\"{}\"", name));
+    }
+  }
+  if (!report.x_metric.empty() && !is_metric(report.x_metric)) {
+    fail("report.x_metric", "a metric name of this hcpf", fmt::format("\"{}\"", report.x_metric));
+  }
 }
 
 void ResultsStore::AddMissingMetricColumns(StoreAccess access) {
@@ -339,7 +409,7 @@ std::unique_ptr<ResultsStore> ResultsStore::OpenOrCreate(const std::string& path
         "NULL, seed TEXT NOT NULL, status TEXT NOT NULL, error TEXT, run_dir TEXT" +
         columns + ")");
     const std::vector<std::pair<std::string, std::string>> rows = {
-        {"format", "hcpf-results/1"},
+        {"format", kStoreFormat},
         {"sweep_hash", meta.sweep_hash},
         {"sweep_file", meta.sweep_file},
         {"swept_keys", json(meta.swept_keys).dump()},

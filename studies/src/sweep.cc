@@ -183,7 +183,14 @@ SweepSpec ReadSweep(YAML::Node root, const std::string& file, const std::string&
       } else {
         items.push_back(*y);
       }
-      for (const YamlReader& item : items) spec.report.y.push_back(metric_name(item));
+      for (const YamlReader& item : items) {
+        const std::string name = metric_name(item);
+        // Listed twice, a metric was plotted twice (a second bad-input audit).
+        if (std::find(spec.report.y.begin(), spec.report.y.end(), name) != spec.report.y.end()) {
+          item.Fail("a metric listed once in report.y");
+        }
+        spec.report.y.push_back(name);
+      }
       if (spec.report.y.empty()) y->Fail("a non-empty list of metric names");
     }
     if (!spec.report.series.empty() && spec.report.series == spec.report.x) {

@@ -1121,6 +1121,44 @@ TEST(Report, NoSeriesNoFindings) {
   EXPECT_EQ(Read(r.html_path).find("id=\"findings\""), std::string::npos);
 }
 
+// A metric of report.y that no finished run measured (det_ap of
+// detection-level runs) gets its empty plot and a sentence saying so, naming
+// where the value is read from; a measured one gets neither.
+TEST(Report, MetricsNoRunMeasuredAreNamed) {
+  const auto dir = testing::SweepFolder("report-unmeasured");
+  StoreMeta meta;
+  meta.sweep_hash = "hand";
+  meta.sweep_file = "hand.yaml";
+  meta.swept_keys = {"tracker.particles"};
+  meta.report.x = "tracker.particles";
+  meta.report.y = {"mota", "det_ap"};
+  meta.run_count = 2;
+  {
+    auto store = ResultsStore::OpenOrCreate((dir / "results.sqlite").string(), meta);
+    for (int i = 0; i < 2; ++i) {
+      RunRecord r;
+      r.key = "k" + std::to_string(i);
+      r.index = i;
+      r.values = {i == 0 ? "100" : "1000"};
+      r.ok = true;
+      r.run_dir = "runs/" + r.key;
+      r.metrics["mota"] = 0.5;
+      store->Put(r);
+    }
+  }
+  const ReportResult r = WriteReport({.dir = dir.string()});
+  EXPECT_EQ(r.plots, 2);
+  const std::string html = Read(r.html_path);
+  EXPECT_NE(html.find("No finished run of this sweep measured det_ap (metrics.json "
+                      "/detection/precision_recall/average_precision): its plot is empty"),
+            std::string::npos)
+      << html.substr(0, 4000);
+  EXPECT_EQ(html.find("measured mota"), std::string::npos);
+  const size_t plot = html.find("id=\"plot-det_ap\"");
+  ASSERT_NE(plot, std::string::npos);
+  EXPECT_NE(html.find("no values of this metric", plot), std::string::npos);
+}
+
 // Keys zipped with the series (an external tracker's type beside the name
 // that labels it) do not split the findings into one group per value: one
 // sentence per metric, comparing sort with pf on the seeds they share (none

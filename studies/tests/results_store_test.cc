@@ -12,6 +12,7 @@
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
+#include <tuple>
 
 #include "hcpf/metrics/report.h"
 #include "hcpf/scenarios/run.h"
@@ -101,6 +102,66 @@ TEST(ResultsStore, PutRunsRoundTripAndRefusesAnotherSweep) {
   EXPECT_TRUE(std::isnan(runs[1].metrics.at("hota")));
   meta.sweep_hash = "other";
   EXPECT_THROW(ResultsStore::OpenOrCreate(path, meta), InputError);
+}
+
+// A store whose meta table was edited after the sweep wrote it is bad input
+// naming the meta entry, before anything reads the runs (a second bad-input
+// audit: an unknown metric in report.y failed the report with "map::at",
+// exit 1; format hcpf-results/99, an empty report.y and a swept key without
+// its column were read as if nothing were wrong).
+TEST(ResultsStore, HandEditedMetaIsBadInputNamingTheEntry) {
+  const auto dir = SweepFolder("store-meta");
+  StoreMeta meta;
+  meta.sweep_hash = "abc";
+  meta.sweep_file = "s.yaml";
+  meta.swept_keys = {"tracker.particles", "tracker.resampling.method"};
+  meta.report = {"tracker.particles", {"idf1", "hota"}, "tracker.resampling.method"};
+  const std::string path = (dir / "results.sqlite").string();
+  ResultsStore::OpenOrCreate(path, meta);
+  const std::string good = (dir / "good.sqlite").string();
+  fs::copy_file(path, good);
+  const std::string report_of =
+      R"({"x":"tracker.particles","series":"tracker.resampling.method","y":)";
+  const std::vector<std::tuple<std::string, std::string, std::string>> edits = {
+      {"format", "hcpf-results/99",
+       R"(meta.format: expected a results store of this hcpf sweep (format "hcpf-results/1"), found format "hcpf-results/99")"},
+      {"report", report_of + R"(["idf1","nosuch"]})",
+       R"(meta.report.y: expected a results store of hcpf sweep: metric names of this hcpf, each listed once, found "nosuch")"},
+      {"report", report_of + R"(["idf1","idf1"]})", R"(found "idf1")"},
+      {"report", report_of + "[]}",
+       "meta.report.y: expected a results store of hcpf sweep: a non-empty list of metric names, "
+       "found an empty list"},
+      {"report", R"({"x":"nosuch","y":["idf1"]})",
+       R"(meta.report.x: expected a results store of hcpf sweep: a swept key, found "nosuch")"},
+      {"report", R"({"x":"tracker.particles","series":"s","y":["idf1"]})", "meta.report.series"},
+      {"report", R"({"x":"tracker.particles","pool":["p"],"y":["idf1"]})", "meta.report.pool"},
+      {"report", R"({"x":"tracker.particles","x_metric":"nosuch","y":["idf1"]})",
+       "meta.report.x_metric"},
+      {"swept_keys", R"(["tracker.particles","tracker.resampling.method","zzz"])",
+       R"(meta.swept_keys: expected a results store of hcpf sweep: swept keys listed once, each a column of the runs table, found "zzz")"},
+  };
+  for (const auto& [name, value, expected] : edits) {
+    fs::copy_file(good, path, fs::copy_options::overwrite_existing);
+    sqlite3* db = nullptr;
+    ASSERT_EQ(sqlite3_open(path.c_str(), &db), SQLITE_OK);
+    sqlite3_stmt* s = nullptr;
+    ASSERT_EQ(sqlite3_prepare_v2(db, "UPDATE meta SET value = ? WHERE name = ?", -1, &s, nullptr),
+              SQLITE_OK);
+    sqlite3_bind_text(s, 1, value.c_str(), -1, SQLITE_TRANSIENT);
+    sqlite3_bind_text(s, 2, name.c_str(), -1, SQLITE_TRANSIENT);
+    ASSERT_EQ(sqlite3_step(s), SQLITE_DONE);
+    sqlite3_finalize(s);
+    sqlite3_close(db);
+    try {
+      ResultsStore::Open(path, StoreAccess::kReadOnly);
+      ADD_FAILURE() << name << " = " << value << " was accepted";
+    } catch (const InputError& e) {
+      EXPECT_NE(std::string(e.what()).find(expected), std::string::npos) << e.what();
+    }
+  }
+  // The store as written opens.
+  fs::copy_file(good, path, fs::copy_options::overwrite_existing);
+  EXPECT_EQ(ResultsStore::Open(path)->meta().report.y, (std::vector<std::string>{"idf1", "hota"}));
 }
 
 // The journal mode a fresh connection finds in the file (persistent for WAL).

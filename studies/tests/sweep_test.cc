@@ -283,6 +283,11 @@ TEST(Sweep, ReportDefaultsAndValidation) {
   EXPECT_NE(e.find("idf2"), std::string::npos) << e;
   e = ErrorOf(WriteSweep(dir, grid + "report: {y: []}\n", "empty.yaml"));
   EXPECT_NE(e.find("a non-empty list of metric names"), std::string::npos) << e;
+  // A metric listed twice (it was plotted twice), at its second item.
+  e = ErrorOf(WriteSweep(dir, grid + "report: {y: [hota, idf1, hota]}\n", "twice.yaml"));
+  EXPECT_NE(e.find("twice.yaml:4:26: report.y[2]: expected a metric listed once in report.y"),
+            std::string::npos)
+      << e;
 }
 
 TEST(Sweep, BadFilesNameLineKeyExpectedFoundAndHint) {

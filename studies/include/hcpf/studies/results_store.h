@@ -26,6 +26,9 @@ struct sqlite3;
 
 namespace hcpf::studies {
 
+// The format of the stores this version writes and reads (meta "format").
+inline constexpr const char* kStoreFormat = "hcpf-results/1";
+
 struct StoreMeta {
   std::string sweep_hash;
   std::string sweep_file;
@@ -77,6 +80,9 @@ class ResultsStore {
   ResultsStore(std::string path, sqlite3* db);
   void Exec(const std::string& sql) const;
   void ReadMeta();
+  // InputError when the meta read does not fit the store: a swept key
+  // without its column, a report naming an unknown metric or key.
+  void CheckStoredMeta() const;
   // A store written before a metric joined the catalogue lacks its column:
   // added (empty) when the store is writable, read as missing when not.
   void AddMissingMetricColumns(StoreAccess access);

@@ -35,6 +35,24 @@ int RunApp(int argc, char** argv, std::span<const AddCommandFn> adders,
 
   std::vector<Command> commands;
   for (const AddCommandFn add : adders) commands.push_back(add(app));
+  // Integer options take decimal digits only, checked before their range: a
+  // second bad-input audit found --jobs 0x2 read as 2 (CLI11 reads 0x, 0o
+  // and 0b prefixes) and --jobs 1.5 refused as "not in range".
+  const CLI::Validator decimal(
+      [](std::string& text) -> std::string {
+        const size_t digits = text.size() > 1 && (text[0] == '-' || text[0] == '+') ? 1 : 0;
+        if (digits < text.size() &&
+            text.find_first_not_of("0123456789", digits) == std::string::npos) {
+          return {};
+        }
+        return fmt::format("expected a decimal integer, found \"{}\"", text);
+      },
+      "", "decimal");
+  for (CLI::App* sub : app.get_subcommands([](CLI::App*) { return true; })) {
+    for (CLI::Option* option : sub->get_options()) {
+      if (option->get_type_name().rfind("INT", 0) == 0) option->transform(decimal);
+    }
+  }
 
   try {
     app.parse(argc, argv);

@@ -51,7 +51,8 @@ Command AddCacheCommand(CLI::App& parent) {
       ->needs(max_size);
   return {
       app, [options, cache, max_size] {
-        // Given, --max-size "" is a size not written, not "no limit".
+        // Pruning only when --max-size is given (an empty value never
+        // reaches here: app.cc refuses empty option values).
         const bool prune = max_size->count() > 0;
         const uint64_t max_bytes =
             prune ? scenarios::ParseSize(options->max_size, "--max-size") : 0;

@@ -29,8 +29,18 @@ std::string NotFoundText(const std::string& written, const std::vector<std::stri
   std::error_code ec;
   std::string list;
   for (const std::string& l : looked_at) {
-    if (fs::is_directory(l, ec))
+    const fs::file_status st = fs::status(l, ec);
+    if (fs::is_directory(st))
       return "\"" + written + "\", which is a folder, not a file (" + l + ")";
+    // /dev/null, a FIFO or a socket: there, but not a file to read (a second
+    // bad-input audit found /dev/null reported as not existing).
+    if (fs::exists(st)) {
+      return "\"" + written + "\", which is " +
+             (fs::is_character_file(st) || fs::is_block_file(st) ? "a device"
+              : fs::is_fifo(st)                                  ? "a named pipe"
+                                                                 : "not a regular file") +
+             ", not a file (" + l + ")";
+    }
     list += (list.empty() ? "" : ", ") + l;
   }
   return "\"" + written + "\", which does not exist (looked at " + list + ")";

@@ -103,7 +103,10 @@ void ApplyOverride(YAML::Node root, const Override& o, int index) {
     if (current.IsSequence()) {
       size_t index = 0;
       auto [ptr, ec] = std::from_chars(part.data(), part.data() + part.size(), index);
-      if (ec != std::errc() || ptr != part.data() + part.size() || index >= current.size()) {
+      // "01" is not an index as written (a second bad-input audit: read as 1).
+      const bool leading_zero = part.size() > 1 && part[0] == '0';
+      if (ec != std::errc() || ptr != part.data() + part.size() || index >= current.size() ||
+          leading_zero) {
         throw InputError(at, fmt::format("a list index in [0, {})", current.size()),
                          "\"" + part + "\"");
       }

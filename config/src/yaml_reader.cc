@@ -41,6 +41,19 @@ bool ParseInt(const std::string& text, int64_t* out) {
 
 std::string RangeText(double lo, double hi) { return Closed(lo, hi).Text(); }
 
+constexpr std::string_view kStrTag = "tag:yaml.org,2002:str";
+
+// A scalar YAML reads as a number (or a boolean, with `tag` !!bool): plain,
+// or tagged !!int / !!float (!!bool). A quoted "30" or a !!str 30 is text: a
+// second bad-input audit found them read as numbers.
+bool TypedScalar(const YAML::Node& node, bool boolean = false) {
+  if (!node.IsScalar()) return false;
+  const std::string& tag = node.Tag();
+  if (tag == "?") return true;
+  if (boolean) return tag == "tag:yaml.org,2002:bool";
+  return tag == "tag:yaml.org,2002:int" || tag == "tag:yaml.org,2002:float";
+}
+
 }  // namespace
 
 std::string FlowText(const YAML::Node& node) {
@@ -49,6 +62,13 @@ std::string FlowText(const YAML::Node& node) {
   out.SetSeqFormat(YAML::Flow);
   out << node;
   return out.c_str();
+}
+
+std::string DescribeNullRoot(const YAML::Node& root) {
+  if (root.IsDefined() && root.Mark().line >= 0) {
+    return "a null value (~ or null) where a mapping goes";
+  }
+  return "an empty file (nothing but blanks or comments)";
 }
 
 YamlReader::YamlReader(YAML::Node node, std::string path,
@@ -216,11 +236,26 @@ YAML::Node YamlReader::ParseFile(const std::string& file) { return Parse(ReadFil
 
 SourceLocation YamlReader::Where() const {
   SourceLocation where{context_->file, 0, 0, path_};
-  // A value set on the command line is reported there.
+  // List indices may be written either way ("a[0]" or "a.0").
+  const auto normalised = [](const std::string& p) {
+    std::string out;
+    for (char c : p) {
+      if (c == '[') {
+        out += '.';
+      } else if (c != ']') {
+        out += c;
+      }
+    }
+    return out;
+  };
+  const std::string mine = normalised(path_);
+  // A value set on the command line is reported there: the key itself, a
+  // key below it, or an item of a list it set (`--set camera.resolution=[320,
+  // abc]`: camera.resolution[1]; `--set camera.resolution.0=320.5`:
+  // camera.resolution[0]).
   for (const auto& [prefix, origin] : context_->overrides) {
-    // The key itself, a key below it, or an item of a list it set
-    // (`--set camera.resolution=[320, abc]`: camera.resolution[1]).
-    if (path_ == prefix || path_.rfind(prefix + ".", 0) == 0 || path_.rfind(prefix + "[", 0) == 0) {
+    const std::string theirs = normalised(prefix);
+    if (mine == theirs || mine.rfind(theirs + ".", 0) == 0) {
       where.file = origin.label;
       where.override_index = origin.index;
       return where;
@@ -238,19 +273,7 @@ SourceLocation YamlReader::Where() const {
   if (where.line == 0) {
     // A node the file does not hold was made by an override on the way to
     // its key (`--set trackr.particles=10` makes "trackr"): report that
-    // override. List indices may be written either way ("a[0]" or "a.0").
-    const auto normalised = [](std::string p) {
-      std::string out;
-      for (char c : p) {
-        if (c == '[') {
-          out += '.';
-        } else if (c != ']') {
-          out += c;
-        }
-      }
-      return out;
-    };
-    const std::string mine = normalised(path_);
+    // override.
     for (const auto& [prefix, origin] : context_->overrides) {
       const std::string theirs = normalised(prefix);
       if (!mine.empty() && (theirs == mine || theirs.rfind(mine + ".", 0) == 0)) {
@@ -283,7 +306,18 @@ std::string YamlReader::Describe() const {
   if (!node_.IsDefined() || node_.IsNull()) return "nothing (an empty value)";
   if (node_.IsMap()) return "a mapping";
   if (node_.IsSequence()) return fmt::format("a list of {} item(s)", node_.size());
-  return Quote(node_.Scalar());
+  // Quoted or tagged !!str, a number or boolean is text: say so, or the
+  // message would read 'expected an integer, found "30"'.
+  const std::string& text = node_.Scalar();
+  double number = 0.0;
+  if ((node_.Tag() == "!" || node_.Tag() == kStrTag) &&
+      (ParseDouble(text, &number) || text == "true" || text == "false")) {
+    return fmt::format("the text {} ({}: write it without {} for a {})", Quote(text),
+                       node_.Tag() == "!" ? "in quotes" : "tagged !!str",
+                       node_.Tag() == "!" ? "them" : "the tag",
+                       text == "true" || text == "false" ? "boolean" : "number");
+  }
+  return Quote(text);
 }
 
 std::string YamlReader::ChildPath(const std::string& key) const {
@@ -292,6 +326,19 @@ std::string YamlReader::ChildPath(const std::string& key) const {
 
 void YamlReader::ExpectMap() const {
   if (node_.IsDefined() && !node_.IsNull() && !node_.IsMap()) Fail("a mapping of keys");
+  // yaml-cpp does not merge `<<: *anchor`: the merged keys were missing and
+  // the first one asked for reported "the key is missing" (a second bad-input
+  // audit). Said at the merge key, before any key of the mapping is read.
+  if (const YAML::Node& view = node_; view.IsMap() && view["<<"].IsDefined()) {
+    for (const auto& entry : view) {
+      if (!entry.first.IsScalar() || entry.first.Scalar() != "<<") continue;
+      throw InputError(YamlReader(entry.first, ChildPath("<<"), context_).Where(),
+                       "keys written out in full",
+                       "a YAML merge key (<<), which the YAML reader (yaml-cpp) does not merge",
+                       "write the anchored mapping's keys here; an alias of a whole value "
+                       "(key: *anchor) is read");
+    }
+  }
 }
 
 bool YamlReader::Has(const std::string& key) {
@@ -330,7 +377,26 @@ std::optional<YamlReader> YamlReader::Optional(const std::string& key) {
 }
 
 std::vector<YamlReader> YamlReader::Items() const {
-  if (!node_.IsSequence()) Fail("a list");
+  if (!node_.IsSequence()) {
+    // `--set world.occluders.0.kind=tree` where the file has no occluders
+    // makes a mapping with the key "0" (a mapping may have number keys):
+    // say what happened (a second bad-input audit found "expected a list,
+    // found a mapping" alone).
+    bool number_keys = node_.IsMap() && node_.size() > 0;
+    for (const auto& entry : node_) {
+      if (!number_keys) break;
+      const std::string key = entry.first.IsScalar() ? entry.first.Scalar() : "";
+      number_keys = !key.empty() && key.find_first_not_of("0123456789") == std::string::npos;
+    }
+    const SourceLocation where = Where();
+    if (number_keys && where.override_index >= 0) {
+      Fail("a list",
+           "a --set with a list index made a mapping: the list is not written, so set it whole, "
+           "e.g. --set " +
+               path_ + "=[...]");
+    }
+    Fail("a list");
+  }
   std::vector<YamlReader> items;
   for (size_t i = 0; i < node_.size(); ++i) {
     items.emplace_back(node_[i], path_ + "[" + std::to_string(i) + "]", context_);
@@ -342,7 +408,7 @@ double YamlReader::AsNumber(double lo, double hi) const { return AsNumber(Closed
 
 double YamlReader::AsNumber(const FieldRange& range) const {
   double value = 0.0;
-  if (!node_.IsScalar() || !ParseDouble(node_.Scalar(), &value) || !range.Contains(value)) {
+  if (!TypedScalar(node_) || !ParseDouble(node_.Scalar(), &value) || !range.Contains(value)) {
     Fail(FieldExpectation(FieldType::kNumber, range));
   }
   return value;
@@ -351,7 +417,7 @@ double YamlReader::AsNumber(const FieldRange& range) const {
 int64_t YamlReader::AsInteger(int64_t lo, int64_t hi) const {
   int64_t value = 0;
   const std::string expected = fmt::format("an integer in [{}, {}]", lo, hi);
-  if (!node_.IsScalar() || !ParseInt(node_.Scalar(), &value)) Fail(expected);
+  if (!TypedScalar(node_) || !ParseInt(node_.Scalar(), &value)) Fail(expected);
   if (value < lo || value > hi) Fail(expected);
   return value;
 }
@@ -363,7 +429,7 @@ Eigen::VectorXd YamlReader::AsVector(int n, double lo, double hi) const {
   for (int i = 0; i < n; ++i) {
     YamlReader item(node_[i], path_ + "[" + std::to_string(i) + "]", context_);
     double value = 0.0;
-    if (!item.node_.IsScalar() || !ParseDouble(item.node_.Scalar(), &value) || value < lo ||
+    if (!TypedScalar(item.node_) || !ParseDouble(item.node_.Scalar(), &value) || value < lo ||
         value > hi) {
       item.Fail(fmt::format("a number in {}", RangeText(lo, hi)));
     }
@@ -402,7 +468,7 @@ uint64_t YamlReader::Seed(const std::string& key, std::optional<uint64_t> fallba
   }
   YamlReader child = Child(key);
   uint64_t value = 0;
-  const std::string& text = child.node_.IsScalar() ? child.node_.Scalar() : std::string();
+  const std::string& text = TypedScalar(child.node_) ? child.node_.Scalar() : std::string();
   auto [ptr, ec] = std::from_chars(text.data(), text.data() + text.size(), value);
   if (text.empty() || ec != std::errc() || ptr != text.data() + text.size()) {
     child.Fail("a non-negative integer seed below 2^64");
@@ -416,7 +482,7 @@ bool YamlReader::Bool(const std::string& key, std::optional<bool> fallback) {
     Child(key);
   }
   YamlReader child = Child(key);
-  const std::string text = child.node_.IsScalar() ? child.node_.Scalar() : "";
+  const std::string text = TypedScalar(child.node_, true) ? child.node_.Scalar() : "";
   if (text == "true") return true;
   if (text == "false") return false;
   child.Fail("true or false");

@@ -5,7 +5,10 @@
 
 #include <gtest/gtest.h>
 
+#include <functional>
 #include <memory>
+#include <string>
+#include <vector>
 
 #include "hcpf/config/overrides.h"
 #include "hcpf/core/error.h"
@@ -151,6 +154,110 @@ TEST(YamlReader, TextThatIsNotUtf8IsRefusedAtItsByte) {
                               "f.yaml")["a"]
                 .as<int>(),
             1);
+}
+
+// The error of reading `key` of `text` (with `overrides` applied) with
+// `read`, or "(no error)".
+std::string ReadError(const std::string& text, const std::function<void(YamlReader&)>& read,
+                      const std::vector<Override>& overrides = {}) {
+  YAML::Node root = YamlReader::Parse(text, "f.yaml");
+  auto context = std::make_shared<YamlContext>();
+  context->file = "f.yaml";
+  try {
+    ApplyOverrides(root, overrides, context.get());
+    YamlReader r(root, "", context);
+    read(r);
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  return "(no error)";
+}
+
+// A quoted number, or one tagged !!str, is text in YAML: a second bad-input
+// audit found `fps: "30"` and `fps: !!str 30` read as 30. The message says
+// why the value that looks like a number is not one. Plain and !!int /
+// !!float values are numbers; a quoted "true" is not a boolean.
+TEST(YamlReader, QuotedNumbersAndBooleansAreText) {
+  const auto integer = [](YamlReader& r) { r.Integer("a", std::nullopt, 0, 100); };
+  const auto number = [](YamlReader& r) { r.Number("a", std::nullopt, 0, 100); };
+  const auto boolean = [](YamlReader& r) { r.Bool("a", std::nullopt); };
+  const auto seed = [](YamlReader& r) { r.Seed("a", std::nullopt); };
+  const auto vector = [](YamlReader& r) { r.Vector("a", 2, std::nullopt, 0, 100); };
+  using Read = std::function<void(YamlReader&)>;
+  for (const Read& read : {Read(integer), Read(number), Read(seed)}) {
+    EXPECT_EQ(ReadError("a: 30\n", read), "(no error)");
+    EXPECT_EQ(ReadError("a: !!int 30\n", read), "(no error)");
+    EXPECT_EQ(ReadError("a: \"30\"\n", read).find("f.yaml:1:4: a: expected "), 0u);
+    EXPECT_NE(ReadError("a: \"30\"\n", read)
+                  .find("found the text \"30\" (in quotes: write it without them for a number)"),
+              std::string::npos)
+        << ReadError("a: \"30\"\n", read);
+    EXPECT_NE(ReadError("a: !!str 30\n", read)
+                  .find("found the text \"30\" (tagged !!str: write it without the tag for a "
+                        "number)"),
+              std::string::npos)
+        << ReadError("a: !!str 30\n", read);
+    EXPECT_NE(ReadError("a: '30'\n", read).find("in quotes"), std::string::npos);
+  }
+  EXPECT_EQ(ReadError("a: !!float 2.5\n", number), "(no error)");
+  EXPECT_EQ(ReadError("a: [1, 2]\n", vector), "(no error)");
+  EXPECT_NE(ReadError("a: [1, \"2\"]\n", vector).find("a[1]: expected a number"),
+            std::string::npos);
+  EXPECT_EQ(ReadError("a: true\n", boolean), "(no error)");
+  EXPECT_EQ(ReadError("a: !!bool true\n", boolean), "(no error)");
+  EXPECT_NE(ReadError("a: \"true\"\n", boolean)
+                .find("found the text \"true\" (in quotes: write it without them for a boolean)"),
+            std::string::npos)
+      << ReadError("a: \"true\"\n", boolean);
+  // A value from --set that is quoted is text too, and located there.
+  EXPECT_EQ(ReadError("a: 1\n", integer, {{"a", "\"30\""}}).find("--set a=\"30\": a: expected"), 0u)
+      << ReadError("a: 1\n", integer, {{"a", "\"30\""}});
+  // Text keys stay text when quoted.
+  EXPECT_EQ(ReadError("a: \"30\"\n", [](YamlReader& r) { r.String("a", std::nullopt); }),
+            "(no error)");
+}
+
+// A list index is written in decimal without leading zeros: "01" was read
+// as 1. A --set with an index where the file has no list made a mapping
+// with a number key; reading it as a list says so and how to set the list.
+TEST(Overrides, ListIndicesAndListsThatAreNotWritten) {
+  const auto items = [](YamlReader& r) { r.Child("b").Items(); };
+  EXPECT_EQ(ReadError("b: [1, 2]\n", items, {{"b.1", "3"}}), "(no error)");
+  EXPECT_EQ(ReadError("b: [1, 2]\n", items, {{"b.01", "3"}}),
+            "--set b.01=3: b.01: expected a list index in [0, 2), found \"01\"");
+  EXPECT_EQ(ReadError("a: 1\n", items, {{"b.0.c", "3"}}),
+            "--set b.0.c=3: b: expected a list, found a mapping (a --set with a list index made a "
+            "mapping: the list is not written, so set it whole, e.g. --set b=[...])");
+  // A mapping with number keys in the file is only "not a list".
+  EXPECT_EQ(ReadError("b: {0: 1}\n", items), "f.yaml:1:4: b: expected a list, found a mapping");
+}
+
+// yaml-cpp does not merge `<<: *anchor`: said at the merge key before any key
+// of its mapping is read (the first merged key asked for was "missing").
+TEST(YamlReader, MergeKeysAreRefusedWhereTheyAre) {
+  const std::string text = "base: &b {x: 1}\nt:\n  <<: *b\n  y: 2\n";
+  const std::string e =
+      ReadError(text, [](YamlReader& r) { r.Child("t").Number("x", std::nullopt, 0, 10); });
+  EXPECT_EQ(e.find("f.yaml:3:3: t.<<: expected keys written out in full, found a YAML merge key "
+                   "(<<)"),
+            0u)
+      << e;
+  // An alias of a whole value is read.
+  EXPECT_EQ(ReadError(text + "u: *b\n",
+                      [](YamlReader& r) { r.Child("u").Number("x", std::nullopt, 0, 10); }),
+            "(no error)");
+}
+
+// A file of `~` is a null document, not an empty file.
+TEST(YamlReader, NullRootIsToldFromAnEmptyFile) {
+  EXPECT_EQ(DescribeNullRoot(YamlReader::Parse("", "f.yaml")),
+            "an empty file (nothing but blanks or comments)");
+  EXPECT_EQ(DescribeNullRoot(YamlReader::Parse("# only a comment\n\n", "f.yaml")),
+            "an empty file (nothing but blanks or comments)");
+  EXPECT_EQ(DescribeNullRoot(YamlReader::Parse("~\n", "f.yaml")),
+            "a null value (~ or null) where a mapping goes");
+  EXPECT_EQ(DescribeNullRoot(YamlReader::Parse("# c\nnull\n", "f.yaml")),
+            "a null value (~ or null) where a mapping goes");
 }
 
 }  // namespace hcpf::config

@@ -98,6 +98,16 @@ std::string WhyNotOurOutput(const fs::path& dir) {
   return "";
 }
 
+std::string FirstForeignEntry(const fs::path& dir,
+                              const std::function<bool(const fs::directory_entry&)>& allowed) {
+  std::error_code ec;
+  if (!fs::is_directory(dir, ec)) return "";
+  for (const auto& entry : fs::directory_iterator(dir, ec)) {
+    if (!allowed(entry)) return entry.path().filename().string();
+  }
+  return "";
+}
+
 void RemoveStaleStagingFolders(const fs::path& parent, const std::string& prefix) {
   std::error_code ec;
   if (!fs::is_directory(parent, ec)) return;

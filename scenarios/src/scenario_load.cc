@@ -427,8 +427,7 @@ Scenario LoadFromNode(YAML::Node root, const std::string& file,
   if ((!root.IsDefined() || root.IsNull()) && overrides.empty()) {
     throw InputError(SourceLocation{file, 1, 1, ""},
                      "a scenario: a mapping with at least frames, camera and targets",
-                     "an empty file (nothing but blanks or comments)",
-                     "start from a file in scenarios/library/");
+                     config::DescribeNullRoot(root), "start from a file in scenarios/library/");
   }
   if (!root.IsDefined() || root.IsNull()) root = YAML::Node(YAML::NodeType::Map);
   if (!root.IsMap()) {
@@ -442,7 +441,9 @@ Scenario LoadFromNode(YAML::Node root, const std::string& file,
     const YamlReader r(root, "", context);
     for (auto it = root.begin(); it != root.end(); ++it) {
       const std::string key = it->first.IsScalar() ? it->first.Scalar() : "";
-      if (key != "base" && key != "grid" && key != "zip") continue;
+      if (std::find(kSweepFileKeys.begin(), kSweepFileKeys.end(), key) == kSweepFileKeys.end()) {
+        continue;
+      }
       throw InputError(r.Key(it->first).Where(), "a scenario file",
                        fmt::format("a sweep file (it has `{}:` at the top)", key),
                        "hcpf sweep FILE --out DIR runs a sweep; a sweep's base and a regress "

@@ -273,6 +273,31 @@ std::vector<BadCase> Cases() {
        m,
        {{"targets.0.model", "assets"}},
        {"targets[0].model", "found \"assets\", which is a folder, not a file"}},
+      // A second bad-input audit: /dev/null as a model "does not exist".
+      {"ModelIsADevice",
+       m,
+       {{"targets.0.model", "/dev/null"}},
+       {"targets[0].model", "found \"/dev/null\", which is a device, not a file"}},
+      // A second bad-input audit: a width that is not whole, set on the
+      // command line, was blamed on the file's line ("found a list of 2
+      // item(s)"); now at the item, and at its --set.
+      {"ResolutionItemNotWholeFromTheCommandLine",
+       m,
+       {{"camera.resolution.0", "320.5"}},
+       {"--set camera.resolution.0=320.5: camera.resolution[0]: expected a whole number in [16, "
+        "8192] (item 0 of [width, height]), found \"320.5\""}},
+      {"ResolutionItemNotWholeInTheFile",
+       Replace(m, "resolution: [320, 240]", "resolution: [320, 240.5]"),
+       {},
+       {"bad.yaml:5:", "camera.resolution[1]: expected a whole number", "item 1 of"}},
+      // A second bad-input audit: a file of `~` was "an empty file".
+      {"NullDocument", "~\n", {}, {"bad.yaml:1:1:", "found a null value (~ or null)"}},
+      // A second bad-input audit: a merge key left its keys "missing".
+      {"MergeKeyInATarget",
+       Replace(Replace(m, "dimensions_m: [4.5, 2.0, 1.6]", "dimensions_m: &d [4.5, 2.0, 1.6]"),
+               "    dimensions_m: [5, 2.2, 2]", "    <<: {dimensions_m: *d}"),
+       {},
+       {"targets[1].<<: expected keys written out in full, found a YAML merge key"}},
       // A second bad-input audit: an override inside a node an alias shares
       // changed every copy (both targets' dimensions here).
       {"OverrideInsideAnAliasedNode",

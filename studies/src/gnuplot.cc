@@ -97,21 +97,22 @@ void CheckReportOut(const std::string& out_dir) {
   if (fs::is_symlink(fs::symlink_status(out_dir, ec))) {
     throw InputError(where, expected, "a symbolic link", "nothing was changed; name a folder");
   }
-  if (!fs::is_directory(out_dir, ec)) return;
-  for (const auto& entry : fs::directory_iterator(out_dir, ec)) {
-    const std::string name = entry.path().filename().string();
-    const bool report_file = name == "report.html" || name == "summary.csv" ||
-                             name == "paired.csv" || name == "findings.md";
-    if ((report_file && entry.is_regular_file(ec)) ||
-        (name == ".report-work" && entry.is_directory(ec))) {
-      continue;
-    }
-    // A second bad-input audit: a sweep's report written over another
-    // sweep's, into a run folder (which hcpf run then refused), or into a
-    // TrackEval export.
-    throw InputError(where, expected, fmt::format("a folder with other files in it (\"{}\")", name),
-                     "nothing was changed; name another folder");
-  }
+  // A second bad-input audit: a sweep's report written over another
+  // sweep's, into a run folder (which hcpf run then refused), or into a
+  // TrackEval export.
+  const std::string foreign =
+      scenarios::FirstForeignEntry(out_dir, [](const fs::directory_entry& entry) {
+        std::error_code ec;
+        const std::string name = entry.path().filename().string();
+        const bool report_file = name == "report.html" || name == "summary.csv" ||
+                                 name == "paired.csv" || name == "findings.md";
+        return (report_file && entry.is_regular_file(ec)) ||
+               (name == ".report-work" && entry.is_directory(ec));
+      });
+  if (foreign.empty()) return;
+  throw InputError(where, expected,
+                   fmt::format("a folder with other files in it (\"{}\")", foreign),
+                   "nothing was changed; name another folder");
 }
 
 }  // namespace hcpf::studies

@@ -556,7 +556,41 @@ void CheckOutputs(const RegressOptions& o, const RegressSuite& suite) {
       }
     }
   }
-  if (!o.work_dir.empty()) scenarios::CheckFolderArgument(o.work_dir, "--work");
+  if (o.work_dir.empty()) return;
+  scenarios::CheckFolderArgument(o.work_dir, "--work");
+  // Each scene's run folder in --work must be one a run may replace: a
+  // second bad-input audit found a folder of the user's there failing the
+  // suite midway (exit 1) with an error that named --out.
+  for (const RegressScene& scene : suite.scenes) {
+    const fs::path dir = fs::path(o.work_dir) / scene.name;
+    std::vector<fs::path> outs;
+    if (scene.seeds > 0) {
+      if (fs::exists(fs::symlink_status(dir, ec)) &&
+          !fs::is_directory(fs::symlink_status(dir, ec))) {
+        outs.push_back(dir);
+      }
+      for (int k = 0; k < scene.seeds; ++k) outs.push_back(dir / fmt::format("seed-{}", k));
+    } else {
+      outs.push_back(dir);
+    }
+    for (const fs::path& out : outs) {
+      const fs::file_status st = fs::symlink_status(out, ec);
+      if (!fs::exists(st)) continue;
+      std::string why;
+      if (!fs::is_directory(st)) {
+        why = fs::is_symlink(st) ? "a symbolic link" : "a file";
+      } else if (!fs::is_empty(out, ec)) {
+        why = scenarios::WhyNotOurOutput(out);
+      }
+      if (why.empty()) continue;
+      throw InputError(
+          SourceLocation{out.string(), 0, 0, "--work"},
+          fmt::format("a folder for the run of scene \"{}\": new, empty, or an earlier "
+                      "run's",
+                      scene.name),
+          why, "nothing was run; name another --work folder");
+    }
+  }
 }
 
 }  // namespace

@@ -548,20 +548,22 @@ bool RunFolderIntact(const std::string& run_dir, const RunRecord& record) {
 void CheckSweepFolder(const std::string& dir, const std::string& option) {
   scenarios::CheckFolderArgument(dir, option);
   std::error_code ec;
-  if (!fs::is_directory(dir, ec) || fs::exists(fs::path(dir) / "results.sqlite", ec)) return;
-  for (const auto& entry : fs::directory_iterator(dir, ec)) {
-    const std::string name = entry.path().filename().string();
-    // What a sweep writes before its store exists (a sweep stopped early).
-    if (name == "runs" || name == "sweep.lock" || name == "results.sqlite.new") continue;
-    const bool run_folder = fs::exists(fs::path(dir) / "manifest.json", ec);
-    throw InputError(SourceLocation{dir, 0, 0, option},
-                     "a new or empty folder, or an earlier output folder of hcpf sweep or hcpf "
-                     "merge (one with results.sqlite)",
-                     run_folder ? std::string("an output folder of hcpf run or hcpf render "
-                                              "(manifest.json)")
-                                : fmt::format("a folder with other files in it (\"{}\")", name),
-                     "nothing was changed; name another folder");
-  }
+  if (fs::exists(fs::path(dir) / "results.sqlite", ec)) return;
+  const std::string foreign =
+      scenarios::FirstForeignEntry(dir, [](const fs::directory_entry& entry) {
+        // What a sweep writes before its store exists (a sweep stopped early).
+        const std::string name = entry.path().filename().string();
+        return name == "runs" || name == "sweep.lock" || name == "results.sqlite.new";
+      });
+  if (foreign.empty()) return;
+  const bool run_folder = fs::exists(fs::path(dir) / "manifest.json", ec);
+  throw InputError(SourceLocation{dir, 0, 0, option},
+                   "a new or empty folder, or an earlier output folder of hcpf sweep or hcpf "
+                   "merge (one with results.sqlite)",
+                   run_folder ? std::string("an output folder of hcpf run or hcpf render "
+                                            "(manifest.json)")
+                              : fmt::format("a folder with other files in it (\"{}\")", foreign),
+                   "nothing was changed; name another folder");
 }
 
 MergeResult MergeStores(const std::string& out_dir, const std::vector<std::string>& input_dirs) {

@@ -84,11 +84,11 @@ SweepSpec ReadSweep(YAML::Node root, const std::string& file, const std::string&
   auto context = std::make_shared<YamlContext>();
   context->file = file;
   if (!root.IsDefined() || root.IsNull() || !root.IsMap()) {
-    throw InputError(
-        SourceLocation{file, 1, 1, ""}, "a sweep mapping (base:, grid:, zip:, seeds:, report:)",
-        root.IsSequence()                      ? "a list"
-        : (!root.IsDefined() || root.IsNull()) ? "an empty file (nothing but blanks or comments)"
-                                               : "a single value");
+    throw InputError(SourceLocation{file, 1, 1, ""},
+                     "a sweep mapping (base:, grid:, zip:, seeds:, report:)",
+                     root.IsSequence()                      ? "a list"
+                     : (!root.IsDefined() || root.IsNull()) ? config::DescribeNullRoot(root)
+                                                            : "a single value");
   }
   YamlReader r(root, "", context);
   SweepSpec spec;
@@ -314,7 +314,10 @@ bool IsSweepFile(const std::string& path) {
     // The reader every sweep and scenario goes through (its guards against
     // yaml-cpp's hangs included).
     const YAML::Node root = YamlReader::ParseFile(path);
-    return root.IsMap() && (root["base"] || root["grid"] || root["zip"]);
+    if (!root.IsMap()) return false;
+    return std::any_of(
+        scenarios::kSweepFileKeys.begin(), scenarios::kSweepFileKeys.end(),
+        [&root](std::string_view key) { return root[std::string(key)].IsDefined(); });
   } catch (const InputError&) {
     return false;
   }

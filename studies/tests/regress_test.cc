@@ -391,6 +391,14 @@ TEST(Regress, OutputsThatWouldReplaceAnInputOrCannotBeWrittenAreRefused) {
   refused({.junit_path = at + "nodir/j.xml"}, "expected a file in an existing folder");
   refused({.markdown_path = at + "folder"}, "--markdown: expected a file to write, found a folder");
   refused({.work_dir = at + "suite.yaml"}, "--work: expected a folder (new or existing)");
+  // A scene's folder in --work holding the user's files: refused before any
+  // scene runs, naming --work (it failed the suite midway naming --out).
+  fs::create_directories(dir / "work" / "a");
+  std::ofstream(dir / "work" / "a" / "notes.txt") << "mine\n";
+  refused({.work_dir = at + "work"},
+          "work/a: --work: expected a folder for the run of scene \"a\": new, empty, or an "
+          "earlier run's, found a folder with other files in it");
+  EXPECT_EQ(ReadText(dir / "work" / "a" / "notes.txt"), "mine\n");
 }
 
 // A seeded scene beside an exact one: the baseline keeps per-seed values, a

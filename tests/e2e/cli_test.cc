@@ -58,6 +58,31 @@ TEST(Cli, NoOrUnknownSubcommandIsBadInput) {
   EXPECT_NE(schema.output.find("did you mean \"sweep\"?"), std::string::npos) << schema.output;
 }
 
+// Integer options take decimal digits only, checked before their range (a
+// second bad-input audit: CLI11 read --jobs 0x2 as 2, and --jobs 1.5 was
+// "not in range"). Exit 2 with the option named, nothing written.
+TEST(Cli, IntegerOptionsAreDecimal) {
+  const fs::path dir = FreshDir("decimal");
+  const std::string scenario = LibraryScenario("crossing");
+  for (const auto& [command, option] : std::vector<std::pair<std::string, std::string>>{
+           {" run " + scenario + " --threads 0x2", "--threads"},
+           {" run " + scenario + " --threads 1.5", "--threads"},
+           {" render " + scenario + " --sheet-frames 0b11", "--sheet-frames"},
+           {" regress suite.yaml --baseline b.json --jobs 1e1", "--jobs"}}) {
+    const auto r = RunCommand(kHcpf + command + " --out " + (dir / "out").string());
+    EXPECT_EQ(r.exit_code, 2) << command << "\n" << r.output;
+    EXPECT_NE(r.output.find(option + ": expected a decimal integer, found"), std::string::npos)
+        << command << "\n"
+        << r.output;
+  }
+  // Out of range stays "not in range".
+  const auto r =
+      RunCommand(kHcpf + " run " + scenario + " --threads 0 --out " + (dir / "out").string());
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_NE(r.output.find("not in range"), std::string::npos) << r.output;
+  EXPECT_FALSE(fs::exists(dir / "out"));
+}
+
 // hcpf cache on a hand-built cache folder: a scene of 3000 bytes used two
 // days ago, one of 1000 used now, a detector output of 500 used a day ago.
 // It reports what is there; --max-size 2K (2048) removes the least recently

@@ -7,6 +7,7 @@
 #include <yaml-cpp/yaml.h>
 
 #include <algorithm>
+#include <cmath>
 #include <functional>
 #include <optional>
 #include <span>
@@ -56,9 +57,17 @@ void ReadFields(YamlReader& r, O& o, std::span<const Field<O>> fields,
       case FieldType::kVector: {
         if (!req && !r.Has(key)) break;
         const Eigen::VectorXd v = r.Vector(key, f.size, std::nullopt, f.range.lo, f.range.hi);
-        if (f.whole && v != v.array().floor().matrix()) {
-          r.Child(key).Fail(
-              fmt::format("{} whole numbers [{}] in {}", f.size, f.elements, f.range.Text()));
+        if (f.whole) {
+          // At the item that is not whole: its own line, or the --set that
+          // wrote it (a second bad-input audit: --set camera.resolution.0=320.5
+          // was blamed on the file's line, "found a list of 2 item(s)").
+          const std::vector<YamlReader> items = r.Child(key).Items();
+          for (int i = 0; i < v.size(); ++i) {
+            if (v[i] != std::floor(v[i])) {
+              items[static_cast<size_t>(i)].Fail(fmt::format(
+                  "a whole number in {} (item {} of [{}])", f.range.Text(), i, f.elements));
+            }
+          }
         }
         f.set_vector(o, std::vector<double>(v.data(), v.data() + v.size()));
         break;

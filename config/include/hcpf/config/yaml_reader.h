@@ -116,4 +116,10 @@ void ApplyOverrides(YAML::Node root, const std::vector<Override>& overrides, Yam
 // Flow-style YAML text of a node, usable as an override value (`[320, 240]`).
 std::string FlowText(const YAML::Node& node);
 
+// What a file's root node that holds no value is, for an error's "found":
+// "an empty file (nothing but blanks or comments)", or, when the document
+// writes a null (`~`, `null`), "a null value (~ or null) where a mapping
+// goes" (a second bad-input audit: a file of `~` was called empty).
+std::string DescribeNullRoot(const YAML::Node& root);
+
 }  // namespace hcpf::config

@@ -7,6 +7,7 @@
 // never touched.
 
 #include <filesystem>
+#include <functional>
 #include <string>
 
 namespace hcpf::scenarios {
@@ -46,6 +47,14 @@ class StagedFolder {
 // replaced, or "" when it is one (manifest format hcpf-run/1 or
 // hcpf-render/1, and only the files those write).
 std::string WhyNotOurOutput(const std::filesystem::path& dir);
+
+// The name of the first entry of `dir` (in directory order) that `allowed`
+// refuses, or "" when it accepts every one or `dir` is not a folder: how the
+// sweep's --out and the report's --out tell a folder of theirs from one of
+// the user's.
+std::string FirstForeignEntry(
+    const std::filesystem::path& dir,
+    const std::function<bool(const std::filesystem::directory_entry&)>& allowed);
 
 // Removes "<prefix>.partial-<pid>" and "<prefix>.old-<pid>" entries of
 // `parent` whose process no longer runs; with an empty prefix, every such

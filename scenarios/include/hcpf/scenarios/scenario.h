@@ -7,6 +7,7 @@
 #include <map>
 #include <span>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "hcpf/config/overrides.h"
@@ -227,6 +228,12 @@ std::span<const Field<PathStop>> StopFields();
 // `--set key=value` overrides (hcpf/config/overrides.h).
 using config::Override;
 using config::ParseOverride;
+
+// The top-level keys that make a YAML file a sweep file (docs/sweeps.md);
+// a scenario has none of them. hcpf validate tells the two apart by them
+// (studies::IsSweepFile), and a sweep file given where a scenario goes is
+// refused by them.
+inline constexpr std::array<std::string_view, 3> kSweepFileKeys = {"base", "grid", "zip"};
 
 // Loads, applies overrides, validates and resolves a scenario. Throws
 // InputError naming file, line, column, key, expected and found.

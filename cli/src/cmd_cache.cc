@@ -82,6 +82,18 @@ Command AddCacheCommand(CLI::App& parent) {
                       Day(contents.entries.back().last_used).c_str());
         }
         if (!prune) return 0;
+        if (!contents.foreign.empty()) {
+          throw InputError(
+              SourceLocation{options->cache, 0, 0, "--cache"},
+              "a cache folder of hcpf (scene folders of NNNNNN.frame and .json files, "
+              "detections/*.det of hcpf)",
+              fmt::format("{}, which is not a cache entry{}", contents.foreign.front().string(),
+                          contents.foreign.size() > 1
+                              ? fmt::format(" (and {} more)", contents.foreign.size() - 1)
+                              : std::string()),
+              "nothing was removed; name the cache folder itself, or move what is not the "
+              "cache's");
+        }
         const std::vector<scenarios::CacheEntry> remove =
             scenarios::PruneOrder(contents, max_bytes);
         uint64_t freed = 0;

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <map>
 #include <unordered_map>
 
@@ -197,11 +198,15 @@ FilterMetrics ComputeFilterMetrics(const FilterSequence& seq, const FilterMetric
                                                    : 0.0);
   }
   const int64_t correct = out.state_counts[static_cast<int>(FilterState::kCorrect)];
-  out.da_accuracy = out.scored > 0 ? static_cast<double>(correct) / out.scored : 0.0;
+  // A fraction of nothing is not a measurement (a third bad-input audit: a
+  // run whose targets never entered the image reported DA accuracy 0, and a
+  // sweep averaged it in): NaN, null in metrics.json, NULL in a store.
+  constexpr double kNothing = std::numeric_limits<double>::quiet_NaN();
+  out.da_accuracy = out.scored > 0 ? static_cast<double>(correct) / out.scored : kNothing;
   out.hijacked_fraction_overall =
-      out.scored > 0 ? static_cast<double>(hijacked_total) / out.scored : 0.0;
+      out.scored > 0 ? static_cast<double>(hijacked_total) / out.scored : kNothing;
   for (VisibilityBin& b : out.da_by_visibility) {
-    b.accuracy = b.scored > 0 ? static_cast<double>(b.correct) / b.scored : 0.0;
+    b.accuracy = b.scored > 0 ? static_cast<double>(b.correct) / b.scored : kNothing;
   }
   out.mean_mass_on_other = out.frames_with_cloud > 0 ? mass_sum / out.frames_with_cloud : 0.0;
 

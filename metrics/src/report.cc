@@ -352,11 +352,9 @@ std::string RunMetricsToJson(const RunMetrics& m) {
     fj["mapping"] = mapping;
     json bins = json::array();
     for (const VisibilityBin& b : f.da_by_visibility) {
-      bins.push_back({{"lo", b.lo},
-                      {"hi", b.hi},
-                      {"scored", b.scored},
-                      {"correct", b.correct},
-                      {"accuracy", b.accuracy}});
+      json bin = {{"lo", b.lo}, {"hi", b.hi}, {"scored", b.scored}, {"correct", b.correct}};
+      if (b.scored > 0) bin["accuracy"] = b.accuracy;  // a fraction of nothing is absent
+      bins.push_back(std::move(bin));
     }
     fj["da_by_visibility"] = bins;
     json enc = json::array();

@@ -5,6 +5,8 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
+
 #include "hcpf/core/error.h"
 
 namespace hcpf::metrics {
@@ -68,8 +70,25 @@ TEST(FilterMetrics, EveryStateOnAHandBuiltSequence) {
   EXPECT_EQ(m.da_by_visibility[3].scored, 9);
   EXPECT_EQ(m.da_by_visibility[3].correct, 4);
   EXPECT_DOUBLE_EQ(m.da_by_visibility[3].accuracy, 4.0 / 9.0);
+  EXPECT_TRUE(std::isnan(m.da_by_visibility[1].accuracy)) << "a bin of nothing";
   EXPECT_TRUE(m.encounters.empty());
   EXPECT_EQ(m.hijack_rate, 0.0);
+}
+
+// A filter-frame is scored only where its target is in the image: with no
+// target ever there (a camera looking away, a third bad-input audit), DA
+// accuracy and the hijacked fraction are of nothing, NaN (null in
+// metrics.json), not 0 (which a sweep would average in as "always wrong").
+TEST(FilterMetrics, NothingScoredIsNotAnAccuracyOfZero) {
+  FilterSequence seq;
+  seq.birth_target = {{{10, 1}}};
+  seq.frames.resize(3);
+  for (auto& f : seq.frames) f.filters = {Filter(10, 0, 0)};
+  const FilterMetrics m = ComputeFilterMetrics(seq, {});
+  EXPECT_EQ(m.scored, 0);
+  EXPECT_TRUE(std::isnan(m.da_accuracy)) << m.da_accuracy;
+  EXPECT_TRUE(std::isnan(m.hijacked_fraction_overall)) << m.hijacked_fraction_overall;
+  for (const VisibilityBin& b : m.da_by_visibility) EXPECT_TRUE(std::isnan(b.accuracy));
 }
 
 // Re-acquisitions (the tracker's management.reacquire). Target 1 at (0,0) in

@@ -4,8 +4,11 @@
 
 #include <algorithm>
 #include <cctype>
+#include <charconv>
 #include <cmath>
+#include <fstream>
 #include <string>
+#include <string_view>
 #include <system_error>
 
 #include "hcpf/core/error.h"
@@ -21,6 +24,28 @@ bool IsSceneName(const std::string& name) {
          });
 }
 
+// A file a scene folder holds: NNNNNN.frame and NNNNNN.json
+// (renderer::FrameCache), or their temporary names while being written
+// ("NNNNNN.<writer>.frame.tmp").
+bool IsSceneFile(const std::string& name) {
+  if (name.size() < 11 ||
+      !std::all_of(name.begin(), name.begin() + 6, [](char c) { return c >= '0' && c <= '9'; })) {
+    return false;
+  }
+  const std::string_view rest = std::string_view(name).substr(6);
+  if (rest == ".frame" || rest == ".json") return true;
+  return rest.front() == '.' && (rest.ends_with(".frame.tmp") || rest.ends_with(".json.tmp"));
+}
+
+// A detector output of ours: it starts with "HCPFDET" (then the format
+// version, detection_cache.cc).
+bool IsDetectionFile(const fs::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  char head[7] = {};
+  in.read(head, sizeof(head));
+  return in.gcount() == sizeof(head) && std::string_view(head, sizeof(head)) == "HCPFDET";
+}
+
 [[noreturn]] void CannotRead(const fs::path& path, const std::error_code& ec) {
   throw RunError(fmt::format("cannot read the cache folder {}: {}", path.string(), ec.message()));
 }
@@ -33,14 +58,29 @@ CacheContents ScanCache(const fs::path& root) {
   if (!fs::is_directory(root, ec)) return out;
   for (fs::directory_iterator it(root, ec), end; !ec && it != end; it.increment(ec)) {
     const fs::directory_entry& e = *it;
-    if (!e.is_directory(ec) || !IsSceneName(e.path().filename().string())) continue;
+    if (!IsSceneName(e.path().filename().string())) continue;
+    // A third bad-input audit: any folder with a 32-hex-digit name in any
+    // folder given as --cache was pruned. A scene is a real folder holding
+    // only frame files; anything else of that name is the user's.
+    if (e.is_symlink(ec) || !e.is_directory(ec)) {
+      out.foreign.push_back(e.path());
+      continue;
+    }
     CacheEntry scene{.kind = CacheEntry::Kind::kScene, .path = e.path()};
     scene.last_used = fs::last_write_time(e.path(), ec);
     if (ec) CannotRead(e.path(), ec);
+    bool ours = true;
     for (fs::directory_iterator f(e.path(), ec); !ec && f != end; f.increment(ec)) {
-      if (f->is_regular_file(ec)) scene.bytes += f->file_size(ec);
+      if (f->is_symlink(ec) || !f->is_regular_file(ec) ||
+          !IsSceneFile(f->path().filename().string())) {
+        ours = false;
+        out.foreign.push_back(f->path());
+        break;
+      }
+      scene.bytes += f->file_size(ec);
     }
     if (ec) CannotRead(e.path(), ec);
+    if (!ours) continue;
     out.scene_bytes += scene.bytes;
     ++out.scenes;
     out.entries.push_back(std::move(scene));
@@ -49,7 +89,11 @@ CacheContents ScanCache(const fs::path& root) {
   const fs::path detections = root / "detections";
   if (fs::is_directory(detections, ec)) {
     for (fs::directory_iterator it(detections, ec), end; !ec && it != end; it.increment(ec)) {
-      if (!it->is_regular_file(ec) || it->path().extension() != ".det") continue;
+      if (it->path().extension() != ".det") continue;
+      if (it->is_symlink(ec) || !it->is_regular_file(ec) || !IsDetectionFile(it->path())) {
+        out.foreign.push_back(it->path());
+        continue;
+      }
       CacheEntry d{.kind = CacheEntry::Kind::kDetection, .path = it->path()};
       d.bytes = it->file_size(ec);
       if (!ec) d.last_used = it->last_write_time(ec);
@@ -114,7 +158,12 @@ uint64_t ParseSize(std::string_view text, std::string_view option) {
       std::count(s.begin(), s.end(), '.') > 1 || s == ".") {
     return fail();
   }
-  const double value = std::stod(s) * unit;
+  // from_chars, not stod: a number too long for a double threw out_of_range
+  // (a third bad-input audit: exit 1, "cache failed: stod").
+  double number = 0.0;
+  const auto [ptr, ec] = std::from_chars(s.data(), s.data() + s.size(), number);
+  if (ec != std::errc() || ptr != s.data() + s.size()) return fail();
+  const double value = number * unit;
   if (!std::isfinite(value) || value >= 9.0e18) return fail();  // llround's range
   return static_cast<uint64_t>(std::llround(value));
 }

@@ -283,6 +283,15 @@ RunSummary RunScenario(const Scenario& scenario, const RunOptions& options) {
       metrics::FormatMotTracks(external ? ExternalTrackRows(external_tracks)
                                         : TrackRows(reports, tracker_options.particles));
   summary.gt_boxes = static_cast<int>(std::count(gt_text.begin(), gt_text.end(), '\n'));
+  if (summary.gt_boxes == 0) {
+    // A camera looking away or a target path outside the view validates (a
+    // third bad-input audit): say that every score is of nothing.
+    spdlog::warn(
+        "run \"{}\": no target is ever in the image (0 ground-truth boxes), so the metrics "
+        "score nothing and DA accuracy is absent; check camera.path, camera.fov_deg and the "
+        "targets' paths",
+        scenario.name);
+  }
   const metrics::MotFile gt_file = metrics::ParseMotText(
       gt_text, "gt/gt.txt", metrics::MotFileKind::kGroundTruth, summary.frames);
   const metrics::MotFile tracks_file = metrics::ParseMotText(

@@ -6,6 +6,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <chrono>
 #include <fstream>
 #include <string>
@@ -24,6 +25,13 @@ fs::path FreshCacheDir(const std::string& name) { return hcpf::testing::FreshDir
 void WriteBytes(const fs::path& path, size_t n) {
   fs::create_directories(path.parent_path());
   std::ofstream(path, std::ios::binary) << std::string(n, 'x');
+}
+
+// A detector output as the detection cache starts one: "HCPFDET" and its
+// format version, then (here) filler to n bytes.
+void WriteDetection(const fs::path& path, size_t n) {
+  fs::create_directories(path.parent_path());
+  std::ofstream(path, std::ios::binary) << "HCPFDET2" << std::string(n - 8, 'x');
 }
 
 // Two scenes (a: 300 + 100 bytes, used 30 h ago; b: 500 bytes, 10 h ago),
@@ -49,9 +57,9 @@ HandCache MakeHandCache(const std::string& name) {
   c.d1 = c.root / "detections" / "k1.det";
   c.d2 = c.root / "detections" / "k2.det";
   c.d3 = c.root / "detections" / "k3.det";
-  WriteBytes(c.d1, 50);
-  WriteBytes(c.d2, 70);
-  WriteBytes(c.d3, 80);
+  WriteDetection(c.d1, 50);
+  WriteDetection(c.d2, 70);
+  WriteDetection(c.d3, 80);
   fs::last_write_time(c.d1, now - hours(40));
   fs::last_write_time(c.d2, now - hours(20));
   WriteBytes(c.root / "not-a-scene" / "000000.frame", 1000);
@@ -103,6 +111,38 @@ TEST(Cache, PruneRemovesTheLeastRecentlyUsedUntilTheRestFits) {
   EXPECT_EQ(ScanCache(c.root).bytes(), 580u);
 }
 
+// What has an entry's name without its content is the user's, not the
+// cache's (a third bad-input audit: every 32-hex-digit folder of any folder
+// given as --cache was pruned): a folder holding another file, a link to a
+// folder, a file of that name, a .det that is not a detector output of
+// ours. Listed as foreign, never counted or removed; a scene being written
+// (temporary names) is a scene.
+TEST(Cache, EntriesWithoutTheCachesContentAreForeign) {
+  const HandCache c = MakeHandCache("foreign");
+  const fs::path mixed = c.root / "00000000000000000000000000000001";
+  WriteBytes(mixed / "000000.frame", 10);
+  WriteBytes(mixed / "important.txt", 10);
+  const fs::path linked = c.root / "00000000000000000000000000000002";
+  fs::create_directory_symlink(c.b, linked);
+  const fs::path file = c.root / "00000000000000000000000000000003";
+  WriteBytes(file, 10);
+  const fs::path other_det = c.root / "detections" / "run.det";
+  WriteBytes(other_det, 10);
+  WriteBytes(c.b / "000001.4242-77.frame.tmp", 5);
+  const CacheContents contents = ScanCache(c.root);
+  EXPECT_EQ(contents.scenes, 2);
+  EXPECT_EQ(contents.detections, 3);
+  EXPECT_EQ(contents.bytes(), 1105u);
+  std::vector<fs::path> foreign = contents.foreign;
+  std::sort(foreign.begin(), foreign.end());
+  EXPECT_EQ(foreign, (std::vector<fs::path>{mixed / "important.txt", linked, file, other_det}));
+  for (const CacheEntry& e : PruneOrder(contents, 0)) {
+    EXPECT_NE(e.path, mixed);
+    EXPECT_NE(e.path, linked);
+    EXPECT_NE(e.path, other_det);
+  }
+}
+
 // A use moves an entry to the back of the order.
 TEST(Cache, MarkUsedMakesAnEntryTheMostRecent) {
   const HandCache c = MakeHandCache("mark");
@@ -121,7 +161,14 @@ TEST(Cache, SizesAreBytesOrPowersOf1024) {
   EXPECT_EQ(ParseSize("1.5G", "--max-size"), 1536u * 1024u * 1024u);
   EXPECT_EQ(ParseSize("2T", "--max-size"), 2ull << 40);
   EXPECT_EQ(ParseSize("0", "--max-size"), 0u);
-  for (const char* bad : {"", "G", "1.2.3G", "-5M", "5 M", "5MB", "ten", ".", "1e3"}) {
+  // A number too long for a double was exit 1 ("stod", a third bad-input
+  // audit).
+  const std::string long_number(400, '1');
+  const std::string tiny = "0." + std::string(400, '0') + "1";
+  for (const std::string& bad :
+       {std::string(), std::string("G"), std::string("1.2.3G"), std::string("-5M"),
+        std::string("5 M"), std::string("5MB"), std::string("ten"), std::string("."),
+        std::string("1e3"), long_number, tiny}) {
     SCOPED_TRACE(bad);
     try {
       ParseSize(bad, "--max-size");

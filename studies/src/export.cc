@@ -161,23 +161,32 @@ TrackEvalExportResult ExportTrackEval(const TrackEvalExportOptions& options) {
   const StoreMeta& meta = store->meta();
   const std::vector<RunRecord> records = store->Runs();
 
-  // Which swept keys describe the tracker; the others (and the seed) the sequence.
+  // Which swept keys describe the tracker; the others (and the seed) the
+  // sequence. The scenario `name` swept beside tracker keys labels the
+  // trackers (the shipped external-sort sweep zips it with them): a third
+  // bad-input audit found such a sweep split into one sequence per tracker,
+  // so that it could never be exported. The name changes no pixel and no
+  // ground-truth box.
+  const bool tracker_swept =
+      std::any_of(meta.swept_keys.begin(), meta.swept_keys.end(),
+                  [](const std::string& key) { return key.rfind("tracker.", 0) == 0; });
   std::vector<size_t> tracker_keys, sequence_keys;
-  for (size_t k = 0; k < meta.swept_keys.size(); ++k)
-    (meta.swept_keys[k].rfind("tracker.", 0) == 0 ? tracker_keys : sequence_keys).push_back(k);
+  for (size_t k = 0; k < meta.swept_keys.size(); ++k) {
+    const std::string& key = meta.swept_keys[k];
+    const bool describes_tracker =
+        key.rfind("tracker.", 0) == 0 || (key == "name" && tracker_swept);
+    (describes_tracker ? tracker_keys : sequence_keys).push_back(k);
+  }
 
   TrackEvalExportResult result;
   result.bench = options.benchmark + "-" + options.split;
   Namer sequence_names, tracker_names;
   std::vector<ExportRun> runs;
+  // Every tracker of the sweep, from every run, failed ones too: a tracker
+  // whose runs all failed is one that every sequence lacks (a third bad-input
+  // audit found it silently absent from a complete-looking export).
+  std::set<std::string> trackers;
   for (const RunRecord& r : records) {
-    const fs::path run_dir = dir / r.run_dir;
-    if (!r.ok || !fs::is_regular_file(run_dir / "gt" / "gt.txt") ||
-        !fs::is_regular_file(run_dir / "tracks.txt") ||
-        !fs::is_regular_file(run_dir / "seqinfo.ini")) {
-      ++result.not_ok;
-      continue;
-    }
     std::vector<std::string> seq_group, seq_keys, tracker_group, trk_keys;
     for (size_t k : sequence_keys) {
       seq_group.push_back(r.values[k]);
@@ -187,13 +196,21 @@ TrackEvalExportResult ExportTrackEval(const TrackEvalExportOptions& options) {
       tracker_group.push_back(r.values[k]);
       trk_keys.push_back(meta.swept_keys[k]);
     }
+    const std::string tracker_label =
+        trk_keys.empty() ? std::string("hcpf") : Label(trk_keys, tracker_group, "tracker.");
+    const std::string tracker = tracker_names.NameOf(tracker_group, tracker_label);
+    trackers.insert(tracker);
+    const fs::path run_dir = dir / r.run_dir;
+    if (!r.ok || !fs::is_regular_file(run_dir / "gt" / "gt.txt") ||
+        !fs::is_regular_file(run_dir / "tracks.txt") ||
+        !fs::is_regular_file(run_dir / "seqinfo.ini")) {
+      ++result.not_ok;
+      continue;
+    }
     seq_group.push_back(std::to_string(r.seed_index));
     std::string seq_label = Label(seq_keys, seq_group, "");
     seq_label += fmt::format("{}seed{}", seq_label.empty() ? "" : "_", r.seed_index);
-    const std::string tracker_label =
-        trk_keys.empty() ? std::string("hcpf") : Label(trk_keys, tracker_group, "tracker.");
-    runs.push_back({&r, sequence_names.NameOf(seq_group, seq_label),
-                    tracker_names.NameOf(tracker_group, tracker_label), run_dir});
+    runs.push_back({&r, sequence_names.NameOf(seq_group, seq_label), tracker, run_dir});
   }
   if (result.not_ok > 0) {
     spdlog::warn(
@@ -203,10 +220,10 @@ TrackEvalExportResult ExportTrackEval(const TrackEvalExportOptions& options) {
   }
 
   // Keep the sequences with a run of every tracker.
-  std::set<std::string> trackers;
   std::map<std::string, std::map<std::string, const ExportRun*>> by_sequence;
+  std::set<std::string> trackers_with_runs;
   for (const ExportRun& run : runs) {
-    trackers.insert(run.tracker);
+    trackers_with_runs.insert(run.tracker);
     auto [it, inserted] = by_sequence[run.sequence].emplace(run.tracker, &run);
     if (!inserted) {
       throw RunError(fmt::format("export: runs {} and {} both map to sequence {}, tracker {}",
@@ -225,9 +242,16 @@ TrackEvalExportResult ExportTrackEval(const TrackEvalExportOptions& options) {
     }
   }
   if (sequences.empty()) {
+    std::string without;
+    for (const std::string& t : trackers) {
+      if (trackers_with_runs.count(t) == 0) without += (without.empty() ? "" : ", ") + t;
+    }
     throw InputError(SourceLocation{(dir / "results.sqlite").string(), 0, 0, "runs"},
                      "a sequence with an ok run of every tracker",
-                     runs.empty() ? "no ok run with its files" : "none");
+                     runs.empty() ? std::string("no ok run with its files")
+                     : without.empty()
+                         ? std::string("none")
+                         : fmt::format("none: no ok run of the tracker(s) {}", without));
   }
 
   // Write everything into a staging folder, then rename it into place.

@@ -203,6 +203,47 @@ std::string ErrorOf(const TrackEvalExportOptions& o) {
   return "(no error)";
 }
 
+// A third bad-input audit: the scenario `name` zipped with the tracker keys
+// (as the shipped external-sort sweep labels its trackers) split the runs
+// into one sequence per tracker, so the sweep could never be exported; with
+// tracker keys swept, `name` labels the tracker. And a tracker whose runs all
+// failed was left out of a complete-looking export; now every sequence lacks
+// it and the export is refused, naming it.
+TEST(ExportTrackEval, ANameZippedWithTheTrackerLabelsItAndATrackerWithoutRunsIsNamed) {
+  const auto dir = testing::SweepFolder("export-zip-name");
+  const SweepSpec spec = LoadSweepFile(
+      testing::WriteSweep(dir,
+                          "base: base.yaml\nseeds: 2\nzip:\n  name: [pf-systematic, pf-charged]\n"
+                          "  tracker.resampling.method: [systematic, charged]\n"));
+  SweepOptions o;
+  o.out_dir = (dir / "sweep").string();
+  o.progress = false;
+  const std::vector<SweepRun> runs = ExpandSweep(spec);
+  RunSweep(spec, runs, o);
+  const TrackEvalExportResult r = ExportTrackEval({.dir = o.out_dir, .out = (dir / "te").string()});
+  EXPECT_EQ(r.sequences, 2);  // the two seeds
+  EXPECT_EQ(r.trackers, 2);
+  EXPECT_EQ(r.runs, 4);
+  EXPECT_TRUE(fs::is_directory(dir / "te" / "trackers" / "mot_challenge" / "HCPF-train" /
+                               "name-pf-charged_resampling.method-charged"));
+  // The same sweep where both runs of pf-charged fail (their run folders hold
+  // a file of the user's, which a run refuses to replace).
+  SweepOptions failing = o;
+  failing.out_dir = (dir / "failing").string();
+  for (const SweepRun& run : runs) {
+    if (run.values[0] != "pf-charged") continue;
+    fs::create_directories(dir / "failing" / "runs" / run.key);
+    std::ofstream(dir / "failing" / "runs" / run.key / "notes.txt") << "mine\n";
+  }
+  EXPECT_EQ(RunSweep(spec, runs, failing).failed, 2);
+  const std::string e = ErrorOf({.dir = failing.out_dir, .out = (dir / "te-failing").string()});
+  EXPECT_NE(e.find("expected a sequence with an ok run of every tracker, found none: no ok run of "
+                   "the tracker(s) name-pf-charged_resampling.method-charged"),
+            std::string::npos)
+      << e;
+  EXPECT_FALSE(fs::exists(dir / "te-failing"));
+}
+
 TEST(ExportTrackEval, BadInputs) {
   const auto dir = testing::SweepFolder("export-bad");
   // A folder without a results store.

@@ -100,6 +100,10 @@ TEST(Cli, CacheReportsAndPrunesTheLeastRecentlyUsed) {
   write(old_scene / "000000.frame", 3000);
   write(new_scene / "000000.frame", 1000);
   write(det, 500);
+  {
+    std::fstream header(det, std::ios::in | std::ios::out | std::ios::binary);
+    header << "HCPFDET2";  // a detector output of ours starts so
+  }
   const auto now = fs::file_time_type::clock::now();
   fs::last_write_time(old_scene, now - std::chrono::hours(48));
   fs::last_write_time(det, now - std::chrono::hours(24));
@@ -123,6 +127,21 @@ TEST(Cli, CacheReportsAndPrunesTheLeastRecentlyUsed) {
   EXPECT_FALSE(fs::exists(old_scene));
   EXPECT_TRUE(fs::exists(new_scene / "000000.frame"));
   EXPECT_TRUE(fs::exists(det));
+
+  // A folder with a scene's name that is not one (a third bad-input audit:
+  // pruned as a scene): pruning is refused, nothing is removed; listing
+  // leaves it out.
+  write(cache / "00000000000000000000000000000009" / "important.txt", 10);
+  r = RunCommand(base + " --max-size 0");
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_NE(r.output.find("00000000000000000000000000000009/important.txt, which is not a cache "
+                          "entry"),
+            std::string::npos)
+      << r.output;
+  EXPECT_TRUE(fs::exists(new_scene / "000000.frame"));
+  EXPECT_TRUE(fs::exists(det));
+  EXPECT_EQ(RunCommand(base).exit_code, 0);
+  fs::remove_all(cache / "00000000000000000000000000000009");
 
   r = RunCommand(base + " --max-size 2KB");
   EXPECT_EQ(r.exit_code, 2);
@@ -288,6 +307,58 @@ TEST(Cli, ScoreRunsWithoutLoadingTheFullProgram) {
   const auto r = RunCommand("LD_DEBUG=libs " + kHcpf + " validate " + LibraryScenario("crossing"));
   EXPECT_EQ(r.exit_code, 0) << r.output;
   EXPECT_NE(r.output.find("libhcpf_cli"), std::string::npos) << r.output;
+}
+
+// A third bad-input audit: --json or --events naming an input replaced it
+// (exit 0), both naming one file lost the JSON, and a folder or a missing
+// parent failed after the table was printed (exit 1); --events and
+// --seqinfo were ignored with --trackeval-root. Each is bad input before
+// anything is read or written.
+TEST(Cli, ScoreOutputsThatWouldReplaceAnInputOrCannotBeWrittenAreRefused) {
+  const fs::path dir = FreshDir("score-outputs");
+  fs::create_directories(dir / "s" / "gt");
+  std::ofstream(dir / "s" / "seqinfo.ini") << "[Sequence]\nname=s\nseqLength=3\n";
+  const std::string gt_text = "1,1,10,10,20,20,1,1,1\n2,1,11,10,20,20,1,1,1\n";
+  const std::string hyp_text = "1,1,10,10,20,20,1,-1,-1,-1\n2,1,11,10,20,20,1,-1,-1,-1\n";
+  std::ofstream(dir / "s" / "gt" / "gt.txt") << gt_text;
+  std::ofstream(dir / "hyp.txt") << hyp_text;
+  const std::string gt = (dir / "s" / "gt" / "gt.txt").string();
+  const std::string hyp = (dir / "hyp.txt").string();
+  const std::string base = kHcpf + " score " + gt + " " + hyp;
+  for (const auto& [args, message] : std::vector<std::pair<std::string, std::string>>{
+           {" --json " + hyp,
+            "--json: expected a file score does not read, found the tracker "
+            "output (HYP)"},
+           {" --events " + gt,
+            "--events: expected a file score does not read, found the ground "
+            "truth (GT)"},
+           {" --json " + (dir / "x").string() + " --events " + (dir / "x").string(),
+            "--events: expected a file of its own, found the file --json writes too"},
+           {" --json " + dir.string(), "--json: expected a file to write, found a folder"},
+           {" --json " + (dir / "no" / "x.json").string(),
+            "--json: expected a file in an existing folder"}}) {
+    const auto r = RunCommand(base + args);
+    EXPECT_EQ(r.exit_code, 2) << args << "\n" << r.output;
+    EXPECT_NE(r.output.find(message), std::string::npos) << args << "\n" << r.output;
+    EXPECT_EQ(r.output.find("HOTA"), std::string::npos) << "a table was printed: " << r.output;
+  }
+  EXPECT_EQ(ReadFile(dir / "s" / "gt" / "gt.txt"), gt_text);
+  EXPECT_EQ(ReadFile(dir / "hyp.txt"), hyp_text);
+  EXPECT_FALSE(fs::exists(dir / "x"));
+  for (const std::string option : {"--events", "--seqinfo"}) {
+    const auto r = RunCommand(kHcpf + " score --trackeval-root " + dir.string() + " " + option +
+                              " " + (dir / "e").string());
+    EXPECT_EQ(r.exit_code, 2) << r.output;
+    EXPECT_NE(r.output.find(option + ": expected no " + option + " with --trackeval-root"),
+              std::string::npos)
+        << r.output;
+  }
+  // Both outputs beside the inputs are written.
+  const auto r = RunCommand(base + " --json " + (dir / "m.json").string() + " --events " +
+                            (dir / "e.jsonl").string());
+  EXPECT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_TRUE(fs::is_regular_file(dir / "m.json"));
+  EXPECT_TRUE(fs::is_regular_file(dir / "e.jsonl"));
 }
 
 TEST(Cli, SameScenarioGivesByteIdenticalOutputs) {

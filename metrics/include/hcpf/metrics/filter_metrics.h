@@ -97,7 +97,7 @@ struct Encounter {
 struct VisibilityBin {
   double lo = 0.0, hi = 1.0;
   int64_t scored = 0, correct = 0;
-  double accuracy = 0.0;  // correct / scored, 0 when nothing scored
+  double accuracy = 0.0;  // correct / scored, NaN when nothing scored
 };
 
 // What became of the filters re-acquired (FilterSequence::reacquired): over
@@ -115,13 +115,13 @@ struct FilterMetrics {
   std::vector<FilterFrameRecord> records;            // frame-major, filters in input order
   std::array<int64_t, kNumFilterStates> state_counts{};
   int64_t scored = 0;        // filter-frames not COASTING
-  double da_accuracy = 0.0;  // CORRECT / scored (0 when nothing scored)
+  double da_accuracy = 0.0;  // CORRECT / scored (NaN when nothing scored)
   std::vector<Encounter> encounters;
   int64_t hijacked_encounters = 0;
   int64_t swaps = 0;
   double hijack_rate = 0.0;                // hijacked encounters / encounters (0 when none)
   std::vector<double> hijacked_fraction;   // per frame: HIJACKED / scored filters in that frame
-  double hijacked_fraction_overall = 0.0;  // HIJACKED / scored over all frames
+  double hijacked_fraction_overall = 0.0;  // HIJACKED / scored over all frames (NaN: none)
   std::vector<VisibilityBin> da_by_visibility;
   double mean_mass_on_other = 0.0;  // over filter-frames with a cloud
   int64_t frames_with_cloud = 0;

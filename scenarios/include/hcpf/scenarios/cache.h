@@ -32,6 +32,11 @@ struct CacheContents {
   int scenes = 0;
   int detections = 0;
   uint64_t bytes() const { return scene_bytes + detection_bytes; }
+  // What has a cache entry's name but not its content: a 32-hex-digit name
+  // that is a link, a file, or a folder holding anything but frame files
+  // (the first such file is listed), a detections/*.det that is not ours.
+  // Never counted, never removed; pruning a folder holding any is refused.
+  std::vector<std::filesystem::path> foreign;
 };
 
 // The scene folders (32 hex digits) and detection entries (detections/*.det)

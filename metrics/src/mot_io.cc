@@ -367,6 +367,12 @@ inline void AppendRow(const RowValues& r, const std::string& path, int line_no, 
   if (count >= 9) row.col9 = v[8];
   if (count >= 10) row.col10 = v[9];
   file->num_columns = std::max(file->num_columns, count);
+  if (file->rows.size() == 1) {
+    file->first_row_columns = count;
+  } else if (count != file->first_row_columns && file->mixed_line == 0) [[unlikely]] {
+    file->mixed_line = line_no;
+    file->mixed_columns = count;
+  }
 }
 
 [[noreturn]] void ThrowDuplicateId(const std::string& path, const MotRow& first,
@@ -690,6 +696,15 @@ void WriteSeqInfo(const std::string& path, const SeqInfo& info) {
 
 Benchmark ResolveBenchmark(Benchmark requested, const MotFile& gt) {
   if (requested != Benchmark::kAuto) return requested;
+  // A third bad-input audit: one 10-column row made a 9-column MOT17 file
+  // MOT15 (static persons and distractors scored as pedestrians), exit 0.
+  if (gt.mixed_line > 0) {
+    throw InputError(SourceLocation{gt.path, gt.mixed_line, 0, "--benchmark auto"},
+                     "ground-truth rows of one column count (9: MOT17 rules; 6 or 10: MOT15 rules)",
+                     fmt::format("a row of {} columns where the first row has {}", gt.mixed_columns,
+                                 gt.first_row_columns),
+                     "pass --benchmark MOT17 or MOT15, or mend the file");
+  }
   return gt.num_columns == 9 ? Benchmark::kMot17 : Benchmark::kMot15;
 }
 

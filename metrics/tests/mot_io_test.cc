@@ -55,6 +55,27 @@ TEST(MotIo, ReadsSixColumnAndWhitespaceRows) {
   EXPECT_EQ(ResolveBenchmark(Benchmark::kAuto, f), Benchmark::kMot15);
 }
 
+// The automatic benchmark reads the ground truth's column count: rows of
+// two counts are bad input at the first row that differs (a third bad-input
+// audit: one 10-column row made a 9-column MOT17 file MOT15, scoring static
+// persons and distractors as pedestrians, exit 0). A benchmark given is
+// used whatever the counts.
+TEST(MotIo, AutoBenchmarkNeedsOneColumnCount) {
+  const MotFile f = ParseMotText("1,1,1,1,1,1,1,1,1\n2,1,1,1,1,1,1,1,1\n3,1,1,1,1,1,1,8,1,0\n",
+                                 "gt.txt", MotFileKind::kGroundTruth, std::nullopt);
+  try {
+    ResolveBenchmark(Benchmark::kAuto, f);
+    ADD_FAILURE() << "mixed column counts accepted";
+  } catch (const InputError& e) {
+    EXPECT_EQ(std::string(e.what()),
+              "gt.txt:3: --benchmark auto: expected ground-truth rows of one column count (9: "
+              "MOT17 rules; 6 or 10: MOT15 rules), found a row of 10 columns where the first row "
+              "has 9 (pass --benchmark MOT17 or MOT15, or mend the file)");
+  }
+  EXPECT_EQ(ResolveBenchmark(Benchmark::kMot17, f), Benchmark::kMot17);
+  EXPECT_EQ(ResolveBenchmark(Benchmark::kMot15, f), Benchmark::kMot15);
+}
+
 TEST(MotIo, BadRowsNameFileLineAndColumn) {
   ExpectInputError("1,1,1,1,1,1\n1,2,x,1,1,1\n", MotFileKind::kTracks, 5,
                    {"f.txt:2:3", "column 3 (x)", "a finite number", "\"x\""});

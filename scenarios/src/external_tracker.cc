@@ -16,6 +16,7 @@
 #include <set>
 
 #include "hcpf/core/error.h"
+#include "hcpf/core/names.h"
 
 extern char** environ;
 
@@ -39,6 +40,18 @@ std::string Quote(const std::string& line) {
     out += (u < 0x20 || u == 0x7f) ? '?' : c;
   }
   if (line.size() > kQuote) out += fmt::format("... ({} bytes)", line.size());
+  return out;
+}
+
+// A line of the program's stderr as printed: control characters (ESC, BEL,
+// CR, ...) become '?', as in Quote, so a program's output cannot clear the
+// terminal or overwrite the diagnosis (a third bad-input audit). Tabs stay.
+std::string Printable(const std::string& line) {
+  std::string out;
+  for (const char c : line) {
+    const auto u = static_cast<unsigned char>(c);
+    out += (c != '\t' && (u < 0x20 || u == 0x7f)) ? '?' : c;
+  }
   return out;
 }
 
@@ -204,6 +217,11 @@ ExternalTracker::ExternalTracker(const std::vector<std::string>& command, double
     if (j.contains("name")) {
       if (!j["name"].is_string()) throw std::invalid_argument("\"name\" is not a string");
       name_ = j["name"].get<std::string>();
+      // The name goes into manifest.json and the logs: one printable line,
+      // as a scenario's name (a third bad-input audit stored ESC and CR).
+      if (const std::string c = FirstControlCharacter(name_); !c.empty()) {
+        throw std::invalid_argument(fmt::format("\"name\" holds the control character {}", c));
+      }
     }
   } catch (const std::invalid_argument& e) {
     Fail(fmt::format("a malformed ready reply to the hello ({})", e.what()), line);
@@ -473,7 +491,7 @@ void ExternalTracker::Fail(const std::string& what, const std::string& line) {
     while (at < tail.size()) {
       size_t eol = tail.find('\n', at);
       if (eol == std::string::npos) eol = tail.size();
-      message += "\n    " + tail.substr(at, eol - at);
+      message += "\n    " + Printable(tail.substr(at, eol - at));
       at = eol + 1;
     }
   }

@@ -10,6 +10,7 @@
 #include <charconv>
 #include <cstdlib>
 #include <filesystem>
+#include <fstream>
 #include <map>
 #include <set>
 
@@ -254,6 +255,38 @@ void ReadTrackerChoice(YamlReader& r, const std::string& file, TrackerChoice* c)
   if (::access(resolved.c_str(), X_OK) != 0) {
     throw InputError(where, "an executable file (chmod +x, or a shebang line and the execute bit)",
                      fmt::format("\"{}\", which is not executable", resolved));
+  }
+  // What the kernel can start: a script's "#!" line naming an executable
+  // interpreter, or a native binary (ELF). A third bad-input audit found a
+  // script without "#!", or with a missing interpreter, accepted by validate
+  // and failing the run ("Exec format error", exit 1).
+  std::ifstream in(resolved, std::ios::binary);
+  std::string head(256, '\0');
+  in.read(head.data(), static_cast<std::streamsize>(head.size()));
+  head.resize(static_cast<size_t>(in.gcount()));
+  if (head.rfind("#!", 0) == 0) {
+    const size_t start = head.find_first_not_of(" \t", 2);
+    const size_t end =
+        start == std::string::npos ? std::string::npos : head.find_first_of(" \t\r\n", start);
+    const std::string interpreter =
+        start == std::string::npos ? std::string() : head.substr(start, end - start);
+    std::error_code ec;
+    if (interpreter.empty() || !std::filesystem::is_regular_file(interpreter, ec) ||
+        ::access(interpreter.c_str(), X_OK) != 0) {
+      throw InputError(
+          where, "a script whose #! line names an executable interpreter",
+          fmt::format("\"{}\", whose #! line names {}", resolved,
+                      interpreter.empty()
+                          ? std::string("nothing")
+                          : "\"" + interpreter + "\", which is not an executable file"));
+    }
+  } else if (head.rfind("\x7f"
+                        "ELF",
+                        0) != 0) {
+    throw InputError(where,
+                     "a program the system can start: a script with a #! line (e.g. "
+                     "#!/usr/bin/env python3) or a native binary",
+                     fmt::format("\"{}\", which starts with neither", resolved));
   }
   c->command.front() = resolved;
 }

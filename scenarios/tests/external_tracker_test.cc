@@ -75,6 +75,33 @@ TEST(ExternalTrackerKeys, NonExecutableFileIsRejected) {
   fs::remove_all(dir);
 }
 
+// A third bad-input audit: a script without "#!", or whose "#!" names no
+// interpreter, passed validate and failed the run ("Exec format error",
+// exit 1). Refused at load, at the program's item; a "#!" naming an
+// executable interpreter is accepted.
+TEST(ExternalTrackerKeys, ProgramTheSystemCannotStartIsRejected) {
+  const fs::path dir = FreshDir("ext-exec-format");
+  const auto script = [&dir](const std::string& name, const std::string& text) {
+    std::ofstream(dir / name) << text;
+    fs::permissions(dir / name, fs::perms::owner_all);
+    return ParseOverride("tracker.command=[" + (dir / name).string() + "]");
+  };
+  std::string e = LoadError(kExternal, {script("plain.sh", "echo hi\n")});
+  EXPECT_NE(e.find("plain.sh]: tracker.command[0]: expected a program the system can start"),
+            std::string::npos)
+      << e;
+  EXPECT_NE(e.find("which starts with neither"), std::string::npos) << e;
+  e = LoadError(kExternal, {script("nointerp.sh", "#!/no/such/interpreter\n")});
+  EXPECT_NE(e.find("whose #! line names \"/no/such/interpreter\", which is not an executable "
+                   "file"),
+            std::string::npos)
+      << e;
+  e = LoadError(kExternal, {script("empty.sh", "#!\n")});
+  EXPECT_NE(e.find("whose #! line names nothing"), std::string::npos) << e;
+  EXPECT_EQ(LoadError(kExternal, {script("ok.sh", "#! /bin/sh\nexit 0\n")}), "(no error)");
+  fs::remove_all(dir);
+}
+
 TEST(ExternalTrackerKeys, CommandBelongsToExternalOnly) {
   std::string e = LoadError(std::string(kMinimal) + "  command: [sleep]\n");
   EXPECT_NE(e.find("ext.yaml:19:12:"), std::string::npos) << e;
@@ -238,6 +265,15 @@ INSTANTIATE_TEST_SUITE_P(
                    {kBad, "hang"},
                    {"no reply within timeout_s = 1 s", "waiting for the tracks of frame 0",
                     "bad_tracker: hello received"}},
+        // A third bad-input audit: the stderr tail reached the terminal with
+        // its ESC, BEL and CR, and a ready name with them was stored.
+        BadProgram{"StderrWithControlCharacters",
+                   {kBad, "ansi"},
+                   {"stderr (last lines):\n    ?[2Jbad_tracker:? escape?OVERWRITE"}},
+        BadProgram{"ReadyNameWithControlCharacters",
+                   {kBad, "control_name"},
+                   {"a malformed ready reply to the hello (\"name\" holds the control "
+                    "character U+001B)"}},
         BadProgram{"NeverReads",
                    {"sleep"},
                    {"no reply within timeout_s = 1 s", "the ready reply to the hello",

@@ -23,6 +23,7 @@
 #include "hcpf/core/text_file.h"
 #include "hcpf/scenarios/output_folder.h"
 #include "hcpf/studies/metric_catalogue.h"
+#include "sweep_plan.h"
 #include "text.h"
 
 namespace hcpf::studies {
@@ -574,6 +575,13 @@ MergeResult MergeStores(const std::string& out_dir, const std::vector<std::strin
   CheckSweepFolder(out_dir, "OUT");
   std::vector<std::unique_ptr<ResultsStore>> inputs;
   for (const std::string& dir : input_dirs) {
+    // A third bad-input audit: a shard still being swept was merged as if
+    // complete, exit 0.
+    if (internal::FolderLockHeld(dir)) {
+      throw InputError(SourceLocation{dir, 0, 0, "DIR"},
+                       "a shard folder no sweep is writing to (merge it when its sweep ends)",
+                       "a sweep running there (its sweep.lock is held)");
+    }
     inputs.push_back(
         ResultsStore::Open((fs::path(dir) / "results.sqlite").string(), StoreAccess::kReadOnly));
     if (inputs.back()->meta().sweep_hash != inputs.front()->meta().sweep_hash) {
@@ -591,6 +599,8 @@ MergeResult MergeStores(const std::string& out_dir, const std::vector<std::strin
   std::error_code ec;
   fs::create_directories(out_dir, ec);
   if (ec) throw RunError(fmt::format("cannot create {}: {}", out_dir, ec.message()));
+  // One writer per folder: a sweep running in OUT, or another merge.
+  const internal::FolderLock lock(out_dir, out_dir, "OUT");
   auto out = ResultsStore::OpenOrCreate((fs::path(out_dir) / "results.sqlite").string(),
                                         inputs.front()->meta());
   // An ok row counts as present only while its run folder still holds the

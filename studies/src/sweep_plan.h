@@ -19,9 +19,10 @@ namespace hcpf::studies::internal {
 // released when this object is destroyed or the process ends however it ends.
 class FolderLock {
  public:
-  // Throws InputError naming --out when another process holds the lock,
-  // RunError when the lock file cannot be opened.
-  explicit FolderLock(const std::filesystem::path& out, const std::string& out_argument);
+  // Throws InputError naming `option` (--out, or merge's OUT) when another
+  // process holds the lock, RunError when the lock file cannot be opened.
+  explicit FolderLock(const std::filesystem::path& out, const std::string& out_argument,
+                      const std::string& option = "--out");
   ~FolderLock();
   FolderLock(FolderLock&& other) noexcept;
   FolderLock& operator=(FolderLock&&) = delete;
@@ -31,6 +32,10 @@ class FolderLock {
  private:
   int fd_ = -1;
 };
+
+// Whether a process holds DIR/sweep.lock now (a sweep writing to DIR); false
+// when there is no lock file.
+bool FolderLockHeld(const std::filesystem::path& dir);
 
 // A sweep ready to compute: DIR locked by this process, its store open, the
 // runs of this shard that are not finished split into waves (RunWaves).

@@ -74,7 +74,8 @@ void WriteContactSheet(const fs::path& out, const std::vector<SweepRun>& runs,
   }
 }
 
-FolderLock::FolderLock(const fs::path& out, const std::string& out_argument) {
+FolderLock::FolderLock(const fs::path& out, const std::string& out_argument,
+                       const std::string& option) {
   // One sweep process per folder: an advisory lock, released by the kernel
   // when the process ends however it ends (SIGKILL included).
   const std::string lock_path = (out / "sweep.lock").string();
@@ -83,9 +84,19 @@ FolderLock::FolderLock(const fs::path& out, const std::string& out_argument) {
   if (::flock(fd_, LOCK_EX | LOCK_NB) != 0) {
     ::close(fd_);
     fd_ = -1;
-    throw InputError(SourceLocation{out_argument, 0, 0, "--out"},
-                     "a folder no other hcpf sweep is writing to", "a sweep already running there");
+    throw InputError(SourceLocation{out_argument, 0, 0, option},
+                     "a folder no other hcpf sweep or merge is writing to",
+                     "a sweep already running there");
   }
+}
+
+bool FolderLockHeld(const fs::path& dir) {
+  const std::string lock_path = (dir / "sweep.lock").string();
+  const int fd = ::open(lock_path.c_str(), O_RDONLY | O_CLOEXEC);
+  if (fd < 0) return false;
+  const bool held = ::flock(fd, LOCK_SH | LOCK_NB) != 0 && errno == EWOULDBLOCK;
+  ::close(fd);
+  return held;
 }
 
 FolderLock::~FolderLock() {

@@ -497,6 +497,39 @@ TEST(RunSweep, ShardsMergedEqualTheUnshardedSweep) {
   EXPECT_EQ(again.added, 0);
   EXPECT_EQ(again.duplicates, 8);
   EXPECT_EQ(StoreRows(dir / "merged"), StoreRows(dir / "all"));
+  // A third bad-input audit: merge took a shard still being swept as
+  // complete, and wrote into a folder a sweep was writing to. A held
+  // sweep.lock (the sweep's flock, held here by the test) is refused either
+  // way, before OUT is written.
+  {
+    const int fd = ::open((dir / "shard1" / "sweep.lock").c_str(), O_RDWR | O_CLOEXEC);
+    ASSERT_GE(fd, 0);
+    ASSERT_EQ(::flock(fd, LOCK_EX | LOCK_NB), 0);
+    try {
+      MergeStores((dir / "merged3").string(), shard_dirs);
+      ADD_FAILURE() << "a shard being swept was merged";
+    } catch (const InputError& e) {
+      EXPECT_NE(std::string(e.what()).find("shard1: DIR: expected a shard folder no sweep is "
+                                           "writing to"),
+                std::string::npos)
+          << e.what();
+    }
+    EXPECT_FALSE(fs::exists(dir / "merged3"));
+    ::close(fd);
+    const int out_fd = ::open((dir / "merged" / "sweep.lock").c_str(), O_RDWR | O_CLOEXEC);
+    ASSERT_GE(out_fd, 0);
+    ASSERT_EQ(::flock(out_fd, LOCK_EX | LOCK_NB), 0);
+    try {
+      MergeStores((dir / "merged").string(), shard_dirs);
+      ADD_FAILURE() << "merged into a folder being swept";
+    } catch (const InputError& e) {
+      EXPECT_NE(std::string(e.what()).find("merged: OUT: expected a folder no other hcpf sweep or "
+                                           "merge is writing to"),
+                std::string::npos)
+          << e.what();
+    }
+    ::close(out_fd);
+  }
   // A store of another sweep is refused.
   const SweepSpec other = LoadSweepFile(
       WriteSweep(dir, "base: base.yaml\ngrid: {tracker.particles: [30]}\n", "other.yaml"));

@@ -44,6 +44,11 @@ struct MotFile {
   std::string path;
   MotFileKind kind = MotFileKind::kGroundTruth;
   int num_columns = 0;  // largest column count seen (0 for an empty file)
+  // The first row's column count, and the first row whose count differs
+  // from it (line 0: none): the automatic benchmark needs one count.
+  int first_row_columns = 0;
+  int mixed_line = 0;
+  int mixed_columns = 0;
   std::vector<MotRow> rows;
 };
 

@@ -29,6 +29,9 @@ if len(sys.argv) > 2:
 if mode == "exit":
     print("bad_tracker: giving up at once", file=sys.stderr)
     sys.exit(3)
+if mode == "ansi":
+    print("\033[2Jbad_tracker:\a escape\rOVERWRITE", file=sys.stderr)
+    sys.exit(3)
 
 
 def send(obj):
@@ -42,7 +45,10 @@ for line in sys.stdin:
     if message["type"] == "hello":
         images = message["images"]
         print("bad_tracker: hello received", file=sys.stderr, flush=True)
-        send({"type": "ready", "protocol": 1})
+        if mode == "control_name":
+            send({"type": "ready", "protocol": 1, "name": "evil\u001b[31m\r\nINJECTED"})
+        else:
+            send({"type": "ready", "protocol": 1})
         continue
     if message["type"] == "end":
         sys.exit(0)

@@ -1092,29 +1092,33 @@ TEST(Report, FindingsSayWhichSeriesIsBestAndWhereTheDifferenceIsSignificant) {
             std::string::npos);
 }
 
-// Without a series there is nothing to compare: no findings, no file.
-TEST(Report, NoSeriesNoFindings) {
-  const auto dir = testing::SweepFolder("report-no-findings");
+// A store written by hand: tracker.particles swept over 100 and 1000, one ok
+// run each with MOTA 0.5 (and no other metric), report.y = `y`.
+void WriteTwoRunStore(const fs::path& dir, const std::vector<std::string>& y) {
   StoreMeta meta;
   meta.sweep_hash = "hand";
   meta.sweep_file = "hand.yaml";
   meta.swept_keys = {"tracker.particles"};
   meta.report.x = "tracker.particles";
-  meta.report.y = {"mota"};
+  meta.report.y = y;
   meta.run_count = 2;
-  {
-    auto store = ResultsStore::OpenOrCreate((dir / "results.sqlite").string(), meta);
-    for (int i = 0; i < 2; ++i) {
-      RunRecord r;
-      r.key = "k" + std::to_string(i);
-      r.index = i;
-      r.values = {i == 0 ? "100" : "1000"};
-      r.ok = true;
-      r.run_dir = "runs/" + r.key;
-      r.metrics["mota"] = 0.5;
-      store->Put(r);
-    }
+  auto store = ResultsStore::OpenOrCreate((dir / "results.sqlite").string(), meta);
+  for (int i = 0; i < 2; ++i) {
+    RunRecord r;
+    r.key = "k" + std::to_string(i);
+    r.index = i;
+    r.values = {i == 0 ? "100" : "1000"};
+    r.ok = true;
+    r.run_dir = "runs/" + r.key;
+    r.metrics["mota"] = 0.5;
+    store->Put(r);
   }
+}
+
+// Without a series there is nothing to compare: no findings, no file.
+TEST(Report, NoSeriesNoFindings) {
+  const auto dir = testing::SweepFolder("report-no-findings");
+  WriteTwoRunStore(dir, {"mota"});
   const ReportResult r = WriteReport({.dir = dir.string()});
   EXPECT_EQ(r.findings, 0);
   EXPECT_FALSE(fs::exists(dir / "findings.md"));
@@ -1126,26 +1130,7 @@ TEST(Report, NoSeriesNoFindings) {
 // where the value is read from; a measured one gets neither.
 TEST(Report, MetricsNoRunMeasuredAreNamed) {
   const auto dir = testing::SweepFolder("report-unmeasured");
-  StoreMeta meta;
-  meta.sweep_hash = "hand";
-  meta.sweep_file = "hand.yaml";
-  meta.swept_keys = {"tracker.particles"};
-  meta.report.x = "tracker.particles";
-  meta.report.y = {"mota", "det_ap"};
-  meta.run_count = 2;
-  {
-    auto store = ResultsStore::OpenOrCreate((dir / "results.sqlite").string(), meta);
-    for (int i = 0; i < 2; ++i) {
-      RunRecord r;
-      r.key = "k" + std::to_string(i);
-      r.index = i;
-      r.values = {i == 0 ? "100" : "1000"};
-      r.ok = true;
-      r.run_dir = "runs/" + r.key;
-      r.metrics["mota"] = 0.5;
-      store->Put(r);
-    }
-  }
+  WriteTwoRunStore(dir, {"mota", "det_ap"});
   const ReportResult r = WriteReport({.dir = dir.string()});
   EXPECT_EQ(r.plots, 2);
   const std::string html = Read(r.html_path);

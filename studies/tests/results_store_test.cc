@@ -501,35 +501,24 @@ TEST(RunSweep, ShardsMergedEqualTheUnshardedSweep) {
   // complete, and wrote into a folder a sweep was writing to. A held
   // sweep.lock (the sweep's flock, held here by the test) is refused either
   // way, before OUT is written.
-  {
-    const int fd = ::open((dir / "shard1" / "sweep.lock").c_str(), O_RDWR | O_CLOEXEC);
+  const auto refused_while_locked = [&](const fs::path& lock, const fs::path& out,
+                                        const std::string& expected) {
+    const int fd = ::open(lock.c_str(), O_RDWR | O_CLOEXEC);
     ASSERT_GE(fd, 0);
     ASSERT_EQ(::flock(fd, LOCK_EX | LOCK_NB), 0);
     try {
-      MergeStores((dir / "merged3").string(), shard_dirs);
-      ADD_FAILURE() << "a shard being swept was merged";
+      MergeStores(out.string(), shard_dirs);
+      ADD_FAILURE() << "merged while " << lock << " was held";
     } catch (const InputError& e) {
-      EXPECT_NE(std::string(e.what()).find("shard1: DIR: expected a shard folder no sweep is "
-                                           "writing to"),
-                std::string::npos)
-          << e.what();
+      EXPECT_NE(std::string(e.what()).find(expected), std::string::npos) << e.what();
     }
-    EXPECT_FALSE(fs::exists(dir / "merged3"));
     ::close(fd);
-    const int out_fd = ::open((dir / "merged" / "sweep.lock").c_str(), O_RDWR | O_CLOEXEC);
-    ASSERT_GE(out_fd, 0);
-    ASSERT_EQ(::flock(out_fd, LOCK_EX | LOCK_NB), 0);
-    try {
-      MergeStores((dir / "merged").string(), shard_dirs);
-      ADD_FAILURE() << "merged into a folder being swept";
-    } catch (const InputError& e) {
-      EXPECT_NE(std::string(e.what()).find("merged: OUT: expected a folder no other hcpf sweep or "
-                                           "merge is writing to"),
-                std::string::npos)
-          << e.what();
-    }
-    ::close(out_fd);
-  }
+  };
+  refused_while_locked(dir / "shard1" / "sweep.lock", dir / "merged3",
+                       "shard1: DIR: expected a shard folder no sweep is writing to");
+  EXPECT_FALSE(fs::exists(dir / "merged3"));
+  refused_while_locked(dir / "merged" / "sweep.lock", dir / "merged",
+                       "merged: OUT: expected a folder no other hcpf sweep or merge is writing to");
   // A store of another sweep is refused.
   const SweepSpec other = LoadSweepFile(
       WriteSweep(dir, "base: base.yaml\ngrid: {tracker.particles: [30]}\n", "other.yaml"));

@@ -369,7 +369,9 @@ std::unique_ptr<ResultsStore> ResultsStore::OpenOrCreate(const std::string& path
     if (store->meta().sweep_hash != meta.sweep_hash) {
       throw InputError(
           SourceLocation{path, 0, 0, "meta.sweep_hash"},
-          fmt::format("a store of this sweep (hash {}); use another --out", meta.sweep_hash),
+          fmt::format("a store of this sweep (hash {}); name another output folder (sweep "
+                      "--out, merge OUT)",
+                      meta.sweep_hash),
           fmt::format("a store of another sweep (hash {}, from {})", store->meta().sweep_hash,
                       store->meta().sweep_file));
     }

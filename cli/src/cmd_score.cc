@@ -8,17 +8,17 @@
 #include <spdlog/spdlog.h>
 
 #include <algorithm>
-#include <cerrno>
 #include <cstdio>
-#include <cstring>
 #include <filesystem>
-#include <fstream>
 #include <iostream>
 #include <memory>
+#include <nlohmann/json.hpp>
+#include <sstream>
 #include <vector>
 
 #include "command.h"
 #include "hcpf/core/error.h"
+#include "hcpf/core/text_file.h"
 #include "hcpf/metrics/report.h"
 
 namespace hcpf::cli {
@@ -59,29 +59,6 @@ void CheckOutputFile(const std::string& path, const std::string& option,
   }
 }
 
-void WriteFile(const std::string& path, const std::string& text) {
-  std::ofstream out(path, std::ios::binary);
-  out << text;
-  out.close();
-  if (!out) throw RunError(fmt::format("cannot write {}: {}", path, std::strerror(errno)));
-}
-
-// A JSON string literal (a benchmark or tracker folder's name may hold a quote).
-std::string JsonString(const std::string& text) {
-  std::string out = "\"";
-  for (const char c : text) {
-    if (c == '"' || c == '\\') {
-      out += '\\';
-      out += c;
-    } else if (static_cast<unsigned char>(c) < 0x20) {
-      out += fmt::format("\\u{:04x}", static_cast<unsigned char>(c));
-    } else {
-      out += c;
-    }
-  }
-  return out + "\"";
-}
-
 }  // namespace
 
 Command AddScoreCommand(CLI::App& parent) {
@@ -113,84 +90,81 @@ Command AddScoreCommand(CLI::App& parent) {
   app->add_option("--trackeval-root", options->trackeval_root,
                   "Score a TrackEval folder (gt/mot_challenge/<bench>/<seq>, "
                   "trackers/mot_challenge/<bench>/<tracker>/data) instead of GT HYP");
-  return {
-      app, [options]() -> int {
-        using namespace hcpf::metrics;
-        const Benchmark benchmark = *ParseBenchmark(options->benchmark);
-        if (!options->json.empty() && !options->events.empty()) {
-          std::error_code ec;
-          if (fs::weakly_canonical(options->json, ec) ==
-              fs::weakly_canonical(options->events, ec)) {
-            throw InputError(SourceLocation{options->events, 0, 0, "--events"}, "a file of its own",
-                             "the file --json writes too", "nothing was written");
-          }
-        }
-        if (!options->trackeval_root.empty()) {
-          if (!options->gt.empty() || !options->hyp.empty()) {
-            throw InputError(SourceLocation{{}, 0, 0, "score"},
-                             "either GT HYP or --trackeval-root DIR", "both");
-          }
-          // What only GT HYP takes (a third bad-input audit: ignored).
-          for (const auto& [value, option] :
-               {std::pair{&options->events, "--events"}, {&options->seqinfo, "--seqinfo"}}) {
-            if (value->empty()) continue;
-            throw InputError(
-                SourceLocation{"command line", 0, 0, option},
-                "no " + std::string(option) + " with --trackeval-root (it goes with GT HYP)",
-                *value);
-          }
-          if (!options->json.empty()) {
-            const fs::path root(options->trackeval_root);
-            CheckOutputFile(options->json, "--json", {}, {root / "gt", root / "trackers"});
-          }
-          const auto results = ScoreTrackEvalRoot(options->trackeval_root, benchmark);
-          std::string json = "[\n";
-          for (size_t i = 0; i < results.size(); ++i) {
-            const TrackEvalResult& r = results[i];
-            std::vector<MotSummary> rows = r.sequences;
-            rows.push_back(r.combined);
-            std::cout << r.bench << " / " << r.tracker << "\n" << FormatMotTable(rows) << "\n";
-            json += "{\"bench\":" + JsonString(r.bench) + ",\"tracker\":" + JsonString(r.tracker) +
-                    ",\"metrics\":" + MotSummariesToJson(r.sequences, &r.combined) + "}" +
-                    (i + 1 < results.size() ? ",\n" : "\n");
-          }
-          json += "]\n";
-          if (results.empty())
-            spdlog::warn("{}: no tracker folders found", options->trackeval_root);
-          if (!options->json.empty()) WriteFile(options->json, json);
-          return 0;
-        }
-        if (options->gt.empty() || options->hyp.empty()) {
-          throw InputError(SourceLocation{{}, 0, 0, "score"},
-                           "GT and HYP files (or --trackeval-root DIR)", "missing arguments");
-        }
-        const std::vector<std::pair<std::string, std::string>> reads = {
-            {options->gt, "the ground truth (GT)"},
-            {options->hyp, "the tracker output (HYP)"},
-            {options->seqinfo, "the --seqinfo file"}};
-        if (!options->json.empty()) CheckOutputFile(options->json, "--json", reads, {});
-        if (!options->events.empty()) CheckOutputFile(options->events, "--events", reads, {});
-        ScoreFilesOptions o;
-        o.gt_path = options->gt;
-        o.hyp_path = options->hyp;
-        o.seqinfo_path = options->seqinfo;
-        o.benchmark = benchmark;
-        o.keep_events = !options->events.empty();
-        const ScoredSequence s = ScoreFiles(o);
-        std::cout << FormatMotTable({&s.summary, 1});
-        if (!options->json.empty())
-          WriteFile(options->json, MotSummariesToJson({&s.summary, 1}, nullptr));
-        if (!options->events.empty()) {
-          std::ofstream out(options->events, std::ios::binary);
-          WriteEventsJsonLines(out, s.events);
-          out.close();
-          if (!out) {
-            throw RunError(
-                fmt::format("cannot write {}: {}", options->events, std::strerror(errno)));
-          }
-        }
-        return 0;
-      }};
+  return {app, [options]() -> int {
+            using namespace hcpf::metrics;
+            const Benchmark benchmark = *ParseBenchmark(options->benchmark);
+            if (!options->json.empty() && !options->events.empty()) {
+              std::error_code ec;
+              if (fs::weakly_canonical(options->json, ec) ==
+                  fs::weakly_canonical(options->events, ec)) {
+                throw InputError(SourceLocation{options->events, 0, 0, "--events"},
+                                 "a file of its own", "the file --json writes too",
+                                 "nothing was written");
+              }
+            }
+            if (!options->trackeval_root.empty()) {
+              if (!options->gt.empty() || !options->hyp.empty()) {
+                throw InputError(SourceLocation{{}, 0, 0, "score"},
+                                 "either GT HYP or --trackeval-root DIR", "both");
+              }
+              // What only GT HYP takes (a third bad-input audit: ignored).
+              for (const auto& [value, option] :
+                   {std::pair{&options->events, "--events"}, {&options->seqinfo, "--seqinfo"}}) {
+                if (value->empty()) continue;
+                throw InputError(
+                    SourceLocation{"command line", 0, 0, option},
+                    "no " + std::string(option) + " with --trackeval-root (it goes with GT HYP)",
+                    *value);
+              }
+              if (!options->json.empty()) {
+                const fs::path root(options->trackeval_root);
+                CheckOutputFile(options->json, "--json", {}, {root / "gt", root / "trackers"});
+              }
+              const auto results = ScoreTrackEvalRoot(options->trackeval_root, benchmark);
+              std::string json = "[\n";
+              for (size_t i = 0; i < results.size(); ++i) {
+                const TrackEvalResult& r = results[i];
+                std::vector<MotSummary> rows = r.sequences;
+                rows.push_back(r.combined);
+                std::cout << r.bench << " / " << r.tracker << "\n" << FormatMotTable(rows) << "\n";
+                json += "{\"bench\":" + nlohmann::json(r.bench).dump() +
+                        ",\"tracker\":" + nlohmann::json(r.tracker).dump() +
+                        ",\"metrics\":" + MotSummariesToJson(r.sequences, &r.combined) + "}" +
+                        (i + 1 < results.size() ? ",\n" : "\n");
+              }
+              json += "]\n";
+              if (results.empty())
+                spdlog::warn("{}: no tracker folders found", options->trackeval_root);
+              if (!options->json.empty()) WriteTextFile(options->json, json);
+              return 0;
+            }
+            if (options->gt.empty() || options->hyp.empty()) {
+              throw InputError(SourceLocation{{}, 0, 0, "score"},
+                               "GT and HYP files (or --trackeval-root DIR)", "missing arguments");
+            }
+            const std::vector<std::pair<std::string, std::string>> reads = {
+                {options->gt, "the ground truth (GT)"},
+                {options->hyp, "the tracker output (HYP)"},
+                {options->seqinfo, "the --seqinfo file"}};
+            if (!options->json.empty()) CheckOutputFile(options->json, "--json", reads, {});
+            if (!options->events.empty()) CheckOutputFile(options->events, "--events", reads, {});
+            ScoreFilesOptions o;
+            o.gt_path = options->gt;
+            o.hyp_path = options->hyp;
+            o.seqinfo_path = options->seqinfo;
+            o.benchmark = benchmark;
+            o.keep_events = !options->events.empty();
+            const ScoredSequence s = ScoreFiles(o);
+            std::cout << FormatMotTable({&s.summary, 1});
+            if (!options->json.empty())
+              WriteTextFile(options->json, MotSummariesToJson({&s.summary, 1}, nullptr));
+            if (!options->events.empty()) {
+              std::ostringstream events;
+              WriteEventsJsonLines(events, s.events);
+              WriteTextFile(options->events, events.str());
+            }
+            return 0;
+          }};
 }
 
 }  // namespace hcpf::cli

@@ -6,12 +6,12 @@
 #include <cctype>
 #include <charconv>
 #include <cmath>
-#include <fstream>
 #include <string>
 #include <string_view>
 #include <system_error>
 
 #include "hcpf/core/error.h"
+#include "hcpf/core/text_file.h"
 
 namespace hcpf::scenarios {
 namespace fs = std::filesystem;
@@ -39,12 +39,7 @@ bool IsSceneFile(const std::string& name) {
 
 // A detector output of ours: it starts with "HCPFDET" (then the format
 // version, detection_cache.cc).
-bool IsDetectionFile(const fs::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  char head[7] = {};
-  in.read(head, sizeof(head));
-  return in.gcount() == sizeof(head) && std::string_view(head, sizeof(head)) == "HCPFDET";
-}
+bool IsDetectionFile(const fs::path& path) { return ReadFilePrefix(path.string(), 7) == "HCPFDET"; }
 
 [[noreturn]] void CannotRead(const fs::path& path, const std::error_code& ec) {
   throw RunError(fmt::format("cannot read the cache folder {}: {}", path.string(), ec.message()));

@@ -10,7 +10,6 @@
 #include <charconv>
 #include <cstdlib>
 #include <filesystem>
-#include <fstream>
 #include <map>
 #include <set>
 
@@ -20,6 +19,7 @@
 #include "hcpf/core/names.h"
 #include "hcpf/core/rng.h"
 #include "hcpf/core/subprocess.h"
+#include "hcpf/core/text_file.h"
 #include "hcpf/scenarios/frames.h"
 #include "hcpf/scenarios/models.h"
 #include "hcpf/scenarios/scenario.h"
@@ -260,10 +260,7 @@ void ReadTrackerChoice(YamlReader& r, const std::string& file, TrackerChoice* c)
   // interpreter, or a native binary (ELF). A third bad-input audit found a
   // script without "#!", or with a missing interpreter, accepted by validate
   // and failing the run ("Exec format error", exit 1).
-  std::ifstream in(resolved, std::ios::binary);
-  std::string head(256, '\0');
-  in.read(head.data(), static_cast<std::streamsize>(head.size()));
-  head.resize(static_cast<size_t>(in.gcount()));
+  const std::string head = ReadFilePrefix(resolved, 256);
   if (head.rfind("#!", 0) == 0) {
     const size_t start = head.find_first_not_of(" \t", 2);
     const size_t end =

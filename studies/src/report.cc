@@ -1004,7 +1004,8 @@ std::string ReportHtml(const fs::path& dir, const std::string& link_prefix, cons
                        const std::vector<RunRecord>& runs, const std::vector<Cell>& cells,
                        const Layout& layout,
                        const std::vector<std::pair<std::string, std::string>>& svgs,
-                       const std::string& findings_html, const std::string& paired_html) {
+                       const std::string& findings_html, const std::string& paired_html,
+                       const std::vector<std::string>& unmeasured) {
   const std::vector<std::string>& keys = meta.swept_keys;
   const int x_index = layout.x_index;
   int64_t ok_runs = 0, failed_runs = 0;
@@ -1051,8 +1052,7 @@ std::string ReportHtml(const fs::path& dir, const std::string& link_prefix, cons
   }
   h += findings_html;
   h += "<h2>Plots</h2>\n";
-  if (const std::vector<std::string> unmeasured = UnmeasuredMetrics(runs, meta.report.y);
-      !unmeasured.empty()) {
+  if (!unmeasured.empty()) {
     std::vector<std::string> items;
     for (const std::string& m : unmeasured) items.push_back(EscapeMarkup(WhereMeasured(m)));
     h += fmt::format(
@@ -1186,7 +1186,8 @@ ReportResult WriteReport(const ReportOptions& options) {
     link_prefix = LinkFrom(out, dir) + "/";
   }
   ReportResult result;
-  for (const std::string& metric : UnmeasuredMetrics(runs, meta.report.y)) {
+  const std::vector<std::string> unmeasured = UnmeasuredMetrics(runs, meta.report.y);
+  for (const std::string& metric : unmeasured) {
     spdlog::warn("report: no finished run measured {}: its plot is empty", WhereMeasured(metric));
   }
   std::vector<std::pair<std::string, std::string>> svgs =
@@ -1220,9 +1221,10 @@ ReportResult WriteReport(const ReportOptions& options) {
   result.csv_path = (out / "summary.csv").string();
   WriteTextFile(result.csv_path, SummaryCsv(cells, meta.swept_keys));
   result.html_path = (out / "report.html").string();
-  WriteTextFile(result.html_path, ReportHtml(dir, link_prefix, meta, runs, cells, layout, svgs,
-                                             FindingsHtml(findings, glance, paired, meta),
-                                             PairedHtml(paired, meta, layout, difference_svgs)));
+  WriteTextFile(result.html_path,
+                ReportHtml(dir, link_prefix, meta, runs, cells, layout, svgs,
+                           FindingsHtml(findings, glance, paired, meta),
+                           PairedHtml(paired, meta, layout, difference_svgs), unmeasured));
   result.cells = static_cast<int>(cells.size());
   fs::remove_all(work, ec);
   return result;

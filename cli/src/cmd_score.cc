@@ -23,43 +23,7 @@
 
 namespace hcpf::cli {
 
-namespace {
-
 namespace fs = std::filesystem;
-
-// A file --json or --events writes, checked before anything is read (a third
-// bad-input audit: --json naming the tracker file replaced it, exit 0; a
-// folder or a missing parent failed after the table was printed, exit 1).
-// `reads` are the inputs (path, what it is); `under` folders whose files the
-// scoring reads.
-void CheckOutputFile(const std::string& path, const std::string& option,
-                     const std::vector<std::pair<std::string, std::string>>& reads,
-                     const std::vector<fs::path>& under) {
-  const SourceLocation where{path, 0, 0, option};
-  std::error_code ec;
-  if (fs::is_directory(path, ec)) throw InputError(where, "a file to write", "a folder");
-  const fs::path parent = fs::path(path).parent_path();
-  if (!parent.empty() && !fs::is_directory(parent, ec)) {
-    throw InputError(where, "a file in an existing folder",
-                     fmt::format("no folder {}", parent.string()));
-  }
-  const fs::path mine = fs::weakly_canonical(path, ec);
-  for (const auto& [read, what] : reads) {
-    if (!read.empty() && fs::weakly_canonical(read, ec) == mine) {
-      throw InputError(where, "a file score does not read", what, "nothing was written");
-    }
-  }
-  for (const fs::path& folder : under) {
-    const fs::path root = fs::weakly_canonical(folder, ec);
-    const auto [end, _] = std::mismatch(root.begin(), root.end(), mine.begin(), mine.end());
-    if (end == root.end()) {
-      throw InputError(where, "a file outside the folders score reads",
-                       fmt::format("a file in {}", folder.string()), "nothing was written");
-    }
-  }
-}
-
-}  // namespace
 
 Command AddScoreCommand(CLI::App& parent) {
   struct Options {
@@ -93,15 +57,6 @@ Command AddScoreCommand(CLI::App& parent) {
   return {app, [options]() -> int {
             using namespace hcpf::metrics;
             const Benchmark benchmark = *ParseBenchmark(options->benchmark);
-            if (!options->json.empty() && !options->events.empty()) {
-              std::error_code ec;
-              if (fs::weakly_canonical(options->json, ec) ==
-                  fs::weakly_canonical(options->events, ec)) {
-                throw InputError(SourceLocation{options->events, 0, 0, "--events"},
-                                 "a file of its own", "the file --json writes too",
-                                 "nothing was written");
-              }
-            }
             if (!options->trackeval_root.empty()) {
               if (!options->gt.empty() || !options->hyp.empty()) {
                 throw InputError(SourceLocation{{}, 0, 0, "score"},
@@ -116,9 +71,12 @@ Command AddScoreCommand(CLI::App& parent) {
                     "no " + std::string(option) + " with --trackeval-root (it goes with GT HYP)",
                     *value);
               }
+              // --json checked before anything is read (a third bad-input
+              // audit: a folder or a missing parent failed after the table).
               if (!options->json.empty()) {
                 const fs::path root(options->trackeval_root);
-                CheckOutputFile(options->json, "--json", {}, {root / "gt", root / "trackers"});
+                CheckFilesToWrite({{options->json, "--json"}}, {}, {root / "gt", root / "trackers"},
+                                  "score", "nothing was written");
               }
               const auto results = ScoreTrackEvalRoot(options->trackeval_root, benchmark);
               std::string json = "[\n";
@@ -142,12 +100,17 @@ Command AddScoreCommand(CLI::App& parent) {
               throw InputError(SourceLocation{{}, 0, 0, "score"},
                                "GT and HYP files (or --trackeval-root DIR)", "missing arguments");
             }
-            const std::vector<std::pair<std::string, std::string>> reads = {
-                {options->gt, "the ground truth (GT)"},
-                {options->hyp, "the tracker output (HYP)"},
-                {options->seqinfo, "the --seqinfo file"}};
-            if (!options->json.empty()) CheckOutputFile(options->json, "--json", reads, {});
-            if (!options->events.empty()) CheckOutputFile(options->events, "--events", reads, {});
+            // --json and --events checked before anything is read (a third
+            // bad-input audit: --json naming the tracker file replaced it,
+            // exit 0; both naming one file lost the JSON).
+            std::vector<FileToWrite> writes;
+            if (!options->json.empty()) writes.push_back({options->json, "--json"});
+            if (!options->events.empty()) writes.push_back({options->events, "--events"});
+            CheckFilesToWrite(writes,
+                              {{options->gt, "the ground truth (GT)"},
+                               {options->hyp, "the tracker output (HYP)"},
+                               {options->seqinfo, "the --seqinfo file"}},
+                              {}, "score", "nothing was written");
             ScoreFilesOptions o;
             o.gt_path = options->gt;
             o.hyp_path = options->hyp;

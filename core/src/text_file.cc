@@ -5,8 +5,10 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <cstring>
+#include <filesystem>
 #include <fstream>
 
 #include "hcpf/core/error.h"
@@ -130,6 +132,47 @@ std::string ReadFilePrefix(const std::string& path, size_t count) {
   std::string text;
   ReadUpTo(fd.get(), path, count, &text);
   return text;
+}
+
+void CheckFilesToWrite(const std::vector<FileToWrite>& writes, const std::vector<FileRead>& reads,
+                       const std::vector<std::filesystem::path>& reads_under,
+                       const std::string& command, const std::string& consequence) {
+  namespace fs = std::filesystem;
+  std::error_code ec;
+  for (size_t i = 0; i < writes.size(); ++i) {
+    const auto& [path, option] = writes[i];
+    const SourceLocation where{path, 0, 0, option};
+    if (fs::is_directory(path, ec)) throw InputError(where, "a file to write", "a folder");
+    const fs::path parent = fs::path(path).parent_path();
+    if (!parent.empty() && !fs::is_directory(parent, ec)) {
+      throw InputError(where, "a file in an existing folder",
+                       fmt::format("no folder {}", parent.string()));
+    }
+    // equivalent() needs both to exist; an output not there yet is no input.
+    if (fs::exists(path, ec)) {
+      for (const auto& [read, what] : reads) {
+        if (!read.empty() && fs::equivalent(path, read, ec)) {
+          throw InputError(where, fmt::format("a file {} does not read", command), what,
+                           consequence);
+        }
+      }
+    }
+    const fs::path mine = fs::weakly_canonical(path, ec);
+    for (size_t k = 0; k < i; ++k) {
+      if (fs::weakly_canonical(writes[k].path, ec) == mine) {
+        throw InputError(where, "a file of its own",
+                         fmt::format("the file {} writes too", writes[k].option), consequence);
+      }
+    }
+    for (const fs::path& folder : reads_under) {
+      const fs::path root = fs::weakly_canonical(folder, ec);
+      const auto [end, unused] = std::mismatch(root.begin(), root.end(), mine.begin(), mine.end());
+      if (end == root.end()) {
+        throw InputError(where, fmt::format("a file outside the folders {} reads", command),
+                         fmt::format("a file in {}", folder.string()), consequence);
+      }
+    }
+  }
 }
 
 }  // namespace hcpf

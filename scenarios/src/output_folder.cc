@@ -98,6 +98,14 @@ std::string WhyNotOurOutput(const fs::path& dir) {
   return "";
 }
 
+std::string WhyNotReplaceable(const fs::path& out) {
+  std::error_code ec;
+  const fs::file_status st = fs::symlink_status(out, ec);
+  if (!fs::exists(st)) return "";
+  if (!fs::is_directory(st)) return fs::is_symlink(st) ? "a symbolic link" : "an existing file";
+  return fs::is_empty(out, ec) ? "" : WhyNotOurOutput(out);
+}
+
 std::string FirstForeignEntry(const fs::path& dir,
                               const std::function<bool(const fs::directory_entry&)>& allowed) {
   std::error_code ec;
@@ -173,21 +181,11 @@ fs::path AbsoluteFolder(const fs::path& out) {
 StagedFolder::StagedFolder(const fs::path& out) : out_(AbsoluteFolder(out)) {
   std::error_code ec;
   const SourceLocation where{out_.string(), 0, 0, "--out"};
-  if (fs::exists(fs::symlink_status(out_, ec))) {
-    if (!fs::is_directory(fs::symlink_status(out_, ec))) {
-      throw InputError(
-          where, "a folder for the outputs",
-          fs::is_symlink(fs::symlink_status(out_, ec)) ? "a symbolic link" : "an existing file");
-    }
-    if (!fs::is_empty(out_, ec)) {
-      const std::string why = WhyNotOurOutput(out_);
-      if (!why.empty()) {
-        throw InputError(where,
-                         "a new or empty folder, or an earlier output folder of hcpf run or "
-                         "hcpf render",
-                         why, "nothing was changed; name another folder");
-      }
-    }
+  const std::string why = WhyNotReplaceable(out_);
+  if (!why.empty()) {
+    throw InputError(
+        where, "a new or empty folder, or an earlier output folder of hcpf run or hcpf render", why,
+        "nothing was changed; name another folder");
   }
   RemoveStaleStagingFolders(out_.parent_path(), out_.filename().string());
   partial_ = out_.string() + fmt::format(".partial-{}", ::getpid());

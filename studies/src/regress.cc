@@ -522,40 +522,16 @@ namespace {
 // and a missing folder fail with exit 1 after the whole suite had run.
 void CheckOutputs(const RegressOptions& o, const RegressSuite& suite) {
   std::error_code ec;
-  std::vector<std::pair<std::string, std::string>> reads = {{suite.file, "the suite"}};
+  std::vector<FileRead> reads = {{suite.file, "the suite"}};
   if (!o.update_baseline) reads.push_back({o.baseline_path, "the baseline it compares with"});
   for (const RegressScene& scene : suite.scenes) {
     reads.push_back({scene.scenario_path, fmt::format("the scenario of scene \"{}\"", scene.name)});
   }
-  std::vector<std::pair<std::string, std::string>> writes;  // path, option
+  std::vector<FileToWrite> writes;
   if (o.update_baseline) writes.push_back({o.baseline_path, "--baseline"});
   if (!o.junit_path.empty()) writes.push_back({o.junit_path, "--junit"});
   if (!o.markdown_path.empty()) writes.push_back({o.markdown_path, "--markdown"});
-  for (size_t i = 0; i < writes.size(); ++i) {
-    const auto& [path, option] = writes[i];
-    const SourceLocation where{path, 0, 0, option};
-    if (fs::is_directory(path, ec)) throw InputError(where, "a file to write", "a folder");
-    const fs::path parent = fs::path(path).parent_path();
-    if (!parent.empty() && !fs::is_directory(parent, ec)) {
-      throw InputError(where, "a file in an existing folder",
-                       fmt::format("no folder {}", parent.string()));
-    }
-    if (fs::exists(path, ec)) {
-      for (const auto& [read, what] : reads) {
-        if (fs::equivalent(path, read, ec)) {
-          throw InputError(where, "a file regress does not read", what,
-                           "nothing was run or written");
-        }
-      }
-    }
-    const fs::path mine = fs::weakly_canonical(path, ec);
-    for (size_t k = 0; k < i; ++k) {
-      if (fs::weakly_canonical(writes[k].first, ec) == mine) {
-        throw InputError(where, "a file of its own",
-                         fmt::format("the file {} writes too", writes[k].second));
-      }
-    }
-  }
+  CheckFilesToWrite(writes, reads, {}, "regress", "nothing was run or written");
   if (o.work_dir.empty()) return;
   scenarios::CheckFolderArgument(o.work_dir, "--work");
   // Each scene's run folder in --work must be one a run may replace: a
@@ -574,14 +550,7 @@ void CheckOutputs(const RegressOptions& o, const RegressSuite& suite) {
       outs.push_back(dir);
     }
     for (const fs::path& out : outs) {
-      const fs::file_status st = fs::symlink_status(out, ec);
-      if (!fs::exists(st)) continue;
-      std::string why;
-      if (!fs::is_directory(st)) {
-        why = fs::is_symlink(st) ? "a symbolic link" : "a file";
-      } else if (!fs::is_empty(out, ec)) {
-        why = scenarios::WhyNotOurOutput(out);
-      }
+      const std::string why = scenarios::WhyNotReplaceable(out);
       if (why.empty()) continue;
       throw InputError(
           SourceLocation{out.string(), 0, 0, "--work"},

@@ -271,13 +271,12 @@ void ResultsStore::CheckStoredMeta() const {
                      "the store's meta table was changed after the sweep wrote it");
   };
   const std::vector<std::string>& swept = meta_.swept_keys;
-  for (size_t i = 0; i < swept.size(); ++i) {
-    const std::string column = swept[i] == "seed" ? "swept.seed" : swept[i];
-    if (columns.count(column) == 0 ||
-        std::find(swept.begin(), swept.begin() + static_cast<ptrdiff_t>(i), swept[i]) !=
-            swept.begin() + static_cast<ptrdiff_t>(i)) {
+  std::set<std::string> seen;
+  for (const std::string& key : swept) {
+    const std::string column = key == "seed" ? "swept.seed" : key;
+    if (columns.count(column) == 0 || !seen.insert(key).second) {
       fail("swept_keys", "swept keys listed once, each a column of the runs table",
-           fmt::format("\"{}\"", swept[i]));
+           fmt::format("\"{}\"", key));
     }
   }
   const ReportSpec& report = meta_.report;
@@ -299,11 +298,9 @@ void ResultsStore::CheckStoredMeta() const {
     return std::find(known.begin(), known.end(), name) != known.end();
   };
   if (report.y.empty()) fail("report.y", "a non-empty list of metric names", "an empty list");
-  for (size_t i = 0; i < report.y.size(); ++i) {
-    const std::string& name = report.y[i];
-    if (!is_metric(name) ||
-        std::find(report.y.begin(), report.y.begin() + static_cast<ptrdiff_t>(i), name) !=
-            report.y.begin() + static_cast<ptrdiff_t>(i)) {
+  seen.clear();
+  for (const std::string& name : report.y) {
+    if (!is_metric(name) || !seen.insert(name).second) {
       fail("report.y", "metric names of this hcpf, each listed once", fmt::format("\"{}\"", name));
     }
   }

@@ -3,7 +3,9 @@
 // (scenarios, sweep files, MOT files, models) or writes a text output.
 
 #include <cstdint>
+#include <filesystem>
 #include <string>
+#include <vector>
 
 namespace hcpf {
 
@@ -27,5 +29,30 @@ std::string ReadInputFile(const std::string& path, const std::string& what, uint
 // Reads the first `count` bytes of a regular file (fewer when it is shorter),
 // for format checks made before a whole file is handed to a library.
 std::string ReadFilePrefix(const std::string& path, size_t count);
+
+// A file a command will write, named by the option that gave it ("--json").
+struct FileToWrite {
+  std::string path;
+  std::string option;
+};
+
+// A file a command reads, with what it is to the command ("the suite").
+// An empty path is skipped.
+struct FileRead {
+  std::string path;
+  std::string what;
+};
+
+// Checks a command's output files before it reads or runs anything, so a
+// bad name costs nothing and destroys nothing. Each of `writes`, in order,
+// must be: not a folder; in an existing folder; not one of `reads` (the same
+// file by fs::equivalent, so a symbolic or hard link to an input is caught);
+// not an earlier entry of `writes`; and not inside any of `reads_under`
+// (folders the command reads whole). Throws InputError at the path, keyed by
+// its option; `command` names the command in the messages ("a file score
+// does not read"), and `consequence` is the hint ("nothing was written").
+void CheckFilesToWrite(const std::vector<FileToWrite>& writes, const std::vector<FileRead>& reads,
+                       const std::vector<std::filesystem::path>& reads_under,
+                       const std::string& command, const std::string& consequence);
 
 }  // namespace hcpf

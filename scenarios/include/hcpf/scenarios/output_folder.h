@@ -48,6 +48,12 @@ class StagedFolder {
 // hcpf-render/1, and only the files those write).
 std::string WhyNotOurOutput(const std::filesystem::path& dir);
 
+// Why a run may not write its folder at `out`, or "" when it may: `out` is
+// absent, an empty folder, or an earlier output folder (WhyNotOurOutput). A
+// symbolic link (even to a folder) or a file is never replaced. StagedFolder
+// and regress's check of its --work folders ask this.
+std::string WhyNotReplaceable(const std::filesystem::path& out);
+
 // The name of the first entry of `dir` (in directory order) that `allowed`
 // refuses, or "" when it accepts every one or `dir` is not a folder: how the
 // sweep's --out and the report's --out tell a folder of theirs from one of

@@ -60,9 +60,15 @@ Command AddRunCommand(CLI::App& parent) {
                 "run \"{}\" finished in {:.2f} s: {} frames, {} ground-truth boxes, {} detections",
                 scenario.name, summary.wall_time_s, summary.frames, summary.gt_boxes,
                 summary.detections);
-            spdlog::info(
-                "MOTA {:.3f}  IDF1 {:.3f}  HOTA {:.3f}  DA accuracy {:.3f}  hijack rate {:.3f}",
-                summary.mota, summary.idf1, summary.hota, summary.da_accuracy, summary.hijack_rate);
+            // NaN (null in metrics.json): not measured (no filter metrics for
+            // this tracker), or a rate of nothing (no filter-frame scored, no
+            // two targets met).
+            const auto rate = [](double v) {
+              return std::isnan(v) ? std::string("n/a") : fmt::format("{:.3f}", v);
+            };
+            spdlog::info("MOTA {:.3f}  IDF1 {:.3f}  HOTA {:.3f}  DA accuracy {}  hijack rate {}",
+                         summary.mota, summary.idf1, summary.hota, rate(summary.da_accuracy),
+                         rate(summary.hijack_rate));
             spdlog::info("outputs in {}", summary.out_dir);
             return 0;
           }};

@@ -208,7 +208,7 @@ FilterMetrics ComputeFilterMetrics(const FilterSequence& seq, const FilterMetric
   for (VisibilityBin& b : out.da_by_visibility) {
     b.accuracy = b.scored > 0 ? static_cast<double>(b.correct) / b.scored : kNothing;
   }
-  out.mean_mass_on_other = out.frames_with_cloud > 0 ? mass_sum / out.frames_with_cloud : 0.0;
+  out.mean_mass_on_other = out.frames_with_cloud > 0 ? mass_sum / out.frames_with_cloud : kNothing;
 
   // Encounters: maximal runs of frames in which two targets are both present and
   // closer than encounter_factor * their mean size (size = max(w, h)).
@@ -267,8 +267,10 @@ FilterMetrics ComputeFilterMetrics(const FilterSequence& seq, const FilterMetric
               return std::tie(a.first_frame, a.target_a, a.target_b) <
                      std::tie(b.first_frame, b.target_a, b.target_b);
             });
+  // A rate over no encounter is of nothing (NaN, null in metrics.json), not
+  // 0: a run whose targets never met says nothing about hijacking.
   out.hijack_rate = out.encounters.empty()
-                        ? 0.0
+                        ? kNothing
                         : static_cast<double>(out.hijacked_encounters) / out.encounters.size();
 
   // Re-acquisitions. Each one's frames run from the next frame to the frame

@@ -779,6 +779,10 @@ FrameGroups GroupByFrame(const MotFile& file, int seq_length) {
 
 }  // namespace
 
+// TrackEval's MOTChallenge classes: pedestrian (1) to crowd (13).
+constexpr int kFirstMotClass = 1;
+constexpr int kLastMotClass = 13;
+
 Sequence BuildSequence(const MotFile& gt, const MotFile& tracks, int seq_length,
                        Benchmark benchmark, const PreprocessOptions& options, std::string name,
                        int64_t* removed_gt_rows, int64_t* removed_tracker_rows) {
@@ -836,6 +840,23 @@ Sequence BuildSequence(const MotFile& gt, const MotFile& tracks, int seq_length,
     }
     SequenceFrame& frame = *frame_ptr;
     remove_hyp.assign(h.size(), 0);
+    // TrackEval refuses a gt class outside its 13 MOTChallenge classes in a
+    // frame it preprocesses (MOT16/17/20, gt and tracker boxes both present)
+    // instead of dropping the row as a non-pedestrian; so does this.
+    if (mot17 && !h.empty()) {
+      for (const MotRow* row : g) {
+        const double cls = std::trunc(row->col8);
+        if (!(cls >= kFirstMotClass && cls <= kLastMotClass)) {
+          throw InputError(
+              SourceLocation{gt.path, row->line, 8, "column 8 (class)"},
+              fmt::format("a MOTChallenge class {}..{} (TrackEval refuses any other in a frame "
+                          "with tracker boxes)",
+                          kFirstMotClass, kLastMotClass),
+              fmt::format("{}", row->col8),
+              "check the ground truth, or pass --benchmark MOT15 to score it without classes");
+        }
+      }
+    }
     // Only a tracker box matched to a distractor gt box is removed, so a frame
     // without distractor gt needs no matching (the result would remove nothing).
     if (mot17 && !h.empty() && std::any_of(g.begin(), g.end(), is_distractor)) {

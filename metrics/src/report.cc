@@ -7,8 +7,12 @@
 #include <cmath>
 #include <filesystem>
 #include <nlohmann/json.hpp>
+#include <set>
+#include <string>
+#include <vector>
 
 #include "hcpf/core/error.h"
+#include "hcpf/core/text_file.h"
 
 namespace hcpf::metrics {
 namespace {
@@ -65,6 +69,15 @@ ScoredSequence ScoreFiles(const ScoreFilesOptions& options) {
   const MotFile hyp = ReadMotFile(options.hyp_path, MotFileKind::kTracks, length);
   if (!length) {
     length = std::max(MaxFrame(gt), MaxFrame(hyp));
+    // Two empty files and no seqinfo.ini: no frame at all to score, which
+    // would print a row of zeros as if something had been measured.
+    if (*length == 0) {
+      throw InputError(SourceLocation{options.gt_path, 0, 0, {}},
+                       "a sequence length: seqLength in a seqinfo.ini (--seqinfo, or next to GT "
+                       "or in its parent folder), or a row in GT or HYP",
+                       "no seqinfo.ini, and no row in either file",
+                       "pass --seqinfo naming the sequence's seqinfo.ini");
+    }
     spdlog::warn(
         "no seqinfo.ini next to {}: sequence length taken as the last frame in the files ({})",
         options.gt_path, *length);
@@ -82,6 +95,38 @@ ScoredSequence ScoreFiles(const ScoreFilesOptions& options) {
   return out;
 }
 
+namespace {
+
+// The sequences of a benchmark's seqmap (TrackEval: csv rows, the first row
+// a header, rows with an empty first field skipped, the first field the
+// name), in the seqmap's order, each once. Names that could leave the
+// benchmark's folder are refused.
+std::vector<std::string> ReadSeqmap(const fs::path& file) {
+  const std::string text = ReadInputFile(file.string(), "a TrackEval seqmap", 64u << 20);
+  std::vector<std::string> names;
+  std::set<std::string> seen;
+  size_t begin = 0;
+  for (int line = 1; begin < text.size(); ++line) {
+    size_t end = text.find('\n', begin);
+    if (end == std::string::npos) end = text.size();
+    std::string row = text.substr(begin, end - begin);
+    begin = end + 1;
+    if (!row.empty() && row.back() == '\r') row.pop_back();
+    if (line == 1) continue;  // the header ("name")
+    std::string name = row.substr(0, row.find(','));
+    if (name.empty()) continue;
+    if (name == "." || name == ".." || name.find('/') != std::string::npos ||
+        name.find('\0') != std::string::npos) {
+      throw InputError(SourceLocation{file.string(), line, 1, {}},
+                       "a sequence name (a folder of the benchmark)", fmt::format("\"{}\"", name));
+    }
+    if (seen.insert(name).second) names.push_back(std::move(name));
+  }
+  return names;
+}
+
+}  // namespace
+
 std::vector<TrackEvalResult> ScoreTrackEvalRoot(const std::string& root, Benchmark benchmark) {
   const fs::path gt_root = fs::path(root) / "gt" / "mot_challenge";
   const fs::path trackers_root = fs::path(root) / "trackers" / "mot_challenge";
@@ -94,7 +139,8 @@ std::vector<TrackEvalResult> ScoreTrackEvalRoot(const std::string& root, Benchma
   std::vector<TrackEvalResult> results;
   std::vector<fs::path> benches;
   for (const auto& e : fs::directory_iterator(gt_root)) {
-    if (e.is_directory()) benches.push_back(e.path());
+    // gt/mot_challenge/seqmaps holds the seqmaps, not a benchmark.
+    if (e.is_directory() && e.path().filename() != "seqmaps") benches.push_back(e.path());
   }
   std::sort(benches.begin(), benches.end());
   for (const fs::path& bench_dir : benches) {
@@ -108,30 +154,55 @@ std::vector<TrackEvalResult> ScoreTrackEvalRoot(const std::string& root, Benchma
         rules = Benchmark::kMot17;
       }
     }
-    // Every folder of the benchmark is a sequence: one without its gt.txt
-    // is an error, as TrackEval's is for a sequence of its seqmap (it was
-    // left out silently, and with it that sequence's share of COMBINED).
-    std::vector<fs::path> seqs;
-    for (const auto& e : fs::directory_iterator(bench_dir)) {
-      if (!e.is_directory()) continue;
-      const fs::path gt = e.path() / "gt" / "gt.txt";
-      if (!fs::is_regular_file(gt)) {
-        throw InputError(SourceLocation{gt.string(), 0, 0, {}},
-                         fmt::format("the ground truth of sequence {} (every folder of {} is a "
-                                     "sequence)",
-                                     e.path().filename().string(), bench_dir.string()),
-                         "no file");
-      }
-      seqs.push_back(e.path());
-    }
-    std::sort(seqs.begin(), seqs.end());
     const fs::path bench_trackers = trackers_root / bench;
-    if (!fs::is_directory(bench_trackers)) continue;
+    if (!fs::is_directory(bench_trackers)) {
+      spdlog::warn("{}: benchmark {} has no trackers folder ({}): not scored", root, bench,
+                   bench_trackers.string());
+      continue;
+    }
+    // The sequences: those of the benchmark's seqmap
+    // (gt/mot_challenge/seqmaps/<bench>.txt), as TrackEval reads them; with
+    // no seqmap (which TrackEval requires), every folder of the benchmark.
+    // Either way a sequence without its gt.txt is an error, as TrackEval's
+    // is (it was left out silently, and with it its share of COMBINED).
+    std::vector<fs::path> seqs;
+    const fs::path seqmap = gt_root / "seqmaps" / (bench + ".txt");
+    std::string from;
+    if (fs::exists(seqmap)) {
+      for (const std::string& name : ReadSeqmap(seqmap)) seqs.push_back(bench_dir / name);
+      from = fmt::format("a sequence of the seqmap {}", seqmap.string());
+    } else {
+      for (const auto& e : fs::directory_iterator(bench_dir)) {
+        if (e.is_directory()) seqs.push_back(e.path());
+      }
+      std::sort(seqs.begin(), seqs.end());
+      from = fmt::format("every folder of {} is a sequence when there is no seqmap {}",
+                         bench_dir.string(), seqmap.string());
+    }
+    for (const fs::path& seq_dir : seqs) {
+      const fs::path gt = seq_dir / "gt" / "gt.txt";
+      if (!fs::is_regular_file(gt)) {
+        throw InputError(
+            SourceLocation{gt.string(), 0, 0, {}},
+            fmt::format("the ground truth of sequence {} ({})", seq_dir.filename().string(), from),
+            "no file");
+      }
+    }
+    // TrackEval: "No sequences are selected to be evaluated." A COMBINED of
+    // nothing would print as a row of zeros.
+    if (seqs.empty()) {
+      throw InputError(
+          SourceLocation{fs::exists(seqmap) ? seqmap.string() : bench_dir.string(), 0, 0, {}},
+          fmt::format("at least one sequence of benchmark {} to score", bench),
+          fs::exists(seqmap) ? "a seqmap naming none" : "no sequence folder");
+    }
     std::vector<fs::path> trackers;
     for (const auto& e : fs::directory_iterator(bench_trackers)) {
       if (e.is_directory()) trackers.push_back(e.path());
     }
     std::sort(trackers.begin(), trackers.end());
+    if (trackers.empty())
+      spdlog::warn("{}: no tracker folder in {}", root, bench_trackers.string());
     for (const fs::path& tracker_dir : trackers) {
       TrackEvalResult r;
       r.bench = bench;

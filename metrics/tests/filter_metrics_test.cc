@@ -71,8 +71,13 @@ TEST(FilterMetrics, EveryStateOnAHandBuiltSequence) {
   EXPECT_EQ(m.da_by_visibility[3].correct, 4);
   EXPECT_DOUBLE_EQ(m.da_by_visibility[3].accuracy, 4.0 / 9.0);
   EXPECT_TRUE(std::isnan(m.da_by_visibility[1].accuracy)) << "a bin of nothing";
+  // No two targets met: the hijack rate is of no encounter, NaN (a run
+  // without an encounter says nothing about hijacking; 0 would count it as
+  // a clean one in a sweep's mean). No filter carried a cloud: no mean mass.
   EXPECT_TRUE(m.encounters.empty());
-  EXPECT_EQ(m.hijack_rate, 0.0);
+  EXPECT_TRUE(std::isnan(m.hijack_rate)) << m.hijack_rate;
+  EXPECT_EQ(m.frames_with_cloud, 0);
+  EXPECT_TRUE(std::isnan(m.mean_mass_on_other)) << m.mean_mass_on_other;
 }
 
 // A filter-frame is scored only where its target is in the image: with no

@@ -493,21 +493,68 @@ TEST(MotIo, NonRegularFilesAreRefused) {
 
 // Found by the fuzzer (fuzz/regressions/mot): a class or conf beyond int's
 // range was converted to int (undefined behaviour). Such a class is no class;
-// a huge conf is non-zero.
+// a huge conf is non-zero. In a frame without tracker boxes the rows of no
+// class are dropped as non-pedestrians; in one with tracker boxes TrackEval
+// refuses them (its "invalid gt classes" check), and so does BuildSequence,
+// at the first such row.
 TEST(MotIo, HugeClassAndConfValuesAreNotConvertedToInt) {
   const MotFile gt =
       ParseMotText("1,1,1,2,3,6,1e30,1,1\n1,2,1,2,3,6,1,1e10,1\n1,3,50,50,3,6,1,-7777777710,1\n",
                    "gt.txt", MotFileKind::kGroundTruth, 1);
-  const MotFile hyp = ParseMotText("1,9,50,50,3,6,1,-1,-1,-1\n", "t.txt", MotFileKind::kTracks, 1);
+  const MotFile no_hyp = ParseMotText("", "t.txt", MotFileKind::kTracks, 1);
   int64_t removed_gt = 0;
   int64_t removed_hyp = 0;
   const Sequence seq =
-      BuildSequence(gt, hyp, 1, Benchmark::kMot17, {}, "s", &removed_gt, &removed_hyp);
+      BuildSequence(gt, no_hyp, 1, Benchmark::kMot17, {}, "s", &removed_gt, &removed_hyp);
   ASSERT_EQ(seq.frames.size(), 1u);
   ASSERT_EQ(seq.frames[0].gt.size(), 1u);  // only the class-1 row, kept by its conf 1e30
   EXPECT_EQ(seq.frames[0].gt[0].id, 1);
   EXPECT_EQ(removed_gt, 2);
-  EXPECT_EQ(removed_hyp, 0);  // matched to a non-distractor (out-of-range class) row
+  EXPECT_EQ(removed_hyp, 0);
+
+  const MotFile hyp = ParseMotText("1,9,50,50,3,6,1,-1,-1,-1\n", "t.txt", MotFileKind::kTracks, 1);
+  try {
+    BuildSequence(gt, hyp, 1, Benchmark::kMot17, {}, "s");
+    FAIL() << "a class of 1e10 beside tracker boxes was accepted";
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.where().line, 2) << e.what();
+    EXPECT_NE(std::string(e.what()).find("expected a MOTChallenge class 1..13"), std::string::npos)
+        << e.what();
+    EXPECT_NE(std::string(e.what()).find("found 10000000000"), std::string::npos) << e.what();
+  }
+}
+
+// TrackEval's check of gt classes (MotChallenge2DBox.get_preprocessed_seq_data)
+// runs only when it preprocesses (MOT16/17/20, not MOT15) a frame holding gt
+// and tracker boxes; it truncates the class (astype(int)) and accepts its 13
+// classes. Class 0 and 14 beside a tracker box are refused at their line;
+// 13.9 (class 13, crowd) is accepted; class 14 in a frame without tracker
+// boxes is dropped as a non-pedestrian, and MOT15 rules read no class.
+TEST(MotIo, GroundTruthClassesOutsideTrackEvalsThirteenAreRefusedWhereItChecks) {
+  const MotFile hyp = ParseMotText("1,9,50,50,3,6,1,-1,-1,-1\n", "t.txt", MotFileKind::kTracks, 2);
+  for (const char* cls : {"0", "14", "-1"}) {
+    const MotFile gt = ParseMotText(std::string("1,1,1,2,3,6,1,1,1\n1,2,1,2,3,6,1,") + cls + ",1\n",
+                                    "gt.txt", MotFileKind::kGroundTruth, 2);
+    try {
+      BuildSequence(gt, hyp, 2, Benchmark::kMot17, {}, "s");
+      FAIL() << "class " << cls << " accepted";
+    } catch (const InputError& e) {
+      EXPECT_EQ(e.where().file, "gt.txt");
+      EXPECT_EQ(e.where().line, 2) << e.what();
+      EXPECT_EQ(e.where().key, "column 8 (class)");
+    }
+    // MOT15 rules: no classes, nothing refused.
+    EXPECT_NO_THROW(BuildSequence(gt, hyp, 2, Benchmark::kMot15, {}, "s"));
+    // Without preprocessing nothing is filtered and nothing checked.
+    PreprocessOptions none;
+    none.preprocess = false;
+    EXPECT_NO_THROW(BuildSequence(gt, hyp, 2, Benchmark::kMot17, none, "s"));
+  }
+  const MotFile crowd = ParseMotText("1,1,1,2,3,6,1,13.9,1\n2,1,1,2,3,6,1,14,1\n", "gt.txt",
+                                     MotFileKind::kGroundTruth, 2);
+  int64_t removed_gt = 0;
+  const Sequence seq = BuildSequence(crowd, hyp, 2, Benchmark::kMot17, {}, "s", &removed_gt);
+  EXPECT_EQ(removed_gt, 2);  // frame 1: a crowd row (not a pedestrian); frame 2: no tracker box
 }
 
 }  // namespace

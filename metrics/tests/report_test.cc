@@ -107,6 +107,98 @@ TEST(Report, TrackEvalRootWithCombinedRow) {
   EXPECT_THROW(ScoreTrackEvalRoot((root / "nope").string()), InputError);
 }
 
+// TrackEval reads the sequences of a benchmark from its seqmap
+// (gt/mot_challenge/seqmaps/<bench>.txt: a header row, then one name a row,
+// the first csv field, rows with an empty one skipped) and scores those only,
+// in that order; so does --trackeval-root. Three folders SEQ-A..C, the switch
+// sequence in each; the seqmap names SEQ-C then SEQ-A (SEQ-A twice: once),
+// so SEQ-B (whose tracker file is missing, an error were it scored) is left
+// out and COMBINED holds two copies. The seqmaps folder is not a benchmark.
+TEST(Report, TrackEvalRootReadsTheSeqmapLikeTrackEval) {
+  const fs::path root = fs::temp_directory_path() / "hcpf_metrics_trackeval_seqmap";
+  fs::remove_all(root);
+  std::ifstream gt_in(ReportDataPath("switch_gt.txt")), hyp_in(ReportDataPath("switch_hyp.txt"));
+  const std::string gt((std::istreambuf_iterator<char>(gt_in)), {});
+  const std::string hyp((std::istreambuf_iterator<char>(hyp_in)), {});
+  const fs::path bench = root / "gt/mot_challenge/MOT15-train";
+  for (const std::string seq : {"SEQ-A", "SEQ-B", "SEQ-C"}) {
+    WriteText(bench / seq / "gt/gt.txt", gt);
+    WriteText(bench / seq / "seqinfo.ini", "[Sequence]\nname=" + seq + "\nseqLength=3\n");
+    if (seq != "SEQ-B")
+      WriteText(root / "trackers/mot_challenge/MOT15-train/mine/data" / (seq + ".txt"), hyp);
+  }
+  const fs::path seqmap = root / "gt/mot_challenge/seqmaps/MOT15-train.txt";
+  WriteText(seqmap, "name\r\nSEQ-C,extra\r\n\n,ignored\nSEQ-A\nSEQ-A\n");
+  auto results = ScoreTrackEvalRoot(root.string());
+  ASSERT_EQ(results.size(), 1u);
+  ASSERT_EQ(results[0].sequences.size(), 2u);
+  EXPECT_EQ(results[0].sequences[0].name, "SEQ-C");
+  EXPECT_EQ(results[0].sequences[1].name, "SEQ-A");
+  EXPECT_EQ(results[0].combined.clear.idsw, 2);
+  EXPECT_EQ(results[0].combined.clear.tp, 6);
+
+  // A seqmap sequence without a folder (or its gt.txt): an error naming the seqmap.
+  WriteText(seqmap, "name\nSEQ-A\nSEQ-D\n");
+  try {
+    ScoreTrackEvalRoot(root.string());
+    ADD_FAILURE() << "a seqmap sequence without ground truth was accepted";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("SEQ-D/gt/gt.txt: expected the ground truth of sequence "
+                                         "SEQ-D (a sequence of the seqmap"),
+              std::string::npos)
+        << e.what();
+  }
+  // A name that would leave the benchmark's folder: refused at its line.
+  WriteText(seqmap, "name\nSEQ-A\n../MOT15-train/SEQ-A\n");
+  try {
+    ScoreTrackEvalRoot(root.string());
+    ADD_FAILURE() << "a seqmap name with a slash was accepted";
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.where().line, 3) << e.what();
+  }
+  // A seqmap naming no sequence: TrackEval's "No sequences are selected".
+  WriteText(seqmap, "name\n");
+  try {
+    ScoreTrackEvalRoot(root.string());
+    ADD_FAILURE() << "an empty seqmap was accepted";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("a seqmap naming none"), std::string::npos) << e.what();
+  }
+  // No seqmap: every folder is a sequence, and SEQ-B's missing tracker file is an error.
+  fs::remove(seqmap);
+  EXPECT_THROW(ScoreTrackEvalRoot(root.string()), InputError);
+  // A benchmark with ground truth but no trackers folder is skipped (with a
+  // warning), not an error: nothing of it to score.
+  WriteText(seqmap, "name\nSEQ-A\n");
+  WriteText(root / "gt/mot_challenge/MOT17-train/SEQ-X/gt/gt.txt", gt);
+  results = ScoreTrackEvalRoot(root.string());
+  ASSERT_EQ(results.size(), 1u);
+  EXPECT_EQ(results[0].bench, "MOT15-train");
+}
+
+// Two empty files and no seqinfo.ini leave no frame to score: bad input
+// (it printed a row of zeros). With a seqinfo.ini they are a sequence of
+// seqLength frames with nothing in them.
+TEST(Report, EmptyFilesWithoutASequenceLengthAreBadInput) {
+  const fs::path dir = fs::temp_directory_path() / "hcpf_metrics_empty_files";
+  fs::remove_all(dir);
+  WriteText(dir / "gt" / "gt.txt", "");
+  WriteText(dir / "hyp.txt", "");
+  ScoreFilesOptions o;
+  o.gt_path = (dir / "gt" / "gt.txt").string();
+  o.hyp_path = (dir / "hyp.txt").string();
+  try {
+    ScoreFiles(o);
+    ADD_FAILURE() << "two empty files without seqinfo.ini were scored";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("no seqinfo.ini, and no row in either file"),
+              std::string::npos)
+        << e.what();
+  }
+  WriteText(dir / "seqinfo.ini", "[Sequence]\nseqLength=4\n");
+  EXPECT_EQ(ScoreFiles(o).summary.num_frames, 4);
+}
+
 TEST(Report, RunMetricsJsonHasEveryFamily) {
   RunMetricsInput in;
   in.sequence.frames.resize(2);

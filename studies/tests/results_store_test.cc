@@ -255,6 +255,14 @@ TEST(MetricCatalogue, EveryEntryIsReadFromARealRunFolder) {
   frame.truth = {{ObjectId{1}, BoxPx{0, 0, 10, 10}, 1.0}};
   frame.detections = {{.box = BoxPx{0, 0, 10, 10}}};
   with_detection.detection = metrics::ScoreDetections(std::vector<metrics::DetectionFrame>{frame});
+  // The base scene's two targets never meet, so its hijack rate is of no
+  // encounter (null); the rate is checked on filter metrics with two
+  // encounters, one hijacked.
+  metrics::FilterMetrics filters;
+  filters.encounters.resize(2);
+  filters.hijacked_encounters = 1;
+  filters.hijack_rate = 0.5;
+  with_detection.filters = filters;
   const fs::path rendered = dir / "rendered";
   fs::create_directories(rendered);
   std::ofstream(rendered / "metrics.json") << metrics::RunMetricsToJson(with_detection);
@@ -268,6 +276,9 @@ TEST(MetricCatalogue, EveryEntryIsReadFromARealRunFolder) {
       // Ratios are 1; the size is the target's sqrt(10 x 10) = 10 px.
       EXPECT_EQ(d.at(name), name == "det_size_px" ? 10.0 : 1.0)
           << name << " (" << c.file << c.pointer << ")";
+    } else if (name == "hijack_rate") {
+      EXPECT_TRUE(std::isnan(m.at(name))) << name << ": the base scene has no encounter";
+      EXPECT_EQ(d.at(name), 0.5) << name << " (" << c.file << c.pointer << ")";
     } else if (name.rfind("reacqui", 0) == 0) {
       EXPECT_TRUE(std::isnan(m.at(name))) << name << ": the run does not re-acquire";
     } else {

@@ -119,11 +119,11 @@ struct FilterMetrics {
   std::vector<Encounter> encounters;
   int64_t hijacked_encounters = 0;
   int64_t swaps = 0;
-  double hijack_rate = 0.0;                // hijacked encounters / encounters (0 when none)
+  double hijack_rate = 0.0;                // hijacked encounters / encounters (NaN: none)
   std::vector<double> hijacked_fraction;   // per frame: HIJACKED / scored filters in that frame
   double hijacked_fraction_overall = 0.0;  // HIJACKED / scored over all frames (NaN: none)
   std::vector<VisibilityBin> da_by_visibility;
-  double mean_mass_on_other = 0.0;  // over filter-frames with a cloud
+  double mean_mass_on_other = 0.0;  // over filter-frames with a cloud (NaN: none)
   int64_t frames_with_cloud = 0;
   std::optional<Reacquisitions> reacquisitions;  // when FilterSequence::reacquired is set
 };

@@ -49,7 +49,11 @@ ScoredSequence ScoreFiles(const ScoreFilesOptions& options);
 // TrackEval's folder layout under `root`:
 //   gt/mot_challenge/<bench>/<seq>/gt/gt.txt and <seq>/seqinfo.ini
 //   trackers/mot_challenge/<bench>/<tracker>/data/<seq>.txt
-// One result per (bench, tracker): every sequence (sorted by name) plus COMBINED.
+// The sequences are those of gt/mot_challenge/seqmaps/<bench>.txt in its
+// order, as TrackEval reads a seqmap; with no seqmap, every folder of <bench>
+// (sorted by name). One result per (bench, tracker): every sequence plus
+// COMBINED. A benchmark without a trackers folder is skipped with a warning;
+// one with no sequence is an InputError.
 // The benchmark rules come from <bench>'s prefix (MOT15 / MOT16, MOT17, MOT20)
 // unless `benchmark` is not kAuto.
 struct TrackEvalResult {

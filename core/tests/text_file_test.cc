@@ -30,8 +30,8 @@ std::string Refusal(const std::vector<FileToWrite>& writes, const std::vector<Fi
 // files they will write. Inputs are compared as files, not as names: a
 // symbolic or a hard link to an input is that input.
 TEST(CheckFilesToWrite, RefusesWhatWouldFailLateOrDestroyAnInput) {
-  const fs::path dir = fs::temp_directory_path() / ("hcpf_core_files_to_write_" +
-                                                    std::to_string(::getpid()));
+  const fs::path dir =
+      fs::temp_directory_path() / ("hcpf_core_files_to_write_" + std::to_string(::getpid()));
   fs::remove_all(dir);
   fs::create_directories(dir / "reads" / "sub");
   const std::string gt = (dir / "gt.txt").string();
@@ -42,8 +42,9 @@ TEST(CheckFilesToWrite, RefusesWhatWouldFailLateOrDestroyAnInput) {
 
   EXPECT_EQ(Refusal({{(dir / "out.json").string(), "--json"}}, reads), "");
   EXPECT_EQ(Refusal({}, reads), "");
-  EXPECT_NE(Refusal({{dir.string(), "--json"}}, reads).find("--json: expected a file to write, "
-                                                            "found a folder"),
+  EXPECT_NE(Refusal({{dir.string(), "--json"}}, reads)
+                .find("--json: expected a file to write, "
+                      "found a folder"),
             std::string::npos);
   EXPECT_NE(Refusal({{(dir / "no" / "out.json").string(), "--json"}}, reads)
                 .find("expected a file in an existing folder, found no folder"),

@@ -281,10 +281,26 @@ void ExternalTracker::Finish() {
   const auto deadline = Deadline();
   Send("{\"type\":\"end\"}\n", deadline, "the end message");
   CloseFd(in_fd_);
-  // Its stdout to its end: anything more than blank lines is an error.
+  // Its stdout to its end: anything more than blank lines is an error. Read
+  // in short slices, reaping between them: once the program has ended,
+  // TryReap kills the rest of its process group, so a child it left holding
+  // the pipe (a shell script's background job) cannot keep the run waiting
+  // until timeout_s and then be reported as a program that did not exit.
   while (out_fd_ >= 0) {
-    if (!Pump(deadline))
-      Fail(fmt::format("no exit within timeout_s = {} s of the end message", timeout_s_));
+    const auto slice = std::min(deadline, Clock::now() + std::chrono::milliseconds(50));
+    if (Pump(slice)) continue;
+    if (Clock::now() < deadline) {
+      TryReap();
+      continue;
+    }
+    if (reaped_) {
+      Fail(
+          fmt::format("its standard output still open timeout_s = {} s after the end message, "
+                      "though the program {}: a process it started outside its process group "
+                      "(setsid, a daemon) holds it",
+                      timeout_s_, ExitText()));
+    }
+    Fail(fmt::format("no exit within timeout_s = {} s of the end message", timeout_s_));
   }
   const size_t text = out_buf_.find_first_not_of(" \t\r\n");
   if (text != std::string::npos) {

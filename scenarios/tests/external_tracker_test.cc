@@ -274,11 +274,37 @@ INSTANTIATE_TEST_SUITE_P(
                    {kBad, "control_name"},
                    {"a malformed ready reply to the hello (\"name\" holds the control "
                     "character U+001B)"}},
+        // A child started at the end holding stdout, outside the program's
+        // process group: the message says the program exited and what holds
+        // the pipe (it said "no exit within timeout_s").
+        BadProgram{"LeavesADetachedChildHoldingStdout",
+                   {kBad, "leaves_detached_child"},
+                   {"at the end",
+                    "its standard output still open timeout_s = 1 s after the end "
+                    "message, though the program exited with status 0"}},
         BadProgram{"NeverReads",
                    {"sleep"},
                    {"no reply within timeout_s = 1 s", "the ready reply to the hello",
                     "stderr: (nothing)"}}),
     [](const ::testing::TestParamInfo<BadProgram>& info) { return info.param.name; });
+
+// A program that leaves a child holding its stdout at the end (in its
+// process group, as a shell script's background job is) ends its run as soon
+// as it exits: the child goes with the group.
+TEST(ExternalTrackerRun, AChildLeftHoldingStdoutDoesNotHoldTheRun) {
+  const fs::path dir = FreshDir("ext-leaves-child");
+  Scenario s = LoadScenarioText(kMinimal, "ext.yaml",
+                                {ParseOverride("tracker.type=external"),
+                                 ParseOverride("tracker.command=[\"" + kBad + "\", leaves_child]"),
+                                 ParseOverride("frames=3"), ParseOverride("tracker.timeout_s=20")});
+  RunOptions options;
+  options.out_dir = (dir / "run").string();
+  options.show_progress = false;
+  // Before, the run waited out timeout_s and threw "no exit within timeout_s".
+  const RunSummary summary = RunScenario(s, options);
+  EXPECT_EQ(summary.frames, 3);
+  fs::remove_all(dir);
+}
 
 // A program that writes 1 MiB to stderr per frame (16 times the pipe's
 // buffer) is read while it writes, and its run finishes.

@@ -14,6 +14,10 @@ chatty: writes 1 MiB to stderr per frame, and answers every frame correctly
 images: answers every frame with no tracks after checking that the frame's
   image is a PNG file that exists (exits 4 when it is not, 5 when the hello
   promised images and a frame has none).
+leaves_child: answers every frame with no tracks; at the end message starts
+  a child that holds its stdout for 100 s, then exits 0.
+leaves_detached_child: the same, the child in a session of its own (outside
+  the process group, so hcpf cannot end it) for 3 s.
 PIDFILE: where to write this process's id (its process group's id).
 """
 import json
@@ -51,6 +55,10 @@ for line in sys.stdin:
             send({"type": "ready", "protocol": 1})
         continue
     if message["type"] == "end":
+        if mode == "leaves_child":
+            subprocess.Popen(["sleep", "100"])
+        elif mode == "leaves_detached_child":
+            subprocess.Popen(["sleep", "3"], start_new_session=True)
         sys.exit(0)
     frame = message["frame"]
     if mode == "garbage":
@@ -73,6 +81,8 @@ for line in sys.stdin:
                 if f.read(8) != b"\x89PNG\r\n\x1a\n":
                     sys.exit(4)
             print(f"bad_tracker: frame {frame} image {path}", file=sys.stderr, flush=True)
+        send({"type": "tracks", "frame": frame, "tracks": []})
+    elif mode in ("leaves_child", "leaves_detached_child"):
         send({"type": "tracks", "frame": frame, "tracks": []})
     elif mode == "chatty":
         sys.stderr.write(("x" * 1023 + "\n") * 1024)

@@ -139,6 +139,13 @@ struct RowValues {
   int64_t exact_id = 0;
 };
 
+// Whether a frame field is written as TrackEval compares it: the decimal
+// digits of a positive integer, no sign, no leading zero.
+inline bool IsFrameText(std::string_view f) {
+  if (f.empty() || f.front() < '1' || f.front() > '9') return false;
+  return std::all_of(f.begin(), f.end(), [](char c) { return c >= '0' && c <= '9'; });
+}
+
 // General path for one trimmed, non-empty line: splits it (commas or
 // whitespace), reports column-count and number errors with file:line:column.
 void ParseLineGeneral(std::string_view line, const std::string& path, int line_no, MotFileKind kind,
@@ -155,6 +162,16 @@ void ParseLineGeneral(std::string_view line, const std::string& path, int line_n
                      fmt::format("{} columns", count));
   }
   for (int c = 0; c < count; ++c) out->v[c] = ParseNumber(fields[c], path, line_no, c + 1, kind);
+  // TrackEval keys its frames by the text of column 1 and refuses any key
+  // other than "1".."seqLength" ("invalid timesteps"): "4.0", "04", "+4" or
+  // "4e0" is refused there, so here too. (A number that is no frame at all,
+  // 0 or past seqLength, gets the range message of AppendRow.)
+  if (!IsFrameText(fields[0]) && out->v[0] >= 1.0 && out->v[0] <= 1e9) {
+    throw InputError(SourceLocation{path, line_no, 1, "column 1 (frame)"},
+                     "a frame written as TrackEval reads it: decimal digits without a sign, "
+                     "fraction, exponent or leading zero",
+                     fmt::format("\"{}\"", fields[0]));
+  }
   out->count = count;
   // Integer literals are taken exactly (ids above 2^53 stay distinct).
   const std::string_view f = fields[1];
@@ -291,6 +308,8 @@ bool ParseLineFast(const char* p, const char* end, RowValues* out) {
     double& value = out->v[count];
     ShortDecimal d;
     const char* ptr = ParseShortDecimal(p, end, &d);
+    // A frame not written as plain digits goes to the general path (its error).
+    if (count == 0 && (ptr == nullptr || !d.is_integer || *p < '1' || *p > '9')) return false;
     if (ptr != nullptr) {
       value = d.value;
       if (count == 1) {
@@ -338,7 +357,9 @@ bool ParseLineFast(const char* p, const char* end, RowValues* out) {
 [[noreturn]] [[gnu::noinline]] void ThrowBadClass(const std::string& path, int line_no,
                                                   double col8) {
   throw InputError(SourceLocation{path, line_no, 8, "column 8"},
-                   "-1 or 1 (only the pedestrian class is evaluated)", fmt::format("{}", col8));
+                   "a class of at most 1 (only the pedestrian class is evaluated; TrackEval "
+                   "truncates the class to an integer and refuses any above 1)",
+                   fmt::format("{}", col8));
 }
 
 // The per-row checks and conversion shared by both paths.
@@ -346,7 +367,8 @@ inline void AppendRow(const RowValues& r, const std::string& path, int line_no, 
                       std::optional<int> seq_length, MotFile* file) {
   const double* v = r.v;
   const int count = r.count;
-  // TrackEval reads frame and id as int(float(text)): truncation.
+  // The frame is an integer here (its text checked by the parsers); TrackEval
+  // reads the id as int(float(text)): truncation.
   if (v[0] < 1.0 || (seq_length && std::trunc(v[0]) > *seq_length) || v[0] > 1e9) [[unlikely]] {
     ThrowBadFrame(path, line_no, seq_length, v[0]);
   }
@@ -354,7 +376,9 @@ inline void AppendRow(const RowValues& r, const std::string& path, int line_no, 
   // only a non-integer spelling ("1e3", "7.0") goes through the double.
   if (!r.has_exact_id && !(std::fabs(v[1]) <= 9.0e18)) [[unlikely]]
     ThrowBadId(path, line_no, v[1]);
-  if (kind == MotFileKind::kTracks && count >= 8 && v[7] > 1.0) [[unlikely]] {
+  // TrackEval: classes astype(int) (truncation), refused when above 1; so
+  // 1.5 is class 1, and 2 is refused.
+  if (kind == MotFileKind::kTracks && count >= 8 && v[7] >= 2.0) [[unlikely]] {
     ThrowBadClass(path, line_no, v[7]);
   }
   MotRow& row = file->rows.emplace_back();

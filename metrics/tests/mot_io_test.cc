@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 #include <sys/stat.h>
 
+#include <algorithm>
 #include <cstring>
 #include <filesystem>
 #include <limits>
@@ -76,6 +77,16 @@ TEST(MotIo, AutoBenchmarkNeedsOneColumnCount) {
   EXPECT_EQ(ResolveBenchmark(Benchmark::kMot15, f), Benchmark::kMot15);
 }
 
+// The error message of ParseMotText on `text`, or "" when it parses.
+std::string ErrorOf(const std::string& text, MotFileKind kind, std::optional<int> seq_length) {
+  try {
+    ParseMotText(text, "f.txt", kind, seq_length);
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  return "";
+}
+
 TEST(MotIo, BadRowsNameFileLineAndColumn) {
   ExpectInputError("1,1,1,1,1,1\n1,2,x,1,1,1\n", MotFileKind::kTracks, 5,
                    {"f.txt:2:3", "column 3 (x)", "a finite number", "\"x\""});
@@ -86,16 +97,39 @@ TEST(MotIo, BadRowsNameFileLineAndColumn) {
   ExpectInputError("1,1,1,1,1,1\n2,1,1,1,1,1\n1,1,5,5,1,1\n", MotFileKind::kTracks, 5,
                    {"f.txt:3:2", "unique within frame 1", "first on line 1"});
   ExpectInputError("1,1,1,1,1,1,0.9,2,-1,-1\n", MotFileKind::kTracks, 5, {"f.txt:1:8", "found 2"});
+  // A tracker class is truncated as TrackEval truncates it (astype(int)):
+  // 1.5 and 1.99 are class 1 and accepted, as are 0 and -7; 2.0 is refused.
+  EXPECT_EQ(ErrorOf("1,1,1,1,1,1,0.9,1.5,-1,-1\n2,1,1,1,1,1,0.9,1.99,-1,-1\n"
+                    "3,1,1,1,1,1,0.9,0,-1,-1\n4,1,1,1,1,1,0.9,-7,-1,-1\n",
+                    MotFileKind::kTracks, 5),
+            "");
+  ExpectInputError("1,1,1,1,1,1,0.9,2.0,-1,-1\n", MotFileKind::kTracks, 5,
+                   {"f.txt:1:8", "a class of at most 1", "found 2"});
 }
 
-// The error message of ParseMotText on `text`, or "" when it parses.
-std::string ErrorOf(const std::string& text, MotFileKind kind, std::optional<int> seq_length) {
-  try {
-    ParseMotText(text, "f.txt", kind, seq_length);
-  } catch (const InputError& e) {
-    return e.what();
+// TrackEval keys frames by the text of column 1 and refuses a key other than
+// "1".."seqLength" (MotChallenge2DBox._load_raw_file: "invalid timesteps"),
+// so a frame written "4.0", "4.5", "04", "+4" or "4e0" is refused at its line
+// (it was read as frame 4), by the fast path and the general one alike (the
+// second file is whitespace separated); a plain "4" with blanks around it is
+// read.
+TEST(MotIo, FramesAreWrittenAsTrackEvalComparesThem) {
+  for (const char* frame : {"4.0", "4.5", "04", "+4", "4e0", "4."}) {
+    for (const char* sep : {",", " "}) {
+      std::string row = std::string("1,1,1,1,1,1\n") + frame + ",2,1,1,1,1\n";
+      if (std::string(sep) == " ") std::replace(row.begin(), row.end(), ',', ' ');
+      const std::string e = ErrorOf(row, MotFileKind::kTracks, 5);
+      EXPECT_NE(e.find("f.txt:2:1: column 1 (frame): expected a frame written as TrackEval reads "
+                       "it"),
+                std::string::npos)
+          << frame << " sep '" << sep << "': " << e;
+      EXPECT_NE(e.find(std::string("found \"") + frame + "\""), std::string::npos) << e;
+    }
   }
-  return "";
+  EXPECT_EQ(ErrorOf("  4 ,2,1,1,1,1\n10,3,1,1,1,1\n", MotFileKind::kTracks, 10), "");
+  // Out of range keeps its own message.
+  EXPECT_NE(ErrorOf("0,1,1,1,1,1\n", MotFileKind::kTracks, 5).find("expected a frame in 1..5"),
+            std::string::npos);
 }
 
 // Unusual but valid spellings, worked out by hand: blanks and tabs around fields,

@@ -633,35 +633,60 @@ MotFile ReadMotFile(const std::string& path, MotFileKind kind, std::optional<int
 }
 
 SeqInfo ParseSeqInfo(const std::string& text, const std::string& path) {
+  // Read as TrackEval's configparser reads it: option names without regard
+  // to case (seqlength is seqLength), '=' or ':' between name and value, a
+  // section or an option given twice refused, and no option before the first
+  // section header. Section names keep their case ([sequence] is another
+  // section, which TrackEval does not read).
   SeqInfo info;
   bool have_length = false;
   bool in_sequence = false;
-  std::map<std::string, int> first_line;  // key -> line
+  bool any_section = false;
+  std::map<std::string, int> first_line;  // lower-case key -> line
+  std::map<std::string, int> sections;    // section name -> line
   std::string_view rest(text);
   int line_no = 0;
+  const auto lower = [](std::string_view v) {
+    std::string out(v);
+    for (char& c : out) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+    return out;
+  };
   while (!rest.empty()) {
     const size_t nl = rest.find('\n');
     std::string_view line = Trim(rest.substr(0, nl));
     rest = nl == std::string_view::npos ? std::string_view() : rest.substr(nl + 1);
     ++line_no;
     if (line.empty() || line.front() == ';' || line.front() == '#') continue;
-    if (line.front() == '[') {
-      in_sequence = line == "[Sequence]";
+    if (line.front() == '[' && line.find(']') != std::string_view::npos) {
+      const std::string name(line.substr(1, line.find(']') - 1));
+      if (const auto [at, fresh] = sections.emplace(name, line_no); !fresh) {
+        throw InputError(SourceLocation{path, line_no, 0, {}}, "each section once",
+                         fmt::format("[{}] again (first at line {})", name, at->second));
+      }
+      in_sequence = name == "Sequence";
+      any_section = true;
       continue;
     }
+    if (!any_section) {
+      throw InputError(SourceLocation{path, line_no, 0, {}},
+                       "a section header ([Sequence]) before the first key",
+                       fmt::format("\"{}\"", line));
+    }
     if (!in_sequence) continue;
-    const size_t eq = line.find('=');
+    const size_t eq = line.find_first_of("=:");
     if (eq == std::string_view::npos) {
       throw InputError(SourceLocation{path, line_no, 0, {}}, "key=value",
                        fmt::format("\"{}\"", line));
     }
     const std::string key(Trim(line.substr(0, eq)));
     const std::string_view value = Trim(line.substr(eq + 1));
-    // TrackEval's configparser refuses a key given twice; taking the last
-    // silently would score another sequence length than the reader meant.
-    if (const auto [at, fresh] = first_line.emplace(key, line_no); !fresh) {
+    const std::string name = lower(key);
+    // TrackEval's configparser refuses a key given twice (in any case);
+    // taking the last silently would score another sequence length than the
+    // reader meant.
+    if (const auto [at, fresh] = first_line.emplace(name, line_no); !fresh) {
       throw InputError(SourceLocation{path, line_no, 0, "Sequence." + key},
-                       "each key once in [Sequence]",
+                       "each key once in [Sequence] (names without regard to case)",
                        fmt::format("{} again (first at line {})", key, at->second));
     }
     auto parse_int = [&](int minimum) {
@@ -674,27 +699,27 @@ SeqInfo ParseSeqInfo(const std::string& text, const std::string& path) {
       }
       return out;
     };
-    if (key == "seqLength") {
+    if (name == "seqlength") {
       info.seq_length = parse_int(1);
       have_length = true;
-    } else if (key == "name") {
+    } else if (name == "name") {
       info.name = std::string(value);
-    } else if (key == "imWidth") {
+    } else if (name == "imwidth") {
       info.im_width = parse_int(0);
-    } else if (key == "imHeight") {
+    } else if (name == "imheight") {
       info.im_height = parse_int(0);
-    } else if (key == "frameRate") {
+    } else if (name == "framerate") {
       double out = 0.0;
       const auto [ptr, ec] = std::from_chars(value.data(), value.data() + value.size(), out);
       if (value.empty() || ec != std::errc() || ptr != value.data() + value.size() ||
           !(out > 0.0)) {
-        throw InputError(SourceLocation{path, line_no, 0, "Sequence.frameRate"}, "a number > 0",
+        throw InputError(SourceLocation{path, line_no, 0, "Sequence." + key}, "a number > 0",
                          fmt::format("\"{}\"", value));
       }
       info.frame_rate = out;
-    } else if (key == "imDir") {
+    } else if (name == "imdir") {
       info.im_dir = std::string(value);
-    } else if (key == "imExt") {
+    } else if (name == "imext") {
       info.im_ext = std::string(value);
     }
   }

@@ -340,10 +340,41 @@ TEST(MotIo, SeqInfo) {
     ADD_FAILURE();
   } catch (const InputError& e) {
     EXPECT_NE(std::string(e.what()).find("s.ini:4: Sequence.seqLength: expected each key once in "
-                                         "[Sequence], found seqLength again (first at line 2)"),
+                                         "[Sequence] (names without regard to case), found "
+                                         "seqLength again (first at line 2)"),
               std::string::npos)
         << e.what();
   }
+}
+
+// seqinfo.ini as TrackEval's configparser reads it: option names without
+// regard to case, ':' as well as '=', a section or option given twice and
+// an option before any section refused; [sequence] is another section.
+TEST(MotIo, SeqInfoIsReadAsConfigparserReadsIt) {
+  EXPECT_EQ(ParseSeqInfo("[Sequence]\nSEQLENGTH=7\n", "s.ini").seq_length, 7);
+  EXPECT_EQ(ParseSeqInfo("; c\n[Other]\nx=1\n[Sequence]\nseqLength : 9\nframerate: 30\n", "s.ini")
+                .seq_length,
+            9);
+  const auto error = [](const std::string& text) {
+    try {
+      ParseSeqInfo(text, "s.ini");
+    } catch (const InputError& e) {
+      return std::string(e.what());
+    }
+    return std::string();
+  };
+  EXPECT_NE(error("[Sequence]\nseqLength=7\nseqlength=8\n")
+                .find("s.ini:3: Sequence.seqlength: expected each key once"),
+            std::string::npos);
+  EXPECT_NE(error("[Sequence]\nseqLength=7\n[Sequence]\nname=x\n")
+                .find("s.ini:3: expected each section once, found [Sequence] again (first at line "
+                      "1)"),
+            std::string::npos);
+  EXPECT_NE(error("seqLength=7\n[Sequence]\nseqLength=7\n")
+                .find("s.ini:1: expected a section header ([Sequence]) before the first key"),
+            std::string::npos);
+  EXPECT_NE(error("[sequence]\nseqLength=7\n").find("expected a [Sequence] section"),
+            std::string::npos);
 }
 
 // MOT17 preprocessing, worked by hand on one frame:

@@ -279,33 +279,15 @@ void ResultsStore::CheckStoredMeta() const {
            fmt::format("\"{}\"", key));
     }
   }
+  // The rules the sweep file's report: block is held to (CheckReportRules).
   const ReportSpec& report = meta_.report;
-  const auto is_swept = [&](const std::string& key) {
-    return std::find(swept.begin(), swept.end(), key) != swept.end();
-  };
-  for (const auto& [name, key] : {std::pair<const char*, const std::string*>{"x", &report.x},
-                                  {"series", &report.series},
-                                  {"panels", &report.panels}}) {
-    if (!key->empty() && !is_swept(*key)) {
-      fail(std::string("report.") + name, "a swept key", fmt::format("\"{}\"", *key));
-    }
-  }
-  for (const std::string& key : report.pool) {
-    if (!is_swept(key)) fail("report.pool", "swept keys", fmt::format("\"{}\"", key));
-  }
-  const std::vector<std::string>& known = MetricNames();
-  const auto is_metric = [&](const std::string& name) {
-    return std::find(known.begin(), known.end(), name) != known.end();
-  };
-  if (report.y.empty()) fail("report.y", "a non-empty list of metric names", "an empty list");
-  seen.clear();
-  for (const std::string& name : report.y) {
-    if (!is_metric(name) || !seen.insert(name).second) {
-      fail("report.y", "metric names of this hcpf, each listed once", fmt::format("\"{}\"", name));
-    }
-  }
-  if (!report.x_metric.empty() && !is_metric(report.x_metric)) {
-    fail("report.x_metric", "a metric name of this hcpf", fmt::format("\"{}\"", report.x_metric));
+  if (const auto broken = CheckReportRules(report, swept)) {
+    const std::string key = broken->item >= 0
+                                ? fmt::format("report.{}[{}]", broken->entry, broken->item)
+                                : "report." + broken->entry;
+    fail(key, broken->expected,
+         broken->entry == "y" && broken->item < 0 ? "an empty list"
+                                                  : fmt::format("\"{}\"", broken->value));
   }
 }
 

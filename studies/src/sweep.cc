@@ -31,6 +31,61 @@ using config::YamlReader;
 
 namespace fs = std::filesystem;
 
+std::optional<ReportRuleBreak> CheckReportRules(const ReportSpec& report,
+                                                const std::vector<std::string>& swept) {
+  const auto is_swept = [&](const std::string& key) {
+    return std::find(swept.begin(), swept.end(), key) != swept.end();
+  };
+  const std::vector<std::string>& metrics = MetricNames();
+  const auto is_metric = [&](const std::string& name) {
+    return std::find(metrics.begin(), metrics.end(), name) != metrics.end();
+  };
+  const std::string swept_list = fmt::format("{}", fmt::join(swept, ", "));
+  const std::string a_swept_key =
+      swept.empty() ? "nothing (no key is swept)" : "a swept key (" + swept_list + ")";
+  const std::string a_metric = fmt::format("a metric name ({})", fmt::join(metrics, ", "));
+  if (!report.x.empty() && !is_swept(report.x))
+    return ReportRuleBreak{"x", -1, report.x, a_swept_key};
+  if (!report.series.empty() && !is_swept(report.series))
+    return ReportRuleBreak{"series", -1, report.series, a_swept_key};
+  if (!report.x_metric.empty() && !is_metric(report.x_metric))
+    return ReportRuleBreak{"x_metric", -1, report.x_metric, a_metric};
+  std::set<std::string> seen;
+  for (size_t i = 0; i < report.y.size(); ++i) {
+    if (!is_metric(report.y[i]))
+      return ReportRuleBreak{"y", static_cast<int>(i), report.y[i], a_metric};
+    // Listed twice, a metric was plotted twice (a second bad-input audit).
+    if (!seen.insert(report.y[i]).second) {
+      return ReportRuleBreak{"y", static_cast<int>(i), report.y[i],
+                             "a metric listed once in report.y"};
+    }
+  }
+  if (report.y.empty()) return ReportRuleBreak{"y", -1, "", "a non-empty list of metric names"};
+  if (!report.series.empty() && report.series == report.x)
+    return ReportRuleBreak{"series", -1, report.series, "a swept key other than report.x"};
+  seen.clear();
+  for (size_t i = 0; i < report.pool.size(); ++i) {
+    const std::string& key = report.pool[i];
+    if (!is_swept(key) || key == report.x || key == report.series || !seen.insert(key).second) {
+      return ReportRuleBreak{
+          "pool", static_cast<int>(i), key,
+          "a swept key other than report.x and report.series, listed once (" + swept_list + ")"};
+    }
+  }
+  if (!report.panels.empty()) {
+    if (!is_swept(report.panels)) return ReportRuleBreak{"panels", -1, report.panels, a_swept_key};
+    if (report.panels == report.x || report.panels == report.series || seen.count(report.panels)) {
+      return ReportRuleBreak{"panels", -1, report.panels,
+                             "a swept key other than report.x, report.series and the pooled keys"};
+    }
+  }
+  if (!report.reference.empty() && report.series.empty()) {
+    return ReportRuleBreak{"reference", -1, report.reference,
+                           "no report.reference without report.series (it names a series value)"};
+  }
+  return std::nullopt;
+}
+
 namespace {
 
 std::string ResolveBase(const YamlReader& where, const std::string& base, const std::string& dir) {
@@ -150,98 +205,63 @@ SweepSpec ReadSweep(YAML::Node root, const std::string& file, const std::string&
   spec.report.x = swept.empty() ? "" : swept.front();
   if (auto report = r.Optional("report")) {
     report->ExpectMap();
-    const auto swept_key = [&](const std::string& key, const std::string& fallback) {
-      const std::string value = report->String(key, fallback);
-      if (!value.empty() && std::find(swept.begin(), swept.end(), value) == swept.end()) {
-        report->Child(key).Fail(
-            swept.empty() ? "nothing (no key is swept)"
-                          : "a swept key (" + fmt::format("{}", fmt::join(swept, ", ")) + ")",
-            ClosestMatch(value, swept).empty()
-                ? ""
-                : "did you mean \"" + ClosestMatch(value, swept) + "\"?");
-      }
-      return value;
+    // Read the whole block, keeping where each entry and item is, then hold
+    // it to the rules every report is held to (CheckReportRules).
+    const auto scalar = [](const YamlReader& item) {
+      return item.node().IsScalar() ? item.node().Scalar() : std::string();
     };
-    spec.report.x = swept_key("x", spec.report.x);
-    spec.report.series = swept_key("series", "");
-    const auto metric_name = [](const YamlReader& item) {
-      const std::string name = item.node().IsScalar() ? item.node().Scalar() : "";
-      const auto& known = MetricNames();
-      if (std::find(known.begin(), known.end(), name) == known.end()) {
-        const std::string close = ClosestMatch(name, known);
-        item.Fail("a metric name (" + fmt::format("{}", fmt::join(known, ", ")) + ")",
-                  close.empty() ? "" : "did you mean \"" + close + "\"?");
-      }
-      return name;
-    };
-    if (auto xm = report->Optional("x_metric")) spec.report.x_metric = metric_name(*xm);
-    if (auto y = report->Optional("y")) {
+    spec.report.x = report->String("x", spec.report.x);
+    spec.report.series = report->String("series", "");
+    if (auto xm = report->Optional("x_metric")) spec.report.x_metric = scalar(*xm);
+    std::vector<YamlReader> y_items;
+    std::optional<YamlReader> y = report->Optional("y");
+    if (y) {
       spec.report.y.clear();
-      std::vector<YamlReader> items;
       if (y->node().IsSequence()) {
-        items = y->Items();
+        y_items = y->Items();
       } else {
-        items.push_back(*y);
+        y_items.push_back(*y);
       }
-      for (const YamlReader& item : items) {
-        const std::string name = metric_name(item);
-        // Listed twice, a metric was plotted twice (a second bad-input audit).
-        if (std::find(spec.report.y.begin(), spec.report.y.end(), name) != spec.report.y.end()) {
-          item.Fail("a metric listed once in report.y");
-        }
-        spec.report.y.push_back(name);
-      }
-      if (spec.report.y.empty()) y->Fail("a non-empty list of metric names");
+      for (const YamlReader& item : y_items) spec.report.y.push_back(scalar(item));
     }
-    if (!spec.report.series.empty() && spec.report.series == spec.report.x) {
-      report->Child("series").Fail("a swept key other than report.x");
+    std::vector<YamlReader> pool_items;
+    if (auto pool = report->Optional("pool")) pool_items = pool->Items();
+    for (const YamlReader& item : pool_items) spec.report.pool.push_back(scalar(item));
+    spec.report.panels = report->String("panels", "");
+    std::optional<YamlReader> reference = report->Optional("reference");
+    if (reference) spec.report.reference = scalar(*reference);
+    if (const auto broken = CheckReportRules(spec.report, swept)) {
+      const YamlReader at = broken->item >= 0
+                                ? (broken->entry == "y" ? y_items : pool_items)[broken->item]
+                            : broken->entry == "y" ? *y
+                                                   : report->Child(broken->entry);
+      // The names the value that broke it may have meant.
+      const std::string& value = broken->value;
+      const bool metric = broken->entry == "y" || broken->entry == "x_metric";
+      const std::string close = ClosestMatch(value, metric ? MetricNames() : swept);
+      const bool known = metric ? std::find(MetricNames().begin(), MetricNames().end(), value) !=
+                                      MetricNames().end()
+                                : std::find(swept.begin(), swept.end(), value) != swept.end();
+      at.Fail(broken->expected, close.empty() || known ? "" : "did you mean \"" + close + "\"?");
     }
-    if (auto pool = report->Optional("pool")) {
-      for (const YamlReader& item : pool->Items()) {
-        const std::string key = item.node().IsScalar() ? item.node().Scalar() : "";
-        const bool swept_key = std::find(swept.begin(), swept.end(), key) != swept.end();
-        const bool twice = std::find(spec.report.pool.begin(), spec.report.pool.end(), key) !=
-                           spec.report.pool.end();
-        if (!swept_key || key == spec.report.x || key == spec.report.series || twice) {
-          item.Fail("a swept key other than report.x and report.series, listed once (" +
-                        fmt::format("{}", fmt::join(swept, ", ")) + ")",
-                    ClosestMatch(key, swept).empty() || swept_key
-                        ? ""
-                        : "did you mean \"" + ClosestMatch(key, swept) + "\"?");
-        }
-        spec.report.pool.push_back(key);
-      }
-    }
-    if (report->Optional("panels")) {
-      const std::string key = swept_key("panels", "");
-      const bool pooled = std::find(spec.report.pool.begin(), spec.report.pool.end(), key) !=
-                          spec.report.pool.end();
-      if (key == spec.report.x || key == spec.report.series || pooled) {
-        report->Child("panels").Fail(
-            "a swept key other than report.x, report.series and the "
-            "pooled keys");
-      }
-      spec.report.panels = key;
-    }
-    if (auto reference = report->Optional("reference")) {
+    if (reference) {
       // A value of the series key, compared as the sweep file writes it.
       const SweepAxis* series = nullptr;
       for (const auto* axes : {&spec.grid, &spec.zip}) {
         for (const SweepAxis& a : *axes) {
-          if (!spec.report.series.empty() && a.key == spec.report.series) series = &a;
+          if (a.key == spec.report.series) series = &a;
         }
       }
       if (series == nullptr) {
         reference->Fail("no report.reference without report.series (it names a series value)");
       }
-      const std::string value = reference->node().IsScalar() ? reference->node().Scalar() : "";
+      const std::string& value = spec.report.reference;
       if (std::find(series->values.begin(), series->values.end(), value) == series->values.end()) {
         const std::string close = ClosestMatch(value, series->values);
         reference->Fail(fmt::format("a value of report.series {} ({})", spec.report.series,
                                     fmt::join(series->values, ", ")),
                         close.empty() ? "" : "did you mean \"" + close + "\"?");
       }
-      spec.report.reference = value;
     }
     report->Finish();
   }

@@ -126,15 +126,30 @@ TEST(ResultsStore, HandEditedMetaIsBadInputNamingTheEntry) {
       {"format", "hcpf-results/99",
        R"(meta.format: expected a results store of this hcpf sweep (format "hcpf-results/1"), found format "hcpf-results/99")"},
       {"report", report_of + R"(["idf1","nosuch"]})",
-       R"(meta.report.y: expected a results store of hcpf sweep: metric names of this hcpf, each listed once, found "nosuch")"},
-      {"report", report_of + R"(["idf1","idf1"]})", R"(found "idf1")"},
+       R"(meta.report.y[1]: expected a results store of hcpf sweep: a metric name (da_accuracy, )"},
+      {"report", report_of + R"(["idf1","idf1"]})",
+       R"(meta.report.y[1]: expected a results store of hcpf sweep: a metric listed once in report.y, found "idf1")"},
       {"report", report_of + "[]}",
        "meta.report.y: expected a results store of hcpf sweep: a non-empty list of metric names, "
        "found an empty list"},
       {"report", R"({"x":"nosuch","y":["idf1"]})",
-       R"(meta.report.x: expected a results store of hcpf sweep: a swept key, found "nosuch")"},
+       R"(meta.report.x: expected a results store of hcpf sweep: a swept key (tracker.particles, tracker.resampling.method), found "nosuch")"},
       {"report", R"({"x":"tracker.particles","series":"s","y":["idf1"]})", "meta.report.series"},
-      {"report", R"({"x":"tracker.particles","pool":["p"],"y":["idf1"]})", "meta.report.pool"},
+      {"report", R"({"x":"tracker.particles","pool":["p"],"y":["idf1"]})", "meta.report.pool[0]"},
+      // The rules of the sweep file's report: block that the store's check
+      // had not restated (one CheckReportRules serves both now).
+      {"report", R"({"x":"tracker.particles","series":"tracker.particles","y":["idf1"]})",
+       "meta.report.series: expected a results store of hcpf sweep: a swept key other than "
+       "report.x"},
+      {"report", report_of + R"(["idf1"],"pool":["tracker.particles"]})",
+       "meta.report.pool[0]: expected a results store of hcpf sweep: a swept key other than "
+       "report.x and report.series, listed once"},
+      {"report", report_of + R"(["idf1"],"panels":"tracker.resampling.method"})",
+       "meta.report.panels: expected a results store of hcpf sweep: a swept key other than "
+       "report.x, report.series and the pooled keys"},
+      {"report", R"({"x":"tracker.particles","reference":"charged","y":["idf1"]})",
+       "meta.report.reference: expected a results store of hcpf sweep: no report.reference "
+       "without report.series"},
       {"report", R"({"x":"tracker.particles","x_metric":"nosuch","y":["idf1"]})",
        "meta.report.x_metric"},
       {"swept_keys", R"(["tracker.particles","tracker.resampling.method","zzz"])",

@@ -56,6 +56,21 @@ struct ReportSpec {
   std::string reference;
 };
 
+// The first rule a report block breaks, or nullopt. `entry` is the report
+// key ("x", "series", "x_metric", "y", "pool", "panels", "reference"),
+// `item` the index in y or pool (-1: the entry itself), `value` the value
+// that broke it ("" for an empty y), `expected` what it should have been. The sweep file's report:
+// block (which adds locations and "did you mean" hints, and checks that reference is a value of the
+// series key) and a results store's stored meta are both held to these rules.
+struct ReportRuleBreak {
+  std::string entry;
+  int item = -1;
+  std::string value;
+  std::string expected;
+};
+std::optional<ReportRuleBreak> CheckReportRules(const ReportSpec& report,
+                                                const std::vector<std::string>& swept);
+
 // The grid key that sweeps the base scenario itself: its values are scenario
 // files (found like `base:`), and the runs of each grid combination start
 // from that file. Swept in `grid` only, and instead of a top-level `base:`.

@@ -308,15 +308,20 @@ bool ParseLineFast(const char* p, const char* end, RowValues* out) {
     double& value = out->v[count];
     ShortDecimal d;
     const char* ptr = ParseShortDecimal(p, end, &d);
-    // A frame not written as plain digits goes to the general path (its error).
-    if (count == 0 && (ptr == nullptr || !d.is_integer || *p < '1' || *p > '9')) return false;
+    // A frame not written as plain digits (no sign, point, exponent or
+    // leading zero) goes to the general path, which refuses it.
     if (ptr != nullptr) {
       value = d.value;
-      if (count == 1) {
-        out->has_exact_id = d.is_integer;
-        out->exact_id = d.integer;
+      if (count <= 1) [[unlikely]] {
+        if (count == 1) {
+          out->has_exact_id = d.is_integer;
+          out->exact_id = d.integer;
+        } else if (!d.is_integer || *p < '1' || *p > '9') {
+          return false;
+        }
       }
     } else {
+      if (count == 0) return false;
       const auto [fptr, ec] = std::from_chars(p, end, value);
       if (ec != std::errc() || !std::isfinite(value)) return false;
       ptr = fptr;

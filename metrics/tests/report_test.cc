@@ -22,6 +22,22 @@ void WriteText(const fs::path& path, const std::string& text) {
   std::ofstream(path) << text;
 }
 
+std::string ReadData(const std::string& name) {
+  std::ifstream in(ReportDataPath(name));
+  return std::string((std::istreambuf_iterator<char>(in)), {});
+}
+
+// The message of the InputError ScoreTrackEvalRoot throws for `root`, or ""
+// when it scores the folder.
+std::string RootError(const fs::path& root) {
+  try {
+    ScoreTrackEvalRoot(root.string());
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  return "";
+}
+
 // The switch micro-sequence (values by hand in micro_sequences_test.cc: MOTA 2/3,
 // IDSW 1) scored through the file entry point, table and JSON.
 TEST(Report, ScoreFilesTableAndJson) {
@@ -71,9 +87,8 @@ TEST(Report, ScoreFilesOfAHugeFrameNumberCostsWhatItsRowsCost) {
 TEST(Report, TrackEvalRootWithCombinedRow) {
   const fs::path root = fs::temp_directory_path() / "hcpf_metrics_trackeval_root";
   fs::remove_all(root);
-  std::ifstream gt_in(ReportDataPath("switch_gt.txt")), hyp_in(ReportDataPath("switch_hyp.txt"));
-  const std::string gt((std::istreambuf_iterator<char>(gt_in)), {});
-  const std::string hyp((std::istreambuf_iterator<char>(hyp_in)), {});
+  const std::string gt = ReadData("switch_gt.txt");
+  const std::string hyp = ReadData("switch_hyp.txt");
   for (const std::string seq : {"SEQ-A", "SEQ-B"}) {
     WriteText(root / "gt/mot_challenge/MOT15-train" / seq / "gt/gt.txt", gt);
     WriteText(root / "gt/mot_challenge/MOT15-train" / seq / "seqinfo.ini",
@@ -91,15 +106,8 @@ TEST(Report, TrackEvalRootWithCombinedRow) {
   // A sequence folder without its gt.txt is bad input (a bad-input audit
   // found it left out of the sequences and of COMBINED silently).
   fs::remove(root / "gt/mot_challenge/MOT15-train/SEQ-A/gt/gt.txt");
-  try {
-    ScoreTrackEvalRoot(root.string());
-    ADD_FAILURE() << "a sequence without gt.txt was accepted";
-  } catch (const InputError& e) {
-    EXPECT_NE(std::string(e.what()).find("SEQ-A/gt/gt.txt: expected the ground truth of "
-                                         "sequence SEQ-A"),
-              std::string::npos)
-        << e.what();
-  }
+  EXPECT_NE(RootError(root).find("SEQ-A/gt/gt.txt: expected the ground truth of sequence SEQ-A"),
+            std::string::npos);
   WriteText(root / "gt/mot_challenge/MOT15-train/SEQ-A/gt/gt.txt", gt);
   // A missing tracker file is bad input.
   fs::remove(root / "trackers/mot_challenge/MOT15-train/mine/data/SEQ-B.txt");
@@ -117,9 +125,8 @@ TEST(Report, TrackEvalRootWithCombinedRow) {
 TEST(Report, TrackEvalRootReadsTheSeqmapLikeTrackEval) {
   const fs::path root = fs::temp_directory_path() / "hcpf_metrics_trackeval_seqmap";
   fs::remove_all(root);
-  std::ifstream gt_in(ReportDataPath("switch_gt.txt")), hyp_in(ReportDataPath("switch_hyp.txt"));
-  const std::string gt((std::istreambuf_iterator<char>(gt_in)), {});
-  const std::string hyp((std::istreambuf_iterator<char>(hyp_in)), {});
+  const std::string gt = ReadData("switch_gt.txt");
+  const std::string hyp = ReadData("switch_hyp.txt");
   const fs::path bench = root / "gt/mot_challenge/MOT15-train";
   for (const std::string seq : {"SEQ-A", "SEQ-B", "SEQ-C"}) {
     WriteText(bench / seq / "gt/gt.txt", gt);
@@ -139,34 +146,20 @@ TEST(Report, TrackEvalRootReadsTheSeqmapLikeTrackEval) {
 
   // A seqmap sequence without a folder (or its gt.txt): an error naming the seqmap.
   WriteText(seqmap, "name\nSEQ-A\nSEQ-D\n");
-  try {
-    ScoreTrackEvalRoot(root.string());
-    ADD_FAILURE() << "a seqmap sequence without ground truth was accepted";
-  } catch (const InputError& e) {
-    EXPECT_NE(std::string(e.what()).find("SEQ-D/gt/gt.txt: expected the ground truth of sequence "
-                                         "SEQ-D (a sequence of the seqmap"),
-              std::string::npos)
-        << e.what();
-  }
+  EXPECT_NE(RootError(root).find("SEQ-D/gt/gt.txt: expected the ground truth of sequence SEQ-D "
+                                 "(a sequence of the seqmap"),
+            std::string::npos);
   // A name that would leave the benchmark's folder: refused at its line.
   WriteText(seqmap, "name\nSEQ-A\n../MOT15-train/SEQ-A\n");
-  try {
-    ScoreTrackEvalRoot(root.string());
-    ADD_FAILURE() << "a seqmap name with a slash was accepted";
-  } catch (const InputError& e) {
-    EXPECT_EQ(e.where().line, 3) << e.what();
-  }
+  EXPECT_NE(RootError(root).find("MOT15-train.txt:3:1: expected a sequence name"),
+            std::string::npos);
   // A seqmap naming no sequence: TrackEval's "No sequences are selected".
   WriteText(seqmap, "name\n");
-  try {
-    ScoreTrackEvalRoot(root.string());
-    ADD_FAILURE() << "an empty seqmap was accepted";
-  } catch (const InputError& e) {
-    EXPECT_NE(std::string(e.what()).find("a seqmap naming none"), std::string::npos) << e.what();
-  }
+  EXPECT_NE(RootError(root).find("a seqmap naming none"), std::string::npos);
   // No seqmap: every folder is a sequence, and SEQ-B's missing tracker file is an error.
   fs::remove(seqmap);
-  EXPECT_THROW(ScoreTrackEvalRoot(root.string()), InputError);
+  EXPECT_NE(RootError(root).find("SEQ-B.txt: expected tracker output for sequence SEQ-B"),
+            std::string::npos);
   // A benchmark with ground truth but no trackers folder is skipped (with a
   // warning), not an error: nothing of it to score.
   WriteText(seqmap, "name\nSEQ-A\n");

@@ -288,21 +288,28 @@ INSTANTIATE_TEST_SUITE_P(
                     "stderr: (nothing)"}}),
     [](const ::testing::TestParamInfo<BadProgram>& info) { return info.param.name; });
 
-// A program that leaves a child holding its stdout at the end (in its
-// process group, as a shell script's background job is) ends its run as soon
-// as it exits: the child goes with the group.
-TEST(ExternalTrackerRun, AChildLeftHoldingStdoutDoesNotHoldTheRun) {
-  const fs::path dir = FreshDir("ext-leaves-child");
-  Scenario s = LoadScenarioText(kMinimal, "ext.yaml",
-                                {ParseOverride("tracker.type=external"),
-                                 ParseOverride("tracker.command=[\"" + kBad + "\", leaves_child]"),
-                                 ParseOverride("frames=3"), ParseOverride("tracker.timeout_s=20")});
+// A run of kMinimal, `frames` frames, with bad_tracker.py in `mode` as its
+// tracker, into dir/run.
+RunSummary RunBadTracker(const fs::path& dir, const std::string& mode, int frames, int timeout_s) {
+  const Scenario s =
+      LoadScenarioText(kMinimal, "ext.yaml",
+                       {ParseOverride("tracker.type=external"),
+                        ParseOverride("tracker.command=[\"" + kBad + "\", " + mode + "]"),
+                        ParseOverride("frames=" + std::to_string(frames)),
+                        ParseOverride("tracker.timeout_s=" + std::to_string(timeout_s))});
   RunOptions options;
   options.out_dir = (dir / "run").string();
   options.show_progress = false;
-  // Before, the run waited out timeout_s and threw "no exit within timeout_s".
-  const RunSummary summary = RunScenario(s, options);
-  EXPECT_EQ(summary.frames, 3);
+  return RunScenario(s, options);
+}
+
+// A program that leaves a child holding its stdout at the end (in its
+// process group, as a shell script's background job is) ends its run as soon
+// as it exits: the child goes with the group. Before, the run waited out
+// timeout_s and threw "no exit within timeout_s".
+TEST(ExternalTrackerRun, AChildLeftHoldingStdoutDoesNotHoldTheRun) {
+  const fs::path dir = FreshDir("ext-leaves-child");
+  EXPECT_EQ(RunBadTracker(dir, "leaves_child", 3, 20).frames, 3);
   fs::remove_all(dir);
 }
 
@@ -310,15 +317,7 @@ TEST(ExternalTrackerRun, AChildLeftHoldingStdoutDoesNotHoldTheRun) {
 // buffer) is read while it writes, and its run finishes.
 TEST(ExternalTrackerRun, ChattyStderrDoesNotBlock) {
   const fs::path dir = FreshDir("ext-chatty");
-  Scenario s = LoadScenarioText(kMinimal, "ext.yaml",
-                                {ParseOverride("tracker.type=external"),
-                                 ParseOverride("tracker.command=[\"" + kBad + "\", chatty]"),
-                                 ParseOverride("frames=5"), ParseOverride("tracker.timeout_s=5")});
-  RunOptions options;
-  options.out_dir = (dir / "run").string();
-  options.show_progress = false;
-  const RunSummary summary = RunScenario(s, options);
-  EXPECT_EQ(summary.frames, 5);
+  EXPECT_EQ(RunBadTracker(dir, "chatty", 5, 5).frames, 5);
   EXPECT_EQ(ReadFile(dir / "run" / "tracks.txt"), "");
   fs::remove_all(dir);
 }

@@ -53,7 +53,8 @@ Command AddScoreCommand(CLI::App& parent) {
                   "Write the per-frame event log (MATCH, SWITCH, ...) as JSON lines to this file");
   app->add_option("--trackeval-root", options->trackeval_root,
                   "Score a TrackEval folder (gt/mot_challenge/<bench>/<seq>, "
-                  "trackers/mot_challenge/<bench>/<tracker>/data) instead of GT HYP");
+                  "trackers/mot_challenge/<bench>/<tracker>/data; the sequences of "
+                  "gt/mot_challenge/seqmaps/<bench>.txt when there is one) instead of GT HYP");
   return {app, [options]() -> int {
             using namespace hcpf::metrics;
             const Benchmark benchmark = *ParseBenchmark(options->benchmark);

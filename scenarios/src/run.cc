@@ -65,6 +65,9 @@ RunSummary RunScenario(const Scenario& scenario, const RunOptions& options) {
   // A file named as the cache failed mid-run (exit 1) creating a scene there.
   if (!options.frame_cache_dir.empty()) CheckFolderArgument(options.frame_cache_dir, "--cache");
   if (options.video) CheckVideoFits(scenario, "--video");
+  if (const std::string slow = SceneFilterCostWarning(scenario); !slow.empty()) {
+    spdlog::warn("run \"{}\": {}", scenario.name, slow);
+  }
   StagedFolder staged(options.out_dir);
   const fs::path& partial = staged.partial();
   std::error_code ec;

@@ -328,6 +328,43 @@ bool UsesPerspective(const Scenario& scenario) {
          scenario.tracker.camera_motion == tracker::CameraMotionMode::kSceneFilter;
 }
 
+int64_t SceneFilterEvaluationsPerFrame(const Scenario& scenario) {
+  if (scenario.tracker.camera_motion != tracker::CameraMotionMode::kSceneFilter) return 0;
+  const tracker::SceneMotionOptions& f = scenario.tracker.scene_filter;
+  int64_t points = 0;
+  switch (f.evidence) {
+    case tracker::SceneEvidenceKind::kSimulated:
+      points = f.points;
+      break;
+    case tracker::SceneEvidenceKind::kImage:
+      points = scenario.point_tracker.max_corners;
+      break;
+    case tracker::SceneEvidenceKind::kOracle:
+      points = int64_t{tracker::HomographyEvidence::kGrid} * tracker::HomographyEvidence::kGrid;
+      break;
+  }
+  return int64_t{f.particles} * points;
+}
+
+std::string SceneFilterCostWarning(const Scenario& scenario) {
+  constexpr double kSecondsPerEvaluation = 10e-9;  // BM_SceneFilterStep/1000/200: 2.0 ms
+  const int64_t evaluations = SceneFilterEvaluationsPerFrame(scenario);
+  const double per_frame = static_cast<double>(evaluations) * kSecondsPerEvaluation;
+  if (per_frame <= 1.0) return "";
+  const tracker::SceneMotionOptions& f = scenario.tracker.scene_filter;
+  const char* points_key =
+      f.evidence == tracker::SceneEvidenceKind::kSimulated ? "tracker.scene_filter.points"
+      : f.evidence == tracker::SceneEvidenceKind::kImage   ? "tracker.point_tracker.max_corners"
+                                                           : "the oracle's 10 x 10 grid";
+  return fmt::format(
+      "the scene filter weighs tracker.scene_filter.particles ({}) x {} ({}) = {:.3g} "
+      "evidence terms a frame: about {:.3g} s a frame at ~10 ns each (BM_SceneFilterStep), "
+      "{:.3g} h for {} frames; fewer particles or points make it faster",
+      f.particles, points_key, evaluations / std::max<int64_t>(f.particles, 1),
+      static_cast<double>(evaluations), per_frame, per_frame * scenario.world.frames / 3600.0,
+      scenario.world.frames);
+}
+
 bool UsesRansac(const Scenario& scenario) {
   return scenario.tracker.camera_motion == tracker::CameraMotionMode::kRansac ||
          UsesPerspective(scenario);

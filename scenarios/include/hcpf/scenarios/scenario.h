@@ -206,6 +206,18 @@ bool UsesRansac(const Scenario& scenario);
 // similarity for its inliers, so `tracker.ransac` takes effect too.
 bool UsesPerspective(const Scenario& scenario);
 
+// The scene filter's evidence evaluations a frame: its particles times the
+// points each one is weighed on (scene_filter.points for simulated evidence,
+// at most point_tracker.max_corners for image evidence, the 10 x 10 grid of
+// the oracle); 0 when no scene filter runs (tracker.camera_motion other than
+// scene_filter).
+int64_t SceneFilterEvaluationsPerFrame(const Scenario& scenario);
+// A warning for a scene filter that would take more than a second a frame at
+// about 10 ns an evaluation (BM_SceneFilterStep: 2.0 ms for 1000 particles
+// x 200 points, docs/tracker.md), naming the keys, the estimate and the whole
+// run's; "" otherwise. Both keys' ranges allow 10^13 evaluations a frame.
+std::string SceneFilterCostWarning(const Scenario& scenario);
+
 // The declared fields of the scenario's own keys (scenario_fields.cc), from
 // which the reader, the resolved-YAML writer and docs/scenario.md are made;
 // the modules' Options structs declare theirs next to the struct. A list

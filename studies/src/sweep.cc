@@ -212,7 +212,17 @@ SweepSpec ReadSweep(YAML::Node root, const std::string& file, const std::string&
     };
     spec.report.x = report->String("x", spec.report.x);
     spec.report.series = report->String("series", "");
-    if (auto xm = report->Optional("x_metric")) spec.report.x_metric = scalar(*xm);
+    // A present x_metric or reference is a non-empty text: CheckReportRules
+    // reads "" as absent, so a list or an empty value is refused here.
+    const auto present_text = [&](const std::string& key, const std::string& expected) {
+      std::string value;
+      if (auto node = report->Optional(key)) {
+        value = report->String(key, std::nullopt);
+        if (value.empty()) node->Fail(expected);
+      }
+      return value;
+    };
+    spec.report.x_metric = present_text("x_metric", "a metric name");
     std::vector<YamlReader> y_items;
     std::optional<YamlReader> y = report->Optional("y");
     if (y) {
@@ -229,7 +239,7 @@ SweepSpec ReadSweep(YAML::Node root, const std::string& file, const std::string&
     for (const YamlReader& item : pool_items) spec.report.pool.push_back(scalar(item));
     spec.report.panels = report->String("panels", "");
     std::optional<YamlReader> reference = report->Optional("reference");
-    if (reference) spec.report.reference = scalar(*reference);
+    spec.report.reference = present_text("reference", "a value of report.series");
     if (const auto broken = CheckReportRules(spec.report, swept)) {
       const YamlReader at = broken->item >= 0
                                 ? (broken->entry == "y" ? y_items : pool_items)[broken->item]

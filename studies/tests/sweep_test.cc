@@ -190,6 +190,13 @@ TEST(Sweep, ReportReferenceIsAValueOfTheSeries) {
   e = ErrorOf(WriteSweep(dir, grid + "report: {series: tracker.resampling.method, referense: "
                                      "charged}\n"));
   EXPECT_NE(e.find("referense"), std::string::npos) << e;
+  // An empty reference, or an x_metric that is a list, is refused, not read
+  // as absent (CheckReportRules reads "" as absent).
+  e = ErrorOf(
+      WriteSweep(dir, grid + "report: {series: tracker.resampling.method, reference: \"\"}\n"));
+  EXPECT_NE(e.find("report.reference: expected a value of report.series"), std::string::npos) << e;
+  e = ErrorOf(WriteSweep(dir, grid + "report: {x: tracker.particles, x_metric: [idf1]}\n"));
+  EXPECT_NE(e.find("report.x_metric"), std::string::npos) << e;
 }
 
 TEST(Sweep, NoSeedsKeepsTheBaseSeedAndSweepSeedChangesDerivedSeeds) {

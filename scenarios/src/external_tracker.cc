@@ -33,25 +33,22 @@ constexpr size_t kMaxLine = size_t{16} << 20;
 // How much of an offending line a message quotes.
 constexpr size_t kQuote = 200;
 
-std::string Quote(const std::string& line) {
+// `text` as printed: control characters (ESC, BEL, CR, ...) become '?', so a
+// program's output cannot clear the terminal or overwrite the diagnosis (a
+// third bad-input audit); tabs stay when `keep_tabs`.
+std::string Printable(const std::string& text, bool keep_tabs) {
   std::string out;
-  for (char c : line.substr(0, kQuote)) {
+  for (const char c : text) {
     const auto u = static_cast<unsigned char>(c);
-    out += (u < 0x20 || u == 0x7f) ? '?' : c;
+    out += (!(keep_tabs && c == '\t') && (u < 0x20 || u == 0x7f)) ? '?' : c;
   }
-  if (line.size() > kQuote) out += fmt::format("... ({} bytes)", line.size());
   return out;
 }
 
-// A line of the program's stderr as printed: control characters (ESC, BEL,
-// CR, ...) become '?', as in Quote, so a program's output cannot clear the
-// terminal or overwrite the diagnosis (a third bad-input audit). Tabs stay.
-std::string Printable(const std::string& line) {
-  std::string out;
-  for (const char c : line) {
-    const auto u = static_cast<unsigned char>(c);
-    out += (c != '\t' && (u < 0x20 || u == 0x7f)) ? '?' : c;
-  }
+// An offending line as quoted in a message: its first kQuote bytes, printable.
+std::string Quote(const std::string& line) {
+  std::string out = Printable(line.substr(0, kQuote), /*keep_tabs=*/false);
+  if (line.size() > kQuote) out += fmt::format("... ({} bytes)", line.size());
   return out;
 }
 
@@ -507,7 +504,7 @@ void ExternalTracker::Fail(const std::string& what, const std::string& line) {
     while (at < tail.size()) {
       size_t eol = tail.find('\n', at);
       if (eol == std::string::npos) eol = tail.size();
-      message += "\n    " + Printable(tail.substr(at, eol - at));
+      message += "\n    " + Printable(tail.substr(at, eol - at), /*keep_tabs=*/true);
       at = eol + 1;
     }
   }

@@ -328,22 +328,31 @@ bool UsesPerspective(const Scenario& scenario) {
          scenario.tracker.camera_motion == tracker::CameraMotionMode::kSceneFilter;
 }
 
+namespace {
+
+// The points each scene particle is weighed on a frame, and what sets them.
+struct ScenePoints {
+  int64_t count = 0;
+  const char* source = "";
+};
+ScenePoints SceneFilterPoints(const Scenario& scenario) {
+  switch (scenario.tracker.scene_filter.evidence) {
+    case tracker::SceneEvidenceKind::kSimulated:
+      return {scenario.tracker.scene_filter.points, "tracker.scene_filter.points"};
+    case tracker::SceneEvidenceKind::kImage:
+      return {scenario.point_tracker.max_corners, "tracker.point_tracker.max_corners"};
+    case tracker::SceneEvidenceKind::kOracle:
+      return {int64_t{tracker::HomographyEvidence::kGrid} * tracker::HomographyEvidence::kGrid,
+              "the oracle's 10 x 10 grid"};
+  }
+  return {};
+}
+
+}  // namespace
+
 int64_t SceneFilterEvaluationsPerFrame(const Scenario& scenario) {
   if (scenario.tracker.camera_motion != tracker::CameraMotionMode::kSceneFilter) return 0;
-  const tracker::SceneMotionOptions& f = scenario.tracker.scene_filter;
-  int64_t points = 0;
-  switch (f.evidence) {
-    case tracker::SceneEvidenceKind::kSimulated:
-      points = f.points;
-      break;
-    case tracker::SceneEvidenceKind::kImage:
-      points = scenario.point_tracker.max_corners;
-      break;
-    case tracker::SceneEvidenceKind::kOracle:
-      points = int64_t{tracker::HomographyEvidence::kGrid} * tracker::HomographyEvidence::kGrid;
-      break;
-  }
-  return int64_t{f.particles} * points;
+  return int64_t{scenario.tracker.scene_filter.particles} * SceneFilterPoints(scenario).count;
 }
 
 std::string SceneFilterCostWarning(const Scenario& scenario) {
@@ -351,16 +360,12 @@ std::string SceneFilterCostWarning(const Scenario& scenario) {
   const int64_t evaluations = SceneFilterEvaluationsPerFrame(scenario);
   const double per_frame = static_cast<double>(evaluations) * kSecondsPerEvaluation;
   if (per_frame <= 1.0) return "";
-  const tracker::SceneMotionOptions& f = scenario.tracker.scene_filter;
-  const char* points_key =
-      f.evidence == tracker::SceneEvidenceKind::kSimulated ? "tracker.scene_filter.points"
-      : f.evidence == tracker::SceneEvidenceKind::kImage   ? "tracker.point_tracker.max_corners"
-                                                           : "the oracle's 10 x 10 grid";
+  const ScenePoints points = SceneFilterPoints(scenario);
   return fmt::format(
       "the scene filter weighs tracker.scene_filter.particles ({}) x {} ({}) = {:.3g} "
       "evidence terms a frame: about {:.3g} s a frame at ~10 ns each (BM_SceneFilterStep), "
       "{:.3g} h for {} frames; fewer particles or points make it faster",
-      f.particles, points_key, evaluations / std::max<int64_t>(f.particles, 1),
+      scenario.tracker.scene_filter.particles, points.source, points.count,
       static_cast<double>(evaluations), per_frame, per_frame * scenario.world.frames / 3600.0,
       scenario.world.frames);
 }

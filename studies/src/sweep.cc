@@ -238,24 +238,23 @@ SweepSpec ReadSweep(YAML::Node root, const std::string& file, const std::string&
     if (auto pool = report->Optional("pool")) pool_items = pool->Items();
     for (const YamlReader& item : pool_items) spec.report.pool.push_back(scalar(item));
     spec.report.panels = report->String("panels", "");
-    std::optional<YamlReader> reference = report->Optional("reference");
     spec.report.reference = present_text("reference", "a value of report.series");
     if (const auto broken = CheckReportRules(spec.report, swept)) {
       const YamlReader at = broken->item >= 0
                                 ? (broken->entry == "y" ? y_items : pool_items)[broken->item]
                             : broken->entry == "y" ? *y
                                                    : report->Child(broken->entry);
-      // The names the value that broke it may have meant.
-      const std::string& value = broken->value;
-      const bool metric = broken->entry == "y" || broken->entry == "x_metric";
-      const std::string close = ClosestMatch(value, metric ? MetricNames() : swept);
-      const bool known = metric ? std::find(MetricNames().begin(), MetricNames().end(), value) !=
-                                      MetricNames().end()
-                                : std::find(swept.begin(), swept.end(), value) != swept.end();
+      // The names the value that broke it may have meant (none when it is
+      // one of them, in the wrong place).
+      const std::vector<std::string>& names =
+          broken->entry == "y" || broken->entry == "x_metric" ? MetricNames() : swept;
+      const bool known = std::find(names.begin(), names.end(), broken->value) != names.end();
+      const std::string close = ClosestMatch(broken->value, names);
       at.Fail(broken->expected, close.empty() || known ? "" : "did you mean \"" + close + "\"?");
     }
-    if (reference) {
+    if (!spec.report.reference.empty()) {
       // A value of the series key, compared as the sweep file writes it.
+      const YamlReader reference = report->Child("reference");
       const SweepAxis* series = nullptr;
       for (const auto* axes : {&spec.grid, &spec.zip}) {
         for (const SweepAxis& a : *axes) {
@@ -263,14 +262,14 @@ SweepSpec ReadSweep(YAML::Node root, const std::string& file, const std::string&
         }
       }
       if (series == nullptr) {
-        reference->Fail("no report.reference without report.series (it names a series value)");
+        reference.Fail("no report.reference without report.series (it names a series value)");
       }
       const std::string& value = spec.report.reference;
       if (std::find(series->values.begin(), series->values.end(), value) == series->values.end()) {
         const std::string close = ClosestMatch(value, series->values);
-        reference->Fail(fmt::format("a value of report.series {} ({})", spec.report.series,
-                                    fmt::join(series->values, ", ")),
-                        close.empty() ? "" : "did you mean \"" + close + "\"?");
+        reference.Fail(fmt::format("a value of report.series {} ({})", spec.report.series,
+                                   fmt::join(series->values, ", ")),
+                       close.empty() ? "" : "did you mean \"" + close + "\"?");
       }
     }
     report->Finish();

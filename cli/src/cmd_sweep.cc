@@ -17,6 +17,7 @@
 #include "hcpf/scenarios/frames.h"
 #include "hcpf/studies/mpi_sweep.h"
 #include "hcpf/studies/sweep.h"
+#include "interrupt.h"
 
 namespace hcpf::cli {
 
@@ -104,6 +105,15 @@ Command AddSweepCommand(CLI::App& parent) {
         }
         const studies::SweepSpec spec = studies::LoadSweepFile(options->file);
         const std::vector<studies::SweepRun> runs = studies::ExpandSweep(spec);
+        // Ctrl-C (or a batch system's SIGTERM) still ends the sweep at once,
+        // losing the runs in flight; it now also says how to go on. Under
+        // mpirun the launcher reports, not each rank.
+        if (studies::LaunchedRankCount() <= 1) {
+          AnnounceInterrupts(fmt::format(
+              "hcpf sweep: interrupted; the runs finished so far are kept in {}/results.sqlite "
+              "and the same command again resumes the sweep",
+              options->out));
+        }
         // The thread pool, or MPI ranks when mpirun started several.
         const std::optional<studies::SweepResult> result =
             studies::RunSweepMpi(spec, runs, sweep_options);

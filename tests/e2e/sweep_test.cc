@@ -1,5 +1,5 @@
 // End-to-end tests of hcpf sweep / merge / report / regress through the real
-// executable: resume after SIGKILL and SIGINT, shards + merge, the report in
+// executable: resume after SIGKILL, SIGINT and SIGTERM, shards + merge, the report in
 // headless Chromium, and the regression gate's exit codes.
 
 #include <fcntl.h>
@@ -11,6 +11,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
@@ -78,9 +79,13 @@ std::string WriteSweep(const fs::path& dir, int seeds = 4, int frames = 60) {
 }
 
 // Starts `hcpf args...` as a child (output to `log`) and returns its pid.
-pid_t Spawn(const std::vector<std::string>& args, const fs::path& log) {
+// SIGINT, SIGTERM and SIGHUP start at their default action (whatever this
+// test was started with), SIGINT ignored when `ignore_sigint`.
+pid_t Spawn(const std::vector<std::string>& args, const fs::path& log, bool ignore_sigint = false) {
   const pid_t pid = ::fork();
   if (pid == 0) {
+    for (const int signal_number : {SIGINT, SIGTERM, SIGHUP}) ::signal(signal_number, SIG_DFL);
+    if (ignore_sigint) ::signal(SIGINT, SIG_IGN);
     const int fd = ::open(log.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
     ::dup2(fd, STDOUT_FILENO);
     ::dup2(fd, STDERR_FILENO);
@@ -125,6 +130,13 @@ TEST_P(SweepResume, KilledMidwayThenResumedLosesAndRepeatsNothing) {
   ASSERT_TRUE(WIFSIGNALED(status))
       << "the sweep finished before it could be killed; make it longer\n"
       << ReadFile(dir / "first.log");
+  // Ctrl-C and a batch system's SIGTERM say how to go on (a SIGKILL cannot).
+  const std::string announcement =
+      "hcpf sweep: interrupted; the runs finished so far are kept in " + out.string() +
+      "/results.sqlite and the same command again resumes the sweep (SIG" +
+      ::sigabbrev_np(signal_number) + ")\n";
+  const bool announced = ReadFile(dir / "first.log").find(announcement) != std::string::npos;
+  EXPECT_EQ(announced, signal_number != SIGKILL) << ReadFile(dir / "first.log");
   const size_t after_kill = StoreRows(out / "results.sqlite").size();
   ASSERT_GE(after_kill, 4U);
   ASSERT_LT(after_kill, 32U) << "the kill came too late to test resuming";
@@ -153,10 +165,33 @@ TEST_P(SweepResume, KilledMidwayThenResumedLosesAndRepeatsNothing) {
   EXPECT_NE(third.output.find("32 reused, 0 computed"), std::string::npos) << third.output;
 }
 
-INSTANTIATE_TEST_SUITE_P(Signals, SweepResume, ::testing::Values(SIGKILL, SIGINT),
+INSTANTIATE_TEST_SUITE_P(Signals, SweepResume, ::testing::Values(SIGKILL, SIGINT, SIGTERM),
                          [](const auto& info) {
-                           return info.param == SIGKILL ? "SIGKILL" : "SIGINT";
+                           return std::string("SIG") + ::sigabbrev_np(info.param);
                          });
+
+// A sweep started with SIGINT ignored (a background job of a script, nohup)
+// keeps ignoring it: it neither stops nor announces an interruption.
+TEST(SweepInterrupt, AnIgnoredSigintStaysIgnored) {
+  const fs::path dir = FreshDir("sweep-sigint-ignored");
+  const std::string sweep = WriteSweep(dir, 2);
+  const fs::path out = dir / "out";
+  const pid_t pid = Spawn({"sweep", sweep, "--out", out.string(), "--jobs", "2"}, dir / "first.log",
+                          /*ignore_sigint=*/true);
+  ASSERT_GT(pid, 0);
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(120);
+  while (std::chrono::steady_clock::now() < deadline && !fs::exists(out / "results.sqlite")) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(5));
+  }
+  ::kill(pid, SIGINT);
+  int status = 0;
+  ::waitpid(pid, &status, 0);
+  const std::string log = ReadFile(dir / "first.log");
+  ASSERT_TRUE(WIFEXITED(status)) << log;
+  EXPECT_EQ(WEXITSTATUS(status), 0) << log;
+  EXPECT_EQ(log.find("interrupted"), std::string::npos) << log;
+  EXPECT_NE(log.find("sweep finished: 16 runs"), std::string::npos) << log;
+}
 
 // Children of `parent` (from /proc/<pid>/stat, field 4 = ppid).
 std::vector<pid_t> ChildrenOf(pid_t parent) {

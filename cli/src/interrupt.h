@@ -1,0 +1,17 @@
+#pragma once
+// What a long command says when it is interrupted (Ctrl-C, SIGTERM from a
+// batch system, a closed terminal).
+
+#include <string>
+
+namespace hcpf::cli {
+
+// From now on SIGINT, SIGTERM and SIGHUP write "<message> (<signal>)\n" to
+// stderr, then end the process by that signal as before (its default action,
+// so the exit status a shell or a batch system sees is unchanged). A signal
+// this process was started with ignored (a background job of a script,
+// nohup) stays ignored. The message is copied once; the handler only
+// write()s it. Call once, from the main thread, before the work starts.
+void AnnounceInterrupts(const std::string& message);
+
+}  // namespace hcpf::cli

@@ -1,6 +1,8 @@
 #include "hcpf/core/subprocess.h"
 
 #include <fcntl.h>
+#include <signal.h>
+#include <sys/prctl.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -22,12 +24,18 @@ ProcessStatus RunProcess(const std::vector<std::string>& argv, const std::string
   for (std::string& a : args) pointers.push_back(a.data());
   pointers.push_back(nullptr);
   ProcessStatus status;
+  const pid_t parent = ::getpid();
   const pid_t pid = ::fork();
   if (pid < 0) {
     status.error = std::strerror(errno);
     return status;
   }
   if (pid == 0) {
+    // The child ends with this process (SIGTERM when the thread that started
+    // it is gone): a sweep killed alone must not leave its runs writing into a
+    // folder that the next sweep takes over. A parent already gone before the
+    // request was made is caught by getppid().
+    if (::prctl(PR_SET_PDEATHSIG, SIGTERM) != 0 || ::getppid() != parent) ::_exit(127);
     const int fd = ::open(log_path.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
     if (fd >= 0) {
       ::dup2(fd, STDOUT_FILENO);

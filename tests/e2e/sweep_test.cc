@@ -14,6 +14,7 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <nlohmann/json.hpp>
 #include <opencv2/imgcodecs.hpp>
 #include <regex>
@@ -169,6 +170,61 @@ INSTANTIATE_TEST_SUITE_P(Signals, SweepResume, ::testing::Values(SIGKILL, SIGINT
                          [](const auto& info) {
                            return std::string("SIG") + ::sigabbrev_np(info.param);
                          });
+
+// The pids of processes (other than `except`) whose command line mentions `text`.
+std::vector<pid_t> ProcessesMentioning(const std::string& text, pid_t except) {
+  std::vector<pid_t> pids;
+  for (const auto& e : fs::directory_iterator("/proc")) {
+    const std::string name = e.path().filename().string();
+    if (name.find_first_not_of("0123456789") != std::string::npos) continue;
+    const pid_t pid = std::stoi(name);
+    std::ifstream in(e.path() / "cmdline", std::ios::binary);
+    const std::string cmdline((std::istreambuf_iterator<char>(in)),
+                              std::istreambuf_iterator<char>());
+    if (pid != except && pid != ::getpid() && cmdline.find(text) != std::string::npos) {
+      pids.push_back(pid);
+    }
+  }
+  return pids;
+}
+
+// An --isolate sweep sent SIGTERM alone (not its process group: a batch
+// system's kill of the main process) takes its runs with it; they used to go
+// on writing into the folder after the sweep had gone.
+TEST(SweepInterrupt, AnIsolatedSweepKilledAloneTakesItsRunsWithIt) {
+  const fs::path dir = FreshDir("sweep-isolate-killed");
+  // Runs of several seconds each (600000 particles a filter), so a run
+  // outliving the sweep would be seen.
+  std::ofstream(dir / "sweep.yaml") << "base: " << testing::LibraryScenario("crossing-dominant")
+                                    << "\nseeds: 2\ngrid:\n  tracker.particles: [600000]\n";
+  const fs::path out = dir / "out";
+  const pid_t pid = Spawn(
+      {"sweep", (dir / "sweep.yaml").string(), "--out", out.string(), "--jobs", "2", "--isolate"},
+      dir / "first.log");
+  ASSERT_GT(pid, 0);
+  // Each run's child reads OUT/runs/<key>.input.yaml.
+  const std::string runs_dir = (out / "runs").string();
+  auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(60);
+  while (std::chrono::steady_clock::now() < deadline &&
+         ProcessesMentioning(runs_dir, pid).empty()) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(5));
+  }
+  ASSERT_FALSE(ProcessesMentioning(runs_dir, pid).empty()) << ReadFile(dir / "first.log");
+  ::kill(pid, SIGTERM);
+  int status = 0;
+  ::waitpid(pid, &status, 0);
+  ASSERT_TRUE(WIFSIGNALED(status)) << ReadFile(dir / "first.log");
+  // The children end within moments (SIGTERM from the kernel when the sweep
+  // is gone); a run left going would take seconds more.
+  deadline = std::chrono::steady_clock::now() + std::chrono::seconds(2);
+  std::vector<pid_t> left = ProcessesMentioning(runs_dir, pid);
+  while (!left.empty() && std::chrono::steady_clock::now() < deadline) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(10));
+    left = ProcessesMentioning(runs_dir, pid);
+  }
+  for (const pid_t child : left) ::kill(child, SIGKILL);
+  EXPECT_TRUE(left.empty()) << left.size() << " run(s) outlived the sweep";
+}
 
 // A sweep started with SIGINT ignored (a background job of a script, nohup)
 // keeps ignoring it: it neither stops nor announces an interruption.

@@ -19,7 +19,9 @@ struct ProcessStatus {
 // Runs argv[0] (looked up on PATH when it holds no '/') with arguments
 // argv[1..], its stdout and stderr written to `log_path` (truncated), and
 // waits for it. Between fork and exec the child makes only async-signal-safe
-// calls, so this is safe to call from a threaded process.
+// calls, so this is safe to call from a threaded process. The child gets
+// SIGTERM when this process ends first (PR_SET_PDEATHSIG): a killed sweep
+// leaves no run behind it.
 ProcessStatus RunProcess(const std::vector<std::string>& argv, const std::string& log_path);
 
 // Whether `name` (no '/') names an executable file in a folder of PATH, as

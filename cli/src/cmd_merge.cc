@@ -25,12 +25,14 @@ Command AddMergeCommand(CLI::App& parent) {
   return {app, [options] {
             const studies::MergeResult r = studies::MergeStores(options->out, options->inputs);
             spdlog::info(
-                "merged {} store(s) into {}/results.sqlite: {} runs added, {} duplicates skipped{}",
+                "merged {} store(s) into {}/results.sqlite: {} runs added, {} duplicates "
+                "skipped{}{}",
                 options->inputs.size(), options->out, r.added, r.duplicates,
                 r.damaged > 0 ? fmt::format(", {} with a missing or damaged run folder merged as "
                                             "failed (resume the sweep on {} to recompute them)",
                                             r.damaged, options->out)
-                              : std::string());
+                              : std::string(),
+                r.contact_sheet ? "; the scene's contact_sheet.png copied" : "");
             return 0;
           }};
 }

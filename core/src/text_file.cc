@@ -6,6 +6,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <atomic>
 #include <cerrno>
 #include <cstring>
 #include <filesystem>
@@ -97,11 +98,64 @@ void ReadUpTo(int fd, const std::string& path, size_t count, std::string* out) {
 }  // namespace
 
 void WriteTextFile(const std::string& path, const std::string& text) {
-  std::ofstream out(path, std::ios::binary | std::ios::trunc);
-  if (!out) throw RunError(fmt::format("cannot write {}: {}", path, std::strerror(errno)));
-  out.write(text.data(), static_cast<std::streamsize>(text.size()));
-  out.close();
-  if (!out) throw RunError(fmt::format("writing {} failed: {}", path, std::strerror(errno)));
+  struct stat st {};
+  const bool exists = ::lstat(path.c_str(), &st) == 0;
+  if (exists && !S_ISREG(st.st_mode)) {
+    // A device (/dev/stdout), a FIFO or a symbolic link is written through,
+    // in place: there is no file of ours to replace.
+    std::ofstream out(path, std::ios::binary | std::ios::trunc);
+    if (!out) throw RunError(fmt::format("cannot write {}: {}", path, std::strerror(errno)));
+    out.write(text.data(), static_cast<std::streamsize>(text.size()));
+    out.close();
+    if (!out) throw RunError(fmt::format("writing {} failed: {}", path, std::strerror(errno)));
+    return;
+  }
+  // A file is written whole beside its final name, then renamed over it, so a
+  // write that fails (a full disk) or is killed part-way leaves the earlier
+  // file as it was instead of a truncated one that looks complete (a report a
+  // browser shows without complaint). The counter keeps two threads apart.
+  static std::atomic<uint64_t> counter{0};
+  const std::filesystem::path target(path);
+  const std::string temp =
+      (target.parent_path() /
+       fmt::format(".{}.tmp-{}-{}", target.filename().string(), ::getpid(), counter.fetch_add(1)))
+          .string();
+  const int fd = ::open(temp.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666);
+  if (fd < 0) throw RunError(fmt::format("cannot write {}: {}", path, std::strerror(errno)));
+  int open_fd = fd;
+  const auto fail = [&](const char* what, int error) {
+    if (open_fd >= 0) ::close(open_fd);
+    ::unlink(temp.c_str());
+    throw RunError(fmt::format("{} {} failed: {}", what, path, std::strerror(error)));
+  };
+  // An existing file keeps its permissions, as when it was truncated in place.
+  if (exists && ::fchmod(fd, st.st_mode & 07777) != 0) fail("writing", errno);
+  size_t done = 0;
+  while (done < text.size()) {
+    const ssize_t n = ::write(fd, text.data() + done, text.size() - done);
+    if (n < 0 && errno == EINTR) continue;
+    if (n < 0) fail("writing", errno);
+    done += static_cast<size_t>(n);
+  }
+  open_fd = -1;
+  if (::close(fd) != 0) fail("writing", errno);
+  if (::rename(temp.c_str(), path.c_str()) != 0) fail("replacing", errno);
+}
+
+std::string TempFileTarget(std::string_view entry) {
+  const size_t at = entry.rfind(".tmp-");
+  if (entry.size() < 2 || entry[0] != '.' || at == std::string_view::npos || at < 2) return "";
+  const std::string_view numbers = entry.substr(at + 5);  // "<pid>-<n>"
+  const size_t dash = numbers.find('-');
+  const auto digits = [](std::string_view text) {
+    return !text.empty() &&
+           std::all_of(text.begin(), text.end(), [](char c) { return c >= '0' && c <= '9'; });
+  };
+  if (dash == std::string_view::npos || !digits(numbers.substr(0, dash)) ||
+      !digits(numbers.substr(dash + 1))) {
+    return "";
+  }
+  return std::string(entry.substr(1, at - 1));
 }
 
 uint64_t CheckRegularFile(const std::string& path, const std::string& what) {

@@ -1,10 +1,15 @@
 #include "hcpf/core/text_file.h"
 
 #include <gtest/gtest.h>
+#include <sys/resource.h>
+#include <sys/stat.h>
+#include <sys/wait.h>
 #include <unistd.h>
 
+#include <csignal>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <string>
 
 #include "hcpf/core/error.h"
@@ -13,6 +18,73 @@ namespace hcpf {
 namespace {
 
 namespace fs = std::filesystem;
+
+std::string ReadAll(const fs::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  return std::string(std::istreambuf_iterator<char>(in), {});
+}
+
+// A write that fails part-way (here the file-size limit a full disk stands
+// in for) leaves the earlier file whole and no temporary file: written in
+// place, report.html was cut to the limit and looked complete in a browser
+// (determinism audit D4). An existing file keeps its permissions, and a
+// symbolic link is written through, as when files were truncated in place.
+TEST(WriteTextFile, ReplacesAFileWholeOrNotAtAll) {
+  const fs::path dir =
+      fs::temp_directory_path() / ("hcpf_core_write_text_" + std::to_string(::getpid()));
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  const fs::path report = dir / "report.html";
+  WriteTextFile(report.string(), "<html>good</html>\n");
+  ::chmod(report.c_str(), 0640);
+
+  const pid_t child = ::fork();
+  ASSERT_GE(child, 0);
+  if (child == 0) {
+    std::signal(SIGXFSZ, SIG_IGN);  // write() then fails with EFBIG
+    const rlimit limit{64, 64};
+    ::setrlimit(RLIMIT_FSIZE, &limit);
+    try {
+      WriteTextFile(report.string(), std::string(1000, 'x'));
+    } catch (const RunError& e) {
+      ::_exit(std::string(e.what()).find("writing " + report.string() + " failed") == 0 ? 0 : 3);
+    }
+    ::_exit(4);  // no error
+  }
+  int status = 0;
+  ASSERT_EQ(::waitpid(child, &status, 0), child);
+  ASSERT_TRUE(WIFEXITED(status));
+  EXPECT_EQ(WEXITSTATUS(status), 0) << "3: another message, 4: no error";
+  EXPECT_EQ(ReadAll(report), "<html>good</html>\n");
+  EXPECT_EQ(std::distance(fs::directory_iterator(dir), {}), 1) << "a temporary file was left";
+
+  WriteTextFile(report.string(), "<html>new</html>\n");
+  EXPECT_EQ(ReadAll(report), "<html>new</html>\n");
+  struct stat st {};
+  ASSERT_EQ(::stat(report.c_str(), &st), 0);
+  EXPECT_EQ(st.st_mode & 07777, 0640u);
+
+  fs::create_symlink(report, dir / "link.html");
+  WriteTextFile((dir / "link.html").string(), "through the link\n");
+  EXPECT_TRUE(fs::is_symlink(dir / "link.html"));
+  EXPECT_EQ(ReadAll(report), "through the link\n");
+
+  EXPECT_THROW(WriteTextFile((dir / "no" / "such.txt").string(), "x"), RunError);
+  EXPECT_EQ(std::distance(fs::directory_iterator(dir), {}), 2);
+  fs::remove_all(dir);
+}
+
+// Folder checks (a run's --out, a report's --out) tell what a killed write
+// left from a file of the user's by its name.
+TEST(WriteTextFile, ItsTemporaryFilesAreKnownByName) {
+  EXPECT_EQ(TempFileTarget(".report.html.tmp-123-0"), "report.html");
+  EXPECT_EQ(TempFileTarget(".gt.txt.tmp-7-12"), "gt.txt");
+  for (const char* other : {"report.html", ".report.html", ".report.html.tmp-",
+                            ".report.html.tmp-1", ".report.html.tmp-1-", ".report.html.tmp-x-1",
+                            "report.html.tmp-1-2", "..tmp-1-2", ".tmp-1-2"}) {
+    EXPECT_EQ(TempFileTarget(other), "") << other;
+  }
+}
 
 // The message of the InputError CheckFilesToWrite throws, or "" when it accepts.
 std::string Refusal(const std::vector<FileToWrite>& writes, const std::vector<FileRead>& reads,

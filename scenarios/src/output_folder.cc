@@ -13,6 +13,7 @@
 #include <string_view>
 
 #include "hcpf/core/error.h"
+#include "hcpf/core/text_file.h"
 
 namespace hcpf::scenarios {
 
@@ -73,7 +74,12 @@ std::string WhyNotOurOutput(const fs::path& dir) {
     const bool known_file =
         std::find(kOutputFiles.begin(), kOutputFiles.end(), name) != kOutputFiles.end() &&
         entry.is_regular_file(ec) && !entry.is_symlink(ec);
-    if (known_file) continue;
+    // What a write killed part-way left (WriteTextFile's temporary file of
+    // one of these files, from `hcpf report DIR`) is ours too.
+    const std::string target = TempFileTarget(name);
+    const bool our_temp = !target.empty() && std::find(kOutputFiles.begin(), kOutputFiles.end(),
+                                                       target) != kOutputFiles.end();
+    if (known_file || our_temp) continue;
     bool known_dir = (name == "gt" || name == "det" || name == "frames") &&
                      entry.is_directory(ec) && !entry.is_symlink(ec);
     if (known_dir) {
@@ -220,6 +226,19 @@ void StagedFolder::Publish() {
   }
   published_ = true;
   if (had_old) fs::remove_all(old, ec);
+}
+
+std::map<std::string, uint64_t> FileSizesOf(const fs::path& dir) {
+  std::map<std::string, uint64_t> sizes;
+  std::error_code ec;
+  for (fs::recursive_directory_iterator it(dir, ec), end; !ec && it != end; it.increment(ec)) {
+    if (!it->is_regular_file(ec) || it->is_symlink(ec)) continue;
+    const uint64_t size = it->file_size(ec);
+    if (ec) break;
+    sizes[it->path().lexically_relative(dir).generic_string()] = size;
+  }
+  if (ec) throw RunError(fmt::format("cannot list {}: {}", dir.string(), ec.message()));
+  return sizes;
 }
 
 }  // namespace hcpf::scenarios

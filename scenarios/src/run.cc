@@ -427,6 +427,9 @@ RunSummary RunScenario(const Scenario& scenario, const RunOptions& options) {
   manifest["timings"] = timings;
   manifest["nondeterministic_fields"] = {"timings", "frames_rendered", "frames_from_cache",
                                          "detections_from_cache", "gl_renderer"};
+  // Every file written above, by its size: a run folder later found with one
+  // missing or of another size is not reused or merged (RunFolderIntact).
+  manifest["files"] = FileSizesOf(partial);
   // Written last: a folder with a manifest is a finished run.
   WriteTextFile((partial / "manifest.json").string(), manifest.dump(2) + "\n");
   staged.Publish();

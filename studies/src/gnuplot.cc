@@ -8,6 +8,7 @@
 
 #include "hcpf/core/error.h"
 #include "hcpf/core/subprocess.h"
+#include "hcpf/core/text_file.h"
 #include "hcpf/scenarios/output_folder.h"
 
 namespace hcpf::studies {
@@ -104,8 +105,11 @@ void CheckReportOut(const std::string& out_dir) {
       scenarios::FirstForeignEntry(out_dir, [](const fs::directory_entry& entry) {
         std::error_code ec;
         const std::string name = entry.path().filename().string();
-        const bool report_file = name == "report.html" || name == "summary.csv" ||
-                                 name == "paired.csv" || name == "findings.md";
+        // A report killed while writing leaves WriteTextFile's temporary file.
+        const std::string target = TempFileTarget(name);
+        const std::string& file = target.empty() ? name : target;
+        const bool report_file = file == "report.html" || file == "summary.csv" ||
+                                 file == "paired.csv" || file == "findings.md";
         return (report_file && entry.is_regular_file(ec)) ||
                (name == ".report-work" && entry.is_directory(ec));
       });

@@ -482,18 +482,47 @@ std::vector<RunRecord> ResultsStore::Runs() const {
   return out;
 }
 
-std::map<std::string, double> ReadRunMetrics(const std::string& run_dir) {
-  const auto read = [&](const std::string& name) {
-    std::ifstream in(fs::path(run_dir) / name);
-    if (!in) throw RunError(fmt::format("cannot read {}/{}", run_dir, name));
-    try {
-      return json::parse(in);
-    } catch (const json::exception& e) {
-      throw RunError(fmt::format("{}/{}: {}", run_dir, name, e.what()));
+namespace {
+
+json ReadRunJson(const std::string& run_dir, const std::string& name) {
+  std::ifstream in(fs::path(run_dir) / name);
+  if (!in) throw RunError(fmt::format("cannot read {}/{}", run_dir, name));
+  try {
+    return json::parse(in);
+  } catch (const json::exception& e) {
+    throw RunError(fmt::format("{}/{}: {}", run_dir, name, e.what()));
+  }
+}
+
+// Whether every file the manifest lists ("files": path -> bytes, written by
+// RunScenario) is still a regular file of that size. A manifest of an hcpf
+// from before the list asks only that the files every run writes are there.
+bool RunFilesWhole(const std::string& run_dir, const json& manifest) {
+  std::error_code ec;
+  if (!manifest.contains("files")) {
+    for (const char* name : {"scenario.resolved.yaml", "gt/gt.txt", "seqinfo.ini", "gt.json",
+                             "detections.txt", "tracks.txt", "camera_motion.csv"}) {
+      if (!fs::is_regular_file(fs::path(run_dir) / name, ec)) return false;
     }
-  };
-  const json metrics = read("metrics.json");
-  const json manifest = read("manifest.json");
+    return true;
+  }
+  const json& files = manifest["files"];
+  if (!files.is_object()) return false;
+  for (const auto& [name, bytes] : files.items()) {
+    const fs::path path = fs::path(run_dir) / name;
+    if (!bytes.is_number_unsigned() || !fs::is_regular_file(path, ec) ||
+        fs::file_size(path, ec) != bytes.get<uint64_t>() || ec) {
+      return false;
+    }
+  }
+  return true;
+}
+
+}  // namespace
+
+std::map<std::string, double> ReadRunMetrics(const std::string& run_dir) {
+  const json metrics = ReadRunJson(run_dir, "metrics.json");
+  const json manifest = ReadRunJson(run_dir, "manifest.json");
   std::map<std::string, double> m;
   for (const CatalogueMetric& c : MetricCatalogue()) {
     const json& source = c.file == "manifest.json" ? manifest : metrics;
@@ -515,6 +544,7 @@ bool RunFolderIntact(const std::string& run_dir, const RunRecord& record) {
   std::map<std::string, double> now;
   try {
     now = ReadRunMetrics(run_dir);
+    if (!RunFilesWhole(run_dir, ReadRunJson(run_dir, "manifest.json"))) return false;
   } catch (const RunError&) {
     return false;
   }
@@ -582,6 +612,8 @@ MergeResult MergeStores(const std::string& out_dir, const std::vector<std::strin
   if (ec) throw RunError(fmt::format("cannot create {}: {}", out_dir, ec.message()));
   // One writer per folder: a sweep running in OUT, or another merge.
   const internal::FolderLock lock(out_dir, out_dir, "OUT");
+  // Run folders an earlier merge or sweep was killed while copying or writing.
+  scenarios::RemoveStaleStagingFolders(fs::path(out_dir) / "runs", "");
   auto out = ResultsStore::OpenOrCreate((fs::path(out_dir) / "results.sqlite").string(),
                                         inputs.front()->meta());
   // An ok row counts as present only while its run folder still holds the
@@ -615,17 +647,43 @@ MergeResult MergeStores(const std::string& out_dir, const std::vector<std::strin
         const fs::path to = fs::path(out_dir) / r.run_dir;
         std::error_code ec;
         if (r.ok && fs::exists(from, ec) && !fs::equivalent(from, to, ec)) {
-          fs::remove_all(to, ec);
+          // Copied beside its name and renamed, as a sweep publishes a run:
+          // a merge killed part-way leaves a staging folder the next merge or
+          // sweep removes, never a half folder under the run's name.
+          const fs::path staging = to.string() + fmt::format(".partial-{}", ::getpid());
+          fs::remove_all(staging, ec);
           fs::create_directories(to.parent_path(), ec);
-          fs::copy(from, to, fs::copy_options::recursive, ec);
-          if (ec)
+          fs::copy(from, staging, fs::copy_options::recursive, ec);
+          if (!ec) fs::remove_all(to, ec);
+          if (!ec) fs::rename(staging, to, ec);
+          if (ec) {
+            const std::string message = ec.message();
+            fs::remove_all(staging, ec);
             throw RunError(
-                fmt::format("cannot copy {} to {}: {}", from.string(), to.string(), ec.message()));
+                fmt::format("cannot copy {} to {}: {}", from.string(), to.string(), message));
+          }
         }
       }
       out->Put(r);
       present[r.key] = r.ok;
     }
+  }
+  // The scene's contact sheet a shard's sweep left (every shard draws the
+  // same one: the sweep's first rendered run), for the report of OUT.
+  const fs::path sheet = fs::path(out_dir) / "contact_sheet.png";
+  for (const std::string& dir : input_dirs) {
+    const fs::path from = fs::path(dir) / "contact_sheet.png";
+    if (fs::exists(sheet, ec) || !fs::is_regular_file(from, ec)) continue;
+    const fs::path temp = fs::path(out_dir) / fmt::format(".contact_sheet.png.tmp-{}", ::getpid());
+    fs::copy_file(from, temp, fs::copy_options::overwrite_existing, ec);
+    if (!ec) fs::rename(temp, sheet, ec);
+    if (ec) {
+      const std::string message = ec.message();
+      fs::remove(temp, ec);
+      throw RunError(
+          fmt::format("cannot copy {} to {}: {}", from.string(), sheet.string(), message));
+    }
+    result.contact_sheet = true;
   }
   return result;
 }

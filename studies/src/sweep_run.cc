@@ -13,6 +13,7 @@
 #include <filesystem>
 #include <map>
 #include <mutex>
+#include <set>
 
 #include "hcpf/core/check.h"
 #include "hcpf/core/parallel.h"
@@ -69,7 +70,22 @@ void WriteContactSheet(const fs::path& out, const std::vector<SweepRun>& runs,
       }
       sheet.push_back(std::move(*frame));
     }
-    renderer::WritePng(renderer::MakeContactSheet(sheet), (out / "contact_sheet.png").string());
+    // Written beside its name and renamed, so a sweep killed while writing it
+    // leaves the earlier sheet or none, never a cut one.
+    const fs::path temp = out / fmt::format(".contact_sheet.png.tmp-{}", ::getpid());
+    std::error_code ec;
+    try {
+      renderer::WritePng(renderer::MakeContactSheet(sheet), temp.string());
+    } catch (const RunError&) {
+      fs::remove(temp, ec);
+      throw;
+    }
+    fs::rename(temp, out / "contact_sheet.png", ec);
+    if (ec) {
+      fs::remove(temp, ec);
+      throw RunError(
+          fmt::format("cannot write {}: {}", (out / "contact_sheet.png").string(), ec.message()));
+    }
     return;
   }
 }
@@ -155,8 +171,16 @@ SweepPlan PrepareSweep(const SweepSpec& spec, const std::vector<SweepRun>& runs,
     intact[i] = r.ok && RunFolderIntact((out / r.run_dir).string(), r);
   });
   std::map<std::string, bool> finished;  // key -> ok and intact
+  // The video is not part of a run's key: a finished run that --video asks a
+  // video of (its first seed's) but that was computed without one is computed
+  // again to write it (the run's other files come out the same).
+  std::set<std::string> lacks_video;
   for (size_t i = 0; i < stored.size(); ++i) {
     finished[stored[i].key] = intact[i] != 0;
+    if (intact[i] && options.video && stored[i].seed_index == 0 &&
+        !fs::is_regular_file(out / stored[i].run_dir / "overlay.mp4", ec)) {
+      lacks_video.insert(stored[i].key);
+    }
     if (stored[i].ok && !intact[i]) {
       spdlog::warn(
           "sweep: run {} ({}) is recorded as done but its folder {} is missing or "
@@ -167,15 +191,23 @@ SweepPlan PrepareSweep(const SweepSpec& spec, const std::vector<SweepRun>& runs,
 
   SweepResult& result = plan.result;
   std::vector<const SweepRun*> todo;
+  int64_t without_video = 0;
   for (const SweepRun& run : runs) {
     if (run.index % options.shard_count != options.shard_index) continue;
     ++result.total;
     const auto it = finished.find(run.key);
-    if (it != finished.end() && it->second) {
+    if (it != finished.end() && it->second && !lacks_video.count(run.key)) {
       ++result.reused;
     } else {
       todo.push_back(&run);
+      if (lacks_video.count(run.key)) ++without_video;
     }
+  }
+  if (without_video > 0) {
+    spdlog::info(
+        "sweep: --video: {} finished run(s) have no overlay.mp4; computing them again to "
+        "write it",
+        without_video);
   }
   spdlog::info("sweep: {} runs{}, {} already in {}, {} to compute with {}", result.total,
                options.shard_count > 1

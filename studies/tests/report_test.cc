@@ -592,6 +592,12 @@ TEST(RunReport, OutMustBeNewEmptyOrAnEarlierReport) {
   const fs::path reports = dir / "reports";
   WriteReport({.dir = run.string(), .out_dir = reports.string()});
   EXPECT_NO_THROW(WriteReport({.dir = run.string(), .out_dir = reports.string()}));
+  // So is one where an earlier report was killed while writing (reports are
+  // written whole, through a temporary file beside the name: WriteTextFile).
+  std::ofstream(reports / ".report.html.tmp-999999-0") << "<html>cut sh";
+  EXPECT_NO_THROW(WriteReport({.dir = run.string(), .out_dir = reports.string()}));
+  std::ofstream(reports / ".notes.txt.tmp-999999-0") << "not a report's";
+  EXPECT_THROW(WriteReport({.dir = run.string(), .out_dir = reports.string()}), InputError);
 }
 
 // --gnuplot is checked before anything is written: a folder, a missing or

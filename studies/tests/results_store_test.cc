@@ -6,12 +6,16 @@
 #include <gtest/gtest.h>
 #include <sqlite3.h>
 #include <sys/file.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <functional>
+#include <iterator>
 #include <nlohmann/json.hpp>
+#include <set>
 #include <tuple>
 
 #include "hcpf/metrics/report.h"
@@ -304,6 +308,70 @@ TEST(MetricCatalogue, EveryEntryIsReadFromARealRunFolder) {
   EXPECT_EQ(FindMetric("no_such_metric"), nullptr);
 }
 
+// A run folder is reused or merged only whole: its manifest lists every file
+// the run wrote, by size, and a file deleted, cut short, emptied or grown
+// makes it damaged (determinism audit D2: a folder without tracks.txt, or
+// with gt/gt.txt emptied, was reused as ok and then failed `hcpf export`).
+TEST(RunFolderIntact, AFileDeletedCutEmptiedOrGrownIsDamage) {
+  const auto dir = SweepFolder("intact");
+  const std::vector<SweepRun> runs =
+      ExpandSweep(LoadSweepFile(WriteSweep(dir, "base: base.yaml\n")));
+  ASSERT_EQ(runs.size(), 1u);
+  scenarios::RunOptions options;
+  options.out_dir = (dir / "run").string();
+  options.show_progress = false;
+  scenarios::RunScenario(runs[0].scenario(), options);
+  RunRecord record;
+  record.metrics = ReadRunMetrics(options.out_dir);
+  const fs::path run = options.out_dir;
+  ASSERT_TRUE(RunFolderIntact(run.string(), record));
+
+  nlohmann::json manifest;
+  std::ifstream(run / "manifest.json") >> manifest;
+  std::set<std::string> listed;
+  for (const auto& [name, bytes] : manifest["files"].items()) listed.insert(name);
+  std::set<std::string> written;
+  for (const auto& e : fs::recursive_directory_iterator(run)) {
+    if (e.is_regular_file() && e.path().filename() != "manifest.json")
+      written.insert(e.path().lexically_relative(run).generic_string());
+  }
+  EXPECT_EQ(listed, written);
+  EXPECT_TRUE(listed.count("gt/gt.txt") && listed.count("tracks.txt")) << manifest["files"];
+
+  struct Damage {
+    const char* what;
+    std::function<void(const fs::path&)> apply;
+  };
+  const std::vector<Damage> damages = {
+      {"tracks.txt deleted", [](const fs::path& d) { fs::remove(d / "tracks.txt"); }},
+      {"gt/gt.txt emptied", [](const fs::path& d) { fs::resize_file(d / "gt" / "gt.txt", 0); }},
+      {"gt.json cut short",
+       [](const fs::path& d) { fs::resize_file(d / "gt.json", fs::file_size(d / "gt.json") / 2); }},
+      {"detections.txt grown",
+       [](const fs::path& d) { std::ofstream(d / "detections.txt", std::ios::app) << "1\n"; }},
+      {"seqinfo.ini a folder",
+       [](const fs::path& d) {
+         fs::remove(d / "seqinfo.ini");
+         fs::create_directory(d / "seqinfo.ini");
+       }},
+  };
+  for (const Damage& damage : damages) {
+    const fs::path copy = dir / "damaged";
+    fs::remove_all(copy);
+    fs::copy(run, copy, fs::copy_options::recursive);
+    ASSERT_TRUE(RunFolderIntact(copy.string(), record)) << damage.what;
+    damage.apply(copy);
+    EXPECT_FALSE(RunFolderIntact(copy.string(), record)) << damage.what;
+  }
+  // A folder from an hcpf before the list is asked only for the files every
+  // run writes.
+  manifest.erase("files");
+  std::ofstream(run / "manifest.json") << manifest.dump(2);
+  EXPECT_TRUE(RunFolderIntact(run.string(), record));
+  fs::remove(run / "tracks.txt");
+  EXPECT_FALSE(RunFolderIntact(run.string(), record));
+}
+
 // A store made before a metric joined the catalogue (its column dropped here)
 // gets the column when opened for writing, and reads it as missing when
 // opened read-only.
@@ -488,6 +556,74 @@ TEST(RunSweep, OutMustBeASweepFolder) {
   // And merge's OUT follows the same rule.
   EXPECT_THROW(MergeStores((dir / "notes").string(), {(dir / "stopped").string()}), InputError);
   EXPECT_FALSE(fs::exists(dir / "notes" / "results.sqlite"));
+}
+
+// Merge copies a run folder beside its name and renames it, and carries the
+// shards' contact sheet (determinism audit D3, D5). A copy that fails part-way
+// (a FIFO stands in for a kill or a full disk) leaves no folder under the
+// run's name: it used to stay there, half copied, looking finished. Staging
+// folders of merges no longer running are removed.
+TEST(MergeStores, CopiesRunFoldersWholeOrNotAtAllAndCarriesTheContactSheet) {
+  const auto dir = SweepFolder("merge-whole");
+  const SweepSpec spec = LoadSweepFile(WriteSweep(dir, kSweep));
+  const auto runs = ExpandSweep(spec);
+  SweepOptions o = Options(dir / "shard0", 2);
+  o.shard_count = 2;
+  RunSweep(spec, runs, o);
+  o = Options(dir / "shard1", 2);
+  o.shard_index = 1;
+  o.shard_count = 2;
+  RunSweep(spec, runs, o);
+  // Shard 1 holds runs 1, 3, 5, 7; shard 0 left no contact sheet.
+  std::ofstream(dir / "shard1" / "contact_sheet.png") << "the sheet's bytes";
+  const fs::path fifo = dir / "shard1" / "runs" / runs[3].key / "fifo";
+  ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
+  fs::create_directories(dir / "merged" / "runs" / (runs[1].key + ".partial-999999999"));
+  try {
+    MergeStores((dir / "merged").string(), {(dir / "shard0").string(), (dir / "shard1").string()});
+    ADD_FAILURE() << "a FIFO was copied";
+  } catch (const RunError& e) {
+    EXPECT_NE(std::string(e.what()).find("cannot copy"), std::string::npos) << e.what();
+  }
+  EXPECT_FALSE(fs::exists(dir / "merged" / "runs" / runs[3].key));
+  for (const auto& e : fs::directory_iterator(dir / "merged" / "runs")) {
+    EXPECT_EQ(e.path().filename().string().find(".partial-"), std::string::npos) << e.path();
+  }
+  fs::remove(fifo);
+  const MergeResult m = MergeStores((dir / "merged").string(),
+                                    {(dir / "shard0").string(), (dir / "shard1").string()});
+  EXPECT_TRUE(m.contact_sheet);
+  EXPECT_EQ(StoreRows(dir / "merged").size(), 8u);
+  EXPECT_TRUE(fs::exists(dir / "merged" / "runs" / runs[3].key / "tracks.txt"));
+  std::ifstream sheet(dir / "merged" / "contact_sheet.png");
+  EXPECT_EQ(std::string(std::istreambuf_iterator<char>(sheet), {}), "the sheet's bytes");
+  EXPECT_FALSE(MergeStores((dir / "merged").string(), {(dir / "shard1").string()}).contact_sheet)
+      << "OUT already has the sheet";
+}
+
+// --video on a finished sweep computed without it: the video is not part of
+// a run's key, so the runs were all reused and no video written, silently
+// (determinism audit D6). The runs it asks a video of (each cell's first
+// seed) are computed again, with the same results; then all are reused.
+TEST(RunSweep, VideoAskedOnResumeComputesTheRunsWithoutOne) {
+  const auto dir = SweepFolder("video-resume");
+  const SweepSpec spec = LoadSweepFile(WriteSweep(dir, kSweep));
+  const auto runs = ExpandSweep(spec);
+  RunSweep(spec, runs, Options(dir / "out", 2));
+  const std::vector<std::string> rows = StoreRows(dir / "out");
+  SweepOptions o = Options(dir / "out", 2);
+  o.video = true;
+  const SweepResult with_video = RunSweep(spec, runs, o);
+  EXPECT_EQ(with_video.computed, 4);
+  EXPECT_EQ(with_video.reused, 4);
+  for (const SweepRun& r : runs) {
+    EXPECT_EQ(fs::exists(dir / "out" / "runs" / r.key / "overlay.mp4"), r.seed_index == 0)
+        << r.index;
+  }
+  EXPECT_EQ(StoreRows(dir / "out"), rows);
+  const SweepResult again = RunSweep(spec, runs, o);
+  EXPECT_EQ(again.reused, 8);
+  EXPECT_EQ(again.computed, 0);
 }
 
 TEST(RunSweep, ShardsMergedEqualTheUnshardedSweep) {

@@ -146,9 +146,13 @@ TEST(Reliability, ReplacingAnOutputLeavesNoStagingFolders) {
   // A staging folder of another output name and one of a live process stay.
   fs::create_directories(dir / ("other.partial-" + dead));
   fs::create_directories(dir / "out.partial-1");  // pid 1 always runs
+  // What a `hcpf report out` killed while writing leaves (WriteTextFile's
+  // temporary file) does not make the folder someone else's.
+  Write(out / (".report.html.tmp-" + dead + "-0"), "<html>cut sho");
   const auto r = RunCommand(kHcpf + " run " + scenario.string() + " --out " + out.string());
   ASSERT_EQ(r.exit_code, 0) << r.output;
   EXPECT_TRUE(fs::exists(out / "manifest.json"));
+  EXPECT_FALSE(fs::exists(out / (".report.html.tmp-" + dead + "-0")));
   EXPECT_FALSE(fs::exists(dir / ("out.partial-" + dead)));
   EXPECT_FALSE(fs::exists(dir / ("out.old-" + dead)));
   EXPECT_TRUE(fs::exists(dir / ("other.partial-" + dead)));
@@ -393,20 +397,25 @@ TEST(Reliability, DeletedOrDamagedRunFoldersAreComputedAgain) {
   // Merge first: the damaged run is merged as failed.
   fs::remove_all(runs[0]);
   std::ofstream(runs[1] / "metrics.json", std::ios::trunc) << metrics.substr(0, metrics.size() / 2);
+  // A file the metrics do not come from (determinism audit D2: a folder
+  // without tracks.txt was reused as ok, and `hcpf export` then failed).
+  const std::string tracks = ReadFile(runs[2] / "tracks.txt");
+  fs::remove(runs[2] / "tracks.txt");
   auto r = RunCommand(kHcpf + " merge " + (dir / "merged").string() + " " + sweep.string());
   EXPECT_EQ(r.exit_code, 0) << r.output;
-  EXPECT_NE(r.output.find("2 with a missing or damaged run folder merged as failed"),
+  EXPECT_NE(r.output.find("3 with a missing or damaged run folder merged as failed"),
             std::string::npos)
       << r.output;
-  // Resuming recomputes exactly those two, in both folders.
+  // Resuming recomputes exactly those three, in both folders.
   for (const fs::path& folder : {sweep, dir / "merged"}) {
     r = RunCommand(kHcpf + " sweep " + (dir / "sweep.yaml").string() + " --out " + folder.string());
     EXPECT_EQ(r.exit_code, 0) << r.output;
-    EXPECT_NE(r.output.find("2 already in"), std::string::npos) << folder << "\n" << r.output;
-    EXPECT_NE(r.output.find("2 to compute"), std::string::npos) << folder << "\n" << r.output;
+    EXPECT_NE(r.output.find("1 already in"), std::string::npos) << folder << "\n" << r.output;
+    EXPECT_NE(r.output.find("3 to compute"), std::string::npos) << folder << "\n" << r.output;
   }
   EXPECT_TRUE(fs::exists(runs[0] / "metrics.json"));
   EXPECT_EQ(ReadFile(runs[1] / "metrics.json"), metrics);
+  EXPECT_EQ(ReadFile(runs[2] / "tracks.txt"), tracks);
 }
 
 // Item 15: exit 1 where the input is at fault: an empty --out, a --out that

@@ -5,13 +5,23 @@
 #include <cstdint>
 #include <filesystem>
 #include <string>
+#include <string_view>
 #include <vector>
 
 namespace hcpf {
 
-// Writes `text` to `path` (truncating); throws RunError naming the path and
-// the system's reason when it cannot be opened or written.
+// Writes `text` to `path`, whole or not at all: into a temporary file beside
+// it (".<name>.tmp-<pid>-<n>") renamed over `path` at the end, so a failed or
+// killed write leaves the earlier file as it was. An existing file keeps its
+// permissions; a device, FIFO or symbolic link at `path` is written through
+// in place. Throws RunError naming the path and the system's reason when it
+// cannot be written.
 void WriteTextFile(const std::string& path, const std::string& text);
+
+// The name of the file whose temporary file WriteTextFile left as `entry`
+// (".report.html.tmp-123-0" -> "report.html"), or "" when `entry` is not one:
+// how a folder check tells what a killed write left from a user's file.
+std::string TempFileTarget(std::string_view entry);
 
 // Checks that `path` names a regular file that can be opened for reading and
 // returns its size in bytes. A directory, a FIFO or a device (/dev/zero,

@@ -6,8 +6,10 @@
 // holds nothing a run or render does not write. A folder of the user's is
 // never touched.
 
+#include <cstdint>
 #include <filesystem>
 #include <functional>
+#include <map>
 #include <string>
 
 namespace hcpf::scenarios {
@@ -66,5 +68,12 @@ std::string FirstForeignEntry(
 // `parent` whose process no longer runs; with an empty prefix, every such
 // entry. Folders of live processes stay.
 void RemoveStaleStagingFolders(const std::filesystem::path& parent, const std::string& prefix);
+
+// The size in bytes of every regular file below `dir`, by its path relative
+// to `dir` with '/' separators ("gt/gt.txt"): the "files" of a run's
+// manifest.json, by which a resumed sweep or a merge tells a stored run
+// folder that is whole from one with a file deleted, cut short or emptied.
+// A folder that cannot be listed is a RunError.
+std::map<std::string, uint64_t> FileSizesOf(const std::filesystem::path& dir);
 
 }  // namespace hcpf::scenarios

@@ -101,7 +101,9 @@ std::map<std::string, double> ReadRunMetrics(const std::string& run_dir);
 
 // Whether a run folder still holds the run the store records: its
 // metrics.json and manifest.json read back (ReadRunMetrics) to exactly the
-// record's metrics. False when the folder was deleted or a file damaged.
+// record's metrics, and every file the manifest lists under "files" is there
+// with the size it was written with. False when the folder was deleted or a
+// file removed, cut short, emptied or damaged.
 bool RunFolderIntact(const std::string& run_dir, const RunRecord& record);
 
 // Checks that `dir` may take a sweep's outputs (`option` names the argument:
@@ -113,9 +115,10 @@ bool RunFolderIntact(const std::string& run_dir, const RunRecord& record);
 void CheckSweepFolder(const std::string& dir, const std::string& option);
 
 struct MergeResult {
-  int64_t added = 0;       // rows new to the output store
-  int64_t duplicates = 0;  // rows whose key was already there (not counted twice)
-  int64_t damaged = 0;     // ok rows whose run folder was missing or damaged: merged as failed
+  int64_t added = 0;           // rows new to the output store
+  int64_t duplicates = 0;      // rows whose key was already there (not counted twice)
+  int64_t damaged = 0;         // ok rows whose run folder was missing or damaged: merged as failed
+  bool contact_sheet = false;  // a shard's contact_sheet.png was copied to OUT
 };
 // Merges the stores (and run folders) of `input_dirs` into `out_dir`. Every
 // store must be of the same sweep (else InputError naming the odd one out).

@@ -8,6 +8,7 @@
 #include "hcpf/scenarios/frames.h"
 #include "hcpf/scenarios/render_folder.h"
 #include "hcpf/scenarios/scenario.h"
+#include "interrupt.h"
 
 namespace hcpf::cli {
 
@@ -48,7 +49,9 @@ Command AddRenderCommand(CLI::App& parent) {
         render_options.out_dir = options->out;
         render_options.cache_dir = options->no_cache ? "" : options->cache;
         render_options.sheet_frames = options->sheet_frames;
+        AnnounceInterrupts(InterruptedMessage("render", options->out, render_options.cache_dir));
         const auto summary = scenarios::RenderToFolder(scenario, render_options);
+        StopAnnouncingInterrupts();  // the folder is in place
         spdlog::info("rendered \"{}\": {} frames ({} from the cache) in {:.2f} s", scenario.name,
                      summary.frames, summary.frames_from_cache, summary.wall_time_s);
         spdlog::info("outputs in {} (contact_sheet.png for a quick look)", summary.out_dir);

@@ -8,6 +8,7 @@
 #include "hcpf/scenarios/frames.h"
 #include "hcpf/scenarios/run.h"
 #include "hcpf/scenarios/scenario.h"
+#include "interrupt.h"
 
 namespace hcpf::cli {
 
@@ -55,7 +56,15 @@ Command AddRunCommand(CLI::App& parent) {
             run_options.threads = options->threads;
             run_options.frame_cache_dir = options->no_cache ? "" : options->cache;
             run_options.video = options->video;
+            // Ctrl-C or a batch system's SIGTERM ends the run at once; it says
+            // what is left (the folder is renamed into place only at the end).
+            AnnounceInterrupts(InterruptedMessage(
+                "run", options->out,
+                scenario.observation.source == scenarios::ObservationSource::kRendered
+                    ? run_options.frame_cache_dir
+                    : ""));
             const scenarios::RunSummary summary = scenarios::RunScenario(scenario, run_options);
+            StopAnnouncingInterrupts();  // the folder is in place
             spdlog::info(
                 "run \"{}\" finished in {:.2f} s: {} frames, {} ground-truth boxes, {} detections",
                 scenario.name, summary.wall_time_s, summary.frames, summary.gt_boxes,

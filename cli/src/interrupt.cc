@@ -4,6 +4,7 @@
 #include <unistd.h>
 
 #include <array>
+#include <cstring>
 #include <string>
 
 namespace hcpf::cli {
@@ -11,11 +12,13 @@ namespace hcpf::cli {
 namespace {
 
 constexpr std::array<int, 3> kSignals = {SIGINT, SIGTERM, SIGHUP};
-constexpr std::array<const char*, 3> kNames = {"SIGINT", "SIGTERM", "SIGHUP"};
 
 // Filled before any handler is installed and never changed afterwards, so
 // the handler only reads finished text.
 std::array<std::string, 3> g_messages;
+// The actions AnnounceInterrupts replaced, for StopAnnouncingInterrupts.
+std::array<struct sigaction, 3> g_previous;
+std::array<bool, 3> g_installed = {false, false, false};
 
 void OnSignal(int signal_number) {
   for (size_t i = 0; i < kSignals.size(); ++i) {
@@ -38,18 +41,39 @@ void OnSignal(int signal_number) {
 
 void AnnounceInterrupts(const std::string& message) {
   for (size_t i = 0; i < kSignals.size(); ++i) {
-    g_messages[i] = message + " (" + kNames[i] + ")\n";
+    // sigabbrev_np: "INT" for SIGINT (glibc).
+    g_messages[i] = message + " (SIG" + ::sigabbrev_np(kSignals[i]) + ")\n";
   }
-  for (const int signal_number : kSignals) {
+  for (size_t i = 0; i < kSignals.size(); ++i) {
     struct sigaction old_action {};
-    if (::sigaction(signal_number, nullptr, &old_action) != 0) continue;
+    if (::sigaction(kSignals[i], nullptr, &old_action) != 0) continue;
     if (old_action.sa_handler == SIG_IGN) continue;
     struct sigaction action {};
     action.sa_handler = OnSignal;
     sigemptyset(&action.sa_mask);
     action.sa_flags = SA_RESTART;
-    ::sigaction(signal_number, &action, nullptr);
+    if (::sigaction(kSignals[i], &action, nullptr) != 0) continue;
+    g_previous[i] = old_action;
+    g_installed[i] = true;
   }
+}
+
+void StopAnnouncingInterrupts() {
+  for (size_t i = 0; i < kSignals.size(); ++i) {
+    if (g_installed[i]) ::sigaction(kSignals[i], &g_previous[i], nullptr);
+    g_installed[i] = false;
+  }
+}
+
+std::string InterruptedMessage(const std::string& command, const std::string& out,
+                               const std::string& cache) {
+  std::string message = "hcpf " + command + ": interrupted; nothing was written to " + out +
+                        " (an earlier output there is kept)";
+  if (!cache.empty()) {
+    message += "; the frames rendered so far are kept in the frame cache " + cache +
+               ", so the same command again starts from them";
+  }
+  return message;
 }
 
 }  // namespace hcpf::cli

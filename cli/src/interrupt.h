@@ -14,4 +14,15 @@ namespace hcpf::cli {
 // write()s it. Call once, from the main thread, before the work starts.
 void AnnounceInterrupts(const std::string& message);
 
+// Puts back the actions AnnounceInterrupts replaced: from now on the message
+// would be wrong (the command's output is complete).
+void StopAnnouncingInterrupts();
+
+// The message of `hcpf <command>` (run, render), which writes `out` through a
+// staging folder renamed into place at the end: nothing was written to it,
+// and with a frame cache `cache` (empty: none) the frames rendered so far are
+// kept there for the same command to start from.
+std::string InterruptedMessage(const std::string& command, const std::string& out,
+                               const std::string& cache);
+
 }  // namespace hcpf::cli

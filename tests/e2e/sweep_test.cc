@@ -17,10 +17,12 @@
 #include <iterator>
 #include <nlohmann/json.hpp>
 #include <opencv2/imgcodecs.hpp>
+#include <optional>
 #include <regex>
 #include <sstream>
 #include <string>
 #include <thread>
+#include <utility>
 #include <vector>
 
 #include "support/process.h"
@@ -171,21 +173,38 @@ INSTANTIATE_TEST_SUITE_P(Signals, SweepResume, ::testing::Values(SIGKILL, SIGINT
                            return std::string("SIG") + ::sigabbrev_np(info.param);
                          });
 
-// The pids of processes (other than `except`) whose command line mentions `text`.
-std::vector<pid_t> ProcessesMentioning(const std::string& text, pid_t except) {
-  std::vector<pid_t> pids;
-  for (const auto& e : fs::directory_iterator("/proc")) {
-    const std::string name = e.path().filename().string();
+// The state and parent of process `pid` (fields 3 and 4 of /proc/<pid>/stat),
+// or nothing when there is no such process.
+std::optional<std::pair<char, pid_t>> ProcessStat(pid_t pid) {
+  std::ifstream stat("/proc/" + std::to_string(pid) + "/stat");
+  std::string text;
+  if (!std::getline(stat, text)) return std::nullopt;
+  const size_t close = text.rfind(')');  // the command name may hold spaces
+  if (close == std::string::npos) return std::nullopt;
+  std::istringstream rest(text.substr(close + 2));
+  char state = 0;
+  pid_t ppid = 0;
+  if (!(rest >> state >> ppid)) return std::nullopt;
+  return std::make_pair(state, ppid);
+}
+
+// Whether `pid` still runs: it exists and is not a zombie waiting to be reaped.
+bool Running(pid_t pid) {
+  const auto stat = ProcessStat(pid);
+  return stat && stat->first != 'Z';
+}
+
+// The running children of `parent`.
+std::vector<pid_t> ChildrenOf(pid_t parent) {
+  std::vector<pid_t> children;
+  for (const auto& entry : fs::directory_iterator("/proc")) {
+    const std::string name = entry.path().filename().string();
     if (name.find_first_not_of("0123456789") != std::string::npos) continue;
-    const pid_t pid = std::stoi(name);
-    std::ifstream in(e.path() / "cmdline", std::ios::binary);
-    const std::string cmdline((std::istreambuf_iterator<char>(in)),
-                              std::istreambuf_iterator<char>());
-    if (pid != except && pid != ::getpid() && cmdline.find(text) != std::string::npos) {
-      pids.push_back(pid);
-    }
+    const pid_t pid = static_cast<pid_t>(std::stol(name));
+    const auto stat = ProcessStat(pid);
+    if (stat && stat->second == parent && stat->first != 'Z') children.push_back(pid);
   }
-  return pids;
+  return children;
 }
 
 // An --isolate sweep sent SIGTERM alone (not its process group: a batch
@@ -202,28 +221,90 @@ TEST(SweepInterrupt, AnIsolatedSweepKilledAloneTakesItsRunsWithIt) {
       {"sweep", (dir / "sweep.yaml").string(), "--out", out.string(), "--jobs", "2", "--isolate"},
       dir / "first.log");
   ASSERT_GT(pid, 0);
-  // Each run's child reads OUT/runs/<key>.input.yaml.
-  const std::string runs_dir = (out / "runs").string();
+  // The sweep's children are its runs (`hcpf run` on OUT/runs/<key>.input.yaml).
   auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(60);
-  while (std::chrono::steady_clock::now() < deadline &&
-         ProcessesMentioning(runs_dir, pid).empty()) {
+  std::vector<pid_t> runs = ChildrenOf(pid);
+  while (std::chrono::steady_clock::now() < deadline && runs.empty()) {
     std::this_thread::sleep_for(std::chrono::milliseconds(5));
+    runs = ChildrenOf(pid);
   }
-  ASSERT_FALSE(ProcessesMentioning(runs_dir, pid).empty()) << ReadFile(dir / "first.log");
+  ASSERT_FALSE(runs.empty()) << ReadFile(dir / "first.log");
   ::kill(pid, SIGTERM);
   int status = 0;
   ::waitpid(pid, &status, 0);
   ASSERT_TRUE(WIFSIGNALED(status)) << ReadFile(dir / "first.log");
-  // The children end within moments (SIGTERM from the kernel when the sweep
-  // is gone); a run left going would take seconds more.
+  // The runs end within moments (SIGTERM from the kernel when the sweep is
+  // gone); a run left going would take seconds more.
   deadline = std::chrono::steady_clock::now() + std::chrono::seconds(2);
-  std::vector<pid_t> left = ProcessesMentioning(runs_dir, pid);
+  const auto still_running = [&] {
+    std::vector<pid_t> left;
+    for (const pid_t run : runs) {
+      if (Running(run)) left.push_back(run);
+    }
+    return left;
+  };
+  std::vector<pid_t> left = still_running();
   while (!left.empty() && std::chrono::steady_clock::now() < deadline) {
     std::this_thread::sleep_for(std::chrono::milliseconds(10));
-    left = ProcessesMentioning(runs_dir, pid);
+    left = still_running();
   }
-  for (const pid_t child : left) ::kill(child, SIGKILL);
+  for (const pid_t run : left) ::kill(run, SIGKILL);
   EXPECT_TRUE(left.empty()) << left.size() << " run(s) outlived the sweep";
+}
+
+// `hcpf run` and `hcpf render` interrupted (Ctrl-C, a batch system's
+// SIGTERM) end by the signal as before, and say what is left: nothing in
+// --out (written through a staging folder), the frames rendered so far in
+// the frame cache. They used to end silently.
+TEST(RunInterrupt, RunAndRenderSayWhatIsLeft) {
+  const fs::path dir = FreshDir("run-interrupted");
+  struct Case {
+    std::string command;
+    int signal_number;
+  };
+  for (const Case& c : {Case{"run", SIGINT}, Case{"render", SIGTERM}}) {
+    const fs::path out = dir / (c.command + "-out");
+    const fs::path cache = dir / (c.command + "-cache");
+    std::vector<std::string> args = {c.command, testing::LibraryScenario("crossing"),
+                                     "--out",   out.string(),
+                                     "--cache", cache.string()};
+    if (c.command == "run") {
+      args.insert(args.end(), {"--set", "observation.source=rendered"});
+    }
+    const fs::path log = dir / (c.command + ".log");
+    const pid_t pid = Spawn(args, log);
+    ASSERT_GT(pid, 0);
+    // Interrupted once a few frames are in the cache.
+    const auto cached = [&] {
+      size_t files = 0;
+      std::error_code ec;
+      for (fs::recursive_directory_iterator it(cache, ec), end; !ec && it != end;
+           it.increment(ec)) {
+        files += it->is_regular_file(ec) ? 1 : 0;
+      }
+      return files;
+    };
+    const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(120);
+    while (std::chrono::steady_clock::now() < deadline && cached() < 4) {
+      std::this_thread::sleep_for(std::chrono::milliseconds(5));
+    }
+    ::kill(pid, c.signal_number);
+    int status = 0;
+    ::waitpid(pid, &status, 0);
+    ASSERT_TRUE(WIFSIGNALED(status)) << "it finished before it could be interrupted\n"
+                                     << ReadFile(log);
+    EXPECT_EQ(WTERMSIG(status), c.signal_number);
+    EXPECT_NE(ReadFile(log).find(
+                  "hcpf " + c.command + ": interrupted; nothing was written to " + out.string() +
+                  " (an earlier output there is kept); the frames rendered so far "
+                  "are kept in the frame cache " +
+                  cache.string() + ", so the same command again starts from them (SIG" +
+                  ::sigabbrev_np(c.signal_number) + ")\n"),
+              std::string::npos)
+        << ReadFile(log);
+    EXPECT_FALSE(fs::exists(out));
+    EXPECT_GE(cached(), 4U);
+  }
 }
 
 // A sweep started with SIGINT ignored (a background job of a script, nohup)
@@ -247,26 +328,6 @@ TEST(SweepInterrupt, AnIgnoredSigintStaysIgnored) {
   EXPECT_EQ(WEXITSTATUS(status), 0) << log;
   EXPECT_EQ(log.find("interrupted"), std::string::npos) << log;
   EXPECT_NE(log.find("sweep finished: 16 runs"), std::string::npos) << log;
-}
-
-// Children of `parent` (from /proc/<pid>/stat, field 4 = ppid).
-std::vector<pid_t> ChildrenOf(pid_t parent) {
-  std::vector<pid_t> children;
-  for (const auto& entry : fs::directory_iterator("/proc")) {
-    const std::string name = entry.path().filename().string();
-    if (name.find_first_not_of("0123456789") != std::string::npos) continue;
-    std::ifstream stat(entry.path() / "stat");
-    std::string text;
-    std::getline(stat, text);
-    const size_t close = text.rfind(')');  // the command name may hold spaces
-    if (close == std::string::npos) continue;
-    std::istringstream rest(text.substr(close + 2));
-    char state = 0;
-    pid_t ppid = 0;
-    rest >> state >> ppid;
-    if (ppid == parent) children.push_back(static_cast<pid_t>(std::stol(name)));
-  }
-  return children;
 }
 
 TEST(SweepCli, IsolatedRunThatCrashesIsRecordedAndTheOthersFinish) {

@@ -578,6 +578,27 @@ void CheckSweepFolder(const std::string& dir, const std::string& option) {
                    "nothing was changed; name another folder");
 }
 
+namespace {
+
+// Copies `from` (a file, or a folder with what it holds) to "<to>.partial-<pid>"
+// and renames that over `to`, so `to` is whole or as it was. RunError naming
+// both when it cannot.
+void CopyWhole(const fs::path& from, const fs::path& to) {
+  const fs::path staging = to.string() + fmt::format(".partial-{}", ::getpid());
+  std::error_code ec;
+  fs::remove_all(staging, ec);
+  fs::copy(from, staging, fs::copy_options::recursive, ec);
+  if (!ec && fs::is_directory(staging, ec)) fs::remove_all(to, ec);  // rename replaces a file
+  if (!ec) fs::rename(staging, to, ec);
+  if (ec) {
+    const std::string message = ec.message();
+    fs::remove_all(staging, ec);
+    throw RunError(fmt::format("cannot copy {} to {}: {}", from.string(), to.string(), message));
+  }
+}
+
+}  // namespace
+
 MergeResult MergeStores(const std::string& out_dir, const std::vector<std::string>& input_dirs) {
   if (input_dirs.empty()) {
     throw InputError(SourceLocation{"hcpf merge", 0, 0, "DIR"}, "at least one shard folder",
@@ -647,21 +668,11 @@ MergeResult MergeStores(const std::string& out_dir, const std::vector<std::strin
         const fs::path to = fs::path(out_dir) / r.run_dir;
         std::error_code ec;
         if (r.ok && fs::exists(from, ec) && !fs::equivalent(from, to, ec)) {
-          // Copied beside its name and renamed, as a sweep publishes a run:
-          // a merge killed part-way leaves a staging folder the next merge or
-          // sweep removes, never a half folder under the run's name.
-          const fs::path staging = to.string() + fmt::format(".partial-{}", ::getpid());
-          fs::remove_all(staging, ec);
+          // As a sweep publishes a run: a merge killed part-way leaves a
+          // staging folder the next merge or sweep removes, never a half
+          // folder under the run's name.
           fs::create_directories(to.parent_path(), ec);
-          fs::copy(from, staging, fs::copy_options::recursive, ec);
-          if (!ec) fs::remove_all(to, ec);
-          if (!ec) fs::rename(staging, to, ec);
-          if (ec) {
-            const std::string message = ec.message();
-            fs::remove_all(staging, ec);
-            throw RunError(
-                fmt::format("cannot copy {} to {}: {}", from.string(), to.string(), message));
-          }
+          CopyWhole(from, to);
         }
       }
       out->Put(r);
@@ -674,15 +685,7 @@ MergeResult MergeStores(const std::string& out_dir, const std::vector<std::strin
   for (const std::string& dir : input_dirs) {
     const fs::path from = fs::path(dir) / "contact_sheet.png";
     if (fs::exists(sheet, ec) || !fs::is_regular_file(from, ec)) continue;
-    const fs::path temp = fs::path(out_dir) / fmt::format(".contact_sheet.png.tmp-{}", ::getpid());
-    fs::copy_file(from, temp, fs::copy_options::overwrite_existing, ec);
-    if (!ec) fs::rename(temp, sheet, ec);
-    if (ec) {
-      const std::string message = ec.message();
-      fs::remove(temp, ec);
-      throw RunError(
-          fmt::format("cannot copy {} to {}: {}", from.string(), sheet.string(), message));
-    }
+    CopyWhole(from, sheet);
     result.contact_sheet = true;
   }
   return result;

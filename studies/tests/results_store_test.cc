@@ -252,18 +252,24 @@ TEST(ResultsStore, AFinishedStoreIsOneFileThatReadersLeaveAlone) {
   EXPECT_EQ(sidecars(), 0);
 }
 
+// Runs the fixture's base scenario (its one run) into DIR/run.
+fs::path RunBase(const fs::path& dir) {
+  const std::vector<SweepRun> runs =
+      ExpandSweep(LoadSweepFile(WriteSweep(dir, "base: base.yaml\n")));
+  EXPECT_EQ(runs.size(), 1u);
+  scenarios::RunOptions options;
+  options.out_dir = (dir / "run").string();
+  options.show_progress = false;
+  scenarios::RunScenario(runs.at(0).scenario(), options);
+  return options.out_dir;
+}
+
 // Every catalogue metric is found in a real run folder: a field renamed in
 // metrics.json or manifest.json would otherwise become a column of NaNs.
 TEST(MetricCatalogue, EveryEntryIsReadFromARealRunFolder) {
   const auto dir = SweepFolder("catalogue");
-  const std::vector<SweepRun> runs =
-      ExpandSweep(LoadSweepFile(WriteSweep(dir, "base: base.yaml\n")));
-  ASSERT_EQ(runs.size(), 1u);
-  scenarios::RunOptions options;
-  options.out_dir = (dir / "run").string();
-  options.show_progress = false;
-  scenarios::RunScenario(runs[0].scenario(), options);
-  const std::map<std::string, double> m = ReadRunMetrics(options.out_dir);
+  const fs::path run = RunBase(dir);
+  const std::map<std::string, double> m = ReadRunMetrics(run.string());
   ASSERT_EQ(m.size(), MetricCatalogue().size());
   // Detection quality exists only for rendered runs: its entries are checked
   // on the metrics.json the run writer makes with a detection block (one
@@ -285,7 +291,7 @@ TEST(MetricCatalogue, EveryEntryIsReadFromARealRunFolder) {
   const fs::path rendered = dir / "rendered";
   fs::create_directories(rendered);
   std::ofstream(rendered / "metrics.json") << metrics::RunMetricsToJson(with_detection);
-  fs::copy_file(fs::path(options.out_dir) / "manifest.json", rendered / "manifest.json");
+  fs::copy_file(run / "manifest.json", rendered / "manifest.json");
   const std::map<std::string, double> d = ReadRunMetrics(rendered.string());
   for (const CatalogueMetric& c : MetricCatalogue()) {
     const std::string name(c.name);
@@ -314,16 +320,9 @@ TEST(MetricCatalogue, EveryEntryIsReadFromARealRunFolder) {
 // with gt/gt.txt emptied, was reused as ok and then failed `hcpf export`).
 TEST(RunFolderIntact, AFileDeletedCutEmptiedOrGrownIsDamage) {
   const auto dir = SweepFolder("intact");
-  const std::vector<SweepRun> runs =
-      ExpandSweep(LoadSweepFile(WriteSweep(dir, "base: base.yaml\n")));
-  ASSERT_EQ(runs.size(), 1u);
-  scenarios::RunOptions options;
-  options.out_dir = (dir / "run").string();
-  options.show_progress = false;
-  scenarios::RunScenario(runs[0].scenario(), options);
+  const fs::path run = RunBase(dir);
   RunRecord record;
-  record.metrics = ReadRunMetrics(options.out_dir);
-  const fs::path run = options.out_dir;
+  record.metrics = ReadRunMetrics(run.string());
   ASSERT_TRUE(RunFolderIntact(run.string(), record));
 
   nlohmann::json manifest;

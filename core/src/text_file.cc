@@ -2,12 +2,15 @@
 
 #include <fcntl.h>
 #include <fmt/format.h>
+#include <signal.h>
 #include <sys/stat.h>
 #include <unistd.h>
 
 #include <algorithm>
 #include <atomic>
 #include <cerrno>
+#include <cstdint>
+#include <cstdlib>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
@@ -156,6 +159,21 @@ std::string TempFileTarget(std::string_view entry) {
     return "";
   }
   return std::string(entry.substr(1, at - 1));
+}
+
+void RemoveStaleTempFiles(const std::filesystem::path& dir) {
+  std::error_code ec;
+  for (const auto& entry : std::filesystem::directory_iterator(dir, ec)) {
+    const std::string name = entry.path().filename().string();
+    const std::string target = TempFileTarget(name);
+    if (target.empty() || !entry.is_regular_file(ec)) continue;
+    // ".<target>.tmp-<pid>-<n>": the pid's digits were checked by TempFileTarget.
+    const std::string numbers = name.substr(target.size() + 6);
+    const long pid = std::strtol(numbers.c_str(), nullptr, 10);
+    if (pid > 0 && pid <= INT32_MAX && ::kill(static_cast<pid_t>(pid), 0) == -1 && errno == ESRCH) {
+      std::filesystem::remove(entry.path(), ec);
+    }
+  }
 }
 
 uint64_t CheckRegularFile(const std::string& path, const std::string& what) {

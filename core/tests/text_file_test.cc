@@ -86,6 +86,30 @@ TEST(WriteTextFile, ItsTemporaryFilesAreKnownByName) {
   }
 }
 
+// Those of processes that no longer run are removed; the rest stay.
+TEST(WriteTextFile, StaleTemporaryFilesAreRemoved) {
+  const fs::path dir =
+      fs::temp_directory_path() / ("hcpf_core_stale_temp_" + std::to_string(::getpid()));
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  const pid_t child = ::fork();
+  ASSERT_GE(child, 0);
+  if (child == 0) ::_exit(0);
+  ASSERT_EQ(::waitpid(child, nullptr, 0), child);  // its pid now names no process
+  const std::string dead = ".report.html.tmp-" + std::to_string(child) + "-3";
+  const std::string live = ".report.html.tmp-" + std::to_string(::getpid()) + "-0";
+  for (const std::string& name :
+       {dead, live, std::string("report.html"), std::string(".notes.tmp-x-1")}) {
+    std::ofstream(dir / name) << "x";
+  }
+  RemoveStaleTempFiles(dir);
+  EXPECT_FALSE(fs::exists(dir / dead));
+  EXPECT_TRUE(fs::exists(dir / live));
+  EXPECT_TRUE(fs::exists(dir / "report.html"));
+  EXPECT_TRUE(fs::exists(dir / ".notes.tmp-x-1"));
+  fs::remove_all(dir);
+}
+
 // The message of the InputError CheckFilesToWrite throws, or "" when it accepts.
 std::string Refusal(const std::vector<FileToWrite>& writes, const std::vector<FileRead>& reads,
                     const std::vector<fs::path>& under = {}) {

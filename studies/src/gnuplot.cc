@@ -76,6 +76,8 @@ std::string InlineSvg(const std::string& svg) {
 
 std::filesystem::path MakePlotWorkDir(const std::filesystem::path& out, bool out_is_input) {
   const std::filesystem::path work = out / ".report-work";
+  // What an earlier report killed while writing its files left.
+  RemoveStaleTempFiles(out);
   std::error_code ec;
   std::filesystem::remove_all(work, ec);
   std::filesystem::create_directories(work, ec);

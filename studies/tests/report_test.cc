@@ -594,8 +594,9 @@ TEST(RunReport, OutMustBeNewEmptyOrAnEarlierReport) {
   EXPECT_NO_THROW(WriteReport({.dir = run.string(), .out_dir = reports.string()}));
   // So is one where an earlier report was killed while writing (reports are
   // written whole, through a temporary file beside the name: WriteTextFile).
-  std::ofstream(reports / ".report.html.tmp-999999-0") << "<html>cut sh";
+  std::ofstream(reports / ".report.html.tmp-999999999-0") << "<html>cut sh";
   EXPECT_NO_THROW(WriteReport({.dir = run.string(), .out_dir = reports.string()}));
+  EXPECT_FALSE(fs::exists(reports / ".report.html.tmp-999999999-0")) << "a stale temporary file";
   std::ofstream(reports / ".notes.txt.tmp-999999-0") << "not a report's";
   EXPECT_THROW(WriteReport({.dir = run.string(), .out_dir = reports.string()}), InputError);
 }

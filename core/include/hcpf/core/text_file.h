@@ -23,6 +23,11 @@ void WriteTextFile(const std::string& path, const std::string& text);
 // how a folder check tells what a killed write left from a user's file.
 std::string TempFileTarget(std::string_view entry);
 
+// Removes from `dir` (not below it) the temporary files of WriteTextFile
+// whose process no longer runs: what writes killed part-way left. Those of
+// live processes, and everything else, stay.
+void RemoveStaleTempFiles(const std::filesystem::path& dir);
+
 // Checks that `path` names a regular file that can be opened for reading and
 // returns its size in bytes. A directory, a FIFO or a device (/dev/zero,
 // /dev/urandom) is an InputError at `path` naming what was found: reading one

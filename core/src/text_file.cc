@@ -100,6 +100,13 @@ void ReadUpTo(int fd, const std::string& path, size_t count, std::string* out) {
 
 }  // namespace
 
+std::filesystem::path TempFileFor(const std::filesystem::path& path) {
+  // The counter keeps two threads apart.
+  static std::atomic<uint64_t> counter{0};
+  return path.parent_path() /
+         fmt::format(".{}.tmp-{}-{}", path.filename().string(), ::getpid(), counter.fetch_add(1));
+}
+
 void WriteTextFile(const std::string& path, const std::string& text) {
   struct stat st {};
   const bool exists = ::lstat(path.c_str(), &st) == 0;
@@ -116,13 +123,8 @@ void WriteTextFile(const std::string& path, const std::string& text) {
   // A file is written whole beside its final name, then renamed over it, so a
   // write that fails (a full disk) or is killed part-way leaves the earlier
   // file as it was instead of a truncated one that looks complete (a report a
-  // browser shows without complaint). The counter keeps two threads apart.
-  static std::atomic<uint64_t> counter{0};
-  const std::filesystem::path target(path);
-  const std::string temp =
-      (target.parent_path() /
-       fmt::format(".{}.tmp-{}-{}", target.filename().string(), ::getpid(), counter.fetch_add(1)))
-          .string();
+  // browser shows without complaint).
+  const std::string temp = TempFileFor(path).string();
   const int fd = ::open(temp.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666);
   if (fd < 0) throw RunError(fmt::format("cannot write {}: {}", path, std::strerror(errno)));
   int open_fd = fd;

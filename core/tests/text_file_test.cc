@@ -79,6 +79,12 @@ TEST(WriteTextFile, ReplacesAFileWholeOrNotAtAll) {
 TEST(WriteTextFile, ItsTemporaryFilesAreKnownByName) {
   EXPECT_EQ(TempFileTarget(".report.html.tmp-123-0"), "report.html");
   EXPECT_EQ(TempFileTarget(".gt.txt.tmp-7-12"), "gt.txt");
+  // The names TempFileFor gives (WriteTextFile's, the sweep's contact sheet)
+  // are known, and two are never the same.
+  const fs::path first = TempFileFor("out/contact_sheet.png");
+  EXPECT_EQ(first.parent_path(), "out");
+  EXPECT_EQ(TempFileTarget(first.filename().string()), "contact_sheet.png");
+  EXPECT_NE(TempFileFor("out/contact_sheet.png"), first);
   for (const char* other : {"report.html", ".report.html", ".report.html.tmp-",
                             ".report.html.tmp-1", ".report.html.tmp-1-", ".report.html.tmp-x-1",
                             "report.html.tmp-1-2", "..tmp-1-2", ".tmp-1-2"}) {

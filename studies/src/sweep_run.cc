@@ -17,6 +17,7 @@
 
 #include "hcpf/core/check.h"
 #include "hcpf/core/parallel.h"
+#include "hcpf/core/text_file.h"
 #include "hcpf/renderer/image_io.h"
 #include "hcpf/renderer/renderer.h"
 #include "hcpf/scenarios/frames.h"
@@ -70,9 +71,10 @@ void WriteContactSheet(const fs::path& out, const std::vector<SweepRun>& runs,
       }
       sheet.push_back(std::move(*frame));
     }
-    // Written beside its name and renamed, so a sweep killed while writing it
-    // leaves the earlier sheet or none, never a cut one.
-    const fs::path temp = out / fmt::format(".contact_sheet.png.tmp-{}", ::getpid());
+    // Written beside its name and renamed, as WriteTextFile writes, so a sweep
+    // killed while writing it leaves the earlier sheet or none, never a cut
+    // one (and a temporary file a later report removes).
+    const fs::path temp = TempFileFor(out / "contact_sheet.png");
     std::error_code ec;
     try {
       renderer::WritePng(renderer::MakeContactSheet(sheet), temp.string());

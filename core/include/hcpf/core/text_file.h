@@ -18,6 +18,11 @@ namespace hcpf {
 // cannot be written.
 void WriteTextFile(const std::string& path, const std::string& text);
 
+// A new name for the temporary file of `path` in its folder
+// (".<name>.tmp-<pid>-<n>", n counting in this process), for writers of other
+// files (PNG) that write whole the same way as WriteTextFile.
+std::filesystem::path TempFileFor(const std::filesystem::path& path);
+
 // The name of the file whose temporary file WriteTextFile left as `entry`
 // (".report.html.tmp-123-0" -> "report.html"), or "" when `entry` is not one:
 // how a folder check tells what a killed write left from a user's file.

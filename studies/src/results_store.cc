@@ -518,11 +518,8 @@ bool RunFilesWhole(const std::string& run_dir, const json& manifest) {
   return true;
 }
 
-}  // namespace
-
-std::map<std::string, double> ReadRunMetrics(const std::string& run_dir) {
-  const json metrics = ReadRunJson(run_dir, "metrics.json");
-  const json manifest = ReadRunJson(run_dir, "manifest.json");
+// The headline metrics of a run from its metrics.json and manifest.json.
+std::map<std::string, double> RunMetricsOf(const json& metrics, const json& manifest) {
   std::map<std::string, double> m;
   for (const CatalogueMetric& c : MetricCatalogue()) {
     const json& source = c.file == "manifest.json" ? manifest : metrics;
@@ -540,11 +537,18 @@ std::map<std::string, double> ReadRunMetrics(const std::string& run_dir) {
   return m;
 }
 
+}  // namespace
+
+std::map<std::string, double> ReadRunMetrics(const std::string& run_dir) {
+  return RunMetricsOf(ReadRunJson(run_dir, "metrics.json"), ReadRunJson(run_dir, "manifest.json"));
+}
+
 bool RunFolderIntact(const std::string& run_dir, const RunRecord& record) {
   std::map<std::string, double> now;
   try {
-    now = ReadRunMetrics(run_dir);
-    if (!RunFilesWhole(run_dir, ReadRunJson(run_dir, "manifest.json"))) return false;
+    const json manifest = ReadRunJson(run_dir, "manifest.json");
+    if (!RunFilesWhole(run_dir, manifest)) return false;
+    now = RunMetricsOf(ReadRunJson(run_dir, "metrics.json"), manifest);
   } catch (const RunError&) {
     return false;
   }

@@ -7,9 +7,11 @@
 #include <unistd.h>
 
 #include <cerrno>
+#include <charconv>
 #include <cstdlib>
 #include <cstring>
 #include <filesystem>
+#include <fstream>
 #include <string_view>
 
 #include "hcpf/core/check.h"
@@ -71,6 +73,27 @@ bool ExecutableOnPath(const std::string& name) {
     if (colon == std::string_view::npos) return false;
     dirs.remove_prefix(colon + 1);
   }
+}
+
+bool ProcessIsGone(std::string_view pid_digits) {
+  int pid = 0;
+  const char* end = pid_digits.data() + pid_digits.size();
+  if (pid_digits.empty() || pid_digits.front() < '0' || pid_digits.front() > '9') return false;
+  const auto [ptr, ec] = std::from_chars(pid_digits.data(), end, pid);
+  if (ec != std::errc() || ptr != end || pid <= 0) return false;
+  // ESRCH: no such process. EPERM means one exists (of another user).
+  if (::kill(pid, 0) == -1 && errno == ESRCH) return true;
+  // A zombie has ended too: its parent has not collected its exit status
+  // yet. An MPI job's ranks that mpirun left behind wait as zombies for init,
+  // and a resumed sweep started at once must see their staging folders as
+  // left over. The state is the field after the command's closing ')'.
+  std::ifstream stat("/proc/" + std::to_string(pid) + "/stat");
+  std::string line;
+  if (!std::getline(stat, line)) return false;
+  const size_t close = line.rfind(')');
+  if (close == std::string::npos || close + 2 >= line.size()) return false;
+  const char state = line[close + 2];
+  return state == 'Z' || state == 'X';
 }
 
 }  // namespace hcpf

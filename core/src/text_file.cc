@@ -2,7 +2,6 @@
 
 #include <fcntl.h>
 #include <fmt/format.h>
-#include <signal.h>
 #include <sys/stat.h>
 #include <unistd.h>
 
@@ -16,6 +15,7 @@
 #include <fstream>
 
 #include "hcpf/core/error.h"
+#include "hcpf/core/subprocess.h"
 
 namespace hcpf {
 namespace {
@@ -170,9 +170,8 @@ void RemoveStaleTempFiles(const std::filesystem::path& dir) {
     const std::string target = TempFileTarget(name);
     if (target.empty() || !entry.is_regular_file(ec)) continue;
     // ".<target>.tmp-<pid>-<n>": the pid's digits were checked by TempFileTarget.
-    const std::string numbers = name.substr(target.size() + 6);
-    const long pid = std::strtol(numbers.c_str(), nullptr, 10);
-    if (pid > 0 && pid <= INT32_MAX && ::kill(static_cast<pid_t>(pid), 0) == -1 && errno == ESRCH) {
+    const std::string_view numbers = std::string_view(name).substr(target.size() + 6);
+    if (ProcessIsGone(numbers.substr(0, numbers.find('-')))) {
       std::filesystem::remove(entry.path(), ec);
     }
   }

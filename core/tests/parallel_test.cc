@@ -1,10 +1,13 @@
 #include "hcpf/core/parallel.h"
 
 #include <gtest/gtest.h>
+#include <sys/wait.h>
+#include <unistd.h>
 
 #include <atomic>
 #include <future>
 #include <stdexcept>
+#include <string>
 #include <thread>
 #include <vector>
 
@@ -63,6 +66,31 @@ TEST(RunProcess, ExitCodesSignalsAndOutputInTheLog) {
   s = RunProcess({"/nonexistent/program"}, log);
   EXPECT_EQ(s.exit_code, 127);
   EXPECT_TRUE(RunProcess({"true"}, log).ok());
+}
+
+TEST(ProcessIsGone, OnlyForTheDigitsOfAProcessThatEnded) {
+  // A child that has ended and been reaped: its pid names no process (until
+  // the kernel reuses it, which takes a full cycle of pid_max).
+  const pid_t child = ::fork();
+  ASSERT_GE(child, 0);
+  if (child == 0) ::_exit(0);
+  // Ended but not yet collected (a zombie, as MPI ranks that mpirun left
+  // wait for init): gone. WNOWAIT waits for the exit and leaves the zombie.
+  siginfo_t info{};
+  ASSERT_EQ(::waitid(P_PID, static_cast<id_t>(child), &info, WEXITED | WNOWAIT), 0);
+  EXPECT_TRUE(ProcessIsGone(std::to_string(child)));
+  // Collected: no such process.
+  int status = 0;
+  ASSERT_EQ(::waitpid(child, &status, 0), child);
+  EXPECT_TRUE(ProcessIsGone(std::to_string(child)));
+  // Running processes: this one, and init (another user's for a non-root
+  // test run: EPERM, which is not "gone").
+  EXPECT_FALSE(ProcessIsGone(std::to_string(::getpid())));
+  EXPECT_FALSE(ProcessIsGone("1"));
+  // Not a pid: nothing may be removed on its account.
+  for (const char* text : {"", "0", "-5", "+5", "12a", "a12", " 12", "99999999999999999999"}) {
+    EXPECT_FALSE(ProcessIsGone(text)) << '"' << text << '"';
+  }
 }
 
 TEST(SerialWorker, RunsJobsInPostOrderOnOneOtherThread) {

@@ -1,18 +1,16 @@
 #include "hcpf/scenarios/output_folder.h"
 
 #include <fmt/format.h>
-#include <signal.h>
 #include <unistd.h>
 
 #include <algorithm>
 #include <array>
-#include <cerrno>
-#include <charconv>
 #include <fstream>
 #include <nlohmann/json.hpp>
 #include <string_view>
 
 #include "hcpf/core/error.h"
+#include "hcpf/core/subprocess.h"
 #include "hcpf/core/text_file.h"
 
 namespace hcpf::scenarios {
@@ -39,13 +37,6 @@ bool IsFrameFile(std::string_view name) {
   }
   const std::string_view rest = name.substr(6);
   return rest == ".png" || rest == "_depth.png" || rest == "_ids.png";
-}
-
-bool PidIsGone(std::string_view digits) {
-  int pid = 0;
-  const auto [ptr, ec] = std::from_chars(digits.data(), digits.data() + digits.size(), pid);
-  if (ec != std::errc() || ptr != digits.data() + digits.size() || pid <= 0) return false;
-  return ::kill(pid, 0) == -1 && errno == ESRCH;
 }
 
 }  // namespace
@@ -132,7 +123,7 @@ void RemoveStaleStagingFolders(const fs::path& parent, const std::string& prefix
       if (at == std::string::npos) continue;
       // With a prefix, the name must be exactly "<prefix><marker><pid>".
       if (!prefix.empty() && name.compare(0, at, prefix) != 0) continue;
-      if (PidIsGone(std::string_view(name).substr(at + marker.size()))) {
+      if (ProcessIsGone(std::string_view(name).substr(at + marker.size()))) {
         fs::remove_all(entry.path(), ec);
       }
       break;

@@ -3,6 +3,7 @@
 // paths need no quoting), output captured in a log file.
 
 #include <string>
+#include <string_view>
 #include <vector>
 
 namespace hcpf {
@@ -27,5 +28,14 @@ ProcessStatus RunProcess(const std::vector<std::string>& argv, const std::string
 // Whether `name` (no '/') names an executable file in a folder of PATH, as
 // RunProcess would look it up.
 bool ExecutableOnPath(const std::string& name);
+
+// Whether `pid_digits` (decimal digits only, as a process id appears in a
+// file or folder name this project leaves behind: "<name>.partial-<pid>",
+// ".<name>.tmp-<pid>-<n>", "hcpf-regress.partial-<pid>") names a process that no
+// longer runs on this machine: none has that id, or it is a zombie (ended,
+// its exit status not yet collected). False for anything else, and for a
+// process that runs, even one of another user: only what is surely left
+// over may be removed.
+bool ProcessIsGone(std::string_view pid_digits);
 
 }  // namespace hcpf

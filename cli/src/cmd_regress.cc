@@ -1,15 +1,45 @@
 // hcpf regress SUITE.yaml --baseline BASELINE.json [--update-baseline] [--junit FILE] [--markdown
 // FILE]
 
+#include <fmt/format.h>
+#include <fmt/ranges.h>
 #include <spdlog/spdlog.h>
 
 #include <cstdio>
 #include <memory>
+#include <string>
+#include <vector>
 
 #include "command.h"
 #include "hcpf/studies/regress.h"
+#include "interrupt.h"
 
 namespace hcpf::cli {
+
+namespace {
+
+std::string RegressInterruptedMessage(const studies::RegressOptions& o) {
+  std::vector<std::string> outputs;
+  if (o.update_baseline) outputs.push_back(o.baseline_path);
+  if (!o.junit_path.empty()) outputs.push_back(o.junit_path);
+  if (!o.markdown_path.empty()) outputs.push_back(o.markdown_path);
+  std::string message = "hcpf regress: interrupted before every scene had run; ";
+  if (outputs.empty()) {
+    message += "nothing was compared";
+  } else {
+    message += fmt::format("nothing was written to {} (an earlier file is kept)",
+                           fmt::join(outputs, ", "));
+  }
+  if (o.work_dir.empty()) {
+    message += fmt::format("; the temporary run folder {} is removed by the next hcpf regress",
+                           o.RunsFolder().string());
+  } else {
+    message += fmt::format("; the run folders of the scenes that finished are in {}", o.work_dir);
+  }
+  return message;
+}
+
+}  // namespace
 
 Command AddRegressCommand(CLI::App& parent) {
   auto options = std::make_shared<studies::RegressOptions>();
@@ -29,6 +59,10 @@ Command AddRegressCommand(CLI::App& parent) {
       ->check(CLI::Range(1, 1024))
       ->capture_default_str();
   return {app, [options] {
+            // Ctrl-C or a batch system's SIGTERM ends the suite at once; it
+            // says what is left (the outputs are written after every run).
+            AnnounceInterrupts(RegressInterruptedMessage(*options));
+            options->runs_done = StopAnnouncingInterrupts;
             const studies::RegressResult r = studies::RunRegress(*options);
             std::fputs(r.table.c_str(), stdout);
             std::fflush(stdout);

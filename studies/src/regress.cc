@@ -564,6 +564,14 @@ void CheckOutputs(const RegressOptions& o, const RegressSuite& suite) {
 
 }  // namespace
 
+fs::path RegressOptions::RunsFolder() const {
+  if (!work_dir.empty()) return work_dir;
+  std::error_code ec;
+  fs::path temp = fs::temp_directory_path(ec);
+  if (ec) temp = "/tmp";
+  return temp / fmt::format("hcpf-regress.partial-{}", ::getpid());
+}
+
 RegressResult RunRegress(const RegressOptions& options) {
   options.Validate();
   const RegressSuite suite = LoadRegressSuite(options.suite_path);
@@ -588,10 +596,11 @@ RegressResult RunRegress(const RegressOptions& options) {
   }
 
   const bool temporary = options.work_dir.empty();
-  const fs::path work = temporary
-                            ? fs::temp_directory_path() / fmt::format("hcpf-regress-{}", ::getpid())
-                            : fs::path(options.work_dir);
+  const fs::path work = options.RunsFolder();
   std::error_code ec;
+  // The temporary folders of regress runs that were killed (SIGKILL, or a
+  // signal they announced: cli/src/cmd_regress.cc).
+  if (temporary) scenarios::RemoveStaleStagingFolders(work.parent_path(), "hcpf-regress");
   fs::create_directories(work, ec);
   if (ec) throw RunError(fmt::format("cannot create {}: {}", work.string(), ec.message()));
 
@@ -626,6 +635,7 @@ RegressResult RunRegress(const RegressOptions& options) {
     }
   });
   if (temporary) fs::remove_all(work, ec);
+  if (options.runs_done) options.runs_done();
   for (size_t i = 0; i < runs.size(); ++i) {
     if (errors[i].empty()) continue;
     const RegressScene& scene = suite.scenes[runs[i].scene];

@@ -11,6 +11,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cstdlib>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
@@ -305,6 +306,75 @@ TEST(RunInterrupt, RunAndRenderSayWhatIsLeft) {
     EXPECT_FALSE(fs::exists(out));
     EXPECT_GE(cached(), 4U);
   }
+}
+
+// `hcpf regress` interrupted says what is left: no baseline, JUnit or
+// Markdown file written, and its temporary run folder, which the next regress
+// removes (it used to end silently and leave TMPDIR/hcpf-regress-<pid>, run
+// folders and all, for good).
+TEST(RunInterrupt, RegressSaysWhatIsLeftAndTheNextRemovesItsRunFolder) {
+  const fs::path dir = FreshDir("regress-interrupted");
+  const fs::path tmp = dir / "tmp";
+  fs::create_directories(tmp);
+  // A scene of several seconds (600000 particles a filter).
+  std::ofstream(dir / "suite.yaml")
+      << "scenes:\n  - {name: slow, scenario: " << testing::LibraryScenario("crossing-dominant")
+      << ", set: {tracker.particles: 600000}}\n"
+         "metrics:\n  idf1: {tolerance: 0.01}\n";
+  const fs::path baseline = dir / "baseline.json", junit = dir / "junit.xml";
+  const char* old_tmpdir = std::getenv("TMPDIR");
+  const std::string kept_tmpdir = old_tmpdir ? old_tmpdir : "";
+  ::setenv("TMPDIR", tmp.c_str(), 1);
+  const pid_t pid = Spawn({"regress", (dir / "suite.yaml").string(), "--baseline",
+                           baseline.string(), "--update-baseline", "--junit", junit.string()},
+                          dir / "first.log");
+  if (old_tmpdir) {
+    ::setenv("TMPDIR", kept_tmpdir.c_str(), 1);
+  } else {
+    ::unsetenv("TMPDIR");
+  }
+  ASSERT_GT(pid, 0);
+  const fs::path runs = tmp / ("hcpf-regress.partial-" + std::to_string(pid));
+  // Interrupted once the scene's run is under way (its staging folder is in
+  // the run folder).
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(60);
+  std::error_code ec;
+  while (std::chrono::steady_clock::now() < deadline &&
+         (!fs::exists(runs, ec) || fs::is_empty(runs, ec))) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(5));
+  }
+  ::kill(pid, SIGINT);
+  int status = 0;
+  ::waitpid(pid, &status, 0);
+  const std::string log = ReadFile(dir / "first.log");
+  ASSERT_TRUE(WIFSIGNALED(status)) << "it finished before it could be interrupted\n" << log;
+  EXPECT_EQ(WTERMSIG(status), SIGINT);
+  EXPECT_NE(log.find("hcpf regress: interrupted before every scene had run; nothing was written "
+                     "to " +
+                     baseline.string() + ", " + junit.string() +
+                     " (an earlier file is kept); the temporary run folder " + runs.string() +
+                     " is removed by the next hcpf regress (SIGINT)\n"),
+            std::string::npos)
+      << log;
+  EXPECT_FALSE(fs::exists(baseline));
+  EXPECT_FALSE(fs::exists(junit));
+  ASSERT_TRUE(fs::exists(runs));
+
+  // The next regress removes it, and nothing else in TMPDIR.
+  fs::create_directories(tmp / "hcpf-regress.partial-1");  // init's: a live process
+  fs::create_directories(tmp / "other");
+  std::ofstream(dir / "quick.yaml")
+      << "scenes:\n  - {name: q, scenario: " << testing::LibraryScenario("crossing-dominant")
+      << ", set: {frames: 5}}\nmetrics:\n  idf1: {tolerance: 0.01}\n";
+  const auto next = RunCommand("TMPDIR=" + tmp.string() + " " + kHcpf + " regress " +
+                               (dir / "quick.yaml").string() + " --baseline " +
+                               (dir / "quick.json").string() + " --update-baseline");
+  ASSERT_EQ(next.exit_code, 0) << next.output;
+  EXPECT_FALSE(fs::exists(runs));
+  EXPECT_TRUE(fs::exists(tmp / "hcpf-regress.partial-1"));
+  EXPECT_TRUE(fs::exists(tmp / "other"));
+  // Its own temporary folder is gone too.
+  EXPECT_EQ(std::distance(fs::directory_iterator(tmp), {}), 2);
 }
 
 // A sweep started with SIGINT ignored (a background job of a script, nohup)

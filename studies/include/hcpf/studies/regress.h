@@ -14,6 +14,8 @@
 //   exit code: r.worse > 0 ? 1 : 0   (bad suite or baseline: InputError -> 2)
 
 #include <cstdint>
+#include <filesystem>
+#include <functional>
 #include <span>
 #include <string>
 #include <vector>
@@ -97,7 +99,14 @@ struct RegressOptions {
   std::string markdown_path;     // optional Markdown summary
   std::string work_dir;          // run folders; "" = a temporary folder, removed afterwards
   int jobs = 1;                  // runs (scenes, seeds of seeded scenes) in parallel
+  // Called once every run has ended and the temporary folder is removed,
+  // before any file is written (hcpf regress stops announcing interrupts).
+  std::function<void()> runs_done;
   void Validate() const;
+  // Where the runs go: work_dir, or the temporary folder
+  // TMPDIR/hcpf-regress.partial-<pid> (one that a killed regress left is
+  // removed by the next RunRegress).
+  std::filesystem::path RunsFolder() const;
 };
 
 struct RegressResult {

@@ -89,6 +89,31 @@ std::filesystem::path MakePlotWorkDir(const std::filesystem::path& out, bool out
   return work;
 }
 
+void PublishReportFiles(const std::filesystem::path& work, const std::filesystem::path& out,
+                        const std::vector<std::pair<std::string, std::string>>& files,
+                        const std::vector<std::string>& stale) {
+  namespace fs = std::filesystem;
+  const fs::path staged = work / "publish";
+  std::error_code ec;
+  fs::create_directories(staged, ec);
+  if (ec) throw RunError(fmt::format("cannot create {}: {}", staged.string(), ec.message()));
+  for (const auto& [name, text] : files) WriteTextFile((staged / name).string(), text);
+  for (const auto& [name, text] : files) {
+    const fs::path target = out / name;
+    const fs::file_status status = fs::symlink_status(target, ec);
+    if (fs::exists(status) && !fs::is_regular_file(status)) {
+      WriteTextFile(target.string(), text);
+      continue;
+    }
+    if (fs::is_regular_file(status)) fs::permissions(staged / name, status.permissions(), ec);
+    fs::rename(staged / name, target, ec);
+    if (ec) {
+      throw RunError(fmt::format("replacing {} failed: {}", target.string(), ec.message()));
+    }
+  }
+  for (const std::string& name : stale) fs::remove(out / name, ec);
+}
+
 void CheckReportOut(const std::string& out_dir) {
   namespace fs = std::filesystem;
   scenarios::CheckFolderArgument(out_dir, "--out");

@@ -5,6 +5,8 @@
 
 #include <filesystem>
 #include <string>
+#include <utility>
+#include <vector>
 
 namespace hcpf::studies {
 
@@ -32,6 +34,19 @@ std::string InlineSvg(const std::string& svg);
 // data, and returns it; throws RunError naming the folder, and suggesting
 // --out when the report writes into the folder it reads (`out_is_input`).
 std::filesystem::path MakePlotWorkDir(const std::filesystem::path& out, bool out_is_input);
+
+// Writes a report's files (file name in `out` -> contents) as one set: each
+// is first written whole into `work` (MakePlotWorkDir), and only when all of
+// them are there are they renamed into `out`, in the order given (report.html
+// last). A report that fails on the way (a full disk) leaves the earlier
+// report in `out` as it was, not a mix of two reports; a kill can leave a mix
+// only inside the renames, microseconds. A name that is a symbolic link,
+// device or FIFO in `out` is written through in place (WriteTextFile), and an
+// existing file keeps its mode. Then the names in `stale` (files of an
+// earlier report that this one does not write) are removed from `out`.
+void PublishReportFiles(const std::filesystem::path& work, const std::filesystem::path& out,
+                        const std::vector<std::pair<std::string, std::string>>& files,
+                        const std::vector<std::string>& stale);
 
 // Checks a report's --out folder: new, empty, or holding only what a report
 // writes (report.html, summary.csv, paired.csv, findings.md, .report-work);

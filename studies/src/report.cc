@@ -1204,27 +1204,32 @@ ReportResult WriteReport(const ReportOptions& options) {
   }
   result.difference_plots = static_cast<int>(difference_svgs.size());
   result.comparisons = static_cast<int>(paired.rows.size());
+  // Every file is made before any is written, and they replace the earlier
+  // report's as one set (PublishReportFiles).
+  std::vector<std::pair<std::string, std::string>> files;
+  std::vector<std::string> stale;  // files of an earlier report in this folder
   if (!paired.rows.empty()) {
-    WriteTextFile((out / "paired.csv").string(), PairedCsv(paired, meta));
+    files.emplace_back("paired.csv", PairedCsv(paired, meta));
   } else {
-    fs::remove(out / "paired.csv", ec);  // from an earlier report in this folder
+    stale.push_back("paired.csv");
   }
   // The findings, also as findings.md (read without a browser).
   const std::vector<Finding> findings = FindingsOf(cells, paired, meta, layout);
   const GlanceTable glance = GlanceOf(paired, meta);
   result.findings = static_cast<int>(findings.size());
   if (!findings.empty()) {
-    WriteTextFile((out / "findings.md").string(), FindingsMarkdown(findings, glance, paired, meta));
+    files.emplace_back("findings.md", FindingsMarkdown(findings, glance, paired, meta));
   } else {
-    fs::remove(out / "findings.md", ec);  // from an earlier report of this folder
+    stale.push_back("findings.md");
   }
+  files.emplace_back("summary.csv", SummaryCsv(cells, meta.swept_keys));
+  files.emplace_back("report.html",
+                     ReportHtml(dir, link_prefix, meta, runs, cells, layout, svgs,
+                                FindingsHtml(findings, glance, paired, meta),
+                                PairedHtml(paired, meta, layout, difference_svgs), unmeasured));
+  PublishReportFiles(work, out, files, stale);
   result.csv_path = (out / "summary.csv").string();
-  WriteTextFile(result.csv_path, SummaryCsv(cells, meta.swept_keys));
   result.html_path = (out / "report.html").string();
-  WriteTextFile(result.html_path,
-                ReportHtml(dir, link_prefix, meta, runs, cells, layout, svgs,
-                           FindingsHtml(findings, glance, paired, meta),
-                           PairedHtml(paired, meta, layout, difference_svgs), unmeasured));
   result.cells = static_cast<int>(cells.size());
   fs::remove_all(work, ec);
   return result;

@@ -3,10 +3,14 @@
 #include "hcpf/studies/report.h"
 
 #include <gtest/gtest.h>
+#include <sys/resource.h>
+#include <sys/wait.h>
+#include <unistd.h>
 
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <csignal>
 #include <filesystem>
 #include <fstream>
 #include <limits>
@@ -1123,6 +1127,56 @@ void WriteTwoRunStore(const fs::path& dir, const std::vector<std::string>& y) {
 }
 
 // Without a series there is nothing to compare: no findings, no file.
+// A report that fails part-way (here a full disk: RLIMIT_FSIZE one byte
+// under report.html's size, in a forked child) leaves the earlier report's
+// four files as they were, not a mix of two reports. Before the files were
+// published as a set, paired.csv, findings.md and summary.csv were replaced
+// and the old report.html stayed beside them.
+TEST(Report, AReportThatFailsPartWayLeavesTheEarlierReportWhole) {
+  const fs::path dir = HandStore("report-whole");
+  const ReportResult first = WriteReport({.dir = dir.string()});
+  ASSERT_EQ(first.findings, 2);
+  const std::vector<std::string> names = {"paired.csv", "findings.md", "summary.csv",
+                                          "report.html"};
+  const std::map<std::string, std::string> made = [&] {
+    std::map<std::string, std::string> m;
+    for (const std::string& name : names) m[name] = Read(dir / name);
+    return m;
+  }();
+  const auto html_bytes = static_cast<rlim_t>(made.at("report.html").size());
+  for (const std::string& name : names) {
+    ASSERT_LT(made.at(name).size(), made.at("report.html").size() + (name == "report.html"));
+    std::ofstream(dir / name) << "earlier " << name << "\n";
+  }
+
+  const pid_t child = ::fork();
+  ASSERT_GE(child, 0);
+  if (child == 0) {
+    std::signal(SIGXFSZ, SIG_IGN);  // write() then fails with EFBIG (gnuplot inherits it)
+    const rlimit limit{html_bytes - 1, html_bytes - 1};
+    ::setrlimit(RLIMIT_FSIZE, &limit);
+    try {
+      WriteReport({.dir = dir.string()});
+    } catch (const RunError& e) {
+      ::_exit(std::string(e.what()).find("report.html") != std::string::npos ? 0 : 3);
+    } catch (...) {
+      ::_exit(5);
+    }
+    ::_exit(4);  // no error
+  }
+  int status = 0;
+  ASSERT_EQ(::waitpid(child, &status, 0), child);
+  ASSERT_TRUE(WIFEXITED(status));
+  EXPECT_EQ(WEXITSTATUS(status), 0) << "3: another error, 4: no error, 5: not a RunError";
+  for (const std::string& name : names) {
+    EXPECT_EQ(Read(dir / name), "earlier " + name + "\n") << name;
+  }
+  // The next report replaces the set and clears what the failed one left.
+  WriteReport({.dir = dir.string()});
+  for (const std::string& name : names) EXPECT_EQ(Read(dir / name), made.at(name)) << name;
+  EXPECT_FALSE(fs::exists(dir / ".report-work"));
+}
+
 TEST(Report, NoSeriesNoFindings) {
   const auto dir = testing::SweepFolder("report-no-findings");
   WriteTwoRunStore(dir, {"mota"});

@@ -1,10 +1,13 @@
 // Frame cache and the pixel hash that keys it.
 
+#include <fcntl.h>
 #include <fmt/format.h>
 #include <unistd.h>
 #include <zstd.h>
 
 #include <algorithm>
+#include <cerrno>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <functional>
@@ -210,6 +213,44 @@ std::optional<RgbImage> DecodeFrame(const std::string& in) {
 }
 
 }  // namespace
+
+std::string RendererLine(const GlInfo& gl) {
+  std::string line = fmt::format("{}; {}; {}; {}", gl.platform, gl.vendor, gl.renderer, gl.version);
+  std::replace(line.begin(), line.end(), '\n', ' ');
+  return line;
+}
+
+std::vector<std::string> FrameCache::Renderers() const {
+  std::vector<std::string> lines;
+  std::ifstream in(dir_ / "renderers.txt");
+  for (std::string line; std::getline(in, line);) {
+    if (!line.empty() && std::find(lines.begin(), lines.end(), line) == lines.end()) {
+      lines.push_back(line);
+    }
+  }
+  return lines;
+}
+
+void FrameCache::NoteRenderer(const GlInfo& gl) const {
+  const std::string line = RendererLine(gl);
+  const std::vector<std::string> known = Renderers();
+  if (std::find(known.begin(), known.end(), line) != known.end()) return;
+  std::error_code ec;
+  std::filesystem::create_directories(dir_, ec);
+  const std::filesystem::path path = dir_ / "renderers.txt";
+  // One write() with O_APPEND: two processes noting at once add two whole
+  // lines (a duplicate is read once).
+  const std::string text = line + "\n";
+  const int fd = ::open(path.c_str(), O_WRONLY | O_CREAT | O_APPEND | O_CLOEXEC, 0644);
+  const bool ok =
+      fd >= 0 && ::write(fd, text.data(), text.size()) == static_cast<ssize_t>(text.size());
+  const int error = errno;
+  if (fd >= 0) ::close(fd);
+  if (!ok) {
+    throw RunError(
+        fmt::format("cannot write {}: {}", path.string(), std::strerror(ec ? ec.value() : error)));
+  }
+}
 
 bool FrameCache::Contains(int frame) const {
   std::error_code ec;

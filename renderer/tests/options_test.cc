@@ -7,6 +7,7 @@
 #include <filesystem>
 #include <fstream>
 #include <iterator>
+#include <sstream>
 #include <string>
 #include <utility>
 #include <vector>
@@ -362,6 +363,42 @@ void WriteBytes(const std::filesystem::path& path, const std::string& bytes) {
 // exercised everywhere); a file of another format version, a truncated or a
 // flipped payload is a miss (re-rendered), never misread; an old PNG-format
 // entry (NNNNNN.png) is not read at all.
+// The renderers that stored frames in a scene's folder: each noted once, in
+// the order first noted; a cache without the file (frames from before they
+// were noted) has none.
+TEST(FrameCache, NotesEachRendererOnce) {
+  const auto root = std::filesystem::temp_directory_path() / "hcpf_frame_cache_renderers";
+  std::filesystem::remove_all(root);
+  const FrameCache cache(root, "abc");
+  EXPECT_TRUE(cache.Renderers().empty());
+  GlInfo cpu{.backend = "osmesa",
+             .platform = "osmesa",
+             .vendor = "Mesa",
+             .renderer = "llvmpipe (LLVM 15.0.6, 256 bits)",
+             .version = "4.5 (Core Profile) Mesa 22.3.6"};
+  GlInfo gpu{.backend = "egl",
+             .platform = "egl device 0 (hardware)",
+             .vendor = "NVIDIA Corporation",
+             .renderer = "NVIDIA H200/PCIe/SSE2",
+             .version = "4.6.0 NVIDIA 550.54"};
+  EXPECT_EQ(RendererLine(cpu),
+            "osmesa; Mesa; llvmpipe (LLVM 15.0.6, 256 bits); 4.5 (Core Profile) Mesa 22.3.6");
+  cache.NoteRenderer(cpu);
+  cache.NoteRenderer(cpu);
+  EXPECT_EQ(cache.Renderers(), std::vector<std::string>{RendererLine(cpu)});
+  cache.NoteRenderer(gpu);
+  cache.NoteRenderer(cpu);
+  EXPECT_EQ(cache.Renderers(), (std::vector<std::string>{RendererLine(cpu), RendererLine(gpu)}));
+  std::ifstream in(root / "abc" / "renderers.txt");
+  std::stringstream text;
+  text << in.rdbuf();
+  EXPECT_EQ(text.str(), RendererLine(cpu) + "\n" + RendererLine(gpu) + "\n");
+  // A line break inside a GL string cannot split a line.
+  gpu.renderer = "two\nlines";
+  EXPECT_EQ(RendererLine(gpu).find('\n'), std::string::npos);
+  std::filesystem::remove_all(root);
+}
+
 TEST(FrameCache, FormatVersionAndDamageAreMissesNeverMisreads) {
   const auto root = std::filesystem::temp_directory_path() / "hcpf_frame_cache_format_test";
   std::filesystem::remove_all(root);

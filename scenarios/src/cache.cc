@@ -28,6 +28,7 @@ bool IsSceneName(const std::string& name) {
 // (renderer::FrameCache), or their temporary names while being written
 // ("NNNNNN.<writer>.frame.tmp").
 bool IsSceneFile(const std::string& name) {
+  if (name == "renderers.txt") return true;  // FrameCache::NoteRenderer
   if (name.size() < 11 ||
       !std::all_of(name.begin(), name.begin() + 6, [](char c) { return c >= '0' && c <= '9'; })) {
     return false;

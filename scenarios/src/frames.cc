@@ -1,6 +1,7 @@
 #include "hcpf/scenarios/frames.h"
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 #include <spdlog/spdlog.h>
 
 #include <cstdlib>
@@ -93,6 +94,7 @@ SceneFrames ProduceFrames(const Scenario& scenario, const FrameSourceOptions& op
     if (!scene) {
       scene = renderer::SceneRenderer::Create(scenario.world, ropts, Rng(scenario.seeds.renderer));
       out.gl = scene->gl_info();
+      if (cache) cache->NoteRenderer(*out.gl);  // before any frame of it is stored
     }
     scene->Submit(f);
   };
@@ -119,6 +121,14 @@ SceneFrames ProduceFrames(const Scenario& scenario, const FrameSourceOptions& op
   if (out.frames_from_cache > 0) {
     spdlog::info("{} of {} frames read from the frame cache {}", out.frames_from_cache, frames,
                  cache->dir().string());
+    out.cache_renderers = cache->Renderers();
+    if (out.cache_renderers.size() > 1) {
+      spdlog::warn(
+          "the frame cache {} holds frames of {} GL renderers ({}), whose pixels may differ: "
+          "this run's frames may mix them. Keep each machine's frames apart with --cache, or "
+          "delete that folder to render them again",
+          cache->dir().string(), out.cache_renderers.size(), fmt::join(out.cache_renderers, " | "));
+    }
   }
   return out;
 }

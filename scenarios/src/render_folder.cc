@@ -68,9 +68,12 @@ RenderFolderSummary RenderToFolder(const Scenario& scenario, const RenderFolderO
   manifest["frames"] = frames;
   manifest["frames_rendered"] = scene.frames_rendered;
   manifest["frames_from_cache"] = scene.frames_from_cache;
+  // The GL renderers that stored frames in the cache folder the frames came
+  // from (FrameCache::NoteRenderer); gl_renderer is this process's, if any.
+  if (scene.frames_from_cache > 0) manifest["frame_cache_renderers"] = scene.cache_renderers;
   manifest["timings"] = {{"total_s", summary.wall_time_s}};
   manifest["nondeterministic_fields"] = {"timings", "frames_rendered", "frames_from_cache",
-                                         "gl_renderer"};
+                                         "gl_renderer", "frame_cache_renderers"};
   WriteTextFile((dir / "manifest.json").string(), manifest.dump(2) + "\n");
   staged.Publish();
   return summary;

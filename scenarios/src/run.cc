@@ -420,13 +420,17 @@ RunSummary RunScenario(const Scenario& scenario, const RunOptions& options) {
   manifest["ground_truth"] = scene.rendered ? "rendered (pixel-exact)" : "analytic";
   manifest["frames_rendered"] = scene.frames_rendered;
   manifest["frames_from_cache"] = scene.frames_from_cache;
+  // The GL renderers that stored frames in the cache folder the frames came
+  // from (FrameCache::NoteRenderer); gl_renderer is this process's, if any.
+  if (scene.frames_from_cache > 0) manifest["frame_cache_renderers"] = scene.cache_renderers;
   if (detection) manifest["detections_from_cache"] = detection->frames_from_cache();
   manifest["frames"] = scenario.world.frames;
   manifest["gt_boxes"] = summary.gt_boxes;
   manifest["detections"] = summary.detections;
   manifest["timings"] = timings;
-  manifest["nondeterministic_fields"] = {"timings", "frames_rendered", "frames_from_cache",
-                                         "detections_from_cache", "gl_renderer"};
+  manifest["nondeterministic_fields"] = {"timings",           "frames_rendered",
+                                         "frames_from_cache", "detections_from_cache",
+                                         "gl_renderer",       "frame_cache_renderers"};
   // Every file written above, by its size: a run folder later found with one
   // missing or of another size is not reused or merged (RunFolderIntact).
   manifest["files"] = FileSizesOf(partial);

@@ -81,6 +81,16 @@ TEST(RenderedRun, PixelExactTruthAndFrameCacheReuse) {
   manifest = nlohmann::json::parse(ReadFile(dir / "b" / "manifest.json"));
   EXPECT_EQ(manifest["frames_rendered"], 0);
   EXPECT_EQ(manifest["frames_from_cache"], 24);
+  // No GL context was made, but the frames' renderer is known: the one run
+  // (a) noted in the cache.
+  EXPECT_TRUE(manifest["gl_renderer"].is_null());
+  const nlohmann::json a_gl =
+      nlohmann::json::parse(ReadFile(dir / "a" / "manifest.json"))["gl_renderer"];
+  const std::string line =
+      a_gl["platform"].get<std::string>() + "; " + a_gl["vendor"].get<std::string>() + "; " +
+      a_gl["renderer"].get<std::string>() + "; " + a_gl["version"].get<std::string>();
+  EXPECT_EQ(manifest["frame_cache_renderers"], nlohmann::json::array({line}));
+  EXPECT_EQ(r.output.find("GL renderers"), std::string::npos) << r.output;
   EXPECT_EQ(ReadFile(dir / "a" / "gt" / "gt.txt"), ReadFile(dir / "b" / "gt" / "gt.txt"));
   EXPECT_EQ(ReadFile(dir / "a" / "detections.txt"), ReadFile(dir / "b" / "detections.txt"));
   EXPECT_NE(ReadFile(dir / "a" / "tracks.txt"), ReadFile(dir / "b" / "tracks.txt"));
@@ -131,6 +141,25 @@ TEST(RenderedRun, CacheWithHolesRendersOnlyTheMissingFramesAndChangesNothing) {
   for (const char* file : {"gt/gt.txt", "detections.txt", "tracks.txt"}) {
     EXPECT_EQ(ReadFile(dir / "a" / file), ReadFile(dir / "b" / file)) << file;
   }
+
+  // Frames of another GL renderer in the same scene folder (a GPU machine
+  // sharing the cache): the run says its frames may mix two renderers, and
+  // its manifest names both.
+  const std::string other = "egl device 0 (hardware); NVIDIA Corporation; NVIDIA H200; 4.6.0";
+  std::ofstream(frames / "renderers.txt", std::ios::app) << other << "\n";
+  fs::remove(frames / "000004.frame");
+  r = RunCommand(common + " --out " + (dir / "c").string());
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("holds frames of 2 GL renderers"), std::string::npos) << r.output;
+  const auto mixed = nlohmann::json::parse(ReadFile(dir / "c" / "manifest.json"));
+  ASSERT_EQ(mixed["frame_cache_renderers"].size(), 2U) << mixed.dump();
+  EXPECT_EQ(mixed["frame_cache_renderers"][1], other);
+  // The renderers file is the cache's own: hcpf cache counts the scene.
+  const auto cache =
+      RunCommand(std::string(HCPF_EXE) + " cache --cache " + (dir / "cache").string());
+  ASSERT_EQ(cache.exit_code, 0) << cache.output;
+  EXPECT_NE(cache.output.find("1 scene(s) of rendered frames"), std::string::npos) << cache.output;
+  EXPECT_EQ(cache.output.find("renderers.txt"), std::string::npos) << cache.output;
 }
 
 // Pixels reach the tracker: a vision/ detector on the rendered frames, with

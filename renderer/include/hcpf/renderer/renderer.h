@@ -168,6 +168,11 @@ void ApplySensorEffects(const SensorOptions& options, Rng rng, RgbImage& image);
 // renderer's shading version.
 std::string PixelHash(const WorldSpec& world, const RendererOptions& options, uint64_t seed);
 
+// "<platform>; <vendor>; <renderer>; <version>" of a GL context, e.g.
+// "osmesa; Mesa; llvmpipe (LLVM 15.0.6, 256 bits); 4.5 (Core Profile) Mesa
+// 22.3.6" (FrameCache::NoteRenderer).
+std::string RendererLine(const GlInfo& gl);
+
 // Frames + ground truth on disk under DIR/<hash>/: a second run of the same
 // scene with other tracker settings reads frames instead of rendering. Depth
 // and instance images are not cached. A frame is NNNNNN.frame (a versioned
@@ -189,6 +194,16 @@ class FrameCache {
   bool Contains(int frame) const;
   // Writes the frame atomically (temp file + rename); throws hcpf::RunError.
   void Store(const RenderedFrame& frame) const;
+  // The key leaves the GL renderer out, so a cache shared by machines whose
+  // renderers differ (a GPU and llvmpipe, two Mesa versions) could mix their
+  // pixels unseen. Each process that renders into the cache first notes its
+  // renderer, one line of renderers.txt in the scene's folder
+  // (RendererLine), added once with a single O_APPEND write; throws
+  // hcpf::RunError when it cannot.
+  void NoteRenderer(const GlInfo& gl) const;
+  // The lines noted, in the order first noted (none for frames cached before
+  // renderers were noted).
+  std::vector<std::string> Renderers() const;
   const std::filesystem::path& dir() const { return dir_; }
 
  private:

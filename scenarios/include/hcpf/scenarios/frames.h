@@ -44,6 +44,9 @@ struct SceneFrames {
   int frames_rendered = 0;
   int frames_from_cache = 0;
   std::optional<renderer::GlInfo> gl;  // when a GL context was created
+  // With frames from the cache: the GL renderers noted there
+  // (FrameCache::Renderers; empty for a cache from before they were noted).
+  std::vector<std::string> cache_renderers;
 };
 
 SceneFrames ProduceFrames(const Scenario& scenario, const FrameSourceOptions& options);

@@ -257,6 +257,8 @@ TrackEvalExportResult ExportTrackEval(const TrackEvalExportOptions& options) {
   // Write everything into a staging folder, then rename it into place.
   const fs::path staging = out.string() + fmt::format(".partial-{}", ::getpid());
   std::error_code ec;
+  // And remove what exports into OUT that were killed left.
+  scenarios::RemoveStaleStagingFolders(out.parent_path(), out.filename().string());
   fs::remove_all(staging, ec);
   try {
     const fs::path gt_root = staging / "gt" / "mot_challenge";

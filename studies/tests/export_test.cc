@@ -5,6 +5,8 @@
 #include "hcpf/studies/export.h"
 
 #include <gtest/gtest.h>
+#include <sys/wait.h>
+#include <unistd.h>
 
 #include <filesystem>
 #include <fstream>
@@ -140,6 +142,27 @@ TEST(ExportTrackEval, LayoutReadsBackToEveryRunsMetrics) {
   EXPECT_EQ(partial.skipped, 1);
   EXPECT_EQ(ReadFile(dir / "te3" / "gt" / "mot_challenge" / "seqmaps" / "HCPF-val.txt"),
             "name\n" + seqs[0] + "\n" + seqs[2] + "\n" + seqs[3] + "\n");
+}
+
+// An export killed before its rename leaves OUT.partial-<pid>; the next
+// export into OUT removes it (it used to stay for good), and leaves the
+// staging folder of a process that runs (init's pid here) alone.
+TEST(ExportTrackEval, RemovesTheStagingFoldersOfKilledExports) {
+  const auto dir = testing::SweepFolder("export-stale");
+  const fs::path sweep = SmallSweep(dir);
+  const pid_t child = ::fork();
+  ASSERT_GE(child, 0);
+  if (child == 0) ::_exit(0);
+  int status = 0;
+  ASSERT_EQ(::waitpid(child, &status, 0), child);
+  const fs::path stale = dir / ("te.partial-" + std::to_string(child));
+  fs::create_directories(stale / "gt");
+  std::ofstream(stale / "gt" / "half.txt") << "1,1,";
+  fs::create_directories(dir / "te.partial-1");
+  ExportTrackEval({.dir = sweep.string(), .out = (dir / "te").string()});
+  EXPECT_TRUE(fs::is_regular_file(dir / "te" / "export.csv"));
+  EXPECT_FALSE(fs::exists(stale));
+  EXPECT_TRUE(fs::exists(dir / "te.partial-1"));
 }
 
 // Names: list values keep their digits, no tracker key gives "hcpf", and two

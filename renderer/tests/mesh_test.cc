@@ -4,6 +4,7 @@
 
 #include <fmt/format.h>
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include <cstdint>
 #include <cstring>
@@ -17,13 +18,30 @@
 namespace hcpf::renderer {
 namespace {
 
+// This process's scratch folder, by pid: ctest runs each test in its own
+// process, two at a time (it was named by gtest's random seed, which two
+// processes started in the same millisecond share, and never removed: every
+// test run left one in /tmp).
+std::filesystem::path TempDirPath() {
+  return std::filesystem::temp_directory_path() / fmt::format("hcpf_mesh_test_{}", ::getpid());
+}
+
 std::filesystem::path TempDir() {
-  const auto dir =
-      std::filesystem::temp_directory_path() /
-      fmt::format("hcpf_mesh_test_{}", ::testing::UnitTest::GetInstance()->random_seed());
+  const auto dir = TempDirPath();
   std::filesystem::create_directories(dir);
   return dir;
 }
+
+// Removes the scratch folder when the process's tests have run.
+class RemoveTempDir : public ::testing::Environment {
+ public:
+  void TearDown() override {
+    std::error_code ec;
+    std::filesystem::remove_all(TempDirPath(), ec);
+  }
+};
+[[maybe_unused]] ::testing::Environment* const kRemoveTempDir =
+    ::testing::AddGlobalTestEnvironment(new RemoveTempDir);
 
 std::string Asset(const std::string& name) {
   return std::string(HCPF_SOURCE_DIR) + "/assets/vehicles/" + name;

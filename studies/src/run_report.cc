@@ -4,6 +4,7 @@
 // detections and its filters, the resolved scenario).
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 
 #include <array>
 #include <charconv>
@@ -163,6 +164,46 @@ std::optional<int64_t> JsonInt(const json& j, const char* key) {
 const json& JsonMember(const json& j, const char* key) {
   static const json kNull;
   return j.is_object() && j.contains(key) ? j[key] : kNull;
+}
+
+// Where a rendered run's frames came from (manifest.json frames_rendered,
+// gl_renderer, frames_from_cache, frame_cache_renderers): one sentence, or ""
+// for a run without rendered frames. Frames of different GL renderers may
+// differ in their pixels, so the renderer belongs with the results.
+std::string FramesSentence(const json& manifest) {
+  const std::optional<int64_t> rendered = JsonInt(manifest, "frames_rendered");
+  const std::optional<int64_t> cached = JsonInt(manifest, "frames_from_cache");
+  if (!rendered || !cached || *rendered + *cached == 0) return "";
+  std::vector<std::string> parts;
+  if (*rendered > 0) {
+    const json& gl = JsonMember(manifest, "gl_renderer");
+    std::string by = JsonText(gl, "renderer");
+    if (!by.empty()) {
+      by = fmt::format(" by {} ({}, {})", EscapeMarkup(by), EscapeMarkup(JsonText(gl, "platform")),
+                       EscapeMarkup(JsonText(gl, "version")));
+    }
+    parts.push_back(fmt::format("{} rendered{}", *rendered, by));
+  }
+  if (*cached > 0) {
+    const json& renderers = JsonMember(manifest, "frame_cache_renderers");
+    std::vector<std::string> names;
+    if (renderers.is_array()) {
+      for (const json& r : renderers) {
+        if (r.is_string())
+          names.push_back("<code>" + EscapeMarkup(r.get<std::string>()) + "</code>");
+      }
+    }
+    std::string from = "read from the frame cache";
+    if (names.size() == 1) {
+      from += ", rendered there by " + names[0];
+    } else if (names.size() > 1) {
+      from += fmt::format(
+          ", whose folder holds frames of {} GL renderers, so they may mix: <strong>{}</strong>",
+          names.size(), fmt::join(names, "; "));
+    }
+    parts.push_back(fmt::format("{} {}", *cached, from));
+  }
+  return fmt::format("<p>Frames: {}.</p>\n", fmt::join(parts, "; "));
 }
 
 // The per-frame plot: error_px on the left axis with the similarity floor
@@ -741,6 +782,7 @@ ReportResult WriteRunReport(const ReportOptions& options) {
       EscapeMarkup(JsonText(manifest, "observation_source")),
       EscapeMarkup(JsonText(manifest, "detector")),
       EscapeMarkup(JsonText(manifest, "config_hash")));
+  h += FramesSentence(manifest);
 
   h += "<h2>Headline metrics</h2>\n<table><tr><th>metric</th><th>name</th><th>value</th></tr>\n";
   for (const CatalogueMetric& m : MetricCatalogue()) {

@@ -666,6 +666,42 @@ TEST(RunReport, LinksTheOverlayVideoWhenTheRunHasOne) {
             std::string::npos);
 }
 
+// A rendered run's report says where its frames came from: how many were
+// rendered and by which GL renderer, how many read from the frame cache and
+// which renderers stored frames there, two of them in bold (they may mix).
+// A detection-level run (no frames) says nothing of frames.
+TEST(RunReport, SaysWhichRendererMadeTheFrames) {
+  const auto dir = testing::SweepFolder("run-report-frames");
+  const fs::path run = RunMinimal(dir, "none");
+  EXPECT_EQ(Read(WriteReport({.dir = run.string()}).html_path).find("<p>Frames:"),
+            std::string::npos);
+  nlohmann::json manifest = nlohmann::json::parse(Read(run / "manifest.json"));
+  manifest["frames_rendered"] = 3;
+  manifest["frames_from_cache"] = 2;
+  manifest["gl_renderer"] = {{"backend", "osmesa"},
+                             {"platform", "osmesa"},
+                             {"vendor", "Mesa"},
+                             {"renderer", "llvmpipe <x>"},
+                             {"version", "4.5 Mesa 22.3.6"}};
+  manifest["frame_cache_renderers"] = {"osmesa; Mesa; llvmpipe <x>; 4.5 Mesa 22.3.6"};
+  std::ofstream(run / "manifest.json") << manifest.dump(2);
+  EXPECT_NE(Read(WriteReport({.dir = run.string()}).html_path)
+                .find("<p>Frames: 3 rendered by llvmpipe &lt;x&gt; (osmesa, 4.5 Mesa 22.3.6); 2 "
+                      "read from the frame cache, rendered there by <code>osmesa; Mesa; "
+                      "llvmpipe &lt;x&gt;; 4.5 Mesa 22.3.6</code>.</p>"),
+            std::string::npos);
+  manifest["frames_rendered"] = 0;
+  manifest["gl_renderer"] = nullptr;
+  manifest["frame_cache_renderers"].push_back("egl device 0 (hardware); NVIDIA; H200; 4.6");
+  std::ofstream(run / "manifest.json") << manifest.dump(2);
+  EXPECT_NE(Read(WriteReport({.dir = run.string()}).html_path)
+                .find("<p>Frames: 2 read from the frame cache, whose folder holds frames of 2 GL "
+                      "renderers, so they may mix: <strong><code>osmesa; Mesa; llvmpipe &lt;x&gt;; "
+                      "4.5 Mesa 22.3.6</code>; <code>egl device 0 (hardware); NVIDIA; H200; "
+                      "4.6</code></strong>.</p>"),
+            std::string::npos);
+}
+
 // Bad input: a folder that is neither a sweep's nor a run's names the folder,
 // both kinds expected, and what it is.
 TEST(RunReport, FolderThatIsNeitherSweepNorRunIsBadInput) {

@@ -741,6 +741,25 @@ TEST(RenderCommand, WritesFramesTruthAndContactSheet) {
     visible_pixels += object["pixels_visible"].get<int64_t>();
   }
   EXPECT_GT(visible_pixels, 0);
+  // With a cache: the second render reads every frame and its manifest names
+  // the renderer the first noted there (no GL context of its own).
+  const std::string cached = std::string(HCPF_EXE) + " render " + scenario +
+                             " --set frames=30 --set 'camera.resolution=[160, 120]' --cache " +
+                             (dir / "cache").string() + " --out ";
+  for (const char* out : {"c1", "c2"}) {
+    const auto c = testing::RunCommand(cached + (dir / out).string());
+    ASSERT_EQ(c.exit_code, 0) << c.output;
+  }
+  const auto first = nlohmann::json::parse(testing::ReadFile(dir / "c1" / "manifest.json"));
+  const auto second = nlohmann::json::parse(testing::ReadFile(dir / "c2" / "manifest.json"));
+  EXPECT_FALSE(first.contains("frame_cache_renderers")) << "nothing came from the cache";
+  EXPECT_EQ(second["frames_from_cache"], 30);
+  EXPECT_TRUE(second["gl_renderer"].is_null());
+  ASSERT_EQ(second["frame_cache_renderers"].size(), 1U) << second.dump();
+  EXPECT_NE(second["frame_cache_renderers"][0].get<std::string>().find(
+                first["gl_renderer"]["renderer"].get<std::string>()),
+            std::string::npos);
+  EXPECT_EQ(testing::ReadFile(dir / "c1" / "gt.json"), testing::ReadFile(dir / "c2" / "gt.json"));
   // A bad scenario key is bad input, and nothing is written.
   const auto bad =
       testing::RunCommand(std::string(HCPF_EXE) + " render " + scenario +

@@ -176,11 +176,14 @@ std::string FramesSentence(const json& manifest) {
   if (!rendered || !cached || *rendered + *cached == 0) return "";
   std::vector<std::string> parts;
   if (*rendered > 0) {
+    // As the cache notes renderers (renderer::RendererLine).
     const json& gl = JsonMember(manifest, "gl_renderer");
-    std::string by = JsonText(gl, "renderer");
-    if (!by.empty()) {
-      by = fmt::format(" by {} ({}, {})", EscapeMarkup(by), EscapeMarkup(JsonText(gl, "platform")),
-                       EscapeMarkup(JsonText(gl, "version")));
+    std::string by;
+    if (!JsonText(gl, "renderer").empty()) {
+      by = fmt::format(" by <code>{}</code>",
+                       EscapeMarkup(fmt::format("{}; {}; {}; {}", JsonText(gl, "platform"),
+                                                JsonText(gl, "vendor"), JsonText(gl, "renderer"),
+                                                JsonText(gl, "version"))));
     }
     parts.push_back(fmt::format("{} rendered{}", *rendered, by));
   }
@@ -197,9 +200,14 @@ std::string FramesSentence(const json& manifest) {
     if (names.size() == 1) {
       from += ", rendered there by " + names[0];
     } else if (names.size() > 1) {
+      // "a, b and c": each name holds semicolons of its own.
+      std::string listed;
+      for (size_t i = 0; i < names.size(); ++i) {
+        listed += (i == 0 ? "" : i + 1 == names.size() ? " and " : ", ") + names[i];
+      }
       from += fmt::format(
           ", whose folder holds frames of {} GL renderers, so they may mix: <strong>{}</strong>",
-          names.size(), fmt::join(names, "; "));
+          names.size(), listed);
     }
     parts.push_back(fmt::format("{} {}", *cached, from));
   }

@@ -686,9 +686,9 @@ TEST(RunReport, SaysWhichRendererMadeTheFrames) {
   manifest["frame_cache_renderers"] = {"osmesa; Mesa; llvmpipe <x>; 4.5 Mesa 22.3.6"};
   std::ofstream(run / "manifest.json") << manifest.dump(2);
   EXPECT_NE(Read(WriteReport({.dir = run.string()}).html_path)
-                .find("<p>Frames: 3 rendered by llvmpipe &lt;x&gt; (osmesa, 4.5 Mesa 22.3.6); 2 "
-                      "read from the frame cache, rendered there by <code>osmesa; Mesa; "
-                      "llvmpipe &lt;x&gt;; 4.5 Mesa 22.3.6</code>.</p>"),
+                .find("<p>Frames: 3 rendered by <code>osmesa; Mesa; llvmpipe &lt;x&gt;; 4.5 Mesa "
+                      "22.3.6</code>; 2 read from the frame cache, rendered there by <code>osmesa; "
+                      "Mesa; llvmpipe &lt;x&gt;; 4.5 Mesa 22.3.6</code>.</p>"),
             std::string::npos);
   manifest["frames_rendered"] = 0;
   manifest["gl_renderer"] = nullptr;
@@ -697,7 +697,7 @@ TEST(RunReport, SaysWhichRendererMadeTheFrames) {
   EXPECT_NE(Read(WriteReport({.dir = run.string()}).html_path)
                 .find("<p>Frames: 2 read from the frame cache, whose folder holds frames of 2 GL "
                       "renderers, so they may mix: <strong><code>osmesa; Mesa; llvmpipe &lt;x&gt;; "
-                      "4.5 Mesa 22.3.6</code>; <code>egl device 0 (hardware); NVIDIA; H200; "
+                      "4.5 Mesa 22.3.6</code> and <code>egl device 0 (hardware); NVIDIA; H200; "
                       "4.6</code></strong>.</p>"),
             std::string::npos);
 }

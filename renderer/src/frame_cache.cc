@@ -237,6 +237,8 @@ void FrameCache::NoteRenderer(const GlInfo& gl) const {
   if (std::find(known.begin(), known.end(), line) != known.end()) return;
   std::error_code ec;
   std::filesystem::create_directories(dir_, ec);
+  if (ec)
+    throw RunError(fmt::format("cannot create frame cache {}: {}", dir_.string(), ec.message()));
   const std::filesystem::path path = dir_ / "renderers.txt";
   // One write() with O_APPEND: two processes noting at once add two whole
   // lines (a duplicate is read once).
@@ -246,10 +248,7 @@ void FrameCache::NoteRenderer(const GlInfo& gl) const {
       fd >= 0 && ::write(fd, text.data(), text.size()) == static_cast<ssize_t>(text.size());
   const int error = errno;
   if (fd >= 0) ::close(fd);
-  if (!ok) {
-    throw RunError(
-        fmt::format("cannot write {}: {}", path.string(), std::strerror(ec ? ec.value() : error)));
-  }
+  if (!ok) throw RunError(fmt::format("cannot write {}: {}", path.string(), std::strerror(error)));
 }
 
 bool FrameCache::Contains(int frame) const {

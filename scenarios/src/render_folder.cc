@@ -64,13 +64,8 @@ RenderFolderSummary RenderToFolder(const Scenario& scenario, const RenderFolderO
   summary.frames_from_cache = scene.frames_from_cache;
   summary.wall_time_s =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  nlohmann::json manifest = ManifestProvenance("hcpf-render/1", scenario, scene.gl);
+  nlohmann::json manifest = ManifestProvenance("hcpf-render/1", scenario, scene);
   manifest["frames"] = frames;
-  manifest["frames_rendered"] = scene.frames_rendered;
-  manifest["frames_from_cache"] = scene.frames_from_cache;
-  // The GL renderers that stored frames in the cache folder the frames came
-  // from (FrameCache::NoteRenderer); gl_renderer is this process's, if any.
-  if (scene.frames_from_cache > 0) manifest["frame_cache_renderers"] = scene.cache_renderers;
   manifest["timings"] = {{"total_s", summary.wall_time_s}};
   manifest["nondeterministic_fields"] = {"timings", "frames_rendered", "frames_from_cache",
                                          "gl_renderer", "frame_cache_renderers"};

@@ -377,7 +377,7 @@ RunSummary RunScenario(const Scenario& scenario, const RunOptions& options) {
   timings["write_s"] = Seconds(t0);
   summary.wall_time_s = Seconds(start);
   timings["total_s"] = summary.wall_time_s;
-  nlohmann::json manifest = ManifestProvenance("hcpf-run/1", scenario, scene.gl);
+  nlohmann::json manifest = ManifestProvenance("hcpf-run/1", scenario, scene);
   manifest["observation_source"] =
       scenario.observation.source == ObservationSource::kRendered ? "rendered" : "simulated";
   if (scenario.observation.oracle()) {
@@ -418,11 +418,6 @@ RunSummary RunScenario(const Scenario& scenario, const RunOptions& options) {
     }
   }
   manifest["ground_truth"] = scene.rendered ? "rendered (pixel-exact)" : "analytic";
-  manifest["frames_rendered"] = scene.frames_rendered;
-  manifest["frames_from_cache"] = scene.frames_from_cache;
-  // The GL renderers that stored frames in the cache folder the frames came
-  // from (FrameCache::NoteRenderer); gl_renderer is this process's, if any.
-  if (scene.frames_from_cache > 0) manifest["frame_cache_renderers"] = scene.cache_renderers;
   if (detection) manifest["detections_from_cache"] = detection->frames_from_cache();
   manifest["frames"] = scenario.world.frames;
   manifest["gt_boxes"] = summary.gt_boxes;

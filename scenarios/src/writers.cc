@@ -188,7 +188,7 @@ std::string FormatGroundTruthJson(const Scenario& s, const std::vector<FrameGrou
 }
 
 nlohmann::json ManifestProvenance(const std::string& format, const Scenario& scenario,
-                                  const std::optional<renderer::GlInfo>& gl) {
+                                  const SceneFrames& scene) {
   nlohmann::json m;
   m["format"] = format;
   m["hcpf_version"] = ProjectVersion();
@@ -201,7 +201,7 @@ nlohmann::json ManifestProvenance(const std::string& format, const Scenario& sce
                 {"tracker", scenario.seeds.tracker},
                 {"renderer", scenario.seeds.renderer}};
   m["libraries"] = LibraryVersions();
-  if (gl) {
+  if (const std::optional<renderer::GlInfo>& gl = scene.gl) {
     m["gl_renderer"] = {{"backend", gl->backend},
                         {"platform", gl->platform},
                         {"vendor", gl->vendor},
@@ -210,6 +210,11 @@ nlohmann::json ManifestProvenance(const std::string& format, const Scenario& sce
   } else {
     m["gl_renderer"] = nullptr;
   }
+  m["frames_rendered"] = scene.frames_rendered;
+  m["frames_from_cache"] = scene.frames_from_cache;
+  // The GL renderers that stored frames in the cache folder the frames came
+  // from (FrameCache::NoteRenderer); gl_renderer is this process's, if any.
+  if (scene.frames_from_cache > 0) m["frame_cache_renderers"] = scene.cache_renderers;
   return m;
 }
 

@@ -14,7 +14,7 @@
 #include "hcpf/core/types.h"
 #include "hcpf/metrics/filter_metrics.h"
 #include "hcpf/metrics/mot_io.h"
-#include "hcpf/renderer/gl_context.h"
+#include "hcpf/scenarios/frames.h"
 #include "hcpf/scenarios/scenario.h"
 #include "hcpf/tracker/tracker.h"
 
@@ -56,8 +56,10 @@ std::string FormatGroundTruthJson(const Scenario& scenario,
                                   const std::vector<FrameGroundTruth>& frames, bool pixel_exact);
 
 // The provenance part of a manifest.json (format, version, git revision,
-// scenario, config hash, seeds, library versions, GL renderer or null).
+// scenario, config hash, seeds, library versions) and where the frames came
+// from: this process's GL renderer or null, frames_rendered,
+// frames_from_cache and, with frames from the cache, frame_cache_renderers.
 nlohmann::json ManifestProvenance(const std::string& format, const Scenario& scenario,
-                                  const std::optional<renderer::GlInfo>& gl);
+                                  const SceneFrames& scene);
 
 }  // namespace hcpf::scenarios

@@ -23,6 +23,7 @@
 #include "hcpf/core/error.h"
 #include "hcpf/core/text_file.h"
 #include "hcpf/metrics/mot_io.h"
+#include "hcpf/renderer/renderer.h"
 #include "hcpf/scenarios/output_folder.h"
 #include "hcpf/studies/metric_catalogue.h"
 #include "hcpf/studies/report.h"
@@ -176,14 +177,15 @@ std::string FramesSentence(const json& manifest) {
   if (!rendered || !cached || *rendered + *cached == 0) return "";
   std::vector<std::string> parts;
   if (*rendered > 0) {
-    // As the cache notes renderers (renderer::RendererLine).
+    // In the line the cache notes renderers by.
     const json& gl = JsonMember(manifest, "gl_renderer");
     std::string by;
     if (!JsonText(gl, "renderer").empty()) {
-      by = fmt::format(" by <code>{}</code>",
-                       EscapeMarkup(fmt::format("{}; {}; {}; {}", JsonText(gl, "platform"),
-                                                JsonText(gl, "vendor"), JsonText(gl, "renderer"),
-                                                JsonText(gl, "version"))));
+      const renderer::GlInfo info{.platform = JsonText(gl, "platform"),
+                                  .vendor = JsonText(gl, "vendor"),
+                                  .renderer = JsonText(gl, "renderer"),
+                                  .version = JsonText(gl, "version")};
+      by = fmt::format(" by <code>{}</code>", EscapeMarkup(renderer::RendererLine(info)));
     }
     parts.push_back(fmt::format("{} rendered{}", *rendered, by));
   }

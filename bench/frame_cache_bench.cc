@@ -7,11 +7,13 @@
 // Counters: bytes = file size, ratio = file size / raw RGB size.
 
 #include <benchmark/benchmark.h>
+#include <unistd.h>
 
 #include <cstdlib>
 #include <filesystem>
 #include <memory>
 #include <string>
+#include <system_error>
 
 #include "hcpf/renderer/renderer.h"
 
@@ -72,10 +74,21 @@ const RenderedFrame& Frame(double noise_sigma) {
   return *slot;
 }
 
+// This process's scratch folder (named by pid: two runs may overlap), removed
+// when the program exits.
+struct ScratchFolder {
+  std::filesystem::path dir = std::filesystem::temp_directory_path() /
+                              ("hcpf_frame_cache_bench_" + std::to_string(::getpid()));
+  ~ScratchFolder() {
+    std::error_code ec;
+    std::filesystem::remove_all(dir, ec);
+  }
+};
+
 std::filesystem::path Scratch() {
-  const auto dir = std::filesystem::temp_directory_path() / "hcpf_frame_cache_bench";
-  std::filesystem::create_directories(dir);
-  return dir;
+  static const ScratchFolder scratch;
+  std::filesystem::create_directories(scratch.dir);
+  return scratch.dir;
 }
 
 void Report(benchmark::State& state, const RenderedFrame& f, const std::filesystem::path& file) {

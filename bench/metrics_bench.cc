@@ -13,6 +13,7 @@
 // 0.002 per frame (an id switch), plus Poisson(1.0) false positives per frame.
 
 #include <benchmark/benchmark.h>
+#include <unistd.h>
 
 #include <cmath>
 #include <cstring>
@@ -202,8 +203,8 @@ BENCHMARK(BM_BuildSequence)->Unit(benchmark::kMillisecond);
 // What `hcpf score GT HYP` does after start-up: ScoreFiles on files written to a
 // temporary folder (read + parse + seqinfo + preprocess + all metrics) and the table.
 void BM_ScoreFiles(benchmark::State& state) {
-  const std::filesystem::path dir =
-      std::filesystem::temp_directory_path() / "hcpf_metrics_bench_sequence";
+  const std::filesystem::path dir = std::filesystem::temp_directory_path() /
+                                    ("hcpf_metrics_bench_sequence_" + std::to_string(::getpid()));
   std::filesystem::create_directories(dir / "gt");
   hcpf::metrics::WriteMotGroundTruth((dir / "gt" / "gt.txt").string(), Data().gt);
   hcpf::metrics::WriteSeqInfo(

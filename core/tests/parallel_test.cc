@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "hcpf/core/subprocess.h"
+#include "support/process.h"
 
 namespace hcpf {
 namespace {
@@ -50,7 +51,7 @@ TEST(ParallelFor, AnExceptionIsRethrownAndStopsTheLoop) {
 }
 
 TEST(RunProcess, ExitCodesSignalsAndOutputInTheLog) {
-  const std::string log = ::testing::TempDir() + "/hcpf_run_process.log";
+  const std::string log = (hcpf::testing::FreshDir("run-process") / "run.log").string();
   ProcessStatus s = RunProcess({"sh", "-c", "echo hello; exit 3"}, log);
   EXPECT_TRUE(s.started);
   EXPECT_EQ(s.exit_code, 3);

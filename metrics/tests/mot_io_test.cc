@@ -15,6 +15,7 @@
 #include "hcpf/core/error.h"
 #include "hcpf/core/rng.h"
 #include "hcpf/metrics/mot_metrics.h"
+#include "support/process.h"
 
 namespace hcpf::metrics {
 namespace {
@@ -427,8 +428,7 @@ TEST(MotIo, WritersRoundTrip) {
   }
   const std::string tracks = FormatMotTracks(rows);
   EXPECT_EQ(tracks.substr(0, tracks.find('\n')), "1,4,1.5,2,3.25,4,1,-1,-1,-1");
-  const auto dir = std::filesystem::temp_directory_path() / "hcpf_metrics_io_test";
-  std::filesystem::create_directories(dir);
+  const auto dir = hcpf::testing::FreshDir("metrics-io");
   WriteSeqInfo((dir / "seqinfo.ini").string(), {.name = "x", .seq_length = 7});
   EXPECT_EQ(ReadSeqInfo((dir / "seqinfo.ini").string()).seq_length, 7);
   WriteMotTracks((dir / "t.txt").string(), rows);
@@ -535,8 +535,7 @@ TEST(MotIo, SparseAndDenseSequencesScoreTheSame) {
 // Issue 15 item 8: a directory or a FIFO is refused before anything is read
 // (a directory gave std::bad_alloc, a FIFO hung).
 TEST(MotIo, NonRegularFilesAreRefused) {
-  const auto dir = std::filesystem::temp_directory_path() / "hcpf_metrics_nonregular";
-  std::filesystem::remove_all(dir);
+  const auto dir = hcpf::testing::FreshDir("metrics-nonregular");
   std::filesystem::create_directories(dir / "gt.txt");
   try {
     ReadMotFile((dir / "gt.txt").string(), MotFileKind::kGroundTruth);

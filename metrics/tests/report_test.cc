@@ -7,6 +7,7 @@
 #include <nlohmann/json.hpp>
 
 #include "hcpf/core/error.h"
+#include "support/process.h"
 
 namespace hcpf::metrics {
 namespace {
@@ -64,8 +65,7 @@ TEST(Report, ScoreFilesTableAndJson) {
 // seqinfo.ini took 33 s and 5.9 GB (per-frame storage for every frame); it now
 // costs what its rows cost, and the frame count is still the sequence's.
 TEST(Report, ScoreFilesOfAHugeFrameNumberCostsWhatItsRowsCost) {
-  const fs::path dir = fs::temp_directory_path() / "hcpf_metrics_huge_frame";
-  fs::remove_all(dir);
+  const fs::path dir = hcpf::testing::FreshDir("metrics-huge-frame");
   WriteText(dir / "gt" / "gt.txt", "999999999,1,10,10,20,20,1,1,1\n");
   WriteText(dir / "hyp.txt", "999999999,4,10,10,20,20,1,-1,-1,-1\n");
   ScoreFilesOptions o;
@@ -85,8 +85,7 @@ TEST(Report, ScoreFilesOfAHugeFrameNumberCostsWhatItsRowsCost) {
 // TrackEval layout with two copies of the switch sequence: each row as above, COMBINED
 // sums the counts (IDSW 2, TP 6) and keeps MOTA (6-0-2)/6 = 2/3.
 TEST(Report, TrackEvalRootWithCombinedRow) {
-  const fs::path root = fs::temp_directory_path() / "hcpf_metrics_trackeval_root";
-  fs::remove_all(root);
+  const fs::path root = hcpf::testing::FreshDir("metrics-trackeval-root");
   const std::string gt = ReadData("switch_gt.txt");
   const std::string hyp = ReadData("switch_hyp.txt");
   for (const std::string seq : {"SEQ-A", "SEQ-B"}) {
@@ -123,8 +122,7 @@ TEST(Report, TrackEvalRootWithCombinedRow) {
 // so SEQ-B (whose tracker file is missing, an error were it scored) is left
 // out and COMBINED holds two copies. The seqmaps folder is not a benchmark.
 TEST(Report, TrackEvalRootReadsTheSeqmapLikeTrackEval) {
-  const fs::path root = fs::temp_directory_path() / "hcpf_metrics_trackeval_seqmap";
-  fs::remove_all(root);
+  const fs::path root = hcpf::testing::FreshDir("metrics-trackeval-seqmap");
   const std::string gt = ReadData("switch_gt.txt");
   const std::string hyp = ReadData("switch_hyp.txt");
   const fs::path bench = root / "gt/mot_challenge/MOT15-train";
@@ -173,8 +171,7 @@ TEST(Report, TrackEvalRootReadsTheSeqmapLikeTrackEval) {
 // (it printed a row of zeros). With a seqinfo.ini they are a sequence of
 // seqLength frames with nothing in them.
 TEST(Report, EmptyFilesWithoutASequenceLengthAreBadInput) {
-  const fs::path dir = fs::temp_directory_path() / "hcpf_metrics_empty_files";
-  fs::remove_all(dir);
+  const fs::path dir = hcpf::testing::FreshDir("metrics-empty-files");
   WriteText(dir / "gt" / "gt.txt", "");
   WriteText(dir / "hyp.txt", "");
   ScoreFilesOptions o;

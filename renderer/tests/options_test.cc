@@ -15,6 +15,7 @@
 #include "hcpf/core/error.h"
 #include "hcpf/renderer/image_io.h"
 #include "hcpf/renderer/renderer.h"
+#include "support/process.h"
 
 namespace hcpf::renderer {
 namespace {
@@ -309,8 +310,7 @@ TEST(PixelHash, ChangesWithPixelsNotWithOutputFlags) {
 }
 
 TEST(FrameCache, StoresAndLoadsFramesExactly) {
-  const auto root = std::filesystem::temp_directory_path() / "hcpf_frame_cache_test";
-  std::filesystem::remove_all(root);
+  const auto root = hcpf::testing::FreshDir("frame-cache");
   FrameCache cache(root, "abc");
   EXPECT_FALSE(cache.Load(3).has_value());
   RenderedFrame f;
@@ -336,7 +336,6 @@ TEST(FrameCache, StoresAndLoadsFramesExactly) {
   EXPECT_EQ(loaded->ground_truth.objects[0].amodal_box, obj.amodal_box);
   EXPECT_EQ(loaded->ground_truth.objects[0].visible_fraction, obj.visible_fraction);
   EXPECT_EQ(loaded->ground_truth.objects[0].pixels_total, 3);
-  std::filesystem::remove_all(root);
 }
 
 RenderedFrame NoisyFrame(int frame, int width, int height, uint64_t seed) {
@@ -358,17 +357,11 @@ void WriteBytes(const std::filesystem::path& path, const std::string& bytes) {
       .write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
 }
 
-// Issue 13 item 2: every byte value at every position survives the left
-// difference and zstd (uniform noise: the filter's wrap-around mod 256 is
-// exercised everywhere); a file of another format version, a truncated or a
-// flipped payload is a miss (re-rendered), never misread; an old PNG-format
-// entry (NNNNNN.png) is not read at all.
 // The renderers that stored frames in a scene's folder: each noted once, in
 // the order first noted; a cache without the file (frames from before they
 // were noted) has none.
 TEST(FrameCache, NotesEachRendererOnce) {
-  const auto root = std::filesystem::temp_directory_path() / "hcpf_frame_cache_renderers";
-  std::filesystem::remove_all(root);
+  const auto root = hcpf::testing::FreshDir("frame-cache-renderers");
   const FrameCache cache(root, "abc");
   EXPECT_TRUE(cache.Renderers().empty());
   GlInfo cpu{.backend = "osmesa",
@@ -396,12 +389,15 @@ TEST(FrameCache, NotesEachRendererOnce) {
   // A line break inside a GL string cannot split a line.
   gpu.renderer = "two\nlines";
   EXPECT_EQ(RendererLine(gpu).find('\n'), std::string::npos);
-  std::filesystem::remove_all(root);
 }
 
+// Issue 13 item 2: every byte value at every position survives the left
+// difference and zstd (uniform noise: the filter's wrap-around mod 256 is
+// exercised everywhere); a file of another format version, a truncated or a
+// flipped payload is a miss (re-rendered), never misread; an old PNG-format
+// entry (NNNNNN.png) is not read at all.
 TEST(FrameCache, FormatVersionAndDamageAreMissesNeverMisreads) {
-  const auto root = std::filesystem::temp_directory_path() / "hcpf_frame_cache_format_test";
-  std::filesystem::remove_all(root);
+  const auto root = hcpf::testing::FreshDir("frame-cache-format");
   const FrameCache cache(root, "abc");
   const RenderedFrame f = NoisyFrame(2, 37, 11, 5);
   cache.Store(f);
@@ -435,14 +431,12 @@ TEST(FrameCache, FormatVersionAndDamageAreMissesNeverMisreads) {
   // The previous format (PNG + JSON): not this format, so a miss.
   std::filesystem::rename(path, cache.dir() / "000002.png");
   EXPECT_FALSE(cache.Load(2).has_value());
-  std::filesystem::remove_all(root);
 }
 
 // The writer stores exactly what Store would, for every frame submitted, and
 // Finish reports a store's failure instead of losing it.
 TEST(FrameCache, WriterStoresEverySubmittedFrameAndReportsFailures) {
-  const auto root = std::filesystem::temp_directory_path() / "hcpf_frame_cache_writer_test";
-  std::filesystem::remove_all(root);
+  const auto root = hcpf::testing::FreshDir("frame-cache-writer");
   const FrameCache cache(root, "abc");
   std::vector<RenderedFrame> frames;
   for (int i = 0; i < 12; ++i) frames.push_back(NoisyFrame(i, 16, 9, 100 + i));
@@ -466,7 +460,6 @@ TEST(FrameCache, WriterStoresEverySubmittedFrameAndReportsFailures) {
   FrameCacheWriter blocked(FrameCache(root / "blocked", "abc"));
   blocked.Submit(frames[0]);
   EXPECT_THROW(blocked.Finish(), RunError);
-  std::filesystem::remove_all(root);
 }
 
 }  // namespace

@@ -9,8 +9,12 @@
 #include <spdlog/spdlog.h>
 
 #include <CLI/CLI.hpp>
+#include <cerrno>
 #include <cstdio>
+#include <cstring>
 #include <exception>
+#include <iostream>
+#include <string>
 #include <vector>
 
 #include "hcpf/core/did_you_mean.h"
@@ -18,8 +22,10 @@
 
 namespace hcpf::cli {
 
-int RunApp(int argc, char** argv, std::span<const AddCommandFn> adders,
-           const std::function<std::string()>& version) {
+namespace {
+
+int ParseAndRun(int argc, char** argv, std::span<const AddCommandFn> adders,
+                const std::function<std::string()>& version) {
   // Logging goes to stderr; stdout is reserved for requested machine output.
   auto logger = spdlog::stderr_color_mt("hcpf");
   spdlog::set_default_logger(logger);
@@ -107,6 +113,32 @@ int RunApp(int argc, char** argv, std::span<const AddCommandFn> adders,
     }
   }
   return 2;
+}
+
+// Standard output carries what a command was asked for (score's table,
+// validate --print, schema, cache, report's path, --help, --version): text
+// that could not be written is a failure, never exit 0 (`hcpf schema >
+// /dev/full` and `hcpf validate --print` on a full disk exited 0 with the
+// text lost). A broken pipe ends the process by SIGPIPE before this, as it
+// does for any Unix filter.
+int FinishStandardOutput(int code) {
+  errno = 0;  // std::cout writes through stdout's buffer (synced with stdio)
+  const bool flush_failed = std::fflush(stdout) != 0;
+  const int flush_errno = errno;
+  std::cout.flush();
+  if (!flush_failed && std::ferror(stdout) == 0 && !std::cout.bad()) return code;
+  spdlog::error("writing standard output failed{}",
+                flush_failed && flush_errno != 0
+                    ? fmt::format(": {}", std::strerror(flush_errno))
+                    : std::string(": part of it could not be written"));
+  return code == 0 ? 1 : code;
+}
+
+}  // namespace
+
+int RunApp(int argc, char** argv, std::span<const AddCommandFn> adders,
+           const std::function<std::string()>& version) {
+  return FinishStandardOutput(ParseAndRun(argc, argv, adders, version));
 }
 
 }  // namespace hcpf::cli

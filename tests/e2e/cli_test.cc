@@ -10,6 +10,7 @@
 #include <fstream>
 #include <nlohmann/json.hpp>
 #include <string>
+#include <vector>
 
 #include "support/process.h"
 
@@ -38,6 +39,28 @@ TEST(Cli, VersionAndHelp) {
   EXPECT_EQ(r.exit_code, 0);
   EXPECT_NE(r.output.find("--set"), std::string::npos);
   EXPECT_NE(r.output.find("--out"), std::string::npos);
+}
+
+// What a command prints on standard output is what it was asked for: when it
+// cannot be written (a full disk; /dev/full answers every write with ENOSPC)
+// the command fails, exit 1, saying so. They all exited 0 with the text lost.
+TEST(Cli, OutputThatCannotBeWrittenFailsTheCommand) {
+  if (!fs::exists("/dev/full")) GTEST_SKIP() << "no /dev/full on this machine";
+  const std::string scenario = LibraryScenario("crossing");
+  const std::string cache = FreshDir("stdout-cache").string();
+  for (const std::string& args :
+       std::vector<std::string>{"schema", "validate --print " + scenario, "--version", "run --help",
+                                "cache --cache " + cache}) {
+    // Standard error to the captured pipe, standard output to /dev/full.
+    const auto r = RunCommand("{ " + kHcpf + " " + args + " 2>&1 >/dev/full; }");
+    EXPECT_EQ(r.exit_code, 1) << args << "\n" << r.output;
+    EXPECT_NE(r.output.find("writing standard output failed: "), std::string::npos) << args << "\n"
+                                                                                    << r.output;
+  }
+  // Written to where it fits, the same commands succeed.
+  EXPECT_EQ(RunCommand(kHcpf + " validate --print " + scenario + " >/dev/null").exit_code, 0);
+  // Bad input keeps its exit code 2.
+  EXPECT_EQ(RunCommand(kHcpf + " validate --print /nonexistent.yaml >/dev/full").exit_code, 2);
 }
 
 TEST(Cli, NoOrUnknownSubcommandIsBadInput) {

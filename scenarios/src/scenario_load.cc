@@ -256,6 +256,15 @@ void ReadTrackerChoice(YamlReader& r, const std::string& file, TrackerChoice* c)
     throw InputError(where, "an executable file (chmod +x, or a shebang line and the execute bit)",
                      fmt::format("\"{}\", which is not executable", resolved));
   }
+  // A program this user may run but not read (mode 711, as some sites
+  // install binaries) has no first bytes to check: the kernel starts a native
+  // binary without read permission (a script's interpreter would need it, so
+  // an unreadable script fails when the run starts it). It was refused,
+  // "cannot read", exit 1, for everyone but root.
+  if (::access(resolved.c_str(), R_OK) != 0) {
+    c->command.front() = resolved;
+    return;
+  }
   // What the kernel can start: a script's "#!" line naming an executable
   // interpreter, or a native binary (ELF). A third bad-input audit found a
   // script without "#!", or with a missing interpreter, accepted by validate

@@ -2,6 +2,7 @@
 // and every shipped scenario.
 
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include <algorithm>
 #include <chrono>
@@ -61,6 +62,37 @@ TEST(Cli, OutputThatCannotBeWrittenFailsTheCommand) {
   EXPECT_EQ(RunCommand(kHcpf + " validate --print " + scenario + " >/dev/null").exit_code, 0);
   // Bad input keeps its exit code 2.
   EXPECT_EQ(RunCommand(kHcpf + " validate --print /nonexistent.yaml >/dev/full").exit_code, 2);
+}
+
+// An external tracker the user may execute but not read (mode 711: the
+// kernel starts a native binary without read permission) is a valid
+// tracker.command; validate refused it for everyone but root ("cannot read",
+// exit 1). As root, the command runs as nobody (setpriv) to lose the read.
+TEST(Cli, AnExecuteOnlyTrackerProgramIsAccepted) {
+  const fs::path dir = FreshDir("execute-only");
+  fs::permissions(dir, fs::perms::owner_all | fs::perms::group_read | fs::perms::group_exec |
+                           fs::perms::others_read | fs::perms::others_exec);
+  const fs::path program = dir / "tracker";
+  fs::copy_file("/bin/true", program);
+  fs::permissions(program, fs::perms::owner_exec | fs::perms::owner_write | fs::perms::group_exec |
+                               fs::perms::others_exec);
+  std::string as_user;
+  if (::geteuid() == 0) {
+    if (RunCommand("command -v setpriv").exit_code != 0) GTEST_SKIP() << "no setpriv";
+    as_user = "setpriv --reuid=65534 --regid=65534 --clear-groups ";
+  }
+  const std::string validate = as_user + kHcpf + " validate " + LibraryScenario("crossing");
+  const auto plain = RunCommand(validate);
+  if (plain.exit_code != 0) {
+    GTEST_SKIP() << "user nobody cannot validate a shipped scenario here (the build or source "
+                    "folder is not readable by others):\n"
+                 << plain.output;
+  }
+  ASSERT_NE(RunCommand(as_user + "head -c 4 " + program.string() + " >/dev/null").exit_code, 0)
+      << "the program is readable, so this test would check nothing";
+  const auto r = RunCommand(validate + " --set tracker.type=external --set 'tracker.command=[" +
+                            program.string() + "]'");
+  EXPECT_EQ(r.exit_code, 0) << r.output;
 }
 
 TEST(Cli, NoOrUnknownSubcommandIsBadInput) {

@@ -8,6 +8,7 @@
 #include <memory>
 
 #include "hcpf/core/check.h"
+#include "hcpf/core/error.h"
 #include "hcpf/core/parallel.h"
 #include "hcpf/renderer/image_io.h"
 #include "hcpf/scenarios/cache.h"
@@ -41,6 +42,17 @@ std::string DefaultFrameCacheDir() {
     return std::string(home) + "/.cache/hcpf/frames";
   }
   return ".hcpf-cache/frames";
+}
+
+void MakeFrameCacheFolder(const std::filesystem::path& dir) {
+  std::error_code ec;
+  std::filesystem::create_directories(dir, ec);
+  if (ec) {
+    throw RunError(fmt::format(
+        "cannot create frame cache {}: {} (give a writable frame cache folder with --cache DIR or "
+        "HCPF_CACHE_DIR, or render without one: --no-cache)",
+        dir.string(), ec.message()));
+  }
 }
 
 SceneFrames ProduceFrames(const Scenario& scenario, const FrameSourceOptions& options) {
@@ -94,7 +106,10 @@ SceneFrames ProduceFrames(const Scenario& scenario, const FrameSourceOptions& op
     if (!scene) {
       scene = renderer::SceneRenderer::Create(scenario.world, ropts, Rng(scenario.seeds.renderer));
       out.gl = scene->gl_info();
-      if (cache) cache->NoteRenderer(*out.gl);  // before any frame of it is stored
+      if (cache) {
+        MakeFrameCacheFolder(cache->dir());  // its first write
+        cache->NoteRenderer(*out.gl);        // before any frame of it is stored
+      }
     }
     scene->Submit(f);
   };

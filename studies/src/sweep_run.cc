@@ -7,6 +7,7 @@
 #include <sys/file.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <cstring>
 #include <exception>
@@ -217,6 +218,14 @@ SweepPlan PrepareSweep(const SweepSpec& spec, const std::vector<SweepRun>& runs,
                    : "",
                result.reused, (out / "results.sqlite").string(), todo.size(), workers);
   plan.todo = static_cast<int64_t>(todo.size());
+  // The frame cache's folder, made before any run: one that cannot be made
+  // failed every rendered run of the sweep, each after making its GL context.
+  if (!options.frame_cache_dir.empty() &&
+      std::any_of(todo.begin(), todo.end(), [](const SweepRun* run) {
+        return run->cell->observation.source == ObservationSource::kRendered;
+      })) {
+    scenarios::MakeFrameCacheFolder(options.frame_cache_dir);
+  }
   plan.waves = RunWaves(todo, options.frame_cache_dir);
   return plan;
 }

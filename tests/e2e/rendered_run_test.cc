@@ -658,6 +658,31 @@ TEST(CameraMotion, ImageEvidenceFeedsTheSceneFilterAndTheRansacBaseline) {
   }
 }
 
+// A frame cache folder that cannot be made fails the run before any frame is
+// stored, naming the folder and the ways out; --no-cache then runs. Here it
+// is under /proc, where no one can make a folder; the default cache of a
+// service user whose $HOME is absent or read-only fails the same way (found
+// running as nobody, HOME=/nonexistent: "cannot create frame cache
+// /nonexistent/.cache/hcpf/frames/...: Permission denied", and nothing more).
+TEST(RenderedRun, AFrameCacheThatCannotBeMadeSaysHowToChooseAnother) {
+  const fs::path dir = FreshDir("cache-blocked");
+  const fs::path cache = "/proc/hcpf-no-such-folder/frames";
+  const std::string run = std::string(HCPF_EXE) + " run " + testing::LibraryScenario("crossing") +
+                          " --set observation.source=rendered --set frames=16"
+                          " --set 'camera.resolution=[64, 48]' --out " +
+                          (dir / "o").string();
+  auto r = RunCommand(run + " --cache " + cache.string());
+  EXPECT_EQ(r.exit_code, 1) << r.output;
+  EXPECT_NE(r.output.find("cannot create frame cache " + cache.string()), std::string::npos)
+      << r.output;
+  EXPECT_NE(r.output.find("--cache DIR or HCPF_CACHE_DIR, or render without one: --no-cache"),
+            std::string::npos)
+      << r.output;
+  EXPECT_FALSE(fs::exists(dir / "o"));
+  r = RunCommand(run + " --no-cache");
+  EXPECT_EQ(r.exit_code, 0) << r.output;
+}
+
 // A detector needs rendered frames and, with target models, filters born
 // from ground truth: both are bad input naming the keys, for validate and run.
 TEST(RenderedRun, DetectorWithoutItsPrerequisitesIsBadInput) {

@@ -51,5 +51,33 @@ TEST(RenderedSweep, ScenesRenderOnceAndEveryRunSucceeds) {
   EXPECT_FALSE(fs::exists(dir / "cache")) << "the report rendered frames";
 }
 
+// A frame cache folder that cannot be made (under /proc, where no one can make
+// one; an absent or read-only $HOME does the same) stops the sweep before its
+// first run, naming the folder and the ways out; it failed every rendered run,
+// each after making its GL context. The same command with --no-cache then
+// computes them all.
+TEST(RenderedSweep, AFrameCacheThatCannotBeMadeStopsTheSweepBeforeItsRuns) {
+  const fs::path dir = testing::FreshDir("sweep-cache-blocked");
+  std::ofstream(dir / "sweep.yaml")
+      << "base: " << testing::LibraryScenario("crossing-dominant") << "\n"
+      << "grid:\n"
+      << "  observation.source: [rendered]\n"
+      << "  frames: [4]\n"
+      << "  tracker.particles: [100, 200]\n";
+  const std::string sweep = std::string(HCPF_EXE) + " sweep " + (dir / "sweep.yaml").string() +
+                            " --out " + (dir / "out").string();
+  auto r = testing::RunCommand(sweep + " --cache /proc/hcpf-no-such-folder/frames");
+  EXPECT_EQ(r.exit_code, 1) << r.output;
+  EXPECT_NE(r.output.find("sweep failed: cannot create frame cache /proc/hcpf-no-such-folder/"
+                          "frames: "),
+            std::string::npos)
+      << r.output;
+  EXPECT_NE(r.output.find("--no-cache"), std::string::npos) << r.output;
+  EXPECT_EQ(r.output.find("GL context"), std::string::npos) << "a run started:\n" << r.output;
+  r = testing::RunCommand(sweep + " --no-cache");
+  EXPECT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("2 computed, 0 failed"), std::string::npos) << r.output;
+}
+
 }  // namespace
 }  // namespace hcpf

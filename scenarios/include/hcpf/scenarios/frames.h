@@ -6,6 +6,7 @@
 // (renderer::PixelHash), so runs that differ only in tracker or observation
 // settings render once.
 
+#include <filesystem>
 #include <functional>
 #include <optional>
 #include <string>
@@ -22,6 +23,11 @@ renderer::RendererOptions RendererOptionsOf(const Scenario& scenario);
 
 // $HCPF_CACHE_DIR, else $XDG_CACHE_HOME/hcpf/frames, else $HOME/.cache/hcpf/frames.
 std::string DefaultFrameCacheDir();
+
+// Creates a frame cache folder (and its parents), or throws RunError naming
+// it and the ways to another (--cache DIR, HCPF_CACHE_DIR, --no-cache): the
+// default's $HOME may be absent or read-only, as for a service user.
+void MakeFrameCacheFolder(const std::filesystem::path& dir);
 
 struct FrameSourceOptions {
   bool render = false;       // render even when the scenario is at detection level

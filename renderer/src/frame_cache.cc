@@ -10,11 +10,9 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
-#include <functional>
 #include <nlohmann/json.hpp>
 #include <sstream>
 #include <system_error>
-#include <thread>
 
 #include "hcpf/core/error.h"
 #include "hcpf/core/ground_truth_json.h"
@@ -287,31 +285,18 @@ void FrameCache::Store(const RenderedFrame& frame) const {
   std::filesystem::create_directories(dir_, ec);
   if (ec)
     throw RunError(fmt::format("cannot create frame cache {}: {}", dir_.string(), ec.message()));
-  const auto pixels = dir_ / fmt::format("{:06d}.frame", frame.frame);
-  const auto json = dir_ / fmt::format("{:06d}.json", frame.frame);
-  // Temporary names unique to this process and thread: concurrent runs that
-  // render the same scene each write their own and the last rename wins (the
-  // contents are identical).
-  const std::string unique =
-      fmt::format("{}-{}", ::getpid(), std::hash<std::thread::id>{}(std::this_thread::get_id()));
-  const auto pixels_tmp = dir_ / fmt::format("{:06d}.{}.frame.tmp", frame.frame, unique);
-  const auto json_tmp = dir_ / fmt::format("{:06d}.{}.json.tmp", frame.frame, unique);
-  {
-    const std::string bytes = EncodeFrame(frame.rgb);
-    std::ofstream out(pixels_tmp, std::ios::binary);
-    out.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
-    if (!out) throw RunError(fmt::format("cannot write {}", pixels_tmp.string()));
-  }
-  {
-    std::ofstream out(json_tmp);
-    out << GroundTruthToJson(frame.ground_truth).dump();
-    if (!out) throw RunError(fmt::format("cannot write {}", json_tmp.string()));
-  }
-  // The JSON is renamed last: Load() needs both, so a crash in between
-  // leaves a miss, never a frame without its ground truth.
-  std::filesystem::rename(pixels_tmp, pixels, ec);
-  if (!ec) std::filesystem::rename(json_tmp, json, ec);
-  if (ec) throw RunError(fmt::format("cannot store frame in {}: {}", dir_.string(), ec.message()));
+  // Each file is written whole under a temporary name unique to this process
+  // and write, then renamed (WriteTextFile): concurrent runs that render the
+  // same scene each write their own and the last rename wins (the contents
+  // are identical); a failed write (a full disk) removes its temporary file
+  // and says why. The JSON is renamed last: Load() needs both, so a failure
+  // or a crash in between leaves a miss, never a frame without its ground
+  // truth. (The temporary files were named here and kept on a failed write:
+  // a full disk left a partial .frame.tmp in the cache for good, and the
+  // error had no reason.)
+  WriteTextFile((dir_ / fmt::format("{:06d}.frame", frame.frame)).string(), EncodeFrame(frame.rgb));
+  WriteTextFile((dir_ / fmt::format("{:06d}.json", frame.frame)).string(),
+                GroundTruthToJson(frame.ground_truth).dump());
 }
 
 struct FrameCacheWriter::State {

@@ -1,9 +1,15 @@
 // Options validation, sensor effects and the frame cache (no GL).
 
 #include <gtest/gtest.h>
+#include <sys/resource.h>
+#include <sys/wait.h>
+#include <unistd.h>
 
+#include <cerrno>
 #include <cmath>
+#include <csignal>
 #include <cstdint>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
@@ -431,6 +437,44 @@ TEST(FrameCache, FormatVersionAndDamageAreMissesNeverMisreads) {
   // The previous format (PNG + JSON): not this format, so a miss.
   std::filesystem::rename(path, cache.dir() / "000002.png");
   EXPECT_FALSE(cache.Load(2).has_value());
+}
+
+// A store that fails part-way (a full disk: RLIMIT_FSIZE under the frame's
+// size, in a child process) says why and leaves no temporary file: it said
+// "cannot write <name>.tmp" with no reason and kept the partial file in the
+// cache for good.
+TEST(FrameCache, AStoreThatFailsSaysWhyAndLeavesNothing) {
+  const auto root = hcpf::testing::FreshDir("frame-cache-full");
+  const FrameCache cache(root, "abc");
+  const RenderedFrame f = NoisyFrame(2, 64, 48, 9);  // noise: ~9 KB whatever zstd does
+  const pid_t child = ::fork();
+  ASSERT_GE(child, 0);
+  if (child == 0) {
+    std::signal(SIGXFSZ, SIG_IGN);  // write() then fails with EFBIG
+    const rlimit limit{4096, 4096};
+    ::setrlimit(RLIMIT_FSIZE, &limit);
+    try {
+      cache.Store(f);
+    } catch (const RunError& e) {
+      const std::string text = e.what();
+      ::_exit(text.find("000002.frame failed: " + std::string(std::strerror(EFBIG))) !=
+                      std::string::npos
+                  ? 0
+                  : 3);
+    }
+    ::_exit(4);  // no error
+  }
+  int status = 0;
+  ASSERT_EQ(::waitpid(child, &status, 0), child);
+  ASSERT_TRUE(WIFEXITED(status));
+  EXPECT_EQ(WEXITSTATUS(status), 0) << "3: another message, 4: no error";
+  std::vector<std::string> left;
+  for (const auto& e : std::filesystem::directory_iterator(cache.dir()))
+    left.push_back(e.path().filename().string());
+  EXPECT_TRUE(left.empty()) << left.front();
+  EXPECT_FALSE(cache.Load(2).has_value());
+  cache.Store(f);  // and without the limit, stored whole
+  EXPECT_EQ(cache.Load(2)->rgb, f.rgb);
 }
 
 // The writer stores exactly what Store would, for every frame submitted, and

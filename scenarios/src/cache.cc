@@ -26,9 +26,13 @@ bool IsSceneName(const std::string& name) {
 
 // A file a scene folder holds: NNNNNN.frame and NNNNNN.json
 // (renderer::FrameCache), or their temporary names while being written
-// ("NNNNNN.<writer>.frame.tmp").
+// (".NNNNNN.frame.tmp-<pid>-<n>", WriteTextFile's; before it,
+// "NNNNNN.<writer>.frame.tmp").
 bool IsSceneFile(const std::string& name) {
   if (name == "renderers.txt") return true;  // FrameCache::NoteRenderer
+  if (const std::string target = TempFileTarget(name); !target.empty()) {
+    return target != name && IsSceneFile(target);
+  }
   if (name.size() < 11 ||
       !std::all_of(name.begin(), name.begin() + 6, [](char c) { return c >= '0' && c <= '9'; })) {
     return false;

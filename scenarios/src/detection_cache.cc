@@ -7,14 +7,15 @@
 
 #include <cstring>
 #include <fstream>
-#include <functional>
 #include <iterator>
+#include <mutex>
+#include <set>
 #include <system_error>
-#include <thread>
 #include <vector>
 
 #include "hcpf/core/check.h"
 #include "hcpf/core/error.h"
+#include "hcpf/core/text_file.h"
 #include "hcpf/scenarios/cache.h"
 
 namespace hcpf::scenarios::internal {
@@ -223,7 +224,15 @@ std::string DetectionKey::Finish() const {
   return fmt::format("{:016x}{:016x}", h.high64, h.low64);
 }
 
-DetectionCache::DetectionCache(const std::filesystem::path& root) : dir_(root / "detections") {}
+DetectionCache::DetectionCache(const std::filesystem::path& root) : dir_(root / "detections") {
+  // What killed writes left (WriteTextFile's temporary files of processes
+  // that no longer run), once per folder and process: the folder holds a
+  // file per frame and detector, and a sweep makes a cache per run.
+  static std::mutex mutex;
+  static std::set<std::filesystem::path> cleaned;
+  const std::lock_guard<std::mutex> lock(mutex);
+  if (cleaned.insert(dir_).second) RemoveStaleTempFiles(dir_);
+}
 
 std::optional<vision::DetectorOutput> DetectionCache::Load(const std::string& key) const {
   const auto path = dir_ / (key + ".det");
@@ -267,22 +276,16 @@ void DetectionCache::Store(const std::string& key, const vision::DetectorOutput&
   const size_t compressed_size = ZSTD_compress(compressed.data(), compressed.size(), payload.data(),
                                                payload.size(), kZstdLevel);
   HCPF_CHECK(!ZSTD_isError(compressed_size)) << ZSTD_getErrorName(compressed_size);
-  const auto path = dir_ / (key + ".det");
-  // Unique to this process and thread: concurrent runs storing the same key
-  // each write their own file and the last rename wins (same contents).
-  const auto tmp = dir_ / fmt::format("{}.{}-{}.tmp", key, ::getpid(),
-                                      std::hash<std::thread::id>{}(std::this_thread::get_id()));
-  {
-    std::ofstream out(tmp, std::ios::binary);
-    out.write(kMagic, sizeof(kMagic));
-    out.write(reinterpret_cast<const char*>(&payload_size), sizeof(payload_size));
-    out.write(compressed.data(), static_cast<std::streamsize>(compressed_size));
-    out.write(reinterpret_cast<const char*>(&checksum), sizeof(checksum));
-    if (!out) throw RunError(fmt::format("cannot write {}", tmp.string()));
-  }
-  std::filesystem::rename(tmp, path, ec);
-  if (ec)
-    throw RunError(fmt::format("cannot store detections in {}: {}", dir_.string(), ec.message()));
+  std::string bytes(kMagic, sizeof(kMagic));
+  bytes.append(reinterpret_cast<const char*>(&payload_size), sizeof(payload_size));
+  bytes.append(compressed.data(), compressed_size);
+  bytes.append(reinterpret_cast<const char*>(&checksum), sizeof(checksum));
+  // Written whole under a temporary name unique to this process and write,
+  // then renamed (WriteTextFile): concurrent runs storing the same key each
+  // write their own and the last rename wins (same contents); a failed write
+  // (a full disk) removes its temporary file and says why, where one was kept
+  // for good with "cannot write" and no reason.
+  WriteTextFile((dir_ / (key + ".det")).string(), bytes);
 }
 
 }  // namespace hcpf::scenarios::internal

@@ -10,6 +10,7 @@
 #include "hcpf/core/check.h"
 #include "hcpf/core/error.h"
 #include "hcpf/core/parallel.h"
+#include "hcpf/core/text_file.h"
 #include "hcpf/renderer/image_io.h"
 #include "hcpf/scenarios/cache.h"
 #include "hcpf/scenarios/progress.h"
@@ -108,6 +109,7 @@ SceneFrames ProduceFrames(const Scenario& scenario, const FrameSourceOptions& op
       out.gl = scene->gl_info();
       if (cache) {
         MakeFrameCacheFolder(cache->dir());  // its first write
+        RemoveStaleTempFiles(cache->dir());  // what killed writes left there
         cache->NoteRenderer(*out.gl);        // before any frame of it is stored
       }
     }

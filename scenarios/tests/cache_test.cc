@@ -128,14 +128,21 @@ TEST(Cache, EntriesWithoutTheCachesContentAreForeign) {
   WriteBytes(file, 10);
   const fs::path other_det = c.root / "detections" / "run.det";
   WriteBytes(other_det, 10);
+  // Temporary files of a write (WriteTextFile's names, and those of before
+  // it) belong to the scene; a temporary name of a file no scene holds does not.
   WriteBytes(c.b / "000001.4242-77.frame.tmp", 5);
+  WriteBytes(c.b / ".000001.frame.tmp-4242-0", 5);
+  WriteBytes(c.b / ".000001.json.tmp-4242-1", 5);
+  const fs::path odd_temp = c.root / "00000000000000000000000000000004";
+  WriteBytes(odd_temp / ".notes.txt.tmp-4242-2", 5);
   const CacheContents contents = ScanCache(c.root);
   EXPECT_EQ(contents.scenes, 2);
   EXPECT_EQ(contents.detections, 3);
-  EXPECT_EQ(contents.bytes(), 1105u);
+  EXPECT_EQ(contents.bytes(), 1115u);
   std::vector<fs::path> foreign = contents.foreign;
   std::sort(foreign.begin(), foreign.end());
-  EXPECT_EQ(foreign, (std::vector<fs::path>{mixed / "important.txt", linked, file, other_det}));
+  EXPECT_EQ(foreign, (std::vector<fs::path>{mixed / "important.txt", linked, file,
+                                            odd_temp / ".notes.txt.tmp-4242-2", other_det}));
   for (const CacheEntry& e : PruneOrder(contents, 0)) {
     EXPECT_NE(e.path, mixed);
     EXPECT_NE(e.path, linked);

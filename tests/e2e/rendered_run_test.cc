@@ -4,6 +4,7 @@
 
 #include <fmt/format.h>
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include <algorithm>
 #include <chrono>
@@ -130,8 +131,18 @@ TEST(RenderedRun, CacheWithHolesRendersOnlyTheMissingFramesAndChangesNothing) {
     before[f] = ReadFile(file);
     fs::remove(file);
   }
+  // What killed writes left: the temporary file of a process that no longer
+  // runs is removed when the scene is rendered into again; one of a live
+  // process (this one: a concurrent run's write) stays.
+  const fs::path stale = frames / ".000005.frame.tmp-99999999-0";
+  const fs::path live = frames / fmt::format(".000006.frame.tmp-{}-0", ::getpid());
+  std::ofstream(stale) << "partial";
+  std::ofstream(live) << "partial";
   r = RunCommand(common + " --out " + (dir / "b").string());
   ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_FALSE(fs::exists(stale));
+  EXPECT_TRUE(fs::exists(live));
+  fs::remove(live);
   const auto manifest = nlohmann::json::parse(ReadFile(dir / "b" / "manifest.json"));
   EXPECT_EQ(manifest["frames_rendered"], static_cast<int>(holes.size()));
   EXPECT_EQ(manifest["frames_from_cache"], 24 - static_cast<int>(holes.size()));
@@ -379,7 +390,17 @@ TEST(RenderedRun, TheDetectionCacheServesTrackerSweepsAndNeverMisreads) {
   for (const auto& e : fs::directory_iterator(dir / "cache" / "detections")) {
     fs::last_write_time(e.path(), two_days_ago);
   }
+  // A killed write's temporary file (its process gone) is removed when a run
+  // next opens the cache; a live process's stays.
+  const fs::path stale = dir / "cache" / "detections" / ".0123.det.tmp-99999999-0";
+  const fs::path live =
+      dir / "cache" / "detections" / fmt::format(".0123.det.tmp-{}-0", ::getpid());
+  std::ofstream(stale) << "partial";
+  std::ofstream(live) << "partial";
   EXPECT_EQ(run("b", " --set tracker.particles=60")["detections_from_cache"], 30);
+  EXPECT_FALSE(fs::exists(stale));
+  EXPECT_TRUE(fs::exists(live));
+  fs::remove(live);
   for (const auto& e : fs::directory_iterator(dir / "cache" / "detections")) {
     EXPECT_GT(fs::last_write_time(e.path()), two_days_ago + std::chrono::hours(47)) << e.path();
   }

@@ -378,6 +378,15 @@ std::unique_ptr<ResultsStore> ResultsStore::OpenOrCreate(const std::string& path
   }
   const std::string temp = path + ".new";
   fs::remove(temp);
+  // A store that cannot be made (a full disk) leaves no half-made file, nor
+  // its journal (once renamed, there is nothing left to remove).
+  struct RemoveTemp {
+    const std::string& temp;
+    ~RemoveTemp() {
+      std::error_code ec;
+      for (const char* suffix : {"", "-journal", "-wal", "-shm"}) fs::remove(temp + suffix, ec);
+    }
+  } cleanup{temp};
   {
     ResultsStore store(temp, OpenDb(temp, StoreAccess::kReadWrite, true));
     std::string columns;

@@ -6,17 +6,22 @@
 #include <gtest/gtest.h>
 #include <sqlite3.h>
 #include <sys/file.h>
+#include <sys/resource.h>
 #include <sys/stat.h>
+#include <sys/wait.h>
 #include <unistd.h>
 
 #include <cmath>
+#include <csignal>
 #include <filesystem>
 #include <fstream>
 #include <functional>
 #include <iterator>
 #include <nlohmann/json.hpp>
 #include <set>
+#include <string>
 #include <tuple>
+#include <vector>
 
 #include "hcpf/metrics/report.h"
 #include "hcpf/scenarios/run.h"
@@ -106,6 +111,42 @@ TEST(ResultsStore, PutRunsRoundTripAndRefusesAnotherSweep) {
   EXPECT_TRUE(std::isnan(runs[1].metrics.at("hota")));
   meta.sweep_hash = "other";
   EXPECT_THROW(ResultsStore::OpenOrCreate(path, meta), InputError);
+}
+
+// A store that cannot be made (a full disk: RLIMIT_FSIZE 0 in a child
+// process) fails and leaves nothing: a sweep on a full disk left an empty
+// results.sqlite.new beside its lock for good.
+TEST(ResultsStore, AStoreThatCannotBeMadeLeavesNoFile) {
+  const auto dir = SweepFolder("store-full");
+  StoreMeta meta;
+  meta.sweep_hash = "abc";
+  meta.sweep_file = "s.yaml";
+  meta.swept_keys = {"tracker.particles"};
+  meta.report = {"tracker.particles", {"idf1"}, ""};
+  meta.run_count = 2;
+  const std::string path = (dir / "results.sqlite").string();
+  const pid_t child = ::fork();
+  ASSERT_GE(child, 0);
+  if (child == 0) {
+    std::signal(SIGXFSZ, SIG_IGN);  // write() then fails with EFBIG
+    const rlimit limit{0, 0};
+    ::setrlimit(RLIMIT_FSIZE, &limit);
+    try {
+      ResultsStore::OpenOrCreate(path, meta);
+    } catch (const std::exception&) {
+      ::_exit(0);
+    }
+    ::_exit(4);  // no error
+  }
+  int status = 0;
+  ASSERT_EQ(::waitpid(child, &status, 0), child);
+  ASSERT_TRUE(WIFEXITED(status));
+  EXPECT_EQ(WEXITSTATUS(status), 0) << "4: the store was made";
+  std::set<std::string> left;
+  for (const auto& e : fs::directory_iterator(dir)) left.insert(e.path().filename().string());
+  EXPECT_EQ(left, std::set<std::string>{"base.yaml"});  // the fixture's
+  ResultsStore::OpenOrCreate(path, meta);               // and without the limit, made
+  EXPECT_TRUE(fs::exists(path));
 }
 
 // A store whose meta table was edited after the sweep wrote it is bad input

@@ -13,6 +13,7 @@
 #include "command.h"
 #include "hcpf/core/did_you_mean.h"
 #include "hcpf/core/error.h"
+#include "hcpf/core/text_file.h"
 #include "hcpf/scenarios/schema.h"
 #include "hcpf/studies/file_keys.h"
 
@@ -77,9 +78,10 @@ Command AddSchemaCommand(CLI::App& parent) {
                 spdlog::info("{}: generated tables are up to date", options->update);
                 return 0;
               }
-              std::ofstream out(options->update, std::ios::binary | std::ios::trunc);
-              out << updated;
-              if (!out) throw Error("cannot write " + options->update);
+              // Whole or not at all: truncated in place, a full disk left the
+              // user's document cut short (and the failure was seen only at
+              // a close nobody checked).
+              WriteTextFile(options->update, updated);
               spdlog::info("{}: generated tables rewritten", options->update);
               return 0;
             }

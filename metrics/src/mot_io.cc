@@ -30,14 +30,6 @@ namespace {
 
 constexpr double kEps = std::numeric_limits<double>::epsilon();
 
-void WriteWholeFile(const std::string& path, const std::string& text) {
-  std::FILE* f = std::fopen(path.c_str(), "wb");
-  if (f == nullptr) throw RunError(fmt::format("cannot write {}", path));
-  const size_t written = std::fwrite(text.data(), 1, text.size(), f);
-  const bool ok = written == text.size() && std::fclose(f) == 0;
-  if (!ok) throw RunError(fmt::format("error while writing {}", path));
-}
-
 // ASCII whitespace without the locale lookup of std::isspace (hot in parsing).
 inline bool IsSpace(char c) {
   return c == ' ' || c == '\t' || c == '\r' || c == '\n' || c == '\v' || c == '\f';
@@ -742,10 +734,10 @@ SeqInfo ReadSeqInfo(const std::string& path) {
 
 void WriteSeqInfo(const std::string& path, const SeqInfo& info) {
   HCPF_CHECK(info.seq_length >= 1);
-  WriteWholeFile(path, fmt::format("[Sequence]\nname={}\nimDir={}\nframeRate={}\nseqLength={}\n"
-                                   "imWidth={}\nimHeight={}\nimExt={}\n",
-                                   info.name, info.im_dir, info.frame_rate, info.seq_length,
-                                   info.im_width, info.im_height, info.im_ext));
+  WriteTextFile(path, fmt::format("[Sequence]\nname={}\nimDir={}\nframeRate={}\nseqLength={}\n"
+                                  "imWidth={}\nimHeight={}\nimExt={}\n",
+                                  info.name, info.im_dir, info.frame_rate, info.seq_length,
+                                  info.im_width, info.im_height, info.im_ext));
 }
 
 Benchmark ResolveBenchmark(Benchmark requested, const MotFile& gt) {
@@ -986,10 +978,10 @@ std::string FormatRows(const std::vector<MotRow>& rows, bool gt) {
 std::string FormatMotGroundTruth(const std::vector<MotRow>& rows) { return FormatRows(rows, true); }
 std::string FormatMotTracks(const std::vector<MotRow>& rows) { return FormatRows(rows, false); }
 void WriteMotGroundTruth(const std::string& path, const std::vector<MotRow>& rows) {
-  WriteWholeFile(path, FormatMotGroundTruth(rows));
+  WriteTextFile(path, FormatMotGroundTruth(rows));
 }
 void WriteMotTracks(const std::string& path, const std::vector<MotRow>& rows) {
-  WriteWholeFile(path, FormatMotTracks(rows));
+  WriteTextFile(path, FormatMotTracks(rows));
 }
 
 }  // namespace hcpf::metrics

@@ -5,6 +5,7 @@
 #include <sys/stat.h>
 
 #include <algorithm>
+#include <cerrno>
 #include <cstring>
 #include <filesystem>
 #include <limits>
@@ -434,6 +435,14 @@ TEST(MotIo, WritersRoundTrip) {
   WriteMotTracks((dir / "t.txt").string(), rows);
   EXPECT_EQ(ReadMotFile((dir / "t.txt").string(), MotFileKind::kTracks, 2).rows.size(), 2u);
   EXPECT_THROW(ReadMotFile((dir / "missing.txt").string(), MotFileKind::kTracks), InputError);
+  // A file that cannot be written says why (it said only "cannot write" or
+  // "error while writing", and a short write leaked the open file).
+  try {
+    WriteMotTracks((dir / "no" / "t.txt").string(), rows);
+    ADD_FAILURE() << "written into a folder that does not exist";
+  } catch (const RunError& e) {
+    EXPECT_NE(std::string(e.what()).find(std::strerror(ENOENT)), std::string::npos) << e.what();
+  }
 }
 
 // Issue 15 item 17: an integer id is taken exactly at both ends of int64_t

@@ -10,6 +10,7 @@
 
 #include "hcpf/core/error.h"
 #include "hcpf/core/subprocess.h"
+#include "hcpf/core/text_file.h"
 #include "hcpf/renderer/renderer.h"
 #include "hcpf/scenarios/frames.h"
 
@@ -69,11 +70,7 @@ void ChildProcessExecutor::Execute(const SweepRun& run, const RunOptions& run_op
   const fs::path runs_dir(runs_dir_);
   const fs::path input = runs_dir / (run.key + ".input.yaml");
   const fs::path log = runs_dir / (run.key + ".log");
-  {
-    std::ofstream out(input);
-    out << ToResolvedYaml(run.scenario());
-    if (!out) throw RunError(fmt::format("cannot write {}", input.string()));
-  }
+  WriteTextFile(input.string(), ToResolvedYaml(run.scenario()));
   std::vector<std::string> args = {exe,     "--log-level",       "warn",      "run", input.string(),
                                    "--out", run_options.out_dir, "--threads", "1"};
   if (run_options.video) args.push_back("--video");

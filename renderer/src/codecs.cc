@@ -34,8 +34,13 @@ void WritePng(const std::string& path, int width, int height, int bit_depth, int
     throw RunError("cannot write PNG " + path + ": out of memory");
   }
   if (setjmp(png_jmpbuf(png))) {
+    // A failed write of the file (a full disk) is the usual cause, and fwrite
+    // left its reason in errno; it was reported as "libpng error" alone.
+    const int error = errno;
+    const bool write_failed = std::ferror(file.get()) != 0;
     png_destroy_write_struct(&png, &info);
-    throw RunError("cannot write PNG " + path + ": libpng error");
+    throw RunError(fmt::format("cannot write PNG {}: {}", path,
+                               write_failed ? std::strerror(error) : "libpng error"));
   }
   png_init_io(png, file.get());
   // Rendered frames (textures, sensor noise) compress poorly whatever the
@@ -54,7 +59,11 @@ void WritePng(const std::string& path, int width, int height, int bit_depth, int
   for (const uint8_t* row : rows) png_write_row(png, row);
   png_write_end(png, nullptr);
   png_destroy_write_struct(&png, &info);
-  if (std::fflush(file.get()) != 0) throw RunError("cannot write PNG " + path);
+  // The reason when the disk is full (a buffered write fails at the flush or
+  // the close; it was reported with none, and the close went unchecked).
+  if (std::fflush(file.get()) != 0 || std::fclose(file.release()) != 0) {
+    throw RunError(fmt::format("cannot write PNG {}: {}", path, std::strerror(errno)));
+  }
 }
 
 }  // namespace

@@ -477,6 +477,32 @@ TEST(FrameCache, AStoreThatFailsSaysWhyAndLeavesNothing) {
   EXPECT_EQ(cache.Load(2)->rgb, f.rgb);
 }
 
+// A PNG that cannot be written whole (a full disk: RLIMIT_FSIZE under its
+// size, in a child process) says why: it said "libpng error".
+TEST(WritePng, AFailedWriteSaysWhy) {
+  const auto dir = hcpf::testing::FreshDir("png-full");
+  const RenderedFrame f = NoisyFrame(1, 64, 48, 3);  // noise: ~9 KB of PNG
+  const std::string path = (dir / "frame.png").string();
+  const pid_t child = ::fork();
+  ASSERT_GE(child, 0);
+  if (child == 0) {
+    std::signal(SIGXFSZ, SIG_IGN);  // write() then fails with EFBIG
+    const rlimit limit{4096, 4096};
+    ::setrlimit(RLIMIT_FSIZE, &limit);
+    try {
+      WritePng(f.rgb, path);
+    } catch (const RunError& e) {
+      const std::string text = e.what();
+      ::_exit(text == "cannot write PNG " + path + ": " + std::strerror(EFBIG) ? 0 : 3);
+    }
+    ::_exit(4);  // no error
+  }
+  int status = 0;
+  ASSERT_EQ(::waitpid(child, &status, 0), child);
+  ASSERT_TRUE(WIFEXITED(status));
+  EXPECT_EQ(WEXITSTATUS(status), 0) << "3: another message, 4: no error";
+}
+
 // The writer stores exactly what Store would, for every frame submitted, and
 // Finish reports a store's failure instead of losing it.
 TEST(FrameCache, WriterStoresEverySubmittedFrameAndReportsFailures) {

@@ -1,18 +1,17 @@
 #include "hcpf/core/text_file.h"
 
 #include <gtest/gtest.h>
-#include <sys/resource.h>
 #include <sys/stat.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
-#include <csignal>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
 #include <string>
 
 #include "hcpf/core/error.h"
+#include "support/process.h"
 
 namespace hcpf {
 namespace {
@@ -38,23 +37,15 @@ TEST(WriteTextFile, ReplacesAFileWholeOrNotAtAll) {
   WriteTextFile(report.string(), "<html>good</html>\n");
   ::chmod(report.c_str(), 0640);
 
-  const pid_t child = ::fork();
-  ASSERT_GE(child, 0);
-  if (child == 0) {
-    std::signal(SIGXFSZ, SIG_IGN);  // write() then fails with EFBIG
-    const rlimit limit{64, 64};
-    ::setrlimit(RLIMIT_FSIZE, &limit);
+  const int code = hcpf::testing::InChildWithFileSizeLimit(64, [&] {
     try {
       WriteTextFile(report.string(), std::string(1000, 'x'));
     } catch (const RunError& e) {
-      ::_exit(std::string(e.what()).find("writing " + report.string() + " failed") == 0 ? 0 : 3);
+      return std::string(e.what()).find("writing " + report.string() + " failed") == 0 ? 0 : 3;
     }
-    ::_exit(4);  // no error
-  }
-  int status = 0;
-  ASSERT_EQ(::waitpid(child, &status, 0), child);
-  ASSERT_TRUE(WIFEXITED(status));
-  EXPECT_EQ(WEXITSTATUS(status), 0) << "3: another message, 4: no error";
+    return 4;  // no error
+  });
+  EXPECT_EQ(code, 0) << "3: another message, 4: no error";
   EXPECT_EQ(ReadAll(report), "<html>good</html>\n");
   EXPECT_EQ(std::distance(fs::directory_iterator(dir), {}), 1) << "a temporary file was left";
 

@@ -1,13 +1,9 @@
 // Options validation, sensor effects and the frame cache (no GL).
 
 #include <gtest/gtest.h>
-#include <sys/resource.h>
-#include <sys/wait.h>
-#include <unistd.h>
 
 #include <cerrno>
 #include <cmath>
-#include <csignal>
 #include <cstdint>
 #include <cstring>
 #include <filesystem>
@@ -447,27 +443,19 @@ TEST(FrameCache, AStoreThatFailsSaysWhyAndLeavesNothing) {
   const auto root = hcpf::testing::FreshDir("frame-cache-full");
   const FrameCache cache(root, "abc");
   const RenderedFrame f = NoisyFrame(2, 64, 48, 9);  // noise: ~9 KB whatever zstd does
-  const pid_t child = ::fork();
-  ASSERT_GE(child, 0);
-  if (child == 0) {
-    std::signal(SIGXFSZ, SIG_IGN);  // write() then fails with EFBIG
-    const rlimit limit{4096, 4096};
-    ::setrlimit(RLIMIT_FSIZE, &limit);
+  const int code = hcpf::testing::InChildWithFileSizeLimit(4096, [&] {
     try {
       cache.Store(f);
     } catch (const RunError& e) {
       const std::string text = e.what();
-      ::_exit(text.find("000002.frame failed: " + std::string(std::strerror(EFBIG))) !=
-                      std::string::npos
-                  ? 0
-                  : 3);
+      return text.find("000002.frame failed: " + std::string(std::strerror(EFBIG))) !=
+                     std::string::npos
+                 ? 0
+                 : 3;
     }
-    ::_exit(4);  // no error
-  }
-  int status = 0;
-  ASSERT_EQ(::waitpid(child, &status, 0), child);
-  ASSERT_TRUE(WIFEXITED(status));
-  EXPECT_EQ(WEXITSTATUS(status), 0) << "3: another message, 4: no error";
+    return 4;  // no error
+  });
+  EXPECT_EQ(code, 0) << "3: another message, 4: no error";
   std::vector<std::string> left;
   for (const auto& e : std::filesystem::directory_iterator(cache.dir()))
     left.push_back(e.path().filename().string());
@@ -483,24 +471,16 @@ TEST(WritePng, AFailedWriteSaysWhy) {
   const auto dir = hcpf::testing::FreshDir("png-full");
   const RenderedFrame f = NoisyFrame(1, 64, 48, 3);  // noise: ~9 KB of PNG
   const std::string path = (dir / "frame.png").string();
-  const pid_t child = ::fork();
-  ASSERT_GE(child, 0);
-  if (child == 0) {
-    std::signal(SIGXFSZ, SIG_IGN);  // write() then fails with EFBIG
-    const rlimit limit{4096, 4096};
-    ::setrlimit(RLIMIT_FSIZE, &limit);
+  const int code = hcpf::testing::InChildWithFileSizeLimit(4096, [&] {
     try {
       WritePng(f.rgb, path);
     } catch (const RunError& e) {
-      const std::string text = e.what();
-      ::_exit(text == "cannot write PNG " + path + ": " + std::strerror(EFBIG) ? 0 : 3);
+      return std::string(e.what()) == "cannot write PNG " + path + ": " + std::strerror(EFBIG) ? 0
+                                                                                               : 3;
     }
-    ::_exit(4);  // no error
-  }
-  int status = 0;
-  ASSERT_EQ(::waitpid(child, &status, 0), child);
-  ASSERT_TRUE(WIFEXITED(status));
-  EXPECT_EQ(WEXITSTATUS(status), 0) << "3: another message, 4: no error";
+    return 4;  // no error
+  });
+  EXPECT_EQ(code, 0) << "3: another message, 4: no error";
 }
 
 // The writer stores exactly what Store would, for every frame submitted, and

@@ -3,14 +3,11 @@
 #include "hcpf/studies/report.h"
 
 #include <gtest/gtest.h>
-#include <sys/resource.h>
-#include <sys/wait.h>
 #include <unistd.h>
 
 #include <algorithm>
 #include <array>
 #include <cmath>
-#include <csignal>
 #include <filesystem>
 #include <fstream>
 #include <limits>
@@ -1179,31 +1176,22 @@ TEST(Report, AReportThatFailsPartWayLeavesTheEarlierReportWhole) {
     for (const std::string& name : names) m[name] = Read(dir / name);
     return m;
   }();
-  const auto html_bytes = static_cast<rlim_t>(made.at("report.html").size());
+  const uint64_t html_bytes = made.at("report.html").size();
   for (const std::string& name : names) {
     ASSERT_LT(made.at(name).size(), made.at("report.html").size() + (name == "report.html"));
     std::ofstream(dir / name) << "earlier " << name << "\n";
   }
 
-  const pid_t child = ::fork();
-  ASSERT_GE(child, 0);
-  if (child == 0) {
-    std::signal(SIGXFSZ, SIG_IGN);  // write() then fails with EFBIG (gnuplot inherits it)
-    const rlimit limit{html_bytes - 1, html_bytes - 1};
-    ::setrlimit(RLIMIT_FSIZE, &limit);
+  // gnuplot inherits the limit and the ignored SIGXFSZ.
+  const int code = hcpf::testing::InChildWithFileSizeLimit(html_bytes - 1, [&] {
     try {
       WriteReport({.dir = dir.string()});
     } catch (const RunError& e) {
-      ::_exit(std::string(e.what()).find("report.html") != std::string::npos ? 0 : 3);
-    } catch (...) {
-      ::_exit(5);
+      return std::string(e.what()).find("report.html") != std::string::npos ? 0 : 3;
     }
-    ::_exit(4);  // no error
-  }
-  int status = 0;
-  ASSERT_EQ(::waitpid(child, &status, 0), child);
-  ASSERT_TRUE(WIFEXITED(status));
-  EXPECT_EQ(WEXITSTATUS(status), 0) << "3: another error, 4: no error, 5: not a RunError";
+    return 4;  // no error
+  });
+  EXPECT_EQ(code, 0) << "3: another error, 4: no error, 5: not a RunError";
   for (const std::string& name : names) {
     EXPECT_EQ(Read(dir / name), "earlier " + name + "\n") << name;
   }

@@ -6,13 +6,10 @@
 #include <gtest/gtest.h>
 #include <sqlite3.h>
 #include <sys/file.h>
-#include <sys/resource.h>
 #include <sys/stat.h>
-#include <sys/wait.h>
 #include <unistd.h>
 
 #include <cmath>
-#include <csignal>
 #include <filesystem>
 #include <fstream>
 #include <functional>
@@ -73,14 +70,20 @@ SweepOptions Options(const fs::path& out, int jobs) {
   return o;
 }
 
-TEST(ResultsStore, PutRunsRoundTripAndRefusesAnotherSweep) {
-  const auto dir = SweepFolder("store");
+// The meta of a sweep of two runs over tracker.particles, reported by IDF1.
+StoreMeta TwoRunMeta() {
   StoreMeta meta;
   meta.sweep_hash = "abc";
   meta.sweep_file = "s.yaml";
   meta.swept_keys = {"tracker.particles"};
   meta.report = {"tracker.particles", {"idf1"}, ""};
   meta.run_count = 2;
+  return meta;
+}
+
+TEST(ResultsStore, PutRunsRoundTripAndRefusesAnotherSweep) {
+  const auto dir = SweepFolder("store");
+  StoreMeta meta = TwoRunMeta();
   const std::string path = (dir / "results.sqlite").string();
   {
     auto store = ResultsStore::OpenOrCreate(path, meta);
@@ -118,30 +121,17 @@ TEST(ResultsStore, PutRunsRoundTripAndRefusesAnotherSweep) {
 // results.sqlite.new beside its lock for good.
 TEST(ResultsStore, AStoreThatCannotBeMadeLeavesNoFile) {
   const auto dir = SweepFolder("store-full");
-  StoreMeta meta;
-  meta.sweep_hash = "abc";
-  meta.sweep_file = "s.yaml";
-  meta.swept_keys = {"tracker.particles"};
-  meta.report = {"tracker.particles", {"idf1"}, ""};
-  meta.run_count = 2;
+  const StoreMeta meta = TwoRunMeta();
   const std::string path = (dir / "results.sqlite").string();
-  const pid_t child = ::fork();
-  ASSERT_GE(child, 0);
-  if (child == 0) {
-    std::signal(SIGXFSZ, SIG_IGN);  // write() then fails with EFBIG
-    const rlimit limit{0, 0};
-    ::setrlimit(RLIMIT_FSIZE, &limit);
+  const int code = hcpf::testing::InChildWithFileSizeLimit(0, [&] {
     try {
       ResultsStore::OpenOrCreate(path, meta);
     } catch (const std::exception&) {
-      ::_exit(0);
+      return 0;
     }
-    ::_exit(4);  // no error
-  }
-  int status = 0;
-  ASSERT_EQ(::waitpid(child, &status, 0), child);
-  ASSERT_TRUE(WIFEXITED(status));
-  EXPECT_EQ(WEXITSTATUS(status), 0) << "4: the store was made";
+    return 4;  // no error
+  });
+  EXPECT_EQ(code, 0) << "4: the store was made";
   std::set<std::string> left;
   for (const auto& e : fs::directory_iterator(dir)) left.insert(e.path().filename().string());
   EXPECT_EQ(left, std::set<std::string>{"base.yaml"});  // the fixture's

@@ -3,14 +3,18 @@
 // its exit code and output.
 
 #include <gtest/gtest.h>
+#include <sys/resource.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
 #include <array>
+#include <csignal>
+#include <cstdint>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <mutex>
 #include <sstream>
 #include <string>
@@ -101,6 +105,30 @@ inline std::filesystem::path FreshDir(const std::string& name) {
   std::filesystem::create_directories(dir);
   internal::Cleaner().Add(dir);
   return dir;
+}
+
+// Runs `body` in a forked child whose files may grow to `max_bytes` at most
+// (RLIMIT_FSIZE with SIGXFSZ ignored, so a write beyond fails with EFBIG: a
+// full disk, for the code under test) and returns the child's exit code,
+// `body`'s return value; -1 when the child did not exit normally. `body`
+// must not use GoogleTest's assertions (they would report in the child).
+inline int InChildWithFileSizeLimit(uint64_t max_bytes, const std::function<int()>& body) {
+  const pid_t child = ::fork();
+  if (child < 0) return -1;
+  if (child == 0) {
+    std::signal(SIGXFSZ, SIG_IGN);
+    const rlimit limit{static_cast<rlim_t>(max_bytes), static_cast<rlim_t>(max_bytes)};
+    ::setrlimit(RLIMIT_FSIZE, &limit);
+    int code = 5;  // an exception body did not catch
+    try {
+      code = body();
+    } catch (...) {
+    }
+    ::_exit(code);
+  }
+  int status = 0;
+  if (::waitpid(child, &status, 0) != child || !WIFEXITED(status)) return -1;
+  return WEXITSTATUS(status);
 }
 
 // A shipped scenario, scenarios/library/<name>.yaml (name may hold a

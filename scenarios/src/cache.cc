@@ -31,7 +31,7 @@ bool IsSceneName(const std::string& name) {
 bool IsSceneFile(const std::string& name) {
   if (name == "renderers.txt") return true;  // FrameCache::NoteRenderer
   if (const std::string target = TempFileTarget(name); !target.empty()) {
-    return target != name && IsSceneFile(target);
+    return IsSceneFile(target);
   }
   if (name.size() < 11 ||
       !std::all_of(name.begin(), name.begin() + 6, [](char c) { return c >= '0' && c <= '9'; })) {

@@ -2,7 +2,6 @@
 
 #include <fmt/format.h>
 #include <link.h>
-#include <unistd.h>
 #include <zstd.h>
 
 #include <cstring>

@@ -16,7 +16,6 @@
 
 namespace hcpf::studies {
 
-using scenarios::ObservationSource;
 using scenarios::RendererOptionsOf;
 using scenarios::RunOptions;
 using scenarios::ToResolvedYaml;
@@ -28,8 +27,7 @@ std::vector<std::vector<const SweepRun*>> RunWaves(std::span<const SweepRun* con
   std::vector<std::vector<const SweepRun*>> waves(2);
   std::set<std::string> scenes;
   for (const SweepRun* run : runs) {
-    const bool rendered =
-        run->cell->observation.source == ObservationSource::kRendered && !frame_cache_dir.empty();
+    const bool rendered = run->rendered() && !frame_cache_dir.empty();
     bool reuses_frames = false;
     if (rendered) {
       const scenarios::Scenario scenario = run->scenario();

@@ -485,6 +485,10 @@ scenarios::Scenario SweepRun::scenario() const {
   return cell->seed == seed ? *cell : scenarios::Reseeded(*cell, seed);
 }
 
+bool SweepRun::rendered() const {
+  return cell->observation.source == scenarios::ObservationSource::kRendered;
+}
+
 std::string SweepHash(const std::vector<SweepRun>& runs) {
   // FNV-1a 64 over the run keys in order.
   uint64_t h = 14695981039346656037ULL;

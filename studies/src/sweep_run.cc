@@ -221,9 +221,7 @@ SweepPlan PrepareSweep(const SweepSpec& spec, const std::vector<SweepRun>& runs,
   // The frame cache's folder, made before any run: one that cannot be made
   // failed every rendered run of the sweep, each after making its GL context.
   if (!options.frame_cache_dir.empty() &&
-      std::any_of(todo.begin(), todo.end(), [](const SweepRun* run) {
-        return run->cell->observation.source == ObservationSource::kRendered;
-      })) {
+      std::any_of(todo.begin(), todo.end(), [](const SweepRun* run) { return run->rendered(); })) {
     scenarios::MakeFrameCacheFolder(options.frame_cache_dir);
   }
   plan.waves = RunWaves(todo, options.frame_cache_dir);

@@ -115,6 +115,8 @@ struct SweepRun {
 
   // The run's resolved scenario.
   scenarios::Scenario scenario() const;
+  // Whether the run observes rendered frames (observation.source: rendered).
+  bool rendered() const;
 };
 
 // The derived seed of seed index i: Rng(sweep_seed).Fork("sweep/seed", i).identity().

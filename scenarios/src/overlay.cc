@@ -13,11 +13,11 @@ namespace hcpf::scenarios {
 
 namespace {
 
-// Filter colours (BGR), by filter id.
+// Filter colours (BGR), by filter id: none yellow, the detections' colour.
 cv::Scalar FilterColour(int64_t id) {
-  static const cv::Scalar kColours[] = {{255, 128, 0}, {0, 200, 255},   {255, 0, 200},
-                                        {0, 255, 128}, {128, 128, 255}, {255, 255, 0},
-                                        {0, 128, 255}, {200, 0, 128}};
+  static const cv::Scalar kColours[] = {{255, 128, 0}, {255, 0, 200},   {0, 255, 128},
+                                        {0, 128, 255}, {128, 128, 255}, {255, 255, 0},
+                                        {200, 0, 128}, {0, 0, 200}};
   return kColours[static_cast<size_t>(id < 0 ? -id : id) % std::size(kColours)];
 }
 
@@ -44,26 +44,45 @@ cv::Rect ToRect(const BoxPx& b) {
           static_cast<int>(std::lround(b.width)), static_cast<int>(std::lround(b.height))};
 }
 
-void Label(cv::Mat& image, const std::string& text, cv::Point at, const cv::Scalar& colour) {
+void Label(cv::Mat& image, const std::string& text, cv::Point at, const cv::Scalar& colour,
+           double scale = 0.4) {
   at.y = std::max(at.y, 12);
-  cv::putText(image, text, at, cv::FONT_HERSHEY_SIMPLEX, 0.4, {0, 0, 0}, 3, cv::LINE_AA);
-  cv::putText(image, text, at, cv::FONT_HERSHEY_SIMPLEX, 0.4, colour, 1, cv::LINE_AA);
+  cv::putText(image, text, at, cv::FONT_HERSHEY_SIMPLEX, scale, {0, 0, 0}, 3, cv::LINE_AA);
+  cv::putText(image, text, at, cv::FONT_HERSHEY_SIMPLEX, scale, colour, 1, cv::LINE_AA);
+}
+
+// Detections: thin boxes in one colour, apart from the filters' (by id) and
+// the truth's (white), so a frame shows at a glance where the detector fired.
+// Drawn last: a detection on its filter's box shows as a line inside it.
+const cv::Scalar kDetectionColour{0, 255, 255};  // BGR: yellow
+
+void DrawDetection(cv::Mat& image, const Detection& d) {
+  const cv::Rect r = ToRect(d.box);
+  cv::rectangle(image, r, kDetectionColour, 1, cv::LINE_AA);
+  // The label beside the box (the truth's is below it, a filter's above):
+  // the target whose model fired, and the score unless every detection has
+  // the same (the oracle's 1).
+  std::string text;
+  if (d.target) text = fmt::format("m{}", Value(*d.target));
+  if (d.target || d.score < 1.0) {
+    text += fmt::format("{}{:.2f}", text.empty() ? "" : " ", d.score);
+  }
+  if (!text.empty()) {
+    Label(image, text, {r.x + r.width + 3, r.y + r.height / 2 + 4}, kDetectionColour, 0.35);
+  }
 }
 
 }  // namespace
 
 void WriteOverlayVideo(const std::string& path, const Scenario& scenario,
-                       const std::vector<FrameGroundTruth>& truth,
-                       const std::vector<tracker::FrameReport>& reports,
-                       const std::optional<metrics::FilterMetrics>& filters,
-                       const std::vector<RgbImage>* frames) {
-  HCPF_CHECK(frames == nullptr || frames->size() == truth.size())
-      << frames->size() << " images for " << truth.size() << " frames";
+                       const OverlayContent& content, const std::vector<RgbImage>* frames) {
+  HCPF_CHECK(frames == nullptr || frames->size() == content.truth.size())
+      << frames->size() << " images for " << content.truth.size() << " frames";
   OverlayFrameSource source;
   if (frames != nullptr) {
     source = [frames](int f) -> std::optional<RgbImage> { return (*frames)[f]; };
   }
-  WriteOverlayVideo(path, scenario, truth, reports, filters, source);
+  WriteOverlayVideo(path, scenario, content, source);
 }
 
 void CheckVideoFits(const Scenario& scenario, const std::string& option) {
@@ -80,22 +99,27 @@ void CheckVideoFits(const Scenario& scenario, const std::string& option) {
 }
 
 void WriteOverlayVideo(const std::string& path, const Scenario& scenario,
-                       const std::vector<FrameGroundTruth>& truth,
-                       const std::vector<tracker::FrameReport>& reports,
-                       const std::optional<metrics::FilterMetrics>& filters,
-                       const OverlayFrameSource& frame_at) {
+                       const OverlayContent& content, const OverlayFrameSource& frame_at) {
+  const std::span<const FrameGroundTruth> truth = content.truth;
+  const std::span<const tracker::FrameReport> reports = content.reports;
+  const std::span<const Observation> observations = content.observations;
   HCPF_CHECK(reports.empty() || reports.size() == truth.size())
       << reports.size() << " reports for " << truth.size() << " frames";
+  HCPF_CHECK(observations.empty() || observations.size() == truth.size())
+      << observations.size() << " observations for " << truth.size() << " frames";
   const int width = scenario.world.camera.width_px;
   const int height = scenario.world.camera.height_px;
   // OpenCV's VideoWriter, FFmpeg backend first, through the video plugin.
   const std::unique_ptr<VideoSink> writer = OpenVideoSink(path, scenario.world.fps, width, height);
   // (frame, filter) -> state.
   std::map<std::pair<int, int64_t>, metrics::FilterState> states;
-  if (filters) {
-    for (const metrics::FilterFrameRecord& r : filters->records)
+  if (content.filters != nullptr) {
+    for (const metrics::FilterFrameRecord& r : content.filters->records)
       states[{r.frame, r.filter}] = r.state;
   }
+  const std::string detector = scenario.observation.source == ObservationSource::kRendered
+                                   ? scenario.observation.DetectorName()
+                                   : "simulated";
   cv::Mat image(height, width, CV_8UC3);
   for (size_t f = 0; f < truth.size(); ++f) {
     const std::optional<RgbImage> frame = frame_at ? frame_at(static_cast<int>(f)) : std::nullopt;
@@ -140,8 +164,14 @@ void WriteOverlayVideo(const std::string& path, const Scenario& scenario,
         Label(image, text, {r.x, r.y - 4}, text_colour);
       }
     }
+    if (!observations.empty()) {
+      for (const Detection& d : observations[f].detections) DrawDetection(image, d);
+    }
     Label(image, fmt::format("{}  frame {}", scenario.name, truth[f].frame), {6, 16},
           {255, 255, 255});
+    if (!observations.empty()) {
+      Label(image, fmt::format("detections ({})", detector), {6, 32}, kDetectionColour, 0.35);
+    }
     writer->Write(image);
   }
   writer->Close();

@@ -371,7 +371,11 @@ RunSummary RunScenario(const Scenario& scenario, const RunOptions& options) {
   if (options.video) {
     // At detection level there are no pixels: the overlay is drawn on a
     // plain background.
-    WriteOverlayVideo((partial / "overlay.mp4").string(), scenario, truth, reports, scores.filters,
+    WriteOverlayVideo((partial / "overlay.mp4").string(), scenario,
+                      {.truth = truth,
+                       .reports = reports,
+                       .observations = observations,
+                       .filters = scores.filters ? &*scores.filters : nullptr},
                       scene.rendered ? &scene.images : nullptr);
   }
   timings["write_s"] = Seconds(t0);

@@ -42,7 +42,8 @@ TEST(Overlay, VideoReadsBackWithFrameCountAndSize) {
   metrics::FilterMetrics states;
   states.records.push_back({0, 1, 1, 1, metrics::FilterState::kCorrect, -1.0});
   const std::string path = (dir / "overlay.mp4").string();
-  WriteOverlayVideo(path, scenario, truth, reports, states, nullptr);
+  WriteOverlayVideo(path, scenario, {.truth = truth, .reports = reports, .filters = &states},
+                    nullptr);
   ASSERT_TRUE(fs::exists(path));
 
   cv::VideoCapture in(path);
@@ -79,9 +80,47 @@ TEST(Overlay, VideoReadsBackWithFrameCountAndSize) {
 
 TEST(Overlay, UnwritablePathIsARunError) {
   const Scenario scenario = LoadScenarioText(testing::kMinimal, "minimal.yaml");
-  EXPECT_THROW(
-      WriteOverlayVideo("/nonexistent/dir/overlay.mp4", scenario, {}, {}, std::nullopt, nullptr),
-      RunError);
+  EXPECT_THROW(WriteOverlayVideo("/nonexistent/dir/overlay.mp4", scenario, {}, nullptr), RunError);
+}
+
+// The frame's detections are drawn (thin yellow boxes), where they are, and
+// only when observations are given.
+TEST(Overlay, DrawsTheFramesDetections) {
+  const auto dir = ::hcpf::testing::FreshDir("overlay-detections");
+  const Scenario scenario = LoadScenarioText(testing::kMinimal, "minimal.yaml");  // 320x240
+  std::vector<FrameGroundTruth> truth;
+  std::vector<Observation> observations;
+  // A box in the lower right, away from the targets and the labels.
+  const BoxPx box{220.0, 150.0, 60.0, 40.0};
+  for (int f = 0; f < 3; ++f) {
+    truth.push_back(ComputeGroundTruth(scenario.world, f));
+    Observation o;
+    o.frame = f;
+    o.detections.push_back({.box = box, .score = 0.8, .target = ObjectId{1}});
+    observations.push_back(o);
+  }
+  const auto yellow_on_box_edge = [&](const std::string& path) {
+    cv::VideoCapture in(path);
+    cv::Mat image;
+    EXPECT_TRUE(in.read(image));
+    if (image.empty()) return 0;
+    int yellow = 0;
+    for (int x = 222; x < 278; ++x) {
+      for (const int y : {150, 189}) {  // the top and bottom edges
+        const cv::Vec3b p = image.at<cv::Vec3b>(y, x);
+        // BGR yellow (0, 255, 255) on the plain background (58, 82, 62):
+        // red and green far up, blue down (a lossy codec blurs a 1-px line).
+        if (p[2] > 140 && p[1] > 140 && p[0] < 120) ++yellow;
+      }
+    }
+    return yellow;
+  };
+  const std::string with = (dir / "with.mp4").string();
+  WriteOverlayVideo(with, scenario, {.truth = truth, .observations = observations}, nullptr);
+  const std::string without = (dir / "without.mp4").string();
+  WriteOverlayVideo(without, scenario, {.truth = truth}, nullptr);
+  EXPECT_GT(yellow_on_box_edge(with), 56);  // of 112 edge pixels
+  EXPECT_EQ(yellow_on_box_edge(without), 0);
 }
 
 }  // namespace
@@ -109,7 +148,7 @@ TEST(Overlay, DrawsOnTheGivenFrames) {
     images.push_back(image);
   }
   const std::string path = (dir / "overlay.mp4").string();
-  WriteOverlayVideo(path, scenario, truth, {}, std::nullopt, &images);
+  WriteOverlayVideo(path, scenario, {.truth = truth}, &images);
   cv::VideoCapture in(path);
   cv::Mat image;
   ASSERT_TRUE(in.read(image));

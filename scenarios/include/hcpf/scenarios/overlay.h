@@ -1,19 +1,26 @@
 #pragma once
 // overlay.mp4 of a run: per frame the image (rendered frame, or a plain
-// background at detection level), ground-truth boxes (white, "gt <id>"),
-// each filter's estimate box and particle cloud in the filter's colour, and
-// the filter's state (CORRECT / HIJACKED / ...) as a label.
+// background at detection level), ground-truth boxes (white, "gt <id>"), the
+// frame's detections (thin yellow boxes; a target-specific detector's are
+// labelled with the target whose model fired, "m<id>", and their score), each
+// filter's estimate box and particle cloud in the filter's colour, and the
+// filter's state (CORRECT / HIJACKED / ...) as a label.
 //
-//   WriteOverlayVideo(out / "overlay.mp4", scenario, truth, reports, scores.filters, nullptr);
+//   WriteOverlayVideo(out / "overlay.mp4", scenario,
+//                     {.truth = truth, .reports = reports, .observations = observations,
+//                      .filters = &*scores.filters},
+//                     nullptr);
 //
 // Particles are drawn only when the tracker kept them (tracker.keep_particles > 0).
 
 #include <functional>
 #include <optional>
+#include <span>
 #include <string>
 #include <vector>
 
 #include "hcpf/core/ground_truth.h"
+#include "hcpf/core/types.h"
 #include "hcpf/metrics/filter_metrics.h"
 #include "hcpf/renderer/renderer.h"
 #include "hcpf/scenarios/scenario.h"
@@ -21,27 +28,29 @@
 
 namespace hcpf::scenarios {
 
+// What an overlay draws over the frames. `truth` gives one video frame per
+// entry; `reports` and `observations` hold one entry per frame too, or none
+// (no filters; no detections).
+struct OverlayContent {
+  std::span<const FrameGroundTruth> truth;
+  std::span<const tracker::FrameReport> reports;
+  std::span<const Observation> observations;
+  const metrics::FilterMetrics* filters = nullptr;  // state labels; null: none
+};
+
 // Writes `path` with OpenCV's VideoWriter (MPEG-4 Part 2, fourcc mp4v) at the
-// scenario's fps and camera resolution, one video frame per entry of `truth`.
-// `reports` (same length as truth, or empty) and `filters` (states; nullopt =
-// no labels) are optional content. `frames`, when given, must hold one image
-// per frame of the camera's size. Throws RunError when the writer cannot be
-// opened; HCPF_CHECK on mismatched lengths.
+// scenario's fps and camera resolution. `frames`, when given, must hold one
+// image per frame of the camera's size. Throws RunError when the writer
+// cannot be opened; HCPF_CHECK on mismatched lengths.
 void WriteOverlayVideo(const std::string& path, const Scenario& scenario,
-                       const std::vector<FrameGroundTruth>& truth,
-                       const std::vector<tracker::FrameReport>& reports,
-                       const std::optional<metrics::FilterMetrics>& filters,
-                       const std::vector<RgbImage>* frames);
+                       const OverlayContent& content, const std::vector<RgbImage>* frames);
 
 // The same with frames fetched one at a time (e.g. read back from the frame
 // cache), so a long rendered run need not hold every frame in memory.
 // `frame_at(f)` returns frame f's image, or nullopt for the plain background.
 using OverlayFrameSource = std::function<std::optional<RgbImage>(int frame)>;
 void WriteOverlayVideo(const std::string& path, const Scenario& scenario,
-                       const std::vector<FrameGroundTruth>& truth,
-                       const std::vector<tracker::FrameReport>& reports,
-                       const std::optional<metrics::FilterMetrics>& filters,
-                       const OverlayFrameSource& frame_at);
+                       const OverlayContent& content, const OverlayFrameSource& frame_at);
 
 // The largest width and height an overlay video may have: MPEG-4 Part 2
 // codes them in 13 bits, and FFmpeg's encoder refuses 8192.

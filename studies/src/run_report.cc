@@ -824,8 +824,9 @@ ReportResult WriteRunReport(const ReportOptions& options) {
     const std::string link =
         options.out_dir.empty() ? "overlay.mp4" : LinkFrom(out, dir / "overlay.mp4");
     h += fmt::format(
-        "<p>Overlay video: <a href=\"{}\">overlay.mp4</a> (frames with ground truth, estimates "
-        "and each filter's state; MPEG-4 Part 2, which VLC and mpv play and most browsers "
+        "<p>Overlay video: <a href=\"{}\">overlay.mp4</a> (frames with ground truth, the "
+        "detections in yellow, estimates and each filter's state; MPEG-4 Part 2, which VLC and mpv "
+        "play and most browsers "
         "do not).</p>\n",
         EscapeMarkup(link));
   }

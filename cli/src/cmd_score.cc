@@ -1,13 +1,17 @@
 // hcpf score GT HYP [--seqinfo FILE] [--benchmark MOT15|MOT17|auto] [--json FILE] [--events FILE]
 // hcpf score --trackeval-root DIR [--benchmark ...] [--json FILE]
+// hcpf score --detections GT.json DET.txt [--min-visible V] [--json FILE]
 //
 // Scores MOTChallenge files with CLEAR MOT, Identity and HOTA (TrackEval's
 // rules, see docs/metrics.md): a table on stdout, every value with --json.
+// With --detections, a detector's output against the pixel-exact truth of a
+// gt.json instead (docs/metrics.md, "Detection quality").
 
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
@@ -19,11 +23,66 @@
 #include "command.h"
 #include "hcpf/core/error.h"
 #include "hcpf/core/text_file.h"
+#include "hcpf/metrics/detection_quality.h"
+#include "hcpf/metrics/detection_truth.h"
+#include "hcpf/metrics/mot_io.h"
 #include "hcpf/metrics/report.h"
 
 namespace hcpf::cli {
 
 namespace fs = std::filesystem;
+
+namespace {
+
+// hcpf score --detections GT.json DET.txt: the detections of a detector (a
+// MOTChallenge det.txt: frame, id, left, top, width, height, score; 1-based
+// frames and pixels, ids ignored) scored as `hcpf run` scores its own.
+int ScoreDetectionFiles(const std::string& gt_path, const std::string& det_path, double min_visible,
+                        const std::string& json_path) {
+  const metrics::GroundTruthFile gt = metrics::ReadGroundTruthJson(gt_path);
+  const int frame_count = static_cast<int>(gt.frames.size());
+  const metrics::MotFile det =
+      metrics::ReadMotFile(det_path, metrics::MotFileKind::kDetections, frame_count);
+  std::vector<metrics::DetectionFrame> frames(gt.frames.size());
+  for (size_t f = 0; f < frames.size(); ++f)
+    frames[f].truth = metrics::DetectionTruthOf(gt.frames[f]);
+  for (const metrics::MotRow& row : det.rows) {
+    const auto bad = [&](int column, const char* key, const std::string& expected, double found) {
+      throw InputError(SourceLocation{det_path, row.line, column, key}, expected,
+                       fmt::format("{}", found));
+    };
+    if (!std::isfinite(row.box.left)) bad(3, "column 3 (left)", "a finite number", row.box.left);
+    if (!std::isfinite(row.box.top)) bad(4, "column 4 (top)", "a finite number", row.box.top);
+    if (!(row.box.width > 0.0) || !std::isfinite(row.box.width)) {
+      bad(5, "column 5 (width)", "a width above 0 px", row.box.width);
+    }
+    if (!(row.box.height > 0.0) || !std::isfinite(row.box.height)) {
+      bad(6, "column 6 (height)", "a height above 0 px", row.box.height);
+    }
+    if (!std::isfinite(row.conf)) bad(7, "column 7 (score)", "a finite score", row.conf);
+    // MOT's 1-based pixels: left 1 is the image's first column.
+    frames[static_cast<size_t>(row.frame - 1)].detections.push_back(
+        {.box = {row.box.left - 1.0, row.box.top - 1.0, row.box.width, row.box.height},
+         .score = row.conf});
+  }
+  if (gt.source != "rendered") {
+    spdlog::warn(
+        "{}: the truth is analytic (a detection-level run: visible fractions estimated, no "
+        "pixels rendered); render the scene (hcpf render) for pixel-exact truth",
+        gt_path);
+  }
+  const metrics::DetectionQuality quality =
+      metrics::ScoreDetections(frames, {.iou_threshold = 0.5, .min_visible = min_visible});
+  std::cout << fmt::format(
+                   "{} ({} detections) against {} ({} frames, {} truth; targets visible less "
+                   "than {:g} don't care)\n",
+                   det_path, det.rows.size(), gt_path, frame_count, gt.source, min_visible)
+            << metrics::FormatDetectionTable(quality);
+  if (!json_path.empty()) WriteTextFile(json_path, metrics::DetectionQualityToJson(quality));
+  return 0;
+}
+
+}  // namespace
 
 Command AddScoreCommand(CLI::App& parent) {
   struct Options {
@@ -34,13 +93,19 @@ Command AddScoreCommand(CLI::App& parent) {
     std::string json;
     std::string events;
     std::string trackeval_root;
+    bool detections = false;
+    double min_visible = metrics::DetectionQualityOptions{}.min_visible;
   };
   auto options = std::make_shared<Options>();
   CLI::App* app = parent.add_subcommand(
       "score",
-      "Score tracker output against ground truth (MOTChallenge files): HOTA, CLEAR MOT, IDF1");
-  app->add_option("gt", options->gt, "Ground-truth file (MOT15 6/10 or MOT16/17 9 columns)");
-  app->add_option("hyp", options->hyp, "Tracker output (MOT 10 columns)");
+      "Score tracker output against ground truth (MOTChallenge files): HOTA, CLEAR MOT, IDF1; "
+      "or, with --detections, a detector's output against a gt.json");
+  app->add_option("gt", options->gt,
+                  "Ground-truth file (MOT15 6/10 or MOT16/17 9 columns; a gt.json with "
+                  "--detections)");
+  app->add_option("hyp", options->hyp,
+                  "Tracker output (MOT 10 columns; detections, det.txt, with --detections)");
   app->add_option("--seqinfo", options->seqinfo,
                   "seqinfo.ini giving seqLength (default: next to GT or in its parent folder)");
   app->add_option(
@@ -55,9 +120,50 @@ Command AddScoreCommand(CLI::App& parent) {
                   "Score a TrackEval folder (gt/mot_challenge/<bench>/<seq>, "
                   "trackers/mot_challenge/<bench>/<tracker>/data; the sequences of "
                   "gt/mot_challenge/seqmaps/<bench>.txt when there is one) instead of GT HYP");
-  return {app, [options]() -> int {
+  app->add_flag("--detections", options->detections,
+                "Score a detector instead: GT is a gt.json (hcpf render or hcpf run), HYP its "
+                "detections in MOTChallenge det.txt format (frame,id,left,top,w,h,score); "
+                "precision, recall, F1 and AP50 by target size, visibility and truncation");
+  app->add_option("--min-visible", options->min_visible,
+                  "With --detections: targets visible less than this are don't-care (neither "
+                  "missed nor a false detection's excuse)")
+      ->check(CLI::Range(0.0, 1.0))
+      ->capture_default_str();
+  return {app, [options, app]() -> int {
             using namespace hcpf::metrics;
             const Benchmark benchmark = *ParseBenchmark(options->benchmark);
+            if (!options->detections && app->count("--min-visible") > 0) {
+              throw InputError(SourceLocation{"command line", 0, 0, "--min-visible"},
+                               "--min-visible only with --detections",
+                               fmt::format("{}", options->min_visible));
+            }
+            if (options->detections) {
+              // What only tracker scoring takes (ignored here otherwise).
+              for (const auto& [given, option] :
+                   {std::pair{!options->trackeval_root.empty(), "--trackeval-root"},
+                    {!options->events.empty(), "--events"},
+                    {!options->seqinfo.empty(), "--seqinfo"},
+                    {app->count("--benchmark") > 0, "--benchmark"}}) {
+                if (!given) continue;
+                throw InputError(SourceLocation{"command line", 0, 0, option},
+                                 "no " + std::string(option) +
+                                     " with --detections (it goes with tracker scoring)",
+                                 std::string(option) + " given");
+              }
+              if (options->gt.empty() || options->hyp.empty()) {
+                throw InputError(SourceLocation{{}, 0, 0, "score --detections"},
+                                 "a gt.json and a detections file (MOTChallenge det.txt)",
+                                 "missing arguments");
+              }
+              if (!options->json.empty()) {
+                CheckFilesToWrite({{options->json, "--json"}},
+                                  {{options->gt, "the ground truth (GT)"},
+                                   {options->hyp, "the detections (HYP)"}},
+                                  {}, "score", "nothing was written");
+              }
+              return ScoreDetectionFiles(options->gt, options->hyp, options->min_visible,
+                                         options->json);
+            }
             if (!options->trackeval_root.empty()) {
               if (!options->gt.empty() || !options->hyp.empty()) {
                 throw InputError(SourceLocation{{}, 0, 0, "score"},

@@ -46,8 +46,17 @@ const char* ColumnName(MotFileKind kind, int column) {
       "frame",  "id", "x", "y", "w", "h", "conf/consider", "class/world x", "visibility/world y",
       "world z"};
   static const char* kHyp[] = {"frame", "id", "x", "y", "w", "h", "conf", "-1", "-1", "-1"};
+  static const char* kDet[] = {"frame", "id", "x", "y", "w", "h", "score", "-1", "-1", "-1"};
   if (column < 1 || column > 10) return "extra";
-  return kind == MotFileKind::kGroundTruth ? kGt[column - 1] : kHyp[column - 1];
+  switch (kind) {
+    case MotFileKind::kGroundTruth:
+      return kGt[column - 1];
+    case MotFileKind::kTracks:
+      return kHyp[column - 1];
+    case MotFileKind::kDetections:
+      return kDet[column - 1];
+  }
+  return "extra";
 }
 
 // Splits one line into at most kMaxFields fields; returns the number found
@@ -407,6 +416,7 @@ inline void AppendRow(const RowValues& r, const std::string& path, int line_no, 
 // error names the smallest (frame, id) that repeats, at its second line, like
 // a scan of the rows sorted by (frame, id, line).
 void CheckUniqueIds(const MotFile& file) {
+  if (file.kind == MotFileKind::kDetections) return;  // ids are not identities
   const std::vector<MotRow>& rows = file.rows;
   const size_t n = rows.size();
   if (n < 2) return;
@@ -522,6 +532,7 @@ MotFile ParseMotView(std::string_view text, const std::string& path, MotFileKind
                        path, line_no, kind, &values);
     }
     AppendRow(values, path, line_no, kind, seq_length, &file);
+    if (kind == MotFileKind::kDetections) continue;  // ids are not identities
     const int frame = file.rows.back().frame;
     const int64_t id = file.rows.back().id;
     if (have_duplicate && (frame > duplicate_frame ||
@@ -614,7 +625,7 @@ MotFile ParseMotTextReference(const std::string& text, const std::string& path, 
     if (ra.id != rb.id) return ra.id < rb.id;
     return ra.line < rb.line;
   });
-  for (size_t i = 1; i < order.size(); ++i) {
+  for (size_t i = 1; i < order.size() && kind != MotFileKind::kDetections; ++i) {
     const MotRow& a = file.rows[order[i - 1]];
     const MotRow& b = file.rows[order[i]];
     if (a.frame == b.frame && a.id == b.id) ThrowDuplicateId(path, a, b);

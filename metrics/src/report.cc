@@ -337,7 +337,77 @@ json PrecisionRecallJson(const PrecisionRecall& pr) {
           {"curve", {{"recall", recall}, {"precision", precision}, {"min_score", min_score}}}};
 }
 
+json DetectionJson(const DetectionQuality& d) {
+  return {{"iou", CountsJson(d.iou)},
+          {"centre", CountsJson(d.centre)},
+          {"mean_centre_error_px", Number(d.mean_centre_error_px)},
+          {"mean_iou", Number(d.mean_iou)},
+          {"median_size_px", Number(d.median_size_px)},
+          {"by_size_px", BinsJson(d.by_size)},
+          {"by_visibility", BinsJson(d.by_visibility)},
+          {"by_truncation", BinsJson(d.by_truncation)},
+          {"by_target", TargetsJson(d.by_target)},
+          {"precision_recall", PrecisionRecallJson(d.precision_recall)},
+          {"mostly_visible",
+           {{"min_visible", kMostlyVisible},
+            {"iou", CountsJson(d.iou_mostly_visible)},
+            {"precision_recall", PrecisionRecallJson(d.precision_recall_mostly_visible)}}}};
+}
+
+// One table row: counts under the IoU rule, the centre rule's recall.
+std::string DetectionRow(const std::string& label, const DetectionCounts& iou,
+                         const DetectionCounts* centre, bool with_false) {
+  const auto ratio = [](double v) { return std::isfinite(v) ? fmt::format("{:.3f}", v) : "-"; };
+  return fmt::format("{:<26} {:>7} {:>7} {:>7} {:>9} {:>7} {:>13}\n", label, iou.tp, iou.fn,
+                     with_false ? fmt::format("{}", iou.fp) : "-",
+                     with_false ? ratio(iou.precision()) : "-", ratio(iou.recall()),
+                     centre != nullptr ? ratio(centre->recall()) : "-");
+}
+
+std::string BinLabel(const char* what, const DetectionBin& b, const char* unit) {
+  if (!std::isfinite(b.hi)) return fmt::format("{} >= {:g}{}", what, b.lo, unit);
+  return fmt::format("{} {:g}-{:g}{}", what, b.lo, b.hi, unit);
+}
+
 }  // namespace
+
+std::string DetectionQualityToJson(const DetectionQuality& quality) {
+  return DetectionJson(quality).dump(1) + "\n";
+}
+
+std::string FormatDetectionTable(const DetectionQuality& d) {
+  std::string out = fmt::format("{:<26} {:>7} {:>7} {:>7} {:>9} {:>7} {:>13}\n", "targets", "found",
+                                "missed", "false", "precision", "recall", "centre recall");
+  out += DetectionRow("all", d.iou, &d.centre, true);
+  // The rest don't care (DetectionQuality::iou_mostly_visible).
+  out += DetectionRow(fmt::format("only visible >= {:g}", kMostlyVisible), d.iou_mostly_visible,
+                      nullptr, true);
+  for (const DetectionBin& b : d.by_size)
+    out += DetectionRow(BinLabel("size", b, " px"), b.iou, &b.centre, true);
+  for (const DetectionBin& b : d.by_visibility)
+    out += DetectionRow(BinLabel("visible", b, ""), b.iou, &b.centre, false);
+  for (const DetectionBin& b : d.by_truncation)
+    out += DetectionRow(BinLabel("truncated", b, ""), b.iou, &b.centre, false);
+  for (const TargetDetections& t : d.by_target) {
+    const DetectionCounts iou{.tp = t.found, .fp = 0, .fn = t.missed};
+    const DetectionCounts centre{.tp = t.found_centre, .fp = 0, .fn = t.missed_centre};
+    out += DetectionRow(fmt::format("target {}", Value(t.target)), iou, &centre, false);
+  }
+  const auto number = [](double v) { return std::isfinite(v) ? fmt::format("{:.3f}", v) : "-"; };
+  const PrecisionRecall& pr = d.precision_recall;
+  out += fmt::format(
+      "F1 {} (IoU >= 0.5), mean IoU of the matches {}, mean centre error {} px, median target "
+      "size {} px\n",
+      number(d.iou.f1()), number(d.mean_iou), number(d.mean_centre_error_px),
+      number(d.median_size_px));
+  out += fmt::format(
+      "average precision (AP50, 101 recalls) {}; visible >= {:g}: {}; best F1 {} at score >= "
+      "{} (precision {}, recall {})\n",
+      number(pr.average_precision), kMostlyVisible,
+      number(d.precision_recall_mostly_visible.average_precision), number(pr.best_f1),
+      number(pr.best_f1_min_score), number(pr.best_f1_precision), number(pr.best_f1_recall));
+  return out;
+}
 
 std::string RunMetricsToJson(const RunMetrics& m) {
   json j;
@@ -360,24 +430,7 @@ std::string RunMetricsToJson(const RunMetrics& m) {
                                   {"switches", g.switches}});
   }
   j["gospa"] = gospa;
-  if (m.detection) {
-    const DetectionQuality& d = *m.detection;
-    j["detection"] = {
-        {"iou", CountsJson(d.iou)},
-        {"centre", CountsJson(d.centre)},
-        {"mean_centre_error_px", Number(d.mean_centre_error_px)},
-        {"mean_iou", Number(d.mean_iou)},
-        {"median_size_px", Number(d.median_size_px)},
-        {"by_size_px", BinsJson(d.by_size)},
-        {"by_visibility", BinsJson(d.by_visibility)},
-        {"by_truncation", BinsJson(d.by_truncation)},
-        {"by_target", TargetsJson(d.by_target)},
-        {"precision_recall", PrecisionRecallJson(d.precision_recall)},
-        {"mostly_visible",
-         {{"min_visible", kMostlyVisible},
-          {"iou", CountsJson(d.iou_mostly_visible)},
-          {"precision_recall", PrecisionRecallJson(d.precision_recall_mostly_visible)}}}};
-  }
+  if (m.detection) j["detection"] = DetectionJson(*m.detection);
   if (m.camera_motion) {
     const auto summary = [](const CameraMotionErrorSummary& e) {
       return json{{"mean_px", Number(e.mean_px)},

@@ -5,6 +5,7 @@
 #include <sys/stat.h>
 
 #include <algorithm>
+#include <array>
 #include <cerrno>
 #include <cstring>
 #include <filesystem>
@@ -189,6 +190,21 @@ TEST(MotIo, DuplicateIdErrorIsTheSmallestFrameAndId) {
   EXPECT_EQ(ErrorOf(big.substr(0, big.rfind("1,17")), MotFileKind::kTracks, 1), "");
 }
 
+// A detector's output (det.txt) writes -1 for every id: ids are not
+// identities there, so repeating one in a frame is no error; the same text as
+// tracker output is.
+TEST(MotIo, DetectionsMayRepeatAnIdInAFrame) {
+  const std::string text = "1,-1,0,0,4,4,0.9,-1,-1,-1\n1,-1,8,8,4,4,0.5,-1,-1,-1\n";
+  const MotFile det = ParseMotText(text, "det.txt", MotFileKind::kDetections, 1);
+  ASSERT_EQ(det.rows.size(), 2u);
+  EXPECT_EQ(det.rows[1].conf, 0.5);
+  EXPECT_EQ(det.rows[1].line, 2);
+  EXPECT_EQ(internal::ParseMotTextReference(text, "det.txt", MotFileKind::kDetections, 1).rows,
+            det.rows);
+  EXPECT_NE(ErrorOf(text, MotFileKind::kTracks, 1).find("id -1 again (first on line 1)"),
+            std::string::npos);
+}
+
 // ParseMotText (in-place fast path + grouped duplicate check) against the
 // straightforward reference reader on random lines built from valid and invalid
 // pieces: both must give the same rows, or the same error message.
@@ -266,7 +282,8 @@ TEST(MotIo, AgreesWithReferenceReaderOnRandomText) {
       if (rng.Bernoulli(0.2)) text += "\r";
       if (l + 1 < lines || rng.Bernoulli(0.5)) text += "\n";
     }
-    const MotFileKind kind = rng.Bernoulli(0.5) ? MotFileKind::kTracks : MotFileKind::kGroundTruth;
+    const MotFileKind kind = std::array{MotFileKind::kTracks, MotFileKind::kGroundTruth,
+                                        MotFileKind::kDetections}[rng.UniformInt(3)];
     const std::optional<int> length = rng.Bernoulli(0.5) ? std::optional<int>(3) : std::nullopt;
     std::string expected_error;
     MotFile expected;

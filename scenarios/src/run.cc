@@ -17,6 +17,7 @@
 #include "external_tracker.h"
 #include "hcpf/core/error.h"
 #include "hcpf/core/ground_truth.h"
+#include "hcpf/metrics/detection_truth.h"
 #include "hcpf/metrics/mot_io.h"
 #include "hcpf/metrics/report.h"
 #include "hcpf/scenarios/frames.h"
@@ -310,15 +311,9 @@ RunSummary RunScenario(const Scenario& scenario, const RunOptions& options) {
     // Detection quality against the pixel-exact truth: each in-frame
     // target's box clipped to the image, with its visible fraction and its
     // truncation by the image border.
-    const BoxPx image{0.0, 0.0, static_cast<double>(scenario.world.camera.width_px),
-                      static_cast<double>(scenario.world.camera.height_px)};
     std::vector<metrics::DetectionFrame> frames(truth.size());
     for (size_t f = 0; f < truth.size(); ++f) {
-      for (const GroundTruthObject& o : truth[f].objects) {
-        if (!o.in_frame) continue;
-        frames[f].truth.push_back(
-            {o.id, Intersect(o.amodal_box, image), o.visible_fraction, o.truncation});
-      }
+      frames[f].truth = metrics::DetectionTruthOf(truth[f]);
       frames[f].detections = observations[f].detections;
     }
     metrics_input.detections = std::move(frames);

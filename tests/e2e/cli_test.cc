@@ -416,6 +416,116 @@ TEST(Cli, ScoreOutputsThatWouldReplaceAnInputOrCannotBeWrittenAreRefused) {
   EXPECT_TRUE(fs::is_regular_file(dir / "e.jsonl"));
 }
 
+// A gt.json frame as hcpf writes it (core/ground_truth_json.h), 100 x 80 px,
+// with targets given as {id, [left, top, width, height], visible fraction,
+// truncation}.
+struct GtTarget {
+  int id;
+  std::vector<double> box;
+  double visible;
+  double truncation;
+};
+nlohmann::json GtFrame(int frame, const std::vector<GtTarget>& targets) {
+  nlohmann::json objects = nlohmann::json::array();
+  for (const GtTarget& t : targets) {
+    objects.push_back({{"id", t.id},
+                       {"in_frame", true},
+                       {"amodal_box", t.box},
+                       {"visible_box", t.box},
+                       {"visible_fraction", t.visible},
+                       {"truncation", t.truncation},
+                       {"pixels_visible", 100},
+                       {"pixels_total", 100},
+                       {"position_m", {0.0, 0.0, 0.0}},
+                       {"heading_deg", 0.0},
+                       {"dimensions_m", {4.0, 2.0, 1.5}}});
+  }
+  const nlohmann::json identity = {{1.0, 0.0, 0.0}, {0.0, 1.0, 0.0}, {0.0, 0.0, 1.0}};
+  return {{"frame", frame},
+          {"camera",
+           {{"K", {{100.0, 0.0, 50.0}, {0.0, 100.0, 40.0}, {0.0, 0.0, 1.0}}},
+            {"width_px", 100},
+            {"height_px", 80},
+            {"position_m", {0.0, 0.0, 100.0}},
+            {"world_from_camera", identity}}},
+          {"image_from_ground", identity},
+          {"objects", objects}};
+}
+
+// hcpf score --detections: a detector's own det.txt against a gt.json,
+// counted by hand. Frame 1: target 1 found exactly; target 2 half outside
+// the image (its box clipped to x < 100) found; target 3 visible 0.05, so
+// the detection on it is neither true nor false; target 4 a 2 x 2 px box
+// found only if the file's 1-based pixels are read as such; one detection on
+// nothing. Frame 2: target 1 (visible 0.6) missed. Ids are -1 throughout (not
+// identities: no duplicate-id error).
+TEST(Cli, ScoreDetectionsScoresADetectorsOwnOutputAgainstAGtJson) {
+  const fs::path dir = FreshDir("score-detections");
+  const nlohmann::json gt = {{"format", "hcpf-gt/1"},
+                             {"source", "rendered"},
+                             {"frames",
+                              {GtFrame(0, {{1, {10, 10, 20, 20}, 1.0, 0.0},
+                                           {2, {90, 40, 20, 20}, 1.0, 0.5},
+                                           {3, {50, 50, 10, 10}, 0.05, 0.0},
+                                           {4, {30, 60, 2, 2}, 1.0, 0.0}}),
+                               GtFrame(1, {{1, {12, 10, 20, 20}, 0.6, 0.0}})}}};
+  std::ofstream(dir / "gt.json") << gt.dump(1);
+  std::ofstream(dir / "det.txt") << "1,-1,11,11,20,20,0.9,-1,-1,-1\n"
+                                    "1,-1,91,41,10,20,0.8,-1,-1,-1\n"
+                                    "1,-1,51,51,10,10,0.7,-1,-1,-1\n"
+                                    "1,-1,71,61,8,8,0.6,-1,-1,-1\n"
+                                    "1,-1,31,61,2,2,0.5,-1,-1,-1\n";
+  const std::string base = kHcpf + " score --detections " + (dir / "gt.json").string() + " " +
+                           (dir / "det.txt").string();
+  const auto r = RunCommand(base + " --json " + (dir / "d.json").string());
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("(5 detections)"), std::string::npos) << r.output;
+  const auto d = nlohmann::json::parse(ReadFile(dir / "d.json"));
+  EXPECT_EQ(d["iou"]["tp"], 3) << d["iou"];
+  EXPECT_EQ(d["iou"]["fp"], 1) << d["iou"];
+  EXPECT_EQ(d["iou"]["fn"], 1) << d["iou"];
+  EXPECT_DOUBLE_EQ(d["iou"]["precision"].get<double>(), 0.75);
+  // Visible at least 0.75 alone: frame 2's target 1 is don't care too.
+  EXPECT_EQ(d["mostly_visible"]["iou"]["tp"], 3);
+  EXPECT_EQ(d["mostly_visible"]["iou"]["fn"], 0);
+  EXPECT_EQ(d["mostly_visible"]["iou"]["fp"], 1);
+  // Truncation [0.5, 1]: target 2, found; size [0, 8): target 4 and the false
+  // detection (8 x 8 is the next bin), so one found, none false.
+  EXPECT_EQ(d["by_truncation"][3]["iou"]["tp"], 1);
+  EXPECT_EQ(d["by_size_px"][0]["iou"]["tp"], 1);
+  EXPECT_EQ(d["by_size_px"][0]["iou"]["fp"], 0);
+  // Ranked by score: 0.9 and 0.8 found (precision 1 up to recall 0.5), 0.7
+  // ignored, 0.6 false, 0.5 found (precision 0.75 at recall 0.75): 51 of the
+  // 101 recalls at 1, 25 at 0.75, the rest 0.
+  EXPECT_NEAR(d["precision_recall"]["average_precision"].get<double>(), (51 + 25 * 0.75) / 101,
+              1e-12);
+  // --min-visible 0.7: frame 2's target 1 no longer counts (recall 1).
+  const auto r2 = RunCommand(base + " --min-visible 0.7 --json " + (dir / "e.json").string());
+  ASSERT_EQ(r2.exit_code, 0) << r2.output;
+  EXPECT_EQ(nlohmann::json::parse(ReadFile(dir / "e.json"))["iou"]["fn"], 0);
+
+  // Bad input: exit 2, the file, line and column named, nothing written.
+  std::ofstream(dir / "zero.txt") << "1,-1,11,11,20,20,0.9\n2,-1,11,11,0,20,0.9\n";
+  std::ofstream(dir / "late.txt") << "3,-1,11,11,20,20,0.9\n";
+  for (const auto& [args, message] : std::vector<std::pair<std::string, std::string>>{
+           {" --detections " + (dir / "gt.json").string() + " " + (dir / "zero.txt").string(),
+            "zero.txt:2:5: column 5 (width): expected a width above 0 px, found 0"},
+           {" --detections " + (dir / "gt.json").string() + " " + (dir / "late.txt").string(),
+            "late.txt:1:1: column 1 (frame): expected a frame in 1..2"},
+           {" --detections " + (dir / "det.txt").string() + " " + (dir / "det.txt").string(),
+            "det.txt:1:2: expected a gt.json written by hcpf render or hcpf run"},
+           {" --detections --events x " + (dir / "gt.json").string() + " " +
+                (dir / "det.txt").string(),
+            "--events: expected no --events with --detections"},
+           {" --min-visible 0.5 " + (dir / "gt.json").string() + " " + (dir / "det.txt").string(),
+            "--min-visible: expected --min-visible only with --detections"}}) {
+    const auto bad = RunCommand(kHcpf + " score" + args + " --json " + (dir / "x.json").string());
+    EXPECT_EQ(bad.exit_code, 2) << args << "\n" << bad.output;
+    EXPECT_NE(bad.output.find(message), std::string::npos) << args << "\n" << bad.output;
+    EXPECT_FALSE(fs::exists(dir / "x.json")) << args;
+  }
+}
+
 TEST(Cli, SameScenarioGivesByteIdenticalOutputs) {
   const fs::path dir = FreshDir("determinism");
   for (const char* name : {"a", "b"}) {

@@ -38,7 +38,10 @@ struct MotRow {
   friend bool operator==(const MotRow&, const MotRow&) = default;
 };
 
-enum class MotFileKind { kGroundTruth, kTracks };
+// kDetections: a detector's output (MOTChallenge det.txt, `frame,-1,left,
+// top,w,h,score,...`): ids are not identities, so they need not be unique
+// within a frame.
+enum class MotFileKind { kGroundTruth, kTracks, kDetections };
 
 struct MotFile {
   std::string path;

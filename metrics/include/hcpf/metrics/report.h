@@ -104,4 +104,11 @@ RunMetrics ComputeRunMetrics(const RunMetricsInput& input);
 // with per-frame arrays.
 std::string RunMetricsToJson(const RunMetrics& metrics);
 
+// metrics.json's "detection" object on its own (hcpf score --detections --json).
+std::string DetectionQualityToJson(const DetectionQuality& quality);
+// Detection quality as a fixed-width table: found / missed / false,
+// precision, recall (IoU rule) and the centre rule's recall, overall and by
+// size, visibility, truncation and target; then F1, AP50 and the best F1.
+std::string FormatDetectionTable(const DetectionQuality& quality);
+
 }  // namespace hcpf::metrics

@@ -1,0 +1,35 @@
+#pragma once
+// The truth a detector is scored against (metrics/detection_quality.h), from
+// a run's ground truth in memory or from the gt.json that `hcpf render` and
+// `hcpf run` write, so a detector of the user's own, run on the rendered
+// frames, is scored exactly as the built-in ones are:
+//
+//   const GroundTruthFile gt = ReadGroundTruthJson("out/crossing/gt.json");
+//   std::vector<DetectionFrame> frames(gt.frames.size());
+//   for (size_t f = 0; f < frames.size(); ++f) frames[f].truth = DetectionTruthOf(gt.frames[f]);
+
+#include <string>
+#include <vector>
+
+#include "hcpf/core/ground_truth.h"
+#include "hcpf/metrics/detection_quality.h"
+
+namespace hcpf::metrics {
+
+// Each in-frame target of `frame`: its amodal box clipped to the image (the
+// frame's camera size), its visible fraction and its truncation by the image
+// border. Targets wholly outside the image are left out.
+std::vector<DetectionTruth> DetectionTruthOf(const FrameGroundTruth& frame);
+
+struct GroundTruthFile {
+  std::string source;  // "rendered" (pixel-exact) or "analytic" (detection level)
+  std::vector<FrameGroundTruth> frames;  // frames[f].frame == f
+};
+
+// Reads a gt.json (format "hcpf-gt/1", docs/outputs.md). Anything else, a
+// file that does not parse, or a frame that is missing a field or out of
+// order, is an InputError naming the file (the line and column of a syntax
+// error; the frame's index otherwise).
+GroundTruthFile ReadGroundTruthJson(const std::string& path);
+
+}  // namespace hcpf::metrics

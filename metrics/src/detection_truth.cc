@@ -1,0 +1,93 @@
+#include "hcpf/metrics/detection_truth.h"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <nlohmann/json.hpp>
+
+#include "hcpf/core/error.h"
+#include "hcpf/core/ground_truth_json.h"
+#include "hcpf/core/text_file.h"
+
+namespace hcpf::metrics {
+
+namespace {
+
+// gt.json of a long run at a high resolution: 10 000 frames of a few targets
+// take about 15 MB.
+constexpr uint64_t kMaxGroundTruthBytes = uint64_t{1} << 30;
+
+// 1-based line and column of byte `offset` of `text` (nlohmann's parse
+// errors give the byte).
+std::pair<int, int> LineColumn(const std::string& text, size_t offset) {
+  offset = std::min(offset, text.size());
+  const auto begin = text.begin();
+  const int line = 1 + static_cast<int>(std::count(begin, begin + static_cast<long>(offset), '\n'));
+  const size_t last_newline = offset == 0 ? std::string::npos : text.rfind('\n', offset - 1);
+  const int column =
+      static_cast<int>(last_newline == std::string::npos ? offset + 1 : offset - last_newline);
+  return {line, column};
+}
+
+}  // namespace
+
+std::vector<DetectionTruth> DetectionTruthOf(const FrameGroundTruth& frame) {
+  const BoxPx image{0.0, 0.0, static_cast<double>(frame.camera.intrinsics.width_px),
+                    static_cast<double>(frame.camera.intrinsics.height_px)};
+  std::vector<DetectionTruth> truth;
+  for (const GroundTruthObject& o : frame.objects) {
+    if (!o.in_frame) continue;
+    truth.push_back({o.id, Intersect(o.amodal_box, image), o.visible_fraction, o.truncation});
+  }
+  return truth;
+}
+
+GroundTruthFile ReadGroundTruthJson(const std::string& path) {
+  const std::string what = "a gt.json written by hcpf render or hcpf run";
+  const std::string text = ReadInputFile(path, what, kMaxGroundTruthBytes);
+  nlohmann::json root;
+  try {
+    root = nlohmann::json::parse(text);
+  } catch (const nlohmann::json::parse_error& e) {
+    const auto [line, column] = LineColumn(text, e.byte == 0 ? 0 : e.byte - 1);
+    throw InputError(SourceLocation{path, line, column, ""}, what,
+                     fmt::format("text that does not parse as JSON ({})", e.what()));
+  }
+  const auto member = [&](const char* key) -> const nlohmann::json* {
+    return root.is_object() && root.contains(key) ? &root[key] : nullptr;
+  };
+  const nlohmann::json* format = member("format");
+  if (format == nullptr || !format->is_string() || format->get<std::string>() != "hcpf-gt/1") {
+    throw InputError(SourceLocation{path, 0, 0, "format"}, what + " (format \"hcpf-gt/1\")",
+                     format == nullptr ? "no \"format\" key" : format->dump());
+  }
+  GroundTruthFile file;
+  const nlohmann::json* source = member("source");
+  if (source == nullptr || !source->is_string() ||
+      (*source != "rendered" && *source != "analytic")) {
+    throw InputError(SourceLocation{path, 0, 0, "source"}, "\"rendered\" or \"analytic\"",
+                     source == nullptr ? "no \"source\" key" : source->dump());
+  }
+  file.source = source->get<std::string>();
+  const nlohmann::json* frames = member("frames");
+  if (frames == nullptr || !frames->is_array()) {
+    throw InputError(SourceLocation{path, 0, 0, "frames"}, "a list of frames",
+                     frames == nullptr ? "no \"frames\" key" : frames->type_name());
+  }
+  for (size_t f = 0; f < frames->size(); ++f) {
+    const std::string key = fmt::format("frames[{}]", f);
+    try {
+      file.frames.push_back(GroundTruthFromJson((*frames)[f]));
+    } catch (const nlohmann::json::exception& e) {
+      throw InputError(SourceLocation{path, 0, 0, key}, "a frame as hcpf writes it",
+                       fmt::format("one that does not read ({})", e.what()));
+    }
+    if (file.frames.back().frame != static_cast<int>(f)) {
+      throw InputError(SourceLocation{path, 0, 0, key + ".frame"}, fmt::format("{}", f),
+                       fmt::format("{}", file.frames.back().frame));
+    }
+  }
+  return file;
+}
+
+}  // namespace hcpf::metrics

@@ -5,7 +5,7 @@
 // Scores MOTChallenge files with CLEAR MOT, Identity and HOTA (TrackEval's
 // rules, see docs/metrics.md): a table on stdout, every value with --json.
 // With --detections, a detector's output against the pixel-exact truth of a
-// gt.json instead (docs/metrics.md, "Detection quality").
+// gt.json instead (docs/vision.md, "Scoring a detector of your own").
 
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
@@ -125,8 +125,8 @@ Command AddScoreCommand(CLI::App& parent) {
                 "detections in MOTChallenge det.txt format (frame,id,left,top,w,h,score); "
                 "precision, recall, F1 and AP50 by target size, visibility and truncation");
   app->add_option("--min-visible", options->min_visible,
-                  "With --detections: targets visible less than this are don't-care (neither "
-                  "missed nor a false detection's excuse)")
+                  "With --detections: targets visible less than this are don't care (not missed; "
+                  "a detection on one is neither true nor false)")
       ->check(CLI::Range(0.0, 1.0))
       ->capture_default_str();
   return {app, [options, app]() -> int {

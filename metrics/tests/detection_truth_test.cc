@@ -94,9 +94,9 @@ TEST(DetectionTruth, AFileThatIsNotAGtJsonIsNamedWithWhatIsWrong) {
   // A frame without a field, and frames out of order.
   nlohmann::json missing = frame0;
   missing["objects"][0].erase("truncation");
-  const std::string field = ErrorOf(Write(
-      dir / "a.json",
-      {{"format", "hcpf-gt/1"}, {"source", "rendered"}, {"frames", {frame0, missing}}}));
+  const std::string field = ErrorOf(
+      Write(dir / "a.json",
+            {{"format", "hcpf-gt/1"}, {"source", "rendered"}, {"frames", {frame0, missing}}}));
   EXPECT_NE(field.find("frames[1]: expected a frame as hcpf writes it"), std::string::npos)
       << field;
   EXPECT_NE(field.find("truncation"), std::string::npos) << field;
@@ -104,8 +104,8 @@ TEST(DetectionTruth, AFileThatIsNotAGtJsonIsNamedWithWhatIsWrong) {
       Write(dir / "b.json",
             {{"format", "hcpf-gt/1"}, {"source", "rendered"}, {"frames", {frame0, frame0}}}));
   EXPECT_NE(order.find("frames[1].frame: expected 1, found 0"), std::string::npos) << order;
-  const std::string source = ErrorOf(Write(
-      dir / "c.json", {{"format", "hcpf-gt/1"}, {"source", "drawn"}, {"frames", {frame0}}}));
+  const std::string source = ErrorOf(
+      Write(dir / "c.json", {{"format", "hcpf-gt/1"}, {"source", "drawn"}, {"frames", {frame0}}}));
   EXPECT_NE(source.find("source: expected \"rendered\" or \"analytic\", found \"drawn\""),
             std::string::npos)
       << source;

@@ -22,7 +22,7 @@ namespace hcpf::metrics {
 std::vector<DetectionTruth> DetectionTruthOf(const FrameGroundTruth& frame);
 
 struct GroundTruthFile {
-  std::string source;  // "rendered" (pixel-exact) or "analytic" (detection level)
+  std::string source;                    // "rendered" (pixel-exact) or "analytic" (detection level)
   std::vector<FrameGroundTruth> frames;  // frames[f].frame == f
 };
 

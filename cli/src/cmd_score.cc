@@ -51,13 +51,18 @@ int ScoreDetectionFiles(const std::string& gt_path, const std::string& det_path,
       throw InputError(SourceLocation{det_path, row.line, column, key}, expected,
                        fmt::format("{}", found));
     };
-    if (!std::isfinite(row.box.left)) bad(3, "column 3 (left)", "a finite number", row.box.left);
-    if (!std::isfinite(row.box.top)) bad(4, "column 4 (top)", "a finite number", row.box.top);
-    if (!(row.box.width > 0.0) || !std::isfinite(row.box.width)) {
-      bad(5, "column 5 (width)", "a width above 0 px", row.box.width);
+    const std::string within = fmt::format("within {:g} px", metrics::kMaxCoordinatePx);
+    if (!(std::fabs(row.box.left) <= metrics::kMaxCoordinatePx)) {
+      bad(3, "column 3 (left)", "a number " + within, row.box.left);
     }
-    if (!(row.box.height > 0.0) || !std::isfinite(row.box.height)) {
-      bad(6, "column 6 (height)", "a height above 0 px", row.box.height);
+    if (!(std::fabs(row.box.top) <= metrics::kMaxCoordinatePx)) {
+      bad(4, "column 4 (top)", "a number " + within, row.box.top);
+    }
+    if (!(row.box.width > 0.0 && row.box.width <= metrics::kMaxCoordinatePx)) {
+      bad(5, "column 5 (width)", "a width above 0 px, " + within, row.box.width);
+    }
+    if (!(row.box.height > 0.0 && row.box.height <= metrics::kMaxCoordinatePx)) {
+      bad(6, "column 6 (height)", "a height above 0 px, " + within, row.box.height);
     }
     if (!std::isfinite(row.conf)) bad(7, "column 7 (score)", "a finite score", row.conf);
     // MOT's 1-based pixels: left 1 is the image's first column.

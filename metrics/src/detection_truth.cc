@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <cmath>
 #include <nlohmann/json.hpp>
 
 #include "hcpf/core/error.h"
@@ -82,9 +83,35 @@ GroundTruthFile ReadGroundTruthJson(const std::string& path) {
       throw InputError(SourceLocation{path, 0, 0, key}, "a frame as hcpf writes it",
                        fmt::format("one that does not read ({})", e.what()));
     }
-    if (file.frames.back().frame != static_cast<int>(f)) {
+    const FrameGroundTruth& frame = file.frames.back();
+    if (frame.frame != static_cast<int>(f)) {
       throw InputError(SourceLocation{path, 0, 0, key + ".frame"}, fmt::format("{}", f),
-                       fmt::format("{}", file.frames.back().frame));
+                       fmt::format("{}", frame.frame));
+    }
+    // What the scores read: a box of finite numbers and a size of at least
+    // 0, fractions in [0, 1] (hcpf writes nothing else; a file made by hand
+    // may).
+    for (size_t i = 0; i < frame.objects.size(); ++i) {
+      const GroundTruthObject& o = frame.objects[i];
+      const std::string object = fmt::format("{}.objects[{}]", key, i);
+      const BoxPx& b = o.amodal_box;
+      if (!std::isfinite(b.left) || !std::isfinite(b.top) || !std::isfinite(b.width) ||
+          !std::isfinite(b.height) || b.width < 0.0 || b.height < 0.0 ||
+          std::fabs(b.left) > kMaxCoordinatePx || std::fabs(b.top) > kMaxCoordinatePx ||
+          b.width > kMaxCoordinatePx || b.height > kMaxCoordinatePx) {
+        throw InputError(SourceLocation{path, 0, 0, object + ".amodal_box"},
+                         fmt::format("[left, top, width, height] in pixels, width and height at "
+                                     "least 0, each within {:g} px",
+                                     kMaxCoordinatePx),
+                         fmt::format("[{}, {}, {}, {}]", b.left, b.top, b.width, b.height));
+      }
+      for (const auto& [value, name] : {std::pair{o.visible_fraction, "visible_fraction"},
+                                        std::pair{o.truncation, "truncation"}}) {
+        if (!(value >= 0.0 && value <= 1.0)) {
+          throw InputError(SourceLocation{path, 0, 0, object + "." + name}, "a fraction in [0, 1]",
+                           fmt::format("{}", value));
+        }
+      }
     }
   }
   return file;

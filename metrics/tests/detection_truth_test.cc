@@ -104,6 +104,25 @@ TEST(DetectionTruth, AFileThatIsNotAGtJsonIsNamedWithWhatIsWrong) {
       Write(dir / "b.json",
             {{"format", "hcpf-gt/1"}, {"source", "rendered"}, {"frames", {frame0, frame0}}}));
   EXPECT_NE(order.find("frames[1].frame: expected 1, found 0"), std::string::npos) << order;
+  // Values the scores cannot read: a negative width, a visible fraction
+  // above 1.
+  nlohmann::json negative = frame0;
+  negative["objects"][0]["amodal_box"] = {10, 10, -5, 20};
+  const std::string box = ErrorOf(Write(
+      dir / "d.json", {{"format", "hcpf-gt/1"}, {"source", "rendered"}, {"frames", {negative}}}));
+  EXPECT_NE(box.find("frames[0].objects[0].amodal_box: expected [left, top, width, height] in "
+                     "pixels, width and height at least 0"),
+            std::string::npos)
+      << box;
+  EXPECT_NE(box.find("found [10, 10, -5, 20]"), std::string::npos) << box;
+  nlohmann::json over = frame0;
+  over["objects"][0]["visible_fraction"] = 7.5;
+  const std::string fraction = ErrorOf(
+      Write(dir / "e.json", {{"format", "hcpf-gt/1"}, {"source", "rendered"}, {"frames", {over}}}));
+  EXPECT_NE(fraction.find(
+                "frames[0].objects[0].visible_fraction: expected a fraction in [0, 1], found 7.5"),
+            std::string::npos)
+      << fraction;
   const std::string source = ErrorOf(
       Write(dir / "c.json", {{"format", "hcpf-gt/1"}, {"source", "drawn"}, {"frames", {frame0}}}));
   EXPECT_NE(source.find("source: expected \"rendered\" or \"analytic\", found \"drawn\""),

@@ -507,9 +507,13 @@ TEST(Cli, ScoreDetectionsScoresADetectorsOwnOutputAgainstAGtJson) {
   // Bad input: exit 2, the file, line and column named, nothing written.
   std::ofstream(dir / "zero.txt") << "1,-1,11,11,20,20,0.9\n2,-1,11,11,0,20,0.9\n";
   std::ofstream(dir / "late.txt") << "3,-1,11,11,20,20,0.9\n";
+  std::ofstream(dir / "far.txt") << "1,-1,1e300,11,20,20,0.9\n";
   for (const auto& [args, message] : std::vector<std::pair<std::string, std::string>>{
            {" --detections " + (dir / "gt.json").string() + " " + (dir / "zero.txt").string(),
-            "zero.txt:2:5: column 5 (width): expected a width above 0 px, found 0"},
+            "zero.txt:2:5: column 5 (width): expected a width above 0 px, within 1e+07 px, found "
+            "0"},
+           {" --detections " + (dir / "gt.json").string() + " " + (dir / "far.txt").string(),
+            "far.txt:1:3: column 3 (left): expected a number within 1e+07 px, found 1e+300"},
            {" --detections " + (dir / "gt.json").string() + " " + (dir / "late.txt").string(),
             "late.txt:1:1: column 1 (frame): expected a frame in 1..2"},
            {" --detections " + (dir / "det.txt").string() + " " + (dir / "det.txt").string(),

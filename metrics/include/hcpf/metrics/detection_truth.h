@@ -16,6 +16,10 @@
 
 namespace hcpf::metrics {
 
+// Pixel coordinates beyond this are no camera's: a box read from a file
+// (gt.json, det.txt) with a larger one is bad input.
+inline constexpr double kMaxCoordinatePx = 1e7;
+
 // Each in-frame target of `frame`: its amodal box clipped to the image (the
 // frame's camera size), its visible fraction and its truncation by the image
 // border. Targets wholly outside the image are left out.

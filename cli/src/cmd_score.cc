@@ -39,7 +39,13 @@ namespace {
 // frames and pixels, ids ignored) scored as `hcpf run` scores its own.
 int ScoreDetectionFiles(const std::string& gt_path, const std::string& det_path, double min_visible,
                         const std::string& json_path) {
-  const metrics::GroundTruthFile gt = metrics::ReadGroundTruthJson(gt_path);
+  // The folder of `hcpf render` or `hcpf run` stands for its gt.json.
+  std::error_code ec;
+  const std::string gt_file =
+      fs::is_directory(gt_path, ec) && fs::exists(fs::path(gt_path) / "gt.json", ec)
+          ? (fs::path(gt_path) / "gt.json").string()
+          : gt_path;
+  const metrics::GroundTruthFile gt = metrics::ReadGroundTruthJson(gt_file);
   const int frame_count = static_cast<int>(gt.frames.size());
   const metrics::MotFile det =
       metrics::ReadMotFile(det_path, metrics::MotFileKind::kDetections, frame_count);
@@ -74,14 +80,14 @@ int ScoreDetectionFiles(const std::string& gt_path, const std::string& det_path,
     spdlog::warn(
         "{}: the truth is analytic (a detection-level run: visible fractions estimated, no "
         "pixels rendered); render the scene (hcpf render) for pixel-exact truth",
-        gt_path);
+        gt_file);
   }
   const metrics::DetectionQuality quality =
       metrics::ScoreDetections(frames, {.iou_threshold = 0.5, .min_visible = min_visible});
   std::cout << fmt::format(
                    "{} ({} detections) against {} ({} frames, {} truth; targets visible less "
                    "than {:g} don't care)\n",
-                   det_path, det.rows.size(), gt_path, frame_count, gt.source, min_visible)
+                   det_path, det.rows.size(), gt_file, frame_count, gt.source, min_visible)
             << metrics::FormatDetectionTable(quality);
   if (!json_path.empty()) WriteTextFile(json_path, metrics::DetectionQualityToJson(quality));
   return 0;
@@ -126,7 +132,8 @@ Command AddScoreCommand(CLI::App& parent) {
                   "trackers/mot_challenge/<bench>/<tracker>/data; the sequences of "
                   "gt/mot_challenge/seqmaps/<bench>.txt when there is one) instead of GT HYP");
   app->add_flag("--detections", options->detections,
-                "Score a detector instead: GT is a gt.json (hcpf render or hcpf run), HYP its "
+                "Score a detector instead: GT is a gt.json (or the folder of hcpf render or hcpf "
+                "run holding one), HYP its "
                 "detections in MOTChallenge det.txt format (frame,id,left,top,w,h,score); "
                 "precision, recall, F1 and AP50 by target size, visibility and truncation");
   app->add_option("--min-visible", options->min_visible,

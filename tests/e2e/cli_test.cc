@@ -499,6 +499,11 @@ TEST(Cli, ScoreDetectionsScoresADetectorsOwnOutputAgainstAGtJson) {
   // 101 recalls at 1, 25 at 0.75, the rest 0.
   EXPECT_NEAR(d["precision_recall"]["average_precision"].get<double>(), (51 + 25 * 0.75) / 101,
               1e-12);
+  // The folder holding the gt.json stands for it.
+  const auto folder =
+      RunCommand(kHcpf + " score --detections " + dir.string() + " " + (dir / "det.txt").string());
+  EXPECT_EQ(folder.exit_code, 0) << folder.output;
+  EXPECT_EQ(folder.output, r.output) << folder.output;
   // --min-visible 0.7: frame 2's target 1 no longer counts (recall 1).
   const auto r2 = RunCommand(base + " --min-visible 0.7 --json " + (dir / "e.json").string());
   ASSERT_EQ(r2.exit_code, 0) << r2.output;

@@ -52,12 +52,12 @@ int ScoreDetectionFiles(const std::string& gt_path, const std::string& det_path,
   std::vector<metrics::DetectionFrame> frames(gt.frames.size());
   for (size_t f = 0; f < frames.size(); ++f)
     frames[f].truth = metrics::DetectionTruthOf(gt.frames[f]);
+  const std::string within = fmt::format("within {:g} px", metrics::kMaxCoordinatePx);
   for (const metrics::MotRow& row : det.rows) {
     const auto bad = [&](int column, const char* key, const std::string& expected, double found) {
       throw InputError(SourceLocation{det_path, row.line, column, key}, expected,
                        fmt::format("{}", found));
     };
-    const std::string within = fmt::format("within {:g} px", metrics::kMaxCoordinatePx);
     if (!(std::fabs(row.box.left) <= metrics::kMaxCoordinatePx)) {
       bad(3, "column 3 (left)", "a number " + within, row.box.left);
     }
@@ -91,6 +91,13 @@ int ScoreDetectionFiles(const std::string& gt_path, const std::string& det_path,
             << metrics::FormatDetectionTable(quality);
   if (!json_path.empty()) WriteTextFile(json_path, metrics::DetectionQualityToJson(quality));
   return 0;
+}
+
+// Bad input: `option` was given in a mode that does not read it.
+[[noreturn]] void RefuseOption(const std::string& option, const std::string& mode,
+                               const std::string& belongs_to, const std::string& found) {
+  throw InputError(SourceLocation{"command line", 0, 0, option},
+                   fmt::format("no {} with {} (it goes with {})", option, mode, belongs_to), found);
 }
 
 }  // namespace
@@ -156,11 +163,10 @@ Command AddScoreCommand(CLI::App& parent) {
                     {!options->events.empty(), "--events"},
                     {!options->seqinfo.empty(), "--seqinfo"},
                     {app->count("--benchmark") > 0, "--benchmark"}}) {
-                if (!given) continue;
-                throw InputError(SourceLocation{"command line", 0, 0, option},
-                                 "no " + std::string(option) +
-                                     " with --detections (it goes with tracker scoring)",
-                                 std::string(option) + " given");
+                if (given) {
+                  RefuseOption(option, "--detections", "tracker scoring",
+                               std::string(option) + " given");
+                }
               }
               if (options->gt.empty() || options->hyp.empty()) {
                 throw InputError(SourceLocation{{}, 0, 0, "score --detections"},
@@ -184,11 +190,7 @@ Command AddScoreCommand(CLI::App& parent) {
               // What only GT HYP takes (a third bad-input audit: ignored).
               for (const auto& [value, option] :
                    {std::pair{&options->events, "--events"}, {&options->seqinfo, "--seqinfo"}}) {
-                if (value->empty()) continue;
-                throw InputError(
-                    SourceLocation{"command line", 0, 0, option},
-                    "no " + std::string(option) + " with --trackeval-root (it goes with GT HYP)",
-                    *value);
+                if (!value->empty()) RefuseOption(option, "--trackeval-root", "GT HYP", *value);
               }
               // --json checked before anything is read (a third bad-input
               // audit: a folder or a missing parent failed after the table).

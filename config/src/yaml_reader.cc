@@ -171,11 +171,8 @@ YAML::Node YamlReader::Parse(const std::string& text, const std::string& file) {
   if (const size_t bad = FirstNonUtf8(text); bad != std::string::npos) {
     // yaml-cpp passes such bytes through into strings, where they break the
     // JSON outputs much later: refuse them here, where the line is known.
-    const size_t newline = bad == 0 ? std::string::npos : text.rfind('\n', bad - 1);
-    const size_t first = newline == std::string::npos ? 0 : newline + 1;
-    const int line = 1 + static_cast<int>(std::count(text.begin(), text.begin() + bad, '\n'));
-    throw InputError(SourceLocation{file, line, static_cast<int>(bad - first) + 1, ""},
-                     "UTF-8 text",
+    const TextPosition at = PositionOf(text, bad);
+    throw InputError(SourceLocation{file, at.line, at.column, ""}, "UTF-8 text",
                      fmt::format("the byte 0x{:02X}, which UTF-8 does not allow there",
                                  static_cast<unsigned char>(text[bad])),
                      "save the file as UTF-8; a Latin-1 editor writes é as the byte 0xE9");

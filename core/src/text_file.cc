@@ -147,6 +147,14 @@ void WriteTextFile(const std::string& path, const std::string& text) {
   if (::rename(temp.c_str(), path.c_str()) != 0) fail("replacing", errno);
 }
 
+TextPosition PositionOf(std::string_view text, size_t offset) {
+  offset = std::min(offset, text.size());
+  const size_t newline = offset == 0 ? std::string_view::npos : text.rfind('\n', offset - 1);
+  const size_t line_start = newline == std::string_view::npos ? 0 : newline + 1;
+  return {.line = 1 + static_cast<int>(std::count(text.begin(), text.begin() + offset, '\n')),
+          .column = static_cast<int>(offset - line_start) + 1};
+}
+
 std::string TempFileTarget(std::string_view entry) {
   const size_t at = entry.rfind(".tmp-");
   if (entry.size() < 2 || entry[0] != '.' || at == std::string_view::npos || at < 2) return "";

@@ -28,6 +28,24 @@ std::string ReadAll(const fs::path& path) {
 // place, report.html was cut to the limit and looked complete in a browser
 // (determinism audit D4). An existing file keeps its permissions, and a
 // symbolic link is written through, as when files were truncated in place.
+// Byte offsets to 1-based lines and columns, worked by hand on "ab\ncd\n\nx":
+// bytes 0 'a', 2 the first newline, 3 'c', 6 the empty line's newline, 7 'x'.
+TEST(TextFile, PositionOfCountsLinesAndColumnsFromOne) {
+  const std::string text = "ab\ncd\n\nx";
+  const auto at = [&](size_t offset) {
+    const TextPosition p = PositionOf(text, offset);
+    return std::pair{p.line, p.column};
+  };
+  EXPECT_EQ(at(0), std::pair(1, 1));
+  EXPECT_EQ(at(2), std::pair(1, 3));
+  EXPECT_EQ(at(3), std::pair(2, 1));
+  EXPECT_EQ(at(4), std::pair(2, 2));
+  EXPECT_EQ(at(6), std::pair(3, 1));
+  EXPECT_EQ(at(7), std::pair(4, 1));
+  EXPECT_EQ(at(8), std::pair(4, 2));    // the end
+  EXPECT_EQ(at(100), std::pair(4, 2));  // past it: the end
+}
+
 TEST(WriteTextFile, ReplacesAFileWholeOrNotAtAll) {
   const fs::path dir =
       fs::temp_directory_path() / ("hcpf_core_write_text_" + std::to_string(::getpid()));

@@ -2,7 +2,6 @@
 
 #include <fmt/format.h>
 
-#include <algorithm>
 #include <cmath>
 #include <nlohmann/json.hpp>
 
@@ -17,18 +16,6 @@ namespace {
 // gt.json of a long run at a high resolution: 10 000 frames of a few targets
 // take about 15 MB.
 constexpr uint64_t kMaxGroundTruthBytes = uint64_t{1} << 30;
-
-// 1-based line and column of byte `offset` of `text` (nlohmann's parse
-// errors give the byte).
-std::pair<int, int> LineColumn(const std::string& text, size_t offset) {
-  offset = std::min(offset, text.size());
-  const auto begin = text.begin();
-  const int line = 1 + static_cast<int>(std::count(begin, begin + static_cast<long>(offset), '\n'));
-  const size_t last_newline = offset == 0 ? std::string::npos : text.rfind('\n', offset - 1);
-  const int column =
-      static_cast<int>(last_newline == std::string::npos ? offset + 1 : offset - last_newline);
-  return {line, column};
-}
 
 }  // namespace
 
@@ -50,8 +37,9 @@ GroundTruthFile ReadGroundTruthJson(const std::string& path) {
   try {
     root = nlohmann::json::parse(text);
   } catch (const nlohmann::json::parse_error& e) {
-    const auto [line, column] = LineColumn(text, e.byte == 0 ? 0 : e.byte - 1);
-    throw InputError(SourceLocation{path, line, column, ""}, what,
+    // nlohmann counts the byte it stopped at from 1.
+    const TextPosition at = PositionOf(text, e.byte == 0 ? 0 : e.byte - 1);
+    throw InputError(SourceLocation{path, at.line, at.column, ""}, what,
                      fmt::format("text that does not parse as JSON ({})", e.what()));
   }
   const auto member = [&](const char* key) -> const nlohmann::json* {

@@ -354,14 +354,16 @@ json DetectionJson(const DetectionQuality& d) {
             {"precision_recall", PrecisionRecallJson(d.precision_recall_mostly_visible)}}}};
 }
 
+// A table's number: three decimals, "-" for an undefined one (NaN).
+std::string Fixed3(double v) { return std::isfinite(v) ? fmt::format("{:.3f}", v) : "-"; }
+
 // One table row: counts under the IoU rule, the centre rule's recall.
 std::string DetectionRow(const std::string& label, const DetectionCounts& iou,
                          const DetectionCounts* centre, bool with_false) {
-  const auto ratio = [](double v) { return std::isfinite(v) ? fmt::format("{:.3f}", v) : "-"; };
   return fmt::format("{:<26} {:>7} {:>7} {:>7} {:>9} {:>7} {:>13}\n", label, iou.tp, iou.fn,
                      with_false ? fmt::format("{}", iou.fp) : "-",
-                     with_false ? ratio(iou.precision()) : "-", ratio(iou.recall()),
-                     centre != nullptr ? ratio(centre->recall()) : "-");
+                     with_false ? Fixed3(iou.precision()) : "-", Fixed3(iou.recall()),
+                     centre != nullptr ? Fixed3(centre->recall()) : "-");
 }
 
 std::string BinLabel(const char* what, const DetectionBin& b, const char* unit) {
@@ -393,19 +395,18 @@ std::string FormatDetectionTable(const DetectionQuality& d) {
     const DetectionCounts centre{.tp = t.found_centre, .fp = 0, .fn = t.missed_centre};
     out += DetectionRow(fmt::format("target {}", Value(t.target)), iou, &centre, false);
   }
-  const auto number = [](double v) { return std::isfinite(v) ? fmt::format("{:.3f}", v) : "-"; };
   const PrecisionRecall& pr = d.precision_recall;
   out += fmt::format(
       "F1 {} (IoU >= 0.5), mean IoU of the matches {}, mean centre error {} px, median target "
       "size {} px\n",
-      number(d.iou.f1()), number(d.mean_iou), number(d.mean_centre_error_px),
-      number(d.median_size_px));
+      Fixed3(d.iou.f1()), Fixed3(d.mean_iou), Fixed3(d.mean_centre_error_px),
+      Fixed3(d.median_size_px));
   out += fmt::format(
       "average precision (AP50, 101 recalls) {}; visible >= {:g}: {}; best F1 {} at score >= "
       "{} (precision {}, recall {})\n",
-      number(pr.average_precision), kMostlyVisible,
-      number(d.precision_recall_mostly_visible.average_precision), number(pr.best_f1),
-      number(pr.best_f1_min_score), number(pr.best_f1_precision), number(pr.best_f1_recall));
+      Fixed3(pr.average_precision), kMostlyVisible,
+      Fixed3(d.precision_recall_mostly_visible.average_precision), Fixed3(pr.best_f1),
+      Fixed3(pr.best_f1_min_score), Fixed3(pr.best_f1_precision), Fixed3(pr.best_f1_recall));
   return out;
 }
 

@@ -10,6 +10,14 @@
 
 namespace hcpf {
 
+// The 1-based line and column of byte `offset` of `text` (an offset past the
+// end counts as the end), for errors a parser reports by byte.
+struct TextPosition {
+  int line = 1;
+  int column = 1;
+};
+TextPosition PositionOf(std::string_view text, size_t offset);
+
 // Writes `text` to `path`, whole or not at all: into a temporary file beside
 // it (".<name>.tmp-<pid>-<n>") renamed over `path` at the end, so a failed or
 // killed write leaves the earlier file as it was. An existing file keeps its

@@ -52,29 +52,8 @@ int ScoreDetectionFiles(const std::string& gt_path, const std::string& det_path,
   std::vector<metrics::DetectionFrame> frames(gt.frames.size());
   for (size_t f = 0; f < frames.size(); ++f)
     frames[f].truth = metrics::DetectionTruthOf(gt.frames[f]);
-  const std::string within = fmt::format("within {:g} px", metrics::kMaxCoordinatePx);
-  for (const metrics::MotRow& row : det.rows) {
-    const auto bad = [&](int column, const char* key, const std::string& expected, double found) {
-      throw InputError(SourceLocation{det_path, row.line, column, key}, expected,
-                       fmt::format("{}", found));
-    };
-    if (!(std::fabs(row.box.left) <= metrics::kMaxCoordinatePx)) {
-      bad(3, "column 3 (left)", "a number " + within, row.box.left);
-    }
-    if (!(std::fabs(row.box.top) <= metrics::kMaxCoordinatePx)) {
-      bad(4, "column 4 (top)", "a number " + within, row.box.top);
-    }
-    if (!(row.box.width > 0.0 && row.box.width <= metrics::kMaxCoordinatePx)) {
-      bad(5, "column 5 (width)", "a width above 0 px, " + within, row.box.width);
-    }
-    if (!(row.box.height > 0.0 && row.box.height <= metrics::kMaxCoordinatePx)) {
-      bad(6, "column 6 (height)", "a height above 0 px, " + within, row.box.height);
-    }
-    if (!std::isfinite(row.conf)) bad(7, "column 7 (score)", "a finite score", row.conf);
-    // MOT's 1-based pixels: left 1 is the image's first column.
-    frames[static_cast<size_t>(row.frame - 1)].detections.push_back(
-        {.box = {row.box.left - 1.0, row.box.top - 1.0, row.box.width, row.box.height},
-         .score = row.conf});
+  for (const metrics::DetectionFileRow& row : metrics::DetectionRowsOf(det)) {
+    frames[static_cast<size_t>(row.frame)].detections.push_back(row.detection);
   }
   if (gt.source != "rendered") {
     spdlog::warn(

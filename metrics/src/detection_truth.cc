@@ -105,4 +105,36 @@ GroundTruthFile ReadGroundTruthJson(const std::string& path) {
   return file;
 }
 
+std::vector<DetectionFileRow> DetectionRowsOf(const MotFile& file) {
+  const std::string within = fmt::format("within {:g} px", kMaxCoordinatePx);
+  std::vector<DetectionFileRow> rows;
+  rows.reserve(file.rows.size());
+  for (const MotRow& row : file.rows) {
+    const auto bad = [&](int column, const char* key, const std::string& expected, double found) {
+      throw InputError(SourceLocation{file.path, row.line, column, key}, expected,
+                       fmt::format("{}", found));
+    };
+    if (!(std::fabs(row.box.left) <= kMaxCoordinatePx)) {
+      bad(3, "column 3 (left)", "a number " + within, row.box.left);
+    }
+    if (!(std::fabs(row.box.top) <= kMaxCoordinatePx)) {
+      bad(4, "column 4 (top)", "a number " + within, row.box.top);
+    }
+    if (!(row.box.width > 0.0 && row.box.width <= kMaxCoordinatePx)) {
+      bad(5, "column 5 (width)", "a width above 0 px, " + within, row.box.width);
+    }
+    if (!(row.box.height > 0.0 && row.box.height <= kMaxCoordinatePx)) {
+      bad(6, "column 6 (height)", "a height above 0 px, " + within, row.box.height);
+    }
+    if (!std::isfinite(row.conf)) bad(7, "column 7 (score)", "a finite score", row.conf);
+    // MOT's 1-based pixels: left 1 is the image's first column.
+    rows.push_back({.frame = row.frame - 1,
+                    .detection = {.box = {row.box.left - 1.0, row.box.top - 1.0, row.box.width,
+                                          row.box.height},
+                                  .score = row.conf},
+                    .line = row.line});
+  }
+  return rows;
+}
+
 }  // namespace hcpf::metrics

@@ -22,15 +22,44 @@ std::string OptionsText(const ObservationOptions& o) {
   });
   return text;
 }
+// observation.detector: file: each frame's rows of the det.txt read at load
+// time (another program's detections; model-free, not target-specific).
+class FileDetector final : public vision::Detector {
+ public:
+  explicit FileDetector(std::shared_ptr<const std::vector<std::vector<Detection>>> frames)
+      : frames_(std::move(frames)) {}
+  vision::DetectorOutput Detect(const vision::DetectorInput& input, Rng& /*rng*/) const override {
+    vision::DetectorOutput out;
+    const auto f = static_cast<size_t>(input.frame);
+    if (input.frame >= 0 && f < frames_->size()) out.detections = (*frames_)[f];
+    return out;
+  }
+  bool uses_models() const override { return false; }
+  std::string_view name() const override { return "file"; }
+
+ private:
+  std::shared_ptr<const std::vector<std::vector<Detection>>> frames_;
+};
+
+std::unique_ptr<vision::Detector> MakeDetectorOf(const ObservationOptions& o) {
+  if (o.from_file()) {
+    HCPF_CHECK(o.file.frames != nullptr) << "observation.file read at load time";
+    return std::make_unique<FileDetector>(o.file.frames);
+  }
+  return vision::MakeDetector(o.DetectorName(), o.detectors);
+}
+
 }  // namespace
 
 DetectionPass::DetectionPass(const Scenario& scenario, const std::string& cache_dir)
-    : detector_(vision::MakeDetector(scenario.observation.DetectorName(),
-                                     scenario.observation.detectors)),
+    : detector_(MakeDetectorOf(scenario.observation)),
       options_text_(OptionsText(scenario.observation)),
       rng_(Rng(scenario.seeds.observation).Fork("detector")) {
   HCPF_CHECK(detector_ != nullptr) << "unknown detector " << scenario.observation.DetectorName();
-  if (!cache_dir.empty() && ProgramDigest()) cache_ = std::make_unique<DetectionCache>(cache_dir);
+  // The file's rows are at hand: nothing to cache.
+  if (!cache_dir.empty() && ProgramDigest() && !scenario.observation.from_file()) {
+    cache_ = std::make_unique<DetectionCache>(cache_dir);
+  }
 }
 
 std::string DetectionPass::Key(const renderer::RenderedFrame& frame, const XXH128_hash_t& digest,

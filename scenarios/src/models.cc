@@ -14,13 +14,11 @@ namespace hcpf::scenarios {
 namespace fs = std::filesystem;
 
 std::string ResolveModelPath(const std::string& written, const std::string& scenario_file,
-                             const SourceLocation& where) {
+                             const SourceLocation& where, const std::string& expected) {
   const bool from_file = !scenario_file.empty() && scenario_file.rfind("--set", 0) != 0;
   const std::string beside =
       from_file ? fs::absolute(fs::path(scenario_file)).parent_path().string() : std::string();
-  return fs::weakly_canonical(
-             config::FindFileOrFail(where, written, beside, "the path of an existing model file"))
-      .string();
+  return fs::weakly_canonical(config::FindFileOrFail(where, written, beside, expected)).string();
 }
 
 std::string PortableModelPath(const std::string& resolved) {

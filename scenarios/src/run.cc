@@ -136,6 +136,13 @@ RunSummary RunScenario(const Scenario& scenario, const RunOptions& options) {
   } else {
     tracker = tracker::MakeTracker(tracker_options, Rng(scenario.seeds.tracker));
   }
+  if (scenario.observation.from_file()) {
+    const DetectionFileOptions& file = scenario.observation.file;
+    spdlog::info(
+        "detections from {}: {} rows, {} of them left out (score below "
+        "observation.file.min_score {:g})",
+        file.path, file.rows, file.left_out, file.min_score);
+  }
   std::set<int32_t> born;
   // The vision/ detector's pass over the frames (none with the oracle), made
   // below.
@@ -383,6 +390,11 @@ RunSummary RunScenario(const Scenario& scenario, const RunOptions& options) {
     manifest["detector"] = "oracle (noisy ground truth)";
   } else {
     manifest["detector"] = scenario.observation.DetectorName();
+    if (scenario.observation.from_file()) {
+      const DetectionFileOptions& file = scenario.observation.file;
+      manifest["detection_file"] = {
+          {"path", file.path}, {"digest", file.digest}, {"min_score", file.min_score}};
+    }
     if (detection && !detection->models().empty()) {
       manifest["target_models"] = "model from ground truth";
       nlohmann::json models = nlohmann::json::array();

@@ -284,7 +284,39 @@ std::vector<std::string_view> ObservationOptions::DetectorNames() {
   std::vector<std::string_view> names = {"oracle"};
   for (std::string_view n : vision::DetectorNames()) names.push_back(n);
   names.push_back("fusion");
+  names.push_back("file");
   return names;
+}
+
+bool ObservationOptions::model_based() const {
+  if (oracle() || from_file()) return false;
+  const auto made = vision::MakeDetector(DetectorName(), detectors);
+  return made != nullptr && made->uses_models();
+}
+
+std::span<const Field<DetectionFileOptions>> DetectionFileOptions::Fields() {
+  using O = DetectionFileOptions;
+  Field<O> path;
+  path.key = "path";
+  path.type = FieldType::kPath;
+  path.doc =
+      "detector file only (checked, no effect otherwise): a MOTChallenge det.txt made on the "
+      "frames of `hcpf render` of this scenario (frame, id, left, top, width, height, score; "
+      "1-based), found like `targets[i].model`";
+  path.get_text = [](const O& o) { return o.path.empty() ? o.path : PortableModelPath(o.path); };
+  path.set_text = [](O& o, std::string v) { o.path = std::move(v); };
+  static const std::vector<Field<O>> fields = {
+      DefaultDoc(std::move(path), "none (required with detector: file)"),
+      // Scores are the program's own: any finite number may be a threshold.
+      NumberField("min_score", &O::min_score, Closed(-1e9, 1e9), "",
+                  "rows scoring below it are left out (neither tracked nor scored)"),
+      DefaultDoc(TextField<&O::digest>(
+                     "digest",
+                     "XXH3-128 of the file's content (32 hex digits), written by the resolved "
+                     "YAML; when given, the file must still have it"),
+                 "none"),
+  };
+  return fields;
 }
 
 std::string ObservationOptions::DetectorName() const {
@@ -451,21 +483,26 @@ void ObservationOptions::Validate(const tracker::TrackerOptions& tracker) const 
                "oracle, or observation.source: rendered (a detector needs rendered frames)",
                "\"" + name + "\" with observation.source: simulated");
   }
-  const auto made = vision::MakeDetector(name, detectors);
-  if (search == SearchMode::kWindow && !made->uses_models()) {
+  if (from_file() && file.path.empty()) {
+    FailOption("observation.file", "path",
+               "the det.txt to read (detector: file reads another program's detections)",
+               "not written");
+  }
+  const bool uses_models = model_based();
+  if (search == SearchMode::kWindow && !uses_models) {
     FailOption("observation", "search",
                "frame, or a model-based observation.detector (windows belong to target models)",
                "window with observation.detector: " + name);
   }
-  if (map_likelihood && !made->uses_models()) {
+  if (map_likelihood && !uses_models) {
     FailOption("tracker.likelihood", "model", map_needs(),
                "map with observation.detector: " + name + ", which makes no maps");
   }
-  if (reacquire && !made->uses_models()) {
+  if (reacquire && !uses_models) {
     FailOption("tracker.management", "reacquire", kReacquireNeeds,
                "own_detections with observation.detector: " + name);
   }
-  if (made->uses_models() && tracker.init != tracker::InitMode::kGroundTruth) {
+  if (uses_models && tracker.init != tracker::InitMode::kGroundTruth) {
     FailOption("observation", "detector",
                "a detector without target models, or tracker.init: ground_truth (the \"" + name +
                    "\" models are cut where filters are born from ground truth)",
@@ -482,7 +519,8 @@ std::span<const Field<ObservationOptions>> ObservationOptions::Fields() {
       WordField<&O::detector, &ObservationOptions::DetectorNames>(
           "detector",
           "oracle: noisy ground truth, labelled as oracle in results; else a detector on the "
-          "rendered frames (docs/vision.md); fusion: the `detectors` fused"),
+          "rendered frames (docs/vision.md); fusion: the `detectors` fused; file: another "
+          "program's detections, read from `file.path`"),
       ChoiceField<&O::search>(
           "search",
           "frame: a model-based detector searches the whole frame; window: around each "

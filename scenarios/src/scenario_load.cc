@@ -5,6 +5,7 @@
 
 #include <fmt/format.h>
 #include <unistd.h>
+#include <xxhash.h>
 
 #include <algorithm>
 #include <charconv>
@@ -20,6 +21,7 @@
 #include "hcpf/core/rng.h"
 #include "hcpf/core/subprocess.h"
 #include "hcpf/core/text_file.h"
+#include "hcpf/metrics/detection_truth.h"
 #include "hcpf/scenarios/frames.h"
 #include "hcpf/scenarios/models.h"
 #include "hcpf/scenarios/scenario.h"
@@ -157,6 +159,57 @@ void ReadCamera(YamlReader r, int frames, CameraSpec* c) {
   }
   if (c->path.empty()) path.Fail("a list of at least one keyframe");
   r.Finish();
+}
+
+// A det.txt of a long run: 10 000 frames of a few hundred detections take
+// about 100 MB.
+constexpr uint64_t kMaxDetectionFileBytes = uint64_t{1} << 30;
+
+// observation.file with detector: file: the det.txt read now, so `hcpf
+// validate` checks every row and the resolved YAML pins its content.
+void ReadDetectionFile(const YamlReader& root, Scenario* s) {
+  DetectionFileOptions& f = s->observation.file;
+  const std::string text =
+      ReadInputFile(f.path, "a det.txt (observation.file.path)", kMaxDetectionFileBytes);
+  const XXH128_hash_t h = XXH3_128bits(text.data(), text.size());
+  const std::string digest = fmt::format("{:016x}{:016x}", h.high64, h.low64);
+  if (!f.digest.empty() && f.digest != digest) {
+    root.Relocate([&] {
+      FailOption("observation.file", "digest",
+                 fmt::format("{}, the digest of {} as it is now (the file changed since this "
+                             "digest was written, or the digest is not its)",
+                             digest, f.path),
+                 "\"" + f.digest + "\"");
+    });
+  }
+  f.digest = digest;
+  const metrics::MotFile file =
+      metrics::ParseMotText(text, f.path, metrics::MotFileKind::kDetections, s->world.frames);
+  // The particle filter weighs each detection by its score.
+  const bool weighed = !s->tracker_choice.external() && s->tracker.likelihood.use_scores;
+  auto frames =
+      std::make_shared<std::vector<std::vector<Detection>>>(static_cast<size_t>(s->world.frames));
+  for (const metrics::DetectionFileRow& row : metrics::DetectionRowsOf(file)) {
+    const double score = row.detection.score;
+    ++f.rows;
+    if (score < f.min_score) {
+      ++f.left_out;
+      continue;
+    }
+    if (weighed && !(score >= 0.0 && score <= 1.0)) {
+      throw InputError(
+          SourceLocation{f.path, row.line, 7, "column 7 (score)"},
+          fmt::format("a score in [0, 1], which tracker.likelihood.use_scores: true makes the "
+                      "detection's weight (or use_scores: false{})",
+                      score < 0.0 ? fmt::format(", or an observation.file.min_score above {:g} "
+                                                "leaving the row out",
+                                                score)
+                                  : ""),
+          fmt::format("{:g}", score));
+    }
+    (*frames)[static_cast<size_t>(row.frame)].push_back(row.detection);
+  }
+  f.frames = std::move(frames);
 }
 
 // One nested section of `parent` from its Options' declared fields.
@@ -413,6 +466,14 @@ Scenario ReadScenario(YamlReader root, const std::string& file) {
     if (auto sim = obs->Optional("simulated")) ReadSimulated(*sim, ids, &s.observation.simulated);
     s.observation.detectors.ForEach(
         [&](const char* name, auto& options) { ReadSection(*obs, name, &options); });
+    if (auto f = obs->Optional("file")) {
+      f->ExpectMap();
+      ReadFields(*f, s.observation.file, DetectionFileOptions::Fields(),
+                 [&file](const std::string& text, const SourceLocation& where) {
+                   return ResolveModelPath(text, file, where, "the path of an existing det.txt");
+                 });
+      f->Finish();
+    }
     obs->Finish();
   }
   if (auto r = root.Optional("renderer")) {
@@ -456,6 +517,13 @@ Scenario ReadScenario(YamlReader root, const std::string& file) {
     s.metrics.filters.Validate();
     s.metrics.points.Validate();
   });
+  if (s.observation.from_file()) {
+    ReadDetectionFile(root, &s);
+  } else {
+    // Checked (the path resolved), then of no effect: not part of the run's
+    // identity, like the options of a detector not chosen.
+    s.observation.file = DetectionFileOptions{};
+  }
   return s;
 }
 

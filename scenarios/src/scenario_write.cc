@@ -119,6 +119,7 @@ std::string ToResolvedYaml(const Scenario& s) {
   detectors.ForEach([&](const char* name, const auto& options) {
     if (s.observation.Uses(name)) w.Section(name, options);
   });
+  if (s.observation.from_file()) w.Section("file", s.observation.file);
   w.End();
 
   w.Section("renderer", s.renderer);

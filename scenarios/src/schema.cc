@@ -157,6 +157,7 @@ std::string SchemaMarkdown(const std::string& section) {
     vision::DetectorOptions{}.ForEach([&](const char* name, const auto& options) {
       AppendRows(out, fmt::format("{}.", name), std::decay_t<decltype(options)>::Fields());
     });
+    AppendRows(out, "file.", DetectionFileOptions::Fields());
   } else if (section == "renderer") {
     AppendRows(out, "", RendererConfig::Fields());
   } else if (section == "tracker") {

@@ -150,6 +150,8 @@ SweepSpec ReadSweep(YAML::Node root, const std::string& file, const std::string&
   spec.file = file;
   spec.seed = r.Seed("seed", 1);
   spec.seeds = static_cast<int>(r.Integer("seeds", 0, kMinSweepSeeds, kMaxSweepSeeds));
+  spec.seeds_where =
+      r.Has("seeds") ? r.Child("seeds").Where() : SourceLocation{file, 0, 0, "seeds"};
   spec.grid = ReadAxes(r, "grid", dir, &spec.base_paths);
   spec.zip = ReadAxes(r, "zip", dir, &spec.base_paths);
   if (spec.base_paths.empty()) {
@@ -292,6 +294,30 @@ SweepSpec ReadSweep(YAML::Node root, const std::string& file, const std::string&
 [[noreturn]] void Relocate(const InputError& e, const SourceLocation& at) {
   throw InputError(SourceLocation{at.file, at.line, at.column, e.where().key}, e.expected(),
                    e.found(), e.hint());
+}
+
+// A det.txt (observation.detector: file) describes the frames of one
+// rendering; `seeds: N` renders other frames for each seed unless the world
+// and renderer seeds are pinned, and the detections would describe frames
+// that are not there.
+void CheckDetectionFileSeeds(const SweepSpec& spec, const scenarios::Scenario& s,
+                             const std::vector<std::string>& values) {
+  constexpr uint8_t kFrames =
+      scenarios::Scenario::kPinnedWorld | scenarios::Scenario::kPinnedRenderer;
+  if (spec.seeds <= 1 || !s.observation.from_file() || (s.pinned_seeds & kFrames) == kFrames) {
+    return;
+  }
+  throw InputError(
+      spec.seeds_where,
+      "seeds.world and seeds.renderer pinned (in the base, or swept) with observation.detector: "
+      "file: the det.txt was made on one rendering, and every other seed renders other frames",
+      fmt::format("seeds: {} with the run {} reading {} and its seeds.world or seeds.renderer "
+                  "derived from each seed",
+                  spec.seeds,
+                  values.empty() ? "of the base" : fmt::format("({})", fmt::join(values, ", ")),
+                  s.observation.file.path),
+      "copy seeds.world and seeds.renderer from the scenario.resolved.yaml of the hcpf render "
+      "folder the detector ran on; seeds: N then varies the tracker and observation seeds");
 }
 
 }  // namespace
@@ -455,6 +481,7 @@ std::vector<SweepRun> ExpandSweep(const SweepSpec& spec) {
         if (k == 0) {
           first = scenario;
           first_yaml = resolved;
+          CheckDetectionFileSeeds(spec, *scenario, values);
         } else if (k == 1) {
           reseed = scenarios::ReseedResolvedYaml(
                        first_yaml, scenarios::Reseeded(*first, scenario->seed)) == resolved;

@@ -215,6 +215,33 @@ TEST(Sweep, NoSeedsKeepsTheBaseSeedAndSweepSeedChangesDerivedSeeds) {
   EXPECT_EQ(a[0].scenario().seed, Rng(5).Fork("sweep/seed/0").identity());
 }
 
+// A det.txt (observation.detector: file) describes the frames of one
+// rendering: `seeds: N` must keep the world and renderer seeds it was
+// rendered with, and the error says so at the `seeds` line.
+TEST(Sweep, ADetectionFileNeedsTheSeedsItsFramesWereRenderedWith) {
+  const auto dir = SweepFolder("detection-file");
+  std::ofstream(dir / "det.txt") << "1,-1,11,21,30,15,0.9\n";
+  const std::string grid =
+      "base: base.yaml\n"
+      "grid:\n"
+      "  observation.source: [rendered]\n"
+      "  observation.detector: [diff, file]\n"
+      "  observation.file.path: [det.txt]\n";
+  const std::string error = ExpandErrorOf(WriteSweep(dir, "seeds: 3\n" + grid));
+  EXPECT_NE(error.find("sweep.yaml:1:8: seeds: expected seeds.world and seeds.renderer pinned"),
+            std::string::npos)
+      << error;
+  EXPECT_NE(error.find("(rendered, file, det.txt)"), std::string::npos) << error;
+  // One seed, or the two seeds pinned: the file's frames are the ones run.
+  EXPECT_EQ(ExpandSweep(LoadSweepFile(WriteSweep(dir, "seeds: 1\n" + grid, "one.yaml"))).size(),
+            2U);
+  const auto pinned = ExpandSweep(LoadSweepFile(WriteSweep(
+      dir, "seeds: 3\n" + grid + "  seeds.world: [11]\n  seeds.renderer: [12]\n", "pinned.yaml")));
+  ASSERT_EQ(pinned.size(), 6U);
+  EXPECT_EQ(pinned[5].scenario().seeds.renderer, 12U);
+  EXPECT_NE(pinned[5].scenario().seeds.tracker, pinned[4].scenario().seeds.tracker);
+}
+
 // Issue 15 item 20: seeds beyond the second are reseeded from the first
 // instead of loading the base file again. Every run must be exactly what the
 // full loader gives for its overrides: resolved YAML, key, and the seeds a

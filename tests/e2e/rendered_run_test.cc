@@ -307,6 +307,79 @@ TEST(RenderedRun, ADetectorOnTheRenderedFramesFeedsTheTracker) {
   EXPECT_EQ(FilterLifetimes(ReadFile(dir / "oracle" / "filters.csv")).at(2).first, 33);
 }
 
+// observation.detector: file: the detections of a program of one's own, made
+// on the frames of `hcpf render` (here: the truth's boxes, a perfect
+// detector, with one false detection and one row below min_score), feed the
+// tracker and are scored against the pixel-exact truth; the run's identity
+// follows the file's content.
+TEST(RenderedRun, AnotherProgramsDetectionsFeedTheTracker) {
+  const fs::path dir = FreshDir("detection-file-run");
+  const std::string scenario = testing::LibraryScenario("crossing");
+  const std::string cache = " --cache " + (dir / "cache").string();
+  const std::string frames = " --set frames=24";
+  const auto rendered = RunCommand(std::string(HCPF_EXE) + " render " + scenario + frames + cache +
+                                   " --out " + (dir / "render").string());
+  ASSERT_EQ(rendered.exit_code, 0) << rendered.output;
+  // det.txt in MOTChallenge's 1-based pixels, from the render's truth.
+  const auto gt = nlohmann::json::parse(ReadFile(dir / "render" / "gt.json"));
+  std::string det;
+  int truth = 0;
+  for (const auto& frame : gt["frames"]) {
+    const int f = frame["frame"].get<int>() + 1;
+    for (const auto& o : frame["objects"]) {
+      if (!o["in_frame"].get<bool>()) continue;
+      const auto& b = o["amodal_box"];
+      det += fmt::format("{},-1,{},{},{},{},0.9\n", f, b[0].get<double>() + 1.0,
+                         b[1].get<double>() + 1.0, b[2].get<double>(), b[3].get<double>());
+      ++truth;
+    }
+  }
+  ASSERT_EQ(truth, 24);                // target 1 alone, wholly in view, in every frame
+  det += "5,-1,401,301,20,10,0.3\n";   // nothing there: a false detection
+  det += "6,-1,401,301,20,10,0.05\n";  // below min_score 0.1: left out
+  const fs::path det_path = dir / "my_det.txt";
+  { std::ofstream(det_path) << det; }
+  const std::string run = std::string(HCPF_EXE) + " run " + scenario + frames + cache +
+                          " --set observation.source=rendered --set observation.detector=file"
+                          " --set observation.file.min_score=0.1 --set observation.file.path=" +
+                          det_path.string();
+  const auto r = RunCommand(run + " --out " + (dir / "a").string());
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("26 rows, 1 of them left out"), std::string::npos) << r.output;
+  const auto manifest = nlohmann::json::parse(ReadFile(dir / "a" / "manifest.json"));
+  EXPECT_EQ(manifest["detector"], "file");
+  EXPECT_EQ(manifest["detection_file"]["path"], fs::weakly_canonical(det_path).string());
+  EXPECT_EQ(manifest["detection_file"]["digest"].get<std::string>().size(), 32u);
+  EXPECT_FALSE(manifest.contains("target_models"));
+  // Scored like any detector: all 24 found, the one false detection, none
+  // missed; the tracker, fed the truth's boxes, tracks the target throughout.
+  const auto metrics = nlohmann::json::parse(ReadFile(dir / "a" / "metrics.json"));
+  const auto& iou = metrics["detection"]["iou"];
+  EXPECT_EQ(iou["tp"], 24) << iou;
+  EXPECT_EQ(iou["fp"], 1) << iou;
+  EXPECT_EQ(iou["fn"], 0) << iou;
+  EXPECT_EQ(metrics["filters"]["da_accuracy"].get<double>(), 1.0) << metrics["filters"];
+  // det/det.txt: the rows the tracker got (25: the one below min_score left
+  // out), boxes to 1/1000 px.
+  const std::string written = ReadFile(dir / "a" / "det" / "det.txt");
+  EXPECT_EQ(std::count(written.begin(), written.end(), '\n'), 25) << written;
+  EXPECT_NE(written.find("5,-1,401.000,301.000,20.000,10.000,0.3000"), std::string::npos)
+      << written;
+  EXPECT_EQ(written.find(",0.0500"), std::string::npos) << written;
+  // Another content is another run; the first run's resolved scenario names
+  // the content it ran with, and no longer validates.
+  { std::ofstream(det_path, std::ios::app) << "7,-1,401,301,20,10,0.3\n"; }
+  const auto b = RunCommand(run + " --out " + (dir / "b").string());
+  ASSERT_EQ(b.exit_code, 0) << b.output;
+  EXPECT_NE(nlohmann::json::parse(ReadFile(dir / "b" / "manifest.json"))["config_hash"],
+            manifest["config_hash"]);
+  const auto stale = RunCommand(std::string(HCPF_EXE) + " validate " +
+                                (dir / "a" / "scenario.resolved.yaml").string());
+  EXPECT_EQ(stale.exit_code, 2) << stale.output;
+  EXPECT_NE(stale.output.find("observation.file.digest: expected"), std::string::npos)
+      << stale.output;
+}
+
 // A target that is never wholly in view gets no model, so a model-based
 // detector cannot find it and init: ground_truth gives it no filter: the run
 // says so by name, and the oracle still gives it a filter. On crossing cut

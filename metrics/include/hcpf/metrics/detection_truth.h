@@ -13,6 +13,7 @@
 
 #include "hcpf/core/ground_truth.h"
 #include "hcpf/metrics/detection_quality.h"
+#include "hcpf/metrics/mot_io.h"
 
 namespace hcpf::metrics {
 
@@ -35,5 +36,20 @@ struct GroundTruthFile {
 // order, is an InputError naming the file (the line and column of a syntax
 // error; the frame's index otherwise).
 GroundTruthFile ReadGroundTruthJson(const std::string& path);
+
+// One detection of a det.txt: its 0-based frame, its box in 0-based pixels
+// and its score, and the file's line it came from.
+struct DetectionFileRow {
+  int frame = 0;
+  Detection detection;
+  int line = 0;
+};
+
+// The detections of a MOTChallenge det.txt (frame, id, left, top, width,
+// height, score; 1-based frames and pixels; ids ignored) read with
+// MotFileKind::kDetections. A box whose width or height is not above 0, a
+// coordinate beyond kMaxCoordinatePx or a score that is not finite is an
+// InputError at the file, line and column.
+std::vector<DetectionFileRow> DetectionRowsOf(const MotFile& file);
 
 }  // namespace hcpf::metrics

@@ -13,9 +13,12 @@ namespace hcpf::scenarios {
 // relative to the current directory; else to the scenario file's folder; else
 // to the project's source folder (so shipped scenarios run from anywhere).
 // Returns the canonical absolute path of the first candidate that exists;
-// throws InputError at `where` naming every place looked at when none exists.
+// throws InputError at `where` naming every place looked at when none exists
+// (`expected` the error's "expected"). Other files a scenario names (a
+// det.txt) are found the same way.
 std::string ResolveModelPath(const std::string& written, const std::string& scenario_file,
-                             const SourceLocation& where);
+                             const SourceLocation& where,
+                             const std::string& expected = "the path of an existing model file");
 
 // The path written to resolved scenarios: relative to the project's source
 // folder when the file is inside it (shipped assets stay portable), else absolute.

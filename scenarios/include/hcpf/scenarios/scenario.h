@@ -5,6 +5,7 @@
 #include <array>
 #include <cstdint>
 #include <map>
+#include <memory>
 #include <span>
 #include <string>
 #include <string_view>
@@ -77,23 +78,56 @@ struct hcpf::EnumNames<hcpf::scenarios::SearchMode> {
 
 namespace hcpf::scenarios {
 
+// `observation.file.*`: detector `file` reads the detections another program
+// made on this scenario's rendered frames (`hcpf render`), a MOTChallenge
+// det.txt (docs/vision.md "A detector of one's own in the tracker").
+struct DetectionFileOptions {
+  // The det.txt, found like a model file (next to the scenario file, the
+  // current folder, the project folder) and held as an absolute path.
+  std::string path;
+  // Rows scoring below this are left out (neither tracked nor scored); the
+  // run says how many. 0 keeps every row of a detector whose scores are
+  // confidences in [0, 1].
+  double min_score = 0.0;
+  // XXH3-128 of the file's content, 32 hex digits: the resolved YAML writes
+  // it, so the run's identity (config hash) changes with the file's content;
+  // written in a scenario, the file must still have it.
+  std::string digest;
+  // The file's detections kept (score >= min_score), by 0-based frame: read
+  // at load time with detector: file, so `hcpf validate` checks every row.
+  std::shared_ptr<const std::vector<std::vector<Detection>>> frames;
+  int rows = 0;      // the file's rows
+  int left_out = 0;  // of them, scoring below min_score
+
+  // path, min_score, digest
+  static std::span<const Field<DetectionFileOptions>> Fields();
+};
+
 struct ObservationOptions {
   ObservationSource source = ObservationSource::kSimulated;
   // "oracle" (noisy ground truth, both sources), a vision/ detector on the
-  // rendered frames (vision::DetectorNames()), or "fusion": the detectors
-  // listed in `fused` (key `detectors`), run on every frame and fused.
+  // rendered frames (vision::DetectorNames()), "fusion": the detectors
+  // listed in `fused` (key `detectors`), run on every frame and fused, or
+  // "file": another program's detections (`file`).
   std::string detector = "oracle";
   std::vector<std::string> fused;  // `observation.detectors`, with detector: fusion
   SearchMode search = SearchMode::kFrame;
   SimulatedObservationOptions simulated;
   vision::DetectorOptions detectors;  // `observation.<detector>.*`
+  DetectionFileOptions file;          // `observation.file.*`
 
   // source, detector, detectors
   static std::span<const Field<ObservationOptions>> Fields();
-  static std::vector<std::string_view> DetectorNames();  // oracle, vision's, fusion
+  static std::vector<std::string_view> DetectorNames();  // oracle, vision's, fusion, file
   bool oracle() const { return detector == "oracle"; }
+  bool from_file() const { return detector == "file"; }
+  // Whether the detector labels its detections with their target (a
+  // model-based vision/ detector, or a fusion of them); false for the
+  // oracle and the file.
+  bool model_based() const;
   // The vision/ detector's name as vision::MakeDetector takes it: `detector`,
-  // or the fused names joined by '+' ("sks+prca"); "oracle" for the oracle.
+  // or the fused names joined by '+' ("sks+prca"); "oracle" for the oracle,
+  // "file" for the file.
   std::string DetectorName() const;
   // Whether the vision/ detector `name` runs in this scenario.
   bool Uses(std::string_view name) const;

@@ -83,8 +83,9 @@ struct SweepSpec {
   // With `grid.base`: every value's scenario file, resolved, in the order of
   // the grid's values; else the one base_path.
   std::vector<std::string> base_paths;
-  uint64_t seed = 1;  // root of the derived run seeds
-  int seeds = 0;      // 0 = `seeds` absent: every run keeps the base scenario's seed
+  uint64_t seed = 1;           // root of the derived run seeds
+  int seeds = 0;               // 0 = `seeds` absent: every run keeps the base scenario's seed
+  SourceLocation seeds_where;  // where `seeds` is written (line 0 when absent)
   std::vector<SweepAxis> grid;
   std::vector<SweepAxis> zip;
   ReportSpec report;

@@ -17,6 +17,7 @@
 #include <iostream>
 #include <memory>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <sstream>
 #include <vector>
 
@@ -37,8 +38,10 @@ namespace {
 // hcpf score --detections GT.json DET.txt: the detections of a detector (a
 // MOTChallenge det.txt: frame, id, left, top, width, height, score; 1-based
 // frames and pixels, ids ignored) scored as `hcpf run` scores its own.
+// Rows scoring below `min_score` (nullopt: none) are left out, as
+// observation.file.min_score leaves them out of a run.
 int ScoreDetectionFiles(const std::string& gt_path, const std::string& det_path, double min_visible,
-                        const std::string& json_path) {
+                        std::optional<double> min_score, const std::string& json_path) {
   // The folder of `hcpf render` or `hcpf run` stands for its gt.json.
   std::error_code ec;
   const std::string gt_file =
@@ -52,7 +55,12 @@ int ScoreDetectionFiles(const std::string& gt_path, const std::string& det_path,
   std::vector<metrics::DetectionFrame> frames(gt.frames.size());
   for (size_t f = 0; f < frames.size(); ++f)
     frames[f].truth = metrics::DetectionTruthOf(gt.frames[f]);
+  int left_out = 0;
   for (const metrics::DetectionFileRow& row : metrics::DetectionRowsOf(det)) {
+    if (min_score && row.detection.score < *min_score) {
+      ++left_out;
+      continue;
+    }
     frames[static_cast<size_t>(row.frame)].detections.push_back(row.detection);
   }
   if (gt.source != "rendered") {
@@ -63,10 +71,13 @@ int ScoreDetectionFiles(const std::string& gt_path, const std::string& det_path,
   }
   const metrics::DetectionQuality quality =
       metrics::ScoreDetections(frames, {.iou_threshold = 0.5, .min_visible = min_visible});
+  const std::string kept = min_score ? fmt::format("{} detections, {} scoring below {:g} left out",
+                                                   det.rows.size(), left_out, *min_score)
+                                     : fmt::format("{} detections", det.rows.size());
   std::cout << fmt::format(
-                   "{} ({} detections) against {} ({} frames, {} truth; targets visible less "
+                   "{} ({}) against {} ({} frames, {} truth; targets visible less "
                    "than {:g} don't care)\n",
-                   det_path, det.rows.size(), gt_file, frame_count, gt.source, min_visible)
+                   det_path, kept, gt_file, frame_count, gt.source, min_visible)
             << metrics::FormatDetectionTable(quality);
   if (!json_path.empty()) WriteTextFile(json_path, metrics::DetectionQualityToJson(quality));
   return 0;
@@ -92,6 +103,7 @@ Command AddScoreCommand(CLI::App& parent) {
     std::string trackeval_root;
     bool detections = false;
     double min_visible = metrics::DetectionQualityOptions{}.min_visible;
+    double min_score = 0.0;
   };
   auto options = std::make_shared<Options>();
   CLI::App* app = parent.add_subcommand(
@@ -127,13 +139,20 @@ Command AddScoreCommand(CLI::App& parent) {
                   "a detection on one is neither true nor false)")
       ->check(CLI::Range(0.0, 1.0))
       ->capture_default_str();
+  app->add_option("--min-score", options->min_score,
+                  "With --detections: detections scoring below this are left out, as "
+                  "observation.file.min_score leaves them out of a run (default: none)")
+      ->check(CLI::Range(-1e9, 1e9));
   return {app, [options, app]() -> int {
             using namespace hcpf::metrics;
             const Benchmark benchmark = *ParseBenchmark(options->benchmark);
-            if (!options->detections && app->count("--min-visible") > 0) {
-              throw InputError(SourceLocation{"command line", 0, 0, "--min-visible"},
-                               "--min-visible only with --detections",
-                               fmt::format("{}", options->min_visible));
+            for (const auto& [option, value] : {std::pair{"--min-visible", options->min_visible},
+                                                {"--min-score", options->min_score}}) {
+              if (!options->detections && app->count(option) > 0) {
+                throw InputError(SourceLocation{"command line", 0, 0, option},
+                                 std::string(option) + " only with --detections",
+                                 fmt::format("{}", value));
+              }
             }
             if (options->detections) {
               // What only tracker scoring takes (ignored here otherwise).
@@ -158,8 +177,10 @@ Command AddScoreCommand(CLI::App& parent) {
                                    {options->hyp, "the detections (HYP)"}},
                                   {}, "score", "nothing was written");
               }
-              return ScoreDetectionFiles(options->gt, options->hyp, options->min_visible,
-                                         options->json);
+              return ScoreDetectionFiles(
+                  options->gt, options->hyp, options->min_visible,
+                  app->count("--min-score") > 0 ? std::optional(options->min_score) : std::nullopt,
+                  options->json);
             }
             if (!options->trackeval_root.empty()) {
               if (!options->gt.empty() || !options->hyp.empty()) {

@@ -527,7 +527,9 @@ TEST(Cli, ScoreDetectionsScoresADetectorsOwnOutputAgainstAGtJson) {
                 (dir / "det.txt").string(),
             "--events: expected no --events with --detections"},
            {" --min-visible 0.5 " + (dir / "gt.json").string() + " " + (dir / "det.txt").string(),
-            "--min-visible: expected --min-visible only with --detections"}}) {
+            "--min-visible: expected --min-visible only with --detections"},
+           {" --min-score 0.5 " + (dir / "gt.json").string() + " " + (dir / "det.txt").string(),
+            "--min-score: expected --min-score only with --detections"}}) {
     const auto bad = RunCommand(kHcpf + " score" + args + " --json " + (dir / "x.json").string());
     EXPECT_EQ(bad.exit_code, 2) << args << "\n" << bad.output;
     EXPECT_NE(bad.output.find(message), std::string::npos) << args << "\n" << bad.output;

@@ -366,6 +366,19 @@ TEST(RenderedRun, AnotherProgramsDetectionsFeedTheTracker) {
   EXPECT_NE(written.find("5,-1,401.000,301.000,20.000,10.000,0.3000"), std::string::npos)
       << written;
   EXPECT_EQ(written.find(",0.0500"), std::string::npos) << written;
+  // hcpf score --detections on the same file counts as the run does with the
+  // same --min-score; without it, the row below 0.1 is a second false
+  // detection.
+  const std::string score = std::string(HCPF_EXE) + " score --detections " +
+                            (dir / "render").string() + " " + det_path.string() + " --json ";
+  const auto at = RunCommand(score + (dir / "at.json").string() + " --min-score 0.1");
+  ASSERT_EQ(at.exit_code, 0) << at.output;
+  EXPECT_NE(at.output.find("26 detections, 1 scoring below 0.1 left out"), std::string::npos)
+      << at.output;
+  EXPECT_EQ(nlohmann::json::parse(ReadFile(dir / "at.json"))["iou"], iou);
+  const auto all = RunCommand(score + (dir / "all.json").string());
+  ASSERT_EQ(all.exit_code, 0) << all.output;
+  EXPECT_EQ(nlohmann::json::parse(ReadFile(dir / "all.json"))["iou"]["fp"], 2);
   // Another content is another run; the first run's resolved scenario names
   // the content it ran with, and no longer validates.
   { std::ofstream(det_path, std::ios::app) << "7,-1,401,301,20,10,0.3\n"; }

@@ -10,8 +10,9 @@
 namespace hcpf::scenarios {
 
 // Resolves a model path as written in a scenario: an absolute path; else
-// relative to the current directory; else to the scenario file's folder; else
-// to the project's source folder (so shipped scenarios run from anywhere).
+// relative to the scenario file's folder; else to the current directory; else
+// to the project's source folder (so shipped scenarios run from anywhere;
+// config::FindFile's order).
 // Returns the canonical absolute path of the first candidate that exists;
 // throws InputError at `where` naming every place looked at when none exists
 // (`expected` the error's "expected"). Other files a scenario names (a

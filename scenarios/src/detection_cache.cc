@@ -136,6 +136,10 @@ std::optional<vision::DetectorOutput> Decode(const char* data, size_t size) {
 
 }  // namespace
 
+std::string DigestHex(const XXH128_hash_t& digest) {
+  return fmt::format("{:016x}{:016x}", digest.high64, digest.low64);
+}
+
 XXH128_hash_t PixelDigest(const ImageView& image) {
   XXH3_state_t* state = XXH3_createState();
   HCPF_CHECK(state != nullptr) << "XXH3_createState";
@@ -219,8 +223,7 @@ void DetectionKey::Add(const XXH128_hash_t& digest) {
   Add(digest.low64);
 }
 std::string DetectionKey::Finish() const {
-  const XXH128_hash_t h = XXH3_128bits_digest(state_);  // state_ is left as it is
-  return fmt::format("{:016x}{:016x}", h.high64, h.low64);
+  return DigestHex(XXH3_128bits_digest(state_));  // state_ is left as it is
 }
 
 DetectionCache::DetectionCache(const std::filesystem::path& root) : dir_(root / "detections") {

@@ -19,6 +19,9 @@
 
 namespace hcpf::scenarios::internal {
 
+// A digest as 32 lowercase hex digits (high 64 bits first).
+std::string DigestHex(const XXH128_hash_t& digest);
+
 // XXH3-128 of an image's size and pixels.
 XXH128_hash_t PixelDigest(const ImageView& image);
 

@@ -19,17 +19,28 @@ const FieldRange kWorld = Closed(-kBig, kBig);
 // Frame numbers are declared in [0, kMaxFrames - 1]; the reader also checks
 // them against the scenario's own `frames` (a rule across keys).
 
-// The `model` file of a target or a mesh occluder: resolved by the reader
-// (models.h), written relative to the project folder, left out when unset.
-template <class O>
-Field<O> ModelField(std::string_view doc) {
+// A file the scenario names (`Member`): resolved by the reader (models.h),
+// written relative to the project folder, left out when unset.
+template <auto Member>
+Field<typename hcpf::internal::MemberOf<decltype(Member)>::Object> FileField(std::string_view key,
+                                                                             std::string_view doc) {
+  using O = typename hcpf::internal::MemberOf<decltype(Member)>::Object;
   Field<O> f;
-  f.key = "model";
+  f.key = key;
   f.type = FieldType::kPath;
   f.doc = doc;
-  f.get_text = [](const O& o) { return o.model.empty() ? o.model : PortableModelPath(o.model); };
-  f.set_text = [](O& o, std::string v) { o.model = std::move(v); };
+  f.get_text = [](const O& o) {
+    const std::string& path = o.*Member;
+    return path.empty() ? path : PortableModelPath(path);
+  };
+  f.set_text = [](O& o, std::string v) { o.*Member = std::move(v); };
   return f;
+}
+
+// The `model` file of a target or a mesh occluder.
+template <class O>
+Field<O> ModelField(std::string_view doc) {
+  return FileField<&O::model>("model", doc);
 }
 
 }  // namespace
@@ -296,17 +307,13 @@ bool ObservationOptions::model_based() const {
 
 std::span<const Field<DetectionFileOptions>> DetectionFileOptions::Fields() {
   using O = DetectionFileOptions;
-  Field<O> path;
-  path.key = "path";
-  path.type = FieldType::kPath;
-  path.doc =
-      "detector file only (checked, no effect otherwise): a MOTChallenge det.txt made on the "
-      "frames of `hcpf render` of this scenario (frame, id, left, top, width, height, score; "
-      "1-based), found like `targets[i].model`";
-  path.get_text = [](const O& o) { return o.path.empty() ? o.path : PortableModelPath(o.path); };
-  path.set_text = [](O& o, std::string v) { o.path = std::move(v); };
   static const std::vector<Field<O>> fields = {
-      DefaultDoc(std::move(path), "none (required with detector: file)"),
+      DefaultDoc(FileField<&O::path>(
+                     "path",
+                     "detector file only (checked, no effect otherwise): a MOTChallenge det.txt "
+                     "made on the frames of `hcpf render` of this scenario (frame, id, left, top, "
+                     "width, height, score; 1-based), found like `targets[i].model`"),
+                 "none (required with detector: file)"),
       // Scores are the program's own: any finite number may be a threshold.
       NumberField("min_score", &O::min_score, Closed(-1e9, 1e9), "",
                   "rows scoring below it are left out (neither tracked nor scored)"),

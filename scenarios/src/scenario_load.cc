@@ -5,7 +5,6 @@
 
 #include <fmt/format.h>
 #include <unistd.h>
-#include <xxhash.h>
 
 #include <algorithm>
 #include <charconv>
@@ -14,6 +13,7 @@
 #include <map>
 #include <set>
 
+#include "detection_cache.h"
 #include "hcpf/config/fields_yaml.h"
 #include "hcpf/config/file_lookup.h"
 #include "hcpf/config/yaml_reader.h"
@@ -171,8 +171,7 @@ void ReadDetectionFile(const YamlReader& root, Scenario* s) {
   DetectionFileOptions& f = s->observation.file;
   const std::string text =
       ReadInputFile(f.path, "a det.txt (observation.file.path)", kMaxDetectionFileBytes);
-  const XXH128_hash_t h = XXH3_128bits(text.data(), text.size());
-  const std::string digest = fmt::format("{:016x}{:016x}", h.high64, h.low64);
+  const std::string digest = internal::DigestHex(XXH3_128bits(text.data(), text.size()));
   if (!f.digest.empty() && f.digest != digest) {
     root.Relocate([&] {
       FailOption("observation.file", "digest",

@@ -35,12 +35,19 @@ namespace {
 // closed casters (a few texels at shadow silhouettes move).
 constexpr int kRendererVersion = 8;
 
-std::string FileDigest(const std::string& path) {
+// A model file by its name and content, not its folder: the same scene
+// rendered from another clone or machine (whose model paths are absolute
+// elsewhere) has the same hash, so `observation.file.rendering` can tell
+// frames apart by what they show, wherever they were rendered. The name stays
+// (its extension picks the loader).
+std::string ModelKey(const std::string& path) {
+  std::string key = std::filesystem::path(path).filename().string();
+  key += '#';
   std::ifstream in(path, std::ios::binary);
-  if (!in) return "missing";
+  if (!in) return key + "missing";
   std::ostringstream bytes;
   bytes << in.rdbuf();
-  return fmt::format("{:016x}", HashName(bytes.str()));
+  return key + fmt::format("{:016x}", HashName(bytes.str()));
 }
 
 void AppendVec(std::string& s, const Eigen::Vector2d& v) {
@@ -67,17 +74,13 @@ std::string PixelHash(const WorldSpec& world, const RendererOptions& options, ui
     AppendVec(s, o.to_m);
     AppendVec(s, o.at_m);
     AppendVec(s, o.size_m);
-    s += fmt::format(",{:.17g},{:.17g},{:.17g},{:.17g},{}", o.width_m, o.height_m, o.yaw_deg,
-                     o.scale, o.model);
-    if (o.kind == OccluderKind::kMesh) {
-      s += '#';  // (not "#" + ...: GCC 12 -O3 warns falsely, -Wrestrict)
-      s += FileDigest(o.model);
-    }
+    s +=
+        fmt::format(",{:.17g},{:.17g},{:.17g},{:.17g},", o.width_m, o.height_m, o.yaw_deg, o.scale);
+    if (o.kind == OccluderKind::kMesh) s += ModelKey(o.model);
     s += ";";
   }
   for (const TargetSpec& tg : world.targets) {
-    s += fmt::format("tgt={},{}#{},", Value(tg.id), tg.model,
-                     tg.model.empty() ? "box" : FileDigest(tg.model));
+    s += fmt::format("tgt={},{},", Value(tg.id), tg.model.empty() ? "box" : ModelKey(tg.model));
     AppendVec(s, tg.tint);
     AppendVec(s, tg.dimensions_m);
     const TargetPathSpec& p = tg.path;

@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "hcpf/core/error.h"
+#include "hcpf/core/text_file.h"
 #include "hcpf/renderer/image_io.h"
 #include "hcpf/renderer/renderer.h"
 #include "support/process.h"
@@ -309,6 +310,33 @@ TEST(PixelHash, ChangesWithPixelsNotWithOutputFlags) {
   WorldSpec w2 = w;
   w2.sun.azimuth_deg += 1.0;
   EXPECT_NE(h, PixelHash(w2, o, 7));
+}
+
+TEST(PixelHash, KnowsAModelByItsNameAndContentNotItsFolder) {
+  // The same scene in two clones: model paths are absolute, the hash alike.
+  const auto root = hcpf::testing::FreshDir("pixel-hash-model");
+  std::filesystem::create_directories(root / "a");
+  std::filesystem::create_directories(root / "b");
+  WriteTextFile((root / "a" / "car.obj").string(), "v 0 0 0\n");
+  WriteTextFile((root / "b" / "car.obj").string(), "v 0 0 0\n");
+  WriteTextFile((root / "b" / "van.obj").string(), "v 0 0 0\n");
+  WorldSpec w;
+  w.frames = 10;
+  w.camera.path.push_back({0, {0, 0, 100}, {0, 0, 0}});
+  TargetSpec t;
+  t.id = ObjectId(1);
+  t.model = (root / "a" / "car.obj").string();
+  w.targets.push_back(t);
+  const RendererOptions o;
+  const std::string h = PixelHash(w, o, 7);
+  WorldSpec moved = w;
+  moved.targets[0].model = (root / "b" / "car.obj").string();
+  EXPECT_EQ(PixelHash(moved, o, 7), h);
+  // Another name (the extension picks the loader) or content: other pixels.
+  moved.targets[0].model = (root / "b" / "van.obj").string();
+  EXPECT_NE(PixelHash(moved, o, 7), h);
+  WriteTextFile((root / "a" / "car.obj").string(), "v 0 0 1\n");
+  EXPECT_NE(PixelHash(w, o, 7), h);
 }
 
 TEST(FrameCache, StoresAndLoadsFramesExactly) {

@@ -67,11 +67,11 @@ SceneFrames ProduceFrames(const Scenario& scenario, const FrameSourceOptions& op
   }
   out.rendered = !options.analytic_truth;
   const renderer::RendererOptions ropts = RendererOptionsOf(scenario);
+  out.pixel_hash = renderer::PixelHash(scenario.world, ropts, scenario.seeds.renderer);
   // Depth and instance images are not cached (FrameCache holds colour + truth).
   std::unique_ptr<renderer::FrameCache> cache;
   if (!options.cache_dir.empty() && !ropts.output_depth && !ropts.output_instance_ids) {
-    cache = std::make_unique<renderer::FrameCache>(
-        options.cache_dir, renderer::PixelHash(scenario.world, ropts, scenario.seeds.renderer));
+    cache = std::make_unique<renderer::FrameCache>(options.cache_dir, out.pixel_hash);
     MarkUsed(cache->dir());  // `hcpf cache --max-size` prunes the scenes used least recently
   }
   // Misses are stored on a worker thread while the next frame renders.

@@ -142,6 +142,14 @@ RunSummary RunScenario(const Scenario& scenario, const RunOptions& options) {
         "detections from {}: {} rows, {} of them left out (score below "
         "observation.file.min_score {:g})",
         file.path, file.rows, file.left_out, file.min_score);
+    if (file.pixel_hash.empty()) {
+      spdlog::info(
+          "the detections are not checked to be made on this scenario's frames (name the "
+          "rendering they were made on: observation.file.rendering)");
+    } else {
+      spdlog::info("the detections were made on this scenario's frames (pixel hash {})",
+                   file.pixel_hash);
+    }
   }
   std::set<int32_t> born;
   // The vision/ detector's pass over the frames (none with the oracle), made
@@ -394,6 +402,11 @@ RunSummary RunScenario(const Scenario& scenario, const RunOptions& options) {
       const DetectionFileOptions& file = scenario.observation.file;
       manifest["detection_file"] = {
           {"path", file.path}, {"digest", file.digest}, {"min_score", file.min_score}};
+      // The frames it was checked to be made on (observation.file.rendering
+      // or pixel_hash), else null: nothing tied the file to this scene.
+      manifest["detection_file"]["made_on_pixel_hash"] =
+          file.pixel_hash.empty() ? nlohmann::json(nullptr) : nlohmann::json(file.pixel_hash);
+      if (!file.rendering.empty()) manifest["detection_file"]["rendering"] = file.rendering;
     }
     if (detection && !detection->models().empty()) {
       manifest["target_models"] = "model from ground truth";

@@ -322,6 +322,18 @@ std::span<const Field<DetectionFileOptions>> DetectionFileOptions::Fields() {
                      "XXH3-128 of the file's content (32 hex digits), written by the resolved "
                      "YAML; when given, the file must still have it"),
                  "none"),
+      DefaultDoc(FileField<&O::rendering>(
+                     "rendering",
+                     "the folder of `hcpf render` (or of a rendered `hcpf run`) whose frames the "
+                     "det.txt was made on: its manifest.json's pixel_hash must be this "
+                     "scenario's, else the run is refused naming the keys that differ"),
+                 "none (not checked)"),
+      DefaultDoc(TextField<&O::pixel_hash>(
+                     "pixel_hash",
+                     "the pixel hash of the frames the det.txt was made on (32 hex digits, "
+                     "`pixel_hash` in the manifest of `hcpf render`): this scenario must render "
+                     "those frames; the resolved YAML writes it when `rendering` is given"),
+                 "none (not checked)"),
   };
   return fields;
 }

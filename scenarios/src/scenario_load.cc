@@ -25,6 +25,7 @@
 #include "hcpf/scenarios/frames.h"
 #include "hcpf/scenarios/models.h"
 #include "hcpf/scenarios/scenario.h"
+#include "rendering_check.h"
 
 namespace hcpf::scenarios {
 
@@ -469,6 +470,9 @@ Scenario ReadScenario(YamlReader root, const std::string& file) {
       f->ExpectMap();
       ReadFields(*f, s.observation.file, DetectionFileOptions::Fields(),
                  [&file](const std::string& text, const SourceLocation& where) {
+                   if (where.key.ends_with(".rendering")) {
+                     return internal::ResolveRenderingFolder(text, file, where);
+                   }
                    return ResolveModelPath(text, file, where, "the path of an existing det.txt");
                  });
       f->Finish();
@@ -518,6 +522,7 @@ Scenario ReadScenario(YamlReader root, const std::string& file) {
   });
   if (s.observation.from_file()) {
     ReadDetectionFile(root, &s);
+    root.Relocate([&s] { internal::CheckRendering(&s); });
   } else {
     // Checked (the path resolved), then of no effect: not part of the run's
     // identity, like the options of a detector not chosen.

@@ -210,6 +210,9 @@ nlohmann::json ManifestProvenance(const std::string& format, const Scenario& sce
   } else {
     m["gl_renderer"] = nullptr;
   }
+  // What the frames show, whichever machine rendered them: a det.txt made on
+  // them names this folder (observation.file.rendering) or this hash.
+  if (!scene.pixel_hash.empty()) m["pixel_hash"] = scene.pixel_hash;
   m["frames_rendered"] = scene.frames_rendered;
   m["frames_from_cache"] = scene.frames_from_cache;
   // The GL renderers that stored frames in the cache folder the frames came

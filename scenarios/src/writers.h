@@ -57,8 +57,9 @@ std::string FormatGroundTruthJson(const Scenario& scenario,
 
 // The provenance part of a manifest.json (format, version, git revision,
 // scenario, config hash, seeds, library versions) and where the frames came
-// from: this process's GL renderer or null, frames_rendered,
-// frames_from_cache and, with frames from the cache, frame_cache_renderers.
+// from: pixel_hash when frames were rendered, this process's GL renderer or
+// null, frames_rendered, frames_from_cache and, with frames from the cache,
+// frame_cache_renderers.
 nlohmann::json ManifestProvenance(const std::string& format, const Scenario& scenario,
                                   const SceneFrames& scene);
 

@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "../src/rendering_check.h"
 #include "hcpf/core/error.h"
 #include "hcpf/core/text_file.h"
 #include "support/process.h"
@@ -195,6 +196,41 @@ TEST(DetectionFile, BadRowsAndRulesAcrossKeysAreRejectedWhereTheyAre) {
   external.push_back({"tracker.type", "external"});
   external.push_back({"tracker.command", "[/bin/cat]"});
   EXPECT_EQ(FileLoadError(kMinimal, external), "");
+}
+
+TEST(DetectionFile, DifferingLeavesNameEveryScalarThatDiffersByItsDottedKey) {
+  // What the refusal of another rendering lists: changed, added and removed
+  // leaves, list items by index, in key order.
+  const auto differ = internal::DifferingLeaves("a: 1\nb: {c: [1, 2], d: x}\ne: [{f: 1}]\ng: []\n",
+                                                "a: 1\nb: {c: [1, 3]}\ne: [{f: 2}]\ng: []\nh: ~\n");
+  ASSERT_EQ(differ.size(), 4u);
+  EXPECT_EQ(differ[0].key, "b.c[1]");
+  EXPECT_EQ(differ[0].first, "2");
+  EXPECT_EQ(differ[0].second, "3");
+  EXPECT_EQ(differ[1].key, "b.d");
+  EXPECT_EQ(differ[1].first, "x");
+  EXPECT_EQ(differ[1].second, "");
+  EXPECT_EQ(differ[2].key, "e[0].f");
+  EXPECT_EQ(differ[3].key, "h");
+  EXPECT_EQ(differ[3].first, "");
+  EXPECT_EQ(differ[3].second, "null");
+  EXPECT_TRUE(internal::DifferingLeaves("a: [1]\n", "a: [1]\n").empty());
+}
+
+TEST(DetectionFile, WithAnotherDetectorTheRenderingIsCheckedAndNotWritten) {
+  // Like the path: a folder that is no rendering is refused whatever the
+  // detector; with another detector a good one has no effect.
+  const fs::path dir = hcpf::testing::FreshDir("detection-file-rendering-unit");
+  const std::vector<Override> rendered = {{"observation.source", "rendered"}};
+  const std::string error =
+      FileLoadError(kMinimal, With(rendered, {"observation.file.rendering", dir.string()}));
+  EXPECT_NE(error.find("observation.file.rendering"), std::string::npos) << error;
+  EXPECT_NE(error.find("holding manifest.json"), std::string::npos) << error;
+  WriteTextFile((dir / "manifest.json").string(), "{}");
+  const Scenario s = LoadScenarioText(kMinimal, "s.yaml",
+                                      With(rendered, {"observation.file.rendering", dir.string()}));
+  EXPECT_TRUE(s.observation.file.rendering.empty());
+  EXPECT_EQ(ToResolvedYaml(s).find("rendering"), std::string::npos);
 }
 
 }  // namespace

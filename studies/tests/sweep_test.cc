@@ -4,12 +4,15 @@
 
 #include <gtest/gtest.h>
 
+#include <filesystem>
 #include <fstream>
 #include <set>
 #include <string>
 #include <vector>
 
 #include "hcpf/core/rng.h"
+#include "hcpf/renderer/renderer.h"
+#include "hcpf/scenarios/frames.h"
 #include "hcpf/studies/run_queue.h"
 #include "sweep_fixture.h"
 
@@ -240,6 +243,47 @@ TEST(Sweep, ADetectionFileNeedsTheSeedsItsFramesWereRenderedWith) {
   ASSERT_EQ(pinned.size(), 6U);
   EXPECT_EQ(pinned[5].scenario().seeds.renderer, 12U);
   EXPECT_NE(pinned[5].scenario().seeds.tracker, pinned[4].scenario().seeds.tracker);
+}
+
+// observation.file.rendering in a sweep over a key that shapes pixels: the
+// cell that renders the det.txt's frames runs, the others are refused when the
+// sweep loads them, naming the key. The rendering is a stand-in for the
+// folder `hcpf render` writes (its manifest's pixel hash and resolved
+// scenario); RenderedRun.ADetectionFileIsCheckedAgainstTheRenderingItWasMadeOn
+// renders a real one.
+TEST(Sweep, ADetectionFileOfOneRenderingRefusesTheCellsThatRenderOthers) {
+  const auto dir = SweepFolder("detection-file-rendering");
+  std::ofstream(dir / "det.txt") << "1,-1,11,21,30,15,0.9\n";
+  const scenarios::Scenario made_on = scenarios::LoadScenarioFile(
+      (dir / "base.yaml").string(), {{"observation.source", "rendered"},
+                                     {"seeds.world", "11"},
+                                     {"seeds.renderer", "12"},
+                                     {"world.sun.elevation_deg", "35"}});
+  std::filesystem::create_directories(dir / "render");
+  std::ofstream(dir / "render" / "manifest.json")
+      << "{\"pixel_hash\": \""
+      << renderer::PixelHash(made_on.world, scenarios::RendererOptionsOf(made_on),
+                             made_on.seeds.renderer)
+      << "\"}\n";
+  std::ofstream(dir / "render" / "scenario.resolved.yaml") << scenarios::ToResolvedYaml(made_on);
+  const std::string sweep =
+      "base: base.yaml\n"
+      "grid:\n"
+      "  observation.source: [rendered]\n"
+      "  observation.detector: [file]\n"
+      "  observation.file.path: [det.txt]\n"
+      "  observation.file.rendering: [render]\n"
+      "  seeds.world: [11]\n"
+      "  seeds.renderer: [12]\n"
+      "  world.sun.elevation_deg: [35";
+  EXPECT_EQ(ExpandSweep(LoadSweepFile(WriteSweep(dir, sweep + "]\n", "one.yaml"))).size(), 1U);
+  const std::string error = ExpandErrorOf(WriteSweep(dir, sweep + ", 60]\n"));
+  EXPECT_NE(error.find("observation.file.rendering: expected this scenario's frames"),
+            std::string::npos)
+      << error;
+  EXPECT_NE(error.find("the scenarios differ at world.sun.elevation_deg (there 35, here 60)"),
+            std::string::npos)
+      << error;
 }
 
 // Issue 15 item 20: seeds beyond the second are reseeded from the first

@@ -393,6 +393,92 @@ TEST(RenderedRun, AnotherProgramsDetectionsFeedTheTracker) {
       << stale.output;
 }
 
+// observation.file.rendering: a det.txt is tied to the frames it was made on
+// (the render's manifest pixel_hash). A scenario that renders other frames (a
+// sun moved) is refused by validate and run alike, naming the keys that
+// differ; the resolved YAML pins the hash; the run's manifest says what the
+// file was checked against.
+TEST(RenderedRun, ADetectionFileIsCheckedAgainstTheRenderingItWasMadeOn) {
+  const fs::path dir = FreshDir("detection-file-rendering");
+  const std::string scenario = testing::LibraryScenario("crossing");
+  const std::string cache = " --cache " + (dir / "cache").string();
+  const std::string common = scenario + " --set frames=14";
+  const auto rendered = RunCommand(std::string(HCPF_EXE) + " render " + common + cache + " --out " +
+                                   (dir / "render").string());
+  ASSERT_EQ(rendered.exit_code, 0) << rendered.output;
+  const auto render_manifest = nlohmann::json::parse(ReadFile(dir / "render" / "manifest.json"));
+  const std::string hash = render_manifest["pixel_hash"].get<std::string>();
+  EXPECT_EQ(hash.size(), 32u);
+  EXPECT_EQ(hash.find_first_not_of("0123456789abcdef"), std::string::npos) << hash;
+  const fs::path det_path = dir / "det.txt";
+  { std::ofstream(det_path) << "1,-1,101,101,40,20,0.9\n"; }
+  const std::string file = common +
+                           " --set observation.source=rendered --set observation.detector=file"
+                           " --set observation.file.path=" +
+                           det_path.string() + " --set observation.file.rendering=";
+  const std::string validate = std::string(HCPF_EXE) + " validate ";
+  const std::string run = std::string(HCPF_EXE) + " run" + cache + " ";
+
+  // The frames it was made on: accepted; the folder's manifest.json itself
+  // may be named too.
+  const auto ok = RunCommand(validate + file + (dir / "render").string());
+  EXPECT_EQ(ok.exit_code, 0) << ok.output;
+  EXPECT_EQ(RunCommand(validate + file + (dir / "render" / "manifest.json").string()).exit_code, 0);
+  const auto a =
+      RunCommand(run + file + (dir / "render").string() + " --out " + (dir / "a").string());
+  ASSERT_EQ(a.exit_code, 0) << a.output;
+  EXPECT_NE(a.output.find("were made on this scenario's frames (pixel hash " + hash),
+            std::string::npos)
+      << a.output;
+  const auto manifest = nlohmann::json::parse(ReadFile(dir / "a" / "manifest.json"));
+  EXPECT_EQ(manifest["pixel_hash"], hash);  // the run rendered the same frames
+  EXPECT_EQ(manifest["detection_file"]["made_on_pixel_hash"], hash);
+  EXPECT_EQ(manifest["detection_file"]["rendering"], fs::weakly_canonical(dir / "render").string());
+  // The resolved scenario pins the hash, and validates.
+  const std::string resolved = ReadFile(dir / "a" / "scenario.resolved.yaml");
+  EXPECT_NE(resolved.find("pixel_hash: \"" + hash + "\""), std::string::npos) << resolved;
+  EXPECT_EQ(RunCommand(validate + (dir / "a" / "scenario.resolved.yaml").string()).exit_code, 0);
+
+  // Another sun: other frames. Refused by validate and run, at the key, with
+  // both hashes and the key that differs; the run leaves no folder.
+  const std::string moved = " --set world.sun.elevation_deg=60";
+  const auto v = RunCommand(validate + file + (dir / "render").string() + moved);
+  EXPECT_EQ(v.exit_code, 2) << v.output;
+  EXPECT_NE(v.output.find("observation.file.rendering: expected this scenario's frames"),
+            std::string::npos)
+      << v.output;
+  EXPECT_NE(v.output.find("pixel hash " + hash), std::string::npos) << v.output;
+  EXPECT_NE(v.output.find("world.sun.elevation_deg (there 35, here 60)"), std::string::npos)
+      << v.output;
+  const auto b =
+      RunCommand(run + file + (dir / "render").string() + moved + " --out " + (dir / "b").string());
+  EXPECT_EQ(b.exit_code, 2) << b.output;
+  EXPECT_NE(b.output.find("world.sun.elevation_deg (there 35, here 60)"), std::string::npos)
+      << b.output;
+  EXPECT_FALSE(fs::exists(dir / "b"));
+  // A hash written by hand is checked the same way.
+  const std::string pinned = common +
+                             " --set observation.source=rendered --set observation.detector=file"
+                             " --set observation.file.path=" +
+                             det_path.string() + " --set observation.file.pixel_hash=" + hash;
+  EXPECT_EQ(RunCommand(validate + pinned).exit_code, 0);
+  const auto p = RunCommand(validate + pinned + moved);
+  EXPECT_EQ(p.exit_code, 2) << p.output;
+  EXPECT_NE(p.output.find("observation.file.pixel_hash: expected"), std::string::npos) << p.output;
+
+  // A folder that is no rendering, and a manifest without a pixel hash.
+  const auto none = RunCommand(validate + file + dir.string());
+  EXPECT_EQ(none.exit_code, 2) << none.output;
+  EXPECT_NE(none.output.find("a folder of `hcpf render` or of a rendered `hcpf run`"),
+            std::string::npos)
+      << none.output;
+  fs::create_directories(dir / "old");
+  { std::ofstream(dir / "old" / "manifest.json") << R"({"format": "hcpf-render/1"})"; }
+  const auto old = RunCommand(validate + file + (dir / "old").string());
+  EXPECT_EQ(old.exit_code, 2) << old.output;
+  EXPECT_NE(old.output.find("whose manifest has no pixel_hash"), std::string::npos) << old.output;
+}
+
 // A target that is never wholly in view gets no model, so a model-based
 // detector cannot find it and init: ground_truth gives it no filter: the run
 // says so by name, and the oracle still gives it a filter. On crossing cut

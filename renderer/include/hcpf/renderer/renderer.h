@@ -163,9 +163,10 @@ class SceneRenderer {
 void ApplySensorEffects(const SensorOptions& options, Rng rng, RgbImage& image);
 
 // Hex digest of everything that affects the pixels and ground truth of a
-// rendered frame: the world (including model file contents), the options
-// that change pixels (not backend, threads or output flags), the seed and the
-// renderer's shading version.
+// rendered frame: the world (model files by name and content, not by the
+// folder they are in), the options that change pixels (not backend, threads
+// or output flags), the seed and the renderer's shading version. The same
+// scene has the same hash in any clone, on any machine.
 std::string PixelHash(const WorldSpec& world, const RendererOptions& options, uint64_t seed);
 
 // "<platform>; <vendor>; <renderer>; <version>" of a GL context, e.g.

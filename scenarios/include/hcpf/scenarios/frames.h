@@ -47,6 +47,9 @@ struct SceneFrames {
   std::vector<FrameGroundTruth> truth;  // one per frame
   std::vector<RgbImage> images;         // when rendered and keep_images
   bool rendered = false;                // pixel-exact ground truth
+  // When frames were rendered (or read from the cache): renderer::PixelHash
+  // of the scene, the frames' identity (manifest `pixel_hash`).
+  std::string pixel_hash;
   int frames_rendered = 0;
   int frames_from_cache = 0;
   std::optional<renderer::GlInfo> gl;  // when a GL context was created

@@ -93,13 +93,22 @@ struct DetectionFileOptions {
   // it, so the run's identity (config hash) changes with the file's content;
   // written in a scenario, the file must still have it.
   std::string digest;
+  // The folder of `hcpf render` (or of a rendered `hcpf run`) whose frames
+  // the det.txt was made on, held as an absolute path: its manifest's
+  // pixel_hash must be this scenario's, so a det.txt of another scene, seed
+  // or renderer setting is refused at load time.
+  std::string rendering;
+  // renderer::PixelHash of the frames the det.txt was made on (32 hex
+  // digits): written, or read from `rendering`'s manifest; this scenario
+  // must render those frames. The resolved YAML writes it.
+  std::string pixel_hash;
   // The file's detections kept (score >= min_score), by 0-based frame: read
   // at load time with detector: file, so `hcpf validate` checks every row.
   std::shared_ptr<const std::vector<std::vector<Detection>>> frames;
   int rows = 0;      // the file's rows
   int left_out = 0;  // of them, scoring below min_score
 
-  // path, min_score, digest
+  // path, min_score, digest, rendering, pixel_hash
   static std::span<const Field<DetectionFileOptions>> Fields();
 };
 

@@ -1,0 +1,170 @@
+#include "rendering_check.h"
+
+#include <fmt/format.h>
+#include <yaml-cpp/yaml.h>
+
+#include <algorithm>
+#include <filesystem>
+#include <map>
+#include <nlohmann/json.hpp>
+
+#include "hcpf/config/file_lookup.h"
+#include "hcpf/core/fields.h"
+#include "hcpf/core/text_file.h"
+#include "hcpf/renderer/renderer.h"
+#include "hcpf/scenarios/frames.h"
+#include "hcpf/scenarios/models.h"
+
+namespace hcpf::scenarios::internal {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+constexpr const char* kRenderingNeeds =
+    "a folder of `hcpf render` or of a rendered `hcpf run` (holding manifest.json)";
+
+// Every scalar leaf of `node` under its dotted key.
+void Flatten(const YAML::Node& node, const std::string& key,
+             std::map<std::string, std::string>* leaves) {
+  if (node.IsMap()) {
+    for (const auto& entry : node) {
+      const std::string name = entry.first.Scalar();
+      Flatten(entry.second, key.empty() ? name : key + "." + name, leaves);
+    }
+  } else if (node.IsSequence()) {
+    if (node.size() == 0) (*leaves)[key] = "[]";
+    for (size_t i = 0; i < node.size(); ++i) {
+      Flatten(node[i], fmt::format("{}[{}]", key, i), leaves);
+    }
+  } else {
+    (*leaves)[key] = node.IsNull() ? "null" : node.Scalar();
+  }
+}
+
+// Keys that cannot change what the frames show: the detector's and the
+// tracker's side, names, and the renderer's output switches.
+bool ShapesNoPixel(const std::string& key) {
+  for (const char* prefix : {"observation.", "tracker.", "metrics.", "seeds.observation",
+                             "seeds.tracker", "renderer.write_", "renderer.backend"}) {
+    if (key.rfind(prefix, 0) == 0) return true;
+  }
+  return key == "name" || key == "description";
+}
+
+// ", where the scenarios differ: a (there x, here y), ..." from the
+// rendering's scenario.resolved.yaml, or why the keys do not tell.
+std::string WhereTheyDiffer(const fs::path& folder, const Scenario& s,
+                            const nlohmann::json& manifest) {
+  const fs::path resolved = folder / "scenario.resolved.yaml";
+  std::error_code ec;
+  if (!fs::is_regular_file(resolved, ec)) {
+    return "; that folder has no scenario.resolved.yaml to compare keys with";
+  }
+  std::vector<LeafDifference> differ;
+  try {
+    differ = DifferingLeaves(ReadInputFile(resolved.string(), "a resolved scenario", 1u << 26),
+                             ToResolvedYaml(s));
+  } catch (const std::exception& e) {
+    return fmt::format("; its scenario.resolved.yaml could not be compared ({})", e.what());
+  }
+  std::erase_if(differ, [](const LeafDifference& d) { return ShapesNoPixel(d.key); });
+  if (differ.empty()) {
+    const std::string version =
+        manifest.contains("hcpf_version") && manifest["hcpf_version"].is_string()
+            ? manifest["hcpf_version"].get<std::string>()
+            : "unknown";
+    return fmt::format(
+        "; the scenarios are alike in every key that shapes pixels, so a model file's content "
+        "or the renderer differs (that folder: hcpf {})",
+        version);
+  }
+  constexpr size_t kShown = 6;
+  std::string text = "; the scenarios differ at ";
+  for (size_t i = 0; i < std::min(differ.size(), kShown); ++i) {
+    const LeafDifference& d = differ[i];
+    if (i > 0) text += ", ";
+    text += fmt::format("{} (there {}, here {})", d.key, d.first.empty() ? "absent" : d.first,
+                        d.second.empty() ? "absent" : d.second);
+  }
+  if (differ.size() > kShown) text += fmt::format(" and {} more keys", differ.size() - kShown);
+  return text;
+}
+
+}  // namespace
+
+std::string ResolveRenderingFolder(const std::string& written, const std::string& scenario_file,
+                                   const SourceLocation& where) {
+  const bool manifest = fs::path(written).filename() == "manifest.json";
+  const std::string file = manifest ? written : (fs::path(written) / "manifest.json").string();
+  return fs::path(ResolveModelPath(file, scenario_file, where, kRenderingNeeds))
+      .parent_path()
+      .string();
+}
+
+std::vector<LeafDifference> DifferingLeaves(const std::string& first_yaml,
+                                            const std::string& second_yaml) {
+  std::map<std::string, std::string> first;
+  std::map<std::string, std::string> second;
+  Flatten(YAML::Load(first_yaml), "", &first);
+  Flatten(YAML::Load(second_yaml), "", &second);
+  std::vector<LeafDifference> out;
+  auto a = first.begin();
+  auto b = second.begin();
+  while (a != first.end() || b != second.end()) {
+    if (b == second.end() || (a != first.end() && a->first < b->first)) {
+      out.push_back({a->first, a->second, ""});
+      ++a;
+    } else if (a == first.end() || b->first < a->first) {
+      out.push_back({b->first, "", b->second});
+      ++b;
+    } else {
+      if (a->second != b->second) out.push_back({a->first, a->second, b->second});
+      ++a;
+      ++b;
+    }
+  }
+  return out;
+}
+
+void CheckRendering(Scenario* s) {
+  DetectionFileOptions& f = s->observation.file;
+  if (f.rendering.empty() && f.pixel_hash.empty()) return;
+  const std::string ours = renderer::PixelHash(s->world, RendererOptionsOf(*s), s->seeds.renderer);
+  const std::string expected = fmt::format(
+      "this scenario's frames, whose pixel hash is {} (a det.txt made on the frames of `hcpf "
+      "render` of this scenario)",
+      ours);
+  if (!f.rendering.empty()) {
+    const fs::path folder(f.rendering);
+    const std::string manifest_path = (folder / "manifest.json").string();
+    nlohmann::json manifest;
+    try {
+      manifest = nlohmann::json::parse(
+          ReadInputFile(manifest_path, "a manifest.json (observation.file.rendering)", 1u << 26));
+    } catch (const nlohmann::json::exception& e) {
+      throw InputError(SourceLocation{manifest_path, 1, 1, ""}, "a manifest.json in JSON",
+                       e.what());
+    }
+    if (!manifest.is_object() || !manifest.contains("pixel_hash") ||
+        !manifest["pixel_hash"].is_string()) {
+      FailOption("observation.file", "rendering",
+                 "a folder whose manifest.json names its frames' pixel_hash (written by `hcpf "
+                 "render` and rendered runs of this version: render again)",
+                 fmt::format("{}, whose manifest has no pixel_hash", f.rendering));
+    }
+    const std::string theirs = manifest["pixel_hash"].get<std::string>();
+    if (theirs != ours) {
+      FailOption("observation.file", "rendering", expected,
+                 fmt::format("the frames of another rendering: {} has pixel hash {}{}", f.rendering,
+                             theirs, WhereTheyDiffer(folder, *s, manifest)));
+    }
+  }
+  if (!f.pixel_hash.empty() && f.pixel_hash != ours) {
+    FailOption("observation.file", "pixel_hash", expected,
+               fmt::format("\"{}\", the frames of another rendering", f.pixel_hash));
+  }
+  f.pixel_hash = ours;
+}
+
+}  // namespace hcpf::scenarios::internal

@@ -1,0 +1,40 @@
+#pragma once
+// observation.file.rendering / pixel_hash: a det.txt belongs to one rendering
+// (renderer::PixelHash), checked at load time so `hcpf validate` refuses what
+// `hcpf run` would, before a tracker reads boxes of another scene.
+
+#include <string>
+#include <vector>
+
+#include "hcpf/core/error.h"
+#include "hcpf/scenarios/scenario.h"
+
+namespace hcpf::scenarios::internal {
+
+// The folder `written` names (`hcpf render`'s or a rendered run's), found like
+// a model file through its manifest.json; `written` may name the manifest
+// itself. Returns the folder's canonical absolute path; throws InputError at
+// `where` when no such manifest exists.
+std::string ResolveRenderingFolder(const std::string& written, const std::string& scenario_file,
+                                   const SourceLocation& where);
+
+// A leaf of a YAML document that differs between two of them: its dotted key
+// ("targets[1].path.speed_mps") and its text in each ("" when absent).
+struct LeafDifference {
+  std::string key;
+  std::string first;
+  std::string second;
+};
+
+// The scalar leaves that differ between two YAML texts, in key order.
+std::vector<LeafDifference> DifferingLeaves(const std::string& first_yaml,
+                                            const std::string& second_yaml);
+
+// With `rendering` or `pixel_hash` set in s->observation.file: compares the
+// frames the det.txt was made on with those `s` renders; throws InputError at
+// the key whose hash differs (thrown by FailOption: relocate it), naming both
+// hashes and, from the rendering's scenario.resolved.yaml, the keys that
+// differ. Sets pixel_hash (the resolved YAML writes it).
+void CheckRendering(Scenario* s);
+
+}  // namespace hcpf::scenarios::internal

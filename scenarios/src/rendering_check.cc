@@ -1,6 +1,7 @@
 #include "rendering_check.h"
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 #include <yaml-cpp/yaml.h>
 
 #include <algorithm>
@@ -91,6 +92,17 @@ std::string WhereTheyDiffer(const fs::path& folder, const Scenario& s,
   return text;
 }
 
+// The manifest.json of a rendering folder; throws InputError.
+nlohmann::json ReadManifest(const fs::path& folder) {
+  const std::string path = (folder / "manifest.json").string();
+  try {
+    return nlohmann::json::parse(
+        ReadInputFile(path, "a manifest.json (observation.file.rendering)", 1u << 26));
+  } catch (const nlohmann::json::exception& e) {
+    throw InputError(SourceLocation{path, 1, 1, ""}, "a manifest.json in JSON", e.what());
+  }
+}
+
 }  // namespace
 
 std::string ResolveRenderingFolder(const std::string& written, const std::string& scenario_file,
@@ -137,15 +149,7 @@ void CheckRendering(Scenario* s) {
       ours);
   if (!f.rendering.empty()) {
     const fs::path folder(f.rendering);
-    const std::string manifest_path = (folder / "manifest.json").string();
-    nlohmann::json manifest;
-    try {
-      manifest = nlohmann::json::parse(
-          ReadInputFile(manifest_path, "a manifest.json (observation.file.rendering)", 1u << 26));
-    } catch (const nlohmann::json::exception& e) {
-      throw InputError(SourceLocation{manifest_path, 1, 1, ""}, "a manifest.json in JSON",
-                       e.what());
-    }
+    const nlohmann::json manifest = ReadManifest(folder);
     if (!manifest.is_object() || !manifest.contains("pixel_hash") ||
         !manifest["pixel_hash"].is_string()) {
       FailOption("observation.file", "rendering",
@@ -165,6 +169,49 @@ void CheckRendering(Scenario* s) {
                fmt::format("\"{}\", the frames of another rendering", f.pixel_hash));
   }
   f.pixel_hash = ours;
+}
+
+std::string RendererDifference(const std::string& rendering, const SceneFrames& scene) {
+  nlohmann::json manifest;
+  try {
+    manifest = ReadManifest(rendering);
+  } catch (const Error& e) {
+    return fmt::format("the GL renderer of {} is unknown: {}", rendering, e.what());
+  }
+  // RendererLine's "<platform>; <vendor>; <renderer>; <version>" of each side.
+  std::vector<std::string> there;
+  if (manifest.is_object()) {
+    const auto gl = manifest.find("gl_renderer");
+    if (gl != manifest.end() && gl->is_object()) {
+      renderer::GlInfo info;
+      info.platform = gl->value("platform", "");
+      info.vendor = gl->value("vendor", "");
+      info.renderer = gl->value("renderer", "");
+      info.version = gl->value("version", "");
+      there.push_back(renderer::RendererLine(info));
+    }
+    const auto cached = manifest.find("frame_cache_renderers");
+    if (cached != manifest.end() && cached->is_array()) {
+      for (const auto& line : *cached) {
+        if (line.is_string()) there.push_back(line.get<std::string>());
+      }
+    }
+  }
+  std::vector<std::string> here = scene.cache_renderers;
+  if (scene.gl) here.push_back(renderer::RendererLine(*scene.gl));
+  std::vector<std::string> unseen;
+  for (const std::string& line : here) {
+    const bool known = std::find(there.begin(), there.end(), line) != there.end();
+    if (!known && std::find(unseen.begin(), unseen.end(), line) == unseen.end()) {
+      unseen.push_back(line);
+    }
+  }
+  if (there.empty() || unseen.empty()) return "";
+  return fmt::format(
+      "the det.txt's frames ({}) were rendered by {}, this run's by {}: the pixel hash leaves "
+      "the GL renderer out, so the pixels the detections were made on may differ slightly from "
+      "those tracked and scored here",
+      rendering, fmt::join(there, " | "), fmt::join(unseen, " | "));
 }
 
 }  // namespace hcpf::scenarios::internal

@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "hcpf/core/error.h"
+#include "hcpf/scenarios/frames.h"
 #include "hcpf/scenarios/scenario.h"
 
 namespace hcpf::scenarios::internal {
@@ -36,5 +37,12 @@ std::vector<LeafDifference> DifferingLeaves(const std::string& first_yaml,
 // hashes and, from the rendering's scenario.resolved.yaml, the keys that
 // differ. Sets pixel_hash (the resolved YAML writes it).
 void CheckRendering(Scenario* s);
+
+// After the run's frames are made: a warning when they came from a GL
+// renderer that made none of `rendering`'s frames (its manifest's
+// gl_renderer and frame_cache_renderers), whose pixels may differ slightly
+// though the pixel hash (which leaves the GL renderer out) is the same; ""
+// when they agree, or when either side does not say.
+std::string RendererDifference(const std::string& rendering, const SceneFrames& scene);
 
 }  // namespace hcpf::scenarios::internal

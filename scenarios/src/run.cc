@@ -28,6 +28,7 @@
 #include "hcpf/scenarios/progress.h"
 #include "hcpf/scenarios/version.h"
 #include "hcpf/tracker/tracker.h"
+#include "rendering_check.h"
 #include "writers.h"
 
 namespace hcpf::scenarios {
@@ -238,6 +239,11 @@ RunSummary RunScenario(const Scenario& scenario, const RunOptions& options) {
   }
   SceneFrames scene = ProduceFrames(scenario, frame_options);
   const std::vector<FrameGroundTruth>& truth = scene.truth;
+  if (scenario.observation.from_file() && !scenario.observation.file.rendering.empty()) {
+    const std::string warning =
+        internal::RendererDifference(scenario.observation.file.rendering, scene);
+    if (!warning.empty()) spdlog::warn("{}", warning);
+  }
   timings["ground_truth_s"] = Seconds(t0) - tracker_seconds;
 
   // 2. Observations: the oracle (noisy ground truth), or the detector's

@@ -233,5 +233,15 @@ TEST(DetectionFile, WithAnotherDetectorTheRenderingIsCheckedAndNotWritten) {
   EXPECT_EQ(ToResolvedYaml(s).find("rendering"), std::string::npos);
 }
 
+TEST(DetectionFile, ARenderingsManifestThatIsNotJsonIsRefusedAtItsFile) {
+  const fs::path dir = hcpf::testing::FreshDir("detection-file-rendering-json");
+  WriteTextFile((dir / "det.txt").string(), "1,-1,11,21,30,15,0.9\n");
+  WriteTextFile((dir / "manifest.json").string(), "{\"pixel_hash\": ");
+  const std::string error = FileLoadError(
+      kMinimal, With(FileDetector(dir / "det.txt"), {"observation.file.rendering", dir.string()}));
+  EXPECT_NE(error.find((dir / "manifest.json").string() + ":1:1"), std::string::npos) << error;
+  EXPECT_NE(error.find("expected a manifest.json in JSON"), std::string::npos) << error;
+}
+
 }  // namespace
 }  // namespace hcpf::scenarios

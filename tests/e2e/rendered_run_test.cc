@@ -434,6 +434,22 @@ TEST(RenderedRun, ADetectionFileIsCheckedAgainstTheRenderingItWasMadeOn) {
   EXPECT_EQ(manifest["pixel_hash"], hash);  // the run rendered the same frames
   EXPECT_EQ(manifest["detection_file"]["made_on_pixel_hash"], hash);
   EXPECT_EQ(manifest["detection_file"]["rendering"], fs::weakly_canonical(dir / "render").string());
+  EXPECT_EQ(a.output.find("were rendered by"), std::string::npos) << a.output;  // one renderer
+  // The rendering as if made by another GL renderer (a GPU elsewhere): the
+  // hash, which leaves the GL renderer out, still matches, and the run warns
+  // that the pixels may differ.
+  {
+    auto edited = render_manifest;
+    edited["gl_renderer"]["renderer"] = "another renderer";
+    edited.erase("frame_cache_renderers");
+    std::ofstream(dir / "render" / "manifest.json") << edited.dump(2);
+  }
+  const auto c =
+      RunCommand(run + file + (dir / "render").string() + " --out " + (dir / "c").string());
+  ASSERT_EQ(c.exit_code, 0) << c.output;
+  EXPECT_NE(c.output.find("were rendered by"), std::string::npos) << c.output;
+  EXPECT_NE(c.output.find("; another renderer; "), std::string::npos) << c.output;
+  { std::ofstream(dir / "render" / "manifest.json") << render_manifest.dump(2); }
   // The resolved scenario pins the hash, and validates.
   const std::string resolved = ReadFile(dir / "a" / "scenario.resolved.yaml");
   EXPECT_NE(resolved.find("pixel_hash: \"" + hash + "\""), std::string::npos) << resolved;

@@ -132,6 +132,7 @@ std::vector<DetectionFileRow> DetectionRowsOf(const MotFile& file) {
                     .detection = {.box = {row.box.left - 1.0, row.box.top - 1.0, row.box.width,
                                           row.box.height},
                                   .score = row.conf},
+                    .id = row.id,
                     .line = row.line});
   }
   return rows;

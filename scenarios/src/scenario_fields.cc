@@ -317,6 +317,10 @@ std::span<const Field<DetectionFileOptions>> DetectionFileOptions::Fields() {
       // Scores are the program's own: any finite number may be a threshold.
       NumberField("min_score", &O::min_score, Closed(-1e9, 1e9), "",
                   "rows scoring below it are left out (neither tracked nor scored)"),
+      FlagField("labels", &O::labels,
+                "column 2 names the target each detection is of (a target id, or -1 for "
+                "none), as in the det/det.txt of a model-based detector's run: each filter "
+                "sees only its own target's detections (needs tracker.init: ground_truth)"),
       DefaultDoc(TextField<&O::digest>(
                      "digest",
                      "XXH3-128 of the file's content (32 hex digits), written by the resolved "
@@ -461,8 +465,9 @@ void ObservationOptions::Validate(const tracker::TrackerOptions& tracker) const 
   }
   const bool reacquire = tracker.management.reacquire != tracker::ReacquireMode::kNone;
   constexpr std::string_view kReacquireNeeds =
-      "none, or a model-based observation.detector (a filter is found again from its own "
-      "target's detections, which only a detector with target models labels)";
+      "none, or a model-based observation.detector or a detection file with labels: true (a "
+      "filter is found again from its own target's detections, which only labelled detections "
+      "name)";
   if (reacquire && oracle()) {
     FailOption("tracker.management", "reacquire", kReacquireNeeds,
                "own_detections with observation.detector: oracle");
@@ -517,9 +522,16 @@ void ObservationOptions::Validate(const tracker::TrackerOptions& tracker) const 
     FailOption("tracker.likelihood", "model", map_needs(),
                "map with observation.detector: " + name + ", which makes no maps");
   }
-  if (reacquire && !uses_models) {
+  if (reacquire && !labelled()) {
     FailOption("tracker.management", "reacquire", kReacquireNeeds,
-               "own_detections with observation.detector: " + name);
+               "own_detections with observation.detector: " + name +
+                   (from_file() ? " and file.labels: false" : ""));
+  }
+  if (from_file() && file.labels && tracker.init != tracker::InitMode::kGroundTruth) {
+    FailOption("observation.file", "labels",
+               "false, or true with tracker.init: ground_truth (a label names a target, and "
+               "filters carry their target's id only when born from ground truth)",
+               "true with tracker.init: " + std::string(NameOf(tracker.init)));
   }
   if (uses_models && tracker.init != tracker::InitMode::kGroundTruth) {
     FailOption("observation", "detector",

@@ -4,6 +4,7 @@
 // by hand is the structure (lists, kinds) and the rules across keys.
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -189,6 +190,8 @@ void ReadDetectionFile(const YamlReader& root, Scenario* s) {
   const bool weighed = !s->tracker_choice.external() && s->tracker.likelihood.use_scores;
   auto frames =
       std::make_shared<std::vector<std::vector<Detection>>>(static_cast<size_t>(s->world.frames));
+  std::set<int64_t> ids;  // with labels: the targets a row may name
+  for (const TargetSpec& t : s->world.targets) ids.insert(Value(t.id));
   for (const metrics::DetectionFileRow& row : metrics::DetectionRowsOf(file)) {
     const double score = row.detection.score;
     ++f.rows;
@@ -207,7 +210,19 @@ void ReadDetectionFile(const YamlReader& root, Scenario* s) {
                                   : ""),
           fmt::format("{:g}", score));
     }
-    (*frames)[static_cast<size_t>(row.frame)].push_back(row.detection);
+    Detection detection = row.detection;
+    if (f.labels && row.id != -1) {
+      if (!ids.contains(row.id)) {
+        throw InputError(
+            SourceLocation{f.path, row.line, 2, "column 2 (id)"},
+            fmt::format("the id of one of the scenario's targets ({}), or -1 for a detection of "
+                        "none: observation.file.labels: true reads column 2 as the target",
+                        fmt::join(ids, ", ")),
+            std::to_string(row.id));
+      }
+      detection.target = ObjectId{static_cast<int32_t>(row.id)};
+    }
+    (*frames)[static_cast<size_t>(row.frame)].push_back(detection);
   }
   f.frames = std::move(frames);
 }

@@ -144,8 +144,11 @@ std::string FormatDetectionsMot(const std::vector<Observation>& observations) {
   std::string out;
   for (const Observation& obs : observations) {
     for (const Detection& d : obs.detections) {
-      out += fmt::format("{},-1,{:.3f},{:.3f},{:.3f},{:.3f},{:.4f},-1,-1,-1\n", obs.frame + 1,
-                         d.box.left + 1.0, d.box.top + 1.0, d.box.width, d.box.height, d.score);
+      // Column 2: the target a target-specific detector found (what
+      // observation.file.labels reads back), else MOTChallenge's -1.
+      out += fmt::format("{},{},{:.3f},{:.3f},{:.3f},{:.3f},{:.4f},-1,-1,-1\n", obs.frame + 1,
+                         d.target ? Value(*d.target) : -1, d.box.left + 1.0, d.box.top + 1.0,
+                         d.box.width, d.box.height, d.score);
     }
   }
   return out;

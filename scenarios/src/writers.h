@@ -46,7 +46,8 @@ std::string FormatFiltersCsv(const std::vector<tracker::FrameReport>& reports,
 // camera_motion.csv: frame,tx_px,ty_px,log_scale,rotation_rad,error_px,ess
 // (ess empty without a scene filter).
 std::string FormatCameraMotionCsv(const std::vector<internal::CameraMotionRecord>& records);
-// MOT detections: frame,-1,left,top,w,h,score,-1,-1,-1.
+// MOT detections: frame,target,left,top,w,h,score,-1,-1,-1 (target: the
+// detection's Detection::target, -1 when it has none).
 std::string FormatDetectionsMot(const std::vector<Observation>& observations);
 // seqinfo.ini for TrackEval's MOTChallenge loader.
 metrics::SeqInfo SeqInfoOf(const Scenario& scenario);

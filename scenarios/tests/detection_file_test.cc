@@ -173,6 +173,22 @@ TEST(DetectionFile, BadRowsAndRulesAcrossKeysAreRejectedWhereTheyAre) {
       {"UnknownKey",
        With(FileDetector(good), {"observation.file.pth", "x"}),
        {"observation.file.pth"}},
+      // With labels, column 2 names a target of the scenario (1 or 2), or -1.
+      {"LabelNotATarget",
+       With(FileDetector(file("stranger.txt", "1,2,11,21,30,15,0.9\n1,3,11,21,30,15,0.9\n")),
+            {"observation.file.labels", "true"}),
+       {"stranger.txt:2:2", "column 2 (id)", "one of the scenario's targets (1, 2), or -1",
+        "found 3"}},
+      {"LabelsWithoutGroundTruthInit",
+       With(With(FileDetector(good), {"observation.file.labels", "true"}),
+            {"tracker.init", "detections"}),
+       {"observation.file.labels", "tracker.init: ground_truth",
+        "true with tracker.init: detections"}},
+      {"ReacquireWithoutLabels",
+       With(FileDetector(good), {"tracker.management.reacquire", "own_detections"}),
+       {"tracker.management.reacquire",
+        "own_detections with observation.detector: file and "
+        "file.labels: false"}},
   };
   for (const Case& c : cases) {
     const std::string error = FileLoadError(kMinimal, c.overrides);
@@ -193,6 +209,49 @@ TEST(DetectionFile, BadRowsAndRulesAcrossKeysAreRejectedWhereTheyAre) {
   EXPECT_EQ(LoadScenarioText(kMinimal, "s.yaml", cut).observation.file.left_out, 1);
   // An external tracker reads the scores as they are.
   std::vector<Override> external = FileDetector(loud);
+  external.push_back({"tracker.type", "external"});
+  external.push_back({"tracker.command", "[/bin/cat]"});
+  EXPECT_EQ(FileLoadError(kMinimal, external), "");
+}
+
+TEST(DetectionFile, WithLabelsColumnTwoNamesTheTargetEachDetectionIsOf) {
+  const fs::path dir = hcpf::testing::FreshDir("detection-file-labels");
+  const fs::path det = dir / "det.txt";
+  // Target 2, a detection of none (-1), target 1; an id that names no target
+  // (7) is accepted without labels, where ids are ignored.
+  WriteTextFile(det.string(),
+                "1,2,11,21,30,15,0.9\n"
+                "1,-1,101,51,8,4,0.5\n"
+                "2,1,5,5,10,10,1\n"
+                "3,7,5,5,10,10,1\n");
+  const Scenario plain = LoadScenarioText(kMinimal, "s.yaml", FileDetector(det));
+  for (const auto& frame : *plain.observation.file.frames) {
+    for (const Detection& d : frame) EXPECT_FALSE(d.target.has_value());
+  }
+  EXPECT_FALSE(plain.observation.labelled());
+  WriteTextFile(det.string(),
+                "1,2,11,21,30,15,0.9\n"
+                "1,-1,101,51,8,4,0.5\n"
+                "2,1,5,5,10,10,1\n");
+  const Scenario s = LoadScenarioText(kMinimal, "s.yaml",
+                                      With(FileDetector(det), {"observation.file.labels", "true"}));
+  EXPECT_TRUE(s.observation.labelled());
+  EXPECT_FALSE(s.observation.model_based());  // no models: no windows, no maps
+  const auto& frames = *s.observation.file.frames;
+  ASSERT_EQ(frames[0].size(), 2u);
+  EXPECT_EQ(frames[0][0].target, ObjectId{2});
+  EXPECT_FALSE(frames[0][1].target.has_value());
+  ASSERT_EQ(frames[1].size(), 1u);
+  EXPECT_EQ(frames[1][0].target, ObjectId{1});
+  // Labelled detections find a filter's target again.
+  std::vector<Override> reacquire = FileDetector(det);
+  reacquire.push_back({"observation.file.labels", "true"});
+  reacquire.push_back({"tracker.management.reacquire", "own_detections"});
+  EXPECT_EQ(FileLoadError(kMinimal, reacquire), "");
+  EXPECT_NE(ToResolvedYaml(s).find("labels: true"), std::string::npos);
+  // An external tracker gets each detection's target too (its "target").
+  std::vector<Override> external = FileDetector(det);
+  external.push_back({"observation.file.labels", "true"});
   external.push_back({"tracker.type", "external"});
   external.push_back({"tracker.command", "[/bin/cat]"});
   EXPECT_EQ(FileLoadError(kMinimal, external), "");

@@ -42,11 +42,12 @@ GroundTruthFile ReadGroundTruthJson(const std::string& path);
 struct DetectionFileRow {
   int frame = 0;
   Detection detection;
+  int64_t id = -1;  // column 2 as written (-1 in MOTChallenge's det.txt)
   int line = 0;
 };
 
 // The detections of a MOTChallenge det.txt (frame, id, left, top, width,
-// height, score; 1-based frames and pixels; ids ignored) read with
+// height, score; 1-based frames and pixels; ids kept in `id`, which scoring ignores) read with
 // MotFileKind::kDetections. A box whose width or height is not above 0, a
 // coordinate beyond kMaxCoordinatePx or a score that is not finite is an
 // InputError at the file, line and column.

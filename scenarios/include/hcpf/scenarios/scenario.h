@@ -89,6 +89,13 @@ struct DetectionFileOptions {
   // run says how many. 0 keeps every row of a detector whose scores are
   // confidences in [0, 1].
   double min_score = 0.0;
+  // Whether column 2 (MOTChallenge's id, -1 in a det.txt) names the target
+  // each detection is of, as a target-specific detector's output does (the
+  // det/det.txt of a model-based detector's run): a target id of the
+  // scenario, or -1 for a detection of none. Each filter then sees only its
+  // own target's detections (tracker.init: ground_truth numbers filters by
+  // target).
+  bool labels = false;
   // XXH3-128 of the file's content, 32 hex digits: the resolved YAML writes
   // it, so the run's identity (config hash) changes with the file's content;
   // written in a scenario, the file must still have it.
@@ -108,7 +115,7 @@ struct DetectionFileOptions {
   int rows = 0;      // the file's rows
   int left_out = 0;  // of them, scoring below min_score
 
-  // path, min_score, digest, rendering, pixel_hash
+  // path, min_score, labels, digest, rendering, pixel_hash
   static std::span<const Field<DetectionFileOptions>> Fields();
 };
 
@@ -134,6 +141,9 @@ struct ObservationOptions {
   // model-based vision/ detector, or a fusion of them); false for the
   // oracle and the file.
   bool model_based() const;
+  // Whether the detections carry their target: model_based(), or the file
+  // with file.labels.
+  bool labelled() const { return model_based() || (from_file() && file.labels); }
   // The vision/ detector's name as vision::MakeDetector takes it: `detector`,
   // or the fused names joined by '+' ("sks+prca"); "oracle" for the oracle,
   // "file" for the file.

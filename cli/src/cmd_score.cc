@@ -18,6 +18,7 @@
 #include <memory>
 #include <nlohmann/json.hpp>
 #include <optional>
+#include <set>
 #include <sstream>
 #include <vector>
 
@@ -37,11 +38,13 @@ namespace {
 
 // hcpf score --detections GT.json DET.txt: the detections of a detector (a
 // MOTChallenge det.txt: frame, id, left, top, width, height, score; 1-based
-// frames and pixels, ids ignored) scored as `hcpf run` scores its own.
+// frames and pixels; ids read as targets with `labels`, else ignored) scored
+// as `hcpf run` scores its own.
 // Rows scoring below `min_score` (nullopt: none) are left out, as
 // observation.file.min_score leaves them out of a run.
 int ScoreDetectionFiles(const std::string& gt_path, const std::string& det_path, double min_visible,
-                        std::optional<double> min_score, const std::string& json_path) {
+                        std::optional<double> min_score, bool labels,
+                        const std::string& json_path) {
   // The folder of `hcpf render` or `hcpf run` stands for its gt.json.
   std::error_code ec;
   const std::string gt_file =
@@ -55,8 +58,18 @@ int ScoreDetectionFiles(const std::string& gt_path, const std::string& det_path,
   std::vector<metrics::DetectionFrame> frames(gt.frames.size());
   for (size_t f = 0; f < frames.size(); ++f)
     frames[f].truth = metrics::DetectionTruthOf(gt.frames[f]);
+  std::vector<metrics::DetectionFileRow> rows = metrics::DetectionRowsOf(det);
+  if (labels) {
+    // A labelled detection may only match its target (ScoreDetections), as
+    // in a run with observation.file.labels: true.
+    std::set<int64_t> targets;
+    for (const FrameGroundTruth& frame : gt.frames) {
+      for (const GroundTruthObject& o : frame.objects) targets.insert(Value(o.id));
+    }
+    metrics::ReadDetectionLabels(det, targets, "--labels", &rows);
+  }
   int left_out = 0;
-  for (const metrics::DetectionFileRow& row : metrics::DetectionRowsOf(det)) {
+  for (const metrics::DetectionFileRow& row : rows) {
     if (min_score && row.detection.score < *min_score) {
       ++left_out;
       continue;
@@ -104,6 +117,7 @@ Command AddScoreCommand(CLI::App& parent) {
     bool detections = false;
     double min_visible = metrics::DetectionQualityOptions{}.min_visible;
     double min_score = 0.0;
+    bool labels = false;
   };
   auto options = std::make_shared<Options>();
   CLI::App* app = parent.add_subcommand(
@@ -143,6 +157,9 @@ Command AddScoreCommand(CLI::App& parent) {
                   "With --detections: detections scoring below this are left out, as "
                   "observation.file.min_score leaves them out of a run (default: none)")
       ->check(CLI::Range(-1e9, 1e9));
+  app->add_flag("--labels", options->labels,
+                "With --detections: column 2 names the target each detection is of (-1: none), "
+                "as observation.file.labels reads it, and a detection may only match its target");
   return {app, [options, app]() -> int {
             using namespace hcpf::metrics;
             const Benchmark benchmark = *ParseBenchmark(options->benchmark);
@@ -153,6 +170,10 @@ Command AddScoreCommand(CLI::App& parent) {
                                  std::string(option) + " only with --detections",
                                  fmt::format("{}", value));
               }
+            }
+            if (!options->detections && options->labels) {
+              throw InputError(SourceLocation{"command line", 0, 0, "--labels"},
+                               "--labels only with --detections", "--labels given");
             }
             if (options->detections) {
               // What only tracker scoring takes (ignored here otherwise).
@@ -180,7 +201,7 @@ Command AddScoreCommand(CLI::App& parent) {
               return ScoreDetectionFiles(
                   options->gt, options->hyp, options->min_visible,
                   app->count("--min-score") > 0 ? std::optional(options->min_score) : std::nullopt,
-                  options->json);
+                  options->labels, options->json);
             }
             if (!options->trackeval_root.empty()) {
               if (!options->gt.empty() || !options->hyp.empty()) {

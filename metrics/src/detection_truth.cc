@@ -1,6 +1,7 @@
 #include "hcpf/metrics/detection_truth.h"
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 
 #include <cmath>
 #include <nlohmann/json.hpp>
@@ -136,6 +137,21 @@ std::vector<DetectionFileRow> DetectionRowsOf(const MotFile& file) {
                     .line = row.line});
   }
   return rows;
+}
+
+void ReadDetectionLabels(const MotFile& file, const std::set<int64_t>& targets,
+                         const std::string& labels_option, std::vector<DetectionFileRow>* rows) {
+  for (DetectionFileRow& row : *rows) {
+    if (row.id == -1) continue;
+    if (!targets.contains(row.id)) {
+      throw InputError(SourceLocation{file.path, row.line, 2, "column 2 (id)"},
+                       fmt::format("the id of one of the targets ({}), or -1 for a detection of "
+                                   "none: {} reads column 2 as the target",
+                                   fmt::join(targets, ", "), labels_option),
+                       std::to_string(row.id));
+    }
+    row.detection.target = ObjectId{static_cast<int32_t>(row.id)};
+  }
 }
 
 }  // namespace hcpf::metrics

@@ -4,7 +4,6 @@
 // by hand is the structure (lists, kinds) and the rules across keys.
 
 #include <fmt/format.h>
-#include <fmt/ranges.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -190,9 +189,13 @@ void ReadDetectionFile(const YamlReader& root, Scenario* s) {
   const bool weighed = !s->tracker_choice.external() && s->tracker.likelihood.use_scores;
   auto frames =
       std::make_shared<std::vector<std::vector<Detection>>>(static_cast<size_t>(s->world.frames));
-  std::set<int64_t> ids;  // with labels: the targets a row may name
-  for (const TargetSpec& t : s->world.targets) ids.insert(Value(t.id));
-  for (const metrics::DetectionFileRow& row : metrics::DetectionRowsOf(file)) {
+  std::vector<metrics::DetectionFileRow> rows = metrics::DetectionRowsOf(file);
+  if (f.labels) {
+    std::set<int64_t> ids;
+    for (const TargetSpec& t : s->world.targets) ids.insert(Value(t.id));
+    metrics::ReadDetectionLabels(file, ids, "observation.file.labels: true", &rows);
+  }
+  for (const metrics::DetectionFileRow& row : rows) {
     const double score = row.detection.score;
     ++f.rows;
     if (score < f.min_score) {
@@ -210,19 +213,7 @@ void ReadDetectionFile(const YamlReader& root, Scenario* s) {
                                   : ""),
           fmt::format("{:g}", score));
     }
-    Detection detection = row.detection;
-    if (f.labels && row.id != -1) {
-      if (!ids.contains(row.id)) {
-        throw InputError(
-            SourceLocation{f.path, row.line, 2, "column 2 (id)"},
-            fmt::format("the id of one of the scenario's targets ({}), or -1 for a detection of "
-                        "none: observation.file.labels: true reads column 2 as the target",
-                        fmt::join(ids, ", ")),
-            std::to_string(row.id));
-      }
-      detection.target = ObjectId{static_cast<int32_t>(row.id)};
-    }
-    (*frames)[static_cast<size_t>(row.frame)].push_back(detection);
+    (*frames)[static_cast<size_t>(row.frame)].push_back(row.detection);
   }
   f.frames = std::move(frames);
 }

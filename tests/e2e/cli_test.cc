@@ -509,8 +509,29 @@ TEST(Cli, ScoreDetectionsScoresADetectorsOwnOutputAgainstAGtJson) {
   ASSERT_EQ(r2.exit_code, 0) << r2.output;
   EXPECT_EQ(nlohmann::json::parse(ReadFile(dir / "e.json"))["iou"]["fn"], 0);
 
+  // --labels: column 2 names each detection's target, and a detection may
+  // only match its own. Target 1's box labelled 2 is then a false detection
+  // and target 1 a miss; target 2's and 4's boxes carry their right labels.
+  std::ofstream(dir / "labelled.txt") << "1,2,11,11,20,20,0.9,-1,-1,-1\n"
+                                         "1,2,91,41,10,20,0.8,-1,-1,-1\n"
+                                         "1,-1,51,51,10,10,0.7,-1,-1,-1\n"
+                                         "1,-1,71,61,8,8,0.6,-1,-1,-1\n"
+                                         "1,4,31,61,2,2,0.5,-1,-1,-1\n";
+  const std::string labelled = kHcpf + " score --detections " + (dir / "gt.json").string() + " " +
+                               (dir / "labelled.txt").string() + " --json ";
+  const auto l = RunCommand(labelled + (dir / "l.json").string() + " --labels");
+  ASSERT_EQ(l.exit_code, 0) << l.output;
+  const auto ld = nlohmann::json::parse(ReadFile(dir / "l.json"));
+  EXPECT_EQ(ld["iou"]["tp"], 2) << ld["iou"];
+  EXPECT_EQ(ld["iou"]["fp"], 2) << ld["iou"];
+  EXPECT_EQ(ld["iou"]["fn"], 2) << ld["iou"];
+  // Without --labels the ids are not read: the counts of det.txt.
+  ASSERT_EQ(RunCommand(labelled + (dir / "u.json").string()).exit_code, 0);
+  EXPECT_EQ(nlohmann::json::parse(ReadFile(dir / "u.json"))["iou"], d["iou"]);
+
   // Bad input: exit 2, the file, line and column named, nothing written.
   std::ofstream(dir / "zero.txt") << "1,-1,11,11,20,20,0.9\n2,-1,11,11,0,20,0.9\n";
+  std::ofstream(dir / "stranger.txt") << "1,4,11,11,20,20,0.9\n2,9,11,11,20,20,0.9\n";
   std::ofstream(dir / "late.txt") << "3,-1,11,11,20,20,0.9\n";
   std::ofstream(dir / "far.txt") << "1,-1,1e300,11,20,20,0.9\n";
   for (const auto& [args, message] : std::vector<std::pair<std::string, std::string>>{
@@ -529,7 +550,13 @@ TEST(Cli, ScoreDetectionsScoresADetectorsOwnOutputAgainstAGtJson) {
            {" --min-visible 0.5 " + (dir / "gt.json").string() + " " + (dir / "det.txt").string(),
             "--min-visible: expected --min-visible only with --detections"},
            {" --min-score 0.5 " + (dir / "gt.json").string() + " " + (dir / "det.txt").string(),
-            "--min-score: expected --min-score only with --detections"}}) {
+            "--min-score: expected --min-score only with --detections"},
+           {" --detections --labels " + (dir / "gt.json").string() + " " +
+                (dir / "stranger.txt").string(),
+            "stranger.txt:2:2: column 2 (id): expected the id of one of the targets (1, 2, 3, 4), "
+            "or -1 for a detection of none: --labels reads column 2 as the target, found 9"},
+           {" --labels " + (dir / "gt.json").string() + " " + (dir / "det.txt").string(),
+            "--labels: expected --labels only with --detections"}}) {
     const auto bad = RunCommand(kHcpf + " score" + args + " --json " + (dir / "x.json").string());
     EXPECT_EQ(bad.exit_code, 2) << args << "\n" << bad.output;
     EXPECT_NE(bad.output.find(message), std::string::npos) << args << "\n" << bad.output;

@@ -288,21 +288,26 @@ TEST(RenderedRun, ADetectorOnTheRenderedFramesFeedsTheTracker) {
     EXPECT_EQ(mostly["precision_recall"]["curve"]["precision"].size(), 101u) << detector;
     // A detector of one's own is scored the same way from the files: hcpf
     // score --detections on the run's gt.json and det/det.txt gives the run's
-    // counts. (The file holds boxes to 1/1000 px and scores to 1/10000, and
-    // no detection's target; the two targets never overlap here, so neither
-    // changes a match.)
-    const auto scored = RunCommand(
-        std::string(HCPF_EXE) + " score --detections " + (out / "gt.json").string() + " " +
-        (out / "det" / "det.txt").string() + " --json " + (out / "scored.json").string());
-    ASSERT_EQ(scored.exit_code, 0) << scored.output;
-    const auto from_files = nlohmann::json::parse(ReadFile(out / "scored.json"));
-    for (const char* rule : {"iou", "centre"}) {
-      for (const char* count : {"tp", "fp", "fn"}) {
-        EXPECT_EQ(from_files[rule][count], detection[rule][count]) << detector << " " << rule;
+    // counts, with the detections' targets read from column 2 (--labels) or
+    // not. (The file holds boxes to 1/1000 px and scores to 1/10000; the two
+    // targets never overlap here, so neither the rounding nor the labels
+    // change a match.)
+    for (const std::string labels : {"", " --labels"}) {
+      const auto scored =
+          RunCommand(std::string(HCPF_EXE) + " score --detections " + (out / "gt.json").string() +
+                     " " + (out / "det" / "det.txt").string() + labels + " --json " +
+                     (out / "scored.json").string());
+      ASSERT_EQ(scored.exit_code, 0) << scored.output;
+      const auto from_files = nlohmann::json::parse(ReadFile(out / "scored.json"));
+      for (const char* rule : {"iou", "centre"}) {
+        for (const char* count : {"tp", "fp", "fn"}) {
+          EXPECT_EQ(from_files[rule][count], detection[rule][count])
+              << detector << " " << rule << labels;
+        }
       }
+      EXPECT_EQ(from_files["mostly_visible"]["iou"], mostly["iou"]) << detector << labels;
+      EXPECT_EQ(from_files["by_target"], detection["by_target"]) << detector << labels;
     }
-    EXPECT_EQ(from_files["mostly_visible"]["iou"], mostly["iou"]) << detector;
-    EXPECT_EQ(from_files["by_target"], detection["by_target"]) << detector;
   }
   // The oracle on rendered frames also writes det/det.txt and keeps its label.
   const auto r = RunCommand(common + " --out " + (dir / "oracle").string());

@@ -8,6 +8,7 @@
 //   std::vector<DetectionFrame> frames(gt.frames.size());
 //   for (size_t f = 0; f < frames.size(); ++f) frames[f].truth = DetectionTruthOf(gt.frames[f]);
 
+#include <set>
 #include <string>
 #include <vector>
 
@@ -52,5 +53,12 @@ struct DetectionFileRow {
 // coordinate beyond kMaxCoordinatePx or a score that is not finite is an
 // InputError at the file, line and column.
 std::vector<DetectionFileRow> DetectionRowsOf(const MotFile& file);
+
+// Reads column 2 of `rows` (of the det.txt `file`) as each detection's target
+// (Detection::target): an id of `targets`, or -1 for a detection of no
+// target; any other id is an InputError at its line and column 2, whose
+// message names `labels_option` (what asked for labels, e.g. "--labels").
+void ReadDetectionLabels(const MotFile& file, const std::set<int64_t>& targets,
+                         const std::string& labels_option, std::vector<DetectionFileRow>* rows);
 
 }  // namespace hcpf::metrics

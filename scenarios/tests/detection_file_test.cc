@@ -44,16 +44,21 @@ std::string FileLoadError(const std::string& text, const std::vector<Override>& 
   return "";
 }
 
+// A det.txt holding `text` in a fresh folder named after `name`.
+fs::path DetFile(const std::string& name, const std::string& text) {
+  const fs::path det = hcpf::testing::FreshDir(name) / "det.txt";
+  WriteTextFile(det.string(), text);
+  return det;
+}
+
 TEST(DetectionFile, RowsAreReadByFrameInZeroBasedPixelsAboveMinScore) {
-  const fs::path dir = hcpf::testing::FreshDir("detection-file");
-  const fs::path det = dir / "det.txt";
   // Frames and pixels 1-based; ids ignored (-1 repeats); a row scoring below
   // min_score (0.1) left out; frame 20 is the scenario's last.
-  WriteTextFile(det.string(),
-                "1,-1,11,21,30,15,0.9\n"
-                "1,-1,101,51,8,4,0.05\n"
-                "3,-1,1.5,1,2,2,0.4\n"
-                "20,-1,5,5,10,10,1\n");
+  const fs::path det = DetFile("detection-file",
+                               "1,-1,11,21,30,15,0.9\n"
+                               "1,-1,101,51,8,4,0.05\n"
+                               "3,-1,1.5,1,2,2,0.4\n"
+                               "20,-1,5,5,10,10,1\n");
   std::vector<Override> overrides = FileDetector(det);
   overrides.push_back({"observation.file.min_score", "0.1"});
   const Scenario s = LoadScenarioText(kMinimal, "s.yaml", overrides);
@@ -214,15 +219,13 @@ TEST(DetectionFile, BadRowsAndRulesAcrossKeysAreRejectedWhereTheyAre) {
 }
 
 TEST(DetectionFile, WithLabelsColumnTwoNamesTheTargetEachDetectionIsOf) {
-  const fs::path dir = hcpf::testing::FreshDir("detection-file-labels");
-  const fs::path det = dir / "det.txt";
   // Target 2, a detection of none (-1), target 1; an id that names no target
   // (7) is accepted without labels, where ids are ignored.
-  WriteTextFile(det.string(),
-                "1,2,11,21,30,15,0.9\n"
-                "1,-1,101,51,8,4,0.5\n"
-                "2,1,5,5,10,10,1\n"
-                "3,7,5,5,10,10,1\n");
+  const fs::path det = DetFile("detection-file-labels",
+                               "1,2,11,21,30,15,0.9\n"
+                               "1,-1,101,51,8,4,0.5\n"
+                               "2,1,5,5,10,10,1\n"
+                               "3,7,5,5,10,10,1\n");
   const Scenario plain = LoadScenarioText(kMinimal, "s.yaml", FileDetector(det));
   for (const auto& frame : *plain.observation.file.frames) {
     for (const Detection& d : frame) EXPECT_FALSE(d.target.has_value());

@@ -470,11 +470,18 @@ TEST(Cli, ScoreDetectionsScoresADetectorsOwnOutputAgainstAGtJson) {
                                            {4, {30, 60, 2, 2}, 1.0, 0.0}}),
                                GtFrame(1, {{1, {12, 10, 20, 20}, 0.6, 0.0}})}}};
   std::ofstream(dir / "gt.json") << gt.dump(1);
-  std::ofstream(dir / "det.txt") << "1,-1,11,11,20,20,0.9,-1,-1,-1\n"
-                                    "1,-1,91,41,10,20,0.8,-1,-1,-1\n"
-                                    "1,-1,51,51,10,10,0.7,-1,-1,-1\n"
-                                    "1,-1,71,61,8,8,0.6,-1,-1,-1\n"
-                                    "1,-1,31,61,2,2,0.5,-1,-1,-1\n";
+  // Frame 1's five detections (left, top, width, height, score), written
+  // with the ids given.
+  const auto det_rows = [](const std::vector<int>& ids) {
+    const char* boxes[] = {"11,11,20,20,0.9", "91,41,10,20,0.8", "51,51,10,10,0.7", "71,61,8,8,0.6",
+                           "31,61,2,2,0.5"};
+    std::string text;
+    for (size_t i = 0; i < ids.size(); ++i) {
+      text += "1," + std::to_string(ids[i]) + "," + boxes[i] + ",-1,-1,-1\n";
+    }
+    return text;
+  };
+  std::ofstream(dir / "det.txt") << det_rows({-1, -1, -1, -1, -1});
   const std::string base = kHcpf + " score --detections " + (dir / "gt.json").string() + " " +
                            (dir / "det.txt").string();
   const auto r = RunCommand(base + " --json " + (dir / "d.json").string());
@@ -512,11 +519,7 @@ TEST(Cli, ScoreDetectionsScoresADetectorsOwnOutputAgainstAGtJson) {
   // --labels: column 2 names each detection's target, and a detection may
   // only match its own. Target 1's box labelled 2 is then a false detection
   // and target 1 a miss; target 2's and 4's boxes carry their right labels.
-  std::ofstream(dir / "labelled.txt") << "1,2,11,11,20,20,0.9,-1,-1,-1\n"
-                                         "1,2,91,41,10,20,0.8,-1,-1,-1\n"
-                                         "1,-1,51,51,10,10,0.7,-1,-1,-1\n"
-                                         "1,-1,71,61,8,8,0.6,-1,-1,-1\n"
-                                         "1,4,31,61,2,2,0.5,-1,-1,-1\n";
+  std::ofstream(dir / "labelled.txt") << det_rows({2, 2, -1, -1, 4});
   const std::string labelled = kHcpf + " score --detections " + (dir / "gt.json").string() + " " +
                                (dir / "labelled.txt").string() + " --json ";
   const auto l = RunCommand(labelled + (dir / "l.json").string() + " --labels");

@@ -163,17 +163,16 @@ Command AddScoreCommand(CLI::App& parent) {
   return {app, [options, app]() -> int {
             using namespace hcpf::metrics;
             const Benchmark benchmark = *ParseBenchmark(options->benchmark);
-            for (const auto& [option, value] : {std::pair{"--min-visible", options->min_visible},
-                                                {"--min-score", options->min_score}}) {
+            // What only detection scoring takes: each option and what was given.
+            for (const auto& [option, found] :
+                 {std::pair<const char*, std::string>{"--min-visible",
+                                                      fmt::format("{}", options->min_visible)},
+                  {"--min-score", fmt::format("{}", options->min_score)},
+                  {"--labels", "--labels given"}}) {
               if (!options->detections && app->count(option) > 0) {
                 throw InputError(SourceLocation{"command line", 0, 0, option},
-                                 std::string(option) + " only with --detections",
-                                 fmt::format("{}", value));
+                                 std::string(option) + " only with --detections", found);
               }
-            }
-            if (!options->detections && options->labels) {
-              throw InputError(SourceLocation{"command line", 0, 0, "--labels"},
-                               "--labels only with --detections", "--labels given");
             }
             if (options->detections) {
               // What only tracker scoring takes (ignored here otherwise).

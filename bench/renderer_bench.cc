@@ -13,12 +13,12 @@
 // cache:0 leaves the write out; pipe:2 runs the sensor effects and the write
 // on a second thread while the next frame renders, as `hcpf run` does (its
 // fps is then the wall-clock rate; cpu_ms_per_frame still counts every
-// thread). "BM_SensorEffects" times ApplySensorEffects
-// alone on a rendered 800x600 frame, all effects and each one by itself.
-// The label is the GL_RENDERER string of the backend that ran.
-// cpu_ms_per_frame is the process CPU time (all threads) per frame: with one
-// llvmpipe thread it is the single-core cost even when other jobs share the
-// machine; fps is wall-clock.
+// thread); pipe:3 as `hcpf run --threads 8`: eight threads apply the sensor
+// effects of several frames at once and eight store them. "BM_SensorEffects" times
+// ApplySensorEffects alone on a rendered 800x600 frame, all effects and each one by itself. The
+// label is the GL_RENDERER string of the backend that ran. cpu_ms_per_frame is the process CPU time
+// (all threads) per frame: with one llvmpipe thread it is the single-core cost even when other jobs
+// share the machine; fps is wall-clock.
 
 #include <benchmark/benchmark.h>
 #include <fmt/format.h>
@@ -28,6 +28,8 @@
 #include <algorithm>
 #include <cstdlib>
 #include <filesystem>
+#include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -225,6 +227,8 @@ BENCHMARK(BM_RenderFrame)
     ->UseRealTime()  // llvmpipe rasterises on its own threads: wall time is the cost
     ->MinTime(3.0);
 
+constexpr int kBenchWorkers = 8;
+
 void BM_RealisticFrame(benchmark::State& state) {
   const int width = static_cast<int>(state.range(0));
   const int height = static_cast<int>(state.range(1));
@@ -240,12 +244,32 @@ void BM_RealisticFrame(benchmark::State& state) {
   // collected; pipe:2 two stages as in `hcpf run` (scenarios' ProduceFrames):
   // this thread collects frame t and renders frame t + 1 while a worker
   // applies frame t's sensor effects and stores it.
+  // pipe:3 as `hcpf run --threads 8` (ProduceFrames): 8 threads apply the
+  // sensor effects, several frames at once, and 8 store frames in the cache,
+  // while this thread renders.
   const int64_t pipe = state.range(3);
   hcpf::SerialWorker finisher;
+  std::optional<hcpf::OrderedWorkers> workers;
+  std::optional<hcpf::renderer::FrameCacheWriter> writer;
+  if (pipe == 3) {
+    workers.emplace(kBenchWorkers);
+    if (cache) writer.emplace(frame_cache, 4, kBenchWorkers);
+  }
   int frame = 0;
   if (pipe != 0) renderer->Submit(frame);
   const double cpu_start = ProcessCpuMs();
   for (auto _ : state) {
+    if (pipe == 3) {
+      auto f = std::make_shared<hcpf::renderer::RenderedFrame>(renderer->CollectClean());
+      workers->Post([&, f] { renderer->ApplySensor(*f); },
+                    [&, f] {
+                      if (writer) writer->Submit(std::move(*f));
+                      benchmark::DoNotOptimize(f->rgb.pixels.data());
+                    });
+      frame = (frame + 1) % world.frames;
+      renderer->Submit(frame);
+      continue;
+    }
     if (pipe == 2) {
       finisher.Post([&, f = renderer->CollectClean()]() mutable {
         renderer->ApplySensor(f);
@@ -263,6 +287,8 @@ void BM_RealisticFrame(benchmark::State& state) {
     benchmark::DoNotOptimize(f.rgb.pixels.data());
   }
   finisher.Wait();
+  if (workers) workers->Wait();
+  if (writer) writer->Finish();
   if (pipe != 0) renderer->Collect();
   state.counters["fps"] =
       benchmark::Counter(static_cast<double>(state.iterations()), benchmark::Counter::kIsRate);
@@ -277,6 +303,8 @@ BENCHMARK(BM_RealisticFrame)
     ->Args({800, 600, 1, 0})
     ->Args({800, 600, 1, 1})
     ->Args({800, 600, 1, 2})
+    ->Args({800, 600, 1, 3})
+    ->Args({800, 600, 0, 3})
     ->Args({800, 600, 0, 0})
     ->Args({640, 480, 1, 0})
     ->Args({1280, 720, 1, 0})

@@ -32,7 +32,8 @@ Command AddRunCommand(CLI::App& parent) {
   app->add_option("--set", options->sets,
                   "Override a key, e.g. --set tracker.particles=1000 (repeatable)");
   app->add_option("--threads", options->threads,
-                  "Threads for the tracker's per-filter stages (outputs identical for any value)")
+                  "Threads for the tracker's per-filter stages and the rendered frames' sensor "
+                  "effects and cache writes (outputs identical for any value)")
       ->check(CLI::Range(1, 256))
       ->capture_default_str();
   app->add_option("--cache", options->cache,

@@ -5,6 +5,7 @@
 #include <condition_variable>
 #include <deque>
 #include <exception>
+#include <future>
 #include <mutex>
 #include <thread>
 #include <utility>
@@ -115,6 +116,45 @@ void SerialWorker::Wait() {
   std::unique_lock lock(state_->mutex);
   state_->changed.wait(lock, [&] { return state_->queue.empty() && !state_->busy; });
   state_->RethrowError();
+}
+
+OrderedWorkers::OrderedWorkers(int workers, int queue_depth) {
+  const int n = std::max(1, workers);
+  for (int i = 0; i < n; ++i) work_.push_back(std::make_unique<SerialWorker>(queue_depth));
+  // Room for every work thread's running and waiting jobs, so the poster can
+  // keep them all busy while `then` waits on the oldest.
+  ordered_ = std::make_unique<SerialWorker>(n * (std::max(1, queue_depth) + 1));
+}
+
+OrderedWorkers::~OrderedWorkers() {
+  // The ordered thread first: its jobs wait on work that the work threads,
+  // still running, finish.
+  ordered_.reset();
+  work_.clear();
+}
+
+void OrderedWorkers::Post(std::function<void()> work, std::function<void()> then) {
+  auto done = std::make_shared<std::promise<void>>();
+  std::shared_future<void> finished = done->get_future().share();
+  // The ordered job first: a failed `then` (or work) surfaces here, before
+  // more work is queued.
+  ordered_->Post([finished, then = std::move(then)] {
+    finished.get();  // rethrows the work's exception
+    then();
+  });
+  work_[posted_++ % work_.size()]->Post([done, work = std::move(work)] {
+    try {
+      work();
+      done->set_value();
+    } catch (...) {
+      done->set_exception(std::current_exception());
+    }
+  });
+}
+
+void OrderedWorkers::Wait() {
+  for (auto& w : work_) w->Wait();
+  ordered_->Wait();
 }
 
 }  // namespace hcpf

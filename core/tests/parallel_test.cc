@@ -4,7 +4,9 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <atomic>
+#include <chrono>
 #include <future>
 #include <stdexcept>
 #include <string>
@@ -139,6 +141,80 @@ TEST(SerialWorker, AFailedJobDropsTheQueuedOnesAndTheNextPostRethrows) {
   EXPECT_EQ(ran, 1);
   worker.Post([] { throw std::logic_error("job 4 failed"); });
   EXPECT_THROW(worker.Wait(), std::logic_error);
+}
+
+// Works overlap on several threads, each job's on thread i % workers, and
+// the thens run one at a time, in post order, each after its own work.
+TEST(OrderedWorkers, ThensRunInPostOrderAfterTheirWorksWhichOverlap) {
+  constexpr int kJobs = 40;
+  std::vector<int> order;
+  std::vector<int> work_done(kJobs, 0);
+  std::vector<std::thread::id> work_thread(kJobs);
+  std::atomic<int> running{0};
+  std::atomic<int> most{0};
+  std::thread::id then_thread;
+  {
+    OrderedWorkers workers(3);
+    EXPECT_EQ(workers.workers(), 3);
+    for (int i = 0; i < kJobs; ++i) {
+      workers.Post(
+          [&, i] {
+            const int now = ++running;
+            most = std::max(most.load(), now);
+            // Later jobs finish their work sooner: order comes from Post.
+            std::this_thread::sleep_for(std::chrono::microseconds(200 * (kJobs - i) % 3000));
+            work_done[i] = 1;
+            work_thread[i] = std::this_thread::get_id();
+            --running;
+          },
+          [&, i] {
+            EXPECT_EQ(work_done[i], 1) << "then before its work, job " << i;
+            if (order.empty()) then_thread = std::this_thread::get_id();
+            EXPECT_EQ(std::this_thread::get_id(), then_thread);
+            order.push_back(i);
+          });
+    }
+    workers.Wait();
+  }
+  ASSERT_EQ(order.size(), static_cast<size_t>(kJobs));
+  for (int i = 0; i < kJobs; ++i) EXPECT_EQ(order[i], i);
+  EXPECT_GT(most.load(), 1) << "the works never overlapped";
+  for (int i = 3; i < kJobs; ++i) EXPECT_EQ(work_thread[i], work_thread[i % 3]) << i;
+  EXPECT_NE(work_thread[0], work_thread[1]);
+  EXPECT_NE(then_thread, std::this_thread::get_id());
+}
+
+// A work that throws skips its then; Wait rethrows it once, and the jobs
+// queued behind it do not run their thens. (Job 2's work waits for the gate
+// until all six are posted: two work threads hold jobs 0-5, the ordered
+// queue 3-5, so no Post blocks.)
+TEST(OrderedWorkers, AFailedWorkSkipsItsThenAndReachesWait) {
+  OrderedWorkers workers(2);
+  std::promise<void> gate;
+  std::shared_future<void> opened = gate.get_future().share();
+  std::vector<int> thens;
+  for (int i = 0; i < 6; ++i) {
+    workers.Post(
+        [i, opened] {
+          if (i != 2) return;
+          opened.wait();
+          throw std::runtime_error("work 2 failed");
+        },
+        [&, i] { thens.push_back(i); });
+  }
+  gate.set_value();
+  try {
+    workers.Wait();
+    ADD_FAILURE() << "Wait did not rethrow";
+  } catch (const std::runtime_error& e) {
+    EXPECT_STREQ(e.what(), "work 2 failed");
+  }
+  EXPECT_EQ(thens, (std::vector<int>{0, 1}));
+  EXPECT_NO_THROW(workers.Wait());  // once
+  // The workers go on after a failure.
+  workers.Post([] {}, [&] { thens.push_back(6); });
+  workers.Wait();
+  EXPECT_EQ(thens, (std::vector<int>{0, 1, 6}));
 }
 
 }  // namespace

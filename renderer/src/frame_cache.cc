@@ -8,11 +8,14 @@
 #include <algorithm>
 #include <cerrno>
 #include <cstring>
+#include <exception>
 #include <filesystem>
 #include <fstream>
+#include <memory>
 #include <nlohmann/json.hpp>
 #include <sstream>
 #include <system_error>
+#include <vector>
 
 #include "hcpf/core/error.h"
 #include "hcpf/core/ground_truth_json.h"
@@ -32,8 +35,10 @@ namespace {
 // terrain lit and its texture and shadow coordinates computed per vertex
 // (shaders.h); 7: sensor noise words from eight interleaved generator lanes
 // (sensor.cc), same distribution; 8: the shadow pass culls the back faces of
-// closed casters (a few texels at shadow silhouettes move).
-constexpr int kRendererVersion = 8;
+// closed casters (a few texels at shadow silhouettes move); 9: texture mipmaps
+// computed by the renderer (textures.h, HalveTexture) instead of
+// glGenerateMipmap (the far terrain ~1-2 levels darker on Mesa).
+constexpr int kRendererVersion = 9;
 
 // A model file by its name and content, not its folder: the same scene
 // rendered from another clone or machine (whose model paths are absolute
@@ -303,32 +308,47 @@ void FrameCache::Store(const RenderedFrame& frame) const {
 }
 
 struct FrameCacheWriter::State {
-  State(FrameCache c, int depth) : cache(std::move(c)), worker(depth) {}
+  State(FrameCache c, int depth, int workers) : cache(std::move(c)) {
+    for (int i = 0; i < std::max(1, workers); ++i) {
+      this->workers.push_back(std::make_unique<SerialWorker>(depth));
+    }
+  }
   FrameCache cache;
-  SerialWorker worker;
+  std::vector<std::unique_ptr<SerialWorker>> workers;
+  size_t submitted = 0;
 
-  // A store's failure, rethrown by the worker, named after the cache.
+  // A store's failure, rethrown by a worker, named after the cache.
   [[noreturn]] void Rethrow(const std::exception& e) const {
     throw RunError(fmt::format("frame cache {}: {}", cache.dir().string(), e.what()));
   }
 };
 
-FrameCacheWriter::FrameCacheWriter(FrameCache cache, int queue_depth)
-    : state_(std::make_unique<State>(std::move(cache), queue_depth)) {}
+FrameCacheWriter::FrameCacheWriter(FrameCache cache, int queue_depth, int workers)
+    : state_(std::make_unique<State>(std::move(cache), queue_depth, workers)) {}
 
-FrameCacheWriter::~FrameCacheWriter() = default;  // the worker waits for its stores
+FrameCacheWriter::~FrameCacheWriter() = default;  // the workers wait for their stores
 
 void FrameCacheWriter::Submit(RenderedFrame frame) {
   try {
-    state_->worker.Post([s = state_.get(), f = std::move(frame)] { s->cache.Store(f); });
+    SerialWorker& worker = *state_->workers[state_->submitted++ % state_->workers.size()];
+    worker.Post([s = state_.get(), f = std::move(frame)] { s->cache.Store(f); });
   } catch (const std::exception& e) {
     state_->Rethrow(e);
   }
 }
 
 void FrameCacheWriter::Finish() {
+  std::exception_ptr first;
+  for (auto& worker : state_->workers) {
+    try {
+      worker->Wait();
+    } catch (...) {
+      if (!first) first = std::current_exception();
+    }
+  }
+  if (!first) return;
   try {
-    state_->worker.Wait();
+    std::rethrow_exception(first);
   } catch (const std::exception& e) {
     state_->Rethrow(e);
   }

@@ -61,11 +61,11 @@ using DrawElementsFn = void(APIENTRYP)(GLenum mode, GLsizei count, GLenum type,
   X(GenTexturesFn, GenTextures, "glGenTextures")                                            \
   X(BindTextureFn, BindTexture, "glBindTexture")                                            \
   X(PFNGLTEXIMAGE2DPROC, TexImage2D, "glTexImage2D")                                        \
+  X(PFNGLGETTEXIMAGEPROC, GetTexImage, "glGetTexImage")                                     \
   X(PFNGLTEXPARAMETERIPROC, TexParameteri, "glTexParameteri")                               \
   X(PFNGLTEXPARAMETERFVPROC, TexParameterfv, "glTexParameterfv")                            \
   X(PFNGLACTIVETEXTUREPROC, ActiveTexture, "glActiveTexture")                               \
   X(DeleteTexturesFn, DeleteTextures, "glDeleteTextures")                                   \
-  X(PFNGLGENERATEMIPMAPPROC, GenerateMipmap, "glGenerateMipmap")                            \
   X(PFNGLCREATESHADERPROC, CreateShader, "glCreateShader")                                  \
   X(PFNGLSHADERSOURCEPROC, ShaderSource, "glShaderSource")                                  \
   X(PFNGLCOMPILESHADERPROC, CompileShader, "glCompileShader")                               \

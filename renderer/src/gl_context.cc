@@ -91,6 +91,9 @@ void GlContext::Initialise(const std::string& backend, void* (*loader)(const cha
   GLint minor = 0;
   api_->GetIntegerv(GL_MAJOR_VERSION, &major);
   api_->GetIntegerv(GL_MINOR_VERSION, &minor);
+  GLint profile = 0;
+  api_->GetIntegerv(GL_CONTEXT_PROFILE_MASK, &profile);
+  info_.core_profile = (profile & GL_CONTEXT_CORE_PROFILE_BIT) != 0;
   if (major * 10 + minor < 33) {
     throw InputError(
         fmt::format("{}: OpenGL {}.{} context, need at least 3.3 core", backend, major, minor));

@@ -16,6 +16,7 @@
 #include <optional>
 
 #include "gl_api.h"
+#include "gl_texture.h"
 #include "hcpf/core/check.h"
 #include "hcpf/core/error.h"
 #include "hcpf/renderer/mesh.h"
@@ -213,7 +214,6 @@ class GlSceneRenderer final : public SceneRenderer {
   void BuildOccluders();
   void BuildVehicles();
   GpuMesh Upload(const MeshData& mesh);
-  GLuint UploadTexture(const internal::Texture8& t, bool repeat);
   void Draw(const GpuMesh& mesh) const {
     gl_.BindVertexArray(mesh.vao);
     gl_.DrawElements(GL_TRIANGLES, mesh.index_count, GL_UNSIGNED_INT, nullptr);
@@ -501,36 +501,19 @@ void GlSceneRenderer::BuildFramebuffers() {
   gl_.CheckError("framebuffers");
 }
 
-GLuint GlSceneRenderer::UploadTexture(const internal::Texture8& t, bool repeat) {
-  GLuint tex = 0;
-  gl_.GenTextures(1, &tex);
-  gl_.BindTexture(GL_TEXTURE_2D, tex);
-  gl_.PixelStorei(GL_UNPACK_ALIGNMENT, 1);
-  const GLenum format = t.channels == 3 ? GL_RGB : GL_RED;
-  const GLint internal_format = t.channels == 3 ? GL_RGB8 : GL_R8;
-  gl_.TexImage2D(GL_TEXTURE_2D, 0, internal_format, t.size, t.size, 0, format, GL_UNSIGNED_BYTE,
-                 t.texels.data());
-  gl_.GenerateMipmap(GL_TEXTURE_2D);
-  gl_.TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER,
-                    repeat ? GL_LINEAR_MIPMAP_NEAREST : GL_LINEAR);
-  gl_.TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
-  const GLint wrap = repeat ? GL_REPEAT : GL_CLAMP_TO_EDGE;
-  gl_.TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, wrap);
-  gl_.TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, wrap);
-  return tex;
-}
-
 void GlSceneRenderer::BuildTextures(const internal::Texture8& road_mask) {
   Rng tex_rng = rng_.Fork("renderer/textures");
   gl_.ActiveTexture(GL_TEXTURE1);
-  ground_tex_ = UploadTexture(internal::GroundTexture(world_.terrain.texture, options_.texture_size,
+  ground_tex_ =
+      internal::UploadTexture(gl_,
+                              internal::GroundTexture(world_.terrain.texture, options_.texture_size,
                                                       tex_rng.Fork("ground")),
                               true);
   gl_.ActiveTexture(GL_TEXTURE2);
-  road_tex_ = UploadTexture(
-      internal::GroundTexture("asphalt", options_.texture_size, tex_rng.Fork("road")), true);
+  road_tex_ = internal::UploadTexture(
+      gl_, internal::GroundTexture("asphalt", options_.texture_size, tex_rng.Fork("road")), true);
   gl_.ActiveTexture(GL_TEXTURE3);
-  mask_tex_ = UploadTexture(road_mask, false);
+  mask_tex_ = internal::UploadTexture(gl_, road_mask, false);
 
   gl_.ActiveTexture(GL_TEXTURE0);
   gl_.CheckError("textures");

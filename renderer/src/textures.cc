@@ -136,4 +136,32 @@ Texture8 RoadMask(const WorldSpec& world, int size, double width_m) {
   return t;
 }
 
+Texture8 HalveTexture(const Texture8& level) {
+  Texture8 half;
+  half.size = std::max(1, level.size / 2);
+  half.channels = level.channels;
+  half.texels.resize(static_cast<size_t>(half.size) * half.size * half.channels);
+  const int c = level.channels;
+  // A 1-texel level "halves" to itself; otherwise 2 x 2 blocks.
+  const int step = level.size > 1 ? 2 : 1;
+  const auto at = [&](int x, int y, int k) {
+    return int{level.texels[(static_cast<size_t>(y) * level.size + x) * c + k]};
+  };
+  for (int y = 0; y < half.size; ++y) {
+    for (int x = 0; x < half.size; ++x) {
+      for (int k = 0; k < c; ++k) {
+        const int x0 = x * step, y0 = y * step, x1 = x0 + step - 1, y1 = y0 + step - 1;
+        const int sum = at(x0, y0, k) + at(x1, y0, k) + at(x0, y1, k) + at(x1, y1, k);
+        // Round to nearest, a tie (sum = 4q + 2) to even q: no drift over
+        // the chain (half up would brighten each level by 1/8 on average).
+        int q = sum / 4;
+        const int r = sum % 4;
+        if (r == 3 || (r == 2 && q % 2 == 1)) ++q;
+        half.texels[(static_cast<size_t>(y) * half.size + x) * c + k] = static_cast<uint8_t>(q);
+      }
+    }
+  }
+  return half;
+}
+
 }  // namespace hcpf::renderer::internal

@@ -25,4 +25,10 @@ Texture8 GroundTexture(const std::string& kind, int size, Rng rng);
 // `width_m` wide along every target's path with a one-texel soft edge.
 Texture8 RoadMask(const WorldSpec& world, int size, double width_m);
 
+// The next level of a mipmap chain: half the size (at least 1), each texel the
+// mean of the 2 x 2 texels it covers, per channel, rounded to nearest with
+// ties to even, so the chain keeps the texture's mean. `level.size` must be a
+// power of two.
+Texture8 HalveTexture(const Texture8& level);
+
 }  // namespace hcpf::renderer::internal

@@ -528,6 +528,17 @@ TEST(FrameCache, WriterStoresEverySubmittedFrameAndReportsFailures) {
     ASSERT_TRUE(loaded.has_value()) << f.frame;
     EXPECT_EQ(loaded->rgb, f.rgb) << f.frame;
   }
+  // Three workers taking the frames in turn store the same files.
+  const FrameCache three(root, "three");
+  {
+    FrameCacheWriter writer(three, 1, 3);
+    for (const RenderedFrame& f : frames) writer.Submit(f);
+    writer.Finish();
+  }
+  for (const RenderedFrame& f : frames) {
+    const std::string name = fmt::format("{:06d}.frame", f.frame);
+    EXPECT_EQ(ReadBytes(three.dir() / name), ReadBytes(cache.dir() / name)) << f.frame;
+  }
   // The same bytes as a synchronous Store.
   const FrameCache direct(root, "direct");
   direct.Store(frames[7]);
@@ -538,6 +549,10 @@ TEST(FrameCache, WriterStoresEverySubmittedFrameAndReportsFailures) {
   FrameCacheWriter blocked(FrameCache(root / "blocked", "abc"));
   blocked.Submit(frames[0]);
   EXPECT_THROW(blocked.Finish(), RunError);
+  // With several workers, a failure on any of them reaches Finish.
+  FrameCacheWriter blocked_three(FrameCache(root / "blocked", "abc"), 1, 3);
+  for (int i = 0; i < 2; ++i) blocked_three.Submit(frames[static_cast<size_t>(i)]);
+  EXPECT_THROW(blocked_three.Finish(), RunError);
 }
 
 }  // namespace

@@ -15,9 +15,12 @@
 #include <thread>
 #include <vector>
 
+#include "gl_api.h"
+#include "gl_texture.h"
 #include "hcpf/core/error.h"
 #include "hcpf/core/ground_truth.h"
 #include "hcpf/renderer/renderer.h"
+#include "textures.h"
 
 #ifndef HCPF_TEST_GL_BACKEND
 #define HCPF_TEST_GL_BACKEND "auto"
@@ -84,7 +87,7 @@ const GroundTruthObject& Only(const RenderedFrame& f) {
 TEST_F(RendererGl, ContextReportsItsDriver) {
   const GlInfo& info = g_context->info();
   EXPECT_FALSE(info.renderer.empty());
-  EXPECT_NE(info.version.find("Core Profile"), std::string::npos) << info.version;
+  EXPECT_TRUE(info.core_profile) << info.version;
   EXPECT_EQ(info.backend, HCPF_TEST_GL_BACKEND);
   EXPECT_TRUE(info.platform.starts_with(info.backend)) << info.platform;
 }
@@ -420,6 +423,50 @@ WorldSpec GoldenWorld() {
   return w;
 }
 
+// Where two frames of one size differ: how many pixels (in any channel), by
+// how much at most, and the box that holds them.
+struct PixelDifference {
+  int count = 0;
+  int max_diff = 0;
+  int x0 = 0, y0 = 0, x1 = -1, y1 = -1;
+  int pixels = 0;
+  // For a failure message a person can act on.
+  std::string Describe() const {
+    if (count == 0) return "no pixel differs";
+    return fmt::format(
+        "{} of {} pixels differ, by at most {} levels, within columns {}-{}, rows {}-{}", count,
+        pixels, max_diff, x0, x1, y0, y1);
+  }
+};
+
+PixelDifference Compare(const RgbImage& a, const RgbImage& b) {
+  PixelDifference r{.x0 = a.width, .y0 = a.height, .pixels = a.width * a.height};
+  for (int y = 0; y < a.height; ++y) {
+    for (int x = 0; x < a.width; ++x) {
+      int d = 0;
+      for (int c = 0; c < 3; ++c) {
+        const size_t i = (static_cast<size_t>(y) * a.width + x) * 3 + c;
+        d = std::max(d, std::abs(int{a.pixels[i]} - int{b.pixels[i]}));
+      }
+      if (d == 0) continue;
+      ++r.count;
+      r.max_diff = std::max(r.max_diff, d);
+      r.x0 = std::min(r.x0, x), r.x1 = std::max(r.x1, x);
+      r.y0 = std::min(r.y0, y), r.y1 = std::max(r.y1, y);
+    }
+  }
+  return r;
+}
+
+// With HCPF_TEST_IMAGE_DIR set, a failing image comparison leaves its frames
+// there (a GPU run's frames come back for a person to look at).
+void KeepImageIfAsked(const RgbImage& image, const std::string& name) {
+  const char* dir = std::getenv("HCPF_TEST_IMAGE_DIR");
+  if (dir == nullptr || *dir == '\0') return;
+  std::filesystem::create_directories(dir);
+  WritePng(image, std::string(dir) + "/" + name);
+}
+
 void CompareWithGolden(const RgbImage& image, const std::string& name) {
   const std::string path = std::string(HCPF_SOURCE_DIR) + "/renderer/tests/golden/" + name;
   const char* regenerate = std::getenv("HCPF_REGENERATE_GOLDENS");
@@ -448,8 +495,9 @@ void CompareWithGolden(const RgbImage& image, const std::string& name) {
   // Mean: edge flips touch well under 1 % of pixels and filtering changes
   // are +-1 level, so a mean above 1.0 level means a systematic change
   // (lighting, shadows, texture) rather than rounding.
-  EXPECT_LE(max_diff, 128) << name;
-  EXPECT_LE(mean, 1.0) << name;
+  EXPECT_LE(max_diff, 128) << name << ": " << Compare(image, golden).Describe();
+  EXPECT_LE(mean, 1.0) << name << ": " << Compare(image, golden).Describe();
+  if (max_diff > 128 || mean > 1.0) KeepImageIfAsked(image, name);
 }
 
 TEST_F(RendererGl, GoldenObliqueScene) {
@@ -497,6 +545,15 @@ TEST_F(RendererGl, CheaperTerrainVariantsChangeNoPixel) {
   low_sun.sun.azimuth_deg = 250.0;
   RendererOptions wide;
   wide.pcf_radius = 2;
+  // On llvmpipe, where the claim was made, not one pixel differs. Elsewhere
+  // a difference of one level in at most one pixel in 10,000: the variants
+  // are separately compiled programs, and GLSL 3.30 lets a compiler contract
+  // a * b + c into a fused multiply-add in one program and not in another, so
+  // one expression may differ in its last bit and flip the rounding of a
+  // colour within that bit of a half level (NVIDIA H200, driver 580: one
+  // pixel of 76,800, by one level). A misclassified cell loses a road or a
+  // shadow over a region, by tens of levels, and is still caught.
+  const bool exact = g_context->info().renderer.starts_with("llvmpipe");
   for (const auto& [world, options] : {std::pair(w, RendererOptions{}), std::pair(low_sun, wide)}) {
     RendererOptions whole = options;
     whole.split_road_cells = false;
@@ -507,12 +564,41 @@ TEST_F(RendererGl, CheaperTerrainVariantsChangeNoPixel) {
     auto c = SceneRenderer::Create(no_roads, options, Rng(3), g_context);
     for (int frame = 0; frame < world.frames; ++frame) {
       const RgbImage with_split = a->Render(frame).rgb;
-      ASSERT_EQ(with_split.pixels, b->Render(frame).rgb.pixels)
-          << "frame " << frame << ", sun elevation " << world.sun.elevation_deg;
+      const RgbImage unsplit = b->Render(frame).rgb;
+      const PixelDifference diff = Compare(with_split, unsplit);
+      const bool within =
+          exact ? diff.count == 0 : diff.max_diff <= 1 && diff.count <= diff.pixels / 10000;
+      EXPECT_TRUE(within) << "frame " << frame << ", sun elevation " << world.sun.elevation_deg
+                          << ": " << diff.Describe();
+      if (!within) {
+        const std::string tag = fmt::format("split_sun{}_frame{}", world.sun.elevation_deg, frame);
+        KeepImageIfAsked(with_split, tag + "_split.png");
+        KeepImageIfAsked(unsplit, tag + "_whole.png");
+      }
       // And the roads are there to be kept: without them the frame differs.
       EXPECT_NE(with_split.pixels, c->Render(frame).rgb.pixels) << "frame " << frame;
     }
   }
+}
+
+// What the GL samples is the project's own mipmap chain, level by level, and
+// not the GL's glGenerateMipmap (whose filter each implementation picks: Mesa
+// 22.3's levels differ from the rounded means in a third of the texels).
+TEST_F(RendererGl, TexturesAreSampledFromTheRenderersOwnMipmapLevels) {
+  const internal::GlApi& gl = g_context->api();
+  const internal::Texture8 base = internal::GroundTexture("grass", 64, Rng(2).Fork("ground"));
+  const GLuint tex = internal::UploadTexture(gl, base, /*repeat=*/true);
+  gl.PixelStorei(GL_PACK_ALIGNMENT, 1);
+  internal::Texture8 expected = base;
+  for (int level = 0;; ++level) {
+    std::vector<uint8_t> got(expected.texels.size());
+    gl.GetTexImage(GL_TEXTURE_2D, level, GL_RGB, GL_UNSIGNED_BYTE, got.data());
+    EXPECT_TRUE(got == expected.texels)
+        << "level " << level << " (" << expected.size << " x " << expected.size << ")";
+    if (expected.size == 1) break;
+    expected = internal::HalveTexture(expected);
+  }
+  gl.DeleteTextures(1, &tex);
 }
 
 TEST_F(RendererGl, SameSceneRendersByteIdenticalFramesTwice) {

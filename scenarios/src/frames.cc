@@ -4,6 +4,7 @@
 #include <fmt/ranges.h>
 #include <spdlog/spdlog.h>
 
+#include <algorithm>
 #include <cstdlib>
 #include <memory>
 
@@ -78,30 +79,40 @@ SceneFrames ProduceFrames(const Scenario& scenario, const FrameSourceOptions& op
   std::unique_ptr<renderer::FrameCacheWriter> cache_writer;
   std::unique_ptr<renderer::SceneRenderer> scene;  // created on the first cache miss
   Progress progress("render", frames, options.show_progress);
-  // Two stages: this thread renders frame f + 1 (or reads it from the cache)
-  // while `finisher` finishes frame f: its sensor effects, the cache write,
+  // Three stages: this thread renders frame f + 1 (or reads it from the
+  // cache) while `finisher` applies the sensor effects of frame f (and, with
+  // several workers, of the frames before it, each on its own thread) and
+  // then, one frame at a time in frame order, finishes it: the cache write,
   // on_frame, the truth and the image. On llvmpipe, whose readback waits for
   // the frame, this is the overlap there is (the sensor effects and a
   // detector's work run beside the rasteriser); on a GPU the GL work runs
-  // beside both. One worker, so frames are finished in order, and the bytes
-  // are those of Render(f) frame after frame. Declared last: destroyed first,
-  // it waits for its jobs before what they use goes.
-  SerialWorker finisher;
+  // beside all of them. Each frame's noise has its own stream, so the bytes
+  // are those of Render(f) frame after frame for any number of workers.
+  // Declared last: destroyed first, it waits for its jobs before what they
+  // use goes.
+  const int workers = std::max(1, options.workers);
+  OrderedWorkers finisher(workers);
   const auto finish = [&](renderer::RenderedFrame frame, bool rendered) {
-    finisher.Post([&, frame = std::move(frame), rendered]() mutable {
-      if (rendered) {
-        scene->ApplySensor(frame);
-        if (cache) {
-          if (!cache_writer) cache_writer = std::make_unique<renderer::FrameCacheWriter>(*cache);
-          cache_writer->Submit(frame);  // a copy: the frame is used below
-        }
-      }
-      if (options.on_frame) options.on_frame(frame);
-      out.truth.push_back(options.analytic_truth ? ComputeGroundTruth(scenario.world, frame.frame)
-                                                 : std::move(frame.ground_truth));
-      if (options.keep_images) out.images.push_back(std::move(frame.rgb));
-      progress.Advance();
-    });
+    auto shared = std::make_shared<renderer::RenderedFrame>(std::move(frame));
+    finisher.Post(
+        [&, shared, rendered] {
+          if (rendered) scene->ApplySensor(*shared);
+        },
+        [&, shared, rendered] {
+          renderer::RenderedFrame& frame = *shared;
+          if (rendered && cache) {
+            if (!cache_writer) {
+              cache_writer = std::make_unique<renderer::FrameCacheWriter>(*cache, 4, workers);
+            }
+            cache_writer->Submit(frame);  // a copy: the frame is used below
+          }
+          if (options.on_frame) options.on_frame(frame);
+          out.truth.push_back(options.analytic_truth
+                                  ? ComputeGroundTruth(scenario.world, frame.frame)
+                                  : std::move(frame.ground_truth));
+          if (options.keep_images) out.images.push_back(std::move(frame.rgb));
+          progress.Advance();
+        });
   };
   const auto submit = [&](int f) {
     if (!scene) {

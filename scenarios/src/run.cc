@@ -87,6 +87,7 @@ RunSummary RunScenario(const Scenario& scenario, const RunOptions& options) {
   frame_options.cache_dir = options.frame_cache_dir;
   frame_options.keep_images = options.video;
   frame_options.show_progress = options.show_progress;
+  frame_options.workers = options.threads;
   // renderer.write_frames / write_depth / write_instance_ids: the run's frames
   // go to frames/ as `hcpf render` writes them. A detection-level run renders
   // them for the user to see and keeps its analytic ground truth.

@@ -1,14 +1,17 @@
-// ProduceFrames: rendering in two stages (this thread renders frame f + 1
-// while a worker finishes frame f) gives Render's frames, in order, with the
-// cache and without.
+// ProduceFrames: rendering in stages (this thread renders frame f + 1 while
+// workers apply the sensor effects of frame f and the frames before it, and
+// one more thread finishes them in order) gives Render's frames, in order,
+// with the cache and without, for any number of workers.
 
 #include "hcpf/scenarios/frames.h"
 
+#include <fmt/format.h>
 #include <gtest/gtest.h>
 
 #include <filesystem>
 #include <stdexcept>
 #include <thread>
+#include <utility>
 #include <vector>
 
 #include "hcpf/renderer/renderer.h"
@@ -48,9 +51,12 @@ TEST_F(Frames, TwoStagesGiveRendersFramesInOrder) {
   std::vector<renderer::RenderedFrame> expected;
   for (int f = 0; f < s.world.frames; ++f) expected.push_back(reference->Render(f));
 
-  for (const bool cached : {false, true}) {
+  for (const auto& [cached, workers] :
+       {std::pair(false, 1), std::pair(true, 1), std::pair(false, 3), std::pair(true, 3)}) {
+    SCOPED_TRACE(fmt::format("{} worker(s), {}", workers, cached ? "cached" : "no cache"));
     const fs::path dir = FreshDir("frames-two-stage");
     FrameSourceOptions options;
+    options.workers = workers;
     options.keep_images = true;
     options.show_progress = false;
     if (cached) options.cache_dir = (dir / "cache").string();
@@ -81,7 +87,7 @@ TEST_F(Frames, TwoStagesGiveRendersFramesInOrder) {
       }
       ASSERT_EQ(order.size(), expected.size());
       for (size_t f = 0; f < order.size(); ++f) EXPECT_EQ(order[f], static_cast<int>(f));
-      // Finished on one worker, not on the thread that renders.
+      // Finished on one thread, not on the thread that renders.
       for (const std::thread::id& t : threads) {
         EXPECT_EQ(t, threads.front());
         EXPECT_NE(t, std::this_thread::get_id());

@@ -1,10 +1,12 @@
 #pragma once
-// The project's worker threads: a parallel loop over independent items, and
-// a serial worker for a two-stage pipeline.
+// The project's worker threads: a parallel loop over independent items, a
+// serial worker for a two-stage pipeline, and ordered workers for a pipeline
+// whose middle stage runs on several threads.
 
 #include <cstddef>
 #include <functional>
 #include <memory>
+#include <vector>
 
 namespace hcpf {
 
@@ -46,6 +48,40 @@ class SerialWorker {
  private:
   struct State;
   std::unique_ptr<State> state_;
+};
+
+// Jobs in two parts: `work` on one of `workers` threads, several jobs' work
+// at once, then `then` on one more thread, one job at a time in the order
+// the jobs were posted, after that job's work has returned (and seeing what
+// it wrote). ProduceFrames applies frame t's sensor effects beside frame
+// t + 1's while frame t - 1 goes to the detector: the work of a job must
+// touch only its own state; `then` may touch state shared by every job.
+// Job i's work runs on thread i % workers (a fixed assignment: what a job
+// computes cannot depend on the thread count unless its work reads another
+// job's state, which it must not). workers <= 1 is one work thread.
+//
+// Errors: a work that throws skips its `then`; that exception, or one a
+// `then` threw, is rethrown by the next Post or by Wait, once, and the jobs
+// queued behind it then do not run their `then` (their work may still run),
+// as SerialWorker drops its queue. A caller that stops at the exception
+// finishes no frame after the failed one.
+class OrderedWorkers {
+ public:
+  // `queue_depth` (at least 1) jobs may wait per work thread besides the
+  // running one before Post blocks.
+  explicit OrderedWorkers(int workers, int queue_depth = 1);
+  ~OrderedWorkers();  // waits for the posted jobs; drops their errors (call Wait)
+  OrderedWorkers(const OrderedWorkers&) = delete;
+  OrderedWorkers& operator=(const OrderedWorkers&) = delete;
+
+  void Post(std::function<void()> work, std::function<void()> then);
+  void Wait();
+  int workers() const { return static_cast<int>(work_.size()); }
+
+ private:
+  std::vector<std::unique_ptr<SerialWorker>> work_;
+  std::unique_ptr<SerialWorker> ordered_;  // destroyed first: it waits on the work threads
+  size_t posted_ = 0;
 };
 
 }  // namespace hcpf

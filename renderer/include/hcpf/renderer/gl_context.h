@@ -69,6 +69,9 @@ struct GlInfo {
   std::string vendor;    // GL_VENDOR
   std::string renderer;  // GL_RENDERER, e.g. "llvmpipe (LLVM 15.0.6, 256 bits)"
   std::string version;   // GL_VERSION
+  // GL_CONTEXT_PROFILE_MASK has the core bit. Mesa also says "Core Profile" in
+  // GL_VERSION; NVIDIA's string ("4.5.0 NVIDIA 580.159.04") does not.
+  bool core_profile = false;
   bool softpipe = false;
 };
 

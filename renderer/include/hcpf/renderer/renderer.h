@@ -211,17 +211,19 @@ class FrameCache {
   std::filesystem::path dir_;
 };
 
-// FrameCache::Store on a worker thread, so encoding and writing frame t
-// overlap the rendering of frame t + 1 (a SerialWorker, core/parallel.h).
+// FrameCache::Store on worker threads, so encoding and writing frame t
+// overlap the rendering of frame t + 1 (SerialWorkers, core/parallel.h):
+// `workers` of them take the frames in turn (frame files are independent).
 // Submit copies nothing more than the frame it is given and blocks while
-// `queue_depth` frames wait (bounded memory). Once a store has failed, the
-// frames queued after it are not stored, and the next Submit or Finish throws
-// RunError naming the cache and the failure; Finish waits for every submitted
-// frame first. The destructor waits too (and drops errors: call Finish). The
-// files written are those Store writes, whatever the timing.
+// `queue_depth` frames wait for its worker (bounded memory). Once a store has
+// failed, the frames queued after it on that worker are not stored, and a
+// later Submit to it or Finish throws RunError naming the cache and the
+// failure; Finish waits for every submitted frame first. The destructor waits
+// too (and drops errors: call Finish). The files written are those Store
+// writes, whatever the timing and the number of workers.
 class FrameCacheWriter {
  public:
-  explicit FrameCacheWriter(FrameCache cache, int queue_depth = 4);
+  explicit FrameCacheWriter(FrameCache cache, int queue_depth = 4, int workers = 1);
   ~FrameCacheWriter();
   FrameCacheWriter(const FrameCacheWriter&) = delete;
   FrameCacheWriter& operator=(const FrameCacheWriter&) = delete;

@@ -41,6 +41,11 @@ struct FrameSourceOptions {
   // rendered (a detection-level `hcpf run` that writes its frames keeps the
   // truth its observations come from).
   bool analytic_truth = false;
+  // Rendered frames: threads that apply the sensor effects (several frames at
+  // once) and threads that store frames in the cache; on_frame still sees
+  // every frame in order. The frames are the same for any value (each frame's
+  // noise has its own stream). `hcpf run --threads`.
+  int workers = 1;
 };
 
 struct SceneFrames {

@@ -14,7 +14,8 @@ namespace hcpf::scenarios {
 
 struct RunOptions {
   std::string out_dir;
-  // Worker threads of the tracker's per-filter stages; outputs are identical
+  // Worker threads of the tracker's per-filter stages and, for rendered
+  // frames, of their sensor effects and cache writes; outputs are identical
   // for every value.
   int threads = 1;
   // Also write overlay.mp4: frames (or a plain background at detection level),

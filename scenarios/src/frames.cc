@@ -102,7 +102,10 @@ SceneFrames ProduceFrames(const Scenario& scenario, const FrameSourceOptions& op
           renderer::RenderedFrame& frame = *shared;
           if (rendered && cache) {
             if (!cache_writer) {
-              cache_writer = std::make_unique<renderer::FrameCacheWriter>(*cache, 4, workers);
+              // Four frames may wait for one writer; with several, one each
+              // (memory: an 800 x 600 frame is 1.4 MB).
+              cache_writer = std::make_unique<renderer::FrameCacheWriter>(
+                  *cache, workers > 1 ? 1 : 4, workers);
             }
             cache_writer->Submit(frame);  // a copy: the frame is used below
           }

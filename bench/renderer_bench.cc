@@ -263,8 +263,8 @@ void BM_RealisticFrame(benchmark::State& state) {
       auto f = std::make_shared<hcpf::renderer::RenderedFrame>(renderer->CollectClean());
       workers->Post([&, f] { renderer->ApplySensor(*f); },
                     [&, f] {
-                      if (writer) writer->Submit(std::move(*f));
                       benchmark::DoNotOptimize(f->rgb.pixels.data());
+                      if (writer) writer->Submit(std::move(*f));
                     });
       frame = (frame + 1) % world.frames;
       renderer->Submit(frame);

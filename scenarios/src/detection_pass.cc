@@ -54,6 +54,7 @@ std::unique_ptr<vision::Detector> MakeDetectorOf(const ObservationOptions& o) {
 DetectionPass::DetectionPass(const Scenario& scenario, const std::string& cache_dir)
     : detector_(MakeDetectorOf(scenario.observation)),
       options_text_(OptionsText(scenario.observation)),
+      labelled_file_(scenario.observation.from_file() && scenario.observation.file.labels),
       rng_(Rng(scenario.seeds.observation).Fork("detector")) {
   HCPF_CHECK(detector_ != nullptr) << "unknown detector " << scenario.observation.DetectorName();
   // The file's rows are at hand: nothing to cache.
@@ -91,6 +92,7 @@ std::string DetectionPass::Key(const renderer::RenderedFrame& frame, const XXH12
 }
 
 bool DetectionPass::Detects(ObjectId target) const {
+  if (labelled_file_) return labelled_targets_.contains(Value(target));
   return !detector_->uses_models() ||
          std::any_of(models_.begin(), models_.end(),
                      [&](const vision::TargetModel& m) { return m.target == target; });
@@ -138,6 +140,11 @@ const Observation& DetectionPass::Add(const renderer::RenderedFrame& frame,
     if (static_cast<int>(recent_.size()) > detector_->history()) {
       recent_.pop_back();
       recent_digests_.pop_back();
+    }
+  }
+  if (labelled_file_) {
+    for (const Detection& d : out.detections) {
+      if (d.target) labelled_targets_.insert(Value(*d.target));
     }
   }
   observations_.push_back({.frame = frame.frame,

@@ -7,10 +7,13 @@
 // 75 % visible (under `init: ground_truth` its filter is born then, from the
 // same box: until its model exists nothing can detect the target), and runs the
 // detector on the frame, or reads its output from the detection cache
-// (detection_cache.h) when the frame cache is on.
+// (detection_cache.h) when the frame cache is on. A labelled detection file
+// (`observation.file.labels`) has no models: the file knows a target from its
+// first row labelled with it, and its filter is born then.
 
 #include <deque>
 #include <memory>
+#include <set>
 #include <span>
 #include <vector>
 
@@ -40,7 +43,7 @@ class DetectionPass {
   const std::vector<vision::TargetModel>& models() const { return models_; }
   // Whether the detector can report `target` from the frame last added on:
   // always for a model-free detector, once its model is cut for a model-based
-  // one.
+  // one, once a row labelled with it was read for a labelled file.
   bool Detects(ObjectId target) const;
 
  private:
@@ -48,9 +51,11 @@ class DetectionPass {
                   std::span<const vision::SearchWindow> windows) const;
 
   std::unique_ptr<vision::Detector> detector_;
-  std::string options_text_;  // the detector's name and options, for the cache key
+  std::string options_text_;    // the detector's name and options, for the cache key
+  bool labelled_file_ = false;  // observation.file.labels
   Rng rng_;
   std::vector<vision::TargetModel> models_;
+  std::set<int32_t> labelled_targets_;          // of a labelled file: the targets seen so far
   std::vector<XXH128_hash_t> model_digests_;    // of each model's patch
   std::vector<XXH128_hash_t> context_digests_;  // of each model's context
   std::vector<Observation> observations_;

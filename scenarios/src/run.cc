@@ -262,14 +262,21 @@ RunSummary RunScenario(const Scenario& scenario, const RunOptions& options) {
         if (o.in_frame && !detection->Detects(o.id)) unmodelled.insert(Value(o.id));
       }
     }
+    const char* no_filter = tracker_options.init == tracker::InitMode::kGroundTruth && !external
+                                ? " (and init: ground_truth gave it no filter)"
+                                : "";
     for (int32_t id : unmodelled) {
-      spdlog::warn(
-          "target {}: never wholly inside the image and at least {:g} % visible, so no model "
-          "was cut and {} cannot detect it{}; its frames count as missed",
-          id, 100.0 * internal::DetectionPass::kModelVisible, scenario.observation.DetectorName(),
-          tracker_options.init == tracker::InitMode::kGroundTruth && !external
-              ? " (and init: ground_truth gave it no filter)"
-              : "");
+      if (scenario.observation.from_file()) {
+        // Only a labelled file knows targets one by one (Detects).
+        spdlog::warn("target {}: no row of {} is labelled {}{}; its frames count as missed", id,
+                     scenario.observation.file.path, id, no_filter);
+      } else {
+        spdlog::warn(
+            "target {}: never wholly inside the image and at least {:g} % visible, so no model "
+            "was cut and {} cannot detect it{}; its frames count as missed",
+            id, 100.0 * internal::DetectionPass::kModelVisible, scenario.observation.DetectorName(),
+            no_filter);
+      }
     }
   } else if (interleave_oracle) {
     observations = std::move(interleaved);

@@ -320,7 +320,8 @@ std::span<const Field<DetectionFileOptions>> DetectionFileOptions::Fields() {
       FlagField("labels", &O::labels,
                 "column 2 names the target each detection is of (a target id, or -1 for "
                 "none), as in the det/det.txt of a model-based detector's run: each filter "
-                "sees only its own target's detections (needs tracker.init: ground_truth)"),
+                "sees only its own target's detections, and is born at its target's first "
+                "labelled row (needs tracker.init: ground_truth)"),
       DefaultDoc(TextField<&O::digest>(
                      "digest",
                      "XXH3-128 of the file's content (32 hex digits), written by the resolved "

@@ -412,6 +412,7 @@ TEST(RenderedRun, AnotherProgramsDetectionsFeedTheTracker) {
 // both vehicles in view from about frame 33): right labels track perfectly;
 // swapped ones feed each filter the other vehicle's boxes; without labels
 // the ids are ignored, so the swapped file tracks exactly as the right one.
+// Each filter is born at its target's first labelled row.
 TEST(RenderedRun, DetectionLabelsGiveEachFilterItsOwnTargetsDetections) {
   const fs::path dir = FreshDir("detection-file-labels");
   const std::string scenario = testing::LibraryScenario("crossing") + " --set frames=80";
@@ -422,24 +423,31 @@ TEST(RenderedRun, DetectionLabelsGiveEachFilterItsOwnTargetsDetections) {
   const auto gt = nlohmann::json::parse(ReadFile(dir / "render" / "gt.json"));
   std::string right;
   std::string swapped;
-  std::set<int> seen;
+  std::string late;                  // target 2's rows from frame 51 (1-based) on only
+  std::string without;               // no row of target 2
+  std::map<int, int> first_in_view;  // 1-based
+  constexpr int kLate = 51;
   for (const auto& frame : gt["frames"]) {
     const int f = frame["frame"].get<int>() + 1;
     for (const auto& o : frame["objects"]) {
       if (!o["in_frame"].get<bool>()) continue;
       const int id = o["id"].get<int>();
-      seen.insert(id);
+      first_in_view.try_emplace(id, f);
       const auto& b = o["amodal_box"];
       const std::string box =
           fmt::format("{},{},{},{},0.9\n", b[0].get<double>() + 1.0, b[1].get<double>() + 1.0,
                       b[2].get<double>(), b[3].get<double>());
       right += fmt::format("{},{},", f, id) + box;
       swapped += fmt::format("{},{},", f, 3 - id) + box;
+      if (id == 1 || f >= kLate) late += fmt::format("{},{},", f, id) + box;
+      if (id == 1) without += fmt::format("{},{},", f, id) + box;
     }
   }
-  ASSERT_EQ(seen, (std::set<int>{1, 2}));
+  ASSERT_EQ(first_in_view, (std::map<int, int>{{1, 1}, {2, 33}}));
   { std::ofstream(dir / "right.txt") << right; }
   { std::ofstream(dir / "swapped.txt") << swapped; }
+  { std::ofstream(dir / "late.txt") << late; }
+  { std::ofstream(dir / "without.txt") << without; }
   const auto run = [&](const std::string& file, bool labels, const std::string& out) {
     const auto r = RunCommand(std::string(HCPF_EXE) + " run " + scenario + cache +
                               " --set observation.source=rendered --set "
@@ -468,6 +476,34 @@ TEST(RenderedRun, DetectionLabelsGiveEachFilterItsOwnTargetsDetections) {
             ReadFile(dir / "right-plain" / "tracks.txt"));
   EXPECT_EQ(ReadFile(dir / "swapped-plain" / "det" / "det.txt"),
             ReadFile(dir / "right-plain" / "det" / "det.txt"));
+
+  // A labelled file knows a target from its first row labelled with it, as a
+  // model-based detector knows it once its model is cut: the target's filter
+  // is born then, at that frame's box. Rows of target 2 from frame 51 on: its
+  // filter is born at 51, not at its first appearance (33), where the same
+  // file read without labels births it.
+  const auto birth = [&](const std::string& out) {
+    return FilterLifetimes(ReadFile(dir / out / "filters.csv"));
+  };
+  EXPECT_EQ(birth("right").at(2).first, 33);
+  run("late.txt", true, "late");
+  EXPECT_EQ(birth("late").at(1).first, 1);
+  EXPECT_EQ(birth("late").at(2).first, kLate);
+  run("late.txt", false, "late-plain");
+  EXPECT_EQ(birth("late-plain").at(2).first, 33);
+  // No row of target 2: no filter for it, and the run says why.
+  const auto none =
+      RunCommand(std::string(HCPF_EXE) + " run " + scenario + cache +
+                 " --set observation.source=rendered --set "
+                 "observation.detector=file --set observation.file.labels=true"
+                 " --set observation.file.path=" +
+                 (dir / "without.txt").string() + " --out " + (dir / "without").string());
+  ASSERT_EQ(none.exit_code, 0) << none.output;
+  EXPECT_EQ(birth("without").count(2), 0u);
+  EXPECT_NE(none.output.find("target 2: no row of " + (dir / "without.txt").string() +
+                             " is labelled 2 (and init: ground_truth gave it no filter)"),
+            std::string::npos)
+      << none.output;
 }
 
 // observation.file.rendering: a det.txt is tied to the frames it was made on

@@ -68,8 +68,9 @@ std::span<const Field<TrackerOptions>> TrackerOptions::Fields() {
       ChoiceField<&O::init>("init",
                             "ground_truth: a filter is born at each target's first in-frame "
                             "appearance, from its box (with a model-based detector when the "
-                            "target's model is cut, from the same box); detections: M-of-N "
-                            "confirmation"),
+                            "target's model is cut, from the same box; with a labelled detection "
+                            "file at its first labelled row, from that frame's box); detections: "
+                            "M-of-N confirmation"),
       ChoiceField<&O::camera_motion>(
           "camera_motion",
           "none: target dynamics alone; scene_filter: the scene filter's estimate of the "

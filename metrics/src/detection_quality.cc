@@ -53,6 +53,8 @@ bool Compatible(const Detection& d, const DetectionTruth& t) {
   return !d.target.has_value() || *d.target == t.target;
 }
 
+enum class Labels { kRespected, kIgnored };
+
 // Whether the centre of `d` lies within half of `t`'s box (|dx| <= w/2 and
 // |dy| <= h/2), and its distance normalised by the half-diagonal.
 std::optional<double> CentreCost(const Detection& d, const DetectionTruth& t) {
@@ -67,7 +69,7 @@ enum class Rule { kIou, kCentre };
 
 // Matches one frame under `rule`; for each truth the matched detection or -1.
 std::vector<int> Match(const DetectionFrame& f, Rule rule, double iou_threshold,
-                       AssignmentSolver& solver) {
+                       AssignmentSolver& solver, Labels labels = Labels::kRespected) {
   const int rows = static_cast<int>(f.truth.size());
   const int cols = static_cast<int>(f.detections.size());
   std::vector<int> match(f.truth.size(), -1);
@@ -77,7 +79,7 @@ std::vector<int> Match(const DetectionFrame& f, Rule rule, double iou_threshold,
     for (int d = 0; d < cols; ++d) {
       const Detection& det = f.detections[d];
       const DetectionTruth& truth = f.truth[t];
-      if (!Compatible(det, truth)) continue;
+      if (labels == Labels::kRespected && !Compatible(det, truth)) continue;
       double& c = cost[static_cast<size_t>(t) * cols + d];
       if (rule == Rule::kIou) {
         const double iou = Iou(det.box, truth.box);
@@ -207,6 +209,7 @@ PrecisionRecall ComputePrecisionRecall(std::span<const DetectionFrame> frames,
 double DetectionCounts::precision() const { return Ratio(tp, tp + fp); }
 double DetectionCounts::recall() const { return Ratio(tp, tp + fn); }
 double DetectionCounts::f1() const { return Ratio(2 * tp, 2 * tp + fp + fn); }
+double LabelCounts::accuracy() const { return Ratio(right, matched); }
 double TargetDetections::recall() const { return Ratio(found, found + missed); }
 double TargetDetections::recall_centre() const {
   return Ratio(found_centre, found_centre + missed_centre);
@@ -227,6 +230,19 @@ DetectionQuality ScoreDetections(std::span<const DetectionFrame> frames,
     for (const DetectionTruth& truth : f.truth) {
       by_target[Value(truth.target)].target = truth.target;
       if (Counted(truth, options)) sizes.push_back(SizeOf(truth.box));
+    }
+    if (std::any_of(f.detections.begin(), f.detections.end(),
+                    [](const Detection& d) { return d.target.has_value(); })) {
+      LabelCounts& labels = q.labels ? *q.labels : q.labels.emplace();
+      const std::vector<int> match =
+          Match(f, Rule::kIou, options.iou_threshold, solver, Labels::kIgnored);
+      for (size_t t = 0; t < f.truth.size(); ++t) {
+        if (match[t] < 0 || !Counted(f.truth[t], options)) continue;
+        const Detection& det = f.detections[static_cast<size_t>(match[t])];
+        if (!det.target) continue;
+        ++labels.matched;
+        if (*det.target == f.truth[t].target) ++labels.right;
+      }
     }
     for (const Rule rule : {Rule::kIou, Rule::kCentre}) {
       const std::vector<int> match = Match(f, rule, options.iou_threshold, solver);

@@ -338,20 +338,27 @@ json PrecisionRecallJson(const PrecisionRecall& pr) {
 }
 
 json DetectionJson(const DetectionQuality& d) {
-  return {{"iou", CountsJson(d.iou)},
-          {"centre", CountsJson(d.centre)},
-          {"mean_centre_error_px", Number(d.mean_centre_error_px)},
-          {"mean_iou", Number(d.mean_iou)},
-          {"median_size_px", Number(d.median_size_px)},
-          {"by_size_px", BinsJson(d.by_size)},
-          {"by_visibility", BinsJson(d.by_visibility)},
-          {"by_truncation", BinsJson(d.by_truncation)},
-          {"by_target", TargetsJson(d.by_target)},
-          {"precision_recall", PrecisionRecallJson(d.precision_recall)},
-          {"mostly_visible",
-           {{"min_visible", kMostlyVisible},
-            {"iou", CountsJson(d.iou_mostly_visible)},
-            {"precision_recall", PrecisionRecallJson(d.precision_recall_mostly_visible)}}}};
+  json j = {{"iou", CountsJson(d.iou)},
+            {"centre", CountsJson(d.centre)},
+            {"mean_centre_error_px", Number(d.mean_centre_error_px)},
+            {"mean_iou", Number(d.mean_iou)},
+            {"median_size_px", Number(d.median_size_px)},
+            {"by_size_px", BinsJson(d.by_size)},
+            {"by_visibility", BinsJson(d.by_visibility)},
+            {"by_truncation", BinsJson(d.by_truncation)},
+            {"by_target", TargetsJson(d.by_target)},
+            {"precision_recall", PrecisionRecallJson(d.precision_recall)},
+            {"mostly_visible",
+             {{"min_visible", kMostlyVisible},
+              {"iou", CountsJson(d.iou_mostly_visible)},
+              {"precision_recall", PrecisionRecallJson(d.precision_recall_mostly_visible)}}}};
+  // Only where a detection carries a label: nothing was measured otherwise.
+  if (d.labels) {
+    j["labels"] = {{"matched", d.labels->matched},
+                   {"right", d.labels->right},
+                   {"accuracy", Number(d.labels->accuracy())}};
+  }
+  return j;
 }
 
 // A table's number: three decimals, "-" for an undefined one (NaN).
@@ -407,6 +414,12 @@ std::string FormatDetectionTable(const DetectionQuality& d) {
       Fixed3(pr.average_precision), kMostlyVisible,
       Fixed3(d.precision_recall_mostly_visible.average_precision), Fixed3(pr.best_f1),
       Fixed3(pr.best_f1_min_score), Fixed3(pr.best_f1_precision), Fixed3(pr.best_f1_recall));
+  if (d.labels) {
+    out += fmt::format(
+        "labels: {} of the {} labelled detections on a target (IoU >= 0.5, labels ignored) name "
+        "it: label accuracy {}\n",
+        d.labels->right, d.labels->matched, Fixed3(d.labels->accuracy()));
+  }
   return out;
 }
 

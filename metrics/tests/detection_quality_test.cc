@@ -127,6 +127,47 @@ TEST(DetectionQuality, TargetSpecificDetectionsMatchOnlyTheirTarget) {
   EXPECT_DOUBLE_EQ(q.mean_iou, 1.0);
 }
 
+// Label accuracy: the IoU matching with the labels ignored. Frame 1: A (id 1)
+// and B (id 2) side by side, far apart; d0 exactly on A labelled 2 (a false
+// detection and a miss in `iou`, matched and wrong here), d1 on B labelled 2
+// (right), d2 on C (id 3, visible 0.05: "don't care") labelled 1 (not
+// counted), d3 on nothing labelled 1 (not matched), d4 unlabelled on A's
+// twin D (id 4) (not a labelled detection). So 2 matched, 1 right.
+TEST(DetectionQuality, LabelAccuracyCountsTheLabelsOfBoxesOnTargets) {
+  DetectionFrame f;
+  f.truth = {{ObjectId{1}, BoxPx{0, 0, 10, 10}, 1.0},
+             {ObjectId{2}, BoxPx{100, 0, 10, 10}, 1.0},
+             {ObjectId{3}, BoxPx{200, 0, 10, 10}, 0.05},
+             {ObjectId{4}, BoxPx{0, 100, 10, 10}, 1.0}};
+  const auto labelled = [](double x, double y, int target) {
+    Detection d = Det(x, y, 10, 10);
+    d.target = ObjectId{target};
+    return d;
+  };
+  f.detections = {labelled(0, 0, 2), labelled(100, 0, 2), labelled(200, 0, 1),
+                  labelled(300, 300, 1), Det(0, 100, 10, 10)};
+  const DetectionQuality q = ScoreDetections(std::vector<DetectionFrame>{f});
+  ASSERT_TRUE(q.labels.has_value());
+  EXPECT_EQ(q.labels->matched, 2);
+  EXPECT_EQ(q.labels->right, 1);
+  EXPECT_DOUBLE_EQ(q.labels->accuracy(), 0.5);
+  // The counts themselves keep the labels: d0 false and A missed; d2 false
+  // too, its label forbids it C, so it is not on a "don't care" target.
+  EXPECT_EQ(q.iou.tp, 2);  // B and D
+  EXPECT_EQ(q.iou.fn, 1);  // A
+  EXPECT_EQ(q.iou.fp, 3);  // d0, d2 and d3
+  // Labelled detections that match nothing: measured, undefined accuracy.
+  DetectionFrame g;
+  g.truth = {{ObjectId{1}, BoxPx{0, 0, 10, 10}, 1.0}};
+  g.detections = {labelled(300, 300, 1)};
+  const DetectionQuality none = ScoreDetections(std::vector<DetectionFrame>{g});
+  ASSERT_TRUE(none.labels.has_value());
+  EXPECT_EQ(none.labels->matched, 0);
+  EXPECT_TRUE(std::isnan(none.labels->accuracy()));
+  // No labelled detection anywhere: nothing measured.
+  EXPECT_FALSE(ScoreDetections(HandFrames()).labels.has_value());
+}
+
 // One detection between two targets goes to the better match, and counts once.
 TEST(DetectionQuality, OneToOneAssignment) {
   DetectionFrame f;

@@ -79,6 +79,10 @@ std::span<const CatalogueMetric> MetricCatalogue() {
       {"det_ap_visible", "metrics.json",
        "/detection/mostly_visible/precision_recall/average_precision", true,
        "detection AP50 at visible fraction >= 0.75", "", kUnit},
+      // Target-specific detectors: the share of their boxes on a target
+      // whose label names it (NULL for the oracle and model-free detectors).
+      {"det_label_accuracy", "metrics.json", "/detection/labels/accuracy", true,
+       "detection label accuracy", "", kProportion},
   };
   return kMetrics;
 }

@@ -305,11 +305,12 @@ TEST(MetricCatalogue, EveryEntryIsReadFromARealRunFolder) {
   // Detection quality exists only for rendered runs: its entries are checked
   // on the metrics.json the run writer makes with a detection block (one
   // frame, one exact detection: precision = recall = F1 = 1; its box is
-  // 10 x 10 px, at visible fraction 1 so it also counts at >= 0.75).
+  // 10 x 10 px, at visible fraction 1 so it also counts at >= 0.75; labelled
+  // with its target, so its label accuracy is 1 as well).
   metrics::RunMetrics with_detection;
   metrics::DetectionFrame frame;
   frame.truth = {{ObjectId{1}, BoxPx{0, 0, 10, 10}, 1.0}};
-  frame.detections = {{.box = BoxPx{0, 0, 10, 10}}};
+  frame.detections = {{.box = BoxPx{0, 0, 10, 10}, .target = ObjectId{1}}};
   with_detection.detection = metrics::ScoreDetections(std::vector<metrics::DetectionFrame>{frame});
   // The base scene's two targets never meet, so its hijack rate is of no
   // encounter (null); the rate is checked on filter metrics with two

@@ -528,9 +528,21 @@ TEST(Cli, ScoreDetectionsScoresADetectorsOwnOutputAgainstAGtJson) {
   EXPECT_EQ(ld["iou"]["tp"], 2) << ld["iou"];
   EXPECT_EQ(ld["iou"]["fp"], 2) << ld["iou"];
   EXPECT_EQ(ld["iou"]["fn"], 2) << ld["iou"];
-  // Without --labels the ids are not read: the counts of det.txt.
-  ASSERT_EQ(RunCommand(labelled + (dir / "u.json").string()).exit_code, 0);
+  // Their label accuracy, matched with the labels ignored: the boxes on
+  // targets 1, 2 and 4 (3 is "don't care", its row unlabelled anyway), two
+  // of them labelled right.
+  EXPECT_EQ(ld["labels"]["matched"], 3) << ld;
+  EXPECT_EQ(ld["labels"]["right"], 2) << ld;
+  EXPECT_NE(l.output.find("labels: 2 of the 3 labelled detections on a target (IoU >= 0.5, labels "
+                          "ignored) name it: label accuracy 0.667"),
+            std::string::npos)
+      << l.output;
+  // Without --labels the ids are not read: the counts of det.txt, no labels.
+  const auto u = RunCommand(labelled + (dir / "u.json").string());
+  ASSERT_EQ(u.exit_code, 0) << u.output;
   EXPECT_EQ(nlohmann::json::parse(ReadFile(dir / "u.json"))["iou"], d["iou"]);
+  EXPECT_FALSE(nlohmann::json::parse(ReadFile(dir / "u.json")).contains("labels"));
+  EXPECT_EQ(u.output.find("label accuracy"), std::string::npos) << u.output;
 
   // Bad input: exit 2, the file, line and column named, nothing written.
   std::ofstream(dir / "zero.txt") << "1,-1,11,11,20,20,0.9\n2,-1,11,11,0,20,0.9\n";

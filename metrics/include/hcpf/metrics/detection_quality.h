@@ -45,6 +45,18 @@ struct DetectionCounts {
   double f1() const;
 };
 
+// How well a target-specific detector's labels (Detection::target) name the
+// target under each box, apart from where its boxes are: the IoU matching done
+// again with every label ignored, and of the labelled detections it matches
+// to a counted target, how many name that target. A box on the right place
+// with the wrong label is a false detection and a miss in `iou`; here it is
+// matched and wrong.
+struct LabelCounts {
+  int64_t matched = 0;      // labelled detections matched to a counted target, labels ignored
+  int64_t right = 0;        // of them, those whose label is that target
+  double accuracy() const;  // right / matched; NaN when none matched
+};
+
 // One target's record over the frames it is counted in (visible at least
 // min_visible): its counts under both rules, and the frames (indices into
 // ScoreDetections' frames, increasing) where the IoU rule found it and where
@@ -126,6 +138,9 @@ struct DetectionQuality {
   // computed again.
   DetectionCounts iou_mostly_visible;
   PrecisionRecall precision_recall_mostly_visible;
+  // Absent when no detection carries a label (the oracle, a model-free
+  // detector, an unlabelled file).
+  std::optional<LabelCounts> labels;
 };
 
 // The visible fraction from which a target counts as mostly visible: the

@@ -1,4 +1,5 @@
 // hcpf render SCENARIO.yaml --out DIR [--set key=value ...] [--cache DIR] [--sheet-frames N]
+//   [--threads N]
 
 #include <spdlog/spdlog.h>
 
@@ -20,6 +21,7 @@ Command AddRenderCommand(CLI::App& parent) {
     std::string cache = scenarios::DefaultFrameCacheDir();
     bool no_cache = false;
     int sheet_frames = 16;
+    int threads = 1;
   };
   auto options = std::make_shared<Options>();
   CLI::App* app = parent.add_subcommand(
@@ -37,6 +39,11 @@ Command AddRenderCommand(CLI::App& parent) {
                   "new ones stored (keyed by a hash of everything that affects pixels)")
       ->capture_default_str();
   app->add_flag("--no-cache", options->no_cache, "Render every frame, read and write no cache");
+  app->add_option("--threads", options->threads,
+                  "Threads for the frames' sensor effects, cache writes and PNG files (outputs "
+                  "identical for any value)")
+      ->check(CLI::Range(1, 256))
+      ->capture_default_str();
   app->add_option("--sheet-frames", options->sheet_frames, "Frames sampled into contact_sheet.png")
       ->check(CLI::Range(1, 100))
       ->capture_default_str();
@@ -49,6 +56,7 @@ Command AddRenderCommand(CLI::App& parent) {
         render_options.out_dir = options->out;
         render_options.cache_dir = options->no_cache ? "" : options->cache;
         render_options.sheet_frames = options->sheet_frames;
+        render_options.threads = options->threads;
         AnnounceInterrupts(InterruptedMessage("render", options->out, render_options.cache_dir));
         const auto summary = scenarios::RenderToFolder(scenario, render_options);
         StopAnnouncingInterrupts();  // the folder is in place

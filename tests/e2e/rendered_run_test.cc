@@ -307,6 +307,11 @@ TEST(RenderedRun, ADetectorOnTheRenderedFramesFeedsTheTracker) {
       }
       EXPECT_EQ(from_files["mostly_visible"]["iou"], mostly["iou"]) << detector << labels;
       EXPECT_EQ(from_files["by_target"], detection["by_target"]) << detector << labels;
+      // The labels' accuracy only where they are read; the run reads its own.
+      EXPECT_EQ(from_files.contains("labels"), !labels.empty()) << detector;
+      if (!labels.empty()) {
+        EXPECT_EQ(from_files["labels"], detection["labels"]) << detector;
+      }
     }
   }
   // The oracle on rendered frames also writes det/det.txt and keeps its label.
@@ -315,6 +320,10 @@ TEST(RenderedRun, ADetectorOnTheRenderedFramesFeedsTheTracker) {
   EXPECT_TRUE(fs::exists(dir / "oracle" / "det" / "det.txt"));
   EXPECT_EQ(nlohmann::json::parse(ReadFile(dir / "oracle" / "manifest.json"))["detector"],
             "oracle (noisy ground truth)");
+  // Its detections carry no target: no label accuracy.
+  EXPECT_FALSE(
+      nlohmann::json::parse(ReadFile(dir / "oracle" / "metrics.json"))["detection"].contains(
+          "labels"));
   // Without target models a filter is born at its target's first in-frame
   // appearance: target 2's in frame 33, as it starts to cross the border.
   EXPECT_EQ(FilterLifetimes(ReadFile(dir / "oracle" / "filters.csv")).at(2).first, 33);
@@ -1124,6 +1133,24 @@ TEST(RenderCommand, WritesFramesTruthAndContactSheet) {
                 first["gl_renderer"]["renderer"].get<std::string>()),
             std::string::npos);
   EXPECT_EQ(testing::ReadFile(dir / "c1" / "gt.json"), testing::ReadFile(dir / "c2" / "gt.json"));
+  // --threads 3: frames made and their PNG files written three at a time,
+  // rendered (no cache) or read from the cache; every file the same as with
+  // one thread (the manifest aside: timings).
+  const std::string args = " --set frames=30 --set 'camera.resolution=[160, 120]' --sheet-frames 4";
+  for (const auto& [out, cache] : std::vector<std::pair<std::string, std::string>>{
+           {"t3", " --no-cache"}, {"t3c", " --cache " + (dir / "cache").string()}}) {
+    const auto t = testing::RunCommand(std::string(HCPF_EXE) + " render " + scenario + args +
+                                       cache + " --threads 3 --out " + (dir / out).string());
+    ASSERT_EQ(t.exit_code, 0) << t.output;
+    int files = 0;
+    for (const auto& e : fs::recursive_directory_iterator(dir / "r")) {
+      if (!e.is_regular_file() || e.path().filename() == "manifest.json") continue;
+      const fs::path rel = fs::relative(e.path(), dir / "r");
+      EXPECT_EQ(testing::ReadFile(dir / out / rel), testing::ReadFile(e.path())) << out << rel;
+      ++files;
+    }
+    EXPECT_EQ(files, 35) << out;  // 30 frames, gt.txt, gt.json, seqinfo, sheet, resolved YAML
+  }
   // A bad scenario key is bad input, and nothing is written.
   const auto bad =
       testing::RunCommand(std::string(HCPF_EXE) + " render " + scenario +

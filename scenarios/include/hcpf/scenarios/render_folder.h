@@ -15,6 +15,11 @@ struct RenderFolderOptions {
   std::string out_dir;
   std::string cache_dir;  // "" = no frame cache
   int sheet_frames = 16;  // frames sampled into the contact sheet, >= 1
+  // Threads for the frames' sensor effects and cache writes
+  // (FrameSourceOptions::workers) and for writing their PNG files, several
+  // frames at once; the files are the same for any value. `hcpf render
+  // --threads`.
+  int threads = 1;
 };
 
 struct RenderFolderSummary {

@@ -395,6 +395,16 @@ TEST(RunReport, DetectionQualityTableHasARowPerNonEmptyBin) {
   EXPECT_NE(html.find("<tr><td class=\"k\">truncated 0.5–1</td><td>0</td><td>1</td><td>–</td>"
                       "<td>–</td><td>0.000</td><td>0.000</td></tr>"),
             std::string::npos);
+  // No labels block (an unlabelled detector): no label sentence; with one,
+  // its counts and accuracy.
+  EXPECT_EQ(html.find("label accuracy"), std::string::npos);
+  metrics["detection"]["labels"] = {{"matched", 9}, {"right", 8}, {"accuracy", 8.0 / 9.0}};
+  std::ofstream(run / "metrics.json") << metrics.dump();
+  const std::string labelled = Read(WriteReport({.dir = run.string()}).html_path);
+  EXPECT_NE(labelled.find("8 of its 9 detections on a target name that target: label accuracy "
+                          "<b>0.889</b>"),
+            std::string::npos)
+      << labelled;
 }
 
 // The precision-recall block of metrics.json (written by hand): the AP and the

@@ -33,7 +33,7 @@ Command AddRunCommand(CLI::App& parent) {
                   "Override a key, e.g. --set tracker.particles=1000 (repeatable)");
   app->add_option("--threads", options->threads,
                   "Threads for the tracker's per-filter stages and the rendered frames' sensor "
-                  "effects and cache writes (outputs identical for any value)")
+                  "effects, cache writes and image files (outputs identical for any value)")
       ->check(CLI::Range(1, 256))
       ->capture_default_str();
   app->add_option("--cache", options->cache,

@@ -80,8 +80,9 @@ SceneFrames ProduceFrames(const Scenario& scenario, const FrameSourceOptions& op
   std::unique_ptr<renderer::SceneRenderer> scene;  // created on the first cache miss
   Progress progress("render", frames, options.show_progress);
   // Three stages: this thread renders frame f + 1 (or reads it from the
-  // cache) while `finisher` applies the sensor effects of frame f (and, with
-  // several workers, of the frames before it, each on its own thread) and
+  // cache) while `finisher` applies the sensor effects and on_frame_work to
+  // frame f (and, with several workers, to the frames before it, each on its
+  // own thread) and
   // then, one frame at a time in frame order, finishes it: the cache write,
   // on_frame, the truth and the image. On llvmpipe, whose readback waits for
   // the frame, this is the overlap there is (the sensor effects and a
@@ -97,6 +98,7 @@ SceneFrames ProduceFrames(const Scenario& scenario, const FrameSourceOptions& op
     finisher.Post(
         [&, shared, rendered] {
           if (rendered) scene->ApplySensor(*shared);
+          if (options.on_frame_work) options.on_frame_work(*shared);
         },
         [&, shared, rendered] {
           renderer::RenderedFrame& frame = *shared;

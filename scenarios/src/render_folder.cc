@@ -4,12 +4,9 @@
 
 #include <algorithm>
 #include <chrono>
-#include <memory>
 #include <nlohmann/json.hpp>
-#include <optional>
 
 #include "hcpf/core/error.h"
-#include "hcpf/core/parallel.h"
 #include "hcpf/metrics/mot_io.h"
 #include "hcpf/renderer/image_io.h"
 #include "hcpf/scenarios/frames.h"
@@ -41,19 +38,14 @@ RenderFolderSummary RenderToFolder(const Scenario& scenario, const RenderFolderO
   FrameSourceOptions frame_options;
   frame_options.render = true;
   frame_options.cache_dir = options.cache_dir;
-  frame_options.workers = std::max(1, options.threads);
-  // PNG encoding (zlib) costs more than a GPU's frame: with several threads
-  // each frame's files are written on one of them, from a copy of the frame.
-  const std::string frames_dir = (dir / "frames").string();  // outlives the writers
-  std::optional<OrderedWorkers> writers;
-  if (options.threads > 1) writers.emplace(options.threads);
+  frame_options.workers = options.threads;
+  // PNG encoding (zlib) costs more than a GPU's frame: each frame's files are
+  // written on the frame's worker thread, several frames at once.
+  frame_options.on_frame_work =
+      [frames_dir = (dir / "frames").string()](const renderer::RenderedFrame& frame) {
+        WriteFrameImages(frame, frames_dir, true);
+      };
   frame_options.on_frame = [&](const renderer::RenderedFrame& frame) {
-    if (writers) {
-      auto copy = std::make_shared<renderer::RenderedFrame>(frame);
-      writers->Post([copy, &frames_dir] { WriteFrameImages(*copy, frames_dir, true); }, [] {});
-    } else {
-      WriteFrameImages(frame, frames_dir, true);
-    }
     if (std::find(sheet_frames.begin(), sheet_frames.end(), frame.frame) != sheet_frames.end()) {
       renderer::RenderedFrame thumb;
       thumb.frame = frame.frame;
@@ -63,7 +55,6 @@ RenderFolderSummary RenderToFolder(const Scenario& scenario, const RenderFolderO
     }
   };
   const SceneFrames scene = ProduceFrames(scenario, frame_options);
-  if (writers) writers->Wait();  // every frame's files written, or a write's error thrown
 
   WriteTextFile((dir / "scenario.resolved.yaml").string(), ToResolvedYaml(scenario));
   WriteTextFile((dir / "gt" / "gt.txt").string(),

@@ -103,10 +103,12 @@ RunSummary RunScenario(const Scenario& scenario, const RunOptions& options) {
     if (ec) throw RunError(fmt::format("cannot create {}: {}", frames_dir.string(), ec.message()));
     frame_options.render = true;
     frame_options.analytic_truth = scenario.observation.source != ObservationSource::kRendered;
-    frame_options.on_frame = [write_colour,
-                              dir = frames_dir.string()](const renderer::RenderedFrame& frame) {
-      WriteFrameImages(frame, dir, write_colour);
-    };
+    // On the frames' worker threads (--threads): an external tracker, sent a
+    // frame's path from on_frame, finds its file written.
+    frame_options.on_frame_work =
+        [write_colour, dir = frames_dir.string()](const renderer::RenderedFrame& frame) {
+          WriteFrameImages(frame, dir, write_colour);
+        };
   }
   // The tracker. Filters are born from ground truth at each target's first
   // in-frame appearance when the scenario asks for it (the pipeline passes
@@ -212,17 +214,15 @@ RunSummary RunScenario(const Scenario& scenario, const RunOptions& options) {
   if (!scenario.observation.oracle()) {
     detection = std::make_unique<internal::DetectionPass>(scenario, options.frame_cache_dir);
     const bool windowed = scenario.observation.search == SearchMode::kWindow;
-    frame_options.on_frame =
-        [&, windowed, write = frame_options.on_frame](const renderer::RenderedFrame& frame) {
-          if (write) write(frame);
-          std::vector<vision::SearchWindow> windows;
-          if (windowed && !reports.empty()) {
-            for (const tracker::FilterReport& r : reports.back().filters) {
-              windows.push_back({.target = ObjectId{Value(r.id)}, .box = r.box});
-            }
-          }
-          step(frame.ground_truth, detection->Add(frame, windows), &frame.rgb);
-        };
+    frame_options.on_frame = [&, windowed](const renderer::RenderedFrame& frame) {
+      std::vector<vision::SearchWindow> windows;
+      if (windowed && !reports.empty()) {
+        for (const tracker::FilterReport& r : reports.back().filters) {
+          windows.push_back({.target = ObjectId{Value(r.id)}, .box = r.box});
+        }
+      }
+      step(frame.ground_truth, detection->Add(frame, windows), &frame.rgb);
+    };
   }
   // Image evidence for the camera motion with oracle observations: the
   // tracker steps as each rendered frame arrives too (the scene half reads
@@ -230,9 +230,7 @@ RunSummary RunScenario(const Scenario& scenario, const RunOptions& options) {
   std::vector<Observation> interleaved;
   const bool interleave_oracle = !detection && camera_motion.needs_images();
   if (interleave_oracle) {
-    frame_options.on_frame = [&, write =
-                                     frame_options.on_frame](const renderer::RenderedFrame& frame) {
-      if (write) write(frame);
+    frame_options.on_frame = [&](const renderer::RenderedFrame& frame) {
       interleaved.push_back(SimulateObservation(frame.ground_truth, scenario.observation.simulated,
                                                 scenario.seeds.observation));
       step(frame.ground_truth, interleaved.back(), &frame.rgb);

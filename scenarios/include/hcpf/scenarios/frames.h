@@ -37,6 +37,11 @@ struct FrameSourceOptions {
   // Rendered frames: called with every frame, rendered or read from the cache,
   // in frame order (to write images without keeping them all).
   std::function<void(const renderer::RenderedFrame&)> on_frame;
+  // Rendered frames: called with every frame on one of the `workers` threads,
+  // several frames at once in no set order, after its sensor effects and
+  // before on_frame sees it (which sees what it wrote). It must touch only
+  // the frame and what belongs to that frame alone: its image files.
+  std::function<void(const renderer::RenderedFrame&)> on_frame_work;
   // With `render`: return the analytic ground truth even though frames are
   // rendered (a detection-level `hcpf run` that writes its frames keeps the
   // truth its observations come from).

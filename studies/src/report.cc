@@ -478,6 +478,9 @@ struct PairedRow {
   const Cell* cell = nullptr;
   const Cell* reference = nullptr;
   std::map<std::string, PairedComparison> metrics;  // report.y names
+  // The signed-rank p-values adjusted by Holm's method over the report's
+  // family (Paired::family); NaN for a comparison without pairs.
+  std::map<std::string, double> holm;
 };
 
 struct Paired {
@@ -487,6 +490,9 @@ struct Paired {
   // reference's value in the partner cell.
   FollowingKeys follow_series;
   std::vector<PairedRow> rows;
+  // The family Holm's adjustment is over: every comparison of the report
+  // (compared cell × report.y metric) that has pairs.
+  int family = 0;
 };
 
 Paired PairedRowsOf(const std::vector<Cell>& cells, const StoreMeta& meta) {
@@ -547,6 +553,21 @@ Paired PairedRowsOf(const std::vector<Cell>& cells, const StoreMeta& meta) {
     }
     paired.rows.push_back(std::move(row));
   }
+  // Holm over the whole family: a report of 8 cells and 7 metrics makes 56
+  // tests, and chance alone makes about 3 of them findings at p < 0.05.
+  std::vector<double> p;
+  for (const PairedRow& row : paired.rows) {
+    for (const std::string& m : meta.report.y) {
+      const PairedComparison& c = row.metrics.at(m);
+      p.push_back(c.pairs > 0 ? c.test.p_value : kNaN);
+      paired.family += c.pairs > 0 ? 1 : 0;
+    }
+  }
+  const std::vector<double> adjusted = HolmAdjusted(p);
+  size_t next = 0;
+  for (PairedRow& row : paired.rows) {
+    for (const std::string& m : meta.report.y) row.holm[m] = adjusted[next++];
+  }
   return paired;
 }
 
@@ -583,6 +604,13 @@ PairedVerdict VerdictOf(const PairedComparison& c, const std::string& metric) {
   return (c.difference.mean > 0) == higher_better ? PairedVerdict::kBetter : PairedVerdict::kWorse;
 }
 
+// A finding (VerdictOf) whose Holm-adjusted p is below 0.05 too: it stays a
+// finding when every comparison of the report is tested at once.
+bool SurvivesHolm(const PairedRow& row, const std::string& metric) {
+  return VerdictOf(row.metrics.at(metric), metric) != PairedVerdict::kNotSignificant &&
+         row.holm.at(metric) < 0.05;
+}
+
 std::string FormatP(double p) {
   if (p < 0.001) return "p&nbsp;&lt;&nbsp;0.001";
   return fmt::format("p&nbsp;=&nbsp;{:.3f}", p);
@@ -617,10 +645,14 @@ std::string PairedHtml(const Paired& paired, const StoreMeta& meta, const Layout
       "differences p cannot fall below 0.05). Green: better than the reference in the metric's "
       "direction with p&nbsp;&lt;&nbsp;0.05 and an interval that excludes 0; red: worse, "
       "likewise; the test and the interval can disagree (the test uses ranks, the interval the "
-      "values), and a cell is coloured only when both say so.</p>\n",
+      "values), and a cell is coloured only when both say so. <b>Holm</b>, in coloured cells: "
+      "p adjusted by Holm's step-down method over the {4} comparisons of this table (cells "
+      "&times; metrics with pairs); chance alone makes about 1 in 20 of them coloured where "
+      "nothing differs, and a cell whose Holm p is also below 0.05 (in bold) stays a finding "
+      "when all {4} are tested at once.</p>\n",
       EscapeMarkup(meta.report.series), EscapeMarkup(paired.reference),
       meta.report.reference.empty() ? ", else the first series value" : "",
-      kExactSignedRankMaxPairs);
+      kExactSignedRankMaxPairs, paired.family);
   h += "<table><tr>";
   for (size_t k : shown) h += "<th>" + EscapeMarkup(keys[k]) + "</th>";
   h += "<th>compared</th><th>n</th>";
@@ -653,6 +685,12 @@ std::string PairedHtml(const Paired& paired, const StoreMeta& meta, const Layout
           fmt::format("<br>{}/{}/{}", c.positive, c.negative, c.pairs - c.positive - c.negative);
       if (c.pairs < n) text += fmt::format(" (n&nbsp;=&nbsp;{})", c.pairs);
       text += ", " + FormatP(c.test.p_value);
+      if (verdict != PairedVerdict::kNotSignificant) {
+        const double holm = row.holm.at(m);
+        const std::string value =
+            holm < 0.001 ? std::string("&lt;&nbsp;0.001") : fmt::format("{:.3f}", holm);
+        text += holm < 0.05 ? ", <b>Holm&nbsp;" + value + "</b>" : ", Holm&nbsp;" + value;
+      }
       h += fmt::format("<td{}>{}</td>", style, text);
     }
     h += "</tr>\n";
@@ -671,18 +709,20 @@ std::string PairedCsv(const Paired& paired, const StoreMeta& meta) {
   for (const std::string& k : meta.swept_keys) csv += Csv(k) + ",";
   csv +=
       "reference,metric,pairs,mean_difference,lo95,hi95,clipped,positive,negative,ties,"
-      "nonzero,w_plus,p_value,exact\n";
+      "nonzero,w_plus,p_value,exact,p_holm\n";
   for (const PairedRow& row : paired.rows) {
     for (const std::string& m : meta.report.y) {
       const PairedComparison& c = row.metrics.at(m);
       for (const std::string& v : row.cell->values) csv += Csv(v) + ",";
       const bool band = c.difference.method != IntervalMethod::kNone;
-      csv += fmt::format("{},{},{},{},{},{},{},{},{},{},{},{},{},{}\n", Csv(paired.reference), m,
+      const double holm = row.holm.at(m);
+      csv += fmt::format("{},{},{},{},{},{},{},{},{},{},{},{},{},{},{}\n", Csv(paired.reference), m,
                          c.pairs, c.pairs ? Number(c.difference.mean) : "",
                          band ? Number(c.difference.lower) : "",
                          band ? Number(c.difference.upper) : "", c.difference.clipped ? 1 : 0,
                          c.positive, c.negative, c.pairs - c.positive - c.negative, c.test.nonzero,
-                         Number(c.test.w_plus), Number(c.test.p_value), c.test.exact ? 1 : 0);
+                         Number(c.test.w_plus), Number(c.test.p_value), c.test.exact ? 1 : 0,
+                         std::isnan(holm) ? std::string() : Number(holm));
     }
   }
   return csv;
@@ -804,10 +844,12 @@ std::vector<Finding> FindingsOf(const std::vector<Cell>& cells, const Paired& pa
       std::vector<std::string> compared;
       std::map<std::string, std::array<std::vector<std::string>, 3>> verdicts;
       std::map<std::string, std::pair<int, int>> pairs;  // min, max
+      std::map<std::string, std::vector<std::string>> holm_kept;
       for (const PairedRow& row : paired.rows) {
         if (group_key(*row.cell) != g) continue;
         const PairedComparison& c = row.metrics.at(m);
         const std::string& s = row.cell->values[si];
+        if (SurvivesHolm(row, m)) holm_kept[s].push_back(x_of(*row.cell));
         if (!verdicts.count(s)) {
           compared.push_back(s);
           pairs[s] = {c.pairs, c.pairs};
@@ -838,6 +880,17 @@ std::vector<Finding> FindingsOf(const std::vector<Cell>& cells, const Paired& pa
                               fmt::join(said, "; "),
                               lo == hi ? std::to_string(lo) : fmt::format("{}\u2013{}", lo, hi),
                               hi == 1 ? "" : "s", xi >= 0 ? " per " + x_name : "");
+        if (!v[1].empty() || !v[2].empty()) {
+          const std::vector<std::string>& kept = holm_kept[s];
+          f.text += kept.empty() ? fmt::format(
+                                       " None stays significant after Holm's correction for the "
+                                       "report's {} comparisons.",
+                                       paired.family)
+                                 : fmt::format(
+                                       " After Holm's correction for the report's {} comparisons: "
+                                       "still significant{}.",
+                                       paired.family, at(kept));
+        }
       }
       findings.push_back(std::move(f));
     }
@@ -855,6 +908,7 @@ struct Glance {
   std::string compared;  // the series value compared with the reference
   int better = 0;
   int worse = 0;
+  int holm = 0;  // of better + worse, those that survive Holm's correction
   int not_significant = 0;
   int no_pairs = 0;
   int cells() const { return better + worse + not_significant + no_pairs; }
@@ -887,6 +941,7 @@ GlanceTable GlanceOf(const Paired& paired, const StoreMeta& meta) {
         ++it->no_pairs;
         continue;
       }
+      if (SurvivesHolm(row, m)) ++it->holm;
       switch (VerdictOf(c, m)) {
         case PairedVerdict::kBetter:
           ++it->better;
@@ -905,19 +960,34 @@ GlanceTable GlanceOf(const Paired& paired, const StoreMeta& meta) {
 }
 
 std::string FindingsIntro(const Paired& paired, const StoreMeta& meta) {
+  int findings = 0, kept = 0;
+  for (const PairedRow& row : paired.rows) {
+    for (const std::string& m : meta.report.y) {
+      findings += VerdictOf(row.metrics.at(m), m) != PairedVerdict::kNotSignificant ? 1 : 0;
+      kept += SurvivesHolm(row, m) ? 1 : 0;
+    }
+  }
   return fmt::format(
       "Generated from the runs: for every metric, which {0} value has the best mean at each x, "
       "and where each other value differs from {1} (the reference) seed by seed with p < 0.05 "
       "and a 95 % interval that excludes 0 (the green and red cells of the paired differences). "
-      "A better mean without that is not a finding.",
-      meta.report.series, paired.reference);
+      "A better mean without that is not a finding. This report makes {2} comparisons; where "
+      "nothing differs, chance alone makes about {3:.1f} of them findings. {4}",
+      meta.report.series, paired.reference, paired.family, 0.05 * paired.family,
+      findings == 0
+          ? std::string("None of them is a finding.")
+          : fmt::format("Of them {} {}, and {} of those {} significant after Holm's correction "
+                        "for all {} (Holm p < 0.05).",
+                        findings, findings == 1 ? "is a finding" : "are findings", kept,
+                        kept == 1 ? "stays" : "stay", paired.family));
 }
 
 std::string GlanceIntro(const Paired& paired, const StoreMeta& meta) {
   return fmt::format(
       "At a glance: for each metric and {} value, in how many of its cells (every combination "
       "of the other swept values) the paired difference against {} is a finding for better or "
-      "for worse, and in how many it is not.",
+      "for worse, how many of those findings survive Holm's correction, and in how many cells "
+      "it is not a finding.",
       meta.report.series, paired.reference);
 }
 
@@ -929,7 +999,7 @@ std::string FindingsHtml(const std::vector<Finding>& findings, const GlanceTable
   const bool any_no_pairs = glance.no_pairs_column;
   h += "<p>" + EscapeMarkup(GlanceIntro(paired, meta)) +
        "</p>\n<table id=\"glance\"><tr><th>metric</th><th>compared</th><th>better</th>"
-       "<th>worse</th><th>not significant</th>" +
+       "<th>worse</th><th>of them after Holm</th><th>not significant</th>" +
        std::string(any_no_pairs ? "<th>no pairs</th>" : "") + "<th>cells</th></tr>\n";
   for (const Glance& g : glance.rows) {
     const auto coloured = [](int n, const char* colour) {
@@ -937,10 +1007,10 @@ std::string FindingsHtml(const std::vector<Finding>& findings, const GlanceTable
                    : fmt::format("<td>{}</td>", n);
     };
     h += fmt::format(
-        "<tr><td class=\"k\">{}</td><td class=\"k\">{} &minus; {}</td>{}{}<td>{}</td>{}"
-        "<td>{}</td></tr>\n",
+        "<tr><td class=\"k\">{}</td><td class=\"k\">{} &minus; {}</td>{}{}<td>{}</td><td>{}</td>"
+        "{}<td>{}</td></tr>\n",
         EscapeMarkup(g.metric), EscapeMarkup(g.compared), EscapeMarkup(paired.reference),
-        coloured(g.better, "#dff3df"), coloured(g.worse, "#f8dede"), g.not_significant,
+        coloured(g.better, "#dff3df"), coloured(g.worse, "#f8dede"), g.holm, g.not_significant,
         any_no_pairs ? fmt::format("<td>{}</td>", g.no_pairs) : "", g.cells());
   }
   h += "</table>\n<ul>\n";
@@ -956,12 +1026,13 @@ std::string FindingsMarkdown(const std::vector<Finding>& findings, const GlanceT
                              const Paired& paired, const StoreMeta& meta) {
   std::string md = "# Findings\n\n" + FindingsIntro(paired, meta) + "\n\n";
   const bool any_no_pairs = glance.no_pairs_column;
-  md += GlanceIntro(paired, meta) + "\n\n| metric | compared | better | worse | not significant |" +
-        std::string(any_no_pairs ? " no pairs |" : "") + " cells |\n|---|---|---|---|---|" +
+  md += GlanceIntro(paired, meta) +
+        "\n\n| metric | compared | better | worse | of them after Holm | not significant |" +
+        std::string(any_no_pairs ? " no pairs |" : "") + " cells |\n|---|---|---|---|---|---|" +
         std::string(any_no_pairs ? "---|" : "") + "---|\n";
   for (const Glance& g : glance.rows) {
-    md += fmt::format("| {} | {} \u2212 {} | {} | {} | {} |{} {} |\n", g.metric, g.compared,
-                      paired.reference, g.better, g.worse, g.not_significant,
+    md += fmt::format("| {} | {} \u2212 {} | {} | {} | {} | {} |{} {} |\n", g.metric, g.compared,
+                      paired.reference, g.better, g.worse, g.holm, g.not_significant,
                       any_no_pairs ? fmt::format(" {} |", g.no_pairs) : "", g.cells());
   }
   md += "\n";

@@ -206,4 +206,21 @@ PairedComparison ComparePaired(std::span<const double> a, std::span<const double
   return c;
 }
 
+std::vector<double> HolmAdjusted(std::span<const double> p_values) {
+  std::vector<double> adjusted(p_values.size(), std::numeric_limits<double>::quiet_NaN());
+  std::vector<size_t> order;
+  for (size_t i = 0; i < p_values.size(); ++i) {
+    if (!std::isnan(p_values[i])) order.push_back(i);
+  }
+  std::stable_sort(order.begin(), order.end(),
+                   [&](size_t a, size_t b) { return p_values[a] < p_values[b]; });
+  const size_t m = order.size();
+  double running = 0.0;  // the max over j <= i keeps the adjusted values monotone
+  for (size_t j = 0; j < m; ++j) {
+    running = std::max(running, static_cast<double>(m - j) * p_values[order[j]]);
+    adjusted[order[j]] = std::min(1.0, running);
+  }
+  return adjusted;
+}
+
 }  // namespace hcpf::studies

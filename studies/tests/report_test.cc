@@ -929,7 +929,8 @@ TEST(Report, WideRangesGetALogarithmicYAxis) {
 // systematic 1 on every seed at 100 and on seeds 0–4 at 1000, charged 0
 // everywhere. mota: systematic 0.9 everywhere; charged at 1000 is 1.0 on
 // seeds 0–8 and 0.5 on seed 9 (its t interval reaches past 1).
-fs::path HandStore(const std::string& name, const std::string& reference = "systematic") {
+fs::path HandStore(const std::string& name, const std::string& reference = "systematic",
+                   int seeds = 10) {
   const auto dir = testing::SweepFolder(name);
   StoreMeta meta;
   meta.sweep_hash = "hand";
@@ -939,12 +940,12 @@ fs::path HandStore(const std::string& name, const std::string& reference = "syst
   meta.report.series = "tracker.resampling.method";
   meta.report.y = {"hijack_rate", "mota"};
   meta.report.reference = reference;
-  meta.run_count = 40;
+  meta.run_count = 4 * seeds;
   auto store = ResultsStore::OpenOrCreate((dir / "results.sqlite").string(), meta);
   int64_t index = 0;
   for (const char* particles : {"100", "1000"}) {
     for (const char* method : {"systematic", "charged"}) {
-      for (int seed = 0; seed < 10; ++seed) {
+      for (int seed = 0; seed < seeds; ++seed) {
         RunRecord r;
         r.key = std::string(particles) + "-" + method + "-" + std::to_string(seed);
         r.index = index++;
@@ -1034,13 +1035,14 @@ TEST(Report, PairedDifferencesByHand) {
   const auto rows = CsvRows(dir / "paired.csv");
   ASSERT_EQ(rows.size(), 4U);  // 2 x values × 2 metrics
   // Columns: particles, method, reference, metric, pairs, mean_difference,
-  // lo95, hi95, clipped, positive, negative, ties, nonzero, w_plus, p_value, exact.
+  // lo95, hi95, clipped, positive, negative, ties, nonzero, w_plus, p_value, exact,
+  // p_holm.
   const auto row_of = [&](const std::string& x, const std::string& metric) {
     for (const auto& row : rows) {
       if (row[0] == x && row[3] == metric) return row;
     }
     ADD_FAILURE() << x << " " << metric;
-    return std::vector<std::string>(16);
+    return std::vector<std::string>(17);
   };
   auto row = row_of("100", "hijack_rate");
   EXPECT_EQ(row[1], "charged");
@@ -1067,11 +1069,18 @@ TEST(Report, PairedDifferencesByHand) {
   EXPECT_NEAR(std::stod(row[14]), 94.0 / 1024.0, 1e-6);
   EXPECT_EQ(row[15], "1");
   EXPECT_NEAR(std::stod(row_of("1000", "hijack_rate")[14]), 0.0625, 1e-9);
+  // p_holm over the 4 comparisons: sorted 2/1024, 0.0625, 94/1024, 1 times
+  // 4, 3, 2, 1: 0.0078125, 0.1875, 0.183594 (raised to 0.1875), 1.
+  EXPECT_NEAR(std::stod(row_of("100", "hijack_rate")[16]), 8.0 / 1024.0, 1e-6);
+  EXPECT_NEAR(std::stod(row_of("1000", "hijack_rate")[16]), 0.1875, 1e-6);
+  EXPECT_NEAR(std::stod(row_of("1000", "mota")[16]), 0.1875, 1e-6);
+  EXPECT_NEAR(std::stod(row_of("100", "mota")[16]), 1.0, 1e-6);
 
   const std::string html = Read(r.html_path);
   EXPECT_NE(html.find("<h2 id=\"paired\">Paired differences</h2>"), std::string::npos);
   EXPECT_NE(html.find("charged &minus; systematic</td><td>10</td>"), std::string::npos);
-  EXPECT_NE(html.find("p&nbsp;=&nbsp;0.002"), std::string::npos);
+  EXPECT_NE(html.find("p&nbsp;=&nbsp;0.002, <b>Holm&nbsp;0.008</b>"), std::string::npos);
+  EXPECT_NE(html.find("over the 4 comparisons of this table"), std::string::npos);
   // Lower hijack rate is better: significant and negative → green.
   EXPECT_NE(html.find("style=\"background:#dff3df\">&Delta;&nbsp;-1 [-1, -1]"), std::string::npos);
   // The difference plots: a line "charged − systematic" and a zero line.
@@ -1107,7 +1116,9 @@ TEST(Report, FindingsSayWhichSeriesIsBestAndWhereTheDifferenceIsSignificant) {
   EXPECT_NE(md.find("- **hijack_rate**: best mean (lower is better): charged at every "
                     "tracker.particles. charged \u2212 systematic: significantly better at "
                     "tracker.particles = 100; not significantly different at "
-                    "tracker.particles = 1000 (10 seed pairs per tracker.particles).\n"),
+                    "tracker.particles = 1000 (10 seed pairs per tracker.particles). After "
+                    "Holm's correction for the report's 4 comparisons: still significant at "
+                    "tracker.particles = 100.\n"),
             std::string::npos)
       << md;
   EXPECT_NE(md.find("- **mota**: best mean (higher is better): equal means at "
@@ -1118,17 +1129,18 @@ TEST(Report, FindingsSayWhichSeriesIsBestAndWhereTheDifferenceIsSignificant) {
       << md;
   // At a glance: hijack_rate a finding for better at one x of two, mota at
   // none.
-  EXPECT_NE(md.find("| metric | compared | better | worse | not significant | cells |\n"
-                    "|---|---|---|---|---|---|\n"
-                    "| hijack_rate | charged \u2212 systematic | 1 | 0 | 1 | 2 |\n"
-                    "| mota | charged \u2212 systematic | 0 | 0 | 2 | 2 |\n"),
+  EXPECT_NE(md.find("| metric | compared | better | worse | of them after Holm | not significant "
+                    "| cells |\n"
+                    "|---|---|---|---|---|---|---|\n"
+                    "| hijack_rate | charged \u2212 systematic | 1 | 0 | 1 | 1 | 2 |\n"
+                    "| mota | charged \u2212 systematic | 0 | 0 | 0 | 2 | 2 |\n"),
             std::string::npos)
       << md;
   const std::string html = Read(r.html_path);
   EXPECT_NE(html.find("<h2 id=\"findings\">Findings</h2>"), std::string::npos);
   EXPECT_NE(html.find("<tr><td class=\"k\">hijack_rate</td><td class=\"k\">charged &minus; "
                       "systematic</td><td style=\"background:#dff3df\">1</td><td>0</td><td>1</td>"
-                      "<td>2</td></tr>"),
+                      "<td>1</td><td>2</td></tr>"),
             std::string::npos);
   EXPECT_LT(html.find("id=\"findings\""), html.find("<h2>Plots</h2>"));
   EXPECT_NE(html.find("<li><b>hijack_rate</b>: best mean (lower is better): charged"),
@@ -1142,8 +1154,48 @@ TEST(Report, FindingsSayWhichSeriesIsBestAndWhereTheDifferenceIsSignificant) {
             std::string::npos)
       << Read(flipped / "findings.md");
   EXPECT_NE(Read(flipped / "findings.md")
-                .find("| hijack_rate | systematic \u2212 charged | 0 | 1 | 1 | 2 |\n"),
+                .find("| hijack_rate | systematic \u2212 charged | 0 | 1 | 1 | 1 | 2 |\n"),
             std::string::npos);
+}
+
+// The hand store with 6 seeds: hijack_rate at 100 is −1 on all 6 pairs
+// (p = 2/64 = 0.03125, interval [−1, −1]) and mota at 1000 +0.1 on all 6
+// (p = 0.03125, [0.1, 0.1]): two findings. Holm over the 4 comparisons
+// (0.03125, 0.03125, hijack_rate at 1000: 5 nonzero, p = 2/32 = 0.0625,
+// mota at 100: p = 1) gives 0.125, 0.125 (raised), 0.125, 1: neither
+// finding survives, and the report says so rather than calling them two
+// results.
+TEST(Report, FindingsSayWhenNoneSurvivesHolmsCorrection) {
+  const fs::path dir = HandStore("report-holm", "systematic", 6);
+  const ReportResult r = WriteReport({.dir = dir.string()});
+  const std::string md = Read(dir / "findings.md");
+  EXPECT_NE(md.find("This report makes 4 comparisons; where nothing differs, chance alone makes "
+                    "about 0.2 of them findings. Of them 2 are findings, and 0 of those stay "
+                    "significant after Holm's correction for all 4 (Holm p < 0.05).\n"),
+            std::string::npos)
+      << md;
+  EXPECT_NE(md.find("charged \u2212 systematic: significantly better at tracker.particles = 100; "
+                    "not significantly different at tracker.particles = 1000 (6 seed pairs per "
+                    "tracker.particles). None stays significant after Holm's correction for the "
+                    "report's 4 comparisons.\n"),
+            std::string::npos)
+      << md;
+  EXPECT_NE(md.find("| hijack_rate | charged \u2212 systematic | 1 | 0 | 0 | 1 | 2 |\n"),
+            std::string::npos)
+      << md;
+  EXPECT_NE(md.find("| mota | charged \u2212 systematic | 1 | 0 | 0 | 1 | 2 |\n"),
+            std::string::npos)
+      << md;
+  const auto rows = CsvRows(dir / "paired.csv");
+  ASSERT_EQ(rows.size(), 4U);
+  for (const auto& row : rows) {
+    const double expected = row[0] == "100" && row[3] == "mota" ? 1.0 : 0.125;
+    EXPECT_NEAR(std::stod(row[16]), expected, 1e-9) << row[0] << " " << row[3];
+  }
+  // The coloured cells give Holm's p, not in bold (not below 0.05).
+  const std::string html = Read(r.html_path);
+  EXPECT_NE(html.find("p&nbsp;=&nbsp;0.031, Holm&nbsp;0.125</td>"), std::string::npos);
+  EXPECT_EQ(html.find("<b>Holm&nbsp;"), std::string::npos);
 }
 
 // A store written by hand: tracker.particles swept over 100 and 1000, one ok
@@ -1285,8 +1337,15 @@ TEST(Report, FindingsIgnoreKeysThatFollowTheSeries) {
                     "of them).\n"),
             std::string::npos)
       << md;
+  // The family Holm is over counts the comparisons with pairs only: mota's
+  // two (3 pairs each, all lower: p = 0.25, no finding).
+  EXPECT_NE(md.find("This report makes 2 comparisons; where nothing differs, chance alone makes "
+                    "about 0.1 of them findings. None of them is a finding.\n"),
+            std::string::npos)
+      << md;
   // At a glance, da_accuracy has no pairs in either cell.
-  EXPECT_NE(md.find("| da_accuracy | sort \u2212 pf | 0 | 0 | 0 | 2 | 2 |\n"), std::string::npos)
+  EXPECT_NE(md.find("| da_accuracy | sort \u2212 pf | 0 | 0 | 0 | 0 | 2 | 2 |\n"),
+            std::string::npos)
       << md;
   // Three pairs: the rank test cannot reach p < 0.05 (2/8 = 0.25).
   EXPECT_NE(md.find("- **mota**: best mean (higher is better): pf at every tracker.particles. "

@@ -264,6 +264,31 @@ TEST(ComparePaired, DifferenceIntervalCountsAndTestByHand) {
   EXPECT_TRUE(cut.difference.clipped);
 }
 
+// Holm by hand. p = {0.04, 0.005, NaN, 0.03, 0.01, 0.5}: five tests, sorted
+// 0.005, 0.01, 0.03, 0.04, 0.5 times 5, 4, 3, 2, 1: 0.025, 0.04, 0.09, 0.08,
+// 0.5; the running maximum makes the fourth 0.09. Bonferroni (5p) would keep
+// only 0.005 below 0.05; Holm keeps 0.01 too.
+TEST(HolmAdjusted, StepDownByHandKeepsOrderAndSkipsNaN) {
+  const std::vector<double> p = {0.04, 0.005, std::nan(""), 0.03, 0.01, 0.5};
+  const std::vector<double> h = HolmAdjusted(p);
+  ASSERT_EQ(h.size(), 6U);
+  EXPECT_NEAR(h[0], 0.09, 1e-12);  // 2 · 0.04 = 0.08, raised to the 0.09 before it
+  EXPECT_NEAR(h[1], 0.025, 1e-12);
+  EXPECT_TRUE(std::isnan(h[2]));
+  EXPECT_NEAR(h[3], 0.09, 1e-12);
+  EXPECT_NEAR(h[4], 0.04, 1e-12);
+  EXPECT_NEAR(h[5], 0.5, 1e-12);
+  // Capped at 1; one test is its own adjustment; no test, nothing.
+  const std::vector<double> big = {0.3, 0.6, 0.9};
+  const std::vector<double> big_h = HolmAdjusted(big);
+  EXPECT_NEAR(big_h[0], 0.9, 1e-12);  // 3 · 0.3
+  EXPECT_EQ(big_h[1], 1.0);           // 2 · 0.6, capped
+  EXPECT_EQ(big_h[2], 1.0);           // raised to the 1 before it
+  const std::vector<double> one = {0.03};
+  EXPECT_EQ(HolmAdjusted(one), one);
+  EXPECT_TRUE(HolmAdjusted(std::vector<double>{}).empty());
+}
+
 TEST(MetricCatalogue, ProportionsAreTheFractionsOfCountedEvents) {
   for (const char* name :
        {"da_accuracy", "hijack_rate", "hijacked_fraction", "det_precision", "det_recall",

@@ -15,6 +15,7 @@
 
 #include <limits>
 #include <span>
+#include <vector>
 
 namespace hcpf::studies {
 
@@ -127,5 +128,16 @@ struct PairedComparison {
 // Precondition: a.size() == b.size().
 PairedComparison ComparePaired(std::span<const double> a, std::span<const double> b,
                                const MetricRange& range);
+
+// Holm's step-down adjustment (Holm 1979) of a family of m p-values for
+// testing them all at once: with p_(1) <= ... <= p_(m) sorted ascending,
+//   p̃_(i) = min(1, max_{j <= i} (m − j + 1) · p_(j)),
+// returned in the order given. Rejecting the hypotheses whose p̃ < α keeps
+// the chance of any false rejection in the family at most α, whatever the
+// dependence between the tests (correlated metrics of the same runs), and
+// rejects at least what Bonferroni (m · p) does. NaN entries are not tests:
+// they stay NaN and do not count in m. Ties keep their given order (their
+// adjusted values are equal anyway).
+std::vector<double> HolmAdjusted(std::span<const double> p_values);
 
 }  // namespace hcpf::studies

@@ -82,9 +82,8 @@ SceneFrames ProduceFrames(const Scenario& scenario, const FrameSourceOptions& op
   // Three stages: this thread renders frame f + 1 (or reads it from the
   // cache) while `finisher` applies the sensor effects and on_frame_work to
   // frame f (and, with several workers, to the frames before it, each on its
-  // own thread) and
-  // then, one frame at a time in frame order, finishes it: the cache write,
-  // on_frame, the truth and the image. On llvmpipe, whose readback waits for
+  // own thread) and then, one frame at a time in frame order, finishes it:
+  // the cache write, on_frame, the truth and the image. On llvmpipe, whose readback waits for
   // the frame, this is the overlap there is (the sensor effects and a
   // detector's work run beside the rasteriser); on a GPU the GL work runs
   // beside all of them. Each frame's noise has its own stream, so the bytes

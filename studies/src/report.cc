@@ -959,13 +959,13 @@ GlanceTable GlanceOf(const Paired& paired, const StoreMeta& meta) {
   return table;
 }
 
-std::string FindingsIntro(const Paired& paired, const StoreMeta& meta) {
+// The counts of findings and of those kept by Holm are the glance table's,
+// summed over its rows.
+std::string FindingsIntro(const Paired& paired, const GlanceTable& glance, const StoreMeta& meta) {
   int findings = 0, kept = 0;
-  for (const PairedRow& row : paired.rows) {
-    for (const std::string& m : meta.report.y) {
-      findings += VerdictOf(row.metrics.at(m), m) != PairedVerdict::kNotSignificant ? 1 : 0;
-      kept += SurvivesHolm(row, m) ? 1 : 0;
-    }
+  for (const Glance& g : glance.rows) {
+    findings += g.better + g.worse;
+    kept += g.holm;
   }
   return fmt::format(
       "Generated from the runs: for every metric, which {0} value has the best mean at each x, "
@@ -995,7 +995,7 @@ std::string FindingsHtml(const std::vector<Finding>& findings, const GlanceTable
                          const Paired& paired, const StoreMeta& meta) {
   if (findings.empty()) return {};
   std::string h = "<h2 id=\"findings\">Findings</h2>\n<p>" +
-                  EscapeMarkup(FindingsIntro(paired, meta)) + "</p>\n";
+                  EscapeMarkup(FindingsIntro(paired, glance, meta)) + "</p>\n";
   const bool any_no_pairs = glance.no_pairs_column;
   h += "<p>" + EscapeMarkup(GlanceIntro(paired, meta)) +
        "</p>\n<table id=\"glance\"><tr><th>metric</th><th>compared</th><th>better</th>"
@@ -1024,7 +1024,7 @@ std::string FindingsHtml(const std::vector<Finding>& findings, const GlanceTable
 
 std::string FindingsMarkdown(const std::vector<Finding>& findings, const GlanceTable& glance,
                              const Paired& paired, const StoreMeta& meta) {
-  std::string md = "# Findings\n\n" + FindingsIntro(paired, meta) + "\n\n";
+  std::string md = "# Findings\n\n" + FindingsIntro(paired, glance, meta) + "\n\n";
   const bool any_no_pairs = glance.no_pairs_column;
   md += GlanceIntro(paired, meta) +
         "\n\n| metric | compared | better | worse | of them after Holm | not significant |" +

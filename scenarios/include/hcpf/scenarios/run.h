@@ -15,9 +15,8 @@ namespace hcpf::scenarios {
 struct RunOptions {
   std::string out_dir;
   // Worker threads of the tracker's per-filter stages and, for rendered
-  // frames, of their sensor effects, cache writes and image files (write_frames
-  // and the like); outputs are identical
-  // for every value.
+  // frames, of their sensor effects, cache writes and image files
+  // (write_frames and the like); outputs are identical for every value.
   int threads = 1;
   // Also write overlay.mp4: frames (or a plain background at detection level),
   // ground-truth boxes, estimates, particles (tracker.keep_particles > 0) and

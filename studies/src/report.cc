@@ -493,6 +493,12 @@ struct Paired {
   // The family Holm's adjustment is over: every comparison of the report
   // (compared cell × report.y metric) that has pairs.
   int family = 0;
+  // Comparisons of the family whose seed pairs are too few for Holm's
+  // correction to keep them whatever the data (SignedRankFloor(pairs) >=
+  // 0.05 / family), the most pairs among them, and the pairs it needs.
+  int holm_unreachable = 0;
+  int unreachable_pairs = 0;
+  int pairs_for_holm = 0;
 };
 
 Paired PairedRowsOf(const std::vector<Cell>& cells, const StoreMeta& meta) {
@@ -568,6 +574,16 @@ Paired PairedRowsOf(const std::vector<Cell>& cells, const StoreMeta& meta) {
   for (PairedRow& row : paired.rows) {
     for (const std::string& m : meta.report.y) row.holm[m] = adjusted[next++];
   }
+  if (paired.family > 0) {
+    paired.pairs_for_holm = PairsForHolm(paired.family, 0.05);
+    for (const PairedRow& row : paired.rows) {
+      for (const auto& [m, c] : row.metrics) {
+        if (c.pairs == 0 || SignedRankFloor(c.pairs) < 0.05 / paired.family) continue;
+        ++paired.holm_unreachable;
+        paired.unreachable_pairs = std::max(paired.unreachable_pairs, c.pairs);
+      }
+    }
+  }
   return paired;
 }
 
@@ -611,6 +627,35 @@ bool SurvivesHolm(const PairedRow& row, const std::string& metric) {
          row.holm.at(metric) < 0.05;
 }
 
+// What the seed count allows: empty when every comparison has the pairs
+// for Holm's correction to keep it; else how many cannot be kept, whatever
+// their data, and the seeds that would let them.
+std::string HolmReachNote(const Paired& paired) {
+  if (paired.holm_unreachable == 0) return {};
+  const int n = paired.unreachable_pairs;
+  const double floor = SignedRankFloor(n);
+  const std::string who =
+      paired.holm_unreachable == paired.family
+          ? std::string("no comparison of this report can")
+          : fmt::format("{} of the {} comparisons (those with {} pairs or fewer) cannot",
+                        paired.holm_unreachable, paired.family, n);
+  const std::string what =
+      floor >= 0.05 ? fmt::format(
+                          "With {} seed pairs the signed-rank test cannot give p below {:.3g}: {} "
+                          "be a finding, whatever the data.",
+                          n, floor, who)
+                    : fmt::format(
+                          "With {} seed pairs the signed-rank test cannot give p below {:.3g}, and "
+                          "Holm's correction for {} comparisons needs p < {:.3g} for its first: {} "
+                          "stay significant after it, whatever the data.",
+                          n, floor, paired.family, 0.05 / paired.family, who);
+  return what + fmt::format(
+                    " {} pairs per comparison (seeds, times the pooled values) at least are "
+                    "needed for Holm's correction to keep one, more for a difference that does "
+                    "not have the same sign in every seed.",
+                    paired.pairs_for_holm);
+}
+
 std::string FormatP(double p) {
   if (p < 0.001) return "p&nbsp;&lt;&nbsp;0.001";
   return fmt::format("p&nbsp;=&nbsp;{:.3f}", p);
@@ -649,10 +694,12 @@ std::string PairedHtml(const Paired& paired, const StoreMeta& meta, const Layout
       "p adjusted by Holm's step-down method over the {4} comparisons of this table (cells "
       "&times; metrics with pairs); chance alone makes about 1 in 20 of them coloured where "
       "nothing differs, and a cell whose Holm p is also below 0.05 (in bold) stays a finding "
-      "when all {4} are tested at once.</p>\n",
+      "when all {4} are tested at once.{5}</p>\n",
       EscapeMarkup(meta.report.series), EscapeMarkup(paired.reference),
       meta.report.reference.empty() ? ", else the first series value" : "",
-      kExactSignedRankMaxPairs, paired.family);
+      kExactSignedRankMaxPairs, paired.family,
+      paired.holm_unreachable > 0 ? " <b>" + EscapeMarkup(HolmReachNote(paired)) + "</b>"
+                                  : std::string());
   h += "<table><tr>";
   for (size_t k : shown) h += "<th>" + EscapeMarkup(keys[k]) + "</th>";
   h += "<th>compared</th><th>n</th>";
@@ -968,18 +1015,24 @@ std::string FindingsIntro(const Paired& paired, const GlanceTable& glance, const
     kept += g.holm;
   }
   return fmt::format(
-      "Generated from the runs: for every metric, which {0} value has the best mean at each x, "
-      "and where each other value differs from {1} (the reference) seed by seed with p < 0.05 "
-      "and a 95 % interval that excludes 0 (the green and red cells of the paired differences). "
-      "A better mean without that is not a finding. This report makes {2} comparisons; where "
-      "nothing differs, chance alone makes about {3:.1f} of them findings. {4}",
-      meta.report.series, paired.reference, paired.family, 0.05 * paired.family,
-      findings == 0
-          ? std::string("None of them is a finding.")
-          : fmt::format("Of them {} {}, and {} of those {} significant after Holm's correction "
-                        "for all {} (Holm p < 0.05).",
-                        findings, findings == 1 ? "is a finding" : "are findings", kept,
-                        kept == 1 ? "stays" : "stay", paired.family));
+             "Generated from the runs: for every metric, which {0} value has the best mean at each "
+             "x, "
+             "and where each other value differs from {1} (the reference) seed by seed with p < "
+             "0.05 "
+             "and a 95 % interval that excludes 0 (the green and red cells of the paired "
+             "differences). "
+             "A better mean without that is not a finding. This report makes {2} comparisons; "
+             "where "
+             "nothing differs, chance alone makes about {3:.1f} of them findings. {4}",
+             meta.report.series, paired.reference, paired.family, 0.05 * paired.family,
+             findings == 0
+                 ? std::string("None of them is a finding.")
+                 : fmt::format(
+                       "Of them {} {}, and {} of those {} significant after Holm's correction "
+                       "for all {} (Holm p < 0.05).",
+                       findings, findings == 1 ? "is a finding" : "are findings", kept,
+                       kept == 1 ? "stays" : "stay", paired.family)) +
+         (paired.holm_unreachable > 0 ? " " + HolmReachNote(paired) : std::string());
 }
 
 std::string GlanceIntro(const Paired& paired, const StoreMeta& meta) {

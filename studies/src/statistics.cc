@@ -206,6 +206,27 @@ PairedComparison ComparePaired(std::span<const double> a, std::span<const double
   return c;
 }
 
+double SignedRankFloor(int n) {
+  if (n <= 0) return 1.0;
+  if (n <= kExactSignedRankMaxPairs) return std::min(1.0, std::ldexp(2.0, -n));
+  const double nn = n;
+  const double mean = nn * (nn + 1.0) / 4.0;
+  const double z =
+      (nn * (nn + 1.0) / 2.0 - mean - 0.5) / std::sqrt(nn * (nn + 1.0) * (2.0 * nn + 1.0) / 24.0);
+  return std::erfc(z / std::sqrt(2.0));
+}
+
+int PairsForHolm(int m, double alpha) {
+  const double threshold = alpha / m;
+  int n = 1;
+  // The first n that gets below: the floor halves per pair up to 30 and
+  // jumps up at 31 (the normal approximation is less extreme than the exact
+  // tail), so it is not monotone there; a family of a million comparisons
+  // needs 26 pairs.
+  while (SignedRankFloor(n) >= threshold && n < 1000) ++n;
+  return n;
+}
+
 std::vector<double> HolmAdjusted(std::span<const double> p_values) {
   std::vector<double> adjusted(p_values.size(), std::numeric_limits<double>::quiet_NaN());
   std::vector<size_t> order;

@@ -930,7 +930,7 @@ TEST(Report, WideRangesGetALogarithmicYAxis) {
 // everywhere. mota: systematic 0.9 everywhere; charged at 1000 is 1.0 on
 // seeds 0–8 and 0.5 on seed 9 (its t interval reaches past 1).
 fs::path HandStore(const std::string& name, const std::string& reference = "systematic",
-                   int seeds = 10) {
+                   int seeds = 10, int failed_charged_at_1000 = 0) {
   const auto dir = testing::SweepFolder(name);
   StoreMeta meta;
   meta.sweep_hash = "hand";
@@ -952,10 +952,10 @@ fs::path HandStore(const std::string& name, const std::string& reference = "syst
         r.seed_index = seed;
         r.seed = 1000 + seed;
         r.values = {particles, method};
-        r.ok = true;
-        r.run_dir = "runs/" + r.key;
         const bool systematic = std::string(method) == "systematic";
         const bool many = std::string(particles) == "1000";
+        r.ok = systematic || !many || seed >= failed_charged_at_1000;
+        r.run_dir = "runs/" + r.key;
         r.metrics["hijack_rate"] = systematic && (!many || seed < 5) ? 1.0 : 0.0;
         r.metrics["mota"] = systematic ? 0.9 : (many ? (seed < 9 ? 1.0 : 0.5) : 0.9);
         store->Put(r);
@@ -1171,7 +1171,13 @@ TEST(Report, FindingsSayWhenNoneSurvivesHolmsCorrection) {
   const std::string md = Read(dir / "findings.md");
   EXPECT_NE(md.find("This report makes 4 comparisons; where nothing differs, chance alone makes "
                     "about 0.2 of them findings. Of them 2 are findings, and 0 of those stay "
-                    "significant after Holm's correction for all 4 (Holm p < 0.05).\n"),
+                    "significant after Holm's correction for all 4 (Holm p < 0.05). With 6 seed "
+                    "pairs the signed-rank test cannot give p below 0.0312, and Holm's correction "
+                    "for 4 comparisons needs p < 0.0125 for its first: no comparison of this "
+                    "report can stay significant after it, whatever the data. 8 pairs per "
+                    "comparison (seeds, times the pooled values) at least are needed for Holm's "
+                    "correction to keep one, more for a difference that does not have the same "
+                    "sign in every seed.\n"),
             std::string::npos)
       << md;
   EXPECT_NE(md.find("charged \u2212 systematic: significantly better at tracker.particles = 100; "
@@ -1196,6 +1202,28 @@ TEST(Report, FindingsSayWhenNoneSurvivesHolmsCorrection) {
   const std::string html = Read(r.html_path);
   EXPECT_NE(html.find("p&nbsp;=&nbsp;0.031, Holm&nbsp;0.125</td>"), std::string::npos);
   EXPECT_EQ(html.find("<b>Holm&nbsp;"), std::string::npos);
+  // The paired table's note says it too, in bold.
+  EXPECT_NE(html.find("<b>With 6 seed pairs the signed-rank test cannot give p below 0.0312"),
+            std::string::npos);
+
+  // 10 seeds: 2 / 1024 = 0.00195 < 0.0125, every comparison can be kept,
+  // and nothing is said. With the charged runs at 1000 failed on seeds 0–3,
+  // the two comparisons at 1000 have 6 pairs and cannot: the note counts
+  // them.
+  const fs::path ten = HandStore("report-holm-ten");
+  WriteReport({.dir = ten.string()});
+  EXPECT_EQ(Read(ten / "findings.md").find("seed pairs the signed-rank test cannot"),
+            std::string::npos)
+      << Read(ten / "findings.md");
+  const fs::path some = HandStore("report-holm-some", "systematic", 10, 4);
+  WriteReport({.dir = some.string()});
+  EXPECT_NE(Read(some / "findings.md")
+                .find("With 6 seed pairs the signed-rank test cannot give p below 0.0312, and "
+                      "Holm's correction for 4 comparisons needs p < 0.0125 for its first: 2 of "
+                      "the 4 comparisons (those with 6 pairs or fewer) cannot stay significant "
+                      "after it, whatever the data. 8 pairs per comparison"),
+            std::string::npos)
+      << Read(some / "findings.md");
 }
 
 // A store written by hand: tracker.particles swept over 100 and 1000, one ok
@@ -1340,7 +1368,9 @@ TEST(Report, FindingsIgnoreKeysThatFollowTheSeries) {
   // The family Holm is over counts the comparisons with pairs only: mota's
   // two (3 pairs each, all lower: p = 0.25, no finding).
   EXPECT_NE(md.find("This report makes 2 comparisons; where nothing differs, chance alone makes "
-                    "about 0.1 of them findings. None of them is a finding.\n"),
+                    "about 0.1 of them findings. None of them is a finding. With 3 seed pairs "
+                    "the signed-rank test cannot give p below 0.25: no comparison of this report "
+                    "can be a finding, whatever the data. 7 pairs per comparison"),
             std::string::npos)
       << md;
   // At a glance, da_accuracy has no pairs in either cell.

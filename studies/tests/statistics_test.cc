@@ -289,6 +289,36 @@ TEST(HolmAdjusted, StepDownByHandKeepsOrderAndSkipsNaN) {
   EXPECT_TRUE(HolmAdjusted(std::vector<double>{}).empty());
 }
 
+// The floor of the signed-rank p by hand: n differences of one sign give
+// W+ at its maximum, reached by one of the 2^n sign assignments, so the
+// exact two-sided p is 2 / 2^n. The test itself, run on n positive
+// differences, must return exactly that floor (and above 30 the normal
+// approximation's). Holm over m comparisons needs p < 0.05 / m first.
+TEST(SignedRankFloor, ByHandAndReachedByOneSignedDifferences) {
+  EXPECT_EQ(SignedRankFloor(0), 1.0);
+  EXPECT_EQ(SignedRankFloor(1), 1.0);           // 2 / 2
+  EXPECT_EQ(SignedRankFloor(5), 0.0625);        // 2 / 32: five pairs never reach 0.05
+  EXPECT_EQ(SignedRankFloor(6), 0.03125);       // 2 / 64
+  EXPECT_EQ(SignedRankFloor(10), 0.001953125);  // 2 / 1024
+  for (int n : {1, 4, 10, 17, 30, 31, 40}) {
+    std::vector<double> d;
+    for (int i = 1; i <= n; ++i) d.push_back(0.5 * i);
+    EXPECT_DOUBLE_EQ(WilcoxonSignedRank(d).p_value, SignedRankFloor(n)) << n;
+  }
+  // Above 30, z = (31·32/4 − ½) / √(31·32·63/24) = 247.5 / √2604 = 4.8503:
+  // p = 1.2337e-6, larger than the exact 2^-29 at 30 pairs.
+  EXPECT_NEAR(SignedRankFloor(31), 1.2337e-6, 1e-9);
+  EXPECT_GT(SignedRankFloor(31), SignedRankFloor(30));
+  // The pairs Holm needs: one comparison, p < 0.05 → 6 (5 give 0.0625);
+  // 25 → p < 0.002: 10 (0.00195); 26 → p < 0.001923: 11; 52 → p < 0.000962:
+  // 12 (11 give 0.000977); 112 → p < 0.000446: 13.
+  EXPECT_EQ(PairsForHolm(1, 0.05), 6);
+  EXPECT_EQ(PairsForHolm(25, 0.05), 10);
+  EXPECT_EQ(PairsForHolm(26, 0.05), 11);
+  EXPECT_EQ(PairsForHolm(52, 0.05), 12);
+  EXPECT_EQ(PairsForHolm(112, 0.05), 13);
+}
+
 TEST(MetricCatalogue, ProportionsAreTheFractionsOfCountedEvents) {
   for (const char* name :
        {"da_accuracy", "hijack_rate", "hijacked_fraction", "det_precision", "det_recall",

@@ -115,6 +115,18 @@ struct SignedRankTest {
 };
 SignedRankTest WilcoxonSignedRank(std::span<const double> differences);
 
+// The smallest p WilcoxonSignedRank can return for n nonzero differences,
+// whatever they are: every difference of one sign. Exact (n <= 30):
+// 2 · 2^−n, the one sign assignment with W+ at its maximum; above, the
+// normal approximation at W+ = n(n+1)/2 without ties. n <= 0: 1. With 10
+// seed pairs it is 0.00195: Holm's correction over more than 25 comparisons
+// (first step p < 0.05 / m) can keep none of them, whatever the data.
+double SignedRankFloor(int n);
+// The fewest nonzero differences whose SignedRankFloor is below alpha / m:
+// the pairs a comparison needs before Holm's correction over m comparisons
+// at level alpha can keep it. Precondition: m >= 1, 0 < alpha < 1.
+int PairsForHolm(int m, double alpha);
+
 // A paired comparison of two cells on the seeds they share: d_i = a_i − b_i
 // for every pair where both values are finite.
 struct PairedComparison {

@@ -7,7 +7,7 @@ bash scripts/setup.sh
 cmake --preset release > /dev/null
 cmake --build --preset release -j "$(nproc)"
 # The main job: the default sweep (crossing with a dominant target, particles x
-# {systematic, charged} x 10 seeds) and its report. Re-running reuses finished runs.
+# {systematic, charged} x 20 seeds) and its report. Re-running reuses finished runs.
 out="out/default"
 ./build/release/cli/hcpf sweep scenarios/sweeps/default.yaml --out "$out"
 ./build/release/cli/hcpf report "$out"

@@ -5,6 +5,7 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <cmath>
 #include <filesystem>
 #include <map>
 #include <memory>
@@ -18,6 +19,7 @@
 #include "hcpf/scenarios/progress.h"
 #include "hcpf/studies/file_keys.h"
 #include "hcpf/studies/metric_catalogue.h"
+#include "hcpf/studies/statistics.h"
 #include "text.h"
 
 namespace hcpf::studies {
@@ -321,6 +323,56 @@ void CheckDetectionFileSeeds(const SweepSpec& spec, const scenarios::Scenario& s
 }
 
 }  // namespace
+
+std::string SeedsForHolmNote(const SweepSpec& spec) {
+  const ReportSpec& report = spec.report;
+  if (report.series.empty() || spec.seeds < 2 || report.y.empty()) return {};
+  const auto series = std::find_if(spec.grid.begin(), spec.grid.end(),
+                                   [&](const SweepAxis& a) { return a.key == report.series; });
+  if (series == spec.grid.end() || series->values.size() < 2) return {};
+  const double zip_length = spec.zip.empty() ? 1.0 : static_cast<double>(spec.zip[0].values.size());
+  double cells = zip_length, pooled = 1.0;
+  for (const SweepAxis& a : spec.grid) {
+    cells *= static_cast<double>(a.values.size());
+    if (std::find(report.pool.begin(), report.pool.end(), a.key) != report.pool.end())
+      pooled *= static_cast<double>(a.values.size());
+  }
+  const bool zip_pooled = std::any_of(spec.zip.begin(), spec.zip.end(), [&](const SweepAxis& a) {
+    return std::find(report.pool.begin(), report.pool.end(), a.key) != report.pool.end();
+  });
+  if (zip_pooled) pooled *= zip_length;
+  const double values = static_cast<double>(series->values.size());
+  const double comparisons =
+      cells / pooled * (values - 1.0) / values * static_cast<double>(report.y.size());
+  const double pairs = static_cast<double>(spec.seeds) * pooled;
+  if (comparisons < 1.0 || pairs > 1000.0) return {};
+  const int m = static_cast<int>(std::min(comparisons, 1e9));
+  const int n = static_cast<int>(pairs);
+  const double floor = SignedRankFloor(n);
+  if (floor < 0.05 / m) return {};
+  const int needed = PairsForHolm(m, 0.05);
+  const int seeds_needed = static_cast<int>(std::ceil(needed / pooled));
+  const std::string why =
+      floor >= 0.05
+          ? fmt::format(
+                "the signed-rank test cannot give p below {:.3g}, so no comparison can be "
+                "a finding",
+                floor)
+          : fmt::format(
+                "the signed-rank test cannot give p below {:.3g}, and Holm's correction "
+                "over the report's {} paired comparisons needs p < {:.3g} for its first, "
+                "so none can survive it",
+                floor, m, 0.05 / m);
+  return fmt::format(
+      "{}: with {} seeds{} each paired comparison of the report ({} against {}) has {} pairs: "
+      "{}, whatever the data. {} pairs at least are needed (seeds: {} or more; more for a "
+      "difference that does not have the same sign in every seed); docs/sweeps.md, \"Seeds "
+      "enough for Holm\"",
+      spec.file.empty() ? std::string("sweep") : spec.file, spec.seeds,
+      pooled > 1.0 ? fmt::format(" and {} pooled values", static_cast<int>(pooled)) : "",
+      report.series, report.reference.empty() ? series->values.front() : report.reference, n, why,
+      needed, seeds_needed);
+}
 
 std::vector<std::string> SweepSpec::SweptKeys() const {
   std::vector<std::string> keys;

@@ -202,6 +202,58 @@ TEST(Sweep, ReportReferenceIsAValueOfTheSeries) {
   EXPECT_NE(e.find("report.x_metric"), std::string::npos) << e;
 }
 
+// The warning before a sweep runs, by hand. particles {10, 20} x method
+// {systematic, charged}, series method, the 6 default report metrics: 2
+// compared cells x 6 = 12 comparisons, Holm's first step p < 0.05 / 12 =
+// 0.00417. 10 seeds: p can reach 2/1024 = 0.00195, no warning; 8 seeds:
+// 2/256 = 0.0078, a warning, and 9 pairs (2/512 = 0.0039) are needed.
+TEST(Sweep, SeedsTooFewForHolmAreSaidBeforeTheSweepRuns) {
+  const auto dir = SweepFolder("holm-note");
+  const std::string grid =
+      "base: base.yaml\ngrid:\n  tracker.particles: [10, 20]\n"
+      "  tracker.resampling.method: [systematic, charged]\n"
+      "report: {series: tracker.resampling.method}\n";
+  EXPECT_EQ(SeedsForHolmNote(LoadSweepFile(WriteSweep(dir, grid + "seeds: 10\n"))), "");
+  std::string note = SeedsForHolmNote(LoadSweepFile(WriteSweep(dir, grid + "seeds: 8\n")));
+  EXPECT_NE(note.find("with 8 seeds each paired comparison of the report "
+                      "(tracker.resampling.method against systematic) has 8 pairs: the "
+                      "signed-rank test cannot give p below 0.00781, and Holm's correction over "
+                      "the report's 12 paired comparisons needs p < 0.00417 for its first, so "
+                      "none can survive it, whatever the data. 9 pairs at least are needed "
+                      "(seeds: 9 or more;"),
+            std::string::npos)
+      << note;
+  EXPECT_NE(note.find("sweep.yaml: "), std::string::npos) << note;
+  // 2 seeds: p cannot reach 0.05 at all (2/4 = 0.5).
+  note = SeedsForHolmNote(LoadSweepFile(WriteSweep(dir, grid + "seeds: 2\n")));
+  EXPECT_NE(note.find("cannot give p below 0.5, so no comparison can be a finding"),
+            std::string::npos)
+      << note;
+  // No series, or no seeds: nothing is paired, nothing is said.
+  EXPECT_EQ(SeedsForHolmNote(LoadSweepFile(WriteSweep(
+                dir, "base: base.yaml\nseeds: 2\ngrid:\n  tracker.particles: [10, 20]\n"))),
+            "");
+  EXPECT_EQ(SeedsForHolmNote(LoadSweepFile(WriteSweep(dir, grid))), "");
+  // Pooled values pair like seeds: sigma (x) {2, 4} x particles {10, 20,
+  // 40} pooled x method, y [mota]: 2 comparisons (p < 0.025), 2 seeds x 3
+  // pooled = 6 pairs, 2/64 = 0.03125: a warning, 7 pairs needed, 3 seeds.
+  // With 3 seeds, 9 pairs (2/512): none.
+  const std::string pooled =
+      "base: base.yaml\ngrid:\n  tracker.likelihood.sigma_px: [2, 4]\n"
+      "  tracker.particles: [10, 20, 40]\n  tracker.resampling.method: [systematic, charged]\n"
+      "report: {x: tracker.likelihood.sigma_px, series: tracker.resampling.method, pool: "
+      "[tracker.particles], y: [mota]}\n";
+  note = SeedsForHolmNote(LoadSweepFile(WriteSweep(dir, pooled + "seeds: 2\n")));
+  EXPECT_NE(note.find("with 2 seeds and 3 pooled values each paired comparison of the report "
+                      "(tracker.resampling.method against systematic) has 6 pairs: the "
+                      "signed-rank test cannot give p below 0.0312, and Holm's correction over "
+                      "the report's 2 paired comparisons needs p < 0.025 for its first"),
+            std::string::npos)
+      << note;
+  EXPECT_NE(note.find("7 pairs at least are needed (seeds: 3 or more;"), std::string::npos) << note;
+  EXPECT_EQ(SeedsForHolmNote(LoadSweepFile(WriteSweep(dir, pooled + "seeds: 3\n"))), "");
+}
+
 TEST(Sweep, NoSeedsKeepsTheBaseSeedAndSweepSeedChangesDerivedSeeds) {
   const auto dir = SweepFolder("seeds");
   const auto runs = ExpandSweep(

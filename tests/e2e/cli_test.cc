@@ -300,6 +300,19 @@ TEST(Cli, ValidateChecksSweepFilesToo) {
   EXPECT_NE(r.output.find("valid sweep: 12 runs (6 cells x 2 seed(s)), every scenario valid"),
             std::string::npos)
       << r.output;
+  // With a series to compare and 2 seeds no paired comparison can be a
+  // finding: validate (as sweep) says so before anything runs, and the
+  // sweep is still valid.
+  std::ofstream(dir / "few.yaml") << "base: " << LibraryScenario("crossing") << "\n"
+                                  << "grid:\n  tracker.particles: [100, 200]\n"
+                                  << "  tracker.resampling.method: [systematic, charged]\n"
+                                  << "seeds: 2\nreport: {series: tracker.resampling.method}\n";
+  r = RunCommand(kHcpf + " validate " + (dir / "few.yaml").string());
+  EXPECT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("has 2 pairs: the signed-rank test cannot give p below 0.5, so no "
+                          "comparison can be a finding"),
+            std::string::npos)
+      << r.output;
   const std::string bad = write("bad.yaml", "lots");
   r = RunCommand(kHcpf + " validate " + bad);
   EXPECT_EQ(r.exit_code, 2) << r.output;

@@ -136,6 +136,16 @@ SweepSpec LoadSweepFile(const std::string& path);
 SweepSpec LoadSweepText(const std::string& text, const std::string& file_name,
                         const std::string& dir);
 
+// Before anything runs: a warning when the sweep's seeds are too few for the
+// report's paired comparisons (report.series against its reference at every
+// other cell, times report.y) to survive Holm's correction whatever the data
+// (SignedRankFloor, PairsForHolm in statistics.h), with the seeds that would
+// be enough; "" when they are, without report.series or with fewer than 2
+// seeds (one run per cell: nothing to pair), and when the series is a zip
+// key. Pooled values count as more pairs. The count is the most the report
+// can make (a metric without pairs in a cell is not a comparison).
+std::string SeedsForHolmNote(const SweepSpec& spec);
+
 // The run list in expansion order (see top). Every run's scenario is loaded
 // and validated; a bad swept value throws InputError naming the sweep file
 // line of that value.

@@ -8,6 +8,7 @@
 #include <cstdlib>
 #include <memory>
 
+#include "detection_cache.h"
 #include "hcpf/core/check.h"
 #include "hcpf/core/error.h"
 #include "hcpf/core/parallel.h"
@@ -111,6 +112,7 @@ SceneFrames ProduceFrames(const Scenario& scenario, const FrameSourceOptions& op
             cache_writer->Submit(frame);  // a copy: the frame is used below
           }
           if (options.on_frame) options.on_frame(frame);
+          out.frame_digests.push_back(internal::DigestHex(internal::PixelDigest(frame.rgb)));
           out.truth.push_back(options.analytic_truth
                                   ? ComputeGroundTruth(scenario.world, frame.frame)
                                   : std::move(frame.ground_truth));

@@ -214,4 +214,28 @@ std::string RendererDifference(const std::string& rendering, const SceneFrames& 
       rendering, fmt::join(there, " | "), fmt::join(unseen, " | "));
 }
 
+std::optional<PixelComparison> ComparePixels(const std::string& rendering,
+                                             const SceneFrames& scene) {
+  if (scene.frame_digests.empty()) return std::nullopt;
+  nlohmann::json manifest;
+  try {
+    manifest = ReadManifest(rendering);
+  } catch (const Error&) {
+    return std::nullopt;  // RendererDifference says why
+  }
+  if (!manifest.is_object()) return std::nullopt;
+  const auto there = manifest.find("frame_digests");
+  if (there == manifest.end() || !there->is_array() || there->empty()) return std::nullopt;
+  const std::vector<std::string>& here = scene.frame_digests;
+  PixelComparison c;
+  c.frames = static_cast<int>(std::max(here.size(), there->size()));
+  for (int f = 0; f < c.frames; ++f) {
+    const auto i = static_cast<size_t>(f);
+    const bool same = i < here.size() && i < there->size() && (*there)[i].is_string() &&
+                      (*there)[i].get<std::string>() == here[i];
+    if (!same) c.differing.push_back(f);
+  }
+  return c;
+}
+
 }  // namespace hcpf::scenarios::internal

@@ -3,6 +3,7 @@
 // (renderer::PixelHash), checked at load time so `hcpf validate` refuses what
 // `hcpf run` would, before a tracker reads boxes of another scene.
 
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -44,5 +45,16 @@ void CheckRendering(Scenario* s);
 // though the pixel hash (which leaves the GL renderer out) is the same; ""
 // when they agree, or when either side does not say.
 std::string RendererDifference(const std::string& rendering, const SceneFrames& scene);
+
+// The run's frames against `rendering`'s, pixel by pixel: its manifest's
+// frame_digests against scene.frame_digests, frame by frame. nullopt when
+// either side has none (a rendering written before they were), so nothing
+// was compared. A frame only one side has counts as differing.
+struct PixelComparison {
+  int frames = 0;              // frames compared: the larger count
+  std::vector<int> differing;  // 0-based frames whose pixels differ
+};
+std::optional<PixelComparison> ComparePixels(const std::string& rendering,
+                                             const SceneFrames& scene);
 
 }  // namespace hcpf::scenarios::internal

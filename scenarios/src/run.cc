@@ -1,6 +1,7 @@
 #include "hcpf/scenarios/run.h"
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 #include <spdlog/spdlog.h>
 #include <unistd.h>
 
@@ -238,10 +239,32 @@ RunSummary RunScenario(const Scenario& scenario, const RunOptions& options) {
   }
   SceneFrames scene = ProduceFrames(scenario, frame_options);
   const std::vector<FrameGroundTruth>& truth = scene.truth;
+  // A det.txt made on a named rendering: its frames' pixels against this
+  // run's, frame by frame, where both have digests; else (a rendering from
+  // before they were written) whether the GL renderers differ.
+  std::optional<internal::PixelComparison> pixels;
   if (scenario.observation.from_file() && !scenario.observation.file.rendering.empty()) {
-    const std::string warning =
-        internal::RendererDifference(scenario.observation.file.rendering, scene);
-    if (!warning.empty()) spdlog::warn("{}", warning);
+    const std::string& rendering = scenario.observation.file.rendering;
+    pixels = internal::ComparePixels(rendering, scene);
+    if (pixels && pixels->differing.empty()) {
+      spdlog::info("the pixels of all {} frames are those of {}, which the det.txt was made on",
+                   pixels->frames, rendering);
+    } else if (pixels) {
+      std::vector<int> shown;  // 1-based, as det.txt numbers frames
+      for (size_t i = 0; i < pixels->differing.size() && i < 8; ++i)
+        shown.push_back(pixels->differing[i] + 1);
+      const std::string renderers = internal::RendererDifference(rendering, scene);
+      spdlog::warn(
+          "{} of {} frames differ in their pixels from those of {}, which the det.txt was made "
+          "on (frame{} {}{}): the detections tracked and scored here were made on other "
+          "pixels{}",
+          pixels->differing.size(), pixels->frames, rendering, shown.size() > 1 ? "s" : "",
+          fmt::join(shown, ", "), pixels->differing.size() > shown.size() ? ", …" : "",
+          renderers.empty() ? std::string() : "; " + renderers);
+    } else {
+      const std::string warning = internal::RendererDifference(rendering, scene);
+      if (!warning.empty()) spdlog::warn("{}", warning);
+    }
   }
   timings["ground_truth_s"] = Seconds(t0) - tracker_seconds;
 
@@ -419,6 +442,15 @@ RunSummary RunScenario(const Scenario& scenario, const RunOptions& options) {
       manifest["detection_file"]["made_on_pixel_hash"] =
           file.pixel_hash.empty() ? nlohmann::json(nullptr) : nlohmann::json(file.pixel_hash);
       if (!file.rendering.empty()) manifest["detection_file"]["rendering"] = file.rendering;
+      // The frames whose pixels differ from the rendering's (1-based), or
+      // null when they could not be compared.
+      if (pixels) {
+        nlohmann::json differing = nlohmann::json::array();
+        for (int f : pixels->differing) differing.push_back(f + 1);
+        manifest["detection_file"]["frames_with_other_pixels"] = differing;
+      } else {
+        manifest["detection_file"]["frames_with_other_pixels"] = nullptr;
+      }
     }
     if (detection && !detection->models().empty()) {
       manifest["target_models"] = "model from ground truth";

@@ -221,6 +221,8 @@ nlohmann::json ManifestProvenance(const std::string& format, const Scenario& sce
   // The GL renderers that stored frames in the cache folder the frames came
   // from (FrameCache::NoteRenderer); gl_renderer is this process's, if any.
   if (scene.frames_from_cache > 0) m["frame_cache_renderers"] = scene.cache_renderers;
+  // The pixels of every frame, in order (SceneFrames::frame_digests).
+  if (!scene.frame_digests.empty()) m["frame_digests"] = scene.frame_digests;
   return m;
 }
 

@@ -557,21 +557,73 @@ TEST(RenderedRun, ADetectionFileIsCheckedAgainstTheRenderingItWasMadeOn) {
   EXPECT_EQ(manifest["detection_file"]["made_on_pixel_hash"], hash);
   EXPECT_EQ(manifest["detection_file"]["rendering"], fs::weakly_canonical(dir / "render").string());
   EXPECT_EQ(a.output.find("were rendered by"), std::string::npos) << a.output;  // one renderer
-  // The rendering as if made by another GL renderer (a GPU elsewhere): the
-  // hash, which leaves the GL renderer out, still matches, and the run warns
-  // that the pixels may differ.
+  // Pixel by pixel: every frame's digest is the rendering's, and the manifests
+  // of the render and the run hold the same 14.
+  EXPECT_NE(a.output.find("the pixels of all 14 frames are those of"), std::string::npos)
+      << a.output;
+  ASSERT_EQ(render_manifest["frame_digests"].size(), 14u);
+  EXPECT_EQ(manifest["frame_digests"], render_manifest["frame_digests"]);
+  EXPECT_EQ(render_manifest["frame_digests"][3].get<std::string>().size(), 32u);
+  EXPECT_EQ(manifest["detection_file"]["frames_with_other_pixels"], nlohmann::json::array());
+  const auto write_manifest = [&](const nlohmann::json& m) {
+    std::ofstream(dir / "render" / "manifest.json") << m.dump(2);
+  };
+  // The rendering as if made by another GL renderer (a GPU elsewhere) whose
+  // pixels differ in frames 4 and 9: the hash, which leaves the GL renderer
+  // out, still matches; the run names the frames and the renderers, and its
+  // manifest lists the frames (1-based, as det.txt).
   {
     auto edited = render_manifest;
     edited["gl_renderer"]["renderer"] = "another renderer";
     edited.erase("frame_cache_renderers");
-    std::ofstream(dir / "render" / "manifest.json") << edited.dump(2);
+    edited["frame_digests"][3] = std::string(32, '0');
+    edited["frame_digests"][8] = std::string(32, 'f');
+    write_manifest(edited);
   }
   const auto c =
       RunCommand(run + file + (dir / "render").string() + " --out " + (dir / "c").string());
   ASSERT_EQ(c.exit_code, 0) << c.output;
-  EXPECT_NE(c.output.find("were rendered by"), std::string::npos) << c.output;
+  EXPECT_NE(c.output.find("2 of 14 frames differ in their pixels from those of"), std::string::npos)
+      << c.output;
+  EXPECT_NE(c.output.find("(frames 4, 9): the detections tracked and scored here were made on "
+                          "other pixels; "),
+            std::string::npos)
+      << c.output;
   EXPECT_NE(c.output.find("; another renderer; "), std::string::npos) << c.output;
-  { std::ofstream(dir / "render" / "manifest.json") << render_manifest.dump(2); }
+  EXPECT_EQ(nlohmann::json::parse(ReadFile(
+                dir / "c" / "manifest.json"))["detection_file"]["frames_with_other_pixels"],
+            nlohmann::json::array({4, 9}));
+  // Another renderer with the same pixels: nothing to warn about.
+  {
+    auto edited = render_manifest;
+    edited["gl_renderer"]["renderer"] = "another renderer";
+    edited.erase("frame_cache_renderers");
+    write_manifest(edited);
+  }
+  const auto same =
+      RunCommand(run + file + (dir / "render").string() + " --out " + (dir / "same").string());
+  ASSERT_EQ(same.exit_code, 0) << same.output;
+  EXPECT_EQ(same.output.find("were rendered by"), std::string::npos) << same.output;
+  EXPECT_NE(same.output.find("the pixels of all 14 frames are those of"), std::string::npos)
+      << same.output;
+  // A rendering written before frame digests: no pixels to compare, so the
+  // GL renderers are, and the manifest says nothing was compared.
+  {
+    auto edited = render_manifest;
+    edited["gl_renderer"]["renderer"] = "another renderer";
+    edited.erase("frame_cache_renderers");
+    edited.erase("frame_digests");
+    write_manifest(edited);
+  }
+  const auto older =
+      RunCommand(run + file + (dir / "render").string() + " --out " + (dir / "older").string());
+  ASSERT_EQ(older.exit_code, 0) << older.output;
+  EXPECT_NE(older.output.find("were rendered by"), std::string::npos) << older.output;
+  EXPECT_EQ(older.output.find("frames differ in their pixels"), std::string::npos) << older.output;
+  EXPECT_TRUE(nlohmann::json::parse(ReadFile(
+      dir / "older" / "manifest.json"))["detection_file"]["frames_with_other_pixels"]
+                  .is_null());
+  write_manifest(render_manifest);
   // The resolved scenario pins the hash, and validates.
   const std::string resolved = ReadFile(dir / "a" / "scenario.resolved.yaml");
   EXPECT_NE(resolved.find("pixel_hash: \"" + hash + "\""), std::string::npos) << resolved;

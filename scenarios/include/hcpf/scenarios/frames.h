@@ -66,6 +66,11 @@ struct SceneFrames {
   // With frames from the cache: the GL renderers noted there
   // (FrameCache::Renderers; empty for a cache from before they were noted).
   std::vector<std::string> cache_renderers;
+  // When rendered: each frame's XXH3-128 of its size and colour pixels after
+  // the sensor effects (32 hex digits), in frame order: the pixels
+  // themselves, where pixel_hash is what shapes them (manifest
+  // `frame_digests`; a det.txt's run compares them with its rendering's).
+  std::vector<std::string> frame_digests;
 };
 
 SceneFrames ProduceFrames(const Scenario& scenario, const FrameSourceOptions& options);

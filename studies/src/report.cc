@@ -499,6 +499,10 @@ struct Paired {
   int holm_unreachable = 0;
   int unreachable_pairs = 0;
   int pairs_for_holm = 0;
+  // Comparisons with the pairs but too few of them that differ (tied seeds
+  // leave the signed-rank test): SignedRankFloor(nonzero) >= 0.05 / family
+  // with at least one nonzero difference.
+  int holm_tied_out = 0;
 };
 
 Paired PairedRowsOf(const std::vector<Cell>& cells, const StoreMeta& meta) {
@@ -578,7 +582,13 @@ Paired PairedRowsOf(const std::vector<Cell>& cells, const StoreMeta& meta) {
     paired.pairs_for_holm = PairsForHolm(paired.family, 0.05);
     for (const PairedRow& row : paired.rows) {
       for (const auto& [m, c] : row.metrics) {
-        if (c.pairs == 0 || SignedRankFloor(c.pairs) < 0.05 / paired.family) continue;
+        if (c.pairs == 0) continue;
+        if (SignedRankFloor(c.pairs) < 0.05 / paired.family) {
+          const int nonzero = c.test.nonzero;
+          if (nonzero > 0 && SignedRankFloor(nonzero) >= 0.05 / paired.family)
+            ++paired.holm_tied_out;
+          continue;
+        }
         ++paired.holm_unreachable;
         paired.unreachable_pairs = std::max(paired.unreachable_pairs, c.pairs);
       }
@@ -631,7 +641,18 @@ bool SurvivesHolm(const PairedRow& row, const std::string& metric) {
 // for Holm's correction to keep it; else how many cannot be kept, whatever
 // their data, and the seeds that would let them.
 std::string HolmReachNote(const Paired& paired) {
-  if (paired.holm_unreachable == 0) return {};
+  const std::string tied =
+      paired.holm_tied_out == 0
+          ? std::string()
+          : fmt::format(
+                "{}{} {} the seed pairs but so few seeds where the two differ (tied seeds leave "
+                "the signed-rank test; fewer than {} remain) that Holm's correction cannot keep "
+                "{}{}, whatever the differences.",
+                paired.holm_unreachable == 0 ? "" : "Of the others, ", paired.holm_tied_out,
+                paired.holm_tied_out == 1 ? "comparison has" : "comparisons have",
+                paired.pairs_for_holm, paired.holm_tied_out == 1 ? "it" : "them",
+                paired.holm_unreachable == 0 ? "" : " either");
+  if (paired.holm_unreachable == 0) return tied;
   const int n = paired.unreachable_pairs;
   const double floor = SignedRankFloor(n);
   const std::string who =
@@ -652,8 +673,8 @@ std::string HolmReachNote(const Paired& paired) {
   return what + fmt::format(
                     " {} pairs per comparison (seeds, times the pooled values) at least are "
                     "needed for Holm's correction to keep one, more for a difference that does "
-                    "not have the same sign in every seed.",
-                    paired.pairs_for_holm);
+                    "not have the same sign in every seed.{}",
+                    paired.pairs_for_holm, tied.empty() ? tied : " " + tied);
 }
 
 std::string FormatP(double p) {
@@ -698,8 +719,8 @@ std::string PairedHtml(const Paired& paired, const StoreMeta& meta, const Layout
       EscapeMarkup(meta.report.series), EscapeMarkup(paired.reference),
       meta.report.reference.empty() ? ", else the first series value" : "",
       kExactSignedRankMaxPairs, paired.family,
-      paired.holm_unreachable > 0 ? " <b>" + EscapeMarkup(HolmReachNote(paired)) + "</b>"
-                                  : std::string());
+      HolmReachNote(paired).empty() ? std::string()
+                                    : " <b>" + EscapeMarkup(HolmReachNote(paired)) + "</b>");
   h += "<table><tr>";
   for (size_t k : shown) h += "<th>" + EscapeMarkup(keys[k]) + "</th>";
   h += "<th>compared</th><th>n</th>";
@@ -1032,7 +1053,7 @@ std::string FindingsIntro(const Paired& paired, const GlanceTable& glance, const
                        "for all {} (Holm p < 0.05).",
                        findings, findings == 1 ? "is a finding" : "are findings", kept,
                        kept == 1 ? "stays" : "stay", paired.family)) +
-         (paired.holm_unreachable > 0 ? " " + HolmReachNote(paired) : std::string());
+         (HolmReachNote(paired).empty() ? std::string() : " " + HolmReachNote(paired));
 }
 
 std::string GlanceIntro(const Paired& paired, const StoreMeta& meta) {

@@ -1215,6 +1215,16 @@ TEST(Report, FindingsSayWhenNoneSurvivesHolmsCorrection) {
   EXPECT_EQ(Read(ten / "findings.md").find("seed pairs the signed-rank test cannot"),
             std::string::npos)
       << Read(ten / "findings.md");
+  // But hijack_rate at 1000 differs on 5 of its 10 seeds only (systematic
+  // hijacked on seeds 0–4, charged never): 5 nonzero differences give p >=
+  // 2/32, so Holm cannot keep it whatever they are, and the report says so.
+  EXPECT_NE(Read(ten / "findings.md")
+                .find("significant after Holm's correction for all 4 (Holm p < 0.05). 1 "
+                      "comparison has the seed pairs but so few seeds where the two differ "
+                      "(tied seeds leave the signed-rank test; fewer than 8 remain) that Holm's "
+                      "correction cannot keep it, whatever the differences.\n"),
+            std::string::npos)
+      << Read(ten / "findings.md");
   const fs::path some = HandStore("report-holm-some", "systematic", 10, 4);
   WriteReport({.dir = some.string()});
   EXPECT_NE(Read(some / "findings.md")

@@ -4,7 +4,8 @@
 // used before (libpng, its default level). Argument: sensor noise sigma (0 or
 // 3 grey levels; noise is what makes frames hard to compress).
 //   build/<dir>/bench/frame_cache_bench
-// Counters: bytes = file size, ratio = file size / raw RGB size.
+// Counters: bytes = file size, ratio = file size / raw RGB size. Also the
+// frame digest of the manifests' frame_digests (BM_FrameDigest).
 
 #include <benchmark/benchmark.h>
 #include <unistd.h>
@@ -16,6 +17,7 @@
 #include <system_error>
 
 #include "hcpf/renderer/renderer.h"
+#include "hcpf/scenarios/frames.h"
 
 namespace {
 
@@ -134,10 +136,20 @@ void BM_PngRead(benchmark::State& state) {
   Report(state, f, file);
 }
 
+// The digest every rendered frame gets for the manifest's frame_digests
+// (scenarios::FrameDigest), once per frame in the frames' ordered stage.
+void BM_FrameDigest(benchmark::State& state) {
+  const RenderedFrame& f = Frame(static_cast<double>(state.range(0)));
+  for (auto _ : state) benchmark::DoNotOptimize(hcpf::scenarios::FrameDigest(f.rgb));
+  state.SetBytesProcessed(static_cast<int64_t>(state.iterations()) *
+                          static_cast<int64_t>(f.rgb.pixels.size()));
+}
+
 BENCHMARK(BM_CacheStore)->Arg(0)->Arg(3)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_CacheLoad)->Arg(0)->Arg(3)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_PngWrite)->Arg(0)->Arg(3)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_PngRead)->Arg(0)->Arg(3)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_FrameDigest)->Arg(3)->Unit(benchmark::kMicrosecond);
 
 }  // namespace
 

@@ -112,7 +112,7 @@ SceneFrames ProduceFrames(const Scenario& scenario, const FrameSourceOptions& op
             cache_writer->Submit(frame);  // a copy: the frame is used below
           }
           if (options.on_frame) options.on_frame(frame);
-          out.frame_digests.push_back(internal::DigestHex(internal::PixelDigest(frame.rgb)));
+          out.frame_digests.push_back(FrameDigest(frame.rgb));
           out.truth.push_back(options.analytic_truth
                                   ? ComputeGroundTruth(scenario.world, frame.frame)
                                   : std::move(frame.ground_truth));
@@ -165,6 +165,10 @@ SceneFrames ProduceFrames(const Scenario& scenario, const FrameSourceOptions& op
     }
   }
   return out;
+}
+
+std::string FrameDigest(const RgbImage& image) {
+  return internal::DigestHex(internal::PixelDigest(image));
 }
 
 void WriteFrameImages(const renderer::RenderedFrame& frame, const std::string& frames_dir,

@@ -639,7 +639,8 @@ bool SurvivesHolm(const PairedRow& row, const std::string& metric) {
 
 // What the seed count allows: empty when every comparison has the pairs
 // for Holm's correction to keep it; else how many cannot be kept, whatever
-// their data, and the seeds that would let them.
+// their data, and the seeds that would let them; then how many have the
+// pairs but too few that differ (Paired::holm_tied_out).
 std::string HolmReachNote(const Paired& paired) {
   const std::string tied =
       paired.holm_tied_out == 0

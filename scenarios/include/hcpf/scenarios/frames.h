@@ -74,6 +74,10 @@ struct SceneFrames {
 };
 
 SceneFrames ProduceFrames(const Scenario& scenario, const FrameSourceOptions& options);
+// A frame's entry of SceneFrames::frame_digests (the manifests'
+// `frame_digests`): XXH3-128 of its width, height and RGB pixels, as 32
+// lowercase hex digits.
+std::string FrameDigest(const RgbImage& image);
 
 // Writes a rendered frame's images into `frames_dir` as NNNNNN.png (when
 // `colour`), NNNNNN_depth.png and NNNNNN_ids.png (when the frame has them),

@@ -48,6 +48,7 @@ Command AddSweepCommand(CLI::App& parent) {
     std::string file;
     std::string out;
     int jobs = 0;
+    int threads = 1;
     std::string shard;
     std::string cache = scenarios::DefaultFrameCacheDir();
     bool no_cache = false;
@@ -65,6 +66,11 @@ Command AddSweepCommand(CLI::App& parent) {
   app->add_option("--jobs", options->jobs,
                   "Parallel runs (default: all cores); under mpirun one run per rank instead")
       ->check(CLI::Range(0, 1024));
+  app->add_option("--threads", options->threads,
+                  "Threads inside each run, as hcpf run --threads (outputs identical for any "
+                  "value): for few, long runs that --jobs alone leaves cores idle for")
+      ->check(CLI::Range(1, 256))
+      ->capture_default_str();
   app->add_option("--shard", options->shard,
                   "Run only runs with index % n == i (i/n), for batch arrays");
   app->add_option(
@@ -88,6 +94,7 @@ Command AddSweepCommand(CLI::App& parent) {
           std::tie(sweep_options.shard_index, sweep_options.shard_count) =
               ParseShard(options->shard);
         }
+        sweep_options.run_threads = options->threads;
         sweep_options.frame_cache_dir = options->no_cache ? "" : options->cache;
         sweep_options.video = options->video;
         if (options->isolate) {

@@ -7,6 +7,7 @@
 #include <fstream>
 #include <set>
 #include <sstream>
+#include <string>
 
 #include "hcpf/core/error.h"
 #include "hcpf/core/subprocess.h"
@@ -69,8 +70,15 @@ void ChildProcessExecutor::Execute(const SweepRun& run, const RunOptions& run_op
   const fs::path input = runs_dir / (run.key + ".input.yaml");
   const fs::path log = runs_dir / (run.key + ".log");
   WriteTextFile(input.string(), ToResolvedYaml(run.scenario()));
-  std::vector<std::string> args = {exe,     "--log-level",       "warn",      "run", input.string(),
-                                   "--out", run_options.out_dir, "--threads", "1"};
+  std::vector<std::string> args = {exe,
+                                   "--log-level",
+                                   "warn",
+                                   "run",
+                                   input.string(),
+                                   "--out",
+                                   run_options.out_dir,
+                                   "--threads",
+                                   std::to_string(run_options.threads)};
   if (run_options.video) args.push_back("--video");
   if (run_options.frame_cache_dir.empty()) {
     args.push_back("--no-cache");

@@ -588,6 +588,10 @@ void SweepOptions::Validate() const {
     throw InputError(SourceLocation{"hcpf sweep", 0, 0, "--jobs"}, "an integer >= 1",
                      std::to_string(jobs));
   }
+  if (run_threads < 1 || run_threads > 256) {
+    throw InputError(SourceLocation{"hcpf sweep", 0, 0, "--threads"}, "an integer in [1, 256]",
+                     std::to_string(run_threads));
+  }
   if (shard_count < 1 || shard_index < 0 || shard_index >= shard_count) {
     throw InputError(SourceLocation{"hcpf sweep", 0, 0, "--shard"}, "i/n with 0 <= i < n",
                      fmt::format("{}/{}", shard_index, shard_count));

@@ -65,8 +65,8 @@ std::unique_ptr<RunExecutor> MakeExecutor(const SweepOptions& options);
 RunRecord NewRecord(const SweepRun& run);
 
 // Computes `run` into DIR/runs/<key> with the options every sweep run gets
-// (one thread, no progress, the frame cache, video on seed index 0) and
-// returns its record. A run that fails is returned with ok = false and the
+// (options.run_threads threads, no progress, the frame cache, video on seed
+// index 0) and returns its record. A run that fails is returned with ok = false and the
 // message (never thrown).
 RunRecord ExecuteRun(const SweepRun& run, const SweepOptions& options, const RunExecutor& executor);
 

@@ -251,7 +251,7 @@ RunRecord ExecuteRun(const SweepRun& run, const SweepOptions& options,
   try {
     RunOptions run_options;
     run_options.out_dir = (fs::path(options.out_dir) / record.run_dir).string();
-    run_options.threads = 1;
+    run_options.threads = options.run_threads;
     run_options.show_progress = false;
     run_options.frame_cache_dir = options.frame_cache_dir;
     run_options.video = options.video && run.seed_index == 0;

@@ -6,6 +6,7 @@
 
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <set>
 #include <string>
 #include <vector>
@@ -15,10 +16,12 @@
 #include "hcpf/scenarios/frames.h"
 #include "hcpf/studies/run_queue.h"
 #include "sweep_fixture.h"
+#include "sweep_plan.h"
 
 namespace hcpf::studies {
 namespace {
 
+namespace fs = std::filesystem;
 using testing::SweepFolder;
 using testing::WriteSweep;
 
@@ -498,6 +501,55 @@ TEST(SweepOptions, ValidateNamesTheField) {
     FAIL();
   } catch (const InputError& e) {
     EXPECT_NE(std::string(e.what()).find("--shard"), std::string::npos);
+  }
+}
+
+// `hcpf sweep --threads N` reaches every run: the in-process executor gets
+// RunOptions::threads = N, an --isolate child `--threads N` on its command
+// line (a stand-in program writes its arguments down); 0 is refused.
+TEST(SweepOptions, EachRunGetsTheSweepsRunThreads) {
+  const auto dir = SweepFolder("run-threads");
+  const std::vector<SweepRun> runs = ExpandSweep(
+      LoadSweepFile(WriteSweep(dir, "base: base.yaml\ngrid:\n  tracker.particles: [10]\n")));
+  ASSERT_EQ(runs.size(), 1U);
+  class Recording final : public RunExecutor {
+   public:
+    void Execute(const SweepRun&, const scenarios::RunOptions& options) const override {
+      threads = options.threads;
+    }
+    std::string_view name() const override { return "recording"; }
+    mutable int threads = -1;
+  };
+  SweepOptions o;
+  o.out_dir = (dir / "out").string();
+  Recording recording;
+  internal::ExecuteRun(runs[0], o,
+                       recording);  // no metrics written: a failed record, which is fine here
+  EXPECT_EQ(recording.threads, 1);
+  o.run_threads = 3;
+  internal::ExecuteRun(runs[0], o, recording);
+  EXPECT_EQ(recording.threads, 3);
+
+  const fs::path program = dir / "fake-hcpf";
+  const fs::path args = dir / "args.txt";
+  { std::ofstream(program) << "#!/bin/sh\necho \"$@\" > " << args.string() << "\n"; }
+  fs::permissions(program, fs::perms::owner_all);
+  fs::create_directories(dir / "runs");
+  const ChildProcessExecutor child(program.string(), (dir / "runs").string());
+  scenarios::RunOptions run_options;
+  run_options.out_dir = (dir / "child").string();
+  run_options.threads = 3;
+  child.Execute(runs[0], run_options);
+  std::ifstream in(args);
+  const std::string line((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  EXPECT_NE(line.find(" --threads 3"), std::string::npos) << line;
+
+  o.run_threads = 0;
+  try {
+    o.Validate();
+    FAIL() << "run_threads 0 accepted";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("--threads"), std::string::npos) << e.what();
   }
 }
 

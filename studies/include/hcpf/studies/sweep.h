@@ -157,7 +157,12 @@ std::string SweepHash(const std::vector<SweepRun>& runs);
 
 struct SweepOptions {
   std::string out_dir;
-  int jobs = 1;         // worker threads, one run each
+  int jobs = 1;  // worker threads, one run each
+  // Threads inside each run (scenarios::RunOptions::threads, `hcpf run
+  // --threads`): the tracker's per-filter stages and the rendered frames'
+  // sensor effects and cache writes. Outputs are identical for any value;
+  // worth more than 1 when --jobs leaves cores idle (few, long runs).
+  int run_threads = 1;
   int shard_index = 0;  // run only runs with index % shard_count == shard_index
   int shard_count = 1;
   bool progress = true;

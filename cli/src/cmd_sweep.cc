@@ -113,14 +113,8 @@ Command AddSweepCommand(CLI::App& parent) {
         const studies::SweepSpec spec = studies::LoadSweepFile(options->file);
         const std::vector<studies::SweepRun> runs = studies::ExpandSweep(spec);
         // Said once: by rank 0 under an MPI launcher.
-        const auto first_rank = [] {
-          for (const char* name : {"OMPI_COMM_WORLD_RANK", "PMI_RANK", "PMIX_RANK"}) {
-            if (const char* rank = std::getenv(name)) return std::string(rank) == "0";
-          }
-          return true;
-        };
         if (const std::string note = studies::SeedsForHolmNote(spec);
-            !note.empty() && first_rank()) {
+            !note.empty() && studies::IsFirstLaunchedRank()) {
           spdlog::warn("{}", note);
         }
         // Ctrl-C (or a batch system's SIGTERM) still ends the sweep at once,

@@ -249,11 +249,11 @@ RunSummary RunScenario(const Scenario& scenario, const RunOptions& options) {
     if (pixels && pixels->differing.empty()) {
       spdlog::info("the pixels of all {} frames are those of {}, which the det.txt was made on",
                    pixels->frames, rendering);
-    } else if (pixels) {
+    } else if (const std::string renderers = internal::RendererDifference(rendering, scene);
+               pixels) {
       std::vector<int> shown;  // 1-based, as det.txt numbers frames
       for (size_t i = 0; i < pixels->differing.size() && i < 8; ++i)
         shown.push_back(pixels->differing[i] + 1);
-      const std::string renderers = internal::RendererDifference(rendering, scene);
       spdlog::warn(
           "{} of {} frames differ in their pixels from those of {}, which the det.txt was made "
           "on (frame{} {}{}): the detections tracked and scored here were made on other "
@@ -261,9 +261,8 @@ RunSummary RunScenario(const Scenario& scenario, const RunOptions& options) {
           pixels->differing.size(), pixels->frames, rendering, shown.size() > 1 ? "s" : "",
           fmt::join(shown, ", "), pixels->differing.size() > shown.size() ? ", …" : "",
           renderers.empty() ? std::string() : "; " + renderers);
-    } else {
-      const std::string warning = internal::RendererDifference(rendering, scene);
-      if (!warning.empty()) spdlog::warn("{}", warning);
+    } else if (!renderers.empty()) {
+      spdlog::warn("{}", renderers);
     }
   }
   timings["ground_truth_s"] = Seconds(t0) - tracker_seconds;

@@ -70,6 +70,13 @@ int LaunchedRankCount(const std::function<const char*(const char*)>& getenv) {
   return 1;
 }
 
+bool IsFirstLaunchedRank(const std::function<const char*(const char*)>& getenv) {
+  for (const char* name : {"OMPI_COMM_WORLD_RANK", "PMI_RANK", "PMIX_RANK"}) {
+    if (const char* rank = getenv(name)) return PositiveInt(rank) == 0;
+  }
+  return true;
+}
+
 #ifndef HCPF_HAVE_MPI
 
 bool MpiExecutorBuilt() { return false; }

@@ -699,6 +699,7 @@ std::string PairedHtml(const Paired& paired, const StoreMeta& meta, const Layout
       varies = varies || r.cell->values[k] != paired.rows.front().cell->values[k];
     if (varies) shown.push_back(k);
   }
+  const std::string reach_note = HolmReachNote(paired);
   std::string h = "<h2 id=\"paired\">Paired differences</h2>\n";
   h += fmt::format(
       "<p>Each <code>{0}</code> value minus <code>{1}</code> (the reference: "
@@ -720,8 +721,7 @@ std::string PairedHtml(const Paired& paired, const StoreMeta& meta, const Layout
       EscapeMarkup(meta.report.series), EscapeMarkup(paired.reference),
       meta.report.reference.empty() ? ", else the first series value" : "",
       kExactSignedRankMaxPairs, paired.family,
-      HolmReachNote(paired).empty() ? std::string()
-                                    : " <b>" + EscapeMarkup(HolmReachNote(paired)) + "</b>");
+      reach_note.empty() ? std::string() : " <b>" + EscapeMarkup(reach_note) + "</b>");
   h += "<table><tr>";
   for (size_t k : shown) h += "<th>" + EscapeMarkup(keys[k]) + "</th>";
   h += "<th>compared</th><th>n</th>";
@@ -1036,25 +1036,21 @@ std::string FindingsIntro(const Paired& paired, const GlanceTable& glance, const
     findings += g.better + g.worse;
     kept += g.holm;
   }
+  const std::string reach_note = HolmReachNote(paired);
   return fmt::format(
-             "Generated from the runs: for every metric, which {0} value has the best mean at each "
-             "x, "
-             "and where each other value differs from {1} (the reference) seed by seed with p < "
-             "0.05 "
-             "and a 95 % interval that excludes 0 (the green and red cells of the paired "
-             "differences). "
-             "A better mean without that is not a finding. This report makes {2} comparisons; "
-             "where "
-             "nothing differs, chance alone makes about {3:.1f} of them findings. {4}",
-             meta.report.series, paired.reference, paired.family, 0.05 * paired.family,
-             findings == 0
-                 ? std::string("None of them is a finding.")
-                 : fmt::format(
-                       "Of them {} {}, and {} of those {} significant after Holm's correction "
-                       "for all {} (Holm p < 0.05).",
-                       findings, findings == 1 ? "is a finding" : "are findings", kept,
-                       kept == 1 ? "stays" : "stay", paired.family)) +
-         (HolmReachNote(paired).empty() ? std::string() : " " + HolmReachNote(paired));
+      "Generated from the runs: for every metric, which {0} value has the best mean at each x, "
+      "and where each other value differs from {1} (the reference) seed by seed with p < 0.05 "
+      "and a 95 % interval that excludes 0 (the green and red cells of the paired differences). "
+      "A better mean without that is not a finding. This report makes {2} comparisons; where "
+      "nothing differs, chance alone makes about {3:.1f} of them findings. {4}{5}",
+      meta.report.series, paired.reference, paired.family, 0.05 * paired.family,
+      findings == 0
+          ? std::string("None of them is a finding.")
+          : fmt::format("Of them {} {}, and {} of those {} significant after Holm's correction "
+                        "for all {} (Holm p < 0.05).",
+                        findings, findings == 1 ? "is a finding" : "are findings", kept,
+                        kept == 1 ? "stays" : "stay", paired.family),
+      reach_note.empty() ? std::string() : " " + reach_note);
 }
 
 std::string GlanceIntro(const Paired& paired, const StoreMeta& meta) {

@@ -121,6 +121,20 @@ Interval MeanInterval95(std::span<const double> values, const MetricRange& range
   return r;
 }
 
+namespace {
+
+// The normal approximation's two-sided p for W+ of n nonzero differences
+// whose tied groups give Σ(t³ − t) = tie_term (statistics.h).
+double NormalSignedRankP(double w_plus, int n, double tie_term) {
+  const double nn = n;
+  const double mean = nn * (nn + 1.0) / 4.0;
+  const double variance = nn * (nn + 1.0) * (2.0 * nn + 1.0) / 24.0 - tie_term / 48.0;
+  const double z = (std::abs(w_plus - mean) - 0.5) / std::sqrt(variance);
+  return z <= 0.0 ? 1.0 : std::erfc(z / std::sqrt(2.0));
+}
+
+}  // namespace
+
 SignedRankTest WilcoxonSignedRank(std::span<const double> differences) {
   SignedRankTest t;
   std::vector<double> d;
@@ -174,11 +188,7 @@ SignedRankTest WilcoxonSignedRank(std::span<const double> differences) {
     t.exact = true;
     return t;
   }
-  const double nn = n;
-  const double mean = nn * (nn + 1.0) / 4.0;
-  const double variance = nn * (nn + 1.0) * (2.0 * nn + 1.0) / 24.0 - tie_term / 48.0;
-  const double z = (std::abs(t.w_plus - mean) - 0.5) / std::sqrt(variance);
-  t.p_value = z <= 0.0 ? 1.0 : std::erfc(z / std::sqrt(2.0));
+  t.p_value = NormalSignedRankP(t.w_plus, n, tie_term);
   return t;
 }
 
@@ -210,10 +220,7 @@ double SignedRankFloor(int n) {
   if (n <= 0) return 1.0;
   if (n <= kExactSignedRankMaxPairs) return std::min(1.0, std::ldexp(2.0, -n));
   const double nn = n;
-  const double mean = nn * (nn + 1.0) / 4.0;
-  const double z =
-      (nn * (nn + 1.0) / 2.0 - mean - 0.5) / std::sqrt(nn * (nn + 1.0) * (2.0 * nn + 1.0) / 24.0);
-  return std::erfc(z / std::sqrt(2.0));
+  return NormalSignedRankP(nn * (nn + 1.0) / 2.0, n, 0.0);  // every rank positive, no ties
 }
 
 int PairsForHolm(int m, double alpha) {

@@ -40,6 +40,24 @@ TEST(MpiLaunch, RankCountFromTheLauncherEnvironment) {
   EXPECT_EQ(RanksOf({{"OMPI_COMM_WORLD_SIZE", ""}}), 1);
 }
 
+// IsFirstLaunchedRank over a fake environment: rank 0, or no launcher, is
+// the first; another rank is not; the first rank variable set decides.
+TEST(MpiLaunch, FirstRankFromTheLauncherEnvironment) {
+  const auto first = [](const std::map<std::string, std::string>& env) {
+    return IsFirstLaunchedRank([&env](const char* name) -> const char* {
+      const auto it = env.find(name);
+      return it == env.end() ? nullptr : it->second.c_str();
+    });
+  };
+  EXPECT_TRUE(first({}));
+  EXPECT_TRUE(first({{"OMPI_COMM_WORLD_SIZE", "3"}, {"OMPI_COMM_WORLD_RANK", "0"}}));
+  EXPECT_FALSE(first({{"OMPI_COMM_WORLD_SIZE", "3"}, {"OMPI_COMM_WORLD_RANK", "2"}}));
+  EXPECT_FALSE(first({{"PMI_SIZE", "16"}, {"PMI_RANK", "5"}}));
+  EXPECT_TRUE(first({{"PMIX_RANK", "0"}, {"SLURM_STEP_NUM_TASKS", "8"}}));
+  EXPECT_FALSE(first({{"PMIX_RANK", "1"}, {"SLURM_STEP_NUM_TASKS", "8"}}));
+  EXPECT_FALSE(first({{"OMPI_COMM_WORLD_RANK", "1"}, {"PMI_RANK", "0"}}));
+}
+
 // Two particle counts x 2 seeds of the fixture's base scenario.
 constexpr const char* kMpiSweep = R"(base: base.yaml
 seeds: 2

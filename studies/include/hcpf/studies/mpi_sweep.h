@@ -31,6 +31,16 @@ int LaunchedRankCount(const std::function<const char*(const char*)>& getenv = []
   return static_cast<const char*>(std::getenv(name));
 });
 
+// Whether this process is the first (rank 0) of those its MPI launcher
+// started, read from the same launchers' rank variables before MPI is
+// initialised: OMPI_COMM_WORLD_RANK, PMI_RANK or PMIX_RANK, the first that
+// is set; true when none is (not launched by an MPI launcher) or it is not
+// a positive integer. For what is said once per sweep, not once per rank.
+bool IsFirstLaunchedRank(const std::function<const char*(const char*)>& getenv =
+                             [](const char* name) {
+                               return static_cast<const char*>(std::getenv(name));
+                             });
+
 // Runs the sweep like RunSweep, across the ranks of an MPI job when the
 // process was launched with more than one (LaunchedRankCount() > 1), else
 // simply RunSweep (and MPI is never initialised). Every rank calls it with

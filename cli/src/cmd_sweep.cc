@@ -1,5 +1,5 @@
-// hcpf sweep SWEEP.yaml --out DIR [--jobs N] [--shard i/n]; under mpirun -n R, the MPI
-// executor (studies/include/hcpf/studies/mpi_sweep.h).
+// hcpf sweep SWEEP.yaml --out DIR [--jobs N] [--threads T] [--seed S] [--shard i/n]; under mpirun
+// -n R, the MPI executor (studies/include/hcpf/studies/mpi_sweep.h).
 
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
@@ -50,6 +50,7 @@ Command AddSweepCommand(CLI::App& parent) {
     int jobs = 0;
     int threads = 1;
     std::string shard;
+    std::string seed;
     std::string cache = scenarios::DefaultFrameCacheDir();
     bool no_cache = false;
     bool video = false;
@@ -71,6 +72,10 @@ Command AddSweepCommand(CLI::App& parent) {
                   "value): for few, long runs that --jobs alone leaves cores idle for")
       ->check(CLI::Range(1, 256))
       ->capture_default_str();
+  CLI::Option* seed_option = app->add_option(
+      "--seed", options->seed,
+      "Root seed of the runs' seeds instead of the file's seed: (a replication on new "
+      "seeds; needs seeds: N; another seed is another sweep, so another --out)");
   app->add_option("--shard", options->shard,
                   "Run only runs with index % n == i (i/n), for batch arrays");
   app->add_option(
@@ -84,7 +89,7 @@ Command AddSweepCommand(CLI::App& parent) {
   app->add_flag("--no-cache", options->no_cache,
                 "Render every run's frames, read and write no cache");
   return {
-      app, [options] {
+      app, [options, seed_option] {
         studies::SweepOptions sweep_options;
         sweep_options.out_dir = options->out;
         sweep_options.jobs =
@@ -110,7 +115,8 @@ Command AddSweepCommand(CLI::App& parent) {
                 sweep_options.RasteriserThreads(studies::LaunchedRankCount())) {
           ::setenv("LP_NUM_THREADS", std::to_string(*threads).c_str(), 0);
         }
-        const studies::SweepSpec spec = studies::LoadSweepFile(options->file);
+        studies::SweepSpec spec = studies::LoadSweepFile(options->file);
+        if (seed_option->count() > 0) studies::SetRootSeed(spec, options->seed, "--seed");
         const std::vector<studies::SweepRun> runs = studies::ExpandSweep(spec);
         // Said once: by rank 0 under an MPI launcher.
         if (const std::string note = studies::SeedsForHolmNote(spec);

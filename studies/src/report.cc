@@ -1095,7 +1095,8 @@ std::string FindingsHtml(const std::vector<Finding>& findings, const GlanceTable
 
 std::string FindingsMarkdown(const std::vector<Finding>& findings, const GlanceTable& glance,
                              const Paired& paired, const StoreMeta& meta) {
-  std::string md = "# Findings\n\n" + FindingsIntro(paired, glance, meta) + "\n\n";
+  std::string md = "# Findings\n\n" + FindingsIntro(paired, glance, meta) + " " +
+                   RootSeedSentence(meta) + "\n\n";
   const bool any_no_pairs = glance.no_pairs_column;
   md += GlanceIntro(paired, meta) +
         "\n\n| metric | compared | better | worse | of them after Holm | not significant |" +
@@ -1182,6 +1183,7 @@ std::string ReportHtml(const fs::path& dir, const std::string& link_prefix, cons
         return names.empty() ? std::string("none of this report's metrics")
                              : fmt::format("<code>{}</code>", fmt::join(names, "</code>, <code>"));
       }());
+  h += "<p>" + CodeSpansToHtml(RootSeedSentence(meta)) + "</p>\n";
   if (!meta.report.pool.empty()) {
     h += fmt::format(
         "<p>Pooled (<code>report.pool</code>): each cell holds the runs of every value of "

@@ -241,6 +241,9 @@ void ResultsStore::ReadMeta() {
   meta_.sweep_file = m["sweep_file"];
   meta_.base_resolved = m["base_resolved"];
   meta_.run_count = m.count("run_count") ? std::stoll(m["run_count"]) : 0;
+  meta_.root_seed = m["root_seed"];  // "" in a store written before they were recorded
+  meta_.root_seed_from = m["root_seed_from"];
+  meta_.root_file_seed = m["root_file_seed"];
   meta_.swept_keys = json::parse(m["swept_keys"]).get<std::vector<std::string>>();
   const json report = json::parse(m["report"]);
   meta_.report.x = report.value("x", "");
@@ -351,28 +354,50 @@ std::unique_ptr<ResultsStore> ResultsStore::OpenOrCreate(const std::string& path
           fmt::format("a store of this sweep (hash {}); name another output folder (sweep "
                       "--out, merge OUT)",
                       meta.sweep_hash),
-          fmt::format("a store of another sweep (hash {}, from {})", store->meta().sweep_hash,
-                      store->meta().sweep_file));
+          fmt::format("a store of another sweep (hash {}, from {}{})", store->meta().sweep_hash,
+                      store->meta().sweep_file,
+                      // Another root seed (hcpf sweep --seed) is another sweep: said.
+                      !store->meta().root_seed.empty() && !meta.root_seed.empty() &&
+                              store->meta().root_seed != meta.root_seed
+                          ? fmt::format(" with root seed {}, this sweep's is {}",
+                                        store->meta().root_seed, meta.root_seed)
+                          : std::string()));
     }
-    // The report: block and the file's name change no run (they are not in
-    // the sweep hash): the file resumed from now says how the store is
-    // reported. A second bad-input audit found an edited report: block kept
-    // from the first sweep without a word.
-    const std::string report = ReportToJson(meta.report).dump();
-    if (ReportToJson(store->meta().report).dump() != report ||
-        store->meta().sweep_file != meta.sweep_file) {
+    // The report: block, the file's name and where the root seed came from
+    // change no run (they are not in the sweep hash): the file resumed from
+    // now says how the store is reported. A second bad-input audit found an
+    // edited report: block kept from the first sweep without a word. (The
+    // root seed itself is in the hash: another one is another sweep.)
+    const std::vector<std::pair<const char*, std::string>> described = {
+        {"report", ReportToJson(meta.report).dump()},
+        {"sweep_file", meta.sweep_file},
+        {"root_seed", meta.root_seed},
+        {"root_seed_from", meta.root_seed_from},
+        {"root_file_seed", meta.root_file_seed}};
+    const StoreMeta& stored = store->meta();
+    const std::vector<std::string> stored_values = {ReportToJson(stored.report).dump(),
+                                                    stored.sweep_file, stored.root_seed,
+                                                    stored.root_seed_from, stored.root_file_seed};
+    bool changed = false;
+    for (size_t i = 0; i < described.size(); ++i) {
+      changed = changed || described[i].second != stored_values[i];
+    }
+    if (changed) {
       store->Exec("BEGIN IMMEDIATE");
-      for (const auto& [name, value] : {std::pair<const char*, std::string>{"report", report},
-                                        {"sweep_file", meta.sweep_file}}) {
-        Statement s(store->db_, "UPDATE meta SET value = ? WHERE name = ?");
-        s.Bind(1, value);
-        s.Bind(2, std::string(name));
+      for (const auto& [name, value] : described) {
+        // INSERT OR REPLACE: a store written before the root seed was
+        // recorded has no row for it.
+        Statement s(store->db_, "INSERT OR REPLACE INTO meta(name, value) VALUES (?, ?)");
+        s.Bind(1, std::string(name));
+        s.Bind(2, value);
         s.Step();
       }
       store->Exec("COMMIT");
       store->ReadMeta();
-      spdlog::info("{}: report settings taken from {} (the runs are unchanged)", path,
-                   meta.sweep_file);
+      spdlog::info(
+          "{}: the report: block, the file's name and the root seed's source taken from {} (the "
+          "runs are unchanged)",
+          path, meta.sweep_file);
     }
     return store;
   }
@@ -406,7 +431,10 @@ std::unique_ptr<ResultsStore> ResultsStore::OpenOrCreate(const std::string& path
         {"swept_keys", json(meta.swept_keys).dump()},
         {"report", ReportToJson(meta.report).dump()},
         {"base_resolved", meta.base_resolved},
-        {"run_count", std::to_string(meta.run_count)}};
+        {"run_count", std::to_string(meta.run_count)},
+        {"root_seed", meta.root_seed},
+        {"root_seed_from", meta.root_seed_from},
+        {"root_file_seed", meta.root_file_seed}};
     for (const auto& [name, value] : rows) {
       Statement s(store.db_, "INSERT INTO meta(name, value) VALUES (?, ?)");
       s.Bind(1, name);
@@ -547,6 +575,36 @@ std::map<std::string, double> RunMetricsOf(const json& metrics, const json& mani
 }
 
 }  // namespace
+
+void SetRootSeedMeta(const SweepSpec& spec, StoreMeta& meta) {
+  if (spec.seeds == 0) {
+    meta.root_seed.clear();
+    meta.root_seed_from = "base scenario";
+    meta.root_file_seed.clear();
+    return;
+  }
+  meta.root_seed = std::to_string(spec.seed);
+  meta.root_seed_from = spec.seed_from;
+  meta.root_file_seed = std::to_string(spec.file_seed);
+}
+
+std::string RootSeedSentence(const StoreMeta& meta) {
+  if (meta.root_seed_from.empty()) {
+    return "The store does not record the sweep's root seed (it was written before hcpf "
+           "recorded one).";
+  }
+  if (meta.root_seed_from == "base scenario") {
+    return "Every run keeps its base scenario's seed (the sweep has no `seeds:`).";
+  }
+  if (meta.root_seed_from == "sweep file") {
+    return fmt::format("The runs' seeds are derived from root seed {}, the sweep file's `seed:`.",
+                       meta.root_seed);
+  }
+  return fmt::format(
+      "The runs' seeds are derived from root seed {0}, given by `hcpf sweep {1} {0}` (the sweep "
+      "file's `seed:` is {2}).",
+      meta.root_seed, meta.root_seed_from, meta.root_file_seed);
+}
 
 std::map<std::string, double> ReadRunMetrics(const std::string& run_dir) {
   return RunMetricsOf(ReadRunJson(run_dir, "metrics.json"), ReadRunJson(run_dir, "manifest.json"));

@@ -5,6 +5,7 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <charconv>
 #include <cmath>
 #include <filesystem>
 #include <map>
@@ -151,6 +152,7 @@ SweepSpec ReadSweep(YAML::Node root, const std::string& file, const std::string&
   SweepSpec spec;
   spec.file = file;
   spec.seed = r.Seed("seed", 1);
+  spec.file_seed = spec.seed;
   spec.seeds = static_cast<int>(r.Integer("seeds", 0, kMinSweepSeeds, kMaxSweepSeeds));
   spec.seeds_where =
       r.Has("seeds") ? r.Child("seeds").Where() : SourceLocation{file, 0, 0, "seeds"};
@@ -403,6 +405,27 @@ int64_t CheckedRunCount(const SweepSpec& spec) {
                      "split it into several sweep files, or use fewer values or seeds");
   }
   return n;
+}
+
+void SetRootSeed(SweepSpec& spec, const std::string& text, const std::string& option) {
+  uint64_t value = 0;
+  const auto [ptr, ec] = std::from_chars(text.data(), text.data() + text.size(), value);
+  if (text.empty() || ec != std::errc() || ptr != text.data() + text.size()) {
+    throw InputError(SourceLocation{"hcpf sweep", 0, 0, option},
+                     "a non-negative integer seed below 2^64", "\"" + text + "\"");
+  }
+  if (spec.seeds == 0) {
+    throw InputError(
+        SourceLocation{"hcpf sweep", 0, 0, option},
+        fmt::format("a sweep with `seeds: N` (its runs' seeds are derived from the root seed {} "
+                    "names)",
+                    option),
+        fmt::format("{} without `seeds:`: every run keeps its base scenario's seed",
+                    spec.file.empty() ? std::string("a sweep") : spec.file),
+        fmt::format("add `seeds: N` to the sweep file, or drop {}", option));
+  }
+  spec.seed = value;
+  spec.seed_from = option;
 }
 
 uint64_t SweepSeed(uint64_t sweep_seed, int index) {

@@ -163,6 +163,7 @@ SweepPlan PrepareSweep(const SweepSpec& spec, const std::vector<SweepRun>& runs,
     meta.base_resolved = ToResolvedYaml(LoadScenarioFile(spec.base_path));
   }
   meta.run_count = static_cast<int64_t>(runs.size());
+  SetRootSeedMeta(spec, meta);
   plan.store = ResultsStore::OpenOrCreate((out / "results.sqlite").string(), meta);
 
   // Finished runs are reused only while their folders still hold what the

@@ -34,6 +34,23 @@ std::string EscapeMarkup(const std::string& text) {
   return out;
 }
 
+std::string CodeSpansToHtml(const std::string& text) {
+  std::string out;
+  size_t at = 0;
+  while (at < text.size()) {
+    const size_t open = text.find('`', at);
+    const size_t close = open == std::string::npos ? open : text.find('`', open + 1);
+    if (close == std::string::npos) {
+      out += EscapeMarkup(text.substr(at));
+      break;
+    }
+    out += EscapeMarkup(text.substr(at, open - at)) + "<code>" +
+           EscapeMarkup(text.substr(open + 1, close - open - 1)) + "</code>";
+    at = close + 1;
+  }
+  return out;
+}
+
 std::string Base64(const std::string& bytes) {
   static constexpr char kAlphabet[] =
       "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";

@@ -13,6 +13,10 @@ namespace hcpf::studies {
 // Escapes & < > " for HTML and XML text and attribute values.
 std::string EscapeMarkup(const std::string& text);
 
+// `text` (Markdown whose only markup is `code` spans) as HTML: escaped, each
+// pair of backticks a <code> element (an unpaired one stays a backtick).
+std::string CodeSpansToHtml(const std::string& text);
+
 // Standard base64 (RFC 4648, with padding), for data: URIs in reports.
 std::string Base64(const std::string& bytes);
 

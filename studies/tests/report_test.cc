@@ -3,6 +3,7 @@
 #include "hcpf/studies/report.h"
 
 #include <gtest/gtest.h>
+#include <sqlite3.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -1511,6 +1512,88 @@ TEST(Base64, Rfc4648Vectors) {
 
 TEST(EscapeMarkup, EscapesTheFourCharacters) {
   EXPECT_EQ(EscapeMarkup("a<b>&\"c'"), "a&lt;b&gt;&amp;&quot;c'");
+}
+
+TEST(CodeSpansToHtml, BackticksPairIntoCodeAndTheRestIsEscaped) {
+  EXPECT_EQ(CodeSpansToHtml("run `hcpf sweep --seed 3` & <see> `seed:`"),
+            "run <code>hcpf sweep --seed 3</code> &amp; &lt;see&gt; <code>seed:</code>");
+  EXPECT_EQ(CodeSpansToHtml("one ` left"), "one ` left");
+  EXPECT_EQ(CodeSpansToHtml("``"), "<code></code>");
+  EXPECT_EQ(CodeSpansToHtml(""), "");
+}
+
+// Where the runs' seeds come from is stored with the sweep and said by its
+// report: the file's seed:, hcpf sweep --seed (with the file's own seed), or
+// the base scenario's seed when the sweep has no seeds:. Resuming with the
+// same runs from a file that writes the seed takes the new source; a store
+// written before the root seed was recorded says so, and is filled in when
+// a sweep resumes into it.
+TEST(Report, SaysWhereTheRunsSeedsComeFrom) {
+  const auto dir = testing::SweepFolder("report-root-seed");
+  const std::string body =
+      "base: base.yaml\nseeds: 2\ngrid:\n  tracker.particles: [20]\n"
+      "  tracker.resampling.method: [systematic, charged]\n"
+      "report: {x: tracker.particles, series: tracker.resampling.method, y: [idf1]}\n";
+  SweepSpec spec = LoadSweepFile(testing::WriteSweep(dir, body, "s.yaml"));
+  SetRootSeed(spec, "41", "--seed");
+  const std::string out = RunQuietly(spec, dir);
+  const std::string store_path = (fs::path(out) / "results.sqlite").string();
+  StoreMeta meta = ResultsStore::Open(store_path)->meta();
+  EXPECT_EQ(meta.root_seed, "41");
+  EXPECT_EQ(meta.root_seed_from, "--seed");
+  EXPECT_EQ(meta.root_file_seed, "1");
+  ReportResult r = WriteReport({.dir = out});
+  EXPECT_NE(Read(r.html_path)
+                .find("<p>The runs' seeds are derived from root seed 41, given by <code>hcpf sweep "
+                      "--seed 41</code> (the sweep file's <code>seed:</code> is 1).</p>"),
+            std::string::npos);
+
+  // The same runs from a file that says seed: 41: resumed, nothing computed,
+  // and the report now names the file as the source.
+  const SweepSpec written =
+      LoadSweepFile(testing::WriteSweep(dir, body + "seed: 41\n", "s41.yaml"));
+  SweepOptions o;
+  o.out_dir = out;
+  o.jobs = 2;
+  o.progress = false;
+  EXPECT_EQ(RunSweep(written, ExpandSweep(written), o).computed, 0);
+  meta = ResultsStore::Open(store_path)->meta();
+  EXPECT_EQ(meta.root_seed, "41");
+  EXPECT_EQ(meta.root_seed_from, "sweep file");
+  r = WriteReport({.dir = out});
+  EXPECT_NE(Read(r.html_path)
+                .find("<p>The runs' seeds are derived from root seed 41, the sweep file's "
+                      "<code>seed:</code>.</p>"),
+            std::string::npos);
+
+  // A store of before: no root seed rows. Read as not recorded, said so.
+  {
+    sqlite3* db = nullptr;
+    ASSERT_EQ(sqlite3_open(store_path.c_str(), &db), SQLITE_OK);
+    ASSERT_EQ(
+        sqlite3_exec(db, "DELETE FROM meta WHERE name LIKE 'root%'", nullptr, nullptr, nullptr),
+        SQLITE_OK);
+    sqlite3_close(db);
+  }
+  meta = ResultsStore::Open(store_path)->meta();
+  EXPECT_EQ(meta.root_seed_from, "");
+  EXPECT_EQ(RootSeedSentence(meta),
+            "The store does not record the sweep's root seed (it was written before hcpf "
+            "recorded one).");
+  EXPECT_NE(Read(WriteReport({.dir = out}).html_path).find("does not record the sweep's root seed"),
+            std::string::npos);
+  // Resumed into: filled in.
+  EXPECT_EQ(RunSweep(written, ExpandSweep(written), o).computed, 0);
+  EXPECT_EQ(ResultsStore::Open(store_path)->meta().root_seed_from, "sweep file");
+
+  // No seeds: every run keeps its base scenario's seed.
+  StoreMeta seedless;
+  SetRootSeedMeta(LoadSweepFile(testing::WriteSweep(
+                      dir, "base: base.yaml\ngrid: {tracker.particles: [20]}\n", "n.yaml")),
+                  seedless);
+  EXPECT_EQ(seedless.root_seed, "");
+  EXPECT_EQ(RootSeedSentence(seedless),
+            "Every run keeps its base scenario's seed (the sweep has no `seeds:`).");
 }
 
 }  // namespace

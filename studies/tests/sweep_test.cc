@@ -273,6 +273,59 @@ TEST(Sweep, NoSeedsKeepsTheBaseSeedAndSweepSeedChangesDerivedSeeds) {
   EXPECT_EQ(a[0].scenario().seed, Rng(5).Fork("sweep/seed/0").identity());
 }
 
+// hcpf sweep --seed S: the runs derive their seeds from S as if the file
+// said `seed: S` (same runs, same hash), the file's own seed is kept beside
+// it, and bad text or a sweep without `seeds:` is refused naming the option.
+TEST(Sweep, RootSeedFromAnOptionEqualsTheFilesSeed) {
+  const auto dir = SweepFolder("root-seed");
+  const std::string body = "base: base.yaml\nseeds: 3\ngrid: {tracker.particles: [10, 20]}\n";
+  SweepSpec overridden = LoadSweepFile(WriteSweep(dir, body, "plain.yaml"));
+  const std::string plain_hash = SweepHash(ExpandSweep(overridden));
+  SetRootSeed(overridden, "9", "--seed");
+  EXPECT_EQ(overridden.seed, 9U);
+  EXPECT_EQ(overridden.file_seed, 1U);
+  EXPECT_EQ(overridden.seed_from, "--seed");
+  const auto runs = ExpandSweep(overridden);
+  const auto written = ExpandSweep(LoadSweepFile(WriteSweep(dir, body + "seed: 9\n", "nine.yaml")));
+  ASSERT_EQ(runs.size(), 6U);
+  ASSERT_EQ(written.size(), 6U);
+  for (size_t i = 0; i < runs.size(); ++i) {
+    EXPECT_EQ(runs[i].key, written[i].key) << i;
+    // The documented derivation, written out independently of SweepSeed.
+    EXPECT_EQ(runs[i].scenario().seed,
+              Rng(9).Fork("sweep/seed/" + std::to_string(runs[i].seed_index)).identity());
+  }
+  EXPECT_NE(SweepHash(runs), plain_hash);  // another root seed is another sweep
+  // The largest seed is taken; past it, signs, spaces and words are not.
+  SweepSpec largest = LoadSweepFile(WriteSweep(dir, body, "plain.yaml"));
+  SetRootSeed(largest, "18446744073709551615", "--seed");
+  EXPECT_EQ(largest.seed, 18446744073709551615ULL);
+  for (const std::string bad : {"18446744073709551616", "-1", " 3", "3x", "three", ""}) {
+    SweepSpec spec = LoadSweepFile(WriteSweep(dir, body, "plain.yaml"));
+    try {
+      SetRootSeed(spec, bad, "--seed");
+      ADD_FAILURE() << "accepted \"" << bad << "\"";
+    } catch (const InputError& e) {
+      EXPECT_NE(std::string(e.what()).find("--seed: expected a non-negative integer seed below "
+                                           "2^64, found \"" +
+                                           bad + "\""),
+                std::string::npos)
+          << e.what();
+    }
+    EXPECT_EQ(spec.seed, 1U);
+  }
+  SweepSpec seedless = LoadSweepFile(
+      WriteSweep(dir, "base: base.yaml\ngrid: {tracker.particles: [10]}\n", "n.yaml"));
+  try {
+    SetRootSeed(seedless, "9", "--seed");
+    ADD_FAILURE() << "a sweep without seeds: took --seed";
+  } catch (const InputError& e) {
+    const std::string what = e.what();
+    EXPECT_NE(what.find("--seed: expected a sweep with `seeds: N`"), std::string::npos) << what;
+    EXPECT_NE(what.find("n.yaml without `seeds:`"), std::string::npos) << what;
+  }
+}
+
 // A det.txt (observation.detector: file) describes the frames of one
 // rendering: `seeds: N` must keep the world and renderer seeds it was
 // rendered with, and the error says so at the `seeds` line.

@@ -138,6 +138,35 @@ TEST(Cli, IntegerOptionsAreDecimal) {
   EXPECT_FALSE(fs::exists(dir / "out"));
 }
 
+// hcpf sweep --seed: bad text, an empty value and a sweep without seeds:
+// (whose runs keep the base scenario's seed) are refused before anything is
+// written, exit 2, naming the option.
+TEST(Cli, SweepSeedIsCheckedBeforeAnythingRuns) {
+  const fs::path dir = FreshDir("sweep-seed");
+  const std::string scenario = LibraryScenario("crossing-dominant");
+  std::ofstream(dir / "seeds.yaml") << "base: " << scenario << "\nseeds: 2\ngrid: {frames: [20]}\n";
+  std::ofstream(dir / "seedless.yaml") << "base: " << scenario << "\ngrid: {frames: [20]}\n";
+  const std::string out = " --out " + (dir / "out").string();
+  for (const auto& [args, message] : std::vector<std::pair<std::string, std::string>>{
+           {(dir / "seeds.yaml").string() + " --seed 0x3",
+            "--seed: expected a non-negative integer seed below 2^64, found \"0x3\""},
+           {(dir / "seeds.yaml").string() + " --seed -3",
+            "--seed: expected a non-negative integer seed below 2^64, found \"-3\""},
+           {(dir / "seeds.yaml").string() + " --seed ''",
+            "--seed: expected a value, found an empty value"},
+           {(dir / "seedless.yaml").string() + " --seed 3",
+            "--seed: expected a sweep with `seeds: N`"}}) {
+    const auto r = RunCommand(kHcpf + " sweep " + args + out);
+    EXPECT_EQ(r.exit_code, 2) << args << "\n" << r.output;
+    EXPECT_NE(r.output.find(message), std::string::npos) << args << "\n" << r.output;
+    EXPECT_FALSE(fs::exists(dir / "out")) << args;
+  }
+  // Taken: the store says where its seeds came from.
+  const auto r = RunCommand(kHcpf + " sweep " + (dir / "seeds.yaml").string() + " --seed 3" + out);
+  EXPECT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_TRUE(fs::exists(dir / "out" / "results.sqlite")) << r.output;
+}
+
 // hcpf cache on a hand-built cache folder: a scene of 3000 bytes used two
 // days ago, one of 1000 used now, a detector output of 500 used a day ago.
 // It reports what is there; --max-size 2K (2048) removes the least recently

@@ -2,7 +2,8 @@
 // The results store of a sweep: DIR/results.sqlite (SQLite, WAL journal).
 //
 //   table meta(name TEXT PRIMARY KEY, value TEXT): sweep_hash, sweep_file,
-//       swept_keys (JSON list), report (JSON), base_resolved (YAML), run_count
+//       swept_keys (JSON list), report (JSON), base_resolved (YAML), run_count,
+//       root_seed, root_seed_from (StoreMeta)
 //   table runs: key TEXT PRIMARY KEY (ConfigHash of the resolved scenario),
 //       run_index, seed_index, seed (decimal text: seeds are 64-bit unsigned),
 //       one TEXT column per swept key (named by the key, e.g. "tracker.particles"),
@@ -36,7 +37,22 @@ struct StoreMeta {
   ReportSpec report;
   std::string base_resolved;  // the resolved base scenario (YAML)
   int64_t run_count = 0;      // runs of the whole sweep (all shards)
+  // The root of the runs' derived seeds (decimal) and where it came from:
+  // "sweep file" (its `seed:`) or an option ("--seed"), with the file's own
+  // seed then (root_file_seed). Without `seeds:` root_seed_from is "base
+  // scenario" (every run keeps its seed) and the others are empty; all
+  // three are empty in a store written before they were recorded.
+  std::string root_seed;
+  std::string root_seed_from;
+  std::string root_file_seed;
 };
+
+// The meta of the sweep's seeds (StoreMeta::root_seed...), from its spec.
+void SetRootSeedMeta(const SweepSpec& spec, StoreMeta& meta);
+// A sentence for reports on where the runs' seeds come from, e.g. "The runs'
+// seeds are derived from root seed 3, given by `hcpf sweep --seed 3` (the
+// sweep file's `seed:` is 1)." Markdown (backticks for code).
+std::string RootSeedSentence(const StoreMeta& meta);
 
 struct RunRecord {
   std::string key;

@@ -83,7 +83,11 @@ struct SweepSpec {
   // With `grid.base`: every value's scenario file, resolved, in the order of
   // the grid's values; else the one base_path.
   std::vector<std::string> base_paths;
-  uint64_t seed = 1;           // root of the derived run seeds
+  uint64_t seed = 1;  // root of the derived run seeds
+  // Where `seed` comes from: the sweep file's `seed:` (1 when absent) or a
+  // command's option (SetRootSeed), e.g. "--seed".
+  std::string seed_from = "sweep file";
+  uint64_t file_seed = 1;      // the file's own `seed:` (1 when absent), kept beside an override
   int seeds = 0;               // 0 = `seeds` absent: every run keeps the base scenario's seed
   SourceLocation seeds_where;  // where `seeds` is written (line 0 when absent)
   std::vector<SweepAxis> grid;
@@ -119,6 +123,15 @@ struct SweepRun {
   // Whether the run observes rendered frames (observation.source: rendered).
   bool rendered() const;
 };
+
+// hcpf sweep --seed S: the runs derive their seeds from S instead of the
+// file's `seed:` (a replication on new seeds without a copy of the file; the
+// runs, and so the sweep's hash, change with S). `option` names the option in
+// errors and in the store ("--seed"). Throws InputError naming `option` when
+// `text` is not a seed (a non-negative integer below 2^64), and when the sweep
+// has no `seeds:` (its runs keep the base scenario's seed, which S would not
+// change).
+void SetRootSeed(SweepSpec& spec, const std::string& text, const std::string& option);
 
 // The derived seed of seed index i: Rng(sweep_seed).Fork("sweep/seed", i).identity().
 uint64_t SweepSeed(uint64_t sweep_seed, int index);

@@ -1,4 +1,4 @@
-// hcpf report DIR [--out FOLDER]: DIR is a sweep's or a run's folder.
+// hcpf report DIR [--out FOLDER] [--against OTHER]: DIR is a sweep's or a run's folder.
 
 #include <spdlog/spdlog.h>
 
@@ -22,6 +22,10 @@ Command AddReportCommand(CLI::App& parent) {
   app->add_option("--out", options->out_dir,
                   "Write report.html (and a sweep's summary.csv) here instead of DIR (DIR is "
                   "only read, so a folder on read-only media can be reported)");
+  app->add_option("--against", options->against,
+                  "Another sweep folder over the same keys (e.g. the same sweep with hcpf sweep "
+                  "--seed): which of this report's findings replicate there (report.html, "
+                  "findings.md, replication.csv)");
   app->add_option("--gnuplot", options->gnuplot, "The gnuplot executable")->capture_default_str();
   return {app, [options] {
             const auto start = std::chrono::steady_clock::now();

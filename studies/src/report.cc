@@ -71,6 +71,11 @@ Interval CellInterval(const std::string& m, const std::vector<double>& values) {
 void ReportOptions::Validate() const {
   if (dir.empty())
     throw InputError(SourceLocation{"hcpf report", 0, 0, "DIR"}, "a sweep folder", "nothing");
+  if (!against.empty() && ClassifyReportFolder(dir) != ReportFolder::kSweep) {
+    throw InputError(SourceLocation{"hcpf report", 0, 0, "--against"},
+                     "a sweep folder as DIR (a run's report has no comparisons to replicate)",
+                     fmt::format("{}, a run folder", dir));
+  }
   CheckGnuplot(gnuplot);
 }
 
@@ -1095,7 +1100,7 @@ std::string FindingsHtml(const std::vector<Finding>& findings, const GlanceTable
 
 std::string FindingsMarkdown(const std::vector<Finding>& findings, const GlanceTable& glance,
                              const Paired& paired, const StoreMeta& meta) {
-  std::string md = "# Findings\n\n" + FindingsIntro(paired, glance, meta) + " " +
+  std::string md = "# Findings\n\n" + FindingsIntro(paired, glance, meta) + "\n\n" +
                    RootSeedSentence(meta) + "\n\n";
   const bool any_no_pairs = glance.no_pairs_column;
   md += GlanceIntro(paired, meta) +
@@ -1113,6 +1118,275 @@ std::string FindingsMarkdown(const std::vector<Finding>& findings, const GlanceT
                       f.text);
   }
   return md;
+}
+
+// Stage 2d, replication (hcpf report DIR --against OTHER): every paired
+// comparison of this report made again on the runs of another store of the
+// same swept keys (typically the same sweep on another root seed, hcpf sweep
+// --seed), with this report's report: block (the stores hold every headline
+// metric of every run), matched by the compared cell's swept values.
+enum class Replication { kReplicated, kNotReplicated, kReversed, kNewHere, kNeither };
+
+const char* ReplicationName(Replication r) {
+  switch (r) {
+    case Replication::kReplicated:
+      return "replicated";
+    case Replication::kNotReplicated:
+      return "not replicated";
+    case Replication::kReversed:
+      return "reversed";
+    case Replication::kNewHere:
+      return "new here";
+    case Replication::kNeither:
+      return "neither";
+  }
+  return "";
+}
+
+const char* VerdictName(PairedVerdict v) {
+  return v == PairedVerdict::kBetter ? "better" : v == PairedVerdict::kWorse ? "worse" : "none";
+}
+
+// The other store, with the cells and paired rows of this report's block.
+struct AgainstStore {
+  std::string dir;  // as given to --against
+  StoreMeta meta;   // its meta, with this report's report: block
+  std::vector<RunRecord> runs;
+  std::vector<Cell> cells;
+  Paired paired;
+};
+
+struct ReplicationRow {
+  const PairedRow* there = nullptr;
+  const PairedRow* here = nullptr;
+  std::string metric;
+  PairedVerdict there_verdict = PairedVerdict::kNotSignificant;
+  PairedVerdict here_verdict = PairedVerdict::kNotSignificant;
+  bool there_kept = false, here_kept = false;  // SurvivesHolm
+  Replication outcome = Replication::kNeither;
+};
+
+struct ReplicationTable {
+  std::vector<ReplicationRow> rows;  // this report's paired order, then report.y
+  int only_here = 0;                 // comparisons (row x metric) with no partner there
+  int only_there = 0;                // and there without a partner here
+};
+
+std::unique_ptr<AgainstStore> OpenAgainst(const std::string& against, const StoreMeta& meta,
+                                          const Paired& paired) {
+  const SourceLocation where{"hcpf report", 0, 0, "--against"};
+  const char* expected_kind = "a sweep folder (results.sqlite) over the same swept keys";
+  std::error_code ec;
+  if (!fs::is_regular_file(fs::path(against) / "results.sqlite", ec)) {
+    throw InputError(where, expected_kind,
+                     !fs::exists(against, ec)         ? fmt::format("{}: no such folder", against)
+                     : !fs::is_directory(against, ec) ? fmt::format("{}, a file", against)
+                     : fs::is_regular_file(fs::path(against) / "manifest.json", ec)
+                         ? fmt::format("{}, a run or render folder (manifest.json)", against)
+                         : fmt::format("{}, a folder without results.sqlite", against));
+  }
+  if (paired.series_index < 0) {
+    throw InputError(
+        where, "a report with paired comparisons (report.series in the sweep file) to replicate",
+        fmt::format("{} without report.series", meta.sweep_file));
+  }
+  auto other = std::make_unique<AgainstStore>();
+  other->dir = against;
+  const auto store =
+      ResultsStore::Open((fs::path(against) / "results.sqlite").string(), StoreAccess::kReadOnly);
+  other->meta = store->meta();
+  if (other->meta.swept_keys != meta.swept_keys) {
+    throw InputError(where, fmt::format("{} ({})", expected_kind, fmt::join(meta.swept_keys, ", ")),
+                     fmt::format("{} sweeping {}", against,
+                                 other->meta.swept_keys.empty()
+                                     ? std::string("nothing")
+                                     : fmt::format("{}", fmt::join(other->meta.swept_keys, ", "))));
+  }
+  // This report's block (and its resolved reference) on the other runs.
+  other->meta.report = meta.report;
+  other->meta.report.reference = paired.reference;
+  other->runs = store->Runs();
+  other->cells = CellsOf(other->runs, other->meta);
+  other->paired = PairedRowsOf(other->cells, other->meta);
+  return other;
+}
+
+ReplicationTable ReplicationOf(const Paired& here, const AgainstStore& there,
+                               const StoreMeta& meta) {
+  ReplicationTable table;
+  std::map<std::vector<std::string>, const PairedRow*> there_rows;
+  for (const PairedRow& r : there.paired.rows) there_rows.emplace(r.cell->values, &r);
+  std::set<const PairedRow*> matched;
+  const auto has_pairs = [](const PairedRow& r, const std::string& m) {
+    return r.metrics.at(m).pairs > 0;
+  };
+  for (const PairedRow& row : here.rows) {
+    const auto it = there_rows.find(row.cell->values);
+    for (const std::string& m : meta.report.y) {
+      if (!has_pairs(row, m)) continue;
+      if (it == there_rows.end() || !has_pairs(*it->second, m)) {
+        ++table.only_here;
+        continue;
+      }
+      matched.insert(it->second);
+      ReplicationRow r;
+      r.there = it->second;
+      r.here = &row;
+      r.metric = m;
+      r.there_verdict = VerdictOf(r.there->metrics.at(m), m);
+      r.here_verdict = VerdictOf(row.metrics.at(m), m);
+      r.there_kept = SurvivesHolm(*r.there, m);
+      r.here_kept = SurvivesHolm(row, m);
+      const bool there_finding = r.there_verdict != PairedVerdict::kNotSignificant;
+      const bool here_finding = r.here_verdict != PairedVerdict::kNotSignificant;
+      r.outcome = there_finding && here_finding
+                      ? (r.there_verdict == r.here_verdict ? Replication::kReplicated
+                                                           : Replication::kReversed)
+                  : there_finding ? Replication::kNotReplicated
+                  : here_finding  ? Replication::kNewHere
+                                  : Replication::kNeither;
+      table.rows.push_back(r);
+    }
+  }
+  for (const PairedRow& r : there.paired.rows) {
+    for (const std::string& m : meta.report.y) {
+      if (!has_pairs(r, m)) continue;
+      const auto it =
+          std::find_if(table.rows.begin(), table.rows.end(),
+                       [&](const ReplicationRow& x) { return x.there == &r && x.metric == m; });
+      if (it == table.rows.end()) ++table.only_there;
+    }
+  }
+  return table;
+}
+
+// "root seed 3" / "the base scenario's seed" / "a root seed it does not record".
+std::string RootSeedShort(const StoreMeta& meta) {
+  if (!meta.root_seed.empty()) return "root seed " + meta.root_seed;
+  if (meta.root_seed_from == "base scenario") return "the base scenario's seed";
+  return "a root seed it does not record";
+}
+
+// The summary sentence (Markdown: `code`).
+std::string ReplicationSentence(const ReplicationTable& table, const AgainstStore& there,
+                                const StoreMeta& meta) {
+  int there_findings = 0, replicated = 0, replicated_kept = 0, not_replicated = 0, reversed = 0,
+      new_here = 0;
+  for (const ReplicationRow& r : table.rows) {
+    there_findings += r.there_verdict != PairedVerdict::kNotSignificant;
+    replicated += r.outcome == Replication::kReplicated;
+    replicated_kept += r.outcome == Replication::kReplicated && r.there_kept && r.here_kept;
+    not_replicated += r.outcome == Replication::kNotReplicated;
+    reversed += r.outcome == Replication::kReversed;
+    new_here += r.outcome == Replication::kNewHere;
+  }
+  const bool same_seed = !meta.root_seed.empty() && meta.root_seed == there.meta.root_seed;
+  std::string text = fmt::format(
+      "Against `{}` (runs of {}; these runs: {}), {} comparisons are made in both stores. ",
+      there.dir, RootSeedShort(there.meta), RootSeedShort(meta), table.rows.size());
+  if (same_seed) {
+    text +=
+        "Both stores draw their seeds from the same root seed, so matching runs are the same "
+        "runs: this is no replication. ";
+  }
+  text += there_findings == 0
+              ? "None of them is a finding there. "
+              : fmt::format(
+                    "Of the {} {} there, {} {} here in the same direction ({} of "
+                    "them kept by Holm's correction in both stores), {} {} here and {} {} the "
+                    "other way. ",
+                    there_findings, there_findings == 1 ? "that is a finding" : "that are findings",
+                    replicated, replicated == 1 ? "is a finding" : "are findings", replicated_kept,
+                    not_replicated, not_replicated == 1 ? "is not a finding" : "are not findings",
+                    reversed, reversed == 1 ? "is a finding" : "are findings");
+  text += fmt::format("{} {} here and not there.", new_here,
+                      new_here == 1 ? "comparison is a finding" : "comparisons are findings");
+  if (table.only_here + table.only_there > 0) {
+    text += fmt::format(
+        " {} comparisons of this report have no partner there and {} there none here (cells "
+        "or seeds that one store lacks).",
+        table.only_here, table.only_there);
+  }
+  return text;
+}
+
+// replication.csv: one row per comparison made in both stores.
+std::string ReplicationCsv(const ReplicationTable& table, const Paired& here,
+                           const StoreMeta& meta) {
+  std::string csv;
+  for (const std::string& k : meta.swept_keys) csv += Csv(k) + ",";
+  csv +=
+      "reference,metric,pairs_there,mean_difference_there,p_value_there,p_holm_there,"
+      "verdict_there,kept_there,pairs_here,mean_difference_here,p_value_here,p_holm_here,"
+      "verdict_here,kept_here,outcome\n";
+  for (const ReplicationRow& r : table.rows) {
+    for (const std::string& v : r.here->cell->values) csv += Csv(v) + ",";
+    const PairedComparison& a = r.there->metrics.at(r.metric);
+    const PairedComparison& b = r.here->metrics.at(r.metric);
+    csv += fmt::format(
+        "{},{},{},{},{},{},{},{},{},{},{},{},{},{},{}\n", Csv(here.reference), r.metric, a.pairs,
+        Number(a.difference.mean), Number(a.test.p_value), Number(r.there->holm.at(r.metric)),
+        VerdictName(r.there_verdict), r.there_kept ? 1 : 0, b.pairs, Number(b.difference.mean),
+        Number(b.test.p_value), Number(r.here->holm.at(r.metric)), VerdictName(r.here_verdict),
+        r.here_kept ? 1 : 0, ReplicationName(r.outcome));
+  }
+  return csv;
+}
+
+// The page's section: the sentence, then a row for every comparison that is
+// a finding in either store.
+std::string ReplicationHtml(const ReplicationTable& table, const AgainstStore& there,
+                            const Paired& here, const StoreMeta& meta) {
+  const auto& keys = meta.swept_keys;
+  const auto si = static_cast<size_t>(here.series_index);
+  std::vector<size_t> shown;
+  for (size_t k = 0; k < keys.size(); ++k) {
+    if (k == si) continue;
+    bool varies = false;
+    for (const ReplicationRow& r : table.rows)
+      varies = varies || r.here->cell->values[k] != table.rows.front().here->cell->values[k];
+    if (varies) shown.push_back(k);
+  }
+  std::string h = "<h2 id=\"replication\">Replication</h2>\n<p>" +
+                  CodeSpansToHtml(ReplicationSentence(table, there, meta)) +
+                  " Each comparison of this report (paired differences, below) made again on "
+                  "the other store's runs, with this report's settings; a finding is as in the "
+                  "paired differences "
+                  "(p&nbsp;&lt;&nbsp;0.05 and an interval that excludes 0), <b>bold</b> when "
+                  "Holm's correction keeps it. Rows: the comparisons that are a finding in either "
+                  "store; every one is in <code>replication.csv</code>.</p>\n";
+  bool any = false;
+  for (const ReplicationRow& r : table.rows) any = any || r.outcome != Replication::kNeither;
+  if (!any) return h;
+  h += "<table><tr>";
+  for (size_t k : shown) h += "<th>" + EscapeMarkup(keys[k]) + "</th>";
+  h += fmt::format(
+      "<th>compared</th><th>metric</th><th>there: {} ({})</th><th>here ({})</th><th>outcome</th>"
+      "</tr>\n",
+      EscapeMarkup(there.dir), EscapeMarkup(RootSeedShort(there.meta)),
+      EscapeMarkup(RootSeedShort(meta)));
+  const auto side = [](const PairedComparison& c, PairedVerdict v, bool kept) {
+    std::string text = fmt::format("&Delta;&nbsp;{:.3g}, {}, {}", c.difference.mean,
+                                   FormatP(c.test.p_value), VerdictName(v));
+    return kept ? "<b>" + text + "</b>" : text;
+  };
+  for (const ReplicationRow& r : table.rows) {
+    if (r.outcome == Replication::kNeither) continue;
+    const char* style = r.outcome == Replication::kReplicated ? " style=\"background:#dff3df\""
+                        : r.outcome == Replication::kNewHere  ? ""
+                                                              : " style=\"background:#f8dede\"";
+    h += "<tr>";
+    for (size_t k : shown)
+      h += "<td class=\"k\">" + EscapeMarkup(r.here->cell->values[k]) + "</td>";
+    h += fmt::format(
+        "<td class=\"k\">{} &minus; {}</td><td class=\"k\">{}</td><td>{}</td><td>{}</td><td "
+        "class=\"k\"{}>{}</td></tr>\n",
+        EscapeMarkup(r.here->cell->values[si]), EscapeMarkup(here.reference),
+        EscapeMarkup(r.metric), side(r.there->metrics.at(r.metric), r.there_verdict, r.there_kept),
+        side(r.here->metrics.at(r.metric), r.here_verdict, r.here_kept), style,
+        ReplicationName(r.outcome));
+  }
+  return h + "</table>\n";
 }
 
 // Stage 4, the page. `link_prefix` leads from the report's folder to `dir`
@@ -1148,6 +1422,7 @@ std::string ReportHtml(const fs::path& dir, const std::string& link_prefix, cons
                        const Layout& layout,
                        const std::vector<std::pair<std::string, std::string>>& svgs,
                        const std::string& findings_html, const std::string& paired_html,
+                       const std::string& replication_html,
                        const std::vector<std::string>& unmeasured) {
   const std::vector<std::string>& keys = meta.swept_keys;
   const int x_index = layout.x_index;
@@ -1195,6 +1470,7 @@ std::string ReportHtml(const fs::path& dir, const std::string& link_prefix, cons
         }());
   }
   h += findings_html;
+  h += replication_html;
   h += "<h2>Plots</h2>\n";
   if (!unmeasured.empty()) {
     std::vector<std::string> items;
@@ -1366,11 +1642,27 @@ ReportResult WriteReport(const ReportOptions& options) {
   } else {
     stale.push_back("findings.md");
   }
+  // Replication against another store of the same swept keys.
+  std::string replication_html;
+  if (!options.against.empty()) {
+    const std::unique_ptr<AgainstStore> there = OpenAgainst(options.against, meta, paired);
+    const ReplicationTable table = ReplicationOf(paired, *there, meta);
+    result.replication_comparisons = static_cast<int>(table.rows.size());
+    files.emplace_back("replication.csv", ReplicationCsv(table, paired, meta));
+    replication_html = ReplicationHtml(table, *there, paired, meta);
+    const std::string sentence = ReplicationSentence(table, *there, meta);
+    spdlog::info("report: {}", sentence);
+    for (auto& [name, text] : files) {
+      if (name == "findings.md") text += "\n## Replication\n\n" + sentence + "\n";
+    }
+  } else {
+    stale.push_back("replication.csv");
+  }
   files.emplace_back("summary.csv", SummaryCsv(cells, meta.swept_keys));
-  files.emplace_back("report.html",
-                     ReportHtml(dir, link_prefix, meta, runs, cells, layout, svgs,
-                                FindingsHtml(findings, glance, paired, meta),
-                                PairedHtml(paired, meta, layout, difference_svgs), unmeasured));
+  files.emplace_back("report.html", ReportHtml(dir, link_prefix, meta, runs, cells, layout, svgs,
+                                               FindingsHtml(findings, glance, paired, meta),
+                                               PairedHtml(paired, meta, layout, difference_svgs),
+                                               replication_html, unmeasured));
   PublishReportFiles(work, out, files, stale);
   result.csv_path = (out / "summary.csv").string();
   result.html_path = (out / "report.html").string();

@@ -1522,6 +1522,128 @@ TEST(CodeSpansToHtml, BackticksPairIntoCodeAndTheRestIsEscaped) {
   EXPECT_EQ(CodeSpansToHtml(""), "");
 }
 
+// Runs `sql` on the store in `dir` (hand edits of a hand store).
+void EditStore(const fs::path& dir, const std::string& sql) {
+  sqlite3* db = nullptr;
+  ASSERT_EQ(sqlite3_open((dir / "results.sqlite").c_str(), &db), SQLITE_OK);
+  ASSERT_EQ(sqlite3_exec(db, sql.c_str(), nullptr, nullptr, nullptr), SQLITE_OK)
+      << sqlite3_errmsg(db);
+  sqlite3_close(db);
+}
+
+// hcpf report DIR --against OTHER, on hand stores whose verdicts are worked
+// out above (HandStore, FindingsSayWhenNoneSurvivesHolmsCorrection): with 10
+// seeds hijack_rate at 100 is a finding for charged (p = 2/1024, kept by
+// Holm), at 1000 not (5 nonzero, p = 0.0625); mota is a finding nowhere (at
+// 1000 nine +0.1 and one −0.4: the interval reaches 0). With 6 seeds
+// hijack_rate at 100 (p = 2/64) and mota at 1000 (six +0.1, p = 2/64) are
+// findings, neither kept by Holm over 4 comparisons.
+TEST(Report, AgainstAnotherStoreSaysWhichFindingsReplicate) {
+  const fs::path ten = HandStore("replicate-ten", "systematic", 10);
+  const fs::path six = HandStore("replicate-six", "systematic", 6);
+  EditStore(ten,
+            "INSERT OR REPLACE INTO meta(name, value) VALUES ('root_seed', '1'), "
+            "('root_seed_from', 'sweep "
+            "file'), ('root_file_seed', '1')");
+  EditStore(
+      six,
+      "INSERT OR REPLACE INTO meta(name, value) VALUES ('root_seed', '3'), ('root_seed_from', "
+      "'--seed'), ('root_file_seed', '1')");
+  ReportResult r = WriteReport({.dir = six.string(), .against = ten.string()});
+  EXPECT_EQ(r.replication_comparisons, 4);
+  std::string csv = Read(six / "replication.csv");
+  EXPECT_NE(csv.find("100,charged,systematic,hijack_rate,10,-1,0.00195312,"), std::string::npos)
+      << csv;
+  EXPECT_NE(csv.find(",better,1,6,-1,0.03125,0.125,better,0,replicated\n"), std::string::npos)
+      << csv;
+  EXPECT_NE(csv.find("100,charged,systematic,mota,10,0,"), std::string::npos) << csv;
+  EXPECT_NE(csv.find("1000,charged,systematic,hijack_rate,10,-0.5,0.0625,"), std::string::npos)
+      << csv;
+  EXPECT_NE(csv.find("1000,charged,systematic,mota,10,0.05,"), std::string::npos) << csv;
+  EXPECT_NE(csv.find(",none,0,6,0.1,0.03125,0.125,better,0,new here\n"), std::string::npos) << csv;
+  EXPECT_EQ(Count(csv, "\n"), 5U) << csv;  // the header and 4 comparisons
+  const std::string sentence =
+      "Against `" + ten.string() +
+      "` (runs of root seed 1; these runs: root seed 3), 4 comparisons are made in both stores. "
+      "Of the 1 that is a finding there, 1 is a finding here in the same direction (0 of them "
+      "kept by Holm's correction in both stores), 0 are not findings here and 0 are findings the "
+      "other way. 1 comparison is a finding here and not there.";
+  EXPECT_NE(Read(six / "findings.md").find("\n## Replication\n\n" + sentence + "\n"),
+            std::string::npos)
+      << Read(six / "findings.md");
+  const std::string html = Read(r.html_path);
+  EXPECT_NE(html.find("<h2 id=\"replication\">Replication</h2>\n<p>Against <code>" + ten.string() +
+                      "</code> (runs of root seed 1;"),
+            std::string::npos);
+  EXPECT_LT(html.find("id=\"replication\""), html.find("<h2>Plots</h2>"));
+  // The table lists the two comparisons that are a finding in either store.
+  EXPECT_EQ(Count(html, "replicated</td></tr>"), 1U);
+  EXPECT_EQ(Count(html, "new here</td></tr>"), 1U);
+
+  // The other way round: the 6-seed finding at 1000 is not one with 10 seeds.
+  r = WriteReport({.dir = ten.string(), .against = six.string()});
+  csv = Read(ten / "replication.csv");
+  EXPECT_NE(csv.find("1000,charged,systematic,mota,6,0.1,0.03125,0.125,better,0,10,0.05,"),
+            std::string::npos)
+      << csv;
+  EXPECT_NE(csv.find(",none,0,not replicated\n"), std::string::npos) << csv;
+
+  // Reversed: with the values at 100 swapped, charged is worse in hijack_rate there.
+  const fs::path swapped = HandStore("replicate-swapped", "systematic", 10);
+  EditStore(swapped,
+            "UPDATE runs SET hijack_rate = 1 - hijack_rate WHERE \"tracker.particles\" = "
+            "'100'");
+  WriteReport({.dir = swapped.string(), .against = ten.string()});
+  csv = Read(swapped / "replication.csv");
+  EXPECT_NE(csv.find("100,charged,systematic,hijack_rate,10,-1,0.00195312,0.0078125,better,1,10,"
+                     "1,0.00195312,0.0078125,worse,1,reversed\n"),
+            std::string::npos)
+      << csv;
+  // The same store against itself: the same runs, said to be no replication.
+  EXPECT_NE(Read(WriteReport({.dir = ten.string(), .against = ten.string()}).html_path)
+                .find("so matching runs are the same runs: this is no replication."),
+            std::string::npos);
+  // Without --against, an earlier replication.csv goes.
+  WriteReport({.dir = ten.string()});
+  EXPECT_FALSE(fs::exists(ten / "replication.csv"));
+  // A report folder (--out) holding an earlier replication.csv is an earlier report's.
+  const fs::path elsewhere = testing::SweepFolder("replicate-out") / "report";
+  WriteReport({.dir = six.string(), .out_dir = elsewhere.string(), .against = ten.string()});
+  EXPECT_TRUE(fs::exists(elsewhere / "replication.csv"));
+  EXPECT_NO_THROW(WriteReport({.dir = six.string(), .out_dir = elsewhere.string()}));
+  EXPECT_FALSE(fs::exists(elsewhere / "replication.csv"));
+
+  // Bad input: no such folder, a store over other keys.
+  const auto error_of = [&](const std::string& against) {
+    try {
+      WriteReport({.dir = six.string(), .against = against});
+    } catch (const InputError& e) {
+      return std::string(e.what());
+    }
+    return std::string("(no error)");
+  };
+  EXPECT_NE(error_of((six / "nosuch").string())
+                .find("--against: expected a sweep folder (results.sqlite) over the same swept "
+                      "keys, found " +
+                      (six / "nosuch").string() + ": no such folder"),
+            std::string::npos);
+  const fs::path other = testing::SweepFolder("replicate-other-keys");
+  {
+    StoreMeta meta;
+    meta.sweep_hash = "other";
+    meta.sweep_file = "other.yaml";
+    meta.swept_keys = {"tracker.particles"};
+    meta.report.y = {"mota"};
+    ResultsStore::OpenOrCreate((other / "results.sqlite").string(), meta);
+  }
+  EXPECT_NE(error_of(other.string())
+                .find("over the same swept keys (tracker.particles, tracker.resampling.method), "
+                      "found " +
+                      other.string() + " sweeping tracker.particles"),
+            std::string::npos)
+      << error_of(other.string());
+}
+
 // Where the runs' seeds come from is stored with the sweep and said by its
 // report: the file's seed:, hcpf sweep --seed (with the file's own seed), or
 // the base scenario's seed when the sweep has no seeds:. Resuming with the

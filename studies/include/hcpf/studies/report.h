@@ -32,16 +32,23 @@ struct ReportOptions {
   std::string dir;                  // a sweep's --out folder (results.sqlite) or a run's folder
   std::string out_dir;              // where report.html and summary.csv go ("" = dir)
   std::string gnuplot = "gnuplot";  // the gnuplot executable
+  // Another sweep folder over the same swept keys (the same sweep on another
+  // root seed: hcpf sweep --seed): every paired comparison is made again on
+  // its runs with this report's settings, and report.html (section
+  // "Replication"), findings.md and replication.csv say which findings
+  // replicate. "" = none.
+  std::string against;
   void Validate() const;
 };
 
 struct ReportResult {
   std::string html_path;
-  std::string csv_path;      // "" for a run's report (it has no cells)
-  int plots = 0;             // plots of the metrics (with their panels)
-  int difference_plots = 0;  // plots of the paired differences
-  int comparisons = 0;       // rows of the paired-difference table
-  int findings = 0;          // sentences of the findings (also in findings.md)
+  std::string csv_path;             // "" for a run's report (it has no cells)
+  int plots = 0;                    // plots of the metrics (with their panels)
+  int difference_plots = 0;         // plots of the paired differences
+  int comparisons = 0;              // rows of the paired-difference table
+  int findings = 0;                 // sentences of the findings (also in findings.md)
+  int replication_comparisons = 0;  // with `against`: comparisons made in both stores
   int cells = 0;
 };
 

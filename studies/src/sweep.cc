@@ -329,9 +329,18 @@ void CheckDetectionFileSeeds(const SweepSpec& spec, const scenarios::Scenario& s
 std::string SeedsForHolmNote(const SweepSpec& spec) {
   const ReportSpec& report = spec.report;
   if (report.series.empty() || spec.seeds < 2 || report.y.empty()) return {};
-  const auto series = std::find_if(spec.grid.begin(), spec.grid.end(),
-                                   [&](const SweepAxis& a) { return a.key == report.series; });
-  if (series == spec.grid.end() || series->values.size() < 2) return {};
+  const auto is_series = [&](const SweepAxis& a) { return a.key == report.series; };
+  // The series is a grid key, or a zip key (each zip position then a series
+  // value, the other zip keys following it: they pair with the reference's).
+  const SweepAxis* series = nullptr;
+  if (const auto g = std::find_if(spec.grid.begin(), spec.grid.end(), is_series);
+      g != spec.grid.end()) {
+    series = &*g;
+  } else if (const auto z = std::find_if(spec.zip.begin(), spec.zip.end(), is_series);
+             z != spec.zip.end()) {
+    series = &*z;
+  }
+  if (series == nullptr || series->values.size() < 2) return {};
   const double zip_length = spec.zip.empty() ? 1.0 : static_cast<double>(spec.zip[0].values.size());
   double cells = zip_length, pooled = 1.0;
   for (const SweepAxis& a : spec.grid) {
@@ -342,7 +351,11 @@ std::string SeedsForHolmNote(const SweepSpec& spec) {
   const bool zip_pooled = std::any_of(spec.zip.begin(), spec.zip.end(), [&](const SweepAxis& a) {
     return std::find(report.pool.begin(), report.pool.end(), a.key) != report.pool.end();
   });
-  if (zip_pooled) pooled *= zip_length;
+  if (zip_pooled) {
+    // Pooling the zip would pool the series zipped in it: no comparison to count.
+    if (std::any_of(spec.zip.begin(), spec.zip.end(), is_series)) return {};
+    pooled *= zip_length;
+  }
   const double values = static_cast<double>(series->values.size());
   const double comparisons =
       cells / pooled * (values - 1.0) / values * static_cast<double>(report.y.size());

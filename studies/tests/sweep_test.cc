@@ -255,6 +255,24 @@ TEST(Sweep, SeedsTooFewForHolmAreSaidBeforeTheSweepRuns) {
       << note;
   EXPECT_NE(note.find("7 pairs at least are needed (seeds: 3 or more;"), std::string::npos) << note;
   EXPECT_EQ(SeedsForHolmNote(LoadSweepFile(WriteSweep(dir, pooled + "seeds: 3\n"))), "");
+  // A series zipped with another key: 2 particle counts x 3 zip positions,
+  // the 2 positions but the reference's compared, y [mota, idf1]: 8
+  // comparisons (p < 0.00625). 8 seeds: 2/256 = 0.0078, a warning, 9 pairs
+  // needed (2/512 = 0.0039); 9 seeds: none.
+  const std::string zipped =
+      "base: base.yaml\ngrid:\n  tracker.particles: [10, 20]\nzip:\n"
+      "  tracker.resampling.method: [systematic, charged, stratified]\n"
+      "  tracker.likelihood.sigma_px: [2, 3, 4]\n"
+      "report: {x: tracker.particles, series: tracker.resampling.method, y: [mota, idf1]}\n";
+  note = SeedsForHolmNote(LoadSweepFile(WriteSweep(dir, zipped + "seeds: 8\n")));
+  EXPECT_NE(note.find("with 8 seeds each paired comparison of the report "
+                      "(tracker.resampling.method against systematic) has 8 pairs: the "
+                      "signed-rank test cannot give p below 0.00781, and Holm's correction over "
+                      "the report's 8 paired comparisons needs p < 0.00625 for its first"),
+            std::string::npos)
+      << note;
+  EXPECT_NE(note.find("9 pairs at least are needed (seeds: 9 or more;"), std::string::npos) << note;
+  EXPECT_EQ(SeedsForHolmNote(LoadSweepFile(WriteSweep(dir, zipped + "seeds: 9\n"))), "");
 }
 
 TEST(Sweep, NoSeedsKeepsTheBaseSeedAndSweepSeedChangesDerivedSeeds) {

@@ -154,8 +154,9 @@ SweepSpec LoadSweepText(const std::string& text, const std::string& file_name,
 // other cell, times report.y) to survive Holm's correction whatever the data
 // (SignedRankFloor, PairsForHolm in statistics.h), with the seeds that would
 // be enough; "" when they are, without report.series or with fewer than 2
-// seeds (one run per cell: nothing to pair), and when the series is a zip
-// key. Pooled values count as more pairs. The count is the most the report
+// seeds (one run per cell: nothing to pair). A series zipped with other keys
+// counts a comparison per zip position but the reference's. Pooled values
+// count as more pairs. The count is the most the report
 // can make (a metric without pairs in a cell is not a comparison).
 std::string SeedsForHolmNote(const SweepSpec& spec);
 

@@ -1216,7 +1216,7 @@ ReplicationTable ReplicationOf(const Paired& here, const AgainstStore& there,
   ReplicationTable table;
   std::map<std::vector<std::string>, const PairedRow*> there_rows;
   for (const PairedRow& r : there.paired.rows) there_rows.emplace(r.cell->values, &r);
-  std::set<const PairedRow*> matched;
+  std::set<std::pair<const PairedRow*, std::string>> matched;  // there's (row, metric)
   const auto has_pairs = [](const PairedRow& r, const std::string& m) {
     return r.metrics.at(m).pairs > 0;
   };
@@ -1228,7 +1228,7 @@ ReplicationTable ReplicationOf(const Paired& here, const AgainstStore& there,
         ++table.only_here;
         continue;
       }
-      matched.insert(it->second);
+      matched.emplace(it->second, m);
       ReplicationRow r;
       r.there = it->second;
       r.here = &row;
@@ -1250,11 +1250,7 @@ ReplicationTable ReplicationOf(const Paired& here, const AgainstStore& there,
   }
   for (const PairedRow& r : there.paired.rows) {
     for (const std::string& m : meta.report.y) {
-      if (!has_pairs(r, m)) continue;
-      const auto it =
-          std::find_if(table.rows.begin(), table.rows.end(),
-                       [&](const ReplicationRow& x) { return x.there == &r && x.metric == m; });
-      if (it == table.rows.end()) ++table.only_there;
+      table.only_there += has_pairs(r, m) && matched.count({&r, m}) == 0;
     }
   }
   return table;

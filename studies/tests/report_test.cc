@@ -1599,6 +1599,20 @@ TEST(Report, AgainstAnotherStoreSaysWhichFindingsReplicate) {
                      "1,0.00195312,0.0078125,worse,1,reversed\n"),
             std::string::npos)
       << csv;
+  // A store without the cells at 1000: their 2 comparisons have no partner.
+  const fs::path fewer = HandStore("replicate-fewer", "systematic", 10);
+  EditStore(fewer, "DELETE FROM runs WHERE \"tracker.particles\" = '1000'");
+  r = WriteReport({.dir = six.string(), .against = fewer.string()});
+  EXPECT_EQ(r.replication_comparisons, 2);
+  EXPECT_NE(Read(six / "findings.md")
+                .find("2 comparisons of this report have no partner there and 0 there none here"),
+            std::string::npos)
+      << Read(six / "findings.md");
+  WriteReport({.dir = fewer.string(), .against = six.string()});
+  EXPECT_NE(Read(fewer / "findings.md")
+                .find("0 comparisons of this report have no partner there and 2 there none here"),
+            std::string::npos)
+      << Read(fewer / "findings.md");
   // The same store against itself: the same runs, said to be no replication.
   EXPECT_NE(Read(WriteReport({.dir = ten.string(), .against = ten.string()}).html_path)
                 .find("so matching runs are the same runs: this is no replication."),

@@ -1656,6 +1656,17 @@ TEST(Report, AgainstAnotherStoreSaysWhichFindingsReplicate) {
                       other.string() + " sweeping tracker.particles"),
             std::string::npos)
       << error_of(other.string());
+  // A report without report.series has no comparison to replicate.
+  try {
+    WriteReport({.dir = other.string(), .against = six.string()});
+    ADD_FAILURE() << "a report without a series took --against";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find(
+                  "--against: expected a report with paired comparisons (report.series in the "
+                  "sweep file) to replicate, found other.yaml without report.series"),
+              std::string::npos)
+        << e.what();
+  }
 }
 
 // Where the runs' seeds come from is stored with the sweep and said by its

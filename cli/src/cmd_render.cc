@@ -5,6 +5,7 @@
 
 #include <memory>
 
+#include "cache_limit.h"
 #include "command.h"
 #include "hcpf/scenarios/frames.h"
 #include "hcpf/scenarios/render_folder.h"
@@ -57,12 +58,14 @@ Command AddRenderCommand(CLI::App& parent) {
         render_options.cache_dir = options->no_cache ? "" : options->cache;
         render_options.sheet_frames = options->sheet_frames;
         render_options.threads = options->threads;
+        const CacheLimit cache_limit(render_options.cache_dir);  // $HCPF_CACHE_MAX_SIZE
         AnnounceInterrupts(InterruptedMessage("render", options->out, render_options.cache_dir));
         const auto summary = scenarios::RenderToFolder(scenario, render_options);
         StopAnnouncingInterrupts();  // the folder is in place
         spdlog::info("rendered \"{}\": {} frames ({} from the cache) in {:.2f} s", scenario.name,
                      summary.frames, summary.frames_from_cache, summary.wall_time_s);
         spdlog::info("outputs in {} (contact_sheet.png for a quick look)", summary.out_dir);
+        cache_limit.Apply();
         return 0;
       }};
 }

@@ -4,6 +4,7 @@
 
 #include <memory>
 
+#include "cache_limit.h"
 #include "command.h"
 #include "hcpf/scenarios/frames.h"
 #include "hcpf/scenarios/run.h"
@@ -57,13 +58,14 @@ Command AddRunCommand(CLI::App& parent) {
             run_options.threads = options->threads;
             run_options.frame_cache_dir = options->no_cache ? "" : options->cache;
             run_options.video = options->video;
+            const bool rendered =
+                scenario.observation.source == scenarios::ObservationSource::kRendered;
+            // $HCPF_CACHE_MAX_SIZE: read now, applied once the run is done.
+            const CacheLimit cache_limit(rendered ? run_options.frame_cache_dir : "");
             // Ctrl-C or a batch system's SIGTERM ends the run at once; it says
             // what is left (the folder is renamed into place only at the end).
-            AnnounceInterrupts(InterruptedMessage(
-                "run", options->out,
-                scenario.observation.source == scenarios::ObservationSource::kRendered
-                    ? run_options.frame_cache_dir
-                    : ""));
+            AnnounceInterrupts(InterruptedMessage("run", options->out,
+                                                  rendered ? run_options.frame_cache_dir : ""));
             const scenarios::RunSummary summary = scenarios::RunScenario(scenario, run_options);
             StopAnnouncingInterrupts();  // the folder is in place
             spdlog::info(
@@ -80,6 +82,7 @@ Command AddRunCommand(CLI::App& parent) {
                          summary.mota, summary.idf1, summary.hota, rate(summary.da_accuracy),
                          rate(summary.hijack_rate));
             spdlog::info("outputs in {}", summary.out_dir);
+            cache_limit.Apply();
             return 0;
           }};
 }

@@ -4,6 +4,7 @@
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
 
+#include <algorithm>
 #include <charconv>
 #include <cstdlib>
 #include <filesystem>
@@ -12,6 +13,7 @@
 #include <string>
 #include <thread>
 
+#include "cache_limit.h"
 #include "command.h"
 #include "hcpf/core/error.h"
 #include "hcpf/scenarios/frames.h"
@@ -118,6 +120,12 @@ Command AddSweepCommand(CLI::App& parent) {
         studies::SweepSpec spec = studies::LoadSweepFile(options->file);
         if (seed_option->count() > 0) studies::SetRootSeed(spec, options->seed, "--seed");
         const std::vector<studies::SweepRun> runs = studies::ExpandSweep(spec);
+        // $HCPF_CACHE_MAX_SIZE: read now, applied by this process once every
+        // run is done (rank 0 under MPI), not by --isolate's children.
+        const bool rendered = std::any_of(runs.begin(), runs.end(),
+                                          [](const studies::SweepRun& r) { return r.rendered(); });
+        const CacheLimit cache_limit(rendered ? sweep_options.frame_cache_dir : "");
+        CacheLimit::HideFromChildren();
         // Said once: by rank 0 under an MPI launcher.
         if (const std::string note = studies::SeedsForHolmNote(spec);
             !note.empty() && studies::IsFirstLaunchedRank()) {
@@ -137,6 +145,7 @@ Command AddSweepCommand(CLI::App& parent) {
             studies::RunSweepMpi(spec, runs, sweep_options);
         if (!result) return 0;  // an MPI worker rank: rank 0 reports
         const studies::SweepResult& r = *result;
+        cache_limit.Apply();
         spdlog::info(
             "sweep finished: {} runs, {} reused, {} computed, {} failed; results in "
             "{}/results.sqlite",

@@ -6,6 +6,7 @@
 #include <cctype>
 #include <charconv>
 #include <cmath>
+#include <cstdlib>
 #include <string>
 #include <string_view>
 #include <system_error>
@@ -130,6 +131,63 @@ void RemoveCacheEntries(const std::vector<CacheEntry>& entries) {
           fmt::format("cannot remove the cache entry {}: {}", e.path.string(), ec.message()));
     }
   }
+}
+
+std::optional<uint64_t> CacheMaxSizeFromEnvironment() {
+  const char* text = std::getenv(kCacheMaxSizeVariable);
+  if (text == nullptr || *text == '\0') return std::nullopt;
+  try {
+    return ParseSize(text, kCacheMaxSizeVariable);
+  } catch (const InputError& e) {
+    throw InputError(SourceLocation{.file = "environment", .key = kCacheMaxSizeVariable},
+                     e.expected(), e.found(),
+                     "the most the frame cache may hold after each hcpf run, render or sweep; "
+                     "unset it to keep everything");
+  }
+}
+
+AutoPrune PruneAfterCommand(const fs::path& root, uint64_t max_bytes, fs::file_time_type since) {
+  const CacheContents contents = ScanCache(root);
+  AutoPrune out;
+  out.left = contents.bytes();
+  if (!contents.foreign.empty()) {
+    out.foreign = contents.foreign.front();
+    return out;
+  }
+  std::vector<CacheEntry> remove;
+  for (const CacheEntry& e : contents.entries) {  // least recently used first
+    if (out.left <= max_bytes || e.last_used >= since) break;
+    remove.push_back(e);
+    out.left -= e.bytes;
+    out.freed += e.bytes;
+    (e.kind == CacheEntry::Kind::kScene ? out.scenes : out.detections) += 1;
+  }
+  RemoveCacheEntries(remove);
+  return out;
+}
+
+std::string DescribeAutoPrune(const fs::path& root, const AutoPrune& result, uint64_t max_bytes,
+                              const std::string& max_text) {
+  const std::string limit = fmt::format("{} {}", kCacheMaxSizeVariable, max_text);
+  if (!result.foreign.empty()) {
+    return fmt::format(
+        "frame cache {}: not pruned to {}: it holds {}, which is not a cache entry (hcpf cache "
+        "--cache {} says more)",
+        root.string(), limit, result.foreign.string(), root.string());
+  }
+  const std::string removed =
+      result.scenes + result.detections == 0
+          ? std::string("nothing removed")
+          : fmt::format("removed {} scene(s) and {} detector output(s) used least recently, {}",
+                        result.scenes, result.detections, FormatSize(result.freed));
+  if (result.left <= max_bytes) {
+    return fmt::format("frame cache {}: {}; {} left ({})", root.string(), removed,
+                       FormatSize(result.left), limit);
+  }
+  return fmt::format(
+      "frame cache {}: {}; {} left, over {}: the rest was used since this command started, by it "
+      "or by a command beside it, and stays",
+      root.string(), removed, FormatSize(result.left), limit);
 }
 
 void MarkUsed(const fs::path& path) {

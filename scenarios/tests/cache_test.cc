@@ -8,7 +8,9 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cstdlib>
 #include <fstream>
+#include <optional>
 #include <string>
 
 #include "hcpf/core/error.h"
@@ -159,6 +161,78 @@ TEST(Cache, MarkUsedMakesAnEntryTheMostRecent) {
   EXPECT_EQ(contents.entries[0].path, c.d2);
   EXPECT_EQ(contents.entries[1].path, c.b);
   MarkUsed(c.root / "absent");  // ignored
+}
+
+// $HCPF_CACHE_MAX_SIZE after a command that started 25 h ago, at most 600
+// of the 1100 bytes: d1 (50, 40 h ago) and a (400, 30 h ago) go, leaving 650;
+// d2 (20 h ago) was used since the command started and stays though the
+// rest is over the limit. A command started later removes d2 too (580 left);
+// a limit over the contents removes nothing; a folder holding something not
+// the cache's is left whole.
+TEST(Cache, AfterACommandThePruneSparesWhatWasUsedSinceItStarted) {
+  const HandCache c = MakeHandCache("after-command");
+  const auto now = fs::file_time_type::clock::now();
+  AutoPrune r = PruneAfterCommand(c.root, 600, now - hours(25));
+  EXPECT_EQ(r.scenes, 1);
+  EXPECT_EQ(r.detections, 1);
+  EXPECT_EQ(r.freed, 450u);
+  EXPECT_EQ(r.left, 650u);
+  EXPECT_TRUE(r.foreign.empty());
+  EXPECT_FALSE(fs::exists(c.a));
+  EXPECT_FALSE(fs::exists(c.d1));
+  EXPECT_TRUE(fs::exists(c.d2));
+  EXPECT_EQ(DescribeAutoPrune(c.root, r, 600, "600"),
+            "frame cache " + c.root.string() +
+                ": removed 1 scene(s) and 1 detector output(s) used least recently, 450 B; 650 B "
+                "left, over HCPF_CACHE_MAX_SIZE 600: the rest was used since this command "
+                "started, by it or by a command beside it, and stays");
+  r = PruneAfterCommand(c.root, 600, now + hours(1));
+  EXPECT_EQ(r.detections, 1);
+  EXPECT_EQ(r.left, 580u);
+  EXPECT_FALSE(fs::exists(c.d2));
+  EXPECT_TRUE(fs::exists(c.b / "000000.frame"));
+  EXPECT_EQ(DescribeAutoPrune(c.root, r, 600, "600"),
+            "frame cache " + c.root.string() +
+                ": removed 0 scene(s) and 1 detector output(s) used least recently, 70 B; 580 B "
+                "left (HCPF_CACHE_MAX_SIZE 600)");
+  r = PruneAfterCommand(c.root, 2000, now + hours(1));
+  EXPECT_EQ(r.scenes + r.detections, 0);
+  EXPECT_EQ(DescribeAutoPrune(c.root, r, 2000, "2K"),
+            "frame cache " + c.root.string() +
+                ": nothing removed; 580 B left (HCPF_CACHE_MAX_SIZE "
+                "2K)");
+  const fs::path mixed = c.root / "00000000000000000000000000000001";
+  WriteBytes(mixed / "000000.frame", 10);
+  WriteBytes(mixed / "important.txt", 10);
+  r = PruneAfterCommand(c.root, 0, now + hours(1));
+  EXPECT_EQ(r.foreign, mixed / "important.txt");
+  EXPECT_EQ(r.scenes + r.detections, 0);
+  EXPECT_TRUE(fs::exists(c.b / "000000.frame"));
+  EXPECT_NE(DescribeAutoPrune(c.root, r, 0, "0")
+                .find("not pruned to HCPF_CACHE_MAX_SIZE 0: it holds " +
+                      (mixed / "important.txt").string()),
+            std::string::npos);
+}
+
+// The variable: unset or empty is no limit; a size as the command line
+// writes it; anything else is bad input naming the variable.
+TEST(Cache, TheLimitComesFromTheEnvironment) {
+  ::unsetenv("HCPF_CACHE_MAX_SIZE");
+  EXPECT_EQ(CacheMaxSizeFromEnvironment(), std::nullopt);
+  ::setenv("HCPF_CACHE_MAX_SIZE", "", 1);
+  EXPECT_EQ(CacheMaxSizeFromEnvironment(), std::nullopt);
+  ::setenv("HCPF_CACHE_MAX_SIZE", "1.5G", 1);
+  EXPECT_EQ(CacheMaxSizeFromEnvironment(), std::optional<uint64_t>(1536ull << 20));
+  ::setenv("HCPF_CACHE_MAX_SIZE", "lots", 1);
+  try {
+    CacheMaxSizeFromEnvironment();
+    ADD_FAILURE() << "accepted \"lots\"";
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.where().file, "environment");
+    EXPECT_EQ(e.where().key, "HCPF_CACHE_MAX_SIZE");
+    EXPECT_EQ(e.found(), "\"lots\"");
+  }
+  ::unsetenv("HCPF_CACHE_MAX_SIZE");
 }
 
 TEST(Cache, SizesAreBytesOrPowersOf1024) {

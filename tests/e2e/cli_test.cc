@@ -138,6 +138,71 @@ TEST(Cli, IntegerOptionsAreDecimal) {
   EXPECT_FALSE(fs::exists(dir / "out"));
 }
 
+// $HCPF_CACHE_MAX_SIZE: after a rendered run, the cache's entries used
+// before the run started go, least recently used first (a hand-made scene
+// folder of two days ago); what the run used stays, though over the limit,
+// and the log says so. A sweep prunes once after its runs: with --isolate
+// its children (hcpf run) do not, or the second would remove the first's
+// scene. A bad value is bad input before anything runs.
+TEST(Cli, TheCacheLimitPrunesWhatWasUsedBeforeTheCommand) {
+  const fs::path dir = FreshDir("cache-limit");
+  const fs::path cache = dir / "cache";
+  const fs::path old_scene = cache / "00000000000000000000000000000001";
+  const auto plant_old_scene = [&] {
+    fs::create_directories(old_scene);
+    std::ofstream(old_scene / "000000.frame", std::ios::binary) << std::string(3000, 'x');
+    fs::last_write_time(old_scene, fs::file_time_type::clock::now() - std::chrono::hours(48));
+  };
+  const auto scenes = [&] {
+    int n = 0;
+    for (const auto& e : fs::directory_iterator(cache))
+      n += e.is_directory() && e.path().filename().string().size() == 32;
+    return n;
+  };
+  plant_old_scene();
+  const std::string scenario = LibraryScenario("crossing");
+  const std::string rendered =
+      " --set frames=20 --set observation.source=rendered --cache " + cache.string();
+  auto r = RunCommand("HCPF_CACHE_MAX_SIZE=1K " + kHcpf + " run " + scenario + rendered +
+                      " --out " + (dir / "run").string());
+  EXPECT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_FALSE(fs::exists(old_scene)) << r.output;
+  EXPECT_EQ(scenes(), 1) << r.output;
+  EXPECT_NE(r.output.find("removed 1 scene(s) and 0 detector output(s) used least recently, 2.9 "
+                          "KiB;"),
+            std::string::npos)
+      << r.output;
+  EXPECT_NE(r.output.find("over HCPF_CACHE_MAX_SIZE 1K: the rest was used since this command "
+                          "started"),
+            std::string::npos)
+      << r.output;
+
+  // A sweep of two seeds, each run in a child process one after the other.
+  plant_old_scene();
+  std::ofstream(dir / "sweep.yaml") << "base: " << scenario
+                                    << "\nseeds: 2\ngrid: {frames: [20], observation.source: "
+                                       "[rendered]}\n";
+  r = RunCommand("HCPF_CACHE_MAX_SIZE=1K " + kHcpf + " sweep " + (dir / "sweep.yaml").string() +
+                 " --isolate --jobs 1 --cache " + cache.string() + " --out " +
+                 (dir / "sweep").string());
+  EXPECT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_FALSE(fs::exists(old_scene)) << r.output;
+  // The two scenes of the sweep stay; the old one and the run's above (used
+  // before the sweep started) went. Had the second child pruned as it
+  // ended, the first child's scene would have gone with them (1 left).
+  EXPECT_EQ(scenes(), 2) << r.output;
+  EXPECT_NE(r.output.find("removed 2 scene(s) and 0 detector output(s) used least recently"),
+            std::string::npos)
+      << r.output;
+
+  r = RunCommand("HCPF_CACHE_MAX_SIZE=lots " + kHcpf + " run " + scenario + rendered + " --out " +
+                 (dir / "bad").string());
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_NE(r.output.find("environment: HCPF_CACHE_MAX_SIZE: expected a size"), std::string::npos)
+      << r.output;
+  EXPECT_FALSE(fs::exists(dir / "bad"));
+}
+
 // hcpf sweep --seed: bad text, an empty value and a sweep without seeds:
 // (whose runs keep the base scenario's seed) are refused before anything is
 // written, exit 2, naming the option.

@@ -11,6 +11,7 @@
 
 #include <cstdint>
 #include <filesystem>
+#include <optional>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -51,6 +52,42 @@ std::vector<CacheEntry> PruneOrder(const CacheContents& contents, uint64_t max_b
 // Removes `entries` (a scene's folder with its files); throws hcpf::RunError
 // naming the first that cannot be removed.
 void RemoveCacheEntries(const std::vector<CacheEntry>& entries);
+
+// The environment variable that bounds the cache after each command that
+// uses it (hcpf run, render, sweep): a size as ParseSize reads it.
+inline constexpr const char* kCacheMaxSizeVariable = "HCPF_CACHE_MAX_SIZE";
+
+// $HCPF_CACHE_MAX_SIZE as bytes; nullopt when unset or empty. Throws
+// hcpf::InputError naming the variable, what is expected and what was found.
+std::optional<uint64_t> CacheMaxSizeFromEnvironment();
+
+// What PruneAfterCommand did.
+struct AutoPrune {
+  int scenes = 0;      // scene folders removed
+  int detections = 0;  // detector outputs removed
+  uint64_t freed = 0;
+  uint64_t left = 0;  // bytes the cache holds after
+  // Nothing was removed because the folder holds what is not the cache's
+  // (CacheContents::foreign): its first such path, else empty.
+  std::filesystem::path foreign;
+};
+
+// After a command that used the cache at `root`: removes the entries used
+// least recently (as PruneOrder) until the rest is at most `max_bytes`, but
+// never one used at or after `since` (the command's start): what the command
+// used, and what commands running beside it use, stays, so the cache may be
+// left over `max_bytes` (AutoPrune::left says). Nothing is removed from a
+// folder holding foreign entries. Throws hcpf::RunError when an entry cannot
+// be removed or the folder cannot be read.
+AutoPrune PruneAfterCommand(const std::filesystem::path& root, uint64_t max_bytes,
+                            std::filesystem::file_time_type since);
+
+// A line for the log: what PruneAfterCommand removed and left, naming the
+// variable and its value (`max_text`, as written), and why what is left is
+// over the limit when it is (used since the command started; foreign
+// entries).
+std::string DescribeAutoPrune(const std::filesystem::path& root, const AutoPrune& result,
+                              uint64_t max_bytes, const std::string& max_text);
 
 // Marks a cache entry used now (its modification time); errors are ignored:
 // a read-only cache is still a cache.

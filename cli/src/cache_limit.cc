@@ -1,0 +1,40 @@
+#include "cache_limit.h"
+
+#include <spdlog/spdlog.h>
+
+#include <cstdlib>
+#include <utility>
+
+#include "hcpf/core/error.h"
+#include "hcpf/scenarios/cache.h"
+
+namespace hcpf::cli {
+
+CacheLimit::CacheLimit(std::string cache_dir)
+    : cache_dir_(std::move(cache_dir)),
+      max_bytes_(scenarios::CacheMaxSizeFromEnvironment()),
+      since_(std::filesystem::file_time_type::clock::now()) {
+  if (max_bytes_) max_text_ = std::getenv(scenarios::kCacheMaxSizeVariable);
+}
+
+void CacheLimit::Apply() const {
+  if (!active()) return;
+  try {
+    const scenarios::AutoPrune result =
+        scenarios::PruneAfterCommand(cache_dir_, *max_bytes_, since_);
+    const std::string line =
+        scenarios::DescribeAutoPrune(cache_dir_, result, *max_bytes_, max_text_);
+    if (result.left > *max_bytes_ || !result.foreign.empty()) {
+      spdlog::warn("{}", line);
+    } else {
+      spdlog::info("{}", line);
+    }
+  } catch (const RunError& e) {
+    spdlog::warn("frame cache {}: not pruned to {} {}: {}", cache_dir_,
+                 scenarios::kCacheMaxSizeVariable, max_text_, e.what());
+  }
+}
+
+void CacheLimit::HideFromChildren() { ::unsetenv(scenarios::kCacheMaxSizeVariable); }
+
+}  // namespace hcpf::cli

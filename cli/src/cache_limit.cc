@@ -13,7 +13,10 @@ namespace hcpf::cli {
 CacheLimit::CacheLimit(std::string cache_dir)
     : cache_dir_(std::move(cache_dir)),
       max_bytes_(scenarios::CacheMaxSizeFromEnvironment()),
-      since_(std::filesystem::file_time_type::clock::now()) {
+      // Two seconds early: the kernel stamps a folder's changes with a
+      // coarse clock (a tick behind), and an entry used at the start is the
+      // command's.
+      since_(std::filesystem::file_time_type::clock::now() - std::chrono::seconds(2)) {
   if (max_bytes_) max_text_ = std::getenv(scenarios::kCacheMaxSizeVariable);
 }
 

@@ -2,7 +2,8 @@
 // $HCPF_CACHE_MAX_SIZE for the commands that use the frame cache (hcpf run,
 // render, sweep): read when the command starts (a bad value is bad input
 // before anything runs), applied when it ends (scenarios::PruneAfterCommand:
-// the entries used least recently, none used since the command started).
+// the entries used least recently, none used since the command started, or
+// in the two seconds before).
 
 #include <chrono>
 #include <cstdint>

@@ -177,8 +177,14 @@ TEST(Cli, TheCacheLimitPrunesWhatWasUsedBeforeTheCommand) {
             std::string::npos)
       << r.output;
 
-  // A sweep of two seeds, each run in a child process one after the other.
+  // A sweep of two seeds, each run in a child process one after the other;
+  // the run's scene above marked as used an hour ago (the prune spares what
+  // was used in the two seconds before a command started).
   plant_old_scene();
+  for (const auto& e : fs::directory_iterator(cache)) {
+    fs::last_write_time(e.path(), fs::file_time_type::clock::now() - std::chrono::hours(1));
+  }
+  fs::last_write_time(old_scene, fs::file_time_type::clock::now() - std::chrono::hours(48));
   std::ofstream(dir / "sweep.yaml") << "base: " << scenario
                                     << "\nseeds: 2\ngrid: {frames: [20], observation.source: "
                                        "[rendered]}\n";

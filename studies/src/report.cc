@@ -1354,7 +1354,31 @@ std::string ReplicationHtml(const ReplicationTable& table, const AgainstStore& t
   bool any = false;
   for (const ReplicationRow& r : table.rows) any = any || r.outcome != Replication::kNeither;
   if (!any) return h;
-  h += "<table><tr>";
+  // At a glance: the outcomes per metric, in report.y's order.
+  h += "<p>Per metric, at a glance:</p>\n<table><tr><th>metric</th><th>findings "
+       "there</th><th>replicated</th><th>not "
+       "replicated</th><th>reversed</th><th>new here</th><th>neither</th></tr>\n";
+  for (const std::string& m : meta.report.y) {
+    std::map<Replication, int> count;
+    int there_findings = 0;
+    for (const ReplicationRow& r : table.rows) {
+      if (r.metric != m) continue;
+      ++count[r.outcome];
+      there_findings += r.there_verdict != PairedVerdict::kNotSignificant;
+    }
+    const auto cell = [&](Replication o, const char* colour) {
+      const int n = count[o];
+      return n > 0 && colour != nullptr
+                 ? fmt::format("<td style=\"background:{}\">{}</td>", colour, n)
+                 : fmt::format("<td>{}</td>", n);
+    };
+    h += fmt::format("<tr><td class=\"k\">{}</td><td>{}</td>{}{}{}{}{}</tr>\n", EscapeMarkup(m),
+                     there_findings, cell(Replication::kReplicated, "#dff3df"),
+                     cell(Replication::kNotReplicated, "#f8dede"),
+                     cell(Replication::kReversed, "#f8dede"), cell(Replication::kNewHere, nullptr),
+                     cell(Replication::kNeither, nullptr));
+  }
+  h += "</table>\n<p>The comparisons that are a finding in either store:</p>\n<table><tr>";
   for (size_t k : shown) h += "<th>" + EscapeMarkup(keys[k]) + "</th>";
   h += fmt::format(
       "<th>compared</th><th>metric</th><th>there: {} ({})</th><th>here ({})</th><th>outcome</th>"

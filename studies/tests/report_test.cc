@@ -1576,6 +1576,13 @@ TEST(Report, AgainstAnotherStoreSaysWhichFindingsReplicate) {
                       "</code> (runs of root seed 1;"),
             std::string::npos);
   EXPECT_LT(html.find("id=\"replication\""), html.find("<h2>Plots</h2>"));
+  // At a glance, per metric: hijack_rate replicated at 100, mota new at 1000.
+  EXPECT_NE(html.find("<tr><td class=\"k\">hijack_rate</td><td>1</td><td "
+                      "style=\"background:#dff3df\">1</td><td>0</td><td>0</td><td>0</td><td>1</"
+                      "td></tr>\n<tr><td class=\"k\">mota</td><td>0</td><td>0</td><td>0</td><td>0</"
+                      "td><td>1</td><td>1</td></tr>"),
+            std::string::npos)
+      << html;
   // The table lists the two comparisons that are a finding in either store.
   EXPECT_EQ(Count(html, "replicated</td></tr>"), 1U);
   EXPECT_EQ(Count(html, "new here</td></tr>"), 1U);

@@ -118,7 +118,13 @@ Command AddSweepCommand(CLI::App& parent) {
           ::setenv("LP_NUM_THREADS", std::to_string(*threads).c_str(), 0);
         }
         studies::SweepSpec spec = studies::LoadSweepFile(options->file);
-        if (seed_option->count() > 0) studies::SetRootSeed(spec, options->seed, "--seed");
+        if (seed_option->count() > 0) {
+          studies::SetRootSeed(spec, options->seed, "--seed");
+          if (studies::IsFirstLaunchedRank()) {
+            spdlog::info("sweep: runs seeded from root seed {} (--seed; the sweep file's seed: {})",
+                         spec.seed, spec.file_seed);
+          }
+        }
         const std::vector<studies::SweepRun> runs = studies::ExpandSweep(spec);
         // $HCPF_CACHE_MAX_SIZE: read now, applied by this process once every
         // run is done (rank 0 under MPI), not by --isolate's children.

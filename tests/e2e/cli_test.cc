@@ -236,6 +236,9 @@ TEST(Cli, SweepSeedIsCheckedBeforeAnythingRuns) {
   const auto r = RunCommand(kHcpf + " sweep " + (dir / "seeds.yaml").string() + " --seed 3" + out);
   EXPECT_EQ(r.exit_code, 0) << r.output;
   EXPECT_TRUE(fs::exists(dir / "out" / "results.sqlite")) << r.output;
+  EXPECT_NE(r.output.find("sweep: runs seeded from root seed 3 (--seed; the sweep file's seed: 1)"),
+            std::string::npos)
+      << r.output;
 }
 
 // hcpf cache on a hand-built cache folder: a scene of 3000 bytes used two

@@ -5,9 +5,11 @@
 
 #include <chrono>
 #include <cstdio>
+#include <cstdlib>
 #include <ctime>
 #include <filesystem>
 #include <memory>
+#include <optional>
 
 #include "command.h"
 #include "hcpf/core/error.h"
@@ -70,6 +72,8 @@ Command AddCacheCommand(CLI::App& parent) {
               "no such folder",
               "hcpf run and sweep create it; the default is " + scenarios::DefaultFrameCacheDir());
         }
+        // $HCPF_CACHE_MAX_SIZE, said when set (a bad value is bad input here too).
+        const std::optional<uint64_t> limit = scenarios::CacheMaxSizeFromEnvironment();
         const scenarios::CacheContents contents = scenarios::ScanCache(options->cache);
         std::printf("%s%s\n", options->cache.c_str(),
                     std::filesystem::exists(status) ? "" : " (not created yet: nothing cached)");
@@ -80,6 +84,12 @@ Command AddCacheCommand(CLI::App& parent) {
         if (!contents.entries.empty()) {
           std::printf("  used from %s to %s\n", Day(contents.entries.front().last_used).c_str(),
                       Day(contents.entries.back().last_used).c_str());
+        }
+        if (limit) {
+          std::printf(
+              "  limit: %s after each hcpf run, render and sweep (%s=%s), what they used kept\n",
+              scenarios::FormatSize(*limit).c_str(), scenarios::kCacheMaxSizeVariable,
+              std::getenv(scenarios::kCacheMaxSizeVariable));
         }
         if (!prune) return 0;
         if (!contents.foreign.empty()) {

@@ -201,6 +201,16 @@ TEST(Cli, TheCacheLimitPrunesWhatWasUsedBeforeTheCommand) {
             std::string::npos)
       << r.output;
 
+  // hcpf cache says the limit.
+  r = RunCommand("HCPF_CACHE_MAX_SIZE=1K " + kHcpf + " cache --cache " + cache.string());
+  EXPECT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("  limit: 1.0 KiB after each hcpf run, render and sweep "
+                          "(HCPF_CACHE_MAX_SIZE=1K), what they used kept\n"),
+            std::string::npos)
+      << r.output;
+  EXPECT_EQ(RunCommand("HCPF_CACHE_MAX_SIZE=lots " + kHcpf + " cache --cache " + cache.string())
+                .exit_code,
+            2);
   r = RunCommand("HCPF_CACHE_MAX_SIZE=lots " + kHcpf + " run " + scenario + rendered + " --out " +
                  (dir / "bad").string());
   EXPECT_EQ(r.exit_code, 2) << r.output;

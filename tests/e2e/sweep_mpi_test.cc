@@ -177,6 +177,46 @@ TEST(MpiSweep, StoreEqualsTheThreadPoolsAndRerunningResumes) {
   EXPECT_EQ(ReadStore(out / "results.sqlite"), expected);
 }
 
+// hcpf sweep --seed under mpirun: every rank seeds the runs from the same
+// root seed, so the store equals the thread pool's with --seed, the store
+// records the root seed, and the log says it once (rank 0).
+TEST(MpiSweep, ARootSeedFromTheCommandLineReachesEveryRank) {
+  const fs::path dir = FreshDir("sweep-mpi-seed");
+  const std::string sweep = WriteSweep(dir, 2);  // 8 runs
+  const auto pool = RunCommand(kHcpf + " sweep " + sweep + " --seed 5 --out " +
+                               (dir / "pool").string() + " --jobs 2 --no-cache");
+  ASSERT_EQ(pool.exit_code, 0) << pool.output;
+  const StoreRows expected = ReadStore(dir / "pool" / "results.sqlite");
+  ASSERT_EQ(expected.size(), 8U);
+  const auto mpi = RunCommand(
+      Mpirun(3, "sweep " + sweep + " --seed 5 --out " + (dir / "mpi").string() + " --no-cache"));
+  ASSERT_EQ(mpi.exit_code, 0) << mpi.output;
+  EXPECT_EQ(ReadStore(dir / "mpi" / "results.sqlite"), expected);
+  EXPECT_EQ(Count(mpi.output, "runs seeded from root seed 5 (--seed; the sweep file's seed: 1)"), 1)
+      << mpi.output;
+  std::string root_seed;
+  sqlite3* db = nullptr;
+  if (sqlite3_open_v2((dir / "mpi" / "results.sqlite").c_str(), &db, SQLITE_OPEN_READONLY,
+                      nullptr) == SQLITE_OK) {
+    sqlite3_stmt* s = nullptr;
+    if (sqlite3_prepare_v2(db, "SELECT value FROM meta WHERE name = 'root_seed'", -1, &s,
+                           nullptr) == SQLITE_OK &&
+        sqlite3_step(s) == SQLITE_ROW) {
+      root_seed = reinterpret_cast<const char*>(sqlite3_column_text(s, 0));
+    }
+    sqlite3_finalize(s);
+  }
+  sqlite3_close(db);
+  EXPECT_EQ(root_seed, "5");
+  // Without --seed the runs are others (root seed 1).
+  const auto plain = RunCommand(kHcpf + " sweep " + sweep + " --out " + (dir / "plain").string() +
+                                " --jobs 2 --no-cache");
+  ASSERT_EQ(plain.exit_code, 0) << plain.output;
+  const StoreRows other = ReadStore(dir / "plain" / "results.sqlite");
+  ASSERT_EQ(other.size(), 8U);
+  for (const auto& [key, row] : other) EXPECT_EQ(expected.count(key), 0U) << key;
+}
+
 TEST(MpiSweep, RanksThatExpandAnotherSweepStopTheJobBeforeAnyRun) {
   // Rank 0 starts in a/, ranks 1 and 2 in b/ (mpirun's MPMD form), each
   // reading its own sweep.yaml: 2 seeds there, 3 here.

@@ -24,8 +24,9 @@ Command AddReportCommand(CLI::App& parent) {
                   "only read, so a folder on read-only media can be reported)");
   app->add_option("--against", options->against,
                   "Another sweep folder over the same keys (e.g. the same sweep with hcpf sweep "
-                  "--seed): which of this report's findings replicate there (report.html, "
-                  "findings.md, replication.csv)");
+                  "--seed): which of this report's findings replicate there, and each cell mean "
+                  "against its interval there (report.html, findings.md, replication.csv, "
+                  "replication_cells.csv)");
   app->add_option("--gnuplot", options->gnuplot, "The gnuplot executable")->capture_default_str();
   return {app, [options] {
             const auto start = std::chrono::steady_clock::now();

@@ -120,7 +120,7 @@ void CheckReportOut(const std::string& out_dir) {
   const SourceLocation where{out_dir, 0, 0, "--out"};
   const std::string expected =
       "a new or empty folder, or one holding only an earlier report (report.html, summary.csv, "
-      "paired.csv, findings.md, replication.csv)";
+      "paired.csv, findings.md, replication.csv, replication_cells.csv)";
   std::error_code ec;
   if (fs::is_symlink(fs::symlink_status(out_dir, ec))) {
     throw InputError(where, expected, "a symbolic link", "nothing was changed; name a folder");
@@ -137,7 +137,7 @@ void CheckReportOut(const std::string& out_dir) {
         const std::string& file = target.empty() ? name : target;
         const bool report_file = file == "report.html" || file == "summary.csv" ||
                                  file == "paired.csv" || file == "findings.md" ||
-                                 file == "replication.csv";
+                                 file == "replication.csv" || file == "replication_cells.csv";
         return (report_file && entry.is_regular_file(ec)) ||
                (name == ".report-work" && entry.is_directory(ec));
       });

@@ -1663,17 +1663,47 @@ TEST(Report, AgainstAnotherStoreSaysWhichFindingsReplicate) {
                       other.string() + " sweeping tracker.particles"),
             std::string::npos)
       << error_of(other.string());
-  // A report without report.series has no comparison to replicate.
-  try {
-    WriteReport({.dir = other.string(), .against = six.string()});
-    ADD_FAILURE() << "a report without a series took --against";
-  } catch (const InputError& e) {
-    EXPECT_NE(std::string(e.what()).find(
-                  "--against: expected a report with paired comparisons (report.series in the "
-                  "sweep file) to replicate, found other.yaml without report.series"),
-              std::string::npos)
-        << e.what();
-  }
+  // Cell by cell (six against ten, every cell and metric with an interval
+  // in both: 8): each mean here against the interval there. By hand: 7 of 8
+  // inside (systematic's hijack rate at 100 is 1 in both, at the upper bound
+  // of 10 of 10's Wilson interval [0.7225, 1]); systematic's hijack rate at
+  // 1000 is 5 of 6 = 0.833 here, outside 5 of 10's interval [0.199, 0.801]
+  // there (Korn & Graubard: n* = p(1 − p) / (s² / n) = 9, t with 9 degrees
+  // of freedom), and its own interval (n* = 5, t with 5: [0.304, 0.983])
+  // overlaps it, as all 8 do.
+  r = WriteReport({.dir = six.string(), .against = ten.string()});
+  EXPECT_EQ(r.replication_cells, 8);
+  const std::string cells_sentence =
+      "Cell by cell: of the 8 cell means measured with an interval in both stores (cells \u00d7 "
+      "metrics), 7 lie inside the other store's 95 % interval of the same cell and 8 of the two "
+      "intervals overlap.";
+  EXPECT_NE(Read(six / "findings.md").find(sentence + "\n\n" + cells_sentence), std::string::npos)
+      << Read(six / "findings.md");
+  const std::string cells_csv = Read(six / "replication_cells.csv");
+  EXPECT_EQ(Count(cells_csv, "\n"), 9U) << cells_csv;
+  EXPECT_NE(cells_csv.find("1000,systematic,hijack_rate,10,0.5,0.198"), std::string::npos)
+      << cells_csv;
+  EXPECT_NE(cells_csv.find("1000,systematic,hijack_rate,10,0.5,0.198979,0.801021,6,0.833333,"
+                           "0.304303,0.982805,0,1\n"),
+            std::string::npos)
+      << cells_csv;
+  EXPECT_EQ(Count(cells_csv, ",0,1\n"), 1U) << cells_csv;  // the one outside, overlapping
+  EXPECT_EQ(Count(Read(r.html_path), "<td class=\"k\">yes</td></tr>"), 1U);
+
+  // Without report.series: no paired comparisons, the cells all the same.
+  EditStore(six,
+            "UPDATE meta SET value = '{\"x\":\"tracker.particles\",\"y\":[\"hijack_rate\","
+            "\"mota\"]}' WHERE name = 'report'");
+  r = WriteReport({.dir = six.string(), .against = ten.string()});
+  EXPECT_EQ(r.replication_comparisons, 0);
+  EXPECT_EQ(r.replication_cells, 8);
+  EXPECT_FALSE(fs::exists(six / "replication.csv"));
+  EXPECT_TRUE(fs::exists(six / "replication_cells.csv"));
+  EXPECT_NE(Read(r.html_path)
+                .find("(runs of root seed 1; these runs: root seed 3): without "
+                      "<code>report.series</code> there are no paired comparisons to make "
+                      "again.</p>"),
+            std::string::npos);
 }
 
 // Where the runs' seeds come from is stored with the sweep and said by its

@@ -36,7 +36,8 @@ struct ReportOptions {
   // root seed: hcpf sweep --seed): every paired comparison is made again on
   // its runs with this report's settings, and report.html (section
   // "Replication"), findings.md and replication.csv say which findings
-  // replicate. "" = none.
+  // replicate; every cell mean is set against the other store's interval of
+  // the same cell (replication_cells.csv). "" = none.
   std::string against;
   void Validate() const;
 };
@@ -49,6 +50,7 @@ struct ReportResult {
   int comparisons = 0;              // rows of the paired-difference table
   int findings = 0;                 // sentences of the findings (also in findings.md)
   int replication_comparisons = 0;  // with `against`: comparisons made in both stores
+  int replication_cells = 0;        // with `against`: cell means with an interval in both
   int cells = 0;
 };
 

@@ -1374,9 +1374,10 @@ std::string CellReplicationSentence(const CellReplicationTable& table) {
       "of the two intervals overlap{}. (With as many seeds in both, about 83 % of means of a "
       "replication are expected inside the first interval, not 95 %.)",
       table.rows.size(), inside, overlap,
-      table.unmatched > 0
-          ? fmt::format("; {} cell means here have no interval there", table.unmatched)
-          : std::string());
+      table.unmatched > 0 ? fmt::format("; {} {} here {} no interval there", table.unmatched,
+                                        table.unmatched == 1 ? "cell mean" : "cell means",
+                                        table.unmatched == 1 ? "has" : "have")
+                          : std::string());
 }
 
 // replication_cells.csv: one row per cell and metric in both stores.

@@ -1611,6 +1611,10 @@ TEST(Report, AgainstAnotherStoreSaysWhichFindingsReplicate) {
   EditStore(fewer, "DELETE FROM runs WHERE \"tracker.particles\" = '1000'");
   r = WriteReport({.dir = six.string(), .against = fewer.string()});
   EXPECT_EQ(r.replication_comparisons, 2);
+  // Its 2 cells at 1000 have no interval there (4 cell means: 2 cells x 2 metrics).
+  EXPECT_NE(Read(six / "findings.md").find("overlap; 4 cell means here have no interval there."),
+            std::string::npos)
+      << Read(six / "findings.md");
   EXPECT_NE(Read(six / "findings.md")
                 .find("2 comparisons of this report have no partner there and 0 there none here"),
             std::string::npos)

@@ -458,19 +458,23 @@ int64_t YamlReader::Integer(const std::string& key, std::optional<int64_t> fallb
   return Child(key).AsInteger(lo, hi);
 }
 
+std::optional<uint64_t> ParseSeed(std::string_view text) {
+  uint64_t value = 0;
+  const auto [ptr, ec] = std::from_chars(text.data(), text.data() + text.size(), value);
+  if (text.empty() || ec != std::errc() || ptr != text.data() + text.size()) return std::nullopt;
+  return value;
+}
+
 uint64_t YamlReader::Seed(const std::string& key, std::optional<uint64_t> fallback) {
   if (!Has(key)) {
     if (fallback) return *fallback;
     Child(key);
   }
   YamlReader child = Child(key);
-  uint64_t value = 0;
-  const std::string& text = TypedScalar(child.node_) ? child.node_.Scalar() : std::string();
-  auto [ptr, ec] = std::from_chars(text.data(), text.data() + text.size(), value);
-  if (text.empty() || ec != std::errc() || ptr != text.data() + text.size()) {
-    child.Fail("a non-negative integer seed below 2^64");
-  }
-  return value;
+  const std::optional<uint64_t> value =
+      ParseSeed(TypedScalar(child.node_) ? child.node_.Scalar() : std::string());
+  if (!value) child.Fail("a non-negative integer seed below 2^64");
+  return *value;
 }
 
 bool YamlReader::Bool(const std::string& key, std::optional<bool> fallback) {

@@ -111,11 +111,12 @@ CacheContents ScanCache(const fs::path& root) {
   return out;
 }
 
-std::vector<CacheEntry> PruneOrder(const CacheContents& contents, uint64_t max_bytes) {
+std::vector<CacheEntry> PruneOrder(const CacheContents& contents, uint64_t max_bytes,
+                                   std::optional<fs::file_time_type> spare_from) {
   std::vector<CacheEntry> out;
   uint64_t kept = contents.bytes();
-  for (const CacheEntry& e : contents.entries) {
-    if (kept <= max_bytes) break;
+  for (const CacheEntry& e : contents.entries) {  // least recently used first
+    if (kept <= max_bytes || (spare_from && e.last_used >= *spare_from)) break;
     out.push_back(e);
     kept -= e.bytes;
   }
@@ -154,10 +155,8 @@ AutoPrune PruneAfterCommand(const fs::path& root, uint64_t max_bytes, fs::file_t
     out.foreign = contents.foreign.front();
     return out;
   }
-  std::vector<CacheEntry> remove;
-  for (const CacheEntry& e : contents.entries) {  // least recently used first
-    if (out.left <= max_bytes || e.last_used >= since) break;
-    remove.push_back(e);
+  const std::vector<CacheEntry> remove = PruneOrder(contents, max_bytes, since);
+  for (const CacheEntry& e : remove) {
     out.left -= e.bytes;
     out.freed += e.bytes;
     (e.kind == CacheEntry::Kind::kScene ? out.scenes : out.detections) += 1;

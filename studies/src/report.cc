@@ -71,11 +71,6 @@ Interval CellInterval(const std::string& m, const std::vector<double>& values) {
 void ReportOptions::Validate() const {
   if (dir.empty())
     throw InputError(SourceLocation{"hcpf report", 0, 0, "DIR"}, "a sweep folder", "nothing");
-  if (!against.empty() && ClassifyReportFolder(dir) != ReportFolder::kSweep) {
-    throw InputError(SourceLocation{"hcpf report", 0, 0, "--against"},
-                     "a sweep folder as DIR (a run's report has no comparisons to replicate)",
-                     fmt::format("{}, a run folder", dir));
-  }
   CheckGnuplot(gnuplot);
 }
 
@@ -683,6 +678,21 @@ std::string HolmReachNote(const Paired& paired) {
                     paired.pairs_for_holm, tied.empty() ? tied : " " + tied);
 }
 
+// The table columns of a list of cells' swept values: every key whose value
+// differs among `rows` (each a cell's values), and `always` (-1: none) even
+// when it does not; never `skip` (-1: none).
+std::vector<size_t> VaryingKeys(const std::vector<const std::vector<std::string>*>& rows,
+                                size_t key_count, int skip, int always) {
+  std::vector<size_t> shown;
+  for (size_t k = 0; k < key_count; ++k) {
+    if (static_cast<int>(k) == skip) continue;
+    bool varies = static_cast<int>(k) == always;
+    for (const std::vector<std::string>* r : rows) varies = varies || (*r)[k] != (*rows.front())[k];
+    if (varies) shown.push_back(k);
+  }
+  return shown;
+}
+
 std::string FormatP(double p) {
   if (p < 0.001) return "p&nbsp;&lt;&nbsp;0.001";
   return fmt::format("p&nbsp;=&nbsp;{:.3f}", p);
@@ -696,14 +706,10 @@ std::string PairedHtml(const Paired& paired, const StoreMeta& meta, const Layout
   const auto si = static_cast<size_t>(paired.series_index);
   // Columns: every key that takes several values among the compared cells
   // (x, panels, other keys), then the comparison.
-  std::vector<size_t> shown;
-  for (size_t k = 0; k < keys.size(); ++k) {
-    if (k == si) continue;
-    bool varies = static_cast<int>(k) == layout.x_index;
-    for (const PairedRow& r : paired.rows)
-      varies = varies || r.cell->values[k] != paired.rows.front().cell->values[k];
-    if (varies) shown.push_back(k);
-  }
+  std::vector<const std::vector<std::string>*> compared;
+  for (const PairedRow& r : paired.rows) compared.push_back(&r.cell->values);
+  const std::vector<size_t> shown =
+      VaryingKeys(compared, keys.size(), paired.series_index, layout.x_index);
   const std::string reach_note = HolmReachNote(paired);
   std::string h = "<h2 id=\"paired\">Paired differences</h2>\n";
   h += fmt::format(
@@ -1407,13 +1413,9 @@ std::string CellReplicationHtml(const CellReplicationTable& table, const StoreMe
                                      [](const CellReplicationRow& r) { return !r.inside; });
   if (outside == 0) return h;
   const auto& keys = meta.swept_keys;
-  std::vector<size_t> shown;
-  for (size_t k = 0; k < keys.size(); ++k) {
-    bool varies = false;
-    for (const CellReplicationRow& r : table.rows)
-      varies = varies || r.here->values[k] != table.rows.front().here->values[k];
-    if (varies) shown.push_back(k);
-  }
+  std::vector<const std::vector<std::string>*> cells;
+  for (const CellReplicationRow& r : table.rows) cells.push_back(&r.here->values);
+  const std::vector<size_t> shown = VaryingKeys(cells, keys.size(), -1, -1);
   h += "<p>The cell means outside the other store's interval:</p>\n<table><tr>";
   for (size_t k : shown) h += "<th>" + EscapeMarkup(keys[k]) + "</th>";
   h += "<th>metric</th><th>there</th><th>here</th><th>intervals overlap</th></tr>\n";
@@ -1461,14 +1463,9 @@ std::string PairedReplicationHtml(const ReplicationTable& table, const AgainstSt
                                   const Paired& here, const StoreMeta& meta) {
   const auto& keys = meta.swept_keys;
   const auto si = static_cast<size_t>(here.series_index);
-  std::vector<size_t> shown;
-  for (size_t k = 0; k < keys.size(); ++k) {
-    if (k == si) continue;
-    bool varies = false;
-    for (const ReplicationRow& r : table.rows)
-      varies = varies || r.here->cell->values[k] != table.rows.front().here->cell->values[k];
-    if (varies) shown.push_back(k);
-  }
+  std::vector<const std::vector<std::string>*> compared;
+  for (const ReplicationRow& r : table.rows) compared.push_back(&r.here->cell->values);
+  const std::vector<size_t> shown = VaryingKeys(compared, keys.size(), here.series_index, -1);
   std::string h = "<p>" + CodeSpansToHtml(ReplicationSentence(table, there, meta)) +
                   " Each comparison of this report (paired differences, below) made again on "
                   "the other store's runs, with this report's settings; a finding is as in the "

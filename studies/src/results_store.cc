@@ -344,6 +344,20 @@ std::unique_ptr<ResultsStore> ResultsStore::Open(const std::string& path, StoreA
   return store;
 }
 
+namespace {
+
+// The meta entries that describe a sweep without changing its runs (not in
+// the sweep hash): a resumed sweep writes its own over the store's.
+std::vector<std::pair<std::string, std::string>> DescriptiveMeta(const StoreMeta& meta) {
+  return {{"report", ReportToJson(meta.report).dump()},
+          {"sweep_file", meta.sweep_file},
+          {"root_seed", meta.root_seed},
+          {"root_seed_from", meta.root_seed_from},
+          {"root_file_seed", meta.root_file_seed}};
+}
+
+}  // namespace
+
 std::unique_ptr<ResultsStore> ResultsStore::OpenOrCreate(const std::string& path,
                                                          const StoreMeta& meta) {
   if (fs::exists(path)) {
@@ -368,27 +382,14 @@ std::unique_ptr<ResultsStore> ResultsStore::OpenOrCreate(const std::string& path
     // now says how the store is reported. A second bad-input audit found an
     // edited report: block kept from the first sweep without a word. (The
     // root seed itself is in the hash: another one is another sweep.)
-    const std::vector<std::pair<const char*, std::string>> described = {
-        {"report", ReportToJson(meta.report).dump()},
-        {"sweep_file", meta.sweep_file},
-        {"root_seed", meta.root_seed},
-        {"root_seed_from", meta.root_seed_from},
-        {"root_file_seed", meta.root_file_seed}};
-    const StoreMeta& stored = store->meta();
-    const std::vector<std::string> stored_values = {ReportToJson(stored.report).dump(),
-                                                    stored.sweep_file, stored.root_seed,
-                                                    stored.root_seed_from, stored.root_file_seed};
-    bool changed = false;
-    for (size_t i = 0; i < described.size(); ++i) {
-      changed = changed || described[i].second != stored_values[i];
-    }
-    if (changed) {
+    const std::vector<std::pair<std::string, std::string>> described = DescriptiveMeta(meta);
+    if (described != DescriptiveMeta(store->meta())) {
       store->Exec("BEGIN IMMEDIATE");
       for (const auto& [name, value] : described) {
         // INSERT OR REPLACE: a store written before the root seed was
         // recorded has no row for it.
         Statement s(store->db_, "INSERT OR REPLACE INTO meta(name, value) VALUES (?, ?)");
-        s.Bind(1, std::string(name));
+        s.Bind(1, name);
         s.Bind(2, value);
         s.Step();
       }
@@ -424,17 +425,13 @@ std::unique_ptr<ResultsStore> ResultsStore::OpenOrCreate(const std::string& path
         "NOT "
         "NULL, seed TEXT NOT NULL, status TEXT NOT NULL, error TEXT, run_dir TEXT" +
         columns + ")");
-    const std::vector<std::pair<std::string, std::string>> rows = {
+    std::vector<std::pair<std::string, std::string>> rows = {
         {"format", kStoreFormat},
         {"sweep_hash", meta.sweep_hash},
-        {"sweep_file", meta.sweep_file},
         {"swept_keys", json(meta.swept_keys).dump()},
-        {"report", ReportToJson(meta.report).dump()},
         {"base_resolved", meta.base_resolved},
-        {"run_count", std::to_string(meta.run_count)},
-        {"root_seed", meta.root_seed},
-        {"root_seed_from", meta.root_seed_from},
-        {"root_file_seed", meta.root_file_seed}};
+        {"run_count", std::to_string(meta.run_count)}};
+    for (auto& entry : DescriptiveMeta(meta)) rows.push_back(std::move(entry));
     for (const auto& [name, value] : rows) {
       Statement s(store.db_, "INSERT INTO meta(name, value) VALUES (?, ?)");
       s.Bind(1, name);

@@ -705,6 +705,12 @@ ReportResult WriteRunReport(const ReportOptions& options) {
                      "a run folder (manifest.json with \"format\": \"hcpf-run/1\")",
                      "a sweep folder (use hcpf report on it as a sweep)");
   }
+  if (!options.against.empty()) {
+    throw InputError(SourceLocation{"hcpf report", 0, 0, "--against"},
+                     "a sweep folder as DIR (a run's report has no comparisons to replicate)",
+                     fmt::format("{}, a run folder", options.dir));
+  }
+
   const fs::path dir(options.dir);
   if (!options.out_dir.empty()) CheckReportOut(options.out_dir);
   const fs::path out = options.out_dir.empty() ? dir : fs::path(options.out_dir);

@@ -5,7 +5,6 @@
 #include <fmt/format.h>
 
 #include <algorithm>
-#include <charconv>
 #include <cmath>
 #include <filesystem>
 #include <map>
@@ -333,12 +332,14 @@ std::string SeedsForHolmNote(const SweepSpec& spec) {
   // The series is a grid key, or a zip key (each zip position then a series
   // value, the other zip keys following it: they pair with the reference's).
   const SweepAxis* series = nullptr;
+  bool series_zipped = false;
   if (const auto g = std::find_if(spec.grid.begin(), spec.grid.end(), is_series);
       g != spec.grid.end()) {
     series = &*g;
   } else if (const auto z = std::find_if(spec.zip.begin(), spec.zip.end(), is_series);
              z != spec.zip.end()) {
     series = &*z;
+    series_zipped = true;
   }
   if (series == nullptr || series->values.size() < 2) return {};
   const double zip_length = spec.zip.empty() ? 1.0 : static_cast<double>(spec.zip[0].values.size());
@@ -353,7 +354,7 @@ std::string SeedsForHolmNote(const SweepSpec& spec) {
   });
   if (zip_pooled) {
     // Pooling the zip would pool the series zipped in it: no comparison to count.
-    if (std::any_of(spec.zip.begin(), spec.zip.end(), is_series)) return {};
+    if (series_zipped) return {};
     pooled *= zip_length;
   }
   const double values = static_cast<double>(series->values.size());
@@ -421,9 +422,8 @@ int64_t CheckedRunCount(const SweepSpec& spec) {
 }
 
 void SetRootSeed(SweepSpec& spec, const std::string& text, const std::string& option) {
-  uint64_t value = 0;
-  const auto [ptr, ec] = std::from_chars(text.data(), text.data() + text.size(), value);
-  if (text.empty() || ec != std::errc() || ptr != text.data() + text.size()) {
+  const std::optional<uint64_t> value = config::ParseSeed(text);
+  if (!value) {
     throw InputError(SourceLocation{"hcpf sweep", 0, 0, option},
                      "a non-negative integer seed below 2^64", "\"" + text + "\"");
   }
@@ -437,7 +437,7 @@ void SetRootSeed(SweepSpec& spec, const std::string& text, const std::string& op
                     spec.file.empty() ? std::string("a sweep") : spec.file),
         fmt::format("add `seeds: N` to the sweep file, or drop {}", option));
   }
-  spec.seed = value;
+  spec.seed = *value;
   spec.seed_from = option;
 }
 

@@ -14,6 +14,7 @@
 #include <optional>
 #include <set>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "hcpf/config/overrides.h"
@@ -22,6 +23,11 @@
 #include "hcpf/core/fields.h"
 
 namespace hcpf::config {
+
+// A seed as written (a YAML scalar, a command-line value): decimal digits
+// only, below 2^64; nullopt for anything else (empty, a sign, a space,
+// another base, out of range).
+std::optional<uint64_t> ParseSeed(std::string_view text);
 
 // Shared by every node read from one document.
 struct YamlContext {

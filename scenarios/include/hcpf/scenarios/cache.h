@@ -46,8 +46,11 @@ struct CacheContents {
 CacheContents ScanCache(const std::filesystem::path& root);
 
 // The entries to remove, least recently used first, so that what stays is
-// at most `max_bytes`: a prefix of contents.entries.
-std::vector<CacheEntry> PruneOrder(const CacheContents& contents, uint64_t max_bytes);
+// at most `max_bytes`: a prefix of contents.entries. With `spare_from`, the
+// prefix stops at the first entry used at or after it (what stays may then
+// be over `max_bytes`).
+std::vector<CacheEntry> PruneOrder(const CacheContents& contents, uint64_t max_bytes,
+                                   std::optional<std::filesystem::file_time_type> spare_from = {});
 
 // Removes `entries` (a scene's folder with its files); throws hcpf::RunError
 // naming the first that cannot be removed.
@@ -73,7 +76,7 @@ struct AutoPrune {
 };
 
 // After a command that used the cache at `root`: removes the entries used
-// least recently (as PruneOrder) until the rest is at most `max_bytes`, but
+// least recently until the rest is at most `max_bytes` (PruneOrder), but
 // never one used at or after `since` (the command's start): what the command
 // used, and what commands running beside it use, stays, so the cache may be
 // left over `max_bytes` (AutoPrune::left says). Nothing is removed from a

@@ -1,4 +1,5 @@
-// hcpf report DIR [--out FOLDER] [--against OTHER]: DIR is a sweep's or a run's folder.
+// hcpf report DIR [--out FOLDER] [--against OTHER]: DIR is a sweep's or a run's folder,
+// OTHER another of the same kind.
 
 #include <spdlog/spdlog.h>
 
@@ -23,17 +24,24 @@ Command AddReportCommand(CLI::App& parent) {
                   "Write report.html (and a sweep's summary.csv) here instead of DIR (DIR is "
                   "only read, so a folder on read-only media can be reported)");
   app->add_option("--against", options->against,
-                  "Another sweep folder over the same keys (e.g. the same sweep with hcpf sweep "
-                  "--seed): which of this report's findings replicate there, and each cell mean "
-                  "against its interval there (report.html, findings.md, replication.csv, "
-                  "replication_cells.csv)");
+                  "For a sweep: another sweep folder over the same keys (e.g. the same sweep "
+                  "with hcpf sweep --seed): which of this report's findings replicate there, and "
+                  "each cell mean against its interval there (report.html, findings.md, "
+                  "replication.csv, replication_cells.csv). For a run: another run folder, "
+                  "compared with it (the keys they differ in, the same files, the metrics side by "
+                  "side, and over one ground truth their filters frame by frame)");
   app->add_option("--gnuplot", options->gnuplot, "The gnuplot executable")->capture_default_str();
   return {app, [options] {
             const auto start = std::chrono::steady_clock::now();
             const studies::ReportResult r = studies::WriteReport(*options);
             const double s =
                 std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-            if (r.csv_path.empty()) {
+            if (r.csv_path.empty() && !options->against.empty()) {
+              spdlog::info(
+                  "report: {} plots in {:.2f} s; against {}: {} resolved keys differ, {} targets "
+                  "compared frame by frame",
+                  r.plots, s, options->against, r.differing_keys, r.compared_targets);
+            } else if (r.csv_path.empty()) {
               spdlog::info("report: {} plots in {:.2f} s", r.plots, s);
             } else {
               spdlog::info(

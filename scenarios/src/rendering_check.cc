@@ -2,7 +2,6 @@
 
 #include <fmt/format.h>
 #include <fmt/ranges.h>
-#include <yaml-cpp/yaml.h>
 
 #include <algorithm>
 #include <filesystem>
@@ -10,6 +9,7 @@
 #include <nlohmann/json.hpp>
 
 #include "hcpf/config/file_lookup.h"
+#include "hcpf/config/yaml_leaves.h"
 #include "hcpf/core/fields.h"
 #include "hcpf/core/text_file.h"
 #include "hcpf/renderer/renderer.h"
@@ -24,24 +24,6 @@ namespace {
 
 constexpr const char* kRenderingNeeds =
     "a folder of `hcpf render` or of a rendered `hcpf run` (holding manifest.json)";
-
-// Every scalar leaf of `node` under its dotted key.
-void Flatten(const YAML::Node& node, const std::string& key,
-             std::map<std::string, std::string>* leaves) {
-  if (node.IsMap()) {
-    for (const auto& entry : node) {
-      const std::string name = entry.first.Scalar();
-      Flatten(entry.second, key.empty() ? name : key + "." + name, leaves);
-    }
-  } else if (node.IsSequence()) {
-    if (node.size() == 0) (*leaves)[key] = "[]";
-    for (size_t i = 0; i < node.size(); ++i) {
-      Flatten(node[i], fmt::format("{}[{}]", key, i), leaves);
-    }
-  } else {
-    (*leaves)[key] = node.IsNull() ? "null" : node.Scalar();
-  }
-}
 
 // Keys that cannot change what the frames show: the detector's and the
 // tracker's side, names, and the renderer's output switches.
@@ -62,14 +44,14 @@ std::string WhereTheyDiffer(const fs::path& folder, const Scenario& s,
   if (!fs::is_regular_file(resolved, ec)) {
     return "; that folder has no scenario.resolved.yaml to compare keys with";
   }
-  std::vector<LeafDifference> differ;
+  std::vector<config::LeafDifference> differ;
   try {
-    differ = DifferingLeaves(ReadInputFile(resolved.string(), "a resolved scenario", 1u << 26),
-                             ToResolvedYaml(s));
+    differ = config::DifferingLeaves(
+        ReadInputFile(resolved.string(), "a resolved scenario", 1u << 26), ToResolvedYaml(s));
   } catch (const std::exception& e) {
     return fmt::format("; its scenario.resolved.yaml could not be compared ({})", e.what());
   }
-  std::erase_if(differ, [](const LeafDifference& d) { return ShapesNoPixel(d.key); });
+  std::erase_if(differ, [](const config::LeafDifference& d) { return ShapesNoPixel(d.key); });
   if (differ.empty()) {
     const std::string version =
         manifest.contains("hcpf_version") && manifest["hcpf_version"].is_string()
@@ -83,10 +65,10 @@ std::string WhereTheyDiffer(const fs::path& folder, const Scenario& s,
   constexpr size_t kShown = 6;
   std::string text = "; the scenarios differ at ";
   for (size_t i = 0; i < std::min(differ.size(), kShown); ++i) {
-    const LeafDifference& d = differ[i];
+    const config::LeafDifference& d = differ[i];
     if (i > 0) text += ", ";
-    text += fmt::format("{} (there {}, here {})", d.key, d.first.empty() ? "absent" : d.first,
-                        d.second.empty() ? "absent" : d.second);
+    text += fmt::format("{} (there {}, here {})", d.key, d.first.value_or("absent"),
+                        d.second.value_or("absent"));
   }
   if (differ.size() > kShown) text += fmt::format(" and {} more keys", differ.size() - kShown);
   return text;
@@ -112,31 +94,6 @@ std::string ResolveRenderingFolder(const std::string& written, const std::string
   return fs::path(ResolveModelPath(file, scenario_file, where, kRenderingNeeds))
       .parent_path()
       .string();
-}
-
-std::vector<LeafDifference> DifferingLeaves(const std::string& first_yaml,
-                                            const std::string& second_yaml) {
-  std::map<std::string, std::string> first;
-  std::map<std::string, std::string> second;
-  Flatten(YAML::Load(first_yaml), "", &first);
-  Flatten(YAML::Load(second_yaml), "", &second);
-  std::vector<LeafDifference> out;
-  auto a = first.begin();
-  auto b = second.begin();
-  while (a != first.end() || b != second.end()) {
-    if (b == second.end() || (a != first.end() && a->first < b->first)) {
-      out.push_back({a->first, a->second, ""});
-      ++a;
-    } else if (a == first.end() || b->first < a->first) {
-      out.push_back({b->first, "", b->second});
-      ++b;
-    } else {
-      if (a->second != b->second) out.push_back({a->first, a->second, b->second});
-      ++a;
-      ++b;
-    }
-  }
-  return out;
 }
 
 void CheckRendering(Scenario* s) {

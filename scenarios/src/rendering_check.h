@@ -20,18 +20,6 @@ namespace hcpf::scenarios::internal {
 std::string ResolveRenderingFolder(const std::string& written, const std::string& scenario_file,
                                    const SourceLocation& where);
 
-// A leaf of a YAML document that differs between two of them: its dotted key
-// ("targets[1].path.speed_mps") and its text in each ("" when absent).
-struct LeafDifference {
-  std::string key;
-  std::string first;
-  std::string second;
-};
-
-// The scalar leaves that differ between two YAML texts, in key order.
-std::vector<LeafDifference> DifferingLeaves(const std::string& first_yaml,
-                                            const std::string& second_yaml);
-
 // With `rendering` or `pixel_hash` set in s->observation.file: compares the
 // frames the det.txt was made on with those `s` renders; throws InputError at
 // the key whose hash differs (thrown by FailOption: relocate it), naming both

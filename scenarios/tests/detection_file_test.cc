@@ -259,25 +259,6 @@ TEST(DetectionFile, WithLabelsColumnTwoNamesTheTargetEachDetectionIsOf) {
   EXPECT_EQ(FileLoadError(kMinimal, external), "");
 }
 
-TEST(DetectionFile, DifferingLeavesNameEveryScalarThatDiffersByItsDottedKey) {
-  // What the refusal of another rendering lists: changed, added and removed
-  // leaves, list items by index, in key order.
-  const auto differ = internal::DifferingLeaves("a: 1\nb: {c: [1, 2], d: x}\ne: [{f: 1}]\ng: []\n",
-                                                "a: 1\nb: {c: [1, 3]}\ne: [{f: 2}]\ng: []\nh: ~\n");
-  ASSERT_EQ(differ.size(), 4u);
-  EXPECT_EQ(differ[0].key, "b.c[1]");
-  EXPECT_EQ(differ[0].first, "2");
-  EXPECT_EQ(differ[0].second, "3");
-  EXPECT_EQ(differ[1].key, "b.d");
-  EXPECT_EQ(differ[1].first, "x");
-  EXPECT_EQ(differ[1].second, "");
-  EXPECT_EQ(differ[2].key, "e[0].f");
-  EXPECT_EQ(differ[3].key, "h");
-  EXPECT_EQ(differ[3].first, "");
-  EXPECT_EQ(differ[3].second, "null");
-  EXPECT_TRUE(internal::DifferingLeaves("a: [1]\n", "a: [1]\n").empty());
-}
-
 TEST(DetectionFile, WithAnotherDetectorTheRenderingIsCheckedAndNotWritten) {
   // Like the path: a folder that is no rendering is refused whatever the
   // detector; with another detector a good one has no effect.

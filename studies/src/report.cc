@@ -1184,12 +1184,15 @@ std::unique_ptr<AgainstStore> OpenAgainst(const std::string& against, const Stor
   const char* expected_kind = "a sweep folder (results.sqlite) over the same swept keys";
   std::error_code ec;
   if (!fs::is_regular_file(fs::path(against) / "results.sqlite", ec)) {
-    throw InputError(where, expected_kind,
-                     !fs::exists(against, ec)         ? fmt::format("{}: no such folder", against)
-                     : !fs::is_directory(against, ec) ? fmt::format("{}, a file", against)
-                     : fs::is_regular_file(fs::path(against) / "manifest.json", ec)
-                         ? fmt::format("{}, a run or render folder (manifest.json)", against)
-                         : fmt::format("{}, a folder without results.sqlite", against));
+    throw InputError(
+        where, expected_kind,
+        !fs::exists(against, ec)         ? fmt::format("{}: no such folder", against)
+        : !fs::is_directory(against, ec) ? fmt::format("{}, a file", against)
+        : fs::is_regular_file(fs::path(against) / "manifest.json", ec)
+            ? fmt::format("{}, a run or render folder (manifest.json; a run is compared "
+                          "with a run: hcpf report RUN --against OTHER_RUN)",
+                          against)
+            : fmt::format("{}, a folder without results.sqlite", against));
   }
   auto other = std::make_unique<AgainstStore>();
   other->dir = against;

@@ -1,25 +1,31 @@
 // `hcpf report RUN_DIR`: one run's folder -> RUN_DIR/report.html (headline
 // metrics, the per-frame camera-motion error and scene-filter ESS as an
 // inline gnuplot SVG, detection quality, a timeline of every target, its
-// detections and its filters, the resolved scenario).
+// detections and its filters, the resolved scenario). With --against another
+// run folder, the two runs compared: resolved keys, files, metrics side by
+// side and, over one ground truth, their filters frame by frame.
 
 #include <fmt/format.h>
 #include <fmt/ranges.h>
+#include <yaml-cpp/exceptions.h>
 
 #include <array>
 #include <charconv>
 #include <cmath>
 #include <cstdint>
 #include <filesystem>
+#include <fstream>
 #include <limits>
 #include <map>
 #include <nlohmann/json.hpp>
 #include <optional>
 #include <set>
 #include <string>
+#include <tuple>
 #include <vector>
 
 #include "gnuplot.h"
+#include "hcpf/config/yaml_leaves.h"
 #include "hcpf/core/error.h"
 #include "hcpf/core/text_file.h"
 #include "hcpf/metrics/mot_io.h"
@@ -507,16 +513,24 @@ int StateColour(const std::string& state) {
 
 std::string RgbText(int rgb) { return fmt::format("#{:06x}", rgb); }
 
-// Rows: per target (gt/gt.txt, increasing id) its visibility; under it, in a
-// rendered run with a detector, the frames where the detector found or missed
-// it (metrics.json detection.by_target) and the frame its model was cut
-// (manifest.json target_model_sources); then each filter the identity
-// mapping gives that target (metrics.json filters.mapping), coloured by its
+// The timeline's rows before they are ordered: per target (gt/gt.txt) its
+// visibility; in a rendered run with a detector, the frames where the
+// detector found or missed it (metrics.json detection.by_target) and the frame
+// its model was cut (manifest.json target_model_sources); per filter its
 // state each frame (filters.per_frame_states), ringed where it was
-// re-acquired (manifest.json tracker.reacquired). Filters mapped to no target
-// come last. Frames outside 1..frames are ignored (never drawn off the axis).
-std::vector<TimelineRow> TimelineRows(const metrics::MotFile& gt, const json& metrics,
-                                      const json& manifest, int frames) {
+// re-acquired (manifest.json tracker.reacquired), and the filters the
+// identity mapping gives each target (metrics.json filters.mapping). Frames
+// outside 1..frames are ignored (never drawn off the axis).
+struct TimelineParts {
+  std::map<int64_t, TimelineRow> truth;     // by target id
+  std::map<int64_t, TimelineRow> detected;  // by target id
+  std::map<int64_t, TimelineRow> filters;   // by filter id
+  std::map<int64_t, std::vector<int64_t>> filters_of_target;
+  std::set<int64_t> mapped;  // filters the mapping gives a target
+};
+
+TimelineParts ReadTimeline(const metrics::MotFile& gt, const json& metrics, const json& manifest,
+                           int frames) {
   const auto row_of = [frames](std::string label) {
     return TimelineRow{std::move(label), std::vector<int>(static_cast<size_t>(frames), -1), {}};
   };
@@ -605,16 +619,66 @@ std::vector<TimelineRow> TimelineRows(const metrics::MotFile& gt, const json& me
       if (mapped.insert(*filter).second) filters_of_target[*target].push_back(*filter);
     }
   }
+  return {std::move(truth), std::move(detected), std::move(filter_rows),
+          std::move(filters_of_target), std::move(mapped)};
+}
+
+// One run's timeline, top to bottom: each target (increasing id), its
+// detections, the filters mapped to it; then the filters mapped to none.
+std::vector<TimelineRow> TimelineRows(const TimelineParts& parts) {
   std::vector<TimelineRow> rows;
-  for (auto& [id, row] : truth) {
-    rows.push_back(std::move(row));
-    if (const auto it = detected.find(id); it != detected.end()) rows.push_back(it->second);
-    for (const int64_t f : filters_of_target[id]) rows.push_back(filter_rows.at(f));
+  for (const auto& [id, row] : parts.truth) {
+    rows.push_back(row);
+    if (const auto it = parts.detected.find(id); it != parts.detected.end()) {
+      rows.push_back(it->second);
+    }
+    if (const auto it = parts.filters_of_target.find(id); it != parts.filters_of_target.end()) {
+      for (const int64_t f : it->second) rows.push_back(parts.filters.at(f));
+    }
   }
-  for (auto& [id, row] : filter_rows) {
-    if (!mapped.contains(id)) {
-      row.label = fmt::format("filter {} (no target)", id);
-      rows.push_back(std::move(row));
+  for (const auto& [id, row] : parts.filters) {
+    if (!parts.mapped.contains(id)) {
+      rows.push_back(row);
+      rows.back().label = fmt::format("filter {} (no target)", id);
+    }
+  }
+  return rows;
+}
+
+// Two runs of one ground truth on one timeline: each target (from run A's
+// truth), then A's detections and filters of it, then B's, labelled "A ..."
+// and "B ..."; one row "detections (A and B)" when the two detectors' rows
+// are the same. Filters mapped to no target come last, A's first.
+std::vector<TimelineRow> ComparedTimelineRows(const TimelineParts& a, const TimelineParts& b) {
+  const auto labelled = [](TimelineRow row, const std::string& label) {
+    row.label = label;
+    return row;
+  };
+  std::vector<TimelineRow> rows;
+  for (const auto& [id, row] : a.truth) {
+    rows.push_back(row);
+    const auto da = a.detected.find(id);
+    const auto db = b.detected.find(id);
+    const bool same = da != a.detected.end() && db != b.detected.end() &&
+                      da->second.colour == db->second.colour &&
+                      da->second.marks == db->second.marks;
+    for (const auto& [run, parts, detected] : {std::tuple{"A", &a, da}, std::tuple{"B", &b, db}}) {
+      if (detected != parts->detected.end() && !(same && parts == &b)) {
+        rows.push_back(labelled(detected->second, same ? std::string("detections (A and B)")
+                                                       : fmt::format("{} detections", run)));
+      }
+      if (const auto it = parts->filters_of_target.find(id); it != parts->filters_of_target.end()) {
+        for (const int64_t f : it->second) {
+          rows.push_back(labelled(parts->filters.at(f), fmt::format("{} filter {}", run, f)));
+        }
+      }
+    }
+  }
+  for (const auto& [run, parts] : {std::pair{"A", &a}, std::pair{"B", &b}}) {
+    for (const auto& [id, row] : parts->filters) {
+      if (!parts->mapped.contains(id)) {
+        rows.push_back(labelled(row, fmt::format("{} filter {} (no target)", run, id)));
+      }
     }
   }
   return rows;
@@ -696,6 +760,366 @@ std::string TimelineSvg(const std::vector<TimelineRow>& rows, int frames, const 
   return InlineSvg(ReadWholeFile(svg));
 }
 
+// One run folder as the report reads it.
+struct RunFolder {
+  fs::path dir;
+  json manifest;
+  json metrics;
+  std::map<std::string, double> headline;  // catalogue metrics (ReadRunMetrics)
+  int frames = 0;                          // manifest.json's frames; 0 when it has none
+};
+
+// The run folder's manifest.json and metrics.json; throws InputError when
+// either is missing, not JSON, or not a run's.
+RunFolder ReadRunFolder(const fs::path& dir) {
+  RunFolder run;
+  run.dir = dir;
+  run.manifest = ReadRunJson(dir / "manifest.json");
+  run.metrics = ReadRunJson(dir / "metrics.json");
+  // Every run's metrics.json has its MOT block, whatever the tracker: without
+  // it ("{}", a file of another tool) the report would be NaN throughout.
+  if (!JsonMember(run.metrics, "mot").is_object()) {
+    throw InputError(SourceLocation{(dir / "metrics.json").string(), 0, 0, "mot"},
+                     "the metrics.json of hcpf run (with its mot block)",
+                     run.metrics.is_object() ? "no mot block" : run.metrics.dump().substr(0, 40));
+  }
+  try {
+    run.headline = ReadRunMetrics(dir.string());
+  } catch (const RunError& e) {
+    // ReadRunMetrics reports missing files as RunError; here they are the
+    // user's input.
+    throw InputError(SourceLocation{dir.string(), 0, 0, ""},
+                     "a run folder with metrics.json and manifest.json", e.what());
+  }
+  const std::optional<int64_t> frames = JsonInt(run.manifest, "frames");
+  if (frames && *frames > 0 && *frames <= std::numeric_limits<int>::max()) {
+    run.frames = static_cast<int>(*frames);
+  }
+  return run;
+}
+
+// The run folder --against names, read; throws InputError at --against when
+// it is no run folder or is DIR itself.
+RunFolder ReadAgainstRun(const std::string& against, const fs::path& dir) {
+  const SourceLocation where{"hcpf report", 0, 0, "--against"};
+  const std::string expected =
+      "another run folder (hcpf run --out) to compare this run with, when DIR is a run";
+  ReportFolder kind{};
+  try {
+    kind = ClassifyReportFolder(against);
+  } catch (const InputError& e) {
+    throw InputError(where, expected, fmt::format("{}: {}", against, e.found()));
+  }
+  if (kind != ReportFolder::kRun) {
+    throw InputError(where, expected,
+                     fmt::format("{}, a sweep folder (a sweep is compared with a sweep)", against));
+  }
+  std::error_code ec;
+  if (fs::equivalent(against, dir, ec)) {
+    throw InputError(where, expected, fmt::format("{}, DIR itself", against));
+  }
+  return ReadRunFolder(against);
+}
+
+// Whether two files hold the same bytes; nullopt when either is not a
+// regular file.
+std::optional<bool> SameBytes(const fs::path& a, const fs::path& b) {
+  std::error_code ec;
+  if (!fs::is_regular_file(a, ec) || !fs::is_regular_file(b, ec)) return std::nullopt;
+  if (fs::file_size(a, ec) != fs::file_size(b, ec) || ec) return false;
+  std::ifstream fa(a, std::ios::binary);
+  std::ifstream fb(b, std::ios::binary);
+  std::array<char, 1 << 16> ba{};
+  std::array<char, 1 << 16> bb{};
+  while (fa && fb) {
+    fa.read(ba.data(), ba.size());
+    fb.read(bb.data(), bb.size());
+    if (fa.gcount() != fb.gcount() ||
+        !std::equal(ba.begin(), ba.begin() + fa.gcount(), bb.begin())) {
+      return false;
+    }
+  }
+  return fa.eof() && fb.eof();
+}
+
+// The files of a run folder that one resolved scenario makes byte-identical
+// (docs/outputs.md, "Determinism"), in the order the comparison lists them.
+constexpr std::array<const char*, 9> kDeterministicFiles = {
+    "scenario.resolved.yaml", "gt/gt.txt",    "gt.json",
+    "detections.txt",         "tracks.txt",   "filters.csv",
+    "camera_motion.csv",      "metrics.json", "seqinfo.ini"};
+
+// Per target, per frame (index = frame from 0): the state of the filters the
+// identity mapping gives it (metrics.json filters.mapping and
+// per_frame_states): CORRECT when one of them is; else the scored state of
+// the first of them by filter id (SWAPPED, HIJACKED, STRAYED or LOST); else
+// COASTING when one of them exists that frame; "" when none does.
+std::map<int64_t, std::vector<std::string>> TargetStates(const json& metrics, int frames) {
+  const json& filters = JsonMember(metrics, "filters");
+  std::map<int64_t, int64_t> target_of;
+  const json& mapping = JsonMember(filters, "mapping");
+  if (mapping.is_array()) {
+    for (const json& m : mapping) {
+      const std::optional<int64_t> filter = JsonInt(m, "filter");
+      const std::optional<int64_t> target = JsonInt(m, "target");
+      if (filter && target) target_of.try_emplace(*filter, *target);
+    }
+  }
+  std::map<int64_t, std::vector<std::string>> by_filter;
+  const json& states = JsonMember(filters, "per_frame_states");
+  if (states.is_array()) {
+    for (const json& r : states) {
+      const std::optional<int64_t> filter = JsonInt(r, "filter");
+      const std::optional<int64_t> frame = JsonInt(r, "frame");
+      if (!filter || !frame || *frame < 0 || *frame >= frames || !target_of.contains(*filter)) {
+        continue;
+      }
+      std::vector<std::string>& row =
+          by_filter.try_emplace(*filter, std::vector<std::string>(static_cast<size_t>(frames)))
+              .first->second;
+      row[static_cast<size_t>(*frame)] = JsonText(r, "state");
+    }
+  }
+  const auto rank = [](const std::string& state) {
+    return state == "CORRECT" ? 0 : state.empty() ? 3 : state == "COASTING" ? 2 : 1;
+  };
+  std::map<int64_t, std::vector<std::string>> out;
+  for (const auto& [filter, row] : by_filter) {  // increasing filter id
+    std::vector<std::string>& target =
+        out.try_emplace(target_of.at(filter), std::vector<std::string>(static_cast<size_t>(frames)))
+            .first->second;
+    for (size_t f = 0; f < row.size(); ++f) {
+      // The first filter keeps a scored state; CORRECT beats it.
+      if (rank(row[f]) < rank(target[f])) target[f] = row[f];
+    }
+  }
+  return out;
+}
+
+// One target's frames in the comparison of two runs.
+struct TargetComparison {
+  int64_t target = 0;
+  int scored_a = 0, correct_a = 0;  // scored: a state other than COASTING
+  int scored_b = 0, correct_b = 0;
+  int only_a = 0, only_b = 0;    // frames CORRECT in one run alone
+  int first_differ = -1;         // first frame (from 0) CORRECT in one run alone; -1: none
+  std::string state_a, state_b;  // the states at that frame
+};
+
+std::vector<TargetComparison> CompareTargets(const std::set<int64_t>& targets,
+                                             const json& metrics_a, const json& metrics_b,
+                                             int frames) {
+  const auto states_a = TargetStates(metrics_a, frames);
+  const auto states_b = TargetStates(metrics_b, frames);
+  const std::vector<std::string> none(static_cast<size_t>(frames));
+  const auto of = [&none](const auto& states, int64_t target) -> const std::vector<std::string>& {
+    const auto it = states.find(target);
+    return it == states.end() ? none : it->second;
+  };
+  std::vector<TargetComparison> out;
+  for (const int64_t target : targets) {
+    TargetComparison c;
+    c.target = target;
+    const std::vector<std::string>& a = of(states_a, target);
+    const std::vector<std::string>& b = of(states_b, target);
+    for (size_t f = 0; f < static_cast<size_t>(frames); ++f) {
+      const bool scored_a = !a[f].empty() && a[f] != "COASTING";
+      const bool scored_b = !b[f].empty() && b[f] != "COASTING";
+      const bool correct_a = a[f] == "CORRECT";
+      const bool correct_b = b[f] == "CORRECT";
+      c.scored_a += scored_a;
+      c.scored_b += scored_b;
+      c.correct_a += correct_a;
+      c.correct_b += correct_b;
+      c.only_a += correct_a && !correct_b;
+      c.only_b += correct_b && !correct_a;
+      if (correct_a != correct_b && c.first_differ < 0) {
+        c.first_differ = static_cast<int>(f);
+        c.state_a = a[f];
+        c.state_b = b[f];
+      }
+    }
+    out.push_back(std::move(c));
+  }
+  return out;
+}
+
+// "CORRECT", "no filter" for "".
+std::string StateText(const std::string& state) { return state.empty() ? "no filter" : state; }
+
+// The comparison's own section (hcpf report RUN --against OTHER): who A and B
+// are, the resolved keys they differ in, which files are the same, and, over
+// one ground truth, target by target where their filters are CORRECT.
+std::string ComparisonSection(const RunFolder& a, const RunFolder& b, bool same_truth,
+                              const std::vector<TargetComparison>& targets, ReportResult* result) {
+  std::string h = "<h2>Compared with another run</h2>\n";
+  const auto who = [](const RunFolder& r) {
+    return fmt::format(
+        "<code>{}</code> (scenario <code>{}</code>, seed {}, config hash "
+        "<code>{}</code>, hcpf {} at <code>{}</code>)",
+        EscapeMarkup(r.dir.string()), EscapeMarkup(JsonText(r.manifest, "scenario")),
+        EscapeMarkup(JsonText(r.manifest, "seed")),
+        EscapeMarkup(JsonText(r.manifest, "config_hash")),
+        EscapeMarkup(JsonText(r.manifest, "hcpf_version")),
+        EscapeMarkup(JsonText(r.manifest, "git_revision")));
+  };
+  h += fmt::format(
+      "<p><b>A</b> is this run, {}; <b>B</b> is {} (<code>--against</code>). "
+      "Differences are A − B.</p>\n",
+      who(a), who(b));
+
+  // The resolved scenarios, key by key.
+  const fs::path ya = a.dir / "scenario.resolved.yaml";
+  const fs::path yb = b.dir / "scenario.resolved.yaml";
+  std::error_code ec;
+  if (fs::is_regular_file(ya, ec) && fs::is_regular_file(yb, ec)) {
+    std::vector<config::LeafDifference> differ;
+    try {
+      differ = config::DifferingLeaves(
+          ReadInputFile(ya.string(), "a resolved scenario", kMaxRunFileBytes),
+          ReadInputFile(yb.string(), "a resolved scenario", kMaxRunFileBytes));
+    } catch (const YAML::Exception& e) {
+      throw InputError(SourceLocation{a.dir.string(), 0, 0, "scenario.resolved.yaml"},
+                       "the resolved scenarios hcpf run writes (YAML)",
+                       fmt::format("text that does not parse ({})", e.what()));
+    }
+    result->differing_keys = static_cast<int>(differ.size());
+    if (differ.empty()) {
+      h += "<p>Their resolved scenarios (<code>scenario.resolved.yaml</code>) are the same, key "
+           "by key.</p>\n";
+    } else {
+      h += fmt::format(
+          "<p>Their resolved scenarios differ in {} key{}:</p>\n"
+          "<table><tr><th>key</th><th>A</th><th>B</th></tr>\n",
+          differ.size(), differ.size() == 1 ? "" : "s");
+      // A block one run has and the other lacks (another detector's options)
+      // is one row, its keys folded under it.
+      constexpr size_t kFoldAt = 4;
+      const auto parent = [](const std::string& key) {
+        const size_t dot = key.rfind('.');
+        return dot == std::string::npos ? std::string() : key.substr(0, dot);
+      };
+      const auto one_sided = [](const config::LeafDifference& d) {
+        return d.first.has_value() != d.second.has_value();
+      };
+      for (size_t i = 0; i < differ.size();) {
+        const config::LeafDifference& d = differ[i];
+        size_t j = i + 1;
+        if (one_sided(d) && !parent(d.key).empty()) {
+          while (j < differ.size() && one_sided(differ[j]) &&
+                 differ[j].first.has_value() == d.first.has_value() &&
+                 parent(differ[j].key) == parent(d.key)) {
+            ++j;
+          }
+        }
+        if (j - i >= kFoldAt) {
+          std::string keys;
+          for (size_t k = i; k < j; ++k) {
+            keys +=
+                fmt::format("{}<code>{}</code>: {}", k == i ? "" : "<br>",
+                            EscapeMarkup(differ[k].key.substr(parent(d.key).size() + 1)),
+                            EscapeMarkup(differ[k].first ? *differ[k].first : *differ[k].second));
+          }
+          const std::string folded =
+              fmt::format("<details><summary>{} keys</summary>{}</details>", j - i, keys);
+          h += fmt::format(
+              "<tr><td class=\"k\"><code>{}.*</code></td><td class=\"k\">{}</td>"
+              "<td class=\"k\">{}</td></tr>\n",
+              EscapeMarkup(parent(d.key)), d.first ? folded : "(absent)",
+              d.first ? "(absent)" : folded);
+        } else {
+          for (size_t k = i; k < j; ++k) {
+            h += fmt::format(
+                "<tr><td class=\"k\"><code>{}</code></td><td class=\"k\">{}</td>"
+                "<td class=\"k\">{}</td></tr>\n",
+                EscapeMarkup(differ[k].key), EscapeMarkup(differ[k].first.value_or("(absent)")),
+                EscapeMarkup(differ[k].second.value_or("(absent)")));
+          }
+        }
+        i = j;
+      }
+      h += "</table>\n";
+    }
+  } else {
+    h += "<p>One of the two folders has no <code>scenario.resolved.yaml</code>: their keys are "
+         "not compared.</p>\n";
+  }
+
+  // The files one resolved scenario makes byte-identical.
+  std::vector<std::string> same, differ, one_side;
+  for (const char* file : kDeterministicFiles) {
+    const std::optional<bool> s = SameBytes(a.dir / file, b.dir / file);
+    const bool in_a = fs::is_regular_file(a.dir / file, ec);
+    const bool in_b = fs::is_regular_file(b.dir / file, ec);
+    const std::string name = fmt::format("<code>{}</code>", file);
+    if (s) {
+      (*s ? same : differ).push_back(name);
+    } else if (in_a != in_b) {
+      one_side.push_back(fmt::format("{} ({} only)", name, in_a ? "A" : "B"));
+    }
+  }
+  const auto listed = [](const std::vector<std::string>& v) {
+    return v.empty() ? std::string("none") : fmt::format("{}", fmt::join(v, ", "));
+  };
+  h += fmt::format(
+      "<p>Files with the same bytes in both: {}. Files that differ: {}.{}</p>\n", listed(same),
+      listed(differ),
+      one_side.empty() ? "" : fmt::format(" In one folder only: {}.", listed(one_side)));
+  const std::string hash_a = JsonText(a.manifest, "config_hash");
+  if (!hash_a.empty() && hash_a == JsonText(b.manifest, "config_hash")) {
+    // One resolved scenario: hcpf run promises the same bytes.
+    std::vector<std::string> broken = differ;
+    std::erase(broken, std::string("<code>scenario.resolved.yaml</code>"));
+    h += broken.empty()
+             ? std::string(
+                   "<p>Both are runs of one resolved scenario, and their files agree, "
+                   "as hcpf run's determinism promises (docs/outputs.md).</p>\n")
+             : fmt::format(
+                   "<p><strong>Both are runs of one resolved scenario, yet {} differ{}</strong>: "
+                   "one resolved scenario gives byte-identical files (docs/outputs.md, "
+                   "\"Determinism\"), so the two runs were made by different builds of hcpf "
+                   "(compare the versions above) or that promise broke.</p>\n",
+                   listed(broken), broken.size() == 1 ? "s" : "");
+  }
+
+  if (!same_truth) {
+    h += "<p>Their ground truths differ (<code>gt/gt.txt</code>), so the runs did not track the "
+         "same targets over the same frames: only their headline metrics are set side by "
+         "side, not their filters frame by frame.</p>\n";
+    return h;
+  }
+  if (targets.empty()) return h;
+  int correct_both = 0, only_a = 0, only_b = 0;
+  for (const TargetComparison& c : targets) {
+    correct_both += c.correct_a - c.only_a;
+    only_a += c.only_a;
+    only_b += c.only_b;
+  }
+  h += fmt::format(
+      "<p>Over the same ground truth, target by target, the frames where the filters the "
+      "identity mapping gives it are CORRECT (covering it; docs/metrics.md): in both runs "
+      "{}, in A alone <b>{}</b>, in B alone <b>{}</b>. A scored frame is one whose filter is "
+      "not COASTING; the first frame counts from 1, as the timeline and "
+      "<code>gt/gt.txt</code> do.</p>\n"
+      "<table><tr><th>target</th><th>scored, A</th><th>CORRECT, A</th><th>scored, "
+      "B</th><th>CORRECT, B</th><th>CORRECT in A alone</th><th>CORRECT in B "
+      "alone</th><th>first frame CORRECT in one alone</th></tr>\n",
+      correct_both, only_a, only_b);
+  for (const TargetComparison& c : targets) {
+    const std::string first = c.first_differ < 0
+                                  ? std::string("–")
+                                  : fmt::format("{} (A {}, B {})", c.first_differ + 1,
+                                                StateText(c.state_a), StateText(c.state_b));
+    h += fmt::format(
+        "<tr><td class=\"k\">target {}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td>"
+        "<td>{}</td><td>{}</td><td class=\"k\">{}</td></tr>\n",
+        c.target, c.scored_a, c.correct_a, c.scored_b, c.correct_b, c.only_a, c.only_b, first);
+  }
+  h += "</table>\n";
+  result->compared_targets = static_cast<int>(targets.size());
+  return h;
+}
+
 }  // namespace
 
 ReportResult WriteRunReport(const ReportOptions& options) {
@@ -705,34 +1129,17 @@ ReportResult WriteRunReport(const ReportOptions& options) {
                      "a run folder (manifest.json with \"format\": \"hcpf-run/1\")",
                      "a sweep folder (use hcpf report on it as a sweep)");
   }
-  if (!options.against.empty()) {
-    throw InputError(SourceLocation{"hcpf report", 0, 0, "--against"},
-                     "a sweep folder as DIR (a run's report has no comparisons to replicate)",
-                     fmt::format("{}, a run folder", options.dir));
-  }
-
   const fs::path dir(options.dir);
+  // Every input is read and checked before anything is written.
+  std::optional<RunFolder> other;
+  if (!options.against.empty()) other = ReadAgainstRun(options.against, dir);
   if (!options.out_dir.empty()) CheckReportOut(options.out_dir);
   const fs::path out = options.out_dir.empty() ? dir : fs::path(options.out_dir);
 
-  const json manifest = ReadRunJson(dir / "manifest.json");
-  const json metrics = ReadRunJson(dir / "metrics.json");
-  // Every run's metrics.json has its MOT block, whatever the tracker: without
-  // it ("{}", a file of another tool) the report would be NaN throughout.
-  if (!JsonMember(metrics, "mot").is_object()) {
-    throw InputError(SourceLocation{(dir / "metrics.json").string(), 0, 0, "mot"},
-                     "the metrics.json of hcpf run (with its mot block)",
-                     metrics.is_object() ? "no mot block" : metrics.dump().substr(0, 40));
-  }
-  std::map<std::string, double> headline;
-  try {
-    headline = ReadRunMetrics(dir.string());
-  } catch (const RunError& e) {
-    // ReadRunMetrics reports missing files as RunError; here they are the
-    // user's input.
-    throw InputError(SourceLocation{dir.string(), 0, 0, ""},
-                     "a run folder with metrics.json and manifest.json", e.what());
-  }
+  const RunFolder run = ReadRunFolder(dir);
+  const json& manifest = run.manifest;
+  const json& metrics = run.metrics;
+  const std::map<std::string, double>& headline = run.headline;
   const json& camera = JsonMember(metrics, "camera_motion");
   const std::string mode =
       camera.is_object() && camera.contains("mode") && camera["mode"].is_string()
@@ -743,17 +1150,31 @@ ReportResult WriteRunReport(const ReportOptions& options) {
   const fs::path csv = dir / "camera_motion.csv";
   if (fs::exists(csv, ec)) rows = ReadCameraMotionCsv(csv);
 
-  // The timeline needs the ground truth's rows and the run's frame count.
+  // The timeline needs the ground truth's rows and the run's frame count;
+  // compared with another run of the same ground truth, it shows both runs'
+  // rows, and the targets' filters are compared frame by frame.
   std::vector<TimelineRow> timeline;
   const fs::path gt_txt = dir / "gt" / "gt.txt";
-  const std::optional<int64_t> frames = JsonInt(manifest, "frames");
-  if (frames && *frames > 0 && fs::is_regular_file(gt_txt, ec)) {
-    timeline =
-        TimelineRows(metrics::ReadMotFile(gt_txt.string(), metrics::MotFileKind::kGroundTruth,
-                                          static_cast<int>(*frames)),
-                     metrics, manifest, static_cast<int>(*frames));
+  const bool same_truth = other && other->frames == run.frames &&
+                          SameBytes(gt_txt, other->dir / "gt" / "gt.txt") == true;
+  std::vector<TargetComparison> compared;
+  if (run.frames > 0 && fs::is_regular_file(gt_txt, ec)) {
+    const metrics::MotFile gt =
+        metrics::ReadMotFile(gt_txt.string(), metrics::MotFileKind::kGroundTruth, run.frames);
+    const TimelineParts parts = ReadTimeline(gt, metrics, manifest, run.frames);
+    if (same_truth) {
+      timeline = ComparedTimelineRows(
+          parts, ReadTimeline(gt, other->metrics, other->manifest, run.frames));
+      if (JsonMember(metrics, "filters").is_object() ||
+          JsonMember(other->metrics, "filters").is_object()) {
+        std::set<int64_t> targets;
+        for (const auto& [id, row] : parts.truth) targets.insert(id);
+        compared = CompareTargets(targets, metrics, other->metrics, run.frames);
+      }
+    } else {
+      timeline = TimelineRows(parts);
+    }
   }
-
   ReportResult result;
   std::string svg;
   std::string timeline_svg;
@@ -773,11 +1194,10 @@ ReportResult WriteRunReport(const ReportOptions& options) {
         const bool detected = JsonMember(JsonMember(metrics, "detection"), "by_target").is_array();
         const bool filtered = JsonMember(metrics, "filters").is_object();
         const std::string title =
-            fmt::format("targets{}{}, frame by frame",
+            fmt::format("targets{}{}{}, frame by frame",
                         detected ? (filtered ? ", detections" : " and detections") : "",
-                        filtered ? " and filters" : "");
-        timeline_svg =
-            TimelineSvg(timeline, static_cast<int>(*frames), title, work, options.gnuplot);
+                        filtered ? " and filters" : "", same_truth ? " of runs A and B" : "");
+        timeline_svg = TimelineSvg(timeline, run.frames, title, work, options.gnuplot);
         ++result.plots;
       }
       if (has_curve) {
@@ -809,15 +1229,32 @@ ReportResult WriteRunReport(const ReportOptions& options) {
       EscapeMarkup(JsonText(manifest, "config_hash")));
   h += FramesSentence(manifest);
 
-  h += "<h2>Headline metrics</h2>\n<table><tr><th>metric</th><th>name</th><th>value</th></tr>\n";
+  if (other) h += ComparisonSection(run, *other, same_truth, compared, &result);
+
+  h += other ? "<h2>Headline metrics</h2>\n<table><tr><th>metric</th><th>name</th><th>A</th>"
+               "<th>B</th><th>A − B</th></tr>\n"
+             : "<h2>Headline metrics</h2>\n<table><tr><th>metric</th><th>name</th>"
+               "<th>value</th></tr>\n";
+  const auto value = [](const std::map<std::string, double>& values, std::string_view name) {
+    const auto it = values.find(std::string(name));
+    return it == values.end() ? kNaN : it->second;
+  };
+  const auto cell = [](double v, const char* format) {
+    return std::isfinite(v) ? fmt::format(fmt::runtime(format), v) : std::string("–");
+  };
   for (const CatalogueMetric& m : MetricCatalogue()) {
-    const auto it = headline.find(std::string(m.name));
-    if (it == headline.end() || !std::isfinite(it->second)) continue;  // not measured in this run
-    h += fmt::format(
-        "<tr><td class=\"k\">{}</td><td class=\"k\"><code>{}</code></td>"
-        "<td>{:.4g}{}{}</td></tr>\n",
-        EscapeMarkup(std::string(m.label)), EscapeMarkup(std::string(m.name)), it->second,
-        m.unit.empty() ? "" : " ", EscapeMarkup(std::string(m.unit)));
+    const double a = value(headline, m.name);
+    const double b = other ? value(other->headline, m.name) : kNaN;
+    if (!std::isfinite(a) && !std::isfinite(b)) continue;  // measured in neither run
+    const std::string unit = m.unit.empty() ? "" : " " + EscapeMarkup(std::string(m.unit));
+    h += fmt::format("<tr><td class=\"k\">{}</td><td class=\"k\"><code>{}</code></td><td>{}{}</td>",
+                     EscapeMarkup(std::string(m.label)), EscapeMarkup(std::string(m.name)),
+                     cell(a, "{:.4g}"), std::isfinite(a) ? unit : "");
+    if (other) {
+      h += fmt::format("<td>{}{}</td><td>{}</td>", cell(b, "{:.4g}"), std::isfinite(b) ? unit : "",
+                       cell(a - b, "{:+.4g}"));
+    }
+    h += "</tr>\n";
   }
   h += "</table>\n";
 
@@ -832,6 +1269,13 @@ ReportResult WriteRunReport(const ReportOptions& options) {
          "(docs/metrics.md), with ○ where it was re-acquired from its own target's detections "
          "(tracker.management.reacquire); a filter the mapping gives no target comes last. A "
          "target with no filter row was never tracked.</p>\n";
+    if (same_truth) {
+      h += "<p>Both runs on one timeline: under each target, run A's detections and filters "
+           "(\"A ...\"), then run B's (\"B ...\"); one row \"detections (A and B)\" where the "
+           "two detectors found and missed it in the same frames.</p>\n";
+    } else if (other) {
+      h += "<p>Run A's alone: B's ground truth differs.</p>\n";
+    }
     h += fmt::format("<div class=\"plot\" id=\"plot-timeline\">\n{}\n</div>\n", timeline_svg);
   }
   // The overlay video (hcpf run --video), linked from the report's folder.
@@ -862,8 +1306,13 @@ ReportResult WriteRunReport(const ReportOptions& options) {
           Number(JsonDouble(summary, "mean_px")), Number(JsonDouble(summary, "median_px")),
           Number(JsonDouble(summary, "p95_px")), Number(JsonDouble(summary, "max_px")));
     };
-    row("error", camera);
-    if (camera.contains("floor")) row("floor", camera["floor"]);
+    const json& camera_b = other ? JsonMember(other->metrics, "camera_motion") : camera;
+    row(other ? "error, A" : "error", camera);
+    if (other && camera_b.is_object()) row("error, B", camera_b);
+    if (camera.contains("floor")) row(other ? "floor, A" : "floor", camera["floor"]);
+    if (other && camera_b.is_object() && camera_b.contains("floor")) {
+      row("floor, B", camera_b["floor"]);
+    }
     h += "</table>\n";
   } else {
     h += "<p>metrics.json has no <code>camera_motion</code> block.</p>\n";

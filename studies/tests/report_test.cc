@@ -15,6 +15,7 @@
 #include <map>
 #include <nlohmann/json.hpp>
 #include <sstream>
+#include <tuple>
 #include <vector>
 
 #include "hcpf/core/error.h"
@@ -638,6 +639,194 @@ TEST(RunReport, GnuplotThatCannotRunIsBadInputBeforeAnythingIsWritten) {
     }
     EXPECT_FALSE(fs::exists(out)) << gnuplot;
     EXPECT_FALSE(fs::exists(run / "report.html")) << gnuplot;
+  }
+}
+
+// Two runs' hand-written filter states and detections, over one ground
+// truth, for the comparison of run A with run B (--against).
+void WriteComparedRuns(const fs::path& a, const fs::path& b) {
+  const std::string gt =
+      "1,1,10,10,20,10,1,1,1\n2,1,11,10,20,10,1,1,1\n3,1,12,10,20,10,1,1,1\n"
+      "4,1,13,10,20,10,1,1,1\n5,1,14,10,20,10,1,1,1\n6,1,15,10,20,10,1,1,1\n"
+      "3,2,50,50,20,10,1,1,1\n4,2,50,51,20,10,1,1,1\n";
+  std::ofstream(a / "gt" / "gt.txt") << gt;
+  std::ofstream(b / "gt" / "gt.txt") << gt;
+  const auto states = [](const std::vector<std::tuple<int, int, const char*>>& rows) {
+    nlohmann::json j = nlohmann::json::array();
+    for (const auto& [frame, filter, state] : rows) {
+      j.push_back({{"frame", frame}, {"filter", filter}, {"state", state}});
+    }
+    return j;
+  };
+  auto ma = nlohmann::json::parse(Read(a / "metrics.json"));
+  ma["filters"]["da_accuracy"] = 0.75;
+  ma["filters"]["mapping"] =
+      nlohmann::json::parse(R"([{"filter": 1, "target": 1}, {"filter": 9, "target": 2}])");
+  // Target 1: CORRECT but frame 5 (from 1); target 2: CORRECT in frames 3 and 4.
+  ma["filters"]["per_frame_states"] = states({{0, 1, "CORRECT"},
+                                              {1, 1, "CORRECT"},
+                                              {2, 1, "CORRECT"},
+                                              {3, 1, "CORRECT"},
+                                              {4, 1, "HIJACKED"},
+                                              {5, 1, "CORRECT"},
+                                              {2, 9, "CORRECT"},
+                                              {3, 9, "CORRECT"}});
+  // The detector's rows of target 1 are alike in both runs, those of target 2 not.
+  ma["detection"] = nlohmann::json::parse(R"({"by_target": [
+      {"target": 1, "found_frames": [[0, 1]], "missed_frames": [[2, 3]]},
+      {"target": 2, "found_frames": [[2, 3]], "missed_frames": []}]})");
+  std::ofstream(a / "metrics.json") << ma.dump();
+  auto mb = nlohmann::json::parse(Read(b / "metrics.json"));
+  mb["filters"]["da_accuracy"] = 0.5;
+  // Two filters of target 1, none of target 2, and filter 5 of no target.
+  mb["filters"]["mapping"] =
+      nlohmann::json::parse(R"([{"filter": 1, "target": 1}, {"filter": 2, "target": 1}])");
+  // Filter 2 listed first: the order of the rows does not choose the state.
+  // Target 1, frame by frame from 0: CORRECT, CORRECT, LOST (filter 1's, the
+  // lower id, over filter 2's STRAYED), SWAPPED (scored beats COASTING),
+  // CORRECT (filter 2's beats filter 1's COASTING), STRAYED.
+  mb["filters"]["per_frame_states"] = states({{2, 2, "STRAYED"},
+                                              {3, 2, "SWAPPED"},
+                                              {4, 2, "CORRECT"},
+                                              {5, 2, "STRAYED"},
+                                              {0, 1, "CORRECT"},
+                                              {1, 1, "CORRECT"},
+                                              {2, 1, "LOST"},
+                                              {3, 1, "COASTING"},
+                                              {4, 1, "COASTING"},
+                                              {0, 5, "LOST"}});
+  mb["detection"] = nlohmann::json::parse(R"({"by_target": [
+      {"target": 1, "found_frames": [[0, 1]], "missed_frames": [[2, 3]]},
+      {"target": 2, "found_frames": [[2, 2]], "missed_frames": [[3, 3]]}]})");
+  std::ofstream(b / "metrics.json") << mb.dump();
+}
+
+// hcpf report RUN --against OTHER: the keys the two resolved scenarios differ
+// in, the files alike, the metrics side by side with A − B, both runs' rows
+// on one timeline, and target by target the frames whose filters are CORRECT
+// in one run alone (every figure worked out by hand from the states above).
+TEST(RunReport, AgainstAnotherRunSaysWhatDiffersAndComparesItsFiltersFrameByFrame) {
+  const auto dir = testing::SweepFolder("run-report-against");
+  const fs::path a = RunMinimal(dir, "none");
+  const fs::path b = RunMinimal(dir, "scene_filter");
+  WriteComparedRuns(a, b);
+  const fs::path kept = dir / "kept";
+  const ReportResult r = WriteReport(
+      {.dir = a.string(), .gnuplot = KeepingGnuplot(dir, kept).string(), .against = b.string()});
+  EXPECT_EQ(r.differing_keys, 1);
+  EXPECT_EQ(r.compared_targets, 2);
+  EXPECT_EQ(r.plots, 2) << "camera motion and the timeline";
+  const std::string html = Read(r.html_path);
+  EXPECT_NE(html.find("<h2>Compared with another run</h2>"), std::string::npos);
+  EXPECT_NE(html.find("<b>B</b> is <code>" + b.string() + "</code>"), std::string::npos);
+  EXPECT_NE(html.find("differ in 1 key:"), std::string::npos);
+  EXPECT_NE(html.find("<tr><td class=\"k\"><code>tracker.camera_motion</code></td>"
+                      "<td class=\"k\">none</td><td class=\"k\">scene_filter</td></tr>"),
+            std::string::npos);
+  const size_t same = html.find("Files with the same bytes in both: ");
+  const size_t differ = html.find("Files that differ: ", same);
+  ASSERT_NE(differ, std::string::npos);
+  const std::string same_files = html.substr(same, differ - same);
+  const std::string differing_files = html.substr(differ, html.find("</p>", differ) - differ);
+  EXPECT_NE(same_files.find("<code>gt/gt.txt</code>"), std::string::npos) << same_files;
+  EXPECT_NE(same_files.find("<code>seqinfo.ini</code>"), std::string::npos) << same_files;
+  EXPECT_NE(differing_files.find("<code>metrics.json</code>"), std::string::npos);
+  EXPECT_NE(differing_files.find("<code>scenario.resolved.yaml</code>"), std::string::npos);
+  EXPECT_EQ(html.find("Both are runs of one resolved scenario"), std::string::npos);
+
+  EXPECT_NE(html.find("in both runs 2, in A alone <b>5</b>, in B alone <b>1</b>"),
+            std::string::npos);
+  EXPECT_NE(html.find("<tr><td class=\"k\">target 1</td><td>6</td><td>5</td><td>6</td><td>3</td>"
+                      "<td>3</td><td>1</td><td class=\"k\">3 (A CORRECT, B LOST)</td></tr>"),
+            std::string::npos);
+  EXPECT_NE(html.find("<tr><td class=\"k\">target 2</td><td>2</td><td>2</td><td>0</td><td>0</td>"
+                      "<td>2</td><td>0</td><td class=\"k\">3 (A CORRECT, B no filter)</td></tr>"),
+            std::string::npos);
+  // The headline table: A, B and A − B.
+  EXPECT_NE(html.find("<th>A</th><th>B</th><th>A − B</th>"), std::string::npos);
+  EXPECT_NE(html.find("<code>da_accuracy</code></td><td>0.75</td><td>0.5</td><td>+0.25</td>"),
+            std::string::npos);
+  // One timeline, A's rows before B's under each target.
+  const std::string gp = Read(kept / "timeline.gp");
+  EXPECT_NE(gp.find("set ytics ('target 1' 0, 'detections (A and B)' -1, 'A filter 1' -2, "
+                    "'B filter 1' -3, 'B filter 2' -4, 'target 2' -5, 'A detections' -6, "
+                    "'A filter 9' -7, 'B detections' -8, 'B filter 5 (no target)' -9)"),
+            std::string::npos)
+      << gp;
+  EXPECT_NE(gp.find("of runs A and B"), std::string::npos);
+  // Both camera-motion summaries.
+  EXPECT_NE(html.find("<tr><td>error, B</td>"), std::string::npos);
+  // A's folder is still one hcpf run may replace; B's is only read.
+  EXPECT_EQ(scenarios::WhyNotOurOutput(a), "");
+  EXPECT_FALSE(fs::exists(b / "report.html"));
+
+  // Without --against, the same folder reports alone.
+  const ReportResult alone = WriteReport({.dir = a.string()});
+  EXPECT_EQ(alone.differing_keys, 0);
+  EXPECT_EQ(Read(alone.html_path).find("Compared with another run"), std::string::npos);
+}
+
+// Two runs of one resolved scenario must agree byte for byte: the report says
+// so, and says loudly when a file differs all the same. Over different ground
+// truths nothing is compared frame by frame.
+TEST(RunReport, AgainstARunOfTheSameScenarioChecksDeterminism) {
+  const auto dir = testing::SweepFolder("run-report-against-same");
+  const fs::path a = RunMinimal(dir / "a", "none");
+  const fs::path b = RunMinimal(dir / "b", "none");
+  ReportResult r = WriteReport({.dir = a.string(), .against = b.string()});
+  std::string html = Read(r.html_path);
+  EXPECT_EQ(r.differing_keys, 0);
+  EXPECT_NE(html.find("are the same, key by key"), std::string::npos);
+  EXPECT_NE(html.find("Files that differ: none."), std::string::npos);
+  EXPECT_NE(html.find("their files agree"), std::string::npos);
+  EXPECT_EQ(r.compared_targets, 2);
+  EXPECT_NE(html.find("in A alone <b>0</b>, in B alone <b>0</b>"), std::string::npos);
+
+  std::ofstream(b / "tracks.txt", std::ios::app) << "21,1,0,0,1,1,1,-1,-1,-1\n";
+  html = Read(WriteReport({.dir = a.string(), .against = b.string()}).html_path);
+  EXPECT_NE(html.find("<strong>Both are runs of one resolved scenario, yet "
+                      "<code>tracks.txt</code> differs</strong>"),
+            std::string::npos);
+
+  std::ofstream(b / "gt" / "gt.txt", std::ios::app) << "20,3,1,1,5,5,1,1,1\n";
+  const fs::path kept = dir / "kept";
+  r = WriteReport(
+      {.dir = a.string(), .gnuplot = KeepingGnuplot(dir, kept).string(), .against = b.string()});
+  html = Read(r.html_path);
+  EXPECT_EQ(r.compared_targets, 0);
+  EXPECT_NE(html.find("Their ground truths differ"), std::string::npos);
+  EXPECT_NE(html.find("Run A's alone"), std::string::npos);
+  const std::string gp = Read(kept / "timeline.gp");
+  EXPECT_EQ(gp.find("'A filter"), std::string::npos) << gp;
+  EXPECT_EQ(gp.find("of runs A and B"), std::string::npos);
+}
+
+// --against with a run is another run folder: anything else is bad input
+// naming --against, found before anything is written.
+TEST(RunReport, AgainstWhatIsNoOtherRunIsBadInput) {
+  const auto dir = testing::SweepFolder("run-report-against-bad");
+  const fs::path run = RunMinimal(dir, "none");
+  fs::create_directories(dir / "sweep");
+  std::ofstream(dir / "sweep" / "results.sqlite") << "";
+  std::ofstream(dir / "file.txt") << "x\n";
+  const std::vector<std::pair<fs::path, std::string>> cases = {
+      {dir / "missing", "no such folder"},
+      {dir / "file.txt", "a file, not a folder"},
+      {dir / "sweep", "a sweep folder (a sweep is compared with a sweep)"},
+      {run, "DIR itself"},
+      {dir, "a folder with neither results.sqlite nor manifest.json"}};
+  for (const auto& [against, found] : cases) {
+    const fs::path out = dir / "out";
+    try {
+      WriteReport({.dir = run.string(), .out_dir = out.string(), .against = against.string()});
+      ADD_FAILURE() << against << " was accepted";
+    } catch (const InputError& e) {
+      const std::string what = e.what();
+      EXPECT_NE(what.find("--against: expected another run folder"), std::string::npos) << what;
+      EXPECT_NE(what.find(found), std::string::npos) << what;
+    }
+    EXPECT_FALSE(fs::exists(out)) << against;
+    EXPECT_FALSE(fs::exists(run / "report.html")) << against;
   }
 }
 

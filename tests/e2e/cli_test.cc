@@ -821,6 +821,20 @@ TEST(Cli, ReportOnARunFolderAndOnAnotherFolder) {
                  " --out " +
                  run.string());
   EXPECT_EQ(r.exit_code, 0) << r.output;
+  // Compared with a run of another camera-motion mode: one key differs.
+  const fs::path oracle = dir / "oracle";
+  r = RunCommand(kHcpf + " run " + LibraryScenario("climb") +
+                 " --set frames=30 --set camera.path.2.frame=29 --set camera.path.1.frame=15"
+                 " --set tracker.camera_motion=oracle --out " +
+                 oracle.string());
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  r = RunCommand(kHcpf + " report " + run.string() + " --against " + oracle.string());
+  EXPECT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("against " + oracle.string() + ": 1 resolved keys differ"),
+            std::string::npos)
+      << r.output;
+  EXPECT_NE(ReadFile(run / "report.html").find("<code>tracker.camera_motion</code>"),
+            std::string::npos);
 
   const fs::path other = dir / "other";
   fs::create_directories(other);
@@ -833,6 +847,9 @@ TEST(Cli, ReportOnARunFolderAndOnAnotherFolder) {
             std::string::npos)
       << r.output;
   EXPECT_FALSE(fs::exists(other / "report.html"));
+  r = RunCommand(kHcpf + " report " + run.string() + " --against " + other.string());
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_NE(r.output.find("--against: expected another run folder"), std::string::npos) << r.output;
 }
 
 // The strong-motion and low-texture scenes run on rendered frames too, and

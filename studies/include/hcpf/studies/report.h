@@ -32,12 +32,16 @@ struct ReportOptions {
   std::string dir;                  // a sweep's --out folder (results.sqlite) or a run's folder
   std::string out_dir;              // where report.html and summary.csv go ("" = dir)
   std::string gnuplot = "gnuplot";  // the gnuplot executable
-  // Another sweep folder over the same swept keys (the same sweep on another
-  // root seed: hcpf sweep --seed): every paired comparison is made again on
-  // its runs with this report's settings, and report.html (section
-  // "Replication"), findings.md and replication.csv say which findings
-  // replicate; every cell mean is set against the other store's interval of
-  // the same cell (replication_cells.csv). "" = none.
+  // With a sweep folder as `dir`: another sweep folder over the same swept
+  // keys (the same sweep on another root seed: hcpf sweep --seed): every
+  // paired comparison is made again on its runs with this report's settings,
+  // and report.html (section "Replication"), findings.md and replication.csv
+  // say which findings replicate; every cell mean is set against the other
+  // store's interval of the same cell (replication_cells.csv).
+  // With a run folder as `dir`: another run folder (run B; `dir` is run A):
+  // the resolved keys they differ in, which files are the same, the headline
+  // metrics side by side, and over one ground truth both runs' filters on one
+  // timeline and compared target by target, frame by frame. "" = none.
   std::string against;
   void Validate() const;
 };
@@ -51,6 +55,8 @@ struct ReportResult {
   int findings = 0;                 // sentences of the findings (also in findings.md)
   int replication_comparisons = 0;  // with `against`: comparisons made in both stores
   int replication_cells = 0;        // with `against`: cell means with an interval in both
+  int differing_keys = 0;           // a run with `against`: resolved keys that differ between them
+  int compared_targets = 0;         // a run with `against`: targets compared frame by frame
   int cells = 0;
 };
 

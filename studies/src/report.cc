@@ -10,6 +10,7 @@
 
 #include <algorithm>
 #include <array>
+#include <cctype>
 #include <cerrno>
 #include <charconv>
 #include <cmath>
@@ -474,10 +475,23 @@ std::string SummaryCsv(const std::vector<Cell>& cells, const std::vector<std::st
 // values but the reference series value (same x, same panel, same other
 // keys): run against run with the same seed (and, in pooled cells, the same
 // pooled values), difference = cell − reference per report.y metric.
+// The seed pairs of one comparison whose difference (cell − reference) is
+// largest and smallest: the first such pair in the cell's run order. Null
+// runs when the comparison has no pair.
+struct PairExtremes {
+  const RunRecord* max_run = nullptr;
+  const RunRecord* max_reference = nullptr;
+  double max_difference = kNaN;
+  const RunRecord* min_run = nullptr;
+  const RunRecord* min_reference = nullptr;
+  double min_difference = kNaN;
+};
+
 struct PairedRow {
   const Cell* cell = nullptr;
   const Cell* reference = nullptr;
   std::map<std::string, PairedComparison> metrics;  // report.y names
+  std::map<std::string, PairExtremes> extremes;     // report.y names
   // The signed-rank p-values adjusted by Holm's method over the report's
   // family (Paired::family); NaN for a comparison without pairs.
   std::map<std::string, double> holm;
@@ -548,15 +562,29 @@ Paired PairedRowsOf(const std::vector<Cell>& cells, const StoreMeta& meta) {
     for (const RunRecord* r : ref->second->runs) {
       if (r->ok) partner.emplace(pair_key(*r), r);
     }
-    PairedRow row{&c, ref->second, {}};
+    PairedRow row{&c, ref->second, {}, {}, {}};
     for (const std::string& m : meta.report.y) {
       std::vector<double> a, b;
+      PairExtremes& extremes = row.extremes[m];
       for (const RunRecord* r : c.runs) {
         if (!r->ok) continue;
         const auto p = partner.find(pair_key(*r));
         if (p == partner.end()) continue;
         a.push_back(r->metrics.at(m));
         b.push_back(p->second->metrics.at(m));
+        // Pairs as ComparePaired counts them: both values finite.
+        const double d = a.back() - b.back();
+        if (!std::isfinite(a.back()) || !std::isfinite(b.back())) continue;
+        if (extremes.max_run == nullptr || d > extremes.max_difference) {
+          extremes.max_run = r;
+          extremes.max_reference = p->second;
+          extremes.max_difference = d;
+        }
+        if (extremes.min_run == nullptr || d < extremes.min_difference) {
+          extremes.min_run = r;
+          extremes.min_reference = p->second;
+          extremes.min_difference = d;
+        }
       }
       const CatalogueMetric* entry = FindMetric(m);
       row.metrics[m] = ComparePaired(a, b, entry ? entry->range : MetricRange::Unbounded());
@@ -698,9 +726,89 @@ std::string FormatP(double p) {
   return fmt::format("p&nbsp;=&nbsp;{:.3f}", p);
 }
 
+// `word` as one shell word: unchanged when it holds only characters no
+// shell treats specially, else in single quotes ('\'' for a quote).
+std::string ShellWord(const std::string& word) {
+  const bool plain = !word.empty() && std::all_of(word.begin(), word.end(), [](char c) {
+    return std::isalnum(static_cast<unsigned char>(c)) || std::strchr("_./-+=:,@%", c) != nullptr;
+  });
+  if (plain) return word;
+  std::string quoted = "'";
+  for (const char c : word) quoted += c == '\'' ? std::string("'\\''") : std::string(1, c);
+  return quoted + "'";
+}
+
+// The seed pairs to look at behind every coloured cell of the paired table:
+// the pair whose difference goes furthest in the direction of the mean
+// difference, and the pair that goes least far (a counterexample when its
+// difference has the other sign), each with the command that sets its two
+// runs side by side (hcpf report RUN --against OTHER_RUN). Folded, since a
+// big sweep has many findings.
+std::string SeedsToLookAtHtml(const Paired& paired, const StoreMeta& meta,
+                              const std::vector<size_t>& shown, const std::string& dir,
+                              const std::string& link_prefix) {
+  const auto& keys = meta.swept_keys;
+  const auto si = static_cast<size_t>(paired.series_index);
+  std::string rows;
+  int findings = 0, counterexamples = 0;
+  const auto pair_text = [&](const RunRecord* run, const RunRecord* reference, double d,
+                             bool against) {
+    const auto folder = [&](const RunRecord* r) {
+      return ShellWord((fs::path(dir) / r->run_dir).string());
+    };
+    return fmt::format(
+        "<a href=\"{}\">seed {}</a>: &Delta;&nbsp;{:.3g}{}<br><code>hcpf report {} --against "
+        "{}</code>",
+        EscapeMarkup(link_prefix + run->run_dir), run->seed_index, d,
+        against ? " <b>(against it)</b>" : "", EscapeMarkup(folder(run)),
+        EscapeMarkup(folder(reference)));
+  };
+  for (const PairedRow& row : paired.rows) {
+    for (const std::string& m : meta.report.y) {
+      const PairedComparison& c = row.metrics.at(m);
+      if (VerdictOf(c, m) == PairedVerdict::kNotSignificant) continue;
+      const PairExtremes& e = row.extremes.at(m);
+      if (e.max_run == nullptr) continue;
+      ++findings;
+      const bool up = c.difference.mean > 0.0;
+      const RunRecord* most_run = up ? e.max_run : e.min_run;
+      const RunRecord* most_ref = up ? e.max_reference : e.min_reference;
+      const double most = up ? e.max_difference : e.min_difference;
+      const RunRecord* least_run = up ? e.min_run : e.max_run;
+      const RunRecord* least_ref = up ? e.min_reference : e.max_reference;
+      const double least = up ? e.min_difference : e.max_difference;
+      const bool against = up ? least < 0.0 : least > 0.0;
+      counterexamples += against ? 1 : 0;
+      rows += "<tr>";
+      for (size_t k : shown)
+        rows += "<td class=\"k\">" + EscapeMarkup(row.cell->values[k]) + "</td>";
+      rows += fmt::format(
+          "<td class=\"k\">{} &minus; {}</td><td class=\"k\">{}</td><td>{:.3g}</td>"
+          "<td class=\"k\">{}</td><td class=\"k\">{}</td></tr>\n",
+          EscapeMarkup(row.cell->values[si]), EscapeMarkup(paired.reference), EscapeMarkup(m),
+          c.difference.mean, pair_text(most_run, most_ref, most, false),
+          pair_text(least_run, least_ref, least, against));
+    }
+  }
+  if (findings == 0) return {};
+  std::string h = fmt::format(
+      "<details id=\"seeds-to-look-at\"><summary><b>Seeds to look at</b>: for {} coloured "
+      "cell{}, the seed whose difference goes furthest in the direction of the mean and the "
+      "seed that goes least far ({} of them against it: the other sign), with the command that "
+      "sets the two runs side by side (docs/sweeps.md, \"Two runs side by "
+      "side\").</summary>\n<table><tr>",
+      findings == 1 ? std::string("the one") : fmt::format("each of the {}", findings),
+      findings == 1 ? "" : "s", counterexamples);
+  for (size_t k : shown) h += "<th>" + EscapeMarkup(keys[k]) + "</th>";
+  h += "<th>compared</th><th>metric</th><th>&Delta;</th><th>furthest</th><th>least far</th>"
+       "</tr>\n";
+  return h + rows + "</table></details>\n";
+}
+
 // The section of the page: what is compared, the table, the plots.
 std::string PairedHtml(const Paired& paired, const StoreMeta& meta, const Layout& layout,
-                       const std::vector<std::pair<std::string, std::string>>& svgs) {
+                       const std::vector<std::pair<std::string, std::string>>& svgs,
+                       const std::string& dir, const std::string& link_prefix) {
   if (paired.rows.empty()) return {};
   const auto& keys = meta.swept_keys;
   const auto si = static_cast<size_t>(paired.series_index);
@@ -776,6 +884,7 @@ std::string PairedHtml(const Paired& paired, const StoreMeta& meta, const Layout
     h += "</tr>\n";
   }
   h += "</table>\n";
+  h += SeedsToLookAtHtml(paired, meta, shown, dir, link_prefix);
   for (const auto& [id, svg] : svgs) {
     h += fmt::format("<div class=\"plot\" id=\"difference-{}\">\n{}\n</div>\n", EscapeMarkup(id),
                      svg);
@@ -789,20 +898,28 @@ std::string PairedCsv(const Paired& paired, const StoreMeta& meta) {
   for (const std::string& k : meta.swept_keys) csv += Csv(k) + ",";
   csv +=
       "reference,metric,pairs,mean_difference,lo95,hi95,clipped,positive,negative,ties,"
-      "nonzero,w_plus,p_value,exact,p_holm\n";
+      "nonzero,w_plus,p_value,exact,p_holm,max_difference,max_run,max_reference_run,"
+      "min_difference,min_run,min_reference_run\n";
   for (const PairedRow& row : paired.rows) {
     for (const std::string& m : meta.report.y) {
       const PairedComparison& c = row.metrics.at(m);
       for (const std::string& v : row.cell->values) csv += Csv(v) + ",";
       const bool band = c.difference.method != IntervalMethod::kNone;
       const double holm = row.holm.at(m);
-      csv += fmt::format("{},{},{},{},{},{},{},{},{},{},{},{},{},{},{}\n", Csv(paired.reference), m,
+      csv += fmt::format("{},{},{},{},{},{},{},{},{},{},{},{},{},{},{}", Csv(paired.reference), m,
                          c.pairs, c.pairs ? Number(c.difference.mean) : "",
                          band ? Number(c.difference.lower) : "",
                          band ? Number(c.difference.upper) : "", c.difference.clipped ? 1 : 0,
                          c.positive, c.negative, c.pairs - c.positive - c.negative, c.test.nonzero,
                          Number(c.test.w_plus), Number(c.test.p_value), c.test.exact ? 1 : 0,
                          std::isnan(holm) ? std::string() : Number(holm));
+      // The pairs to look at: their difference and both runs' keys.
+      const PairExtremes& e = row.extremes.at(m);
+      csv += e.max_run == nullptr ? std::string(",,,,,,\n")
+                                  : fmt::format(",{},{},{},{},{},{}\n", Number(e.max_difference),
+                                                Csv(e.max_run->key), Csv(e.max_reference->key),
+                                                Number(e.min_difference), Csv(e.min_run->key),
+                                                Csv(e.min_reference->key));
     }
   }
   return csv;
@@ -1827,7 +1944,8 @@ ReportResult WriteReport(const ReportOptions& options) {
   files.emplace_back("summary.csv", SummaryCsv(cells, meta.swept_keys));
   files.emplace_back("report.html", ReportHtml(dir, link_prefix, meta, runs, cells, layout, svgs,
                                                FindingsHtml(findings, glance, paired, meta),
-                                               PairedHtml(paired, meta, layout, difference_svgs),
+                                               PairedHtml(paired, meta, layout, difference_svgs,
+                                                          options.dir, link_prefix),
                                                replication_html, unmeasured));
   PublishReportFiles(work, out, files, stale);
   result.csv_path = (out / "summary.csv").string();

@@ -1291,6 +1291,89 @@ TEST(Report, PairedDifferencesByHand) {
   EXPECT_EQ(Read(dir / "paired.csv"), paired);
 }
 
+// The seed pairs behind each finding (paired.csv's extreme columns and the
+// report's "Seeds to look at"), on the hand store and on a store of one
+// cell pair, 10 seeds, whose MOTA is charged 0.8 against systematic 0.5 on
+// seeds 0–8 and 0.4 against 0.5 on seed 9: differences 0.3 nine times and
+// −0.1 once (W− = 1, p = 4/1024; mean 0.26, t interval [0.17, 0.35]), a
+// finding with one seed against it. Its folder has a space, so the commands
+// quote their paths.
+TEST(Report, SeedsToLookAtNameTheFurthestAndTheLeastFarPairOfEachFinding) {
+  const fs::path hand = HandStore("report-seeds-hand");
+  WriteReport({.dir = hand.string()});
+  const auto rows = CsvRows(hand / "paired.csv");
+  ASSERT_EQ(rows.size(), 4U);
+  const auto row_of = [&](const std::string& x, const std::string& metric) {
+    for (const auto& row : rows) {
+      if (row[0] == x && row[3] == metric) return row;
+    }
+    ADD_FAILURE() << x << " " << metric;
+    return std::vector<std::string>(23);
+  };
+  // Columns 17–22: max_difference, max_run, max_reference_run, min_difference,
+  // min_run, min_reference_run; the first seed that reaches each.
+  auto row = row_of("1000", "mota");
+  ASSERT_EQ(row.size(), 23U);
+  EXPECT_NEAR(std::stod(row[17]), 0.1, 1e-12);
+  EXPECT_EQ(row[18], "1000-charged-0");
+  EXPECT_EQ(row[19], "1000-systematic-0");
+  EXPECT_NEAR(std::stod(row[20]), -0.4, 1e-12);
+  EXPECT_EQ(row[21], "1000-charged-9");
+  EXPECT_EQ(row[22], "1000-systematic-9");
+  row = row_of("1000", "hijack_rate");
+  EXPECT_EQ(std::stod(row[17]), 0.0);
+  EXPECT_EQ(row[18], "1000-charged-5");
+  EXPECT_EQ(std::stod(row[20]), -1.0);
+  EXPECT_EQ(row[21], "1000-charged-0");
+  // The one finding of the hand store: hijack rate at 100, −1 on every seed.
+  std::string html = Read(hand / "report.html");
+  EXPECT_NE(html.find("for the one coloured cell, the seed"), std::string::npos);
+  EXPECT_NE(html.find("(0 of them against it"), std::string::npos);
+  EXPECT_NE(html.find("<a href=\"runs/100-charged-0\">seed 0</a>: &Delta;&nbsp;-1<br><code>hcpf "
+                      "report " +
+                      (hand / "runs" / "100-charged-0").string() + " --against " +
+                      (hand / "runs" / "100-systematic-0").string() + "</code>"),
+            std::string::npos);
+
+  const auto dir = testing::SweepFolder("report seeds");
+  StoreMeta meta;
+  meta.sweep_hash = "seeds";
+  meta.sweep_file = "seeds.yaml";
+  meta.swept_keys = {"tracker.particles", "tracker.resampling.method"};
+  meta.report.x = "tracker.particles";
+  meta.report.series = "tracker.resampling.method";
+  meta.report.y = {"mota"};
+  meta.report.reference = "systematic";
+  meta.run_count = 20;
+  {
+    auto store = ResultsStore::OpenOrCreate((dir / "results.sqlite").string(), meta);
+    int64_t index = 0;
+    for (const char* method : {"systematic", "charged"}) {
+      for (int seed = 0; seed < 10; ++seed) {
+        RunRecord r;
+        r.key = std::string("1-") + method + "-" + std::to_string(seed);
+        r.index = index++;
+        r.seed_index = seed;
+        r.seed = 2000 + seed;
+        r.values = {"1", method};
+        r.ok = true;
+        r.run_dir = "runs/" + r.key;
+        r.metrics["mota"] = std::string(method) == "systematic" ? 0.5 : (seed < 9 ? 0.8 : 0.4);
+        store->Put(r);
+      }
+    }
+  }
+  WriteReport({.dir = dir.string()});
+  html = Read(dir / "report.html");
+  EXPECT_NE(html.find("(1 of them against it"), std::string::npos);
+  const std::string quoted = "'" + (dir / "runs").string();
+  EXPECT_NE(html.find("seed 0</a>: &Delta;&nbsp;0.3<br><code>hcpf report " + quoted +
+                      "/1-charged-0' --against " + quoted + "/1-systematic-0'</code>"),
+            std::string::npos);
+  EXPECT_NE(html.find("seed 9</a>: &Delta;&nbsp;-0.1 <b>(against it)</b>"), std::string::npos)
+      << html;
+}
+
 // The findings of the hand store (values above): hijack_rate, lower is
 // better: charged's means are 0 and 0 against systematic's 1 and 0.5, so
 // charged is best at both x; the paired differences are a finding at 100

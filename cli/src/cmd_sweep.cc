@@ -1,4 +1,5 @@
-// hcpf sweep SWEEP.yaml --out DIR [--jobs N] [--threads T] [--seed S] [--shard i/n]; under mpirun
+// hcpf sweep SWEEP.yaml --out DIR [--jobs N] [--threads T] [--seed S] [--shard i/n]
+// [--reuse OTHER ...]; under mpirun
 // -n R, the MPI executor (studies/include/hcpf/studies/mpi_sweep.h).
 
 #include <fmt/format.h>
@@ -12,6 +13,7 @@
 #include <optional>
 #include <string>
 #include <thread>
+#include <vector>
 
 #include "cache_limit.h"
 #include "command.h"
@@ -57,6 +59,7 @@ Command AddSweepCommand(CLI::App& parent) {
     bool no_cache = false;
     bool video = false;
     bool isolate = false;
+    std::vector<std::string> reuse;
   };
   auto options = std::make_shared<Options>();
   CLI::App* app = parent.add_subcommand(
@@ -86,6 +89,12 @@ Command AddSweepCommand(CLI::App& parent) {
       ->capture_default_str();
   app->add_flag("--video", options->video,
                 "Write overlay.mp4 in the first-seed run of every cell (linked from the report)");
+  app->add_option("--reuse", options->reuse,
+                  "Another sweep folder (any sweep's; repeatable): a run it holds finished, "
+                  "with its folder intact, is copied from there instead of computed (the same "
+                  "resolved scenario gives the same files), e.g. after raising seeds: or adding "
+                  "a grid value")
+      ->allow_extra_args(false);
   app->add_flag("--isolate", options->isolate,
                 "Run each run in a child process: a run that crashes is recorded as failed");
   app->add_flag("--no-cache", options->no_cache,
@@ -104,6 +113,7 @@ Command AddSweepCommand(CLI::App& parent) {
         sweep_options.run_threads = options->threads;
         sweep_options.frame_cache_dir = options->no_cache ? "" : options->cache;
         sweep_options.video = options->video;
+        sweep_options.reuse_dirs = options->reuse;
         if (options->isolate) {
           std::error_code ec;
           sweep_options.isolate_exe = std::filesystem::read_symlink("/proc/self/exe", ec).string();
@@ -153,9 +163,11 @@ Command AddSweepCommand(CLI::App& parent) {
         const studies::SweepResult& r = *result;
         cache_limit.Apply();
         spdlog::info(
-            "sweep finished: {} runs, {} reused, {} computed, {} failed; results in "
+            "sweep finished: {} runs, {} reused{}, {} computed, {} failed; results in "
             "{}/results.sqlite",
-            r.total, r.reused, r.computed, r.failed, options->out);
+            r.total, r.reused,
+            r.copied > 0 ? fmt::format(" ({} copied from --reuse)", r.copied) : std::string(),
+            r.computed, r.failed, options->out);
         if (r.failed > 0) {
           spdlog::error("{} run(s) failed (see the error column of results.sqlite)", r.failed);
           return 1;

@@ -646,11 +646,8 @@ void CheckSweepFolder(const std::string& dir, const std::string& option) {
                    "nothing was changed; name another folder");
 }
 
-namespace {
+namespace internal {
 
-// Copies `from` (a file, or a folder with what it holds) to "<to>.partial-<pid>"
-// and renames that over `to`, so `to` is whole or as it was. RunError naming
-// both when it cannot.
 void CopyWhole(const fs::path& from, const fs::path& to) {
   const fs::path staging = to.string() + fmt::format(".partial-{}", ::getpid());
   std::error_code ec;
@@ -665,7 +662,7 @@ void CopyWhole(const fs::path& from, const fs::path& to) {
   }
 }
 
-}  // namespace
+}  // namespace internal
 
 MergeResult MergeStores(const std::string& out_dir, const std::vector<std::string>& input_dirs) {
   if (input_dirs.empty()) {
@@ -740,7 +737,7 @@ MergeResult MergeStores(const std::string& out_dir, const std::vector<std::strin
           // staging folder the next merge or sweep removes, never a half
           // folder under the run's name.
           fs::create_directories(to.parent_path(), ec);
-          CopyWhole(from, to);
+          internal::CopyWhole(from, to);
         }
       }
       out->Put(r);
@@ -753,7 +750,7 @@ MergeResult MergeStores(const std::string& out_dir, const std::vector<std::strin
   for (const std::string& dir : input_dirs) {
     const fs::path from = fs::path(dir) / "contact_sheet.png";
     if (fs::exists(sheet, ec) || !fs::is_regular_file(from, ec)) continue;
-    CopyWhole(from, sheet);
+    internal::CopyWhole(from, sheet);
     result.contact_sheet = true;
   }
   return result;

@@ -52,10 +52,16 @@ struct SweepPlan {
 // creates DIR/runs, takes the folder lock, removes staging folders of dead
 // processes, opens or creates the store (InputError when it holds another
 // sweep), reuses the finished runs whose folders are intact (checked with
-// options.jobs threads) and logs what is left, computed by `workers` (e.g.
+// options.jobs threads), copies those it lacks from the stores of
+// options.reuse_dirs, and logs what is left, computed by `workers` (e.g.
 // "2 worker(s)").
 SweepPlan PrepareSweep(const SweepSpec& spec, const std::vector<SweepRun>& runs,
                        const SweepOptions& options, const std::string& workers);
+
+// Copies `from` (a file, or a folder with what it holds) to "<to>.partial-<pid>"
+// and renames that over `to`, so `to` is whole or as it was. RunError naming
+// both when it cannot.
+void CopyWhole(const std::filesystem::path& from, const std::filesystem::path& to);
 
 // The executor options.isolate_exe asks for.
 std::unique_ptr<RunExecutor> MakeExecutor(const SweepOptions& options);

@@ -3,6 +3,7 @@
 
 #include <fcntl.h>
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 #include <spdlog/spdlog.h>
 #include <sys/file.h>
 #include <unistd.h>
@@ -14,6 +15,7 @@
 #include <filesystem>
 #include <map>
 #include <mutex>
+#include <nlohmann/json.hpp>
 #include <set>
 
 #include "hcpf/core/check.h"
@@ -26,6 +28,7 @@
 #include "hcpf/scenarios/overlay.h"
 #include "hcpf/scenarios/progress.h"
 #include "hcpf/scenarios/run.h"
+#include "hcpf/scenarios/version.h"
 #include "hcpf/studies/results_store.h"
 #include "hcpf/studies/run_queue.h"
 #include "hcpf/studies/sweep.h"
@@ -124,6 +127,135 @@ FolderLock::~FolderLock() {
 
 FolderLock::FolderLock(FolderLock&& other) noexcept : fd_(other.fd_) { other.fd_ = -1; }
 
+namespace {
+
+// One --reuse folder: its finished runs by key.
+struct Donor {
+  fs::path dir;
+  std::map<std::string, RunRecord> finished;
+};
+
+// The --reuse folders, each checked and its store read, before anything is
+// written; InputError at --reuse for a folder that is no sweep's, --out
+// itself, or one a sweep is writing to.
+std::vector<Donor> OpenDonors(const SweepOptions& options) {
+  const SourceLocation where{"hcpf sweep", 0, 0, "--reuse"};
+  const std::string expected =
+      "another sweep folder (holding results.sqlite) whose finished runs may be copied";
+  std::vector<Donor> donors;
+  std::error_code ec;
+  for (const std::string& dir : options.reuse_dirs) {
+    if (!fs::is_directory(dir, ec)) {
+      throw InputError(
+          where, expected,
+          fmt::format("{}: {}", dir, fs::exists(dir, ec) ? "a file" : "no such folder"));
+    }
+    if (!fs::is_regular_file(fs::path(dir) / "results.sqlite", ec)) {
+      throw InputError(where, expected, fmt::format("{}, a folder without results.sqlite", dir));
+    }
+    if (fs::exists(options.out_dir, ec) && fs::equivalent(dir, options.out_dir, ec)) {
+      throw InputError(where, expected,
+                       fmt::format("{}, the --out folder itself (its finished runs are reused "
+                                   "without --reuse)",
+                                   dir));
+    }
+    if (FolderLockHeld(dir)) {
+      throw InputError(where, expected,
+                       fmt::format("{}, where a sweep is running (its sweep.lock is held): "
+                                   "reuse it when that sweep ends",
+                                   dir));
+    }
+    const auto store =
+        ResultsStore::Open((fs::path(dir) / "results.sqlite").string(), StoreAccess::kReadOnly);
+    Donor donor{dir, {}};
+    for (RunRecord& r : store->Runs()) {
+      if (r.ok) donor.finished.emplace(r.key, std::move(r));
+    }
+    donors.push_back(std::move(donor));
+  }
+  return donors;
+}
+
+// The git revision in a run folder's manifest.json, or "unknown".
+std::string RunRevision(const fs::path& run_dir) {
+  try {
+    const nlohmann::json manifest = nlohmann::json::parse(ReadInputFile(
+        (run_dir / "manifest.json").string(), "a run manifest (JSON)", std::uint64_t{64} << 20));
+    if (manifest.contains("git_revision") && manifest["git_revision"].is_string()) {
+      return manifest["git_revision"].get<std::string>();
+    }
+  } catch (const std::exception&) {
+  }
+  return "unknown";
+}
+
+// Copies into `plan` the runs of `todo` that a --reuse folder holds finished
+// with their folders intact (and, under --video, with the video the run
+// needs), records them, and returns the runs left to compute.
+std::vector<const SweepRun*> CopyFromDonors(const std::vector<Donor>& donors,
+                                            const std::vector<const SweepRun*>& todo,
+                                            const SweepOptions& options, SweepPlan& plan) {
+  if (donors.empty() || todo.empty()) return todo;
+  // Per run: the first folder whose copy of it is whole (checked in parallel).
+  std::vector<const Donor*> source(todo.size(), nullptr);
+  std::vector<const RunRecord*> record(todo.size(), nullptr);
+  ParallelFor(todo.size(), options.jobs, [&](size_t i) {
+    const SweepRun& run = *todo[i];
+    for (const Donor& d : donors) {
+      const auto it = d.finished.find(run.key);
+      if (it == d.finished.end()) continue;
+      const fs::path from = d.dir / it->second.run_dir;
+      std::error_code ec;
+      const bool video_ok =
+          !(options.video && run.seed_index == 0) || fs::is_regular_file(from / "overlay.mp4", ec);
+      if (video_ok && RunFolderIntact(from.string(), it->second)) {
+        source[i] = &d;
+        record[i] = &it->second;
+        return;
+      }
+    }
+  });
+  std::vector<const SweepRun*> left;
+  std::set<std::string> used, revisions;
+  int64_t other_builds = 0;
+  const std::string here = scenarios::GitRevision();
+  for (size_t i = 0; i < todo.size(); ++i) {
+    if (source[i] == nullptr) {
+      left.push_back(todo[i]);
+      continue;
+    }
+    RunRecord copy = NewRecord(*todo[i]);
+    const fs::path to = plan.out / copy.run_dir;
+    CopyWhole(source[i]->dir / record[i]->run_dir, to);
+    copy.metrics = ReadRunMetrics(to.string());
+    copy.ok = true;
+    plan.store->Put(copy);
+    ++plan.result.copied;
+    used.insert(source[i]->dir.string());
+    const std::string revision = RunRevision(to);
+    if (revision != here) {
+      ++other_builds;
+      revisions.insert(revision);
+    }
+  }
+  plan.result.reused += plan.result.copied;
+  if (plan.result.copied > 0) {
+    spdlog::info(
+        "sweep: {} runs copied from {} (each the same resolved scenario as the run it stands "
+        "for, so the same files: docs/outputs.md)",
+        plan.result.copied, fmt::join(used, ", "));
+  }
+  if (other_builds > 0) {
+    spdlog::warn(
+        "sweep: {} of the copied runs were made by hcpf at {}, this hcpf is at {}: their results "
+        "are those builds'",
+        other_builds, fmt::join(revisions, ", "), here);
+  }
+  return left;
+}
+
+}  // namespace
+
 SweepPlan PrepareSweep(const SweepSpec& spec, const std::vector<SweepRun>& runs,
                        const SweepOptions& options, const std::string& workers) {
   options.Validate();
@@ -134,6 +266,7 @@ SweepPlan PrepareSweep(const SweepSpec& spec, const std::vector<SweepRun>& runs,
   if (options.video) {
     for (const SweepRun& run : runs) scenarios::CheckVideoFits(*run.cell, "--video");
   }
+  const std::vector<Donor> donors = OpenDonors(options);
   std::error_code ec;
   fs::create_directories(out / "runs", ec);
   if (ec)
@@ -213,11 +346,15 @@ SweepPlan PrepareSweep(const SweepSpec& spec, const std::vector<SweepRun>& runs,
         "write it",
         without_video);
   }
-  spdlog::info("sweep: {} runs{}, {} already in {}, {} to compute with {}", result.total,
-               options.shard_count > 1
-                   ? fmt::format(" in shard {}/{}", options.shard_index, options.shard_count)
-                   : "",
-               result.reused, (out / "results.sqlite").string(), todo.size(), workers);
+  todo = CopyFromDonors(donors, todo, options, plan);
+  spdlog::info(
+      "sweep: {} runs{}, {} already in {}{}, {} to compute with {}", result.total,
+      options.shard_count > 1
+          ? fmt::format(" in shard {}/{}", options.shard_index, options.shard_count)
+          : "",
+      result.reused, (out / "results.sqlite").string(),
+      result.copied > 0 ? fmt::format(" ({} of them copied)", result.copied) : std::string(),
+      todo.size(), workers);
   plan.todo = static_cast<int64_t>(todo.size());
   // The frame cache's folder, made before any run: one that cannot be made
   // failed every rendered run of the sweep, each after making its GL context.

@@ -16,6 +16,7 @@
 #include <filesystem>
 #include <fstream>
 #include <iterator>
+#include <map>
 #include <nlohmann/json.hpp>
 #include <opencv2/imgcodecs.hpp>
 #include <optional>
@@ -478,6 +479,79 @@ TEST(SweepCli, ShardsMergedEqualTheUnshardedSweepAndOtherSweepsAreRefused) {
                        " " + (dir / "o").string())
                 .exit_code,
             2);
+}
+
+// The files of every run folder under DIR/runs, by key, minus manifest.json
+// (its timings differ between two computations of one run).
+std::map<std::string, std::string> RunFiles(const fs::path& dir) {
+  std::map<std::string, std::string> files;
+  for (const auto& run : fs::directory_iterator(dir / "runs")) {
+    for (const auto& f : fs::recursive_directory_iterator(run.path())) {
+      if (!f.is_regular_file() || f.path().filename() == "manifest.json") continue;
+      files[fs::relative(f.path(), dir).string()] = ReadFile(f.path());
+    }
+  }
+  return files;
+}
+
+// hcpf sweep --reuse OTHER: a sweep grown from 2 seeds to 3 copies the 16 runs
+// the 2-seed sweep finished and computes the 8 new ones, and its store and run
+// files equal a fresh 3-seed sweep's; a donor run whose folder is damaged is
+// computed instead; a --reuse that names no other sweep folder is bad input
+// before anything is written.
+TEST(SweepCli, ReuseCopiesTheRunsAnotherSweepFinishedAndEqualsAFreshSweep) {
+  const fs::path dir = FreshDir("sweep-reuse");
+  fs::create_directories(dir / "two");
+  fs::create_directories(dir / "three");
+  const std::string two = WriteSweep(dir / "two", 2);
+  const std::string three = WriteSweep(dir / "three", 3);
+  auto r = RunCommand(kHcpf + " sweep " + two + " --out " + (dir / "d2").string() + " --jobs 2");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  r = RunCommand(kHcpf + " sweep " + three + " --out " + (dir / "fresh").string() + " --jobs 2");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  r = RunCommand(kHcpf + " sweep " + three + " --out " + (dir / "grown").string() +
+                 " --jobs 2 --reuse " + (dir / "d2").string());
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("sweep: 16 runs copied from " + (dir / "d2").string()), std::string::npos)
+      << r.output;
+  EXPECT_NE(r.output.find("24 runs, 16 reused (16 copied from --reuse), 8 computed, 0 failed"),
+            std::string::npos)
+      << r.output;
+  EXPECT_EQ(StoreRows(dir / "grown" / "results.sqlite"),
+            StoreRows(dir / "fresh" / "results.sqlite"));
+  EXPECT_EQ(RunFiles(dir / "grown"), RunFiles(dir / "fresh"));
+  // Resumed, the grown sweep has nothing left to do.
+  r = RunCommand(kHcpf + " sweep " + three + " --out " + (dir / "grown").string() + " --reuse " +
+                 (dir / "d2").string());
+  EXPECT_NE(r.output.find("24 runs, 24 reused, 0 computed"), std::string::npos) << r.output;
+
+  // A damaged run folder of the donor is not copied.
+  const fs::path damaged = fs::directory_iterator(dir / "d2" / "runs")->path();
+  fs::remove(damaged / "tracks.txt");
+  r = RunCommand(kHcpf + " sweep " + three + " --out " + (dir / "again").string() +
+                 " --jobs 2 --reuse " + (dir / "d2").string());
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("24 runs, 15 reused (15 copied from --reuse), 9 computed"),
+            std::string::npos)
+      << r.output;
+  EXPECT_EQ(StoreRows(dir / "again" / "results.sqlite"),
+            StoreRows(dir / "fresh" / "results.sqlite"));
+
+  fs::create_directories(dir / "plain");
+  for (const auto& [reuse, found] : std::vector<std::pair<fs::path, std::string>>{
+           {dir / "missing", "no such folder"},
+           {dir / "plain", "a folder without results.sqlite"},
+           {dir / "bad", "the --out folder itself"}}) {
+    if (reuse == dir / "bad") fs::create_directories(dir / "bad");
+    if (reuse == dir / "bad") std::ofstream(dir / "bad" / "results.sqlite") << "";
+    r = RunCommand(kHcpf + " sweep " + three + " --out " + (dir / "bad").string() + " --reuse " +
+                   reuse.string());
+    EXPECT_EQ(r.exit_code, 2) << r.output;
+    EXPECT_NE(r.output.find("--reuse: expected another sweep folder"), std::string::npos)
+        << r.output;
+    EXPECT_NE(r.output.find(found), std::string::npos) << r.output;
+    EXPECT_FALSE(fs::exists(dir / "bad" / "runs")) << reuse;
+  }
 }
 
 // Chromium on PATH, or "".

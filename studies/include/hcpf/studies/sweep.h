@@ -190,6 +190,12 @@ struct SweepOptions {
   // (`hcpf run <resolved scenario>`), so a run that crashes is recorded as
   // failed and the sweep goes on. "" = runs in worker threads of this process.
   std::string isolate_exe;
+  // Other sweep folders (`hcpf sweep --reuse`, any sweep's): a run this sweep
+  // has not finished whose key (the resolved scenario's hash) one of them
+  // holds finished, with its folder intact, is copied from there instead of
+  // computed; one resolved scenario gives the same files (docs/outputs.md).
+  // The first folder that has a run gives it.
+  std::vector<std::string> reuse_dirs;
   void Validate() const;
   // Rendered runs: the llvmpipe rasteriser threads (LP_NUM_THREADS) to set
   // when the user has not, or nullopt for Mesa's default (one per core), given
@@ -202,7 +208,8 @@ struct SweepOptions {
 
 struct SweepResult {
   int64_t total = 0;     // runs of this shard
-  int64_t reused = 0;    // already finished in the store
+  int64_t reused = 0;    // already finished in the store, or copied from a --reuse folder
+  int64_t copied = 0;    // of those, copied from a --reuse folder
   int64_t computed = 0;  // run now, successfully
   int64_t failed = 0;    // run now, failed (recorded with the message)
 };

@@ -1088,6 +1088,16 @@ std::string ComparisonSection(const RunFolder& a, const RunFolder& b, bool same_
          "side, not their filters frame by frame.</p>\n";
     return h;
   }
+  const bool filters_a = JsonMember(a.metrics, "filters").is_object();
+  const bool filters_b = JsonMember(b.metrics, "filters").is_object();
+  if (!filters_a || !filters_b) {
+    h += fmt::format(
+        "<p>{} no filter states (<code>metrics.json</code> without a <code>filters</code> "
+        "block: an external tracker's run, docs/external-trackers.md), so the runs' tracks are "
+        "compared through the MOT metrics below, not filter by filter.</p>\n",
+        filters_a ? "Run B has" : filters_b ? "Run A has" : "Neither run has");
+    return h;
+  }
   if (targets.empty()) return h;
   int correct_both = 0, only_a = 0, only_b = 0;
   for (const TargetComparison& c : targets) {
@@ -1165,7 +1175,9 @@ ReportResult WriteRunReport(const ReportOptions& options) {
     if (same_truth) {
       timeline = ComparedTimelineRows(
           parts, ReadTimeline(gt, other->metrics, other->manifest, run.frames));
-      if (JsonMember(metrics, "filters").is_object() ||
+      // Filter states exist only where a particle filter ran (an external
+      // tracker's metrics.json has no filters block): none is not "no filter".
+      if (JsonMember(metrics, "filters").is_object() &&
           JsonMember(other->metrics, "filters").is_object()) {
         std::set<int64_t> targets;
         for (const auto& [id, row] : parts.truth) targets.insert(id);

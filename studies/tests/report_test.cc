@@ -760,6 +760,16 @@ TEST(RunReport, AgainstAnotherRunSaysWhatDiffersAndComparesItsFiltersFrameByFram
   EXPECT_EQ(scenarios::WhyNotOurOutput(a), "");
   EXPECT_FALSE(fs::exists(b / "report.html"));
 
+  // An external tracker's run has no filter states: not "no filter" frames.
+  auto mb = nlohmann::json::parse(Read(b / "metrics.json"));
+  mb.erase("filters");
+  std::ofstream(b / "metrics.json") << mb.dump();
+  const ReportResult external = WriteReport({.dir = a.string(), .against = b.string()});
+  EXPECT_EQ(external.compared_targets, 0);
+  const std::string external_html = Read(external.html_path);
+  EXPECT_NE(external_html.find("Run B has no filter states"), std::string::npos);
+  EXPECT_EQ(external_html.find("B no filter"), std::string::npos);
+
   // Without --against, the same folder reports alone.
   const ReportResult alone = WriteReport({.dir = a.string()});
   EXPECT_EQ(alone.differing_keys, 0);

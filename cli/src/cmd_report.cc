@@ -38,9 +38,11 @@ Command AddReportCommand(CLI::App& parent) {
                 std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
             if (r.csv_path.empty() && !options->against.empty()) {
               spdlog::info(
-                  "report: {} plots in {:.2f} s; against {}: {} resolved keys differ, {} targets "
-                  "compared frame by frame",
-                  r.plots, s, options->against, r.differing_keys, r.compared_targets);
+                  "report: {} plots in {:.2f} s; against {}: {} resolved key{} differ{}, {} "
+                  "target{} compared frame by frame",
+                  r.plots, s, options->against, r.differing_keys, r.differing_keys == 1 ? "" : "s",
+                  r.differing_keys == 1 ? "s" : "", r.compared_targets,
+                  r.compared_targets == 1 ? "" : "s");
             } else if (r.csv_path.empty()) {
               spdlog::info("report: {} plots in {:.2f} s", r.plots, s);
             } else {

@@ -26,6 +26,17 @@ TEST(DifferingLeaves, NameEveryScalarThatDiffersByItsDottedKey) {
   EXPECT_TRUE(DifferingLeaves("a: [1]\n", "a: [1]\n").empty());
 }
 
+TEST(DifferingLeaves, ListIndicesSortAsNumbers) {
+  std::string first = "t: [", second = "t: [";
+  for (int i = 0; i < 12; ++i) {
+    first += std::string(i ? ", " : "") + "0";
+    second += std::string(i ? ", " : "") + "1";
+  }
+  const auto differ = DifferingLeaves(first + "]\n", second + "]\n");
+  ASSERT_EQ(differ.size(), 12u);
+  for (int i = 0; i < 12; ++i) EXPECT_EQ(differ[i].key, "t[" + std::to_string(i) + "]");
+}
+
 TEST(DifferingLeaves, AnEmptyTextIsNotAnAbsentKey) {
   // '' is a value, told apart from a key one document lacks.
   const auto differ = DifferingLeaves("a: ''\n", "b: 1\n");

@@ -727,8 +727,10 @@ std::string FormatP(double p) {
 }
 
 // `word` as one shell word: unchanged when it holds only characters no
-// shell treats specially, else in single quotes ('\'' for a quote).
-std::string ShellWord(const std::string& word) {
+// shell treats specially, else in single quotes ('\'' for a quote); a path
+// that starts with '-' gets "./" so that it is not read as an option.
+std::string ShellWord(std::string word) {
+  if (!word.empty() && word[0] == '-') word = "./" + word;
   const bool plain = !word.empty() && std::all_of(word.begin(), word.end(), [](char c) {
     return std::isalnum(static_cast<unsigned char>(c)) || std::strchr("_./-+=:,@%", c) != nullptr;
   });
@@ -757,7 +759,7 @@ std::string SeedsToLookAtHtml(const Paired& paired, const StoreMeta& meta,
       return ShellWord((fs::path(dir) / r->run_dir).string());
     };
     return fmt::format(
-        "<a href=\"{}\">seed {}</a>: &Delta;&nbsp;{:.3g}{}<br><code>hcpf report {} --against "
+        "<a href=\"{}\">seed index {}</a>: &Delta;&nbsp;{:.3g}{}<br><code>hcpf report {} --against "
         "{}</code>",
         EscapeMarkup(link_prefix + run->run_dir), run->seed_index, d,
         against ? " <b>(against it)</b>" : "", EscapeMarkup(folder(run)),

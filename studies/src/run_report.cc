@@ -767,6 +767,9 @@ struct RunFolder {
   json metrics;
   std::map<std::string, double> headline;  // catalogue metrics (ReadRunMetrics)
   int frames = 0;                          // manifest.json's frames; 0 when it has none
+  // scenario.resolved.yaml, parsed once to check it is YAML; nullopt when
+  // the folder has none.
+  std::optional<std::string> resolved;
 };
 
 // The run folder's manifest.json and metrics.json; throws InputError when
@@ -794,6 +797,18 @@ RunFolder ReadRunFolder(const fs::path& dir) {
   const std::optional<int64_t> frames = JsonInt(run.manifest, "frames");
   if (frames && *frames > 0 && *frames <= std::numeric_limits<int>::max()) {
     run.frames = static_cast<int>(*frames);
+  }
+  const fs::path resolved = dir / "scenario.resolved.yaml";
+  std::error_code ec;
+  if (fs::is_regular_file(resolved, ec)) {
+    run.resolved = ReadInputFile(resolved.string(), "a resolved scenario", kMaxRunFileBytes);
+    try {
+      (void)YAML::Load(*run.resolved);
+    } catch (const YAML::Exception& e) {
+      throw InputError(SourceLocation{resolved.string(), e.mark.line + 1, e.mark.column + 1, ""},
+                       "the resolved scenario hcpf run writes (YAML)",
+                       fmt::format("text that does not parse ({})", e.msg));
+    }
   }
   return run;
 }
@@ -826,7 +841,10 @@ RunFolder ReadAgainstRun(const std::string& against, const fs::path& dir) {
 std::optional<bool> SameBytes(const fs::path& a, const fs::path& b) {
   std::error_code ec;
   if (!fs::is_regular_file(a, ec) || !fs::is_regular_file(b, ec)) return std::nullopt;
-  if (fs::file_size(a, ec) != fs::file_size(b, ec) || ec) return false;
+  std::error_code ea, eb;
+  const std::uintmax_t size_a = fs::file_size(a, ea);
+  const std::uintmax_t size_b = fs::file_size(b, eb);
+  if (ea || eb || size_a != size_b) return false;
   std::ifstream fa(a, std::ios::binary);
   std::ifstream fb(b, std::ios::binary);
   std::array<char, 1 << 16> ba{};
@@ -947,10 +965,27 @@ std::vector<TargetComparison> CompareTargets(const std::set<int64_t>& targets,
 // "CORRECT", "no filter" for "".
 std::string StateText(const std::string& state) { return state.empty() ? "no filter" : state; }
 
+// Why two runs cannot be compared frame by frame ("" when they can): their
+// frame counts or ground truths (gt/gt.txt) differ, or one lacks either.
+std::string TruthDifference(const RunFolder& a, const RunFolder& b) {
+  if (a.frames == 0 || b.frames == 0) {
+    return fmt::format("The manifest.json of run {} has no frame count",
+                       a.frames == 0 ? (b.frames == 0 ? "A nor B" : "A") : "B");
+  }
+  if (a.frames != b.frames) {
+    return fmt::format("Run A has {} frames and run B {}", a.frames, b.frames);
+  }
+  const std::optional<bool> same = SameBytes(a.dir / "gt" / "gt.txt", b.dir / "gt" / "gt.txt");
+  if (!same) return "One of the runs has no <code>gt/gt.txt</code>";
+  if (!*same) return "Their ground truths differ (<code>gt/gt.txt</code>)";
+  return "";
+}
+
 // The comparison's own section (hcpf report RUN --against OTHER): who A and B
 // are, the resolved keys they differ in, which files are the same, and, over
 // one ground truth, target by target where their filters are CORRECT.
-std::string ComparisonSection(const RunFolder& a, const RunFolder& b, bool same_truth,
+std::string ComparisonSection(const RunFolder& a, const RunFolder& b,
+                              const std::string& truth_difference,
                               const std::vector<TargetComparison>& targets, ReportResult* result) {
   std::string h = "<h2>Compared with another run</h2>\n";
   const auto who = [](const RunFolder& r) {
@@ -968,21 +1003,10 @@ std::string ComparisonSection(const RunFolder& a, const RunFolder& b, bool same_
       "Differences are A − B.</p>\n",
       who(a), who(b));
 
-  // The resolved scenarios, key by key.
-  const fs::path ya = a.dir / "scenario.resolved.yaml";
-  const fs::path yb = b.dir / "scenario.resolved.yaml";
-  std::error_code ec;
-  if (fs::is_regular_file(ya, ec) && fs::is_regular_file(yb, ec)) {
-    std::vector<config::LeafDifference> differ;
-    try {
-      differ = config::DifferingLeaves(
-          ReadInputFile(ya.string(), "a resolved scenario", kMaxRunFileBytes),
-          ReadInputFile(yb.string(), "a resolved scenario", kMaxRunFileBytes));
-    } catch (const YAML::Exception& e) {
-      throw InputError(SourceLocation{a.dir.string(), 0, 0, "scenario.resolved.yaml"},
-                       "the resolved scenarios hcpf run writes (YAML)",
-                       fmt::format("text that does not parse ({})", e.what()));
-    }
+  // The resolved scenarios, key by key (both parsed when they were read).
+  if (a.resolved && b.resolved) {
+    const std::vector<config::LeafDifference> differ =
+        config::DifferingLeaves(*a.resolved, *b.resolved);
     result->differing_keys = static_cast<int>(differ.size());
     if (differ.empty()) {
       h += "<p>Their resolved scenarios (<code>scenario.resolved.yaml</code>) are the same, key "
@@ -1041,11 +1065,15 @@ std::string ComparisonSection(const RunFolder& a, const RunFolder& b, bool same_
       h += "</table>\n";
     }
   } else {
-    h += "<p>One of the two folders has no <code>scenario.resolved.yaml</code>: their keys are "
-         "not compared.</p>\n";
+    h += fmt::format(
+        "<p>Run {} has no <code>scenario.resolved.yaml</code>: the keys are not compared.</p>\n",
+        a.resolved   ? "B"
+        : b.resolved ? "A"
+                     : "A nor B");
   }
 
   // The files one resolved scenario makes byte-identical.
+  std::error_code ec;
   std::vector<std::string> same, differ, one_side;
   for (const char* file : kDeterministicFiles) {
     const std::optional<bool> s = SameBytes(a.dir / file, b.dir / file);
@@ -1082,10 +1110,11 @@ std::string ComparisonSection(const RunFolder& a, const RunFolder& b, bool same_
                    listed(broken), broken.size() == 1 ? "s" : "");
   }
 
-  if (!same_truth) {
-    h += "<p>Their ground truths differ (<code>gt/gt.txt</code>), so the runs did not track the "
-         "same targets over the same frames: only their headline metrics are set side by "
-         "side, not their filters frame by frame.</p>\n";
+  if (!truth_difference.empty()) {
+    h += fmt::format(
+        "<p>{}, so the runs are not known to track the same targets over the same frames: only "
+        "their headline metrics are set side by side, not their filters frame by frame.</p>\n",
+        truth_difference);
     return h;
   }
   const bool filters_a = JsonMember(a.metrics, "filters").is_object();
@@ -1095,7 +1124,9 @@ std::string ComparisonSection(const RunFolder& a, const RunFolder& b, bool same_
         "<p>{} no filter states (<code>metrics.json</code> without a <code>filters</code> "
         "block: an external tracker's run, docs/external-trackers.md), so the runs' tracks are "
         "compared through the MOT metrics below, not filter by filter.</p>\n",
-        filters_a ? "Run B has" : filters_b ? "Run A has" : "Neither run has");
+        filters_a   ? "Run B has"
+        : filters_b ? "Run A has"
+                    : "Neither run has");
     return h;
   }
   if (targets.empty()) return h;
@@ -1165,8 +1196,8 @@ ReportResult WriteRunReport(const ReportOptions& options) {
   // rows, and the targets' filters are compared frame by frame.
   std::vector<TimelineRow> timeline;
   const fs::path gt_txt = dir / "gt" / "gt.txt";
-  const bool same_truth = other && other->frames == run.frames &&
-                          SameBytes(gt_txt, other->dir / "gt" / "gt.txt") == true;
+  const std::string truth_difference = other ? TruthDifference(run, *other) : std::string();
+  const bool same_truth = other && truth_difference.empty();
   std::vector<TargetComparison> compared;
   if (run.frames > 0 && fs::is_regular_file(gt_txt, ec)) {
     const metrics::MotFile gt =
@@ -1203,8 +1234,17 @@ ReportResult WriteRunReport(const ReportOptions& options) {
         ++result.plots;
       }
       if (!timeline.empty()) {
-        const bool detected = JsonMember(JsonMember(metrics, "detection"), "by_target").is_array();
-        const bool filtered = JsonMember(metrics, "filters").is_object();
+        // Compared, the rows are both runs'.
+        const auto has = [&](const json& m) {
+          return std::pair{JsonMember(JsonMember(m, "detection"), "by_target").is_array(),
+                           JsonMember(m, "filters").is_object()};
+        };
+        auto [detected, filtered] = has(metrics);
+        if (same_truth) {
+          const auto [detected_b, filtered_b] = has(other->metrics);
+          detected = detected || detected_b;
+          filtered = filtered || filtered_b;
+        }
         const std::string title =
             fmt::format("targets{}{}{}, frame by frame",
                         detected ? (filtered ? ", detections" : " and detections") : "",
@@ -1241,7 +1281,7 @@ ReportResult WriteRunReport(const ReportOptions& options) {
       EscapeMarkup(JsonText(manifest, "config_hash")));
   h += FramesSentence(manifest);
 
-  if (other) h += ComparisonSection(run, *other, same_truth, compared, &result);
+  if (other) h += ComparisonSection(run, *other, truth_difference, compared, &result);
 
   h += other ? "<h2>Headline metrics</h2>\n<table><tr><th>metric</th><th>name</th><th>A</th>"
                "<th>B</th><th>A − B</th></tr>\n"
@@ -1286,7 +1326,7 @@ ReportResult WriteRunReport(const ReportOptions& options) {
            "(\"A ...\"), then run B's (\"B ...\"); one row \"detections (A and B)\" where the "
            "two detectors found and missed it in the same frames.</p>\n";
     } else if (other) {
-      h += "<p>Run A's alone: B's ground truth differs.</p>\n";
+      h += "<p>Run A's alone: the runs are not compared frame by frame (above).</p>\n";
     }
     h += fmt::format("<div class=\"plot\" id=\"plot-timeline\">\n{}\n</div>\n", timeline_svg);
   }

@@ -129,26 +129,35 @@ FolderLock::FolderLock(FolderLock&& other) noexcept : fd_(other.fd_) { other.fd_
 
 namespace {
 
-// One --reuse folder: its finished runs by key.
+// One --reuse folder: its finished runs by key, and a shared lock on its
+// sweep.lock while they are copied (a sweep or merge cannot start writing
+// there meanwhile).
 struct Donor {
   fs::path dir;
   std::map<std::string, RunRecord> finished;
+  int lock_fd = -1;
+  Donor() = default;
+  Donor(const Donor&) = delete;
+  Donor& operator=(const Donor&) = delete;
+  ~Donor() {
+    if (lock_fd >= 0) ::close(lock_fd);
+  }
 };
 
 // The --reuse folders, each checked and its store read, before anything is
 // written; InputError at --reuse for a folder that is no sweep's, --out
 // itself, or one a sweep is writing to.
-std::vector<Donor> OpenDonors(const SweepOptions& options) {
+std::vector<std::unique_ptr<Donor>> OpenDonors(const SweepOptions& options) {
   const SourceLocation where{"hcpf sweep", 0, 0, "--reuse"};
   const std::string expected =
       "another sweep folder (holding results.sqlite) whose finished runs may be copied";
-  std::vector<Donor> donors;
+  std::vector<std::unique_ptr<Donor>> donors;
   std::error_code ec;
   for (const std::string& dir : options.reuse_dirs) {
     if (!fs::is_directory(dir, ec)) {
       throw InputError(
           where, expected,
-          fmt::format("{}: {}", dir, fs::exists(dir, ec) ? "a file" : "no such folder"));
+          fmt::format("\"{}\": {}", dir, fs::exists(dir, ec) ? "a file" : "no such folder"));
     }
     if (!fs::is_regular_file(fs::path(dir) / "results.sqlite", ec)) {
       throw InputError(where, expected, fmt::format("{}, a folder without results.sqlite", dir));
@@ -159,21 +168,60 @@ std::vector<Donor> OpenDonors(const SweepOptions& options) {
                                    "without --reuse)",
                                    dir));
     }
-    if (FolderLockHeld(dir)) {
+    auto donor = std::make_unique<Donor>();
+    donor->dir = dir;
+    // Held until the copies are made; a folder without sweep.lock (read-only
+    // media) is only read.
+    donor->lock_fd = ::open((fs::path(dir) / "sweep.lock").c_str(), O_RDONLY | O_CLOEXEC);
+    if (donor->lock_fd >= 0 && ::flock(donor->lock_fd, LOCK_SH | LOCK_NB) != 0) {
       throw InputError(where, expected,
-                       fmt::format("{}, where a sweep is running (its sweep.lock is held): "
-                                   "reuse it when that sweep ends",
+                       fmt::format("{}, where a sweep or merge is running (its sweep.lock is "
+                                   "held): reuse it when that ends",
                                    dir));
     }
     const auto store =
         ResultsStore::Open((fs::path(dir) / "results.sqlite").string(), StoreAccess::kReadOnly);
-    Donor donor{dir, {}};
     for (RunRecord& r : store->Runs()) {
-      if (r.ok) donor.finished.emplace(r.key, std::move(r));
+      if (r.ok) donor->finished.emplace(r.key, std::move(r));
     }
     donors.push_back(std::move(donor));
   }
   return donors;
+}
+
+// Copies a finished run folder: its manifest.json and the files it lists
+// under "files" (what the run wrote: not a report.html written there later),
+// or the whole folder when the manifest lists none (runs written before the
+// list), through a staging folder renamed into place.
+void CopyRunFolder(const fs::path& from, const fs::path& to) {
+  nlohmann::json manifest;
+  try {
+    manifest = nlohmann::json::parse(ReadInputFile(
+        (from / "manifest.json").string(), "a run manifest (JSON)", std::uint64_t{64} << 20));
+  } catch (const std::exception&) {
+  }
+  if (!manifest.is_object() || !manifest.contains("files") || !manifest["files"].is_object()) {
+    CopyWhole(from, to);
+    return;
+  }
+  const fs::path staging = to.string() + fmt::format(".partial-{}", ::getpid());
+  std::error_code ec;
+  fs::remove_all(staging, ec);
+  std::vector<std::string> files = {"manifest.json"};
+  for (const auto& [name, size] : manifest["files"].items()) files.push_back(name);
+  for (const std::string& name : files) {
+    const fs::path target = staging / name;
+    if (!ec) fs::create_directories(target.parent_path(), ec);
+    if (!ec) fs::copy_file(from / name, target, ec);
+    if (ec) break;
+  }
+  if (!ec) fs::remove_all(to, ec);
+  if (!ec) fs::rename(staging, to, ec);
+  if (ec) {
+    const std::string message = ec.message();
+    fs::remove_all(staging, ec);
+    throw RunError(fmt::format("cannot copy {} to {}: {}", from.string(), to.string(), message));
+  }
 }
 
 // The git revision in a run folder's manifest.json, or "unknown".
@@ -192,16 +240,25 @@ std::string RunRevision(const fs::path& run_dir) {
 // Copies into `plan` the runs of `todo` that a --reuse folder holds finished
 // with their folders intact (and, under --video, with the video the run
 // needs), records them, and returns the runs left to compute.
-std::vector<const SweepRun*> CopyFromDonors(const std::vector<Donor>& donors,
+std::vector<const SweepRun*> CopyFromDonors(const std::vector<std::unique_ptr<Donor>>& donors,
                                             const std::vector<const SweepRun*>& todo,
                                             const SweepOptions& options, SweepPlan& plan) {
   if (donors.empty() || todo.empty()) return todo;
-  // Per run: the first folder whose copy of it is whole (checked in parallel).
+  // Per run: the first folder whose copy of it is whole (checked in
+  // parallel). An external tracker's run is computed again: its program is
+  // named by path in the run's key, not by content, so a copy could be of
+  // another program's tracks.
   std::vector<const Donor*> source(todo.size(), nullptr);
   std::vector<const RunRecord*> record(todo.size(), nullptr);
+  std::vector<char> external(todo.size(), 0);
   ParallelFor(todo.size(), options.jobs, [&](size_t i) {
     const SweepRun& run = *todo[i];
-    for (const Donor& d : donors) {
+    if (run.cell->tracker_choice.external()) {
+      external[i] = 1;
+      return;
+    }
+    for (const auto& donor : donors) {
+      const Donor& d = *donor;
       const auto it = d.finished.find(run.key);
       if (it == d.finished.end()) continue;
       const fs::path from = d.dir / it->second.run_dir;
@@ -226,7 +283,7 @@ std::vector<const SweepRun*> CopyFromDonors(const std::vector<Donor>& donors,
     }
     RunRecord copy = NewRecord(*todo[i]);
     const fs::path to = plan.out / copy.run_dir;
-    CopyWhole(source[i]->dir / record[i]->run_dir, to);
+    CopyRunFolder(source[i]->dir / record[i]->run_dir, to);
     copy.metrics = ReadRunMetrics(to.string());
     copy.ok = true;
     plan.store->Put(copy);
@@ -244,6 +301,13 @@ std::vector<const SweepRun*> CopyFromDonors(const std::vector<Donor>& donors,
         "sweep: {} runs copied from {} (each the same resolved scenario as the run it stands "
         "for, so the same files: docs/outputs.md)",
         plan.result.copied, fmt::join(used, ", "));
+  }
+  const auto externals = std::count(external.begin(), external.end(), 1);
+  if (externals > 0) {
+    spdlog::info(
+        "sweep: {} run(s) of an external tracker are computed, not copied: the program is part "
+        "of a run's key by its path, not its content",
+        externals);
   }
   if (other_builds > 0) {
     spdlog::warn(
@@ -266,7 +330,7 @@ SweepPlan PrepareSweep(const SweepSpec& spec, const std::vector<SweepRun>& runs,
   if (options.video) {
     for (const SweepRun& run : runs) scenarios::CheckVideoFits(*run.cell, "--video");
   }
-  const std::vector<Donor> donors = OpenDonors(options);
+  const std::vector<std::unique_ptr<Donor>> donors = OpenDonors(options);
   std::error_code ec;
   fs::create_directories(out / "runs", ec);
   if (ec)
@@ -328,7 +392,6 @@ SweepPlan PrepareSweep(const SweepSpec& spec, const std::vector<SweepRun>& runs,
 
   SweepResult& result = plan.result;
   std::vector<const SweepRun*> todo;
-  int64_t without_video = 0;
   for (const SweepRun& run : runs) {
     if (run.index % options.shard_count != options.shard_index) continue;
     ++result.total;
@@ -337,16 +400,18 @@ SweepPlan PrepareSweep(const SweepSpec& spec, const std::vector<SweepRun>& runs,
       ++result.reused;
     } else {
       todo.push_back(&run);
-      if (lacks_video.count(run.key)) ++without_video;
     }
   }
+  todo = CopyFromDonors(donors, todo, options, plan);
+  const auto without_video = std::count_if(todo.begin(), todo.end(), [&](const SweepRun* run) {
+    return lacks_video.count(run->key) > 0;
+  });
   if (without_video > 0) {
     spdlog::info(
         "sweep: --video: {} finished run(s) have no overlay.mp4; computing them again to "
         "write it",
         without_video);
   }
-  todo = CopyFromDonors(donors, todo, options, plan);
   spdlog::info(
       "sweep: {} runs{}, {} already in {}{}, {} to compute with {}", result.total,
       options.shard_count > 1

@@ -798,6 +798,16 @@ TEST(RunReport, AgainstARunOfTheSameScenarioChecksDeterminism) {
                       "<code>tracks.txt</code> differs</strong>"),
             std::string::npos);
 
+  // Another frame count: not compared frame by frame, and said why.
+  auto manifest = nlohmann::json::parse(Read(b / "manifest.json"));
+  manifest["frames"] = 21;
+  std::ofstream(b / "manifest.json") << manifest.dump();
+  r = WriteReport({.dir = a.string(), .against = b.string()});
+  EXPECT_EQ(r.compared_targets, 0);
+  EXPECT_NE(Read(r.html_path).find("Run A has 20 frames and run B 21, so"), std::string::npos);
+  manifest["frames"] = 20;
+  std::ofstream(b / "manifest.json") << manifest.dump();
+
   std::ofstream(b / "gt" / "gt.txt", std::ios::app) << "20,3,1,1,5,5,1,1,1\n";
   const fs::path kept = dir / "kept";
   r = WriteReport(
@@ -838,6 +848,20 @@ TEST(RunReport, AgainstWhatIsNoOtherRunIsBadInput) {
     EXPECT_FALSE(fs::exists(out)) << against;
     EXPECT_FALSE(fs::exists(run / "report.html")) << against;
   }
+  // Another run whose resolved scenario is not YAML: named, before anything
+  // is written.
+  const fs::path other = RunMinimal(dir / "other", "none");
+  std::ofstream(other / "scenario.resolved.yaml") << "name: [unclosed\n";
+  try {
+    WriteReport(
+        {.dir = run.string(), .out_dir = (dir / "out").string(), .against = other.string()});
+    ADD_FAILURE() << "a damaged resolved scenario was accepted";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find((other / "scenario.resolved.yaml").string()),
+              std::string::npos)
+        << e.what();
+  }
+  EXPECT_FALSE(fs::exists(dir / "out"));
 }
 
 TEST(RunReport, ModeNoneHasNoEssLine) {
@@ -1339,11 +1363,12 @@ TEST(Report, SeedsToLookAtNameTheFurthestAndTheLeastFarPairOfEachFinding) {
   std::string html = Read(hand / "report.html");
   EXPECT_NE(html.find("for the one coloured cell, the seed"), std::string::npos);
   EXPECT_NE(html.find("(0 of them against it"), std::string::npos);
-  EXPECT_NE(html.find("<a href=\"runs/100-charged-0\">seed 0</a>: &Delta;&nbsp;-1<br><code>hcpf "
-                      "report " +
-                      (hand / "runs" / "100-charged-0").string() + " --against " +
-                      (hand / "runs" / "100-systematic-0").string() + "</code>"),
-            std::string::npos);
+  EXPECT_NE(
+      html.find("<a href=\"runs/100-charged-0\">seed index 0</a>: &Delta;&nbsp;-1<br><code>hcpf "
+                "report " +
+                (hand / "runs" / "100-charged-0").string() + " --against " +
+                (hand / "runs" / "100-systematic-0").string() + "</code>"),
+      std::string::npos);
 
   const auto dir = testing::SweepFolder("report seeds");
   StoreMeta meta;
@@ -1377,10 +1402,10 @@ TEST(Report, SeedsToLookAtNameTheFurthestAndTheLeastFarPairOfEachFinding) {
   html = Read(dir / "report.html");
   EXPECT_NE(html.find("(1 of them against it"), std::string::npos);
   const std::string quoted = "'" + (dir / "runs").string();
-  EXPECT_NE(html.find("seed 0</a>: &Delta;&nbsp;0.3<br><code>hcpf report " + quoted +
+  EXPECT_NE(html.find("seed index 0</a>: &Delta;&nbsp;0.3<br><code>hcpf report " + quoted +
                       "/1-charged-0' --against " + quoted + "/1-systematic-0'</code>"),
             std::string::npos);
-  EXPECT_NE(html.find("seed 9</a>: &Delta;&nbsp;-0.1 <b>(against it)</b>"), std::string::npos)
+  EXPECT_NE(html.find("seed index 9</a>: &Delta;&nbsp;-0.1 <b>(against it)</b>"), std::string::npos)
       << html;
 }
 

@@ -830,7 +830,7 @@ TEST(Cli, ReportOnARunFolderAndOnAnotherFolder) {
   ASSERT_EQ(r.exit_code, 0) << r.output;
   r = RunCommand(kHcpf + " report " + run.string() + " --against " + oracle.string());
   EXPECT_EQ(r.exit_code, 0) << r.output;
-  EXPECT_NE(r.output.find("against " + oracle.string() + ": 1 resolved keys differ"),
+  EXPECT_NE(r.output.find("against " + oracle.string() + ": 1 resolved key differs"),
             std::string::npos)
       << r.output;
   EXPECT_NE(ReadFile(run / "report.html").find("<code>tracker.camera_motion</code>"),

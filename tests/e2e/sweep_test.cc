@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 #include <signal.h>
 #include <sqlite3.h>
+#include <sys/file.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -525,8 +526,40 @@ TEST(SweepCli, ReuseCopiesTheRunsAnotherSweepFinishedAndEqualsAFreshSweep) {
                  (dir / "d2").string());
   EXPECT_NE(r.output.find("24 runs, 24 reused, 0 computed"), std::string::npos) << r.output;
 
+  // What a run did not write (a report made in its folder later) stays
+  // behind; a run made by another build is copied, and said to be.
+  std::vector<fs::path> donor_runs;
+  for (const auto& e : fs::directory_iterator(dir / "d2" / "runs")) donor_runs.push_back(e.path());
+  std::sort(donor_runs.begin(), donor_runs.end());
+  std::ofstream(donor_runs[1] / "report.html") << "<html></html>";
+  auto manifest = nlohmann::json::parse(ReadFile(donor_runs[1] / "manifest.json"));
+  manifest["git_revision"] = "0123456789ab";
+  std::ofstream(donor_runs[1] / "manifest.json") << manifest.dump();
+  r = RunCommand(kHcpf + " sweep " + three + " --out " + (dir / "other-build").string() +
+                 " --jobs 2 --reuse " + (dir / "d2").string());
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("sweep: 1 of the copied runs were made by hcpf at 0123456789ab, this "
+                          "hcpf is at "),
+            std::string::npos)
+      << r.output;
+  EXPECT_TRUE(fs::exists(dir / "other-build" / "runs" / donor_runs[1].filename() / "tracks.txt"));
+  EXPECT_FALSE(fs::exists(dir / "other-build" / "runs" / donor_runs[1].filename() / "report.html"));
+
+  // A folder a sweep or merge holds is not read.
+  {
+    const int fd = ::open((dir / "d2" / "sweep.lock").c_str(), O_RDWR);
+    ASSERT_GE(fd, 0);
+    ASSERT_EQ(::flock(fd, LOCK_EX | LOCK_NB), 0);
+    r = RunCommand(kHcpf + " sweep " + three + " --out " + (dir / "locked").string() + " --reuse " +
+                   (dir / "d2").string());
+    ::close(fd);
+    EXPECT_EQ(r.exit_code, 2) << r.output;
+    EXPECT_NE(r.output.find("where a sweep or merge is running"), std::string::npos) << r.output;
+    EXPECT_FALSE(fs::exists(dir / "locked" / "runs"));
+  }
+
   // A damaged run folder of the donor is not copied.
-  const fs::path damaged = fs::directory_iterator(dir / "d2" / "runs")->path();
+  const fs::path damaged = donor_runs[0];
   fs::remove(damaged / "tracks.txt");
   r = RunCommand(kHcpf + " sweep " + three + " --out " + (dir / "again").string() +
                  " --jobs 2 --reuse " + (dir / "d2").string());
@@ -536,6 +569,24 @@ TEST(SweepCli, ReuseCopiesTheRunsAnotherSweepFinishedAndEqualsAFreshSweep) {
       << r.output;
   EXPECT_EQ(StoreRows(dir / "again" / "results.sqlite"),
             StoreRows(dir / "fresh" / "results.sqlite"));
+
+  // An external tracker's runs are computed again: its program is in their
+  // key by path, not content.
+  fs::create_directories(dir / "ext");
+  std::ofstream(dir / "ext" / "sweep.yaml")
+      << "base: " << testing::LibraryScenario("crossing-dominant") << "\nseeds: 2\ngrid:\n"
+      << "  frames: [30]\n  tracker.type: [external]\n  tracker.command: [["
+      << (kSource / "examples" / "trackers" / "sort_tracker.py").string() << "]]\n";
+  const std::string ext = (dir / "ext" / "sweep.yaml").string();
+  r = RunCommand(kHcpf + " sweep " + ext + " --out " + (dir / "e1").string());
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  r = RunCommand(kHcpf + " sweep " + ext + " --out " + (dir / "e2").string() + " --reuse " +
+                 (dir / "e1").string());
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("2 run(s) of an external tracker are computed, not copied"),
+            std::string::npos)
+      << r.output;
+  EXPECT_NE(r.output.find("2 runs, 0 reused, 2 computed"), std::string::npos) << r.output;
 
   fs::create_directories(dir / "plain");
   for (const auto& [reuse, found] : std::vector<std::pair<fs::path, std::string>>{

@@ -18,7 +18,8 @@ struct LeafDifference {
   std::optional<std::string> second;
 };
 
-// The scalar leaves that differ between two YAML texts, in key order. A null
+// The scalar leaves that differ between two YAML texts, in key order (list
+// indices as numbers: "a[2]" before "a[10]"). A null
 // is the text "null". Throws YAML::Exception on text that is not YAML.
 std::vector<LeafDifference> DifferingLeaves(const std::string& first_yaml,
                                             const std::string& second_yaml);

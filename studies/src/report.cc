@@ -1861,6 +1861,11 @@ ReportResult WriteReport(const ReportOptions& options) {
   const std::vector<RunRecord> runs = store->Runs();
   const std::vector<Cell> cells = CellsOf(runs, meta);
   const Layout layout = LayoutOf(cells, meta);
+  // Paired differences against the reference series value (their plots
+  // below), and --against read and checked before anything is written.
+  const Paired paired = PairedRowsOf(cells, meta);
+  const std::unique_ptr<AgainstStore> there =
+      options.against.empty() ? nullptr : OpenAgainst(options.against, meta, paired);
 
   const fs::path work = MakePlotWorkDir(out, options.out_dir.empty());
   std::error_code ec;
@@ -1877,9 +1882,8 @@ ReportResult WriteReport(const ReportOptions& options) {
   std::vector<std::pair<std::string, std::string>> svgs =
       Plots(cells, layout, meta, work, options.gnuplot, "", "");
   result.plots = static_cast<int>(svgs.size());
-  // Paired differences against the reference series value, and their plots
-  // (files d<i>, ids difference-<metric>[-<panel index>]).
-  const Paired paired = PairedRowsOf(cells, meta);
+  // The paired differences' plots (files d<i>, ids
+  // difference-<metric>[-<panel index>]).
   const std::vector<Cell> difference_cells = DifferenceCells(paired, meta);
   std::vector<std::pair<std::string, std::string>> difference_svgs;
   if (!difference_cells.empty()) {
@@ -1908,8 +1912,7 @@ ReportResult WriteReport(const ReportOptions& options) {
   }
   // Replication against another store of the same swept keys.
   std::string replication_html;
-  if (!options.against.empty()) {
-    const std::unique_ptr<AgainstStore> there = OpenAgainst(options.against, meta, paired);
+  if (there) {
     replication_html = "<h2 id=\"replication\">Replication</h2>\n";
     std::string sentence;
     if (paired.series_index >= 0) {

@@ -1959,6 +1959,12 @@ TEST(Report, AgainstAnotherStoreSaysWhichFindingsReplicate) {
                       "keys, found " +
                       (six / "nosuch").string() + ": no such folder"),
             std::string::npos);
+  // Checked before anything is written: --out is not made.
+  EXPECT_THROW(WriteReport({.dir = six.string(),
+                            .out_dir = (six / "report-out").string(),
+                            .against = (six / "nosuch").string()}),
+               InputError);
+  EXPECT_FALSE(fs::exists(six / "report-out"));
   const fs::path other = testing::SweepFolder("replicate-other-keys");
   {
     StoreMeta meta;

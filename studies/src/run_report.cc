@@ -962,6 +962,107 @@ std::vector<TargetComparison> CompareTargets(const std::set<int64_t>& targets,
   return out;
 }
 
+// Per target of a run's metrics.json detection.by_target, frame by frame
+// (index = frame from 0): whether it is counted (found or missed) and whether
+// the detector found it.
+struct TargetDetections {
+  std::vector<char> counted;
+  std::vector<char> found;
+};
+
+std::map<int64_t, TargetDetections> DetectionFrames(const json& metrics, int frames) {
+  std::map<int64_t, TargetDetections> out;
+  const json& by_target = JsonMember(JsonMember(metrics, "detection"), "by_target");
+  if (!by_target.is_array()) return out;
+  for (const json& t : by_target) {
+    const std::optional<int64_t> id = JsonInt(t, "target");
+    if (!id) continue;
+    TargetDetections& d = out[*id];
+    d.counted.assign(static_cast<size_t>(frames), 0);
+    d.found.assign(static_cast<size_t>(frames), 0);
+    for (const char* key : {"found_frames", "missed_frames"}) {
+      const json& runs = JsonMember(t, key);
+      if (!runs.is_array()) continue;
+      for (const json& run : runs) {
+        if (!run.is_array() || run.size() != 2 || !run[0].is_number_integer() ||
+            !run[1].is_number_integer()) {
+          continue;
+        }
+        const int64_t first = std::max<int64_t>(0, run[0].get<int64_t>());
+        const int64_t last = std::min<int64_t>(frames - 1, run[1].get<int64_t>());
+        for (int64_t f = first; f <= last; ++f) {
+          d.counted[static_cast<size_t>(f)] = 1;
+          if (key[0] == 'f') d.found[static_cast<size_t>(f)] = 1;
+        }
+      }
+    }
+  }
+  return out;
+}
+
+// Two runs' detectors target by target over one ground truth: the frames
+// each found each target in, and those one found it in alone. "" when
+// neither run has a detector's per-target counts.
+std::string DetectionComparisonHtml(const RunFolder& a, const RunFolder& b,
+                                    const std::set<int64_t>& targets) {
+  const auto da = DetectionFrames(a.metrics, a.frames);
+  const auto db = DetectionFrames(b.metrics, b.frames);
+  if (da.empty() && db.empty()) return {};
+  if (da.empty() || db.empty()) {
+    return fmt::format(
+        "<p>Only run {} has a detector's per-target counts (<code>metrics.json</code> "
+        "<code>detection.by_target</code>: a rendered run with a detector), so the detectors are "
+        "not compared target by target.</p>\n",
+        da.empty() ? "B" : "A");
+  }
+  const TargetDetections none{std::vector<char>(static_cast<size_t>(a.frames), 0),
+                              std::vector<char>(static_cast<size_t>(a.frames), 0)};
+  const auto of = [&none](const auto& m, int64_t id) -> const TargetDetections& {
+    const auto it = m.find(id);
+    return it == m.end() ? none : it->second;
+  };
+  std::string rows;
+  int alone_a = 0, alone_b = 0;
+  for (const int64_t id : targets) {
+    const TargetDetections& x = of(da, id);
+    const TargetDetections& y = of(db, id);
+    int counted_a = 0, found_a = 0, counted_b = 0, found_b = 0, only_a = 0, only_b = 0;
+    int first = -1;
+    for (size_t f = 0; f < x.counted.size() && f < y.counted.size(); ++f) {
+      counted_a += x.counted[f];
+      found_a += x.found[f];
+      counted_b += y.counted[f];
+      found_b += y.found[f];
+      const bool both = x.counted[f] && y.counted[f];
+      only_a += both && x.found[f] && !y.found[f];
+      only_b += both && y.found[f] && !x.found[f];
+      if (both && x.found[f] != y.found[f] && first < 0) first = static_cast<int>(f);
+    }
+    alone_a += only_a;
+    alone_b += only_b;
+    const std::string first_text =
+        first < 0 ? std::string("–")
+                  : fmt::format("{} (A {}, B {})", first + 1,
+                                x.found[static_cast<size_t>(first)] ? "found" : "missed",
+                                y.found[static_cast<size_t>(first)] ? "found" : "missed");
+    rows += fmt::format(
+        "<tr><td class=\"k\">target {}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td>"
+        "<td>{}</td><td>{}</td><td class=\"k\">{}</td></tr>\n",
+        id, counted_a, found_a, counted_b, found_b, only_a, only_b, first_text);
+  }
+  return fmt::format(
+             "<p>Detector by detector (A: <code>{}</code>, B: <code>{}</code>), target by target: "
+             "the frames each target is counted in (visible enough, docs/vision.md) and found in "
+             "(IoU ≥ 0.5, as the detection-quality table counts); of the frames counted in both, "
+             "found by A's detector alone <b>{}</b>, by B's alone <b>{}</b>.</p>\n"
+             "<table><tr><th>target</th><th>counted, A</th><th>found, A</th><th>counted, "
+             "B</th><th>found, B</th><th>found by A alone</th><th>found by B alone</th><th>first "
+             "frame found by one alone</th></tr>\n",
+             EscapeMarkup(JsonText(a.manifest, "detector")),
+             EscapeMarkup(JsonText(b.manifest, "detector")), alone_a, alone_b) +
+         rows + "</table>\n";
+}
+
 // "CORRECT", "no filter" for "".
 std::string StateText(const std::string& state) { return state.empty() ? "no filter" : state; }
 
@@ -986,6 +1087,7 @@ std::string TruthDifference(const RunFolder& a, const RunFolder& b) {
 // one ground truth, target by target where their filters are CORRECT.
 std::string ComparisonSection(const RunFolder& a, const RunFolder& b,
                               const std::string& truth_difference,
+                              const std::set<int64_t>& truth_targets,
                               const std::vector<TargetComparison>& targets, ReportResult* result) {
   std::string h = "<h2>Compared with another run</h2>\n";
   const auto who = [](const RunFolder& r) {
@@ -1117,6 +1219,7 @@ std::string ComparisonSection(const RunFolder& a, const RunFolder& b,
         truth_difference);
     return h;
   }
+  h += DetectionComparisonHtml(a, b, truth_targets);
   const bool filters_a = JsonMember(a.metrics, "filters").is_object();
   const bool filters_b = JsonMember(b.metrics, "filters").is_object();
   if (!filters_a || !filters_b) {
@@ -1199,20 +1302,20 @@ ReportResult WriteRunReport(const ReportOptions& options) {
   const std::string truth_difference = other ? TruthDifference(run, *other) : std::string();
   const bool same_truth = other && truth_difference.empty();
   std::vector<TargetComparison> compared;
+  std::set<int64_t> truth_targets;  // gt/gt.txt's, when the runs share it
   if (run.frames > 0 && fs::is_regular_file(gt_txt, ec)) {
     const metrics::MotFile gt =
         metrics::ReadMotFile(gt_txt.string(), metrics::MotFileKind::kGroundTruth, run.frames);
     const TimelineParts parts = ReadTimeline(gt, metrics, manifest, run.frames);
     if (same_truth) {
+      for (const auto& [id, row] : parts.truth) truth_targets.insert(id);
       timeline = ComparedTimelineRows(
           parts, ReadTimeline(gt, other->metrics, other->manifest, run.frames));
       // Filter states exist only where a particle filter ran (an external
       // tracker's metrics.json has no filters block): none is not "no filter".
       if (JsonMember(metrics, "filters").is_object() &&
           JsonMember(other->metrics, "filters").is_object()) {
-        std::set<int64_t> targets;
-        for (const auto& [id, row] : parts.truth) targets.insert(id);
-        compared = CompareTargets(targets, metrics, other->metrics, run.frames);
+        compared = CompareTargets(truth_targets, metrics, other->metrics, run.frames);
       }
     } else {
       timeline = TimelineRows(parts);
@@ -1281,7 +1384,9 @@ ReportResult WriteRunReport(const ReportOptions& options) {
       EscapeMarkup(JsonText(manifest, "config_hash")));
   h += FramesSentence(manifest);
 
-  if (other) h += ComparisonSection(run, *other, truth_difference, compared, &result);
+  if (other) {
+    h += ComparisonSection(run, *other, truth_difference, truth_targets, compared, &result);
+  }
 
   h += other ? "<h2>Headline metrics</h2>\n<table><tr><th>metric</th><th>name</th><th>A</th>"
                "<th>B</th><th>A − B</th></tr>\n"

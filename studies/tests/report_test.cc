@@ -742,6 +742,16 @@ TEST(RunReport, AgainstAnotherRunSaysWhatDiffersAndComparesItsFiltersFrameByFram
   EXPECT_NE(html.find("<tr><td class=\"k\">target 2</td><td>2</td><td>2</td><td>0</td><td>0</td>"
                       "<td>2</td><td>0</td><td class=\"k\">3 (A CORRECT, B no filter)</td></tr>"),
             std::string::npos);
+  // The detectors target by target: target 1 alike (found in frames 1–2 of
+  // 1–4), target 2 found by A in frames 3–4 and by B in frame 3 alone.
+  EXPECT_NE(html.find("found by A's detector alone <b>1</b>, by B's alone <b>0</b>"),
+            std::string::npos);
+  EXPECT_NE(html.find("<tr><td class=\"k\">target 1</td><td>4</td><td>2</td><td>4</td><td>2</td>"
+                      "<td>0</td><td>0</td><td class=\"k\">–</td></tr>"),
+            std::string::npos);
+  EXPECT_NE(html.find("<tr><td class=\"k\">target 2</td><td>2</td><td>2</td><td>2</td><td>1</td>"
+                      "<td>1</td><td>0</td><td class=\"k\">4 (A found, B missed)</td></tr>"),
+            std::string::npos);
   // The headline table: A, B and A − B.
   EXPECT_NE(html.find("<th>A</th><th>B</th><th>A − B</th>"), std::string::npos);
   EXPECT_NE(html.find("<code>da_accuracy</code></td><td>0.75</td><td>0.5</td><td>+0.25</td>"),

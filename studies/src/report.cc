@@ -744,8 +744,9 @@ std::string ShellWord(std::string word) {
 // the pair whose difference goes furthest in the direction of the mean
 // difference, and the pair that goes least far (a counterexample when its
 // difference has the other sign), each with the command that sets its two
-// runs side by side (hcpf report RUN --against OTHER_RUN). Folded, since a
-// big sweep has many findings.
+// runs side by side (hcpf report RUN --against OTHER_RUN). Timings
+// (manifest.json metrics) are left out. Folded, since a big sweep has many
+// findings.
 std::string SeedsToLookAtHtml(const Paired& paired, const StoreMeta& meta,
                               const std::vector<size_t>& shown, const std::string& dir,
                               const std::string& link_prefix) {
@@ -769,6 +770,9 @@ std::string SeedsToLookAtHtml(const Paired& paired, const StoreMeta& meta,
     for (const std::string& m : meta.report.y) {
       const PairedComparison& c = row.metrics.at(m);
       if (VerdictOf(c, m) == PairedVerdict::kNotSignificant) continue;
+      // A timing's extreme seed is the machine's noise, not a run to look at.
+      const CatalogueMetric* entry = FindMetric(m);
+      if (entry != nullptr && entry->file == "manifest.json") continue;
       const PairExtremes& e = row.extremes.at(m);
       if (e.max_run == nullptr) continue;
       ++findings;

@@ -1387,7 +1387,7 @@ TEST(Report, SeedsToLookAtNameTheFurthestAndTheLeastFarPairOfEachFinding) {
   meta.swept_keys = {"tracker.particles", "tracker.resampling.method"};
   meta.report.x = "tracker.particles";
   meta.report.series = "tracker.resampling.method";
-  meta.report.y = {"mota"};
+  meta.report.y = {"mota", "ms_per_frame"};
   meta.report.reference = "systematic";
   meta.run_count = 20;
   {
@@ -1404,12 +1404,17 @@ TEST(Report, SeedsToLookAtNameTheFurthestAndTheLeastFarPairOfEachFinding) {
         r.ok = true;
         r.run_dir = "runs/" + r.key;
         r.metrics["mota"] = std::string(method) == "systematic" ? 0.5 : (seed < 9 ? 0.8 : 0.4);
+        // A timing finding (charged slower on every seed): no seed to look at.
+        r.metrics["ms_per_frame"] = std::string(method) == "systematic" ? 1.0 : 2.0 + 0.1 * seed;
         store->Put(r);
       }
     }
   }
   WriteReport({.dir = dir.string()});
   html = Read(dir / "report.html");
+  EXPECT_NE(html.find("style=\"background:#f8dede\">&Delta;&nbsp;1.45"), std::string::npos)
+      << "the timing is a finding";
+  EXPECT_NE(html.find("for the one coloured cell"), std::string::npos);
   EXPECT_NE(html.find("(1 of them against it"), std::string::npos);
   const std::string quoted = "'" + (dir / "runs").string();
   EXPECT_NE(html.find("seed index 0</a>: &Delta;&nbsp;0.3<br><code>hcpf report " + quoted +

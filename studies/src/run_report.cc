@@ -513,6 +513,47 @@ int StateColour(const std::string& state) {
 
 std::string RgbText(int rgb) { return fmt::format("#{:06x}", rgb); }
 
+// metrics.json filters.per_frame_states: visit(filter, frame from 0, state)
+// for every row with a filter and a frame.
+template <typename Visit>
+void ForEachFilterState(const json& metrics, Visit visit) {
+  const json& states = JsonMember(JsonMember(metrics, "filters"), "per_frame_states");
+  if (!states.is_array()) return;
+  for (const json& r : states) {
+    const std::optional<int64_t> filter = JsonInt(r, "filter");
+    const std::optional<int64_t> frame = JsonInt(r, "frame");
+    if (filter && frame) visit(*filter, *frame, JsonText(r, "state"));
+  }
+}
+
+// The frame runs of a metrics.json detection.by_target entry's `key`
+// ("found_frames" or "missed_frames"): visit(first, last) for each
+// well-formed [first, last] pair, frames from 0.
+template <typename Visit>
+void ForEachFrameRun(const json& entry, const char* key, Visit visit) {
+  const json& runs = JsonMember(entry, key);
+  if (!runs.is_array()) return;
+  for (const json& run : runs) {
+    if (run.is_array() && run.size() == 2 && run[0].is_number_integer() &&
+        run[1].is_number_integer()) {
+      visit(run[0].get<int64_t>(), run[1].get<int64_t>());
+    }
+  }
+}
+
+// metrics.json filters.mapping: (filter, target) pairs in the file's order.
+std::vector<std::pair<int64_t, int64_t>> FilterMapping(const json& metrics) {
+  std::vector<std::pair<int64_t, int64_t>> out;
+  const json& mapping = JsonMember(JsonMember(metrics, "filters"), "mapping");
+  if (!mapping.is_array()) return out;
+  for (const json& m : mapping) {
+    const std::optional<int64_t> filter = JsonInt(m, "filter");
+    const std::optional<int64_t> target = JsonInt(m, "target");
+    if (filter && target) out.emplace_back(*filter, *target);
+  }
+  return out;
+}
+
 // The timeline's rows before they are ordered: per target (gt/gt.txt) its
 // visibility; in a rendered run with a detector, the frames where the
 // detector found or missed it (metrics.json detection.by_target) and the frame
@@ -553,18 +594,12 @@ TimelineParts ReadTimeline(const metrics::MotFile& gt, const json& metrics, cons
       TimelineRow& row = detected.try_emplace(*id, row_of("detections")).first->second;
       for (const auto& [key, rgb] :
            {std::pair{"found_frames", kFound.rgb}, std::pair{"missed_frames", kMissed.rgb}}) {
-        const json& runs = JsonMember(t, key);
-        if (!runs.is_array()) continue;
-        for (const json& run : runs) {
-          if (!run.is_array() || run.size() != 2 || !run[0].is_number_integer() ||
-              !run[1].is_number_integer()) {
-            continue;
-          }
-          // metrics.json counts frames from 0.
-          for (int64_t f = run[0].get<int64_t>() + 1; f <= run[1].get<int64_t>() + 1; ++f) {
+        // metrics.json counts frames from 0.
+        ForEachFrameRun(t, key, [&, rgb = rgb](int64_t first, int64_t last) {
+          for (int64_t f = first + 1; f <= last + 1; ++f) {
             if (in_range(f)) row.colour[static_cast<size_t>(f - 1)] = rgb;
           }
-        }
+        });
       }
       truth.try_emplace(*id, row_of(fmt::format("target {}", *id)));
     }
@@ -581,21 +616,12 @@ TimelineParts ReadTimeline(const metrics::MotFile& gt, const json& metrics, cons
     }
   }
   // Filter rows, by filter id, and the target each is mapped to.
-  const json& filters = JsonMember(metrics, "filters");
   std::map<int64_t, TimelineRow> filter_rows;
-  const json& states = JsonMember(filters, "per_frame_states");
-  if (states.is_array()) {
-    for (const json& r : states) {
-      const std::optional<int64_t> filter = JsonInt(r, "filter");
-      const std::optional<int64_t> frame = JsonInt(r, "frame");
-      if (!filter || !frame) continue;
-      TimelineRow& row =
-          filter_rows.try_emplace(*filter, row_of(fmt::format("filter {}", *filter))).first->second;
-      if (in_range(*frame + 1)) {
-        row.colour[static_cast<size_t>(*frame)] = StateColour(JsonText(r, "state"));
-      }
-    }
-  }
+  ForEachFilterState(metrics, [&](int64_t filter, int64_t frame, const std::string& state) {
+    TimelineRow& row =
+        filter_rows.try_emplace(filter, row_of(fmt::format("filter {}", filter))).first->second;
+    if (in_range(frame + 1)) row.colour[static_cast<size_t>(frame)] = StateColour(state);
+  });
   const json& reacquired = JsonMember(JsonMember(manifest, "tracker"), "reacquired");
   if (reacquired.is_array()) {
     for (const json& r : reacquired) {
@@ -608,16 +634,9 @@ TimelineParts ReadTimeline(const metrics::MotFile& gt, const json& metrics, cons
   }
   std::map<int64_t, std::vector<int64_t>> filters_of_target;
   std::set<int64_t> mapped;
-  const json& mapping = JsonMember(filters, "mapping");
-  if (mapping.is_array()) {
-    for (const json& m : mapping) {
-      const std::optional<int64_t> filter = JsonInt(m, "filter");
-      const std::optional<int64_t> target = JsonInt(m, "target");
-      if (!filter || !target || !filter_rows.contains(*filter) || !truth.contains(*target)) {
-        continue;
-      }
-      if (mapped.insert(*filter).second) filters_of_target[*target].push_back(*filter);
-    }
+  for (const auto& [filter, target] : FilterMapping(metrics)) {
+    if (!filter_rows.contains(filter) || !truth.contains(target)) continue;
+    if (mapped.insert(filter).second) filters_of_target[target].push_back(filter);
   }
   return {std::move(truth), std::move(detected), std::move(filter_rows),
           std::move(filters_of_target), std::move(mapped)};
@@ -873,31 +892,14 @@ constexpr std::array<const char*, 9> kDeterministicFiles = {
 // the first of them by filter id (SWAPPED, HIJACKED, STRAYED or LOST); else
 // COASTING when one of them exists that frame; "" when none does.
 std::map<int64_t, std::vector<std::string>> TargetStates(const json& metrics, int frames) {
-  const json& filters = JsonMember(metrics, "filters");
   std::map<int64_t, int64_t> target_of;
-  const json& mapping = JsonMember(filters, "mapping");
-  if (mapping.is_array()) {
-    for (const json& m : mapping) {
-      const std::optional<int64_t> filter = JsonInt(m, "filter");
-      const std::optional<int64_t> target = JsonInt(m, "target");
-      if (filter && target) target_of.try_emplace(*filter, *target);
-    }
-  }
+  for (const auto& [filter, target] : FilterMapping(metrics)) target_of.try_emplace(filter, target);
   std::map<int64_t, std::vector<std::string>> by_filter;
-  const json& states = JsonMember(filters, "per_frame_states");
-  if (states.is_array()) {
-    for (const json& r : states) {
-      const std::optional<int64_t> filter = JsonInt(r, "filter");
-      const std::optional<int64_t> frame = JsonInt(r, "frame");
-      if (!filter || !frame || *frame < 0 || *frame >= frames || !target_of.contains(*filter)) {
-        continue;
-      }
-      std::vector<std::string>& row =
-          by_filter.try_emplace(*filter, std::vector<std::string>(static_cast<size_t>(frames)))
-              .first->second;
-      row[static_cast<size_t>(*frame)] = JsonText(r, "state");
-    }
-  }
+  ForEachFilterState(metrics, [&](int64_t filter, int64_t frame, const std::string& state) {
+    if (frame < 0 || frame >= frames || !target_of.contains(filter)) return;
+    by_filter.try_emplace(filter, std::vector<std::string>(static_cast<size_t>(frames)))
+        .first->second[static_cast<size_t>(frame)] = state;
+  });
   const auto rank = [](const std::string& state) {
     return state == "CORRECT" ? 0 : state.empty() ? 3 : state == "COASTING" ? 2 : 1;
   };
@@ -980,21 +982,15 @@ std::map<int64_t, TargetDetections> DetectionFrames(const json& metrics, int fra
     TargetDetections& d = out[*id];
     d.counted.assign(static_cast<size_t>(frames), 0);
     d.found.assign(static_cast<size_t>(frames), 0);
-    for (const char* key : {"found_frames", "missed_frames"}) {
-      const json& runs = JsonMember(t, key);
-      if (!runs.is_array()) continue;
-      for (const json& run : runs) {
-        if (!run.is_array() || run.size() != 2 || !run[0].is_number_integer() ||
-            !run[1].is_number_integer()) {
-          continue;
-        }
-        const int64_t first = std::max<int64_t>(0, run[0].get<int64_t>());
-        const int64_t last = std::min<int64_t>(frames - 1, run[1].get<int64_t>());
-        for (int64_t f = first; f <= last; ++f) {
-          d.counted[static_cast<size_t>(f)] = 1;
-          if (key[0] == 'f') d.found[static_cast<size_t>(f)] = 1;
-        }
-      }
+    for (const bool found : {true, false}) {
+      ForEachFrameRun(t, found ? "found_frames" : "missed_frames",
+                      [&](int64_t first, int64_t last) {
+                        for (int64_t f = std::max<int64_t>(0, first);
+                             f <= std::min<int64_t>(frames - 1, last); ++f) {
+                          d.counted[static_cast<size_t>(f)] = 1;
+                          if (found) d.found[static_cast<size_t>(f)] = 1;
+                        }
+                      });
     }
   }
   return out;

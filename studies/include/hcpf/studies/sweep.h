@@ -194,7 +194,8 @@ struct SweepOptions {
   // has not finished whose key (the resolved scenario's hash) one of them
   // holds finished, with its folder intact, is copied from there instead of
   // computed; one resolved scenario gives the same files (docs/outputs.md).
-  // The first folder that has a run gives it.
+  // The first folder that holds the run whole gives it; an external
+  // tracker's runs are never copied (its program is in the key by path).
   std::vector<std::string> reuse_dirs;
   void Validate() const;
   // Rendered runs: the llvmpipe rasteriser threads (LP_NUM_THREADS) to set

@@ -573,8 +573,8 @@ Paired PairedRowsOf(const std::vector<Cell>& cells, const StoreMeta& meta) {
         a.push_back(r->metrics.at(m));
         b.push_back(p->second->metrics.at(m));
         // Pairs as ComparePaired counts them: both values finite.
-        const double d = a.back() - b.back();
         if (!std::isfinite(a.back()) || !std::isfinite(b.back())) continue;
+        const double d = a.back() - b.back();
         if (extremes.max_run == nullptr || d > extremes.max_difference) {
           extremes.max_run = r;
           extremes.max_reference = p->second;

@@ -648,11 +648,17 @@ void CheckSweepFolder(const std::string& dir, const std::string& option) {
 
 namespace internal {
 
-void CopyWhole(const fs::path& from, const fs::path& to) {
+void CopyWhole(const fs::path& from, const fs::path& to, const std::vector<std::string>& files) {
   const fs::path staging = to.string() + fmt::format(".partial-{}", ::getpid());
   std::error_code ec;
   fs::remove_all(staging, ec);
-  fs::copy(from, staging, fs::copy_options::recursive, ec);
+  if (files.empty()) {
+    fs::copy(from, staging, fs::copy_options::recursive, ec);
+  }
+  for (const std::string& name : files) {
+    if (!ec) fs::create_directories((staging / name).parent_path(), ec);
+    if (!ec) fs::copy_file(from / name, staging / name, ec);
+  }
   if (!ec && fs::is_directory(staging, ec)) fs::remove_all(to, ec);  // rename replaces a file
   if (!ec) fs::rename(staging, to, ec);
   if (ec) {

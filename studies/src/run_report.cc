@@ -1083,8 +1083,7 @@ std::string TruthDifference(const RunFolder& a, const RunFolder& b) {
 // one ground truth, target by target where their filters are CORRECT.
 std::string ComparisonSection(const RunFolder& a, const RunFolder& b,
                               const std::string& truth_difference,
-                              const std::set<int64_t>& truth_targets,
-                              const std::vector<TargetComparison>& targets, ReportResult* result) {
+                              const std::set<int64_t>& truth_targets, ReportResult* result) {
   std::string h = "<h2>Compared with another run</h2>\n";
   const auto who = [](const RunFolder& r) {
     return fmt::format(
@@ -1174,13 +1173,13 @@ std::string ComparisonSection(const RunFolder& a, const RunFolder& b,
   std::error_code ec;
   std::vector<std::string> same, differ, one_side;
   for (const char* file : kDeterministicFiles) {
-    const std::optional<bool> s = SameBytes(a.dir / file, b.dir / file);
-    const bool in_a = fs::is_regular_file(a.dir / file, ec);
-    const bool in_b = fs::is_regular_file(b.dir / file, ec);
     const std::string name = fmt::format("<code>{}</code>", file);
-    if (s) {
+    if (const std::optional<bool> s = SameBytes(a.dir / file, b.dir / file)) {
       (*s ? same : differ).push_back(name);
-    } else if (in_a != in_b) {
+      continue;
+    }
+    const bool in_a = fs::is_regular_file(a.dir / file, ec);
+    if (in_a != fs::is_regular_file(b.dir / file, ec)) {
       one_side.push_back(fmt::format("{} ({} only)", name, in_a ? "A" : "B"));
     }
   }
@@ -1216,6 +1215,8 @@ std::string ComparisonSection(const RunFolder& a, const RunFolder& b,
     return h;
   }
   h += DetectionComparisonHtml(a, b, truth_targets);
+  // Filter states exist only where a particle filter ran (an external
+  // tracker's metrics.json has no filters block): none is not "no filter".
   const bool filters_a = JsonMember(a.metrics, "filters").is_object();
   const bool filters_b = JsonMember(b.metrics, "filters").is_object();
   if (!filters_a || !filters_b) {
@@ -1228,6 +1229,8 @@ std::string ComparisonSection(const RunFolder& a, const RunFolder& b,
                     : "Neither run has");
     return h;
   }
+  const std::vector<TargetComparison> targets =
+      CompareTargets(truth_targets, a.metrics, b.metrics, a.frames);
   if (targets.empty()) return h;
   int correct_both = 0, only_a = 0, only_b = 0;
   for (const TargetComparison& c : targets) {
@@ -1297,7 +1300,6 @@ ReportResult WriteRunReport(const ReportOptions& options) {
   const fs::path gt_txt = dir / "gt" / "gt.txt";
   const std::string truth_difference = other ? TruthDifference(run, *other) : std::string();
   const bool same_truth = other && truth_difference.empty();
-  std::vector<TargetComparison> compared;
   std::set<int64_t> truth_targets;  // gt/gt.txt's, when the runs share it
   if (run.frames > 0 && fs::is_regular_file(gt_txt, ec)) {
     const metrics::MotFile gt =
@@ -1307,12 +1309,6 @@ ReportResult WriteRunReport(const ReportOptions& options) {
       for (const auto& [id, row] : parts.truth) truth_targets.insert(id);
       timeline = ComparedTimelineRows(
           parts, ReadTimeline(gt, other->metrics, other->manifest, run.frames));
-      // Filter states exist only where a particle filter ran (an external
-      // tracker's metrics.json has no filters block): none is not "no filter".
-      if (JsonMember(metrics, "filters").is_object() &&
-          JsonMember(other->metrics, "filters").is_object()) {
-        compared = CompareTargets(truth_targets, metrics, other->metrics, run.frames);
-      }
     } else {
       timeline = TimelineRows(parts);
     }
@@ -1381,7 +1377,7 @@ ReportResult WriteRunReport(const ReportOptions& options) {
   h += FramesSentence(manifest);
 
   if (other) {
-    h += ComparisonSection(run, *other, truth_difference, truth_targets, compared, &result);
+    h += ComparisonSection(run, *other, truth_difference, truth_targets, &result);
   }
 
   h += other ? "<h2>Headline metrics</h2>\n<table><tr><th>metric</th><th>name</th><th>A</th>"

@@ -58,10 +58,12 @@ struct SweepPlan {
 SweepPlan PrepareSweep(const SweepSpec& spec, const std::vector<SweepRun>& runs,
                        const SweepOptions& options, const std::string& workers);
 
-// Copies `from` (a file, or a folder with what it holds) to "<to>.partial-<pid>"
-// and renames that over `to`, so `to` is whole or as it was. RunError naming
-// both when it cannot.
-void CopyWhole(const std::filesystem::path& from, const std::filesystem::path& to);
+// Copies `from` (a file, or a folder with what it holds; of a folder only
+// `files`, paths relative to it, when that is not empty) to
+// "<to>.partial-<pid>" and renames that over `to`, so `to` is whole or as it
+// was. RunError naming both when it cannot.
+void CopyWhole(const std::filesystem::path& from, const std::filesystem::path& to,
+               const std::vector<std::string>& files = {});
 
 // The executor options.isolate_exe asks for.
 std::unique_ptr<RunExecutor> MakeExecutor(const SweepOptions& options);

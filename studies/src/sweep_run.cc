@@ -192,49 +192,25 @@ std::vector<std::unique_ptr<Donor>> OpenDonors(const SweepOptions& options) {
 // Copies a finished run folder: its manifest.json and the files it lists
 // under "files" (what the run wrote: not a report.html written there later),
 // or the whole folder when the manifest lists none (runs written before the
-// list), through a staging folder renamed into place.
-void CopyRunFolder(const fs::path& from, const fs::path& to) {
+// list), through a staging folder renamed into place (CopyWhole). Returns the
+// git revision the manifest names, or "unknown".
+std::string CopyRunFolder(const fs::path& from, const fs::path& to) {
   nlohmann::json manifest;
   try {
     manifest = nlohmann::json::parse(ReadInputFile(
         (from / "manifest.json").string(), "a run manifest (JSON)", std::uint64_t{64} << 20));
   } catch (const std::exception&) {
   }
-  if (!manifest.is_object() || !manifest.contains("files") || !manifest["files"].is_object()) {
-    CopyWhole(from, to);
-    return;
+  std::vector<std::string> files;
+  if (manifest.is_object() && manifest.contains("files") && manifest["files"].is_object()) {
+    files.push_back("manifest.json");
+    for (const auto& [name, size] : manifest["files"].items()) files.push_back(name);
   }
-  const fs::path staging = to.string() + fmt::format(".partial-{}", ::getpid());
-  std::error_code ec;
-  fs::remove_all(staging, ec);
-  std::vector<std::string> files = {"manifest.json"};
-  for (const auto& [name, size] : manifest["files"].items()) files.push_back(name);
-  for (const std::string& name : files) {
-    const fs::path target = staging / name;
-    if (!ec) fs::create_directories(target.parent_path(), ec);
-    if (!ec) fs::copy_file(from / name, target, ec);
-    if (ec) break;
-  }
-  if (!ec) fs::remove_all(to, ec);
-  if (!ec) fs::rename(staging, to, ec);
-  if (ec) {
-    const std::string message = ec.message();
-    fs::remove_all(staging, ec);
-    throw RunError(fmt::format("cannot copy {} to {}: {}", from.string(), to.string(), message));
-  }
-}
-
-// The git revision in a run folder's manifest.json, or "unknown".
-std::string RunRevision(const fs::path& run_dir) {
-  try {
-    const nlohmann::json manifest = nlohmann::json::parse(ReadInputFile(
-        (run_dir / "manifest.json").string(), "a run manifest (JSON)", std::uint64_t{64} << 20));
-    if (manifest.contains("git_revision") && manifest["git_revision"].is_string()) {
-      return manifest["git_revision"].get<std::string>();
-    }
-  } catch (const std::exception&) {
-  }
-  return "unknown";
+  CopyWhole(from, to, files);
+  return manifest.is_object() && manifest.contains("git_revision") &&
+                 manifest["git_revision"].is_string()
+             ? manifest["git_revision"].get<std::string>()
+             : std::string("unknown");
 }
 
 // Copies into `plan` the runs of `todo` that a --reuse folder holds finished
@@ -283,13 +259,12 @@ std::vector<const SweepRun*> CopyFromDonors(const std::vector<std::unique_ptr<Do
     }
     RunRecord copy = NewRecord(*todo[i]);
     const fs::path to = plan.out / copy.run_dir;
-    CopyRunFolder(source[i]->dir / record[i]->run_dir, to);
+    const std::string revision = CopyRunFolder(source[i]->dir / record[i]->run_dir, to);
     copy.metrics = ReadRunMetrics(to.string());
     copy.ok = true;
     plan.store->Put(copy);
     ++plan.result.copied;
     used.insert(source[i]->dir.string());
-    const std::string revision = RunRevision(to);
     if (revision != here) {
       ++other_builds;
       revisions.insert(revision);

@@ -12,6 +12,8 @@ PACKAGES=(
   libsqlite3-dev libxxhash-dev
   # tracker / renderer / videos
   libopencv-dev
+  # overlay videos: H.264 through FFmpeg (libavcodec59 brings libx264)
+  libavcodec-dev libavformat-dev libavutil-dev libswscale-dev
   libosmesa6-dev libegl-dev libgl-dev libegl-mesa0 libgles-dev mesa-common-dev
   libassimp-dev libtinygltf-dev libstb-dev libpng-dev libjpeg-dev libzstd-dev
   # tests and benchmarks; clang-format checks the formatting in CI

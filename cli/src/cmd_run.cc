@@ -43,8 +43,9 @@ Command AddRunCommand(CLI::App& parent) {
       ->capture_default_str();
   app->add_flag("--no-cache", options->no_cache, "Render every frame, read and write no cache");
   app->add_flag("--video", options->video,
-                "Also write overlay.mp4: frames, ground truth, detections, estimates, "
-                "particles (tracker.keep_particles > 0) and each filter's state");
+                "Also write overlay.mp4 (H.264, shown by hcpf report): frames, ground truth, "
+                "detections, estimates, particles (tracker.keep_particles > 0) and each "
+                "filter's state");
   return {app, [options] {
             std::vector<scenarios::Override> overrides;
             for (const auto& s : options->sets) overrides.push_back(scenarios::ParseOverride(s));

@@ -74,15 +74,15 @@ void DrawDetection(cv::Mat& image, const Detection& d) {
 
 }  // namespace
 
-void WriteOverlayVideo(const std::string& path, const Scenario& scenario,
-                       const OverlayContent& content, const std::vector<RgbImage>* frames) {
+OverlayVideo WriteOverlayVideo(const std::string& path, const Scenario& scenario,
+                               const OverlayContent& content, const std::vector<RgbImage>* frames) {
   HCPF_CHECK(frames == nullptr || frames->size() == content.truth.size())
       << frames->size() << " images for " << content.truth.size() << " frames";
   OverlayFrameSource source;
   if (frames != nullptr) {
     source = [frames](int f) -> std::optional<RgbImage> { return (*frames)[f]; };
   }
-  WriteOverlayVideo(path, scenario, content, source);
+  return WriteOverlayVideo(path, scenario, content, source);
 }
 
 void CheckVideoFits(const Scenario& scenario, const std::string& option) {
@@ -98,8 +98,8 @@ void CheckVideoFits(const Scenario& scenario, const std::string& option) {
       "nothing was run; leave out " + option + " or lower camera.resolution");
 }
 
-void WriteOverlayVideo(const std::string& path, const Scenario& scenario,
-                       const OverlayContent& content, const OverlayFrameSource& frame_at) {
+OverlayVideo WriteOverlayVideo(const std::string& path, const Scenario& scenario,
+                               const OverlayContent& content, const OverlayFrameSource& frame_at) {
   const std::span<const FrameGroundTruth> truth = content.truth;
   const std::span<const tracker::FrameReport> reports = content.reports;
   const std::span<const Observation> observations = content.observations;
@@ -109,7 +109,7 @@ void WriteOverlayVideo(const std::string& path, const Scenario& scenario,
       << observations.size() << " observations for " << truth.size() << " frames";
   const int width = scenario.world.camera.width_px;
   const int height = scenario.world.camera.height_px;
-  // OpenCV's VideoWriter, FFmpeg backend first, through the video plugin.
+  // FFmpeg, through the video plugin.
   const std::unique_ptr<VideoSink> writer = OpenVideoSink(path, scenario.world.fps, width, height);
   // (frame, filter) -> state.
   std::map<std::pair<int, int64_t>, metrics::FilterState> states;
@@ -167,7 +167,8 @@ void WriteOverlayVideo(const std::string& path, const Scenario& scenario,
     if (!observations.empty()) {
       for (const Detection& d : observations[f].detections) DrawDetection(image, d);
     }
-    Label(image, fmt::format("{}  frame {}", scenario.name, truth[f].frame), {6, 16},
+    // Frames counted from 1, as gt/gt.txt, filters.csv and the report do.
+    Label(image, fmt::format("{}  frame {}", scenario.name, truth[f].frame + 1), {6, 16},
           {255, 255, 255});
     if (!observations.empty()) {
       Label(image, fmt::format("detections ({})", detector), {6, 32}, kDetectionColour, 0.35);
@@ -175,6 +176,17 @@ void WriteOverlayVideo(const std::string& path, const Scenario& scenario,
     writer->Write(image);
   }
   writer->Close();
+  if (const std::string error = writer->error(); !error.empty()) {
+    throw RunError(fmt::format("cannot write video {}: {}", path, error));
+  }
+  const bool h264 = std::string(writer->fourcc()) == "avc1";
+  return {.fourcc = writer->fourcc(),
+          .codec = h264 ? "H.264" : "MPEG-4 Part 2",
+          .plays_in_browsers = h264,
+          .frames = static_cast<int>(truth.size()),
+          .fps = scenario.world.fps,
+          .width = width,
+          .height = height};
 }
 
 }  // namespace hcpf::scenarios

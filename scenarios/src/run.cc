@@ -412,15 +412,16 @@ RunSummary RunScenario(const Scenario& scenario, const RunOptions& options) {
   WriteTextFile((partial / "metrics.json").string(), metrics::RunMetricsToJson(scores));
   WriteTextFile((partial / "camera_motion.csv").string(),
                 FormatCameraMotionCsv(camera_motion.records()));
+  std::optional<OverlayVideo> video;
   if (options.video) {
     // At detection level there are no pixels: the overlay is drawn on a
     // plain background.
-    WriteOverlayVideo((partial / "overlay.mp4").string(), scenario,
-                      {.truth = truth,
-                       .reports = reports,
-                       .observations = observations,
-                       .filters = scores.filters ? &*scores.filters : nullptr},
-                      scene.rendered ? &scene.images : nullptr);
+    video = WriteOverlayVideo((partial / "overlay.mp4").string(), scenario,
+                              {.truth = truth,
+                               .reports = reports,
+                               .observations = observations,
+                               .filters = scores.filters ? &*scores.filters : nullptr},
+                              scene.rendered ? &scene.images : nullptr);
   }
   timings["write_s"] = Seconds(t0);
   summary.wall_time_s = Seconds(start);
@@ -487,6 +488,13 @@ RunSummary RunScenario(const Scenario& scenario, const RunOptions& options) {
   manifest["ground_truth"] = scene.rendered ? "rendered (pixel-exact)" : "analytic";
   if (detection) manifest["detections_from_cache"] = detection->frames_from_cache();
   manifest["frames"] = scenario.world.frames;
+  if (video) {
+    // What the report needs to show the video (docs/outputs.md).
+    manifest["video"] = {{"file", "overlay.mp4"},   {"fourcc", video->fourcc},
+                         {"codec", video->codec},   {"plays_in_browsers", video->plays_in_browsers},
+                         {"frames", video->frames}, {"fps", video->fps},
+                         {"width", video->width},   {"height", video->height}};
+  }
   manifest["gt_boxes"] = summary.gt_boxes;
   manifest["detections"] = summary.detections;
   manifest["timings"] = timings;

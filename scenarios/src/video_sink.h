@@ -1,9 +1,9 @@
 #pragma once
-// Video files through OpenCV's VideoWriter, loaded as a plugin
+// Video files through FFmpeg's libraries, loaded as a plugin
 // (libhcpf_video.so, built from video_plugin.cc) on first use. Linking
-// opencv_videoio into `hcpf` would load FFmpeg and ~100 other shared
-// libraries in every process (~40 ms before main(), e.g. for `hcpf score`);
-// only runs that write a video pay for it now.
+// FFmpeg into `hcpf` would load it and its many shared libraries in every
+// process (~40 ms before main(), measured with opencv_videoio, e.g. for
+// `hcpf score`); only runs that write a video pay for it now.
 
 #include <memory>
 #include <opencv2/core.hpp>
@@ -18,10 +18,16 @@ class VideoSink {
   virtual void Write(const cv::Mat& bgr) = 0;
   // Finishes the file.
   virtual void Close() = 0;
+  // The codec it writes: "avc1" (H.264) or "mp4v" (MPEG-4 Part 2).
+  virtual const char* fourcc() const = 0;
+  // Why a Write or Close failed (the first failure; later frames are
+  // dropped), "" when none did.
+  virtual const char* error() const = 0;
 };
 
-// Opens `path` for MPEG-4 Part 2 (fourcc mp4v) at `fps`; throws RunError when
-// the plugin cannot be loaded or the writer cannot be opened.
+// Opens `path` for H.264 (fourcc avc1) at `fps`, or for MPEG-4 Part 2 (mp4v)
+// when FFmpeg has no H.264 encoder; throws RunError when the plugin cannot be
+// loaded or neither writer can be opened.
 std::unique_ptr<VideoSink> OpenVideoSink(const std::string& path, double fps, int width,
                                          int height);
 

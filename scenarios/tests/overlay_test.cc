@@ -1,10 +1,14 @@
-// overlay.mp4: written, read back by OpenCV with the right frame count and size, boxes drawn.
+// overlay.mp4: written as H.264, read back by OpenCV with the right frame count and size, boxes
+// drawn.
 
 #include "hcpf/scenarios/overlay.h"
 
 #include <gtest/gtest.h>
+#include <sched.h>
 
 #include <filesystem>
+#include <fstream>
+#include <iterator>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/videoio.hpp>
 
@@ -76,6 +80,128 @@ TEST(Overlay, VideoReadsBackWithFrameCountAndSize) {
     }
   }
   EXPECT_GT(drawn, 100);
+}
+
+// The video is H.264 in MP4, which browsers play (the run report shows it):
+// the writer says so, and the file says so itself (its sample entry "avc1"
+// with the decoder configuration "avcC", and the codec FFmpeg reads back).
+TEST(Overlay, WritesH264ThatBrowsersPlay) {
+  const auto dir = ::hcpf::testing::FreshDir("overlay-h264");
+  const Scenario scenario = LoadScenarioText(testing::kMinimal, "minimal.yaml");  // 320x240
+  std::vector<FrameGroundTruth> truth;
+  for (int f = 0; f < 6; ++f) truth.push_back(ComputeGroundTruth(scenario.world, f));
+  const std::string path = (dir / "overlay.mp4").string();
+  const OverlayVideo video = WriteOverlayVideo(path, scenario, {.truth = truth}, nullptr);
+  EXPECT_EQ(video.fourcc, "avc1");
+  EXPECT_EQ(video.codec, "H.264");
+  EXPECT_TRUE(video.plays_in_browsers);
+  EXPECT_EQ(video.frames, 6);
+  EXPECT_EQ(video.fps, scenario.world.fps);
+  EXPECT_EQ(video.width, 320);
+  EXPECT_EQ(video.height, 240);
+  std::ifstream in(path, std::ios::binary);
+  const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  ASSERT_GT(bytes.size(), 8u);
+  EXPECT_EQ(bytes.substr(4, 4), "ftyp") << "an MP4 (ISO base media) file";
+  EXPECT_NE(bytes.find("avc1"), std::string::npos);
+  EXPECT_NE(bytes.find("avcC"), std::string::npos);
+  EXPECT_EQ(bytes.find("mp4v"), std::string::npos);
+  cv::VideoCapture capture(path);
+  ASSERT_TRUE(capture.isOpened());
+  const int code = static_cast<int>(capture.get(cv::CAP_PROP_FOURCC));
+  std::string fourcc;
+  for (int i = 0; i < 4; ++i) fourcc += static_cast<char>((code >> (8 * i)) & 0xff);
+  EXPECT_TRUE(fourcc == "avc1" || fourcc == "h264" || fourcc == "H264") << fourcc;
+}
+
+// H.264 codes 4:2:0 colour, which needs even sides: a camera of 321 x 241
+// gives a video of 322 x 242 whose extra column and row copy the last ones
+// (a grey image with a white last column: the copy is white too).
+TEST(Overlay, AnOddSideGainsACopyOfItsLastRowOrColumn) {
+  const auto dir = ::hcpf::testing::FreshDir("overlay-odd");
+  const Scenario scenario =
+      LoadScenarioText(testing::kMinimal, "minimal.yaml", {{"camera.resolution", "[321, 241]"}});
+  std::vector<FrameGroundTruth> truth;
+  std::vector<RgbImage> images;
+  for (int f = 0; f < 3; ++f) {
+    truth.push_back(ComputeGroundTruth(scenario.world, f));
+    RgbImage image;
+    image.width = 321;
+    image.height = 241;
+    image.pixels.assign(321 * 241 * 3, 90);
+    for (int y = 0; y < 241; ++y) {
+      for (int c = 0; c < 3; ++c) image.pixels[(static_cast<size_t>(y) * 321 + 320) * 3 + c] = 255;
+    }
+    images.push_back(image);
+  }
+  const std::string path = (dir / "overlay.mp4").string();
+  const OverlayVideo video = WriteOverlayVideo(path, scenario, {.truth = truth}, &images);
+  EXPECT_EQ(video.width, 321);
+  EXPECT_EQ(video.height, 241);
+  cv::VideoCapture in(path);
+  cv::Mat image;
+  int frames = 0;
+  cv::Mat first;
+  while (in.read(image)) {
+    if (frames++ == 0) first = image.clone();
+  }
+  EXPECT_EQ(frames, 3);
+  ASSERT_EQ(first.cols, 322);
+  ASSERT_EQ(first.rows, 242);
+  // Mid-height, away from the labels: the last two columns white, the one
+  // before them grey (a lossy codec: within a few grey levels).
+  for (const int x : {320, 321}) EXPECT_GT(first.at<cv::Vec3b>(200, x)[1], 225) << x;
+  EXPECT_NEAR(first.at<cv::Vec3b>(200, 300)[1], 90, 12);
+  EXPECT_NEAR(first.at<cv::Vec3b>(241, 100)[1], 90, 12) << "the copied last row";
+}
+
+// One FFmpeg writes the same bytes whatever the machine's core count: the
+// encoder runs one thread (libx264 left to itself starts threads by the
+// cores the calling thread may use, and its bytes change with them). Written
+// once on every core this thread may use and once on one core alone, from
+// textured frames that move (a still plain frame might code alike anyway).
+TEST(Overlay, SameBytesWhateverTheCoreCount) {
+  cpu_set_t all;
+  CPU_ZERO(&all);
+  ASSERT_EQ(sched_getaffinity(0, sizeof(all), &all), 0);
+  if (CPU_COUNT(&all) < 2) GTEST_SKIP() << "one core only: nothing to compare with";
+  const auto dir = ::hcpf::testing::FreshDir("overlay-cores");
+  const Scenario scenario = LoadScenarioText(testing::kMinimal, "minimal.yaml");  // 320x240
+  std::vector<FrameGroundTruth> truth;
+  std::vector<RgbImage> images;
+  cv::Mat texture(240 + 40, 320 + 40, CV_8UC3);
+  cv::RNG rng(11);
+  rng.fill(texture, cv::RNG::UNIFORM, 0, 255);
+  for (int f = 0; f < 30; ++f) {
+    truth.push_back(ComputeGroundTruth(scenario.world, f));
+    const cv::Mat view = texture(cv::Rect(f, f / 2, 320, 240)).clone();
+    RgbImage image;
+    image.width = 320;
+    image.height = 240;
+    image.pixels.assign(view.data, view.data + view.total() * 3);
+    images.push_back(std::move(image));
+  }
+  const auto write = [&](const std::string& name) {
+    const std::string path = (dir / name).string();
+    WriteOverlayVideo(path, scenario, {.truth = truth}, &images);
+    std::ifstream in(path, std::ios::binary);
+    return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  };
+  const std::string on_all = write("all.mp4");
+  cpu_set_t one;
+  CPU_ZERO(&one);
+  for (int cpu = 0; cpu < CPU_SETSIZE; ++cpu) {
+    if (CPU_ISSET(cpu, &all)) {
+      CPU_SET(cpu, &one);
+      break;
+    }
+  }
+  ASSERT_EQ(sched_setaffinity(0, sizeof(one), &one), 0);
+  const std::string on_one = write("one.mp4");
+  ASSERT_EQ(sched_setaffinity(0, sizeof(all), &all), 0);
+  ASSERT_GT(on_all.size(), 1000u);
+  EXPECT_TRUE(on_all == on_one) << on_all.size() << " bytes on " << CPU_COUNT(&all) << " cores, "
+                                << on_one.size() << " on one";
 }
 
 TEST(Overlay, UnwritablePathIsARunError) {

@@ -726,20 +726,6 @@ std::string FormatP(double p) {
   return fmt::format("p&nbsp;=&nbsp;{:.3f}", p);
 }
 
-// `word` as one shell word: unchanged when it holds only characters no
-// shell treats specially, else in single quotes ('\'' for a quote); a path
-// that starts with '-' gets "./" so that it is not read as an option.
-std::string ShellWord(std::string word) {
-  if (!word.empty() && word[0] == '-') word = "./" + word;
-  const bool plain = !word.empty() && std::all_of(word.begin(), word.end(), [](char c) {
-    return std::isalnum(static_cast<unsigned char>(c)) || std::strchr("_./-+=:,@%", c) != nullptr;
-  });
-  if (plain) return word;
-  std::string quoted = "'";
-  for (const char c : word) quoted += c == '\'' ? std::string("'\\''") : std::string(1, c);
-  return quoted + "'";
-}
-
 // The seed pairs to look at behind every coloured cell of the paired table:
 // the pair whose difference goes furthest in the direction of the mean
 // difference, and the pair that goes least far (a counterexample when its

@@ -9,18 +9,21 @@
 #include <fmt/ranges.h>
 #include <yaml-cpp/exceptions.h>
 
+#include <algorithm>
 #include <array>
 #include <charconv>
 #include <cmath>
 #include <cstdint>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <limits>
 #include <map>
 #include <nlohmann/json.hpp>
 #include <optional>
 #include <set>
 #include <string>
+#include <string_view>
 #include <tuple>
 #include <vector>
 
@@ -789,6 +792,14 @@ struct RunFolder {
   // scenario.resolved.yaml, parsed once to check it is YAML; nullopt when
   // the folder has none.
   std::optional<std::string> resolved;
+  // overlay.mp4 (hcpf run --video): whether the folder has one, and whether
+  // a browser plays it: H.264, by an hcpf whose manifest.json says so
+  // (its "video" entry, with the rate and frame count the report seeks by).
+  bool has_video = false;
+  bool video_plays = false;
+  std::string video_codec;  // the manifest's; "" when it has no video entry
+  double video_fps = 0.0;
+  int video_frames = 0;
 };
 
 // The run folder's manifest.json and metrics.json; throws InputError when
@@ -817,8 +828,22 @@ RunFolder ReadRunFolder(const fs::path& dir) {
   if (frames && *frames > 0 && *frames <= std::numeric_limits<int>::max()) {
     run.frames = static_cast<int>(*frames);
   }
-  const fs::path resolved = dir / "scenario.resolved.yaml";
   std::error_code ec;
+  run.has_video = fs::is_regular_file(dir / "overlay.mp4", ec);
+  const json& video = JsonMember(run.manifest, "video");
+  if (run.has_video && video.is_object()) {
+    run.video_codec = JsonText(video, "codec");
+    const double fps = JsonDouble(video, "fps");
+    const std::optional<int64_t> frames = JsonInt(video, "frames");
+    const json& plays = JsonMember(video, "plays_in_browsers");
+    if (plays.is_boolean() && plays.get<bool>() && std::isfinite(fps) && fps > 0.0 && frames &&
+        *frames > 0 && *frames <= std::numeric_limits<int>::max()) {
+      run.video_plays = true;
+      run.video_fps = fps;
+      run.video_frames = static_cast<int>(*frames);
+    }
+  }
+  const fs::path resolved = dir / "scenario.resolved.yaml";
   if (fs::is_regular_file(resolved, ec)) {
     run.resolved = ReadInputFile(resolved.string(), "a resolved scenario", kMaxRunFileBytes);
     try {
@@ -964,6 +989,16 @@ std::vector<TargetComparison> CompareTargets(const std::set<int64_t>& targets,
   return out;
 }
 
+// A frame (counted from 1) in the report's text: where the report shows a
+// video that plays, a link that moves every overlay video to that frame
+// ("#frame=K", handled by the report's script); else the number.
+using FrameLink = std::function<std::string(int)>;
+
+FrameLink MakeFrameLink(bool videos) {
+  if (!videos) return [](int frame) { return fmt::format("{}", frame); };
+  return [](int frame) { return fmt::format("<a href=\"#frame={0}\">{0}</a>", frame); };
+}
+
 // Per target of a run's metrics.json detection.by_target, frame by frame
 // (index = frame from 0): whether it is counted (found or missed) and whether
 // the detector found it.
@@ -1000,7 +1035,7 @@ std::map<int64_t, TargetDetections> DetectionFrames(const json& metrics, int fra
 // each found each target in, and those one found it in alone. "" when
 // neither run has a detector's per-target counts.
 std::string DetectionComparisonHtml(const RunFolder& a, const RunFolder& b,
-                                    const std::set<int64_t>& targets) {
+                                    const std::set<int64_t>& targets, const FrameLink& link) {
   const auto da = DetectionFrames(a.metrics, a.frames);
   const auto db = DetectionFrames(b.metrics, b.frames);
   if (da.empty() && db.empty()) return {};
@@ -1038,7 +1073,7 @@ std::string DetectionComparisonHtml(const RunFolder& a, const RunFolder& b,
     alone_b += only_b;
     const std::string first_text =
         first < 0 ? std::string("–")
-                  : fmt::format("{} (A {}, B {})", first + 1,
+                  : fmt::format("{} (A {}, B {})", link(first + 1),
                                 x.found[static_cast<size_t>(first)] ? "found" : "missed",
                                 y.found[static_cast<size_t>(first)] ? "found" : "missed");
     rows += fmt::format(
@@ -1062,6 +1097,224 @@ std::string DetectionComparisonHtml(const RunFolder& a, const RunFolder& b,
 // "CORRECT", "no filter" for "".
 std::string StateText(const std::string& state) { return state.empty() ? "no filter" : state; }
 
+// A filter's run of consecutive frames in one scored state other than
+// CORRECT (SWAPPED, HIJACKED, STRAYED or LOST), frames counted from 1.
+struct Episode {
+  std::string state;
+  int first = 0, last = 0;
+};
+
+// Per filter (metrics.json filters.per_frame_states), its episodes in frame
+// order; COASTING, CORRECT and frames without the filter end an episode.
+std::map<int64_t, std::vector<Episode>> FilterEpisodes(const json& metrics, int frames) {
+  std::map<int64_t, std::map<int, std::string>> states;
+  ForEachFilterState(metrics, [&](int64_t filter, int64_t frame, const std::string& state) {
+    if (frame >= 0 && frame < frames) states[filter][static_cast<int>(frame) + 1] = state;
+  });
+  std::map<int64_t, std::vector<Episode>> out;
+  for (const auto& [filter, by_frame] : states) {
+    std::vector<Episode>& episodes = out[filter];
+    for (const auto& [frame, state] : by_frame) {
+      if (state.empty() || state == "CORRECT" || state == "COASTING") continue;
+      if (!episodes.empty() && episodes.back().state == state &&
+          episodes.back().last == frame - 1) {
+        episodes.back().last = frame;
+      } else {
+        episodes.push_back({state, frame, frame});
+      }
+    }
+  }
+  return out;
+}
+
+// The "Frames to look at" rows of one run, (what, frames): each filter's
+// episodes, the frames the target models were cut and those where a filter
+// was re-acquired, each frame through `link`.
+std::vector<std::pair<std::string, std::string>> FramesToLookAt(const RunFolder& r,
+                                                                const FrameLink& link) {
+  constexpr size_t kEpisodesShown = 8;
+  std::vector<std::pair<std::string, std::string>> rows;
+  const auto row = [&rows](std::string what, std::string frames) {
+    rows.emplace_back(std::move(what), std::move(frames));
+  };
+  std::map<int64_t, int64_t> target_of;
+  for (const auto& [filter, target] : FilterMapping(r.metrics))
+    target_of.try_emplace(filter, target);
+  for (const auto& [filter, episodes] : FilterEpisodes(r.metrics, r.frames)) {
+    if (episodes.empty()) continue;
+    std::string text;
+    for (size_t i = 0; i < episodes.size() && i < kEpisodesShown; ++i) {
+      const Episode& e = episodes[i];
+      text += fmt::format("{}{} {}{}", i ? ", " : "", e.state, link(e.first),
+                          e.last > e.first ? fmt::format("–{}", e.last) : std::string());
+    }
+    if (episodes.size() > kEpisodesShown) {
+      text +=
+          fmt::format(" and {} more (the timeline shows them)", episodes.size() - kEpisodesShown);
+    }
+    const auto target = target_of.find(filter);
+    row(target == target_of.end() ? fmt::format("filter {} (no target)", filter)
+                                  : fmt::format("filter {} (target {})", filter, target->second),
+        text);
+  }
+  const auto frame_list = [&](const json& list, const char* who, const char* label) {
+    if (!list.is_array()) return;
+    std::string text;
+    for (const json& m : list) {
+      const std::optional<int64_t> id = JsonInt(m, who);
+      const std::optional<int64_t> frame = JsonInt(m, "frame");
+      if (!id || !frame || *frame < 0 || *frame >= r.frames) continue;
+      text += fmt::format("{}{} {}: {}", text.empty() ? "" : ", ", who, *id,
+                          link(static_cast<int>(*frame) + 1));
+    }
+    if (!text.empty()) row(label, text);
+  };
+  frame_list(JsonMember(r.manifest, "target_model_sources"), "target", "target models cut");
+  frame_list(JsonMember(JsonMember(r.manifest, "tracker"), "reacquired"), "filter",
+             "filters re-acquired");
+  return rows;
+}
+
+// The report's script for its overlay videos: buttons and "#frame=K" links
+// move every video to frame K (counted from 1; shown at the middle of its
+// display interval), each video's caption follows its frame, and a report
+// opened at "report.html#frame=K" starts there.
+constexpr std::string_view kVideoScript = R"(<script>
+const hcpfVideos = () => [...document.querySelectorAll('video.overlay')];
+function hcpfFrameOf(v) {
+  return Math.min(Math.floor(v.currentTime * +v.dataset.fps + 1e-6) + 1, +v.dataset.frames);
+}
+function hcpfShow(frame) {
+  for (const v of hcpfVideos()) {
+    const k = Math.min(Math.max(frame, 1), +v.dataset.frames);
+    v.pause();
+    v.currentTime = (k - 0.5) / +v.dataset.fps;
+  }
+  document.getElementById('overlay-frame').value = frame;
+}
+function hcpfStep(d) { hcpfShow(hcpfFrameOf(hcpfVideos()[0]) + d); }
+function hcpfPlay() {
+  const t = hcpfVideos()[0].currentTime;
+  for (const v of hcpfVideos()) { v.currentTime = t; v.play(); }
+}
+function hcpfPause() { for (const v of hcpfVideos()) v.pause(); }
+document.addEventListener('click', e => {
+  const a = e.target.closest('a[href^="#frame="]');
+  if (!a) return;
+  e.preventDefault();
+  history.replaceState(null, '', a.getAttribute('href'));
+  hcpfShow(+a.getAttribute('href').slice(7));
+  document.getElementById('overlay').scrollIntoView();
+});
+window.addEventListener('load', () => {
+  for (const v of hcpfVideos()) {
+    const caption = document.getElementById(v.id + '-frame');
+    const update = () => { caption.textContent = hcpfFrameOf(v); };
+    v.addEventListener('timeupdate', update);
+    v.addEventListener('seeked', update);
+  }
+  const m = /^#frame=(\d+)$/.exec(location.hash);
+  if (m) { hcpfShow(+m[1]); document.getElementById('overlay').scrollIntoView(); }
+});
+</script>
+)";
+
+// The overlay video section: the runs' overlay.mp4 that browsers play, side
+// by side, moved together by the buttons and the report's frame links; a link
+// and the reason for one that does not play; then the frames to look at. ""
+// when neither run has a video. `link_a` is the link to A's video.
+std::string VideoSection(const RunFolder& a, const RunFolder* b, const fs::path& out,
+                         const std::string& link_a, const FrameLink& link) {
+  if (!a.has_video && !(b && b->has_video)) return {};
+  std::string h = "<h2 id=\"overlay\">Overlay video</h2>\n";
+  std::vector<std::pair<const RunFolder*, std::string>> runs = {{&a, b ? "A" : ""}};
+  if (b) runs.emplace_back(b, "B");
+  std::string figures, notes;
+  int frames = 0;
+  for (const auto& [r, name] : runs) {
+    const std::string who = name.empty() ? std::string("This run") : "Run " + name;
+    // One resolved scenario gives the same files (docs/outputs.md,
+    // "Determinism"): run again with --video, the run gains its video.
+    const std::string again =
+        fmt::format("<code>hcpf run {} --out {} --video</code> makes the same run with one",
+                    EscapeMarkup(ShellWord((r->dir / "scenario.resolved.yaml").string())),
+                    EscapeMarkup(ShellWord(r->dir.string() + "-video")));
+    if (!r->has_video) {
+      notes += fmt::format("<p>{} has no <code>overlay.mp4</code>: {}.</p>\n", who, again);
+      continue;
+    }
+    const std::string href = r == &a ? link_a : LinkFrom(out, r->dir / "overlay.mp4");
+    if (!r->video_plays) {
+      notes += fmt::format(
+          "<p>{}'s video: <a href=\"{}\">overlay.mp4</a>, {}, which VLC and mpv play and most "
+          "browsers do not{}.</p>\n",
+          who, EscapeMarkup(href),
+          r->video_codec.empty() ? std::string("MPEG-4 Part 2") : EscapeMarkup(r->video_codec),
+          r->video_codec.empty()
+              ? fmt::format(" (made by an hcpf that wrote no H.264: its manifest.json has no "
+                            "video entry; {} that plays here)",
+                            again)
+              : std::string(" (the FFmpeg that wrote it had no H.264 encoder)"));
+      continue;
+    }
+    const std::string id = name.empty() ? "video" : "video-" + std::string(1, name[0] + 32);
+    const int width =
+        static_cast<int>(JsonInt(JsonMember(r->manifest, "video"), "width").value_or(640));
+    figures += fmt::format(
+        "<figure style=\"flex:1 1 0;max-width:{0}px;margin:0\"><video id=\"{1}\" "
+        "class=\"overlay\" data-fps=\"{2}\" data-frames=\"{3}\" src=\"{4}\" controls muted "
+        "preload=\"auto\" style=\"width:100%\"></video><figcaption>{5}<a href=\"{4}\">overlay.mp4"
+        "</a>, frame <span id=\"{1}-frame\">1</span> of {3}</figcaption></figure>\n",
+        width, id, r->video_fps, r->video_frames, EscapeMarkup(href),
+        name.empty() ? std::string() : fmt::format("<b>{}</b>: ", name));
+    frames = std::max(frames, r->video_frames);
+  }
+  if (!figures.empty()) {
+    h += fmt::format(
+        "<p>Each frame with the ground truth (white), the detections the tracker was given "
+        "(yellow), each filter's box, particles and state (docs/sweeps.md, \"Overlay videos\"). "
+        "The buttons, and every frame number that is a link in this report, move {} to that "
+        "frame (counted from 1, as the timeline); <code>report.html#frame=K</code> opens the "
+        "report at frame K.</p>\n",
+        runs.size() == 2 && figures.find("video-b") != std::string::npos ? "both videos"
+                                                                         : "the video");
+    h += "<div style=\"display:flex;gap:1em;flex-wrap:wrap\">\n" + figures + "</div>\n";
+    h += fmt::format(
+        "<p><button type=\"button\" onclick=\"hcpfStep(-1)\">◀ frame</button> <button "
+        "type=\"button\" onclick=\"hcpfStep(1)\">frame ▶</button> frame <input "
+        "id=\"overlay-frame\" "
+        "type=\"number\" min=\"1\" max=\"{}\" value=\"1\" style=\"width:5em\" "
+        "onchange=\"hcpfShow(+this.value)\"> <button type=\"button\" onclick=\"hcpfPlay()\">play"
+        "</button> <button type=\"button\" onclick=\"hcpfPause()\">pause</button></p>\n",
+        frames);
+  }
+  h += notes;
+  // Compared, a row B has as A has it (the same models cut) is one row.
+  std::string rows;
+  const auto a_rows = FramesToLookAt(a, link);
+  const auto b_rows = b ? FramesToLookAt(*b, link) : decltype(a_rows){};
+  const auto row_html = [](const std::string& who, const std::pair<std::string, std::string>& r) {
+    return fmt::format("<tr><td class=\"k\">{}{}</td><td class=\"k\">{}</td></tr>\n", who, r.first,
+                       r.second);
+  };
+  for (const auto& r : a_rows) {
+    const bool shared = std::find(b_rows.begin(), b_rows.end(), r) != b_rows.end();
+    rows += row_html(!b ? "" : shared ? "A and B: " : "A ", r);
+  }
+  for (const auto& r : b_rows) {
+    if (std::find(a_rows.begin(), a_rows.end(), r) == a_rows.end()) rows += row_html("B ", r);
+  }
+  if (!rows.empty()) {
+    h += "<p>Frames to look at: each filter's frames in a scored state other than CORRECT "
+         "(first–last frame of each episode; docs/metrics.md), the frames the target models "
+         "were cut and those where a filter was re-acquired.</p>\n<table><tr><th>what</th>"
+         "<th>frames</th></tr>\n" +
+         rows + "</table>\n";
+  }
+  if (!figures.empty()) h += kVideoScript;
+  return h;
+}
+
 // Why two runs cannot be compared frame by frame ("" when they can): their
 // frame counts or ground truths (gt/gt.txt) differ, or one lacks either.
 std::string TruthDifference(const RunFolder& a, const RunFolder& b) {
@@ -1083,7 +1336,8 @@ std::string TruthDifference(const RunFolder& a, const RunFolder& b) {
 // one ground truth, target by target where their filters are CORRECT.
 std::string ComparisonSection(const RunFolder& a, const RunFolder& b,
                               const std::string& truth_difference,
-                              const std::set<int64_t>& truth_targets, ReportResult* result) {
+                              const std::set<int64_t>& truth_targets, const FrameLink& link,
+                              ReportResult* result) {
   std::string h = "<h2>Compared with another run</h2>\n";
   const auto who = [](const RunFolder& r) {
     return fmt::format(
@@ -1214,7 +1468,7 @@ std::string ComparisonSection(const RunFolder& a, const RunFolder& b,
         truth_difference);
     return h;
   }
-  h += DetectionComparisonHtml(a, b, truth_targets);
+  h += DetectionComparisonHtml(a, b, truth_targets, link);
   // Filter states exist only where a particle filter ran (an external
   // tracker's metrics.json has no filters block): none is not "no filter".
   const bool filters_a = JsonMember(a.metrics, "filters").is_object();
@@ -1251,7 +1505,7 @@ std::string ComparisonSection(const RunFolder& a, const RunFolder& b,
   for (const TargetComparison& c : targets) {
     const std::string first = c.first_differ < 0
                                   ? std::string("–")
-                                  : fmt::format("{} (A {}, B {})", c.first_differ + 1,
+                                  : fmt::format("{} (A {}, B {})", link(c.first_differ + 1),
                                                 StateText(c.state_a), StateText(c.state_b));
     h += fmt::format(
         "<tr><td class=\"k\">target {}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td>"
@@ -1376,8 +1630,10 @@ ReportResult WriteRunReport(const ReportOptions& options) {
       EscapeMarkup(JsonText(manifest, "config_hash")));
   h += FramesSentence(manifest);
 
+  // Frame numbers link to the overlay videos where one plays in a browser.
+  const FrameLink link = MakeFrameLink(run.video_plays || (other && other->video_plays));
   if (other) {
-    h += ComparisonSection(run, *other, truth_difference, truth_targets, &result);
+    h += ComparisonSection(run, *other, truth_difference, truth_targets, link, &result);
   }
 
   h += other ? "<h2>Headline metrics</h2>\n<table><tr><th>metric</th><th>name</th><th>A</th>"
@@ -1427,17 +1683,10 @@ ReportResult WriteRunReport(const ReportOptions& options) {
     }
     h += fmt::format("<div class=\"plot\" id=\"plot-timeline\">\n{}\n</div>\n", timeline_svg);
   }
-  // The overlay video (hcpf run --video), linked from the report's folder.
-  if (fs::is_regular_file(dir / "overlay.mp4", ec)) {
-    const std::string link =
-        options.out_dir.empty() ? "overlay.mp4" : LinkFrom(out, dir / "overlay.mp4");
-    h += fmt::format(
-        "<p>Overlay video: <a href=\"{}\">overlay.mp4</a> (frames with ground truth, the "
-        "detections in yellow, estimates and each filter's state; MPEG-4 Part 2, which VLC and mpv "
-        "play and most browsers "
-        "do not).</p>\n",
-        EscapeMarkup(link));
-  }
+  // The overlay videos (hcpf run --video), linked from the report's folder.
+  h += VideoSection(run, other ? &*other : nullptr, out,
+                    options.out_dir.empty() ? "overlay.mp4" : LinkFrom(out, dir / "overlay.mp4"),
+                    link);
   h += "<h2>Camera motion</h2>\n";
   if (camera.is_object()) {
     h += fmt::format(

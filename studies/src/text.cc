@@ -2,8 +2,11 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <cstdint>
+#include <cstring>
 #include <filesystem>
 
 namespace hcpf::studies {
@@ -94,6 +97,20 @@ std::string LinkFrom(const fs::path& page_dir, const fs::path& target) {
 std::string Number(double v) {
   if (!std::isfinite(v)) return "nan";
   return fmt::format("{:.6g}", v);
+}
+
+// `word` as one shell word: unchanged when it holds only characters no
+// shell treats specially, else in single quotes ('\'' for a quote); a path
+// that starts with '-' gets "./" so that it is not read as an option.
+std::string ShellWord(std::string word) {
+  if (!word.empty() && word[0] == '-') word = "./" + word;
+  const bool plain = !word.empty() && std::all_of(word.begin(), word.end(), [](char c) {
+    return std::isalnum(static_cast<unsigned char>(c)) || std::strchr("_./-+=:,@%", c) != nullptr;
+  });
+  if (plain) return word;
+  std::string quoted = "'";
+  for (const char c : word) quoted += c == '\'' ? std::string("'\\''") : std::string(1, c);
+  return quoted + "'";
 }
 
 }  // namespace hcpf::studies

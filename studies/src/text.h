@@ -27,6 +27,10 @@ std::string Csv(const std::string& text);
 // when there is one, else the absolute path; '/' separators.
 std::string LinkFrom(const std::filesystem::path& page_dir, const std::filesystem::path& target);
 
+// `word` as one shell word: unchanged when it holds only characters no
+// shell treats specially, else in single quotes; "./" before a leading '-'.
+std::string ShellWord(std::string word);
+
 // A number for tables and CSV: "{:.6g}", "nan" when not finite.
 std::string Number(double v);
 

@@ -2,6 +2,7 @@
 
 #include "hcpf/studies/report.h"
 
+#include <fmt/format.h>
 #include <gtest/gtest.h>
 #include <sqlite3.h>
 #include <unistd.h>
@@ -905,6 +906,131 @@ TEST(RunReport, LinksTheOverlayVideoWhenTheRunHasOne) {
   EXPECT_NE(Read(WriteReport({.dir = run.string(), .out_dir = out.string()}).html_path)
                 .find("<a href=\"../run-none/overlay.mp4\">"),
             std::string::npos);
+}
+
+// hcpf run --video writes H.264, which browsers play: the report shows the
+// video, moved to a frame by its buttons and by every frame number that links
+// to it (#frame=K), and lists the frames to look at (each filter's episodes
+// in a state other than CORRECT, the frames models were cut); compared with
+// another run, both videos side by side and the comparison's first differing
+// frames as links. A video no browser plays (an older run's) is a link with
+// the reason and the command that makes one; a run without one says how to
+// get it. Episodes worked out by hand from the states written below.
+TEST(RunReport, ShowsTheOverlayVideoAndLinksItsFrames) {
+  const auto dir = testing::SweepFolder("run-report-video-plays");
+  const auto run_with_video = [&dir](const std::string& name, const std::string& mode) {
+    const fs::path out = dir / name;
+    const scenarios::Scenario scenario =
+        scenarios::LoadScenarioText(scenarios::testing::kMinimal, "base.yaml",
+                                    {{"camera.shake_px", "1.0"},
+                                     {"tracker.camera_motion", mode},
+                                     {"tracker.scene_filter.particles", "100"}});
+    scenarios::RunScenario(scenario, {.out_dir = out.string(), .video = true});
+    return out;
+  };
+  const fs::path a = run_with_video("a", "none");
+  const fs::path b = run_with_video("b", "scene_filter");
+  const auto manifest = nlohmann::json::parse(Read(a / "manifest.json"));
+  ASSERT_TRUE(manifest.contains("video")) << manifest.dump();
+  EXPECT_EQ(manifest["video"]["file"], "overlay.mp4");
+  EXPECT_EQ(manifest["video"]["fourcc"], "avc1");
+  EXPECT_EQ(manifest["video"]["codec"], "H.264");
+  EXPECT_EQ(manifest["video"]["plays_in_browsers"], true);
+  EXPECT_EQ(manifest["video"]["frames"], 20);
+  const double fps = manifest["video"]["fps"].get<double>();
+  EXPECT_GT(fps, 0.0);
+  WriteComparedRuns(a, b);
+  // A's filter 1, frame by frame from 0: CORRECT, LOST, LOST, COASTING (ends
+  // the episode), LOST, HIJACKED: "LOST 2–3, LOST 5, HIJACKED 6" from 1.
+  auto ma = nlohmann::json::parse(Read(a / "metrics.json"));
+  ma["filters"]["per_frame_states"] = nlohmann::json::parse(R"([
+      {"frame": 0, "filter": 1, "state": "CORRECT"}, {"frame": 1, "filter": 1, "state": "LOST"},
+      {"frame": 2, "filter": 1, "state": "LOST"}, {"frame": 3, "filter": 1, "state": "COASTING"},
+      {"frame": 4, "filter": 1, "state": "LOST"}, {"frame": 5, "filter": 1, "state": "HIJACKED"},
+      {"frame": 2, "filter": 9, "state": "CORRECT"}, {"frame": 3, "filter": 9, "state": "CORRECT"}])");
+  std::ofstream(a / "metrics.json") << ma.dump();
+  // Both runs cut target 1's model at frame 0 and target 2's at frame 2.
+  for (const fs::path& run : {a, b}) {
+    auto m = nlohmann::json::parse(Read(run / "manifest.json"));
+    m["target_model_sources"] =
+        nlohmann::json::parse(R"([{"target": 1, "frame": 0}, {"target": 2, "frame": 2}])");
+    std::ofstream(run / "manifest.json") << m.dump();
+  }
+  const auto link = [](int frame) { return fmt::format("<a href=\"#frame={0}\">{0}</a>", frame); };
+  const auto row = [](const std::string& what, const std::string& frames) {
+    return fmt::format("<tr><td class=\"k\">{}</td><td class=\"k\">{}</td></tr>", what, frames);
+  };
+
+  // A alone.
+  std::string html = Read(WriteReport({.dir = a.string()}).html_path);
+  EXPECT_NE(html.find(fmt::format("<video id=\"video\" class=\"overlay\" data-fps=\"{}\" "
+                                  "data-frames=\"20\" src=\"overlay.mp4\" controls",
+                                  fps)),
+            std::string::npos);
+  EXPECT_NE(html.find("function hcpfShow(frame)"), std::string::npos);
+  EXPECT_NE(html.find("move the video to that frame"), std::string::npos);
+  EXPECT_NE(html.find(row("filter 1 (target 1)",
+                          "LOST " + link(2) + "–3, LOST " + link(5) + ", HIJACKED " + link(6))),
+            std::string::npos);
+  EXPECT_EQ(html.find("<td class=\"k\">filter 9 (target 2)</td>"), std::string::npos)
+      << "always CORRECT: nothing to look at";
+  EXPECT_NE(html.find(row("target models cut", "target 1: " + link(1) + ", target 2: " + link(3))),
+            std::string::npos);
+
+  // A against B: both videos, the comparison's frames link to them, and a
+  // row B has as A has it is one row.
+  html = Read(WriteReport({.dir = a.string(), .against = b.string()}).html_path);
+  EXPECT_NE(html.find("<video id=\"video-a\" class=\"overlay\""), std::string::npos);
+  EXPECT_NE(html.find("<video id=\"video-b\" class=\"overlay\""), std::string::npos);
+  EXPECT_NE(html.find("src=\"../b/overlay.mp4\""), std::string::npos);
+  EXPECT_NE(html.find("move both videos to that frame"), std::string::npos);
+  EXPECT_NE(html.find("<td class=\"k\">" + link(2) + " (A LOST, B CORRECT)</td>"),
+            std::string::npos);
+  EXPECT_NE(html.find("<td class=\"k\">" + link(4) + " (A found, B missed)</td>"),
+            std::string::npos);
+  EXPECT_NE(html.find(row("B filter 2 (target 1)",
+                          "STRAYED " + link(3) + ", SWAPPED " + link(4) + ", STRAYED " + link(6))),
+            std::string::npos);
+  EXPECT_NE(html.find(row("B filter 5 (no target)", "LOST " + link(1))), std::string::npos);
+  EXPECT_NE(html.find(row("B filter 1 (target 1)", "LOST " + link(3))), std::string::npos);
+  EXPECT_NE(html.find(row("A and B: target models cut",
+                          "target 1: " + link(1) + ", target 2: " + link(3))),
+            std::string::npos);
+  EXPECT_EQ(html.find("B target models cut"), std::string::npos);
+  EXPECT_NE(html.find(row("A filter 1 (target 1)",
+                          "LOST " + link(2) + "–3, LOST " + link(5) + ", HIJACKED " + link(6))),
+            std::string::npos);
+
+  // B's video made by an hcpf that wrote MPEG-4 Part 2 (no "video" entry).
+  auto mb = nlohmann::json::parse(Read(b / "manifest.json"));
+  mb.erase("video");
+  std::ofstream(b / "manifest.json") << mb.dump();
+  html = Read(WriteReport({.dir = a.string(), .against = b.string()}).html_path);
+  EXPECT_NE(html.find("<video id=\"video-a\""), std::string::npos);
+  EXPECT_EQ(html.find("<video id=\"video-b\""), std::string::npos);
+  EXPECT_NE(html.find("Run B's video: <a href=\"../b/overlay.mp4\">overlay.mp4</a>, MPEG-4 Part "
+                      "2, which VLC and mpv play and most browsers do not (made by an hcpf that "
+                      "wrote no H.264"),
+            std::string::npos);
+  EXPECT_NE(html.find("<code>hcpf run " + (b / "scenario.resolved.yaml").string() + " --out " +
+                      b.string() + "-video --video</code>"),
+            std::string::npos);
+  // Neither plays: no player, no script, frame numbers are plain.
+  ma = nlohmann::json::parse(Read(a / "manifest.json"));
+  ma["video"]["plays_in_browsers"] = false;
+  ma["video"]["codec"] = "MPEG-4 Part 2";
+  std::ofstream(a / "manifest.json") << ma.dump();
+  fs::remove(b / "overlay.mp4");
+  html = Read(WriteReport({.dir = a.string(), .against = b.string()}).html_path);
+  EXPECT_EQ(html.find("<video"), std::string::npos);
+  EXPECT_EQ(html.find("<script>"), std::string::npos);
+  EXPECT_EQ(html.find("#frame="), std::string::npos);
+  EXPECT_NE(html.find("<td class=\"k\">2 (A LOST, B CORRECT)</td>"), std::string::npos);
+  EXPECT_NE(html.find("Run A's video: <a href=\"overlay.mp4\">overlay.mp4</a>, MPEG-4 Part 2, "
+                      "which VLC and mpv play and most browsers do not (the FFmpeg that wrote it "
+                      "had no H.264 encoder)"),
+            std::string::npos);
+  EXPECT_NE(html.find("Run B has no <code>overlay.mp4</code>: <code>hcpf run "), std::string::npos);
 }
 
 // A rendered run's report says where its frames came from: how many were

@@ -38,22 +38,33 @@ struct OverlayContent {
   const metrics::FilterMetrics* filters = nullptr;  // state labels; null: none
 };
 
-// Writes `path` with OpenCV's VideoWriter (MPEG-4 Part 2, fourcc mp4v) at the
-// scenario's fps and camera resolution. `frames`, when given, must hold one
+// What was written: the codec, and the frames at their rate and size.
+struct OverlayVideo {
+  std::string fourcc;              // "avc1" or "mp4v"
+  std::string codec;               // "H.264" or "MPEG-4 Part 2"
+  bool plays_in_browsers = false;  // H.264 in MP4 does; MPEG-4 Part 2 does not
+  int frames = 0;
+  double fps = 0.0;
+  int width = 0, height = 0;
+};
+
+// Writes `path` with OpenCV's VideoWriter at the scenario's fps and camera
+// resolution: H.264 (fourcc avc1, FFmpeg's libx264), or MPEG-4 Part 2 (mp4v)
+// when FFmpeg has no H.264 encoder. `frames`, when given, must hold one
 // image per frame of the camera's size. Throws RunError when the writer
 // cannot be opened; HCPF_CHECK on mismatched lengths.
-void WriteOverlayVideo(const std::string& path, const Scenario& scenario,
-                       const OverlayContent& content, const std::vector<RgbImage>* frames);
+OverlayVideo WriteOverlayVideo(const std::string& path, const Scenario& scenario,
+                               const OverlayContent& content, const std::vector<RgbImage>* frames);
 
 // The same with frames fetched one at a time (e.g. read back from the frame
 // cache), so a long rendered run need not hold every frame in memory.
 // `frame_at(f)` returns frame f's image, or nullopt for the plain background.
 using OverlayFrameSource = std::function<std::optional<RgbImage>(int frame)>;
-void WriteOverlayVideo(const std::string& path, const Scenario& scenario,
-                       const OverlayContent& content, const OverlayFrameSource& frame_at);
+OverlayVideo WriteOverlayVideo(const std::string& path, const Scenario& scenario,
+                               const OverlayContent& content, const OverlayFrameSource& frame_at);
 
-// The largest width and height an overlay video may have: MPEG-4 Part 2
-// codes them in 13 bits, and FFmpeg's encoder refuses 8192.
+// The largest width and height an overlay video may have: MPEG-4 Part 2 (the
+// fallback) codes them in 13 bits, and FFmpeg's encoder refuses 8192.
 inline constexpr int kMaxVideoSide = 8191;
 
 // InputError naming `option` (e.g. "--video") when the scenario's camera is

@@ -22,6 +22,7 @@
 #include <nlohmann/json.hpp>
 #include <optional>
 #include <set>
+#include <sstream>
 #include <string>
 #include <string_view>
 #include <tuple>
@@ -706,10 +707,19 @@ std::vector<TimelineRow> ComparedTimelineRows(const TimelineParts& a, const Time
   return rows;
 }
 
+// The timeline plot: its inline SVG, and where gnuplot put the plot's box
+// in the SVG's own units (its viewBox: x from the left, y from the top), so
+// that the report's script can map a click to a frame and draw a cursor.
+struct TimelinePlot {
+  std::string svg;
+  bool has_box = false;
+  double left = 0, right = 0, top = 0, bottom = 0;
+};
+
 // The timeline's inline SVG: each row's runs of one colour as thick
 // segments, top to bottom in row order, with a legend of the colours used.
-std::string TimelineSvg(const std::vector<TimelineRow>& rows, int frames, const std::string& title,
-                        const fs::path& work, const std::string& gnuplot) {
+TimelinePlot TimelineSvg(const std::vector<TimelineRow>& rows, int frames, const std::string& title,
+                         const fs::path& work, const std::string& gnuplot) {
   const fs::path data = work / "timeline.dat";
   const fs::path svg = work / "timeline.svg";
   const fs::path script = work / "timeline.gp";
@@ -742,9 +752,11 @@ std::string TimelineSvg(const std::vector<TimelineRow>& rows, int frames, const 
     WriteTextFile((work / kMarks[k].file).string(), mark_text[k]);
   }
   const int n = static_cast<int>(rows.size());
+  const int height = 170 + 22 * n;
+  const fs::path box = work / "timeline-box.txt";
   std::string gp;
   gp += fmt::format("set terminal svg size 820,{} dynamic font 'sans,11' background rgb 'white'\n",
-                    170 + 22 * n);
+                    height);
   gp += fmt::format("set output {}\n", GpString(svg.string()));
   gp += fmt::format("set title {} noenhanced\n", GpString(title));
   gp += "set xlabel 'frame (from 1, as in gt/gt.txt and filters.csv)' noenhanced\n";
@@ -777,9 +789,28 @@ std::string TimelineSvg(const std::vector<TimelineRow>& rows, int frames, const 
     }
   }
   gp += plot + "\n";
+  // The plot's box, in pixels from the left and from the bottom.
+  gp += fmt::format(
+      "set print {}\nprint GPVAL_TERM_XMIN, GPVAL_TERM_XMAX, GPVAL_TERM_YMIN, "
+      "GPVAL_TERM_YMAX\nunset print\n",
+      GpString(box.string()));
   WriteTextFile(script.string(), gp);
   RunGnuplot(gnuplot, script);
-  return InlineSvg(ReadWholeFile(svg));
+  TimelinePlot out{.svg = InlineSvg(ReadWholeFile(svg))};
+  std::error_code ec;
+  if (fs::is_regular_file(box, ec)) {
+    std::istringstream in(ReadWholeFile(box));
+    double x0 = 0, x1 = 0, y0 = 0, y1 = 0;
+    if (in >> x0 >> x1 >> y0 >> y1 && x0 >= 0 && x0 < x1 && x1 <= 820 && y0 >= 0 && y0 < y1 &&
+        y1 <= height) {
+      out.has_box = true;
+      out.left = x0;
+      out.right = x1;
+      out.top = height - y1;
+      out.bottom = height - y0;
+    }
+  }
+  return out;
 }
 
 // One run folder as the report reads it.
@@ -1198,7 +1229,40 @@ function hcpfPlay() {
   for (const v of hcpfVideos()) { v.currentTime = t; v.play(); }
 }
 function hcpfPause() { for (const v of hcpfVideos()) v.pause(); }
+// The timeline's cursor at `frame`, in the SVG's own units (the plot's box
+// from the div's data attributes; the axis runs from 0.5 to frames + 0.5).
+function hcpfCursor(frame) {
+  const t = document.querySelector('#plot-timeline[data-left]');
+  const svg = t && t.querySelector('svg');
+  if (!svg) return;
+  let line = svg.querySelector('#hcpf-cursor');
+  if (!line) {
+    line = document.createElementNS('http://www.w3.org/2000/svg', 'line');
+    line.id = 'hcpf-cursor';
+    line.setAttribute('stroke', '#d00');
+    line.setAttribute('stroke-width', '1.5');
+    line.setAttribute('y1', t.dataset.top);
+    line.setAttribute('y2', t.dataset.bottom);
+    svg.appendChild(line);
+  }
+  const x = +t.dataset.left + (frame - 0.5) / +t.dataset.frames * (t.dataset.right - t.dataset.left);
+  line.setAttribute('x1', x);
+  line.setAttribute('x2', x);
+}
 document.addEventListener('click', e => {
+  const svg = e.target.closest('#plot-timeline[data-left] svg');
+  if (svg) {
+    const t = svg.parentElement;
+    const p = svg.createSVGPoint();
+    p.x = e.clientX;
+    p.y = e.clientY;
+    const q = p.matrixTransform(svg.getScreenCTM().inverse());
+    const left = +t.dataset.left, right = +t.dataset.right;
+    if (q.x >= left && q.x <= right && q.y >= +t.dataset.top && q.y <= +t.dataset.bottom) {
+      hcpfShow(Math.round(0.5 + (q.x - left) / (right - left) * +t.dataset.frames));
+    }
+    return;
+  }
   const a = e.target.closest('a[href^="#frame="]');
   if (!a) return;
   e.preventDefault();
@@ -1209,10 +1273,14 @@ document.addEventListener('click', e => {
 window.addEventListener('load', () => {
   for (const v of hcpfVideos()) {
     const caption = document.getElementById(v.id + '-frame');
-    const update = () => { caption.textContent = hcpfFrameOf(v); };
+    const update = () => {
+      caption.textContent = hcpfFrameOf(v);
+      if (v === hcpfVideos()[0]) hcpfCursor(hcpfFrameOf(v));
+    };
     v.addEventListener('timeupdate', update);
     v.addEventListener('seeked', update);
   }
+  hcpfCursor(hcpfFrameOf(hcpfVideos()[0]));
   const m = /^#frame=(\d+)$/.exec(location.hash);
   if (m) { hcpfShow(+m[1]); document.getElementById('overlay').scrollIntoView(); }
 });
@@ -1569,7 +1637,7 @@ ReportResult WriteRunReport(const ReportOptions& options) {
   }
   ReportResult result;
   std::string svg;
-  std::string timeline_svg;
+  TimelinePlot timeline_plot;
   std::string precision_recall_svg;
   const json& precision_recall = JsonMember(JsonMember(metrics, "detection"), "precision_recall");
   const bool has_curve = !JsonMember(JsonMember(precision_recall, "curve"), "recall").empty();
@@ -1598,7 +1666,7 @@ ReportResult WriteRunReport(const ReportOptions& options) {
             fmt::format("targets{}{}{}, frame by frame",
                         detected ? (filtered ? ", detections" : " and detections") : "",
                         filtered ? " and filters" : "", same_truth ? " of runs A and B" : "");
-        timeline_svg = TimelineSvg(timeline, run.frames, title, work, options.gnuplot);
+        timeline_plot = TimelineSvg(timeline, run.frames, title, work, options.gnuplot);
         ++result.plots;
       }
       if (has_curve) {
@@ -1618,7 +1686,8 @@ ReportResult WriteRunReport(const ReportOptions& options) {
   h += fmt::format("<title>HCPF run report: {}</title>\n", EscapeMarkup(name));
   h += "<style>body{font-family:sans-serif;margin:1.5em;color:#222}table{border-collapse:collapse;"
        "font-size:13px}td,th{border:1px solid #ccc;padding:3px 7px;text-align:right}"
-       "th{background:#f3f3f3}td.k{text-align:left}.plot{margin:1em 0}pre{background:#f7f7f7;"
+       "th{background:#f3f3f3}td.k{text-align:left}.plot{margin:1em 0}#plot-timeline[data-left] "
+       "svg{cursor:crosshair}pre{background:#f7f7f7;"
        "padding:1em;font-size:12px;overflow:auto}</style>\n</head><body>\n";
   h += fmt::format(
       "<h1>Run report: {}</h1>\n<p>Run folder <code>{}</code>: seed {}, {} frames, observations "
@@ -1631,7 +1700,8 @@ ReportResult WriteRunReport(const ReportOptions& options) {
   h += FramesSentence(manifest);
 
   // Frame numbers link to the overlay videos where one plays in a browser.
-  const FrameLink link = MakeFrameLink(run.video_plays || (other && other->video_plays));
+  const bool videos_play = run.video_plays || (other && other->video_plays);
+  const FrameLink link = MakeFrameLink(videos_play);
   if (other) {
     h += ComparisonSection(run, *other, truth_difference, truth_targets, link, &result);
   }
@@ -1663,7 +1733,7 @@ ReportResult WriteRunReport(const ReportOptions& options) {
   }
   h += "</table>\n";
 
-  if (!timeline_svg.empty()) {
+  if (!timeline_plot.svg.empty()) {
     h += "<h2>Targets, detections and filters over time</h2>\n";
     h += "<p>One row per target, grey where it is in view (darker the more of it is visible). "
          "In a rendered run with a detector, the row under it shows the frames where the "
@@ -1681,7 +1751,22 @@ ReportResult WriteRunReport(const ReportOptions& options) {
     } else if (other) {
       h += "<p>Run A's alone: the runs are not compared frame by frame (above).</p>\n";
     }
-    h += fmt::format("<div class=\"plot\" id=\"plot-timeline\">\n{}\n</div>\n", timeline_svg);
+    // Where the videos play, a click on the timeline shows that frame, and a
+    // cursor marks the videos' frame (the report's script).
+    const std::string box =
+        videos_play && timeline_plot.has_box
+            ? fmt::format(
+                  " data-frames=\"{}\" data-left=\"{:.2f}\" data-right=\"{:.2f}\" "
+                  "data-top=\"{:.2f}\" data-bottom=\"{:.2f}\"",
+                  run.frames, timeline_plot.left, timeline_plot.right, timeline_plot.top,
+                  timeline_plot.bottom)
+            : std::string();
+    if (!box.empty()) {
+      h += "<p>A click on the timeline shows that frame in the overlay video below; the red line "
+           "marks the frame the video shows.</p>\n";
+    }
+    h += fmt::format("<div class=\"plot\" id=\"plot-timeline\"{}>\n{}\n</div>\n", box,
+                     timeline_plot.svg);
   }
   // The overlay videos (hcpf run --video), linked from the report's folder.
   h += VideoSection(run, other ? &*other : nullptr, out,

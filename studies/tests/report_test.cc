@@ -10,6 +10,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <limits>
@@ -969,6 +970,24 @@ TEST(RunReport, ShowsTheOverlayVideoAndLinksItsFrames) {
             std::string::npos);
   EXPECT_NE(html.find("function hcpfShow(frame)"), std::string::npos);
   EXPECT_NE(html.find("move the video to that frame"), std::string::npos);
+  // The timeline carries its plot box (gnuplot's, in the SVG's units), so a
+  // click there shows that frame and a cursor marks the video's frame.
+  const size_t timeline = html.find("<div class=\"plot\" id=\"plot-timeline\" data-frames=\"20\"");
+  ASSERT_NE(timeline, std::string::npos);
+  double left = 0, right = 0, top = 0, bottom = 0;
+  ASSERT_EQ(std::sscanf(html.c_str() + timeline,
+                        "<div class=\"plot\" id=\"plot-timeline\" data-frames=\"20\" "
+                        "data-left=\"%lf\" data-right=\"%lf\" data-top=\"%lf\" "
+                        "data-bottom=\"%lf\"",
+                        &left, &right, &top, &bottom),
+            4);
+  // The SVG is 820 wide; the plot sits right of the row labels, below the title.
+  EXPECT_GT(left, 50.0);
+  EXPECT_LT(left, right);
+  EXPECT_LE(right, 820.0);
+  EXPECT_GT(top, 10.0);
+  EXPECT_LT(top, bottom);
+  EXPECT_NE(html.find("A click on the timeline shows that frame"), std::string::npos);
   EXPECT_NE(html.find(row("filter 1 (target 1)",
                           "LOST " + link(2) + "–3, LOST " + link(5) + ", HIJACKED " + link(6))),
             std::string::npos);
@@ -1024,6 +1043,8 @@ TEST(RunReport, ShowsTheOverlayVideoAndLinksItsFrames) {
   html = Read(WriteReport({.dir = a.string(), .against = b.string()}).html_path);
   EXPECT_EQ(html.find("<video"), std::string::npos);
   EXPECT_EQ(html.find("<script>"), std::string::npos);
+  EXPECT_NE(html.find("<div class=\"plot\" id=\"plot-timeline\">"), std::string::npos)
+      << "no video: the timeline is only a picture";
   EXPECT_EQ(html.find("#frame="), std::string::npos);
   EXPECT_NE(html.find("<td class=\"k\">2 (A LOST, B CORRECT)</td>"), std::string::npos);
   EXPECT_NE(html.find("Run A's video: <a href=\"overlay.mp4\">overlay.mp4</a>, MPEG-4 Part 2, "

@@ -12,6 +12,8 @@
 
 #include <cmath>
 #include <cstdio>
+#include <memory>
+#include <mutex>
 #include <opencv2/core.hpp>
 #include <string>
 
@@ -67,8 +69,9 @@ class FfmpegVideoSink final : public hcpf::scenarios::VideoSink {
     context_->width = coded_width;
     context_->height = coded_height;
     context_->pix_fmt = AV_PIX_FMT_YUV420P;
-    // The frame rate as a rational (29.97 as 30000/1001); one tick a frame.
-    const AVRational rate = av_d2q(fps, 1 << 16);
+    // The frame rate as a rational (29.97 as 2997/100, 12.5 as 25/2); one
+    // tick a frame. At most 65535 either way: MPEG-4 Part 2 refuses more.
+    const AVRational rate = av_d2q(fps, 65535);
     context_->framerate = rate;
     context_->time_base = av_inv_q(rate);
     context_->gop_size = std::max(1, static_cast<int>(std::lround(fps)));
@@ -76,11 +79,12 @@ class FfmpegVideoSink final : public hcpf::scenarios::VideoSink {
     // this thread may use, and its bytes change with them
     // (Overlay.SameBytesWhateverTheCoreCount).
     context_->thread_count = 1;
-    // BT.601, limited range: what swscale converts to below, said in the
-    // stream so that players do not guess.
+    // Said in the stream so that players do not guess: the frames are sRGB
+    // (BT.709 primaries, the sRGB transfer curve), converted below by
+    // swscale's BT.601 matrix to limited-range YUV.
     context_->colorspace = AVCOL_SPC_SMPTE170M;
-    context_->color_primaries = AVCOL_PRI_SMPTE170M;
-    context_->color_trc = AVCOL_TRC_SMPTE170M;
+    context_->color_primaries = AVCOL_PRI_BT709;
+    context_->color_trc = AVCOL_TRC_IEC61966_2_1;
     context_->color_range = AVCOL_RANGE_MPEG;
     if (fourcc_ == std::string("mp4v")) {
       // A fixed quantiser (FFmpeg's default is a 200 kbit/s target).
@@ -118,7 +122,8 @@ class FfmpegVideoSink final : public hcpf::scenarios::VideoSink {
     frame_->height = coded_height;
     err = av_frame_get_buffer(frame_, 0);
     if (err < 0) return "cannot allocate a frame: " + AvError(err);
-    // Bit-exact conversion: the same YUV from the same BGR on any CPU.
+    // Bit-exact conversion (swscale's own flag; SWS_ACCURATE_RND also turns
+    // off its inexact BGR-to-YUV shortcut).
     scale_ = sws_getContext(coded_width, coded_height, AV_PIX_FMT_BGR24, coded_width, coded_height,
                             AV_PIX_FMT_YUV420P,
                             SWS_BICUBIC | SWS_ACCURATE_RND | SWS_BITEXACT | SWS_FULL_CHR_H_INP,
@@ -155,7 +160,9 @@ class FfmpegVideoSink final : public hcpf::scenarios::VideoSink {
   void Close() override {
     if (closed_ || format_ == nullptr) return;
     closed_ = true;
-    if (header_written_) {
+    // After a failure the file is not finished (the caller reports the
+    // failure and the run's folder is not kept).
+    if (header_written_ && error_.empty()) {
       if (context_ != nullptr && avcodec_is_open(context_)) Encode(nullptr);  // flush
       if (const int err = av_write_trailer(format_); err < 0 && error_.empty()) {
         error_ = "cannot finish the file: " + AvError(err);
@@ -171,8 +178,15 @@ class FfmpegVideoSink final : public hcpf::scenarios::VideoSink {
   const char* fourcc() const override { return fourcc_; }
   const char* error() const override { return error_.c_str(); }
   bool created() const { return created_; }
+  // Closes the file without finishing it (after a failed Open).
+  void Abandon() {
+    closed_ = true;
+    if (format_ != nullptr && format_->pb != nullptr) avio_closep(&format_->pb);
+  }
 
  private:
+  // Sends `frame` (null: the end) and writes what the encoder returns; the
+  // first failure is kept in error_ (callers stop at it).
   void Encode(AVFrame* frame) {
     if (const int err = avcodec_send_frame(context_, frame); err < 0) {
       error_ = "the encoder refused a frame: " + AvError(err);
@@ -227,18 +241,27 @@ class FfmpegVideoSink final : public hcpf::scenarios::VideoSink {
 
 extern "C" __attribute__((visibility("default"))) hcpf::scenarios::VideoSink* hcpf_open_video_sink(
     const char* path, double fps, int width, int height, char* error, int error_size) {
+  // FFmpeg's own messages (libx264's settings and statistics, one block per
+  // video) would interleave on stderr in a sweep; failures come back as
+  // this sink's errors.
+  static std::once_flag quiet;
+  std::call_once(quiet, [] { av_log_set_level(AV_LOG_ERROR); });
+  std::unique_ptr<FfmpegVideoSink> sink;
+  std::string why;
   try {
-    auto* sink = new FfmpegVideoSink();
-    const std::string why = sink->Open(path, fps, width, height);
-    if (why.empty()) return sink;
-    // A file Open created is removed (never a path it did not create).
-    if (sink->created()) std::remove(path);
-    delete sink;
-    std::snprintf(error, static_cast<size_t>(error_size), "FFmpeg, for %dx%d at %g fps: %s", width,
-                  height, fps, why.c_str());
-    return nullptr;
+    sink = std::make_unique<FfmpegVideoSink>();
+    why = sink->Open(path, fps, width, height);
+    if (why.empty()) return sink.release();
   } catch (const std::exception& e) {
-    std::snprintf(error, static_cast<size_t>(error_size), "%s", e.what());
-    return nullptr;
+    why = e.what();
   }
+  // The file a failed Open created is closed unfinished and removed (never
+  // a path it did not create).
+  if (sink != nullptr && sink->created()) {
+    sink->Abandon();
+    std::remove(path);
+  }
+  std::snprintf(error, static_cast<size_t>(error_size), "FFmpeg, for %dx%d at %g fps: %s", width,
+                height, fps, why.c_str());
+  return nullptr;
 }

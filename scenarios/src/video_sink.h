@@ -25,9 +25,9 @@ class VideoSink {
   virtual const char* error() const = 0;
 };
 
-// Opens `path` for H.264 (fourcc avc1) at `fps`, or for MPEG-4 Part 2 (mp4v)
-// when FFmpeg has no H.264 encoder; throws RunError when the plugin cannot be
-// loaded or neither writer can be opened.
+// Opens `path` for H.264 (fourcc avc1, libx264) at `fps`, or for MPEG-4
+// Part 2 (mp4v) when FFmpeg has no libx264; throws RunError when the plugin
+// cannot be loaded or the encoder or file cannot be opened.
 std::unique_ptr<VideoSink> OpenVideoSink(const std::string& path, double fps, int width,
                                          int height);
 

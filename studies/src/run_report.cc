@@ -1212,21 +1212,28 @@ std::vector<std::pair<std::string, std::string>> FramesToLookAt(const RunFolder&
 // opened at "report.html#frame=K" starts there.
 constexpr std::string_view kVideoScript = R"(<script>
 const hcpfVideos = () => [...document.querySelectorAll('video.overlay')];
+// The video with the most frames leads: its frame is the report's frame
+// (another, shorter one stays on its last frame past its end).
+const hcpfLeader = () =>
+  hcpfVideos().reduce((a, b) => (+b.dataset.frames > +a.dataset.frames ? b : a));
+let hcpfCurrent = 1;
 function hcpfFrameOf(v) {
   return Math.min(Math.floor(v.currentTime * +v.dataset.fps + 1e-6) + 1, +v.dataset.frames);
 }
 function hcpfShow(frame) {
+  hcpfCurrent = Math.min(Math.max(Math.round(frame) || 1, 1), +hcpfLeader().dataset.frames);
   for (const v of hcpfVideos()) {
-    const k = Math.min(Math.max(frame, 1), +v.dataset.frames);
+    const k = Math.min(hcpfCurrent, +v.dataset.frames);
     v.pause();
     v.currentTime = (k - 0.5) / +v.dataset.fps;
   }
-  document.getElementById('overlay-frame').value = frame;
+  document.getElementById('overlay-frame').value = hcpfCurrent;
+  hcpfCursor(hcpfCurrent);
 }
-function hcpfStep(d) { hcpfShow(hcpfFrameOf(hcpfVideos()[0]) + d); }
+function hcpfStep(d) { hcpfShow(hcpfCurrent + d); }
 function hcpfPlay() {
-  const t = hcpfVideos()[0].currentTime;
-  for (const v of hcpfVideos()) { v.currentTime = t; v.play(); }
+  const t = hcpfLeader().currentTime;
+  for (const v of hcpfVideos()) { v.currentTime = Math.min(t, v.duration || t); v.play(); }
 }
 function hcpfPause() { for (const v of hcpfVideos()) v.pause(); }
 // The timeline's cursor at `frame`, in the SVG's own units (the plot's box
@@ -1275,14 +1282,22 @@ window.addEventListener('load', () => {
     const caption = document.getElementById(v.id + '-frame');
     const update = () => {
       caption.textContent = hcpfFrameOf(v);
-      if (v === hcpfVideos()[0]) hcpfCursor(hcpfFrameOf(v));
+      if (v === hcpfLeader() && !v.seeking) {
+        hcpfCurrent = hcpfFrameOf(v);
+        hcpfCursor(hcpfCurrent);
+      }
     };
     v.addEventListener('timeupdate', update);
     v.addEventListener('seeked', update);
   }
-  hcpfCursor(hcpfFrameOf(hcpfVideos()[0]));
+  hcpfCursor(hcpfCurrent);
   const m = /^#frame=(\d+)$/.exec(location.hash);
   if (m) { hcpfShow(+m[1]); document.getElementById('overlay').scrollIntoView(); }
+});
+// A frame typed into the address bar, or back and forward between frames.
+window.addEventListener('hashchange', () => {
+  const m = /^#frame=(\d+)$/.exec(location.hash);
+  if (m) hcpfShow(+m[1]);
 });
 </script>
 )";

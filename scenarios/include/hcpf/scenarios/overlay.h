@@ -48,11 +48,12 @@ struct OverlayVideo {
   int width = 0, height = 0;
 };
 
-// Writes `path` with OpenCV's VideoWriter at the scenario's fps and camera
-// resolution: H.264 (fourcc avc1, FFmpeg's libx264), or MPEG-4 Part 2 (mp4v)
-// when FFmpeg has no H.264 encoder. `frames`, when given, must hold one
-// image per frame of the camera's size. Throws RunError when the writer
-// cannot be opened; HCPF_CHECK on mismatched lengths.
+// Writes `path` with FFmpeg (the plugin of scenarios/src/video_plugin.cc) at
+// the scenario's fps and camera resolution: H.264 (fourcc avc1, FFmpeg's
+// libx264), or MPEG-4 Part 2 (mp4v) when FFmpeg has no libx264. `frames`,
+// when given, must hold one image per frame of the camera's size. Throws
+// RunError when the video cannot be opened or written; HCPF_CHECK on
+// mismatched lengths.
 OverlayVideo WriteOverlayVideo(const std::string& path, const Scenario& scenario,
                                const OverlayContent& content, const std::vector<RgbImage>* frames);
 

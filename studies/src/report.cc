@@ -726,6 +726,60 @@ std::string FormatP(double p) {
   return fmt::format("p&nbsp;=&nbsp;{:.3f}", p);
 }
 
+// The builds of hcpf that made a sweep's finished runs, by each run folder's
+// manifest.json ("<hcpf_version> at <git_revision>"), with their run counts;
+// "unknown" for a manifest that is missing or names no build. A sweep
+// resumed after a rebuild, grown with --reuse from another build's sweep or
+// merged from shards of different builds keeps each run as its build made it.
+std::map<std::string, int> BuildsOf(const std::vector<RunRecord>& runs, const fs::path& dir) {
+  std::map<std::string, int> builds;
+  for (const RunRecord& r : runs) {
+    if (!r.ok) continue;
+    std::string build = "unknown";
+    try {
+      const nlohmann::json manifest =
+          nlohmann::json::parse(ReadInputFile((dir / r.run_dir / "manifest.json").string(),
+                                              "a run manifest (JSON)", std::uint64_t{64} << 20));
+      const auto text = [&manifest](const char* key) {
+        return manifest.is_object() && manifest.contains(key) && manifest[key].is_string()
+                   ? manifest[key].get<std::string>()
+                   : std::string();
+      };
+      if (!text("git_revision").empty()) {
+        build = fmt::format("{} at {}", text("hcpf_version"), text("git_revision"));
+      }
+    } catch (const std::exception&) {
+    }
+    ++builds[build];
+  }
+  return builds;
+}
+
+// The report's sentence on those builds ("" when no run finished).
+std::string BuildsHtml(const std::map<std::string, int>& builds) {
+  if (builds.empty()) return {};
+  if (builds.size() == 1) {
+    return fmt::format("<p>Every finished run was made by one build: hcpf <code>{}</code>.</p>\n",
+                       EscapeMarkup(builds.begin()->first));
+  }
+  std::vector<std::pair<std::string, int>> by_count(builds.begin(), builds.end());
+  std::stable_sort(by_count.begin(), by_count.end(),
+                   [](const auto& a, const auto& b) { return a.second > b.second; });
+  std::vector<std::string> parts;
+  for (const auto& [build, count] : by_count) {
+    parts.push_back(fmt::format("<code>{}</code> ({} run{})", EscapeMarkup(build), count,
+                                count == 1 ? "" : "s"));
+  }
+  return fmt::format(
+      "<p><strong>The finished runs were made by {} builds of hcpf</strong>: {}. A sweep resumed "
+      "after a rebuild, grown with <code>--reuse</code> from another build's sweep, or merged "
+      "from shards of different builds keeps each run as its build made it (its "
+      "<code>manifest.json</code> names the build), so a change between the builds may be in "
+      "these figures: sweep again into a new folder for one build's (docs/sweeps.md, \"Which "
+      "builds made the runs\").</p>\n",
+      builds.size(), fmt::join(parts, ", "));
+}
+
 // The seed pairs to look at behind every coloured cell of the paired table:
 // the pair whose difference goes furthest in the direction of the mean
 // difference, and the pair that goes least far (a counterexample when its
@@ -1677,7 +1731,8 @@ std::string ReportHtml(const fs::path& dir, const std::string& link_prefix, cons
                        const std::vector<std::pair<std::string, std::string>>& svgs,
                        const std::string& findings_html, const std::string& paired_html,
                        const std::string& replication_html,
-                       const std::vector<std::string>& unmeasured) {
+                       const std::vector<std::string>& unmeasured,
+                       const std::map<std::string, int>& builds) {
   const std::vector<std::string>& keys = meta.swept_keys;
   const int x_index = layout.x_index;
   int64_t ok_runs = 0, failed_runs = 0;
@@ -1713,6 +1768,7 @@ std::string ReportHtml(const fs::path& dir, const std::string& link_prefix, cons
                              : fmt::format("<code>{}</code>", fmt::join(names, "</code>, <code>"));
       }());
   h += "<p>" + CodeSpansToHtml(RootSeedSentence(meta)) + "</p>\n";
+  h += BuildsHtml(builds);
   if (!meta.report.pool.empty()) {
     h += fmt::format(
         "<p>Pooled (<code>report.pool</code>): each cell holds the runs of every value of "
@@ -1865,6 +1921,12 @@ ReportResult WriteReport(const ReportOptions& options) {
     link_prefix = LinkFrom(out, dir) + "/";
   }
   ReportResult result;
+  const std::map<std::string, int> builds = BuildsOf(runs, dir);
+  result.builds = static_cast<int>(builds.size());
+  if (builds.size() > 1) {
+    spdlog::warn("report: the finished runs were made by {} builds of hcpf (the report names them)",
+                 builds.size());
+  }
   const std::vector<std::string> unmeasured = UnmeasuredMetrics(runs, meta.report.y);
   for (const std::string& metric : unmeasured) {
     spdlog::warn("report: no finished run measured {}: its plot is empty", WhereMeasured(metric));
@@ -1941,7 +2003,7 @@ ReportResult WriteReport(const ReportOptions& options) {
                                                FindingsHtml(findings, glance, paired, meta),
                                                PairedHtml(paired, meta, layout, difference_svgs,
                                                           options.dir, link_prefix),
-                                               replication_html, unmeasured));
+                                               replication_html, unmeasured, builds));
   PublishReportFiles(work, out, files, stale);
   result.csv_path = (out / "summary.csv").string();
   result.html_path = (out / "report.html").string();

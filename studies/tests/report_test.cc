@@ -24,6 +24,7 @@
 #include "hcpf/scenarios/output_folder.h"
 #include "hcpf/scenarios/run.h"
 #include "hcpf/scenarios/scenario.h"
+#include "hcpf/scenarios/version.h"
 #include "hcpf/studies/results_store.h"
 #include "hcpf/studies/sweep.h"
 #include "sweep_fixture.h"
@@ -2191,6 +2192,43 @@ TEST(Report, AgainstAnotherStoreSaysWhichFindingsReplicate) {
 // same runs from a file that writes the seed takes the new source; a store
 // written before the root seed was recorded says so, and is filled in when
 // a sweep resumes into it.
+// The report names the build of hcpf that made the runs (each run folder's
+// manifest.json), and says in bold when they are several: here one run's
+// manifest says another revision, as after a rebuild and a resume.
+TEST(Report, SaysWhichBuildsMadeTheRuns) {
+  const auto dir = testing::SweepFolder("report-builds");
+  const SweepSpec spec = LoadSweepFile(testing::WriteSweep(
+      dir,
+      "base: base.yaml\nseeds: 2\ngrid:\n  tracker.particles: [20]\n"
+      "  tracker.resampling.method: [systematic, charged]\n"
+      "report: {x: tracker.particles, series: tracker.resampling.method, y: [idf1]}\n",
+      "s.yaml"));
+  const std::string out = RunQuietly(spec, dir);
+  const std::string here = scenarios::ProjectVersion() + " at " + scenarios::GitRevision();
+  ReportResult r = WriteReport({.dir = out});
+  EXPECT_EQ(r.builds, 1);
+  EXPECT_NE(
+      Read(r.html_path)
+          .find("<p>Every finished run was made by one build: hcpf <code>" + here + "</code>.</p>"),
+      std::string::npos);
+  const std::vector<RunRecord> runs =
+      ResultsStore::Open((fs::path(out) / "results.sqlite").string())->Runs();
+  ASSERT_EQ(runs.size(), 4U);
+  const fs::path manifest = fs::path(out) / runs[2].run_dir / "manifest.json";
+  auto m = nlohmann::json::parse(Read(manifest));
+  EXPECT_EQ(m["hcpf_version"], scenarios::ProjectVersion());
+  m["git_revision"] = "0123456789ab";
+  std::ofstream(manifest) << m.dump();
+  r = WriteReport({.dir = out});
+  EXPECT_EQ(r.builds, 2);
+  EXPECT_NE(
+      Read(r.html_path)
+          .find("<p><strong>The finished runs were made by 2 builds of hcpf</strong>: <code>" +
+                here + "</code> (3 runs), <code>" + scenarios::ProjectVersion() +
+                " at 0123456789ab</code> (1 run)."),
+      std::string::npos);
+}
+
 TEST(Report, SaysWhereTheRunsSeedsComeFrom) {
   const auto dir = testing::SweepFolder("report-root-seed");
   const std::string body =

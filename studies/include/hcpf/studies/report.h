@@ -58,6 +58,7 @@ struct ReportResult {
   int differing_keys = 0;           // a run with `against`: resolved keys that differ between them
   int compared_targets = 0;         // a run with `against`: targets compared frame by frame
   int cells = 0;
+  int builds = 0;  // a sweep's report: builds of hcpf that made its finished runs
 };
 
 // What `hcpf report DIR` was given.

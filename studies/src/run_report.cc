@@ -1304,10 +1304,10 @@ window.addEventListener('hashchange', () => {
 
 // The overlay video section: the runs' overlay.mp4 that browsers play, side
 // by side, moved together by the buttons and the report's frame links; a link
-// and the reason for one that does not play; then the frames to look at. ""
-// when neither run has a video. `link_a` is the link to A's video.
+// and the reason for one that does not play. "" when neither run has a
+// video. `link_a` is the link to A's video.
 std::string VideoSection(const RunFolder& a, const RunFolder* b, const fs::path& out,
-                         const std::string& link_a, const FrameLink& link) {
+                         const std::string& link_a) {
   if (!a.has_video && !(b && b->has_video)) return {};
   std::string h = "<h2 id=\"overlay\">Overlay video</h2>\n";
   std::vector<std::pair<const RunFolder*, std::string>> runs = {{&a, b ? "A" : ""}};
@@ -1372,7 +1372,16 @@ std::string VideoSection(const RunFolder& a, const RunFolder* b, const fs::path&
         frames);
   }
   h += notes;
-  // Compared, a row B has as A has it (the same models cut) is one row.
+  if (!figures.empty()) h += kVideoScript;
+  return h;
+}
+
+// The frames to look at of one run, or of two compared: a paragraph and a
+// table (FramesToLookAt), "" when there is none; frames through `link`.
+std::string FramesToLookAtHtml(const RunFolder& a, const RunFolder* b, const FrameLink& link) {
+  std::string h;
+  // Compared, a row B has as A has it (the same models cut, a filter of the
+  // same id with the same episodes) is one row.
   std::string rows;
   const auto a_rows = FramesToLookAt(a, link);
   const auto b_rows = b ? FramesToLookAt(*b, link) : decltype(a_rows){};
@@ -1394,7 +1403,6 @@ std::string VideoSection(const RunFolder& a, const RunFolder* b, const fs::path&
          "<th>frames</th></tr>\n" +
          rows + "</table>\n";
   }
-  if (!figures.empty()) h += kVideoScript;
   return h;
 }
 
@@ -1785,8 +1793,8 @@ ReportResult WriteRunReport(const ReportOptions& options) {
   }
   // The overlay videos (hcpf run --video), linked from the report's folder.
   h += VideoSection(run, other ? &*other : nullptr, out,
-                    options.out_dir.empty() ? "overlay.mp4" : LinkFrom(out, dir / "overlay.mp4"),
-                    link);
+                    options.out_dir.empty() ? "overlay.mp4" : LinkFrom(out, dir / "overlay.mp4"));
+  h += FramesToLookAtHtml(run, other ? &*other : nullptr, link);
   h += "<h2>Camera motion</h2>\n";
   if (camera.is_object()) {
     h += fmt::format(

@@ -1048,6 +1048,9 @@ TEST(RunReport, ShowsTheOverlayVideoAndLinksItsFrames) {
       << "no video: the timeline is only a picture";
   EXPECT_EQ(html.find("#frame="), std::string::npos);
   EXPECT_NE(html.find("<td class=\"k\">2 (A LOST, B CORRECT)</td>"), std::string::npos);
+  EXPECT_NE(html.find(row("A filter 1 (target 1)", "LOST 2–3, LOST 5, HIJACKED 6")),
+            std::string::npos)
+      << "the frames to look at, without a video to show them: plain numbers";
   EXPECT_NE(html.find("Run A's video: <a href=\"overlay.mp4\">overlay.mp4</a>, MPEG-4 Part 2, "
                       "which VLC and mpv play and most browsers do not (the FFmpeg that wrote it "
                       "had no H.264 encoder)"),

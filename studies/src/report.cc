@@ -727,19 +727,30 @@ std::string FormatP(double p) {
 }
 
 // The builds of hcpf that made a sweep's finished runs, by each run folder's
-// manifest.json ("<hcpf_version> at <git_revision>"), with their run counts;
-// "unknown" for a manifest that is missing or names no build. A sweep
-// resumed after a rebuild, grown with --reuse from another build's sweep or
-// merged from shards of different builds keeps each run as its build made it.
-std::map<std::string, int> BuildsOf(const std::vector<RunRecord>& runs, const fs::path& dir) {
-  std::map<std::string, int> builds;
+// manifest.json ("<hcpf_version> at <git_revision>"), with their run counts,
+// and the finished runs whose manifest is missing, unreadable or names no
+// build. A sweep resumed after a rebuild, grown with --reuse from another
+// build's sweep or merged from shards of different builds keeps each run as
+// its build made it.
+struct Builds {
+  std::map<std::string, int> runs;  // by build
+  int unnamed = 0;
+};
+
+Builds BuildsOf(const std::vector<RunRecord>& runs, const fs::path& dir) {
+  Builds builds;
+  // Only the top level is kept (frame_digests and files, most of a
+  // manifest, are parsed and dropped).
+  const nlohmann::json::parser_callback_t top_level = [](int depth, nlohmann::json::parse_event_t,
+                                                         nlohmann::json&) { return depth <= 1; };
   for (const RunRecord& r : runs) {
     if (!r.ok) continue;
-    std::string build = "unknown";
+    std::string build;
     try {
       const nlohmann::json manifest =
           nlohmann::json::parse(ReadInputFile((dir / r.run_dir / "manifest.json").string(),
-                                              "a run manifest (JSON)", std::uint64_t{64} << 20));
+                                              "a run manifest (JSON)", std::uint64_t{64} << 20),
+                                top_level);
       const auto text = [&manifest](const char* key) {
         return manifest.is_object() && manifest.contains(key) && manifest[key].is_string()
                    ? manifest[key].get<std::string>()
@@ -750,17 +761,31 @@ std::map<std::string, int> BuildsOf(const std::vector<RunRecord>& runs, const fs
       }
     } catch (const std::exception&) {
     }
-    ++builds[build];
+    if (build.empty()) {
+      ++builds.unnamed;
+    } else {
+      ++builds.runs[build];
+    }
   }
   return builds;
 }
 
 // The report's sentence on those builds ("" when no run finished).
-std::string BuildsHtml(const std::map<std::string, int>& builds) {
-  if (builds.empty()) return {};
+std::string BuildsHtml(const Builds& all) {
+  const std::map<std::string, int>& builds = all.runs;
+  const std::string unnamed =
+      all.unnamed == 0
+          ? std::string()
+          : fmt::format(
+                "{} finished run{} name{} no build (a <code>manifest.json</code> missing, "
+                "unreadable or without <code>git_revision</code>).",
+                all.unnamed, all.unnamed == 1 ? "" : "s", all.unnamed == 1 ? "s" : "");
+  if (builds.empty()) return unnamed.empty() ? std::string() : "<p>" + unnamed + "</p>\n";
+  const std::string tail = unnamed.empty() ? std::string() : " " + unnamed;
   if (builds.size() == 1) {
-    return fmt::format("<p>Every finished run was made by one build: hcpf <code>{}</code>.</p>\n",
-                       EscapeMarkup(builds.begin()->first));
+    return fmt::format(
+        "<p>Every finished run that names its build was made by one: hcpf <code>{}</code>.{}</p>\n",
+        EscapeMarkup(builds.begin()->first), tail);
   }
   std::vector<std::pair<std::string, int>> by_count(builds.begin(), builds.end());
   std::stable_sort(by_count.begin(), by_count.end(),
@@ -776,8 +801,8 @@ std::string BuildsHtml(const std::map<std::string, int>& builds) {
       "from shards of different builds keeps each run as its build made it (its "
       "<code>manifest.json</code> names the build), so a change between the builds may be in "
       "these figures: sweep again into a new folder for one build's (docs/sweeps.md, \"Which "
-      "builds made the runs\").</p>\n",
-      builds.size(), fmt::join(parts, ", "));
+      "builds made the runs\").{}</p>\n",
+      builds.size(), fmt::join(parts, ", "), tail);
 }
 
 // The seed pairs to look at behind every coloured cell of the paired table:
@@ -1731,8 +1756,7 @@ std::string ReportHtml(const fs::path& dir, const std::string& link_prefix, cons
                        const std::vector<std::pair<std::string, std::string>>& svgs,
                        const std::string& findings_html, const std::string& paired_html,
                        const std::string& replication_html,
-                       const std::vector<std::string>& unmeasured,
-                       const std::map<std::string, int>& builds) {
+                       const std::vector<std::string>& unmeasured, const Builds& builds) {
   const std::vector<std::string>& keys = meta.swept_keys;
   const int x_index = layout.x_index;
   int64_t ok_runs = 0, failed_runs = 0;
@@ -1921,11 +1945,11 @@ ReportResult WriteReport(const ReportOptions& options) {
     link_prefix = LinkFrom(out, dir) + "/";
   }
   ReportResult result;
-  const std::map<std::string, int> builds = BuildsOf(runs, dir);
-  result.builds = static_cast<int>(builds.size());
-  if (builds.size() > 1) {
+  const Builds builds = BuildsOf(runs, dir);
+  result.builds = static_cast<int>(builds.runs.size());
+  if (builds.runs.size() > 1) {
     spdlog::warn("report: the finished runs were made by {} builds of hcpf (the report names them)",
-                 builds.size());
+                 builds.runs.size());
   }
   const std::vector<std::string> unmeasured = UnmeasuredMetrics(runs, meta.report.y);
   for (const std::string& metric : unmeasured) {

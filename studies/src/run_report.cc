@@ -1233,7 +1233,13 @@ function hcpfShow(frame) {
 function hcpfStep(d) { hcpfShow(hcpfCurrent + d); }
 function hcpfPlay() {
   const t = hcpfLeader().currentTime;
-  for (const v of hcpfVideos()) { v.currentTime = Math.min(t, v.duration || t); v.play(); }
+  for (const v of hcpfVideos()) {
+    // A shorter video past its end stays on its last frame (play() on an
+    // ended video would start it again from the beginning).
+    const end = (+v.dataset.frames - 0.5) / +v.dataset.fps;
+    v.currentTime = Math.min(t, end);
+    if (t < end) v.play();
+  }
 }
 function hcpfPause() { for (const v of hcpfVideos()) v.pause(); }
 // The timeline's cursor at `frame`, in the SVG's own units (the plot's box
@@ -1252,6 +1258,8 @@ function hcpfCursor(frame) {
     line.setAttribute('y2', t.dataset.bottom);
     svg.appendChild(line);
   }
+  // Past the timeline's last frame (a longer video of the other run), none.
+  line.style.display = frame > +t.dataset.frames ? 'none' : '';
   const x = +t.dataset.left + (frame - 0.5) / +t.dataset.frames * (t.dataset.right - t.dataset.left);
   line.setAttribute('x1', x);
   line.setAttribute('x2', x);
@@ -1266,7 +1274,8 @@ document.addEventListener('click', e => {
     const q = p.matrixTransform(svg.getScreenCTM().inverse());
     const left = +t.dataset.left, right = +t.dataset.right;
     if (q.x >= left && q.x <= right && q.y >= +t.dataset.top && q.y <= +t.dataset.bottom) {
-      hcpfShow(Math.round(0.5 + (q.x - left) / (right - left) * +t.dataset.frames));
+      const n = +t.dataset.frames;
+      hcpfShow(Math.min(Math.round(0.5 + (q.x - left) / (right - left) * n), n));
     }
     return;
   }
@@ -1284,6 +1293,7 @@ window.addEventListener('load', () => {
       caption.textContent = hcpfFrameOf(v);
       if (v === hcpfLeader() && !v.seeking) {
         hcpfCurrent = hcpfFrameOf(v);
+        document.getElementById('overlay-frame').value = hcpfCurrent;
         hcpfCursor(hcpfCurrent);
       }
     };
@@ -1785,8 +1795,12 @@ ReportResult WriteRunReport(const ReportOptions& options) {
                   timeline_plot.bottom)
             : std::string();
     if (!box.empty()) {
-      h += "<p>A click on the timeline shows that frame in the overlay video below; the red line "
-           "marks the frame the video shows.</p>\n";
+      h += fmt::format(
+          "<p>A click on the timeline shows that frame in the overlay video{} below; the red "
+          "line marks the frame {} show{}.</p>\n",
+          other && other->video_plays && run.video_plays ? "s" : "",
+          other && other->video_plays && run.video_plays ? "they" : "it",
+          other && other->video_plays && run.video_plays ? "" : "s");
     }
     h += fmt::format("<div class=\"plot\" id=\"plot-timeline\"{}>\n{}\n</div>\n", box,
                      timeline_plot.svg);

@@ -988,6 +988,12 @@ TEST(RunReport, ShowsTheOverlayVideoAndLinksItsFrames) {
   EXPECT_LE(right, 820.0);
   EXPECT_GT(top, 10.0);
   EXPECT_LT(top, bottom);
+  // gnuplot's border of that plot, in the same units (y from the top).
+  EXPECT_NE(html.find(fmt::format("d='M{0:.2f},{1:.2f} L{0:.2f},{2:.2f} L{3:.2f},{2:.2f} "
+                                  "L{3:.2f},{1:.2f} L{0:.2f},{1:.2f} Z",
+                                  left, top, bottom, right),
+                      timeline),
+            std::string::npos);
   EXPECT_NE(html.find("A click on the timeline shows that frame"), std::string::npos);
   EXPECT_NE(html.find(row("filter 1 (target 1)",
                           "LOST " + link(2) + "–3, LOST " + link(5) + ", HIJACKED " + link(6))),
@@ -2189,12 +2195,6 @@ TEST(Report, AgainstAnotherStoreSaysWhichFindingsReplicate) {
             std::string::npos);
 }
 
-// Where the runs' seeds come from is stored with the sweep and said by its
-// report: the file's seed:, hcpf sweep --seed (with the file's own seed), or
-// the base scenario's seed when the sweep has no seeds:. Resuming with the
-// same runs from a file that writes the seed takes the new source; a store
-// written before the root seed was recorded says so, and is filled in when
-// a sweep resumes into it.
 // The report names the build of hcpf that made the runs (each run folder's
 // manifest.json), and says in bold when they are several: here one run's
 // manifest says another revision, as after a rebuild and a resume.
@@ -2210,10 +2210,10 @@ TEST(Report, SaysWhichBuildsMadeTheRuns) {
   const std::string here = scenarios::ProjectVersion() + " at " + scenarios::GitRevision();
   ReportResult r = WriteReport({.dir = out});
   EXPECT_EQ(r.builds, 1);
-  EXPECT_NE(
-      Read(r.html_path)
-          .find("<p>Every finished run was made by one build: hcpf <code>" + here + "</code>.</p>"),
-      std::string::npos);
+  EXPECT_NE(Read(r.html_path)
+                .find("<p>Every finished run that names its build was made by one: hcpf <code>" +
+                      here + "</code>.</p>"),
+            std::string::npos);
   const std::vector<RunRecord> runs =
       ResultsStore::Open((fs::path(out) / "results.sqlite").string())->Runs();
   ASSERT_EQ(runs.size(), 4U);
@@ -2230,8 +2230,24 @@ TEST(Report, SaysWhichBuildsMadeTheRuns) {
                 here + "</code> (3 runs), <code>" + scenarios::ProjectVersion() +
                 " at 0123456789ab</code> (1 run)."),
       std::string::npos);
+  // A run whose manifest is gone names no build: counted apart, not a build.
+  fs::remove(manifest);
+  r = WriteReport({.dir = out});
+  EXPECT_EQ(r.builds, 1);
+  EXPECT_NE(
+      Read(r.html_path)
+          .find("<p>Every finished run that names its build was made by one: hcpf <code>" + here +
+                "</code>. 1 finished run names no build (a <code>manifest.json</code> "
+                "missing, unreadable or without <code>git_revision</code>).</p>"),
+      std::string::npos);
 }
 
+// Where the runs' seeds come from is stored with the sweep and said by its
+// report: the file's seed:, hcpf sweep --seed (with the file's own seed), or
+// the base scenario's seed when the sweep has no seeds:. Resuming with the
+// same runs from a file that writes the seed takes the new source; a store
+// written before the root seed was recorded says so, and is filled in when
+// a sweep resumes into it.
 TEST(Report, SaysWhereTheRunsSeedsComeFrom) {
   const auto dir = testing::SweepFolder("report-root-seed");
   const std::string body =

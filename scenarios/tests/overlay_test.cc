@@ -6,6 +6,8 @@
 #include <gtest/gtest.h>
 #include <sched.h>
 
+#include <algorithm>
+#include <array>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
@@ -20,6 +22,31 @@ namespace hcpf::scenarios {
 namespace {
 
 namespace fs = std::filesystem;
+
+// `frames` frames of the scenario: their ground truth, and images of the
+// camera's size in one colour.
+struct Clip {
+  std::vector<FrameGroundTruth> truth;
+  std::vector<RgbImage> images;
+};
+
+Clip PlainClip(const Scenario& scenario, int frames, std::array<uint8_t, 3> rgb) {
+  Clip clip;
+  const int width = scenario.world.camera.width_px;
+  const int height = scenario.world.camera.height_px;
+  for (int f = 0; f < frames; ++f) {
+    clip.truth.push_back(ComputeGroundTruth(scenario.world, f));
+    RgbImage image;
+    image.width = width;
+    image.height = height;
+    image.pixels.resize(static_cast<size_t>(width) * height * 3);
+    for (size_t i = 0; i < image.pixels.size(); i += 3) {
+      std::copy(rgb.begin(), rgb.end(), image.pixels.begin() + static_cast<std::ptrdiff_t>(i));
+    }
+    clip.images.push_back(std::move(image));
+  }
+  return clip;
+}
 
 TEST(Overlay, VideoReadsBackWithFrameCountAndSize) {
   const auto dir = ::hcpf::testing::FreshDir("overlay");
@@ -121,18 +148,11 @@ TEST(Overlay, AnOddSideGainsACopyOfItsLastRowOrColumn) {
   const auto dir = ::hcpf::testing::FreshDir("overlay-odd");
   const Scenario scenario =
       LoadScenarioText(testing::kMinimal, "minimal.yaml", {{"camera.resolution", "[321, 241]"}});
-  std::vector<FrameGroundTruth> truth;
-  std::vector<RgbImage> images;
-  for (int f = 0; f < 3; ++f) {
-    truth.push_back(ComputeGroundTruth(scenario.world, f));
-    RgbImage image;
-    image.width = 321;
-    image.height = 241;
-    image.pixels.assign(321 * 241 * 3, 90);
+  auto [truth, images] = PlainClip(scenario, 3, {90, 90, 90});
+  for (RgbImage& image : images) {
     for (int y = 0; y < 241; ++y) {
       for (int c = 0; c < 3; ++c) image.pixels[(static_cast<size_t>(y) * 321 + 320) * 3 + c] = 255;
     }
-    images.push_back(image);
   }
   const std::string path = (dir / "overlay.mp4").string();
   const OverlayVideo video = WriteOverlayVideo(path, scenario, {.truth = truth}, &images);
@@ -262,21 +282,7 @@ namespace {
 TEST(Overlay, DrawsOnTheGivenFrames) {
   const auto dir = ::hcpf::testing::FreshDir("overlay-frames");
   const Scenario scenario = LoadScenarioText(testing::kMinimal, "minimal.yaml");  // 320x240
-  std::vector<FrameGroundTruth> truth;
-  std::vector<RgbImage> images;
-  for (int f = 0; f < 5; ++f) {
-    truth.push_back(ComputeGroundTruth(scenario.world, f));
-    RgbImage image;
-    image.width = 320;
-    image.height = 240;
-    image.pixels.assign(320 * 240 * 3, 0);
-    for (size_t i = 0; i < image.pixels.size(); i += 3) {
-      image.pixels[i] = 200;      // R
-      image.pixels[i + 1] = 100;  // G
-      image.pixels[i + 2] = 50;   // B
-    }
-    images.push_back(image);
-  }
+  const auto [truth, images] = PlainClip(scenario, 5, {200, 100, 50});            // RGB
   const std::string path = (dir / "overlay.mp4").string();
   WriteOverlayVideo(path, scenario, {.truth = truth}, &images);
   cv::VideoCapture in(path);

@@ -702,6 +702,47 @@ TEST(ReportInChromium, EveryPlotRendersWithData) {
   EXPECT_EQ(svgs, 6U);  // 3 metrics, and their paired differences
 }
 
+// The run report's script, run by Chromium: opened at "#frame=K", it moves
+// the videos to frame K and draws the timeline's cursor there, at the x the
+// plot's box gives (left + (K - 0.5) / frames * (right - left), in the SVG's
+// own units); a frame past the last is the last. Chromium's headless mode
+// does not finish a video seek, so the cursor, which the script draws at
+// once, is what is read back from the page (--dump-dom).
+TEST(ReportInChromium, TheRunReportsScriptDrawsTheCursorAtTheFrameInTheAddress) {
+  const std::string chromium = FindChromium();
+  if (chromium.empty())
+    GTEST_SKIP() << "chromium is not installed (apt-get install -y chromium): script not run";
+  const fs::path dir = FreshDir("run-report-chromium");
+  const fs::path run = dir / "run";
+  auto r = RunCommand(kHcpf + " run " + (kSource / "scenarios/library/crossing.yaml").string() +
+                      " --set frames=40 --out " + run.string() + " --video");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  r = RunCommand(kHcpf + " report " + run.string());
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  const std::string html = ReadFile(run / "report.html");
+  const std::regex box(
+      "id=\"plot-timeline\" data-frames=\"40\" data-left=\"([0-9.]+)\" data-right=\"([0-9.]+)\"");
+  std::smatch m;
+  ASSERT_TRUE(std::regex_search(html, m, box)) << "the timeline has no plot box";
+  const double left = std::stod(m[1]), right = std::stod(m[2]);
+  const fs::path profile = FreshDir("run-report-chromium-profile");
+  const auto cursor_at = [&](const std::string& hash) {
+    const auto dom = RunCommand(
+        "timeout 120 " + chromium +
+        " --headless --no-sandbox --disable-gpu --disable-quic --no-first-run"
+        " --disable-background-networking --disable-component-update --disable-sync"
+        " --autoplay-policy=no-user-gesture-required --virtual-time-budget=5000 --user-data-dir=" +
+        profile.string() + " --dump-dom 'file://" + fs::absolute(run / "report.html").string() +
+        hash + "' 2>/dev/null");
+    std::smatch x;
+    const std::regex line("<line id=\"hcpf-cursor\"[^>]* x1=\"([-0-9.e]+)\"");
+    return std::regex_search(dom.output, x, line) ? std::stod(x[1]) : -1.0;
+  };
+  EXPECT_NEAR(cursor_at("#frame=12"), left + (12 - 0.5) / 40 * (right - left), 1e-6);
+  EXPECT_NEAR(cursor_at("#frame=999"), left + (40 - 0.5) / 40 * (right - left), 1e-6);
+  EXPECT_NEAR(cursor_at(""), left + (1 - 0.5) / 40 * (right - left), 1e-6) << "frame 1 at first";
+}
+
 TEST(RegressCli, ExitCodesOnTrueAndPlantedBaselines) {
   const fs::path dir = FreshDir("regress-cli");
   const fs::path suite = kSource / "scenarios" / "regress" / "suite.yaml";

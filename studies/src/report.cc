@@ -867,7 +867,11 @@ std::string SeedsToLookAtHtml(const Paired& paired, const StoreMeta& meta,
       "cell{}, the seed whose difference goes furthest in the direction of the mean and the "
       "seed that goes least far ({} of them against it: the other sign), with the command that "
       "sets the two runs side by side (docs/sweeps.md, \"Two runs side by "
-      "side\").</summary>\n<table><tr>",
+      "side\").</summary>\n<p>That report plays the runs' overlay videos side by side when "
+      "both have one (the first seed of each cell under <code>hcpf sweep --video</code>); for "
+      "any other run, <code>hcpf run RUN/scenario.resolved.yaml --out NEW --video</code> makes "
+      "the same run with one (the same files), and <code>hcpf report NEW --against "
+      "OTHER_NEW</code> then shows both.</p>\n<table><tr>",
       findings == 1 ? std::string("the one") : fmt::format("each of the {}", findings),
       findings == 1 ? "" : "s", counterexamples);
   for (size_t k : shown) h += "<th>" + EscapeMarkup(keys[k]) + "</th>";

@@ -1530,6 +1530,10 @@ TEST(Report, SeedsToLookAtNameTheFurthestAndTheLeastFarPairOfEachFinding) {
   std::string html = Read(hand / "report.html");
   EXPECT_NE(html.find("for the one coloured cell, the seed"), std::string::npos);
   EXPECT_NE(html.find("(0 of them against it"), std::string::npos);
+  // How to see the two runs' videos when they have none.
+  EXPECT_NE(html.find("<code>hcpf run RUN/scenario.resolved.yaml --out NEW --video</code> makes "
+                      "the same run with one"),
+            std::string::npos);
   EXPECT_NE(
       html.find("<a href=\"runs/100-charged-0\">seed index 0</a>: &Delta;&nbsp;-1<br><code>hcpf "
                 "report " +

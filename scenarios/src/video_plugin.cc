@@ -53,11 +53,8 @@ class FfmpegVideoSink final : public hcpf::scenarios::VideoSink {
     int err = avformat_alloc_output_context2(&format_, nullptr, "mp4", path);
     if (err < 0 || format_ == nullptr) return "cannot make an MP4 muxer: " + AvError(err);
     const AVCodec* codec = avcodec_find_encoder_by_name("libx264");
-    fourcc_ = "avc1";
-    if (codec == nullptr) {
-      codec = avcodec_find_encoder(AV_CODEC_ID_MPEG4);
-      fourcc_ = "mp4v";
-    }
+    h264_ = codec != nullptr;
+    if (!h264_) codec = avcodec_find_encoder(AV_CODEC_ID_MPEG4);
     if (codec == nullptr) return "this FFmpeg has neither libx264 nor an MPEG-4 Part 2 encoder";
     stream_ = avformat_new_stream(format_, nullptr);
     context_ = avcodec_alloc_context3(codec);
@@ -86,7 +83,7 @@ class FfmpegVideoSink final : public hcpf::scenarios::VideoSink {
     context_->color_primaries = AVCOL_PRI_BT709;
     context_->color_trc = AVCOL_TRC_IEC61966_2_1;
     context_->color_range = AVCOL_RANGE_MPEG;
-    if (fourcc_ == std::string("mp4v")) {
+    if (!h264_) {
       // A fixed quantiser (FFmpeg's default is a 200 kbit/s target).
       context_->flags |= AV_CODEC_FLAG_QSCALE;
       context_->global_quality = FF_QP2LAMBDA * 3;
@@ -95,7 +92,7 @@ class FfmpegVideoSink final : public hcpf::scenarios::VideoSink {
       context_->flags |= AV_CODEC_FLAG_GLOBAL_HEADER;
     }
     AVDictionary* codec_options = nullptr;
-    if (fourcc_ == std::string("avc1")) {
+    if (h264_) {
       // CRF 23 (libx264's default quality) at preset veryfast, on one
       // thread: 240 frames of 640 x 480 in 0.83 s against 1.80 s at preset
       // medium, and a smaller file (0.49 against 0.57 MB; crossing, rendered).
@@ -175,7 +172,7 @@ class FfmpegVideoSink final : public hcpf::scenarios::VideoSink {
     }
   }
 
-  const char* fourcc() const override { return fourcc_; }
+  const char* fourcc() const override { return h264_ ? "avc1" : "mp4v"; }
   const char* error() const override { return error_.c_str(); }
   bool created() const { return created_; }
   // Closes the file without finishing it (after a failed Open).
@@ -228,7 +225,7 @@ class FfmpegVideoSink final : public hcpf::scenarios::VideoSink {
   AVPacket* packet_ = nullptr;
   SwsContext* scale_ = nullptr;
   cv::Mat padded_;
-  const char* fourcc_ = "avc1";
+  bool h264_ = true;  // libx264; else MPEG-4 Part 2
   int width_ = 0, height_ = 0;
   int64_t next_pts_ = 0;
   std::string error_;  // the first failure after Open; "" while none

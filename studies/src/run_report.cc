@@ -558,6 +558,26 @@ std::vector<std::pair<int64_t, int64_t>> FilterMapping(const json& metrics) {
   return out;
 }
 
+// Each filter's target by that mapping (the first pair of a filter counts).
+std::map<int64_t, int64_t> TargetOfFilter(const json& metrics) {
+  std::map<int64_t, int64_t> target_of;
+  for (const auto& [filter, target] : FilterMapping(metrics)) target_of.try_emplace(filter, target);
+  return target_of;
+}
+
+// A manifest.json list of {"<id_key>": id, "frame": frame} entries
+// (target_model_sources, tracker.reacquired): visit(id, frame from 0) for
+// each entry that has both.
+template <typename Visit>
+void ForEachIdFrame(const json& list, const char* id_key, Visit visit) {
+  if (!list.is_array()) return;
+  for (const json& entry : list) {
+    const std::optional<int64_t> id = JsonInt(entry, id_key);
+    const std::optional<int64_t> frame = JsonInt(entry, "frame");
+    if (id && frame) visit(*id, *frame);
+  }
+}
+
 // The timeline's rows before they are ordered: per target (gt/gt.txt) its
 // visibility; in a rendered run with a detector, the frames where the
 // detector found or missed it (metrics.json detection.by_target) and the frame
@@ -607,17 +627,13 @@ TimelineParts ReadTimeline(const metrics::MotFile& gt, const json& metrics, cons
       }
       truth.try_emplace(*id, row_of(fmt::format("target {}", *id)));
     }
-    const json& models = JsonMember(manifest, "target_model_sources");
-    if (models.is_array()) {
-      for (const json& m : models) {
-        const std::optional<int64_t> id = JsonInt(m, "target");
-        const std::optional<int64_t> frame = JsonInt(m, "frame");
-        if (!id || !frame || !in_range(*frame + 1)) continue;
-        detected.try_emplace(*id, row_of("detections"))
-            .first->second.marks[kModelCut]
-            .push_back(static_cast<int>(*frame + 1));
-      }
-    }
+    ForEachIdFrame(JsonMember(manifest, "target_model_sources"), "target",
+                   [&](int64_t id, int64_t frame) {
+                     if (!in_range(frame + 1)) return;
+                     detected.try_emplace(id, row_of("detections"))
+                         .first->second.marks[kModelCut]
+                         .push_back(static_cast<int>(frame + 1));
+                   });
   }
   // Filter rows, by filter id, and the target each is mapped to.
   std::map<int64_t, TimelineRow> filter_rows;
@@ -626,16 +642,12 @@ TimelineParts ReadTimeline(const metrics::MotFile& gt, const json& metrics, cons
         filter_rows.try_emplace(filter, row_of(fmt::format("filter {}", filter))).first->second;
     if (in_range(frame + 1)) row.colour[static_cast<size_t>(frame)] = StateColour(state);
   });
-  const json& reacquired = JsonMember(JsonMember(manifest, "tracker"), "reacquired");
-  if (reacquired.is_array()) {
-    for (const json& r : reacquired) {
-      const std::optional<int64_t> filter = JsonInt(r, "filter");
-      const std::optional<int64_t> frame = JsonInt(r, "frame");
-      const auto row = filter ? filter_rows.find(*filter) : filter_rows.end();
-      if (row == filter_rows.end() || !frame || !in_range(*frame + 1)) continue;
-      row->second.marks[kReacquired].push_back(static_cast<int>(*frame + 1));
-    }
-  }
+  ForEachIdFrame(JsonMember(JsonMember(manifest, "tracker"), "reacquired"), "filter",
+                 [&](int64_t filter, int64_t frame) {
+                   const auto row = filter_rows.find(filter);
+                   if (row == filter_rows.end() || !in_range(frame + 1)) return;
+                   row->second.marks[kReacquired].push_back(static_cast<int>(frame + 1));
+                 });
   std::map<int64_t, std::vector<int64_t>> filters_of_target;
   std::set<int64_t> mapped;
   for (const auto& [filter, target] : FilterMapping(metrics)) {
@@ -752,11 +764,12 @@ TimelinePlot TimelineSvg(const std::vector<TimelineRow>& rows, int frames, const
     WriteTextFile((work / kMarks[k].file).string(), mark_text[k]);
   }
   const int n = static_cast<int>(rows.size());
+  constexpr int kWidth = 820;
   const int height = 170 + 22 * n;
   const fs::path box = work / "timeline-box.txt";
   std::string gp;
-  gp += fmt::format("set terminal svg size 820,{} dynamic font 'sans,11' background rgb 'white'\n",
-                    height);
+  gp += fmt::format("set terminal svg size {},{} dynamic font 'sans,11' background rgb 'white'\n",
+                    kWidth, height);
   gp += fmt::format("set output {}\n", GpString(svg.string()));
   gp += fmt::format("set title {} noenhanced\n", GpString(title));
   gp += "set xlabel 'frame (from 1, as in gt/gt.txt and filters.csv)' noenhanced\n";
@@ -801,7 +814,7 @@ TimelinePlot TimelineSvg(const std::vector<TimelineRow>& rows, int frames, const
   if (fs::is_regular_file(box, ec)) {
     std::istringstream in(ReadWholeFile(box));
     double x0 = 0, x1 = 0, y0 = 0, y1 = 0;
-    if (in >> x0 >> x1 >> y0 >> y1 && x0 >= 0 && x0 < x1 && x1 <= 820 && y0 >= 0 && y0 < y1 &&
+    if (in >> x0 >> x1 >> y0 >> y1 && x0 >= 0 && x0 < x1 && x1 <= kWidth && y0 >= 0 && y0 < y1 &&
         y1 <= height) {
       out.has_box = true;
       out.left = x0;
@@ -831,6 +844,7 @@ struct RunFolder {
   std::string video_codec;  // the manifest's; "" when it has no video entry
   double video_fps = 0.0;
   int video_frames = 0;
+  int video_width = 640;  // the manifest's, for the player's largest width
 };
 
 // The run folder's manifest.json and metrics.json; throws InputError when
@@ -872,6 +886,10 @@ RunFolder ReadRunFolder(const fs::path& dir) {
       run.video_plays = true;
       run.video_fps = fps;
       run.video_frames = static_cast<int>(*frames);
+      const std::optional<int64_t> width = JsonInt(video, "width");
+      if (width && *width > 0 && *width <= std::numeric_limits<int>::max()) {
+        run.video_width = static_cast<int>(*width);
+      }
     }
   }
   const fs::path resolved = dir / "scenario.resolved.yaml";
@@ -948,8 +966,7 @@ constexpr std::array<const char*, 9> kDeterministicFiles = {
 // the first of them by filter id (SWAPPED, HIJACKED, STRAYED or LOST); else
 // COASTING when one of them exists that frame; "" when none does.
 std::map<int64_t, std::vector<std::string>> TargetStates(const json& metrics, int frames) {
-  std::map<int64_t, int64_t> target_of;
-  for (const auto& [filter, target] : FilterMapping(metrics)) target_of.try_emplace(filter, target);
+  const std::map<int64_t, int64_t> target_of = TargetOfFilter(metrics);
   std::map<int64_t, std::vector<std::string>> by_filter;
   ForEachFilterState(metrics, [&](int64_t filter, int64_t frame, const std::string& state) {
     if (frame < 0 || frame >= frames || !target_of.contains(filter)) return;
@@ -1168,9 +1185,7 @@ std::vector<std::pair<std::string, std::string>> FramesToLookAt(const RunFolder&
   const auto row = [&rows](std::string what, std::string frames) {
     rows.emplace_back(std::move(what), std::move(frames));
   };
-  std::map<int64_t, int64_t> target_of;
-  for (const auto& [filter, target] : FilterMapping(r.metrics))
-    target_of.try_emplace(filter, target);
+  const std::map<int64_t, int64_t> target_of = TargetOfFilter(r.metrics);
   for (const auto& [filter, episodes] : FilterEpisodes(r.metrics, r.frames)) {
     if (episodes.empty()) continue;
     std::string text;
@@ -1189,15 +1204,12 @@ std::vector<std::pair<std::string, std::string>> FramesToLookAt(const RunFolder&
         text);
   }
   const auto frame_list = [&](const json& list, const char* who, const char* label) {
-    if (!list.is_array()) return;
     std::string text;
-    for (const json& m : list) {
-      const std::optional<int64_t> id = JsonInt(m, who);
-      const std::optional<int64_t> frame = JsonInt(m, "frame");
-      if (!id || !frame || *frame < 0 || *frame >= r.frames) continue;
-      text += fmt::format("{}{} {}: {}", text.empty() ? "" : ", ", who, *id,
-                          link(static_cast<int>(*frame) + 1));
-    }
+    ForEachIdFrame(list, who, [&](int64_t id, int64_t frame) {
+      if (frame < 0 || frame >= r.frames) return;
+      text += fmt::format("{}{} {}: {}", text.empty() ? "" : ", ", who, id,
+                          link(static_cast<int>(frame) + 1));
+    });
     if (!text.empty()) row(label, text);
   };
   frame_list(JsonMember(r.manifest, "target_model_sources"), "target", "target models cut");
@@ -1323,7 +1335,7 @@ std::string VideoSection(const RunFolder& a, const RunFolder* b, const fs::path&
   std::vector<std::pair<const RunFolder*, std::string>> runs = {{&a, b ? "A" : ""}};
   if (b) runs.emplace_back(b, "B");
   std::string figures, notes;
-  int frames = 0;
+  int frames = 0, players = 0;
   for (const auto& [r, name] : runs) {
     const std::string who = name.empty() ? std::string("This run") : "Run " + name;
     // One resolved scenario gives the same files (docs/outputs.md,
@@ -1351,26 +1363,24 @@ std::string VideoSection(const RunFolder& a, const RunFolder* b, const fs::path&
       continue;
     }
     const std::string id = name.empty() ? "video" : "video-" + std::string(1, name[0] + 32);
-    const int width =
-        static_cast<int>(JsonInt(JsonMember(r->manifest, "video"), "width").value_or(640));
+    ++players;
     figures += fmt::format(
         "<figure style=\"flex:1 1 0;max-width:{0}px;margin:0\"><video id=\"{1}\" "
         "class=\"overlay\" data-fps=\"{2}\" data-frames=\"{3}\" src=\"{4}\" controls muted "
         "preload=\"auto\" style=\"width:100%\"></video><figcaption>{5}<a href=\"{4}\">overlay.mp4"
         "</a>, frame <span id=\"{1}-frame\">1</span> of {3}</figcaption></figure>\n",
-        width, id, r->video_fps, r->video_frames, EscapeMarkup(href),
+        r->video_width, id, r->video_fps, r->video_frames, EscapeMarkup(href),
         name.empty() ? std::string() : fmt::format("<b>{}</b>: ", name));
     frames = std::max(frames, r->video_frames);
   }
-  if (!figures.empty()) {
+  if (players > 0) {
     h += fmt::format(
         "<p>Each frame with the ground truth (white), the detections the tracker was given "
         "(yellow), each filter's box, particles and state (docs/sweeps.md, \"Overlay videos\"). "
         "The buttons, and every frame number that is a link in this report, move {} to that "
         "frame (counted from 1, as the timeline); <code>report.html#frame=K</code> opens the "
         "report at frame K.</p>\n",
-        runs.size() == 2 && figures.find("video-b") != std::string::npos ? "both videos"
-                                                                         : "the video");
+        players == 2 ? "both videos" : "the video");
     h += "<div style=\"display:flex;gap:1em;flex-wrap:wrap\">\n" + figures + "</div>\n";
     h += fmt::format(
         "<p><button type=\"button\" onclick=\"hcpfStep(-1)\">◀ frame</button> <button "
@@ -1382,7 +1392,7 @@ std::string VideoSection(const RunFolder& a, const RunFolder* b, const fs::path&
         frames);
   }
   h += notes;
-  if (!figures.empty()) h += kVideoScript;
+  if (players > 0) h += kVideoScript;
   return h;
 }
 

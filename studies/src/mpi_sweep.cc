@@ -143,7 +143,7 @@ void SendText(const std::string& text, int destination, int tag) {
 }
 
 // What a worker sends back: the run's index and key (checked by rank 0),
-// ok, error and metrics. JSON numbers are written with 17 significant digits
+// ok, error, metrics and build. JSON numbers are written with 17 significant digits
 // and read back to the same double; non-finite values, which JSON lacks, are
 // written as the strings "nan", "inf" and "-inf".
 std::string RecordToJson(const RunRecord& record) {
@@ -157,16 +157,15 @@ std::string RecordToJson(const RunRecord& record) {
       metrics[name] = value;
     }
   }
-  const json j = {{"index", record.index},
-                  {"key", record.key},
-                  {"ok", record.ok},
-                  {"error", record.error},
-                  {"metrics", metrics}};
+  const json j = {
+      {"index", record.index}, {"key", record.key},
+      {"ok", record.ok},       {"error", record.error},
+      {"metrics", metrics},    {"build", record.build ? json(*record.build) : json(nullptr)}};
   // An error message may quote bytes that are not UTF-8 (a file's content).
   return j.dump(-1, ' ', false, json::error_handler_t::replace);
 }
 
-// Fills ok, error and metrics of `record` (made by NewRecord for the run the
+// Fills ok, error, metrics and build of `record` (made by NewRecord for the run the
 // worker was given) from a worker's message. Throws RunError when the message
 // is not the record of that run.
 void ReadRecordJson(const std::string& text, int worker, RunRecord& record) {
@@ -177,6 +176,7 @@ void ReadRecordJson(const std::string& text, int worker, RunRecord& record) {
       throw RunError("the record is of another run");
     record.ok = j.at("ok").get<bool>();
     record.error = j.at("error").get<std::string>();
+    if (!j.at("build").is_null()) record.build = j.at("build").get<std::string>();
     for (const auto& [name, value] : j.at("metrics").items()) {
       if (value.is_string()) {
         const std::string s = value.get<std::string>();

@@ -726,11 +726,12 @@ std::string FormatP(double p) {
   return fmt::format("p&nbsp;=&nbsp;{:.3f}", p);
 }
 
-// The builds of hcpf that made a sweep's finished runs, by each run folder's
-// manifest.json ("<hcpf_version> at <git_revision>"), with their run counts,
-// and the finished runs whose manifest is missing, unreadable or names no
-// build. A sweep resumed after a rebuild, grown with --reuse from another
-// build's sweep or merged from shards of different builds keeps each run as
+// The builds of hcpf that made a sweep's finished runs, as the store's rows
+// record them from each run folder's manifest.json ("<hcpf_version> at
+// <git_revision>"; the manifest itself for rows of a store written before
+// the build column), with their run counts, and the finished runs whose
+// manifest was missing, unreadable or named no build. A sweep resumed after a rebuild, grown with
+// --reuse from another build's sweep or merged from shards of different builds keeps each run as
 // its build made it.
 struct Builds {
   std::map<std::string, int> runs;  // by build
@@ -739,28 +740,10 @@ struct Builds {
 
 Builds BuildsOf(const std::vector<RunRecord>& runs, const fs::path& dir) {
   Builds builds;
-  // Only the top level is kept (frame_digests and files, most of a
-  // manifest, are parsed and dropped).
-  const nlohmann::json::parser_callback_t top_level = [](int depth, nlohmann::json::parse_event_t,
-                                                         nlohmann::json&) { return depth <= 1; };
   for (const RunRecord& r : runs) {
     if (!r.ok) continue;
-    std::string build;
-    try {
-      const nlohmann::json manifest =
-          nlohmann::json::parse(ReadInputFile((dir / r.run_dir / "manifest.json").string(),
-                                              "a run manifest (JSON)", std::uint64_t{64} << 20),
-                                top_level);
-      const auto text = [&manifest](const char* key) {
-        return manifest.is_object() && manifest.contains(key) && manifest[key].is_string()
-                   ? manifest[key].get<std::string>()
-                   : std::string();
-      };
-      if (!text("git_revision").empty()) {
-        build = fmt::format("{} at {}", text("hcpf_version"), text("git_revision"));
-      }
-    } catch (const std::exception&) {
-    }
+    // Rows of a store written before it kept the build: the run's manifest.
+    const std::string build = r.build ? *r.build : ReadRunBuild((dir / r.run_dir).string());
     if (build.empty()) {
       ++builds.unnamed;
     } else {

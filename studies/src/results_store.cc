@@ -98,6 +98,7 @@ class Statement {
     sqlite3_bind_text(stmt_, i, text.c_str(), static_cast<int>(text.size()), SQLITE_TRANSIENT);
   }
   void Bind(int i, int64_t value) { sqlite3_bind_int64(stmt_, i, value); }
+  void BindNull(int i) { sqlite3_bind_null(stmt_, i); }
   void BindReal(int i, double value) {
     if (std::isfinite(value)) {
       sqlite3_bind_double(stmt_, i, value);
@@ -116,6 +117,7 @@ class Statement {
     return t == nullptr ? std::string() : std::string(reinterpret_cast<const char*>(t));
   }
   int64_t Int(int i) const { return sqlite3_column_int64(stmt_, i); }
+  bool Null(int i) const { return sqlite3_column_type(stmt_, i) == SQLITE_NULL; }
   double Real(int i) const {
     return sqlite3_column_type(stmt_, i) == SQLITE_NULL ? kNaN : sqlite3_column_double(stmt_, i);
   }
@@ -294,7 +296,7 @@ void ResultsStore::CheckStoredMeta() const {
   }
 }
 
-void ResultsStore::AddMissingMetricColumns(StoreAccess access) {
+void ResultsStore::AddMissingColumns(StoreAccess access) {
   std::set<std::string> present;
   {
     Statement s(db_, "PRAGMA table_info(runs)");
@@ -306,6 +308,13 @@ void ResultsStore::AddMissingMetricColumns(StoreAccess access) {
       Exec("ALTER TABLE runs ADD COLUMN " + Quote(m) + " REAL");
     } else {
       absent_metrics_.insert(m);
+    }
+  }
+  if (present.count("build") == 0) {
+    if (access == StoreAccess::kReadWrite) {
+      Exec("ALTER TABLE runs ADD COLUMN build TEXT");
+    } else {
+      build_absent_ = true;
     }
   }
 }
@@ -333,7 +342,7 @@ std::unique_ptr<ResultsStore> ResultsStore::Open(const std::string& path, StoreA
   }
   try {
     store->ReadMeta();
-    store->AddMissingMetricColumns(access);
+    store->AddMissingColumns(access);
   } catch (const json::exception& e) {
     throw InputError(SourceLocation{path, 0, 0, "meta"}, "a results store of hcpf sweep",
                      std::string("unreadable metadata: ") + e.what());
@@ -418,6 +427,7 @@ std::unique_ptr<ResultsStore> ResultsStore::OpenOrCreate(const std::string& path
     std::string columns;
     for (const std::string& k : meta.swept_keys) columns += ", " + SweptColumn(k) + " TEXT";
     for (const std::string& m : MetricNames()) columns += ", " + Quote(m) + " REAL";
+    columns += ", build TEXT";
     store.Exec("BEGIN");
     store.Exec("CREATE TABLE meta(name TEXT PRIMARY KEY, value TEXT NOT NULL)");
     store.Exec(
@@ -458,6 +468,8 @@ void ResultsStore::Put(const RunRecord& r) {
     columns += ", " + Quote(m);
     marks += ", ?";
   }
+  columns += ", build";
+  marks += ", ?";
   Statement s(db_, "INSERT OR REPLACE INTO runs(" + columns + ") VALUES (" + marks + ")");
   int i = 1;
   s.Bind(i++, r.key);
@@ -471,6 +483,11 @@ void ResultsStore::Put(const RunRecord& r) {
   for (const std::string& m : MetricNames()) {
     const auto it = r.metrics.find(m);
     s.BindReal(i++, it == r.metrics.end() ? kNaN : it->second);
+  }
+  if (r.build) {
+    s.Bind(i++, *r.build);
+  } else {
+    s.BindNull(i++);
   }
   Exec("BEGIN IMMEDIATE");
   try {
@@ -489,6 +506,7 @@ std::vector<RunRecord> ResultsStore::Runs() const {
   for (const std::string& m : MetricNames()) {
     columns += absent_metrics_.count(m) ? ", NULL AS " + Quote(m) : ", " + Quote(m);
   }
+  columns += build_absent_ ? ", NULL AS build" : ", build";
   Statement s(db_, "SELECT " + columns + " FROM runs ORDER BY run_index, key");
   std::vector<RunRecord> out;
   while (s.Step()) {
@@ -511,6 +529,8 @@ std::vector<RunRecord> ResultsStore::Runs() const {
     }
     for (size_t k = 0; k < meta_.swept_keys.size(); ++k) r.values.push_back(s.Text(i++));
     for (const std::string& m : MetricNames()) r.metrics[m] = s.Real(i++);
+    if (!s.Null(i)) r.build = s.Text(i);
+    ++i;
     out.push_back(std::move(r));
   }
   return out;
@@ -550,6 +570,18 @@ bool RunFilesWhole(const std::string& run_dir, const json& manifest) {
     }
   }
   return true;
+}
+
+// "<hcpf_version> at <git_revision>" from a run's manifest, "" when it names
+// no git revision.
+std::string BuildOf(const json& manifest) {
+  const auto text = [&manifest](const char* key) {
+    return manifest.is_object() && manifest.contains(key) && manifest[key].is_string()
+               ? manifest[key].get<std::string>()
+               : std::string();
+  };
+  if (text("git_revision").empty()) return "";
+  return fmt::format("{} at {}", text("hcpf_version"), text("git_revision"));
 }
 
 // The headline metrics of a run from its metrics.json and manifest.json.
@@ -605,6 +637,27 @@ std::string RootSeedSentence(const StoreMeta& meta) {
 
 std::map<std::string, double> ReadRunMetrics(const std::string& run_dir) {
   return RunMetricsOf(ReadRunJson(run_dir, "metrics.json"), ReadRunJson(run_dir, "manifest.json"));
+}
+
+void ReadRunFolderInto(const std::string& run_dir, RunRecord& record) {
+  const json manifest = ReadRunJson(run_dir, "manifest.json");
+  record.metrics = RunMetricsOf(ReadRunJson(run_dir, "metrics.json"), manifest);
+  record.build = BuildOf(manifest);
+}
+
+std::string ReadRunBuild(const std::string& run_dir) {
+  // Only the top level is kept (frame_digests and files, most of a
+  // manifest, are parsed and dropped).
+  const json::parser_callback_t top_level = [](int depth, json::parse_event_t, json&) {
+    return depth <= 1;
+  };
+  try {
+    return BuildOf(json::parse(ReadInputFile((fs::path(run_dir) / "manifest.json").string(),
+                                             "a run manifest (JSON)", std::uint64_t{64} << 20),
+                               top_level));
+  } catch (const std::exception&) {
+    return "";
+  }
 }
 
 bool RunFolderIntact(const std::string& run_dir, const RunRecord& record) {

@@ -260,7 +260,7 @@ std::vector<const SweepRun*> CopyFromDonors(const std::vector<std::unique_ptr<Do
     RunRecord copy = NewRecord(*todo[i]);
     const fs::path to = plan.out / copy.run_dir;
     const std::string revision = CopyRunFolder(source[i]->dir / record[i]->run_dir, to);
-    copy.metrics = ReadRunMetrics(to.string());
+    ReadRunFolderInto(to.string(), copy);
     copy.ok = true;
     plan.store->Put(copy);
     ++plan.result.copied;
@@ -434,7 +434,7 @@ RunRecord ExecuteRun(const SweepRun& run, const SweepOptions& options,
     run_options.frame_cache_dir = options.frame_cache_dir;
     run_options.video = options.video && run.seed_index == 0;
     executor.Execute(run, run_options);
-    record.metrics = ReadRunMetrics(run_options.out_dir);
+    ReadRunFolderInto(run_options.out_dir, record);
     record.ok = true;
   } catch (const std::exception& e) {
     record.ok = false;

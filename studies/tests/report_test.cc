@@ -2199,9 +2199,10 @@ TEST(Report, AgainstAnotherStoreSaysWhichFindingsReplicate) {
             std::string::npos);
 }
 
-// The report names the build of hcpf that made the runs (each run folder's
-// manifest.json), and says in bold when they are several: here one run's
-// manifest says another revision, as after a rebuild and a resume.
+// The report names the build of hcpf that made the runs (the store keeps each
+// run's, from its manifest, when the run is put), and says in bold when they
+// are several: here one row says another revision, as after a rebuild and a
+// resume. The manifests are not read again: they are deleted first.
 TEST(Report, SaysWhichBuildsMadeTheRuns) {
   const auto dir = testing::SweepFolder("report-builds");
   const SweepSpec spec = LoadSweepFile(testing::WriteSweep(
@@ -2212,20 +2213,21 @@ TEST(Report, SaysWhichBuildsMadeTheRuns) {
       "s.yaml"));
   const std::string out = RunQuietly(spec, dir);
   const std::string here = scenarios::ProjectVersion() + " at " + scenarios::GitRevision();
+  const std::vector<RunRecord> runs =
+      ResultsStore::Open((fs::path(out) / "results.sqlite").string())->Runs();
+  ASSERT_EQ(runs.size(), 4U);
+  for (const RunRecord& run : runs) {
+    EXPECT_EQ(run.build, here);
+    fs::remove(fs::path(out) / run.run_dir / "manifest.json");
+  }
   ReportResult r = WriteReport({.dir = out});
   EXPECT_EQ(r.builds, 1);
   EXPECT_NE(Read(r.html_path)
                 .find("<p>Every finished run that names its build was made by one: hcpf <code>" +
                       here + "</code>.</p>"),
             std::string::npos);
-  const std::vector<RunRecord> runs =
-      ResultsStore::Open((fs::path(out) / "results.sqlite").string())->Runs();
-  ASSERT_EQ(runs.size(), 4U);
-  const fs::path manifest = fs::path(out) / runs[2].run_dir / "manifest.json";
-  auto m = nlohmann::json::parse(Read(manifest));
-  EXPECT_EQ(m["hcpf_version"], scenarios::ProjectVersion());
-  m["git_revision"] = "0123456789ab";
-  std::ofstream(manifest) << m.dump();
+  EditStore(out, "UPDATE runs SET build = '" + scenarios::ProjectVersion() +
+                     " at 0123456789ab' WHERE key = '" + runs[2].key + "'");
   r = WriteReport({.dir = out});
   EXPECT_EQ(r.builds, 2);
   EXPECT_NE(
@@ -2234,7 +2236,49 @@ TEST(Report, SaysWhichBuildsMadeTheRuns) {
                 here + "</code> (3 runs), <code>" + scenarios::ProjectVersion() +
                 " at 0123456789ab</code> (1 run)."),
       std::string::npos);
-  // A run whose manifest is gone names no build: counted apart, not a build.
+  // A run whose manifest named no build: counted apart, not a build.
+  EditStore(out, "UPDATE runs SET build = '' WHERE key = '" + runs[2].key + "'");
+  r = WriteReport({.dir = out});
+  EXPECT_EQ(r.builds, 1);
+  EXPECT_NE(
+      Read(r.html_path)
+          .find("<p>Every finished run that names its build was made by one: hcpf <code>" + here +
+                "</code>. 1 finished run names no build (a <code>manifest.json</code> "
+                "missing, unreadable or without <code>git_revision</code>).</p>"),
+      std::string::npos);
+}
+
+// A store written before the build column: the report (which opens it
+// read-only, and leaves it so) reads each finished run's manifest instead;
+// a missing manifest names no build.
+TEST(Report, ReadsTheBuildsOfAnOlderStoreFromTheManifests) {
+  const auto dir = testing::SweepFolder("report-builds-old");
+  const SweepSpec spec = LoadSweepFile(testing::WriteSweep(
+      dir,
+      "base: base.yaml\nseeds: 2\ngrid:\n  tracker.particles: [20]\n"
+      "  tracker.resampling.method: [systematic, charged]\n"
+      "report: {x: tracker.particles, series: tracker.resampling.method, y: [idf1]}\n",
+      "s.yaml"));
+  const std::string out = RunQuietly(spec, dir);
+  EditStore(out, "ALTER TABLE runs DROP COLUMN build");
+  const std::string here = scenarios::ProjectVersion() + " at " + scenarios::GitRevision();
+  const std::vector<RunRecord> runs =
+      ResultsStore::Open((fs::path(out) / "results.sqlite").string())->Runs();
+  ASSERT_EQ(runs.size(), 4U);
+  EXPECT_FALSE(runs[2].build.has_value());
+  const fs::path manifest = fs::path(out) / runs[2].run_dir / "manifest.json";
+  auto m = nlohmann::json::parse(Read(manifest));
+  EXPECT_EQ(m["hcpf_version"], scenarios::ProjectVersion());
+  m["git_revision"] = "0123456789ab";
+  std::ofstream(manifest) << m.dump();
+  ReportResult r = WriteReport({.dir = out});
+  EXPECT_EQ(r.builds, 2);
+  EXPECT_NE(
+      Read(r.html_path)
+          .find("<p><strong>The finished runs were made by 2 builds of hcpf</strong>: <code>" +
+                here + "</code> (3 runs), <code>" + scenarios::ProjectVersion() +
+                " at 0123456789ab</code> (1 run)."),
+      std::string::npos);
   fs::remove(manifest);
   r = WriteReport({.dir = out});
   EXPECT_EQ(r.builds, 1);
@@ -2244,6 +2288,8 @@ TEST(Report, SaysWhichBuildsMadeTheRuns) {
                 "</code>. 1 finished run names no build (a <code>manifest.json</code> "
                 "missing, unreadable or without <code>git_revision</code>).</p>"),
       std::string::npos);
+  EXPECT_FALSE(
+      ResultsStore::Open((fs::path(out) / "results.sqlite").string())->Runs()[0].build.has_value());
 }
 
 // Where the runs' seeds come from is stored with the sweep and said by its

@@ -15,6 +15,7 @@
 #include <functional>
 #include <iterator>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <set>
 #include <string>
 #include <tuple>
@@ -52,7 +53,7 @@ std::string RowText(const RunRecord& r) {
     if (m == "ms_per_frame" || m == "wall_time_s") continue;
     s += " " + m + "=" + (std::isfinite(v) ? std::to_string(v) : "nan");
   }
-  return s;
+  return s + " build=" + r.build.value_or("(none)");
 }
 
 std::vector<std::string> StoreRows(const fs::path& dir) {
@@ -444,6 +445,56 @@ TEST(ResultsStore, StoresOfAnOlderCatalogueAreMigrated) {
     store->Put(r);
   }
   EXPECT_DOUBLE_EQ(ResultsStore::Open(path)->Runs()[0].metrics.at("det_f1"), 0.25);
+}
+
+// The build column: a row keeps the build it is given ("" too), and a row
+// put without one reads back without one. A store made before the column
+// (dropped here) reads every row without a build when opened read-only, and
+// gains the column when opened for writing.
+TEST(ResultsStore, KeepsEachRunsBuildAndMigratesStoresWithoutTheColumn) {
+  const auto dir = SweepFolder("migrate-build");
+  StoreMeta meta;
+  meta.sweep_hash = "abc";
+  meta.sweep_file = "s.yaml";
+  meta.report = {"", {"idf1"}, ""};
+  const std::string path = (dir / "results.sqlite").string();
+  {
+    auto store = ResultsStore::OpenOrCreate(path, meta);
+    RunRecord r;
+    r.ok = true;
+    for (const auto& [key, build] : std::vector<std::pair<std::string, std::optional<std::string>>>{
+             {"a", "1.0 at 0123456789ab"}, {"b", ""}, {"c", std::nullopt}}) {
+      r.key = key;
+      r.build = build;
+      store->Put(r);
+    }
+  }
+  {
+    const auto runs = ResultsStore::Open(path)->Runs();
+    ASSERT_EQ(runs.size(), 3u);
+    EXPECT_EQ(runs[0].build, "1.0 at 0123456789ab");
+    EXPECT_EQ(runs[1].build, "");
+    EXPECT_FALSE(runs[2].build.has_value());
+  }
+  sqlite3* db = nullptr;
+  ASSERT_EQ(sqlite3_open(path.c_str(), &db), SQLITE_OK);
+  ASSERT_EQ(sqlite3_exec(db, "ALTER TABLE runs DROP COLUMN build", nullptr, nullptr, nullptr),
+            SQLITE_OK)
+      << sqlite3_errmsg(db);
+  sqlite3_close(db);
+  for (const RunRecord& r : ResultsStore::Open(path, StoreAccess::kReadOnly)->Runs()) {
+    EXPECT_FALSE(r.build.has_value()) << r.key;
+  }
+  {
+    auto store = ResultsStore::Open(path, StoreAccess::kReadWrite);
+    RunRecord r = store->Runs()[0];
+    EXPECT_FALSE(r.build.has_value());
+    r.build = "1.1 at 89abcdef0123";
+    store->Put(r);
+  }
+  const auto runs = ResultsStore::Open(path)->Runs();
+  EXPECT_EQ(runs[0].build, "1.1 at 89abcdef0123");
+  EXPECT_FALSE(runs[1].build.has_value());
 }
 
 TEST(RunSweep, ParallelEqualsSerialAndResumeReusesEverything) {

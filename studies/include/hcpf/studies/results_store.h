@@ -8,7 +8,8 @@
 //       run_index, seed_index, seed (decimal text: seeds are 64-bit unsigned),
 //       one TEXT column per swept key (named by the key, e.g. "tracker.particles"),
 //       status ('ok' | 'failed'), error, run_dir, one REAL column per
-//       HeadlineMetrics() name (NULL when failed or not a number)
+//       HeadlineMetrics() name (NULL when failed or not a number), build
+//       (RunRecord::build; NULL in rows put before the column existed)
 //
 // Every Put() is one transaction, so a killed process loses at most the runs
 // it had not yet put. Thread-safe (one connection behind a mutex).
@@ -17,6 +18,7 @@
 #include <map>
 #include <memory>
 #include <mutex>
+#include <optional>
 #include <set>
 #include <string>
 #include <vector>
@@ -64,6 +66,11 @@ struct RunRecord {
   std::string error;
   std::string run_dir;                    // relative to the store's folder, e.g. "runs/<key>"
   std::map<std::string, double> metrics;  // HeadlineMetrics() names; NaN = missing
+  // The build that made the run, as its manifest names it ("<hcpf_version>
+  // at <git_revision>", "" when it names none): the sweep report's "which
+  // builds made the runs" without reading every manifest. Absent in rows of
+  // a store written before the column (ReadRunBuild reads the manifest then).
+  std::optional<std::string> build;
 };
 
 // How a store is opened: report and merge only read theirs (a store on
@@ -99,14 +106,16 @@ class ResultsStore {
   // InputError when the meta read does not fit the store: a swept key
   // without its column, a report naming an unknown metric or key.
   void CheckStoredMeta() const;
-  // A store written before a metric joined the catalogue lacks its column:
-  // added (empty) when the store is writable, read as missing when not.
-  void AddMissingMetricColumns(StoreAccess access);
+  // A store written before a metric joined the catalogue, or before the
+  // build column, lacks the column: added (empty) when the store is
+  // writable, read as missing when not.
+  void AddMissingColumns(StoreAccess access);
 
   std::string path_;
   sqlite3* db_ = nullptr;
   StoreMeta meta_;
   std::set<std::string> absent_metrics_;  // read-only stores of an older catalogue
+  bool build_absent_ = false;             // a read-only store older than the build column
   mutable std::mutex mutex_;
 };
 
@@ -114,6 +123,15 @@ class ResultsStore {
 // and manifest.json (ms_per_frame = 1000 * timings.tracker_s / frames). Throws
 // RunError when the files are missing or malformed.
 std::map<std::string, double> ReadRunMetrics(const std::string& run_dir);
+
+// Sets record.metrics (ReadRunMetrics) and record.build from the finished run
+// folder `run_dir`, reading its manifest once. Throws as ReadRunMetrics.
+void ReadRunFolderInto(const std::string& run_dir, RunRecord& record);
+
+// The build a run folder's manifest.json names ("<hcpf_version> at
+// <git_revision>"), "" when the manifest is missing, unreadable or names no
+// git revision. Reads only the manifest's top level.
+std::string ReadRunBuild(const std::string& run_dir);
 
 // Whether a run folder still holds the run the store records: its
 // metrics.json and manifest.json read back (ReadRunMetrics) to exactly the

@@ -9,10 +9,12 @@
 #include <atomic>
 #include <cerrno>
 #include <cstdint>
+#include <cstdio>
 #include <cstdlib>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <iostream>
 
 #include "hcpf/core/error.h"
 #include "hcpf/core/subprocess.h"
@@ -107,7 +109,25 @@ std::filesystem::path TempFileFor(const std::filesystem::path& path) {
          fmt::format(".{}.tmp-{}-{}", path.filename().string(), ::getpid(), counter.fetch_add(1));
 }
 
+bool IsStandardOutput(const std::string& path) {
+  struct stat out {};
+  struct stat at {};
+  return ::fstat(STDOUT_FILENO, &out) == 0 && ::stat(path.c_str(), &at) == 0 &&
+         out.st_dev == at.st_dev && out.st_ino == at.st_ino;
+}
+
 void WriteTextFile(const std::string& path, const std::string& text) {
+  if (IsStandardOutput(path)) {
+    // After what was printed there (std::cout is synced with stdio's buffer).
+    std::cout.flush();
+    errno = 0;
+    if (std::fwrite(text.data(), 1, text.size(), stdout) != text.size() ||
+        std::fflush(stdout) != 0) {
+      throw RunError(fmt::format("writing {} (standard output) failed: {}", path,
+                                 std::strerror(errno != 0 ? errno : EIO)));
+    }
+    return;
+  }
   struct stat st {};
   const bool exists = ::lstat(path.c_str(), &st) == 0;
   if (exists && !S_ISREG(st.st_mode)) {

@@ -1,10 +1,12 @@
 #include "hcpf/core/text_file.h"
 
+#include <fcntl.h>
 #include <gtest/gtest.h>
 #include <sys/stat.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
@@ -80,6 +82,45 @@ TEST(WriteTextFile, ReplacesAFileWholeOrNotAtAll) {
 
   EXPECT_THROW(WriteTextFile((dir / "no" / "such.txt").string(), "x"), RunError);
   EXPECT_EQ(std::distance(fs::directory_iterator(dir), {}), 2);
+  fs::remove_all(dir);
+}
+
+// A path that is standard output (`--json /dev/stdout`, or the file stdout
+// was redirected to) is written after what the process printed there: opened
+// again, /dev/stdout started at offset 0 of the redirected file, and the
+// table printed before it was written over the JSON (docs audit, 2026-12-05).
+// In a child whose stdout is a file: what it prints, then two writes.
+TEST(WriteTextFile, StandardOutputIsWrittenAfterWhatWasPrintedThere) {
+  const fs::path dir =
+      fs::temp_directory_path() / ("hcpf_core_write_stdout_" + std::to_string(::getpid()));
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  const fs::path out = dir / "out.txt";
+  const pid_t child = ::fork();
+  ASSERT_GE(child, 0);
+  if (child == 0) {
+    const int fd = ::open(out.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+    if (fd < 0 || ::dup2(fd, STDOUT_FILENO) < 0) ::_exit(3);
+    if (!IsStandardOutput("/dev/stdout") || !IsStandardOutput(out.string()) ||
+        IsStandardOutput((dir / "other.txt").string()) || IsStandardOutput("")) {
+      ::_exit(4);
+    }
+    std::printf("table\n");
+    try {
+      WriteTextFile("/dev/stdout", "{\"json\": 1}\n");
+      WriteTextFile(out.string(), "events\n");
+    } catch (const std::exception&) {
+      ::_exit(5);
+    }
+    std::fflush(stdout);
+    ::_exit(0);
+  }
+  int status = 0;
+  ASSERT_EQ(::waitpid(child, &status, 0), child);
+  ASSERT_TRUE(WIFEXITED(status));
+  EXPECT_EQ(WEXITSTATUS(status), 0) << "3: no redirection, 4: IsStandardOutput, 5: a write threw";
+  EXPECT_EQ(ReadAll(out), "table\n{\"json\": 1}\nevents\n");
+  EXPECT_EQ(std::distance(fs::directory_iterator(dir), {}), 1) << "a temporary file was left";
   fs::remove_all(dir);
 }
 

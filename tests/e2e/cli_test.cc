@@ -542,6 +542,38 @@ TEST(Cli, ScoreOutputsThatWouldReplaceAnInputOrCannotBeWrittenAreRefused) {
   EXPECT_TRUE(fs::is_regular_file(dir / "e.jsonl"));
 }
 
+// --json /dev/stdout (docs/outputs.md's example) or --events /dev/stdout
+// with standard output redirected to a file: the file holds that output alone
+// and the table goes to standard error. Before, the table was printed
+// through stdout over the first bytes of the JSON (exit 0, a file that did
+// not parse; docs audit, 2026-12-05).
+TEST(Cli, ScoreWritesItsJsonAloneToStandardOutputAndTheTableToStandardError) {
+  const fs::path dir = FreshDir("score-stdout");
+  fs::create_directories(dir / "s" / "gt");
+  std::ofstream(dir / "s" / "seqinfo.ini") << "[Sequence]\nname=s\nseqLength=3\n";
+  std::ofstream(dir / "s" / "gt" / "gt.txt") << "1,1,10,10,20,20,1,1,1\n2,1,11,10,20,20,1,1,1\n";
+  std::ofstream(dir / "hyp.txt") << "1,1,10,10,20,20,1,-1,-1,-1\n2,1,11,10,20,20,1,-1,-1,-1\n";
+  const std::string base =
+      kHcpf + " score " + (dir / "s" / "gt" / "gt.txt").string() + " " + (dir / "hyp.txt").string();
+  auto r = RunCommand(base + " --json " + (dir / "m.json").string() + " --events " +
+                      (dir / "e.jsonl").string());
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  for (const auto& [option, file] : std::vector<std::pair<std::string, std::string>>{
+           {"--json", "m.json"}, {"--events", "e.jsonl"}}) {
+    r = RunCommand("(" + base + " " + option + " /dev/stdout > " + (dir / "out").string() + " 2> " +
+                   (dir / "err").string() + ")");
+    EXPECT_EQ(r.exit_code, 0) << option << "\n" << r.output;
+    EXPECT_EQ(ReadFile(dir / "out"), ReadFile(dir / file)) << option;
+    EXPECT_NE(ReadFile(dir / "err").find("HOTA"), std::string::npos) << option;
+  }
+  // Without it, the table is standard output.
+  r = RunCommand("(" + base + " > " + (dir / "out").string() + " 2> " + (dir / "err").string() +
+                 ")");
+  EXPECT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(ReadFile(dir / "out").find("HOTA"), std::string::npos);
+  EXPECT_EQ(ReadFile(dir / "err").find("HOTA"), std::string::npos);
+}
+
 // A gt.json frame as hcpf writes it (core/ground_truth_json.h), 100 x 80 px,
 // with targets given as {id, [left, top, width, height], visible fraction,
 // truncation}.

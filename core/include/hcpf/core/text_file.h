@@ -22,9 +22,18 @@ TextPosition PositionOf(std::string_view text, size_t offset);
 // it (".<name>.tmp-<pid>-<n>") renamed over `path` at the end, so a failed or
 // killed write leaves the earlier file as it was. An existing file keeps its
 // permissions; a device, FIFO or symbolic link at `path` is written through
-// in place. Throws RunError naming the path and the system's reason when it
-// cannot be written.
+// in place. A path that is this process's standard output (IsStandardOutput:
+// `/dev/stdout`, or the file stdout was redirected to) is written through
+// standard output itself, after what the process printed there: opened
+// again, it would start at offset 0 of a redirected file and the two writes
+// would overwrite each other. Throws RunError naming the path and the
+// system's reason when it cannot be written.
 void WriteTextFile(const std::string& path, const std::string& text);
+
+// Whether `path` names the file this process's standard output writes to
+// (the same device and inode: `/dev/stdout`, `/proc/self/fd/1`, or the file
+// the shell redirected stdout to).
+bool IsStandardOutput(const std::string& path);
 
 // A new name for the temporary file of `path` in its folder
 // (".<name>.tmp-<pid>-<n>", n counting in this process), for writers of other

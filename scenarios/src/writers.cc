@@ -111,7 +111,10 @@ metrics::FilterSequence FilterInputs(const std::vector<FrameGroundTruth>& truth,
 std::string FormatCameraMotionCsv(const std::vector<internal::CameraMotionRecord>& records) {
   std::string csv = "frame,tx_px,ty_px,log_scale,rotation_rad,error_px,ess,floor_px\n";
   for (const internal::CameraMotionRecord& r : records) {
-    csv += fmt::format("{},{},{},{},{},{},{},{}\n", r.frame, FormatNumber(r.motion.tx_px),
+    // Frames count from 1, as in gt/gt.txt, tracks.txt and filters.csv: the
+    // first row is frame 2 (the motion from frame 1 to 2). It counted from 0
+    // before 2026-12-05, one off from every other file (docs audit).
+    csv += fmt::format("{},{},{},{},{},{},{},{}\n", r.frame + 1, FormatNumber(r.motion.tx_px),
                        FormatNumber(r.motion.ty_px), FormatNumber(r.motion.log_scale),
                        FormatNumber(r.motion.rotation_rad), FormatNumber(r.error_px),
                        r.ess < 0 ? "" : FormatNumber(r.ess), FormatNumber(r.floor_px));

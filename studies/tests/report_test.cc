@@ -322,7 +322,9 @@ TEST(RunReport, PlotsPerFrameCameraMotionErrorWithModeAndEss) {
 
   // Every csv row is plotted: frame, error_px, ess and floor_px (columns 1, 6, 7, 8).
   const auto csv = CsvRows(run / "camera_motion.csv");
-  ASSERT_EQ(csv.size(), 19U) << "frames 1..19 of a 20-frame run";
+  ASSERT_EQ(csv.size(), 19U) << "frames 2..20 of a 20-frame run";
+  EXPECT_EQ(csv.front()[0], "2") << "frames count from 1, as in filters.csv";
+  EXPECT_EQ(csv.back()[0], "20");
   std::stringstream dat(Read(kept / "camera_motion.dat"));
   std::string line;
   size_t row = 0;

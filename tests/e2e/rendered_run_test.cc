@@ -874,7 +874,8 @@ TEST(RenderedRun, WindowedSearchFollowsTheFilters) {
 // similarity leaves only the homography's projective part (an oblique
 // camera), a small fraction of that; the scene filter on the oracle
 // homography lands between the two. Every run writes camera_motion.csv (one
-// row per frame from the second) and the summary in metrics.json.
+// row per frame from the second, numbered from 1 as filters.csv is: 2 … 120)
+// and the summary in metrics.json.
 TEST(CameraMotion, ModesAreScoredAgainstTheTrueMotion) {
   const fs::path dir = FreshDir("camera-motion");
   const std::string common =
@@ -897,6 +898,11 @@ TEST(CameraMotion, ModesAreScoredAgainstTheTrueMotion) {
     EXPECT_EQ(std::count(csv.begin(), csv.end(), '\n'), 120) << "header + 119 frames";
     EXPECT_TRUE(csv.starts_with("frame,tx_px,ty_px,log_scale,rotation_rad,error_px,ess,floor_px\n"))
         << csv.substr(0, 80);
+    EXPECT_NE(csv.find("\n2,"), std::string::npos) << "the first row is frame 2";
+    EXPECT_NE(csv.find("\n120,"), std::string::npos) << "the last row is frame 120";
+    EXPECT_EQ(csv.find("\n1,"), std::string::npos) << "frame 1 has no motion";
+    const std::string filters = ReadFile(dir / mode / "filters.csv");
+    EXPECT_NE(filters.find("\n120,"), std::string::npos) << "the same numbering";
   }
   EXPECT_GT(mean["none"], 1.0);
   EXPECT_LT(mean["oracle"], 0.2 * mean["none"]);

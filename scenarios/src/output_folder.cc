@@ -71,24 +71,27 @@ std::string WhyNotOurOutput(const fs::path& dir) {
     const bool our_temp = !target.empty() && std::find(kOutputFiles.begin(), kOutputFiles.end(),
                                                        target) != kOutputFiles.end();
     if (known_file || our_temp) continue;
-    bool known_dir = (name == "gt" || name == "det" || name == "frames") &&
-                     entry.is_directory(ec) && !entry.is_symlink(ec);
-    if (known_dir) {
-      for (const auto& inner : fs::directory_iterator(entry.path(), ec)) {
-        const std::string inner_name = inner.path().filename().string();
-        const bool ok = inner.is_regular_file(ec) && !inner.is_symlink(ec) &&
-                        (name == "frames" ? IsFrameFile(inner_name) : inner_name == name + ".txt");
-        if (!ok) {
-          known_dir = false;
-          break;
-        }
-      }
-    }
+    const bool known_dir = (name == "gt" || name == "det" || name == "frames") &&
+                           entry.is_directory(ec) && !entry.is_symlink(ec);
     if (!known_dir) {
       return fmt::format(
           "an output folder of this tool that also holds \"{}\", which no run "
           "writes",
           name);
+    }
+    // The entry inside a run's folder that no run writes is named, not the
+    // folder (a docs audit: "gt/extra.txt" was refused as "gt", which every
+    // run writes).
+    for (const auto& inner : fs::directory_iterator(entry.path(), ec)) {
+      const std::string inner_name = inner.path().filename().string();
+      const bool ok = inner.is_regular_file(ec) && !inner.is_symlink(ec) &&
+                      (name == "frames" ? IsFrameFile(inner_name) : inner_name == name + ".txt");
+      if (!ok) {
+        return fmt::format(
+            "an output folder of this tool that also holds \"{}/{}\", which no run "
+            "writes",
+            name, inner_name);
+      }
     }
   }
   if (ec) return fmt::format("a folder that cannot be listed ({})", ec.message());

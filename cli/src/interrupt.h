@@ -20,7 +20,8 @@ void StopAnnouncingInterrupts();
 
 // The message of `hcpf <command>` (run, render), which writes `out` through a
 // staging folder renamed into place at the end: nothing was written to it,
-// and with a frame cache `cache` (empty: none) the frames rendered so far are
+// the staging folder (named) is removed by the next command into it, and
+// with a frame cache `cache` (empty: none) the frames rendered so far are
 // kept there for the same command to start from.
 std::string InterruptedMessage(const std::string& command, const std::string& out,
                                const std::string& cache);

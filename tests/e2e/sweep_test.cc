@@ -300,14 +300,26 @@ TEST(RunInterrupt, RunAndRenderSayWhatIsLeft) {
     EXPECT_EQ(WTERMSIG(status), c.signal_number);
     EXPECT_NE(ReadFile(log).find(
                   "hcpf " + c.command + ": interrupted; nothing was written to " + out.string() +
-                  " (an earlier output there is kept); the frames rendered so far "
-                  "are kept in the frame cache " +
+                  " (an earlier output there is kept; what was written so far, in " + out.string() +
+                  ".partial-" + std::to_string(pid) +
+                  ", is removed by the next hcpf run or hcpf render into it); the frames "
+                  "rendered so far are kept in the frame cache " +
                   cache.string() + ", so the same command again starts from them (SIG" +
                   ::sigabbrev_np(c.signal_number) + ")\n"),
               std::string::npos)
         << ReadFile(log);
     EXPECT_FALSE(fs::exists(out));
     EXPECT_GE(cached(), 4U);
+    // The staging folder the message names is there, and the next command
+    // into the same folder removes it (its process no longer runs).
+    const fs::path partial = out.string() + ".partial-" + std::to_string(pid);
+    EXPECT_TRUE(fs::is_directory(partial));
+    std::string again = kHcpf;
+    for (const std::string& a : args) again += " " + a;
+    const auto r = RunCommand(again + " --set frames=20");
+    ASSERT_EQ(r.exit_code, 0) << r.output;
+    EXPECT_FALSE(fs::exists(partial));
+    EXPECT_TRUE(fs::exists(out / "manifest.json"));
   }
 }
 

@@ -171,6 +171,20 @@ Override ParseOverride(const std::string& text) {
 void ApplyOverrides(YAML::Node root, const std::vector<Override>& overrides, YamlContext* context) {
   for (size_t i = 0; i < overrides.size(); ++i) {
     const Override& o = overrides[i];
+    // A later override of a section replaces it whole, and with it what an
+    // earlier one set inside it (a bad-input audit: `--set
+    // tracker.particles=10 --set tracker={...}` ran with 500 particles, exit
+    // 0; sweeps and suites refuse such overlaps). The other order, a section
+    // and then a key inside it, sets both.
+    for (size_t j = 0; j < i; ++j) {
+      if (!IsKeyInside(overrides[j].key, o.key)) continue;
+      throw InputError(SourceLocation{o.Label(), 0, 0, o.key, static_cast<int>(i)},
+                       fmt::format("an override that keeps the earlier ones (it replaces {} whole)",
+                                   OverridePath(o.key)),
+                       fmt::format("\"{}\", set earlier and lost here", overrides[j].Label()),
+                       fmt::format("give {} first and {} after it", o.Label(),
+                                   overrides[j].Label()));
+    }
     ApplyOverride(root, o, static_cast<int>(i));
     context->overrides[OverridePath(o.key)] = {o.Label(), static_cast<int>(i)};
   }

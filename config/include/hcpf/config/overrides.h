@@ -20,7 +20,9 @@ Override ParseOverride(const std::string& text);
 
 // Whether dotted key `key` lies inside `parent` (`tracker.particles` inside
 // `tracker`; not `tracker.particles_x` inside `tracker.particles`). Two such
-// overrides of one document conflict: the later one wins.
+// overrides of one document conflict: sweeps and suites refuse them, and
+// ApplyOverrides refuses a section given after a key inside it (it would
+// discard that key), while a key after its section sets both.
 bool IsKeyInside(const std::string& key, const std::string& parent);
 
 }  // namespace hcpf::config

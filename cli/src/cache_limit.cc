@@ -10,6 +10,14 @@
 
 namespace hcpf::cli {
 
+std::string FrameCacheFolder(const std::string& cache, bool cache_given, bool no_cache) {
+  if (cache_given && no_cache) {
+    throw InputError(SourceLocation{"command line", 0, 0, "--no-cache"},
+                     "either --cache DIR or --no-cache", "both (--cache " + cache + ")");
+  }
+  return no_cache ? "" : cache;
+}
+
 CacheLimit::CacheLimit(std::string cache_dir)
     : cache_dir_(std::move(cache_dir)),
       max_bytes_(scenarios::CacheMaxSizeFromEnvironment()),

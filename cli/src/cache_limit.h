@@ -13,6 +13,12 @@
 
 namespace hcpf::cli {
 
+// The frame cache folder a command uses: `cache` (--cache, or its default),
+// "" with --no-cache. Both options given is bad input (a bad-input audit:
+// --cache was ignored, exit 0). `cache_given`: --cache was on the command
+// line.
+std::string FrameCacheFolder(const std::string& cache, bool cache_given, bool no_cache);
+
 class CacheLimit {
  public:
   // Reads the variable (throws InputError when it cannot); `cache_dir` ""

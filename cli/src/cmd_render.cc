@@ -49,13 +49,14 @@ Command AddRenderCommand(CLI::App& parent) {
       ->check(CLI::Range(1, 100))
       ->capture_default_str();
   return {
-      app, [options] {
+      app, [options, app] {
         std::vector<scenarios::Override> overrides;
         for (const auto& s : options->sets) overrides.push_back(scenarios::ParseOverride(s));
         const scenarios::Scenario scenario = scenarios::LoadScenarioFile(options->file, overrides);
         scenarios::RenderFolderOptions render_options;
         render_options.out_dir = options->out;
-        render_options.cache_dir = options->no_cache ? "" : options->cache;
+        render_options.cache_dir =
+            FrameCacheFolder(options->cache, app->count("--cache") > 0, options->no_cache);
         render_options.sheet_frames = options->sheet_frames;
         render_options.threads = options->threads;
         const CacheLimit cache_limit(render_options.cache_dir);  // $HCPF_CACHE_MAX_SIZE

@@ -46,7 +46,7 @@ Command AddRunCommand(CLI::App& parent) {
                 "Also write overlay.mp4 (H.264, shown by hcpf report): frames, ground truth, "
                 "detections, estimates, particles (tracker.keep_particles > 0) and each "
                 "filter's state");
-  return {app, [options] {
+  return {app, [options, app] {
             std::vector<scenarios::Override> overrides;
             for (const auto& s : options->sets) overrides.push_back(scenarios::ParseOverride(s));
             const scenarios::Scenario scenario =
@@ -57,7 +57,8 @@ Command AddRunCommand(CLI::App& parent) {
             scenarios::RunOptions run_options;
             run_options.out_dir = options->out;
             run_options.threads = options->threads;
-            run_options.frame_cache_dir = options->no_cache ? "" : options->cache;
+            run_options.frame_cache_dir =
+                FrameCacheFolder(options->cache, app->count("--cache") > 0, options->no_cache);
             run_options.video = options->video;
             const bool rendered =
                 scenario.observation.source == scenarios::ObservationSource::kRendered;

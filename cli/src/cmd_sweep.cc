@@ -100,7 +100,7 @@ Command AddSweepCommand(CLI::App& parent) {
   app->add_flag("--no-cache", options->no_cache,
                 "Render every run's frames, read and write no cache");
   return {
-      app, [options, seed_option] {
+      app, [options, seed_option, app] {
         studies::SweepOptions sweep_options;
         sweep_options.out_dir = options->out;
         sweep_options.jobs =
@@ -111,7 +111,8 @@ Command AddSweepCommand(CLI::App& parent) {
               ParseShard(options->shard);
         }
         sweep_options.run_threads = options->threads;
-        sweep_options.frame_cache_dir = options->no_cache ? "" : options->cache;
+        sweep_options.frame_cache_dir =
+            FrameCacheFolder(options->cache, app->count("--cache") > 0, options->no_cache);
         sweep_options.video = options->video;
         sweep_options.reuse_dirs = options->reuse;
         if (options->isolate) {

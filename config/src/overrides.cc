@@ -178,12 +178,12 @@ void ApplyOverrides(YAML::Node root, const std::vector<Override>& overrides, Yam
     // and then a key inside it, sets both.
     for (size_t j = 0; j < i; ++j) {
       if (!IsKeyInside(overrides[j].key, o.key)) continue;
-      throw InputError(SourceLocation{o.Label(), 0, 0, o.key, static_cast<int>(i)},
-                       fmt::format("an override that keeps the earlier ones (it replaces {} whole)",
-                                   OverridePath(o.key)),
-                       fmt::format("\"{}\", set earlier and lost here", overrides[j].Label()),
-                       fmt::format("give {} first and {} after it", o.Label(),
-                                   overrides[j].Label()));
+      throw InputError(
+          SourceLocation{o.Label(), 0, 0, o.key, static_cast<int>(i)},
+          fmt::format("an override that keeps the earlier ones (it replaces {} whole)",
+                      OverridePath(o.key)),
+          fmt::format("\"{}\", set earlier and lost here", overrides[j].Label()),
+          fmt::format("give {} first and {} after it", o.Label(), overrides[j].Label()));
     }
     ApplyOverride(root, o, static_cast<int>(i));
     context->overrides[OverridePath(o.key)] = {o.Label(), static_cast<int>(i)};

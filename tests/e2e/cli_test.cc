@@ -816,6 +816,18 @@ TEST(Cli, BadInputExitsTwoAndWritesNothing) {
         << command << ": " << r.output;
   }
   EXPECT_FALSE(fs::exists(dir / "out"));
+  // --cache with --no-cache: --cache was ignored, exit 0 (a bad-input audit).
+  for (const std::string& command :
+       {"run " + LibraryScenario("crossing"), "render " + LibraryScenario("crossing"),
+        "sweep " + (dir / "sweep.yaml").string()}) {
+    r = RunCommand(kHcpf + " " + command + " --cache " + (dir / "c").string() +
+                   " --no-cache --out " + (dir / "out").string());
+    EXPECT_EQ(r.exit_code, 2) << command << ": " << r.output;
+    EXPECT_NE(r.output.find("--no-cache: expected either --cache DIR or --no-cache, found both"),
+              std::string::npos)
+        << command << ": " << r.output;
+  }
+  EXPECT_FALSE(fs::exists(dir / "out"));
 }
 
 TEST(Cli, FailingRunExitsOneAndLeavesNoFolder) {

@@ -180,6 +180,10 @@ TrackEvalExportResult ExportTrackEval(const TrackEvalExportOptions& options) {
 
   TrackEvalExportResult result;
   result.bench = options.benchmark + "-" + options.split;
+  if (const std::string missing = MissingRunsSentence(meta, records.size()); !missing.empty()) {
+    spdlog::warn("export: {}", missing);
+    result.missing = meta.run_count - static_cast<int64_t>(records.size());
+  }
   Namer sequence_names, tracker_names;
   std::vector<ExportRun> runs;
   // Every tracker of the sweep, from every run, failed ones too: a tracker

@@ -1280,9 +1280,11 @@ std::string FindingsHtml(const std::vector<Finding>& findings, const GlanceTable
 }
 
 std::string FindingsMarkdown(const std::vector<Finding>& findings, const GlanceTable& glance,
-                             const Paired& paired, const StoreMeta& meta) {
-  std::string md = "# Findings\n\n" + FindingsIntro(paired, glance, meta) + "\n\n" +
-                   RootSeedSentence(meta) + "\n\n";
+                             const Paired& paired, const StoreMeta& meta,
+                             const std::string& missing_runs) {
+  std::string md = "# Findings\n\n" +
+                   (missing_runs.empty() ? std::string() : "**" + missing_runs + "**\n\n") +
+                   FindingsIntro(paired, glance, meta) + "\n\n" + RootSeedSentence(meta) + "\n\n";
   const bool any_no_pairs = glance.no_pairs_column;
   md += GlanceIntro(paired, meta) +
         "\n\n| metric | compared | better | worse | of them after Holm | not significant |" +
@@ -1778,6 +1780,9 @@ std::string ReportHtml(const fs::path& dir, const std::string& link_prefix, cons
         return names.empty() ? std::string("none of this report's metrics")
                              : fmt::format("<code>{}</code>", fmt::join(names, "</code>, <code>"));
       }());
+  if (const std::string missing = MissingRunsSentence(meta, runs.size()); !missing.empty()) {
+    h += "<p class=\"failed\"><strong>" + CodeSpansToHtml(missing) + "</strong></p>\n";
+  }
   h += "<p>" + CodeSpansToHtml(RootSeedSentence(meta)) + "</p>\n";
   h += BuildsHtml(builds);
   if (!meta.report.pool.empty()) {
@@ -1932,6 +1937,11 @@ ReportResult WriteReport(const ReportOptions& options) {
     link_prefix = LinkFrom(out, dir) + "/";
   }
   ReportResult result;
+  const std::string missing = MissingRunsSentence(meta, runs.size());
+  if (!missing.empty()) {
+    spdlog::warn("report: {}", missing);
+    result.missing_runs = meta.run_count - static_cast<int64_t>(runs.size());
+  }
   const Builds builds = BuildsOf(runs, dir);
   result.builds = static_cast<int>(builds.runs.size());
   if (builds.runs.size() > 1) {
@@ -1969,7 +1979,7 @@ ReportResult WriteReport(const ReportOptions& options) {
   const GlanceTable glance = GlanceOf(paired, meta);
   result.findings = static_cast<int>(findings.size());
   if (!findings.empty()) {
-    files.emplace_back("findings.md", FindingsMarkdown(findings, glance, paired, meta));
+    files.emplace_back("findings.md", FindingsMarkdown(findings, glance, paired, meta, missing));
   } else {
     stale.push_back("findings.md");
   }

@@ -617,6 +617,16 @@ void SetRootSeedMeta(const SweepSpec& spec, StoreMeta& meta) {
   meta.root_file_seed = std::to_string(spec.file_seed);
 }
 
+std::string MissingRunsSentence(const StoreMeta& meta, size_t stored_runs) {
+  const auto stored = static_cast<int64_t>(stored_runs);
+  if (meta.run_count <= 0 || stored >= meta.run_count) return "";
+  return fmt::format(
+      "The store holds {} of the sweep's {} runs: {} are missing (a sweep stopped before its end, "
+      "or one shard of several: resume it with the same `hcpf sweep` command, or `hcpf merge` "
+      "the shards' folders), and everything here is of the runs it holds.",
+      stored, meta.run_count, meta.run_count - stored);
+}
+
 std::string RootSeedSentence(const StoreMeta& meta) {
   if (meta.root_seed_from.empty()) {
     return "The store does not record the sweep's root seed (it was written before hcpf "

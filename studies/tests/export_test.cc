@@ -60,6 +60,7 @@ TEST(ExportTrackEval, LayoutReadsBackToEveryRunsMetrics) {
   EXPECT_EQ(r.trackers, 2);
   EXPECT_EQ(r.runs, 8);
   EXPECT_EQ(r.skipped, 0);
+  EXPECT_EQ(r.missing, 0);
   EXPECT_EQ(r.bench, "HCPF-train");
 
   // TrackEval's MotChallenge2DBox layout (BENCHMARK HCPF, SPLIT_TO_EVAL train):
@@ -147,6 +148,26 @@ TEST(ExportTrackEval, LayoutReadsBackToEveryRunsMetrics) {
 // An export killed before its rename leaves OUT.partial-<pid>; the next
 // export into OUT removes it (it used to stay for good), and leaves the
 // staging folder of a process that runs (init's pid here) alone.
+// One shard of two exported: the runs it holds, with a count of the missing
+// ones (a bad-input audit: an export of a shard or of a sweep stopped early
+// looked whole, exit 0 and no word).
+TEST(ExportTrackEval, OfAShardCountsTheMissingRuns) {
+  const auto dir = testing::SweepFolder("export-shard");
+  const SweepSpec spec = LoadSweepFile(testing::WriteSweep(
+      dir,
+      "base: base.yaml\nseeds: 2\ngrid:\n  tracker.resampling.method: [systematic, charged]\n"
+      "  observation.simulated.sigma_px: [1, 3]\n"));
+  SweepOptions o;
+  o.out_dir = (dir / "sweep").string();
+  o.progress = false;
+  o.shard_index = 0;
+  o.shard_count = 2;
+  RunSweep(spec, ExpandSweep(spec), o);
+  const TrackEvalExportResult r = ExportTrackEval({.dir = o.out_dir, .out = (dir / "te").string()});
+  EXPECT_EQ(r.missing, 4);
+  EXPECT_EQ(r.runs + r.skipped + r.not_ok, 4);
+}
+
 TEST(ExportTrackEval, RemovesTheStagingFoldersOfKilledExports) {
   const auto dir = testing::SweepFolder("export-stale");
   const fs::path sweep = SmallSweep(dir);

@@ -2250,6 +2250,42 @@ TEST(Report, SaysWhichBuildsMadeTheRuns) {
       std::string::npos);
 }
 
+// A report of one shard of two says, in bold and in findings.md, how many of
+// the sweep's runs are missing and how to get them; resumed whole, it says
+// nothing of it (a bad-input audit: a report of a sweep stopped early named
+// a best series among runs of one series only, exit 0 and no word).
+TEST(Report, OfAShardSaysHowManyRunsAreMissing) {
+  const auto dir = testing::SweepFolder("report-shard");
+  const SweepSpec spec = LoadSweepFile(testing::WriteSweep(
+      dir,
+      "base: base.yaml\nseeds: 2\ngrid:\n  tracker.particles: [20]\n"
+      "  tracker.resampling.method: [systematic, charged]\n"
+      "report: {x: tracker.particles, series: tracker.resampling.method, y: [idf1]}\n",
+      "s.yaml"));
+  SweepOptions o;
+  o.out_dir = (dir / "out").string();
+  o.progress = false;
+  o.shard_index = 0;
+  o.shard_count = 2;
+  RunSweep(spec, ExpandSweep(spec), o);
+  const std::string sentence =
+      "The store holds 2 of the sweep's 4 runs: 2 are missing (a sweep stopped before its end, "
+      "or one shard of several: resume it with the same ";
+  ReportResult r = WriteReport({.dir = o.out_dir});
+  EXPECT_EQ(r.missing_runs, 2);
+  EXPECT_NE(
+      Read(r.html_path).find("<p class=\"failed\"><strong>" + sentence + "<code>hcpf sweep</code>"),
+      std::string::npos);
+  EXPECT_NE(Read(fs::path(o.out_dir) / "findings.md").find("**" + sentence + "`hcpf sweep`"),
+            std::string::npos);
+  o.shard_count = 1;
+  RunSweep(spec, ExpandSweep(spec), o);
+  r = WriteReport({.dir = o.out_dir});
+  EXPECT_EQ(r.missing_runs, 0);
+  EXPECT_EQ(Read(r.html_path).find("The store holds"), std::string::npos);
+  EXPECT_EQ(Read(fs::path(o.out_dir) / "findings.md").find("The store holds"), std::string::npos);
+}
+
 // A store written before the build column: the report (which opens it
 // read-only, and leaves it so) reads each finished run's manifest instead;
 // a missing manifest names no build.

@@ -15,6 +15,7 @@
 // a sequence lacking an ok run of some tracker is left out (TrackEval needs
 // every tracker on every sequence of the seqmap).
 
+#include <cstdint>
 #include <string>
 
 namespace hcpf::studies {
@@ -31,10 +32,11 @@ struct TrackEvalExportOptions {
 struct TrackEvalExportResult {
   int sequences = 0;
   int trackers = 0;
-  int runs = 0;       // run folders exported (sequences × trackers)
-  int skipped = 0;    // ok runs left out: their sequence lacks some tracker's run
-  int not_ok = 0;     // failed runs, or ok runs whose folder lacks a file
-  std::string bench;  // "<benchmark>-<split>"
+  int runs = 0;         // run folders exported (sequences × trackers)
+  int skipped = 0;      // ok runs left out: their sequence lacks some tracker's run
+  int not_ok = 0;       // failed runs, or ok runs whose folder lacks a file
+  int64_t missing = 0;  // runs of the sweep not in the store (MissingRunsSentence)
+  std::string bench;    // "<benchmark>-<split>"
 };
 
 // Throws InputError when DIR holds no results store, OUT exists and is not an

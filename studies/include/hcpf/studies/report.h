@@ -21,6 +21,7 @@
 // the mean paired difference with its t interval and a Wilcoxon signed-rank
 // test, in a table and one plot per metric.
 
+#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -58,7 +59,8 @@ struct ReportResult {
   int differing_keys = 0;           // a run with `against`: resolved keys that differ between them
   int compared_targets = 0;         // a run with `against`: targets compared frame by frame
   int cells = 0;
-  int builds = 0;  // a sweep's report: builds of hcpf that made its finished runs
+  int builds = 0;            // a sweep's report: builds of hcpf that made its finished runs
+  int64_t missing_runs = 0;  // a sweep's report: runs of the sweep not in the store
 };
 
 // What `hcpf report DIR` was given.

@@ -56,6 +56,12 @@ void SetRootSeedMeta(const SweepSpec& spec, StoreMeta& meta);
 // sweep file's `seed:` is 1)." Markdown (backticks for code).
 std::string RootSeedSentence(const StoreMeta& meta);
 
+// When a store holds fewer rows than the sweep has runs (a sweep stopped
+// before its end, one shard of several): a sentence saying how many are
+// missing and how to get them, for reports and exports made of the rest.
+// "" when every run is there. Markdown (backticks for code).
+std::string MissingRunsSentence(const StoreMeta& meta, size_t stored_runs);
+
 struct RunRecord {
   std::string key;
   int64_t index = 0;

@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <cctype>
 #include <cerrno>
+#include <charconv>
 #include <cmath>
 #include <cstring>
 #include <filesystem>
@@ -118,6 +119,10 @@ class Statement {
   }
   int64_t Int(int i) const { return sqlite3_column_int64(stmt_, i); }
   bool Null(int i) const { return sqlite3_column_type(stmt_, i) == SQLITE_NULL; }
+  bool Number(int i) const {
+    const int type = sqlite3_column_type(stmt_, i);
+    return type == SQLITE_FLOAT || type == SQLITE_INTEGER;
+  }
   double Real(int i) const {
     return sqlite3_column_type(stmt_, i) == SQLITE_NULL ? kNaN : sqlite3_column_double(stmt_, i);
   }
@@ -242,12 +247,40 @@ void ResultsStore::ReadMeta() {
   meta_.sweep_hash = m["sweep_hash"];
   meta_.sweep_file = m["sweep_file"];
   meta_.base_resolved = m["base_resolved"];
-  meta_.run_count = m.count("run_count") ? std::stoll(m["run_count"]) : 0;
+  // A bad-input audit: a damaged run_count was read by std::stoll ("found
+  // unreadable metadata: stoll", no key), a negative one reported as "8 of
+  // -5 runs".
+  const auto damaged = [&](const std::string& key, const std::string& expected) {
+    return InputError(SourceLocation{path_, 0, 0, "meta." + key},
+                      "a results store of hcpf sweep: " + expected, fmt::format("\"{}\"", m[key]),
+                      "the store's meta table was changed after the sweep wrote it");
+  };
+  if (m.count("run_count")) {
+    const std::string& text = m["run_count"];
+    const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), meta_.run_count);
+    if (ec != std::errc() || end != text.data() + text.size() || meta_.run_count < 0) {
+      throw damaged("run_count", "a whole number of runs, 0 or more");
+    }
+  }
   meta_.root_seed = m["root_seed"];  // "" in a store written before they were recorded
   meta_.root_seed_from = m["root_seed_from"];
   meta_.root_file_seed = m["root_file_seed"];
-  meta_.swept_keys = json::parse(m["swept_keys"]).get<std::vector<std::string>>();
-  const json report = json::parse(m["report"]);
+  const auto parse = [&](const std::string& key, const std::string& expected) {
+    try {
+      json j = json::parse(m[key]);
+      if (key == "swept_keys" ? !j.is_array() : !j.is_object()) throw damaged(key, expected);
+      return j;
+    } catch (const json::exception&) {
+      throw damaged(key, expected);
+    }
+  };
+  try {
+    meta_.swept_keys =
+        parse("swept_keys", "a JSON list of the swept keys").get<std::vector<std::string>>();
+  } catch (const json::exception&) {
+    throw damaged("swept_keys", "a JSON list of the swept keys");
+  }
+  const json report = parse("report", "the sweep file's report: block as a JSON object");
   meta_.report.x = report.value("x", "");
   meta_.report.y = report.value("y", std::vector<std::string>{});
   meta_.report.series = report.value("series", "");
@@ -515,8 +548,26 @@ std::vector<RunRecord> ResultsStore::Runs() const {
     r.key = s.Text(i++);
     r.index = s.Int(i++);
     r.seed_index = static_cast<int>(s.Int(i++));
-    r.seed = std::stoull(s.Text(i++));
-    r.ok = s.Text(i++) == "ok";
+    // A bad-input audit: rows edited by hand were read silently (a metric
+    // given as text counted as 0, an unknown status as neither ok nor
+    // failed); a seed that is not a number threw std::stoull's text.
+    const auto damaged = [&](const std::string& column, const std::string& expected,
+                             const std::string& found) {
+      return InputError(SourceLocation{path_, 0, 0, fmt::format("runs[{}].{}", r.key, column)},
+                        "a results store of hcpf sweep: " + expected, found,
+                        "the store's runs table was changed after the sweep wrote it");
+    };
+    const std::string seed = s.Text(i++);
+    const auto [end, ec] = std::from_chars(seed.data(), seed.data() + seed.size(), r.seed);
+    if (ec != std::errc() || end != seed.data() + seed.size() || seed.empty()) {
+      throw damaged("seed", "a seed (a whole number, as decimal text)",
+                    fmt::format("\"{}\"", seed));
+    }
+    const std::string status = s.Text(i++);
+    if (status != "ok" && status != "failed") {
+      throw damaged("status", "\"ok\" or \"failed\"", fmt::format("\"{}\"", status));
+    }
+    r.ok = status == "ok";
     r.error = s.Text(i++);
     r.run_dir = s.Text(i++);
     // Keys and run folders become paths under the sweep folder (merge copies
@@ -528,7 +579,12 @@ std::vector<RunRecord> ResultsStore::Runs() const {
                        fmt::format("key \"{}\" with run_dir \"{}\"", r.key, r.run_dir));
     }
     for (size_t k = 0; k < meta_.swept_keys.size(); ++k) r.values.push_back(s.Text(i++));
-    for (const std::string& m : MetricNames()) r.metrics[m] = s.Real(i++);
+    for (const std::string& m : MetricNames()) {
+      if (!s.Null(i) && !s.Number(i)) {
+        throw damaged(m, "a number or NULL", fmt::format("the text \"{}\"", s.Text(i)));
+      }
+      r.metrics[m] = s.Real(i++);
+    }
     if (!s.Null(i)) r.build = s.Text(i);
     ++i;
     out.push_back(std::move(r));

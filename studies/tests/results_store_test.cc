@@ -190,6 +190,18 @@ TEST(ResultsStore, HandEditedMetaIsBadInputNamingTheEntry) {
        "meta.report.x_metric"},
       {"swept_keys", R"(["tracker.particles","tracker.resampling.method","zzz"])",
        R"(meta.swept_keys: expected a results store of hcpf sweep: swept keys listed once, each a column of the runs table, found "zzz")"},
+      // A third audit: std::stoll's and the JSON library's texts, no key;
+      // a negative count reported as "8 of -5 runs".
+      {"run_count", "abc",
+       R"(meta.run_count: expected a results store of hcpf sweep: a whole number of runs, 0 or more, found "abc")"},
+      {"run_count", "-5",
+       R"(meta.run_count: expected a results store of hcpf sweep: a whole number of runs, 0 or more, found "-5")"},
+      {"swept_keys", "[\"tracker.particles\"",
+       R"(meta.swept_keys: expected a results store of hcpf sweep: a JSON list of the swept keys, found "["tracker.particles"")"},
+      {"swept_keys", "[1, 2]",
+       "meta.swept_keys: expected a results store of hcpf sweep: a JSON list of the swept keys"},
+      {"report", "[1]",
+       R"(meta.report: expected a results store of hcpf sweep: the sweep file's report: block as a JSON object, found "[1]")"},
   };
   for (const auto& [name, value, expected] : edits) {
     fs::copy_file(good, path, fs::copy_options::overwrite_existing);
@@ -495,6 +507,57 @@ TEST(ResultsStore, KeepsEachRunsBuildAndMigratesStoresWithoutTheColumn) {
   const auto runs = ResultsStore::Open(path)->Runs();
   EXPECT_EQ(runs[0].build, "1.1 at 89abcdef0123");
   EXPECT_FALSE(runs[1].build.has_value());
+}
+
+// Rows edited after the sweep wrote them are bad input naming the row and
+// column (a third bad-input audit: a metric given as text was read as 0 and
+// halved a cell's mean, an unknown status counted as neither ok nor failed,
+// a seed that is not a number failed with std::stoull's text).
+TEST(ResultsStore, HandEditedRowsAreBadInputNamingTheRowAndColumn) {
+  const auto dir = SweepFolder("store-rows");
+  StoreMeta meta;
+  meta.sweep_hash = "abc";
+  meta.sweep_file = "s.yaml";
+  meta.report = {"", {"idf1"}, ""};
+  const std::string path = (dir / "results.sqlite").string();
+  {
+    auto store = ResultsStore::OpenOrCreate(path, meta);
+    RunRecord r;
+    r.key = "k1";
+    r.run_dir = "runs/k1";
+    r.ok = true;
+    r.metrics = {{"idf1", 0.5}};
+    store->Put(r);
+  }
+  const std::string good = (dir / "good.sqlite").string();
+  fs::copy_file(path, good);
+  for (
+      const auto& [sql, expected] : std::vector<std::pair<std::string, std::string>>{
+          {"UPDATE runs SET idf1 = 'abc'",
+           R"(runs[k1].idf1: expected a results store of hcpf sweep: a number or NULL, found the text "abc")"},
+          {"UPDATE runs SET status = 'weird'",
+           R"(runs[k1].status: expected a results store of hcpf sweep: "ok" or "failed", found "weird")"},
+          {"UPDATE runs SET seed = 'x1'",
+           R"(runs[k1].seed: expected a results store of hcpf sweep: a seed (a whole number, as decimal text), found "x1")"}}) {
+    fs::copy_file(good, path, fs::copy_options::overwrite_existing);
+    sqlite3* db = nullptr;
+    ASSERT_EQ(sqlite3_open(path.c_str(), &db), SQLITE_OK);
+    ASSERT_EQ(sqlite3_exec(db, sql.c_str(), nullptr, nullptr, nullptr), SQLITE_OK) << sql;
+    sqlite3_close(db);
+    try {
+      ResultsStore::Open(path)->Runs();
+      ADD_FAILURE() << sql << " was accepted";
+    } catch (const InputError& e) {
+      EXPECT_NE(std::string(e.what()).find(expected), std::string::npos) << e.what();
+    }
+  }
+  // A number written as an integer is a number; the store as written reads.
+  fs::copy_file(good, path, fs::copy_options::overwrite_existing);
+  sqlite3* db = nullptr;
+  ASSERT_EQ(sqlite3_open(path.c_str(), &db), SQLITE_OK);
+  ASSERT_EQ(sqlite3_exec(db, "UPDATE runs SET idf1 = 1", nullptr, nullptr, nullptr), SQLITE_OK);
+  sqlite3_close(db);
+  EXPECT_EQ(ResultsStore::Open(path)->Runs()[0].metrics.at("idf1"), 1.0);
 }
 
 TEST(RunSweep, ParallelEqualsSerialAndResumeReusesEverything) {

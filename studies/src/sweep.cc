@@ -490,7 +490,8 @@ std::vector<SweepRun> ExpandSweep(const SweepSpec& spec) {
     if (spec.grid[g].key == kSweptBaseKey) base_axis = static_cast<int>(g);
   }
   const auto load = [&](const std::vector<config::Override>& overrides,
-                        const std::vector<SourceLocation>& where, size_t base) {
+                        const std::vector<SourceLocation>& where, size_t base,
+                        const std::string& cell_text) {
     try {
       return scenarios::LoadScenarioText(base_texts[base], base_paths[base], overrides);
     } catch (const InputError& e) {
@@ -498,7 +499,14 @@ std::vector<SweepRun> ExpandSweep(const SweepSpec& spec) {
       const int i = e.where().override_index;
       if (i >= 0 && static_cast<size_t>(i) < where.size())
         Relocate(e, where[static_cast<size_t>(i)]);
-      throw;
+      // One in the base file that only some cells make (a bad-input audit:
+      // `camera.path[0].frame: expected an integer in [0, 9]` at a line that
+      // is valid on its own, the swept `frames: 10` that made it so unnamed)
+      // names the cell's swept values.
+      if (cell_text.empty()) throw;
+      const std::string in_cell = "in the sweep's runs with " + cell_text;
+      throw InputError(e.where(), e.expected(), e.found(),
+                       e.hint().empty() ? in_cell : e.hint() + "; " + in_cell);
     }
   };
   std::vector<SweepRun> runs;
@@ -536,6 +544,17 @@ std::vector<SweepRun> ExpandSweep(const SweepSpec& spec) {
       overrides.push_back({a.key, a.values[zip_position]});
       where.push_back(a.where[zip_position]);
     }
+    std::string cell_text;
+    for (size_t g = 0; g < spec.grid.size(); ++g) {
+      const SourceLocation& at = spec.grid[g].where[digits[g]];
+      cell_text += fmt::format("{}{} = {} ({}:{}:{})", cell_text.empty() ? "" : ", ",
+                               spec.grid[g].key, values[g], at.file, at.line, at.column);
+    }
+    for (const SweepAxis& a : spec.zip) {
+      const SourceLocation& at = a.where[zip_position];
+      cell_text += fmt::format("{}{} = {} ({}:{}:{})", cell_text.empty() ? "" : ", ", a.key,
+                               a.values[zip_position], at.file, at.line, at.column);
+    }
     if (spec.seeds > 0) {
       overrides.push_back({"seed", ""});  // filled per seed below
       where.push_back(SourceLocation{spec.file, 0, 0, "seeds"});
@@ -563,7 +582,8 @@ std::vector<SweepRun> ExpandSweep(const SweepSpec& spec) {
         run.cell = first;
         resolved = scenarios::ReseedResolvedYaml(first_yaml, scenarios::Reseeded(*first, run.seed));
       } else {
-        auto scenario = std::make_shared<const scenarios::Scenario>(load(overrides, where, base));
+        auto scenario =
+            std::make_shared<const scenarios::Scenario>(load(overrides, where, base, cell_text));
         resolved = scenarios::ToResolvedYaml(*scenario);
         run.cell = scenario;
         if (k == 0) {

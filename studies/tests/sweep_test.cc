@@ -514,6 +514,16 @@ TEST(Sweep, BadFilesNameLineKeyExpectedFoundAndHint) {
   EXPECT_NE(e.find("c.yaml:3:27"), std::string::npos) << e;
   EXPECT_NE(e.find("tracker.particles"), std::string::npos) << e;
   EXPECT_NE(e.find("-5"), std::string::npos) << e;
+  // An error in the base file that only some cells make (frames: 2 leaves
+  // target 2's start_frame: 2 out of range): at the base file's line, with
+  // the cell's swept values and where each is written (a bad-input audit: the
+  // swept value that made a valid line invalid was not named).
+  e = ExpandErrorOf(WriteSweep(
+      dir, "base: base.yaml\ngrid:\n  frames: [20, 2]\n  tracker.particles: [10]\n", "h.yaml"));
+  EXPECT_NE(e.find("base.yaml:15:"), std::string::npos) << e;
+  EXPECT_NE(e.find("targets[1].path.start_frame"), std::string::npos) << e;
+  EXPECT_NE(e.find("in the sweep's runs with frames = 2 ("), std::string::npos) << e;
+  EXPECT_NE(e.find("h.yaml:3:16), tracker.particles = 10 ("), std::string::npos) << e;
   // A misspelt enum value: did-you-mean from the scenario schema, at the sweep line.
   e = ExpandErrorOf(
       WriteSweep(dir, "base: base.yaml\ngrid:\n  tracker.resampling.method: [systematic, chargd]\n",

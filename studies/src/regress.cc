@@ -90,11 +90,13 @@ RegressSuite LoadRegressSuite(const std::string& path) {
     }
     if (!names.insert(scene.name).second)
       item.Child("name").Fail("a scene name used once in the suite");
+    // Where each override is written in the suite, for errors in its value.
+    std::vector<SourceLocation> override_at;
     if (auto set = item.Optional("set")) {
       set->ExpectMap();
       for (auto it = set->node().begin(); it != set->node().end(); ++it) {
         const std::string key = it->first.Scalar();
-        set->Child(key);  // mark as read
+        override_at.push_back(set->Child(key).Where());  // and marks it read
         // `tracker` and `tracker.particles` together: the later one wins
         // while the suite reads as if both applied (a bad-input audit).
         for (const config::Override& o : scene.overrides) {
@@ -108,8 +110,10 @@ RegressSuite LoadRegressSuite(const std::string& path) {
         scene.overrides.push_back({key, FlowText(it->second)});
       }
     }
-    if (item.Has("seed"))
+    if (item.Has("seed")) {
       scene.overrides.push_back({"seed", std::to_string(item.Seed("seed", std::nullopt))});
+      override_at.push_back(item.Child("seed").Where());
+    }
     if (item.Has("seeds"))
       scene.seeds = static_cast<int>(item.Integer("seeds", 0, kMinSuiteSeeds, kMaxSuiteSeeds));
     item.Finish();
@@ -118,7 +122,21 @@ RegressSuite LoadRegressSuite(const std::string& path) {
     try {
       scene_seed = LoadScenarioFile(scene.scenario_path, scene.overrides).seed;
     } catch (const InputError& e) {
-      throw InputError(fmt::format("{}: scene \"{}\": {}", path, scene.name, e.what()));
+      // A bad-input audit: "suite.yaml: scene "a": --set tracker.particle=5: ..."
+      // named no line. An error in a `set:` value is reported where that
+      // value is written; one in the scenario file where it is, naming the
+      // scene.
+      const std::string in_scene =
+          fmt::format("in the suite's scene \"{}\" ({}:{}:{})", scene.name, item.Where().file,
+                      item.Where().line, item.Where().column);
+      const std::string hint = e.hint().empty() ? in_scene : e.hint() + "; " + in_scene;
+      const int i = e.where().override_index;
+      if (i >= 0 && static_cast<size_t>(i) < override_at.size()) {
+        const SourceLocation& at = override_at[static_cast<size_t>(i)];
+        throw InputError(SourceLocation{at.file, at.line, at.column, e.where().key}, e.expected(),
+                         e.found(), hint);
+      }
+      throw InputError(e.where(), e.expected(), e.found(), hint);
     }
     for (int i = 0; i < scene.seeds; ++i) scene.run_seeds.push_back(SweepSeed(scene_seed, i));
     suite.scenes.push_back(std::move(scene));
@@ -126,17 +144,19 @@ RegressSuite LoadRegressSuite(const std::string& path) {
   if (suite.scenes.empty()) r.Child("scenes").Fail("a non-empty list of scenes");
   YamlReader metrics = r.Child("metrics");
   metrics.ExpectMap();
-  std::vector<std::string> keys;
+  // The key nodes as written (their marks locate a misspelt metric; a node
+  // made from the key's text had none: a bad-input audit).
+  std::vector<YAML::Node> keys;
   for (auto it = metrics.node().begin(); it != metrics.node().end(); ++it)
-    keys.push_back(it->first.Scalar());
+    keys.push_back(it->first);
   const auto& known = MetricNames();
-  for (const std::string& key : keys) {
+  for (const YAML::Node& key_node : keys) {
+    const std::string key = key_node.Scalar();
     YamlReader m = metrics.Child(key);
     if (std::find(known.begin(), known.end(), key) == known.end()) {
       const std::string close = ClosestMatch(key, known);
-      metrics.Key(YAML::Node(key))
-          .Fail(fmt::format("a metric name ({})", fmt::join(known, ", ")),
-                close.empty() ? "" : "did you mean \"" + close + "\"?");
+      metrics.Key(key_node).Fail(fmt::format("a metric name ({})", fmt::join(known, ", ")),
+                                 close.empty() ? "" : "did you mean \"" + close + "\"?");
     }
     m.ExpectMap();
     RegressTolerance t;

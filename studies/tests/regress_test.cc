@@ -152,6 +152,8 @@ TEST(Regress, BadSuitesAreLocated) {
                              "scenes:\n  - {scenario: base.yaml}\nmetrics:\n  idf: {tolerance: "
                              "0.1, direction: higher_is_better}\n");
   EXPECT_NE(e.find("did you mean \"idf1\""), std::string::npos) << e;
+  // ...at the key's line and column (a bad-input audit: none were given).
+  EXPECT_NE(e.find("bad.yaml:4:3: metrics.idf:"), std::string::npos) << e;
   e = SuiteError(dir,
                  "scenes:\n  - {scenario: base.yaml}\nmetrics:\n  idf1: {tolerance: 0.1, "
                  "direction: higher}\n");
@@ -161,6 +163,18 @@ TEST(Regress, BadSuitesAreLocated) {
                  "scenes:\n  - {scenario: base.yaml, set: {tracker.particles: 0}}\nmetrics:\n  "
                  "idf1: {tolerance: 0.1, direction: higher_is_better}\n");
   EXPECT_NE(e.find("tracker.particles"), std::string::npos) << e;
+  // A bad set: value at that value, naming the scene (none was given); an
+  // error in the scenario file a set: value makes at the file's line.
+  EXPECT_NE(e.find("bad.yaml:2:52: tracker.particles: expected"), std::string::npos) << e;
+  EXPECT_NE(e.find("in the suite's scene \"base\" (" + (dir / "bad.yaml").string() + ":2:5)"),
+            std::string::npos)
+      << e;
+  e = SuiteError(dir,
+                 "scenes:\n  - {scenario: base.yaml, set: {frames: 2}}\nmetrics:\n  "
+                 "idf1: {tolerance: 0.1, direction: higher_is_better}\n");
+  EXPECT_NE(e.find("base.yaml:15:"), std::string::npos) << e;
+  EXPECT_NE(e.find("targets[1].path.start_frame"), std::string::npos) << e;
+  EXPECT_NE(e.find("in the suite's scene \"base\""), std::string::npos) << e;
   e = SuiteError(dir,
                  "scenes:\n  - {scenario: missing.yaml}\nmetrics:\n  idf1: {tolerance: 0.1, "
                  "direction: higher_is_better}\n");

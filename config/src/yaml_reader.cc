@@ -5,6 +5,7 @@
 #include <yaml-cpp/eventhandler.h>
 
 #include <algorithm>
+#include <cctype>
 #include <cerrno>
 #include <charconv>
 #include <cmath>
@@ -88,11 +89,20 @@ struct DocumentSpan {
   YAML::Mark last;
 };
 
+// A scalar the parser handed out with a tag other than "?" (a quoted one, or
+// one with a tag): where its node starts (its properties included) and its
+// dotted key path.
+struct TaggedScalar {
+  YAML::Mark mark;
+  std::string path;
+};
+
 // Walks a stream's documents without building them. YAML::LoadAll cannot be
 // used: in yaml-cpp 0.7 a stray ',' makes the parser hand out empty documents
 // forever without consuming input (jbeder/yaml-cpp#1040, fixed upstream by
 // #1319 after Debian 12's version). A document that ends where the previous
-// one ended is that loop.
+// one ended is that loop. It also keeps the dotted key path of every node
+// and the scalars that may be quoted, to check their closing quotes.
 class DocumentScanner final : public YAML::EventHandler {
  public:
   DocumentSpan Take() {
@@ -100,33 +110,211 @@ class DocumentScanner final : public YAML::EventHandler {
     span_ = {};
     return out;
   }
-  void OnDocumentStart(const YAML::Mark& mark) override { Saw(mark, false); }
+  const std::vector<TaggedScalar>& tagged() const { return tagged_; }
+  // Where the last event was, and the path of the node after it.
+  const YAML::Mark& last() const { return span_.last; }
+  std::string NextPath() const {
+    if (stack_.empty()) return "";
+    const Level& level = stack_.back();
+    if (!level.map) return level.path + "[" + std::to_string(level.index) + "]";
+    if (level.key_next) return level.path;
+    return level.path.empty() ? level.key : level.path + "." + level.key;
+  }
+  void OnDocumentStart(const YAML::Mark& mark) override {
+    stack_.clear();
+    Saw(mark, false);
+  }
   void OnDocumentEnd() override {}
-  void OnNull(const YAML::Mark& mark, YAML::anchor_t) override { Saw(mark, false); }
-  void OnAlias(const YAML::Mark& mark, YAML::anchor_t) override { Saw(mark, true); }
-  void OnScalar(const YAML::Mark& mark, const std::string&, YAML::anchor_t,
-                const std::string&) override {
+  void OnNull(const YAML::Mark& mark, YAML::anchor_t) override {
+    Enter("~");
+    Saw(mark, false);
+  }
+  void OnAlias(const YAML::Mark& mark, YAML::anchor_t) override {
+    Enter("*");
+    Saw(mark, true);
+  }
+  void OnScalar(const YAML::Mark& mark, const std::string& tag, YAML::anchor_t,
+                const std::string& value) override {
+    const std::string path = Enter(value);
+    if (tag != "?") tagged_.push_back({mark, path});
     Saw(mark, true);
   }
   void OnSequenceStart(const YAML::Mark& mark, const std::string&, YAML::anchor_t,
                        YAML::EmitterStyle::value) override {
+    stack_.push_back({false, Enter("?")});
     Saw(mark, true);
   }
-  void OnSequenceEnd() override {}
+  void OnSequenceEnd() override { Leave(); }
   void OnMapStart(const YAML::Mark& mark, const std::string&, YAML::anchor_t,
                   YAML::EmitterStyle::value) override {
+    stack_.push_back({true, Enter("?")});
     Saw(mark, true);
   }
-  void OnMapEnd() override {}
+  void OnMapEnd() override { Leave(); }
 
  private:
+  struct Level {
+    bool map = false;
+    std::string path;
+    int index = 0;  // the next list item
+    bool key_next = true;
+    std::string key;
+  };
+  // The dotted path of the node that starts now (a key names its own path);
+  // `scalar` is its text, kept when the node is a key.
+  std::string Enter(const std::string& scalar) {
+    if (stack_.empty()) return "";
+    Level& level = stack_.back();
+    const auto join = [&level](const std::string& key) {
+      return level.path.empty() ? key : level.path + "." + key;
+    };
+    if (!level.map) return level.path + "[" + std::to_string(level.index++) + "]";
+    level.key_next = !level.key_next;
+    if (!level.key_next) level.key = scalar;  // this node is a key
+    return join(level.key);
+  }
+  void Leave() {
+    if (!stack_.empty()) stack_.pop_back();
+  }
   void Saw(const YAML::Mark& mark, bool value) {
     if (value && span_.first_line < 0) span_.first_line = mark.line;
     span_.last_pos = mark.pos;
     span_.last = mark;
   }
   DocumentSpan span_;
+  std::vector<Level> stack_;
+  std::vector<TaggedScalar> tagged_;
 };
+
+// The offset of the closing quote of the quoted scalar whose opening quote is
+// at `open` (`\\` escapes in double quotes, '' in single ones), or npos when
+// the text ends first.
+size_t ClosingQuote(const std::string& text, size_t open) {
+  const char quote = text[open];
+  for (size_t i = open + 1; i < text.size(); ++i) {
+    if (quote == '"' && text[i] == '\\') {
+      ++i;
+    } else if (text[i] == quote) {
+      if (quote == '\'' && i + 1 < text.size() && text[i + 1] == '\'') {
+        ++i;
+      } else {
+        return i;
+      }
+    }
+  }
+  return std::string::npos;
+}
+
+// The offset of the opening quote of a scalar node starting at `pos` (past
+// its tag and anchor), or npos when it is not quoted.
+size_t OpeningQuote(const std::string& text, size_t pos) {
+  while (pos < text.size()) {
+    const char c = text[pos];
+    if (c == ' ' || c == '\t' || c == '\r' || c == '\n') {
+      ++pos;
+    } else if (c == '!' || c == '&') {
+      while (pos < text.size() && text[pos] != ' ' && text[pos] != '\t' && text[pos] != '\n') ++pos;
+    } else if (c == '#') {
+      while (pos < text.size() && text[pos] != '\n') ++pos;
+    } else {
+      break;
+    }
+  }
+  return pos < text.size() && (text[pos] == '"' || text[pos] == '\'') ? pos : std::string::npos;
+}
+
+// The offset of a quote after `from` that opens a value (after a blank, a
+// line start or one of : - [ { , ?) and is never closed, or npos.
+size_t UnclosedQuote(const std::string& text, size_t from) {
+  for (size_t i = from; i < text.size();) {
+    const size_t q = text.find_first_of("\"'", i);
+    if (q == std::string::npos) return q;
+    const size_t before = q == 0 ? std::string::npos : text.find_last_not_of(" \t", q - 1);
+    const bool opens = before == std::string::npos ||
+                       std::string_view(":-[{,?\n").find(text[before]) != std::string::npos ||
+                       q > before + 1;
+    if (!opens) {
+      i = q + 1;
+      continue;
+    }
+    const size_t close = ClosingQuote(text, q);
+    if (close == std::string::npos) return q;
+    i = close + 1;
+  }
+  return std::string::npos;
+}
+
+// Whether `line` reads as a `key:` line of a mapping (`  particles: 50`,
+// `- id: 2`): a word, a colon, then a blank or the end.
+bool LooksLikeKeyLine(std::string_view line) {
+  size_t i = 0;
+  const auto blanks = [&] {
+    while (i < line.size() && (line[i] == ' ' || line[i] == '\t')) ++i;
+  };
+  blanks();
+  while (i + 1 < line.size() && line[i] == '-' && (line[i + 1] == ' ' || line[i + 1] == '\t')) {
+    ++i;
+    blanks();
+  }
+  const size_t word = i;
+  while (i < line.size() && (std::isalnum(static_cast<unsigned char>(line[i])) || line[i] == '_' ||
+                             (i > word && (line[i] == '.' || line[i] == '-')))) {
+    ++i;
+  }
+  if (i == word) return false;
+  blanks();
+  return i < line.size() && line[i] == ':' &&
+         (i + 1 == line.size() || line[i + 1] == ' ' || line[i + 1] == '\t' ||
+          line[i + 1] == '\r');
+}
+
+// Refuses a quoted scalar that is never closed, or that goes on over a line
+// that reads as a key: yaml-cpp reads an unclosed quote at the end of a file
+// that ends in a newline as a value running to the end, so `name: "small`
+// silently took in the rest of the file (a third bad-input audit). A quoted
+// value that spans lines is valid YAML and is kept when no line inside it
+// looks like a key.
+void CheckQuotedScalars(const std::string& text, const std::string& file,
+                        const std::vector<TaggedScalar>& scalars) {
+  // yaml-cpp's positions do not count a byte-order mark.
+  const size_t bom = text.rfind("\xEF\xBB\xBF", 0) == 0 ? 3 : 0;
+  for (const TaggedScalar& scalar : scalars) {
+    const size_t open = OpeningQuote(text, static_cast<size_t>(scalar.mark.pos) + bom);
+    if (open == std::string::npos) continue;
+    const size_t close = ClosingQuote(text, open);
+    const TextPosition from = PositionOf(text, open);
+    const int column = from.column - (from.line == 1 ? static_cast<int>(bom) : 0);
+    const SourceLocation where{file, from.line, column, scalar.path};
+    const std::string quote = text[open] == '"' ? "a \" quote" : "a ' quote";
+    const std::string expected = "a quoted value closed before the next key";
+    const std::string hint =
+        "close the quote on the line where the value ends, or write text over several lines "
+        "as a block scalar: key: >";
+    if (close == std::string::npos) {
+      throw InputError(where, expected,
+                       fmt::format("{} opened at line {} that is never closed (it runs on to the "
+                                   "end of the file)",
+                                   quote, from.line),
+                       hint);
+    }
+    size_t line_start = text.find('\n', open);
+    for (int line = from.line + 1; line_start < close; ++line) {
+      ++line_start;
+      const size_t line_end = std::min(text.find('\n', line_start), close);
+      const std::string_view content(text.data() + line_start, line_end - line_start);
+      if (LooksLikeKeyLine(content)) {
+        std::string shown(content.substr(content.find_first_not_of(" \t")));
+        shown.erase(shown.find_last_not_of(" \t\r") + 1);
+        throw InputError(where, expected,
+                         fmt::format("{} opened at line {} that runs on to line {}, taking in "
+                                     "line {} (\"{}\"), which reads as a key",
+                                     quote, from.line, PositionOf(text, close).line, line, shown),
+                         hint);
+      }
+      line_start = text.find('\n', line_start);
+    }
+  }
+}
 
 // The offset of the first byte that does not belong to well-formed UTF-8
 // (Unicode's table 3-7: no overlong forms, surrogates or code points past
@@ -179,10 +367,10 @@ YAML::Node YamlReader::Parse(const std::string& text, const std::string& file) {
   }
   std::vector<DocumentSpan> documents;
   YAML::Node first;
+  DocumentScanner scanner;
   try {
     std::istringstream in(text);
     YAML::Parser parser(in);
-    DocumentScanner scanner;
     while (parser.HandleNextDocument(scanner)) {
       const DocumentSpan span = scanner.Take();
       if (!documents.empty() && span.last_pos == documents.back().last_pos) {
@@ -200,9 +388,25 @@ YAML::Node YamlReader::Parse(const std::string& text, const std::string& file) {
     throw InputError(where, "YAML nested less deeply",
                      fmt::format("lists or mappings nested {} levels deep", e.depth()));
   } catch (const YAML::ParserException& e) {
+    // A quote left open earlier takes in the lines after it until the next
+    // quote closes it, and the error comes later: report the quote.
+    CheckQuotedScalars(text, file, scanner.tagged());
+    if (e.msg == YAML::ErrorMsg::EOF_IN_SCALAR) {
+      // A quote still open where a file without a final newline ends: say so
+      // at the quote (yaml-cpp reports the end of the file).
+      const size_t bom = text.rfind("\xEF\xBB\xBF", 0) == 0 ? 3 : 0;
+      const size_t open =
+          UnclosedQuote(text, scanner.last().pos < 0 ? 0 : scanner.last().pos + bom);
+      if (open != std::string::npos) {
+        YAML::Mark mark;
+        mark.pos = static_cast<int>(open - bom);
+        CheckQuotedScalars(text, file, {TaggedScalar{mark, scanner.NextPath()}});
+      }
+    }
     SourceLocation where{file, e.mark.line + 1, e.mark.column + 1, ""};
     throw InputError(where, "valid YAML", "a syntax error: " + e.msg);
   }
+  CheckQuotedScalars(text, file, scanner.tagged());
   if (documents.size() > 1) {
     // A stray "---" or "..." line ends the first document: everything after
     // it would be silently ignored. Report the separator before the second

@@ -261,3 +261,68 @@ TEST(YamlReader, NullRootIsToldFromAnEmptyFile) {
 }
 
 }  // namespace hcpf::config
+
+namespace hcpf::config {
+namespace {
+
+// The message of Parse's InputError for `text`, or "(no error)".
+std::string ParseError(const std::string& text) {
+  try {
+    YamlReader::Parse(text, "f.yaml");
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  return "(no error)";
+}
+
+// A third bad-input audit: yaml-cpp reads a quote left open in a file that
+// ends in a newline as a value running to the end of the file, so
+// `name: "small` took in the tracker section after it (exit 0, every tracker
+// key at its default). A quote never closed, or one that runs on over a line
+// that reads as a key, is refused at the opening quote; a quoted value over
+// several lines without such a line is valid YAML and still read.
+TEST(YamlReader, AQuoteLeftOpenIsRefusedAtTheQuote) {
+  const std::string hint =
+      " (close the quote on the line where the value ends, or write text over several lines as "
+      "a block scalar: key: >)";
+  EXPECT_EQ(ParseError("frames: 20\nname: \"small\ntracker:\n  particles: 50\n"),
+            "f.yaml:2:7: name: expected a quoted value closed before the next key, found a \" "
+            "quote opened at line 2 that is never closed (it runs on to the end of the file)" +
+                hint);
+  EXPECT_EQ(ParseError("frames: 20\nname: 'small\ntracker:\n  particles: 50\n"),
+            "f.yaml:2:7: name: expected a quoted value closed before the next key, found a ' "
+            "quote opened at line 2 that is never closed (it runs on to the end of the file)" +
+                hint);
+  // The last line, with or without a final newline (yaml-cpp itself reported
+  // only the latter, at the end of the file).
+  EXPECT_EQ(ParseError("frames: 20\nname: \"abc\n").find("f.yaml:2:7: name: expected a quoted "
+                                                          "value closed before the next key"),
+            0u);
+  EXPECT_EQ(ParseError("frames: 20\nname: \"abc").find("f.yaml:2:7: name: expected a quoted "
+                                                        "value closed before the next key"),
+            0u)
+      << ParseError("frames: 20\nname: \"abc");
+  // Closed by the next quote in the file: a syntax error follows, the quote
+  // is what is reported.
+  EXPECT_EQ(ParseError("name: \"small\ntracker:\n  type: \"x\"\n"),
+            "f.yaml:1:7: name: expected a quoted value closed before the next key, found a \" "
+            "quote opened at line 1 that runs on to line 3, taking in line 2 (\"tracker:\"), "
+            "which reads as a key" +
+                hint);
+  // Deeper keys and list items are named by their dotted path.
+  EXPECT_EQ(ParseError("a:\n  - b: 'x\n    c: 1\n").find("f.yaml:2:8: a[0].b: expected a quoted "),
+            0u)
+      << ParseError("a:\n  - b: 'x\n    c: 1\n");
+  // Valid quoted values: over two lines, with escaped quotes, and plain
+  // values holding an apostrophe.
+  EXPECT_EQ(YamlReader::Parse("name: \"two\n  lines\"\nb: 1\n", "f.yaml")["name"].as<std::string>(),
+            "two lines");
+  EXPECT_EQ(YamlReader::Parse("a: 'it''s: x'\nb: \"say \\\"c: d\\\"\"\n", "f.yaml")["b"]
+                .as<std::string>(),
+            "say \"c: d\"");
+  EXPECT_EQ(YamlReader::Parse("a: it's\nb: !!str \"x\"\n", "f.yaml")["a"].as<std::string>(),
+            "it's");
+}
+
+}  // namespace
+}  // namespace hcpf::config

@@ -21,8 +21,15 @@ namespace {
 
 std::string Quote(const std::string& s) { return "\"" + s + "\""; }
 
+// Whether `text` starts with a '+' and a second sign ("+-30", "++3"): not a
+// number in YAML, but from_chars after the '+' read "+-30" as -30 (a third
+// bad-input audit). ("-+30" and "--3" from_chars refuses itself.)
+bool TwoSigns(const std::string& text) {
+  return text.size() >= 2 && text[0] == '+' && (text[1] == '+' || text[1] == '-');
+}
+
 bool ParseDouble(const std::string& text, double* out) {
-  if (text.empty()) return false;
+  if (text.empty() || TwoSigns(text)) return false;
   // YAML spellings of infinity/NaN are not accepted anywhere in the schema.
   const char* begin = text.data();
   const char* end = text.data() + text.size();
@@ -32,7 +39,7 @@ bool ParseDouble(const std::string& text, double* out) {
 }
 
 bool ParseInt(const std::string& text, int64_t* out) {
-  if (text.empty()) return false;
+  if (text.empty() || TwoSigns(text)) return false;
   const char* begin = text.data();
   const char* end = text.data() + text.size();
   if (*begin == '+') ++begin;

@@ -326,3 +326,34 @@ TEST(YamlReader, AQuoteLeftOpenIsRefusedAtTheQuote) {
 
 }  // namespace
 }  // namespace hcpf::config
+
+namespace hcpf::config {
+namespace {
+
+// A third bad-input audit: `heading_deg: +-30` was read as -30 (the reader
+// skipped a leading '+' and handed "-30" on). Two signs are no number, for
+// integers and numbers alike, in a file or a --set; one sign still is.
+TEST(YamlReader, TwoSignsAreNotANumber) {
+  const auto integer = [](YamlReader& r) { r.Integer("a", std::nullopt, -100, 100); };
+  const auto number = [](YamlReader& r) { r.Number("a", std::nullopt, -100, 100); };
+  EXPECT_EQ(ReadError("a: +-30\n", integer),
+            "f.yaml:1:4: a: expected an integer in [-100, 100], found \"+-30\"");
+  EXPECT_EQ(ReadError("a: +-30\n", number),
+            "f.yaml:1:4: a: expected a number in [-100, 100], found \"+-30\"");
+  EXPECT_EQ(ReadError("a: -+30\n", number),
+            "f.yaml:1:4: a: expected a number in [-100, 100], found \"-+30\"");
+  EXPECT_EQ(ReadError("a: ++3\n", integer),
+            "f.yaml:1:4: a: expected an integer in [-100, 100], found \"++3\"");
+  EXPECT_EQ(ReadError("a: 1\n", number, {{"a", "+-30"}}),
+            "--set a=+-30: a: expected a number in [-100, 100], found \"+-30\"");
+  for (const char* ok : {"a: +30\n", "a: -30\n", "a: 30\n"}) {
+    EXPECT_EQ(ReadError(ok, integer), "(no error)") << ok;
+    EXPECT_EQ(ReadError(ok, number), "(no error)") << ok;
+  }
+  // The value read, not only its acceptance.
+  EXPECT_EQ(Root(YamlReader::Parse("a: +30\n", "f.yaml")).Number("a", std::nullopt, -100, 100),
+            30.0);
+}
+
+}  // namespace
+}  // namespace hcpf::config

@@ -94,6 +94,12 @@ TEST(YamlReader, DidYouMeanAllowsAThirdOfTheWordToDiffer) {
   EXPECT_EQ(ClosestMatch("max_missed", {"confirm_hits", "max_missed_frames"}), "max_missed_frames");
   EXPECT_EQ(ClosestMatch("sigma", {"model", "sigma_px", "sigma_log_size"}), "sigma_px");
   EXPECT_EQ(ClosestMatch("sigma", {"sigma_px", "sigma_py"}), "");  // a tie: no guess
+  // Two adjacent letters swapped are one edit (a third bad-input audit:
+  // `--set targets.0.paht.speed_mps=3` had no "did you mean "path"?").
+  EXPECT_EQ(EditDistance("paht", "path"), 1);
+  EXPECT_EQ(EditDistance("ab", "ba"), 1);
+  EXPECT_EQ(EditDistance("kitten", "sitting"), 3);  // substitutions and insertions as before
+  EXPECT_EQ(ClosestMatch("paht", {"id", "path", "model", "dimensions_m"}), "path");
 }
 
 // Parse refuses `text` (as f.yaml) with a message holding every part.

@@ -1,10 +1,12 @@
 #include "hcpf/config/yaml_reader.h"
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 #include <yaml-cpp/depthguard.h>
 #include <yaml-cpp/eventhandler.h>
 
 #include <algorithm>
+#include <cctype>
 #include <cerrno>
 #include <charconv>
 #include <cmath>
@@ -20,8 +22,15 @@ namespace {
 
 std::string Quote(const std::string& s) { return "\"" + s + "\""; }
 
+// Whether `text` starts with a '+' and a second sign ("+-30", "++3"): not a
+// number in YAML, but from_chars after the '+' read "+-30" as -30 (a third
+// bad-input audit). ("-+30" and "--3" from_chars refuses itself.)
+bool TwoSigns(const std::string& text) {
+  return text.size() >= 2 && text[0] == '+' && (text[1] == '+' || text[1] == '-');
+}
+
 bool ParseDouble(const std::string& text, double* out) {
-  if (text.empty()) return false;
+  if (text.empty() || TwoSigns(text)) return false;
   // YAML spellings of infinity/NaN are not accepted anywhere in the schema.
   const char* begin = text.data();
   const char* end = text.data() + text.size();
@@ -31,7 +40,7 @@ bool ParseDouble(const std::string& text, double* out) {
 }
 
 bool ParseInt(const std::string& text, int64_t* out) {
-  if (text.empty()) return false;
+  if (text.empty() || TwoSigns(text)) return false;
   const char* begin = text.data();
   const char* end = text.data() + text.size();
   if (*begin == '+') ++begin;
@@ -40,6 +49,97 @@ bool ParseInt(const std::string& text, int64_t* out) {
 }
 
 std::string RangeText(double lo, double hi) { return Closed(lo, hi).Text(); }
+
+// The code point of the UTF-8 sequence at `text[i]` and its length in bytes
+// (a byte that starts no sequence counts as itself, one byte long).
+std::pair<char32_t, size_t> CodePointAt(std::string_view text, size_t i) {
+  const auto b = [&text](size_t k) { return static_cast<unsigned char>(text[k]); };
+  const unsigned char lead = b(i);
+  const size_t more = lead >= 0xF0 ? 3 : lead >= 0xE0 ? 2 : lead >= 0xC0 ? 1 : 0;
+  if (more == 0 || i + more >= text.size()) return {lead, 1};
+  char32_t cp = lead & (0x3F >> more);
+  for (size_t k = 1; k <= more; ++k) {
+    if ((b(i + k) & 0xC0) != 0x80) return {lead, 1};
+    cp = (cp << 6) | (b(i + k) & 0x3F);
+  }
+  return {cp, more + 1};
+}
+
+// Characters that do not show, or show as a plain space, in an editor: in a
+// key they make a typo nobody can see.
+const char* InvisibleName(char32_t cp) {
+  switch (cp) {
+    case 0x00A0:
+      return "NO-BREAK SPACE";
+    case 0x00AD:
+      return "SOFT HYPHEN";
+    case 0x200B:
+      return "ZERO WIDTH SPACE";
+    case 0x200C:
+      return "ZERO WIDTH NON-JOINER";
+    case 0x200D:
+      return "ZERO WIDTH JOINER";
+    case 0x2060:
+      return "WORD JOINER";
+    case 0x202F:
+      return "NARROW NO-BREAK SPACE";
+    case 0xFEFF:
+      return "ZERO WIDTH NO-BREAK SPACE";
+    default:
+      return nullptr;
+  }
+}
+
+// `text` with its invisible characters written as \uXXXX; `note` gets "(it
+// holds U+200B ZERO WIDTH SPACE)", naming every code point past ASCII, when
+// one is invisible, else "".
+std::string EscapeInvisible(const std::string& text, std::string* note = nullptr) {
+  std::string shown;
+  std::vector<std::string> held;
+  bool invisible = false;
+  for (size_t i = 0; i < text.size();) {
+    const auto [cp, length] = CodePointAt(text, i);
+    const char* name = cp >= 0x80 ? InvisibleName(cp) : nullptr;
+    if (name != nullptr) {
+      invisible = true;
+      shown += fmt::format("\\u{:04X}", static_cast<uint32_t>(cp));
+    } else {
+      shown.append(text, i, length);
+    }
+    if (cp >= 0x80) {
+      std::string item = fmt::format("U+{:04X}", static_cast<uint32_t>(cp));
+      if (name != nullptr) item += std::string(" ") + name;
+      if (std::find(held.begin(), held.end(), item) == held.end()) held.push_back(item);
+    }
+    i += length;
+  }
+  if (note != nullptr) *note = invisible ? fmt::format("(it holds {})", fmt::join(held, ", ")) : "";
+  return shown;
+}
+
+// `text` in quotes, its invisible characters shown: "fr\u200Bames" (it
+// holds U+200B ZERO WIDTH SPACE). Other text is only quoted.
+std::string QuoteShowingInvisible(const std::string& text) {
+  std::string note;
+  const std::string shown = Quote(EscapeInvisible(text, &note));
+  return note.empty() ? shown : shown + " " + note;
+}
+
+// A key as compared for "did you mean": invisible characters dropped, ASCII
+// letters in lower case (keys are all lower case).
+std::string Normalised(const std::string& key) {
+  std::string out;
+  for (size_t i = 0; i < key.size();) {
+    const auto [cp, length] = CodePointAt(key, i);
+    if (cp < 0x80) {
+      out += static_cast<char>(std::tolower(static_cast<unsigned char>(key[i])));
+    } else if (InvisibleName(cp) == nullptr) {
+      out.append(key, i, length);
+    }
+    i += length;
+  }
+  return out;
+}
 
 constexpr std::string_view kStrTag = "tag:yaml.org,2002:str";
 
@@ -52,6 +152,22 @@ bool TypedScalar(const YAML::Node& node, bool boolean = false) {
   if (tag == "?") return true;
   if (boolean) return tag == "tag:yaml.org,2002:bool";
   return tag == "tag:yaml.org,2002:int" || tag == "tag:yaml.org,2002:float";
+}
+
+// How a tag is written in a file: !!int for a YAML core tag, else as given.
+std::string TagText(const std::string& tag) {
+  constexpr std::string_view kCore = "tag:yaml.org,2002:";
+  if (tag.rfind(kCore, 0) == 0) return "!!" + tag.substr(kCore.size());
+  if (!tag.empty() && tag[0] == '!') return tag;
+  return "!<" + tag + ">";
+}
+
+// Whether a node's `tag` is none (written or made by an override), the
+// non-specific one of a quoted value, or the core tag `kind` of what it is
+// read as (!!map, !!seq, !!str): other tags were silently ignored (a third
+// bad-input audit: `name: !!binary aGVsbG8=`, `tracker: !!seq` on a mapping).
+bool PlainTag(const std::string& tag, std::string_view kind) {
+  return tag.empty() || tag == "?" || tag == "!" || tag == "tag:yaml.org,2002:" + std::string(kind);
 }
 
 }  // namespace
@@ -88,11 +204,20 @@ struct DocumentSpan {
   YAML::Mark last;
 };
 
+// A scalar the parser handed out with a tag other than "?" (a quoted one, or
+// one with a tag): where its node starts (its properties included) and its
+// dotted key path.
+struct TaggedScalar {
+  YAML::Mark mark;
+  std::string path;
+};
+
 // Walks a stream's documents without building them. YAML::LoadAll cannot be
 // used: in yaml-cpp 0.7 a stray ',' makes the parser hand out empty documents
 // forever without consuming input (jbeder/yaml-cpp#1040, fixed upstream by
 // #1319 after Debian 12's version). A document that ends where the previous
-// one ended is that loop.
+// one ended is that loop. It also keeps the dotted key path of every node
+// and the scalars that may be quoted, to check their closing quotes.
 class DocumentScanner final : public YAML::EventHandler {
  public:
   DocumentSpan Take() {
@@ -100,33 +225,244 @@ class DocumentScanner final : public YAML::EventHandler {
     span_ = {};
     return out;
   }
-  void OnDocumentStart(const YAML::Mark& mark) override { Saw(mark, false); }
+  const std::vector<TaggedScalar>& tagged() const { return tagged_; }
+  // Where the last event was, and the path of the node after it.
+  const YAML::Mark& last() const { return span_.last; }
+  std::string NextPath() const {
+    if (stack_.empty()) return "";
+    const Level& level = stack_.back();
+    if (!level.map) return level.path + "[" + std::to_string(level.index) + "]";
+    if (level.key_next) return level.path;
+    return level.path.empty() ? level.key : level.path + "." + level.key;
+  }
+  void OnDocumentStart(const YAML::Mark& mark) override {
+    stack_.clear();
+    Saw(mark, false);
+  }
   void OnDocumentEnd() override {}
-  void OnNull(const YAML::Mark& mark, YAML::anchor_t) override { Saw(mark, false); }
-  void OnAlias(const YAML::Mark& mark, YAML::anchor_t) override { Saw(mark, true); }
-  void OnScalar(const YAML::Mark& mark, const std::string&, YAML::anchor_t,
-                const std::string&) override {
+  void OnNull(const YAML::Mark& mark, YAML::anchor_t) override {
+    Enter("~");
+    Saw(mark, false);
+  }
+  void OnAlias(const YAML::Mark& mark, YAML::anchor_t) override {
+    Enter("*");
+    Saw(mark, true);
+  }
+  void OnScalar(const YAML::Mark& mark, const std::string& tag, YAML::anchor_t,
+                const std::string& value) override {
+    const std::string path = Enter(value);
+    if (tag != "?") tagged_.push_back({mark, path});
     Saw(mark, true);
   }
   void OnSequenceStart(const YAML::Mark& mark, const std::string&, YAML::anchor_t,
                        YAML::EmitterStyle::value) override {
+    stack_.push_back({false, Enter("?")});
     Saw(mark, true);
   }
-  void OnSequenceEnd() override {}
+  void OnSequenceEnd() override { Leave(); }
   void OnMapStart(const YAML::Mark& mark, const std::string&, YAML::anchor_t,
                   YAML::EmitterStyle::value) override {
+    stack_.push_back({true, Enter("?")});
     Saw(mark, true);
   }
-  void OnMapEnd() override {}
+  void OnMapEnd() override { Leave(); }
 
  private:
+  struct Level {
+    bool map = false;
+    std::string path;
+    int index = 0;  // the next list item
+    bool key_next = true;
+    std::string key;
+  };
+  // The dotted path of the node that starts now (a key names its own path);
+  // `scalar` is its text, kept when the node is a key.
+  std::string Enter(const std::string& scalar) {
+    if (stack_.empty()) return "";
+    Level& level = stack_.back();
+    const auto join = [&level](const std::string& key) {
+      return level.path.empty() ? key : level.path + "." + key;
+    };
+    if (!level.map) return level.path + "[" + std::to_string(level.index++) + "]";
+    level.key_next = !level.key_next;
+    if (!level.key_next) level.key = scalar;  // this node is a key
+    return join(level.key);
+  }
+  void Leave() {
+    if (!stack_.empty()) stack_.pop_back();
+  }
   void Saw(const YAML::Mark& mark, bool value) {
     if (value && span_.first_line < 0) span_.first_line = mark.line;
     span_.last_pos = mark.pos;
     span_.last = mark;
   }
   DocumentSpan span_;
+  std::vector<Level> stack_;
+  std::vector<TaggedScalar> tagged_;
 };
+
+// The offset of the closing quote of the quoted scalar whose opening quote is
+// at `open` (`\\` escapes in double quotes, '' in single ones), or npos when
+// the text ends first.
+size_t ClosingQuote(const std::string& text, size_t open) {
+  const char quote = text[open];
+  for (size_t i = open + 1; i < text.size(); ++i) {
+    if (quote == '"' && text[i] == '\\') {
+      ++i;
+    } else if (text[i] == quote) {
+      if (quote == '\'' && i + 1 < text.size() && text[i + 1] == '\'') {
+        ++i;
+      } else {
+        return i;
+      }
+    }
+  }
+  return std::string::npos;
+}
+
+// The offset of the opening quote of a scalar node starting at `pos` (past
+// its tag and anchor), or npos when it is not quoted.
+size_t OpeningQuote(const std::string& text, size_t pos) {
+  while (pos < text.size()) {
+    const char c = text[pos];
+    if (c == ' ' || c == '\t' || c == '\r' || c == '\n') {
+      ++pos;
+    } else if (c == '!' || c == '&') {
+      while (pos < text.size() && text[pos] != ' ' && text[pos] != '\t' && text[pos] != '\n') ++pos;
+    } else if (c == '#') {
+      while (pos < text.size() && text[pos] != '\n') ++pos;
+    } else {
+      break;
+    }
+  }
+  return pos < text.size() && (text[pos] == '"' || text[pos] == '\'') ? pos : std::string::npos;
+}
+
+// The offset of a quote after `from` that opens a value (after a blank, a
+// line start or one of : - [ { , ?) and is never closed, or npos.
+size_t UnclosedQuote(const std::string& text, size_t from) {
+  for (size_t i = from; i < text.size();) {
+    const size_t q = text.find_first_of("\"'", i);
+    if (q == std::string::npos) return q;
+    const size_t before = q == 0 ? std::string::npos : text.find_last_not_of(" \t", q - 1);
+    const bool opens = before == std::string::npos ||
+                       std::string_view(":-[{,?\n").find(text[before]) != std::string::npos ||
+                       q > before + 1;
+    if (!opens) {
+      i = q + 1;
+      continue;
+    }
+    const size_t close = ClosingQuote(text, q);
+    if (close == std::string::npos) return q;
+    i = close + 1;
+  }
+  return std::string::npos;
+}
+
+// Whether `line` reads as a `key:` line of a mapping (`  particles: 50`,
+// `- id: 2`): a word, a colon, then a blank or the end.
+bool LooksLikeKeyLine(std::string_view line) {
+  size_t i = 0;
+  const auto blanks = [&] {
+    while (i < line.size() && (line[i] == ' ' || line[i] == '\t')) ++i;
+  };
+  blanks();
+  while (i + 1 < line.size() && line[i] == '-' && (line[i + 1] == ' ' || line[i + 1] == '\t')) {
+    ++i;
+    blanks();
+  }
+  const size_t word = i;
+  while (i < line.size() && (std::isalnum(static_cast<unsigned char>(line[i])) || line[i] == '_' ||
+                             (i > word && (line[i] == '.' || line[i] == '-')))) {
+    ++i;
+  }
+  if (i == word) return false;
+  blanks();
+  return i < line.size() && line[i] == ':' &&
+         (i + 1 == line.size() || line[i + 1] == ' ' || line[i + 1] == '\t' || line[i + 1] == '\r');
+}
+
+// Refuses a tab or a no-break space (U+00A0) where YAML wants a space, on
+// line `line` (0-based, where yaml-cpp reported a syntax error) or the line
+// before it: a tab in the indentation, or U+00A0 in it or after a key's
+// colon. yaml-cpp says only "illegal map value", for U+00A0 on the next line
+// (a third bad-input audit); both come in with text pasted from web pages.
+void CheckBlanks(const std::string& text, const std::string& file, int line) {
+  constexpr std::string_view kNbsp = "\xC2\xA0";
+  const std::string nbsp = "U+00A0 (no-break space)";
+  const size_t bom = text.rfind("\xEF\xBB\xBF", 0) == 0 ? 3 : 0;
+  std::vector<size_t> starts = {bom};
+  for (size_t at = text.find('\n'); at != std::string::npos; at = text.find('\n', at + 1)) {
+    starts.push_back(at + 1);
+  }
+  for (const int n : {line, line - 1}) {
+    if (n < 0 || n >= static_cast<int>(starts.size())) continue;
+    const size_t start = starts[n];
+    const size_t end = std::min(text.find('\n', start), text.size());
+    const std::string_view content(text.data() + start, end - start);
+    const auto refuse = [&](size_t offset, const std::string& expected, const std::string& found) {
+      throw InputError(SourceLocation{file, n + 1, static_cast<int>(offset) + 1, ""}, expected,
+                       found);
+    };
+    for (size_t i = 0; i < content.size(); ++i) {
+      if (content[i] == '\t') refuse(i, "indentation with spaces", "a tab");
+      if (content.substr(i, 2) == kNbsp) refuse(i, "indentation with spaces", nbsp);
+      if (content[i] != ' ') break;
+    }
+    // Up to a comment or a quote, where U+00A0 may be text.
+    const size_t stop = std::min(content.find_first_of("#\"'"), content.size());
+    const size_t colon = content.substr(0, stop).find(std::string(":") + std::string(kNbsp));
+    if (colon != std::string_view::npos) refuse(colon + 1, "a space after ':'", nbsp);
+  }
+}
+
+// Refuses a quoted scalar that is never closed, or that goes on over a line
+// that reads as a key: yaml-cpp reads an unclosed quote at the end of a file
+// that ends in a newline as a value running to the end, so `name: "small`
+// silently took in the rest of the file (a third bad-input audit). A quoted
+// value that spans lines is valid YAML and is kept when no line inside it
+// looks like a key.
+void CheckQuotedScalars(const std::string& text, const std::string& file,
+                        const std::vector<TaggedScalar>& scalars) {
+  // yaml-cpp's positions do not count a byte-order mark.
+  const size_t bom = text.rfind("\xEF\xBB\xBF", 0) == 0 ? 3 : 0;
+  for (const TaggedScalar& scalar : scalars) {
+    const size_t open = OpeningQuote(text, static_cast<size_t>(scalar.mark.pos) + bom);
+    if (open == std::string::npos) continue;
+    const size_t close = ClosingQuote(text, open);
+    const TextPosition from = PositionOf(text, open);
+    const int column = from.column - (from.line == 1 ? static_cast<int>(bom) : 0);
+    const SourceLocation where{file, from.line, column, scalar.path};
+    const std::string quote = text[open] == '"' ? "a \" quote" : "a ' quote";
+    const std::string expected = "a quoted value closed before the next key";
+    const std::string hint =
+        "close the quote on the line where the value ends, or write text over several lines "
+        "as a block scalar: key: >";
+    if (close == std::string::npos) {
+      throw InputError(where, expected,
+                       fmt::format("{} opened at line {} that is never closed (it runs on to the "
+                                   "end of the file)",
+                                   quote, from.line),
+                       hint);
+    }
+    size_t line_start = text.find('\n', open);
+    for (int line = from.line + 1; line_start < close; ++line) {
+      ++line_start;
+      const size_t line_end = std::min(text.find('\n', line_start), close);
+      const std::string_view content(text.data() + line_start, line_end - line_start);
+      if (LooksLikeKeyLine(content)) {
+        std::string shown(content.substr(content.find_first_not_of(" \t")));
+        shown.erase(shown.find_last_not_of(" \t\r") + 1);
+        throw InputError(where, expected,
+                         fmt::format("{} opened at line {} that runs on to line {}, taking in "
+                                     "line {} (\"{}\"), which reads as a key",
+                                     quote, from.line, PositionOf(text, close).line, line, shown),
+                         hint);
+      }
+      line_start = text.find('\n', line_start);
+    }
+  }
+}
 
 // The offset of the first byte that does not belong to well-formed UTF-8
 // (Unicode's table 3-7: no overlong forms, surrogates or code points past
@@ -179,10 +515,10 @@ YAML::Node YamlReader::Parse(const std::string& text, const std::string& file) {
   }
   std::vector<DocumentSpan> documents;
   YAML::Node first;
+  DocumentScanner scanner;
   try {
     std::istringstream in(text);
     YAML::Parser parser(in);
-    DocumentScanner scanner;
     while (parser.HandleNextDocument(scanner)) {
       const DocumentSpan span = scanner.Take();
       if (!documents.empty() && span.last_pos == documents.back().last_pos) {
@@ -200,9 +536,26 @@ YAML::Node YamlReader::Parse(const std::string& text, const std::string& file) {
     throw InputError(where, "YAML nested less deeply",
                      fmt::format("lists or mappings nested {} levels deep", e.depth()));
   } catch (const YAML::ParserException& e) {
+    // A quote left open earlier takes in the lines after it until the next
+    // quote closes it, and the error comes later: report the quote.
+    CheckQuotedScalars(text, file, scanner.tagged());
+    if (e.msg == YAML::ErrorMsg::EOF_IN_SCALAR) {
+      // A quote still open where a file without a final newline ends: say so
+      // at the quote (yaml-cpp reports the end of the file).
+      const size_t bom = text.rfind("\xEF\xBB\xBF", 0) == 0 ? 3 : 0;
+      const size_t open =
+          UnclosedQuote(text, scanner.last().pos < 0 ? 0 : scanner.last().pos + bom);
+      if (open != std::string::npos) {
+        YAML::Mark mark;
+        mark.pos = static_cast<int>(open - bom);
+        CheckQuotedScalars(text, file, {TaggedScalar{mark, scanner.NextPath()}});
+      }
+    }
+    CheckBlanks(text, file, e.mark.line);
     SourceLocation where{file, e.mark.line + 1, e.mark.column + 1, ""};
     throw InputError(where, "valid YAML", "a syntax error: " + e.msg);
   }
+  CheckQuotedScalars(text, file, scanner.tagged());
   if (documents.size() > 1) {
     // A stray "---" or "..." line ends the first document: everything after
     // it would be silently ignored. Report the separator before the second
@@ -301,8 +654,14 @@ void YamlReader::Fail(const std::string& expected, const std::string& hint) cons
 
 std::string YamlReader::Describe() const {
   if (!node_.IsDefined() || node_.IsNull()) return "nothing (an empty value)";
-  if (node_.IsMap()) return "a mapping";
-  if (node_.IsSequence()) return fmt::format("a list of {} item(s)", node_.size());
+  // A tag is named: `frames: !foo 20` said 'found "20"' (a third bad-input
+  // audit).
+  const std::string& tag = node_.Tag();
+  if (node_.IsMap()) return PlainTag(tag, "map") ? "a mapping" : "a mapping tagged " + TagText(tag);
+  if (node_.IsSequence()) {
+    const std::string list = fmt::format("a list of {} item(s)", node_.size());
+    return PlainTag(tag, "seq") ? list : list + " tagged " + TagText(tag);
+  }
   // Quoted or tagged !!str, a number or boolean is text: say so, or the
   // message would read 'expected an integer, found "30"'.
   const std::string& text = node_.Scalar();
@@ -314,7 +673,8 @@ std::string YamlReader::Describe() const {
                        node_.Tag() == "!" ? "them" : "the tag",
                        text == "true" || text == "false" ? "boolean" : "number");
   }
-  return Quote(text);
+  return QuoteShowingInvisible(text) +
+         (PlainTag(tag, "str") ? "" : " (tagged " + TagText(tag) + ")");
 }
 
 std::string YamlReader::ChildPath(const std::string& key) const {
@@ -322,7 +682,9 @@ std::string YamlReader::ChildPath(const std::string& key) const {
 }
 
 void YamlReader::ExpectMap() const {
-  if (node_.IsDefined() && !node_.IsNull() && !node_.IsMap()) Fail("a mapping of keys");
+  if (node_.IsDefined() && !node_.IsNull() && (!node_.IsMap() || !PlainTag(node_.Tag(), "map"))) {
+    Fail("a mapping of keys");
+  }
   // yaml-cpp does not merge `<<: *anchor`: the merged keys were missing and
   // the first one asked for reported "the key is missing" (a second bad-input
   // audit). Said at the merge key, before any key of the mapping is read.
@@ -351,6 +713,29 @@ bool YamlReader::Has(const std::string& key) {
 
 YamlReader YamlReader::Child(const std::string& key) {
   if (!Has(key)) {
+    // A misspelt required key ("target:", "Id:", "fr<U+200B>ames:") was
+    // reported as missing, at the parent, and never named (a third bad-input
+    // audit): report a key nobody asked for that is near it, at its own line.
+    const YAML::Node& view = node_;
+    std::optional<YAML::Node> near;
+    int near_distance = 0;
+    for (const auto& entry : view) {
+      if (!entry.first.IsScalar() || asked_->count(entry.first.Scalar()) > 0) continue;
+      const std::string spelt = Normalised(entry.first.Scalar());
+      if (ClosestMatch(spelt, {key}) != key) continue;
+      const int distance = EditDistance(spelt, key);
+      if (!near || distance < near_distance) {
+        near = entry.first;
+        near_distance = distance;
+      }
+    }
+    if (near) {
+      const std::string dotted = ChildPath(EscapeInvisible(near->Scalar()));
+      throw InputError(YamlReader(*near, dotted, context_).Where(),
+                       fmt::format("the required key \"{}\"", key),
+                       "the unknown key " + QuoteShowingInvisible(near->Scalar()),
+                       fmt::format("did you mean \"{}\"?", key));
+    }
     throw InputError(WhereKey(key), fmt::format("the required key \"{}\"", key),
                      "nothing (the key is missing)");
   }
@@ -374,6 +759,7 @@ std::optional<YamlReader> YamlReader::Optional(const std::string& key) {
 }
 
 std::vector<YamlReader> YamlReader::Items() const {
+  if (node_.IsSequence() && !PlainTag(node_.Tag(), "seq")) Fail("a list");
   if (!node_.IsSequence()) {
     // `--set world.occluders.0.kind=tree` where the file has no occluders
     // makes a mapping with the key "0" (a mapping may have number keys):
@@ -495,7 +881,7 @@ std::string YamlReader::String(const std::string& key, std::optional<std::string
     Child(key);
   }
   YamlReader child = Child(key);
-  if (!child.node_.IsScalar()) child.Fail("a text value");
+  if (!child.node_.IsScalar() || !PlainTag(child.node_.Tag(), "str")) child.Fail("a text value");
   return child.node_.Scalar();
 }
 
@@ -511,7 +897,7 @@ std::string YamlReader::Enum(const std::string& key, std::optional<std::string> 
 std::string YamlReader::AsEnum(const std::vector<std::string>& choices) const {
   std::string joined;
   for (const auto& c : choices) joined += (joined.empty() ? "" : " | ") + c;
-  if (!node_.IsScalar()) Fail("one of " + joined);
+  if (!node_.IsScalar() || !PlainTag(node_.Tag(), "str")) Fail("one of " + joined);
   const std::string value = node_.Scalar();
   if (std::find(choices.begin(), choices.end(), value) == choices.end()) {
     const std::string near = ClosestMatch(value, choices);
@@ -571,12 +957,14 @@ void YamlReader::Finish() const {
       throw InputError(key_reader.Where(), "each key once", "a second \"" + key + "\"");
     }
     if (asked_->count(key) == 0) {
-      const std::string near = ClosestMatch(key, known);
+      // Matched without case or invisible characters, which are shown.
+      const std::string near = ClosestMatch(Normalised(key), known);
       std::string hint = near.empty() ? "" : "did you mean \"" + near + "\"?";
       std::string all;
       for (const auto& k : known) all += (all.empty() ? "" : ", ") + k;
-      throw InputError(key_reader.Where(), "one of the keys " + all,
-                       "the unknown key \"" + key + "\"", hint);
+      throw InputError(YamlReader(entry.first, ChildPath(EscapeInvisible(key)), context_).Where(),
+                       "one of the keys " + all, "the unknown key " + QuoteShowingInvisible(key),
+                       hint);
     }
   }
 }

@@ -6,7 +6,8 @@
 
 namespace hcpf {
 
-// Levenshtein distance.
+// Edit distance: insertions, deletions, substitutions and swaps of two
+// adjacent characters (optimal string alignment).
 int EditDistance(const std::string& a, const std::string& b);
 
 // The closest candidate within a small distance, else the shortest one that

@@ -403,8 +403,12 @@ std::vector<std::pair<std::string, std::string>> DescriptiveMeta(const StoreMeta
 std::unique_ptr<ResultsStore> ResultsStore::OpenOrCreate(const std::string& path,
                                                          const StoreMeta& meta) {
   if (fs::exists(path)) {
-    auto store = Open(path, StoreAccess::kReadWrite);
-    if (store->meta().sweep_hash != meta.sweep_hash) {
+    // Checked on a read-only connection first: a store of another sweep is
+    // refused untouched (a bad-input audit: the refusal had already switched
+    // its journal mode, which rewrote its header, and would have added
+    // columns to an older one).
+    if (const auto store = Open(path, StoreAccess::kReadOnly);
+        store->meta().sweep_hash != meta.sweep_hash) {
       throw InputError(
           SourceLocation{path, 0, 0, "meta.sweep_hash"},
           fmt::format("a store of this sweep (hash {}); name another output folder (sweep "
@@ -419,6 +423,7 @@ std::unique_ptr<ResultsStore> ResultsStore::OpenOrCreate(const std::string& path
                                         store->meta().root_seed, meta.root_seed)
                           : std::string()));
     }
+    auto store = Open(path, StoreAccess::kReadWrite);
     // The report: block, the file's name and where the root seed came from
     // change no run (they are not in the sweep hash): the file resumed from
     // now says how the store is reported. A second bad-input audit found an

@@ -113,8 +113,17 @@ TEST(ResultsStore, PutRunsRoundTripAndRefusesAnotherSweep) {
   EXPECT_EQ(runs[1].seed, 18446744073709551615ULL);
   EXPECT_DOUBLE_EQ(runs[1].metrics.at("idf1"), 0.75);
   EXPECT_TRUE(std::isnan(runs[1].metrics.at("hota")));
+  store.reset();
+  // A store of another sweep is refused and left byte for byte as it was (a
+  // bad-input audit: the refusal rewrote its header, switching its journal).
+  const auto bytes = [&path] {
+    std::ifstream in(path, std::ios::binary);
+    return std::string(std::istreambuf_iterator<char>(in), {});
+  };
+  const std::string before = bytes();
   meta.sweep_hash = "other";
   EXPECT_THROW(ResultsStore::OpenOrCreate(path, meta), InputError);
+  EXPECT_EQ(bytes(), before);
 }
 
 // A store that cannot be made (a full disk: RLIMIT_FSIZE 0 in a child

@@ -360,6 +360,13 @@ std::unique_ptr<ResultsStore> ResultsStore::Open(const std::string& path, StoreA
   }
   // A directory, FIFO or device is bad input; a file we may not read is an I/O error.
   CheckRegularFile(path, "a results store written by hcpf sweep");
+  // An empty file (a copy cut short, `touch`) was "a database whose tables
+  // differ (no such table: meta)" (a bad-input audit).
+  if (fs::file_size(path, ec) == 0 && !ec) {
+    throw InputError(SourceLocation{path, 0, 0, ""}, "a results store written by hcpf sweep",
+                     "an empty file",
+                     "delete it and its runs/ folder, then rerun the sweep to recompute");
+  }
   if (::access(path.c_str(), access == StoreAccess::kReadOnly ? R_OK : R_OK | W_OK) != 0) {
     throw RunError(fmt::format("results store {}: cannot {} it ({}): check its permissions", path,
                                access == StoreAccess::kReadOnly ? "read" : "write",

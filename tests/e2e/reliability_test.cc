@@ -384,6 +384,14 @@ TEST(Reliability, DamagedStoreIsBadInputThatSaysHowToRecompute) {
     EXPECT_EQ(r.exit_code, 2) << command << "\n" << r.output;
     EXPECT_NE(r.output.find("rerun the sweep to recompute"), std::string::npos) << r.output;
   }
+  // An empty file is said to be one (it was "a database whose tables differ
+  // (no such table: meta)": a bad-input audit).
+  std::ofstream(store, std::ios::binary | std::ios::trunc);
+  const auto r = RunCommand(kHcpf + " report " + sweep.string());
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_NE(r.output.find("expected a results store written by hcpf sweep, found an empty file"),
+            std::string::npos)
+      << r.output;
 }
 
 // Item 18: an ok run whose folder was deleted or damaged was reused by a

@@ -118,7 +118,16 @@ void ApplyOverride(YAML::Node root, const Override& o, int index) {
       continue;
     }
     if (!current.IsMap() && !current.IsNull() && current.IsDefined()) {
-      throw InputError(at, "a mapping on the way to the key", "a value at \"" + part + "\"");
+      // The value is the one the key so far reaches (`targets.0.id` for
+      // targets.0.id.x), not at `part`, which it cannot hold (a bad-input
+      // audit: "found a value at "x"").
+      std::string reached;
+      for (size_t k = 0; k < i; ++k) reached += (k == 0 ? "" : ".") + parts[k];
+      throw InputError(at, "a mapping on the way to the key",
+                       fmt::format("{} at \"{}\", which holds no key \"{}\"",
+                                   current.IsScalar() ? "the value \"" + current.Scalar() + "\""
+                                                      : std::string("a value"),
+                                   reached, part));
     }
     if (last) {
       current[part] = value;

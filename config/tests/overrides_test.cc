@@ -57,5 +57,19 @@ TEST(Overrides, ASectionThenAKeyInsideItSetsBoth) {
   EXPECT_EQ(root["tracker"]["particles"].as<int>(), 30);
 }
 
+// A key that goes on past a value names the value and the key that reaches
+// it (a bad-input audit: "found a value at "x"" for targets.0.id.x).
+TEST(Overrides, AKeyPastAValueNamesTheValueWhereItIs) {
+  YAML::Node root = YamlReader::Parse("targets:\n  - {id: 1}\n", "f.yaml");
+  YamlContext context;
+  try {
+    ApplyOverrides(root, {{"targets.0.id.x", "1"}}, &context);
+    FAIL() << "accepted";
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.expected(), "a mapping on the way to the key");
+    EXPECT_EQ(e.found(), "the value \"1\" at \"targets.0.id\", which holds no key \"x\"");
+  }
+}
+
 }  // namespace
 }  // namespace hcpf::config

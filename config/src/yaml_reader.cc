@@ -657,7 +657,12 @@ std::string YamlReader::Describe() const {
   // A tag is named: `frames: !foo 20` said 'found "20"' (a third bad-input
   // audit).
   const std::string& tag = node_.Tag();
-  if (node_.IsMap()) return PlainTag(tag, "map") ? "a mapping" : "a mapping tagged " + TagText(tag);
+  if (node_.IsMap()) {
+    // An empty one is said to be (`metrics: {}` "found a mapping" where a
+    // mapping of metrics was expected: a bad-input audit).
+    const std::string map = node_.size() == 0 ? "an empty mapping" : "a mapping";
+    return PlainTag(tag, "map") ? map : map + " tagged " + TagText(tag);
+  }
   if (node_.IsSequence()) {
     const std::string list = fmt::format("a list of {} item(s)", node_.size());
     return PlainTag(tag, "seq") ? list : list + " tagged " + TagText(tag);

@@ -154,6 +154,12 @@ TEST(Regress, BadSuitesAreLocated) {
   EXPECT_NE(e.find("did you mean \"idf1\""), std::string::npos) << e;
   // ...at the key's line and column (a bad-input audit: none were given).
   EXPECT_NE(e.find("bad.yaml:4:3: metrics.idf:"), std::string::npos) << e;
+  // An empty mapping is said to be one (it was "found a mapping").
+  e = SuiteError(dir, "scenes:\n  - {scenario: base.yaml}\nmetrics: {}\n");
+  EXPECT_NE(e.find("expected a mapping of metric names to {tolerance, direction}, found an empty "
+                   "mapping"),
+            std::string::npos)
+      << e;
   e = SuiteError(dir,
                  "scenes:\n  - {scenario: base.yaml}\nmetrics:\n  idf1: {tolerance: 0.1, "
                  "direction: higher}\n");

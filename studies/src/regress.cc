@@ -413,8 +413,29 @@ void CheckKeys(const json& object, const std::string& path, const std::string& a
 // list of them.
 void CheckBaselineForm(const json& baseline, const std::string& path) {
   if (!baseline.is_object() || !baseline.contains("scenes") || !baseline["scenes"].is_object()) {
+    // What was there instead (a bad-input audit: "found something else").
+    const auto kind = [](const json& j) -> std::string {
+      switch (j.type()) {
+        case json::value_t::object:
+          return "an object";
+        case json::value_t::array:
+          return j.empty() ? "an empty list" : "a list";
+        case json::value_t::string:
+          return "a string";
+        case json::value_t::null:
+          return "null";
+        case json::value_t::boolean:
+          return "a boolean";
+        default:
+          return "a number";
+      }
+    };
     throw InputError(SourceLocation{path, 0, 0, "scenes"},
-                     "an object {\"scenes\": {name: {\"metrics\": {...}}}}", "something else");
+                     "an object {\"scenes\": {name: {\"metrics\": {...}}}}",
+                     !baseline.is_object() ? kind(baseline)
+                     : !baseline.contains("scenes")
+                         ? std::string("an object without \"scenes\"")
+                         : "\"scenes\" holding " + kind(baseline["scenes"]));
   }
   CheckKeys(baseline, path, "", {"format", "suite", "scenes"});
   if (baseline.contains("format")) {
@@ -608,6 +629,18 @@ RegressResult RunRegress(const RegressOptions& options) {
         ReadInputFile(options.baseline_path, "a baseline JSON file", kMaxBaselineBytes);
     try {
       baseline = json::parse(text);
+    } catch (const json::parse_error& e) {
+      // At the file's line and column, with the parser's words after its own
+      // position (a bad-input audit: both were inside the library's text).
+      const TextPosition at = PositionOf(text, e.byte > 0 ? e.byte - 1 : 0);
+      std::string why = e.what();
+      if (const size_t column = why.find("column"); column != std::string::npos) {
+        if (const size_t colon = why.find(": ", column); colon != std::string::npos) {
+          why = why.substr(colon + 2);
+        }
+      }
+      throw InputError(SourceLocation{options.baseline_path, at.line, at.column, ""},
+                       "a baseline JSON file", "a JSON syntax error (" + why + ")");
     } catch (const json::exception& e) {
       throw InputError(SourceLocation{options.baseline_path, 0, 0, ""}, "a baseline JSON file",
                        e.what());

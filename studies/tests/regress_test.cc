@@ -332,13 +332,20 @@ TEST(Regress, BadBaselinesAreBadInput) {
       {R"({"scenes": {"a": {"metrics": {"idf1": 7}}}})",
        {"scenes.a.metrics.idf1", "a number in [0, 1]", "found 7"}},
       {R"({"scenes": {"a": {"metrics": {"idf1": "0.9"}}}})", {"scenes.a.metrics.idf1", "\"0.9\""}},
-      {R"({"scene": {)" + scene + "}}", {"scenes", "something else"}},
+      {R"({"scene": {)" + scene + "}}", {"scenes", "found an object without \"scenes\""}},
+      {"[]", {"scenes", "found an empty list"}},
+      {R"({"scenes": []})", {"scenes", "found \"scenes\" holding an empty list"}},
       {R"({"format": "hcpf-regress-baseline/2", "sweet": "x", "scenes": {)" + scene + "}}",
        {"sweet", "one of the keys format, suite, scenes"}},
       {R"({"format": 2, "scenes": {)" + scene + "}}", {"format", "found 2"}},
       {R"({"scenes": {"a": [0.9]}})", {"scenes.a", "an object"}},
       {R"({"scenes": {"b": {"metrics": {"idf1": 0.9}}}})", {"scenes.a.metrics", "none"}},
       {"{\"scenes\": ", {"baseline.json", "a baseline JSON file"}},
+      // A syntax error at its line and column (it was inside the JSON
+      // library's text: a bad-input audit).
+      {"{\n  \"scenes\": {\n    \"a\": x\n",
+       {"baseline.json:3:10: expected a baseline JSON file, found a JSON syntax error (syntax "
+        "error while parsing value - invalid literal"}},
   };
   for (const auto& [text, wanted] : cases) {
     const std::string e = error_of(text);

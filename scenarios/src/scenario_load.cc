@@ -153,7 +153,10 @@ void ReadCamera(YamlReader r, int frames, CameraSpec* c) {
           fmt::format("a frame after the previous keyframe's ({})", c->path.back().frame));
     }
     if ((key.position_m - key.look_at_m).norm() < 1e-6) {
-      k.Child("look_at").Fail("a point different from the camera position");
+      // The point is named (a bad-input audit: "found a list of 3 item(s)").
+      throw InputError(k.Child("look_at").Where(), "a point different from the camera position",
+                       fmt::format("[{:g}, {:g}, {:g}], the camera's position there",
+                                   key.look_at_m.x(), key.look_at_m.y(), key.look_at_m.z()));
     }
     k.Finish();
     c->path.push_back(key);

@@ -364,6 +364,14 @@ std::vector<BadCase> Cases() {
        m + "observation: {source: rendered, search: window, detector: diff}\n",
        {},
        {"observation.search", "model-based", "window with observation.detector: diff"}},
+      // The point is named (it was "found a list of 3 item(s)": a bad-input
+      // audit).
+      {"LookAtTheCameraPosition",
+       Replace(m, "look_at: [0, 0, 0]", "look_at: [0, -20, 120]"),
+       {},
+       {"bad.yaml:8:", "camera.path[0].look_at",
+        "expected a point different from the camera position, found [0, -20, 120], the camera's "
+        "position there"}},
       {"NulByteIsEscaped",
        Replace(m, "frames: 20\n",
                std::string("frames: 2\0"

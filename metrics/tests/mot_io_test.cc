@@ -94,6 +94,15 @@ TEST(MotIo, BadRowsNameFileLineAndColumn) {
   ExpectInputError("1,1,1,1,1,1\n1,2,x,1,1,1\n", MotFileKind::kTracks, 5,
                    {"f.txt:2:3", "column 3 (x)", "a finite number", "\"x\""});
   ExpectInputError("1,1,1,1,1\n", MotFileKind::kTracks, 5, {"f.txt:1", "at least 6", "5 columns"});
+  // Two signs are no number ("+-3" was read as -3), and a byte-order mark is
+  // named (it was printed raw, invisible): a bad-input audit.
+  ExpectInputError("1,1,+-3,1,1,1\n", MotFileKind::kTracks, 5,
+                   {"f.txt:1:3", "a finite number", "\"+-3\""});
+  ExpectInputError(
+      "\xEF\xBB\xBF"
+      "1,1,1,1,1,1\n",
+      MotFileKind::kTracks, 5,
+      {"f.txt:1:1", "found \"\\uFEFF1\" (a byte-order mark, U+FEFF, starts the file"});
   ExpectInputError("1,1,1,1,1,1,1,1,1,1,1\n", MotFileKind::kTracks, 5, {"f.txt:1", "at most 10"});
   ExpectInputError("6,1,1,1,1,1\n", MotFileKind::kTracks, 5, {"f.txt:1:1", "1..5", "found 6"});
   ExpectInputError("0,1,1,1,1,1\n", MotFileKind::kGroundTruth, 5, {"f.txt:1:1", "found 0"});

@@ -413,6 +413,11 @@ Scenario ReadScenario(YamlReader root, const std::string& file) {
   // The name goes into seqinfo.ini, manifests and reports: a newline there
   // would make the run's own files unreadable (issue 15, item 13).
   // NEL (U+0085) and U+2028/9 break lines in editors and browsers too.
+  // Nor may it be blank: seqinfo.ini's `name=` and TrackEval's sequence
+  // would have none (a bad-input audit: `name: ""` was accepted).
+  if (root.Has("name") && s.name.find_first_not_of(" \t") == std::string::npos) {
+    root.Child("name").Fail("a name with a visible character (leave the key out for the file's)");
+  }
   if (const std::string c = FirstControlCharacter(s.name); !c.empty()) {
     if (root.Has("name"))
       root.Child("name").Fail("a name without control characters (newline, tab, U+0085, U+2028)",

@@ -372,6 +372,11 @@ std::vector<BadCase> Cases() {
        {"bad.yaml:8:", "camera.path[0].look_at",
         "expected a point different from the camera position, found [0, -20, 120], the camera's "
         "position there"}},
+      // A blank name left seqinfo.ini's name= empty (a bad-input audit).
+      {"BlankName",
+       Replace(m, "name: minimal", "name: \"  \""),
+       {},
+       {"bad.yaml:1:7:", "name", "expected a name with a visible character", "found \"  \""}},
       {"NulByteIsEscaped",
        Replace(m, "frames: 20\n",
                std::string("frames: 2\0"

@@ -140,6 +140,12 @@ std::string DigestHex(const XXH128_hash_t& digest) {
   return fmt::format("{:016x}{:016x}", digest.high64, digest.low64);
 }
 
+bool IsDigestHex(std::string_view text) {
+  return text.size() == 32 && std::all_of(text.begin(), text.end(), [](char c) {
+           return (c >= '0' && c <= '9') || (c >= 'a' && c <= 'f');
+         });
+}
+
 XXH128_hash_t PixelDigest(const ImageView& image) {
   XXH3_state_t* state = XXH3_createState();
   HCPF_CHECK(state != nullptr) << "XXH3_createState";

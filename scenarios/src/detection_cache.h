@@ -21,6 +21,9 @@ namespace hcpf::scenarios::internal {
 
 // A digest as 32 lowercase hex digits (high 64 bits first).
 std::string DigestHex(const XXH128_hash_t& digest);
+// Whether `text` is written as DigestHex writes (32 lowercase hex digits):
+// what observation.file.digest and pixel_hash must be.
+bool IsDigestHex(std::string_view text);
 
 // XXH3-128 of an image's size and pixels.
 XXH128_hash_t PixelDigest(const ImageView& image);

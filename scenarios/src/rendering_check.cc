@@ -8,6 +8,7 @@
 #include <map>
 #include <nlohmann/json.hpp>
 
+#include "detection_cache.h"
 #include "hcpf/config/file_lookup.h"
 #include "hcpf/config/yaml_leaves.h"
 #include "hcpf/core/fields.h"
@@ -90,6 +91,15 @@ nlohmann::json ReadManifest(const fs::path& folder) {
 std::string ResolveRenderingFolder(const std::string& written, const std::string& scenario_file,
                                    const SourceLocation& where) {
   const bool manifest = fs::path(written).filename() == "manifest.json";
+  // A file named where a folder goes is said to be one (a bad-input audit:
+  // "found "afile/manifest.json", which does not exist").
+  if (!manifest) {
+    if (const auto found =
+            config::FindFile(written, fs::path(scenario_file).parent_path().string(), nullptr)) {
+      throw InputError(where, kRenderingNeeds,
+                       fmt::format("\"{}\", a file ({}), not a folder", written, *found));
+    }
+  }
   const std::string file = manifest ? written : (fs::path(written) / "manifest.json").string();
   return fs::path(ResolveModelPath(file, scenario_file, where, kRenderingNeeds))
       .parent_path()
@@ -120,6 +130,13 @@ void CheckRendering(Scenario* s) {
                  fmt::format("the frames of another rendering: {} has pixel hash {}{}", f.rendering,
                              theirs, WhereTheyDiffer(folder, *s, manifest)));
     }
+  }
+  // A hash that is none (a bad-input audit: "zz" was "the frames of another
+  // rendering").
+  if (!f.pixel_hash.empty() && !internal::IsDigestHex(f.pixel_hash)) {
+    FailOption("observation.file", "pixel_hash",
+               "a pixel hash: 32 lowercase hexadecimal digits, as a manifest.json's pixel_hash",
+               "\"" + f.pixel_hash + "\"");
   }
   if (!f.pixel_hash.empty() && f.pixel_hash != ours) {
     FailOption("observation.file", "pixel_hash", expected,

@@ -176,6 +176,16 @@ void ReadDetectionFile(const YamlReader& root, Scenario* s) {
   const std::string text =
       ReadInputFile(f.path, "a det.txt (observation.file.path)", kMaxDetectionFileBytes);
   const std::string digest = internal::DigestHex(XXH3_128bits(text.data(), text.size()));
+  // A digest that is none (a bad-input audit: "xyz" was said to be the digest
+  // of the file before it changed).
+  if (!f.digest.empty() && !internal::IsDigestHex(f.digest)) {
+    root.Relocate([&] {
+      FailOption("observation.file", "digest",
+                 "a digest: 32 lowercase hexadecimal digits, as the manifest's detection_file "
+                 "writes it",
+                 "\"" + f.digest + "\"");
+    });
+  }
   if (!f.digest.empty() && f.digest != digest) {
     root.Relocate([&] {
       FailOption("observation.file", "digest",

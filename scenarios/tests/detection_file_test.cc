@@ -285,5 +285,31 @@ TEST(DetectionFile, ARenderingsManifestThatIsNotJsonIsRefusedAtItsFile) {
   EXPECT_NE(error.find("expected a manifest.json in JSON"), std::string::npos) << error;
 }
 
+// Values that cannot be what they name are said to be so (a bad-input
+// audit: a digest "xyz" was "the digest before the file changed", a pixel
+// hash "zz" "the frames of another rendering", and a file given as the
+// rendering folder "afile/manifest.json, which does not exist").
+TEST(DetectionFile, ADigestOrHashThatIsNoneOrAFileForTheRenderingIsSaidToBe) {
+  const fs::path dir = hcpf::testing::FreshDir("detection-file-malformed");
+  WriteTextFile((dir / "det.txt").string(), "1,-1,11,21,30,15,0.9\n");
+  std::string error = FileLoadError(
+      kMinimal, With(FileDetector(dir / "det.txt"), {"observation.file.digest", "xyz"}));
+  EXPECT_NE(error.find("observation.file.digest: expected a digest: 32 lowercase hexadecimal "
+                       "digits, as the manifest's detection_file writes it, found \"xyz\""),
+            std::string::npos)
+      << error;
+  error = FileLoadError(kMinimal,
+                        With(FileDetector(dir / "det.txt"), {"observation.file.pixel_hash", "zz"}));
+  EXPECT_NE(error.find("observation.file.pixel_hash: expected a pixel hash: 32 lowercase "
+                       "hexadecimal digits, as a manifest.json's pixel_hash, found \"zz\""),
+            std::string::npos)
+      << error;
+  error = FileLoadError(kMinimal, With(FileDetector(dir / "det.txt"),
+                                       {"observation.file.rendering", (dir / "det.txt").string()}));
+  EXPECT_NE(error.find("observation.file.rendering"), std::string::npos) << error;
+  EXPECT_NE(error.find("found \"" + (dir / "det.txt").string() + "\", a file ("), std::string::npos)
+      << error;
+}
+
 }  // namespace
 }  // namespace hcpf::scenarios

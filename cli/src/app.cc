@@ -14,6 +14,8 @@
 #include <cstring>
 #include <exception>
 #include <iostream>
+#include <regex>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -23,6 +25,54 @@
 namespace hcpf::cli {
 
 namespace {
+
+// CLI11's own messages in the house form (a bad-input audit: "--jobs: Value
+// -1 not in range 0 to 1024" and "Run with --help for more information.",
+// no "expected ... found ..."): `command line: --jobs: expected ..., found
+// ...`, with where the options are listed. A message of another shape keeps
+// CLI11's words after the prefix.
+std::string CommandLineMessage(const std::string& what, const std::string& command,
+                               const std::vector<std::string>& options) {
+  static const std::regex kRange(R"(^(--[\w-]+): Value (.*) not in range (.*) to (.*)$)");
+  static const std::regex kMissing(R"(^(--[\w-]+): \d+ required \S+ missing$)");
+  static const std::regex kChoice(R"(^(--[\w-]+): (.*) not in \{(.*)\}$)");
+  static const std::regex kRequired(R"(^(--[\w-]+) is required$)");
+  static const std::regex kExtra(R"(^The following arguments? (?:was|were) not expected: (.*)$)");
+  static const std::regex kOurs(R"(^(--[\w-]+): (expected .*)$)");
+  std::smatch m;
+  std::string text;
+  if (std::regex_match(what, m, kRange)) {
+    text = fmt::format("{}: expected a value in [{}, {}], found \"{}\"", m.str(1), m.str(3),
+                       m.str(4), m.str(2));
+  } else if (std::regex_match(what, m, kMissing)) {
+    text = fmt::format("{}: expected a value after it, found none", m.str(1));
+  } else if (std::regex_match(what, m, kChoice)) {
+    std::vector<std::string> choices;
+    std::stringstream list(m.str(3));
+    for (std::string c; std::getline(list, c, ',');) choices.push_back(c);
+    const std::string near = ClosestMatch(m.str(2), choices);
+    text = fmt::format("{}: expected one of {}, found \"{}\"{}", m.str(1), fmt::join(choices, ", "),
+                       m.str(2), near.empty() ? "" : " (did you mean \"" + near + "\"?)");
+  } else if (std::regex_match(what, m, kRequired)) {
+    text = fmt::format("{}: expected the option {} (it is required), found nothing", m.str(1),
+                       m.str(1));
+  } else if (std::regex_match(what, m, kExtra)) {
+    // An option misspelt is among them ("--no-cahce"): the nearest.
+    std::string near;
+    std::stringstream extras(m.str(1));
+    for (std::string extra; near.empty() && extras >> extra;) {
+      if (extra.rfind("--", 0) == 0) near = ClosestMatch(extra, options);
+    }
+    text = fmt::format("expected no more arguments, found \"{}\"{}", m.str(1),
+                       near.empty() ? "" : " (did you mean \"" + near + "\"?)");
+  } else if (std::regex_match(what, m, kOurs)) {
+    text = fmt::format("{}: {}", m.str(1), m.str(2));
+  } else {
+    text = what;
+  }
+  return fmt::format("command line: {} (hcpf {}--help lists the options)", text,
+                     command.empty() ? "" : command + " ");
+}
 
 int ParseAndRun(int argc, char** argv, std::span<const AddCommandFn> adders,
                 const std::function<std::string()>& version) {
@@ -82,7 +132,16 @@ int ParseAndRun(int argc, char** argv, std::span<const AddCommandFn> adders,
                     near.empty() ? "" : " (did you mean \"" + near + "\"?)");
       return 2;
     }
-    app.exit(e);
+    // The command given (its options are the ones to list), if any.
+    std::string command;
+    std::vector<std::string> options;
+    for (const CLI::App* sub : app.get_subcommands()) {
+      command = sub->get_name();
+      for (const CLI::Option* option : sub->get_options()) {
+        for (const std::string& name : option->get_lnames()) options.push_back("--" + name);
+      }
+    }
+    spdlog::error("{}", CommandLineMessage(e.what(), command, options));
     return 2;
   }
   spdlog::set_level(spdlog::level::from_str(log_level));

@@ -115,7 +115,8 @@ TEST(Cli, NoOrUnknownSubcommandIsBadInput) {
 
 // Integer options take decimal digits only, checked before their range (a
 // second bad-input audit: CLI11 read --jobs 0x2 as 2, and --jobs 1.5 was
-// "not in range"). Exit 2 with the option named, nothing written.
+// "not in range"). Exit 2 with the option named, nothing written; every
+// refusal of the option parser in the house form.
 TEST(Cli, IntegerOptionsAreDecimal) {
   const fs::path dir = FreshDir("decimal");
   const std::string scenario = LibraryScenario("crossing");
@@ -130,11 +131,27 @@ TEST(Cli, IntegerOptionsAreDecimal) {
         << command << "\n"
         << r.output;
   }
-  // Out of range stays "not in range".
-  const auto r =
-      RunCommand(kHcpf + " run " + scenario + " --threads 0 --out " + (dir / "out").string());
-  EXPECT_EQ(r.exit_code, 2) << r.output;
-  EXPECT_NE(r.output.find("not in range"), std::string::npos) << r.output;
+  // Out of range, and the parser's other refusals, in the house form (a
+  // bad-input audit: CLI11's "Value 0 not in range 1 to 256" and "Run with
+  // --help for more information.").
+  for (const auto& [args, message] : std::vector<std::pair<std::string, std::string>>{
+           {" run " + scenario + " --threads 0 --out " + (dir / "out").string(),
+            "command line: --threads: expected a value in [1, 256], found \"0\" (hcpf run --help "
+            "lists the options)"},
+           {" run " + scenario + " --out " + (dir / "out").string() + " --no-cahce",
+            "command line: expected no more arguments, found \"--no-cahce\" (did you mean "
+            "\"--no-cache\"?)"},
+           {" score --benchmark MOT71 a b",
+            "command line: --benchmark: expected one of MOT15, MOT16, MOT17, MOT20, auto, found "
+            "\"MOT71\" (did you mean \"MOT17\"?)"},
+           {" sweep s.yaml --out", "command line: --out: expected a value after it, found none"},
+           {" run " + scenario,
+            "command line: --out: expected the option --out (it is required)"}}) {
+    const auto r = RunCommand(kHcpf + args);
+    EXPECT_EQ(r.exit_code, 2) << args << "\n" << r.output;
+    EXPECT_NE(r.output.find(message), std::string::npos) << args << "\n" << r.output;
+    EXPECT_EQ(r.output.find("Run with --help"), std::string::npos) << r.output;
+  }
   EXPECT_FALSE(fs::exists(dir / "out"));
 }
 

@@ -323,6 +323,19 @@ TEST(YamlReader, AQuoteLeftOpenIsRefusedAtTheQuote) {
   // values holding an apostrophe.
   EXPECT_EQ(YamlReader::Parse("name: \"two\n  lines\"\nb: 1\n", "f.yaml")["name"].as<std::string>(),
             "two lines");
+  // A continuation line that reads as a key deeper than the value's own key
+  // is text of the value (a review found these refused).
+  EXPECT_EQ(YamlReader::Parse("name: \"crossing of\n  two: targets\"\nb: 1\n", "f.yaml")["name"]
+                .as<std::string>(),
+            "crossing of two: targets");
+  EXPECT_EQ(
+      YamlReader::Parse("a:\n  - b: 'x\n      c: 1'\n", "f.yaml")["a"][0]["b"].as<std::string>(),
+      "x c: 1");
+  // An apostrophe in a comment is no quote: the one left open (here at the
+  // end of a file without a final newline) is reported.
+  const std::string comment = "a:\n  b: # 'til the end\n    \"xyz";
+  EXPECT_EQ(ParseError(comment).find("f.yaml:3:5: a.b: expected a quoted value closed"), 0u)
+      << ParseError(comment);
   EXPECT_EQ(YamlReader::Parse("a: 'it''s: x'\nb: \"say \\\"c: d\\\"\"\n", "f.yaml")["b"]
                 .as<std::string>(),
             "say \"c: d\"");

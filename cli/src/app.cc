@@ -33,10 +33,16 @@ namespace {
 // CLI11's words after the prefix.
 std::string CommandLineMessage(const std::string& what, const std::string& command,
                                const std::vector<std::string>& options) {
+  const std::string where =
+      fmt::format(" (hcpf {}--help lists the options)", command.empty() ? "" : command + " ");
+  // std::regex recurses once a character: a message of thousands (`hcpf
+  // report runs/*`, a pasted argument) overflowed the stack (a review).
+  // CLI11's own words then, cut to a readable length.
+  if (what.size() > 400) return "command line: " + what.substr(0, 400) + " ..." + where;
   static const std::regex kRange(R"(^(--[\w-]+): Value (.*) not in range (.*) to (.*)$)");
-  static const std::regex kMissing(R"(^(--[\w-]+): \d+ required \S+ missing$)");
+  static const std::regex kMissing(R"(^(--[\w-]+): \d+ required .* missing$)");
   static const std::regex kChoice(R"(^(--[\w-]+): (.*) not in \{(.*)\}$)");
-  static const std::regex kRequired(R"(^(--[\w-]+) is required$)");
+  static const std::regex kRequired(R"(^(--[\w-]+|[A-Za-z]\w*) is required$)");
   static const std::regex kExtra(R"(^The following arguments? (?:was|were) not expected: (.*)$)");
   static const std::regex kOurs(R"(^(--[\w-]+): (expected .*)$)");
   std::smatch m;
@@ -54,24 +60,36 @@ std::string CommandLineMessage(const std::string& what, const std::string& comma
     text = fmt::format("{}: expected one of {}, found \"{}\"{}", m.str(1), fmt::join(choices, ", "),
                        m.str(2), near.empty() ? "" : " (did you mean \"" + near + "\"?)");
   } else if (std::regex_match(what, m, kRequired)) {
-    text = fmt::format("{}: expected the option {} (it is required), found nothing", m.str(1),
-                       m.str(1));
+    const bool option = m.str(1).rfind("--", 0) == 0;
+    text = fmt::format("{}: expected the {} {} (it is required), found nothing", m.str(1),
+                       option ? "option" : "argument", m.str(1));
   } else if (std::regex_match(what, m, kExtra)) {
+    // CLI11 lists them space-separated, last first: each is quoted, in the
+    // order given.
+    std::vector<std::string> extras;
+    std::stringstream words(m.str(1));
+    for (std::string word; words >> word;) extras.insert(extras.begin(), word);
+    std::vector<std::string> quoted;
+    for (const std::string& extra : extras) quoted.push_back("\"" + extra + "\"");
     // An option misspelt is among them ("--no-cahce"): the nearest.
     std::string near;
-    std::stringstream extras(m.str(1));
-    for (std::string extra; near.empty() && extras >> extra;) {
-      if (extra.rfind("--", 0) == 0) near = ClosestMatch(extra, options);
+    for (const std::string& extra : extras) {
+      if (extra == kLogLevelOption) {
+        return fmt::format(
+            "command line: {}: expected it before the command (hcpf {} LEVEL {} "
+            "...), found it after",
+            kLogLevelOption, kLogLevelOption, command);
+      }
+      if (near.empty() && extra.rfind("--", 0) == 0) near = ClosestMatch(extra, options);
     }
-    text = fmt::format("expected no more arguments, found \"{}\"{}", m.str(1),
+    text = fmt::format("expected no more arguments, found {}{}", fmt::join(quoted, ", "),
                        near.empty() ? "" : " (did you mean \"" + near + "\"?)");
   } else if (std::regex_match(what, m, kOurs)) {
     text = fmt::format("{}: {}", m.str(1), m.str(2));
   } else {
     text = what;
   }
-  return fmt::format("command line: {} (hcpf {}--help lists the options)", text,
-                     command.empty() ? "" : command + " ");
+  return "command line: " + text + where;
 }
 
 int ParseAndRun(int argc, char** argv, std::span<const AddCommandFn> adders,
@@ -133,10 +151,13 @@ int ParseAndRun(int argc, char** argv, std::span<const AddCommandFn> adders,
       return 2;
     }
     // The command given (its options are the ones to list), if any.
+    // (The top level's options are listed by `hcpf --help`, and are near
+    // misses too: --log-levle.)
     std::string command;
-    std::vector<std::string> options;
+    std::vector<std::string> options = {kLogLevelOption, "--version"};
+    const std::string message = e.what();
     for (const CLI::App* sub : app.get_subcommands()) {
-      command = sub->get_name();
+      if (message.rfind(kLogLevelOption, 0) != 0) command = sub->get_name();
       for (const CLI::Option* option : sub->get_options()) {
         for (const std::string& name : option->get_lnames()) options.push_back("--" + name);
       }

@@ -145,6 +145,14 @@ TEST(Cli, IntegerOptionsAreDecimal) {
             "command line: --benchmark: expected one of MOT15, MOT16, MOT17, MOT20, auto, found "
             "\"MOT71\" (did you mean \"MOT17\"?)"},
            {" sweep s.yaml --out", "command line: --out: expected a value after it, found none"},
+           {" run " + scenario + " --out " + (dir / "out").string() + " --threads",
+            "command line: --threads: expected a value after it, found none"},
+           {" validate " + scenario + " --log-level warn",
+            "command line: --log-level: expected it before the command (hcpf --log-level LEVEL "
+            "validate ...), found it after"},
+           // A review: std::regex overflowed the stack on a message of
+           // thousands of characters (exit 139).
+           {" score a b " + std::string(40000, 'x'), "command line: The following argument"},
            {" run " + scenario,
             "command line: --out: expected the option --out (it is required)"}}) {
     const auto r = RunCommand(kHcpf + args);

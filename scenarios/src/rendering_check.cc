@@ -91,19 +91,25 @@ nlohmann::json ReadManifest(const fs::path& folder) {
 std::string ResolveRenderingFolder(const std::string& written, const std::string& scenario_file,
                                    const SourceLocation& where) {
   const bool manifest = fs::path(written).filename() == "manifest.json";
-  // A file named where a folder goes is said to be one (a bad-input audit:
-  // "found "afile/manifest.json", which does not exist").
-  if (!manifest) {
-    if (const auto found =
-            config::FindFile(written, fs::path(scenario_file).parent_path().string(), nullptr)) {
-      throw InputError(where, kRenderingNeeds,
-                       fmt::format("\"{}\", a file ({}), not a folder", written, *found));
-    }
-  }
   const std::string file = manifest ? written : (fs::path(written) / "manifest.json").string();
-  return fs::path(ResolveModelPath(file, scenario_file, where, kRenderingNeeds))
-      .parent_path()
-      .string();
+  try {
+    return fs::path(ResolveModelPath(file, scenario_file, where, kRenderingNeeds))
+        .parent_path()
+        .string();
+  } catch (const InputError&) {
+    // No folder of that name holds a manifest: a file of that name is said
+    // to be one (a bad-input audit: "found "afile/manifest.json", which
+    // does not exist"). Only then: a file of the name elsewhere on the
+    // search path must not hide a folder that is found (a review).
+    if (!manifest) {
+      if (const auto found =
+              config::FindFile(written, fs::path(scenario_file).parent_path().string(), nullptr)) {
+        throw InputError(where, kRenderingNeeds,
+                         fmt::format("\"{}\", a file ({}), not a folder", written, *found));
+      }
+    }
+    throw;
+  }
 }
 
 void CheckRendering(Scenario* s) {

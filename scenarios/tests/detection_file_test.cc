@@ -309,6 +309,23 @@ TEST(DetectionFile, ADigestOrHashThatIsNoneOrAFileForTheRenderingIsSaidToBe) {
   EXPECT_NE(error.find("observation.file.rendering"), std::string::npos) << error;
   EXPECT_NE(error.find("found \"" + (dir / "det.txt").string() + "\", a file ("), std::string::npos)
       << error;
+  // A folder found beside the scenario is the rendering, though a file of
+  // its name sits in the current folder (a review: refused as "a file").
+  fs::create_directories(dir / "here");
+  WriteTextFile((dir / "here" / "render").string(), "not a folder");
+  fs::create_directories(dir / "render");
+  WriteTextFile((dir / "render" / "manifest.json").string(),
+                "{\"pixel_hash\": \"" + std::string(32, '0') + "\"}");
+  const fs::path kept = fs::current_path();
+  fs::current_path(dir / "here");
+  error = FileLoadError(
+      kMinimal, With(FileDetector(dir / "det.txt"), {"observation.file.rendering", "render"}),
+      (dir / "s.yaml").string());
+  fs::current_path(kept);
+  EXPECT_EQ(error.find("a file ("), std::string::npos) << error;
+  EXPECT_NE(error.find("the frames of another rendering: " + (dir / "render").string()),
+            std::string::npos)
+      << error;
 }
 
 }  // namespace

@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "command.h"
+#include "hcpf/core/text_file.h"
 #include "hcpf/studies/regress.h"
 #include "interrupt.h"
 
@@ -64,7 +65,13 @@ Command AddRegressCommand(CLI::App& parent) {
             AnnounceInterrupts(RegressInterruptedMessage(*options));
             options->runs_done = StopAnnouncingInterrupts;
             const studies::RegressResult r = studies::RunRegress(*options);
-            std::fputs(r.table.c_str(), stdout);
+            // With --junit, --markdown or --update-baseline naming standard
+            // output, that file is all it carries: the table goes to stderr
+            // (a review: `--junit /dev/stdout > out.xml` held XML and table).
+            const bool to_stdout =
+                IsStandardOutput(options->junit_path) || IsStandardOutput(options->markdown_path) ||
+                (options->update_baseline && IsStandardOutput(options->baseline_path));
+            std::fputs(r.table.c_str(), to_stdout ? stderr : stdout);
             std::fflush(stdout);
             if (r.baseline_written) {
               spdlog::info("regress: baseline written to {}", options->baseline_path);

@@ -112,8 +112,12 @@ std::filesystem::path TempFileFor(const std::filesystem::path& path) {
 bool IsStandardOutput(const std::string& path) {
   struct stat out {};
   struct stat at {};
+  // A device (a terminal, /dev/null) takes two writers in turn without
+  // offsets to clash or a reader to confuse: only a file, a pipe or a socket
+  // counts (a review: `--json /dev/null > /dev/null` sent the table to stderr).
   return ::fstat(STDOUT_FILENO, &out) == 0 && ::stat(path.c_str(), &at) == 0 &&
-         out.st_dev == at.st_dev && out.st_ino == at.st_ino;
+         out.st_dev == at.st_dev && out.st_ino == at.st_ino &&
+         (S_ISREG(out.st_mode) || S_ISFIFO(out.st_mode) || S_ISSOCK(out.st_mode));
 }
 
 void WriteTextFile(const std::string& path, const std::string& text) {

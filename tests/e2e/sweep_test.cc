@@ -775,6 +775,17 @@ TEST(RegressCli, ExitCodesOnTrueAndPlantedBaselines) {
                       (dir / "ok.md").string());
   EXPECT_EQ(r.exit_code, 0) << r.output;
   EXPECT_NE(ReadFile(dir / "ok.xml").find("failures=\"0\""), std::string::npos);
+  // --junit naming standard output: it carries the XML alone, the table goes
+  // to stderr (a review: `--junit /dev/stdout > out.xml` held both).
+  r = RunCommand("(" + kHcpf + " regress " + suite.string() + " --baseline " + baseline.string() +
+                 " --jobs 2 --junit /dev/stdout > " + (dir / "out.xml").string() + " 2> " +
+                 (dir / "err.txt").string() + ")");
+  EXPECT_EQ(r.exit_code, 0) << r.output;
+  const std::string xml = ReadFile(dir / "out.xml");
+  EXPECT_EQ(xml.rfind("<?xml", 0), 0u) << xml.substr(0, 200);
+  EXPECT_TRUE(xml.ends_with("</testsuites>\n"))
+      << xml.substr(xml.size() > 200 ? xml.size() - 200 : 0);
+  EXPECT_NE(ReadFile(dir / "err.txt").find("idf1"), std::string::npos);
 
   // Planted regression: the baseline claims a better IDF1 than reality (on
   // a scene whose IDF1, 0.86, leaves room below 1: a value out of the

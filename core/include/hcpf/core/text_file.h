@@ -30,9 +30,10 @@ TextPosition PositionOf(std::string_view text, size_t offset);
 // system's reason when it cannot be written.
 void WriteTextFile(const std::string& path, const std::string& text);
 
-// Whether `path` names the file this process's standard output writes to
-// (the same device and inode: `/dev/stdout`, `/proc/self/fd/1`, or the file
-// the shell redirected stdout to).
+// Whether `path` names the file, pipe or socket this process's standard
+// output writes to (the same device and inode: `/dev/stdout`,
+// `/proc/self/fd/1`, or the file the shell redirected stdout to); never a
+// device such as a terminal or /dev/null.
 bool IsStandardOutput(const std::string& path);
 
 // A new name for the temporary file of `path` in its folder

@@ -504,6 +504,14 @@ std::vector<SweepRun> ExpandSweep(const SweepSpec& spec) {
       // is valid on its own, the swept `frames: 10` that made it so unnamed)
       // names the cell's swept values.
       if (cell_text.empty()) throw;
+      // An error of the base file itself, which every cell makes (a review:
+      // a plain typo was said to be "in the sweep's runs with ..."), is
+      // reported as it is.
+      try {
+        scenarios::LoadScenarioText(base_texts[base], base_paths[base], {});
+      } catch (const InputError&) {
+        throw e;
+      }
       const std::string in_cell = "in the sweep's runs with " + cell_text;
       throw InputError(e.where(), e.expected(), e.found(),
                        e.hint().empty() ? in_cell : e.hint() + "; " + in_cell);

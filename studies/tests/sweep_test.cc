@@ -524,6 +524,16 @@ TEST(Sweep, BadFilesNameLineKeyExpectedFoundAndHint) {
   EXPECT_NE(e.find("targets[1].path.start_frame"), std::string::npos) << e;
   EXPECT_NE(e.find("in the sweep's runs with frames = 2 ("), std::string::npos) << e;
   EXPECT_NE(e.find("h.yaml:3:16), tracker.particles = 10 ("), std::string::npos) << e;
+  // An error of the base file itself, which every cell makes, names no cell.
+  {
+    std::string base = scenarios::testing::kMinimal;
+    base.replace(base.find("particles: 100"), 14, "particles: 0");
+    std::ofstream(dir / "bad-base.yaml") << base;
+  }
+  e = ExpandErrorOf(WriteSweep(
+      dir, "base: bad-base.yaml\ngrid:\n  tracker.resampling.method: [systematic]\n", "i.yaml"));
+  EXPECT_NE(e.find("bad-base.yaml:17:"), std::string::npos) << e;
+  EXPECT_EQ(e.find("in the sweep's runs"), std::string::npos) << e;
   // A misspelt enum value: did-you-mean from the scenario schema, at the sweep line.
   e = ExpandErrorOf(
       WriteSweep(dir, "base: base.yaml\ngrid:\n  tracker.resampling.method: [systematic, chargd]\n",

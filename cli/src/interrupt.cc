@@ -5,8 +5,9 @@
 
 #include <array>
 #include <cstring>
-#include <filesystem>
 #include <string>
+
+#include "hcpf/scenarios/output_folder.h"
 
 namespace hcpf::cli {
 
@@ -68,13 +69,10 @@ void StopAnnouncingInterrupts() {
 
 std::string InterruptedMessage(const std::string& command, const std::string& out,
                                const std::string& cache) {
-  // The staging folder's name as StagedFolder makes it (output_folder.cc):
-  // what was written so far stays there until the next command into `out`
-  // removes it (a docs audit: 36 MB left unnamed after a rendered run).
-  std::error_code ec;
-  const std::filesystem::path absolute = std::filesystem::absolute(out, ec).lexically_normal();
-  const std::string partial =
-      (ec ? out : absolute.string()) + ".partial-" + std::to_string(::getpid());
+  // What was written so far stays in the staging folder until the next
+  // command into `out` removes it (a docs audit: 36 MB left unnamed after a
+  // rendered run).
+  const std::string partial = scenarios::StagingFolderFor(out).string();
   std::string message = "hcpf " + command + ": interrupted; nothing was written to " + out +
                         " (an earlier output there is kept; what was written so far, in " +
                         partial + ", is removed by the next hcpf run or hcpf render into it)";

@@ -172,11 +172,24 @@ void CheckFolderArgument(const std::string& path, const std::string& option) {
 }
 
 namespace {
+// `out` absolute, without a trailing '/': "DIR/" put the staging folder
+// inside DIR and failed to move it aside ("Invalid argument", leaving an
+// empty DIR; a review).
+fs::path Absolute(const fs::path& out) {
+  fs::path p = fs::absolute(out).lexically_normal();
+  if (!p.has_filename() && p.has_parent_path() && p != p.root_path()) p = p.parent_path();
+  return p;
+}
+
 fs::path AbsoluteFolder(const fs::path& out) {
   CheckFolderArgument(out.string(), "--out");
-  return fs::absolute(out).lexically_normal();
+  return Absolute(out);
 }
 }  // namespace
+
+fs::path StagingFolderFor(const fs::path& out) {
+  return Absolute(out).string() + fmt::format(".partial-{}", ::getpid());
+}
 
 StagedFolder::StagedFolder(const fs::path& out) : out_(AbsoluteFolder(out)) {
   std::error_code ec;
@@ -188,7 +201,7 @@ StagedFolder::StagedFolder(const fs::path& out) : out_(AbsoluteFolder(out)) {
         "nothing was changed; name another folder");
   }
   RemoveStaleStagingFolders(out_.parent_path(), out_.filename().string());
-  partial_ = out_.string() + fmt::format(".partial-{}", ::getpid());
+  partial_ = StagingFolderFor(out_);
   fs::remove_all(partial_, ec);
   fs::create_directories(partial_, ec);
   if (ec) throw RunError(fmt::format("cannot create {}: {}", partial_.string(), ec.message()));

@@ -164,6 +164,16 @@ TEST(Reliability, ReplacingAnOutputLeavesNoStagingFolders) {
     const std::string name = entry.path().filename().string();
     EXPECT_EQ(name.find("out.old-"), std::string::npos) << name;
   }
+  // `--out DIR/`, new and then replaced: the staging folder went inside DIR
+  // and the replacement failed ("Invalid argument", an empty DIR left; a
+  // review).
+  for (int i = 0; i < 2; ++i) {
+    const auto again = RunCommand(kHcpf + " run " + scenario.string() + " --out " +
+                                  (dir / "slash").string() + "/");
+    ASSERT_EQ(again.exit_code, 0) << again.output;
+    EXPECT_TRUE(fs::exists(dir / "slash" / "manifest.json"));
+    EXPECT_EQ(std::distance(fs::directory_iterator(dir / "slash" / "gt"), {}), 1);
+  }
 }
 
 // Item 3: sensor values a rendered run rejects were accepted by validate;

@@ -20,6 +20,11 @@ namespace hcpf::scenarios {
 // otherwise; a missing folder is fine (it is created).
 void CheckFolderArgument(const std::string& path, const std::string& option);
 
+// The staging folder StagedFolder makes for `out` in this process:
+// "<absolute out>.partial-<pid>" (a trailing '/' of `out` dropped). The
+// interrupt message of run and render names it.
+std::filesystem::path StagingFolderFor(const std::filesystem::path& out);
+
 class StagedFolder {
  public:
   // Checks `out` (InputError naming --out when it is a file or a foreign

@@ -22,15 +22,8 @@ namespace {
 
 std::string Quote(const std::string& s) { return "\"" + s + "\""; }
 
-// Whether `text` starts with a '+' and a second sign ("+-30", "++3"): not a
-// number in YAML, but from_chars after the '+' read "+-30" as -30 (a third
-// bad-input audit). ("-+30" and "--3" from_chars refuses itself.)
-bool TwoSigns(const std::string& text) {
-  return text.size() >= 2 && text[0] == '+' && (text[1] == '+' || text[1] == '-');
-}
-
 bool ParseDouble(const std::string& text, double* out) {
-  if (text.empty() || TwoSigns(text)) return false;
+  if (text.empty() || StartsWithTwoSigns(text)) return false;
   // YAML spellings of infinity/NaN are not accepted anywhere in the schema.
   const char* begin = text.data();
   const char* end = text.data() + text.size();
@@ -40,7 +33,7 @@ bool ParseDouble(const std::string& text, double* out) {
 }
 
 bool ParseInt(const std::string& text, int64_t* out) {
-  if (text.empty() || TwoSigns(text)) return false;
+  if (text.empty() || StartsWithTwoSigns(text)) return false;
   const char* begin = text.data();
   const char* end = text.data() + text.size();
   if (*begin == '+') ++begin;
@@ -414,7 +407,7 @@ bool LooksLikeKeyLine(std::string_view line) {
 void CheckBlanks(const std::string& text, const std::string& file, int line) {
   constexpr std::string_view kNbsp = "\xC2\xA0";
   const std::string nbsp = "U+00A0 (no-break space)";
-  const size_t bom = text.rfind("\xEF\xBB\xBF", 0) == 0 ? 3 : 0;
+  const size_t bom = ByteOrderMarkLength(text);
   std::vector<size_t> starts = {bom};
   for (size_t at = text.find('\n'); at != std::string::npos; at = text.find('\n', at + 1)) {
     starts.push_back(at + 1);
@@ -449,7 +442,7 @@ void CheckBlanks(const std::string& text, const std::string& file, int line) {
 void CheckQuotedScalars(const std::string& text, const std::string& file,
                         const std::vector<TaggedScalar>& scalars) {
   // yaml-cpp's positions do not count a byte-order mark.
-  const size_t bom = text.rfind("\xEF\xBB\xBF", 0) == 0 ? 3 : 0;
+  const size_t bom = ByteOrderMarkLength(text);
   for (const TaggedScalar& scalar : scalars) {
     const size_t open = OpeningQuote(text, static_cast<size_t>(scalar.mark.pos) + bom);
     if (open == std::string::npos) continue;
@@ -577,7 +570,7 @@ YAML::Node YamlReader::Parse(const std::string& text, const std::string& file) {
     if (e.msg == YAML::ErrorMsg::EOF_IN_SCALAR) {
       // A quote still open where a file without a final newline ends: say so
       // at the quote (yaml-cpp reports the end of the file).
-      const size_t bom = text.rfind("\xEF\xBB\xBF", 0) == 0 ? 3 : 0;
+      const size_t bom = ByteOrderMarkLength(text);
       const size_t open =
           UnclosedQuote(text, scanner.last().pos < 0 ? 0 : scanner.last().pos + bom);
       if (open != std::string::npos) {

@@ -171,6 +171,14 @@ void WriteTextFile(const std::string& path, const std::string& text) {
   if (::rename(temp.c_str(), path.c_str()) != 0) fail("replacing", errno);
 }
 
+size_t ByteOrderMarkLength(std::string_view text) {
+  return text.substr(0, 3) == "\xEF\xBB\xBF" ? 3 : 0;
+}
+
+bool StartsWithTwoSigns(std::string_view text) {
+  return text.size() >= 2 && text[0] == '+' && (text[1] == '+' || text[1] == '-');
+}
+
 TextPosition PositionOf(std::string_view text, size_t offset) {
   offset = std::min(offset, text.size());
   const size_t newline = offset == 0 ? std::string_view::npos : text.rfind('\n', offset - 1);

@@ -101,23 +101,19 @@ double ParseNumber(std::string_view field, const std::string& path, int line, in
   const char* begin = field.data();
   const char* end = field.data() + field.size();
   if (!field.empty() && *begin == '+') ++begin;
-  // "+-3" is no number, though from_chars after the '+' reads -3 (a
-  // bad-input audit found the same in the scenario reader).
-  const bool second_sign =
-      begin != field.data() && begin != end && (*begin == '+' || *begin == '-');
   const auto [ptr, ec] = std::from_chars(begin, end, value);
-  if (field.empty() || second_sign || ec != std::errc() || ptr != end || !std::isfinite(value)) {
+  if (field.empty() || StartsWithTwoSigns(field) || ec != std::errc() || ptr != end ||
+      !std::isfinite(value)) {
     // A byte-order mark (a file saved as "UTF-8 with BOM") does not show in
     // a terminal: named (it was printed raw, "found "1"").
-    constexpr std::string_view kBom = "\xEF\xBB\xBF";
-    const bool bom = field.substr(0, kBom.size()) == kBom;
+    const size_t bom = ByteOrderMarkLength(field);
     throw InputError(
         SourceLocation{path, line, column,
                        fmt::format("column {} ({})", column, ColumnName(kind, column))},
         "a finite number",
         bom ? fmt::format("\"\\uFEFF{}\" (a byte-order mark, U+FEFF, starts the file: save it "
                           "without one)",
-                          field.substr(kBom.size()))
+                          field.substr(bom))
             : fmt::format("\"{}\"", field));
   }
   return value;

@@ -18,6 +18,14 @@ struct TextPosition {
 };
 TextPosition PositionOf(std::string_view text, size_t offset);
 
+// The length of a UTF-8 byte-order mark at the start of `text` (3), or 0.
+size_t ByteOrderMarkLength(std::string_view text);
+
+// Whether `text` starts with a '+' and a second sign ("+-3", "++3"): no
+// number, though std::from_chars after the '+' reads "+-3" as -3 (a
+// bad-input audit found it so read in scenarios and MOT files).
+bool StartsWithTwoSigns(std::string_view text);
+
 // Writes `text` to `path`, whole or not at all: into a temporary file beside
 // it (".<name>.tmp-<pid>-<n>") renamed over `path` at the end, so a failed or
 // killed write leaves the earlier file as it was. An existing file keeps its

@@ -38,7 +38,8 @@ std::vector<std::string> SplitLine(const std::string& line) {
 
 // Two observation noises × two seeds = four ground truths (sequences), each
 // tracked by two resampling methods (trackers): eight runs of 20 frames.
-fs::path SmallSweep(const fs::path& dir) {
+// With `shard_count` > 1 only shard 0 of it.
+fs::path SmallSweep(const fs::path& dir, int shard_count = 1) {
   const SweepSpec spec = LoadSweepFile(testing::WriteSweep(
       dir,
       "base: base.yaml\nseeds: 2\ngrid:\n  tracker.resampling.method: [systematic, charged]\n"
@@ -47,6 +48,7 @@ fs::path SmallSweep(const fs::path& dir) {
   o.out_dir = (dir / "sweep").string();
   o.jobs = 2;
   o.progress = false;
+  o.shard_count = shard_count;
   RunSweep(spec, ExpandSweep(spec), o);
   return o.out_dir;
 }
@@ -153,17 +155,9 @@ TEST(ExportTrackEval, LayoutReadsBackToEveryRunsMetrics) {
 // looked whole, exit 0 and no word).
 TEST(ExportTrackEval, OfAShardCountsTheMissingRuns) {
   const auto dir = testing::SweepFolder("export-shard");
-  const SweepSpec spec = LoadSweepFile(testing::WriteSweep(
-      dir,
-      "base: base.yaml\nseeds: 2\ngrid:\n  tracker.resampling.method: [systematic, charged]\n"
-      "  observation.simulated.sigma_px: [1, 3]\n"));
-  SweepOptions o;
-  o.out_dir = (dir / "sweep").string();
-  o.progress = false;
-  o.shard_index = 0;
-  o.shard_count = 2;
-  RunSweep(spec, ExpandSweep(spec), o);
-  const TrackEvalExportResult r = ExportTrackEval({.dir = o.out_dir, .out = (dir / "te").string()});
+  const fs::path sweep = SmallSweep(dir, 2);
+  const TrackEvalExportResult r =
+      ExportTrackEval({.dir = sweep.string(), .out = (dir / "te").string()});
   EXPECT_EQ(r.missing, 4);
   EXPECT_EQ(r.runs + r.skipped + r.not_ok, 4);
 }

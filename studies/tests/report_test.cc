@@ -2201,18 +2201,19 @@ TEST(Report, AgainstAnotherStoreSaysWhichFindingsReplicate) {
             std::string::npos);
 }
 
+// A sweep of four runs: systematic against charged resampling, two seeds.
+constexpr const char* kFourRuns =
+    "base: base.yaml\nseeds: 2\ngrid:\n  tracker.particles: [20]\n"
+    "  tracker.resampling.method: [systematic, charged]\n"
+    "report: {x: tracker.particles, series: tracker.resampling.method, y: [idf1]}\n";
+
 // The report names the build of hcpf that made the runs (the store keeps each
 // run's, from its manifest, when the run is put), and says in bold when they
 // are several: here one row says another revision, as after a rebuild and a
 // resume. The manifests are not read again: they are deleted first.
 TEST(Report, SaysWhichBuildsMadeTheRuns) {
   const auto dir = testing::SweepFolder("report-builds");
-  const SweepSpec spec = LoadSweepFile(testing::WriteSweep(
-      dir,
-      "base: base.yaml\nseeds: 2\ngrid:\n  tracker.particles: [20]\n"
-      "  tracker.resampling.method: [systematic, charged]\n"
-      "report: {x: tracker.particles, series: tracker.resampling.method, y: [idf1]}\n",
-      "s.yaml"));
+  const SweepSpec spec = LoadSweepFile(testing::WriteSweep(dir, kFourRuns, "s.yaml"));
   const std::string out = RunQuietly(spec, dir);
   const std::string here = scenarios::ProjectVersion() + " at " + scenarios::GitRevision();
   const std::vector<RunRecord> runs =
@@ -2256,12 +2257,7 @@ TEST(Report, SaysWhichBuildsMadeTheRuns) {
 // a best series among runs of one series only, exit 0 and no word).
 TEST(Report, OfAShardSaysHowManyRunsAreMissing) {
   const auto dir = testing::SweepFolder("report-shard");
-  const SweepSpec spec = LoadSweepFile(testing::WriteSweep(
-      dir,
-      "base: base.yaml\nseeds: 2\ngrid:\n  tracker.particles: [20]\n"
-      "  tracker.resampling.method: [systematic, charged]\n"
-      "report: {x: tracker.particles, series: tracker.resampling.method, y: [idf1]}\n",
-      "s.yaml"));
+  const SweepSpec spec = LoadSweepFile(testing::WriteSweep(dir, kFourRuns, "s.yaml"));
   SweepOptions o;
   o.out_dir = (dir / "out").string();
   o.progress = false;
@@ -2291,12 +2287,7 @@ TEST(Report, OfAShardSaysHowManyRunsAreMissing) {
 // a missing manifest names no build.
 TEST(Report, ReadsTheBuildsOfAnOlderStoreFromTheManifests) {
   const auto dir = testing::SweepFolder("report-builds-old");
-  const SweepSpec spec = LoadSweepFile(testing::WriteSweep(
-      dir,
-      "base: base.yaml\nseeds: 2\ngrid:\n  tracker.particles: [20]\n"
-      "  tracker.resampling.method: [systematic, charged]\n"
-      "report: {x: tracker.particles, series: tracker.resampling.method, y: [idf1]}\n",
-      "s.yaml"));
+  const SweepSpec spec = LoadSweepFile(testing::WriteSweep(dir, kFourRuns, "s.yaml"));
   const std::string out = RunQuietly(spec, dir);
   EditStore(out, "ALTER TABLE runs DROP COLUMN build");
   const std::string here = scenarios::ProjectVersion() + " at " + scenarios::GitRevision();
@@ -2338,10 +2329,7 @@ TEST(Report, ReadsTheBuildsOfAnOlderStoreFromTheManifests) {
 // a sweep resumes into it.
 TEST(Report, SaysWhereTheRunsSeedsComeFrom) {
   const auto dir = testing::SweepFolder("report-root-seed");
-  const std::string body =
-      "base: base.yaml\nseeds: 2\ngrid:\n  tracker.particles: [20]\n"
-      "  tracker.resampling.method: [systematic, charged]\n"
-      "report: {x: tracker.particles, series: tracker.resampling.method, y: [idf1]}\n";
+  const std::string body = kFourRuns;
   SweepSpec spec = LoadSweepFile(testing::WriteSweep(dir, body, "s.yaml"));
   SetRootSeed(spec, "41", "--seed");
   const std::string out = RunQuietly(spec, dir);

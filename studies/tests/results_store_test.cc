@@ -82,6 +82,24 @@ StoreMeta TwoRunMeta() {
   return meta;
 }
 
+// The meta of a sweep with no swept key, reported by IDF1 (hand stores).
+StoreMeta UnsweptMeta() {
+  StoreMeta meta;
+  meta.sweep_hash = "abc";
+  meta.sweep_file = "s.yaml";
+  meta.report = {"", {"idf1"}, ""};
+  return meta;
+}
+
+// Runs `sql` on the store at `path` (hand edits).
+void ExecSql(const std::string& path, const std::string& sql) {
+  sqlite3* db = nullptr;
+  ASSERT_EQ(sqlite3_open(path.c_str(), &db), SQLITE_OK);
+  ASSERT_EQ(sqlite3_exec(db, sql.c_str(), nullptr, nullptr, nullptr), SQLITE_OK)
+      << sql << ": " << sqlite3_errmsg(db);
+  sqlite3_close(db);
+}
+
 TEST(ResultsStore, PutRunsRoundTripAndRefusesAnotherSweep) {
   const auto dir = SweepFolder("store");
   StoreMeta meta = TwoRunMeta();
@@ -430,10 +448,7 @@ TEST(RunFolderIntact, AFileDeletedCutEmptiedOrGrownIsDamage) {
 // opened read-only.
 TEST(ResultsStore, StoresOfAnOlderCatalogueAreMigrated) {
   const auto dir = SweepFolder("migrate");
-  StoreMeta meta;
-  meta.sweep_hash = "abc";
-  meta.sweep_file = "s.yaml";
-  meta.report = {"", {"idf1"}, ""};
+  const StoreMeta meta = UnsweptMeta();
   const std::string path = (dir / "results.sqlite").string();
   {
     auto store = ResultsStore::OpenOrCreate(path, meta);
@@ -474,10 +489,7 @@ TEST(ResultsStore, StoresOfAnOlderCatalogueAreMigrated) {
 // gains the column when opened for writing.
 TEST(ResultsStore, KeepsEachRunsBuildAndMigratesStoresWithoutTheColumn) {
   const auto dir = SweepFolder("migrate-build");
-  StoreMeta meta;
-  meta.sweep_hash = "abc";
-  meta.sweep_file = "s.yaml";
-  meta.report = {"", {"idf1"}, ""};
+  const StoreMeta meta = UnsweptMeta();
   const std::string path = (dir / "results.sqlite").string();
   {
     auto store = ResultsStore::OpenOrCreate(path, meta);
@@ -497,12 +509,7 @@ TEST(ResultsStore, KeepsEachRunsBuildAndMigratesStoresWithoutTheColumn) {
     EXPECT_EQ(runs[1].build, "");
     EXPECT_FALSE(runs[2].build.has_value());
   }
-  sqlite3* db = nullptr;
-  ASSERT_EQ(sqlite3_open(path.c_str(), &db), SQLITE_OK);
-  ASSERT_EQ(sqlite3_exec(db, "ALTER TABLE runs DROP COLUMN build", nullptr, nullptr, nullptr),
-            SQLITE_OK)
-      << sqlite3_errmsg(db);
-  sqlite3_close(db);
+  ExecSql(path, "ALTER TABLE runs DROP COLUMN build");
   for (const RunRecord& r : ResultsStore::Open(path, StoreAccess::kReadOnly)->Runs()) {
     EXPECT_FALSE(r.build.has_value()) << r.key;
   }
@@ -524,10 +531,7 @@ TEST(ResultsStore, KeepsEachRunsBuildAndMigratesStoresWithoutTheColumn) {
 // a seed that is not a number failed with std::stoull's text).
 TEST(ResultsStore, HandEditedRowsAreBadInputNamingTheRowAndColumn) {
   const auto dir = SweepFolder("store-rows");
-  StoreMeta meta;
-  meta.sweep_hash = "abc";
-  meta.sweep_file = "s.yaml";
-  meta.report = {"", {"idf1"}, ""};
+  const StoreMeta meta = UnsweptMeta();
   const std::string path = (dir / "results.sqlite").string();
   {
     auto store = ResultsStore::OpenOrCreate(path, meta);
@@ -549,10 +553,7 @@ TEST(ResultsStore, HandEditedRowsAreBadInputNamingTheRowAndColumn) {
           {"UPDATE runs SET seed = 'x1'",
            R"(runs[k1].seed: expected a results store of hcpf sweep: a seed (a whole number, as decimal text), found "x1")"}}) {
     fs::copy_file(good, path, fs::copy_options::overwrite_existing);
-    sqlite3* db = nullptr;
-    ASSERT_EQ(sqlite3_open(path.c_str(), &db), SQLITE_OK);
-    ASSERT_EQ(sqlite3_exec(db, sql.c_str(), nullptr, nullptr, nullptr), SQLITE_OK) << sql;
-    sqlite3_close(db);
+    ExecSql(path, sql);
     try {
       ResultsStore::Open(path)->Runs();
       ADD_FAILURE() << sql << " was accepted";
@@ -562,10 +563,7 @@ TEST(ResultsStore, HandEditedRowsAreBadInputNamingTheRowAndColumn) {
   }
   // A number written as an integer is a number; the store as written reads.
   fs::copy_file(good, path, fs::copy_options::overwrite_existing);
-  sqlite3* db = nullptr;
-  ASSERT_EQ(sqlite3_open(path.c_str(), &db), SQLITE_OK);
-  ASSERT_EQ(sqlite3_exec(db, "UPDATE runs SET idf1 = 1", nullptr, nullptr, nullptr), SQLITE_OK);
-  sqlite3_close(db);
+  ExecSql(path, "UPDATE runs SET idf1 = 1");
   EXPECT_EQ(ResultsStore::Open(path)->Runs()[0].metrics.at("idf1"), 1.0);
 }
 

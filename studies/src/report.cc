@@ -730,9 +730,9 @@ std::string FormatP(double p) {
 // record them from each run folder's manifest.json ("<hcpf_version> at
 // <git_revision>"; the manifest itself for rows of a store written before
 // the build column), with their run counts, and the finished runs whose
-// manifest was missing, unreadable or named no build. A sweep resumed after a rebuild, grown with
-// --reuse from another build's sweep or merged from shards of different builds keeps each run as
-// its build made it.
+// manifest was missing, unreadable or named no build. A sweep resumed after
+// a rebuild, grown with --reuse from another build's sweep or merged from
+// shards of different builds keeps each run as its build made it.
 struct Builds {
   std::map<std::string, int> runs;  // by build
   int unnamed = 0;
@@ -1745,7 +1745,8 @@ std::string ReportHtml(const fs::path& dir, const std::string& link_prefix, cons
                        const std::vector<std::pair<std::string, std::string>>& svgs,
                        const std::string& findings_html, const std::string& paired_html,
                        const std::string& replication_html,
-                       const std::vector<std::string>& unmeasured, const Builds& builds) {
+                       const std::vector<std::string>& unmeasured, const Builds& builds,
+                       const std::string& missing_runs) {
   const std::vector<std::string>& keys = meta.swept_keys;
   const int x_index = layout.x_index;
   int64_t ok_runs = 0, failed_runs = 0;
@@ -1780,8 +1781,8 @@ std::string ReportHtml(const fs::path& dir, const std::string& link_prefix, cons
         return names.empty() ? std::string("none of this report's metrics")
                              : fmt::format("<code>{}</code>", fmt::join(names, "</code>, <code>"));
       }());
-  if (const std::string missing = MissingRunsSentence(meta, runs.size()); !missing.empty()) {
-    h += "<p class=\"failed\"><strong>" + CodeSpansToHtml(missing) + "</strong></p>\n";
+  if (!missing_runs.empty()) {
+    h += "<p class=\"failed\"><strong>" + CodeSpansToHtml(missing_runs) + "</strong></p>\n";
   }
   h += "<p>" + CodeSpansToHtml(RootSeedSentence(meta)) + "</p>\n";
   h += BuildsHtml(builds);
@@ -2024,7 +2025,7 @@ ReportResult WriteReport(const ReportOptions& options) {
                                                FindingsHtml(findings, glance, paired, meta),
                                                PairedHtml(paired, meta, layout, difference_svgs,
                                                           options.dir, link_prefix),
-                                               replication_html, unmeasured, builds));
+                                               replication_html, unmeasured, builds, missing));
   PublishReportFiles(work, out, files, stale);
   result.csv_path = (out / "summary.csv").string();
   result.html_path = (out / "report.html").string();

@@ -21,6 +21,7 @@
 
 #include "hcpf/core/did_you_mean.h"
 #include "hcpf/core/error.h"
+#include "hcpf/core/text_file.h"
 
 namespace hcpf::cli {
 
@@ -215,6 +216,13 @@ int FinishStandardOutput(int code) {
 }
 
 }  // namespace
+
+std::ostream& TableStream(std::initializer_list<std::string> output_paths) {
+  for (const std::string& path : output_paths) {
+    if (IsStandardOutput(path)) return std::cerr;
+  }
+  return std::cout;
+}
 
 int RunApp(int argc, char** argv, std::span<const AddCommandFn> adders,
            const std::function<std::string()>& version) {

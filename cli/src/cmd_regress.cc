@@ -11,7 +11,6 @@
 #include <vector>
 
 #include "command.h"
-#include "hcpf/core/text_file.h"
 #include "hcpf/studies/regress.h"
 #include "interrupt.h"
 
@@ -68,11 +67,9 @@ Command AddRegressCommand(CLI::App& parent) {
             // With --junit, --markdown or --update-baseline naming standard
             // output, that file is all it carries: the table goes to stderr
             // (a review: `--junit /dev/stdout > out.xml` held XML and table).
-            const bool to_stdout =
-                IsStandardOutput(options->junit_path) || IsStandardOutput(options->markdown_path) ||
-                (options->update_baseline && IsStandardOutput(options->baseline_path));
-            std::fputs(r.table.c_str(), to_stdout ? stderr : stdout);
-            std::fflush(stdout);
+            TableStream({options->junit_path, options->markdown_path,
+                         options->update_baseline ? options->baseline_path : ""})
+                << r.table << std::flush;
             if (r.baseline_written) {
               spdlog::info("regress: baseline written to {}", options->baseline_path);
               return 0;

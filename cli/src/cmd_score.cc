@@ -94,11 +94,11 @@ int ScoreDetectionFiles(const std::string& gt_path, const std::string& det_path,
   const std::string kept = min_score ? fmt::format("{} detections, {} scoring below {:g} left out",
                                                    det.rows.size(), left_out, *min_score)
                                      : fmt::format("{} detections", det.rows.size());
-  TableStream(json_path) << fmt::format(
-                                "{} ({}) against {} ({} frames, {} truth; targets visible less "
-                                "than {:g} don't care)\n",
-                                det_path, kept, gt_file, frame_count, gt.source, min_visible)
-                         << metrics::FormatDetectionTable(quality);
+  TableStream({json_path}) << fmt::format(
+                                  "{} ({}) against {} ({} frames, {} truth; targets visible less "
+                                  "than {:g} don't care)\n",
+                                  det_path, kept, gt_file, frame_count, gt.source, min_visible)
+                           << metrics::FormatDetectionTable(quality);
   if (!json_path.empty()) WriteTextFile(json_path, metrics::DetectionQualityToJson(quality));
   return 0;
 }
@@ -232,8 +232,8 @@ Command AddScoreCommand(CLI::App& parent) {
                 const TrackEvalResult& r = results[i];
                 std::vector<MotSummary> rows = r.sequences;
                 rows.push_back(r.combined);
-                TableStream(options->json) << r.bench << " / " << r.tracker << "\n"
-                                           << FormatMotTable(rows) << "\n";
+                TableStream({options->json}) << r.bench << " / " << r.tracker << "\n"
+                                             << FormatMotTable(rows) << "\n";
                 json += "{\"bench\":" + nlohmann::json(r.bench).dump() +
                         ",\"tracker\":" + nlohmann::json(r.tracker).dump() +
                         ",\"metrics\":" + MotSummariesToJson(r.sequences, &r.combined) + "}" +
@@ -267,7 +267,7 @@ Command AddScoreCommand(CLI::App& parent) {
             o.benchmark = benchmark;
             o.keep_events = !options->events.empty();
             const ScoredSequence s = ScoreFiles(o);
-            TableStream(options->json, options->events) << FormatMotTable({&s.summary, 1});
+            TableStream({options->json, options->events}) << FormatMotTable({&s.summary, 1});
             if (!options->json.empty())
               WriteTextFile(options->json, MotSummariesToJson({&s.summary, 1}, nullptr));
             if (!options->events.empty()) {

@@ -9,6 +9,9 @@
 
 #include <CLI/CLI.hpp>
 #include <functional>
+#include <initializer_list>
+#include <ostream>
+#include <string>
 
 namespace hcpf::cli {
 
@@ -16,6 +19,11 @@ struct Command {
   CLI::App* app = nullptr;
   std::function<int()> run;
 };
+
+// Where a command prints its table: standard output, or standard error when
+// one of the files it writes (`--json /dev/stdout | jq`; "" for none) is
+// standard output, which then carries that file alone.
+std::ostream& TableStream(std::initializer_list<std::string> output_paths);
 
 Command AddValidateCommand(CLI::App& parent);
 Command AddRunCommand(CLI::App& parent);

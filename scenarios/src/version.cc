@@ -16,6 +16,8 @@ std::string ProjectVersion() { return HCPF_VERSION; }
 
 std::string GitRevision() { return GitRevisionAtBuild(); }
 
+std::string BuildName() { return fmt::format("{} at {}", HCPF_VERSION, GitRevision()); }
+
 std::string VersionString() { return fmt::format("hcpf {} (git {})", HCPF_VERSION, GitRevision()); }
 
 std::string GlDescription() {

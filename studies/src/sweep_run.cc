@@ -192,9 +192,8 @@ std::vector<std::unique_ptr<Donor>> OpenDonors(const SweepOptions& options) {
 // Copies a finished run folder: its manifest.json and the files it lists
 // under "files" (what the run wrote: not a report.html written there later),
 // or the whole folder when the manifest lists none (runs written before the
-// list), through a staging folder renamed into place (CopyWhole). Returns the
-// git revision the manifest names, or "unknown".
-std::string CopyRunFolder(const fs::path& from, const fs::path& to) {
+// list), through a staging folder renamed into place (CopyWhole).
+void CopyRunFolder(const fs::path& from, const fs::path& to) {
   nlohmann::json manifest;
   try {
     manifest = nlohmann::json::parse(ReadInputFile(
@@ -207,10 +206,6 @@ std::string CopyRunFolder(const fs::path& from, const fs::path& to) {
     for (const auto& [name, size] : manifest["files"].items()) files.push_back(name);
   }
   CopyWhole(from, to, files);
-  return manifest.is_object() && manifest.contains("git_revision") &&
-                 manifest["git_revision"].is_string()
-             ? manifest["git_revision"].get<std::string>()
-             : std::string("unknown");
 }
 
 // Copies into `plan` the runs of `todo` that a --reuse folder holds finished
@@ -249,9 +244,9 @@ std::vector<const SweepRun*> CopyFromDonors(const std::vector<std::unique_ptr<Do
     }
   });
   std::vector<const SweepRun*> left;
-  std::set<std::string> used, revisions;
+  std::set<std::string> used, builds;
   int64_t other_builds = 0;
-  const std::string here = scenarios::GitRevision();
+  const std::string here = scenarios::BuildName();
   for (size_t i = 0; i < todo.size(); ++i) {
     if (source[i] == nullptr) {
       left.push_back(todo[i]);
@@ -259,15 +254,16 @@ std::vector<const SweepRun*> CopyFromDonors(const std::vector<std::unique_ptr<Do
     }
     RunRecord copy = NewRecord(*todo[i]);
     const fs::path to = plan.out / copy.run_dir;
-    const std::string revision = CopyRunFolder(source[i]->dir / record[i]->run_dir, to);
-    ReadRunFolderInto(to.string(), copy);
+    CopyRunFolder(source[i]->dir / record[i]->run_dir, to);
+    ReadRunFolderInto(to.string(), copy);  // every metric of this build's catalogue
     copy.ok = true;
     plan.store->Put(copy);
     ++plan.result.copied;
     used.insert(source[i]->dir.string());
-    if (revision != here) {
+    if (*copy.build != here) {
       ++other_builds;
-      revisions.insert(revision);
+      builds.insert(copy.build->empty() ? std::string("a build its manifest does not name")
+                                        : "hcpf " + *copy.build);
     }
   }
   plan.result.reused += plan.result.copied;
@@ -286,9 +282,9 @@ std::vector<const SweepRun*> CopyFromDonors(const std::vector<std::unique_ptr<Do
   }
   if (other_builds > 0) {
     spdlog::warn(
-        "sweep: {} of the copied runs were made by hcpf at {}, this hcpf is at {}: their results "
-        "are those builds'",
-        other_builds, fmt::join(revisions, ", "), here);
+        "sweep: {} of the copied runs were made by {}, this is hcpf {}: their results are those "
+        "builds'",
+        other_builds, fmt::join(builds, ", "), here);
   }
   return left;
 }

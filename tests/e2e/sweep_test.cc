@@ -551,8 +551,10 @@ TEST(SweepCli, ReuseCopiesTheRunsAnotherSweepFinishedAndEqualsAFreshSweep) {
   r = RunCommand(kHcpf + " sweep " + three + " --out " + (dir / "other-build").string() +
                  " --jobs 2 --reuse " + (dir / "d2").string());
   ASSERT_EQ(r.exit_code, 0) << r.output;
-  EXPECT_NE(r.output.find("sweep: 1 of the copied runs were made by hcpf at 0123456789ab, this "
-                          "hcpf is at "),
+  EXPECT_NE(r.output.find("sweep: 1 of the copied runs were made by hcpf " +
+                          manifest["hcpf_version"].get<std::string>() +
+                          " at 0123456789ab, this is hcpf " +
+                          manifest["hcpf_version"].get<std::string>() + " at "),
             std::string::npos)
       << r.output;
   EXPECT_TRUE(fs::exists(dir / "other-build" / "runs" / donor_runs[1].filename() / "tracks.txt"));

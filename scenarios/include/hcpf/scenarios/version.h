@@ -12,6 +12,9 @@ std::string ProjectVersion();
 // Git revision of the source tree at build time ("unknown" outside a checkout),
 // with "-dirty" when it had uncommitted changes.
 std::string GitRevision();
+// "0.1.0 at abcdef123456": the build as a run's manifest names it
+// (hcpf_version at git_revision), and as the results store records it.
+std::string BuildName();
 // The OpenGL context `renderer.backend: auto` gets on this machine, for
 // `hcpf --version`: "GL (backend auto): egl device 0 (hardware), renderer
 // \"NVIDIA H100 ...\", OpenGL 4.6 ...", or why none could be made. Creates and

@@ -42,8 +42,9 @@ class FfmpegVideoSink final : public hcpf::scenarios::VideoSink {
     Free();
   }
 
-  // Opens `path`; "" on success, else why not.
-  std::string Open(const char* path, double fps, int width, int height) {
+  // Opens `path`; "" on success, else why not. `mpeg4`: MPEG-4 Part 2 even
+  // where libx264 is present.
+  std::string Open(const char* path, double fps, int width, int height, bool mpeg4) {
     width_ = width;
     height_ = height;
     // 4:2:0 chroma needs even sides: an odd side gains one row or column,
@@ -52,7 +53,7 @@ class FfmpegVideoSink final : public hcpf::scenarios::VideoSink {
     const int coded_height = height + (height & 1);
     int err = avformat_alloc_output_context2(&format_, nullptr, "mp4", path);
     if (err < 0 || format_ == nullptr) return "cannot make an MP4 muxer: " + AvError(err);
-    const AVCodec* codec = avcodec_find_encoder_by_name("libx264");
+    const AVCodec* codec = mpeg4 ? nullptr : avcodec_find_encoder_by_name("libx264");
     h264_ = codec != nullptr;
     if (!h264_) codec = avcodec_find_encoder(AV_CODEC_ID_MPEG4);
     if (codec == nullptr) return "this FFmpeg has neither libx264 nor an MPEG-4 Part 2 encoder";
@@ -236,8 +237,9 @@ class FfmpegVideoSink final : public hcpf::scenarios::VideoSink {
 
 }  // namespace
 
-extern "C" __attribute__((visibility("default"))) hcpf::scenarios::VideoSink* hcpf_open_video_sink(
-    const char* path, double fps, int width, int height, char* error, int error_size) {
+extern "C" __attribute__((visibility("default"))) hcpf::scenarios::VideoSink*
+hcpf_open_video_sink_v2(const char* path, double fps, int width, int height, int mpeg4, char* error,
+                        int error_size) {
   // FFmpeg's own messages (libx264's settings and statistics, one block per
   // video) would interleave on stderr in a sweep; failures come back as
   // this sink's errors.
@@ -247,7 +249,7 @@ extern "C" __attribute__((visibility("default"))) hcpf::scenarios::VideoSink* hc
   std::string why;
   try {
     sink = std::make_unique<FfmpegVideoSink>();
-    why = sink->Open(path, fps, width, height);
+    why = sink->Open(path, fps, width, height, mpeg4 != 0);
     if (why.empty()) return sink.release();
   } catch (const std::exception& e) {
     why = e.what();

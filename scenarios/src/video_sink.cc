@@ -9,8 +9,9 @@
 
 namespace hcpf::scenarios {
 
-using OpenFn = VideoSink* (*)(const char* path, double fps, int width, int height, char* error,
-                              int error_size);
+// The plugin's entry point; `mpeg4` is 1 for VideoCodec::kMpeg4Part2.
+using OpenFn = VideoSink* (*)(const char* path, double fps, int width, int height, int mpeg4,
+                              char* error, int error_size);
 
 namespace {
 
@@ -23,7 +24,7 @@ OpenFn LoadPlugin() {
   std::call_once(once, [] {
     std::string tried;
     open = reinterpret_cast<OpenFn>(LoadSymbolNextToExecutable(
-        "libhcpf_video.so", HCPF_VIDEO_PLUGIN_PATH, "hcpf_open_video_sink", &tried));
+        "libhcpf_video.so", HCPF_VIDEO_PLUGIN_PATH, "hcpf_open_video_sink_v2", &tried));
     if (open == nullptr) failure = "cannot load the video plugin libhcpf_video.so:" + tried;
   });
   if (open == nullptr) throw RunError(failure);
@@ -32,11 +33,12 @@ OpenFn LoadPlugin() {
 
 }  // namespace
 
-std::unique_ptr<VideoSink> OpenVideoSink(const std::string& path, double fps, int width,
-                                         int height) {
+std::unique_ptr<VideoSink> OpenVideoSink(const std::string& path, double fps, int width, int height,
+                                         VideoCodec codec) {
   const OpenFn open = LoadPlugin();
   char error[512] = {};
-  VideoSink* sink = open(path.c_str(), fps, width, height, error, sizeof(error));
+  VideoSink* sink = open(path.c_str(), fps, width, height, codec == VideoCodec::kMpeg4Part2 ? 1 : 0,
+                         error, sizeof(error));
   if (sink == nullptr) throw RunError(fmt::format("cannot write video {}: {}", path, error));
   return std::unique_ptr<VideoSink>(sink);
 }

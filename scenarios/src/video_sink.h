@@ -25,10 +25,17 @@ class VideoSink {
   virtual const char* error() const = 0;
 };
 
+// Which encoder a sink uses.
+enum class VideoCodec {
+  kH264WherePresent,  // libx264, else MPEG-4 Part 2 (what runs write)
+  kMpeg4Part2,        // FFmpeg's own MPEG-4 Part 2 encoder (the fallback, for its tests)
+};
+
 // Opens `path` for H.264 (fourcc avc1, libx264) at `fps`, or for MPEG-4
-// Part 2 (mp4v) when FFmpeg has no libx264; throws RunError when the plugin
-// cannot be loaded or the encoder or file cannot be opened.
-std::unique_ptr<VideoSink> OpenVideoSink(const std::string& path, double fps, int width,
-                                         int height);
+// Part 2 (mp4v) when FFmpeg has no libx264 or `codec` asks for it; throws
+// RunError when the plugin cannot be loaded or the encoder or file cannot
+// be opened.
+std::unique_ptr<VideoSink> OpenVideoSink(const std::string& path, double fps, int width, int height,
+                                         VideoCodec codec = VideoCodec::kH264WherePresent);
 
 }  // namespace hcpf::scenarios

@@ -51,11 +51,17 @@ class ColourDetector final : public Detector {
         }
         if (region.width > 0 && region.height > 0) {
           const cv::Mat scene = hsv(region).clone();
-          cv::Mat back;  // the model's bin value of every pixel, in [0, 1]
-          cv::calcBackProject(&scene, 1, channels, hist, back, ranges, 1.0);
-          back.convertTo(back, CV_32F);
-          // Mean back-projection over a model-sized box centred on each pixel
-          // (outside the image counts as 0).
+          // The model's bin value of every pixel, in [0, 1] (to 1/255: the
+          // back-projection of an 8-bit image is 8-bit, so the histogram is
+          // scaled to 255 for it; at scale 1 it was rounded to 0 or 1, a
+          // pixel counting only where its bin held half the largest: audit).
+          cv::Mat back;
+          cv::calcBackProject(&scene, 1, channels, hist, back, ranges, 255.0);
+          back.convertTo(back, CV_32F, 1.0 / 255.0);
+          // Mean back-projection over a model-sized box at each pixel
+          // (outside the image counts as 0): at index x it covers pixels
+          // x - floor(w/2) ... x - floor(w/2) + w - 1 (OpenCV's anchor), a box
+          // centred on x + 0.5 for odd w and on x for even w.
           cv::blur(back, mean_in_box, box_size, cv::Point(-1, -1), cv::BORDER_CONSTANT);
           const double frame_mean = cv::mean(back)[0];
           double peak = 0.0;
@@ -63,7 +69,9 @@ class ColourDetector final : public Detector {
           cv::minMaxLoc(mean_in_box, nullptr, &peak, nullptr, &at);
           const double contrast = frame_mean < 1.0 ? (peak - frame_mean) / (1.0 - frame_mean) : 0.0;
           if (contrast >= options_.min_contrast) {
-            const BoxPx box = BoxPx::FromCentre(region.x + at.x + 0.5, region.y + at.y + 0.5,
+            const auto centre = [](int at, int side) { return at - side / 2 + 0.5 * side; };
+            const BoxPx box = BoxPx::FromCentre(region.x + centre(at.x, box_size.width),
+                                                region.y + centre(at.y, box_size.height),
                                                 box_size.width, box_size.height);
             if (const auto inside = ClipToImage(box, width, height)) {
               out.detections.push_back({.box = *inside,

@@ -1,5 +1,10 @@
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <array>
+#include <utility>
+#include <vector>
+
 #include "hcpf/core/error.h"
 #include "hcpf/vision/detectors.h"
 #include "synthetic_scene.h"
@@ -40,6 +45,73 @@ TEST(ColourDetector, GroundWithoutTheModelsColoursGivesNothing) {
   const DetectorOutput out = MakeDetector("colour", DetectorOptions{})
                                  ->Detect({.image = Frame({}), .models = models}, rng);
   EXPECT_TRUE(out.detections.empty());
+}
+
+// Plain grey ground (no saturation: a bin of neither colour below) with
+// `side` x `side` blocks of `rgb` whose top-left corners are `at`.
+RgbImage Blocks(int width, int height, std::vector<std::pair<int, int>> at, int side,
+                std::array<uint8_t, 3> rgb) {
+  RgbImage image{.width = width, .height = height};
+  image.pixels.assign(static_cast<size_t>(3) * width * height, 128);
+  for (const auto& [x0, y0] : at) {
+    for (int y = y0; y < y0 + side; ++y) {
+      for (int x = x0; x < x0 + side; ++x) std::copy(rgb.begin(), rgb.end(), image.at(x, y));
+    }
+  }
+  return image;
+}
+
+// The back-projection carries each bin's share of the largest bin, not 0 or
+// 1. The model: an 8 x 8 patch, 48 pixels red and 16 blue, so after scaling
+// red's bin is 1 and blue's 16/48 = 1/3. On grey ground holding one 8 x 8
+// block of the blue alone, the box of highest mean back-projection is that
+// block at 1/3, the frame's mean m = 64 (1/3) / 64^2, and the detection's
+// contrast (1/3 - m) / (1 - m) = 0.32986 (to 1/255: the back-projection is
+// quantised to 8 bits). Before: blue's 1/3 rounded to 0, and nothing was
+// found.
+TEST(ColourDetector, BackProjectsEachBinsShareOfTheLargest) {
+  RgbImage patch = Blocks(8, 8, {}, 0, {});
+  for (int y = 0; y < 8; ++y) {
+    for (int x = 0; x < 8; ++x) {
+      const std::array<uint8_t, 3> rgb =
+          y < 6 ? std::array<uint8_t, 3>{200, 30, 30} : std::array<uint8_t, 3>{30, 30, 200};
+      std::copy(rgb.begin(), rgb.end(), patch.at(x, y));
+    }
+  }
+  const std::vector<TargetModel> models{
+      CutTargetModel(patch, BoxPx{0, 0, 8, 8}, ObjectId{4}, 0)};
+  const RgbImage frame = Blocks(64, 64, {{20, 30}}, 8, {30, 30, 200});
+  DetectorOptions options;
+  options.colour.min_contrast = 0.1;
+  Rng rng(1);
+  const DetectorOutput out =
+      MakeDetector("colour", options)->Detect({.image = frame, .models = models}, rng);
+  ASSERT_EQ(out.detections.size(), 1u);
+  const double m = 64.0 / 3.0 / (64.0 * 64.0);
+  EXPECT_NEAR(out.detections[0].score, (1.0 / 3.0 - m) / (1.0 - m), 1.0 / 255.0);
+  // The map's cell holding the block's centre (24, 34) has the block's mean.
+  ASSERT_EQ(out.maps.size(), 1u);
+  const LikelihoodMap& map = out.maps[0].map;
+  EXPECT_NEAR(map.values[static_cast<size_t>(34 / 4) * map.width + 24 / 4], 1.0 / 3.0, 1.0 / 255.0);
+}
+
+// The box is centred on the block found, for a model of even and of odd side
+// (OpenCV's box mean at index x covers x - floor(w/2) ... : centred on x for
+// even w, x + 0.5 for odd). Before: +0.5 px on each axis of even side.
+TEST(ColourDetector, TheBoxIsCentredOnTheBlockForEvenAndOddSides) {
+  for (const int side : {8, 7}) {
+    const RgbImage patch = Blocks(side, side, {{0, 0}}, side, {200, 30, 30});
+    const std::vector<TargetModel> models{
+        CutTargetModel(patch, BoxPx{0, 0, static_cast<double>(side), static_cast<double>(side)},
+                       ObjectId{4}, 0)};
+    const RgbImage frame = Blocks(64, 64, {{20, 30}}, side, {200, 30, 30});
+    Rng rng(1);
+    const DetectorOutput out = MakeDetector("colour", DetectorOptions{})
+                                   ->Detect({.image = frame, .models = models}, rng);
+    ASSERT_EQ(out.detections.size(), 1u) << side;
+    EXPECT_DOUBLE_EQ(out.detections[0].box.centre_x(), 20 + side / 2.0) << side;
+    EXPECT_DOUBLE_EQ(out.detections[0].box.centre_y(), 30 + side / 2.0) << side;
+  }
 }
 
 TEST(ColourOptions, RangesAreChecked) {

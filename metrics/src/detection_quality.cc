@@ -68,31 +68,51 @@ std::optional<double> CentreCost(const Detection& d, const DetectionTruth& t) {
 enum class Rule { kIou, kCentre };
 
 // Matches one frame under `rule`; for each truth the matched detection or -1.
-std::vector<int> Match(const DetectionFrame& f, Rule rule, double iou_threshold,
+// Counted targets are matched first, over every detection; "don't care"
+// targets then take what is left (COCO's rule, as the precision-recall curve
+// below: a detection goes to a don't-care target only when no counted target
+// takes it). In one assignment over both, a detection overlapping a counted
+// target and, more, a don't-care one went to the don't-care target and the
+// counted one was missed (an audit: at occlusions).
+std::vector<int> Match(const DetectionFrame& f, Rule rule, const DetectionQualityOptions& options,
                        AssignmentSolver& solver, Labels labels = Labels::kRespected) {
-  const int rows = static_cast<int>(f.truth.size());
-  const int cols = static_cast<int>(f.detections.size());
   std::vector<int> match(f.truth.size(), -1);
-  if (rows == 0 || cols == 0) return match;
-  std::vector<double> cost(static_cast<size_t>(rows) * cols, kForbidden);
-  for (int t = 0; t < rows; ++t) {
-    for (int d = 0; d < cols; ++d) {
-      const Detection& det = f.detections[d];
-      const DetectionTruth& truth = f.truth[t];
-      if (labels == Labels::kRespected && !Compatible(det, truth)) continue;
-      double& c = cost[static_cast<size_t>(t) * cols + d];
-      if (rule == Rule::kIou) {
-        const double iou = Iou(det.box, truth.box);
-        if (iou >= iou_threshold) c = -iou;
-      } else if (const auto centre = CentreCost(det, truth)) {
-        c = *centre;
+  std::vector<char> taken(f.detections.size(), 0);
+  for (const bool care : {true, false}) {
+    std::vector<size_t> truths, detections;
+    for (size_t t = 0; t < f.truth.size(); ++t) {
+      if (Counted(f.truth[t], options) == care) truths.push_back(t);
+    }
+    for (size_t d = 0; d < f.detections.size(); ++d) {
+      if (!taken[d]) detections.push_back(d);
+    }
+    const int rows = static_cast<int>(truths.size());
+    const int cols = static_cast<int>(detections.size());
+    if (rows == 0 || cols == 0) continue;
+    std::vector<double> cost(static_cast<size_t>(rows) * cols, kForbidden);
+    for (int r = 0; r < rows; ++r) {
+      const DetectionTruth& truth = f.truth[truths[static_cast<size_t>(r)]];
+      for (int c = 0; c < cols; ++c) {
+        const Detection& det = f.detections[detections[static_cast<size_t>(c)]];
+        if (labels == Labels::kRespected && !Compatible(det, truth)) continue;
+        double& cell = cost[static_cast<size_t>(r) * cols + c];
+        if (rule == Rule::kIou) {
+          const double iou = Iou(det.box, truth.box);
+          if (iou >= options.iou_threshold) cell = -iou;
+        } else if (const auto centre = CentreCost(det, truth)) {
+          cell = *centre;
+        }
       }
     }
-  }
-  const std::span<const int> assigned = solver.Solve(cost, rows, cols, AssignmentSense::kMinimise);
-  for (int t = 0; t < rows; ++t) {
-    const int d = assigned[t];
-    if (d >= 0 && cost[static_cast<size_t>(t) * cols + d] < kForbidden) match[t] = d;
+    const std::span<const int> assigned =
+        solver.Solve(cost, rows, cols, AssignmentSense::kMinimise);
+    for (int r = 0; r < rows; ++r) {
+      const int c = assigned[static_cast<size_t>(r)];
+      if (c < 0 || cost[static_cast<size_t>(r) * cols + c] >= kForbidden) continue;
+      const size_t d = detections[static_cast<size_t>(c)];
+      match[truths[static_cast<size_t>(r)]] = static_cast<int>(d);
+      taken[d] = 1;
+    }
   }
   return match;
 }
@@ -235,7 +255,7 @@ DetectionQuality ScoreDetections(std::span<const DetectionFrame> frames,
                     [](const Detection& d) { return d.target.has_value(); })) {
       LabelCounts& labels = q.labels ? *q.labels : q.labels.emplace();
       const std::vector<int> match =
-          Match(f, Rule::kIou, options.iou_threshold, solver, Labels::kIgnored);
+          Match(f, Rule::kIou, options, solver, Labels::kIgnored);
       for (size_t t = 0; t < f.truth.size(); ++t) {
         if (match[t] < 0 || !Counted(f.truth[t], options)) continue;
         const Detection& det = f.detections[static_cast<size_t>(match[t])];
@@ -245,7 +265,7 @@ DetectionQuality ScoreDetections(std::span<const DetectionFrame> frames,
       }
     }
     for (const Rule rule : {Rule::kIou, Rule::kCentre}) {
-      const std::vector<int> match = Match(f, rule, options.iou_threshold, solver);
+      const std::vector<int> match = Match(f, rule, options, solver);
       const auto counts = [rule](DetectionBin& b) -> DetectionCounts& {
         return rule == Rule::kIou ? b.iou : b.centre;
       };

@@ -180,6 +180,36 @@ TEST(DetectionQuality, OneToOneAssignment) {
   EXPECT_NEAR(q.mean_iou, 90.0 / 110.0, 1e-12);
 }
 
+// A counted target is matched before a "don't care" one (COCO's rule, and
+// the precision-recall curve's): A (visible 1.0) at (100,100,40,40), B
+// (visible 0.05, don't care) at (104,100,40,40), one detection on B exactly.
+// IoU with A: overlap 36 x 40 = 1440, union 1760, 0.818; with B 1.0. The
+// detection is A's: tp 1, fn 0, fp 0 (it was B's, ignored, and A missed).
+// The centre rule likewise: the detection's centre (124, 120) lies 4 px
+// from A's, within (20, 20).
+TEST(DetectionQuality, ACountedTargetIsMatchedBeforeADontCareOne) {
+  DetectionFrame f;
+  f.truth = {{ObjectId{1}, BoxPx{100, 100, 40, 40}, 1.0},
+             {ObjectId{2}, BoxPx{104, 100, 40, 40}, 0.05}};
+  f.detections = {Det(104, 100, 40, 40)};
+  const DetectionQuality q = ScoreDetections(std::vector<DetectionFrame>{f});
+  EXPECT_EQ(q.iou.tp, 1);
+  EXPECT_EQ(q.iou.fn, 0);
+  EXPECT_EQ(q.iou.fp, 0);
+  EXPECT_NEAR(q.mean_iou, 1440.0 / 1760.0, 1e-12);
+  EXPECT_EQ(q.centre.tp, 1);
+  EXPECT_EQ(q.centre.fn, 0);
+  EXPECT_EQ(q.centre.fp, 0);
+  // With B moved clear of A, to (150,100,40,40), and a second detection on
+  // it: the first is A's, the second B's, ignored (neither true nor false).
+  f.truth[1].box = BoxPx{150, 100, 40, 40};
+  f.detections.push_back(Det(150, 100, 40, 40));
+  const DetectionQuality q2 = ScoreDetections(std::vector<DetectionFrame>{f});
+  EXPECT_EQ(q2.iou.tp, 1);
+  EXPECT_EQ(q2.iou.fn, 0);
+  EXPECT_EQ(q2.iou.fp, 0);
+}
+
 // Per target, from the hand frames (comment above HandFrames) and a third
 // frame where A is missed under both rules (no detection) and B found:
 //   A: frame 0 found under both rules; frame 1 missed under IoU (0.43),

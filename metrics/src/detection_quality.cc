@@ -254,8 +254,7 @@ DetectionQuality ScoreDetections(std::span<const DetectionFrame> frames,
     if (std::any_of(f.detections.begin(), f.detections.end(),
                     [](const Detection& d) { return d.target.has_value(); })) {
       LabelCounts& labels = q.labels ? *q.labels : q.labels.emplace();
-      const std::vector<int> match =
-          Match(f, Rule::kIou, options, solver, Labels::kIgnored);
+      const std::vector<int> match = Match(f, Rule::kIou, options, solver, Labels::kIgnored);
       for (size_t t = 0; t < f.truth.size(); ++t) {
         if (match[t] < 0 || !Counted(f.truth[t], options)) continue;
         const Detection& det = f.detections[static_cast<size_t>(match[t])];

@@ -194,8 +194,9 @@ FilterMetrics ComputeFilterMetrics(const FilterSequence& seq, const FilterMetric
     }
     out.scored += scored_now;
     hijacked_total += hijacked_now;
+    // A frame with no scored filter: NaN (null in metrics.json), as overall.
     out.hijacked_fraction.push_back(scored_now > 0 ? static_cast<double>(hijacked_now) / scored_now
-                                                   : 0.0);
+                                                   : std::numeric_limits<double>::quiet_NaN());
   }
   const int64_t correct = out.state_counts[static_cast<int>(FilterState::kCorrect)];
   // A fraction of nothing is not a measurement (a third bad-input audit: a
@@ -219,14 +220,32 @@ FilterMetrics ComputeFilterMetrics(const FilterSequence& seq, const FilterMetric
     const auto fa = filters_of.find(pair.first);
     const auto fb = filters_of.find(pair.second);
     if (fa == filters_of.end() || fb == filters_of.end()) return;  // a target without a filter
-    auto state_of = [&](int64_t filter) {
-      const auto it = state_at[e.eval_frame].find(filter);
-      return it == state_at[e.eval_frame].end() ? FilterState::kLost : it->second;  // gone = LOST
+    // Each target's filters that exist at the evaluation frame, in their
+    // states. A target none of whose filters exists then (deleted, or not
+    // yet born) is LOST while it is there and at least min_visible visible,
+    // else COASTING, as an existing filter's own target would make it: a
+    // filter deleted after its target left the image made a clean encounter
+    // hijacked (an audit).
+    const auto& at_eval = state_at[e.eval_frame];
+    const std::vector<TargetState>& targets_then = seq.frames[e.eval_frame].targets;
+    const auto states_of = [&](int64_t target, const std::vector<int64_t>& filters) {
+      std::vector<FilterState> states;
+      for (const int64_t filter : filters) {
+        const auto it = at_eval.find(filter);
+        if (it != at_eval.end()) states.push_back(it->second);
+      }
+      if (states.empty()) {
+        const auto it = std::find_if(targets_then.begin(), targets_then.end(),
+                                     [target](const TargetState& o) { return o.id == target; });
+        const bool seen = it != targets_then.end() && it->visible_fraction >= options.min_visible;
+        states.push_back(seen ? FilterState::kLost : FilterState::kCoasting);
+      }
+      return states;
     };
     bool all_swapped = true;
-    for (const auto* list : {&fa->second, &fb->second}) {
-      for (int64_t filter : *list) {
-        const FilterState s = state_of(filter);
+    for (const auto& [target, filters] :
+         {std::pair{pair.first, &fa->second}, std::pair{pair.second, &fb->second}}) {
+      for (const FilterState s : states_of(target, *filters)) {
         if (s == FilterState::kHijacked || s == FilterState::kStrayed || s == FilterState::kLost)
           e.hijacked = true;
         if (s != FilterState::kSwapped) all_swapped = false;

@@ -446,11 +446,14 @@ std::string RunMetricsToJson(const RunMetrics& m) {
   j["gospa"] = gospa;
   if (m.detection) j["detection"] = DetectionJson(*m.detection);
   if (m.camera_motion) {
+    // No frame pair (a run of one frame): nothing was measured, null, not a
+    // perfect 0 px that a sweep's mean would take in (an audit).
     const auto summary = [](const CameraMotionErrorSummary& e) {
-      return json{{"mean_px", Number(e.mean_px)},
-                  {"median_px", Number(e.median_px)},
-                  {"p95_px", Number(e.p95_px)},
-                  {"max_px", Number(e.max_px)}};
+      const auto value = [&e](double v) { return e.frames > 0 ? Number(v) : json(nullptr); };
+      return json{{"mean_px", value(e.mean_px)},
+                  {"median_px", value(e.median_px)},
+                  {"p95_px", value(e.p95_px)},
+                  {"max_px", value(e.max_px)}};
     };
     json& camera = j["camera_motion"] = summary(m.camera_motion->error);
     camera["mode"] = m.camera_motion->mode;

@@ -188,6 +188,56 @@ TEST(FilterMetrics, CleanEncounterAndWindowClampedToSequenceEnd) {
   EXPECT_DOUBLE_EQ(m.da_accuracy, 1.0);
 }
 
+// A filter that no longer exists at the evaluation frame: targets 1 and 2
+// meet in frames 0-3 (5 px apart, under 2 x 10) and leave the image at frame
+// 4; their filters follow them perfectly and are deleted at frame 5 (the
+// tracker's deleter). Evaluated at min(3 + 2, 7) = 5: neither target is
+// there, so the missing filters are COASTING, as filters still on the
+// targets' last places would be: a clean encounter. Before: "gone = LOST",
+// hijacked (an audit). With target 2 still in view at frame 5 and its filter
+// gone, that filter is LOST: hijacked. And a target one of whose filters
+// exists then is judged by it alone (an earlier filter of it, deleted, is
+// not LOST beside it).
+TEST(FilterMetrics, AFilterGoneAtTheEvaluationIsLostOnlyWhileItsTargetIsInView) {
+  const auto sequence = [](bool target2_stays) {
+    FilterSequence seq;
+    seq.birth_target = {{{10, 1}, {20, 2}}};
+    for (int t = 0; t < 8; ++t) {
+      FilterFrame f;
+      if (t < 4) f.targets = {Target(1, 100, 0), Target(2, 105, 0)};
+      if (target2_stays && t >= 4) f.targets = {Target(2, 105, 0)};
+      if (t < 5) f.filters = {Filter(10, 100, 0), Filter(20, 105, 0)};
+      seq.frames.push_back(f);
+    }
+    return seq;
+  };
+  const FilterMetrics left = ComputeFilterMetrics(sequence(false), {.post_window = 2});
+  ASSERT_EQ(left.encounters.size(), 1u);
+  EXPECT_EQ(left.encounters[0].eval_frame, 5);
+  EXPECT_FALSE(left.encounters[0].hijacked);
+  EXPECT_FALSE(left.encounters[0].swapped);
+  EXPECT_DOUBLE_EQ(left.hijack_rate, 0.0);
+  // From frame 4 no filter is scored (COASTING: their targets are gone, then
+  // no filter): no hijacked fraction (null), not 0.
+  ASSERT_EQ(left.hijacked_fraction.size(), 8u);
+  EXPECT_DOUBLE_EQ(left.hijacked_fraction[3], 0.0);
+  for (int t = 4; t < 8; ++t) EXPECT_TRUE(std::isnan(left.hijacked_fraction[t])) << t;
+
+  const FilterMetrics stays = ComputeFilterMetrics(sequence(true), {.post_window = 2});
+  ASSERT_EQ(stays.encounters.size(), 1u);
+  EXPECT_TRUE(stays.encounters[0].hijacked);
+  EXPECT_DOUBLE_EQ(stays.hijack_rate, 1.0);
+
+  // Target 2 in view with a second filter of its own (21) CORRECT on it at
+  // the evaluation frame: 20, deleted, is not counted; clean.
+  FilterSequence reborn = sequence(true);
+  reborn.birth_target->push_back({21, 2});
+  for (int t = 5; t < 8; ++t) reborn.frames[t].filters = {Filter(21, 105, 0)};
+  const FilterMetrics again = ComputeFilterMetrics(reborn, {.post_window = 2});
+  ASSERT_EQ(again.encounters.size(), 1u);
+  EXPECT_FALSE(again.encounters[0].hijacked);
+}
+
 // Particle mass: target 1 at (0,0), 2 at (100,0); filter 10 (-> 1) has particles at
 // x = 0 (w 1), 1 (w 1), 100 (w 2, on target 2), 50 (w 0, on nothing): 2 / 4 = 0.5.
 TEST(FilterMetrics, ParticleMassOnAnotherTarget) {

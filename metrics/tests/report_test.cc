@@ -210,6 +210,22 @@ TEST(Report, RunMetricsJsonHasEveryFamily) {
   EXPECT_EQ(j["filters"]["states"]["CORRECT"], 2);
   EXPECT_EQ(j["filters"]["per_frame_states"].size(), 2u);
   EXPECT_FALSE(j.contains("detection")) << "no detector, no detection block";
+  EXPECT_FALSE(j.contains("camera_motion"));
+  // A camera-motion score of no frame pair (a run of one frame) is no
+  // measurement: null, not 0 px; with one pair, its error.
+  RunMetrics with_camera = m;
+  with_camera.camera_motion = CameraMotionScore{.mode = "scene_filter"};
+  auto camera = nlohmann::json::parse(RunMetricsToJson(with_camera))["camera_motion"];
+  EXPECT_EQ(camera["frames"], 0);
+  for (const char* key : {"mean_px", "median_px", "p95_px", "max_px"}) {
+    EXPECT_TRUE(camera[key].is_null()) << key;
+    EXPECT_TRUE(camera["floor"][key].is_null()) << key;
+  }
+  const std::vector<double> one_pair{2.5};
+  with_camera.camera_motion->error = SummariseCameraMotionError(one_pair);
+  camera = nlohmann::json::parse(RunMetricsToJson(with_camera))["camera_motion"];
+  EXPECT_EQ(camera["mean_px"], 2.5);
+  EXPECT_EQ(camera["max_px"], 2.5);
   EXPECT_FALSE(j["filters"].contains("reacquisitions")) << "the tracker did not re-acquire";
   // It could have, and did not: a count of 0 and no fraction of nothing.
   in.filters->reacquired.emplace();

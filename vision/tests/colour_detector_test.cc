@@ -78,8 +78,7 @@ TEST(ColourDetector, BackProjectsEachBinsShareOfTheLargest) {
       std::copy(rgb.begin(), rgb.end(), patch.at(x, y));
     }
   }
-  const std::vector<TargetModel> models{
-      CutTargetModel(patch, BoxPx{0, 0, 8, 8}, ObjectId{4}, 0)};
+  const std::vector<TargetModel> models{CutTargetModel(patch, BoxPx{0, 0, 8, 8}, ObjectId{4}, 0)};
   const RgbImage frame = Blocks(64, 64, {{20, 30}}, 8, {30, 30, 200});
   DetectorOptions options;
   options.colour.min_contrast = 0.1;
@@ -101,13 +100,12 @@ TEST(ColourDetector, BackProjectsEachBinsShareOfTheLargest) {
 TEST(ColourDetector, TheBoxIsCentredOnTheBlockForEvenAndOddSides) {
   for (const int side : {8, 7}) {
     const RgbImage patch = Blocks(side, side, {{0, 0}}, side, {200, 30, 30});
-    const std::vector<TargetModel> models{
-        CutTargetModel(patch, BoxPx{0, 0, static_cast<double>(side), static_cast<double>(side)},
-                       ObjectId{4}, 0)};
+    const std::vector<TargetModel> models{CutTargetModel(
+        patch, BoxPx{0, 0, static_cast<double>(side), static_cast<double>(side)}, ObjectId{4}, 0)};
     const RgbImage frame = Blocks(64, 64, {{20, 30}}, side, {200, 30, 30});
     Rng rng(1);
-    const DetectorOutput out = MakeDetector("colour", DetectorOptions{})
-                                   ->Detect({.image = frame, .models = models}, rng);
+    const DetectorOutput out =
+        MakeDetector("colour", DetectorOptions{})->Detect({.image = frame, .models = models}, rng);
     ASSERT_EQ(out.detections.size(), 1u) << side;
     EXPECT_DOUBLE_EQ(out.detections[0].box.centre_x(), 20 + side / 2.0) << side;
     EXPECT_DOUBLE_EQ(out.detections[0].box.centre_y(), 30 + side / 2.0) << side;

@@ -34,7 +34,9 @@ SimilarityMotion CornerOptimalSimilarity(const Eigen::Matrix3d& true_frame_to_fr
 
 // Summary of per-frame camera-motion errors (px).
 struct CameraMotionErrorSummary {
-  int frames = 0;  // values summarised; 0: every statistic below is 0
+  // Values summarised; 0: nothing was measured, every statistic below is 0
+  // here and null in metrics.json (RunMetricsToJson).
+  int frames = 0;
   double mean_px = 0.0;
   double median_px = 0.0;
   // The 95th percentile, linear interpolation between closest ranks: with the

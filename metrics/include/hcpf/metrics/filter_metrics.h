@@ -120,7 +120,7 @@ struct FilterMetrics {
   int64_t hijacked_encounters = 0;
   int64_t swaps = 0;
   double hijack_rate = 0.0;                // hijacked encounters / encounters (NaN: none)
-  std::vector<double> hijacked_fraction;   // per frame: HIJACKED / scored filters in that frame
+  std::vector<double> hijacked_fraction;   // per frame: HIJACKED / scored filters (NaN: none)
   double hijacked_fraction_overall = 0.0;  // HIJACKED / scored over all frames (NaN: none)
   std::vector<VisibilityBin> da_by_visibility;
   double mean_mass_on_other = 0.0;  // over filter-frames with a cloud (NaN: none)

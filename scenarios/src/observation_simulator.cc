@@ -54,7 +54,9 @@ Observation SimulateObservation(const FrameGroundTruth& gt, const SimulatedObser
       w = in_frame[k]->amodal_box.width;
       h = in_frame[k]->amodal_box.height;
     }
-    const double score = clutter.Uniform() * (max_strength > 0.0 ? max_strength : 1.0);
+    // In [0, max strength]; [0, 1] only when no target is in the frame (a
+    // frame of targets of strength 0 gave clutter up to 1 above them: audit).
+    const double score = clutter.Uniform() * (in_frame.empty() ? 1.0 : max_strength);
     obs.detections.push_back(Detection{BoxPx::FromCentre(cx, cy, w, h), score, std::nullopt});
   }
 

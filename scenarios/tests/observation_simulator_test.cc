@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 
 namespace hcpf::scenarios {
@@ -40,6 +41,31 @@ TEST(SimulateObservation, NoiselessPerfectDetectorReturnsTheBoxes) {
   EXPECT_DOUBLE_EQ(obs.detections[0].score, 1.0);
   EXPECT_DOUBLE_EQ(obs.detections[1].score, 0.4 * 0.5);  // strength * visibility
   EXPECT_EQ(obs.detections[1].source, ObjectId{2});
+}
+
+// Clutter scores lie in [0, max strength of the in-frame targets]: with both
+// targets of strength 0, every clutter box scores 0 (it scored up to 1
+// before, above the targets' own 0); with none in the frame, up to 1.
+TEST(SimulateObservation, ClutterScoresStayWithinTheStrongestTargetsStrength) {
+  SimulatedObservationOptions o;
+  o.p_detect = 1.0;
+  o.clutter_per_frame = 20.0;
+  o.strength = {{1, 0.0}, {2, 0.0}};
+  FrameGroundTruth gt = TwoTargets();
+  const Observation obs = SimulateObservation(gt, o, 3);
+  int clutter = 0;
+  for (const Detection& d : obs.detections) {
+    if (d.source) continue;
+    ++clutter;
+    EXPECT_EQ(d.score, 0.0);
+  }
+  EXPECT_GT(clutter, 5);  // Poisson(20): P(<= 5) < 1e-4
+  for (GroundTruthObject& object : gt.objects) object.in_frame = false;
+  double highest = 0.0;
+  for (const Detection& d : SimulateObservation(gt, o, 3).detections) {
+    highest = std::max(highest, d.score);
+  }
+  EXPECT_GT(highest, 0.5);  // 20 uniform draws on [0, 1] all below 0.5: 1e-6
 }
 
 TEST(SimulateObservation, DeterministicAndSeeded) {

@@ -33,6 +33,13 @@ TEST(Regress, CompareMetricByHand) {
   EXPECT_EQ(CompareMetric(0.5, 0.5, lower), RegressVerdict::kSame);
   EXPECT_EQ(CompareMetric(std::nan(""), 0.5, lower), RegressVerdict::kWorse);
   EXPECT_EQ(CompareMetric(std::nan(""), std::nan(""), lower), RegressVerdict::kSame);
+  // A change of exactly the tolerance does not exceed it, whatever its last
+  // digits: 0.9375 − 0.9575 is −0.020000000000000018 in doubles (it was
+  // WORSE: an audit), and the same gain is not better.
+  const RegressTolerance two{"da_accuracy", 0.02, true};
+  EXPECT_EQ(CompareMetric(0.9575, 0.9375, two), RegressVerdict::kSame);
+  EXPECT_EQ(CompareMetric(0.9375, 0.9575, two), RegressVerdict::kSame);
+  EXPECT_EQ(CompareMetric(0.9575, 0.9374, two), RegressVerdict::kWorse);
 }
 
 // Five seeds, idf1 (higher is better). d_i = current_i − baseline_i =

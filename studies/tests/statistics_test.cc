@@ -7,6 +7,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <tuple>
 #include <vector>
 
 #include "hcpf/studies/metric_catalogue.h"
@@ -146,6 +147,24 @@ TEST(MeanInterval95, ProportionsGetWilsonWithTheEffectiveNumberOfTrials) {
   EXPECT_EQ(MeanInterval95(fr, MetricRange::UnitInterval()).method, IntervalMethod::kStudentT);
 }
 
+// Seeds all of one value have s² = 0 exactly, so n* = n whatever the value's
+// digits: 0.9 ten times sums to 8.999999999999998, and its mean's squared
+// deviations were 1e-32, n* 5e31 and the band [0.9, 0.9] (an audit). By
+// hand, Wilson at p̂ = 0.9, n = 10: centre (0.9 + 3.841459/20) / 1.3841459
+// = 0.7889869, half-width 1.959964 / 1.3841459 · √(0.009 + 3.841459/400) =
+// 0.1931369: [0.5958500, 0.9821238]; at 0.3: [0.1077913, 0.6032219].
+TEST(MeanInterval95, SeedsOfOneValueGetTheBinomialBandOfTheirCount) {
+  for (const auto& [value, lower, upper] :
+       {std::tuple{0.9, 0.5958500, 0.9821238}, std::tuple{0.3, 0.1077913, 0.6032219}}) {
+    const std::vector<double> same(10, value);
+    const Interval r = MeanInterval95(same, MetricRange::Proportion());
+    EXPECT_EQ(r.mean, value);
+    EXPECT_EQ(r.trials, 10.0) << value;
+    EXPECT_NEAR(r.lower, lower, 1e-6) << value;
+    EXPECT_NEAR(r.upper, upper, 1e-6) << value;
+  }
+}
+
 // The exact signed-rank distribution with ranks 1..n: P(W+ = w) is the
 // number of subsets of {1..n} summing to w over 2^n; for w <= n that is the
 // number of partitions of w into distinct parts, 1 1 1 2 2 3 4 5 6 8 for w = 0..9.
@@ -237,6 +256,45 @@ TEST(WilcoxonSignedRank, NormalApproximationWithTiesByHand) {
   EXPECT_FALSE(b.exact);
   EXPECT_EQ(b.w_plus, 248.0);
   EXPECT_EQ(b.p_value, 1.0);
+}
+
+// W+ of many pairs: 2 W+ passes 2^31 from 46,341 pairs (it was an int, and
+// wrapped to a negative W+ and p = 0: an audit). d_i = ±(i + 1), positive
+// for even i, 70,000 pairs: ranks i + 1, W+ = 1 + 3 + ... + 69,999 =
+// 35,000² = 1,225,000,000 against the mean n(n+1)/4 = 1,225,017,500; z =
+// (17,500 − 0.5) / √(n(n+1)(2n+1)/24) = 0.0032731, p = erfc(z/√2) = 0.99739.
+TEST(WilcoxonSignedRank, ManyPairsDoNotOverflowTheRankSum) {
+  std::vector<double> d(70000);
+  for (size_t i = 0; i < d.size(); ++i)
+    d[i] = (i % 2 == 0 ? 1.0 : -1.0) * static_cast<double>(i + 1);
+  const SignedRankTest t = WilcoxonSignedRank(d);
+  EXPECT_EQ(t.nonzero, 70000);
+  EXPECT_EQ(t.w_plus, 1225000000.0);
+  EXPECT_NEAR(t.p_value, 0.99739, 1e-5);
+  // All of one sign: W+ = n(n+1)/2 = 2,450,035,000.
+  for (double& x : d) x = std::abs(x);
+  EXPECT_EQ(WilcoxonSignedRank(d).w_plus, 2450035000.0);
+}
+
+// One fraction reached by two roundings is one value: 152/300 − 151/300 =
+// 0.0033333333333334103 and 77/300 − 76/300 = 0.0033333333333332993 are both
+// 1/300. With d = {152/300 − 151/300, −(77/300 − 76/300), 2/300} the first
+// two tie at rank 1.5 and W+ = 1.5 + 3 = 4.5 (it was 5 by their last digits:
+// an audit). And a difference of one value reached two ways, 0.1 + 0.2
+// against 0.3 (5.6e-17 apart), is a tie in ComparePaired, not a pair.
+TEST(WilcoxonSignedRank, FractionsEqualButForRoundingAreTied) {
+  const double a = 152.0 / 300.0 - 151.0 / 300.0;
+  const double b = 77.0 / 300.0 - 76.0 / 300.0;
+  ASSERT_NE(a, b);
+  const std::vector<double> d = {a, -b, 2.0 / 300.0};
+  EXPECT_EQ(WilcoxonSignedRank(d).w_plus, 4.5);
+  const std::vector<double> x = {0.1 + 0.2, 0.5}, y = {0.3, 0.4};
+  const PairedComparison c = ComparePaired(x, y, MetricRange::Unbounded());
+  EXPECT_EQ(c.pairs, 2);
+  EXPECT_EQ(c.positive, 1);
+  EXPECT_EQ(c.negative, 0);
+  EXPECT_EQ(c.test.nonzero, 1);
+  EXPECT_NEAR(c.difference.mean, 0.05, 1e-12);
 }
 
 TEST(ComparePaired, DifferenceIntervalCountsAndTestByHand) {

@@ -13,7 +13,8 @@
 //    score is strength * visible_fraction;
 //  - clutter: Poisson(clutter_per_frame) boxes (sub-stream "clutter"), centres
 //    uniform over the image, sizes those of a random in-frame target (or 5 % of
-//    the image width when there is none), score uniform in [0, max strength];
+//    the image width when there is none), score uniform in [0, max strength]
+//    of the in-frame targets (in [0, 1] when there is none);
 //  - optional likelihood map: per cell, the sum over visible targets of
 //      strength * visible_fraction * exp(-d² / (2 s²)),  s = map_blob_scale * (w + h) / 4,
 //    plus a noise floor uniform in [0, map_noise] (sub-stream "map").

@@ -99,7 +99,10 @@ Interval MeanInterval95(std::span<const double> values, const MetricRange& range
 // Wilcoxon signed-rank test of paired differences (two-sided, H0: the
 // differences are symmetric about 0). Zero differences are dropped
 // (Wilcoxon's rule), the others ranked by |d| with tied values given their
-// average rank; W+ is the sum of the ranks of positive differences.
+// average rank; W+ is the sum of the ranks of positive differences. Values of
+// |d| within a relative kSignedRankTieRelative of the smallest of their group
+// are tied (metrics are ratios of counts: one fraction reached by two
+// roundings differs in the 16th digit).
 // For up to kExactSignedRankMaxPairs nonzero differences p is exact: the
 // permutation distribution of W+ over the 2^n sign assignments of these
 // ranks (so exact with ties too), p = min(1, 2·min(P(W+ <= w), P(W+ >= w))).
@@ -107,6 +110,7 @@ Interval MeanInterval95(std::span<const double> values, const MetricRange& range
 // correction: z = (|W+ − n(n+1)/4| − ½) / √(n(n+1)(2n+1)/24 − Σ(t³−t)/48),
 // p = erfc(z/√2) (z < 0 → p = 1). No nonzero difference: p = 1.
 inline constexpr int kExactSignedRankMaxPairs = 30;
+inline constexpr double kSignedRankTieRelative = 1e-9;
 struct SignedRankTest {
   int nonzero = 0;      // differences left after dropping zeros
   double w_plus = 0.0;  // sum of the ranks of the positive differences
@@ -128,7 +132,9 @@ double SignedRankFloor(int n);
 int PairsForHolm(int m, double alpha);
 
 // A paired comparison of two cells on the seeds they share: d_i = a_i − b_i
-// for every pair where both values are finite.
+// for every pair where both values are finite, 0 where |a_i − b_i| is within
+// kSignedRankTieRelative of max(|a_i|, |b_i|) (one value reached by two
+// roundings).
 struct PairedComparison {
   int pairs = 0;                   // n: pairs with both values finite
   int positive = 0, negative = 0;  // pairs with a > b, a < b (the rest tie)

@@ -79,8 +79,10 @@ std::vector<Birth> MofNInitiator::Step(const Observation& observation,
   const int window_start = observation.frame - confirm_window_ + 1;
   for (Tentative& t : tentatives_) {
     std::erase_if(t.hits, [&](const Tentative::Hit& h) { return h.frame < window_start; });
-    // Never empty: the kept tentatives' last hits are at most N - M frames
-    // old, and a tentative matched or started this frame has a hit now.
+    // Never empty: a tentative matched or started this frame has a hit now,
+    // and one kept from the last frame had its last hit at most N - M frames
+    // before it, so at most N - M + 1 <= N - 1 frames before this one (M >= 2
+    // whenever one is kept: with M = 1 every tentative confirms at once).
     const Tentative::Hit& first = t.hits.front();
     const Tentative::Hit& last = t.hits.back();
     if (static_cast<int>(t.hits.size()) >= confirm_hits_) {

@@ -244,7 +244,7 @@ FrameReport MultiTargetTracker::Step(const Observation& observation,
   const FrameViews views = Associate(observation, predictions);
   Update(views, predicted, report);
   Resample(PosteriorSummaries(report), report);
-  ManageTracks(observation, views.assignment, predictions, report);
+  ManageTracks(observation, views.assignment, predictions, camera_motion, report);
   return report;
 }
 
@@ -416,9 +416,30 @@ void MultiTargetTracker::Resample(const std::vector<FilterSummary>& posterior,
   });
 }
 
+void MultiTargetTracker::ReportSeeded(const Filter& f, int detection, FrameReport& report) const {
+  const FilterSummary s = Summarise(f.set, f.id);
+  const auto pos =
+      std::lower_bound(report.filters.begin(), report.filters.end(), f.id,
+                       [](const FilterReport& r, TrackId id) { return Value(r.id) < Value(id); });
+  FilterReport& r = pos != report.filters.end() && pos->id == f.id
+                        ? *pos
+                        : *report.filters.insert(pos, FilterReport{});
+  r.id = f.id;
+  r.mean = s.mean;
+  r.cov = s.cov;
+  r.ess = s.ess;
+  r.box = BoxPx::FromCentre(s.mean.x(), s.mean.y(), f.base_w_px * s.mean_scale,
+                            f.base_h_px * s.mean_scale);
+  r.coasting = false;
+  r.assigned_detection = detection;
+  r.missed_frames = 0;
+  r.particles = Decimate(f.set, options_.keep_particles);
+}
+
 void MultiTargetTracker::ManageTracks(const Observation& observation,
                                       const std::vector<int>& assignment,
                                       const std::vector<TrackPrediction>& predictions,
+                                      const std::optional<SimilarityMotion>& camera_motion,
                                       FrameReport& report) {
   // Support counters and deletion.
   std::vector<std::unique_ptr<Filter>> kept;
@@ -441,7 +462,7 @@ void MultiTargetTracker::ManageTracks(const Observation& observation,
   }
   if (options_.management.reacquire == ReacquireMode::kOwnDetections &&
       observation.target_specific()) {
-    Reacquire(observation, assigned, predictions, report);
+    Reacquire(observation, assigned, predictions, camera_motion, report);
   }
 
   // Births from the detections no filter claims: not assigned and not inside
@@ -455,12 +476,15 @@ void MultiTargetTracker::ManageTracks(const Observation& observation,
     });
     if (!gated) free_detections.push_back(d);
   }
-  for (const Birth& birth : components_.initiator->Step(observation, free_detections)) {
+  for (const Birth& birth :
+       components_.initiator->Step(observation, free_detections, camera_motion)) {
     const TrackId id{next_track_id_++};
-    // Born from this frame's detection, so it describes this frame and must
-    // predict at the next Step (unlike a BirthTrack before a Step).
-    Bear(id, rng_.Fork("tracker/filter", Value(id)), birth.box, birth.velocity_px).just_born =
-        false;
+    // Born from this frame's detection, so it describes this frame: it is
+    // reported in it, and it predicts at the next Step (unlike a BirthTrack
+    // before a Step).
+    Filter& f = Bear(id, rng_.Fork("tracker/filter", Value(id)), birth.box, birth.velocity_px);
+    f.just_born = false;
+    ReportSeeded(f, birth.detection, report);
     report.born.push_back(id);
   }
 }
@@ -468,6 +492,7 @@ void MultiTargetTracker::ManageTracks(const Observation& observation,
 void MultiTargetTracker::Reacquire(const Observation& observation,
                                    const std::vector<char>& assigned,
                                    const std::vector<TrackPrediction>& predictions,
+                                   const std::optional<SimilarityMotion>& camera_motion,
                                    FrameReport& report) {
   // A filter with support this frame has its target: its tentative ends.
   for (const auto& f : filters_) {
@@ -507,25 +532,32 @@ void MultiTargetTracker::Reacquire(const Observation& observation,
     const auto candidate = best.find(target);
     const std::vector<Birth> confirmed =
         candidate == best.end()
-            ? tentative->second.Step(observation, {})
-            : tentative->second.Step(observation, std::span<const size_t>(&candidate->second, 1));
+            ? tentative->second.Step(observation, {}, camera_motion)
+            : tentative->second.Step(observation, std::span<const size_t>(&candidate->second, 1),
+                                     camera_motion);
     if (confirmed.empty()) continue;
     reacquiring_.erase(tentative);
     const Birth& birth = confirmed.front();
     const TrackId id{target};
     const auto f =
         std::find_if(filters_.begin(), filters_.end(), [&](const auto& g) { return g->id == id; });
+    Filter* seeded = nullptr;
     if (f != filters_.end()) {
       // Lost but not deleted: its particles start again at its target, drawn
       // from its own stream; its support count starts again too.
-      Seed(**f, birth.box, birth.velocity_px);
-      (*f)->missed_frames = 0;
+      seeded = f->get();
+      Seed(*seeded, birth.box, birth.velocity_px);
+      seeded->missed_frames = 0;
     } else {
       // Born from this frame's detection: it predicts at the next Step.
-      Bear(id, rng_.Fork("tracker/filter", target).Fork("reacquired", ++rebirths_[target]),
-           birth.box, birth.velocity_px)
-          .just_born = false;
+      seeded =
+          &Bear(id, rng_.Fork("tracker/filter", target).Fork("reacquired", ++rebirths_[target]),
+                birth.box, birth.velocity_px);
+      seeded->just_born = false;
     }
+    // Its row for this frame is its re-seeded estimate, not the lost one (nor
+    // the deleted filter's, if it ended this frame and is born again).
+    ReportSeeded(*seeded, birth.detection, report);
     report.reacquired.push_back(id);
   }
 }

@@ -418,14 +418,151 @@ TEST(MultiTargetTracker, MOfNConfirmationFromDetections) {
   for (const double v : p->vx) mean_vx += v / static_cast<double>(p->size());
   // 100 particles with birth velocity sd 0.5: standard error 0.05; 5 sd = 0.25.
   EXPECT_NEAR(mean_vx, 2.0, 0.25);
-  // Frames 3, 4: the clutter tentative (1 hit) can no longer reach 3 hits and
-  // must never be born; the track keeps being supported.
+  // Frames 3 to 7: the clutter tentative (1 hit, at frame 1) is dropped at
+  // frame 4, its hit 3 > N - M = 2 frames old, and is never born; the track
+  // keeps being supported.
   for (int t = 3; t < 8; ++t) {
     const FrameReport q =
         tracker->Step(Frame(t, {{BoxPx::FromCentre(50 + 2 * t, 50, 10, 10), 1.0}}));
     EXPECT_TRUE(q.born.empty()) << t;
   }
   EXPECT_EQ(tracker->num_filters(), 1U);
+}
+
+// A track confirmed from detections describes its confirmation frame, so the
+// frame reports it (tracks.txt has its box there), at the detection it was
+// confirmed from, with uniform weights; before 2026-12-05 it appeared only from
+// the next frame on (the audit's F6: one missed box per birth).
+TEST(MultiTargetTracker, ATrackBornFromDetectionsIsReportedInItsConfirmationFrame) {
+  TrackerOptions o;
+  o.init = InitMode::kDetections;
+  o.particles = 100;
+  auto tracker = MakeTracker(o, Rng(5));
+  FrameReport r;
+  for (int t = 0; t < 3; ++t) {
+    r = tracker->Step(Frame(t, {{BoxPx::FromCentre(50 + 2 * t, 50, 10, 10), 1.0}}));
+    EXPECT_EQ(r.born.empty(), t < 2) << t;
+  }
+  ASSERT_EQ(r.filters.size(), 1U);
+  const FilterReport& f = r.filters[0];
+  EXPECT_EQ(f.id, TrackId{1});
+  // 100 particles drawn 2 px about (54, 50): the mean's sd is 0.2 px, 1 px
+  // is 5 of it. Width 10 with a log-scale spread of 0.05: the mean scale's
+  // sd is 0.005, 0.5 px is 10 of it (0.05 px).
+  EXPECT_NEAR(f.box.centre_x(), 54.0, 1.0);
+  EXPECT_NEAR(f.box.centre_y(), 50.0, 1.0);
+  EXPECT_NEAR(f.box.width, 10.0, 0.5);
+  EXPECT_NEAR(f.ess, 100.0, 1e-9);  // uniform weights: 1 / (100 / 100^2)
+  EXPECT_EQ(f.assigned_detection, 0);
+  EXPECT_EQ(f.missed_frames, 0);
+  EXPECT_FALSE(f.coasting);
+  const auto rows = ToTrackEstimates(r, o.particles);
+  ASSERT_EQ(rows.size(), 1U);
+  EXPECT_EQ(rows[0].id, TrackId{1});
+  EXPECT_NEAR(rows[0].confidence, 1.0, 1e-9);
+}
+
+// Noise-free dynamics and births: every particle of a filter moves as one.
+TrackerOptions Exact(TrackerOptions o) {
+  o.particles = 50;
+  o.dynamics.sigma_pos_px = 0.0;
+  o.dynamics.sigma_vel_px = 0.0;
+  o.management.birth_sigma_px = 0.0;
+  o.management.birth_sigma_vel_px = 0.0;
+  o.management.birth_sigma_log_scale = 0.0;
+  return o;
+}
+
+double MeanVx(const ParticleSet& p) {
+  double sum = 0.0;
+  for (const double v : p.vx) sum += v;
+  return sum / static_cast<double>(p.size());
+}
+
+// The camera pans 5 px/frame (frames 1 on). A target static in the scene
+// (own = 0), or moving +2 px/frame in it, is seen at 100 + (5 + own) t. Born
+// from detections at the end of frame 2 (3 of 5), the filter's velocity is
+// the target's own, and at frame 3 the camera's pan and that velocity put it
+// at 100 + 3 (5 + own), the target's place. Before 2026-12-05 the velocity was
+// 5 + own (the image displacement) and the camera's 5 px were counted twice:
+// 5 px ahead at frame 3 (the audit's F3).
+TEST(MultiTargetTracker, NewbornsFromDetectionsMoveWithTheCameraOnce) {
+  const SimilarityMotion pan{.tx_px = 5.0};
+  for (const double own : {0.0, 2.0}) {
+    TrackerOptions o = Exact({});
+    o.init = InitMode::kDetections;
+    auto tracker = MakeTracker(o, Rng(9));
+    const double step = 5.0 + own;
+    FrameReport r;
+    for (int t = 0; t < 4; ++t) {
+      r = tracker->Step(Frame(t, {{BoxPx::FromCentre(100 + step * t, 80, 10, 10), 1.0}}),
+                        t == 0 ? std::nullopt : std::optional(pan));
+      EXPECT_EQ(r.born.size(), t == 2 ? 1U : 0U) << t;
+      if (t == 2) {
+        EXPECT_NEAR(MeanVx(*tracker->particles(TrackId{1})), own, 1e-12) << own;
+      }
+    }
+    ASSERT_EQ(r.filters.size(), 1U);
+    EXPECT_NEAR(r.filters[0].mean.x(), 100 + 3 * step, 1e-9) << own;
+    EXPECT_NEAR(r.filters[0].mean.y(), 80.0, 1e-9) << own;
+  }
+}
+
+// The same for a filter re-seeded by reacquire: filter 1 coasts at (100,
+// 100) moved by the pan, 200 px from its target's labelled detections at
+// 300 + (5 + own) t; they confirm at frame 2 and re-seed it with the target's
+// own velocity, so at frame 3 it is at 300 + 3 (5 + own).
+TEST(MultiTargetTracker, AReacquiredFilterMovesWithTheCameraOnce) {
+  const SimilarityMotion pan{.tx_px = 5.0};
+  for (const double own : {0.0, 2.0}) {
+    TrackerOptions o = Exact({});
+    o.management.reacquire = ReacquireMode::kOwnDetections;
+    auto tracker = MakeTracker(o, Rng(10));
+    tracker->BirthTrack(TrackId{1}, BoxPx::FromCentre(100, 100, 10, 10));
+    const double step = 5.0 + own;
+    FrameReport r;
+    for (int t = 0; t < 4; ++t) {
+      r = tracker->Step(Labelled(t, {{BoxPx::FromCentre(300 + step * t, 100, 10, 10), 0.9, 1}}),
+                        t == 0 ? std::nullopt : std::optional(pan));
+      EXPECT_EQ(r.reacquired.size(), t == 2 ? 1U : 0U) << t;
+      if (t == 2) {
+        EXPECT_NEAR(MeanVx(*tracker->particles(TrackId{1})), own, 1e-12) << own;
+      }
+    }
+    ASSERT_EQ(r.filters.size(), 1U);
+    EXPECT_FALSE(r.filters[0].coasting);
+    EXPECT_NEAR(r.filters[0].mean.x(), 300 + 3 * step, 1e-9) << own;
+  }
+}
+
+// A filter re-seeded by reacquire reports its new estimate in that frame,
+// not the lost one; one deleted in the same frame and born again has one row,
+// the new one. Filter 1 lost at (100, 100), its target's detections at
+// 200 + t, confirmed at frame 2 (the filter's third unsupported frame).
+TEST(MultiTargetTracker, AReacquiredFilterReportsItsNewEstimateInItsFrame) {
+  for (const int max_missed : {30, 3}) {
+    TrackerOptions o = Reacquiring(ReacquireMode::kOwnDetections);
+    o.management.max_missed_frames = max_missed;
+    auto tracker = MakeTracker(o, Rng(11));
+    tracker->BirthTrack(TrackId{1}, BoxPx::FromCentre(100, 100, 10, 10));
+    FrameReport r;
+    for (int t = 0; t < 3; ++t) {
+      r = tracker->Step(Labelled(t, {{BoxPx::FromCentre(200 + t, 100, 12, 12), 0.9, 1}}));
+    }
+    EXPECT_EQ(r.reacquired, std::vector<TrackId>{TrackId{1}});
+    EXPECT_EQ(r.deleted.size(), max_missed == 3 ? 1U : 0U);
+    ASSERT_EQ(r.filters.size(), 1U) << max_missed;
+    const FilterReport& f = r.filters[0];
+    EXPECT_EQ(f.id, TrackId{1});
+    // 200 particles drawn 2 px about (202, 100): the mean's sd is 0.14 px;
+    // 1 px is 7 of it, and 100 px short of the lost estimate.
+    EXPECT_NEAR(f.box.centre_x(), 202.0, 1.0) << max_missed;
+    EXPECT_NEAR(f.box.centre_y(), 100.0, 1.0) << max_missed;
+    EXPECT_NEAR(f.box.width, 12.0, 0.6) << max_missed;
+    EXPECT_EQ(f.assigned_detection, 0);
+    EXPECT_EQ(f.missed_frames, 0);
+    EXPECT_FALSE(f.coasting);
+  }
 }
 
 TEST(MultiTargetTracker, CameraMotionIsAppliedBeforeDynamicsButNotToNewborns) {
@@ -543,12 +680,14 @@ class IndexAssociator final : public Associator {  // track i <- detection i, if
 class FirstFrameInitiator final : public Initiator {  // births every free detection of frame 0
  public:
   explicit FirstFrameInitiator(Calls* calls) : calls_(calls) {}
-  std::vector<Birth> Step(const Observation& observation,
-                          std::span<const size_t> free_detections) override {
+  std::vector<Birth> Step(const Observation& observation, std::span<const size_t> free_detections,
+                          const std::optional<SimilarityMotion>&) override {
     calls_->free_detections.emplace_back(free_detections.begin(), free_detections.end());
     std::vector<Birth> births;
     if (observation.frame != 0) return births;
-    for (size_t d : free_detections) births.push_back({observation.detections[d].box, {2.0, 0.0}});
+    for (size_t d : free_detections) {
+      births.push_back({observation.detections[d].box, {2.0, 0.0}, static_cast<int>(d)});
+    }
     return births;
   }
   std::string_view name() const override { return "first_frame"; }
@@ -588,9 +727,16 @@ TEST(MultiTargetTracker, AssembledFromFakeComponents) {
   MultiTargetTracker tracker(options, std::move(parts), Rng(1));
 
   // Frame 0: no filter yet, so the one detection is free: the initiator
-  // births track 1 at its box (centre 105, 105) after the filters have run.
+  // births track 1 at its box (centre 105, 105) after the filters have run,
+  // and the frame reports it there, from detection 0, with uniform weights.
   FrameReport r = tracker.Step(FrameWith(0, {{100, 100, 10, 10}}));
-  EXPECT_TRUE(r.filters.empty());
+  ASSERT_EQ(r.filters.size(), 1u);
+  EXPECT_EQ(r.filters[0].id, TrackId{1});
+  EXPECT_EQ(r.filters[0].box, (BoxPx{100, 100, 10, 10}));
+  EXPECT_DOUBLE_EQ(r.filters[0].ess, 8.0);
+  EXPECT_EQ(r.filters[0].assigned_detection, 0);
+  EXPECT_FALSE(r.filters[0].coasting);
+  EXPECT_EQ(r.filters[0].missed_frames, 0);
   ASSERT_EQ(r.born.size(), 1u);
   EXPECT_EQ(r.born[0], TrackId{1});
   EXPECT_EQ(tracker.num_filters(), 1u);

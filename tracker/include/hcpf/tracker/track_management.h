@@ -6,34 +6,43 @@
 
 #include <Eigen/Core>
 #include <memory>
+#include <optional>
 #include <span>
 #include <string_view>
 #include <vector>
 
+#include "hcpf/core/similarity_motion.h"
 #include "hcpf/core/types.h"
 
 namespace hcpf::tracker {
 
 struct TrackManagementOptions;
 
-// A track to begin: its box (centre and size, px) and velocity (px/frame).
+// A track to begin: its box (centre and size, px), its velocity (px/frame,
+// scene-relative: the camera's motion taken out when the tracker applies it)
+// and the index into observation.detections of the detection it was
+// confirmed from (-1 if none).
 struct Birth {
   BoxPx box;
   Eigen::Vector2d velocity_px = Eigen::Vector2d::Zero();
+  int detection = -1;
 };
 
 // Turns detections that no filter claims into new tracks.
 // Contract: Step is called once per frame, in frame order, with the indices
 // (into observation.detections, increasing) of the detections no filter
-// claims; it returns the tracks confirmed this frame, in a deterministic
-// order. Unlike the tracker's other components an initiator keeps state
+// claims, and `camera_motion`, the camera's motion from the previous frame to
+// this one that the tracker applied to its particles this frame (nullopt when
+// it applies none); it returns the tracks confirmed this frame, in a
+// deterministic order. Unlike the tracker's other components an initiator keeps state
 // between frames (its tentative tracks), so one instance serves one tracker
 // and is not shared between threads. Deterministic; no randomness.
 class Initiator {
  public:
   virtual ~Initiator() = default;
   virtual std::vector<Birth> Step(const Observation& observation,
-                                  std::span<const size_t> free_detections) = 0;
+                                  std::span<const size_t> free_detections,
+                                  const std::optional<SimilarityMotion>& camera_motion) = 0;
   virtual std::string_view name() const = 0;
 };
 
@@ -42,24 +51,32 @@ class Initiator {
 // this initiator never proposes one.
 class NoInitiator final : public Initiator {
  public:
-  std::vector<Birth> Step(const Observation&, std::span<const size_t>) override { return {}; }
+  std::vector<Birth> Step(const Observation&, std::span<const size_t>,
+                          const std::optional<SimilarityMotion>&) override {
+    return {};
+  }
   std::string_view name() const override { return "ground_truth"; }
 };
 
-// init: detections. M-of-N confirmation: a free detection continues the
-// nearest tentative track within tentative_gate_px of its last centre (an
-// optimal one-to-one matching by squared centre distance) or starts a new
-// one; a tentative track with confirm_hits detections among its last
-// confirm_window frames is confirmed, with the velocity from its first to its
-// last centre; one that can no longer reach confirm_hits in its window is
-// dropped. O(T·D) per frame for T tentatives and D free detections (plus the
-// matching).
+// init: detections. M-of-N confirmation (M = confirm_hits, N =
+// confirm_window): a free detection continues the nearest tentative track
+// within tentative_gate_px of its last centre (an optimal one-to-one matching
+// by squared centre distance) or starts a new one. A tentative track with M
+// hits among the last N frames (this one included) is confirmed, with the
+// velocity from the first to the last of those hits. One whose last hit is
+// more than N - M frames old is dropped: every later window that still holds
+// that hit ends by frame last + N - 1 and so holds at most N - (frames since
+// the last hit) hits, fewer than M, and later windows hold none of its hits
+// (a new tentative does as well). Every centre it keeps is carried through
+// each frame's camera motion, so the gate compares positions in the current
+// frame and the velocity is the target's own, not the camera's. O(T·(D + N))
+// per frame for T tentatives and D free detections (plus the matching).
 class MofNInitiator final : public Initiator {
  public:
   explicit MofNInitiator(const TrackManagementOptions& options);
   ~MofNInitiator() override;
-  std::vector<Birth> Step(const Observation& observation,
-                          std::span<const size_t> free_detections) override;
+  std::vector<Birth> Step(const Observation& observation, std::span<const size_t> free_detections,
+                          const std::optional<SimilarityMotion>& camera_motion) override;
   std::string_view name() const override { return "detections"; }
 
  private:

@@ -172,9 +172,11 @@ struct FilterReport {
 
 struct FrameReport {
   int frame = 0;
-  std::vector<FilterReport> filters;  // every filter that ran this frame, by TrackId
-  std::vector<TrackId> born;          // filters born at the end of this frame
-  std::vector<TrackId> deleted;       // filters deleted at the end of this frame
+  // Every filter that ran this frame, and every filter born or re-seeded at
+  // its end (its estimate as seeded from this frame's detection), by TrackId.
+  std::vector<FilterReport> filters;
+  std::vector<TrackId> born;     // filters born at the end of this frame
+  std::vector<TrackId> deleted;  // filters deleted at the end of this frame
   // Filters re-seeded (or, deleted earlier, born again) at the end of this
   // frame from their own target's detections (management.reacquire).
   std::vector<TrackId> reacquired;
@@ -236,13 +238,21 @@ class MultiTargetTracker {
   void Update(const FrameViews& views, const std::vector<FilterSummary>& predicted,
               FrameReport& report);
   void Resample(const std::vector<FilterSummary>& posterior, FrameReport& report);
+  // `camera_motion`: this frame's, for the initiators' tentatives.
   void ManageTracks(const Observation& observation, const std::vector<int>& assignment,
-                    const std::vector<TrackPrediction>& predictions, FrameReport& report);
+                    const std::vector<TrackPrediction>& predictions,
+                    const std::optional<SimilarityMotion>& camera_motion, FrameReport& report);
   // management.reacquire: feeds each lost target's best unclaimed detection
   // to its tentative and re-seeds (or re-births) the filters confirmed.
   // `assigned`: per detection, whether a filter was given it this frame.
   void Reacquire(const Observation& observation, const std::vector<char>& assigned,
-                 const std::vector<TrackPrediction>& predictions, FrameReport& report);
+                 const std::vector<TrackPrediction>& predictions,
+                 const std::optional<SimilarityMotion>& camera_motion, FrameReport& report);
+  // Makes f's row of `report` (added in id order, or the row of its id
+  // replaced) its estimate as just seeded from this frame's detection
+  // `detection`: a filter born or re-seeded at the end of a frame describes
+  // that frame.
+  void ReportSeeded(const Filter& f, int detection, FrameReport& report) const;
   // Draws f's particles about `box` (centre, size) with mean velocity
   // `velocity_px` and the birth spreads, from f's own stream; sets its base size.
   void Seed(Filter& f, const BoxPx& box, const Eigen::Vector2d& velocity_px) const;

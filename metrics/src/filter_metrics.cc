@@ -93,6 +93,16 @@ std::span<const Field<FilterMetricsOptions>> FilterMetricsOptions::Fields() {
 
 void FilterMetricsOptions::Validate() const { CheckFields(*this, Fields(), "metrics"); }
 
+namespace {
+
+// Whether a filter's own target is scored at a frame: there, and at least
+// min_visible visible (else the filter is COASTING unless on another target).
+bool OwnTargetScored(const TargetState* target, const FilterMetricsOptions& options) {
+  return target != nullptr && target->visible_fraction >= options.min_visible;
+}
+
+}  // namespace
+
 FilterMetrics ComputeFilterMetrics(const FilterSequence& seq, const FilterMetricsOptions& options) {
   options.Validate();
   FilterMetrics out;
@@ -144,8 +154,9 @@ FilterMetrics ComputeFilterMetrics(const FilterSequence& seq, const FilterMetric
       rec.target = g_it == target_of.end() ? -1 : g_it->second;
       const auto own_it = rec.target >= 0 ? target_index.find(rec.target) : target_index.end();
       const bool own_present = own_it != target_index.end();
-      const double own_visible = own_present ? f.targets[own_it->second].visible_fraction : 0.0;
-      const bool coasting = !own_present || own_visible < options.min_visible;
+      const TargetState* own = own_present ? &f.targets[own_it->second] : nullptr;
+      const double own_visible = own != nullptr ? own->visible_fraction : 0.0;
+      const bool coasting = !OwnTargetScored(own, options);
       rec.covered = covered[k] >= 0 ? f.targets[covered[k]].id : -1;
       if (rec.covered >= 0 && rec.covered == rec.target) {
         rec.state = coasting ? FilterState::kCoasting : FilterState::kCorrect;
@@ -237,8 +248,8 @@ FilterMetrics ComputeFilterMetrics(const FilterSequence& seq, const FilterMetric
       if (states.empty()) {
         const auto it = std::find_if(targets_then.begin(), targets_then.end(),
                                      [target](const TargetState& o) { return o.id == target; });
-        const bool seen = it != targets_then.end() && it->visible_fraction >= options.min_visible;
-        states.push_back(seen ? FilterState::kLost : FilterState::kCoasting);
+        const bool scored = OwnTargetScored(it != targets_then.end() ? &*it : nullptr, options);
+        states.push_back(scored ? FilterState::kLost : FilterState::kCoasting);
       }
       return states;
     };
@@ -292,10 +303,10 @@ FilterMetrics ComputeFilterMetrics(const FilterSequence& seq, const FilterMetric
                         ? kNothing
                         : static_cast<double>(out.hijacked_encounters) / out.encounters.size();
 
-  // Re-acquisitions. Each one's frames run from the next frame to the frame
-  // of the same filter's next one (inclusive: it is re-seeded at that frame's
-  // end) or to the last frame, so together they are the frames after the
-  // filter's first re-acquisition.
+  // Re-acquisitions. Each one's frames run from its own frame (the tracker
+  // reports a re-seeded filter's new estimate there) to the frame before the
+  // same filter's next one, or to the last frame, so together they are the
+  // filter's frames from its first re-acquisition on.
   if (seq.reacquired) {
     Reacquisitions& r = out.reacquisitions.emplace();
     r.count = static_cast<int64_t>(seq.reacquired->size());
@@ -303,7 +314,7 @@ FilterMetrics ComputeFilterMetrics(const FilterSequence& seq, const FilterMetric
     for (const auto& [frame, filter] : *seq.reacquired) first_reacquired.try_emplace(filter, frame);
     for (const FilterFrameRecord& rec : out.records) {
       const auto first = first_reacquired.find(rec.filter);
-      if (first == first_reacquired.end() || rec.frame <= first->second ||
+      if (first == first_reacquired.end() || rec.frame < first->second ||
           rec.state == FilterState::kCoasting) {
         continue;
       }

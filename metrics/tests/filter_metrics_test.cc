@@ -99,12 +99,15 @@ TEST(FilterMetrics, NothingScoredIsNotAnAccuracyOfZero) {
 // Re-acquisitions (the tracker's management.reacquire). Target 1 at (0,0) in
 // frames 0-5; filter 10 (born for it) at (0,0), (50,50), (0,0), (0,0),
 // (60,60), (0,0): CORRECT, LOST, CORRECT, CORRECT, LOST, CORRECT. It is
-// re-acquired at the end of frames 1 and 3: the first one's frames are 2-3
-// (to the next one's frame, inclusive: 2 scored, 2 CORRECT), the second's
-// 4-5 (2 scored, 1 CORRECT). Target 2 is present in frame 0 only; filter 20
-// (born for it), re-acquired at the end of frame 0, then sits far from
-// everything while its target is absent: COASTING, not scored. Totals: 3
-// re-acquisitions, 4 scored frames after them, 3 CORRECT.
+// re-acquired in frames 1 and 3, whose rows are the re-seeded estimates
+// (the tracker reports a re-seeded filter in its frame): the first one's
+// frames are 1-2 (to the frame before the next one: 2 scored, 1 CORRECT),
+// the second's 3-5 (3 scored, 2 CORRECT). Target 2 is present in frame 0
+// only; filter 20 (born for it), re-acquired in frame 0 on it (CORRECT),
+// then sits far from everything while its target is absent: COASTING, not
+// scored. Totals: 3 re-acquisitions, 6 scored frames from them on, 4
+// CORRECT. (Counted from the next frame, as before the tracker reported the
+// re-seeded estimate in its frame, it was 4 and 3: review.)
 TEST(FilterMetrics, ReacquisitionsCountTheScoredFramesAfterEach) {
   FilterSequence seq;
   seq.birth_target = {{{10, 1}, {20, 2}}};
@@ -120,8 +123,8 @@ TEST(FilterMetrics, ReacquisitionsCountTheScoredFramesAfterEach) {
   const FilterMetrics m = ComputeFilterMetrics(seq, {});
   ASSERT_TRUE(m.reacquisitions.has_value());
   EXPECT_EQ(m.reacquisitions->count, 3);
-  EXPECT_EQ(m.reacquisitions->scored_after, 4);
-  EXPECT_EQ(m.reacquisitions->correct_after, 3);
+  EXPECT_EQ(m.reacquisitions->scored_after, 6);
+  EXPECT_EQ(m.reacquisitions->correct_after, 4);
   seq.reacquired->clear();
   const FilterMetrics none = ComputeFilterMetrics(seq, {});
   ASSERT_TRUE(none.reacquisitions.has_value());

@@ -232,12 +232,12 @@ TEST(Report, RunMetricsJsonHasEveryFamily) {
   EXPECT_EQ(
       nlohmann::json::parse(RunMetricsToJson(ComputeRunMetrics(in)))["filters"]["reacquisitions"],
       nlohmann::json::parse(R"({"count": 0, "scored_after": 0, "correct_after": 0})"));
-  // Re-acquired at the end of frame 0: frame 1 (CORRECT) follows.
+  // Re-acquired in frame 0: frames 0 and 1 (both CORRECT) from it on.
   in.filters->reacquired = {{{0, 5}}};
   const auto again = nlohmann::json::parse(RunMetricsToJson(ComputeRunMetrics(in)));
   EXPECT_EQ(again["filters"]["reacquisitions"],
             nlohmann::json::parse(
-                R"({"count": 1, "scored_after": 1, "correct_after": 1, "correct_fraction": 1.0})"));
+                R"({"count": 1, "scored_after": 2, "correct_after": 2, "correct_fraction": 1.0})"));
 }
 
 // The detection block's per-target records: frames 0-based (as elsewhere in

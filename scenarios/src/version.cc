@@ -16,7 +16,11 @@ std::string ProjectVersion() { return HCPF_VERSION; }
 
 std::string GitRevision() { return GitRevisionAtBuild(); }
 
-std::string BuildName() { return fmt::format("{} at {}", HCPF_VERSION, GitRevision()); }
+std::string BuildName(std::string_view version, std::string_view revision) {
+  return fmt::format("{} at {}", version, revision);
+}
+
+std::string BuildName() { return BuildName(HCPF_VERSION, GitRevision()); }
 
 std::string VersionString() { return fmt::format("hcpf {} (git {})", HCPF_VERSION, GitRevision()); }
 

@@ -197,7 +197,7 @@ namespace {
 // it, or a drop of exactly 0.02 was WORSE or not by the digits' luck (an
 // audit: 204 of the 295 drops of 6/300).
 double RoundingSlack(double baseline, double current) {
-  return 1e-9 * std::max({1.0, std::abs(baseline), std::abs(current)});
+  return kRoundingRelative * std::max({1.0, std::abs(baseline), std::abs(current)});
 }
 
 }  // namespace

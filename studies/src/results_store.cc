@@ -23,6 +23,7 @@
 #include "hcpf/core/names.h"
 #include "hcpf/core/text_file.h"
 #include "hcpf/scenarios/output_folder.h"
+#include "hcpf/scenarios/version.h"
 #include "hcpf/studies/metric_catalogue.h"
 #include "sweep_plan.h"
 #include "text.h"
@@ -649,7 +650,7 @@ std::string BuildOf(const json& manifest) {
                : std::string();
   };
   if (text("git_revision").empty()) return "";
-  return fmt::format("{} at {}", text("hcpf_version"), text("git_revision"));
+  return scenarios::BuildName(text("hcpf_version"), text("git_revision"));
 }
 
 // The headline metrics of a run from its metrics.json and manifest.json.

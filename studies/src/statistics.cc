@@ -151,7 +151,7 @@ SignedRankTest WilcoxonSignedRank(std::span<const double> differences) {
   t.nonzero = n;
   if (n == 0) return t;
   // Ranks of |d|, ties averaged; kept doubled so that they are integers.
-  // Tied: within kSignedRankTieRelative of the group's smallest |d| (equal
+  // Tied: within kRoundingRelative of the group's smallest |d| (equal
   // fractions reached by different roundings, 1 − 299/300 and 291/300 −
   // 290/300, differ in the 16th digit: an audit).
   std::vector<int> order(n);
@@ -164,8 +164,8 @@ SignedRankTest WilcoxonSignedRank(std::span<const double> differences) {
   for (int i = 0; i < n;) {
     int j = i;
     const double smallest = std::abs(d[order[i]]);
-    while (j + 1 < n && std::abs(d[order[j + 1]]) - smallest <=
-                            kSignedRankTieRelative * std::abs(d[order[j + 1]])) {
+    while (j + 1 < n &&
+           std::abs(d[order[j + 1]]) - smallest <= kRoundingRelative * std::abs(d[order[j + 1]])) {
       ++j;
     }
     // Positions i..j (0-based) share the ranks i+1..j+1: average (i+j+2)/2.
@@ -212,10 +212,10 @@ PairedComparison ComparePaired(std::span<const double> a, std::span<const double
   std::vector<double> d;
   for (size_t i = 0; i < a.size(); ++i) {
     if (!std::isfinite(a[i]) || !std::isfinite(b[i])) continue;
-    // A difference within kSignedRankTieRelative of the values is a tie
+    // A difference within kRoundingRelative of the values is a tie
     // (0.1 + 0.2 against 0.3 differs by 5.6e-17): zero, as the test drops.
     const double difference =
-        std::abs(a[i] - b[i]) <= kSignedRankTieRelative * std::max(std::abs(a[i]), std::abs(b[i]))
+        std::abs(a[i] - b[i]) <= kRoundingRelative * std::max(std::abs(a[i]), std::abs(b[i]))
             ? 0.0
             : a[i] - b[i];
     d.push_back(difference);

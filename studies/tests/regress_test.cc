@@ -113,6 +113,19 @@ TEST(Regress, ConsistentDropFailsWhereOneNoisySeedOfTheSameMeanDoesNot) {
             RegressVerdict::kBetter);
 }
 
+// The seeded mode's mean change of exactly the tolerance is not beyond it
+// either: two seeds each 0.9575 -> 0.9375 (a mean change of
+// −0.020000000000000018 in doubles, its interval zero wide) against 0.02 is
+// ok, and 0.9575 -> 0.9374 is WORSE.
+TEST(Regress, CompareSeedsAtExactlyTheTolerance) {
+  const RegressTolerance t{"da_accuracy", 0.02, true};
+  const std::vector<double> baseline = {0.9575, 0.9575};
+  EXPECT_EQ(CompareSeeds(baseline, std::vector<double>{0.9375, 0.9375}, t).verdict,
+            RegressVerdict::kSame);
+  EXPECT_EQ(CompareSeeds(baseline, std::vector<double>{0.9374, 0.9374}, t).verdict,
+            RegressVerdict::kWorse);
+}
+
 TEST(Regress, CompareSeedsIdentityAndNaN) {
   const double nan = std::nan("");
   const std::vector<double> v = {0.3, 0.7, 0.1, 0.9};

@@ -147,6 +147,16 @@ struct MultiTargetTracker::Filter {
   bool coasting = false;
 };
 
+namespace {
+
+// A filter's box: its mean centre, its birth size times its mean scale.
+BoxPx EstimateBox(const FilterSummary& s, double base_w_px, double base_h_px) {
+  return BoxPx::FromCentre(s.mean.x(), s.mean.y(), base_w_px * s.mean_scale,
+                           base_h_px * s.mean_scale);
+}
+
+}  // namespace
+
 MultiTargetTracker::MultiTargetTracker(const TrackerOptions& options, TrackerComponents components,
                                        Rng rng)
     : options_(options), components_(std::move(components)), rng_(rng) {
@@ -317,8 +327,7 @@ std::vector<TrackPrediction> MultiTargetTracker::Predictions(
     out.push_back({.id = f.id,
                    .mean = s.mean,
                    .cov = s.cov,
-                   .box = BoxPx::FromCentre(s.mean.x(), s.mean.y(), f.base_w_px * s.mean_scale,
-                                            f.base_h_px * s.mean_scale)});
+                   .box = EstimateBox(s, f.base_w_px, f.base_h_px)});
   }
   return out;
 }
@@ -356,6 +365,17 @@ std::vector<ParticlePoint> Decimate(const ParticleSet& set, int keep) {
   return out;
 }
 
+// The estimate part of a filter's report row (Update's and a seeded filter's).
+void DescribeEstimate(FilterReport& r, TrackId id, const FilterSummary& s, double base_w_px,
+                      double base_h_px, const ParticleSet& set, int keep_particles) {
+  r.id = id;
+  r.mean = s.mean;
+  r.cov = s.cov;
+  r.ess = s.ess;
+  r.box = EstimateBox(s, base_w_px, base_h_px);
+  r.particles = Decimate(set, keep_particles);
+}
+
 }  // namespace
 
 void MultiTargetTracker::Update(const FrameViews& views,
@@ -381,16 +401,10 @@ void MultiTargetTracker::Update(const FrameViews& views,
     const NormaliseResult normalised = NormaliseLogWeights(f.set);
     const FilterSummary s = Summarise(f.set, f.id);
     FilterReport& r = report.filters[i];
-    r.id = f.id;
-    r.mean = s.mean;
-    r.cov = s.cov;
-    r.ess = s.ess;
-    r.box = BoxPx::FromCentre(s.mean.x(), s.mean.y(), f.base_w_px * s.mean_scale,
-                              f.base_h_px * s.mean_scale);
+    DescribeEstimate(r, f.id, s, f.base_w_px, f.base_h_px, f.set, options_.keep_particles);
     r.recovered_degenerate = normalised.recovered_degenerate;
     r.coasting = f.coasting;
     r.assigned_detection = views.assignment[i];
-    r.particles = Decimate(f.set, options_.keep_particles);
   });
   for (const FilterReport& r : report.filters) {
     if (r.recovered_degenerate) ++report.degenerate_filters;
@@ -424,16 +438,10 @@ void MultiTargetTracker::ReportSeeded(const Filter& f, int detection, FrameRepor
   FilterReport& r = pos != report.filters.end() && pos->id == f.id
                         ? *pos
                         : *report.filters.insert(pos, FilterReport{});
-  r.id = f.id;
-  r.mean = s.mean;
-  r.cov = s.cov;
-  r.ess = s.ess;
-  r.box = BoxPx::FromCentre(s.mean.x(), s.mean.y(), f.base_w_px * s.mean_scale,
-                            f.base_h_px * s.mean_scale);
+  DescribeEstimate(r, f.id, s, f.base_w_px, f.base_h_px, f.set, options_.keep_particles);
   r.coasting = false;
   r.assigned_detection = detection;
   r.missed_frames = 0;
-  r.particles = Decimate(f.set, options_.keep_particles);
 }
 
 void MultiTargetTracker::ManageTracks(const Observation& observation,
@@ -460,8 +468,11 @@ void MultiTargetTracker::ManageTracks(const Observation& observation,
   for (const int d : assignment) {
     if (d >= 0) assigned[static_cast<size_t>(d)] = 1;
   }
+  // A frame without labelled detections (none at all, say) still steps the
+  // open tentatives: it is a miss, and the camera's motion carries their
+  // centres (skipped, it was neither: review).
   if (options_.management.reacquire == ReacquireMode::kOwnDetections &&
-      observation.target_specific()) {
+      (observation.target_specific() || !reacquiring_.empty())) {
     Reacquire(observation, assigned, predictions, camera_motion, report);
   }
 

@@ -535,6 +535,30 @@ TEST(MultiTargetTracker, AReacquiredFilterMovesWithTheCameraOnce) {
   }
 }
 
+// A frame without detections between a re-acquisition's hits still carries
+// its tentative through the camera's motion (and counts as a miss). The lost
+// filter's target stands still in the scene under a pan of 5 px/frame: its
+// detections at 300 (frame 0), none (frame 1), 310 and 315 (frames 2, 3).
+// Three hits in four frames confirm at frame 3, the first hit carried
+// through three pans to 315: velocity 0. Before, frame 1 was skipped, its
+// pan never applied to the tentative, and the filter was born moving.
+TEST(MultiTargetTracker, AFrameWithoutDetectionsStillCarriesAReacquisitionsTentative) {
+  const SimilarityMotion pan{.tx_px = 5.0};
+  TrackerOptions o = Exact({});
+  o.management.reacquire = ReacquireMode::kOwnDetections;
+  auto tracker = MakeTracker(o, Rng(10));
+  tracker->BirthTrack(TrackId{1}, BoxPx::FromCentre(100, 100, 10, 10));
+  const double xs[] = {300, 0, 310, 315};
+  FrameReport r;
+  for (int t = 0; t < 4; ++t) {
+    std::vector<std::tuple<BoxPx, double, int32_t>> dets;
+    if (t != 1) dets.push_back({BoxPx::FromCentre(xs[t], 100, 10, 10), 0.9, 1});
+    r = tracker->Step(Labelled(t, dets), t == 0 ? std::nullopt : std::optional(pan));
+  }
+  ASSERT_EQ(r.reacquired, std::vector<TrackId>{TrackId{1}});
+  EXPECT_NEAR(MeanVx(*tracker->particles(TrackId{1})), 0.0, 1e-12);
+}
+
 // A filter re-seeded by reacquire reports its new estimate in that frame,
 // not the lost one; one deleted in the same frame and born again has one row,
 // the new one. Filter 1 lost at (100, 100), its target's detections at

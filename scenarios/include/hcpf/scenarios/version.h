@@ -3,6 +3,7 @@
 
 #include <map>
 #include <string>
+#include <string_view>
 
 namespace hcpf::scenarios {
 
@@ -15,6 +16,8 @@ std::string GitRevision();
 // "0.1.0 at abcdef123456": the build as a run's manifest names it
 // (hcpf_version at git_revision), and as the results store records it.
 std::string BuildName();
+// The same name of another build: "<version> at <revision>".
+std::string BuildName(std::string_view version, std::string_view revision);
 // The OpenGL context `renderer.backend: auto` gets on this machine, for
 // `hcpf --version`: "GL (backend auto): egl device 0 (hardware), renderer
 // \"NVIDIA H100 ...\", OpenGL 4.6 ...", or why none could be made. Creates and

@@ -100,7 +100,7 @@ Interval MeanInterval95(std::span<const double> values, const MetricRange& range
 // differences are symmetric about 0). Zero differences are dropped
 // (Wilcoxon's rule), the others ranked by |d| with tied values given their
 // average rank; W+ is the sum of the ranks of positive differences. Values of
-// |d| within a relative kSignedRankTieRelative of the smallest of their group
+// |d| within a relative kRoundingRelative of the smallest of their group
 // are tied (metrics are ratios of counts: one fraction reached by two
 // roundings differs in the 16th digit).
 // For up to kExactSignedRankMaxPairs nonzero differences p is exact: the
@@ -110,7 +110,10 @@ Interval MeanInterval95(std::span<const double> values, const MetricRange& range
 // correction: z = (|W+ − n(n+1)/4| − ½) / √(n(n+1)(2n+1)/24 − Σ(t³−t)/48),
 // p = erfc(z/√2) (z < 0 → p = 1). No nonzero difference: p = 1.
 inline constexpr int kExactSignedRankMaxPairs = 30;
-inline constexpr double kSignedRankTieRelative = 1e-9;
+// What rounding may leave between two values that are one: 1e-9 of their
+// size. Ties and zeros of the signed-rank test, and the regression gate's
+// slack at its tolerance (regress.cc), allow it.
+inline constexpr double kRoundingRelative = 1e-9;
 struct SignedRankTest {
   int nonzero = 0;      // differences left after dropping zeros
   double w_plus = 0.0;  // sum of the ranks of the positive differences
@@ -133,7 +136,7 @@ int PairsForHolm(int m, double alpha);
 
 // A paired comparison of two cells on the seeds they share: d_i = a_i − b_i
 // for every pair where both values are finite, 0 where |a_i − b_i| is within
-// kSignedRankTieRelative of max(|a_i|, |b_i|) (one value reached by two
+// kRoundingRelative of max(|a_i|, |b_i|) (one value reached by two
 // roundings).
 struct PairedComparison {
   int pairs = 0;                   // n: pairs with both values finite

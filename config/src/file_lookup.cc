@@ -21,11 +21,11 @@ std::optional<std::string> FindFile(const std::string& written, const std::strin
   std::error_code ec;
   for (const fs::path& c : candidates) {
     if (fs::is_regular_file(c, ec)) return c.lexically_normal().string();
+    if (looked_at == nullptr) continue;
     // A folder looked in twice (the scenario's folder is the current one)
     // is listed once (a bad-input audit: "looked at /a/x.glb, /a/x.glb, ...").
     const std::string normal = fs::absolute(c, ec).lexically_normal().string();
-    if (looked_at != nullptr &&
-        std::find(looked_at->begin(), looked_at->end(), normal) == looked_at->end()) {
+    if (std::find(looked_at->begin(), looked_at->end(), normal) == looked_at->end()) {
       looked_at->push_back(normal);
     }
   }

@@ -83,18 +83,66 @@ const char* InvisibleName(char32_t cp) {
   }
 }
 
+// A character past ASCII that an editor shows as an ASCII one: a key,
+// choice or number written with it was refused with a message whose "found"
+// looked the same as the expected text (`frаmes` with a Cyrillic а, `−40`
+// with a minus sign: letters from another keyboard layout, a minus from a
+// word processor).
+struct LookAlike {
+  char32_t code_point;
+  char ascii;
+  const char* name;
+};
+
+constexpr LookAlike kLookAlikes[] = {
+    {0x0430, 'a', "CYRILLIC SMALL LETTER A"},
+    {0x0441, 'c', "CYRILLIC SMALL LETTER ES"},
+    {0x0501, 'd', "CYRILLIC SMALL LETTER KOMI DE"},
+    {0x0435, 'e', "CYRILLIC SMALL LETTER IE"},
+    {0x04BB, 'h', "CYRILLIC SMALL LETTER SHHA"},
+    {0x0456, 'i', "CYRILLIC SMALL LETTER BYELORUSSIAN-UKRAINIAN I"},
+    {0x03B9, 'i', "GREEK SMALL LETTER IOTA"},
+    {0x0458, 'j', "CYRILLIC SMALL LETTER JE"},
+    {0x043E, 'o', "CYRILLIC SMALL LETTER O"},
+    {0x03BF, 'o', "GREEK SMALL LETTER OMICRON"},
+    {0x0440, 'p', "CYRILLIC SMALL LETTER ER"},
+    {0x03C1, 'p', "GREEK SMALL LETTER RHO"},
+    {0x0455, 's', "CYRILLIC SMALL LETTER DZE"},
+    {0x03BD, 'v', "GREEK SMALL LETTER NU"},
+    {0x0445, 'x', "CYRILLIC SMALL LETTER HA"},
+    {0x0443, 'y', "CYRILLIC SMALL LETTER U"},
+    {0x2010, '-', "HYPHEN"},
+    {0x2011, '-', "NON-BREAKING HYPHEN"},
+    {0x2012, '-', "FIGURE DASH"},
+    {0x2013, '-', "EN DASH"},
+    {0x2212, '-', "MINUS SIGN"},
+    {0xFE63, '-', "SMALL HYPHEN-MINUS"},
+    {0xFF0D, '-', "FULLWIDTH HYPHEN-MINUS"},
+    {0x2024, '.', "ONE DOT LEADER"},
+    {0xFF0E, '.', "FULLWIDTH FULL STOP"},
+};
+
+const LookAlike* LookAlikeOf(char32_t cp) {
+  for (const LookAlike& entry : kLookAlikes) {
+    if (entry.code_point == cp) return &entry;
+  }
+  return nullptr;
+}
+
 // `text` with its invisible characters written as \uXXXX; `note` gets "(it
 // holds U+200B ZERO WIDTH SPACE)", naming every code point past ASCII, when
-// one is invisible, else "".
+// one is invisible or looks like an ASCII character ("U+0430 CYRILLIC SMALL
+// LETTER A, which looks like 'a'"), else "".
 std::string EscapeInvisible(const std::string& text, std::string* note = nullptr) {
   std::string shown;
   std::vector<std::string> held;
-  bool invisible = false;
+  bool confusing = false;
   for (size_t i = 0; i < text.size();) {
     const auto [cp, length] = CodePointAt(text, i);
     const char* name = cp >= 0x80 ? InvisibleName(cp) : nullptr;
+    const LookAlike* look_alike = cp >= 0x80 ? LookAlikeOf(cp) : nullptr;
     if (name != nullptr) {
-      invisible = true;
+      confusing = true;
       shown += fmt::format("\\u{:04X}", static_cast<uint32_t>(cp));
     } else {
       shown.append(text, i, length);
@@ -102,11 +150,15 @@ std::string EscapeInvisible(const std::string& text, std::string* note = nullptr
     if (cp >= 0x80) {
       std::string item = fmt::format("U+{:04X}", static_cast<uint32_t>(cp));
       if (name != nullptr) item += std::string(" ") + name;
+      if (look_alike != nullptr) {
+        confusing = true;
+        item += fmt::format(" {}, which looks like '{}'", look_alike->name, look_alike->ascii);
+      }
       if (std::find(held.begin(), held.end(), item) == held.end()) held.push_back(item);
     }
     i += length;
   }
-  if (note != nullptr) *note = invisible ? fmt::format("(it holds {})", fmt::join(held, ", ")) : "";
+  if (note != nullptr) *note = confusing ? fmt::format("(it holds {})", fmt::join(held, "; ")) : "";
   return shown;
 }
 
@@ -118,14 +170,17 @@ std::string QuoteShowingInvisible(const std::string& text) {
   return note.empty() ? shown : shown + " " + note;
 }
 
-// A key as compared for "did you mean": invisible characters dropped, ASCII
-// letters in lower case (keys are all lower case).
+// A key as compared for "did you mean": invisible characters dropped,
+// look-alikes read as the ASCII character they look like, ASCII letters in
+// lower case (keys are all lower case).
 std::string Normalised(const std::string& key) {
   std::string out;
   for (size_t i = 0; i < key.size();) {
     const auto [cp, length] = CodePointAt(key, i);
     if (cp < 0x80) {
       out += static_cast<char>(std::tolower(static_cast<unsigned char>(key[i])));
+    } else if (const LookAlike* look_alike = LookAlikeOf(cp); look_alike != nullptr) {
+      out += look_alike->ascii;
     } else if (InvisibleName(cp) == nullptr) {
       out.append(key, i, length);
     }
@@ -136,15 +191,30 @@ std::string Normalised(const std::string& key) {
 
 constexpr std::string_view kStrTag = "tag:yaml.org,2002:str";
 
-// A scalar YAML reads as a number (or a boolean, with `tag` !!bool): plain,
-// or tagged !!int / !!float (!!bool). A quoted "30" or a !!str 30 is text: a
-// second bad-input audit found them read as numbers.
-bool TypedScalar(const YAML::Node& node, bool boolean = false) {
+// What a scalar is read as.
+enum class ScalarKind { kNumber, kInteger, kBoolean };
+
+// A scalar YAML reads as `kind`: plain, or with the core tag of that kind
+// (!!int or !!float for a number, !!int for an integer, !!bool). A quoted
+// "30" or a !!str 30 is text: a second bad-input audit found them read as
+// numbers. A tag that says otherwise than the text is refused (`!!int 30.5`
+// was read as 30.5, `!!float 240` as the integer 240: a tag stated and then
+// ignored).
+bool TypedScalar(const YAML::Node& node, ScalarKind kind = ScalarKind::kNumber) {
   if (!node.IsScalar()) return false;
   const std::string& tag = node.Tag();
   if (tag == "?") return true;
-  if (boolean) return tag == "tag:yaml.org,2002:bool";
-  return tag == "tag:yaml.org,2002:int" || tag == "tag:yaml.org,2002:float";
+  int64_t integer = 0;
+  switch (kind) {
+    case ScalarKind::kBoolean:
+      return tag == "tag:yaml.org,2002:bool";
+    case ScalarKind::kInteger:
+      return tag == "tag:yaml.org,2002:int";
+    case ScalarKind::kNumber:
+      return tag == "tag:yaml.org,2002:float" ||
+             (tag == "tag:yaml.org,2002:int" && ParseInt(node.Scalar(), &integer));
+  }
+  return false;
 }
 
 // How a tag is written in a file: !!int for a YAML core tag, else as given.
@@ -424,6 +494,13 @@ void CheckBlanks(const std::string& text, const std::string& file, int line) {
     for (size_t i = 0; i < content.size(); ++i) {
       if (content[i] == '\t') refuse(i, "indentation with spaces", "a tab");
       if (content.substr(i, 2) == kNbsp) refuse(i, "indentation with spaces", nbsp);
+      // A list item's dash ("  -\tid: 2" gave "illegal map value"): the
+      // blank after it indents the item's content.
+      if (content[i] == '-' && i + 1 < content.size()) {
+        if (content[i + 1] == '\t') refuse(i + 1, "a space after '-'", "a tab");
+        if (content.substr(i + 1, 2) == kNbsp) refuse(i + 1, "a space after '-'", nbsp);
+        if (content[i + 1] == ' ') continue;
+      }
       if (content[i] != ' ') break;
     }
     // Up to a comment or a quote, where U+00A0 may be text.
@@ -584,6 +661,15 @@ YAML::Node YamlReader::Parse(const std::string& text, const std::string& file) {
     throw InputError(where, "valid YAML", "a syntax error: " + e.msg);
   }
   CheckQuotedScalars(text, file, scanner.tagged());
+  if (first.IsScalar() && first.Tag() == "?") {
+    // A one-line file "frames:<U+00A0>20" is a single plain value, no
+    // mapping, and was refused as "a single value" without a word on why.
+    const size_t nbsp = text.find(":\xC2\xA0");
+    if (nbsp != std::string::npos) {
+      CheckBlanks(text, file,
+                  static_cast<int>(std::count(text.begin(), text.begin() + nbsp, '\n')));
+    }
+  }
   if (documents.size() > 1) {
     // A stray "---" or "..." line ends the first document: everything after
     // it would be silently ignored. Report the separator before the second
@@ -833,7 +919,9 @@ double YamlReader::AsNumber(const FieldRange& range) const {
 int64_t YamlReader::AsInteger(int64_t lo, int64_t hi) const {
   int64_t value = 0;
   const std::string expected = fmt::format("an integer in [{}, {}]", lo, hi);
-  if (!TypedScalar(node_) || !ParseInt(node_.Scalar(), &value)) Fail(expected);
+  if (!TypedScalar(node_, ScalarKind::kInteger) || !ParseInt(node_.Scalar(), &value)) {
+    Fail(expected);
+  }
   if (value < lo || value > hi) Fail(expected);
   return value;
 }
@@ -890,8 +978,8 @@ uint64_t YamlReader::Seed(const std::string& key, std::optional<uint64_t> fallba
     Child(key);
   }
   YamlReader child = Child(key);
-  const std::optional<uint64_t> value =
-      ParseSeed(TypedScalar(child.node_) ? child.node_.Scalar() : std::string());
+  const std::optional<uint64_t> value = ParseSeed(
+      TypedScalar(child.node_, ScalarKind::kInteger) ? child.node_.Scalar() : std::string());
   if (!value) child.Fail("a non-negative integer seed below 2^64");
   return *value;
 }
@@ -902,7 +990,8 @@ bool YamlReader::Bool(const std::string& key, std::optional<bool> fallback) {
     Child(key);
   }
   YamlReader child = Child(key);
-  const std::string text = TypedScalar(child.node_, true) ? child.node_.Scalar() : "";
+  const std::string text =
+      TypedScalar(child.node_, ScalarKind::kBoolean) ? child.node_.Scalar() : "";
   if (text == "true") return true;
   if (text == "false") return false;
   child.Fail("true or false");
@@ -933,7 +1022,7 @@ std::string YamlReader::AsEnum(const std::vector<std::string>& choices) const {
   if (!node_.IsScalar() || !PlainTag(node_.Tag(), "str")) Fail("one of " + joined);
   const std::string value = node_.Scalar();
   if (std::find(choices.begin(), choices.end(), value) == choices.end()) {
-    const std::string near = ClosestMatch(value, choices);
+    const std::string near = ClosestMatch(Normalised(value), choices);
     Fail("one of " + joined, near.empty() ? "" : "did you mean \"" + near + "\"?");
   }
   return value;

@@ -436,6 +436,17 @@ TEST(YamlReader, TabsAndNoBreakSpacesAreNamedWhereTheyAre) {
   EXPECT_EQ(ParseError("a: 1\nframes:\u00A020\ncamera:\n  fov_deg: 40\n"),
             "f.yaml:2:8: expected a space after ':', found U+00A0 (no-break space)");
   EXPECT_EQ(YamlReader::Parse("a:\t1\nb: \"x\u00A0y\"\n", "f.yaml")["a"].as<int>(), 1);
+  // After a list's dash, where yaml-cpp said "end of map not found" or
+  // "illegal map value"; a one-line file is a single value to yaml-cpp.
+  EXPECT_EQ(ParseError("t:\n  -\tid: 1\n"), "f.yaml:2:4: expected a space after '-', found a tab");
+  EXPECT_EQ(ParseError("t:\n  -\t{id: 1}\n  - {id: 2}\n"), "(no error)");  // valid YAML
+  EXPECT_EQ(ParseError("t:\n  - id: 1\n  -\u00A0id: 2\n"),
+            "f.yaml:3:4: expected a space after '-', found U+00A0 (no-break space)");
+  EXPECT_EQ(ParseError("frames:\u00A020\n"),
+            "f.yaml:1:8: expected a space after ':', found U+00A0 (no-break space)");
+  EXPECT_EQ(ParseError("frames:\u00A020"),
+            "f.yaml:1:8: expected a space after ':', found U+00A0 (no-break space)");
+  EXPECT_EQ(YamlReader::Parse("b: \"x:\u00A0y\"\n", "f.yaml")["b"].as<std::string>(), "x:\u00A0y");
   // A U+00A0 kept in a value is shown where the value is refused.
   EXPECT_EQ(ReadError("a: 20\u00A0\n", [](YamlReader& r) { r.Integer("a", std::nullopt, 0, 100); }),
             "f.yaml:1:4: a: expected an integer in [0, 100], found \"20\\u00A0\" (it holds U+00A0 "
@@ -476,6 +487,66 @@ TEST(YamlReader, TagsAreNamedAndTagsOfAnotherKindRefused) {
   EXPECT_EQ(ReadError("a: !!str x\n", choice), "(no error)");
   EXPECT_EQ(ReadError("a: !!map\n  b: 1\n", map), "(no error)");
   EXPECT_EQ(ReadError("a: !!seq [1]\n", list), "(no error)");
+}
+
+// The fourth sitting's bad-input leftovers: a tag that says otherwise than
+// its text was stated and then ignored (`fps: !!int 30.5` read as 30.5,
+// `frames: !!float 240` as the integer 240). Refused, named; the tags that
+// agree stay accepted (an integer is a number).
+TEST(YamlReader, ATagThatContradictsItsTextIsRefused) {
+  const auto integer = [](YamlReader& r) { r.Integer("a", std::nullopt, 0, 100); };
+  const auto number = [](YamlReader& r) { r.Number("a", std::nullopt, 0, 100); };
+  const auto seed = [](YamlReader& r) { r.Seed("a", std::nullopt); };
+  EXPECT_EQ(ReadError("a: !!int 30.5\n", number),
+            "f.yaml:1:4: a: expected a number in [0, 100], found \"30.5\" (tagged !!int)");
+  EXPECT_EQ(ReadError("a: !!float 24\n", integer),
+            "f.yaml:1:4: a: expected an integer in [0, 100], found \"24\" (tagged !!float)");
+  EXPECT_EQ(ReadError("a: !!float 7\n", seed),
+            "f.yaml:1:4: a: expected a non-negative integer seed below 2^64, found \"7\" (tagged "
+            "!!float)");
+  EXPECT_EQ(ReadError("a: !!int 30\n", number), "(no error)");
+  EXPECT_EQ(ReadError("a: !!float 30.5\n", number), "(no error)");
+  EXPECT_EQ(ReadError("a: !!int 7\n", seed), "(no error)");
+  EXPECT_EQ(Root(YamlReader::Parse("a: !!int 30\n", "f.yaml")).Number("a", std::nullopt, 0, 100),
+            30.0);
+}
+
+// Letters from another keyboard layout and a word processor's minus look
+// like ASCII in an editor: `fr<U+0430>mes:` was "the unknown key "frаmes""
+// and `[<U+2212>40, 0]` "found "−40"", the found text the same to the eye as
+// the expected one. The character is named with what it looks like, and
+// "did you mean" reads it as that character.
+TEST(YamlReader, LookAlikeCharactersAreNamed) {
+  EXPECT_EQ(ReadError("name: a\nfr\u0430mes: 20\n",
+                      [](YamlReader& r) { r.Integer("frames", std::nullopt, 1, 100); }),
+            "f.yaml:2:1: fr\u0430mes: expected the required key \"frames\", found the unknown "
+            "key \"fr\u0430mes\" (it holds U+0430 CYRILLIC SMALL LETTER A, which looks like 'a') "
+            "(did you mean \"frames\"?)");
+  EXPECT_EQ(ReadError("a: \u221240\n", [](YamlReader& r) { r.Number("a", std::nullopt, -99, 99); }),
+            "f.yaml:1:4: a: expected a number in [-99, 99], found \"\u221240\" (it holds U+2212 "
+            "MINUS SIGN, which looks like '-')");
+  EXPECT_EQ(ReadError("a: ch\u0430rg\u0435d\n",
+                      [](YamlReader& r) {
+                        r.Enum("a", std::nullopt, {"charged", "systematic"});
+                      }),
+            "f.yaml:1:4: a: expected one of charged | systematic, found \"ch\u0430rg\u0435d\" (it "
+            "holds U+0430 CYRILLIC SMALL LETTER A, which looks like 'a'; U+0435 CYRILLIC SMALL "
+            "LETTER IE, which looks like 'e') (did you mean \"charged\"?)");
+  // Finish's "did you mean" reads a key made of look-alikes only as the
+  // ASCII key, however far in edit distance.
+  EXPECT_EQ(ReadError("\u0440\u0430\u0441\u0435: 1\n",
+                      [](YamlReader& r) {
+                        r.Integer("pace", 5, 1, 100);
+                        r.Finish();
+                      }),
+            "f.yaml:1:1: \u0440\u0430\u0441\u0435: expected one of the keys pace, found the "
+            "unknown key \"\u0440\u0430\u0441\u0435\" (it holds U+0440 CYRILLIC SMALL LETTER ER, "
+            "which looks like 'p'; U+0430 CYRILLIC SMALL LETTER A, which looks like 'a'; U+0441 "
+            "CYRILLIC SMALL LETTER ES, which looks like 'c'; U+0435 CYRILLIC SMALL LETTER IE, "
+            "which looks like 'e') (did you mean \"pace\"?)");
+  // Other characters past ASCII are text, and not remarked on.
+  EXPECT_EQ(ReadError("a: caf\u00E9\n", [](YamlReader& r) { r.Enum("a", std::nullopt, {"cafe"}); }),
+            "f.yaml:1:4: a: expected one of cafe, found \"caf\u00E9\"");
 }
 
 }  // namespace

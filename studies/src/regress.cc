@@ -234,13 +234,8 @@ RegressRow CompareSeeds(std::span<const double> baseline, std::span<const double
     b.push_back(baseline[i]);
     v.push_back(current[i]);
   }
-  const auto mean = [](const std::vector<double>& x) {
-    double sum = 0.0;
-    for (double value : x) sum += value;
-    return x.empty() ? kNaN : sum / static_cast<double>(x.size());
-  };
-  row.baseline = mean(b);
-  row.current = mean(v);
+  row.baseline = Mean(b);
+  row.current = Mean(v);
   row.difference = c.difference.mean;
   row.lower = c.difference.lower;
   row.upper = c.difference.upper;

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <limits>
 #include <vector>
 
 #include "hcpf/core/check.h"
@@ -21,16 +22,21 @@ std::vector<double> Finite(std::span<const double> values) {
   return out;
 }
 
+}  // namespace
+
 // The mean as v_0 plus the mean of x − v_0: values all equal give v_0
 // exactly, so their sum of squared deviations is exactly 0 (summed directly,
 // 0.9 ten times has mean 0.8999999999999999 and a variance of 1e-32, which
 // made a proportion's band zero wide where n* = n was meant: an audit).
-double Mean(const std::vector<double>& v) {
+double Mean(std::span<const double> v) {
+  if (v.empty()) return std::numeric_limits<double>::quiet_NaN();
   const double v0 = v[0];
   double sum = 0.0;
   for (double x : v) sum += x - v0;
   return v0 + sum / static_cast<double>(v.size());
 }
+
+namespace {
 
 // Cuts [lower, upper] to `range`; says whether it had to.
 void Clip(Interval& r, double lower, double upper) {
@@ -117,7 +123,12 @@ Interval MeanInterval95(std::span<const double> values, const MetricRange& range
     double ss = 0.0;
     for (double x : v) ss += (x - p) * (x - p);
     const double s2 = ss / (n - 1);
-    if (s2 > 0.0) {
+    // Seeds equal but for rounding (0.1 + 0.2 against 0.3) have s² ~ 1e-33:
+    // no spread, as for zeros of the signed-rank test, not n* ~ 1e32 and a
+    // band of width 0 (a review).
+    double largest = 0.0;
+    for (double x : v) largest = std::max(largest, std::abs(x));
+    if (std::sqrt(s2) > kRoundingRelative * largest) {
       const double df_factor = kZ975 / StudentT975(n - 1);
       trials = n * p * (1.0 - p) / s2 * df_factor * df_factor;
     }
@@ -141,19 +152,29 @@ double NormalSignedRankP(double w_plus, int n, double tie_term) {
 
 }  // namespace
 
-SignedRankTest WilcoxonSignedRank(std::span<const double> differences) {
+SignedRankTest WilcoxonSignedRank(std::span<const double> differences,
+                                  std::span<const double> scales) {
+  HCPF_CHECK(scales.empty() || scales.size() == differences.size())
+      << scales.size() << " scales for " << differences.size() << " differences";
   SignedRankTest t;
   std::vector<double> d;
-  for (double x : differences) {
-    if (std::isfinite(x) && x != 0.0) d.push_back(x);
+  std::vector<double> scale;  // the size rounding is relative to, per difference
+  for (size_t i = 0; i < differences.size(); ++i) {
+    const double x = differences[i];
+    if (!std::isfinite(x) || x == 0.0) continue;
+    d.push_back(x);
+    scale.push_back(std::max(std::abs(x), scales.empty() ? 0.0 : std::abs(scales[i])));
   }
   const int n = static_cast<int>(d.size());
   t.nonzero = n;
   if (n == 0) return t;
   // Ranks of |d|, ties averaged; kept doubled so that they are integers.
-  // Tied: within kRoundingRelative of the group's smallest |d| (equal
+  // Tied: within kRoundingRelative of the largest scale in the group (equal
   // fractions reached by different roundings, 1 − 299/300 and 291/300 −
-  // 290/300, differ in the 16th digit: an audit).
+  // 290/300, differ in the 16th digit: an audit). The scale is that of the
+  // values a difference came from, as for zeros: a difference of two values
+  // of 1000 carries their rounding, ~1e-13, however small it is (a review:
+  // relative to |d| alone, equal differences of large values were not tied).
   std::vector<int> order(n);
   for (int i = 0; i < n; ++i) order[i] = i;
   std::sort(order.begin(), order.end(), [&](int a, int b) {
@@ -164,9 +185,11 @@ SignedRankTest WilcoxonSignedRank(std::span<const double> differences) {
   for (int i = 0; i < n;) {
     int j = i;
     const double smallest = std::abs(d[order[i]]);
-    while (j + 1 < n &&
-           std::abs(d[order[j + 1]]) - smallest <= kRoundingRelative * std::abs(d[order[j + 1]])) {
+    double group_scale = scale[order[i]];
+    while (j + 1 < n && std::abs(d[order[j + 1]]) - smallest <=
+                            kRoundingRelative * std::max(group_scale, scale[order[j + 1]])) {
       ++j;
+      group_scale = std::max(group_scale, scale[order[j]]);
     }
     // Positions i..j (0-based) share the ranks i+1..j+1: average (i+j+2)/2.
     for (int k = i; k <= j; ++k) rank2[order[k]] = i + j + 2;
@@ -210,15 +233,16 @@ PairedComparison ComparePaired(std::span<const double> a, std::span<const double
   HCPF_CHECK(a.size() == b.size()) << a.size() << " vs " << b.size();
   PairedComparison c;
   std::vector<double> d;
+  std::vector<double> scales;
   for (size_t i = 0; i < a.size(); ++i) {
     if (!std::isfinite(a[i]) || !std::isfinite(b[i])) continue;
     // A difference within kRoundingRelative of the values is a tie
     // (0.1 + 0.2 against 0.3 differs by 5.6e-17): zero, as the test drops.
+    const double scale = std::max(std::abs(a[i]), std::abs(b[i]));
     const double difference =
-        std::abs(a[i] - b[i]) <= kRoundingRelative * std::max(std::abs(a[i]), std::abs(b[i]))
-            ? 0.0
-            : a[i] - b[i];
+        std::abs(a[i] - b[i]) <= kRoundingRelative * scale ? 0.0 : a[i] - b[i];
     d.push_back(difference);
+    scales.push_back(scale);
     if (difference > 0.0) ++c.positive;
     if (difference < 0.0) ++c.negative;
   }
@@ -231,7 +255,7 @@ PairedComparison ComparePaired(std::span<const double> a, std::span<const double
     difference_range.upper = width;
   }
   c.difference = StudentInterval95(d, difference_range);
-  c.test = WilcoxonSignedRank(d);
+  c.test = WilcoxonSignedRank(d, scales);
   return c;
 }
 

@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "hcpf/studies/metric_catalogue.h"
+#include "hcpf/studies/regress.h"
 
 namespace hcpf::studies {
 namespace {
@@ -165,6 +166,37 @@ TEST(MeanInterval95, SeedsOfOneValueGetTheBinomialBandOfTheirCount) {
   }
 }
 
+// Seeds equal but for rounding (one fraction reached by two formulas:
+// 0.1 + 0.2 is 0.30000000000000004) had s² ~ 1e-33, n* ~ 1e32 and a band of
+// width 0, while ComparePaired called the same values equal (a review). The
+// band is that of ten seeds of 0.3, by hand above: [0.1077913, 0.6032219].
+// Summed directly, ten 0.9s have mean 0.8999999999999999; the regression
+// gate's rows took their means that way (a review: its own copy).
+TEST(Mean, ValuesAllEqualGiveThatValueExactly) {
+  const std::vector<double> nines(10, 0.9);
+  EXPECT_EQ(Mean(nines), 0.9);
+  EXPECT_TRUE(std::isnan(Mean(std::vector<double>{})));
+  EXPECT_EQ(Mean(std::vector<double>{1.0, 2.0, 6.0}), 3.0);
+  RegressTolerance t;
+  t.metric = "da_accuracy";
+  const RegressRow row = CompareSeeds(nines, nines, t);
+  EXPECT_EQ(row.baseline, 0.9);
+  EXPECT_EQ(row.current, 0.9);
+}
+
+TEST(MeanInterval95, SeedsEqualButForRoundingGetTheBinomialBandOfTheirCount) {
+  std::vector<double> values(10, 0.3);
+  for (int i = 0; i < 10; i += 2) values[i] = 0.1 + 0.2;
+  ASSERT_NE(values[0], values[1]);
+  const Interval r = MeanInterval95(values, MetricRange::Proportion());
+  EXPECT_EQ(r.trials, 10.0);
+  EXPECT_NEAR(r.lower, 0.1077913, 1e-6);
+  EXPECT_NEAR(r.upper, 0.6032219, 1e-6);
+  // A true spread, however small against the values, is kept.
+  values[1] = 0.3 + 1e-6;
+  EXPECT_GT(MeanInterval95(values, MetricRange::Proportion()).trials, 1e6);
+}
+
 // The exact signed-rank distribution with ranks 1..n: P(W+ = w) is the
 // number of subsets of {1..n} summing to w over 2^n; for w <= n that is the
 // number of partitions of w into distinct parts, 1 1 1 2 2 3 4 5 6 8 for w = 0..9.
@@ -295,6 +327,27 @@ TEST(WilcoxonSignedRank, FractionsEqualButForRoundingAreTied) {
   EXPECT_EQ(c.negative, 0);
   EXPECT_EQ(c.test.nonzero, 1);
   EXPECT_NEAR(c.difference.mean, 0.05, 1e-12);
+}
+
+// Equal differences of large values (milliseconds, pixels) differ by the
+// values' rounding, ~1e-13 at 1000, which is more than 1e-9 of a difference
+// of 1e-5: 1000.00001 − 1000 and 3000.00001 − 3000 are 9.99999997e-06 and
+// 1.00000002e-05 in doubles. Relative to |d| they were ranked 1 and 2; to
+// the values they came from (as zeros are), they are tied at 1.5 (a review).
+TEST(ComparePaired, EqualDifferencesOfLargeValuesAreTied) {
+  const std::vector<double> a = {1000.0 + 1e-5, 3000.0 + 1e-5, 3.0};
+  const std::vector<double> b = {1000.0, 3000.0, 1.0};
+  ASSERT_NE(a[0] - b[0], a[1] - b[1]);
+  const PairedComparison c = ComparePaired(a, b, MetricRange::Unbounded());
+  EXPECT_EQ(c.test.nonzero, 3);
+  EXPECT_EQ(c.test.w_plus, 6.0);  // all positive: 1.5 + 1.5 + 3
+  // With one sign flipped, W+ shows the tied ranks: −1.5 +1.5 +3 → 4.5.
+  const std::vector<double> flipped = {1000.0, 3000.0 + 1e-5, 3.0};
+  const std::vector<double> flipped_b = {1000.0 + 1e-5, 3000.0, 1.0};
+  EXPECT_EQ(ComparePaired(flipped, flipped_b, MetricRange::Unbounded()).test.w_plus, 4.5);
+  // Without the scales the two are ranked apart: W+ = 2 + 3 = 5.
+  const std::vector<double> d = {flipped[0] - flipped_b[0], flipped[1] - flipped_b[1], 2.0};
+  EXPECT_EQ(WilcoxonSignedRank(d).w_plus, 5.0);
 }
 
 TEST(ComparePaired, DifferenceIntervalCountsAndTestByHand) {

@@ -59,6 +59,10 @@ struct Interval {
   bool clipped = false;
 };
 
+// The mean of `values` (all finite; NaN when there are none), summed as
+// v₀ + mean(x − v₀) so that values all equal give that value exactly.
+double Mean(std::span<const double> values);
+
 // The 0.975 quantile of Student's t with `dof` >= 1 degrees of freedom
 // (table for dof <= 30, Cornish–Fisher expansion above; error < 1e-3).
 double StudentT975(int dof);
@@ -84,7 +88,8 @@ Interval WilsonInterval95(double p_hat, double n);
 // run's events are not independent), so
 //   n* = n · p̂(1 − p̂) / s² · (z / t(0.975, n−1))²   when s² > 0,
 //   n* = n                                           when s² = 0 (or n = 1),
-// s² the sample variance of the seeds' values. n·p̂(1−p̂)/s² is the n whose
+// s² the sample variance of the seeds' values; s <= kRoundingRelative ·
+// max|x| counts as 0 (seeds equal but for rounding). n·p̂(1−p̂)/s² is the n whose
 // binomial variance p̂(1−p̂)/n equals the observed s²/n; the (z/t)² factor
 // accounts for s² being estimated from n − 1 degrees of freedom, so in the
 // interior the band is about as wide as the t interval. For values in
@@ -100,9 +105,12 @@ Interval MeanInterval95(std::span<const double> values, const MetricRange& range
 // differences are symmetric about 0). Zero differences are dropped
 // (Wilcoxon's rule), the others ranked by |d| with tied values given their
 // average rank; W+ is the sum of the ranks of positive differences. Values of
-// |d| within a relative kRoundingRelative of the smallest of their group
-// are tied (metrics are ratios of counts: one fraction reached by two
-// roundings differs in the 16th digit).
+// |d| within kRoundingRelative · s of the smallest of their group are tied,
+// s the largest scale in the group (metrics are ratios of counts: one
+// fraction reached by two roundings differs in the 16th digit). A
+// difference's scale is the larger of |d| and `scales[i]` when given
+// (ComparePaired gives max(|a|, |b|), the size its rounding comes from);
+// `scales` is empty or as long as `differences`.
 // For up to kExactSignedRankMaxPairs nonzero differences p is exact: the
 // permutation distribution of W+ over the 2^n sign assignments of these
 // ranks (so exact with ties too), p = min(1, 2·min(P(W+ <= w), P(W+ >= w))).
@@ -120,7 +128,8 @@ struct SignedRankTest {
   double p_value = 1.0;
   bool exact = false;
 };
-SignedRankTest WilcoxonSignedRank(std::span<const double> differences);
+SignedRankTest WilcoxonSignedRank(std::span<const double> differences,
+                                  std::span<const double> scales = {});
 
 // The smallest p WilcoxonSignedRank can return for n nonzero differences,
 // whatever they are: every difference of one sign. Exact (n <= 30):

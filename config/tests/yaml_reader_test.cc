@@ -489,7 +489,7 @@ TEST(YamlReader, TagsAreNamedAndTagsOfAnotherKindRefused) {
   EXPECT_EQ(ReadError("a: !!seq [1]\n", list), "(no error)");
 }
 
-// The fourth sitting's bad-input leftovers: a tag that says otherwise than
+// Left by the third bad-input audit: a tag that says otherwise than
 // its text was stated and then ignored (`fps: !!int 30.5` read as 30.5,
 // `frames: !!float 240` as the integer 240). Refused, named; the tags that
 // agree stay accepted (an integer is a number).

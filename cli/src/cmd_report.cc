@@ -47,7 +47,7 @@ Command AddReportCommand(CLI::App& parent) {
               spdlog::info("report: {} plots in {:.2f} s", r.plots, s);
             } else {
               spdlog::info(
-                  "report: {} plots, {} cells, {} paired comparisons ({} difference plots) in "
+                  "report: {} plots, {} cells, {} compared cells ({} difference plots) in "
                   "{:.2f} s; {}",
                   r.plots, r.cells, r.comparisons, r.difference_plots, s, r.csv_path);
             }

@@ -94,6 +94,11 @@ const CatalogueMetric* FindMetric(std::string_view name) {
   return nullptr;
 }
 
+bool MachineDependent(std::string_view metric) {
+  const CatalogueMetric* entry = FindMetric(metric);
+  return entry != nullptr && entry->file == "manifest.json";
+}
+
 const std::vector<std::string>& MetricNames() {
   static const std::vector<std::string> kNames = [] {
     std::vector<std::string> names;

@@ -333,10 +333,17 @@ std::string PlotSvg(const Layout& layout, const std::string& metric, const std::
                        : fmt::format("{}{}{} ({})", entry->label, entry->unit.empty() ? "" : ", ",
                                      entry->unit, metric);
   const bool difference = !reference.empty();
-  gp += fmt::format(
-      "set title {} noenhanced\n",
-      GpString((difference ? "paired difference against " + reference + ": " : "") + described +
-               " vs " + layout.x_title + (panel.empty() ? std::string() : ", " + panel)));
+  // A long title goes on two lines: centred over the plot, one line ran past
+  // the SVG's left edge and lost its start ("aired difference against ...":
+  // an audit).
+  const std::string what =
+      (difference ? "paired difference against " + reference + ": " : "") + described;
+  const std::string against =
+      "vs " + layout.x_title + (panel.empty() ? std::string() : ", " + panel);
+  gp += fmt::format("set title {} noenhanced\n",
+                    what.size() + against.size() + 1 > 70
+                        ? GpString(what) + " . \"\\n\" . " + GpString(against)
+                        : GpString(what + " " + against));
   gp += fmt::format("set xlabel {} noenhanced\n", GpString(x_label));
   const std::string interval = difference ? "mean of per-seed differences, 95% t CI"
                                : entry != nullptr && entry->range.proportion
@@ -593,12 +600,14 @@ Paired PairedRowsOf(const std::vector<Cell>& cells, const StoreMeta& meta) {
   }
   // Holm over the whole family: a report of 8 cells and 7 metrics makes 56
   // tests, and chance alone makes about 3 of them findings at p < 0.05.
+  // Timings are not tested (MachineDependent): outside the family.
   std::vector<double> p;
   for (const PairedRow& row : paired.rows) {
     for (const std::string& m : meta.report.y) {
       const PairedComparison& c = row.metrics.at(m);
-      p.push_back(c.pairs > 0 ? c.test.p_value : kNaN);
-      paired.family += c.pairs > 0 ? 1 : 0;
+      const bool tested = c.pairs > 0 && !MachineDependent(m);
+      p.push_back(tested ? c.test.p_value : kNaN);
+      paired.family += tested ? 1 : 0;
     }
   }
   const std::vector<double> adjusted = HolmAdjusted(p);
@@ -610,7 +619,7 @@ Paired PairedRowsOf(const std::vector<Cell>& cells, const StoreMeta& meta) {
     paired.pairs_for_holm = PairsForHolm(paired.family, 0.05);
     for (const PairedRow& row : paired.rows) {
       for (const auto& [m, c] : row.metrics) {
-        if (c.pairs == 0) continue;
+        if (c.pairs == 0 || MachineDependent(m)) continue;
         if (SignedRankFloor(c.pairs) < 0.05 / paired.family) {
           const int nonzero = c.test.nonzero;
           if (nonzero > 0 && SignedRankFloor(nonzero) >= 0.05 / paired.family)
@@ -647,9 +656,12 @@ std::vector<Cell> DifferenceCells(const Paired& paired, const StoreMeta& meta) {
 // Whether a paired comparison is a finding: better or worse than the
 // reference in the metric's direction, with both the signed-rank test
 // (p < 0.05) and the t interval of the differences (excluding 0) saying so.
+// A timing is never one (MachineDependent: an audit found "charged is
+// significantly faster at 50 particles" in a rendered sweep whose first
+// cell, systematic at 50, rendered the frames while it tracked).
 enum class PairedVerdict { kNotSignificant, kBetter, kWorse };
 PairedVerdict VerdictOf(const PairedComparison& c, const std::string& metric) {
-  if (c.pairs == 0) return PairedVerdict::kNotSignificant;
+  if (c.pairs == 0 || MachineDependent(metric)) return PairedVerdict::kNotSignificant;
   const CatalogueMetric* entry = FindMetric(metric);
   const bool higher_better = entry == nullptr || entry->higher_is_better;
   const bool excludes_zero = c.difference.method != IntervalMethod::kNone &&
@@ -663,6 +675,31 @@ PairedVerdict VerdictOf(const PairedComparison& c, const std::string& metric) {
 bool SurvivesHolm(const PairedRow& row, const std::string& metric) {
   return VerdictOf(row.metrics.at(metric), metric) != PairedVerdict::kNotSignificant &&
          row.holm.at(metric) < 0.05;
+}
+
+// "a, b and c".
+std::string JoinWords(const std::vector<std::string>& words) {
+  std::string out;
+  for (size_t i = 0; i < words.size(); ++i) {
+    if (i > 0) out += i + 1 == words.size() ? " and " : ", ";
+    out += words[i];
+  }
+  return out;
+}
+
+// Said where the report's metrics include a timing: what is done with it.
+std::string TimingsNote(const StoreMeta& meta) {
+  std::vector<std::string> timings;
+  for (const std::string& m : meta.report.y) {
+    if (MachineDependent(m)) timings.push_back(m);
+  }
+  if (timings.empty()) return {};
+  return fmt::format(
+      " {} {} plotted and tabled but not tested: not coloured, not a finding, not in the family "
+      "of comparisons, not replicated. A time depends on the machine's load and on the order "
+      "the runs ran in (the first runs of a rendered sweep render the frames that the others "
+      "read from the cache), not only on the settings compared.",
+      JoinWords(timings), timings.size() == 1 ? "is" : "are");
 }
 
 // What the seed count allows: empty when every comparison has the pairs
@@ -817,10 +854,8 @@ std::string SeedsToLookAtHtml(const Paired& paired, const StoreMeta& meta,
   for (const PairedRow& row : paired.rows) {
     for (const std::string& m : meta.report.y) {
       const PairedComparison& c = row.metrics.at(m);
+      // (A timing is no finding: its extreme seed is the machine's noise.)
       if (VerdictOf(c, m) == PairedVerdict::kNotSignificant) continue;
-      // A timing's extreme seed is the machine's noise, not a run to look at.
-      const CatalogueMetric* entry = FindMetric(m);
-      if (entry != nullptr && entry->file == "manifest.json") continue;
       const PairExtremes& e = row.extremes.at(m);
       if (e.max_run == nullptr) continue;
       ++findings;
@@ -894,11 +929,12 @@ std::string PairedHtml(const Paired& paired, const StoreMeta& meta, const Layout
       "p adjusted by Holm's step-down method over the {4} comparisons of this table (cells "
       "&times; metrics with pairs); chance alone makes about 1 in 20 of them coloured where "
       "nothing differs, and a cell whose Holm p is also below 0.05 (in bold) stays a finding "
-      "when all {4} are tested at once.{5}</p>\n",
+      "when all {4} are tested at once.{5}{6}</p>\n",
       EscapeMarkup(meta.report.series), EscapeMarkup(paired.reference),
       meta.report.reference.empty() ? ", else the first series value" : "",
       kExactSignedRankMaxPairs, paired.family,
-      reach_note.empty() ? std::string() : " <b>" + EscapeMarkup(reach_note) + "</b>");
+      reach_note.empty() ? std::string() : " <b>" + EscapeMarkup(reach_note) + "</b>",
+      EscapeMarkup(TimingsNote(meta)));
   h += "<table><tr>";
   for (size_t k : shown) h += "<th>" + EscapeMarkup(keys[k]) + "</th>";
   h += "<th>compared</th><th>n</th>";
@@ -924,13 +960,15 @@ std::string PairedHtml(const Paired& paired, const StoreMeta& meta, const Layout
                                                              : "";
       std::string text = fmt::format("&Delta;&nbsp;{:.3g}", c.difference.mean);
       if (c.difference.method != IntervalMethod::kNone) {
-        text += fmt::format(" [{:.3g}, {:.3g}]{}", c.difference.lower, c.difference.upper,
-                            c.difference.clipped ? "&dagger;" : "");
+        // On a line of its own, not broken (an audit: "[-0.00628," and
+        // "0.0449]" on two lines).
+        text += fmt::format("<br><span class=\"i\">[{:.3g}, {:.3g}]{}</span>", c.difference.lower,
+                            c.difference.upper, c.difference.clipped ? "&dagger;" : "");
       }
       text +=
           fmt::format("<br>{}/{}/{}", c.positive, c.negative, c.pairs - c.positive - c.negative);
       if (c.pairs < n) text += fmt::format(" (n&nbsp;=&nbsp;{})", c.pairs);
-      text += ", " + FormatP(c.test.p_value);
+      text += MachineDependent(m) ? std::string(", not tested") : ", " + FormatP(c.test.p_value);
       if (verdict != PairedVerdict::kNotSignificant) {
         const double holm = row.holm.at(m);
         const std::string value =
@@ -995,16 +1033,6 @@ struct Finding {
   std::string group;  // "key = value, ..." of the keys that vary between groups ("" = one group)
   std::string text;   // plain text, no markup
 };
-
-// "a, b and c".
-std::string JoinWords(const std::vector<std::string>& words) {
-  std::string out;
-  for (size_t i = 0; i < words.size(); ++i) {
-    if (i > 0) out += i + 1 == words.size() ? " and " : ", ";
-    out += words[i];
-  }
-  return out;
-}
 
 std::vector<Finding> FindingsOf(const std::vector<Cell>& cells, const Paired& paired,
                                 const StoreMeta& meta, const Layout& layout) {
@@ -1095,6 +1123,14 @@ std::vector<Finding> FindingsOf(const std::vector<Cell>& cells, const Paired& pa
       }
       f.text = fmt::format("best mean ({} is better): {}.", higher_better ? "higher" : "lower",
                            fmt::join(best_parts, "; "));
+      if (MachineDependent(m)) {
+        // A timing: its means are said, its differences not tested.
+        f.text +=
+            " Not tested (a time depends on the machine's load and on the order the runs "
+            "ran in).";
+        findings.push_back(std::move(f));
+        continue;
+      }
       // Paired verdicts per compared series value.
       std::vector<std::string> compared;
       std::map<std::string, std::array<std::vector<std::string>, 3>> verdicts;
@@ -1182,6 +1218,7 @@ GlanceTable GlanceOf(const Paired& paired, const StoreMeta& meta) {
   if (paired.series_index < 0) return table;
   const auto si = static_cast<size_t>(paired.series_index);
   for (const std::string& m : meta.report.y) {
+    if (MachineDependent(m)) continue;  // not tested
     const size_t first = out.size();
     for (const PairedRow& row : paired.rows) {
       const std::string& s = row.cell->values[si];
@@ -1308,12 +1345,18 @@ std::string FindingsMarkdown(const std::vector<Finding>& findings, const GlanceT
 // same swept keys (typically the same sweep on another root seed, hcpf sweep
 // --seed), with this report's report: block (the stores hold every headline
 // metric of every run), matched by the compared cell's swept values.
-enum class Replication { kReplicated, kNotReplicated, kReversed, kNewHere, kNeither };
+// A finding there that is no finding here but goes the same way with one
+// of the two criteria (p < 0.05, or an interval that excludes 0) is
+// "weaker here": an audit found same-direction differences at p = 6e-5,
+// whose interval ended at +0.00004, called "not replicated".
+enum class Replication { kReplicated, kWeaker, kNotReplicated, kReversed, kNewHere, kNeither };
 
 const char* ReplicationName(Replication r) {
   switch (r) {
     case Replication::kReplicated:
       return "replicated";
+    case Replication::kWeaker:
+      return "weaker here";
     case Replication::kNotReplicated:
       return "not replicated";
     case Replication::kReversed:
@@ -1404,7 +1447,7 @@ ReplicationTable ReplicationOf(const Paired& here, const AgainstStore& there,
   for (const PairedRow& row : here.rows) {
     const auto it = there_rows.find(row.cell->values);
     for (const std::string& m : meta.report.y) {
-      if (!has_pairs(row, m)) continue;
+      if (!has_pairs(row, m) || MachineDependent(m)) continue;
       if (it == there_rows.end() || !has_pairs(*it->second, m)) {
         ++table.only_here;
         continue;
@@ -1420,18 +1463,27 @@ ReplicationTable ReplicationOf(const Paired& here, const AgainstStore& there,
       r.here_kept = SurvivesHolm(row, m);
       const bool there_finding = r.there_verdict != PairedVerdict::kNotSignificant;
       const bool here_finding = r.here_verdict != PairedVerdict::kNotSignificant;
+      // Here, in the direction of there's finding: one criterion of two.
+      const PairedComparison& c = row.metrics.at(m);
+      const double there_sign = r.there->metrics.at(m).difference.mean > 0.0 ? 1.0 : -1.0;
+      const bool same_way = c.difference.mean * there_sign > 0.0;
+      const bool interval_same_way =
+          c.difference.method != IntervalMethod::kNone &&
+          (there_sign > 0.0 ? c.difference.lower > 0.0 : c.difference.upper < 0.0);
+      const bool weaker = same_way && (c.test.p_value < 0.05 || interval_same_way);
       r.outcome = there_finding && here_finding
                       ? (r.there_verdict == r.here_verdict ? Replication::kReplicated
                                                            : Replication::kReversed)
-                  : there_finding ? Replication::kNotReplicated
-                  : here_finding  ? Replication::kNewHere
-                                  : Replication::kNeither;
+                  : there_finding && weaker ? Replication::kWeaker
+                  : there_finding           ? Replication::kNotReplicated
+                  : here_finding            ? Replication::kNewHere
+                                            : Replication::kNeither;
       table.rows.push_back(r);
     }
   }
   for (const PairedRow& r : there.paired.rows) {
     for (const std::string& m : meta.report.y) {
-      table.only_there += has_pairs(r, m) && matched.count({&r, m}) == 0;
+      table.only_there += has_pairs(r, m) && !MachineDependent(m) && matched.count({&r, m}) == 0;
     }
   }
   return table;
@@ -1461,11 +1513,12 @@ std::string SameSeedNote(const AgainstStore& there, const StoreMeta& meta) {
 // The summary sentence (Markdown: `code`).
 std::string ReplicationSentence(const ReplicationTable& table, const AgainstStore& there,
                                 const StoreMeta& meta) {
-  int there_findings = 0, replicated = 0, replicated_kept = 0, not_replicated = 0, reversed = 0,
-      new_here = 0;
+  int there_findings = 0, replicated = 0, replicated_kept = 0, weaker = 0, not_replicated = 0,
+      reversed = 0, new_here = 0;
   for (const ReplicationRow& r : table.rows) {
     there_findings += r.there_verdict != PairedVerdict::kNotSignificant;
     replicated += r.outcome == Replication::kReplicated;
+    weaker += r.outcome == Replication::kWeaker;
     replicated_kept += r.outcome == Replication::kReplicated && r.there_kept && r.here_kept;
     not_replicated += r.outcome == Replication::kNotReplicated;
     reversed += r.outcome == Replication::kReversed;
@@ -1478,12 +1531,14 @@ std::string ReplicationSentence(const ReplicationTable& table, const AgainstStor
               ? "None of them is a finding there. "
               : fmt::format(
                     "Of the {} {} there, {} {} here in the same direction ({} of "
-                    "them kept by Holm's correction in both stores), {} {} here and {} {} the "
-                    "other way. ",
+                    "them kept by Holm's correction in both stores), {} {} weaker here (the same "
+                    "direction with p < 0.05 or an interval that excludes 0, not both), {} {} "
+                    "here and {} {} the other way. ",
                     there_findings, there_findings == 1 ? "that is a finding" : "that are findings",
                     replicated, replicated == 1 ? "is a finding" : "are findings", replicated_kept,
-                    not_replicated, not_replicated == 1 ? "is not a finding" : "are not findings",
-                    reversed, reversed == 1 ? "is a finding" : "are findings");
+                    weaker, weaker == 1 ? "is" : "are", not_replicated,
+                    not_replicated == 1 ? "is not a finding" : "are not findings", reversed,
+                    reversed == 1 ? "is a finding" : "are findings");
   text += fmt::format("{} {} here and not there.", new_here,
                       new_here == 1 ? "comparison is a finding" : "comparisons are findings");
   if (table.only_here + table.only_there > 0) {
@@ -1525,7 +1580,8 @@ CellReplicationTable CellReplicationOf(const std::vector<Cell>& cells, const Aga
   for (const Cell& cell : cells) {
     const auto it = there_cells.find(cell.values);
     for (const std::string& m : meta.report.y) {
-      if (!usable(cell, m)) continue;
+      // A timing measures the machine's load as much as the run.
+      if (!usable(cell, m) || MachineDependent(m)) continue;
       if (it == there_cells.end() || !usable(*it->second, m)) {
         ++table.unmatched;
         continue;
@@ -1658,7 +1714,7 @@ std::string PairedReplicationHtml(const ReplicationTable& table, const AgainstSt
   if (!any) return h;
   // At a glance: the outcomes per metric, in report.y's order.
   h += "<p>Per metric, at a glance:</p>\n<table><tr><th>metric</th><th>findings "
-       "there</th><th>replicated</th><th>not "
+       "there</th><th>replicated</th><th>weaker here</th><th>not "
        "replicated</th><th>reversed</th><th>new here</th><th>neither</th></tr>\n";
   for (const std::string& m : meta.report.y) {
     std::map<Replication, int> count;
@@ -1674,8 +1730,9 @@ std::string PairedReplicationHtml(const ReplicationTable& table, const AgainstSt
                  ? fmt::format("<td style=\"background:{}\">{}</td>", colour, n)
                  : fmt::format("<td>{}</td>", n);
     };
-    h += fmt::format("<tr><td class=\"k\">{}</td><td>{}</td>{}{}{}{}{}</tr>\n", EscapeMarkup(m),
+    h += fmt::format("<tr><td class=\"k\">{}</td><td>{}</td>{}{}{}{}{}{}</tr>\n", EscapeMarkup(m),
                      there_findings, cell(Replication::kReplicated, "#dff3df"),
+                     cell(Replication::kWeaker, "#fff3c4"),
                      cell(Replication::kNotReplicated, "#f8dede"),
                      cell(Replication::kReversed, "#f8dede"), cell(Replication::kNewHere, nullptr),
                      cell(Replication::kNeither, nullptr));
@@ -1695,6 +1752,7 @@ std::string PairedReplicationHtml(const ReplicationTable& table, const AgainstSt
   for (const ReplicationRow& r : table.rows) {
     if (r.outcome == Replication::kNeither) continue;
     const char* style = r.outcome == Replication::kReplicated ? " style=\"background:#dff3df\""
+                        : r.outcome == Replication::kWeaker   ? " style=\"background:#fff3c4\""
                         : r.outcome == Replication::kNewHere  ? ""
                                                               : " style=\"background:#f8dede\"";
     h += "<tr>";
@@ -1709,6 +1767,45 @@ std::string PairedReplicationHtml(const ReplicationTable& table, const AgainstSt
         ReplicationName(r.outcome));
   }
   return h + "</table>\n";
+}
+
+// Above the resolved base: what the runs did not take from it (an audit: a
+// rendered SKS sweep's base read "source: simulated, detector: oracle",
+// seed 7 and its sub-seeds, with nothing to say that no run used them).
+std::string BaseScenarioNote(const std::vector<RunRecord>& runs, const StoreMeta& meta,
+                             const std::string& link_prefix) {
+  std::vector<std::vector<std::string>> values(meta.swept_keys.size());
+  const RunRecord* first = nullptr;
+  for (const RunRecord& r : runs) {
+    if (first == nullptr && r.ok) first = &r;
+    for (size_t k = 0; k < values.size() && k < r.values.size(); ++k) {
+      if (std::find(values[k].begin(), values[k].end(), r.values[k]) == values[k].end())
+        values[k].push_back(r.values[k]);
+    }
+  }
+  std::vector<std::string> set;
+  for (size_t k = 0; k < values.size(); ++k) {
+    std::string shown;
+    for (size_t i = 0; i < values[k].size() && i < 8; ++i)
+      shown += (i > 0 ? ", " : "") + EscapeMarkup(values[k][i]);
+    if (values[k].size() > 8) shown += fmt::format(", &hellip; ({} values)", values[k].size());
+    set.push_back(fmt::format("<code>{}</code> = {}", EscapeMarkup(meta.swept_keys[k]), shown));
+  }
+  std::string h = "<p>The scenario the sweep starts from, before its grid and zip. ";
+  if (!set.empty()) {
+    h += fmt::format("Every run replaces {}: {}. ",
+                     set.size() == 1 ? "one key" : fmt::format("{} keys", set.size()),
+                     fmt::join(set, "; "));
+  }
+  h += "Its <code>seed</code> and <code>seeds</code> are the base's own: each run's are drawn "
+       "from the sweep's root seed and the run's seed index.";
+  if (first != nullptr) {
+    h += fmt::format(
+        " What a run ran, resolved, is its folder's <code>scenario.resolved.yaml</code> (the "
+        "first: <a href=\"{0}{1}/scenario.resolved.yaml\">{1}/scenario.resolved.yaml</a>).",
+        EscapeMarkup(link_prefix), EscapeMarkup(first->run_dir));
+  }
+  return h + "</p>\n";
 }
 
 // Stage 4, the page. `link_prefix` leads from the report's folder to `dir`
@@ -1757,7 +1854,8 @@ std::string ReportHtml(const fs::path& dir, const std::string& link_prefix, cons
   h += fmt::format("<title>HCPF sweep report: {}</title>\n", EscapeMarkup(meta.sweep_file));
   h += "<style>body{font-family:sans-serif;margin:1.5em;color:#222}table{border-collapse:collapse;"
        "font-size:13px}td,th{border:1px solid #ccc;padding:3px 7px;text-align:right}"
-       "th{background:#f3f3f3}td.k{text-align:left}.plot{margin:1em 0}pre{background:#f7f7f7;"
+       "th{background:#f3f3f3}td.k{text-align:left}span.i{white-space:nowrap}.plot{margin:1em 0}"
+       "pre{background:#f7f7f7;"
        "padding:1em;font-size:12px;overflow:auto}.failed{color:#b00}</style>\n</head><body>\n";
   h += fmt::format(
       "<h1>Sweep report</h1>\n<p>Sweep <code>{}</code> (hash <code>{}</code>): {} of {} runs "
@@ -1868,8 +1966,9 @@ std::string ReportHtml(const fs::path& dir, const std::string& link_prefix, cons
     h += "<h2>Failed runs</h2>\n<ul class=\"failed\">\n" + failures + "</ul>\n";
   h += SceneContactSheet(dir);
   const bool several_bases = std::find(keys.begin(), keys.end(), kSweptBaseKey) != keys.end();
-  h += fmt::format("<h2>Base scenario{} (resolved)</h2>\n<pre>{}</pre>\n", several_bases ? "s" : "",
-                   EscapeMarkup(meta.base_resolved));
+  h += fmt::format("<h2>Base scenario{} (resolved)</h2>\n", several_bases ? "s" : "");
+  h += BaseScenarioNote(runs, meta, link_prefix);
+  h += fmt::format("<pre>{}</pre>\n", EscapeMarkup(meta.base_resolved));
   h += "</body></html>\n";
   return h;
 }

@@ -226,6 +226,13 @@ std::string FramesSentence(const json& manifest) {
   return fmt::format("<p>Frames: {}.</p>\n", fmt::join(parts, "; "));
 }
 
+// Below this a camera-motion error in px is rounding: shown as 0.
+constexpr double kRoundingPx = 1e-9;
+
+std::string PixelText(double px) {
+  return std::isfinite(px) && std::abs(px) < kRoundingPx ? std::string("0") : Number(px);
+}
+
 // The per-frame plot: error_px on the left axis with the similarity floor
 // when the file has it; ESS on the right when the file has any. Returns the
 // inline SVG.
@@ -260,13 +267,13 @@ std::string CameraMotionSvg(const std::vector<CameraMotionRow>& rows, const std:
   std::string plot = fmt::format(
       "plot {} using 1:2 with lines lw 1.5 lc rgb '{}' title {}", GpString(data.string()),
       kPlotColours[0],
-      GpString(fmt::format("camera-motion error ({}), mean {} px", mode, Number(mean_px))));
+      GpString(fmt::format("camera-motion error ({}), mean {} px", mode, PixelText(mean_px))));
   if (has_floor) {
     plot += fmt::format(
         ", \\\n     {} using 1:4 with lines lw 1.5 dt 2 lc rgb '{}' title {}",
         GpString(data.string()), kPlotColours[2],
         GpString(fmt::format("similarity floor (the best any similarity does), mean {} px",
-                             Number(floor_mean_px))));
+                             PixelText(floor_mean_px))));
   }
   if (has_ess) {
     plot += fmt::format(", \\\n     {} using 1:3 axes x1y2 with lines lw 1 lc rgb '{}' title {}",
@@ -498,11 +505,20 @@ struct TimelineColour {
   int rgb;
   const char* name;
 };
-constexpr TimelineColour kVisibleMost{0x404040, "target in view, visible ≥ 0.75"};
-constexpr TimelineColour kVisibleHalf{0x9a9a9a, "visible 0.25–0.75"};
-constexpr TimelineColour kVisibleLittle{0xd4d4d4, "visible under 0.25 (or hidden)"};
+// A target row is shaded by the share of the whole vehicle that is seen:
+// its visible fraction (of its pixels inside the image) times the share of
+// its box inside the image, 1 − truncation (gt.json). An audit found a
+// truck 98 % outside the image drawn "visible ≥ 0.75" above 40 frames of
+// "detector missed it": the visible fraction alone counts only the part in
+// the image (docs/metrics.md).
+constexpr TimelineColour kVisibleMost{0x404040, "target seen ≥ 0.75 (unhidden, in the image)"};
+constexpr TimelineColour kVisibleHalf{0x9a9a9a, "seen 0.25–0.75"};
+constexpr TimelineColour kVisibleLittle{0xd4d4d4, "seen under 0.25 (hidden or outside)"};
 constexpr TimelineColour kFound{0x2ca02c, "detector found it (IoU ≥ 0.5)"};
 constexpr TimelineColour kMissed{0xf4a0a0, "detector missed it"};
+// A model-based detector's misses before the target's model was cut: it
+// could not look for the target yet.
+constexpr TimelineColour kNoModel{0xf3dcb8, "missed, before its model was cut"};
 // Filter states (metrics/filter_metrics.h, docs/metrics.md).
 constexpr TimelineColour kStateColours[] = {{0x1f77b4, "CORRECT"},  {0xff7f0e, "SWAPPED"},
                                             {0xd62728, "HIJACKED"}, {0x8c564b, "STRAYED"},
@@ -594,8 +610,33 @@ struct TimelineParts {
   std::set<int64_t> mapped;  // filters the mapping gives a target
 };
 
+// gt.json's truncation of each target, by (frame from 1, target id): the
+// share of its box outside the image. Empty when the file is absent (the
+// timeline then shades by visible fraction alone); InputError when it does
+// not parse.
+std::map<std::pair<int64_t, int64_t>, double> TruncationOf(const fs::path& gt_json) {
+  std::map<std::pair<int64_t, int64_t>, double> out;
+  std::error_code ec;
+  if (!fs::is_regular_file(gt_json, ec)) return out;
+  const json gt = ReadRunJson(gt_json);
+  const json& frames = JsonMember(gt, "frames");
+  if (!frames.is_array()) return out;
+  for (const json& f : frames) {
+    const std::optional<int64_t> frame = JsonInt(f, "frame");
+    const json& objects = JsonMember(f, "objects");
+    if (!frame || !objects.is_array()) continue;
+    for (const json& o : objects) {
+      const std::optional<int64_t> id = JsonInt(o, "id");
+      const double truncation = JsonDouble(o, "truncation");
+      if (id && std::isfinite(truncation)) out[{*frame + 1, *id}] = truncation;
+    }
+  }
+  return out;
+}
+
 TimelineParts ReadTimeline(const metrics::MotFile& gt, const json& metrics, const json& manifest,
-                           int frames) {
+                           int frames,
+                           const std::map<std::pair<int64_t, int64_t>, double>& truncation) {
   const auto row_of = [frames](std::string label) {
     return TimelineRow{std::move(label), std::vector<int>(static_cast<size_t>(frames), -1), {}};
   };
@@ -604,7 +645,8 @@ TimelineParts ReadTimeline(const metrics::MotFile& gt, const json& metrics, cons
   for (const metrics::MotRow& r : gt.rows) {
     auto [it, inserted] = truth.try_emplace(r.id, row_of(fmt::format("target {}", r.id)));
     if (!in_range(r.frame)) continue;
-    const double v = r.col9;
+    const auto cut = truncation.find({r.frame, r.id});
+    const double v = r.col9 * (cut == truncation.end() ? 1.0 : 1.0 - cut->second);
     it->second.colour[static_cast<size_t>(r.frame - 1)] =
         v >= 0.75 ? kVisibleMost.rgb : (v >= 0.25 ? kVisibleHalf.rgb : kVisibleLittle.rgb);
   }
@@ -627,13 +669,18 @@ TimelineParts ReadTimeline(const metrics::MotFile& gt, const json& metrics, cons
       }
       truth.try_emplace(*id, row_of(fmt::format("target {}", *id)));
     }
-    ForEachIdFrame(JsonMember(manifest, "target_model_sources"), "target",
-                   [&](int64_t id, int64_t frame) {
-                     if (!in_range(frame + 1)) return;
-                     detected.try_emplace(id, row_of("detections"))
-                         .first->second.marks[kModelCut]
-                         .push_back(static_cast<int>(frame + 1));
-                   });
+    ForEachIdFrame(
+        JsonMember(manifest, "target_model_sources"), "target", [&](int64_t id, int64_t frame) {
+          if (!in_range(frame + 1)) return;
+          TimelineRow& row = detected.try_emplace(id, row_of("detections")).first->second;
+          row.marks[kModelCut].push_back(static_cast<int>(frame + 1));
+          // Misses before the cut (frame from 0: the frames from 1
+          // before frame + 1) were no look at the target.
+          for (int64_t f = 1; f <= frame && f <= frames; ++f) {
+            int& colour = row.colour[static_cast<size_t>(f - 1)];
+            if (colour == kMissed.rgb) colour = kNoModel.rgb;
+          }
+        });
   }
   // Filter rows, by filter id, and the target each is mapped to.
   std::map<int64_t, TimelineRow> filter_rows;
@@ -790,7 +837,8 @@ TimelinePlot TimelineSvg(const std::vector<TimelineRow>& rows, int frames, const
                           GpString(c.name));
     }
   };
-  for (const TimelineColour& c : {kVisibleMost, kVisibleHalf, kVisibleLittle, kFound, kMissed}) {
+  for (const TimelineColour& c :
+       {kVisibleMost, kVisibleHalf, kVisibleLittle, kFound, kMissed, kNoModel}) {
     legend(c);
   }
   for (const TimelineColour& c : kStateColours) legend(c);
@@ -1669,11 +1717,12 @@ ReportResult WriteRunReport(const ReportOptions& options) {
   if (run.frames > 0 && fs::is_regular_file(gt_txt, ec)) {
     const metrics::MotFile gt =
         metrics::ReadMotFile(gt_txt.string(), metrics::MotFileKind::kGroundTruth, run.frames);
-    const TimelineParts parts = ReadTimeline(gt, metrics, manifest, run.frames);
+    const auto truncation = TruncationOf(dir / "gt.json");
+    const TimelineParts parts = ReadTimeline(gt, metrics, manifest, run.frames, truncation);
     if (same_truth) {
       for (const auto& [id, row] : parts.truth) truth_targets.insert(id);
       timeline = ComparedTimelineRows(
-          parts, ReadTimeline(gt, other->metrics, other->manifest, run.frames));
+          parts, ReadTimeline(gt, other->metrics, other->manifest, run.frames, truncation));
     } else {
       timeline = TimelineRows(parts);
     }
@@ -1684,10 +1733,17 @@ ReportResult WriteRunReport(const ReportOptions& options) {
   std::string precision_recall_svg;
   const json& precision_recall = JsonMember(JsonMember(metrics, "detection"), "precision_recall");
   const bool has_curve = !JsonMember(JsonMember(precision_recall, "curve"), "recall").empty();
-  if (!rows.empty() || !timeline.empty() || has_curve) {
+  // A static camera, or motion applied exactly, leaves errors of 1e-14 px:
+  // rounding, drawn as a plot of noise on a 0 to 7e-14 axis (an audit).
+  const bool rounding_only =
+      !rows.empty() && std::all_of(rows.begin(), rows.end(), [](const CameraMotionRow& r) {
+        return std::abs(r.error_px) < kRoundingPx &&
+               (!std::isfinite(r.floor_px) || std::abs(r.floor_px) < kRoundingPx);
+      });
+  if ((!rows.empty() && !rounding_only) || !timeline.empty() || has_curve) {
     const fs::path work = MakePlotWorkDir(out, options.out_dir.empty());
     try {
-      if (!rows.empty()) {
+      if (!rows.empty() && !rounding_only) {
         svg = CameraMotionSvg(rows, mode, JsonDouble(camera, "mean_px"),
                               JsonDouble(JsonMember(camera, "floor"), "mean_px"), work,
                               options.gnuplot);
@@ -1833,8 +1889,8 @@ ReportResult WriteRunReport(const ReportOptions& options) {
     const auto row = [&h](const char* label, const json& summary) {
       h += fmt::format(
           "<tr><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td></tr>\n", label,
-          Number(JsonDouble(summary, "mean_px")), Number(JsonDouble(summary, "median_px")),
-          Number(JsonDouble(summary, "p95_px")), Number(JsonDouble(summary, "max_px")));
+          PixelText(JsonDouble(summary, "mean_px")), PixelText(JsonDouble(summary, "median_px")),
+          PixelText(JsonDouble(summary, "p95_px")), PixelText(JsonDouble(summary, "max_px")));
     };
     const json& camera_b = other ? JsonMember(other->metrics, "camera_motion") : camera;
     row(other ? "error, A" : "error", camera);
@@ -1849,6 +1905,11 @@ ReportResult WriteRunReport(const ReportOptions& options) {
   }
   if (!svg.empty()) {
     h += fmt::format("<div class=\"plot\" id=\"plot-camera_motion\">\n{}\n</div>\n", svg);
+  } else if (rounding_only) {
+    h +=
+        "<p>Every frame's error (and floor) is below 10<sup>&minus;9</sup>&nbsp;px, floating-point "
+        "rounding, shown as 0: the camera did not move, or its motion was applied exactly. "
+        "Nothing to plot.</p>\n";
   } else {
     h += "<p>No per-frame camera motion to plot (camera_motion.csv is absent or has no "
          "rows).</p>\n";

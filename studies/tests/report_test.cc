@@ -559,6 +559,62 @@ TEST(RunReport, TimelineDrawsTargetsTheirDetectionsAndTheirFilters) {
       << "no filter row, so no ring";
 }
 
+// An audit: a truck 98 % outside the image was drawn "visible ≥ 0.75" (the
+// visible fraction counts only the part in the image) above 40 frames of
+// "detector missed it" before its model existed. By hand: target 1 visible
+// 1.0 in frames 1–4 with truncation 0, 0.5, 0.8 and 0 (gt.json, frames from
+// 0): seen 1.0, 0.5, 0.2, 1.0 → dark, half, little, dark; missed in 1–3,
+// found in 4, its model cut at the start of frame 3 (from 1; 2 from 0):
+// frames 1–2 are misses before the model, 3 a miss.
+TEST(RunReport, TimelineShadesTheShareSeenAndMissesBeforeTheModel) {
+  const auto dir = testing::SweepFolder("run-report-timeline-seen");
+  const fs::path run = RunMinimal(dir, "none");
+  std::ofstream(run / "gt" / "gt.txt") << "1,1,10,10,20,10,1,1,1\n2,1,11,10,20,10,1,1,1\n"
+                                          "3,1,12,10,20,10,1,1,1\n4,1,13,10,20,10,1,1,1\n";
+  nlohmann::json gt = {{"frames", nlohmann::json::array()}};
+  for (const auto& [frame, truncation] :
+       {std::pair{0, 0.0}, std::pair{1, 0.5}, std::pair{2, 0.8}, std::pair{3, 0.0}}) {
+    gt["frames"].push_back(
+        {{"frame", frame}, {"objects", {{{"id", 1}, {"truncation", truncation}}}}});
+  }
+  std::ofstream(run / "gt.json") << gt.dump();
+  auto metrics = nlohmann::json::parse(Read(run / "metrics.json"));
+  metrics["detection"] = nlohmann::json::parse(R"({"by_target": [
+      {"target": 1, "found": 1, "missed": 3, "found_centre": 1, "missed_centre": 3,
+       "found_frames": [[3, 3]], "missed_frames": [[0, 2]]}]})");
+  std::ofstream(run / "metrics.json") << metrics.dump();
+  auto manifest = nlohmann::json::parse(Read(run / "manifest.json"));
+  manifest["target_model_sources"] = nlohmann::json::parse(R"([{"target": 1, "frame": 2}])");
+  std::ofstream(run / "manifest.json") << manifest.dump();
+  const fs::path kept = dir / "kept";
+  WriteReport({.dir = run.string(), .gnuplot = KeepingGnuplot(dir, kept).string()});
+  std::vector<std::string> segments;
+  std::stringstream dat(Read(kept / "timeline.dat"));
+  for (std::string line; std::getline(dat, line);) {
+    if (!line.empty() && line[0] != '#') segments.push_back(line);
+  }
+  const std::string dark = std::to_string(0x404040), half = std::to_string(0x9a9a9a),
+                    little = std::to_string(0xd4d4d4), found = std::to_string(0x2ca02c),
+                    missed = std::to_string(0xf4a0a0), no_model = std::to_string(0xf3dcb8);
+  ASSERT_GE(segments.size(), 7U);
+  segments.resize(7);  // the run's own filters' rows follow
+  EXPECT_EQ(segments,
+            std::vector<std::string>({"0.5 0 1 " + dark, "1.5 0 1 " + half, "2.5 0 1 " + little,
+                                      "3.5 0 1 " + dark, "0.5 -1 2 " + no_model,
+                                      "2.5 -1 1 " + missed, "3.5 -1 1 " + found}));
+  const std::string gp = Read(kept / "timeline.gp");
+  EXPECT_NE(gp.find("title 'missed, before its model was cut'"), std::string::npos) << gp;
+  EXPECT_NE(gp.find("title 'target seen ≥ 0.75 (unhidden, in the image)'"), std::string::npos);
+  // A gt.json that does not parse is an error naming it, as metrics.json's.
+  std::ofstream(run / "gt.json") << "{";
+  try {
+    WriteReport({.dir = run.string(), .gnuplot = KeepingGnuplot(dir, kept).string()});
+    ADD_FAILURE() << "no error";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("gt.json"), std::string::npos) << e.what();
+  }
+}
+
 // mode none: no scene filter, so no ESS column values and no ESS line.
 // A run folder whose metrics.json is not a run's (a bad-input audit: "{}"
 // gave a report of NaN with exit 0) is bad input naming the file and block.
@@ -1159,6 +1215,51 @@ TEST(RunReport, MalformedCameraMotionCsvNamesFileLineAndColumn) {
   }
 }
 
+// A static camera under mode none, or motion applied exactly, leaves
+// errors of ~1e-14 px: rounding, which was drawn as a plot of noise on a 0
+// to 7e-14 axis with "mean 6.86149e-14 px" (an audit). Shown as 0, and not
+// plotted; an error of 1e-6 px is still one.
+TEST(RunReport, CameraMotionErrorsOfRoundingAreShownAsZeroAndNotPlotted) {
+  const auto dir = testing::SweepFolder("run-report-rounding");
+  const fs::path run = RunMinimal(dir, "none");
+  const auto rewrite = [&run](const std::string& error) {
+    std::stringstream in(Read(run / "camera_motion.csv"));
+    std::string text, line;
+    std::getline(in, line);
+    text = line + "\n";
+    while (std::getline(in, line)) {
+      std::vector<std::string> f;
+      std::stringstream fields(line);
+      for (std::string x; std::getline(fields, x, ',');) f.push_back(x);
+      if (line.back() == ',') f.emplace_back();
+      f[5] = error;
+      f[7] = "2.8e-14";
+      text += fmt::format("{}\n", fmt::join(f, ","));
+    }
+    std::ofstream(run / "camera_motion.csv", std::ios::trunc) << text;
+    auto metrics = nlohmann::json::parse(Read(run / "metrics.json"));
+    for (const char* k : {"mean_px", "median_px", "p95_px", "max_px"}) {
+      metrics["camera_motion"][k] = std::stod(error);
+      metrics["camera_motion"]["floor"][k] = 2.8e-14;
+    }
+    std::ofstream(run / "metrics.json", std::ios::trunc) << metrics.dump();
+  };
+  rewrite("6.86e-14");
+  std::string html = Read(WriteReport({.dir = run.string()}).html_path);
+  EXPECT_EQ(html.find("id=\"plot-camera_motion\""), std::string::npos);
+  EXPECT_NE(html.find("<tr><td>error</td><td>0</td><td>0</td><td>0</td><td>0</td></tr>"),
+            std::string::npos);
+  EXPECT_NE(html.find("<tr><td>floor</td><td>0</td><td>0</td><td>0</td><td>0</td></tr>"),
+            std::string::npos);
+  EXPECT_NE(html.find("is below 10<sup>&minus;9</sup>&nbsp;px, floating-point rounding"),
+            std::string::npos);
+  rewrite("1e-06");
+  html = Read(WriteReport({.dir = run.string()}).html_path);
+  EXPECT_NE(html.find("id=\"plot-camera_motion\""), std::string::npos);
+  EXPECT_NE(html.find("<tr><td>error</td><td>1e-06</td>"), std::string::npos);
+  EXPECT_NE(html.find("mean 0 px"), std::string::npos) << "the floor's legend";
+}
+
 // report.panels: one plot per metric and panel value, each with the lines
 // of its own cells (its series values) and the panel named in the title;
 // with grid.base every base scenario is shown, resolved.
@@ -1194,6 +1295,14 @@ TEST(Report, PanelsDrawOnePlotPerMetricAndValue) {
     EXPECT_EQ(svg.find("base="), std::string::npos) << id;
   }
   EXPECT_NE(html.find("Base scenarios (resolved)"), std::string::npos);
+  // What the runs did not take from the bases (an audit: a rendered sweep's
+  // base read "source: simulated" with nothing to say no run used it).
+  EXPECT_NE(html.find("Every run replaces 3 keys: <code>base</code> = base.yaml, second.yaml; "
+                      "<code>tracker.particles</code> = "),
+            std::string::npos)
+      << html.substr(html.find("Base scenarios (resolved)"), 1500);
+  EXPECT_NE(html.find("Its <code>seed</code> and <code>seeds</code> are the base's own"),
+            std::string::npos);
   EXPECT_NE(html.find("# base: base.yaml"), std::string::npos);
   EXPECT_NE(html.find("# base: second.yaml"), std::string::npos);
   EXPECT_NE(html.find("name: &quot;second&quot;"), std::string::npos);
@@ -1475,7 +1584,9 @@ TEST(Report, PairedDifferencesByHand) {
   EXPECT_NE(html.find("p&nbsp;=&nbsp;0.002, <b>Holm&nbsp;0.008</b>"), std::string::npos);
   EXPECT_NE(html.find("over the 4 comparisons of this table"), std::string::npos);
   // Lower hijack rate is better: significant and negative → green.
-  EXPECT_NE(html.find("style=\"background:#dff3df\">&Delta;&nbsp;-1 [-1, -1]"), std::string::npos);
+  EXPECT_NE(html.find("style=\"background:#dff3df\">&Delta;&nbsp;-1<br><span class=\"i\">[-1, "
+                      "-1]</span>"),
+            std::string::npos);
   // The difference plots: a line "charged − systematic" and a zero line.
   const auto diff = PlotRows(kept / "plot_d0.dat");
   ASSERT_EQ(diff.size(), 1U);
@@ -1575,8 +1686,19 @@ TEST(Report, SeedsToLookAtNameTheFurthestAndTheLeastFarPairOfEachFinding) {
   }
   WriteReport({.dir = dir.string()});
   html = Read(dir / "report.html");
-  EXPECT_NE(html.find("style=\"background:#f8dede\">&Delta;&nbsp;1.45"), std::string::npos)
-      << "the timing is a finding";
+  // The timing (charged slower on every seed, p = 0.002; differences 1.0 to
+  // 1.9, mean 1.45, s = 0.303, t = 2.262: [1.233, 1.667]) is tabled, not
+  // tested: not coloured, outside the family (1 comparison, not 2), no
+  // finding (an audit found a rendered sweep's run order made one).
+  EXPECT_NE(html.find("<td>&Delta;&nbsp;1.45<br><span class=\"i\">[1.23, 1.67]</span><br>10/0/0, "
+                      "not tested</td>"),
+            std::string::npos)
+      << html;
+  EXPECT_NE(html.find("This report makes 1 comparisons"), std::string::npos);
+  EXPECT_NE(html.find("ms_per_frame is plotted and tabled but not tested"), std::string::npos);
+  EXPECT_NE(html.find("best mean (lower is better): systematic at every tracker.particles. Not "
+                      "tested (a time depends on the machine's load"),
+            std::string::npos);
   EXPECT_NE(html.find("for the one coloured cell"), std::string::npos);
   EXPECT_NE(html.find("(1 of them against it"), std::string::npos);
   const std::string quoted = "'" + (dir / "runs").string();
@@ -2051,8 +2173,9 @@ TEST(Report, AgainstAnotherStoreSaysWhichFindingsReplicate) {
       "Against `" + ten.string() +
       "` (runs of root seed 1; these runs: root seed 3), 4 comparisons are made in both stores. "
       "Of the 1 that is a finding there, 1 is a finding here in the same direction (0 of them "
-      "kept by Holm's correction in both stores), 0 are not findings here and 0 are findings the "
-      "other way. 1 comparison is a finding here and not there.";
+      "kept by Holm's correction in both stores), 0 are weaker here (the same direction with p < "
+      "0.05 or an interval that excludes 0, not both), 0 are not findings here and 0 are "
+      "findings the other way. 1 comparison is a finding here and not there.";
   EXPECT_NE(Read(six / "findings.md").find("\n## Replication\n\n" + sentence + "\n"),
             std::string::npos)
       << Read(six / "findings.md");
@@ -2063,9 +2186,9 @@ TEST(Report, AgainstAnotherStoreSaysWhichFindingsReplicate) {
   EXPECT_LT(html.find("id=\"replication\""), html.find("<h2>Plots</h2>"));
   // At a glance, per metric: hijack_rate replicated at 100, mota new at 1000.
   EXPECT_NE(html.find("<tr><td class=\"k\">hijack_rate</td><td>1</td><td "
-                      "style=\"background:#dff3df\">1</td><td>0</td><td>0</td><td>0</td><td>1</"
-                      "td></tr>\n<tr><td class=\"k\">mota</td><td>0</td><td>0</td><td>0</td><td>0</"
-                      "td><td>1</td><td>1</td></tr>"),
+                      "style=\"background:#dff3df\">1</td><td>0</td><td>0</td><td>0</td><td>0</"
+                      "td><td>1</td></tr>\n<tr><td class=\"k\">mota</td><td>0</td><td>0</td><td>0</"
+                      "td><td>0</td><td>0</td><td>1</td><td>1</td></tr>"),
             std::string::npos)
       << html;
   // The table lists the two comparisons that are a finding in either store.
@@ -2079,6 +2202,22 @@ TEST(Report, AgainstAnotherStoreSaysWhichFindingsReplicate) {
             std::string::npos)
       << csv;
   EXPECT_NE(csv.find(",none,0,not replicated\n"), std::string::npos) << csv;
+
+  // Weaker here: with 5 seeds hijack_rate at 100 is −1 on every seed, its
+  // interval [−1, −1], but the signed-rank test cannot go below 2/32 =
+  // 0.0625: the same direction, one criterion of two. Not "not replicated"
+  // (an audit found same-direction differences at p = 6e-5 called so).
+  const fs::path five = HandStore("replicate-five", "systematic", 5);
+  WriteReport({.dir = five.string(), .against = ten.string()});
+  csv = Read(five / "replication.csv");
+  EXPECT_NE(csv.find("100,charged,systematic,hijack_rate,10,-1,0.00195312,0.0078125,better,1,5,-1,"
+                     "0.0625,"),
+            std::string::npos)
+      << csv;
+  EXPECT_NE(csv.find(",none,0,weaker here\n"), std::string::npos) << csv;
+  EXPECT_NE(Read(five / "findings.md").find("1 is weaker here (the same direction"),
+            std::string::npos)
+      << Read(five / "findings.md");
 
   // Reversed: with the values at 100 swapped, charged is worse in hijack_rate there.
   const fs::path swapped = HandStore("replicate-swapped", "systematic", 10);

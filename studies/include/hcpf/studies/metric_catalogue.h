@@ -36,6 +36,13 @@ std::span<const CatalogueMetric> MetricCatalogue();
 // The entry named `name`, or nullptr.
 const CatalogueMetric* FindMetric(std::string_view name);
 
+// Whether `metric` is a time the run measured (manifest.json's timings:
+// ms_per_frame, wall_time_s). Such a value depends on the machine's load and
+// on the order runs ran in (the first runs of a rendered sweep render the
+// frames the others read from the cache), not only on the run's settings:
+// reports plot and table it but do not test it (docs/sweeps.md).
+bool MachineDependent(std::string_view metric);
+
 // The names, in catalogue order (built once).
 const std::vector<std::string>& MetricNames();
 

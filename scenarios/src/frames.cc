@@ -153,8 +153,10 @@ SceneFrames ProduceFrames(const Scenario& scenario, const FrameSourceOptions& op
   if (cache_writer) cache_writer->Finish();
   progress.Finish();
   if (out.frames_from_cache > 0) {
-    spdlog::info("{} of {} frames read from the frame cache {}", out.frames_from_cache, frames,
-                 cache->dir().string());
+    // Said per run only outside a sweep (see run.cc's detection line).
+    spdlog::log(options.show_progress ? spdlog::level::info : spdlog::level::debug,
+                "{} of {} frames read from the frame cache {}", out.frames_from_cache, frames,
+                cache->dir().string());
     out.cache_renderers = cache->Renderers();
     if (out.cache_renderers.size() > 1) {
       spdlog::warn(

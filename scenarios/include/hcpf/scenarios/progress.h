@@ -6,7 +6,9 @@
 
 #include <chrono>
 #include <cstdint>
+#include <limits>
 #include <string>
+#include <vector>
 
 namespace hcpf::scenarios {
 
@@ -22,9 +24,19 @@ class Progress {
   // Prints the final state (if anything was printed before) and ends the line.
   void Finish();
 
-  // The line as shown, e.g. "sweep 12/40 (30%) 1 failed, 0:12 elapsed, ETA 0:28".
+  // The line as shown, e.g. "sweep 12/40 (30%) 1 failed, 0:12 elapsed, ETA 0:28";
+  // `eta_s` NaN: from the mean rate since the start.
   static std::string Format(const std::string& label, int64_t done, int64_t total, int64_t failed,
-                            double elapsed_s);
+                            double elapsed_s,
+                            double eta_s = std::numeric_limits<double>::quiet_NaN());
+
+  // The time left for `total` items at the rate of the later half of those
+  // done: `finished_s[i]` is when item i + 1 finished, `now_s` the time now
+  // (both from the start). NaN when nothing is done or all is. A rendered
+  // sweep's first runs render what the rest read from the cache: at the
+  // mean rate since the start its ETA said 16 minutes for a sweep that took
+  // one (an audit).
+  static double EtaSeconds(const std::vector<double>& finished_s, int64_t total, double now_s);
 
  private:
   void Print(bool final);
@@ -39,6 +51,7 @@ class Progress {
   bool finished_ = false;
   std::chrono::steady_clock::time_point start_;
   std::chrono::steady_clock::time_point last_print_;
+  std::vector<double> finished_s_;  // when each item finished, seconds from the start
 };
 
 }  // namespace hcpf::scenarios

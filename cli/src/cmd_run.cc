@@ -83,7 +83,10 @@ Command AddRunCommand(CLI::App& parent) {
             spdlog::info("MOTA {:.3f}  IDF1 {:.3f}  HOTA {:.3f}  DA accuracy {}  hijack rate {}",
                          summary.mota, summary.idf1, summary.hota, rate(summary.da_accuracy),
                          rate(summary.hijack_rate));
-            spdlog::info("outputs in {}", summary.out_dir);
+            spdlog::info(
+                "outputs in {} (hcpf report on the folder writes its report.html: "
+                "plots, a timeline, the video)",
+                summary.out_dir);
             cache_limit.Apply();
             return 0;
           }};

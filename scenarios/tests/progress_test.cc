@@ -24,7 +24,8 @@ TEST(Progress, TheEtaRunsAtTheRateOfTheLaterHalfOfTheItemsDone) {
   EXPECT_NEAR(Progress::EtaSeconds({1, 2, 3, 4, 5, 6, 7}, 10, 7.0), 3.0, 1e-9);
   EXPECT_TRUE(std::isnan(Progress::EtaSeconds({}, 10, 1.0)));
   EXPECT_TRUE(std::isnan(Progress::EtaSeconds({1.0, 2.0}, 2, 2.0)));
-  EXPECT_EQ(Progress::Format("sweep", 6, 100, 0, 6.8, 9.4), "sweep 6/100 (6%) 0:07 elapsed, ETA 0:09");
+  EXPECT_EQ(Progress::Format("sweep", 6, 100, 0, 6.8, 9.4),
+            "sweep 6/100 (6%) 0:07 elapsed, ETA 0:09");
   EXPECT_EQ(Progress::Format("sweep", 6, 100, 1, 6.8),
             "sweep 6/100 (6%) 1 failed, 0:07 elapsed, ETA 1:47");
   EXPECT_EQ(Progress::Format("sweep", 100, 100, 0, 7.0), "sweep 100/100 (100%) 0:07 elapsed");

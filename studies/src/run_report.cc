@@ -895,6 +895,32 @@ struct RunFolder {
   int video_width = 640;  // the manifest's, for the player's largest width
 };
 
+// ", tracker: particle filter, 500 particles, charged resampling, likelihood
+// detections_mixture, camera motion none" from the resolved scenario, so the
+// header says what the run is (an audit: the keys set with --set showed only
+// in the YAML at the page's foot); "" without a resolved scenario.
+std::string TrackerText(const RunFolder& run) {
+  if (!run.resolved) return {};
+  try {
+    const YAML::Node tracker = YAML::Load(*run.resolved)["tracker"];
+    if (!tracker.IsMap()) return {};
+    const auto text = [](const YAML::Node& n) {
+      return n.IsDefined() && n.IsScalar() ? n.Scalar() : std::string("?");
+    };
+    if (tracker["type"].IsDefined() && text(tracker["type"]) == "external") {
+      std::vector<std::string> words;
+      for (const auto& w : tracker["command"]) words.push_back(text(w));
+      return fmt::format(", tracker: external ({})", fmt::join(words, " "));
+    }
+    return fmt::format(
+        ", tracker: particle filter, {} particles, {} resampling, likelihood {}, camera motion {}",
+        text(tracker["particles"]), text(tracker["resampling"]["method"]),
+        text(tracker["likelihood"]["model"]), text(tracker["camera_motion"]));
+  } catch (const YAML::Exception&) {
+    return {};
+  }
+}
+
 // The run folder's manifest.json and metrics.json; throws InputError when
 // either is missing, not JSON, or not a run's.
 RunFolder ReadRunFolder(const fs::path& dir) {
@@ -1790,11 +1816,11 @@ ReportResult WriteRunReport(const ReportOptions& options) {
        "padding:1em;font-size:12px;overflow:auto}</style>\n</head><body>\n";
   h += fmt::format(
       "<h1>Run report: {}</h1>\n<p>Run folder <code>{}</code>: seed {}, {} frames, observations "
-      "{} ({}), config hash <code>{}</code>.</p>\n",
+      "{} ({}){}, config hash <code>{}</code>.</p>\n",
       EscapeMarkup(name), EscapeMarkup(dir.string()), EscapeMarkup(JsonText(manifest, "seed")),
       EscapeMarkup(JsonText(manifest, "frames")),
       EscapeMarkup(JsonText(manifest, "observation_source")),
-      EscapeMarkup(JsonText(manifest, "detector")),
+      EscapeMarkup(JsonText(manifest, "detector")), EscapeMarkup(TrackerText(run)),
       EscapeMarkup(JsonText(manifest, "config_hash")));
   h += FramesSentence(manifest);
 
@@ -1817,13 +1843,26 @@ ReportResult WriteRunReport(const ReportOptions& options) {
     return std::isfinite(v) ? fmt::format(fmt::runtime(format), v) : std::string("–");
   };
   for (const CatalogueMetric& m : MetricCatalogue()) {
-    const double a = value(headline, m.name);
-    const double b = other ? value(other->headline, m.name) : kNaN;
+    // A distance in px below kRoundingPx is rounding (a static camera's
+    // camera-motion error of 7e-14 px): 0.
+    const auto rounded = [&m](double v) {
+      return m.unit == "px" && std::abs(v) < kRoundingPx ? 0.0 : v;
+    };
+    const double a = rounded(value(headline, m.name));
+    const double b = other ? rounded(value(other->headline, m.name)) : kNaN;
     if (!std::isfinite(a) && !std::isfinite(b)) continue;  // measured in neither run
     const std::string unit = m.unit.empty() ? "" : " " + EscapeMarkup(std::string(m.unit));
-    h += fmt::format("<tr><td class=\"k\">{}</td><td class=\"k\"><code>{}</code></td><td>{}{}</td>",
-                     EscapeMarkup(std::string(m.label)), EscapeMarkup(std::string(m.name)),
-                     cell(a, "{:.4g}"), std::isfinite(a) ? unit : "");
+    // A hijack rate of 1 beside a hijacked fraction of 0 read as a
+    // contradiction (an audit): a lost filter counts as a hijack.
+    const std::string note =
+        m.name == "hijack_rate"
+            ? "<br><small>encounters after which a filter of either target is HIJACKED, STRAYED "
+              "or LOST, or gone (docs/metrics.md)</small>"
+            : "";
+    h += fmt::format(
+        "<tr><td class=\"k\">{}{}</td><td class=\"k\"><code>{}</code></td><td>{}{}</td>",
+        EscapeMarkup(std::string(m.label)), note, EscapeMarkup(std::string(m.name)),
+        cell(a, "{:.4g}"), std::isfinite(a) ? unit : "");
     if (other) {
       h += fmt::format("<td>{}{}</td><td>{}</td>", cell(b, "{:.4g}"), std::isfinite(b) ? unit : "",
                        cell(a - b, "{:+.4g}"));
@@ -1834,11 +1873,15 @@ ReportResult WriteRunReport(const ReportOptions& options) {
 
   if (!timeline_plot.svg.empty()) {
     h += "<h2>Targets, detections and filters over time</h2>\n";
-    h += "<p>One row per target, grey where it is in view (darker the more of it is visible). "
-         "In a rendered run with a detector, the row under it shows the frames where the "
-         "detector found it (IoU ≥ 0.5, as the detection-quality table below counts) and where it "
-         "missed it, of "
-         "the frames it is counted in, with ◆ at the frame its model was cut. Then each filter "
+    h += "<p>One row per target, grey where it is in view, darker the more of it is seen: its "
+         "visible fraction (of its pixels inside the image, gt.txt's visibility) times the share "
+         "of its box inside the image (1 − gt.json's truncation). In a rendered run with a "
+         "detector, the row under it shows the frames where the detector found it (IoU ≥ 0.5, as "
+         "the detection-quality table below counts) and where it missed it, of the frames it is "
+         "counted in (the detection metrics count a target by its visible fraction alone, so a "
+         "target half outside the image is counted), with ◆ at the frame its model was cut and "
+         "the misses before it, when the detector could not look for it yet, in pale orange. "
+         "Then each filter "
          "that the identity mapping gives that target, coloured by its state in each frame "
          "(docs/metrics.md), with ○ where it was re-acquired from its own target's detections "
          "(tracker.management.reacquire); a filter the mapping gives no target comes last. A "

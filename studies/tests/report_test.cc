@@ -317,6 +317,13 @@ TEST(RunReport, PlotsPerFrameCameraMotionErrorWithModeAndEss) {
   EXPECT_NE(html.find("<code>da_accuracy</code>"), std::string::npos);
   EXPECT_NE(html.find("<code>camera_motion_error_px</code>"), std::string::npos);
   EXPECT_NE(html.find("Mode <code>scene_filter</code>"), std::string::npos);
+  // The header says what the run is (an audit: settings given with --set
+  // showed only in the resolved YAML at the page's foot).
+  EXPECT_NE(html.find("tracker: particle filter, 100 particles, charged resampling, likelihood "
+                      "detections_mixture, camera motion scene_filter, config hash"),
+            std::string::npos)
+      << html.substr(0, 2000);
+
   EXPECT_NE(html.find("name: &quot;minimal&quot;"), std::string::npos) << "resolved scenario";
   EXPECT_FALSE(fs::exists(run / ".report-work")) << "work files removed";
 
@@ -582,6 +589,7 @@ TEST(RunReport, TimelineShadesTheShareSeenAndMissesBeforeTheModel) {
   metrics["detection"] = nlohmann::json::parse(R"({"by_target": [
       {"target": 1, "found": 1, "missed": 3, "found_centre": 1, "missed_centre": 3,
        "found_frames": [[3, 3]], "missed_frames": [[0, 2]]}]})");
+  metrics["filters"]["hijack_rate"] = 1.0;
   std::ofstream(run / "metrics.json") << metrics.dump();
   auto manifest = nlohmann::json::parse(Read(run / "manifest.json"));
   manifest["target_model_sources"] = nlohmann::json::parse(R"([{"target": 1, "frame": 2}])");
@@ -605,6 +613,12 @@ TEST(RunReport, TimelineShadesTheShareSeenAndMissesBeforeTheModel) {
   const std::string gp = Read(kept / "timeline.gp");
   EXPECT_NE(gp.find("title 'missed, before its model was cut'"), std::string::npos) << gp;
   EXPECT_NE(gp.find("title 'target seen ≥ 0.75 (unhidden, in the image)'"), std::string::npos);
+  // The headline's hijack rate says it counts lost filters (beside a
+  // hijacked fraction of 0 a rate of 1 read as a contradiction: an audit).
+  EXPECT_NE(Read(run / "report.html")
+                .find("hijack rate<br><small>encounters after which a filter of either target is "
+                      "HIJACKED, STRAYED or LOST, or gone"),
+            std::string::npos);
   // A gt.json that does not parse is an error naming it, as metrics.json's.
   std::ofstream(run / "gt.json") << "{";
   try {

@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <map>
 #include <opencv2/imgproc.hpp>
 
@@ -13,39 +14,103 @@ namespace hcpf::scenarios {
 
 namespace {
 
-// Filter colours (BGR), by filter id: none yellow, the detections' colour.
+// Filter colours (BGR), by filter id. None is a state's colour (below), the
+// detections' yellow or the truth's white: filter 2's lime box under a green
+// CORRECT label read as one thing (an audit). Cyan, pink, green, magenta,
+// olive, teal, light green, rose.
 cv::Scalar FilterColour(int64_t id) {
-  static const cv::Scalar kColours[] = {{255, 128, 0}, {255, 0, 200},   {0, 255, 128},
-                                        {0, 128, 255}, {128, 128, 255}, {255, 255, 0},
-                                        {200, 0, 128}, {0, 0, 200}};
+  static const cv::Scalar kColours[] = {{207, 190, 23},  {194, 119, 227}, {44, 160, 44},
+                                        {204, 51, 255},  {34, 189, 188},  {128, 128, 0},
+                                        {138, 223, 152}, {150, 150, 255}};
   return kColours[static_cast<size_t>(id < 0 ? -id : id) % std::size(kColours)];
 }
 
+// The state labels' colours (BGR): those of the run report's timeline
+// (studies/src/run_report.cc kStateColours), so a state reads the same in
+// the video and on the page.
 cv::Scalar StateColour(metrics::FilterState state) {
   switch (state) {
     case metrics::FilterState::kCorrect:
-      return {80, 220, 80};
+      return {180, 119, 31};  // #1f77b4
     case metrics::FilterState::kSwapped:
-      return {0, 200, 255};
+      return {14, 127, 255};  // #ff7f0e
     case metrics::FilterState::kHijacked:
-      return {40, 40, 255};
+      return {40, 39, 214};  // #d62728
     case metrics::FilterState::kStrayed:
-      return {0, 140, 255};
+      return {75, 86, 140};  // #8c564b
     case metrics::FilterState::kLost:
-      return {160, 160, 160};
+      return {189, 103, 148};  // #9467bd
     case metrics::FilterState::kCoasting:
-      return {255, 200, 120};
+      return {225, 202, 158};  // #9ecae1
   }
   return {255, 255, 255};
 }
+
+}  // namespace
+
+namespace internal {
+
+std::vector<PixelRect> PlaceLabels(const std::vector<LabelRequest>& labels, PixelRect image,
+                                   std::vector<PixelRect> taken) {
+  std::vector<PixelRect> out;
+  out.reserve(labels.size());
+  const auto inside = [&image](const PixelRect& r) {
+    return r.x >= image.x && r.y >= image.y && r.x + r.width <= image.x + image.width &&
+           r.y + r.height <= image.y + image.height;
+  };
+  for (const LabelRequest& l : labels) {
+    const PixelRect& b = l.box;
+    const int w = l.text_width, h = l.text_height;
+    const PixelRect above{b.x, b.y - 4 - h, w, h};
+    const PixelRect below{b.x, b.y + b.height + 2, w, h};
+    const PixelRect right{b.x + b.width + 3, b.y, w, h};
+    const PixelRect left{b.x - w - 3, b.y, w, h};
+    const PixelRect above2{b.x, above.y - h - 2, w, h};
+    const PixelRect below2{b.x, below.y + h + 2, w, h};
+    const std::vector<PixelRect> candidates =
+        l.below_first ? std::vector<PixelRect>{below, above, right, left, below2, above2}
+                      : std::vector<PixelRect>{above, below, right, left, above2, below2};
+    const PixelRect* chosen = nullptr;
+    for (const PixelRect& c : candidates) {
+      if (!inside(c)) continue;
+      const bool free = std::none_of(taken.begin(), taken.end(),
+                                     [&c](const PixelRect& t) { return c.Overlaps(t); });
+      if (free) {
+        chosen = &c;
+        break;
+      }
+    }
+    if (chosen == nullptr) {
+      const auto first_inside = std::find_if(candidates.begin(), candidates.end(), inside);
+      chosen = first_inside != candidates.end() ? &*first_inside : &candidates.front();
+    }
+    out.push_back(*chosen);
+    taken.push_back(*chosen);
+  }
+  return out;
+}
+
+}  // namespace internal
+
+namespace {
 
 cv::Rect ToRect(const BoxPx& b) {
   return {static_cast<int>(std::lround(b.left)), static_cast<int>(std::lround(b.top)),
           static_cast<int>(std::lround(b.width)), static_cast<int>(std::lround(b.height))};
 }
 
+constexpr double kLabelScale = 0.4;
+
+// The rectangle a label's text covers, outline included, for PlaceLabels.
+cv::Size LabelSize(const std::string& text, double scale, int* text_height) {
+  int baseline = 0;
+  const cv::Size size = cv::getTextSize(text, cv::FONT_HERSHEY_SIMPLEX, scale, 3, &baseline);
+  *text_height = size.height;
+  return {size.width, size.height + baseline};
+}
+
 void Label(cv::Mat& image, const std::string& text, cv::Point at, const cv::Scalar& colour,
-           double scale = 0.4) {
+           double scale = kLabelScale) {
   at.y = std::max(at.y, 12);
   cv::putText(image, text, at, cv::FONT_HERSHEY_SIMPLEX, scale, {0, 0, 0}, 3, cv::LINE_AA);
   cv::putText(image, text, at, cv::FONT_HERSHEY_SIMPLEX, scale, colour, 1, cv::LINE_AA);
@@ -133,11 +198,28 @@ OverlayVideo WriteOverlayVideo(const std::string& path, const Scenario& scenario
     } else {
       image.setTo(cv::Scalar(58, 82, 62));  // plain background at detection level
     }
+    // Labels are placed apart once every box is known, and drawn last.
+    struct PendingLabel {
+      std::string text;
+      cv::Scalar colour;
+      int text_height = 0;
+    };
+    std::vector<PendingLabel> pending;
+    std::vector<internal::LabelRequest> requests;
+    const auto request = [&](std::string text, const cv::Rect& r, const cv::Scalar& colour,
+                             bool below_first) {
+      int text_height = 0;
+      const cv::Size size = LabelSize(text, kLabelScale, &text_height);
+      requests.push_back({.box = {r.x, r.y, r.width, r.height},
+                          .text_width = size.width,
+                          .text_height = size.height,
+                          .below_first = below_first});
+      pending.push_back({std::move(text), colour, text_height});
+    };
     for (const GroundTruthObject& o : truth[f].objects) {
       if (!o.in_frame) continue;
       const cv::Rect r = ToRect(o.amodal_box);
       cv::rectangle(image, r, {255, 255, 255}, 1, cv::LINE_AA);
-      Label(image, fmt::format("gt {}", Value(o.id)), {r.x, r.y + r.height + 12}, {255, 255, 255});
     }
     if (!reports.empty()) {
       for (const tracker::FilterReport& fr : reports[f].filters) {
@@ -161,11 +243,35 @@ OverlayVideo WriteOverlayVideo(const std::string& path, const Scenario& scenario
           text += std::string(" ") + metrics::FilterStateName(it->second);
           text_colour = StateColour(it->second);
         }
-        Label(image, text, {r.x, r.y - 4}, text_colour);
+        request(text, r, text_colour, false);
       }
+    }
+    for (const GroundTruthObject& o : truth[f].objects) {
+      if (o.in_frame)
+        request(fmt::format("gt {}", Value(o.id)), ToRect(o.amodal_box), {255, 255, 255}, true);
     }
     if (!observations.empty()) {
       for (const Detection& d : observations[f].detections) DrawDetection(image, d);
+    }
+    // The header's lines (top left) are taken.
+    std::vector<internal::PixelRect> taken;
+    {
+      int text_height = 0;
+      const cv::Size title =
+          LabelSize(fmt::format("{}  frame {}", scenario.name, truth[f].frame + 1), kLabelScale,
+                    &text_height);
+      taken = {{6, 16 - text_height, title.width, title.height}};
+      if (!observations.empty()) {
+        const cv::Size line =
+            LabelSize(fmt::format("detections ({})", detector), 0.35, &text_height);
+        taken.push_back({6, 32 - text_height, line.width, line.height});
+      }
+    }
+    const std::vector<internal::PixelRect> placed =
+        internal::PlaceLabels(requests, {0, 0, width, height}, taken);
+    for (size_t i = 0; i < pending.size(); ++i) {
+      Label(image, pending[i].text, {placed[i].x, placed[i].y + pending[i].text_height},
+            pending[i].colour);
     }
     // Frames counted from 1, as gt/gt.txt, filters.csv and the report do.
     Label(image, fmt::format("{}  frame {}", scenario.name, truth[f].frame + 1), {6, 16},

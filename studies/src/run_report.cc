@@ -519,10 +519,12 @@ constexpr TimelineColour kMissed{0xf4a0a0, "detector missed it"};
 // A model-based detector's misses before the target's model was cut: it
 // could not look for the target yet.
 constexpr TimelineColour kNoModel{0xf3dcb8, "missed, before its model was cut"};
-// Filter states (metrics/filter_metrics.h, docs/metrics.md).
+// Filter states (metrics/filter_metrics.h, docs/metrics.md), the overlay
+// video's state labels' colours too (scenarios/src/overlay.cc StateColour).
+// LOST was near-black, beside the dark grey of a target's row (an audit).
 constexpr TimelineColour kStateColours[] = {{0x1f77b4, "CORRECT"},  {0xff7f0e, "SWAPPED"},
                                             {0xd62728, "HIJACKED"}, {0x8c564b, "STRAYED"},
-                                            {0x111111, "LOST"},     {0x9ecae1, "COASTING"}};
+                                            {0x9467bd, "LOST"},     {0x9ecae1, "COASTING"}};
 
 int StateColour(const std::string& state) {
   for (const TimelineColour& c : kStateColours) {

@@ -527,7 +527,7 @@ TEST(RunReport, TimelineDrawsTargetsTheirDetectionsAndTheirFilters) {
   const std::string dark = std::to_string(0x404040), half = std::to_string(0x9a9a9a),
                     little = std::to_string(0xd4d4d4), found = std::to_string(0x2ca02c),
                     missed = std::to_string(0xf4a0a0), correct = std::to_string(0x1f77b4),
-                    hijacked = std::to_string(0xd62728), lost = std::to_string(0x111111);
+                    hijacked = std::to_string(0xd62728), lost = std::to_string(0x9467bd);
   EXPECT_EQ(segments,
             std::vector<std::string>(
                 {"0.5 0 4 " + dark, "4.5 0 1 " + half, "5.5 0 1 " + little, "0.5 -1 2 " + found,

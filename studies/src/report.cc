@@ -23,6 +23,7 @@
 #include <optional>
 #include <set>
 #include <sstream>
+#include <tuple>
 
 #include "gnuplot.h"
 #include "hcpf/core/check.h"
@@ -275,9 +276,29 @@ Layout LayoutOf(const std::vector<Cell>& cells, const StoreMeta& meta) {
 // `reference` ("" = a plot of the cells' means) makes it a plot of paired
 // differences against that series value: the cells are PairedCells (their
 // stats the differences), with a zero line.
+// The smallest and largest value a plot of `metric` draws from `cells` (means
+// and band edges): ±infinity when none.
+std::pair<double, double> DrawnRange(const std::vector<const Cell*>& cells,
+                                     const std::string& metric) {
+  double lo = std::numeric_limits<double>::infinity();
+  double hi = -std::numeric_limits<double>::infinity();
+  for (const Cell* c : cells) {
+    const auto it = c->stats.find(metric);
+    if (it == c->stats.end() || it->second.n == 0) continue;
+    for (const double v : {it->second.mean, it->second.lower, it->second.upper}) {
+      if (std::isfinite(v)) lo = std::min(lo, v), hi = std::max(hi, v);
+    }
+  }
+  return {lo, hi};
+}
+
+// `y_range`: the values to fit the y axis to (a metric's panels share one,
+// so a bump of 0.05 in one does not look as tall as a gap of 0.6 in
+// another: an audit); by default the plot's own.
 std::string PlotSvg(const Layout& layout, const std::string& metric, const std::string& p,
                     const fs::path& work, const std::string& gnuplot, const std::string& panel = "",
-                    const std::string& reference = "") {
+                    const std::string& reference = "",
+                    std::optional<std::pair<double, double>> y_range = std::nullopt) {
   const auto& lines = layout.lines;
   const auto& x_values = layout.x_values;
   const bool numeric_x = layout.numeric_x;
@@ -365,8 +386,18 @@ std::string PlotSvg(const Layout& layout, const std::string& metric, const std::
   // more than 20x (a camera-motion error of 2.3 px beside ones of 0.07 px:
   // on a linear axis the small ones are one line at the bottom). Not for
   // differences, which change sign.
+  if (y_range) std::tie(y_min, y_max) = *y_range;
+  if (difference) y_min = std::min(y_min, 0.0), y_max = std::max(y_max, 0.0);  // the zero line
   const bool log_y = !difference && y_min > 0.0 && y_max / y_min > 20.0;
   if (log_y) gp += "set logscale y\n";
+  // The y axis reaches a little past what is drawn, so a line on a bound
+  // (every seed at 1) is not drawn on the plot's frame (an audit).
+  if (std::isfinite(y_min) && std::isfinite(y_max)) {
+    const double span = y_max - y_min;
+    const double pad = span > 0.0 ? 0.04 * span : 0.05 * std::max(std::abs(y_max), 1.0);
+    gp += log_y ? fmt::format("set yrange [{}:{}]\n", Number(y_min / 1.15), Number(y_max * 1.15))
+                : fmt::format("set yrange [{}:{}]\n", Number(y_min - pad), Number(y_max + pad));
+  }
   if (!numeric_x) {
     std::string tics;
     for (size_t i = 0; i < x_values.size(); ++i) {
@@ -383,9 +414,14 @@ std::string PlotSvg(const Layout& layout, const std::string& metric, const std::
     const char* colour = kPlotColours[l % std::size(kPlotColours)];
     plots.push_back(fmt::format("{} index {} using 1:3:4 with filledcurves lc rgb '{}' notitle",
                                 GpString(data.string()), l, colour));
+    // A marker shape per line, each smaller than the one before: a line on
+    // another (systematic's zeros under charged's) still shows around it.
+    constexpr int kPointTypes[] = {7, 5, 9, 13, 11, 3};
+    const double point_size = std::max(0.45, 1.0 - 0.15 * static_cast<double>(l));
     plots.push_back(
-        fmt::format("{} index {} using 1:2 with linespoints lw 2 pt 7 ps 0.6 lc rgb '{}' title {}",
-                    GpString(data.string()), l, colour, GpString(lines[l])));
+        fmt::format("{} index {} using 1:2 with linespoints lw 2 pt {} ps {} lc rgb '{}' title {}",
+                    GpString(data.string()), l, kPointTypes[l % std::size(kPointTypes)],
+                    Number(point_size), colour, GpString(lines[l])));
   }
   if (difference && !plots.empty()) {
     plots.push_back("0 with lines lw 1.5 lc rgb '#222222' dt 2 title 'no difference'");
@@ -442,13 +478,17 @@ std::vector<std::pair<std::string, std::string>> Plots(const std::vector<Cell>& 
   }
   std::vector<Layout> panel_layouts;
   for (const std::vector<Cell>& pc : panel_cells) panel_layouts.push_back(LayoutOf(pc, meta));
+  std::vector<const Cell*> all;
+  for (const Cell& c : cells) all.push_back(&c);
   size_t p = 0;
   for (const std::string& metric : meta.report.y) {
+    // One y range for every panel of the metric.
+    const std::pair<double, double> shared = DrawnRange(all, metric);
     for (size_t k = 0; k < panel_values.size(); ++k) {
       svgs.emplace_back(
           fmt::format("{}-{}", metric, k),
           PlotSvg(panel_layouts[k], metric, fmt::format("{}{}", file_prefix, p++), work, gnuplot,
-                  fmt::format("{} = {}", meta.report.panels, panel_values[k]), reference));
+                  fmt::format("{} = {}", meta.report.panels, panel_values[k]), reference, shared));
     }
   }
   return svgs;
@@ -1196,6 +1236,7 @@ std::vector<Finding> FindingsOf(const std::vector<Cell>& cells, const Paired& pa
 // scans first.
 struct Glance {
   std::string metric;
+  std::string panel;     // the report.panels value ("" without panels)
   std::string compared;  // the series value compared with the reference
   int better = 0;
   int worse = 0;
@@ -1209,23 +1250,35 @@ struct Glance {
 // only when some row has a cell without pairs.
 struct GlanceTable {
   std::vector<Glance> rows;
+  std::string panel_key;  // report.panels when the rows are per panel
   bool no_pairs_column = false;
 };
 
+// With report.panels, a row per panel too: pooled over the main job's two
+// likelihood models, "5 better, 3 worse" hid that every better was under one
+// model and every worse under the other (an audit).
 GlanceTable GlanceOf(const Paired& paired, const StoreMeta& meta) {
   GlanceTable table;
   std::vector<Glance>& out = table.rows;
   if (paired.series_index < 0) return table;
+  const auto panel_it =
+      std::find(meta.swept_keys.begin(), meta.swept_keys.end(), meta.report.panels);
+  const int panel_index = meta.report.panels.empty() || panel_it == meta.swept_keys.end()
+                              ? -1
+                              : static_cast<int>(panel_it - meta.swept_keys.begin());
+  table.panel_key = panel_index < 0 ? std::string() : meta.report.panels;
   const auto si = static_cast<size_t>(paired.series_index);
   for (const std::string& m : meta.report.y) {
     if (MachineDependent(m)) continue;  // not tested
     const size_t first = out.size();
     for (const PairedRow& row : paired.rows) {
       const std::string& s = row.cell->values[si];
+      const std::string panel =
+          panel_index < 0 ? std::string() : row.cell->values[static_cast<size_t>(panel_index)];
       auto it = std::find_if(out.begin() + static_cast<std::ptrdiff_t>(first), out.end(),
-                             [&](const Glance& g) { return g.compared == s; });
+                             [&](const Glance& g) { return g.compared == s && g.panel == panel; });
       if (it == out.end()) {
-        out.push_back({.metric = m, .compared = s});
+        out.push_back({.metric = m, .panel = panel, .compared = s});
         it = out.end() - 1;
       }
       const PairedComparison& c = row.metrics.at(m);
@@ -1278,10 +1331,11 @@ std::string FindingsIntro(const Paired& paired, const GlanceTable& glance, const
 
 std::string GlanceIntro(const Paired& paired, const StoreMeta& meta) {
   return fmt::format(
-      "At a glance: for each metric and {} value, in how many of its cells (every combination "
+      "At a glance: for each metric{} and {} value, in how many of its cells (every combination "
       "of the other swept values) the paired difference against {} is a finding for better or "
       "for worse, how many of those findings survive Holm's correction, and in how many cells "
       "it is not a finding.",
+      meta.report.panels.empty() ? std::string() : ", " + meta.report.panels + " value",
       meta.report.series, paired.reference);
 }
 
@@ -1292,7 +1346,10 @@ std::string FindingsHtml(const std::vector<Finding>& findings, const GlanceTable
                   EscapeMarkup(FindingsIntro(paired, glance, meta)) + "</p>\n";
   const bool any_no_pairs = glance.no_pairs_column;
   h += "<p>" + EscapeMarkup(GlanceIntro(paired, meta)) +
-       "</p>\n<table id=\"glance\"><tr><th>metric</th><th>compared</th><th>better</th>"
+       "</p>\n<table id=\"glance\"><tr><th>metric</th>" +
+       (glance.panel_key.empty() ? std::string()
+                                 : "<th>" + EscapeMarkup(glance.panel_key) + "</th>") +
+       "<th>compared</th><th>better</th>"
        "<th>worse</th><th>of them after Holm</th><th>not significant</th>" +
        std::string(any_no_pairs ? "<th>no pairs</th>" : "") + "<th>cells</th></tr>\n";
   for (const Glance& g : glance.rows) {
@@ -1301,10 +1358,13 @@ std::string FindingsHtml(const std::vector<Finding>& findings, const GlanceTable
                    : fmt::format("<td>{}</td>", n);
     };
     h += fmt::format(
-        "<tr><td class=\"k\">{}</td><td class=\"k\">{} &minus; {}</td>{}{}<td>{}</td><td>{}</td>"
+        "<tr><td class=\"k\">{}</td>{}<td class=\"k\">{} &minus; {}</td>{}{}<td>{}</td><td>{}</td>"
         "{}<td>{}</td></tr>\n",
-        EscapeMarkup(g.metric), EscapeMarkup(g.compared), EscapeMarkup(paired.reference),
-        coloured(g.better, "#dff3df"), coloured(g.worse, "#f8dede"), g.holm, g.not_significant,
+        EscapeMarkup(g.metric),
+        glance.panel_key.empty() ? std::string()
+                                 : "<td class=\"k\">" + EscapeMarkup(g.panel) + "</td>",
+        EscapeMarkup(g.compared), EscapeMarkup(paired.reference), coloured(g.better, "#dff3df"),
+        coloured(g.worse, "#f8dede"), g.holm, g.not_significant,
         any_no_pairs ? fmt::format("<td>{}</td>", g.no_pairs) : "", g.cells());
   }
   h += "</table>\n<ul>\n";
@@ -1323,13 +1383,16 @@ std::string FindingsMarkdown(const std::vector<Finding>& findings, const GlanceT
                    (missing_runs.empty() ? std::string() : "**" + missing_runs + "**\n\n") +
                    FindingsIntro(paired, glance, meta) + "\n\n" + RootSeedSentence(meta) + "\n\n";
   const bool any_no_pairs = glance.no_pairs_column;
-  md += GlanceIntro(paired, meta) +
-        "\n\n| metric | compared | better | worse | of them after Holm | not significant |" +
+  const bool panels = !glance.panel_key.empty();
+  md += GlanceIntro(paired, meta) + "\n\n| metric |" +
+        (panels ? " " + glance.panel_key + " |" : std::string()) +
+        " compared | better | worse | of them after Holm | not significant |" +
         std::string(any_no_pairs ? " no pairs |" : "") + " cells |\n|---|---|---|---|---|---|" +
-        std::string(any_no_pairs ? "---|" : "") + "---|\n";
+        std::string(panels ? "---|" : "") + std::string(any_no_pairs ? "---|" : "") + "---|\n";
   for (const Glance& g : glance.rows) {
-    md += fmt::format("| {} | {} \u2212 {} | {} | {} | {} | {} |{} {} |\n", g.metric, g.compared,
-                      paired.reference, g.better, g.worse, g.holm, g.not_significant,
+    md += fmt::format("| {} |{} {} \u2212 {} | {} | {} | {} | {} |{} {} |\n", g.metric,
+                      panels ? " " + g.panel + " |" : std::string(), g.compared, paired.reference,
+                      g.better, g.worse, g.holm, g.not_significant,
                       any_no_pairs ? fmt::format(" {} |", g.no_pairs) : "", g.cells());
   }
   md += "\n";

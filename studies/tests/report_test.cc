@@ -1289,10 +1289,50 @@ TEST(Report, PanelsDrawOnePlotPerMetricAndValue) {
       "report: {x: tracker.particles, series: tracker.resampling.method, panels: base, "
       "y: [idf1, hota]}\n"));
   const std::string out = RunQuietly(spec, dir);
+  // The panels of a metric share one y range, which reaches past every
+  // value drawn in either (an audit: hijack rate 0-1 in one panel, 0-0.3 in
+  // the other, so a bump of 0.05 looked like a gap of 0.6).
+  const fs::path kept = dir / "kept";
+  WriteReport({.dir = out, .gnuplot = KeepingGnuplot(dir, kept).string()});
+  const auto y_range = [&kept](int plot) {
+    const std::string gp = Read(kept / fmt::format("plot_{}.gp", plot));
+    const size_t at = gp.find("set yrange [");
+    return at == std::string::npos ? std::string("(none)") : gp.substr(at, gp.find('\n', at) - at);
+  };
+  EXPECT_NE(y_range(0), "(none)");
+  EXPECT_EQ(y_range(0), y_range(1)) << "idf1's two panels";
+  EXPECT_EQ(y_range(2), y_range(3)) << "hota's two panels";
+  for (int plot = 0; plot < 2; ++plot) {
+    double lo = 0, hi = 0;
+    ASSERT_EQ(std::sscanf(y_range(plot).c_str(), "set yrange [%lf:%lf]", &lo, &hi), 2);
+    std::stringstream dat(Read(kept / fmt::format("plot_{}.dat", plot)));
+    for (std::string line; std::getline(dat, line);) {
+      double x, mean, lower, upper;
+      if (std::sscanf(line.c_str(), "%lf %lf %lf %lf", &x, &mean, &lower, &upper) != 4) continue;
+      for (const double v : {mean, lower, upper}) {
+        if (std::isfinite(v)) {
+          EXPECT_LT(lo, v);
+          EXPECT_GT(hi, v);
+        }
+      }
+    }
+  }
   const ReportResult r = WriteReport({.dir = out});
   EXPECT_EQ(r.plots, 4);
   EXPECT_EQ(r.cells, 8);
   EXPECT_EQ(r.difference_plots, 4);  // one per metric and panel
+  // The at-a-glance table has a row per metric and panel (pooled over the
+  // main job's two likelihood models, "5 better, 3 worse" hid that they
+  // were under different models: an audit). 2 particle counts per panel.
+  const std::string md = Read(fs::path(out) / "findings.md");
+  EXPECT_NE(md.find("| metric | base | compared | better |"), std::string::npos) << md;
+  for (const char* row : {"| idf1 | base.yaml | charged − systematic |",
+                          "| idf1 | second.yaml | charged − systematic |",
+                          "| hota | base.yaml | charged − systematic |",
+                          "| hota | second.yaml | charged − systematic |"}) {
+    EXPECT_NE(md.find(row), std::string::npos) << row << "\n" << md;
+  }
+  EXPECT_NE(md.find("At a glance: for each metric, base value and"), std::string::npos);
   const std::string html = Read(r.html_path);
   EXPECT_EQ(Count(html, "<svg"), 8U);
   for (const char* id : {"plot-idf1-0", "plot-idf1-1", "plot-hota-0", "plot-hota-1"}) {

@@ -79,7 +79,9 @@ SceneFrames ProduceFrames(const Scenario& scenario, const FrameSourceOptions& op
   // Misses are stored on a worker thread while the next frame renders.
   std::unique_ptr<renderer::FrameCacheWriter> cache_writer;
   std::unique_ptr<renderer::SceneRenderer> scene;  // created on the first cache miss
-  Progress progress("render", frames, options.show_progress);
+  // "frames", not "render": from a warm cache nothing is rendered (an audit
+  // saw "render 240/240" for frames read from the cache).
+  Progress progress("frames", frames, options.show_progress);
   // Three stages: this thread renders frame f + 1 (or reads it from the
   // cache) while `finisher` applies the sensor effects and on_frame_work to
   // frame f (and, with several workers, to the frames before it, each on its

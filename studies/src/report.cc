@@ -2004,12 +2004,14 @@ std::string ReportHtml(const fs::path& dir, const std::string& link_prefix, cons
 
   // Overlay videos of the first seed of each line, when the runs wrote them.
   std::string videos;
+  const RunRecord* first_video = nullptr;
   for (const std::string& label : layout.lines) {
     std::string links;
     for (const Cell* c : layout.line_cells.at(label)) {
       for (const RunRecord* r : c->runs) {
         if (r->seed_index != 0 || !r->ok) continue;
         if (!fs::exists(dir / r->run_dir / "overlay.mp4", ec)) continue;
+        if (first_video == nullptr) first_video = r;
         const std::string x = x_index >= 0 ? c->values[x_index] : "run";
         links += fmt::format(" <a href=\"{}{}/overlay.mp4\">{}</a>", EscapeMarkup(link_prefix),
                              EscapeMarkup(r->run_dir), EscapeMarkup(x));
@@ -2017,7 +2019,16 @@ std::string ReportHtml(const fs::path& dir, const std::string& link_prefix, cons
     }
     if (!links.empty()) videos += fmt::format("<li>{}:{}</li>\n", EscapeMarkup(label), links);
   }
-  if (!videos.empty()) h += "<h2>Overlay videos (first seed)</h2>\n<ul>\n" + videos + "</ul>\n";
+  if (!videos.empty()) {
+    h += "<h2>Overlay videos (first seed)</h2>\n<ul>\n" + videos + "</ul>\n";
+    // A bare video has no timeline, metrics or frame buttons: its run's
+    // report has them (an audit: the links led to raw mp4s alone).
+    h += fmt::format(
+        "<p>Each link is a run's <code>overlay.mp4</code>. Its run's own report plays it beside "
+        "the timeline of targets, detections and filters, with frame buttons: <code>hcpf report "
+        "RUN_FOLDER</code>, e.g. <code>hcpf report {}</code> for the first.</p>\n",
+        EscapeMarkup(ShellWord((dir / first_video->run_dir).string())));
+  }
 
   std::string failures;
   for (const RunRecord& r : runs) {

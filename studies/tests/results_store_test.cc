@@ -24,6 +24,7 @@
 #include "hcpf/metrics/report.h"
 #include "hcpf/scenarios/run.h"
 #include "hcpf/studies/metric_catalogue.h"
+#include "hcpf/studies/report.h"
 #include "hcpf/studies/sweep.h"
 #include "sweep_fixture.h"
 
@@ -776,6 +777,17 @@ TEST(RunSweep, VideoAskedOnResumeComputesTheRunsWithoutOne) {
   const SweepResult again = RunSweep(spec, runs, o);
   EXPECT_EQ(again.reused, 8);
   EXPECT_EQ(again.computed, 0);
+  // The report links each cell's video and says how to see it beside its
+  // run's timeline (an audit: the links led to bare mp4s alone).
+  const std::string html = [&] {
+    std::ifstream in(WriteReport({.dir = (dir / "out").string()}).html_path);
+    return std::string(std::istreambuf_iterator<char>(in), {});
+  }();
+  EXPECT_NE(html.find("<h2>Overlay videos (first seed)</h2>"), std::string::npos);
+  EXPECT_NE(html.find("Its run's own report plays it beside the timeline"), std::string::npos);
+  EXPECT_NE(html.find("<code>hcpf report " + (dir / "out" / "runs").string() + "/"),
+            std::string::npos)
+      << html.substr(html.find("Overlay videos"), 2000);
 }
 
 TEST(RunSweep, ShardsMergedEqualTheUnshardedSweep) {

@@ -495,8 +495,10 @@ void CheckBlanks(const std::string& text, const std::string& file, int line) {
       if (content[i] == '\t') refuse(i, "indentation with spaces", "a tab");
       if (content.substr(i, 2) == kNbsp) refuse(i, "indentation with spaces", nbsp);
       // A list item's dash ("  -\tid: 2" gave "illegal map value"): the
-      // blank after it indents the item's content.
-      if (content[i] == '-' && i + 1 < content.size()) {
+      // blank after it indents the item's content. Only on the line of the
+      // error, which is where yaml-cpp reports it: the line before may be
+      // text of a block scalar (a review).
+      if (content[i] == '-' && i + 1 < content.size() && n == line) {
         if (content[i + 1] == '\t') refuse(i + 1, "a space after '-'", "a tab");
         if (content.substr(i + 1, 2) == kNbsp) refuse(i + 1, "a space after '-'", nbsp);
         if (content[i + 1] == ' ') continue;
@@ -664,8 +666,9 @@ YAML::Node YamlReader::Parse(const std::string& text, const std::string& file) {
   if (first.IsScalar() && first.Tag() == "?") {
     // A one-line file "frames:<U+00A0>20" is a single plain value, no
     // mapping, and was refused as "a single value" without a word on why.
-    const size_t nbsp = text.find(":\xC2\xA0");
-    if (nbsp != std::string::npos) {
+    // Every one: a comment line above may hold one (a review).
+    for (size_t nbsp = text.find(":\xC2\xA0"); nbsp != std::string::npos;
+         nbsp = text.find(":\xC2\xA0", nbsp + 1)) {
       CheckBlanks(text, file,
                   static_cast<int>(std::count(text.begin(), text.begin() + nbsp, '\n')));
     }

@@ -446,6 +446,12 @@ TEST(YamlReader, TabsAndNoBreakSpacesAreNamedWhereTheyAre) {
             "f.yaml:1:8: expected a space after ':', found U+00A0 (no-break space)");
   EXPECT_EQ(ParseError("frames:\u00A020"),
             "f.yaml:1:8: expected a space after ':', found U+00A0 (no-break space)");
+  EXPECT_EQ(ParseError("# see:\u00A0below\nframes:\u00A020\n"),
+            "f.yaml:2:8: expected a space after ':', found U+00A0 (no-break space)");
+  // A dash and a tab in a block scalar's text are text: the error is the
+  // next line's own.
+  EXPECT_EQ(ParseError("name: >\n  -\tfoo\nframes: 20: 3\n").find("a space after '-'"),
+            std::string::npos);
   EXPECT_EQ(YamlReader::Parse("b: \"x:\u00A0y\"\n", "f.yaml")["b"].as<std::string>(), "x:\u00A0y");
   // A U+00A0 kept in a value is shown where the value is refused.
   EXPECT_EQ(ReadError("a: 20\u00A0\n", [](YamlReader& r) { r.Integer("a", std::nullopt, 0, 100); }),

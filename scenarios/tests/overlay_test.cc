@@ -323,7 +323,13 @@ TEST(Overlay, LabelsArePlacedApart) {
                 {LabelRequest{.box = {10, 30, 20, 20}, .text_width = 50, .text_height = 10}}, image,
                 {PixelRect{6, 6, 100, 12}})[0]),
             std::pair(10, 52));
-  // Nowhere free: the first candidate inside the image, not off it.
+  // Every candidate taken: the first inside the image (below, the box at the
+  // top edge having no room above), not one off it.
+  EXPECT_EQ(xy(internal::PlaceLabels(
+                {LabelRequest{.box = {10, 5, 20, 20}, .text_width = 50, .text_height = 10}}, image,
+                {PixelRect{0, 0, 320, 240}})[0]),
+            std::pair(10, 27));
+  // No candidate inside the image (a box as large as it): the first, above.
   const std::vector<PixelRect> crowded = internal::PlaceLabels(
       {LabelRequest{.box = {0, 0, 320, 240}, .text_width = 50, .text_height = 10}}, image,
       {PixelRect{0, 0, 320, 240}});

@@ -271,27 +271,34 @@ Layout LayoutOf(const std::vector<Cell>& cells, const StoreMeta& meta) {
   return layout;
 }
 
-// Stage 3, plots: one inline SVG per metric (gnuplot on files in `work`).
-// `panel` ("" = none) is added to the title: "key = value" of report.panels.
-// `reference` ("" = a plot of the cells' means) makes it a plot of paired
-// differences against that series value: the cells are PairedCells (their
-// stats the differences), with a zero line.
-// The smallest and largest value a plot of `metric` draws from `cells` (means
-// and band edges): ±infinity when none.
-std::pair<double, double> DrawnRange(const std::vector<const Cell*>& cells,
+// The smallest and largest value the plots of `metric` laid out by
+// `layouts` draw (means and band edges of the cells with an x position, as
+// PlotSvg draws them): ±infinity when none.
+std::pair<double, double> DrawnRange(const std::vector<Layout>& layouts,
                                      const std::string& metric) {
   double lo = std::numeric_limits<double>::infinity();
   double hi = -std::numeric_limits<double>::infinity();
-  for (const Cell* c : cells) {
-    const auto it = c->stats.find(metric);
-    if (it == c->stats.end() || it->second.n == 0) continue;
-    for (const double v : {it->second.mean, it->second.lower, it->second.upper}) {
-      if (std::isfinite(v)) lo = std::min(lo, v), hi = std::max(hi, v);
+  for (const Layout& layout : layouts) {
+    for (const std::string& line : layout.lines) {
+      for (const Cell* c : layout.line_cells.at(line)) {
+        const auto it = c->stats.find(metric);
+        if (std::isnan(layout.XPosition(*c)) || it == c->stats.end() || it->second.n == 0) {
+          continue;
+        }
+        for (const double v : {it->second.mean, it->second.lower, it->second.upper}) {
+          if (std::isfinite(v)) lo = std::min(lo, v), hi = std::max(hi, v);
+        }
+      }
     }
   }
   return {lo, hi};
 }
 
+// Stage 3, plots: one inline SVG per metric (gnuplot on files in `work`).
+// `panel` ("" = none) is added to the title: "key = value" of report.panels.
+// `reference` ("" = a plot of the cells' means) makes it a plot of paired
+// differences against that series value: the cells are PairedCells (their
+// stats the differences), with a zero line.
 // `y_range`: the values to fit the y axis to (a metric's panels share one,
 // so a bump of 0.05 in one does not look as tall as a gap of 0.6 in
 // another: an audit); by default the plot's own.
@@ -478,12 +485,10 @@ std::vector<std::pair<std::string, std::string>> Plots(const std::vector<Cell>& 
   }
   std::vector<Layout> panel_layouts;
   for (const std::vector<Cell>& pc : panel_cells) panel_layouts.push_back(LayoutOf(pc, meta));
-  std::vector<const Cell*> all;
-  for (const Cell& c : cells) all.push_back(&c);
   size_t p = 0;
   for (const std::string& metric : meta.report.y) {
     // One y range for every panel of the metric.
-    const std::pair<double, double> shared = DrawnRange(all, metric);
+    const std::pair<double, double> shared = DrawnRange(panel_layouts, metric);
     for (size_t k = 0; k < panel_values.size(); ++k) {
       svgs.emplace_back(
           fmt::format("{}-{}", metric, k),
@@ -1042,13 +1047,14 @@ std::string PairedCsv(const Paired& paired, const StoreMeta& meta) {
       for (const std::string& v : row.cell->values) csv += Csv(v) + ",";
       const bool band = c.difference.method != IntervalMethod::kNone;
       const double holm = row.holm.at(m);
-      csv += fmt::format("{},{},{},{},{},{},{},{},{},{},{},{},{},{},{}", Csv(paired.reference), m,
-                         c.pairs, c.pairs ? Number(c.difference.mean) : "",
-                         band ? Number(c.difference.lower) : "",
-                         band ? Number(c.difference.upper) : "", c.difference.clipped ? 1 : 0,
-                         c.positive, c.negative, c.pairs - c.positive - c.negative, c.test.nonzero,
-                         Number(c.test.w_plus), Number(c.test.p_value), c.test.exact ? 1 : 0,
-                         std::isnan(holm) ? std::string() : Number(holm));
+      csv += fmt::format(
+          "{},{},{},{},{},{},{},{},{},{},{},{},{},{},{}", Csv(paired.reference), m, c.pairs,
+          c.pairs ? Number(c.difference.mean) : "", band ? Number(c.difference.lower) : "",
+          band ? Number(c.difference.upper) : "", c.difference.clipped ? 1 : 0, c.positive,
+          c.negative, c.pairs - c.positive - c.negative, c.test.nonzero, Number(c.test.w_plus),
+          // A timing is not tested: no p-value (a review).
+          MachineDependent(m) ? std::string() : Number(c.test.p_value), c.test.exact ? 1 : 0,
+          std::isnan(holm) ? std::string() : Number(holm));
       // The pairs to look at: their difference and both runs' keys.
       const PairExtremes& e = row.extremes.at(m);
       csv += e.max_run == nullptr ? std::string(",,,,,,\n")
@@ -1313,6 +1319,13 @@ std::string FindingsIntro(const Paired& paired, const GlanceTable& glance, const
     kept += g.holm;
   }
   const std::string reach_note = HolmReachNote(paired);
+  if (paired.family == 0 && !TimingsNote(meta).empty()) {
+    // Timings alone (a review: "makes 0 comparisons ... about 0.0 findings").
+    return fmt::format(
+        "Generated from the runs: for every metric, which {} value has the best mean at each x. "
+        "This report tests no comparison:{}",
+        meta.report.series, TimingsNote(meta));
+  }
   return fmt::format(
       "Generated from the runs: for every metric, which {0} value has the best mean at each x, "
       "and where each other value differs from {1} (the reference) seed by seed with p < 0.05 "

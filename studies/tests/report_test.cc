@@ -13,6 +13,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <limits>
 #include <map>
 #include <nlohmann/json.hpp>
@@ -468,6 +469,17 @@ TEST(RunReport, DetectionSectionPlotsThePrecisionRecallCurve) {
   EXPECT_EQ(bare.find("plot-precision_recall"), std::string::npos);
 }
 
+// The segments of a timeline ("x0 y length colour"), from the kept
+// timeline.dat (KeepingGnuplot).
+std::vector<std::string> TimelineSegments(const fs::path& kept) {
+  std::vector<std::string> segments;
+  std::stringstream dat(Read(kept / "timeline.dat"));
+  for (std::string line; std::getline(dat, line);) {
+    if (!line.empty() && line[0] != '#') segments.push_back(line);
+  }
+  return segments;
+}
+
 // The timeline: rows and segments from gt/gt.txt, metrics.json's
 // filters.mapping and per_frame_states and detection.by_target, and the
 // manifest's model frames, all written here by hand (metrics.json and the
@@ -519,11 +531,7 @@ TEST(RunReport, TimelineDrawsTargetsTheirDetectionsAndTheirFilters) {
   EXPECT_EQ(r.plots, 3) << "the timeline, the centre error and camera motion";
   const std::string html = Read(r.html_path);
   ASSERT_NE(html.find("id=\"plot-timeline\""), std::string::npos);
-  std::vector<std::string> segments;
-  std::stringstream dat(Read(kept / "timeline.dat"));
-  for (std::string line; std::getline(dat, line);) {
-    if (!line.empty() && line[0] != '#') segments.push_back(line);
-  }
+  std::vector<std::string> segments = TimelineSegments(kept);
   const std::string dark = std::to_string(0x404040), half = std::to_string(0x9a9a9a),
                     little = std::to_string(0xd4d4d4), found = std::to_string(0x2ca02c),
                     missed = std::to_string(0xf4a0a0), correct = std::to_string(0x1f77b4),
@@ -622,11 +630,7 @@ TEST(RunReport, TimelineShadesTheShareSeenAndMissesBeforeTheModel) {
   std::ofstream(run / "manifest.json") << manifest.dump();
   const fs::path kept = dir / "kept";
   WriteReport({.dir = run.string(), .gnuplot = KeepingGnuplot(dir, kept).string()});
-  std::vector<std::string> segments;
-  std::stringstream dat(Read(kept / "timeline.dat"));
-  for (std::string line; std::getline(dat, line);) {
-    if (!line.empty() && line[0] != '#') segments.push_back(line);
-  }
+  std::vector<std::string> segments = TimelineSegments(kept);
   const std::string dark = std::to_string(0x404040), half = std::to_string(0x9a9a9a),
                     little = std::to_string(0xd4d4d4), found = std::to_string(0x2ca02c),
                     missed = std::to_string(0xf4a0a0), no_model = std::to_string(0xf3dcb8);
@@ -653,11 +657,8 @@ TEST(RunReport, TimelineShadesTheShareSeenAndMissesBeforeTheModel) {
       WriteReport({.dir = run.string(), .gnuplot = KeepingGnuplot(dir, kept).string()}).html_path);
   EXPECT_NE(broken.find("gt.json was not read ("), std::string::npos);
   EXPECT_NE(broken.find("targets are shaded by visible fraction alone."), std::string::npos);
-  std::stringstream shaded(Read(kept / "timeline.dat"));
-  std::string first;
-  while (std::getline(shaded, first) && (first.empty() || first[0] == '#')) {
-  }
-  EXPECT_EQ(first, "0.5 0 4 " + dark) << "visible 1 in every frame: dark throughout";
+  EXPECT_EQ(TimelineSegments(kept).at(0), "0.5 0 4 " + dark)
+      << "visible 1 in every frame: dark throughout";
 }
 
 // mode none: no scene filter, so no ESS column values and no ESS line.
@@ -1690,6 +1691,40 @@ TEST(Report, PairedDifferencesByHand) {
   EXPECT_EQ(Read(dir / "paired.csv"), paired);
 }
 
+// A store of 10 seeds of {systematic, charged} at one particle count, with
+// report.y `y` and each run's metrics `values(method, seed)`.
+fs::path TwoMethodStore(
+    const std::string& name, const std::vector<std::string>& y,
+    const std::function<std::map<std::string, double>(const std::string&, int)>& values) {
+  const auto dir = testing::SweepFolder(name);
+  StoreMeta meta;
+  meta.sweep_hash = name;
+  meta.sweep_file = name + ".yaml";
+  meta.swept_keys = {"tracker.particles", "tracker.resampling.method"};
+  meta.report.x = "tracker.particles";
+  meta.report.series = "tracker.resampling.method";
+  meta.report.y = y;
+  meta.report.reference = "systematic";
+  meta.run_count = 20;
+  auto store = ResultsStore::OpenOrCreate((dir / "results.sqlite").string(), meta);
+  int64_t index = 0;
+  for (const char* method : {"systematic", "charged"}) {
+    for (int seed = 0; seed < 10; ++seed) {
+      RunRecord r;
+      r.key = std::string("1-") + method + "-" + std::to_string(seed);
+      r.index = index++;
+      r.seed_index = seed;
+      r.seed = 2000 + seed;
+      r.values = {"1", method};
+      r.ok = true;
+      r.run_dir = "runs/" + r.key;
+      for (const auto& [metric, value] : values(method, seed)) r.metrics[metric] = value;
+      store->Put(r);
+    }
+  }
+  return dir;
+}
+
 // The seed pairs behind each finding (paired.csv's extreme columns and the
 // report's "Seeds to look at"), on the hand store and on a store of one
 // cell pair, 10 seeds, whose MOTA is charged 0.8 against systematic 0.5 on
@@ -1739,36 +1774,14 @@ TEST(Report, SeedsToLookAtNameTheFurthestAndTheLeastFarPairOfEachFinding) {
                 (hand / "runs" / "100-systematic-0").string() + "</code>"),
       std::string::npos);
 
-  const auto dir = testing::SweepFolder("report seeds");
-  StoreMeta meta;
-  meta.sweep_hash = "seeds";
-  meta.sweep_file = "seeds.yaml";
-  meta.swept_keys = {"tracker.particles", "tracker.resampling.method"};
-  meta.report.x = "tracker.particles";
-  meta.report.series = "tracker.resampling.method";
-  meta.report.y = {"mota", "ms_per_frame"};
-  meta.report.reference = "systematic";
-  meta.run_count = 20;
-  {
-    auto store = ResultsStore::OpenOrCreate((dir / "results.sqlite").string(), meta);
-    int64_t index = 0;
-    for (const char* method : {"systematic", "charged"}) {
-      for (int seed = 0; seed < 10; ++seed) {
-        RunRecord r;
-        r.key = std::string("1-") + method + "-" + std::to_string(seed);
-        r.index = index++;
-        r.seed_index = seed;
-        r.seed = 2000 + seed;
-        r.values = {"1", method};
-        r.ok = true;
-        r.run_dir = "runs/" + r.key;
-        r.metrics["mota"] = std::string(method) == "systematic" ? 0.5 : (seed < 9 ? 0.8 : 0.4);
-        // A timing finding (charged slower on every seed): no seed to look at.
-        r.metrics["ms_per_frame"] = std::string(method) == "systematic" ? 1.0 : 2.0 + 0.1 * seed;
-        store->Put(r);
-      }
-    }
-  }
+  const auto dir = TwoMethodStore(
+      "report seeds", {"mota", "ms_per_frame"}, [](const std::string& method, int seed) {
+        const bool systematic = method == "systematic";
+        // A timing finding (charged slower on every
+        // seed): no seed to look at.
+        return std::map<std::string, double>{{"mota", systematic ? 0.5 : (seed < 9 ? 0.8 : 0.4)},
+                                             {"ms_per_frame", systematic ? 1.0 : 2.0 + 0.1 * seed}};
+      });
   WriteReport({.dir = dir.string()});
   html = Read(dir / "report.html");
   // The timing (charged slower on every seed, p = 0.002; differences 1.0 to
@@ -1798,34 +1811,11 @@ TEST(Report, SeedsToLookAtNameTheFurthestAndTheLeastFarPairOfEachFinding) {
 // "This report makes 0 comparisons; ... about 0.0 of them findings");
 // paired.csv gives a timing no p-value, as the page gives none.
 TEST(Report, ATimingsOnlyReportSaysItTestsNothing) {
-  const auto dir = testing::SweepFolder("report-timings-only");
-  StoreMeta meta;
-  meta.sweep_hash = "timings";
-  meta.sweep_file = "timings.yaml";
-  meta.swept_keys = {"tracker.particles", "tracker.resampling.method"};
-  meta.report.x = "tracker.particles";
-  meta.report.series = "tracker.resampling.method";
-  meta.report.y = {"ms_per_frame"};
-  meta.report.reference = "systematic";
-  meta.run_count = 20;
-  {
-    auto store = ResultsStore::OpenOrCreate((dir / "results.sqlite").string(), meta);
-    int64_t index = 0;
-    for (const char* method : {"systematic", "charged"}) {
-      for (int seed = 0; seed < 10; ++seed) {
-        RunRecord r;
-        r.key = std::string("1-") + method + "-" + std::to_string(seed);
-        r.index = index++;
-        r.seed_index = seed;
-        r.seed = 3000 + seed;
-        r.values = {"1", method};
-        r.ok = true;
-        r.run_dir = "runs/" + r.key;
-        r.metrics["ms_per_frame"] = std::string(method) == "systematic" ? 1.0 : 2.0 + 0.1 * seed;
-        store->Put(r);
-      }
-    }
-  }
+  const auto dir = TwoMethodStore(
+      "report-timings-only", {"ms_per_frame"}, [](const std::string& method, int seed) {
+        return std::map<std::string, double>{
+            {"ms_per_frame", method == "systematic" ? 1.0 : 2.0 + 0.1 * seed}};
+      });
   WriteReport({.dir = dir.string()});
   const std::string md = Read(dir / "findings.md");
   EXPECT_NE(md.find("This report tests no comparison: ms_per_frame is plotted and tabled but not "

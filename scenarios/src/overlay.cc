@@ -253,19 +253,28 @@ OverlayVideo WriteOverlayVideo(const std::string& path, const Scenario& scenario
     if (!observations.empty()) {
       for (const Detection& d : observations[f].detections) DrawDetection(image, d);
     }
-    // The header's lines (top left) are taken.
+    // The header's lines (top left), whose rectangles the labels keep off:
+    // the scene and the frame, counted from 1 as gt/gt.txt, filters.csv and
+    // the report count it; the detector.
+    struct HeaderLine {
+      std::string text;
+      cv::Point at;
+      cv::Scalar colour;
+      double scale;
+    };
+    std::vector<HeaderLine> header = {
+        {fmt::format("{}  frame {}", scenario.name, truth[f].frame + 1),
+         {6, 16},
+         {255, 255, 255},
+         kLabelScale}};
+    if (!observations.empty()) {
+      header.push_back({fmt::format("detections ({})", detector), {6, 32}, kDetectionColour, 0.35});
+    }
     std::vector<internal::PixelRect> taken;
-    {
+    for (const HeaderLine& line : header) {
       int text_height = 0;
-      const cv::Size title =
-          LabelSize(fmt::format("{}  frame {}", scenario.name, truth[f].frame + 1), kLabelScale,
-                    &text_height);
-      taken = {{6, 16 - text_height, title.width, title.height}};
-      if (!observations.empty()) {
-        const cv::Size line =
-            LabelSize(fmt::format("detections ({})", detector), 0.35, &text_height);
-        taken.push_back({6, 32 - text_height, line.width, line.height});
-      }
+      const cv::Size size = LabelSize(line.text, line.scale, &text_height);
+      taken.push_back({line.at.x, line.at.y - text_height, size.width, size.height});
     }
     const std::vector<internal::PixelRect> placed =
         internal::PlaceLabels(requests, {0, 0, width, height}, taken);
@@ -273,12 +282,7 @@ OverlayVideo WriteOverlayVideo(const std::string& path, const Scenario& scenario
       Label(image, pending[i].text, {placed[i].x, placed[i].y + pending[i].text_height},
             pending[i].colour);
     }
-    // Frames counted from 1, as gt/gt.txt, filters.csv and the report do.
-    Label(image, fmt::format("{}  frame {}", scenario.name, truth[f].frame + 1), {6, 16},
-          {255, 255, 255});
-    if (!observations.empty()) {
-      Label(image, fmt::format("detections ({})", detector), {6, 32}, kDetectionColour, 0.35);
-    }
+    for (const HeaderLine& line : header) Label(image, line.text, line.at, line.colour, line.scale);
     writer->Write(image);
   }
   writer->Close();

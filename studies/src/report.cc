@@ -449,6 +449,14 @@ std::string PlotSvg(const Layout& layout, const std::string& metric, const std::
   return InlineSvg(ReadWholeFile(svg));
 }
 
+// The index of report.panels among the swept keys; nullopt without panels
+// (or a panel key the sweep does not sweep).
+std::optional<size_t> PanelKeyIndex(const StoreMeta& meta) {
+  const auto it = std::find(meta.swept_keys.begin(), meta.swept_keys.end(), meta.report.panels);
+  if (meta.report.panels.empty() || it == meta.swept_keys.end()) return std::nullopt;
+  return static_cast<size_t>(it - meta.swept_keys.begin());
+}
+
 // Every plot of `cells`: one per y metric, or with report.panels one per
 // metric and value of the panel key (ids <metric> and <metric>-<panel
 // index>), each panel laid out from its own cells. Files are named
@@ -460,9 +468,8 @@ std::vector<std::pair<std::string, std::string>> Plots(const std::vector<Cell>& 
                                                        const std::string& file_prefix,
                                                        const std::string& reference) {
   std::vector<std::pair<std::string, std::string>> svgs;
-  const auto panel_it =
-      std::find(meta.swept_keys.begin(), meta.swept_keys.end(), meta.report.panels);
-  if (meta.report.panels.empty() || panel_it == meta.swept_keys.end()) {
+  const std::optional<size_t> panel_index = PanelKeyIndex(meta);
+  if (!panel_index) {
     for (size_t p = 0; p < meta.report.y.size(); ++p) {
       svgs.emplace_back(meta.report.y[p],
                         PlotSvg(layout, meta.report.y[p], fmt::format("{}{}", file_prefix, p), work,
@@ -470,7 +477,7 @@ std::vector<std::pair<std::string, std::string>> Plots(const std::vector<Cell>& 
     }
     return svgs;
   }
-  const auto panel_key = static_cast<size_t>(panel_it - meta.swept_keys.begin());
+  const size_t panel_key = *panel_index;
   std::vector<std::string> panel_values;
   std::vector<std::vector<Cell>> panel_cells;  // LayoutOf keeps pointers into these
   for (const Cell& c : cells) {
@@ -1267,20 +1274,15 @@ GlanceTable GlanceOf(const Paired& paired, const StoreMeta& meta) {
   GlanceTable table;
   std::vector<Glance>& out = table.rows;
   if (paired.series_index < 0) return table;
-  const auto panel_it =
-      std::find(meta.swept_keys.begin(), meta.swept_keys.end(), meta.report.panels);
-  const int panel_index = meta.report.panels.empty() || panel_it == meta.swept_keys.end()
-                              ? -1
-                              : static_cast<int>(panel_it - meta.swept_keys.begin());
-  table.panel_key = panel_index < 0 ? std::string() : meta.report.panels;
+  const std::optional<size_t> panel_index = PanelKeyIndex(meta);
+  table.panel_key = panel_index ? meta.report.panels : std::string();
   const auto si = static_cast<size_t>(paired.series_index);
   for (const std::string& m : meta.report.y) {
     if (MachineDependent(m)) continue;  // not tested
     const size_t first = out.size();
     for (const PairedRow& row : paired.rows) {
       const std::string& s = row.cell->values[si];
-      const std::string panel =
-          panel_index < 0 ? std::string() : row.cell->values[static_cast<size_t>(panel_index)];
+      const std::string panel = panel_index ? row.cell->values[*panel_index] : std::string();
       auto it = std::find_if(out.begin() + static_cast<std::ptrdiff_t>(first), out.end(),
                              [&](const Glance& g) { return g.compared == s && g.panel == panel; });
       if (it == out.end()) {
@@ -1319,12 +1321,12 @@ std::string FindingsIntro(const Paired& paired, const GlanceTable& glance, const
     kept += g.holm;
   }
   const std::string reach_note = HolmReachNote(paired);
-  if (paired.family == 0 && !TimingsNote(meta).empty()) {
+  if (const std::string timings = TimingsNote(meta); paired.family == 0 && !timings.empty()) {
     // Timings alone (a review: "makes 0 comparisons ... about 0.0 findings").
     return fmt::format(
         "Generated from the runs: for every metric, which {} value has the best mean at each x. "
         "This report tests no comparison:{}",
-        meta.report.series, TimingsNote(meta));
+        meta.report.series, timings);
   }
   return fmt::format(
       "Generated from the runs: for every metric, which {0} value has the best mean at each x, "

@@ -32,6 +32,7 @@
 #include "hcpf/config/yaml_leaves.h"
 #include "hcpf/core/error.h"
 #include "hcpf/core/text_file.h"
+#include "hcpf/metrics/detection_truth.h"
 #include "hcpf/metrics/mot_io.h"
 #include "hcpf/renderer/renderer.h"
 #include "hcpf/scenarios/output_folder.h"
@@ -229,9 +230,10 @@ std::string FramesSentence(const json& manifest) {
 // Below this a camera-motion error in px is rounding: shown as 0.
 constexpr double kRoundingPx = 1e-9;
 
-std::string PixelText(double px) {
-  return std::isfinite(px) && std::abs(px) < kRoundingPx ? std::string("0") : Number(px);
-}
+// A distance in px, 0 when it is rounding.
+double RoundedPx(double px) { return std::abs(px) < kRoundingPx ? 0.0 : px; }
+
+std::string PixelText(double px) { return Number(RoundedPx(px)); }
 
 // The per-frame plot: error_px on the left axis with the similarity floor
 // when the file has it; ESS on the right when the file has any. Returns the
@@ -593,20 +595,22 @@ std::vector<CentreErrorLine> CentreErrorLines(const metrics::MotFile& gt,
   const auto centre = [](const BoxPx& b) {
     return std::pair{b.left + 0.5 * b.width, b.top + 0.5 * b.height};
   };
-  std::map<std::pair<int, int64_t>, std::pair<double, double>> truth, estimate;
-  for (const metrics::MotRow& r : gt.rows) truth[{r.frame, r.id}] = centre(r.box);
-  for (const metrics::MotRow& r : tracks.rows) estimate[{r.frame, r.id}] = centre(r.box);
+  // By (id, frame): one id's rows are a range, in frame order.
+  std::map<std::pair<int64_t, int>, std::pair<double, double>> truth, estimate;
+  for (const metrics::MotRow& r : gt.rows) truth[{r.id, r.frame}] = centre(r.box);
+  for (const metrics::MotRow& r : tracks.rows) estimate[{r.id, r.frame}] = centre(r.box);
   std::vector<CentreErrorLine> lines;
   std::set<std::pair<int64_t, int64_t>> seen;
   for (const auto& [filter, target] : FilterMapping(metrics)) {
     if (!seen.insert({filter, target}).second) continue;
     CentreErrorLine line{fmt::format("{}target {}: filter {}", prefix, target, filter), {}};
-    for (const auto& [key, at] : estimate) {
-      if (key.second != filter) continue;
-      const auto it = truth.find({key.first, target});
+    for (auto e = estimate.lower_bound({filter, std::numeric_limits<int>::min()});
+         e != estimate.end() && e->first.first == filter; ++e) {
+      const int frame = e->first.second;
+      const auto it = truth.find({target, frame});
       if (it == truth.end()) continue;
-      line.points.emplace_back(
-          key.first, std::hypot(at.first - it->second.first, at.second - it->second.second));
+      line.points.emplace_back(frame, std::hypot(e->second.first - it->second.first,
+                                                 e->second.second - it->second.second));
     }
     if (!line.points.empty()) lines.push_back(std::move(line));
   }
@@ -701,24 +705,19 @@ std::map<std::pair<int64_t, int64_t>, double> TruncationOf(const fs::path& gt_js
   std::map<std::pair<int64_t, int64_t>, double> out;
   std::error_code ec;
   if (!fs::is_regular_file(gt_json, ec)) return out;
-  json gt;
+  // The project's reader of gt.json (metrics/detection_truth.h): it checks
+  // each truncation is a fraction.
+  metrics::GroundTruthFile gt;
   try {
-    gt = ReadRunJson(gt_json);
+    gt = metrics::ReadGroundTruthJson(gt_json.string());
   } catch (const InputError& e) {
     *note = fmt::format(" {} was not read ({}): targets are shaded by visible fraction alone.",
                         gt_json.string(), e.what());
     return out;
   }
-  const json& frames = JsonMember(gt, "frames");
-  if (!frames.is_array()) return out;
-  for (const json& f : frames) {
-    const std::optional<int64_t> frame = JsonInt(f, "frame");
-    const json& objects = JsonMember(f, "objects");
-    if (!frame || !objects.is_array()) continue;
-    for (const json& o : objects) {
-      const std::optional<int64_t> id = JsonInt(o, "id");
-      const double truncation = JsonDouble(o, "truncation");
-      if (id && std::isfinite(truncation)) out[{*frame + 1, *id}] = truncation;
+  for (const FrameGroundTruth& frame : gt.frames) {
+    for (const GroundTruthObject& o : frame.objects) {
+      out[{frame.frame + 1, Value(o.id)}] = o.truncation;
     }
   }
   return out;
@@ -1960,9 +1959,7 @@ ReportResult WriteRunReport(const ReportOptions& options) {
   for (const CatalogueMetric& m : MetricCatalogue()) {
     // A distance in px below kRoundingPx is rounding (a static camera's
     // camera-motion error of 7e-14 px): 0.
-    const auto rounded = [&m](double v) {
-      return m.unit == "px" && std::abs(v) < kRoundingPx ? 0.0 : v;
-    };
+    const auto rounded = [&m](double v) { return m.unit == "px" ? RoundedPx(v) : v; };
     const double a = rounded(value(headline, m.name));
     const double b = other ? rounded(value(other->headline, m.name)) : kNaN;
     if (!std::isfinite(a) && !std::isfinite(b)) continue;  // measured in neither run

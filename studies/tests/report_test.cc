@@ -612,13 +612,17 @@ TEST(RunReport, TimelineShadesTheShareSeenAndMissesBeforeTheModel) {
   const fs::path run = RunMinimal(dir, "none");
   std::ofstream(run / "gt" / "gt.txt") << "1,1,10,10,20,10,1,1,1\n2,1,11,10,20,10,1,1,1\n"
                                           "3,1,12,10,20,10,1,1,1\n4,1,13,10,20,10,1,1,1\n";
-  nlohmann::json gt = {{"frames", nlohmann::json::array()}};
+  // The run's own gt.json, target 1's truncation set by hand.
+  auto gt = nlohmann::json::parse(Read(run / "gt.json"));
   for (const auto& [frame, truncation] :
        {std::pair{0, 0.0}, std::pair{1, 0.5}, std::pair{2, 0.8}, std::pair{3, 0.0}}) {
-    gt["frames"].push_back(
-        {{"frame", frame}, {"objects", {{{"id", 1}, {"truncation", truncation}}}}});
+    int set = 0;
+    for (auto& o : gt["frames"][frame]["objects"]) {
+      if (o["id"] == 1) o["truncation"] = truncation, ++set;
+    }
+    ASSERT_EQ(set, 1) << frame;
   }
-  std::ofstream(run / "gt.json") << gt.dump();
+  std::ofstream(run / "gt.json", std::ios::trunc) << gt.dump();
   auto metrics = nlohmann::json::parse(Read(run / "metrics.json"));
   metrics["detection"] = nlohmann::json::parse(R"({"by_target": [
       {"target": 1, "found": 1, "missed": 3, "found_centre": 1, "missed_centre": 3,

@@ -576,7 +576,25 @@ struct Paired {
   // leave the signed-rank test): SignedRankFloor(nonzero) >= 0.05 / family
   // with at least one nonzero difference.
   int holm_tied_out = 0;
+  // Comparisons (not timings) whose every pair ties (EveryPairTies): not
+  // tested, outside the family.
+  int every_pair_ties = 0;
 };
+
+// Whether every seed pair of a comparison has the same value (within
+// rounding): a detector's metric across tracker settings that share its
+// cached detections, say. No test can find a difference there (the
+// signed-rank test has no nonzero difference), so it is not tested and not
+// one of Holm's family: an audit found det_recall's 7 comparisons of
+// "Δ 0 [0, 0] 0/0/10, p = 1.000" making the correction stricter for the 35
+// that could differ.
+bool EveryPairTies(const PairedComparison& c) { return c.pairs > 0 && c.test.nonzero == 0; }
+
+// Whether the report tests a comparison (its p-value enters Holm's family):
+// it has pairs, some of which differ, and its metric is not a timing.
+bool Tested(const PairedComparison& c, const std::string& metric) {
+  return c.pairs > 0 && !EveryPairTies(c) && !MachineDependent(metric);
+}
 
 Paired PairedRowsOf(const std::vector<Cell>& cells, const StoreMeta& meta) {
   Paired paired;
@@ -652,14 +670,16 @@ Paired PairedRowsOf(const std::vector<Cell>& cells, const StoreMeta& meta) {
   }
   // Holm over the whole family: a report of 8 cells and 7 metrics makes 56
   // tests, and chance alone makes about 3 of them findings at p < 0.05.
-  // Timings are not tested (MachineDependent): outside the family.
+  // Timings and comparisons whose every pair ties are not tested (Tested):
+  // outside the family.
   std::vector<double> p;
   for (const PairedRow& row : paired.rows) {
     for (const std::string& m : meta.report.y) {
       const PairedComparison& c = row.metrics.at(m);
-      const bool tested = c.pairs > 0 && !MachineDependent(m);
+      const bool tested = Tested(c, m);
       p.push_back(tested ? c.test.p_value : kNaN);
       paired.family += tested ? 1 : 0;
+      paired.every_pair_ties += EveryPairTies(c) && !MachineDependent(m) ? 1 : 0;
     }
   }
   const std::vector<double> adjusted = HolmAdjusted(p);
@@ -671,11 +691,9 @@ Paired PairedRowsOf(const std::vector<Cell>& cells, const StoreMeta& meta) {
     paired.pairs_for_holm = PairsForHolm(paired.family, 0.05);
     for (const PairedRow& row : paired.rows) {
       for (const auto& [m, c] : row.metrics) {
-        if (c.pairs == 0 || MachineDependent(m)) continue;
+        if (!Tested(c, m)) continue;
         if (SignedRankFloor(c.pairs) < 0.05 / paired.family) {
-          const int nonzero = c.test.nonzero;
-          if (nonzero > 0 && SignedRankFloor(nonzero) >= 0.05 / paired.family)
-            ++paired.holm_tied_out;
+          if (SignedRankFloor(c.test.nonzero) >= 0.05 / paired.family) ++paired.holm_tied_out;
           continue;
         }
         ++paired.holm_unreachable;
@@ -752,6 +770,20 @@ std::string TimingsNote(const StoreMeta& meta) {
       "the runs ran in (the first runs of a rendered sweep render the frames that the others "
       "read from the cache), not only on the settings compared.",
       JoinWords(timings), timings.size() == 1 ? "is" : "are");
+}
+
+// Said where some comparisons are left untested because every seed pair
+// ties (EveryPairTies).
+std::string TiesNote(const Paired& paired) {
+  if (paired.every_pair_ties == 0) return {};
+  return fmt::format(
+      " {} {} the same value in every seed pair (a detector's metric across tracker settings "
+      "that read the same detections, say): no test can find a difference there, so {} not "
+      "tested and not counted among the comparisons, where {} would only make Holm's "
+      "correction stricter.",
+      paired.every_pair_ties, paired.every_pair_ties == 1 ? "comparison has" : "comparisons have",
+      paired.every_pair_ties == 1 ? "it is" : "they are",
+      paired.every_pair_ties == 1 ? "it" : "they");
 }
 
 // What the seed count allows: empty when every comparison has the pairs
@@ -979,14 +1011,15 @@ std::string PairedHtml(const Paired& paired, const StoreMeta& meta, const Layout
       "likewise; the test and the interval can disagree (the test uses ranks, the interval the "
       "values), and a cell is coloured only when both say so. <b>Holm</b>, in coloured cells: "
       "p adjusted by Holm's step-down method over the {4} comparisons of this table (cells "
-      "&times; metrics with pairs); chance alone makes about 1 in 20 of them coloured where "
+      "&times; metrics with pairs, not every pair tied); chance alone makes about 1 in 20 of them "
+      "coloured where "
       "nothing differs, and a cell whose Holm p is also below 0.05 (in bold) stays a finding "
-      "when all {4} are tested at once.{5}{6}</p>\n",
+      "when all {4} are tested at once.{7}{5}{6}</p>\n",
       EscapeMarkup(meta.report.series), EscapeMarkup(paired.reference),
       meta.report.reference.empty() ? ", else the first series value" : "",
       kExactSignedRankMaxPairs, paired.family,
       reach_note.empty() ? std::string() : " <b>" + EscapeMarkup(reach_note) + "</b>",
-      EscapeMarkup(TimingsNote(meta)));
+      EscapeMarkup(TimingsNote(meta)), EscapeMarkup(TiesNote(paired)));
   h += "<table><tr>";
   for (size_t k : shown) h += "<th>" + EscapeMarkup(keys[k]) + "</th>";
   h += "<th>compared</th><th>n</th>";
@@ -1020,7 +1053,9 @@ std::string PairedHtml(const Paired& paired, const StoreMeta& meta, const Layout
       text +=
           fmt::format("<br>{}/{}/{}", c.positive, c.negative, c.pairs - c.positive - c.negative);
       if (c.pairs < n) text += fmt::format(" (n&nbsp;=&nbsp;{})", c.pairs);
-      text += MachineDependent(m) ? std::string(", not tested") : ", " + FormatP(c.test.p_value);
+      text += MachineDependent(m) ? std::string(", not tested")
+              : EveryPairTies(c)  ? std::string(", the same in every pair: not tested")
+                                  : ", " + FormatP(c.test.p_value);
       if (verdict != PairedVerdict::kNotSignificant) {
         const double holm = row.holm.at(m);
         const std::string value =
@@ -1059,8 +1094,8 @@ std::string PairedCsv(const Paired& paired, const StoreMeta& meta) {
           c.pairs ? Number(c.difference.mean) : "", band ? Number(c.difference.lower) : "",
           band ? Number(c.difference.upper) : "", c.difference.clipped ? 1 : 0, c.positive,
           c.negative, c.pairs - c.positive - c.negative, c.test.nonzero, Number(c.test.w_plus),
-          // A timing is not tested: no p-value (a review).
-          MachineDependent(m) ? std::string() : Number(c.test.p_value), c.test.exact ? 1 : 0,
+          // A comparison not tested (a timing, every pair tied): no p-value (a review).
+          Tested(c, m) ? Number(c.test.p_value) : std::string(), c.test.exact ? 1 : 0,
           std::isnan(holm) ? std::string() : Number(holm));
       // The pairs to look at: their difference and both runs' keys.
       const PairExtremes& e = row.extremes.at(m);
@@ -1187,18 +1222,23 @@ std::vector<Finding> FindingsOf(const std::vector<Cell>& cells, const Paired& pa
       // Paired verdicts per compared series value.
       std::vector<std::string> compared;
       std::map<std::string, std::array<std::vector<std::string>, 3>> verdicts;
-      std::map<std::string, std::pair<int, int>> pairs;  // min, max
+      std::map<std::string, std::vector<std::string>> ties;  // x where every pair ties
+      std::map<std::string, std::pair<int, int>> pairs;      // min, max
       std::map<std::string, std::vector<std::string>> holm_kept;
       for (const PairedRow& row : paired.rows) {
         if (group_key(*row.cell) != g) continue;
         const PairedComparison& c = row.metrics.at(m);
         const std::string& s = row.cell->values[si];
         if (SurvivesHolm(row, m)) holm_kept[s].push_back(x_of(*row.cell));
-        if (!verdicts.count(s)) {
+        if (!pairs.count(s)) {
           compared.push_back(s);
           pairs[s] = {c.pairs, c.pairs};
         }
-        verdicts[s][static_cast<size_t>(VerdictOf(c, m))].push_back(x_of(*row.cell));
+        if (EveryPairTies(c)) {
+          ties[s].push_back(x_of(*row.cell));
+        } else {
+          verdicts[s][static_cast<size_t>(VerdictOf(c, m))].push_back(x_of(*row.cell));
+        }
         pairs[s].first = std::min(pairs[s].first, c.pairs);
         pairs[s].second = std::max(pairs[s].second, c.pairs);
       }
@@ -1213,6 +1253,13 @@ std::vector<Finding> FindingsOf(const std::vector<Cell>& cells, const Paired& pa
               (said.empty() && xi >= 0 && v[0].size() == xs.size()
                    ? std::string(" at any ") + x_name
                    : at(v[0])));
+        }
+        if (const std::vector<std::string>& t = ties[s]; !t.empty()) {
+          said.push_back("the same value in every seed pair" +
+                         (said.empty() && xi >= 0 && t.size() == xs.size()
+                              ? std::string(" at every ") + x_name
+                              : at(t)) +
+                         ", not tested");
         }
         const auto [lo, hi] = pairs[s];
         if (hi == 0) {
@@ -1255,8 +1302,9 @@ struct Glance {
   int worse = 0;
   int holm = 0;  // of better + worse, those that survive Holm's correction
   int not_significant = 0;
+  int ties = 0;  // every pair the same (EveryPairTies): not tested
   int no_pairs = 0;
-  int cells() const { return better + worse + not_significant + no_pairs; }
+  int cells() const { return better + worse + not_significant + ties + no_pairs; }
 };
 
 // The table: one row per metric and compared value; the "no pairs" column
@@ -1265,6 +1313,7 @@ struct GlanceTable {
   std::vector<Glance> rows;
   std::string panel_key;  // report.panels when the rows are per panel
   bool no_pairs_column = false;
+  bool ties_column = false;
 };
 
 // With report.panels, a row per panel too: pooled over the main job's two
@@ -1294,6 +1343,10 @@ GlanceTable GlanceOf(const Paired& paired, const StoreMeta& meta) {
         ++it->no_pairs;
         continue;
       }
+      if (EveryPairTies(c)) {
+        ++it->ties;
+        continue;
+      }
       if (SurvivesHolm(row, m)) ++it->holm;
       switch (VerdictOf(c, m)) {
         case PairedVerdict::kBetter:
@@ -1308,7 +1361,10 @@ GlanceTable GlanceOf(const Paired& paired, const StoreMeta& meta) {
       }
     }
   }
-  for (const Glance& g : out) table.no_pairs_column = table.no_pairs_column || g.no_pairs > 0;
+  for (const Glance& g : out) {
+    table.no_pairs_column = table.no_pairs_column || g.no_pairs > 0;
+    table.ties_column = table.ties_column || g.ties > 0;
+  }
   return table;
 }
 
@@ -1333,7 +1389,7 @@ std::string FindingsIntro(const Paired& paired, const GlanceTable& glance, const
       "and where each other value differs from {1} (the reference) seed by seed with p < 0.05 "
       "and a 95 % interval that excludes 0 (the green and red cells of the paired differences). "
       "A better mean without that is not a finding. This report makes {2} comparisons; where "
-      "nothing differs, chance alone makes about {3:.1f} of them findings. {4}{5}",
+      "nothing differs, chance alone makes about {3:.1f} of them findings. {4}{5}{6}",
       meta.report.series, paired.reference, paired.family, 0.05 * paired.family,
       findings == 0
           ? std::string("None of them is a finding.")
@@ -1341,7 +1397,7 @@ std::string FindingsIntro(const Paired& paired, const GlanceTable& glance, const
                         "for all {} (Holm p < 0.05).",
                         findings, findings == 1 ? "is a finding" : "are findings", kept,
                         kept == 1 ? "stays" : "stay", paired.family),
-      reach_note.empty() ? std::string() : " " + reach_note);
+      reach_note.empty() ? std::string() : " " + reach_note, TiesNote(paired));
 }
 
 std::string GlanceIntro(const Paired& paired, const StoreMeta& meta) {
@@ -1349,9 +1405,11 @@ std::string GlanceIntro(const Paired& paired, const StoreMeta& meta) {
       "At a glance: for each metric{} and {} value, in how many of its cells (every combination "
       "of the other swept values) the paired difference against {} is a finding for better or "
       "for worse, how many of those findings survive Holm's correction, and in how many cells "
-      "it is not a finding.",
+      "it is not a finding{}.",
       meta.report.panels.empty() ? std::string() : ", " + meta.report.panels + " value",
-      meta.report.series, paired.reference);
+      meta.report.series, paired.reference,
+      paired.every_pair_ties == 0 ? std::string()
+                                  : " or not tested (every seed pair the same value: \"tied\")");
 }
 
 std::string FindingsHtml(const std::vector<Finding>& findings, const GlanceTable& glance,
@@ -1360,12 +1418,14 @@ std::string FindingsHtml(const std::vector<Finding>& findings, const GlanceTable
   std::string h = "<h2 id=\"findings\">Findings</h2>\n<p>" +
                   EscapeMarkup(FindingsIntro(paired, glance, meta)) + "</p>\n";
   const bool any_no_pairs = glance.no_pairs_column;
+  const bool any_ties = glance.ties_column;
   h += "<p>" + EscapeMarkup(GlanceIntro(paired, meta)) +
        "</p>\n<table id=\"glance\"><tr><th>metric</th>" +
        (glance.panel_key.empty() ? std::string()
                                  : "<th>" + EscapeMarkup(glance.panel_key) + "</th>") +
        "<th>compared</th><th>better</th>"
        "<th>worse</th><th>of them after Holm</th><th>not significant</th>" +
+       std::string(any_ties ? "<th>tied</th>" : "") +
        std::string(any_no_pairs ? "<th>no pairs</th>" : "") + "<th>cells</th></tr>\n";
   for (const Glance& g : glance.rows) {
     const auto coloured = [](int n, const char* colour) {
@@ -1374,12 +1434,13 @@ std::string FindingsHtml(const std::vector<Finding>& findings, const GlanceTable
     };
     h += fmt::format(
         "<tr><td class=\"k\">{}</td>{}<td class=\"k\">{} &minus; {}</td>{}{}<td>{}</td><td>{}</td>"
-        "{}<td>{}</td></tr>\n",
+        "{}{}<td>{}</td></tr>\n",
         EscapeMarkup(g.metric),
         glance.panel_key.empty() ? std::string()
                                  : "<td class=\"k\">" + EscapeMarkup(g.panel) + "</td>",
         EscapeMarkup(g.compared), EscapeMarkup(paired.reference), coloured(g.better, "#dff3df"),
         coloured(g.worse, "#f8dede"), g.holm, g.not_significant,
+        any_ties ? fmt::format("<td>{}</td>", g.ties) : "",
         any_no_pairs ? fmt::format("<td>{}</td>", g.no_pairs) : "", g.cells());
   }
   h += "</table>\n<ul>\n";
@@ -1398,16 +1459,19 @@ std::string FindingsMarkdown(const std::vector<Finding>& findings, const GlanceT
                    (missing_runs.empty() ? std::string() : "**" + missing_runs + "**\n\n") +
                    FindingsIntro(paired, glance, meta) + "\n\n" + RootSeedSentence(meta) + "\n\n";
   const bool any_no_pairs = glance.no_pairs_column;
+  const bool any_ties = glance.ties_column;
   const bool panels = !glance.panel_key.empty();
   md += GlanceIntro(paired, meta) + "\n\n| metric |" +
         (panels ? " " + glance.panel_key + " |" : std::string()) +
         " compared | better | worse | of them after Holm | not significant |" +
-        std::string(any_no_pairs ? " no pairs |" : "") + " cells |\n|---|---|---|---|---|---|" +
-        std::string(panels ? "---|" : "") + std::string(any_no_pairs ? "---|" : "") + "---|\n";
+        std::string(any_ties ? " tied |" : "") + std::string(any_no_pairs ? " no pairs |" : "") +
+        " cells |\n|---|---|---|---|---|---|" + std::string(panels ? "---|" : "") +
+        std::string(any_ties ? "---|" : "") + std::string(any_no_pairs ? "---|" : "") + "---|\n";
   for (const Glance& g : glance.rows) {
-    md += fmt::format("| {} |{} {} \u2212 {} | {} | {} | {} | {} |{} {} |\n", g.metric,
+    md += fmt::format("| {} |{} {} \u2212 {} | {} | {} | {} | {} |{}{} {} |\n", g.metric,
                       panels ? " " + g.panel + " |" : std::string(), g.compared, paired.reference,
                       g.better, g.worse, g.holm, g.not_significant,
+                      any_ties ? fmt::format(" {} |", g.ties) : "",
                       any_no_pairs ? fmt::format(" {} |", g.no_pairs) : "", g.cells());
   }
   md += "\n";
@@ -1527,10 +1591,12 @@ ReplicationTable ReplicationOf(const Paired& here, const AgainstStore& there,
     for (const std::string& m : meta.report.y) {
       if (!has_pairs(row, m) || MachineDependent(m)) continue;
       if (it == there_rows.end() || !has_pairs(*it->second, m)) {
-        ++table.only_here;
+        table.only_here += EveryPairTies(row.metrics.at(m)) ? 0 : 1;
         continue;
       }
       matched.emplace(it->second, m);
+      // Tested in neither store (every pair ties in both): no outcome.
+      if (EveryPairTies(row.metrics.at(m)) && EveryPairTies(it->second->metrics.at(m))) continue;
       ReplicationRow r;
       r.there = it->second;
       r.here = &row;
@@ -1561,7 +1627,7 @@ ReplicationTable ReplicationOf(const Paired& here, const AgainstStore& there,
   }
   for (const PairedRow& r : there.paired.rows) {
     for (const std::string& m : meta.report.y) {
-      table.only_there += has_pairs(r, m) && !MachineDependent(m) && matched.count({&r, m}) == 0;
+      table.only_there += Tested(r.metrics.at(m), m) && matched.count({&r, m}) == 0;
     }
   }
   return table;

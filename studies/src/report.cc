@@ -777,8 +777,9 @@ std::string TimingsNote(const StoreMeta& meta) {
 std::string TiesNote(const Paired& paired) {
   if (paired.every_pair_ties == 0) return {};
   return fmt::format(
-      " {} {} the same value in every seed pair (a detector's metric across tracker settings "
-      "that read the same detections, say): no test can find a difference there, so {} not "
+      " {} {} the same value in every seed pair (a hijack rate of 0 in both, or a detector's "
+      "metric across tracker settings that read the same detections): no test can find a "
+      "difference there, so {} not "
       "tested and not counted among the comparisons, where {} would only make Holm's "
       "correction stricter.",
       paired.every_pair_ties, paired.every_pair_ties == 1 ? "comparison has" : "comparisons have",
@@ -1400,6 +1401,123 @@ std::string FindingsIntro(const Paired& paired, const GlanceTable& glance, const
       reach_note.empty() ? std::string() : " " + reach_note, TiesNote(paired));
 }
 
+// The summary above the findings: per report.panels value and compared
+// series value, one sentence of the findings that survive Holm's
+// correction, the metrics grouped by the x values where they do (an audit:
+// "12 bullets of about 60 words each ... a researcher wants a 2–3 line
+// conclusion"), and how many findings do not survive it. The findings
+// below say the rest.
+std::vector<std::string> SummaryOf(const Paired& paired, const StoreMeta& meta,
+                                   const Layout& layout) {
+  std::vector<std::string> out;
+  if (paired.series_index < 0 || paired.family == 0) return out;
+  const auto si = static_cast<size_t>(paired.series_index);
+  const std::optional<size_t> panel_index = PanelKeyIndex(meta);
+  const int xi = layout.x_index;
+  const std::string x_name = xi >= 0 ? meta.swept_keys[static_cast<size_t>(xi)] : std::string();
+  // Per metric, the x values where it is kept, in the order first kept.
+  using Kept = std::vector<std::pair<std::string, std::vector<std::string>>>;
+  struct Group {
+    std::string panel, compared;
+    std::vector<std::string> xs;  // of the group's compared cells, in their order
+    Kept better, worse;
+    int not_kept = 0;  // findings Holm's correction does not keep
+  };
+  std::vector<Group> groups;
+  const auto add = [](std::vector<std::string>& list, const std::string& v) {
+    if (std::find(list.begin(), list.end(), v) == list.end()) list.push_back(v);
+  };
+  for (const PairedRow& row : paired.rows) {
+    const std::string panel = panel_index ? row.cell->values[*panel_index] : std::string();
+    const std::string& s = row.cell->values[si];
+    auto g = std::find_if(groups.begin(), groups.end(),
+                          [&](const Group& x) { return x.panel == panel && x.compared == s; });
+    if (g == groups.end()) {
+      groups.push_back({.panel = panel, .compared = s});
+      g = groups.end() - 1;
+    }
+    const std::string x = xi >= 0 ? row.cell->values[static_cast<size_t>(xi)] : std::string();
+    add(g->xs, x);
+    for (const std::string& m : meta.report.y) {
+      const PairedVerdict verdict = VerdictOf(row.metrics.at(m), m);
+      if (verdict == PairedVerdict::kNotSignificant) continue;
+      if (!SurvivesHolm(row, m)) {
+        ++g->not_kept;
+        continue;
+      }
+      Kept& kept = verdict == PairedVerdict::kBetter ? g->better : g->worse;
+      auto k = std::find_if(kept.begin(), kept.end(), [&](const auto& e) { return e.first == m; });
+      if (k == kept.end()) {
+        kept.emplace_back(m, std::vector<std::string>{});
+        k = kept.end() - 1;
+      }
+      add(k->second, x);
+    }
+  }
+  // "every x", "200 to 5000" (three or more in a row of the group's x
+  // values), "50 and 2000"; nothing without an x.
+  const auto where = [&](const std::vector<std::string>& at, const std::vector<std::string>& all) {
+    if (xi < 0) return std::string();
+    if (at.size() == all.size() && all.size() > 1) return "every " + x_name;
+    const auto first = std::find(all.begin(), all.end(), at.front());
+    const bool in_a_row = at.size() >= 3 && static_cast<size_t>(all.end() - first) >= at.size() &&
+                          std::equal(at.begin(), at.end(), first);
+    return in_a_row ? at.front() + " to " + at.back() : JoinWords(at);
+  };
+  // The metrics of one direction, those kept at the same x values together:
+  // "hijack_rate at x = 200 to 5000 and in mota and hota at 500 to 5000".
+  const auto phrase = [&](const Kept& kept, const std::vector<std::string>& all) {
+    std::vector<std::pair<std::string, std::vector<std::string>>> by_where;  // where, metrics
+    for (const auto& [m, at] : kept) {
+      const std::string w = where(at, all);
+      auto it = std::find_if(by_where.begin(), by_where.end(),
+                             [&](const auto& e) { return e.first == w; });
+      if (it == by_where.end()) {
+        by_where.emplace_back(w, std::vector<std::string>{});
+        it = by_where.end() - 1;
+      }
+      it->second.push_back(m);
+    }
+    std::vector<std::string> parts;
+    bool named = false;  // x's name said once
+    for (const auto& [w, metrics] : by_where) {
+      const bool every = w.rfind("every ", 0) == 0;
+      parts.push_back(
+          (parts.empty() ? "" : "in ") + JoinWords(metrics) +
+          (w.empty() ? std::string() : " at " + (named || every ? w : x_name + " = " + w)));
+      named = named || (!w.empty() && !every);
+    }
+    // "a, and in b" (a comma where the x values of a end in "and").
+    std::string joined = parts.front();
+    for (size_t i = 1; i < parts.size(); ++i)
+      joined += (i + 1 < parts.size() ? ", " : ", and ") + parts[i];
+    return joined;
+  };
+  for (const Group& g : groups) {
+    const std::string subject =
+        (g.panel.empty() ? std::string() : "Under " + meta.report.panels + " = " + g.panel + ", ") +
+        g.compared + " \u2212 " + paired.reference;
+    const std::string lost =
+        g.not_kept == 0 ? std::string()
+                        : fmt::format(" {} more {} not survive the correction.", g.not_kept,
+                                      g.not_kept == 1 ? "finding does" : "findings do");
+    if (g.better.empty() && g.worse.empty()) {
+      out.push_back(g.not_kept == 0
+                        ? subject + ": no finding."
+                        : subject + fmt::format(": {} {}, none of which survives Holm's "
+                                                "correction.",
+                                                g.not_kept,
+                                                g.not_kept == 1 ? "finding" : "findings"));
+      continue;
+    }
+    out.push_back(fmt::format("{}, after Holm's correction: better in {}; worse in {}.{}", subject,
+                              g.better.empty() ? std::string("no metric") : phrase(g.better, g.xs),
+                              g.worse.empty() ? std::string("no metric") : phrase(g.worse, g.xs),
+                              lost));
+  }
+  return out;
+}
+
 std::string GlanceIntro(const Paired& paired, const StoreMeta& meta) {
   return fmt::format(
       "At a glance: for each metric{} and {} value, in how many of its cells (every combination "
@@ -1413,10 +1531,15 @@ std::string GlanceIntro(const Paired& paired, const StoreMeta& meta) {
 }
 
 std::string FindingsHtml(const std::vector<Finding>& findings, const GlanceTable& glance,
-                         const Paired& paired, const StoreMeta& meta) {
+                         const Paired& paired, const StoreMeta& meta,
+                         const std::vector<std::string>& summary) {
   if (findings.empty()) return {};
-  std::string h = "<h2 id=\"findings\">Findings</h2>\n<p>" +
-                  EscapeMarkup(FindingsIntro(paired, glance, meta)) + "</p>\n";
+  std::string h = "<h2 id=\"findings\">Findings</h2>\n";
+  if (!summary.empty()) {
+    h += "<p id=\"summary\"><b>Summary.</b> " +
+         EscapeMarkup(fmt::format("{}", fmt::join(summary, " "))) + "</p>\n";
+  }
+  h += "<p>" + EscapeMarkup(FindingsIntro(paired, glance, meta)) + "</p>\n";
   const bool any_no_pairs = glance.no_pairs_column;
   const bool any_ties = glance.ties_column;
   h += "<p>" + EscapeMarkup(GlanceIntro(paired, meta)) +
@@ -1454,9 +1577,12 @@ std::string FindingsHtml(const std::vector<Finding>& findings, const GlanceTable
 
 std::string FindingsMarkdown(const std::vector<Finding>& findings, const GlanceTable& glance,
                              const Paired& paired, const StoreMeta& meta,
+                             const std::vector<std::string>& summary,
                              const std::string& missing_runs) {
   std::string md = "# Findings\n\n" +
                    (missing_runs.empty() ? std::string() : "**" + missing_runs + "**\n\n") +
+                   (summary.empty() ? std::string()
+                                    : fmt::format("**Summary.** {}\n\n", fmt::join(summary, " "))) +
                    FindingsIntro(paired, glance, meta) + "\n\n" + RootSeedSentence(meta) + "\n\n";
   const bool any_no_pairs = glance.no_pairs_column;
   const bool any_ties = glance.ties_column;
@@ -2231,10 +2357,12 @@ ReportResult WriteReport(const ReportOptions& options) {
   }
   // The findings, also as findings.md (read without a browser).
   const std::vector<Finding> findings = FindingsOf(cells, paired, meta, layout);
+  const std::vector<std::string> summary = SummaryOf(paired, meta, layout);
   const GlanceTable glance = GlanceOf(paired, meta);
   result.findings = static_cast<int>(findings.size());
   if (!findings.empty()) {
-    files.emplace_back("findings.md", FindingsMarkdown(findings, glance, paired, meta, missing));
+    files.emplace_back("findings.md",
+                       FindingsMarkdown(findings, glance, paired, meta, summary, missing));
   } else {
     stale.push_back("findings.md");
   }
@@ -2275,11 +2403,12 @@ ReportResult WriteReport(const ReportOptions& options) {
     stale.push_back("replication_cells.csv");
   }
   files.emplace_back("summary.csv", SummaryCsv(cells, meta.swept_keys));
-  files.emplace_back("report.html", ReportHtml(dir, link_prefix, meta, runs, cells, layout, svgs,
-                                               FindingsHtml(findings, glance, paired, meta),
-                                               PairedHtml(paired, meta, layout, difference_svgs,
-                                                          options.dir, link_prefix),
-                                               replication_html, unmeasured, builds, missing));
+  files.emplace_back(
+      "report.html",
+      ReportHtml(dir, link_prefix, meta, runs, cells, layout, svgs,
+                 FindingsHtml(findings, glance, paired, meta, summary),
+                 PairedHtml(paired, meta, layout, difference_svgs, options.dir, link_prefix),
+                 replication_html, unmeasured, builds, missing));
   PublishReportFiles(work, out, files, stale);
   result.csv_path = (out / "summary.csv").string();
   result.html_path = (out / "report.html").string();

@@ -1877,6 +1877,73 @@ TEST(Report, AComparisonWhoseEveryPairTiesIsNotTested) {
   EXPECT_NE(csv.find("det_recall,10,0,0,0,0,0,0,10,0,0,,0,,"), std::string::npos) << csv;
 }
 
+// The summary above the findings (an audit: "12 bullets of about 60 words
+// each ... a researcher wants a 2–3 line conclusion"): one sentence per panel
+// of what survives Holm's correction, the metrics kept at the same x values
+// together. A hand store of 4 particle counts × 2 methods × 2 panels × 10
+// seeds. Panel a: mota and idf1 0.6 for charged against 0.5 at 100, 200 and
+// 500 (equal at 50); hijack_rate 0 against 1 at 50 and 500 (0.5 both
+// elsewhere); hota 0.4 against 0.5 at every count. Panel b: every metric
+// equal. Every difference has one sign on all 10 seeds (p = 2/1024), the
+// equal ones tie (not tested): a family of 3 + 3 + 2 + 4 = 12, Holm's
+// p 12 × 2/1024 = 0.023 for each, all kept.
+TEST(Report, TheSummarySaysPerPanelWhatSurvivesHolmsCorrection) {
+  const auto dir = testing::SweepFolder("report-summary");
+  StoreMeta meta;
+  meta.sweep_hash = "summary";
+  meta.sweep_file = "summary.yaml";
+  meta.swept_keys = {"tracker.likelihood.model", "tracker.particles", "tracker.resampling.method"};
+  meta.report.x = "tracker.particles";
+  meta.report.series = "tracker.resampling.method";
+  meta.report.panels = "tracker.likelihood.model";
+  meta.report.y = {"mota", "idf1", "hijack_rate", "hota"};
+  meta.report.reference = "systematic";
+  meta.run_count = 2 * 4 * 2 * 10;
+  {
+    auto store = ResultsStore::OpenOrCreate((dir / "results.sqlite").string(), meta);
+    int64_t index = 0;
+    for (const std::string panel : {"a", "b"}) {
+      for (const std::string particles : {"50", "100", "200", "500"}) {
+        for (const std::string method : {"systematic", "charged"}) {
+          for (int seed = 0; seed < 10; ++seed) {
+            RunRecord r;
+            r.key = panel + "-" + particles + "-" + method + "-" + std::to_string(seed);
+            r.index = index++;
+            r.seed_index = seed;
+            r.seed = 3000 + seed;
+            r.values = {panel, particles, method};
+            r.ok = true;
+            r.run_dir = "runs/" + r.key;
+            const bool charged = method == "charged" && panel == "a";
+            const double spread = 0.01 * seed;  // the same in both methods
+            r.metrics["mota"] = (charged && particles != "50" ? 0.6 : 0.5) + spread;
+            r.metrics["idf1"] = r.metrics["mota"];
+            const bool hijack_differs = panel == "a" && (particles == "50" || particles == "500");
+            r.metrics["hijack_rate"] = hijack_differs ? (method == "charged" ? 0.0 : 1.0) : 0.5;
+            r.metrics["hota"] = (charged ? 0.4 : 0.5) + spread;
+            store->Put(r);
+          }
+        }
+      }
+    }
+  }
+  WriteReport({.dir = dir.string()});
+  const std::string md = Read(dir / "findings.md");
+  EXPECT_NE(md.find("**Summary.** Under tracker.likelihood.model = a, charged \u2212 systematic, "
+                    "after Holm's correction: better in hijack_rate at tracker.particles = 50 "
+                    "and 500, and in mota and idf1 at 100 to 500; worse in hota at every "
+                    "tracker.particles. Under tracker.likelihood.model = b, charged \u2212 "
+                    "systematic: no finding.\n"),
+            std::string::npos)
+      << md;
+  EXPECT_NE(md.find("This report makes 12 comparisons;"), std::string::npos) << md;
+  const std::string html = Read(dir / "report.html");
+  EXPECT_NE(html.find("<h2 id=\"findings\">Findings</h2>\n<p id=\"summary\"><b>Summary.</b> "
+                      "Under tracker.likelihood.model = a,"),
+            std::string::npos)
+      << html;
+}
+
 // The findings of the hand store (values above): hijack_rate, lower is
 // better: charged's means are 0 and 0 against systematic's 1 and 0.5, so
 // charged is best at both x; the paired differences are a finding at 100
@@ -1890,6 +1957,12 @@ TEST(Report, FindingsSayWhichSeriesIsBestAndWhereTheDifferenceIsSignificant) {
   const ReportResult r = WriteReport({.dir = dir.string()});
   EXPECT_EQ(r.findings, 2);
   const std::string md = Read(dir / "findings.md");
+  // The summary first: the one finding, kept by Holm (2/1024 × 3 = 0.0059).
+  EXPECT_NE(md.find("# Findings\n\n**Summary.** charged \u2212 systematic, after Holm's "
+                    "correction: better in hijack_rate at tracker.particles = 100; worse in no "
+                    "metric.\n"),
+            std::string::npos)
+      << md;
   EXPECT_NE(md.find("- **hijack_rate**: best mean (lower is better): charged at every "
                     "tracker.particles. charged \u2212 systematic: significantly better at "
                     "tracker.particles = 100; not significantly different at "
@@ -1948,6 +2021,10 @@ TEST(Report, FindingsSayWhenNoneSurvivesHolmsCorrection) {
   const fs::path dir = HandStore("report-holm", "systematic", 6);
   const ReportResult r = WriteReport({.dir = dir.string()});
   const std::string md = Read(dir / "findings.md");
+  EXPECT_NE(md.find("**Summary.** charged \u2212 systematic: 2 findings, none of which survives "
+                    "Holm's correction.\n"),
+            std::string::npos)
+      << md;
   EXPECT_NE(md.find("This report makes 3 comparisons; where nothing differs, chance alone makes "
                     "about 0.2 of them findings. Of them 2 are findings, and 0 of those stay "
                     "significant after Holm's correction for all 3 (Holm p < 0.05). With 6 seed "

@@ -59,6 +59,9 @@ struct Cell {
   // its own stats' mean (a cell of paired differences sits at its compared
   // cell's place).
   std::optional<double> x_at;
+  // A cell of paired differences (DifferenceCells), per metric: 1 when the
+  // difference is a finding (VerdictOf), 2 when Holm's correction keeps it.
+  std::map<std::string, int> finding;
 };
 
 // The statistic of metric `m` over `values` (its catalogue range decides
@@ -271,11 +274,23 @@ Layout LayoutOf(const std::vector<Cell>& cells, const StoreMeta& meta) {
   return layout;
 }
 
+// A cell's per-run values of `metric`: every finished run's, finite, in
+// run order (the faint points behind a plot's means).
+std::vector<double> SeedValues(const Cell& c, const std::string& metric) {
+  std::vector<double> out;
+  for (const RunRecord* r : c.runs) {
+    if (!r->ok) continue;
+    const auto it = r->metrics.find(metric);
+    if (it != r->metrics.end() && std::isfinite(it->second)) out.push_back(it->second);
+  }
+  return out;
+}
+
 // The smallest and largest value the plots of `metric` laid out by
-// `layouts` draw (means and band edges of the cells with an x position, as
-// PlotSvg draws them): ±infinity when none.
-std::pair<double, double> DrawnRange(const std::vector<Layout>& layouts,
-                                     const std::string& metric) {
+// `layouts` draw (means, band edges and, with `seeds`, every run's value of
+// the cells with an x position, as PlotSvg draws them): ±infinity when none.
+std::pair<double, double> DrawnRange(const std::vector<Layout>& layouts, const std::string& metric,
+                                     bool seeds) {
   double lo = std::numeric_limits<double>::infinity();
   double hi = -std::numeric_limits<double>::infinity();
   for (const Layout& layout : layouts) {
@@ -288,10 +303,44 @@ std::pair<double, double> DrawnRange(const std::vector<Layout>& layouts,
         for (const double v : {it->second.mean, it->second.lower, it->second.upper}) {
           if (std::isfinite(v)) lo = std::min(lo, v), hi = std::max(hi, v);
         }
+        if (!seeds) continue;
+        for (const double v : SeedValues(*c, metric)) lo = std::min(lo, v), hi = std::max(hi, v);
       }
     }
   }
   return {lo, hi};
+}
+
+// Where a plot of means draws each line's per-run points: for line l,
+// {centre, width} of its slot, an offset from the cell's x (on a log axis in
+// natural-log units, x · e^offset). The lines share a strip half as wide as
+// the smallest gap between two x positions, each its own slot of it, so the
+// points of two lines at one x do not fall on each other; a line's runs
+// spread evenly over 80 % of its slot, in run order (deterministic).
+std::vector<std::vector<double>> SeedOffsets(const Layout& layout) {
+  std::vector<double> positions;
+  for (const std::string& line : layout.lines) {
+    for (const Cell* c : layout.line_cells.at(line)) {
+      const double x = layout.XPosition(*c);
+      if (std::isnan(x) || (layout.log_x && x <= 0.0)) continue;
+      positions.push_back(layout.log_x ? std::log(x) : x);
+    }
+  }
+  std::sort(positions.begin(), positions.end());
+  double gap = std::numeric_limits<double>::infinity();
+  for (size_t i = 1; i < positions.size(); ++i) {
+    if (positions[i] > positions[i - 1]) gap = std::min(gap, positions[i] - positions[i - 1]);
+  }
+  // One x position: the axis spans x/2 to 2x (log) or x ± 1 (PlotSvg).
+  if (!std::isfinite(gap)) gap = layout.log_x ? std::log(2.0) : 1.0;
+  const double strip = 0.5 * gap;
+  const auto lines = static_cast<double>(std::max<size_t>(layout.lines.size(), 1));
+  std::vector<std::vector<double>> out;
+  for (size_t l = 0; l < layout.lines.size(); ++l) {
+    const double centre = ((static_cast<double>(l) + 0.5) / lines - 0.5) * strip;
+    out.push_back({centre, 0.8 * strip / lines});
+  }
+  return out;
 }
 
 // Stage 3, plots: one inline SVG per metric (gnuplot on files in `work`).
@@ -349,6 +398,61 @@ std::string PlotSvg(const Layout& layout, const std::string& metric, const std::
     text += "\n\n";
   }
   WriteTextFile(data.string(), text);
+  // A plot of means also shows every run's value (an audit: a cell of IDF1
+  // 0.953 [0.91, 1.0] was most seeds at 1 and a few far below, which a mean
+  // and its interval cannot show): faint points spread sideways around the
+  // cell's x (SeedOffsets), behind the bands and lines.
+  const bool difference = !reference.empty();
+  const fs::path seeds_data = work / fmt::format("plot_{}_seeds.dat", p);
+  bool any_seed = false;
+  if (!difference) {
+    const std::vector<std::vector<double>> offsets = SeedOffsets(layout);
+    std::string seeds;
+    for (size_t l = 0; l < lines.size(); ++l) {
+      bool any = false;
+      for (const Cell* c : layout.line_cells.at(lines[l])) {
+        const double x = layout.XPosition(*c);
+        if (std::isnan(x)) continue;
+        const std::vector<double> values = SeedValues(*c, metric);
+        for (size_t k = 0; k < values.size(); ++k) {
+          // Run k of n, in line l's slot of the strip around x.
+          const double slot = offsets[l][0], width = offsets[l][1];
+          const double offset =
+              slot +
+              ((static_cast<double>(k) + 0.5) / static_cast<double>(values.size()) - 0.5) * width;
+          seeds += fmt::format("{} {}\n", Number(log_x ? x * std::exp(offset) : x + offset),
+                               Number(values[k]));
+          y_min = std::min(y_min, values[k]);
+          y_max = std::max(y_max, values[k]);
+          any = true;
+        }
+      }
+      if (!any) seeds += "nan nan\n";
+      seeds += "\n\n";
+      any_seed = any_seed || any;
+    }
+    WriteTextFile(seeds_data.string(), seeds);
+  }
+  // A plot of differences rings its findings (Cell::finding): an open
+  // circle for a finding, an open square for one Holm's correction keeps (an
+  // audit: the plots did not say which points the tables colour).
+  const fs::path findings_data = work / fmt::format("plot_{}_findings.dat", p);
+  std::array<bool, 2> any_finding{false, false};
+  if (difference) {
+    std::array<std::string, 2> blocks;
+    for (const std::string& line : lines) {
+      for (const Cell* c : layout.line_cells.at(line)) {
+        const double x = layout.XPosition(*c);
+        const auto f = c->finding.find(metric);
+        if (std::isnan(x) || f == c->finding.end() || f->second == 0) continue;
+        const auto k = static_cast<size_t>(f->second - 1);
+        blocks[k] += fmt::format("{} {}\n", Number(x), Number(c->stats.at(metric).mean));
+        any_finding[k] = true;
+      }
+    }
+    WriteTextFile(findings_data.string(), (any_finding[0] ? blocks[0] : "nan nan\n") + "\n\n" +
+                                              (any_finding[1] ? blocks[1] : "nan nan\n") + "\n\n");
+  }
 
   std::string gp;
   gp += "set terminal svg size 820,440 dynamic font 'sans,11' background rgb 'white'\n";
@@ -360,7 +464,6 @@ std::string PlotSvg(const Layout& layout, const std::string& metric, const std::
       entry == nullptr ? metric
                        : fmt::format("{}{}{} ({})", entry->label, entry->unit.empty() ? "" : ", ",
                                      entry->unit, metric);
-  const bool difference = !reference.empty();
   // A long title goes on two lines: centred over the plot, one line ran past
   // the SVG's left edge and lost its start ("aired difference against ...":
   // an audit).
@@ -414,8 +517,33 @@ std::string PlotSvg(const Layout& layout, const std::string& metric, const std::
   } else if (x_min == x_max) {
     gp += fmt::format("set xrange [{}:{}]\n", Number(log_x ? x_min / 2 : x_min - 1),
                       Number(log_x ? x_max * 2 : x_max + 1));
+  } else if (log_x) {
+    // Just past the values (with room for the per-run points), not gnuplot's
+    // decades: 10 to 10000 for 50 to 5000 (an audit).
+    gp += fmt::format("set xrange [{}:{}]\n", Number(x_min / 1.4), Number(x_max * 1.4));
+  }
+  // Tics at the swept values themselves (50, 100, 200, ... rather than 100
+  // and 1000 alone), when there are few and x is not a measured metric.
+  if (numeric_x && layout.x_metric.empty() && x_values.size() >= 2 && x_values.size() <= 12) {
+    std::string tics;
+    for (size_t i = 0; i < x_values.size(); ++i) {
+      tics += fmt::format("{}{} {}", i ? ", " : "", GpString(x_values[i]),
+                          Number(*ParseNumber(x_values[i])));
+    }
+    gp += fmt::format("set xtics ({})\n", tics);
   }
   std::vector<std::string> plots;
+  if (any_seed) {
+    // First, so the bands and lines are drawn over them; one key entry.
+    for (size_t l = 0; l < lines.size(); ++l) {
+      // gnuplot's #AARRGGBB: AA = 0x99 is 60 % transparent.
+      plots.push_back(fmt::format(
+          "{} index {} using 1:2 with points pt 7 ps 0.4 lc rgb '#99{}' "
+          "notitle",
+          GpString(seeds_data.string()), l, kPlotColours[l % std::size(kPlotColours)] + 1));
+    }
+    plots.push_back("NaN with points pt 7 ps 0.5 lc rgb '#99888888' title 'one run (seed)'");
+  }
   for (size_t l = 0; l < lines.size(); ++l) {
     if (!has_data[l]) continue;
     const char* colour = kPlotColours[l % std::size(kPlotColours)];
@@ -432,6 +560,16 @@ std::string PlotSvg(const Layout& layout, const std::string& metric, const std::
   }
   if (difference && !plots.empty()) {
     plots.push_back("0 with lines lw 1.5 lc rgb '#222222' dt 2 title 'no difference'");
+    if (any_finding[0]) {
+      plots.push_back(fmt::format(
+          "{} index 0 using 1:2 with points pt 6 ps 2.2 lw 1.5 lc rgb '#222222' title 'finding'",
+          GpString(findings_data.string())));
+    }
+    if (any_finding[1]) {
+      plots.push_back(fmt::format(
+          "{} index 1 using 1:2 with points pt 4 ps 2.2 lw 2 lc rgb '#222222' title 'kept by Holm'",
+          GpString(findings_data.string())));
+    }
   }
   if (plots.empty()) {
     // Nothing to draw (no finished run, or no run with this metric: an
@@ -495,7 +633,8 @@ std::vector<std::pair<std::string, std::string>> Plots(const std::vector<Cell>& 
   size_t p = 0;
   for (const std::string& metric : meta.report.y) {
     // One y range for every panel of the metric.
-    const std::pair<double, double> shared = DrawnRange(panel_layouts, metric);
+    const std::pair<double, double> shared =
+        DrawnRange(panel_layouts, metric, /*seeds=*/reference.empty());
     for (size_t k = 0; k < panel_values.size(); ++k) {
       svgs.emplace_back(
           fmt::format("{}-{}", metric, k),
@@ -704,25 +843,6 @@ Paired PairedRowsOf(const std::vector<Cell>& cells, const StoreMeta& meta) {
   return paired;
 }
 
-// The paired rows as cells whose stats are the differences (the series value
-// reading "value − reference"), for PlotSvg; with x_metric they sit where
-// the compared cell does.
-std::vector<Cell> DifferenceCells(const Paired& paired, const StoreMeta& meta) {
-  std::vector<Cell> out;
-  for (const PairedRow& row : paired.rows) {
-    Cell d = *row.cell;
-    d.values[static_cast<size_t>(paired.series_index)] += " \u2212 " + paired.reference;
-    d.stats.clear();
-    for (const auto& [m, c] : row.metrics) d.stats[m] = c.difference;
-    if (!meta.report.x_metric.empty()) {
-      const Interval& at = row.cell->stats.at(meta.report.x_metric);
-      d.x_at = at.n > 0 ? at.mean : kNaN;
-    }
-    out.push_back(std::move(d));
-  }
-  return out;
-}
-
 // Whether a paired comparison is a finding: better or worse than the
 // reference in the metric's direction, with both the signed-rank test
 // (p < 0.05) and the t interval of the differences (excluding 0) saying so.
@@ -745,6 +865,28 @@ PairedVerdict VerdictOf(const PairedComparison& c, const std::string& metric) {
 bool SurvivesHolm(const PairedRow& row, const std::string& metric) {
   return VerdictOf(row.metrics.at(metric), metric) != PairedVerdict::kNotSignificant &&
          row.holm.at(metric) < 0.05;
+}
+
+// The paired rows as cells whose stats are the differences (the series value
+// reading "value − reference"), for PlotSvg; with x_metric they sit where
+// the compared cell does.
+std::vector<Cell> DifferenceCells(const Paired& paired, const StoreMeta& meta) {
+  std::vector<Cell> out;
+  for (const PairedRow& row : paired.rows) {
+    Cell d = *row.cell;
+    d.values[static_cast<size_t>(paired.series_index)] += " \u2212 " + paired.reference;
+    d.stats.clear();
+    for (const auto& [m, c] : row.metrics) {
+      d.stats[m] = c.difference;
+      d.finding[m] = SurvivesHolm(row, m) ? 2 : VerdictOf(c, m) != PairedVerdict::kNotSignificant;
+    }
+    if (!meta.report.x_metric.empty()) {
+      const Interval& at = row.cell->stats.at(meta.report.x_metric);
+      d.x_at = at.n > 0 ? at.mean : kNaN;
+    }
+    out.push_back(std::move(d));
+  }
+  return out;
 }
 
 // "a, b and c".

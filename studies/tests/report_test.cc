@@ -1606,6 +1606,62 @@ TEST(Report, BandsOfAZeroOneMetricAreWilsonInsideTheUnitInterval) {
   EXPECT_NE(csv.find(",0.5,0.198979,0.801021,10,"), std::string::npos) << csv;
 }
 
+// Every run's value is drawn behind a plot's means (an audit: a cell of
+// IDF1 0.953 [0.91, 1.0] was most seeds at 1 and a few far below, which a
+// mean and its interval cannot show), spread sideways so the two lines'
+// seeds do not fall on each other; the x axis has tics at the swept values
+// and ends just past them (it ran from 10 to 10000 for 50 to 5000). On the
+// hand store, log x at 100 and 1000: gap ln 10 = 2.302585, strip half of it
+// 1.151293, two lines: line 0's slot centred at −0.287823, line 1's at
+// +0.287823, each 0.8 · 1.151293 / 2 = 0.460517 wide; seed k of 10 at
+// centre + ((k + 0.5)/10 − 0.5) · 0.460517: line 0, seed 0 at 100 ·
+// e^−0.495056 = 60.9546 and seed 9 at 100 · e^−0.080590 = 92.2571; line 1,
+// seed 0 at 100 · e^0.080590 = 108.393.
+TEST(Report, APlotOfMeansDrawsEveryRunsValueBesideItsCell) {
+  const fs::path dir = HandStore("report-seed-points");
+  const fs::path kept = dir / "kept";
+  WriteReport({.dir = dir.string(), .gnuplot = KeepingGnuplot(dir, kept).string()});
+  // plot_1: mota. Blocks: systematic, then charged; 20 rows each (2 x × 10 seeds).
+  const std::string text = Read(kept / "plot_1_seeds.dat");
+  std::vector<std::vector<std::array<double, 2>>> blocks(1);
+  std::stringstream lines(text);
+  std::string line;
+  int blank = 0;
+  while (std::getline(lines, line)) {
+    if (line.empty()) {
+      if (++blank == 2 && !blocks.back().empty()) blocks.emplace_back();
+      continue;
+    }
+    blank = 0;
+    std::array<double, 2> r{};
+    std::stringstream(line) >> r[0] >> r[1];
+    blocks.back().push_back(r);
+  }
+  if (blocks.back().empty()) blocks.pop_back();
+  ASSERT_EQ(blocks.size(), 2U) << text;
+  ASSERT_EQ(blocks[0].size(), 20U) << text;
+  ASSERT_EQ(blocks[1].size(), 20U) << text;
+  EXPECT_NEAR(blocks[0][0][0], 60.9546, 1e-3);
+  EXPECT_NEAR(blocks[0][9][0], 92.2571, 1e-3);
+  EXPECT_NEAR(blocks[1][0][0], 108.393, 1e-3);
+  // The values: systematic 0.9 everywhere; charged 0.9 at 100, then at
+  // 1000 1.0 on seeds 0–8 and 0.5 on seed 9 (outside its cell's band
+  // [0.837, 1]).
+  for (const auto& r : blocks[0]) EXPECT_EQ(r[1], 0.9);
+  EXPECT_EQ(blocks[1][9][1], 0.9);
+  EXPECT_EQ(blocks[1][10][1], 1.0);
+  EXPECT_EQ(blocks[1][19][1], 0.5);
+  EXPECT_GT(blocks[1][19][0], 1000.0);  // line 1 right of its x
+  const std::string gp = Read(kept / "plot_1.gp");
+  // The y axis reaches the seed at 0.5 (0.5 − 0.04 · 0.5 = 0.48), the
+  // points are drawn first and have one key entry.
+  EXPECT_NE(gp.find("set yrange [0.48:1.02]"), std::string::npos) << gp;
+  EXPECT_LT(gp.find("plot_1_seeds.dat"), gp.find("filledcurves")) << gp;
+  EXPECT_NE(gp.find("title 'one run (seed)'"), std::string::npos) << gp;
+  EXPECT_NE(gp.find("set xrange [71.4286:1400]"), std::string::npos) << gp;
+  EXPECT_NE(gp.find("set xtics ('100' 100, '1000' 1000)"), std::string::npos) << gp;
+}
+
 // Paired differences, charged − systematic (the sweep's report.reference),
 // by hand. hijack_rate at 100: d = −1 on all 10 seeds: mean −1, s = 0, the
 // interval [−1, −1]; signed-rank: 10 nonzero, all negative, one tie group
@@ -1682,6 +1738,15 @@ TEST(Report, PairedDifferencesByHand) {
   EXPECT_NE(html.find("style=\"background:#dff3df\">&Delta;&nbsp;-1<br><span class=\"i\">[-1, "
                       "-1]</span>"),
             std::string::npos);
+  // The difference plots ring the findings: hijack_rate's at 100 is one
+  // and Holm keeps it (0.0059): an open square there, no open circle; mota
+  // has none, so its plot has neither. No per-run points on a difference plot.
+  EXPECT_EQ(Read(kept / "plot_d0_findings.dat"), "nan nan\n\n\n100 -1\n\n\n");
+  EXPECT_NE(Read(kept / "plot_d0.gp").find("index 1 using 1:2 with points pt 4"),
+            std::string::npos);
+  EXPECT_EQ(Read(kept / "plot_d0.gp").find("title 'finding'"), std::string::npos);
+  EXPECT_EQ(Read(kept / "plot_d1.gp").find("_findings.dat"), std::string::npos);
+  EXPECT_FALSE(fs::exists(kept / "plot_d0_seeds.dat"));
   // The difference plots: a line "charged − systematic" and a zero line.
   const auto diff = PlotRows(kept / "plot_d0.dat");
   ASSERT_EQ(diff.size(), 1U);

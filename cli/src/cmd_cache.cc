@@ -1,15 +1,15 @@
-// hcpf cache [--cache DIR] [--max-size SIZE [--dry-run]]
+// hcpf cache [--cache DIR] [--max-size SIZE [--dry-run]] [--verbose]
 
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
 
-#include <chrono>
 #include <cstdio>
 #include <cstdlib>
-#include <ctime>
 #include <filesystem>
 #include <memory>
 #include <optional>
+#include <string>
+#include <vector>
 
 #include "command.h"
 #include "hcpf/core/error.h"
@@ -17,25 +17,13 @@
 #include "hcpf/scenarios/frames.h"
 
 namespace hcpf::cli {
-namespace {
-
-// "2026-11-28" (UTC) for an entry's last use.
-std::string Day(std::filesystem::file_time_type t) {
-  const std::time_t seconds = std::chrono::system_clock::to_time_t(
-      std::chrono::time_point_cast<std::chrono::system_clock::duration>(
-          std::chrono::file_clock::to_sys(t)));
-  std::tm utc{};
-  gmtime_r(&seconds, &utc);
-  return fmt::format("{:04}-{:02}-{:02}", utc.tm_year + 1900, utc.tm_mon + 1, utc.tm_mday);
-}
-
-}  // namespace
 
 Command AddCacheCommand(CLI::App& parent) {
   struct Options {
     std::string cache = scenarios::DefaultFrameCacheDir();
     std::string max_size;
     bool dry_run = false;
+    bool verbose = false;
   };
   auto options = std::make_shared<Options>();
   CLI::App* app = parent.add_subcommand(
@@ -51,6 +39,9 @@ Command AddCacheCommand(CLI::App& parent) {
   app->add_flag("--dry-run", options->dry_run,
                 "With --max-size: list what would be removed, remove nothing")
       ->needs(max_size);
+  app->add_flag("--verbose", options->verbose,
+                "Also list every detector output, one line each (they are listed together "
+                "otherwise)");
   return {
       app, [options, cache, max_size] {
         // Pruning only when --max-size is given (an empty value never
@@ -82,8 +73,9 @@ Command AddCacheCommand(CLI::App& parent) {
         std::printf("  %d detector output(s): %s\n", contents.detections,
                     scenarios::FormatSize(contents.detection_bytes).c_str());
         if (!contents.entries.empty()) {
-          std::printf("  used from %s to %s\n", Day(contents.entries.front().last_used).c_str(),
-                      Day(contents.entries.back().last_used).c_str());
+          std::printf("  used from %s to %s (UTC)\n",
+                      scenarios::FormatLastUsed(contents.entries.front().last_used).c_str(),
+                      scenarios::FormatLastUsed(contents.entries.back().last_used).c_str());
         }
         if (limit) {
           std::printf(
@@ -91,7 +83,22 @@ Command AddCacheCommand(CLI::App& parent) {
               scenarios::FormatSize(*limit).c_str(), scenarios::kCacheMaxSizeVariable,
               std::getenv(scenarios::kCacheMaxSizeVariable));
         }
-        if (!prune) return 0;
+        // One line per scene (last used, size, what it is, its folder) and
+        // one for the detector outputs together: a cache of 1440 detector
+        // outputs listed 1440 lines before its total (an audit).
+        const auto list = [&options](const std::vector<scenarios::CacheEntry>& entries) {
+          for (const std::string& line :
+               scenarios::ListCacheEntries(entries, options->verbose, "    ")) {
+            std::printf("%s\n", line.c_str());
+          }
+        };
+        if (!prune) {
+          if (!contents.entries.empty()) {
+            std::printf("  least recently used first (last used, UTC; size; scene; folder):\n");
+            list(contents.entries);
+          }
+          return 0;
+        }
         if (!contents.foreign.empty()) {
           throw InputError(
               SourceLocation{options->cache, 0, 0, "--cache"},
@@ -111,11 +118,10 @@ Command AddCacheCommand(CLI::App& parent) {
         for (const scenarios::CacheEntry& e : remove) {
           freed += e.bytes;
           scenes += e.kind == scenarios::CacheEntry::Kind::kScene;
-          if (options->dry_run) {
-            std::printf("  would remove %s (%s, last used %s)\n", e.path.string().c_str(),
-                        scenarios::FormatSize(e.bytes).c_str(), Day(e.last_used).c_str());
-          }
         }
+        // Described before they go (a scene's note is in its folder).
+        const std::vector<std::string> lines =
+            scenarios::ListCacheEntries(remove, options->verbose, "    ");
         if (!options->dry_run) scenarios::RemoveCacheEntries(remove);
         std::printf(
             "  %s %d scene(s) and %d detector output(s), %s, least recently used "
@@ -123,6 +129,7 @@ Command AddCacheCommand(CLI::App& parent) {
             options->dry_run ? "would remove" : "removed", scenes,
             static_cast<int>(remove.size()) - scenes, scenarios::FormatSize(freed).c_str(),
             scenarios::FormatSize(contents.bytes() - freed).c_str(), options->max_size.c_str());
+        for (const std::string& line : lines) std::printf("%s\n", line.c_str());
         return 0;
       }};
 }

@@ -5,8 +5,13 @@
 #include <algorithm>
 #include <cctype>
 #include <charconv>
+#include <chrono>
+#include <climits>
 #include <cmath>
 #include <cstdlib>
+#include <ctime>
+#include <exception>
+#include <nlohmann/json.hpp>
 #include <string>
 #include <string_view>
 #include <system_error>
@@ -26,11 +31,12 @@ bool IsSceneName(const std::string& name) {
 }
 
 // A file a scene folder holds: NNNNNN.frame and NNNNNN.json
-// (renderer::FrameCache), or their temporary names while being written
-// (".NNNNNN.frame.tmp-<pid>-<n>", WriteTextFile's; before it,
-// "NNNNNN.<writer>.frame.tmp").
+// (renderer::FrameCache), scene.json (NoteScene), or their temporary names
+// while being written (".NNNNNN.frame.tmp-<pid>-<n>", WriteTextFile's; before
+// it, "NNNNNN.<writer>.frame.tmp").
 bool IsSceneFile(const std::string& name) {
   if (name == "renderers.txt") return true;  // FrameCache::NoteRenderer
+  if (name == kSceneNoteFile) return true;
   if (const std::string target = TempFileTarget(name); !target.empty()) {
     return IsSceneFile(target);
   }
@@ -46,6 +52,73 @@ bool IsSceneFile(const std::string& name) {
 // A detector output of ours: it starts with "HCPFDET" (then the format
 // version, detection_cache.cc).
 bool IsDetectionFile(const fs::path& path) { return ReadFilePrefix(path.string(), 7) == "HCPFDET"; }
+
+// A frame's file of a scene folder: six digits and `extension` (".frame",
+// ".json").
+bool IsCachedFrameFile(const std::string& name, std::string_view extension) {
+  return name.size() == 6 + extension.size() && name.ends_with(extension) &&
+         std::all_of(name.begin(), name.begin() + 6, [](char c) { return c >= '0' && c <= '9'; });
+}
+
+// A positive int under `key` of a JSON object, or nullopt.
+std::optional<int> PositiveInt(const nlohmann::json& object, const char* key) {
+  const auto it = object.find(key);
+  if (it == object.end() || !it->is_number_unsigned()) return std::nullopt;
+  const uint64_t v = it->get<uint64_t>();
+  if (v == 0 || v > INT_MAX) return std::nullopt;
+  return static_cast<int>(v);
+}
+
+// scene.json's note, or why it cannot be read (`problem`). No file of ours
+// is near 64 KiB.
+std::optional<SceneNote> ReadSceneNote(const fs::path& path, std::string* problem) {
+  std::string text;
+  try {
+    text = ReadInputFile(path.string(), "a scene note", uint64_t{1} << 16);
+  } catch (const std::exception& e) {
+    *problem = fmt::format("{} cannot be read ({})", kSceneNoteFile, e.what());
+    return std::nullopt;
+  }
+  const nlohmann::json j = nlohmann::json::parse(text, nullptr, false);
+  if (j.is_discarded() || !j.is_object()) {
+    *problem = fmt::format("{} is not a JSON object", kSceneNoteFile);
+    return std::nullopt;
+  }
+  SceneNote note;
+  const auto scenario = j.find("scenario");
+  const auto seed = j.find("seed");
+  const std::optional<int> frames = PositiveInt(j, "frames");
+  const std::optional<int> width = PositiveInt(j, "width_px");
+  const std::optional<int> height = PositiveInt(j, "height_px");
+  if (scenario == j.end() || !scenario->is_string() || seed == j.end() ||
+      !seed->is_number_unsigned() || !frames || !width || !height) {
+    *problem = fmt::format(
+        "{} lacks its scenario, seed, frames, width_px or height_px (or one is of another type)",
+        kSceneNoteFile);
+    return std::nullopt;
+  }
+  note.scenario = scenario->get<std::string>();
+  note.seed = seed->get<uint64_t>();
+  note.frames = *frames;
+  note.width_px = *width;
+  note.height_px = *height;
+  return note;
+}
+
+// What DescribeScene found, as a line's words: "crossing, seed 7, 240
+// frames, 640 x 480", or "scene unknown: <why>; 12 frames, 640 x 480".
+std::string SceneText(const SceneDescription& d) {
+  const std::string size =
+      d.width_px > 0 ? fmt::format(", {} x {}", d.width_px, d.height_px) : std::string();
+  if (d.note) {
+    const std::string frames =
+        d.frames_cached == d.note->frames
+            ? fmt::format("{} frame(s)", d.note->frames)
+            : fmt::format("{} of {} frame(s) cached", d.frames_cached, d.note->frames);
+    return fmt::format("{}, seed {}, {}{}", d.note->scenario, d.note->seed, frames, size);
+  }
+  return fmt::format("scene unknown: {}; {} frame(s) cached{}", d.no_note, d.frames_cached, size);
+}
 
 [[noreturn]] void CannotRead(const fs::path& path, const std::error_code& ec) {
   throw RunError(fmt::format("cannot read the cache folder {}: {}", path.string(), ec.message()));
@@ -234,6 +307,105 @@ std::string FormatSize(uint64_t bytes) {
     ++u;
   }
   return u == 0 ? fmt::format("{} B", bytes) : fmt::format("{:.1f} {}", v, kUnits[u]);
+}
+
+std::string FormatLastUsed(fs::file_time_type time) {
+  const std::time_t seconds = std::chrono::system_clock::to_time_t(
+      std::chrono::time_point_cast<std::chrono::system_clock::duration>(
+          std::chrono::file_clock::to_sys(time)));
+  std::tm utc{};
+  gmtime_r(&seconds, &utc);
+  return fmt::format("{:04}-{:02}-{:02} {:02}:{:02}", utc.tm_year + 1900, utc.tm_mon + 1,
+                     utc.tm_mday, utc.tm_hour, utc.tm_min);
+}
+
+void NoteScene(const fs::path& folder, const SceneNote& note) {
+  std::error_code ec;
+  if (!fs::is_directory(folder, ec) || fs::exists(folder / kSceneNoteFile, ec) || ec) return;
+  const nlohmann::json j = {{"scenario", note.scenario},
+                            {"seed", note.seed},
+                            {"frames", note.frames},
+                            {"width_px", note.width_px},
+                            {"height_px", note.height_px}};
+  try {
+    WriteTextFile((folder / kSceneNoteFile).string(), j.dump() + "\n");
+  } catch (const RunError&) {
+    // Only a description: the frames are cached without it.
+  }
+}
+
+SceneDescription DescribeScene(const fs::path& folder) {
+  SceneDescription out;
+  std::string first_truth;  // the first frame's NNNNNN.json
+  std::error_code ec;
+  for (fs::directory_iterator it(folder, ec), end; !ec && it != end; it.increment(ec)) {
+    const std::string name = it->path().filename().string();
+    if (IsCachedFrameFile(name, ".frame")) ++out.frames_cached;
+    if (IsCachedFrameFile(name, ".json") && (first_truth.empty() || name < first_truth)) {
+      first_truth = name;
+    }
+  }
+  if (!fs::exists(folder / kSceneNoteFile, ec)) {
+    out.no_note = fmt::format("no {} (cached before hcpf noted its scenes)", kSceneNoteFile);
+  } else {
+    out.note = ReadSceneNote(folder / kSceneNoteFile, &out.no_note);
+  }
+  if (out.note) {
+    out.width_px = out.note->width_px;
+    out.height_px = out.note->height_px;
+  } else if (!first_truth.empty()) {
+    // The camera of the frame's truth (core/ground_truth_json.h's encoding).
+    try {
+      const nlohmann::json truth = nlohmann::json::parse(
+          ReadInputFile((folder / first_truth).string(), "a cached frame's truth", 1 << 26),
+          nullptr, false);
+      if (truth.is_object() && truth.contains("camera") && truth["camera"].is_object()) {
+        const std::optional<int> width = PositiveInt(truth["camera"], "width_px");
+        const std::optional<int> height = PositiveInt(truth["camera"], "height_px");
+        if (width && height) {
+          out.width_px = *width;
+          out.height_px = *height;
+        }
+      }
+    } catch (const std::exception&) {
+      // The size stays unknown (0): the line says none.
+    }
+  }
+  return out;
+}
+
+std::vector<std::string> ListCacheEntries(const std::vector<CacheEntry>& entries, bool verbose,
+                                          std::string_view indent) {
+  std::vector<std::string> lines;
+  std::vector<const CacheEntry*> detections;
+  for (const CacheEntry& e : entries) {
+    if (e.kind == CacheEntry::Kind::kDetection) {
+      detections.push_back(&e);
+      continue;
+    }
+    lines.push_back(fmt::format("{}{}  {:>10}  {}  {}", indent, FormatLastUsed(e.last_used),
+                                FormatSize(e.bytes), SceneText(DescribeScene(e.path)),
+                                e.path.filename().string()));
+  }
+  if (detections.empty()) return lines;
+  uint64_t bytes = 0;
+  for (const CacheEntry* d : detections) bytes += d->bytes;
+  const auto [first, last] = std::minmax_element(
+      detections.begin(), detections.end(),
+      [](const CacheEntry* a, const CacheEntry* b) { return a->last_used < b->last_used; });
+  lines.push_back(fmt::format(
+      "{}{} detector output(s), {}, used from {} to {} (not by scene: a detector output does not "
+      "record its scene)",
+      indent, detections.size(), FormatSize(bytes), FormatLastUsed((*first)->last_used),
+      FormatLastUsed((*last)->last_used)));
+  if (verbose) {
+    for (const CacheEntry* d : detections) {
+      lines.push_back(fmt::format("{}  {}  {:>10}  detections/{}", indent,
+                                  FormatLastUsed(d->last_used), FormatSize(d->bytes),
+                                  d->path.filename().string()));
+    }
+  }
+  return lines;
 }
 
 }  // namespace hcpf::scenarios

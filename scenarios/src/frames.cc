@@ -76,6 +76,13 @@ SceneFrames ProduceFrames(const Scenario& scenario, const FrameSourceOptions& op
     cache = std::make_unique<renderer::FrameCache>(options.cache_dir, out.pixel_hash);
     MarkUsed(cache->dir());  // `hcpf cache --max-size` prunes the scenes used least recently
   }
+  // What the folder holds, for `hcpf cache` to list (its name says none of it).
+  const SceneNote note{.scenario = scenario.name,
+                       .seed = scenario.seed,
+                       .frames = frames,
+                       .width_px = scenario.world.camera.width_px,
+                       .height_px = scenario.world.camera.height_px};
+  if (cache) NoteScene(cache->dir(), note);  // a folder cached before notes were kept
   // Misses are stored on a worker thread while the next frame renders.
   std::unique_ptr<renderer::FrameCacheWriter> cache_writer;
   std::unique_ptr<renderer::SceneRenderer> scene;  // created on the first cache miss
@@ -128,6 +135,7 @@ SceneFrames ProduceFrames(const Scenario& scenario, const FrameSourceOptions& op
       out.gl = scene->gl_info();
       if (cache) {
         MakeFrameCacheFolder(cache->dir());  // its first write
+        NoteScene(cache->dir(), note);
         RemoveStaleTempFiles(cache->dir());  // what killed writes left there
         cache->NoteRenderer(*out.gl);        // before any frame of it is stored
       }

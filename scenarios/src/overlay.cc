@@ -3,10 +3,14 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <filesystem>
 #include <map>
 #include <opencv2/imgproc.hpp>
+#include <string>
+#include <vector>
 
 #include "hcpf/core/check.h"
+#include "hcpf/core/enum_names.h"
 #include "hcpf/core/error.h"
 #include "video_sink.h"
 
@@ -88,6 +92,33 @@ std::vector<PixelRect> PlaceLabels(const std::vector<LabelRequest>& labels, Pixe
     taken.push_back(*chosen);
   }
   return out;
+}
+
+std::string OverlayRunTag(const Scenario& scenario) {
+  if (scenario.tracker_choice.external()) {
+    // The command's words by their file names: a program's folder (held as
+    // an absolute path) would fill the line.
+    std::string words;
+    for (const std::string& word : scenario.tracker_choice.command) {
+      const std::string name = std::filesystem::path(word).filename().string();
+      words += (words.empty() ? "" : " ") + (name.empty() ? word : name);
+    }
+    return fmt::format("seed {}, tracker: external ({})", scenario.seed, words);
+  }
+  return fmt::format("seed {}, {} particles, {} resampling", scenario.seed,
+                     scenario.tracker.particles, NameOf(scenario.tracker.resampling.method));
+}
+
+std::vector<std::string> OverlayHeaderLines(const Scenario& scenario, int frame, bool detections) {
+  std::vector<std::string> lines = {fmt::format("{}  frame {}", scenario.name, frame + 1),
+                                    OverlayRunTag(scenario)};
+  if (detections) {
+    const std::string detector = scenario.observation.source == ObservationSource::kRendered
+                                     ? scenario.observation.DetectorName()
+                                     : "simulated";
+    lines.push_back(fmt::format("detections ({})", detector));
+  }
+  return lines;
 }
 
 }  // namespace internal
@@ -182,9 +213,6 @@ OverlayVideo WriteOverlayVideo(const std::string& path, const Scenario& scenario
     for (const metrics::FilterFrameRecord& r : content.filters->records)
       states[{r.frame, r.filter}] = r.state;
   }
-  const std::string detector = scenario.observation.source == ObservationSource::kRendered
-                                   ? scenario.observation.DetectorName()
-                                   : "simulated";
   cv::Mat image(height, width, CV_8UC3);
   for (size_t f = 0; f < truth.size(); ++f) {
     const std::optional<RgbImage> frame = frame_at ? frame_at(static_cast<int>(f)) : std::nullopt;
@@ -253,22 +281,23 @@ OverlayVideo WriteOverlayVideo(const std::string& path, const Scenario& scenario
     if (!observations.empty()) {
       for (const Detection& d : observations[f].detections) DrawDetection(image, d);
     }
-    // The header's lines (top left), whose rectangles the labels keep off:
-    // the scene and the frame, counted from 1 as gt/gt.txt, filters.csv and
-    // the report count it; the detector.
+    // The header's lines (top left, internal::OverlayHeaderLines), whose
+    // rectangles the labels keep off: the scene and frame in white, the
+    // run's tag in white, smaller, the detector in the detections' yellow.
     struct HeaderLine {
       std::string text;
       cv::Point at;
       cv::Scalar colour;
       double scale;
     };
-    std::vector<HeaderLine> header = {
-        {fmt::format("{}  frame {}", scenario.name, truth[f].frame + 1),
-         {6, 16},
-         {255, 255, 255},
-         kLabelScale}};
-    if (!observations.empty()) {
-      header.push_back({fmt::format("detections ({})", detector), {6, 32}, kDetectionColour, 0.35});
+    std::vector<HeaderLine> header;
+    const std::vector<std::string> header_text =
+        internal::OverlayHeaderLines(scenario, truth[f].frame, !observations.empty());
+    for (size_t i = 0; i < header_text.size(); ++i) {
+      header.push_back({header_text[i],
+                        {6, 16 + 15 * static_cast<int>(i)},
+                        i == 2 ? kDetectionColour : cv::Scalar(255, 255, 255),
+                        i == 0 ? kLabelScale : 0.35});
     }
     std::vector<internal::PixelRect> taken;
     for (const HeaderLine& line : header) {

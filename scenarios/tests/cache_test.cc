@@ -12,6 +12,7 @@
 #include <fstream>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "hcpf/core/error.h"
 #include "support/process.h"
@@ -212,6 +213,105 @@ TEST(Cache, AfterACommandThePruneSparesWhatWasUsedSinceItStarted) {
                 .find("not pruned to HCPF_CACHE_MAX_SIZE 0: it holds " +
                       (mixed / "important.txt").string()),
             std::string::npos);
+}
+
+// A file time at minute `minute` and 30 s of an hour of a day, UTC.
+fs::file_time_type UtcTime(int year, unsigned month, unsigned day, int hour, int minute) {
+  using namespace std::chrono;
+  return file_clock::from_sys(sys_days{std::chrono::year{year} / month / day} + hours(hour) +
+                              minutes(minute) + seconds(30));
+}
+
+// `text` padded with spaces (which JSON reads past) to `n` bytes.
+void WritePadded(const fs::path& path, const std::string& text, size_t n) {
+  fs::create_directories(path.parent_path());
+  std::ofstream(path, std::ios::binary) << text << std::string(n - text.size(), ' ');
+}
+
+// `hcpf cache` lists a scene a line, by what its scene.json says, the
+// time of its last use to the minute (an audit: 1,440 detector outputs were
+// listed a line each, then scenes named only by their hash, all with one
+// date); the detector outputs in one line. Three scenes, least recently
+// used first: c (a scene.json that is not JSON, 100 + 1 bytes), a (noted:
+// crossing, seed 7, 2 of 240 frames cached; 2 x 1000 + 2 x 100 + 200 bytes),
+// b (cached before notes: its size from its frame's truth; 500 + 300 bytes);
+// two detector outputs (50 and 70 bytes) used on the 1st and the 3rd.
+TEST(Cache, ListsEachSceneByItsNoteAndTheDetectorOutputsTogether) {
+  const fs::path root = FreshCacheDir("list");
+  const fs::path a = root / "0123456789abcdef0123456789abcdef";
+  const fs::path b = root / "fedcba9876543210fedcba9876543210";
+  const fs::path c = root / "00000000000000000000000000000001";
+  WriteBytes(a / "000000.frame", 1000);
+  WriteBytes(a / "000001.frame", 1000);
+  WriteBytes(a / "000000.json", 100);
+  WriteBytes(a / "000001.json", 100);
+  WritePadded(a / "scene.json",
+              R"({"scenario": "crossing", "seed": 7, "frames": 240, "width_px": 640, )"
+              R"("height_px": 480})",
+              200);
+  WriteBytes(b / "000000.frame", 500);
+  WritePadded(b / "000000.json", R"({"frame": 0, "camera": {"width_px": 320, "height_px": 240}})",
+              300);
+  WriteBytes(c / "000000.frame", 100);
+  WritePadded(c / "scene.json", "{", 1);
+  const fs::path d1 = root / "detections" / "k1.det";
+  const fs::path d2 = root / "detections" / "k2.det";
+  WriteDetection(d1, 50);
+  WriteDetection(d2, 70);
+  fs::last_write_time(c, UtcTime(2026, 1, 1, 23, 59));
+  fs::last_write_time(a, UtcTime(2026, 1, 2, 3, 4));
+  fs::last_write_time(b, UtcTime(2026, 1, 2, 5, 6));
+  fs::last_write_time(d1, UtcTime(2026, 1, 1, 10, 0));
+  fs::last_write_time(d2, UtcTime(2026, 1, 3, 11, 12));
+
+  const CacheContents contents = ScanCache(root);
+  EXPECT_TRUE(contents.foreign.empty()) << "scene.json is a scene's file";
+  EXPECT_EQ(contents.scenes, 3);
+  const std::vector<std::string> lines = ListCacheEntries(contents.entries, false, "  ");
+  EXPECT_EQ(lines,
+            (std::vector<std::string>{
+                "  2026-01-01 23:59       101 B  scene unknown: scene.json is not a JSON object; 1 "
+                "frame(s) cached  00000000000000000000000000000001",
+                "  2026-01-02 03:04     2.3 KiB  crossing, seed 7, 2 of 240 frame(s) cached, 640 x "
+                "480  0123456789abcdef0123456789abcdef",
+                "  2026-01-02 05:06       800 B  scene unknown: no scene.json (cached before hcpf "
+                "noted its scenes); 1 frame(s) cached, 320 x 240  "
+                "fedcba9876543210fedcba9876543210",
+                "  2 detector output(s), 120 B, used from 2026-01-01 10:00 to 2026-01-03 11:12 "
+                "(not by scene: a detector output does not record its scene)"}));
+  // --verbose: a line per detector output too, after theirs.
+  const std::vector<std::string> verbose = ListCacheEntries(contents.entries, true, "  ");
+  ASSERT_EQ(verbose.size(), 6u);
+  EXPECT_EQ(std::vector<std::string>(verbose.begin(), verbose.begin() + 4), lines);
+  EXPECT_EQ(verbose[4], "    2026-01-01 10:00        50 B  detections/k1.det");
+  EXPECT_EQ(verbose[5], "    2026-01-03 11:12        70 B  detections/k2.det");
+  // What PruneOrder returns is listed alike: at most 1000 bytes keeps b and d2.
+  EXPECT_EQ(ListCacheEntries(PruneOrder(contents, 1000), false, "").back(),
+            "1 detector output(s), 50 B, used from 2026-01-01 10:00 to 2026-01-01 10:00 (not by "
+            "scene: a detector output does not record its scene)");
+  EXPECT_EQ(FormatLastUsed(UtcTime(2026, 12, 5, 14, 2)), "2026-12-05 14:02");
+}
+
+// A run notes its scene in the folder once: the first note stays, and no
+// folder is made for it.
+TEST(Cache, NoteSceneWritesOnceIntoAnExistingFolder) {
+  const fs::path root = FreshCacheDir("note");
+  const fs::path scene = root / "0123456789abcdef0123456789abcdef";
+  NoteScene(scene,
+            {.scenario = "crossing", .seed = 7, .frames = 3, .width_px = 64, .height_px = 48});
+  EXPECT_FALSE(fs::exists(scene));
+  fs::create_directories(scene);
+  NoteScene(scene,
+            {.scenario = "crossing", .seed = 7, .frames = 3, .width_px = 64, .height_px = 48});
+  NoteScene(scene, {.scenario = "other", .seed = 8, .frames = 3, .width_px = 64, .height_px = 48});
+  const SceneDescription d = DescribeScene(scene);
+  ASSERT_TRUE(d.note.has_value()) << d.no_note;
+  EXPECT_EQ(d.note->scenario, "crossing");
+  EXPECT_EQ(d.note->seed, 7u);
+  EXPECT_EQ(d.note->frames, 3);
+  EXPECT_EQ(d.width_px, 64);
+  EXPECT_EQ(d.height_px, 48);
+  EXPECT_EQ(d.frames_cached, 0);
 }
 
 // The variable: unset or empty is no limit; a size as the command line

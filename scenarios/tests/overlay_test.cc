@@ -336,6 +336,61 @@ TEST(Overlay, LabelsArePlacedApart) {
   EXPECT_EQ(xy(crowded[0]), std::pair(0, -14)) << "no candidate inside: the first";
 }
 
+// The header says which run it is (an audit: two runs' videos side by side
+// in `hcpf report --against` both read "crossing frame 1 / detections
+// (sks)"): the scene and frame, the run's seed and tracker in the run
+// report's words, then the detector when there are detections.
+TEST(Overlay, HeaderLinesTagTheRun) {
+  Scenario scenario = LoadScenarioText(testing::kMinimal, "minimal.yaml");
+  scenario.seed = 12;
+  scenario.tracker.particles = 250;
+  scenario.tracker.resampling.method = tracker::ResamplingMethod::kSystematic;
+  EXPECT_EQ(internal::OverlayHeaderLines(scenario, 4, false),
+            (std::vector<std::string>{"minimal  frame 5",
+                                      "seed 12, 250 particles, systematic "
+                                      "resampling"}));
+  EXPECT_EQ(
+      internal::OverlayHeaderLines(scenario, 0, true),
+      (std::vector<std::string>{"minimal  frame 1", "seed 12, 250 particles, systematic resampling",
+                                "detections (simulated)"}));
+  // Charged resampling, as the shipped scenes run it.
+  scenario.tracker.resampling.method = tracker::ResamplingMethod::kCharged;
+  EXPECT_EQ(internal::OverlayRunTag(scenario), "seed 12, 250 particles, charged resampling");
+  // An external tracker: its program's words, by their file names.
+  scenario.tracker_choice.type = TrackerType::kExternal;
+  scenario.tracker_choice.command = {"/usr/bin/python3", "/opt/trackers/sort.py", "--iou", "0.3"};
+  EXPECT_EQ(internal::OverlayRunTag(scenario),
+            "seed 12, tracker: external (python3 sort.py --iou 0.3)");
+}
+
+// The tag is drawn: the header's second line (its rectangle: x from 6,
+// baseline y 31, about 8 px tall at scale 0.35), on the plain background,
+// where nothing else is drawn in minimal's first frame (its targets are
+// below y 80).
+TEST(Overlay, DrawsTheRunTagUnderTheSceneLine) {
+  const auto dir = ::hcpf::testing::FreshDir("overlay-tag");
+  const Scenario scenario = LoadScenarioText(testing::kMinimal, "minimal.yaml");  // 320x240
+  const std::vector<FrameGroundTruth> truth = {ComputeGroundTruth(scenario.world, 0)};
+  for (const GroundTruthObject& o : truth[0].objects) {
+    if (o.in_frame) {
+      ASSERT_GT(o.amodal_box.top, 60.0) << "a target near the header";
+    }
+  }
+  const std::string path = (dir / "overlay.mp4").string();
+  WriteOverlayVideo(path, scenario, {.truth = truth}, nullptr);
+  cv::VideoCapture in(path);
+  cv::Mat image;
+  ASSERT_TRUE(in.read(image));
+  int white = 0;
+  for (int y = 23; y <= 33; ++y) {
+    for (int x = 6; x < 200; ++x) {
+      const cv::Vec3b p = image.at<cv::Vec3b>(y, x);
+      if (p[0] > 180 && p[1] > 180 && p[2] > 180) ++white;
+    }
+  }
+  EXPECT_GT(white, 40);
+}
+
 TEST(Overlay, UnwritablePathIsARunError) {
   const Scenario scenario = LoadScenarioText(testing::kMinimal, "minimal.yaml");
   EXPECT_THROW(WriteOverlayVideo("/nonexistent/dir/overlay.mp4", scenario, {}, nullptr), RunError);

@@ -276,11 +276,15 @@ TEST(Cli, SweepSeedIsCheckedBeforeAnythingRuns) {
       << r.output;
 }
 
-// hcpf cache on a hand-built cache folder: a scene of 3000 bytes used two
-// days ago, one of 1000 used now, a detector output of 500 used a day ago.
-// It reports what is there; --max-size 2K (2048) removes the least recently
-// used until the rest fits: the old scene (leaving 1500); --dry-run removes
-// nothing; a size it cannot read is bad input (exit 2, naming the option).
+// hcpf cache on a hand-built cache folder: a scene of 3000 bytes (and its
+// scene.json, written here: crossing, seed 7) last used on 2026-01-02 at
+// 03:04 UTC, one of 1000 used now, a detector output of 500 used a day ago.
+// It reports what is there, a scene a line, most recently used last, by
+// what it is and when it was used to the minute; --max-size 2K (2048)
+// removes the least recently used until the rest fits: the old scene
+// (leaving 1500); --dry-run removes nothing and says the total first, the
+// detector outputs in one line (--verbose: a line each too); a size it
+// cannot read is bad input (exit 2, naming the option).
 TEST(Cli, CacheReportsAndPrunesTheLeastRecentlyUsed) {
   const fs::path cache = FreshDir("cache-command");
   const auto write = [](const fs::path& p, size_t n) {
@@ -290,7 +294,11 @@ TEST(Cli, CacheReportsAndPrunesTheLeastRecentlyUsed) {
   const fs::path old_scene = cache / "00000000000000000000000000000001";
   const fs::path new_scene = cache / "00000000000000000000000000000002";
   const fs::path det = cache / "detections" / "k.det";
-  write(old_scene / "000000.frame", 3000);
+  write(old_scene / "000000.frame", 2900);
+  // 100 bytes, padded with spaces (JSON reads past them).
+  const std::string note =
+      R"({"scenario": "crossing", "seed": 7, "frames": 1, "width_px": 640, "height_px": 480})";
+  std::ofstream(old_scene / "scene.json") << note << std::string(100 - note.size(), ' ');
   write(new_scene / "000000.frame", 1000);
   write(det, 500);
   {
@@ -298,7 +306,11 @@ TEST(Cli, CacheReportsAndPrunesTheLeastRecentlyUsed) {
     header << "HCPFDET2";  // a detector output of ours starts so
   }
   const auto now = fs::file_time_type::clock::now();
-  fs::last_write_time(old_scene, now - std::chrono::hours(48));
+  using std::chrono::sys_days;
+  fs::last_write_time(
+      old_scene, std::chrono::file_clock::from_sys(sys_days{std::chrono::year{2026} / 1 / 2} +
+                                                   std::chrono::hours(3) + std::chrono::minutes(4) +
+                                                   std::chrono::seconds(59)));
   fs::last_write_time(det, now - std::chrono::hours(24));
   const std::string base = kHcpf + " cache --cache " + cache.string();
 
@@ -306,11 +318,44 @@ TEST(Cli, CacheReportsAndPrunesTheLeastRecentlyUsed) {
   ASSERT_EQ(r.exit_code, 0) << r.output;
   EXPECT_NE(r.output.find("2 scene(s) of rendered frames: 3.9 KiB"), std::string::npos) << r.output;
   EXPECT_NE(r.output.find("1 detector output(s): 500 B"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("used from 2026-01-02 03:04 to "), std::string::npos) << r.output;
+  const size_t old_line = r.output.find(
+      "    2026-01-02 03:04     2.9 KiB  crossing, seed 7, 1 frame(s), 640 x 480  "
+      "00000000000000000000000000000001\n");
+  const size_t new_line = r.output.find(
+      "1000 B  scene unknown: no scene.json (cached before hcpf noted its scenes); 1 frame(s) "
+      "cached  00000000000000000000000000000002\n");
+  EXPECT_NE(old_line, std::string::npos) << r.output;
+  EXPECT_NE(new_line, std::string::npos) << r.output;
+  EXPECT_LT(old_line, new_line) << "most recently used last\n" << r.output;
+  EXPECT_NE(r.output.find("    1 detector output(s), 500 B, used from "), std::string::npos)
+      << r.output;
+  EXPECT_EQ(r.output.find("k.det"), std::string::npos) << r.output;
+  r = RunCommand(base + " --verbose");
+  EXPECT_NE(r.output.find(" 500 B  detections/k.det\n"), std::string::npos) << r.output;
 
-  r = RunCommand(base + " --max-size 2K --dry-run");
+  // At most 1K: the old scene and the detector output would go; the total
+  // first, then a line for the scene and one for the detector outputs, no
+  // file's line (an audit: 1,440 lines, one per detector output, came
+  // before the total).
+  r = RunCommand(base + " --max-size 1K --dry-run");
   ASSERT_EQ(r.exit_code, 0) << r.output;
-  EXPECT_NE(r.output.find("would remove " + old_scene.string()), std::string::npos) << r.output;
+  const size_t total = r.output.find(
+      "  would remove 1 scene(s) and 1 detector output(s), 3.4 KiB, least recently used first: "
+      "1000 B left (--max-size 1K)\n");
+  const size_t scene_line = r.output.find(
+      "\n    2026-01-02 03:04     2.9 KiB  crossing, seed 7, 1 frame(s), 640 x 480  "
+      "00000000000000000000000000000001\n    1 detector output(s), 500 B, used from ");
+  EXPECT_NE(total, std::string::npos) << r.output;
+  EXPECT_NE(scene_line, std::string::npos) << r.output;
+  EXPECT_LT(total, scene_line) << r.output;
+  EXPECT_EQ(r.output.find("k.det"), std::string::npos) << r.output;
+  EXPECT_EQ(r.output.find("00000000000000000000000000000002"), std::string::npos) << r.output;
+  r = RunCommand(base + " --max-size 1K --dry-run --verbose");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find(" 500 B  detections/k.det\n"), std::string::npos) << r.output;
   EXPECT_TRUE(fs::exists(old_scene));
+  EXPECT_TRUE(fs::exists(det));
 
   r = RunCommand(base + " --max-size 2K");
   ASSERT_EQ(r.exit_code, 0) << r.output;

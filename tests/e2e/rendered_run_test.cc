@@ -75,6 +75,17 @@ TEST(RenderedRun, PixelExactTruthAndFrameCacheReuse) {
     if (e.is_directory() && e.path().filename().string().size() == 32) scenes.push_back(e.path());
   }
   ASSERT_EQ(scenes.size(), 1u);
+  // The folder notes its scene (its name, a hash, says none of it), and
+  // `hcpf cache` lists it so.
+  const auto note = nlohmann::json::parse(ReadFile(scenes[0] / "scene.json"));
+  EXPECT_EQ(note, nlohmann::json::parse(R"({"scenario": "crossing", "seed": 7, "frames": 24, )"
+                                        R"("width_px": 160, "height_px": 120})"));
+  const auto listing =
+      RunCommand(std::string(HCPF_EXE) + " cache --cache " + (dir / "cache").string());
+  EXPECT_NE(listing.output.find("  crossing, seed 7, 24 frame(s), 160 x 120  " +
+                                scenes[0].filename().string() + "\n"),
+            std::string::npos)
+      << listing.output;
   const auto two_days_ago = fs::file_time_type::clock::now() - std::chrono::hours(48);
   fs::last_write_time(scenes[0], two_days_ago);
   r = RunCommand(common + " --set tracker.particles=50 --out " + (dir / "b").string());

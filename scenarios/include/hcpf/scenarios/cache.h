@@ -34,8 +34,9 @@ struct CacheContents {
   int detections = 0;
   uint64_t bytes() const { return scene_bytes + detection_bytes; }
   // What has a cache entry's name but not its content: a 32-hex-digit name
-  // that is a link, a file, or a folder holding anything but frame files
-  // (the first such file is listed), a detections/*.det that is not ours.
+  // that is a link, a file, or a folder holding anything but frame files,
+  // renderers.txt and scene.json (the first such file is listed), a
+  // detections/*.det that is not ours.
   // Never counted, never removed; pruning a folder holding any is refused.
   std::vector<std::filesystem::path> foreign;
 };
@@ -103,5 +104,52 @@ uint64_t ParseSize(std::string_view text, std::string_view option);
 
 // "1.4 GiB", "512 KiB", "300 B".
 std::string FormatSize(uint64_t bytes);
+
+// "2026-12-05 14:02": an entry's last use, UTC, to the minute (the order of
+// use shows within a day).
+std::string FormatLastUsed(std::filesystem::file_time_type time);
+
+// What a scene folder's name (a hash of everything that shapes its pixels)
+// does not say: the scenario and seed of the run that first rendered into it,
+// its frames and their size. Kept in the folder as scene.json
+// ({"scenario": "crossing", "seed": 7, "frames": 240, "width_px": 640,
+// "height_px": 480}) for `hcpf cache` to list.
+struct SceneNote {
+  std::string scenario;
+  uint64_t seed = 0;
+  int frames = 0;
+  int width_px = 0, height_px = 0;
+};
+inline constexpr const char* kSceneNoteFile = "scene.json";
+
+// Writes `folder`/scene.json when the folder exists and has none (the first
+// run's note stays; a folder cached before notes were kept gains one when a
+// run opens it). Errors are ignored: the note only describes, and a
+// read-only cache is still a cache.
+void NoteScene(const std::filesystem::path& folder, const SceneNote& note);
+
+// What `hcpf cache` says of a scene folder: its note, when it can be read
+// (else why not), and what the folder itself shows.
+struct SceneDescription {
+  std::optional<SceneNote> note;
+  std::string no_note;    // why there is no note ("no scene.json: ..."), else ""
+  int frames_cached = 0;  // its NNNNNN.frame files
+  // The note's; without one, the camera of the first frame's truth
+  // (NNNNNN.json); 0 when neither can be read.
+  int width_px = 0, height_px = 0;
+};
+SceneDescription DescribeScene(const std::filesystem::path& folder);
+
+// The lines `hcpf cache` lists `entries` with (a CacheContents' or
+// PruneOrder's, least recently used first), each starting with `indent`: one
+// per scene, in that order (most recently used last): when it was last used,
+// its size, what it is (DescribeScene) and its folder's name; then one for
+// every detector output together (how many, their size, when they were first
+// and last used): a .det file does not record its scene (its key hashes the
+// frame's pixels, the detector and its options), so it is listed with none.
+// With `verbose`, one more line per detector output (its file, size and last
+// use) after that line.
+std::vector<std::string> ListCacheEntries(const std::vector<CacheEntry>& entries, bool verbose,
+                                          std::string_view indent);
 
 }  // namespace hcpf::scenarios

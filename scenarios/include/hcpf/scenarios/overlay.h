@@ -4,7 +4,9 @@
 // frame's detections (thin yellow boxes; a target-specific detector's are
 // labelled with the target whose model fired, "m<id>", and their score), each
 // filter's estimate box and particle cloud in the filter's colour, and the
-// filter's state (CORRECT / HIJACKED / ...) as a label.
+// filter's state (CORRECT / HIJACKED / ...) as a label; a header (top left)
+// names the scene, the frame, the run (seed, tracker) and the detector
+// (internal::OverlayHeaderLines).
 //
 //   WriteOverlayVideo(out / "overlay.mp4", scenario,
 //                     {.truth = truth, .reports = reports, .observations = observations,
@@ -94,6 +96,21 @@ struct LabelRequest {
 // "F1 F2 CORRECT" were drawn on each other and "gt 1" under a box (an audit).
 std::vector<PixelRect> PlaceLabels(const std::vector<LabelRequest>& labels, PixelRect image,
                                    std::vector<PixelRect> taken);
+
+// The run's tag: its seed and tracker, in the run report header's words
+// ("seed 7, 500 particles, charged resampling"; an external tracker's
+// "seed 7, tracker: external (python3 sort.py)", its command's words by
+// their file names). Plain ASCII words: the video's Hershey font draws
+// nothing else.
+std::string OverlayRunTag(const Scenario& scenario);
+
+// The header's lines (top left), top to bottom: the scene and the frame
+// (`frame` from 0, shown from 1 as gt/gt.txt, filters.csv and the report
+// count it), the run's tag (OverlayRunTag), and, when the run has
+// detections, the detector ("detections (sks)", "(simulated)" at detection
+// level). Two runs' videos side by side (`hcpf report --against`) both read
+// "crossing  frame 1": the tag tells them apart, in a screenshot too.
+std::vector<std::string> OverlayHeaderLines(const Scenario& scenario, int frame, bool detections);
 
 }  // namespace internal
 

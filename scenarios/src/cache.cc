@@ -111,9 +111,11 @@ std::string SceneText(const SceneDescription& d) {
   const std::string size =
       d.width_px > 0 ? fmt::format(", {} x {}", d.width_px, d.height_px) : std::string();
   if (d.note) {
+    // The folder is the world's (renderer::PixelHash), not the frame
+    // count's: a longer run of the same world adds frames past the note's.
     const std::string frames =
-        d.frames_cached == d.note->frames
-            ? fmt::format("{} frame(s)", d.note->frames)
+        d.frames_cached >= d.note->frames
+            ? fmt::format("{} frame(s)", d.frames_cached)
             : fmt::format("{} of {} frame(s) cached", d.frames_cached, d.note->frames);
     return fmt::format("{}, seed {}, {}{}", d.note->scenario, d.note->seed, frames, size);
   }

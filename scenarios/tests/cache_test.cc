@@ -290,6 +290,19 @@ TEST(Cache, ListsEachSceneByItsNoteAndTheDetectorOutputsTogether) {
             "1 detector output(s), 50 B, used from 2026-01-01 10:00 to 2026-01-01 10:00 (not by "
             "scene: a detector output does not record its scene)");
   EXPECT_EQ(FormatLastUsed(UtcTime(2026, 12, 5, 14, 2)), "2026-12-05 14:02");
+  // The folder is the world's, not the frame count's: a note of 1 frame
+  // (the first run's) beside 2 cached frames (a longer run's) says 2.
+  const fs::path longer = FreshCacheDir("list-longer");
+  const fs::path e = longer / "0123456789abcdef0123456789abcdef";
+  WriteBytes(e / "000000.frame", 10);
+  WriteBytes(e / "000001.frame", 10);
+  WritePadded(e / "scene.json",
+              R"({"scenario": "crossing", "seed": 7, "frames": 1, "width_px": 64, )"
+              R"("height_px": 48})",
+              100);
+  const std::vector<std::string> one = ListCacheEntries(ScanCache(longer).entries, false, "");
+  ASSERT_EQ(one.size(), 1u);
+  EXPECT_NE(one[0].find("crossing, seed 7, 2 frame(s), 64 x 48"), std::string::npos) << one[0];
 }
 
 // A run notes its scene in the folder once: the first note stays, and no

@@ -29,11 +29,13 @@
 #include "hcpf/core/check.h"
 #include "hcpf/core/error.h"
 #include "hcpf/core/text_file.h"
+#include "hcpf/metrics/detection_truth.h"
 #include "hcpf/scenarios/output_folder.h"
 #include "hcpf/scenarios/scenario.h"
 #include "hcpf/studies/metric_catalogue.h"
 #include "hcpf/studies/results_store.h"
 #include "hcpf/studies/sweep.h"
+#include "scene_sketch.h"
 #include "text.h"
 
 namespace hcpf::studies {
@@ -2252,8 +2254,8 @@ std::string ReportHtml(const fs::path& dir, const std::string& link_prefix, cons
                        const std::vector<RunRecord>& runs, const std::vector<Cell>& cells,
                        const Layout& layout,
                        const std::vector<std::pair<std::string, std::string>>& svgs,
-                       const std::string& findings_html, const std::string& paired_html,
-                       const std::string& replication_html,
+                       const std::string& scene_html, const std::string& findings_html,
+                       const std::string& paired_html, const std::string& replication_html,
                        const std::vector<std::string>& unmeasured, const Builds& builds,
                        const std::string& missing_runs) {
   const std::vector<std::string>& keys = meta.swept_keys;
@@ -2308,6 +2310,7 @@ std::string ReportHtml(const fs::path& dir, const std::string& link_prefix, cons
   }
   h += findings_html;
   h += replication_html;
+  h += scene_html;
   h += "<h2>Plots</h2>\n";
   if (!unmeasured.empty()) {
     std::vector<std::string> items;
@@ -2435,6 +2438,58 @@ ReportFolder ClassifyReportFolder(const std::string& dir) {
                              : fmt::format("a manifest.json of format \"{}\"", format));
 }
 
+// The scene from above (SceneSketch), from the gt.json of the first
+// finished run of each base scenario (one sketch, or one per value of a
+// swept `base`): every sweep report gets a picture of its scene, rendered or
+// not (an audit: the main job's report had none). A run folder without a
+// gt.json, or with one that does not read, is said, not drawn.
+std::string SceneSketchHtml(const fs::path& dir, const std::vector<Cell>& cells,
+                            const StoreMeta& meta, const fs::path& work,
+                            const std::string& gnuplot) {
+  const auto& keys = meta.swept_keys;
+  const auto base = std::find(keys.begin(), keys.end(), kSweptBaseKey);
+  std::vector<std::string> seen;
+  std::string body;
+  for (const Cell& c : cells) {
+    const std::string value =
+        base == keys.end() ? std::string() : c.values[static_cast<size_t>(base - keys.begin())];
+    if (std::find(seen.begin(), seen.end(), value) != seen.end()) continue;
+    const auto run =
+        std::find_if(c.runs.begin(), c.runs.end(), [](const RunRecord* r) { return r->ok; });
+    if (run == c.runs.end()) continue;
+    seen.push_back(value);
+    const fs::path gt = dir / (*run)->run_dir / "gt.json";
+    const std::string who = fmt::format("run {} (seed index {}{})", (*run)->key, (*run)->seed_index,
+                                        value.empty() ? "" : ", base " + value);
+    std::error_code ec;
+    if (!fs::is_regular_file(gt, ec)) {
+      body += "<p class=\"note\">No sketch of " + EscapeMarkup(who) +
+              ": its folder has no "
+              "<code>gt.json</code>.</p>\n";
+      continue;
+    }
+    try {
+      const SceneSketch sketch = SketchOf(metrics::ReadGroundTruthJson(gt.string()));
+      body += "<p>" + EscapeMarkup(who) + ": " + EscapeMarkup(EncounterText(sketch)) + ".</p>\n";
+      body += "<div class=\"plot\">\n" +
+              SceneSketchSvg(sketch, "The scene from above: " + who, work, gnuplot,
+                             std::to_string(seen.size() - 1)) +
+              "\n</div>\n";
+    } catch (const InputError& e) {
+      body += "<p class=\"note\">No sketch of " + EscapeMarkup(who) + ": " +
+              EscapeMarkup(e.what()) + "</p>\n";
+    }
+  }
+  if (body.empty()) return {};
+  return "<h2 id=\"scene\">The scene from above</h2>\n<p>Drawn from the ground truth "
+         "(<code>gt.json</code>) of the first finished run: each target's path on the ground "
+         "(metres, x east, y north) with a dot every 10th frame and the frame number (from 1) "
+         "every 50th, a ring where less than 0.75 of it is visible in the image, and the ground "
+         "the camera sees (dashed) at its first, middle and last frame. The other seeds' scenes "
+         "differ where the scenario draws from its seed.</p>\n" +
+         body;
+}
+
 ReportResult WriteReport(const ReportOptions& options) {
   options.Validate();
   if (ClassifyReportFolder(options.dir) == ReportFolder::kRun) return WriteRunReport(options);
@@ -2548,6 +2603,7 @@ ReportResult WriteReport(const ReportOptions& options) {
   files.emplace_back(
       "report.html",
       ReportHtml(dir, link_prefix, meta, runs, cells, layout, svgs,
+                 SceneSketchHtml(dir, cells, meta, work, options.gnuplot),
                  FindingsHtml(findings, glance, paired, meta, summary),
                  PairedHtml(paired, meta, layout, difference_svgs, options.dir, link_prefix),
                  replication_html, unmeasured, builds, missing));

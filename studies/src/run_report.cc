@@ -39,6 +39,7 @@
 #include "hcpf/studies/metric_catalogue.h"
 #include "hcpf/studies/report.h"
 #include "hcpf/studies/results_store.h"
+#include "scene_sketch.h"
 #include "text.h"
 
 namespace hcpf::studies {
@@ -1875,8 +1876,19 @@ ReportResult WriteRunReport(const ReportOptions& options) {
                (!std::isfinite(r.floor_px) || std::abs(r.floor_px) < kRoundingPx);
       });
   std::string centre_svg;
+  // The scene from above (scene_sketch.h), from run A's gt.json: a run
+  // without a video had no picture of its scene.
+  std::optional<SceneSketch> sketch;
+  std::string sketch_svg;
+  if (std::error_code gt_ec; fs::is_regular_file(dir / "gt.json", gt_ec)) {
+    try {
+      sketch = SketchOf(metrics::ReadGroundTruthJson((dir / "gt.json").string()));
+    } catch (const InputError&) {
+      // Said by the timeline's note (TruncationOf reads the same file).
+    }
+  }
   if ((!rows.empty() && !rounding_only) || !timeline.empty() || has_curve ||
-      !centre_lines.empty()) {
+      !centre_lines.empty() || sketch) {
     const fs::path work = MakePlotWorkDir(out, options.out_dir.empty());
     try {
       if (!rows.empty() && !rounding_only) {
@@ -1906,6 +1918,12 @@ ReportResult WriteRunReport(const ReportOptions& options) {
       }
       if (!centre_lines.empty()) {
         centre_svg = CentreErrorSvg(centre_lines, work, options.gnuplot);
+        ++result.plots;
+      }
+      if (sketch) {
+        sketch_svg =
+            SceneSketchSvg(*sketch, other ? "The scene from above (run A)" : "The scene from above",
+                           work, options.gnuplot, "run");
         ++result.plots;
       }
       if (has_curve) {
@@ -2040,6 +2058,16 @@ ReportResult WriteRunReport(const ReportOptions& options) {
          "frame, and where two runs of one ground truth differ." +
          EscapeMarkup(centre_note) + "</p>\n";
     h += fmt::format("<div class=\"plot\" id=\"plot-centre_error\">\n{}\n</div>\n", centre_svg);
+  }
+  if (!sketch_svg.empty()) {
+    h += "<h2 id=\"scene\">The scene from above</h2>\n<p>From <code>gt.json</code>" +
+         std::string(other ? " (run A's)" : "") +
+         ": each target's path on the ground (metres, x east, y north) with a dot every 10th frame "
+         "and the frame number (from 1) every 50th, a ring where less than 0.75 of it is visible "
+         "in the image, and the ground the camera sees (dashed) at its first, middle and last "
+         "frame; " +
+         EscapeMarkup(EncounterText(*sketch)) + ".</p>\n";
+    h += fmt::format("<div class=\"plot\" id=\"plot-scene\">\n{}\n</div>\n", sketch_svg);
   }
   h += "<h2>Camera motion</h2>\n";
   if (camera.is_object()) {

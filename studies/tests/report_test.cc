@@ -28,6 +28,7 @@
 #include "hcpf/scenarios/version.h"
 #include "hcpf/studies/results_store.h"
 #include "hcpf/studies/sweep.h"
+#include "scene_sketch.h"
 #include "sweep_fixture.h"
 #include "text.h"
 
@@ -98,7 +99,11 @@ TEST(Report, HtmlHasOnePlotWithDataPerMetricAndCsvHasOneRowPerCell) {
   EXPECT_EQ(r.comparisons, 2);
   EXPECT_EQ(r.difference_plots, 3);
   const std::string html = Read(r.html_path);
-  EXPECT_EQ(Count(html, "<svg"), 6U);
+  EXPECT_EQ(Count(html, "<svg"), 7U);  // 3 plots, 3 of differences, the scene from above
+  // The scene from above, from the first run's gt.json (the minimal
+  // scenario's one target).
+  EXPECT_NE(html.find("<h2 id=\"scene\">The scene from above</h2>"), std::string::npos);
+  EXPECT_NE(html.find("no two targets' boxes overlap in the image"), std::string::npos);
   for (const char* id : {"plot-idf1", "plot-hota", "plot-ms_per_frame"}) {
     const size_t at = html.find(id);
     ASSERT_NE(at, std::string::npos) << id;
@@ -303,7 +308,7 @@ TEST(RunReport, PlotsPerFrameCameraMotionErrorWithModeAndEss) {
       WriteReport({.dir = run.string(), .gnuplot = KeepingGnuplot(dir, kept).string()});
   EXPECT_EQ(r.html_path, (run / "report.html").string());
   EXPECT_TRUE(r.csv_path.empty());
-  EXPECT_EQ(r.plots, 3) << "camera motion, the timeline and the centre error";
+  EXPECT_EQ(r.plots, 4) << "camera motion, the timeline, the centre error and the scene";
   const std::string html = Read(run / "report.html");
   const size_t at = html.find("id=\"plot-camera_motion\"");
   ASSERT_NE(at, std::string::npos) << "no camera-motion plot";
@@ -528,7 +533,7 @@ TEST(RunReport, TimelineDrawsTargetsTheirDetectionsAndTheirFilters) {
   const fs::path kept = dir / "kept";
   const ReportResult r =
       WriteReport({.dir = run.string(), .gnuplot = KeepingGnuplot(dir, kept).string()});
-  EXPECT_EQ(r.plots, 3) << "the timeline, the centre error and camera motion";
+  EXPECT_EQ(r.plots, 4) << "the timeline, the centre error, camera motion and the scene";
   const std::string html = Read(r.html_path);
   ASSERT_NE(html.find("id=\"plot-timeline\""), std::string::npos);
   std::vector<std::string> segments = TimelineSegments(kept);
@@ -826,7 +831,7 @@ TEST(RunReport, AgainstAnotherRunSaysWhatDiffersAndComparesItsFiltersFrameByFram
       {.dir = a.string(), .gnuplot = KeepingGnuplot(dir, kept).string(), .against = b.string()});
   EXPECT_EQ(r.differing_keys, 1);
   EXPECT_EQ(r.compared_targets, 2);
-  EXPECT_EQ(r.plots, 3) << "camera motion, the timeline and the centre error";
+  EXPECT_EQ(r.plots, 4) << "camera motion, the timeline, the centre error and the scene";
   const std::string html = Read(r.html_path);
   EXPECT_NE(html.find("<h2>Compared with another run</h2>"), std::string::npos);
   EXPECT_NE(html.find("<b>B</b> is <code>" + b.string() + "</code>"), std::string::npos);
@@ -1370,7 +1375,7 @@ TEST(Report, PanelsDrawOnePlotPerMetricAndValue) {
   }
   EXPECT_NE(md.find("At a glance: for each metric, base value and"), std::string::npos);
   const std::string html = Read(r.html_path);
-  EXPECT_EQ(Count(html, "<svg"), 8U);
+  EXPECT_EQ(Count(html, "<svg"), 10U);  // 8 plots, a scene sketch per base
   for (const char* id : {"plot-idf1-0", "plot-idf1-1", "plot-hota-0", "plot-hota-1"}) {
     const size_t at = html.find(std::string("id=\"") + id + "\"");
     ASSERT_NE(at, std::string::npos) << id;
@@ -1763,6 +1768,65 @@ TEST(Report, PairedDifferencesByHand) {
   EXPECT_EQ(Read(again.html_path), html);
   EXPECT_EQ(Read(again.csv_path), csv);
   EXPECT_EQ(Read(dir / "paired.csv"), paired);
+}
+
+// The scene from above, by hand: a camera whose image is the ground at 10
+// px per metre, north up, centred on (0, 0) at frames 0 and 1 and on (5, 0)
+// at frame 2 (u = 10 (x − cx) + 320, v = −10 y + 240). Its 640 × 480 image
+// sees x ∈ [−32, 32], y ∈ [−24, 24]: the first footprint; the middle (frame
+// 1) is the same and left out; the last is 5 m east. Targets 1 and 2: their
+// boxes apart at frame 0, overlapping at frames 1 and 2; target 2 half
+// visible at frame 1.
+TEST(SceneSketch, FootprintsPathsAndEncountersByHand) {
+  metrics::GroundTruthFile gt;
+  for (int f = 0; f < 3; ++f) {
+    FrameGroundTruth frame;
+    frame.frame = f;
+    frame.camera.intrinsics.width_px = 640;
+    frame.camera.intrinsics.height_px = 480;
+    const double cx = f == 2 ? 5.0 : 0.0;
+    frame.image_from_ground << 10, 0, 320 - 10 * cx, 0, -10, 240, 0, 0, 1;
+    GroundTruthObject a, b;
+    a.id = ObjectId{1};
+    b.id = ObjectId{2};
+    a.in_frame = b.in_frame = true;
+    a.position_m = Eigen::Vector3d(-10.0 + f, 0.0, 0.0);
+    b.position_m = Eigen::Vector3d(0.0, -5.0 + f, 0.0);
+    a.amodal_box = {110.0 + 30.0 * f, 100.0, 40.0, 20.0};  // x from 110, 140, 170
+    b.amodal_box = {160.0, 100.0, 20.0, 40.0};             // x from 160 to 180
+    a.visible_fraction = 1.0;
+    b.visible_fraction = f == 1 ? 0.5 : 1.0;
+    frame.objects = {a, b};
+    gt.frames.push_back(frame);
+  }
+  const SceneSketch sketch = SketchOf(gt);
+  EXPECT_EQ(sketch.frames, 3);
+  ASSERT_EQ(sketch.paths.size(), 2U);
+  EXPECT_EQ(sketch.paths[0].id, 1);
+  ASSERT_EQ(sketch.paths[1].points.size(), 3U);
+  EXPECT_EQ(sketch.paths[1].points[2].y_m, -3.0);
+  EXPECT_EQ(sketch.paths[1].points[1].visible_fraction, 0.5);
+  ASSERT_EQ(sketch.footprints.size(), 2U);
+  EXPECT_EQ(sketch.footprints[0].frame, 0);
+  EXPECT_EQ(sketch.footprints[1].frame, 2);
+  const std::vector<std::pair<double, double>> first = {{-32, 24}, {32, 24}, {32, -24}, {-32, -24}};
+  for (size_t i = 0; i < 4; ++i) {
+    EXPECT_NEAR(sketch.footprints[0].corners[i].first, first[i].first, 1e-9) << i;
+    EXPECT_NEAR(sketch.footprints[0].corners[i].second, first[i].second, 1e-9) << i;
+    EXPECT_NEAR(sketch.footprints[1].corners[i].first, first[i].first + 5.0, 1e-9) << i;
+  }
+  ASSERT_EQ(sketch.encounters.size(), 1U);
+  EXPECT_EQ(sketch.encounters[0].frames, (std::vector<int>{1, 2}));
+  EXPECT_EQ(EncounterText(sketch),
+            "targets 1 and 2: boxes overlap in the image in frames 2\u20133");
+  // The drawing: target 2's frame below 0.75 visible is ringed.
+  const fs::path work = testing::SweepFolder("scene-sketch");
+  const std::string svg = SceneSketchSvg(sketch, "hand", work, "gnuplot", "t");
+  EXPECT_NE(svg.find("<svg"), std::string::npos);
+  const std::string dat = Read(work / "sketch_t.dat");
+  // Blocks: target 1's path, dots, rings; target 2's; two footprints.
+  EXPECT_NE(dat.find("\n\n\n0 -4\n\n\n"), std::string::npos) << dat;  // target 2, frame 1
+  EXPECT_NE(Read(work / "sketch_t.gp").find("title 'camera view, frame 3'"), std::string::npos);
 }
 
 // A store of 10 seeds of {systematic, charged} at one particle count, with

@@ -724,7 +724,7 @@ TEST(ReportInChromium, EveryPlotRendersWithData) {
   size_t svgs = 0;
   for (size_t at = text.find("<svg"); at != std::string::npos; at = text.find("<svg", at + 1))
     ++svgs;
-  EXPECT_EQ(svgs, 6U);  // 3 metrics, and their paired differences
+  EXPECT_EQ(svgs, 7U);  // 3 metrics, their paired differences, the scene from above
 }
 
 // The run report's script, run by Chromium: opened at "#frame=K", it moves

@@ -91,6 +91,9 @@ std::string SceneContactSheet(const fs::path& dir) {
   std::error_code ec;
   if (!fs::is_regular_file(png, ec)) return {};
   return "<h2>The scene (sampled frames with ground truth)</h2>\n"
+         "<p>Frames of the first rendered run, each target drawn with its amodal box (yellow: "
+         "the whole target, hidden parts included), its visible box (green: the part seen) and a "
+         "label of its id and visible fraction.</p>\n"
          "<img alt=\"contact sheet\" style=\"max-width:100%\" src=\"data:image/png;base64," +
          Base64(ReadWholeFile(png)) + "\">\n";
 }

@@ -1528,9 +1528,12 @@ std::string VideoSection(const RunFolder& a, const RunFolder* b, const fs::path&
     }
     const std::string id = name.empty() ? "video" : "video-" + std::string(1, name[0] + 32);
     ++players;
+    // No native controls: they cover the bottom 40 px of the picture (an
+    // audit: a filter's state label under the control bar); the buttons
+    // under the videos play, pause and step them, and the timeline seeks.
     figures += fmt::format(
         "<figure style=\"flex:1 1 0;max-width:{0}px;margin:0\"><video id=\"{1}\" "
-        "class=\"overlay\" data-fps=\"{2}\" data-frames=\"{3}\" src=\"{4}\" controls muted "
+        "class=\"overlay\" data-fps=\"{2}\" data-frames=\"{3}\" src=\"{4}\" muted "
         "preload=\"auto\" style=\"width:100%\"></video><figcaption>{5}<a href=\"{4}\">overlay.mp4"
         "</a>, frame <span id=\"{1}-frame\">1</span> of {3}</figcaption></figure>\n",
         r->video_width, id, r->video_fps, r->video_frames, EscapeMarkup(href),

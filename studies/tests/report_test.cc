@@ -1079,7 +1079,7 @@ TEST(RunReport, ShowsTheOverlayVideoAndLinksItsFrames) {
   // A alone.
   std::string html = Read(WriteReport({.dir = a.string()}).html_path);
   EXPECT_NE(html.find(fmt::format("<video id=\"video\" class=\"overlay\" data-fps=\"{}\" "
-                                  "data-frames=\"20\" src=\"overlay.mp4\" controls",
+                                  "data-frames=\"20\" src=\"overlay.mp4\" muted",
                                   fps)),
             std::string::npos);
   EXPECT_NE(html.find("function hcpfShow(frame)"), std::string::npos);

@@ -484,7 +484,7 @@ struct TimelineRow {
   // Per frame (index = frame - 1): the segment's colour, 0xRRGGBB, or -1.
   std::vector<int> colour;
   // Frames (from 1) marked with each kMarks symbol.
-  std::array<std::vector<int>, 2> marks;
+  std::array<std::vector<int>, 3> marks;
 };
 
 // The timeline's point symbols, one data file and legend entry each.
@@ -493,15 +493,20 @@ struct TimelineMark {
   const char* style;  // gnuplot point style
   const char* title;
 };
-constexpr std::array<TimelineMark, 2> kMarks = {{
+constexpr std::array<TimelineMark, 3> kMarks = {{
     // A detection row: the frame its target's model was cut.
     {"timeline_marks.dat", "pt 13 ps 1.3", "model cut"},
     // A filter row: the frame at whose end it was found again from its own
     // target's detections (tracker.management.reacquire).
     {"timeline_reacquired.dat", "pt 6 ps 1.6 lw 2", "re-acquired"},
+    // A filter row: the first frame it no longer exists in, before the run's
+    // end (deleted at the end of the frame before; an audit: a row that just
+    // ended said nothing).
+    {"timeline_deleted.dat", "pt 2 ps 1.3 lw 2", "deleted"},
 }};
 constexpr size_t kModelCut = 0;
 constexpr size_t kReacquired = 1;
+constexpr size_t kDeleted = 2;
 
 // Colours of the timeline, and the legend's names for them.
 struct TimelineColour {
@@ -779,6 +784,13 @@ TimelineParts ReadTimeline(const metrics::MotFile& gt, const json& metrics, cons
         filter_rows.try_emplace(filter, row_of(fmt::format("filter {}", filter))).first->second;
     if (in_range(frame + 1)) row.colour[static_cast<size_t>(frame)] = StateColour(state);
   });
+  for (auto& [filter, row] : filter_rows) {
+    for (size_t f = 0; f + 1 < row.colour.size(); ++f) {
+      if (row.colour[f] >= 0 && row.colour[f + 1] < 0) {
+        row.marks[kDeleted].push_back(static_cast<int>(f + 2));
+      }
+    }
+  }
   ForEachIdFrame(JsonMember(JsonMember(manifest, "tracker"), "reacquired"), "filter",
                  [&](int64_t filter, int64_t frame) {
                    const auto row = filter_rows.find(filter);

@@ -549,6 +549,10 @@ TEST(RunReport, TimelineDrawsTargetsTheirDetectionsAndTheirFilters) {
                  "3.5 -4 3 " + found, "2.5 -5 2 " + correct, "0.5 -6 1 " + lost}));
   EXPECT_NE(Read(kept / "timeline_marks.dat").find("\n3 -4\n"), std::string::npos);
   EXPECT_EQ(Read(kept / "timeline_reacquired.dat"), "# frame row\n5 -2\n");
+  // Deleted (the first frame a filter's row is absent from, before the
+  // run's 20): filter 1 at 7 (its states end at 6), filter 9 at 5, filter 5
+  // at 2.
+  EXPECT_EQ(Read(kept / "timeline_deleted.dat"), "# frame row\n7 -2\n5 -5\n2 -6\n");
   const std::string gp = Read(kept / "timeline.gp");
   EXPECT_NE(gp.find("set ytics ('target 1' 0, 'detections' -1, 'filter 1' -2, 'target 2' -3, "
                     "'detections' -4, 'filter 9' -5, 'filter 5 (no target)' -6)"),
@@ -559,6 +563,7 @@ TEST(RunReport, TimelineDrawsTargetsTheirDetectionsAndTheirFilters) {
   EXPECT_NE(gp.find("title 'HIJACKED'"), std::string::npos);
   EXPECT_NE(gp.find("title 'model cut'"), std::string::npos);
   EXPECT_NE(gp.find("title 're-acquired'"), std::string::npos);
+  EXPECT_NE(gp.find("title 'deleted'"), std::string::npos);
   EXPECT_EQ(gp.find("title 'SWAPPED'"), std::string::npos);
   // The detection table's per-target rows: recall 2 / 4 and 3 / 4, centre 2 / 4 and 4 / 4.
   EXPECT_NE(html.find("<tr><td class=\"k\">target 1</td><td>2</td><td>2</td><td>–</td>"

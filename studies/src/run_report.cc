@@ -1986,8 +1986,21 @@ ReportResult WriteRunReport(const ReportOptions& options) {
     const auto it = values.find(std::string(name));
     return it == values.end() ? kNaN : it->second;
   };
-  const auto cell = [](double v, const char* format) {
-    return std::isfinite(v) ? fmt::format(fmt::runtime(format), v) : std::string("–");
+  // One precision per kind of value (an audit: "0.952 / 0.8017 / 0.04147
+  // ms / 3.967e-14 px" in one column): a score of at most 1 with 3 decimals,
+  // a whole number as one, anything else with 4 significant digits; a
+  // difference signed, 0 unsigned.
+  const auto text = [](const CatalogueMetric& m, double v, bool sign) {
+    if (!std::isfinite(v)) return std::string("–");
+    if (sign && v == 0.0) return std::string("0");
+    const bool score = m.unit.empty() && m.range.upper == 1.0;
+    const bool whole = !score && v == std::round(v) && std::abs(v) < 1e15;
+    // A difference a score's 3 decimals would print as +0.000: 2 digits.
+    if (score && sign && std::abs(v) < 0.0005) return fmt::format("{:+.2g}", v);
+    return fmt::format(fmt::runtime(score   ? (sign ? "{:+.3f}" : "{:.3f}")
+                                    : whole ? (sign ? "{:+.0f}" : "{:.0f}")
+                                            : (sign ? "{:+.4g}" : "{:.4g}")),
+                       v);
   };
   for (const CatalogueMetric& m : MetricCatalogue()) {
     // A distance in px below kRoundingPx is rounding (a static camera's
@@ -2008,10 +2021,17 @@ ReportResult WriteRunReport(const ReportOptions& options) {
     h += fmt::format(
         "<tr><td class=\"k\">{}{}</td><td class=\"k\"><code>{}</code></td><td>{}{}</td>",
         EscapeMarkup(std::string(m.label)), note, EscapeMarkup(std::string(m.name)),
-        cell(a, "{:.4g}"), std::isfinite(a) ? unit : "");
+        text(m, a, false), std::isfinite(a) ? unit : "");
     if (other) {
-      h += fmt::format("<td>{}{}</td><td>{}</td>", cell(b, "{:.4g}"), std::isfinite(b) ? unit : "",
-                       cell(a - b, "{:+.4g}"));
+      // A − B green where A is better in the metric's direction, red where
+      // worse; a time (MachineDependent) not coloured.
+      const double d = a - b;
+      const char* style = !std::isfinite(d) || d == 0.0 || MachineDependent(m.name) ? ""
+                          : (d > 0.0) == m.higher_is_better ? " style=\"background:#dff3df\""
+                                                            : " style=\"background:#f8dede\"";
+      h += fmt::format("<td>{}{}</td><td{}>{}{}</td>", text(m, b, false),
+                       std::isfinite(b) ? unit : "", style, text(m, d, true),
+                       std::isfinite(d) && d != 0.0 ? unit : "");
     }
     h += "</tr>\n";
   }

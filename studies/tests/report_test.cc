@@ -873,10 +873,13 @@ TEST(RunReport, AgainstAnotherRunSaysWhatDiffersAndComparesItsFiltersFrameByFram
   EXPECT_NE(html.find("<tr><td class=\"k\">target 2</td><td>2</td><td>2</td><td>2</td><td>1</td>"
                       "<td>1</td><td>0</td><td class=\"k\">4 (A found, B missed)</td></tr>"),
             std::string::npos);
-  // The headline table: A, B and A − B.
+  // The headline table: A, B and A − B, a score with 3 decimals, the
+  // difference green where A is better (DA accuracy: higher).
   EXPECT_NE(html.find("<th>A</th><th>B</th><th>A − B</th>"), std::string::npos);
-  EXPECT_NE(html.find("<code>da_accuracy</code></td><td>0.75</td><td>0.5</td><td>+0.25</td>"),
-            std::string::npos);
+  EXPECT_NE(html.find("<code>da_accuracy</code></td><td>0.750</td><td>0.500</td><td "
+                      "style=\"background:#dff3df\">+0.250</td>"),
+            std::string::npos)
+      << html;
   // One timeline, A's rows before B's under each target.
   const std::string gp = Read(kept / "timeline.gp");
   EXPECT_NE(gp.find("set ytics ('target 1' 0, 'detections (A and B)' -1, 'A filter 1' -2, "

@@ -234,6 +234,8 @@ Command AddScoreCommand(CLI::App& parent) {
                 rows.push_back(r.combined);
                 TableStream({options->json}) << r.bench << " / " << r.tracker << "\n"
                                              << FormatMotTable(rows) << "\n";
+                // Once, under the last table.
+                if (i + 1 == results.size()) TableStream({options->json}) << MotTablePercentNote();
                 json += "{\"bench\":" + nlohmann::json(r.bench).dump() +
                         ",\"tracker\":" + nlohmann::json(r.tracker).dump() +
                         ",\"metrics\":" + MotSummariesToJson(r.sequences, &r.combined) + "}" +
@@ -267,7 +269,8 @@ Command AddScoreCommand(CLI::App& parent) {
             o.benchmark = benchmark;
             o.keep_events = !options->events.empty();
             const ScoredSequence s = ScoreFiles(o);
-            TableStream({options->json, options->events}) << FormatMotTable({&s.summary, 1});
+            TableStream({options->json, options->events})
+                << FormatMotTable({&s.summary, 1}) << MotTablePercentNote();
             if (!options->json.empty())
               WriteTextFile(options->json, MotSummariesToJson({&s.summary, 1}, nullptr));
             if (!options->events.empty()) {

@@ -96,17 +96,32 @@ std::vector<PixelRect> PlaceLabels(const std::vector<LabelRequest>& labels, Pixe
 
 std::string OverlayRunTag(const Scenario& scenario) {
   if (scenario.tracker_choice.external()) {
-    // The command's words by their file names: a program's folder (held as
-    // an absolute path) would fill the line.
+    // A path among the command's words by its file name: a program's folder
+    // (held as an absolute path) would fill the line. Not an option
+    // ("--model=/a/b.onnx") nor a word without a folder (a review).
     std::string words;
     for (const std::string& word : scenario.tracker_choice.command) {
-      const std::string name = std::filesystem::path(word).filename().string();
+      const bool path = word.find('/') != std::string::npos && !word.starts_with("-");
+      const std::string name = path ? std::filesystem::path(word).filename().string() : word;
       words += (words.empty() ? "" : " ") + (name.empty() ? word : name);
     }
     return fmt::format("seed {}, tracker: external ({})", scenario.seed, words);
   }
-  return fmt::format("seed {}, {} particles, {} resampling", scenario.seed,
-                     scenario.tracker.particles, NameOf(scenario.tracker.resampling.method));
+  // The likelihood and the camera motion too when not the defaults
+  // (detections_mixture, none), which the main job and the chapter-10 sweeps
+  // compare: two runs differing only there had one tag (a review). Only
+  // then, so the line fits a 640 px frame.
+  const tracker::TrackerOptions defaults;
+  std::string tag =
+      fmt::format("seed {}, {} particles, {} resampling", scenario.seed, scenario.tracker.particles,
+                  NameOf(scenario.tracker.resampling.method));
+  if (scenario.tracker.likelihood.model != defaults.likelihood.model) {
+    tag += fmt::format(", {} likelihood", NameOf(scenario.tracker.likelihood.model));
+  }
+  if (scenario.tracker.camera_motion != defaults.camera_motion) {
+    tag += fmt::format(", camera motion {}", NameOf(scenario.tracker.camera_motion));
+  }
+  return tag;
 }
 
 std::vector<std::string> OverlayHeaderLines(const Scenario& scenario, int frame, bool detections) {

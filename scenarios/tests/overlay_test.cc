@@ -356,11 +356,20 @@ TEST(Overlay, HeaderLinesTagTheRun) {
   // Charged resampling, as the shipped scenes run it.
   scenario.tracker.resampling.method = tracker::ResamplingMethod::kCharged;
   EXPECT_EQ(internal::OverlayRunTag(scenario), "seed 12, 250 particles, charged resampling");
-  // An external tracker: its program's words, by their file names.
-  scenario.tracker_choice.type = TrackerType::kExternal;
-  scenario.tracker_choice.command = {"/usr/bin/python3", "/opt/trackers/sort.py", "--iou", "0.3"};
+  // The likelihood and the camera motion when not the defaults (a review:
+  // runs differing only there had one tag).
+  scenario.tracker.likelihood.model = tracker::LikelihoodModel::kAssociated;
+  scenario.tracker.camera_motion = tracker::CameraMotionMode::kSceneFilter;
   EXPECT_EQ(internal::OverlayRunTag(scenario),
-            "seed 12, tracker: external (python3 sort.py --iou 0.3)");
+            "seed 12, 250 particles, charged resampling, associated likelihood, camera motion "
+            "scene_filter");
+  // An external tracker: its program's paths by their file names; options
+  // and words without a folder as they are.
+  scenario.tracker_choice.type = TrackerType::kExternal;
+  scenario.tracker_choice.command = {
+      "/usr/bin/python3", "/opt/trackers/sort.py", "--iou", "0.3", "--model=/a/b.onnx", "1/2x"};
+  EXPECT_EQ(internal::OverlayRunTag(scenario),
+            "seed 12, tracker: external (python3 sort.py --iou 0.3 --model=/a/b.onnx 2x)");
 }
 
 // The tag is drawn: the header's second line (its rectangle: x from 6,

@@ -319,7 +319,7 @@ std::pair<double, double> DrawnRange(const std::vector<Layout>& layouts, const s
 // Where a plot of means draws each line's per-run points: for line l,
 // {centre, width} of its slot, an offset from the cell's x (on a log axis in
 // natural-log units, x · e^offset). The lines share a strip half as wide as
-// the smallest gap between two x positions, each its own slot of it, so the
+// the smallest gap between two x positions (capped on a log axis), each its own slot of it, so the
 // points of two lines at one x do not fall on each other; a line's runs
 // spread evenly over 80 % of its slot, in run order (deterministic).
 std::vector<std::vector<double>> SeedOffsets(const Layout& layout) {
@@ -338,7 +338,10 @@ std::vector<std::vector<double>> SeedOffsets(const Layout& layout) {
   }
   // One x position: the axis spans x/2 to 2x (log) or x ± 1 (PlotSvg).
   if (!std::isfinite(gap)) gap = layout.log_x ? std::log(2.0) : 1.0;
-  const double strip = 0.5 * gap;
+  // On a log axis at most 2 ln 1.3 wide, so the points stay within a factor
+  // 1.3 of their x and inside the axis's 1.4 past the ends (a review: with
+  // 100 and 1000 the strip reached 0.61x to 1.64x, past the range).
+  const double strip = layout.log_x ? std::min(0.5 * gap, 2.0 * std::log(1.3)) : 0.5 * gap;
   const auto lines = static_cast<double>(std::max<size_t>(layout.lines.size(), 1));
   std::vector<std::vector<double>> out;
   for (size_t l = 0; l < layout.lines.size(); ++l) {
@@ -723,6 +726,7 @@ struct Paired {
   // Comparisons (not timings) whose every pair ties (EveryPairTies): not
   // tested, outside the family.
   int every_pair_ties = 0;
+  std::vector<std::string> tied_metrics;  // their metrics, in order of first appearance
 };
 
 // Whether every seed pair of a comparison has the same value (within
@@ -823,7 +827,13 @@ Paired PairedRowsOf(const std::vector<Cell>& cells, const StoreMeta& meta) {
       const bool tested = Tested(c, m);
       p.push_back(tested ? c.test.p_value : kNaN);
       paired.family += tested ? 1 : 0;
-      paired.every_pair_ties += EveryPairTies(c) && !MachineDependent(m) ? 1 : 0;
+      if (EveryPairTies(c) && !MachineDependent(m)) {
+        ++paired.every_pair_ties;
+        if (std::find(paired.tied_metrics.begin(), paired.tied_metrics.end(), m) ==
+            paired.tied_metrics.end()) {
+          paired.tied_metrics.push_back(m);
+        }
+      }
     }
   }
   const std::vector<double> adjusted = HolmAdjusted(p);
@@ -924,12 +934,12 @@ std::string TimingsNote(const StoreMeta& meta) {
 std::string TiesNote(const Paired& paired) {
   if (paired.every_pair_ties == 0) return {};
   return fmt::format(
-      " {} {} the same value in every seed pair (a hijack rate of 0 in both, or a detector's "
-      "metric across tracker settings that read the same detections): no test can find a "
-      "difference there, so {} not "
-      "tested and not counted among the comparisons, where {} would only make Holm's "
-      "correction stricter.",
-      paired.every_pair_ties, paired.every_pair_ties == 1 ? "comparison has" : "comparisons have",
+      " {} {} ({}) {} the same value in every seed pair (a rate of 0 in both, say, or a "
+      "detector's metric across tracker settings that read the same detections): no test can "
+      "find a difference there, so {} not tested and not counted among the comparisons, where "
+      "{} would only make Holm's correction stricter.",
+      paired.every_pair_ties, paired.every_pair_ties == 1 ? "comparison" : "comparisons",
+      JoinWords(paired.tied_metrics), paired.every_pair_ties == 1 ? "has" : "have",
       paired.every_pair_ties == 1 ? "it is" : "they are",
       paired.every_pair_ties == 1 ? "it" : "they");
 }
@@ -1157,15 +1167,20 @@ std::string PairedHtml(const Paired& paired, const StoreMeta& meta, const Layout
       "differences p cannot fall below 0.05). Green: better than the reference in the metric's "
       "direction with p&nbsp;&lt;&nbsp;0.05 and an interval that excludes 0; red: worse, "
       "likewise; the test and the interval can disagree (the test uses ranks, the interval the "
-      "values), and a cell is coloured only when both say so. <b>Holm</b>, in coloured cells: "
-      "p adjusted by Holm's step-down method over the {4} comparisons of this table (cells "
-      "&times; metrics with pairs, not every pair tied); chance alone makes about 1 in 20 of them "
-      "coloured where "
-      "nothing differs, and a cell whose Holm p is also below 0.05 (in bold) stays a finding "
-      "when all {4} are tested at once.{7}{5}{6}</p>\n",
+      "values), and a cell is coloured only when both say so. {4}{7}{5}{6}</p>\n",
       EscapeMarkup(meta.report.series), EscapeMarkup(paired.reference),
       meta.report.reference.empty() ? ", else the first series value" : "",
-      kExactSignedRankMaxPairs, paired.family,
+      kExactSignedRankMaxPairs,
+      paired.family == 0
+          ? std::string("This table tests no comparison, so no cell is coloured.")
+          : fmt::format(
+                "<b>Holm</b>, in coloured cells: p adjusted by Holm's step-down method over the "
+                "{0} "
+                "comparisons of this table (cells &times; metrics with pairs, not every pair "
+                "tied); chance alone makes about 1 in 20 of them coloured where nothing differs, "
+                "and a cell whose Holm p is also below 0.05 (in bold) stays a finding when all "
+                "{0} are tested at once.",
+                paired.family),
       reach_note.empty() ? std::string() : " <b>" + EscapeMarkup(reach_note) + "</b>",
       EscapeMarkup(TimingsNote(meta)), EscapeMarkup(TiesNote(paired)));
   h += "<table><tr>";
@@ -1525,12 +1540,13 @@ std::string FindingsIntro(const Paired& paired, const GlanceTable& glance, const
     kept += g.holm;
   }
   const std::string reach_note = HolmReachNote(paired);
-  if (const std::string timings = TimingsNote(meta); paired.family == 0 && !timings.empty()) {
-    // Timings alone (a review: "makes 0 comparisons ... about 0.0 findings").
+  if (paired.family == 0) {
+    // Timings alone, or every comparison tied (a review: "makes 0
+    // comparisons ... about 0.0 findings").
     return fmt::format(
         "Generated from the runs: for every metric, which {} value has the best mean at each x. "
-        "This report tests no comparison:{}",
-        meta.report.series, timings);
+        "This report tests no comparison:{}{}",
+        meta.report.series, TimingsNote(meta), TiesNote(paired));
   }
   return fmt::format(
       "Generated from the runs: for every metric, which {0} value has the best mean at each x, "
@@ -1548,25 +1564,37 @@ std::string FindingsIntro(const Paired& paired, const GlanceTable& glance, const
       reach_note.empty() ? std::string() : " " + reach_note, TiesNote(paired));
 }
 
-// The summary above the findings: per report.panels value and compared
-// series value, one sentence of the findings that survive Holm's
-// correction, the metrics grouped by the x values where they do (an audit:
-// "12 bullets of about 60 words each ... a researcher wants a 2–3 line
-// conclusion"), and how many findings do not survive it. The findings
-// below say the rest.
-std::vector<std::string> SummaryOf(const Paired& paired, const StoreMeta& meta,
-                                   const Layout& layout) {
+// The summary above the findings: per group of cells (as the findings
+// group them: every swept value but x, the series and the keys that follow
+// either; a panel, a variance, ...) and compared series value, one sentence
+// of the findings that survive Holm's correction, the metrics grouped by
+// the x values where they do (an audit: "12 bullets of about 60 words each
+// ... a researcher wants a 2–3 line conclusion"), and how many findings do
+// not survive it. The findings below say the rest.
+std::vector<std::string> SummaryOf(const std::vector<Cell>& cells, const Paired& paired,
+                                   const StoreMeta& meta, const Layout& layout) {
   std::vector<std::string> out;
   if (paired.series_index < 0 || paired.family == 0) return out;
+  const auto& keys = meta.swept_keys;
   const auto si = static_cast<size_t>(paired.series_index);
-  const std::optional<size_t> panel_index = PanelKeyIndex(meta);
   const int xi = layout.x_index;
-  const std::string x_name = xi >= 0 ? meta.swept_keys[static_cast<size_t>(xi)] : std::string();
-  // Per metric, the x values where it is kept, in the order first kept.
+  const std::string x_name = xi >= 0 ? keys[static_cast<size_t>(xi)] : std::string();
+  const FollowingKeys follow_x = KeysFollowing(cells, keys.size(), xi);
+  const auto group_key = [&](const Cell& c) {
+    std::vector<std::string> k = c.values;
+    for (size_t j = 0; j < k.size(); ++j) {
+      if (j == si || static_cast<int>(j) == xi || paired.follow_series[j] || follow_x[j]) {
+        k[j].clear();
+      }
+    }
+    return k;
+  };
+  // Per metric, the x values where it is kept.
   using Kept = std::vector<std::pair<std::string, std::vector<std::string>>>;
   struct Group {
-    std::string panel, compared;
-    std::vector<std::string> xs;  // of the group's compared cells, in their order
+    std::vector<std::string> key;
+    std::string compared;
+    std::vector<std::string> xs;  // of the group's compared cells
     Kept better, worse;
     int not_kept = 0;  // findings Holm's correction does not keep
   };
@@ -1575,12 +1603,12 @@ std::vector<std::string> SummaryOf(const Paired& paired, const StoreMeta& meta,
     if (std::find(list.begin(), list.end(), v) == list.end()) list.push_back(v);
   };
   for (const PairedRow& row : paired.rows) {
-    const std::string panel = panel_index ? row.cell->values[*panel_index] : std::string();
+    const std::vector<std::string> key = group_key(*row.cell);
     const std::string& s = row.cell->values[si];
     auto g = std::find_if(groups.begin(), groups.end(),
-                          [&](const Group& x) { return x.panel == panel && x.compared == s; });
+                          [&](const Group& x) { return x.key == key && x.compared == s; });
     if (g == groups.end()) {
-      groups.push_back({.panel = panel, .compared = s});
+      groups.push_back({.key = key, .compared = s});
       g = groups.end() - 1;
     }
     const std::string x = xi >= 0 ? row.cell->values[static_cast<size_t>(xi)] : std::string();
@@ -1601,13 +1629,42 @@ std::vector<std::string> SummaryOf(const Paired& paired, const StoreMeta& meta,
       add(k->second, x);
     }
   }
-  // "every x", "200 to 5000" (three or more in a row of the group's x
-  // values), "50 and 2000"; nothing without an x.
+  // The keys that tell the groups apart ("Under k = v, ...").
+  std::vector<bool> varies(keys.size(), false);
+  for (const Group& g : groups) {
+    for (size_t k = 0; k < keys.size(); ++k) {
+      varies[k] = varies[k] || g.key[k] != groups.front().key[k];
+    }
+  }
+  // x values in the axis's order: numbers by value, others as laid out.
+  const auto x_order = [&](const std::string& x) {
+    if (layout.numeric_x) return *ParseNumber(x);
+    return static_cast<double>(std::find(layout.x_values.begin(), layout.x_values.end(), x) -
+                               layout.x_values.begin());
+  };
+  const auto by_x = [&](const std::string& a, const std::string& b) {
+    return x_order(a) < x_order(b);
+  };
+  // Metrics in report.y's order, whatever order the runs are stored in.
+  const auto y_index = [&](const std::string& m) {
+    return std::find(meta.report.y.begin(), meta.report.y.end(), m) - meta.report.y.begin();
+  };
+  for (Group& g : groups) {
+    std::sort(g.xs.begin(), g.xs.end(), by_x);
+    for (Kept* kept : {&g.better, &g.worse}) {
+      for (auto& [m, at] : *kept) std::sort(at.begin(), at.end(), by_x);
+      std::sort(kept->begin(), kept->end(),
+                [&](const auto& a, const auto& b) { return y_index(a.first) < y_index(b.first); });
+    }
+  }
+  // "every x", "200 to 5000" (three or more in a row of the group's
+  // numeric x values), "50 and 2000"; nothing without an x.
   const auto where = [&](const std::vector<std::string>& at, const std::vector<std::string>& all) {
     if (xi < 0) return std::string();
     if (at.size() == all.size() && all.size() > 1) return "every " + x_name;
     const auto first = std::find(all.begin(), all.end(), at.front());
-    const bool in_a_row = at.size() >= 3 && static_cast<size_t>(all.end() - first) >= at.size() &&
+    const bool in_a_row = layout.numeric_x && at.size() >= 3 &&
+                          static_cast<size_t>(all.end() - first) >= at.size() &&
                           std::equal(at.begin(), at.end(), first);
     return in_a_row ? at.front() + " to " + at.back() : JoinWords(at);
   };
@@ -1641,8 +1698,12 @@ std::vector<std::string> SummaryOf(const Paired& paired, const StoreMeta& meta,
     return joined;
   };
   for (const Group& g : groups) {
+    std::vector<std::string> under;
+    for (size_t k = 0; k < keys.size(); ++k) {
+      if (varies[k]) under.push_back(keys[k] + " = " + g.key[k]);
+    }
     const std::string subject =
-        (g.panel.empty() ? std::string() : "Under " + meta.report.panels + " = " + g.panel + ", ") +
+        (under.empty() ? std::string() : fmt::format("Under {}, ", fmt::join(under, ", "))) +
         g.compared + " \u2212 " + paired.reference;
     const std::string lost =
         g.not_kept == 0 ? std::string()
@@ -1941,9 +2002,22 @@ std::string ReplicationSentence(const ReplicationTable& table, const AgainstStor
     reversed += r.outcome == Replication::kReversed;
     new_here += r.outcome == Replication::kNewHere;
   }
-  std::string text =
-      fmt::format("{}, {} comparisons are made in both stores. {}", AgainstIntro(there, meta),
-                  table.rows.size(), SameSeedNote(there, meta));
+  // A comparison tied in one store only is tested in the other: it counts
+  // (a finding there may not be one here), and the sentence says how many.
+  int tied_one_side = 0;
+  for (const ReplicationRow& r : table.rows) {
+    tied_one_side +=
+        EveryPairTies(r.there->metrics.at(r.metric)) || EveryPairTies(r.here->metrics.at(r.metric));
+  }
+  std::string text = fmt::format(
+      "{}, {} comparisons are made in both stores{}. {}", AgainstIntro(there, meta),
+      table.rows.size(),
+      tied_one_side == 0
+          ? std::string()
+          : fmt::format(" ({} of them with every seed pair tied in one store, tested in the other "
+                        "only; a comparison tied in both is left out)",
+                        tied_one_side),
+      SameSeedNote(there, meta));
   text += there_findings == 0
               ? "None of them is a finding there. "
               : fmt::format(
@@ -2102,10 +2176,12 @@ std::string ReplicationCsv(const ReplicationTable& table, const Paired& here,
     const PairedComparison& b = r.here->metrics.at(r.metric);
     csv += fmt::format(
         "{},{},{},{},{},{},{},{},{},{},{},{},{},{},{}\n", Csv(here.reference), r.metric, a.pairs,
-        Number(a.difference.mean), Number(a.test.p_value), Number(r.there->holm.at(r.metric)),
+        Number(a.difference.mean), Tested(a, r.metric) ? Number(a.test.p_value) : std::string(),
+        Tested(a, r.metric) ? Number(r.there->holm.at(r.metric)) : std::string(),
         VerdictName(r.there_verdict), r.there_kept ? 1 : 0, b.pairs, Number(b.difference.mean),
-        Number(b.test.p_value), Number(r.here->holm.at(r.metric)), VerdictName(r.here_verdict),
-        r.here_kept ? 1 : 0, ReplicationName(r.outcome));
+        Tested(b, r.metric) ? Number(b.test.p_value) : std::string(),
+        Tested(b, r.metric) ? Number(r.here->holm.at(r.metric)) : std::string(),
+        VerdictName(r.here_verdict), r.here_kept ? 1 : 0, ReplicationName(r.outcome));
   }
   return csv;
 }
@@ -2162,8 +2238,10 @@ std::string PairedReplicationHtml(const ReplicationTable& table, const AgainstSt
       EscapeMarkup(there.dir), EscapeMarkup(RootSeedShort(there.meta)),
       EscapeMarkup(RootSeedShort(meta)));
   const auto side = [](const PairedComparison& c, PairedVerdict v, bool kept) {
-    std::string text = fmt::format("&Delta;&nbsp;{:.3g}, {}, {}", c.difference.mean,
-                                   FormatP(c.test.p_value), VerdictName(v));
+    std::string text = fmt::format(
+        "&Delta;&nbsp;{:.3g}, {}, {}", c.difference.mean,
+        EveryPairTies(c) ? std::string("every pair tied: not tested") : FormatP(c.test.p_value),
+        VerdictName(v));
     return kept ? "<b>" + text + "</b>" : text;
   };
   for (const ReplicationRow& r : table.rows) {
@@ -2313,7 +2391,6 @@ std::string ReportHtml(const fs::path& dir, const std::string& link_prefix, cons
   }
   h += findings_html;
   h += replication_html;
-  h += scene_html;
   h += "<h2>Plots</h2>\n";
   if (!unmeasured.empty()) {
     std::vector<std::string> items;
@@ -2393,6 +2470,9 @@ std::string ReportHtml(const fs::path& dir, const std::string& link_prefix, cons
   }
   if (!failures.empty())
     h += "<h2>Failed runs</h2>\n<ul class=\"failed\">\n" + failures + "</ul>\n";
+  // The scene, drawn and (rendered sweeps) sampled, beside the base
+  // scenario that describes it.
+  h += scene_html;
   h += SceneContactSheet(dir);
   const bool several_bases = std::find(keys.begin(), keys.end(), kSweptBaseKey) != keys.end();
   h += fmt::format("<h2>Base scenario{} (resolved)</h2>\n", several_bases ? "s" : "");
@@ -2462,8 +2542,15 @@ std::string SceneSketchHtml(const fs::path& dir, const std::vector<Cell>& cells,
     if (run == c.runs.end()) continue;
     seen.push_back(value);
     const fs::path gt = dir / (*run)->run_dir / "gt.json";
-    const std::string who = fmt::format("run {} (seed index {}{})", (*run)->key, (*run)->seed_index,
-                                        value.empty() ? "" : ", base " + value);
+    // The run and its cell's swept values (a review: a sweep over the
+    // camera's position showed one altitude's scene, unnamed).
+    std::vector<std::string> swept;
+    for (size_t k = 0; k < keys.size() && k < c.values.size(); ++k) {
+      swept.push_back(keys[k] + " = " + c.values[k]);
+    }
+    const std::string who =
+        fmt::format("run {} (seed index {}{}{})", (*run)->key, (*run)->seed_index,
+                    swept.empty() ? "" : "; ", fmt::join(swept, ", "));
     std::error_code ec;
     if (!fs::is_regular_file(gt, ec)) {
       body += "<p class=\"note\">No sketch of " + EscapeMarkup(who) +
@@ -2475,7 +2562,7 @@ std::string SceneSketchHtml(const fs::path& dir, const std::vector<Cell>& cells,
       const SceneSketch sketch = SketchOf(metrics::ReadGroundTruthJson(gt.string()));
       body += "<p>" + EscapeMarkup(who) + ": " + EscapeMarkup(EncounterText(sketch)) + ".</p>\n";
       body += "<div class=\"plot\">\n" +
-              SceneSketchSvg(sketch, "The scene from above: " + who, work, gnuplot,
+              SceneSketchSvg(sketch, "The scene from above: run " + (*run)->key, work, gnuplot,
                              std::to_string(seen.size() - 1)) +
               "\n</div>\n";
     } catch (const InputError& e) {
@@ -2488,8 +2575,10 @@ std::string SceneSketchHtml(const fs::path& dir, const std::vector<Cell>& cells,
          "(<code>gt.json</code>) of the first finished run: each target's path on the ground "
          "(metres, x east, y north) with a dot every 10th frame and the frame number (from 1) "
          "every 50th, a ring where less than 0.75 of it is visible in the image, and the ground "
-         "the camera sees (dashed) at its first, middle and last frame. The other seeds' scenes "
-         "differ where the scenario draws from its seed.</p>\n" +
+         "the camera sees (dashed) at its first, middle and last frame. It is that run's scene: "
+         "other "
+         "seeds differ where the scenario draws from its seed, and other cells where a swept key "
+         "moves the camera or the targets.</p>\n" +
          body;
 }
 
@@ -2557,7 +2646,7 @@ ReportResult WriteReport(const ReportOptions& options) {
   }
   // The findings, also as findings.md (read without a browser).
   const std::vector<Finding> findings = FindingsOf(cells, paired, meta, layout);
-  const std::vector<std::string> summary = SummaryOf(paired, meta, layout);
+  const std::vector<std::string> summary = SummaryOf(cells, paired, meta, layout);
   const GlanceTable glance = GlanceOf(paired, meta);
   result.findings = static_cast<int>(findings.size());
   if (!findings.empty()) {

@@ -379,8 +379,9 @@ std::string SeedsForHolmNote(const SweepSpec& spec) {
           : fmt::format(
                 "the signed-rank test cannot give p below {:.3g}, and Holm's correction "
                 "over the report's {} paired comparisons needs p < {:.3g} for its first, "
-                "so none can survive it",
-                floor, m, 0.05 / m);
+                "so none can survive it unless comparisons tied on every seed pair, which "
+                "are not tested, leave {} or fewer",
+                floor, m, 0.05 / m, static_cast<int>(std::ceil(0.05 / floor)) - 1);
   return fmt::format(
       "{}: with {} seeds{} each paired comparison of the report ({} against {}) has {} pairs: "
       "{}, whatever the data. {} pairs at least are needed (seeds: {} or more; more for a "

@@ -793,7 +793,7 @@ void WriteComparedRuns(const fs::path& a, const fs::path& b) {
                                               {2, 9, "CORRECT"},
                                               {3, 9, "CORRECT"}});
   // The detector's rows of target 1 are alike in both runs, those of target 2 not.
-  ma["detection"] = nlohmann::json::parse(R"({"by_target": [
+  ma["detection"] = nlohmann::json::parse(R"({"median_size_px": 40, "by_target": [
       {"target": 1, "found_frames": [[0, 1]], "missed_frames": [[2, 3]]},
       {"target": 2, "found_frames": [[2, 3]], "missed_frames": []}]})");
   std::ofstream(a / "metrics.json") << ma.dump();
@@ -816,7 +816,7 @@ void WriteComparedRuns(const fs::path& a, const fs::path& b) {
                                               {3, 1, "COASTING"},
                                               {4, 1, "COASTING"},
                                               {0, 5, "LOST"}});
-  mb["detection"] = nlohmann::json::parse(R"({"by_target": [
+  mb["detection"] = nlohmann::json::parse(R"({"median_size_px": 30, "by_target": [
       {"target": 1, "found_frames": [[0, 1]], "missed_frames": [[2, 3]]},
       {"target": 2, "found_frames": [[2, 2]], "missed_frames": [[3, 3]]}]})");
   std::ofstream(b / "metrics.json") << mb.dump();
@@ -878,6 +878,11 @@ TEST(RunReport, AgainstAnotherRunSaysWhatDiffersAndComparesItsFiltersFrameByFram
   EXPECT_NE(html.find("<th>A</th><th>B</th><th>A − B</th>"), std::string::npos);
   EXPECT_NE(html.find("<code>da_accuracy</code></td><td>0.750</td><td>0.500</td><td "
                       "style=\"background:#dff3df\">+0.250</td>"),
+            std::string::npos)
+      << html;
+  // The target size describes the runs, it does not score them: not
+  // coloured (a review: it was green, being "higher is better").
+  EXPECT_NE(html.find("<code>det_size_px</code></td><td>40 px</td><td>30 px</td><td>+10 px</td>"),
             std::string::npos)
       << html;
   // One timeline, A's rows before B's under each target.
@@ -1625,11 +1630,13 @@ TEST(Report, BandsOfAZeroOneMetricAreWilsonInsideTheUnitInterval) {
 // seeds do not fall on each other; the x axis has tics at the swept values
 // and ends just past them (it ran from 10 to 10000 for 50 to 5000). On the
 // hand store, log x at 100 and 1000: gap ln 10 = 2.302585, strip half of it
-// 1.151293, two lines: line 0's slot centred at −0.287823, line 1's at
-// +0.287823, each 0.8 · 1.151293 / 2 = 0.460517 wide; seed k of 10 at
-// centre + ((k + 0.5)/10 − 0.5) · 0.460517: line 0, seed 0 at 100 ·
-// e^−0.495056 = 60.9546 and seed 9 at 100 · e^−0.080590 = 92.2571; line 1,
-// seed 0 at 100 · e^0.080590 = 108.393.
+// but at most 2 ln 1.3 = 0.524729 on a log axis, two lines: line 0's slot
+// centred at −0.131182, line 1's at +0.131182, each 0.8 · 0.524729 / 2 =
+// 0.209891 wide; seed k of 10 at centre + ((k + 0.5)/10 − 0.5) · 0.209891:
+// line 0, seed 0 at 100 · e^−0.225633 = 79.8011 and seed 9 at 100 ·
+// e^−0.036731 = 96.3935; line 1, seed 0 at 100 · e^0.036731 = 103.741, seed 9
+// at 1000 · e^0.225633 = 1253.12: inside the x range [100/1.4, 1000 · 1.4].
+// (A review found the uncapped strip put points at 60.95 and 1640, outside.)
 TEST(Report, APlotOfMeansDrawsEveryRunsValueBesideItsCell) {
   const fs::path dir = HandStore("report-seed-points");
   const fs::path kept = dir / "kept";
@@ -1654,9 +1661,16 @@ TEST(Report, APlotOfMeansDrawsEveryRunsValueBesideItsCell) {
   ASSERT_EQ(blocks.size(), 2U) << text;
   ASSERT_EQ(blocks[0].size(), 20U) << text;
   ASSERT_EQ(blocks[1].size(), 20U) << text;
-  EXPECT_NEAR(blocks[0][0][0], 60.9546, 1e-3);
-  EXPECT_NEAR(blocks[0][9][0], 92.2571, 1e-3);
-  EXPECT_NEAR(blocks[1][0][0], 108.393, 1e-3);
+  EXPECT_NEAR(blocks[0][0][0], 79.8011, 1e-3);
+  EXPECT_NEAR(blocks[0][9][0], 96.3935, 1e-3);
+  EXPECT_NEAR(blocks[1][0][0], 103.741, 1e-3);
+  EXPECT_NEAR(blocks[1][19][0], 1253.12, 1e-2);
+  for (const auto& block : blocks) {
+    for (const auto& r : block) {
+      EXPECT_GT(r[0], 100.0 / 1.4);
+      EXPECT_LT(r[0], 1000.0 * 1.4);
+    }
+  }
   // The values: systematic 0.9 everywhere; charged 0.9 at 100, then at
   // 1000 1.0 on seeds 0–8 and 0.5 on seed 9 (outside its cell's band
   // [0.837, 1]).
@@ -1746,7 +1760,8 @@ TEST(Report, PairedDifferencesByHand) {
   EXPECT_NE(html.find("charged &minus; systematic</td><td>10</td>"), std::string::npos);
   EXPECT_NE(html.find("p&nbsp;=&nbsp;0.002, <b>Holm&nbsp;0.006</b>"), std::string::npos);
   EXPECT_NE(html.find("over the 3 comparisons of this table"), std::string::npos);
-  EXPECT_NE(html.find(" 1 comparison has the same value in every seed pair"), std::string::npos);
+  EXPECT_NE(html.find(" 1 comparison (mota) has the same value in every seed pair"),
+            std::string::npos);
   // Lower hijack rate is better: significant and negative → green.
   EXPECT_NE(html.find("style=\"background:#dff3df\">&Delta;&nbsp;-1<br><span class=\"i\">[-1, "
                       "-1]</span>"),
@@ -1996,7 +2011,8 @@ TEST(Report, AComparisonWhoseEveryPairTiesIsNotTested) {
   EXPECT_NE(html.find("p&nbsp;=&nbsp;0.002, <b>Holm&nbsp;0.002</b>"), std::string::npos) << html;
   const std::string md = Read(dir / "findings.md");
   EXPECT_NE(md.find("This report makes 1 comparisons;"), std::string::npos) << md;
-  EXPECT_NE(md.find(" 1 comparison has the same value in every seed pair"), std::string::npos)
+  EXPECT_NE(md.find(" 1 comparison (det_recall) has the same value in every seed pair"),
+            std::string::npos)
       << md;
   EXPECT_NE(md.find("- **det_recall**: best mean (higher is better): equal means at every "
                     "tracker.particles. charged \u2212 systematic: the same value in every seed "
@@ -2012,6 +2028,22 @@ TEST(Report, AComparisonWhoseEveryPairTiesIsNotTested) {
   // paired.csv (...,nonzero,w_plus,p_value,exact,p_holm,...): no p-value, no Holm p.
   const std::string csv = Read(dir / "paired.csv");
   EXPECT_NE(csv.find("det_recall,10,0,0,0,0,0,0,10,0,0,,0,,"), std::string::npos) << csv;
+  // Every comparison tied: the report tests none and says so (a review: it
+  // said "makes 0 comparisons; ... about 0.0 of them findings").
+  const auto only = TwoMethodStore(
+      "report-every-pair-ties-only", {"det_recall"}, [](const std::string&, int seed) {
+        return std::map<std::string, double>{{"det_recall", 0.5 + 0.01 * seed}};
+      });
+  WriteReport({.dir = only.string()});
+  const std::string only_md = Read(only / "findings.md");
+  EXPECT_NE(only_md.find("This report tests no comparison: 1 comparison (det_recall) has the same "
+                         "value in every seed pair"),
+            std::string::npos)
+      << only_md;
+  EXPECT_EQ(only_md.find("makes 0 comparisons"), std::string::npos) << only_md;
+  EXPECT_NE(
+      Read(only / "report.html").find("This table tests no comparison, so no cell is coloured."),
+      std::string::npos);
 }
 
 // The summary above the findings (an audit: "12 bullets of about 60 words
@@ -2025,60 +2057,74 @@ TEST(Report, AComparisonWhoseEveryPairTiesIsNotTested) {
 // equal ones tie (not tested): a family of 3 + 3 + 2 + 4 = 12, Holm's
 // p 12 × 2/1024 = 0.023 for each, all kept.
 TEST(Report, TheSummarySaysPerPanelWhatSurvivesHolmsCorrection) {
-  const auto dir = testing::SweepFolder("report-summary");
-  StoreMeta meta;
-  meta.sweep_hash = "summary";
-  meta.sweep_file = "summary.yaml";
-  meta.swept_keys = {"tracker.likelihood.model", "tracker.particles", "tracker.resampling.method"};
-  meta.report.x = "tracker.particles";
-  meta.report.series = "tracker.resampling.method";
-  meta.report.panels = "tracker.likelihood.model";
-  meta.report.y = {"mota", "idf1", "hijack_rate", "hota"};
-  meta.report.reference = "systematic";
-  meta.run_count = 2 * 4 * 2 * 10;
-  {
-    auto store = ResultsStore::OpenOrCreate((dir / "results.sqlite").string(), meta);
-    int64_t index = 0;
-    for (const std::string panel : {"a", "b"}) {
-      for (const std::string particles : {"50", "100", "200", "500"}) {
-        for (const std::string method : {"systematic", "charged"}) {
-          for (int seed = 0; seed < 10; ++seed) {
-            RunRecord r;
-            r.key = panel + "-" + particles + "-" + method + "-" + std::to_string(seed);
-            r.index = index++;
-            r.seed_index = seed;
-            r.seed = 3000 + seed;
-            r.values = {panel, particles, method};
-            r.ok = true;
-            r.run_dir = "runs/" + r.key;
-            const bool charged = method == "charged" && panel == "a";
-            const double spread = 0.01 * seed;  // the same in both methods
-            r.metrics["mota"] = (charged && particles != "50" ? 0.6 : 0.5) + spread;
-            r.metrics["idf1"] = r.metrics["mota"];
-            const bool hijack_differs = panel == "a" && (particles == "50" || particles == "500");
-            r.metrics["hijack_rate"] = hijack_differs ? (method == "charged" ? 0.0 : 1.0) : 0.5;
-            r.metrics["hota"] = (charged ? 0.4 : 0.5) + spread;
-            store->Put(r);
+  // The same store with the model as panels, then without panels and with
+  // the particle counts stored out of order: the summary groups the cells as
+  // the findings do (every swept value but x and the series), so the model
+  // still tells the sentences apart (a review: without panels it pooled
+  // them), and the counts come in the axis's order.
+  for (const bool panels : {true, false}) {
+    SCOPED_TRACE(panels ? "panels" : "no panels");
+    const auto dir = testing::SweepFolder(panels ? "report-summary" : "report-summary-no-panels");
+    StoreMeta meta;
+    meta.sweep_hash = "summary";
+    meta.sweep_file = "summary.yaml";
+    meta.swept_keys = {"tracker.likelihood.model", "tracker.particles",
+                       "tracker.resampling.method"};
+    meta.report.x = "tracker.particles";
+    meta.report.series = "tracker.resampling.method";
+    if (panels) meta.report.panels = "tracker.likelihood.model";
+    meta.report.y = {"mota", "idf1", "hijack_rate", "hota"};
+    meta.report.reference = "systematic";
+    meta.run_count = 2 * 4 * 2 * 10;
+    const std::vector<std::string> counts =
+        panels ? std::vector<std::string>{"50", "100", "200", "500"}
+               : std::vector<std::string>{"500", "50", "200", "100"};
+    {
+      auto store = ResultsStore::OpenOrCreate((dir / "results.sqlite").string(), meta);
+      int64_t index = 0;
+      for (const std::string panel : {"a", "b"}) {
+        for (const std::string& particles : counts) {
+          for (const std::string method : {"systematic", "charged"}) {
+            for (int seed = 0; seed < 10; ++seed) {
+              RunRecord r;
+              r.key = panel + "-" + particles + "-" + method + "-" + std::to_string(seed);
+              r.index = index++;
+              r.seed_index = seed;
+              r.seed = 3000 + seed;
+              r.values = {panel, particles, method};
+              r.ok = true;
+              r.run_dir = "runs/" + r.key;
+              const bool charged = method == "charged" && panel == "a";
+              const double spread = 0.01 * seed;  // the same in both methods
+              r.metrics["mota"] = (charged && particles != "50" ? 0.6 : 0.5) + spread;
+              r.metrics["idf1"] = r.metrics["mota"];
+              const bool hijack_differs = panel == "a" && (particles == "50" || particles == "500");
+              r.metrics["hijack_rate"] = hijack_differs ? (method == "charged" ? 0.0 : 1.0) : 0.5;
+              r.metrics["hota"] = (charged ? 0.4 : 0.5) + spread;
+              store->Put(r);
+            }
           }
         }
       }
     }
+    WriteReport({.dir = dir.string()});
+    const std::string md = Read(dir / "findings.md");
+    EXPECT_NE(md.find("**Summary.** Under tracker.likelihood.model = a, charged \u2212 "
+                      "systematic, after Holm's correction: better in mota and idf1 at "
+                      "tracker.particles = 100 to 500, and in hijack_rate at 50 and 500; worse "
+                      "in hota at every tracker.particles. Under tracker.likelihood.model = b, "
+                      "charged \u2212 systematic: no finding.\n"),
+              std::string::npos)
+        << md;
+    EXPECT_NE(md.find("This report makes 12 comparisons;"), std::string::npos) << md;
+    if (panels) {
+      const std::string html = Read(dir / "report.html");
+      EXPECT_NE(html.find("<h2 id=\"findings\">Findings</h2>\n<p id=\"summary\"><b>Summary.</b> "
+                          "Under tracker.likelihood.model = a,"),
+                std::string::npos)
+          << html;
+    }
   }
-  WriteReport({.dir = dir.string()});
-  const std::string md = Read(dir / "findings.md");
-  EXPECT_NE(md.find("**Summary.** Under tracker.likelihood.model = a, charged \u2212 systematic, "
-                    "after Holm's correction: better in hijack_rate at tracker.particles = 50 "
-                    "and 500, and in mota and idf1 at 100 to 500; worse in hota at every "
-                    "tracker.particles. Under tracker.likelihood.model = b, charged \u2212 "
-                    "systematic: no finding.\n"),
-            std::string::npos)
-      << md;
-  EXPECT_NE(md.find("This report makes 12 comparisons;"), std::string::npos) << md;
-  const std::string html = Read(dir / "report.html");
-  EXPECT_NE(html.find("<h2 id=\"findings\">Findings</h2>\n<p id=\"summary\"><b>Summary.</b> "
-                      "Under tracker.likelihood.model = a,"),
-            std::string::npos)
-      << html;
 }
 
 // The findings of the hand store (values above): hijack_rate, lower is
@@ -2162,16 +2208,17 @@ TEST(Report, FindingsSayWhenNoneSurvivesHolmsCorrection) {
                     "Holm's correction.\n"),
             std::string::npos)
       << md;
-  EXPECT_NE(md.find("This report makes 3 comparisons; where nothing differs, chance alone makes "
-                    "about 0.2 of them findings. Of them 2 are findings, and 0 of those stay "
-                    "significant after Holm's correction for all 3 (Holm p < 0.05). With 6 seed "
-                    "pairs the signed-rank test cannot give p below 0.0312, and Holm's correction "
-                    "for 3 comparisons needs p < 0.0167 for its first: no comparison of this "
-                    "report can stay significant after it, whatever the data. 7 pairs per "
-                    "comparison (seeds, times the pooled values) at least are needed for Holm's "
-                    "correction to keep one, more for a difference that does not have the same "
-                    "sign in every seed. 1 comparison has the same value in every seed pair"),
-            std::string::npos)
+  EXPECT_NE(
+      md.find("This report makes 3 comparisons; where nothing differs, chance alone makes "
+              "about 0.2 of them findings. Of them 2 are findings, and 0 of those stay "
+              "significant after Holm's correction for all 3 (Holm p < 0.05). With 6 seed "
+              "pairs the signed-rank test cannot give p below 0.0312, and Holm's correction "
+              "for 3 comparisons needs p < 0.0167 for its first: no comparison of this "
+              "report can stay significant after it, whatever the data. 7 pairs per "
+              "comparison (seeds, times the pooled values) at least are needed for Holm's "
+              "correction to keep one, more for a difference that does not have the same "
+              "sign in every seed. 1 comparison (mota) has the same value in every seed pair"),
+      std::string::npos)
       << md;
   EXPECT_NE(md.find("charged \u2212 systematic: significantly better at tracker.particles = 100; "
                     "not significantly different at tracker.particles = 1000 (6 seed pairs per "
@@ -2218,8 +2265,8 @@ TEST(Report, FindingsSayWhenNoneSurvivesHolmsCorrection) {
                 .find("significant after Holm's correction for all 3 (Holm p < 0.05). 1 "
                       "comparison has the seed pairs but so few seeds where the two differ "
                       "(tied seeds leave the signed-rank test; fewer than 7 remain) that Holm's "
-                      "correction cannot keep it, whatever the differences. 1 comparison has the "
-                      "same value in every seed pair"),
+                      "correction cannot keep it, whatever the differences. 1 comparison (mota) "
+                      "has the same value in every seed pair"),
             std::string::npos)
       << Read(ten / "findings.md");
   const fs::path some = HandStore("report-holm-some", "systematic", 10, 4);
@@ -2621,6 +2668,25 @@ TEST(Report, AgainstAnotherStoreSaysWhichFindingsReplicate) {
                      "1,0.00195312,0.00585938,worse,1,reversed\n"),
             std::string::npos)
       << csv;
+  // Tied in one store only: mota at 100 differs here (charged 0.95 against
+  // 0.9 on every seed: p = 2/1024; Holm over 4, 2/1024 twice, 0.0625 and
+  // 94/1024: 0.0078125), ties there; there's side has no p, no Holm p.
+  const fs::path untied = HandStore("replicate-untied", "systematic", 10);
+  EditStore(untied,
+            "UPDATE runs SET mota = 0.95 WHERE \"tracker.particles\" = '100' AND "
+            "\"tracker.resampling.method\" = 'charged'");
+  WriteReport({.dir = untied.string(), .against = ten.string()});
+  csv = Read(untied / "replication.csv");
+  EXPECT_NE(
+      csv.find("100,charged,systematic,mota,10,0,,,none,0,10,0.05,0.00195312,0.0078125,better,"
+               "1,new here\n"),
+      std::string::npos)
+      << csv;
+  EXPECT_NE(Read(untied / "findings.md")
+                .find("4 comparisons are made in both stores (1 of them with every seed pair tied "
+                      "in one store, tested in the other only;"),
+            std::string::npos)
+      << Read(untied / "findings.md");
   // A store without the cells at 1000: their 2 comparisons have no partner.
   const fs::path fewer = HandStore("replicate-fewer", "systematic", 10);
   EditStore(fewer, "DELETE FROM runs WHERE \"tracker.particles\" = '1000'");

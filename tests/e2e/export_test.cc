@@ -57,6 +57,11 @@ TEST(ExportCli, TrackEvalLayoutScoresToTheRunsOwnMetrics) {
   r = RunCommand(kHcpf + " score --trackeval-root " + out.string() + " --json " +
                  (dir / "scores.json").string());
   ASSERT_EQ(r.exit_code, 0) << r.output;
+  // Two tables (one per tracker), the percent note once, under the last.
+  const size_t note = r.output.find("HOTA to IDR in percent");
+  ASSERT_NE(note, std::string::npos) << r.output;
+  EXPECT_EQ(r.output.find("HOTA to IDR in percent", note + 1), std::string::npos) << r.output;
+  EXPECT_GT(note, r.output.rfind("COMBINED")) << r.output;
   const nlohmann::json scores = nlohmann::json::parse(ReadFile(dir / "scores.json"));
   ASSERT_EQ(scores.size(), 2U);  // two trackers
   int compared = 0;

@@ -68,6 +68,10 @@ std::vector<TrackEvalResult> ScoreTrackEvalRoot(const std::string& root,
 // A fixed-width table, one row per summary (ratios in percent, as MOTChallenge shows them).
 std::string FormatMotTable(std::span<const MotSummary> rows);
 
+// The line said under FormatMotTable's table(s), once: its ratios are in
+// percent, where metrics.json and the reports hold fractions.
+std::string MotTablePercentNote();
+
 // {"sequences": {name: {every ToNamedMetrics value}}, "combined": {...}} (combined omitted
 // when null). Non-finite numbers are written as the strings "nan", "inf", "-inf".
 std::string MotSummariesToJson(std::span<const MotSummary> sequences, const MotSummary* combined);

@@ -36,6 +36,13 @@ void RunGnuplot(const std::string& gnuplot, const fs::path& script) {
       status.signal != 0 ? status.signal : status.exit_code, script.string(), messages));
 }
 
+std::string RunGnuplotToSvg(const std::string& gnuplot, const fs::path& script,
+                            const std::string& gp, const fs::path& svg) {
+  WriteTextFile(script.string(), gp);
+  RunGnuplot(gnuplot, script);
+  return InlineSvg(ReadWholeFile(svg));
+}
+
 void CheckGnuplot(const std::string& gnuplot) {
   const SourceLocation where{"command line", 0, 0, "--gnuplot"};
   const std::string hint =

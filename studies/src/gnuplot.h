@@ -24,6 +24,12 @@ void RunGnuplot(const std::string& gnuplot, const std::filesystem::path& script)
 // failed the report midway and left its --out folder behind, empty).
 void CheckGnuplot(const std::string& gnuplot);
 
+// Writes the gnuplot script `gp` to `script`, runs it (RunGnuplot) and
+// returns the SVG it wrote to `svg`, inlined (InlineSvg): every plot of the
+// reports ends so.
+std::string RunGnuplotToSvg(const std::string& gnuplot, const std::filesystem::path& script,
+                            const std::string& gp, const std::filesystem::path& svg);
+
 // The whole of a file the report wrote itself ("" when it cannot be read).
 std::string ReadWholeFile(const std::filesystem::path& path);
 

@@ -590,9 +590,7 @@ std::string PlotSvg(const Layout& layout, const std::string& metric, const std::
   } else {
     gp += "plot " + fmt::format("{}", fmt::join(plots, ", \\\n     ")) + "\n";
   }
-  WriteTextFile(script.string(), gp);
-  RunGnuplot(gnuplot, script);
-  return InlineSvg(ReadWholeFile(svg));
+  return RunGnuplotToSvg(gnuplot, script, gp, svg);
 }
 
 // The index of report.panels among the swept keys; nullopt without panels

@@ -284,9 +284,7 @@ std::string CameraMotionSvg(const std::vector<CameraMotionRow>& rows, const std:
                         GpString("scene-filter effective sample size (ESS, right axis)"));
   }
   gp += plot + "\n";
-  WriteTextFile(script.string(), gp);
-  RunGnuplot(gnuplot, script);
-  return InlineSvg(ReadWholeFile(svg));
+  return RunGnuplotToSvg(gnuplot, script, gp, svg);
 }
 
 // tp, fp, fn of one rule in a metrics.json detection block (0 when absent).
@@ -389,9 +387,7 @@ std::string PrecisionRecallSvg(const json& pr, const fs::path& work, const std::
                                          Number(JsonDouble(f1, "min_score")))));
   }
   gp += plot + "\n";
-  WriteTextFile(script.string(), gp);
-  RunGnuplot(gnuplot, script);
-  return InlineSvg(ReadWholeFile(svg));
+  return RunGnuplotToSvg(gnuplot, script, gp, svg);
 }
 
 // The detection-quality section of a rendered run with a detector, with the
@@ -660,9 +656,7 @@ std::string CentreErrorSvg(const std::vector<CentreErrorLine>& lines, const fs::
   gp += "set ylabel 'filter box centre to target box centre, px' noenhanced\n";
   gp += "set grid\nset key below noenhanced\nset yrange [0:*]\n";
   gp += "plot " + fmt::format("{}", fmt::join(plots, ", \\\n     ")) + "\n";
-  WriteTextFile(script.string(), gp);
-  RunGnuplot(gnuplot, script);
-  return InlineSvg(ReadWholeFile(svg));
+  return RunGnuplotToSvg(gnuplot, script, gp, svg);
 }
 
 // Each filter's target by that mapping (the first pair of a filter counts).
@@ -957,9 +951,7 @@ TimelinePlot TimelineSvg(const std::vector<TimelineRow>& rows, int frames, const
       "set print {}\nprint GPVAL_TERM_XMIN, GPVAL_TERM_XMAX, GPVAL_TERM_YMIN, "
       "GPVAL_TERM_YMAX\nunset print\n",
       GpString(box.string()));
-  WriteTextFile(script.string(), gp);
-  RunGnuplot(gnuplot, script);
-  TimelinePlot out{.svg = InlineSvg(ReadWholeFile(svg))};
+  TimelinePlot out{.svg = RunGnuplotToSvg(gnuplot, script, gp, svg)};
   std::error_code ec;
   if (fs::is_regular_file(box, ec)) {
     std::istringstream in(ReadWholeFile(box));

@@ -217,9 +217,7 @@ std::string SceneSketchSvg(const SceneSketch& sketch, const std::string& title,
   } else {
     gp += "plot " + fmt::format("{}", fmt::join(plots, ", \\\n     ")) + "\n";
   }
-  WriteTextFile(script.string(), gp);
-  RunGnuplot(gnuplot, script);
-  return InlineSvg(ReadWholeFile(svg));
+  return RunGnuplotToSvg(gnuplot, script, gp, svg);
 }
 
 }  // namespace hcpf::studies

@@ -1181,7 +1181,8 @@ std::string PairedHtml(const Paired& paired, const StoreMeta& meta, const Layout
                 paired.family),
       reach_note.empty() ? std::string() : " <b>" + EscapeMarkup(reach_note) + "</b>",
       EscapeMarkup(TimingsNote(meta)), EscapeMarkup(TiesNote(paired)));
-  h += "<table><tr>";
+  // Scrolled by itself when wider than the page (an audit: 1290 px at 1280).
+  h += "<div class=\"wide\"><table><tr>";
   for (size_t k : shown) h += "<th>" + EscapeMarkup(keys[k]) + "</th>";
   h += "<th>compared</th><th>n</th>";
   for (const std::string& m : meta.report.y) h += "<th>" + EscapeMarkup(m) + "</th>";
@@ -1227,7 +1228,7 @@ std::string PairedHtml(const Paired& paired, const StoreMeta& meta, const Layout
     }
     h += "</tr>\n";
   }
-  h += "</table>\n";
+  h += "</table></div>\n";
   h += SeedsToLookAtHtml(paired, meta, shown, dir, link_prefix);
   for (const auto& [id, svg] : svgs) {
     h += fmt::format("<div class=\"plot\" id=\"difference-{}\">\n{}\n</div>\n", EscapeMarkup(id),
@@ -2348,6 +2349,7 @@ std::string ReportHtml(const fs::path& dir, const std::string& link_prefix, cons
   h += "<style>body{font-family:sans-serif;margin:1.5em;color:#222}table{border-collapse:collapse;"
        "font-size:13px}td,th{border:1px solid #ccc;padding:3px 7px;text-align:right}"
        "th{background:#f3f3f3}td.k{text-align:left}span.i{white-space:nowrap}.plot{margin:1em 0}"
+       ".wide{overflow-x:auto;max-width:100%}"
        "pre{background:#f7f7f7;"
        "padding:1em;font-size:12px;overflow:auto}.failed{color:#b00}</style>\n</head><body>\n";
   h += fmt::format(
@@ -2405,7 +2407,7 @@ std::string ReportHtml(const fs::path& dir, const std::string& link_prefix, cons
   }
   h += paired_html;
   h += "<h2>Cells</h2>\n<p>Mean [95&nbsp;% interval] over the n seeds (W: Wilson; &dagger;: "
-       "the t interval cut at the metric's bound).</p>\n<table><tr>";
+       "the t interval cut at the metric's bound).</p>\n<div class=\"wide\"><table><tr>";
   for (const std::string& k : keys) h += "<th>" + EscapeMarkup(k) + "</th>";
   h += "<th>n</th><th>failures</th>";
   for (const std::string& m : meta.report.y) h += "<th>" + EscapeMarkup(m) + "</th>";
@@ -2430,7 +2432,7 @@ std::string ReportHtml(const fs::path& dir, const std::string& link_prefix, cons
     }
     h += "</tr>\n";
   }
-  h += "</table>\n";
+  h += "</table></div>\n";
 
   // Overlay videos of the first seed of each line, when the runs wrote them.
   std::string videos;

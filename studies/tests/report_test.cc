@@ -100,6 +100,11 @@ TEST(Report, HtmlHasOnePlotWithDataPerMetricAndCsvHasOneRowPerCell) {
   EXPECT_EQ(r.difference_plots, 3);
   const std::string html = Read(r.html_path);
   EXPECT_EQ(Count(html, "<svg"), 7U);  // 3 plots, 3 of differences, the scene from above
+  // The two wide tables (paired differences, cells) scroll by themselves
+  // rather than widen the page (an audit: the main job's paired table was
+  // 1290 px in a 1280 px window).
+  EXPECT_EQ(Count(html, "<div class=\"wide\"><table>"), 2U);
+  EXPECT_NE(html.find(".wide{overflow-x:auto;max-width:100%}"), std::string::npos);
   // The scene from above, from the first run's gt.json (the minimal
   // scenario's one target).
   EXPECT_NE(html.find("<h2 id=\"scene\">The scene from above</h2>"), std::string::npos);

@@ -1284,6 +1284,41 @@ struct Finding {
   std::string text;   // plain text, no markup
 };
 
+// How the findings and their summary group cells: a cell's group is its
+// swept values with x, the series and the keys that follow either (zipped
+// with it, e.g. an external tracker's command beside its name) cleared.
+class FindingsGrouping {
+ public:
+  FindingsGrouping(const std::vector<Cell>& cells, const Paired& paired, int x_index,
+                   size_t key_count)
+      : cleared_(key_count, false) {
+    const FollowingKeys follow_x = KeysFollowing(cells, key_count, x_index);
+    for (size_t j = 0; j < key_count; ++j) {
+      cleared_[j] = static_cast<int>(j) == paired.series_index || static_cast<int>(j) == x_index ||
+                    paired.follow_series[j] || follow_x[j];
+    }
+  }
+  std::vector<std::string> Of(const Cell& c) const {
+    std::vector<std::string> k = c.values;
+    for (size_t j = 0; j < k.size() && j < cleared_.size(); ++j) {
+      if (cleared_[j]) k[j].clear();
+    }
+    return k;
+  }
+
+ private:
+  std::vector<bool> cleared_;
+};
+
+// "k = v, k2 = v2": a group's values of the keys that tell the groups
+// apart (VaryingKeys of every group).
+std::string GroupWords(const std::vector<std::string>& group, const std::vector<size_t>& varying,
+                       const std::vector<std::string>& keys) {
+  std::vector<std::string> parts;
+  for (size_t k : varying) parts.push_back(keys[k] + " = " + group[k]);
+  return fmt::format("{}", fmt::join(parts, ", "));
+}
+
 std::vector<Finding> FindingsOf(const std::vector<Cell>& cells, const Paired& paired,
                                 const StoreMeta& meta, const Layout& layout) {
   std::vector<Finding> findings;
@@ -1291,29 +1326,17 @@ std::vector<Finding> FindingsOf(const std::vector<Cell>& cells, const Paired& pa
   const auto& keys = meta.swept_keys;
   const auto si = static_cast<size_t>(paired.series_index);
   const int xi = layout.x_index;
-  // Groups: the cells' values with x, the series and the keys that follow
-  // either (zipped with it, e.g. an external tracker's command beside its
-  // name) cleared.
-  const FollowingKeys& follow_series = paired.follow_series;
-  const FollowingKeys follow_x = KeysFollowing(cells, keys.size(), xi);
-  const auto group_key = [&](const Cell& c) {
-    std::vector<std::string> k = c.values;
-    for (size_t j = 0; j < k.size(); ++j) {
-      if (j == si || static_cast<int>(j) == xi || follow_series[j] || follow_x[j]) k[j].clear();
-    }
-    return k;
-  };
+  const FindingsGrouping grouping(cells, paired, xi, keys.size());
   std::vector<std::vector<std::string>> groups;
   std::map<std::vector<std::string>, std::vector<const Cell*>> group_cells;
   for (const Cell& c : cells) {
-    const auto k = group_key(c);
+    const auto k = grouping.Of(c);
     if (!group_cells.count(k)) groups.push_back(k);
     group_cells[k].push_back(&c);
   }
-  std::vector<bool> varies(keys.size(), false);
-  for (const auto& g : groups) {
-    for (size_t k = 0; k < keys.size(); ++k) varies[k] = varies[k] || g[k] != groups.front()[k];
-  }
+  std::vector<const std::vector<std::string>*> group_rows;
+  for (const auto& g : groups) group_rows.push_back(&g);
+  const std::vector<size_t> varying = VaryingKeys(group_rows, keys.size(), -1, -1);
   const auto x_of = [&](const Cell& c) {
     return xi >= 0 ? c.values[static_cast<size_t>(xi)] : std::string();
   };
@@ -1328,11 +1351,7 @@ std::vector<Finding> FindingsOf(const std::vector<Cell>& cells, const Paired& pa
     for (const auto& g : groups) {
       Finding f;
       f.metric = m;
-      std::vector<std::string> parts;
-      for (size_t k = 0; k < keys.size(); ++k) {
-        if (varies[k]) parts.push_back(keys[k] + " = " + g[k]);
-      }
-      f.group = fmt::format("{}", fmt::join(parts, ", "));
+      f.group = GroupWords(g, varying, keys);
       // Best mean per x, the x values collected per winning series value.
       std::vector<std::string> winners;
       std::map<std::string, std::vector<std::string>> won_at;
@@ -1388,7 +1407,7 @@ std::vector<Finding> FindingsOf(const std::vector<Cell>& cells, const Paired& pa
       std::map<std::string, std::pair<int, int>> pairs;      // min, max
       std::map<std::string, std::vector<std::string>> holm_kept;
       for (const PairedRow& row : paired.rows) {
-        if (group_key(*row.cell) != g) continue;
+        if (grouping.Of(*row.cell) != g) continue;
         const PairedComparison& c = row.metrics.at(m);
         const std::string& s = row.cell->values[si];
         if (SurvivesHolm(row, m)) holm_kept[s].push_back(x_of(*row.cell));
@@ -1578,16 +1597,7 @@ std::vector<std::string> SummaryOf(const std::vector<Cell>& cells, const Paired&
   const auto si = static_cast<size_t>(paired.series_index);
   const int xi = layout.x_index;
   const std::string x_name = xi >= 0 ? keys[static_cast<size_t>(xi)] : std::string();
-  const FollowingKeys follow_x = KeysFollowing(cells, keys.size(), xi);
-  const auto group_key = [&](const Cell& c) {
-    std::vector<std::string> k = c.values;
-    for (size_t j = 0; j < k.size(); ++j) {
-      if (j == si || static_cast<int>(j) == xi || paired.follow_series[j] || follow_x[j]) {
-        k[j].clear();
-      }
-    }
-    return k;
-  };
+  const FindingsGrouping grouping(cells, paired, xi, keys.size());
   // Per metric, the x values where it is kept.
   using Kept = std::vector<std::pair<std::string, std::vector<std::string>>>;
   struct Group {
@@ -1602,7 +1612,7 @@ std::vector<std::string> SummaryOf(const std::vector<Cell>& cells, const Paired&
     if (std::find(list.begin(), list.end(), v) == list.end()) list.push_back(v);
   };
   for (const PairedRow& row : paired.rows) {
-    const std::vector<std::string> key = group_key(*row.cell);
+    const std::vector<std::string> key = grouping.Of(*row.cell);
     const std::string& s = row.cell->values[si];
     auto g = std::find_if(groups.begin(), groups.end(),
                           [&](const Group& x) { return x.key == key && x.compared == s; });
@@ -1629,12 +1639,9 @@ std::vector<std::string> SummaryOf(const std::vector<Cell>& cells, const Paired&
     }
   }
   // The keys that tell the groups apart ("Under k = v, ...").
-  std::vector<bool> varies(keys.size(), false);
-  for (const Group& g : groups) {
-    for (size_t k = 0; k < keys.size(); ++k) {
-      varies[k] = varies[k] || g.key[k] != groups.front().key[k];
-    }
-  }
+  std::vector<const std::vector<std::string>*> group_rows;
+  for (const Group& g : groups) group_rows.push_back(&g.key);
+  const std::vector<size_t> varying = VaryingKeys(group_rows, keys.size(), -1, -1);
   // x values in the axis's order: numbers by value, others as laid out.
   const auto x_order = [&](const std::string& x) {
     if (layout.numeric_x) return *ParseNumber(x);
@@ -1697,13 +1704,9 @@ std::vector<std::string> SummaryOf(const std::vector<Cell>& cells, const Paired&
     return joined;
   };
   for (const Group& g : groups) {
-    std::vector<std::string> under;
-    for (size_t k = 0; k < keys.size(); ++k) {
-      if (varies[k]) under.push_back(keys[k] + " = " + g.key[k]);
-    }
-    const std::string subject =
-        (under.empty() ? std::string() : fmt::format("Under {}, ", fmt::join(under, ", "))) +
-        g.compared + " \u2212 " + paired.reference;
+    const std::string under = GroupWords(g.key, varying, keys);
+    const std::string subject = (under.empty() ? std::string() : "Under " + under + ", ") +
+                                g.compared + " \u2212 " + paired.reference;
     const std::string lost =
         g.not_kept == 0 ? std::string()
                         : fmt::format(" {} more {} not survive the correction.", g.not_kept,

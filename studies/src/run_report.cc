@@ -695,27 +695,33 @@ struct TimelineParts {
   std::set<int64_t> mapped;  // filters the mapping gives a target
 };
 
-// gt.json's truncation of each target, by (frame from 1, target id): the
-// share of its box outside the image. Empty when the file is absent, or
-// cannot be read (`note` then says why): the timeline shades by visible
-// fraction alone, and the report stands (a review: a gt.json cut short or
-// over the reader's limit stopped a report that never needed it before).
-std::map<std::pair<int64_t, int64_t>, double> TruncationOf(const fs::path& gt_json,
+// A run folder's gt.json, read once for the timeline's truncations and the
+// scene from above: nullopt when the file is absent, or cannot be read
+// (`note` then says why): the timeline shades by visible fraction alone,
+// there is no sketch, and the report stands (a review: a gt.json cut short
+// or over the reader's limit stopped a report that never needed it before).
+// The project's reader (metrics/detection_truth.h) checks each truncation
+// is a fraction.
+std::optional<metrics::GroundTruthFile> ReadRunGroundTruth(const fs::path& gt_json,
                                                            std::string* note) {
-  std::map<std::pair<int64_t, int64_t>, double> out;
   std::error_code ec;
-  if (!fs::is_regular_file(gt_json, ec)) return out;
-  // The project's reader of gt.json (metrics/detection_truth.h): it checks
-  // each truncation is a fraction.
-  metrics::GroundTruthFile gt;
+  if (!fs::is_regular_file(gt_json, ec)) return std::nullopt;
   try {
-    gt = metrics::ReadGroundTruthJson(gt_json.string());
+    return metrics::ReadGroundTruthJson(gt_json.string());
   } catch (const InputError& e) {
     *note = fmt::format(" {} was not read ({}): targets are shaded by visible fraction alone.",
                         gt_json.string(), e.what());
-    return out;
+    return std::nullopt;
   }
-  for (const FrameGroundTruth& frame : gt.frames) {
+}
+
+// gt.json's truncation of each target, by (frame from 1, target id): the
+// share of its box outside the image. Empty without a gt.json.
+std::map<std::pair<int64_t, int64_t>, double> TruncationOf(
+    const std::optional<metrics::GroundTruthFile>& gt) {
+  std::map<std::pair<int64_t, int64_t>, double> out;
+  if (!gt) return out;
+  for (const FrameGroundTruth& frame : gt->frames) {
     for (const GroundTruthObject& o : frame.objects) {
       out[{frame.frame + 1, Value(o.id)}] = o.truncation;
     }
@@ -1840,10 +1846,12 @@ ReportResult WriteRunReport(const ReportOptions& options) {
   std::vector<CentreErrorLine> centre_lines;  // A's then B's when compared over one truth
   std::string centre_note;                    // why a run's tracks.txt was left out of that plot
   std::string truncation_note;                // why gt.json's truncation was not used
+  const std::optional<metrics::GroundTruthFile> gt_json =
+      ReadRunGroundTruth(dir / "gt.json", &truncation_note);
   if (run.frames > 0 && fs::is_regular_file(gt_txt, ec)) {
     const metrics::MotFile gt =
         metrics::ReadMotFile(gt_txt.string(), metrics::MotFileKind::kGroundTruth, run.frames);
-    const auto truncation = TruncationOf(dir / "gt.json", &truncation_note);
+    const auto truncation = TruncationOf(gt_json);
     const TimelineParts parts = ReadTimeline(gt, metrics, manifest, run.frames, truncation);
     if (same_truth) {
       for (const auto& [id, row] : parts.truth) truth_targets.insert(id);
@@ -1885,15 +1893,9 @@ ReportResult WriteRunReport(const ReportOptions& options) {
   std::string centre_svg;
   // The scene from above (scene_sketch.h), from run A's gt.json: a run
   // without a video had no picture of its scene.
-  std::optional<SceneSketch> sketch;
+  const std::optional<SceneSketch> sketch =
+      gt_json ? std::optional<SceneSketch>(SketchOf(*gt_json)) : std::nullopt;
   std::string sketch_svg;
-  if (std::error_code gt_ec; fs::is_regular_file(dir / "gt.json", gt_ec)) {
-    try {
-      sketch = SketchOf(metrics::ReadGroundTruthJson((dir / "gt.json").string()));
-    } catch (const InputError&) {
-      // Said by the timeline's note (TruncationOf reads the same file).
-    }
-  }
   if ((!rows.empty() && !rounding_only) || !timeline.empty() || has_curve ||
       !centre_lines.empty() || sketch) {
     const fs::path work = MakePlotWorkDir(out, options.out_dir.empty());

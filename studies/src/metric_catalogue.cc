@@ -99,6 +99,11 @@ bool MachineDependent(std::string_view metric) {
   return entry != nullptr && entry->file == "manifest.json";
 }
 
+bool Descriptive(std::string_view metric) {
+  return metric == "det_size_px" || metric == "camera_motion_floor_px" ||
+         metric == "reacquisitions";
+}
+
 const std::vector<std::string>& MetricNames() {
   static const std::vector<std::string> kNames = [] {
     std::vector<std::string> names;

@@ -2019,16 +2019,12 @@ ReportResult WriteRunReport(const ReportOptions& options) {
     if (other) {
       // A − B green where A is better in the metric's direction, red where
       // worse; not coloured: a time (MachineDependent), and what describes
-      // the scene or the run rather than scores it (a review): the target
-      // size the detector faced, the camera-motion floor (the best any
-      // similarity does on these frames), how often filters were re-acquired.
+      // the scene or the run rather than scores it (Descriptive, a review).
       const double d = a - b;
-      const bool descriptive = m.name == "det_size_px" || m.name == "camera_motion_floor_px" ||
-                               m.name == "reacquisitions";
-      const char* style = !std::isfinite(d) || d == 0.0 || MachineDependent(m.name) || descriptive
-                              ? ""
-                          : (d > 0.0) == m.higher_is_better ? " style=\"background:#dff3df\""
-                                                            : " style=\"background:#f8dede\"";
+      const char* style =
+          !std::isfinite(d) || d == 0.0 || MachineDependent(m.name) || Descriptive(m.name) ? ""
+          : (d > 0.0) == m.higher_is_better ? " style=\"background:#dff3df\""
+                                            : " style=\"background:#f8dede\"";
       h += fmt::format("<td>{}{}</td><td{}>{}{}</td>", text(m, b, false),
                        std::isfinite(b) ? unit : "", style, text(m, d, true),
                        std::isfinite(d) && d != 0.0 ? unit : "");

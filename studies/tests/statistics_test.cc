@@ -448,5 +448,18 @@ TEST(MetricCatalogue, ProportionsAreTheFractionsOfCountedEvents) {
   EXPECT_FALSE(FindMetric("ms_per_frame")->range.bounded_above());
 }
 
+// The metrics that describe a run rather than score it are catalogue
+// entries (a renamed one would leave Descriptive silently false), and no
+// score is one.
+TEST(MetricCatalogue, DescriptiveMetricsAreTheSizeTheFloorAndTheReacquisitions) {
+  std::vector<std::string> descriptive;
+  for (const CatalogueMetric& m : MetricCatalogue()) {
+    if (Descriptive(m.name)) descriptive.emplace_back(m.name);
+  }
+  EXPECT_EQ(descriptive,
+            (std::vector<std::string>{"camera_motion_floor_px", "det_size_px", "reacquisitions"}));
+  EXPECT_FALSE(Descriptive("da_accuracy"));
+}
+
 }  // namespace
 }  // namespace hcpf::studies

@@ -43,6 +43,13 @@ const CatalogueMetric* FindMetric(std::string_view name);
 // reports plot and table it but do not test it (docs/sweeps.md).
 bool MachineDependent(std::string_view metric);
 
+// Whether `metric` describes the run or its scene rather than scores it:
+// the target size the detector faced (det_size_px), the camera-motion floor
+// (the best any similarity does on these frames), how often filters were
+// re-acquired. Its catalogue direction orders values, but a difference in it
+// is no better or worse: the run report does not colour it.
+bool Descriptive(std::string_view metric);
+
 // The names, in catalogue order (built once).
 const std::vector<std::string>& MetricNames();
 

@@ -13,6 +13,7 @@
 
 #include "gnuplot.h"
 #include "hcpf/core/text_file.h"
+#include "hcpf/core/types.h"
 #include "text.h"
 
 namespace hcpf::studies {
@@ -57,10 +58,6 @@ double CornerDistance(const SketchFootprint& a, const SketchFootprint& b) {
   return d;
 }
 
-bool Overlap(const BoxPx& a, const BoxPx& b) {
-  return a.left < b.right() && b.left < a.right() && a.top < b.bottom() && b.top < a.bottom();
-}
-
 // "61–95", or "12 frames between 61 and 120" when not every frame between.
 std::string FramesText(const std::vector<int>& frames) {
   const int first = frames.front() + 1, last = frames.back() + 1;
@@ -93,7 +90,7 @@ SceneSketch SketchOf(const metrics::GroundTruthFile& gt) {
       for (size_t j = i + 1; j < frame.objects.size(); ++j) {
         const GroundTruthObject& a = frame.objects[i];
         const GroundTruthObject& b = frame.objects[j];
-        if (!a.in_frame || !b.in_frame || !Overlap(a.amodal_box, b.amodal_box)) continue;
+        if (!a.in_frame || !b.in_frame || Intersect(a.amodal_box, b.amodal_box).empty()) continue;
         const int ia = static_cast<int>(a.id), ib = static_cast<int>(b.id);
         overlaps[{std::min(ia, ib), std::max(ia, ib)}].push_back(frame.frame);
       }

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <array>
+#include <charconv>
 #include <cmath>
 #include <filesystem>
 #include <limits>
@@ -146,10 +147,36 @@ void MeshData::Validate(const std::string& source) const {
   }
 }
 
+namespace {
+
+// The double nearest the shortest decimal that reads back as `f`: 6.9f gives
+// 6.9, where widening it gives 6.900000095367432.
+double ShortestDecimal(float f) {
+  std::array<char, 32> text{};
+  const auto written = std::to_chars(text.data(), text.data() + text.size(), f);
+  HCPF_CHECK(written.ec == std::errc());
+  double d = 0.0;
+  const auto read = std::from_chars(text.data(), written.ptr, d);
+  HCPF_CHECK(read.ec == std::errc());
+  return d;
+}
+
+}  // namespace
+
 Eigen::Vector3d MeshDimensions(const MeshData& mesh) {
   if (mesh.positions.empty()) return Eigen::Vector3d::Zero();
   const Eigen::AlignedBox3f b = mesh.Bounds();
-  return (b.max() - b.min()).cast<double>();
+  // The bounds are floats: read each as the decimal it was written as, take
+  // the difference in doubles and keep a float's precision, so that a model
+  // from z = 1.1 to 3.3 is 2.2 m high (not 2.1999998, the float difference,
+  // nor 2.1999999999999997) in the resolved scenario and its hash. Casting
+  // back to float (the renderer's scale) gives the float extent within an ulp.
+  Eigen::Vector3d d;
+  for (int i = 0; i < 3; ++i) {
+    const double extent = ShortestDecimal(b.max()[i]) - ShortestDecimal(b.min()[i]);
+    d[i] = ShortestDecimal(static_cast<float>(extent));
+  }
+  return d;
 }
 
 MeshData LoadMesh(const std::string& path) {

@@ -155,6 +155,23 @@ TEST(MeshIo, GlbRoundTripKeepsDimensions) {
   EXPECT_NEAR(d.z(), 1.5, 1e-6);
 }
 
+// A model's extents are floats; the scenario holds doubles. Widened as they
+// are, 6.9f would be 6.900000095367432 in every resolved scenario (an audit
+// found such dimensions in the reports); through the shortest decimal form
+// they are the numbers the model was made with, and the same floats again.
+TEST(MeshIo, DimensionsAreTheFloatsShortestDecimals) {
+  MeshData mesh;
+  mesh.positions = {{0.0f, -1.8f, 1.1f}, {6.9f, 1.8f, 3.3f}};
+  const Eigen::Vector3d d = MeshDimensions(mesh);
+  EXPECT_EQ(d.x(), 6.9);
+  EXPECT_EQ(d.y(), 3.6);
+  // 3.3f - 1.1f is 2.19999981f, and 3.3 - 1.1 in doubles 2.1999999999999997.
+  ASSERT_NE(3.3f - 1.1f, 2.2f);
+  EXPECT_EQ(d.z(), 2.2);
+  EXPECT_EQ(static_cast<float>(d.x()), 6.9f);
+  EXPECT_EQ(static_cast<float>(d.y()), 3.6f);
+}
+
 TEST(MeshIo, GlbIsWrittenYUp) {
   // Reads the GLB's JSON chunk directly: the POSITION accessor's max must be
   // (X, Y, Z)_gltf = (y, z, x)_model = (1, 1.5, 2) for the 4 x 2 x 1.5 box.

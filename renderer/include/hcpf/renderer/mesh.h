@@ -63,7 +63,9 @@ MeshData LoadMesh(const std::string& path);
 // TEXCOORD_0, COLOR_0 and 32-bit indices. Throws hcpf::RunError on failure.
 void WriteGlb(const MeshData& mesh, const std::string& path);
 
-// (length, width, height) of the mesh's bounds: extents along x, y, z.
+// (length, width, height) of the mesh's bounds: extents along x, y, z, each
+// a float's precision written as the decimals the model was made with (a
+// model 6.9 m long gives 6.9, not 6.900000095367432).
 Eigen::Vector3d MeshDimensions(const MeshData& mesh);
 
 // Builds meshes from primitives with flat normals and indexed vertices (4

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <opencv2/core.hpp>
 #include <opencv2/imgproc.hpp>
+#include <string>
 
 #include "codecs.h"
 #include "hcpf/core/check.h"
@@ -65,22 +66,33 @@ RgbImage MakeContactSheet(const std::vector<RenderedFrame>& frames,
     cv::Mat thumb;
     cv::resize(rgb, thumb, cv::Size(tw, th), 0, 0, cv::INTER_AREA);
     const auto to = [&](double v) { return static_cast<int>(std::lround(v * scale)); };
+    // Each box and label is drawn over a black line three pixels wide (and
+    // the labels over a black halo), so that a green visible box reads on
+    // green grass and a white label on a bright road.
+    const cv::Scalar kOutline(0, 0, 0);
+    const auto box = [&](const BoxPx& b, const cv::Scalar& colour) {
+      const cv::Point tl(to(b.left), to(b.top)), br(to(b.right()), to(b.bottom()));
+      cv::rectangle(thumb, tl, br, kOutline, 3);
+      cv::rectangle(thumb, tl, br, colour, 1);
+    };
+    const auto label = [&](const std::string& text, cv::Point at, double font_scale) {
+      cv::putText(thumb, text, at, cv::FONT_HERSHEY_PLAIN, font_scale, kOutline, 3);
+      cv::putText(thumb, text, at, cv::FONT_HERSHEY_PLAIN, font_scale, cv::Scalar(255, 255, 255),
+                  1);
+    };
+    for (const GroundTruthObject& o : f.ground_truth.objects) {
+      if (!o.in_frame) continue;
+      box(o.amodal_box, cv::Scalar(255, 220, 0));
+      if (!o.visible_box.empty()) box(o.visible_box, cv::Scalar(0, 255, 0));
+    }
+    // Labels after every box, so that no box's outline crosses a label.
     for (const GroundTruthObject& o : f.ground_truth.objects) {
       if (!o.in_frame) continue;
       const BoxPx& a = o.amodal_box;
-      cv::rectangle(thumb, cv::Point(to(a.left), to(a.top)),
-                    cv::Point(to(a.right()), to(a.bottom())), cv::Scalar(255, 220, 0), 1);
-      if (!o.visible_box.empty()) {
-        const BoxPx& v = o.visible_box;
-        cv::rectangle(thumb, cv::Point(to(v.left), to(v.top)),
-                      cv::Point(to(v.right()), to(v.bottom())), cv::Scalar(0, 255, 0), 1);
-      }
-      cv::putText(thumb, fmt::format("{} {:.2f}", Value(o.id), o.visible_fraction),
-                  cv::Point(to(a.left), std::max(8, to(a.top) - 2)), cv::FONT_HERSHEY_PLAIN, 0.8,
-                  cv::Scalar(255, 255, 255), 1);
+      label(fmt::format("{} {:.2f}", Value(o.id), o.visible_fraction),
+            cv::Point(to(a.left), std::max(8, to(a.top) - 2)), 0.8);
     }
-    cv::putText(thumb, fmt::format("{}", f.frame + 1), cv::Point(4, 14), cv::FONT_HERSHEY_PLAIN,
-                1.0, cv::Scalar(255, 255, 255), 1);
+    label(fmt::format("{}", f.frame + 1), cv::Point(4, 14), 1.0);
     const int r = static_cast<int>(i) / cols;
     const int c = static_cast<int>(i) % cols;
     thumb.copyTo(canvas(cv::Rect(kGap + c * (tw + kGap), kGap + r * (th + kGap), tw, th)));

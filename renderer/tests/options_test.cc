@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include <array>
 #include <cerrno>
 #include <cmath>
 #include <cstdint>
@@ -577,6 +578,37 @@ TEST(ContactSheet, GridOfThumbnailsWithGap) {
   EXPECT_EQ(sheet.height, 60);
   // The fifth frame (value 160) sits in row 1, column 1; probe its centre.
   EXPECT_EQ(sheet.at(4 + 36 + 16, 4 + 28 + 18)[1], 160);
+}
+
+// Green boxes on green grass (an audit found them hard to see on the
+// contact sheet): every box is a 1 px line over a 3 px black one. On a thumb
+// at full size (scale 1), a visible box whose left edge is x = 10 draws green
+// at x = 10 and black at x = 9 and 11; the grass at x = 13 is untouched.
+TEST(ContactSheet, BoxesAreOutlinedInBlack) {
+  std::vector<RenderedFrame> frames(1);
+  frames[0].rgb = Flat(64, 48, 0);
+  for (size_t p = 1; p < frames[0].rgb.pixels.size(); p += 3) frames[0].rgb.pixels[p] = 150;
+  GroundTruthObject o;
+  o.id = ObjectId{1};
+  o.in_frame = true;
+  o.amodal_box = {.left = 10, .top = 20, .width = 30, .height = 16};
+  o.visible_box = o.amodal_box;
+  o.visible_fraction = 1.0;
+  frames[0].ground_truth.objects = {o};
+  ContactSheetOptions options;
+  options.columns = 1;
+  options.thumb_width_px = 64;
+  const RgbImage sheet = MakeContactSheet(frames, options);
+  constexpr int kGap = 4;   // the sheet's margin
+  const int y = kGap + 28;  // halfway down the box's left edge
+  const auto rgb = [&](int x) {
+    const uint8_t* px = sheet.at(kGap + x, y);
+    return std::array<int, 3>{px[0], px[1], px[2]};
+  };
+  EXPECT_EQ(rgb(10), (std::array<int, 3>{0, 255, 0}));
+  EXPECT_EQ(rgb(9), (std::array<int, 3>{0, 0, 0}));
+  EXPECT_EQ(rgb(11), (std::array<int, 3>{0, 0, 0}));
+  EXPECT_EQ(rgb(13), (std::array<int, 3>{0, 150, 0}));
 }
 
 // The device selection of issue 13 item 3, on described devices: a GPU's

@@ -155,6 +155,30 @@ cv::Size LabelSize(const std::string& text, double scale, int* text_height) {
   return {size.width, size.height + baseline};
 }
 
+}  // namespace
+
+namespace internal {
+
+std::string FitHeaderLine(const std::string& text, double scale, int max_width_px) {
+  int text_height = 0;
+  const auto fits = [&](const std::string& t) {
+    return LabelSize(t, scale, &text_height).width <= max_width_px;
+  };
+  if (fits(text)) return text;
+  const std::string kCut = " ..";
+  std::string kept = text;
+  for (size_t comma = kept.rfind(", "); comma != std::string::npos; comma = kept.rfind(", ")) {
+    kept.resize(comma);
+    if (fits(kept + kCut)) return kept + kCut;
+  }
+  while (!kept.empty() && !fits(kept + kCut)) kept.pop_back();
+  return kept.empty() ? std::string() : kept + kCut;
+}
+
+}  // namespace internal
+
+namespace {
+
 void Label(cv::Mat& image, const std::string& text, cv::Point at, const cv::Scalar& colour,
            double scale = kLabelScale) {
   at.y = std::max(at.y, 12);
@@ -309,10 +333,12 @@ OverlayVideo WriteOverlayVideo(const std::string& path, const Scenario& scenario
     const std::vector<std::string> header_text =
         internal::OverlayHeaderLines(scenario, truth[f].frame, !observations.empty());
     for (size_t i = 0; i < header_text.size(); ++i) {
-      header.push_back({header_text[i],
+      const double scale = i == 0 ? kLabelScale : 0.35;
+      // From x = 6, with as much room on the right.
+      header.push_back({internal::FitHeaderLine(header_text[i], scale, width - 12),
                         {6, 16 + 15 * static_cast<int>(i)},
                         i == 2 ? kDetectionColour : cv::Scalar(255, 255, 255),
-                        i == 0 ? kLabelScale : 0.35});
+                        scale});
     }
     std::vector<internal::PixelRect> taken;
     for (const HeaderLine& line : header) {

@@ -372,6 +372,32 @@ TEST(Overlay, HeaderLinesTagTheRun) {
             "seed 12, tracker: external (python3 sort.py --iou 0.3 --model=/a/b.onnx 2x)");
 }
 
+// The header on a narrow frame (an audit: the tag ran off frames narrower
+// than about 260 px). The width is OpenCV's, as the overlay draws it
+// (Hershey simplex, thickness 3).
+TEST(Overlay, HeaderLinesAreCutToTheFrame) {
+  const auto width = [](const std::string& text) {
+    int baseline = 0;
+    return cv::getTextSize(text, cv::FONT_HERSHEY_SIMPLEX, 0.35, 3, &baseline).width;
+  };
+  const std::string tag =
+      "seed 12, 250 particles, charged resampling, associated likelihood, camera motion "
+      "scene_filter";
+  // Room for all of it: as it is.
+  EXPECT_EQ(internal::FitHeaderLine(tag, 0.35, width(tag)), tag);
+  // One pixel short: the last clause goes, and " .." says so.
+  EXPECT_EQ(internal::FitHeaderLine(tag, 0.35, width(tag) - 1),
+            "seed 12, 250 particles, charged resampling, associated likelihood ..");
+  // Room for the first three clauses and the mark, not for a fourth.
+  const std::string three = "seed 12, 250 particles, charged resampling ..";
+  EXPECT_EQ(internal::FitHeaderLine(tag, 0.35, width(three)), three);
+  // Narrower than the first clause: its characters are cut.
+  const std::string cut = internal::FitHeaderLine(tag, 0.35, width("seed 1 .."));
+  EXPECT_EQ(cut, "seed 1 ..");
+  // No room at all: nothing.
+  EXPECT_EQ(internal::FitHeaderLine(tag, 0.35, 2), "");
+}
+
 // The tag is drawn: the header's second line (its rectangle: x from 6,
 // baseline y 31, about 8 px tall at scale 0.35), on the plain background,
 // where nothing else is drawn in minimal's first frame (its targets are

@@ -112,6 +112,13 @@ std::string OverlayRunTag(const Scenario& scenario);
 // "crossing  frame 1": the tag tells them apart, in a screenshot too.
 std::vector<std::string> OverlayHeaderLines(const Scenario& scenario, int frame, bool detections);
 
+// `text` as drawn at `scale` in a frame `max_width_px` wide: whole when it
+// fits, else without its last ", "-separated clauses (the run tag's
+// likelihood, camera motion, resampling ...) and then its last characters,
+// ending in " .." to show the cut. The header's lines ran off frames
+// narrower than about 260 px (an audit).
+std::string FitHeaderLine(const std::string& text, double scale, int max_width_px);
+
 }  // namespace internal
 
 // InputError naming `option` (e.g. "--video") when the scenario's camera is

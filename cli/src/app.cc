@@ -10,7 +10,9 @@
 
 #include <CLI/CLI.hpp>
 #include <cerrno>
+#include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <cstring>
 #include <exception>
 #include <iostream>
@@ -49,8 +51,14 @@ std::string CommandLineMessage(const std::string& what, const std::string& comma
   std::smatch m;
   std::string text;
   if (std::regex_match(what, m, kRange)) {
-    text = fmt::format("{}: expected a value in [{}, {}], found \"{}\"", m.str(1), m.str(3),
-                       m.str(4), m.str(2));
+    // CLI11 writes a number range's bounds as "0.000000": the shortest form.
+    const auto bound = [](const std::string& b) {
+      char* end = nullptr;
+      const double value = std::strtod(b.c_str(), &end);
+      return end == b.c_str() + b.size() ? fmt::format("{}", value) : b;
+    };
+    text = fmt::format("{}: expected a value in [{}, {}], found \"{}\"", m.str(1), bound(m.str(3)),
+                       bound(m.str(4)), m.str(2));
   } else if (std::regex_match(what, m, kMissing)) {
     text = fmt::format("{}: expected a value after it, found none", m.str(1));
   } else if (std::regex_match(what, m, kChoice)) {
@@ -123,9 +131,23 @@ int ParseAndRun(int argc, char** argv, std::span<const AddCommandFn> adders,
         return fmt::format("expected a decimal integer, found \"{}\"", text);
       },
       "", "decimal");
+  // Number options likewise take a finite decimal number: CLI::Range let
+  // --min-visible nan through (NaN fails both of its comparisons) and CLI11
+  // reads hexadecimal floats (0x0.8p0) and inf (a third bad-input audit).
+  const CLI::Validator finite_decimal(
+      [](std::string& text) -> std::string {
+        static const std::regex kNumber(R"([+-]?(\d+\.?\d*|\.\d+)([eE][+-]?\d+)?)");
+        if (std::regex_match(text, kNumber) && std::isfinite(std::strtod(text.c_str(), nullptr))) {
+          return {};
+        }
+        return fmt::format("expected a finite decimal number, found \"{}\"", text);
+      },
+      "", "finite decimal");
   for (CLI::App* sub : app.get_subcommands([](CLI::App*) { return true; })) {
     for (CLI::Option* option : sub->get_options()) {
-      if (option->get_type_name().rfind("INT", 0) == 0) option->transform(decimal);
+      const std::string type = option->get_type_name();
+      if (type.rfind("INT", 0) == 0) option->transform(decimal);
+      if (type.rfind("FLOAT", 0) == 0) option->transform(finite_decimal);
     }
   }
 

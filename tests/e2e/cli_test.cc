@@ -113,6 +113,37 @@ TEST(Cli, NoOrUnknownSubcommandIsBadInput) {
   EXPECT_NE(schema.output.find("did you mean \"sweep\"?"), std::string::npos) << schema.output;
 }
 
+// Number options take a finite decimal number (a third bad-input audit:
+// --min-visible nan passed CLI11's range check, NaN failing both of its
+// comparisons, and scored every target "don't care" with exit 0; a
+// hexadecimal float was read). Their ranges are written as numbers, not
+// CLI11's "0.000000".
+TEST(Cli, NumberOptionsAreFiniteDecimals) {
+  for (const std::string value : {"nan", "-nan", "inf", "1e400", "0x0.8p0", "1,5", "."}) {
+    const auto r = RunCommand(kHcpf + " score --detections a b --min-visible '" + value + "'");
+    EXPECT_EQ(r.exit_code, 2) << value << "\n" << r.output;
+    EXPECT_NE(
+        r.output.find("--min-visible: expected a finite decimal number, found \"" + value + "\""),
+        std::string::npos)
+        << r.output;
+  }
+  const auto score = RunCommand(kHcpf + " score --detections a b --min-score nan");
+  EXPECT_EQ(score.exit_code, 2) << score.output;
+  EXPECT_NE(score.output.find("--min-score: expected a finite decimal number, found \"nan\""),
+            std::string::npos)
+      << score.output;
+  const auto range = RunCommand(kHcpf + " score --detections a b --min-visible 1.5");
+  EXPECT_EQ(range.exit_code, 2) << range.output;
+  EXPECT_NE(range.output.find("--min-visible: expected a value in [0, 1], found \"1.5\""),
+            std::string::npos)
+      << range.output;
+  // Decimal forms are read: the files are then looked for.
+  for (const std::string value : {"0.5", ".5", "5e-1", "+1", "0"}) {
+    const auto r = RunCommand(kHcpf + " score --detections a b --min-visible " + value);
+    EXPECT_NE(r.output.find("a: expected a gt.json"), std::string::npos) << value << r.output;
+  }
+}
+
 // Integer options take decimal digits only, checked before their range (a
 // second bad-input audit: CLI11 read --jobs 0x2 as 2, and --jobs 1.5 was
 // "not in range"). Exit 2 with the option named, nothing written; every

@@ -3,6 +3,7 @@
 #include "hcpf/studies/export.h"
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 #include <spdlog/spdlog.h>
 #include <unistd.h>
 
@@ -190,6 +191,7 @@ TrackEvalExportResult ExportTrackEval(const TrackEvalExportOptions& options) {
   // whose runs all failed is one that every sequence lacks (a third bad-input
   // audit found it silently absent from a complete-looking export).
   std::set<std::string> trackers;
+  std::vector<std::string> damaged;  // ok in the store, not whole on disk
   for (const RunRecord& r : records) {
     std::vector<std::string> seq_group, seq_keys, tracker_group, trk_keys;
     for (size_t k : sequence_keys) {
@@ -205,10 +207,15 @@ TrackEvalExportResult ExportTrackEval(const TrackEvalExportOptions& options) {
     const std::string tracker = tracker_names.NameOf(tracker_group, tracker_label);
     trackers.insert(tracker);
     const fs::path run_dir = dir / r.run_dir;
+    // Whole as resume, --reuse and merge ask (RunFolderIntact: every file
+    // of the manifest's list at the size written, the metrics the store
+    // holds): a bad-input audit found an emptied tracks.txt exported as a
+    // tracker that found nothing, exit 0.
     if (!r.ok || !fs::is_regular_file(run_dir / "gt" / "gt.txt") ||
         !fs::is_regular_file(run_dir / "tracks.txt") ||
-        !fs::is_regular_file(run_dir / "seqinfo.ini")) {
+        !fs::is_regular_file(run_dir / "seqinfo.ini") || !RunFolderIntact(run_dir.string(), r)) {
       ++result.not_ok;
+      if (r.ok) damaged.push_back(r.run_dir);
       continue;
     }
     seq_group.push_back(std::to_string(r.seed_index));
@@ -218,9 +225,17 @@ TrackEvalExportResult ExportTrackEval(const TrackEvalExportOptions& options) {
   }
   if (result.not_ok > 0) {
     spdlog::warn(
-        "export: {} run(s) left out: failed, or their run folder lacks gt/gt.txt, "
-        "tracks.txt or seqinfo.ini",
-        result.not_ok);
+        "export: {} run(s) left out: failed, or their run folder lacks a file it wrote or "
+        "holds one of another size (damaged){}",
+        result.not_ok,
+        damaged.empty()
+            ? std::string()
+            : fmt::format(
+                  "; damaged: {}{}",
+                  fmt::join(damaged.begin(),
+                            damaged.begin() + std::min<ptrdiff_t>(std::ssize(damaged), 5), ", "),
+                  damaged.size() > 5 ? fmt::format(" and {} more", damaged.size() - 5)
+                                     : std::string()));
   }
 
   // Keep the sequences with a run of every tracker.

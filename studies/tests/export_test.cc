@@ -145,6 +145,18 @@ TEST(ExportTrackEval, LayoutReadsBackToEveryRunsMetrics) {
   EXPECT_EQ(partial.skipped, 1);
   EXPECT_EQ(ReadFile(dir / "te3" / "gt" / "mot_challenge" / "seqmaps" / "HCPF-val.txt"),
             "name\n" + seqs[0] + "\n" + seqs[2] + "\n" + seqs[3] + "\n");
+
+  // Emptied or replaced, not removed (a bad-input audit: exported as a
+  // tracker that found nothing, exit 0): left out as resume and merge leave
+  // it out, by the manifest's file sizes.
+  const RunRecord& emptied = run_of[{seqs[3], trackers[1]}];
+  std::ofstream(sweep / emptied.run_dir / "tracks.txt", std::ios::trunc).flush();
+  const TrackEvalExportResult damaged =
+      ExportTrackEval({.dir = sweep.string(), .out = (dir / "te4").string()});
+  EXPECT_EQ(damaged.not_ok, 2);
+  EXPECT_EQ(damaged.skipped, 2);
+  EXPECT_EQ(ReadFile(dir / "te4" / "gt" / "mot_challenge" / "seqmaps" / "HCPF-train.txt"),
+            "name\n" + seqs[0] + "\n" + seqs[2] + "\n");
 }
 
 // An export killed before its rename leaves OUT.partial-<pid>; the next

@@ -1862,9 +1862,14 @@ ReportResult WriteRunReport(const ReportOptions& options) {
     }
     const auto add_centre_lines = [&](const RunFolder& r, const std::string& prefix) {
       const fs::path tracks = r.dir / "tracks.txt";
-      if (!fs::is_regular_file(tracks, ec)) return;
-      // A tracks.txt the plot cannot read (edited by hand, a row past the
-      // run's frames) leaves the plot, said so; the rest of the report stands.
+      // A tracks.txt missing or that the plot cannot read (edited by hand,
+      // cut short, a row past the run's frames) leaves the plot, said in the
+      // page and the log; the rest of the report stands. (A bad-input audit
+      // found the section gone without a word when it was the only run's.)
+      if (!fs::is_regular_file(tracks, ec)) {
+        centre_note += fmt::format(" {} is left out of this plot: it is missing.", tracks.string());
+        return;
+      }
       try {
         const std::vector<CentreErrorLine> lines = CentreErrorLines(
             gt, metrics::ReadMotFile(tracks.string(), metrics::MotFileKind::kTracks, r.frames),
@@ -2081,13 +2086,17 @@ ReportResult WriteRunReport(const ReportOptions& options) {
   h += VideoSection(run, other ? &*other : nullptr, out,
                     options.out_dir.empty() ? "overlay.mp4" : LinkFrom(out, dir / "overlay.mp4"));
   h += FramesToLookAtHtml(run, other ? &*other : nullptr, link);
-  if (!centre_svg.empty()) {
+  if (!centre_note.empty()) spdlog::warn("report: centre error per frame:{}", centre_note);
+  if (!centre_svg.empty() || !centre_note.empty()) {
     h += "<h2>Centre error per frame</h2>\n<p>For each target, the distance in px between the "
          "centre of the box of each filter the identity mapping gives it (tracks.txt) and the "
          "centre of its own box (gt/gt.txt), in the frames where both have one; a gap is a frame "
          "where either has none. It is what DA accuracy and the MOT metrics judge, frame by "
          "frame, and where two runs of one ground truth differ." +
-         EscapeMarkup(centre_note) + "</p>\n";
+         EscapeMarkup(centre_note) + (centre_svg.empty() ? " Nothing is left to plot." : "") +
+         "</p>\n";
+  }
+  if (!centre_svg.empty()) {
     h += fmt::format("<div class=\"plot\" id=\"plot-centre_error\">\n{}\n</div>\n", centre_svg);
   }
   if (!sketch_svg.empty()) {

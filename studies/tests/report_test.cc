@@ -615,6 +615,33 @@ TEST(RunReport, PlotsTheCentreErrorOfEachTargetsFilter) {
             std::string::npos);
 }
 
+// A tracks.txt the plot cannot read, cut short or missing: the section says
+// so in place of its plot (a bad-input audit: it was gone without a word,
+// exit 0, as the note was written only beside a plot).
+TEST(RunReport, SaysWhyTheCentreErrorHasNoPlot) {
+  const auto dir = testing::SweepFolder("run-report-centre-note");
+  const fs::path run = RunMinimal(dir, "none");
+  for (const std::string damage : {"unreadable", "missing"}) {
+    SCOPED_TRACE(damage);
+    if (damage == "missing") {
+      fs::remove(run / "tracks.txt");
+    } else {
+      std::ofstream(run / "tracks.txt", std::ios::trunc) << "1,1,abc,2,3,4,1,-1,-1,-1\n";
+    }
+    const std::string html = Read(WriteReport({.dir = run.string()}).html_path);
+    EXPECT_EQ(html.find("id=\"plot-centre_error\""), std::string::npos);
+    const size_t section = html.find("<h2>Centre error per frame</h2>");
+    ASSERT_NE(section, std::string::npos);
+    const std::string paragraph = html.substr(section, html.find("</p>", section) - section);
+    EXPECT_NE(paragraph.find((run / "tracks.txt").string() + " is left out of this plot: "),
+              std::string::npos)
+        << paragraph;
+    EXPECT_NE(paragraph.find(damage == "missing" ? "it is missing." : "column"), std::string::npos)
+        << paragraph;
+    EXPECT_NE(paragraph.find("Nothing is left to plot."), std::string::npos) << paragraph;
+  }
+}
+
 // An audit: a truck 98 % outside the image was drawn "visible ≥ 0.75" (the
 // visible fraction counts only the part in the image) above 40 frames of
 // "detector missed it" before its model existed. By hand: target 1 visible

@@ -40,7 +40,15 @@ std::string RunGnuplotToSvg(const std::string& gnuplot, const fs::path& script,
                             const std::string& gp, const fs::path& svg) {
   WriteTextFile(script.string(), gp);
   RunGnuplot(gnuplot, script);
-  return InlineSvg(ReadWholeFile(svg));
+  // A program that exits 0 without writing the plot (a wrapper, a gnuplot
+  // whose svg terminal failed quietly) gave a report of empty plots, exit 0
+  // (a bad-input audit): a failure as gnuplot's own.
+  const std::string text = ReadWholeFile(svg);
+  if (text.find("<svg") == std::string::npos) {
+    throw RunError(fmt::format("gnuplot (\"{}\") exited 0 but wrote no SVG to {}{}", gnuplot,
+                               svg.string(), fs::exists(svg) ? " (the file holds none)" : ""));
+  }
+  return InlineSvg(text);
 }
 
 void CheckGnuplot(const std::string& gnuplot) {

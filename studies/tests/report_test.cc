@@ -795,6 +795,23 @@ TEST(RunReport, GnuplotThatCannotRunIsBadInputBeforeAnythingIsWritten) {
   }
 }
 
+// A gnuplot that exits 0 and writes no SVG (a bad-input audit: /bin/true
+// gave a report of empty plots, "3 plots", exit 0) fails the report as a
+// failing gnuplot does, and no report.html is published.
+TEST(RunReport, GnuplotThatWritesNoSvgFailsTheReport) {
+  const auto dir = testing::SweepFolder("run-report-gnuplot-no-svg");
+  const fs::path run = RunMinimal(dir, "none");
+  try {
+    WriteReport({.dir = run.string(), .gnuplot = "/bin/true"});
+    ADD_FAILURE() << "a report of empty plots was written";
+  } catch (const RunError& e) {
+    const std::string what = e.what();
+    EXPECT_NE(what.find("gnuplot (\"/bin/true\") exited 0 but wrote no SVG to "), std::string::npos)
+        << what;
+  }
+  EXPECT_FALSE(fs::exists(run / "report.html"));
+}
+
 // Two runs' hand-written filter states and detections, over one ground
 // truth, for the comparison of run A with run B (--against).
 void WriteComparedRuns(const fs::path& a, const fs::path& b) {

@@ -704,6 +704,9 @@ struct PairedRow {
 struct Paired {
   int series_index = -1;
   std::string reference;  // the reference series value
+  // No cell has the reference value (a store's report.reference edited, or
+  // a store stopped before its runs): nothing is compared, said so.
+  bool reference_absent = false;
   // Keys that follow the series value (KeysFollowing): they take the
   // reference's value in the partner cell.
   FollowingKeys follow_series;
@@ -754,6 +757,8 @@ Paired PairedRowsOf(const std::vector<Cell>& cells, const StoreMeta& meta) {
       meta.report.reference.empty() ? cells.front().values[si] : meta.report.reference;
   std::map<std::vector<std::string>, const Cell*> by_values;
   for (const Cell& c : cells) by_values.emplace(c.values, &c);
+  paired.reference_absent = std::none_of(
+      cells.begin(), cells.end(), [&](const Cell& c) { return c.values[si] == paired.reference; });
   // Keys that follow the series value take the reference's value in the
   // partner cell (an external tracker's cells pair with the reference
   // particle filter's, whose tracker.type and command differ).
@@ -1563,8 +1568,13 @@ std::string FindingsIntro(const Paired& paired, const GlanceTable& glance, const
     // comparisons ... about 0.0 findings").
     return fmt::format(
         "Generated from the runs: for every metric, which {} value has the best mean at each x. "
-        "This report tests no comparison:{}{}",
-        meta.report.series, TimingsNote(meta), TiesNote(paired));
+        "This report tests no comparison:{}{}{}",
+        meta.report.series, TimingsNote(meta), TiesNote(paired),
+        paired.reference_absent
+            ? fmt::format(" no run has the reference value {} = {} (report.reference), so no "
+                          "cell has a partner.",
+                          meta.report.series, paired.reference)
+            : std::string());
   }
   return fmt::format(
       "Generated from the runs: for every metric, which {0} value has the best mean at each x, "
@@ -2599,6 +2609,12 @@ ReportResult WriteReport(const ReportOptions& options) {
   // Paired differences against the reference series value (their plots
   // below), and --against read and checked before anything is written.
   const Paired paired = PairedRowsOf(cells, meta);
+  if (paired.reference_absent) {
+    spdlog::warn(
+        "report: no run has the reference value {} = {} (report.reference): nothing is "
+        "compared",
+        meta.report.series, paired.reference);
+  }
   const std::unique_ptr<AgainstStore> there =
       options.against.empty() ? nullptr : OpenAgainst(options.against, meta, paired);
 

@@ -1,6 +1,7 @@
 #include "hcpf/studies/results_store.h"
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 #include <spdlog/spdlog.h>
 #include <sqlite3.h>
 #include <unistd.h>
@@ -282,13 +283,47 @@ void ResultsStore::ReadMeta() {
     throw damaged("swept_keys", "a JSON list of the swept keys");
   }
   const json report = parse("report", "the sweep file's report: block as a JSON object");
-  meta_.report.x = report.value("x", "");
-  meta_.report.y = report.value("y", std::vector<std::string>{});
-  meta_.report.series = report.value("series", "");
-  meta_.report.x_metric = report.value("x_metric", "");
-  meta_.report.pool = report.value("pool", std::vector<std::string>{});
-  meta_.report.panels = report.value("panels", "");
-  meta_.report.reference = report.value("reference", "");
+  // Each entry of its type, and no other (a bad-input audit: a number as
+  // series gave the JSON library's "type must be string" naming only meta,
+  // an unknown key was ignored).
+  const auto text = [&](const char* key) -> std::string {
+    if (!report.contains(key)) return "";
+    if (!report[key].is_string()) {
+      throw InputError(SourceLocation{path_, 0, 0, fmt::format("meta.report.{}", key)},
+                       "a results store of hcpf sweep: text", report[key].dump(),
+                       "the store's meta table was changed after the sweep wrote it");
+    }
+    return report[key].get<std::string>();
+  };
+  const auto list = [&](const char* key) -> std::vector<std::string> {
+    if (!report.contains(key)) return {};
+    const json& j = report[key];
+    if (!j.is_array() ||
+        !std::all_of(j.begin(), j.end(), [](const json& e) { return e.is_string(); })) {
+      throw InputError(SourceLocation{path_, 0, 0, fmt::format("meta.report.{}", key)},
+                       "a results store of hcpf sweep: a list of text", j.dump(),
+                       "the store's meta table was changed after the sweep wrote it");
+    }
+    return j.get<std::vector<std::string>>();
+  };
+  static const std::set<std::string> kReportKeys = {"x",    "y",      "series",   "x_metric",
+                                                    "pool", "panels", "reference"};
+  for (const auto& [key, value] : report.items()) {
+    if (kReportKeys.count(key) == 0) {
+      throw InputError(
+          SourceLocation{path_, 0, 0, "meta.report"},
+          fmt::format("a results store of hcpf sweep: the keys {}", fmt::join(kReportKeys, ", ")),
+          fmt::format("\"{}\"", key),
+          "the store's meta table was changed after the sweep wrote it");
+    }
+  }
+  meta_.report.x = text("x");
+  meta_.report.y = list("y");
+  meta_.report.series = text("series");
+  meta_.report.x_metric = text("x_metric");
+  meta_.report.pool = list("pool");
+  meta_.report.panels = text("panels");
+  meta_.report.reference = text("reference");
   CheckStoredMeta();
 }
 
@@ -570,6 +605,19 @@ std::vector<RunRecord> ResultsStore::Runs() const {
                         "a results store of hcpf sweep: " + expected, found,
                         "the store's runs table was changed after the sweep wrote it");
     };
+    // Each run of the sweep's expansion has its own index, below the run
+    // count (a bad-input audit: -3 and a second row of one index were kept).
+    if (r.index < 0 || (meta_.run_count > 0 && r.index >= meta_.run_count) ||
+        (!out.empty() && out.back().index == r.index)) {
+      throw damaged("run_index",
+                    meta_.run_count > 0
+                        ? fmt::format("a run index of its own, 0 to {}", meta_.run_count - 1)
+                        : std::string("a run index of its own, 0 or more"),
+                    fmt::format("{}{}", r.index,
+                                !out.empty() && out.back().index == r.index
+                                    ? fmt::format(", the index of run {} too", out.back().key)
+                                    : ""));
+    }
     const std::string seed = s.Text(i++);
     const auto [end, ec] = std::from_chars(seed.data(), seed.data() + seed.size(), r.seed);
     if (ec != std::errc() || end != seed.data() + seed.size() || seed.empty()) {
@@ -594,7 +642,13 @@ std::vector<RunRecord> ResultsStore::Runs() const {
     for (size_t k = 0; k < meta_.swept_keys.size(); ++k) r.values.push_back(s.Text(i++));
     for (const std::string& m : MetricNames()) {
       if (!s.Null(i) && !s.Number(i)) {
-        throw damaged(m, "a number or NULL", fmt::format("the text \"{}\"", s.Text(i)));
+        throw damaged(m, "a finite number or NULL", fmt::format("the text \"{}\"", s.Text(i)));
+      }
+      // The sweep stores a metric that is not finite as NULL (BindReal): an
+      // Inf was left out of a cell's mean while a resume recomputed its run
+      // (a bad-input audit).
+      if (!s.Null(i) && !std::isfinite(s.Real(i))) {
+        throw damaged(m, "a finite number or NULL", fmt::format("{}", s.Real(i)));
       }
       r.metrics[m] = s.Real(i++);
     }

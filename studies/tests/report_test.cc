@@ -2852,6 +2852,26 @@ constexpr const char* kFourRuns =
     "  tracker.resampling.method: [systematic, charged]\n"
     "report: {x: tracker.particles, series: tracker.resampling.method, y: [idf1]}\n";
 
+// A store's report.reference that no run has (a bad-input audit: edited to
+// "nope", the report said "0 compared cells" and nothing else, exit 0): the
+// findings say why nothing is compared.
+TEST(Report, SaysWhenNoRunHasTheReferenceValue) {
+  const auto dir = testing::SweepFolder("report-reference-absent");
+  const SweepSpec spec = LoadSweepFile(testing::WriteSweep(dir, kFourRuns, "s.yaml"));
+  const fs::path out = RunQuietly(spec, dir);
+  EditStore(out,
+            "UPDATE meta SET value = '{\"x\":\"tracker.particles\",\"y\":[\"idf1\"],"
+            "\"series\":\"tracker.resampling.method\",\"reference\":\"nope\"}' "
+            "WHERE name = 'report'");
+  const ReportResult r = WriteReport({.dir = out.string()});
+  EXPECT_EQ(r.comparisons, 0);
+  EXPECT_NE(Read(r.html_path)
+                .find("This report tests no comparison: no run has the reference value "
+                      "tracker.resampling.method = nope (report.reference), so no cell has a "
+                      "partner."),
+            std::string::npos);
+}
+
 // The report names the build of hcpf that made the runs (the store keeps each
 // run's, from its manifest, when the run is put), and says in bold when they
 // are several: here one row says another revision, as after a rebuild and a

@@ -230,6 +230,14 @@ TEST(ResultsStore, HandEditedMetaIsBadInputNamingTheEntry) {
        "meta.swept_keys: expected a results store of hcpf sweep: a JSON list of the swept keys"},
       {"report", "[1]",
        R"(meta.report: expected a results store of hcpf sweep: the sweep file's report: block as a JSON object, found "[1]")"},
+      // A fourth audit: the JSON library's "type must be string" naming
+      // only meta; an unknown key ignored.
+      {"report", R"({"x": "tracker.particles", "y": ["idf1"], "series": 5})",
+       R"(meta.report.series: expected a results store of hcpf sweep: text, found 5)"},
+      {"report", R"({"x": "tracker.particles", "y": "idf1"})",
+       R"(meta.report.y: expected a results store of hcpf sweep: a list of text, found "idf1")"},
+      {"report", R"({"x": "tracker.particles", "y": ["idf1"], "extra": 1})",
+       R"(meta.report: expected a results store of hcpf sweep: the keys panels, pool, reference, series, x, x_metric, y, found "extra")"},
   };
   for (const auto& [name, value, expected] : edits) {
     fs::copy_file(good, path, fs::copy_options::overwrite_existing);
@@ -304,6 +312,7 @@ TEST(ResultsStore, AFinishedStoreIsOneFileThatReadersLeaveAlone) {
     auto store = ResultsStore::OpenOrCreate(path, meta);
     EXPECT_EQ(JournalMode(path), "wal");
     r.key = "k2";
+    r.index = 1;  // each run of a sweep has its own index
     store->Put(r);
   }
   EXPECT_EQ(JournalMode(path), "delete");
@@ -501,6 +510,7 @@ TEST(ResultsStore, KeepsEachRunsBuildAndMigratesStoresWithoutTheColumn) {
       r.key = key;
       r.build = build;
       store->Put(r);
+      ++r.index;  // each run of a sweep has its own index
     }
   }
   {
@@ -548,7 +558,13 @@ TEST(ResultsStore, HandEditedRowsAreBadInputNamingTheRowAndColumn) {
   for (
       const auto& [sql, expected] : std::vector<std::pair<std::string, std::string>>{
           {"UPDATE runs SET idf1 = 'abc'",
-           R"(runs[k1].idf1: expected a results store of hcpf sweep: a number or NULL, found the text "abc")"},
+           R"(runs[k1].idf1: expected a results store of hcpf sweep: a finite number or NULL, found the text "abc")"},
+          // A fourth audit: an Inf left out of a cell's mean (the sweep
+          // stores what is not finite as NULL), a negative run index kept.
+          {"UPDATE runs SET idf1 = 9e999",
+           R"(runs[k1].idf1: expected a results store of hcpf sweep: a finite number or NULL, found inf)"},
+          {"UPDATE runs SET run_index = -3",
+           R"(runs[k1].run_index: expected a results store of hcpf sweep: a run index of its own, 0 or more, found -3)"},
           {"UPDATE runs SET status = 'weird'",
            R"(runs[k1].status: expected a results store of hcpf sweep: "ok" or "failed", found "weird")"},
           {"UPDATE runs SET seed = 'x1'",
@@ -566,6 +582,29 @@ TEST(ResultsStore, HandEditedRowsAreBadInputNamingTheRowAndColumn) {
   fs::copy_file(good, path, fs::copy_options::overwrite_existing);
   ExecSql(path, "UPDATE runs SET idf1 = 1");
   EXPECT_EQ(ResultsStore::Open(path)->Runs()[0].metrics.at("idf1"), 1.0);
+  // Two rows of one run index.
+  {
+    auto store = ResultsStore::Open(path, StoreAccess::kReadWrite);
+    RunRecord r;
+    r.key = "k2";
+    r.index = 1;
+    r.run_dir = "runs/k2";
+    r.ok = true;
+    r.metrics = {{"idf1", 0.25}};
+    store->Put(r);
+  }
+  EXPECT_EQ(ResultsStore::Open(path)->Runs().size(), 2U);
+  ExecSql(path, "UPDATE runs SET run_index = 0");
+  try {
+    ResultsStore::Open(path)->Runs();
+    ADD_FAILURE() << "two rows of run index 0 were accepted";
+  } catch (const InputError& e) {
+    EXPECT_NE(
+        std::string(e.what()).find(
+            R"(runs[k2].run_index: expected a results store of hcpf sweep: a run index of its own, 0 or more, found 0, the index of run k1 too)"),
+        std::string::npos)
+        << e.what();
+  }
 }
 
 TEST(RunSweep, ParallelEqualsSerialAndResumeReusesEverything) {

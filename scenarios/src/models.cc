@@ -21,10 +21,28 @@ std::string ResolveModelPath(const std::string& written, const std::string& scen
   return fs::weakly_canonical(config::FindFileOrFail(where, written, beside, expected)).string();
 }
 
+std::string ProjectRelativePath(const std::string& file) {
+  std::error_code ec;
+  const fs::path path = fs::weakly_canonical(fs::absolute(file, ec), ec);
+  const fs::path rel =
+      path.lexically_relative(fs::weakly_canonical(fs::path(HCPF_PROJECT_SOURCE_DIR), ec));
+  return !rel.empty() && *rel.begin() != ".." ? rel.generic_string() : path.string();
+}
+
 std::string PortableModelPath(const std::string& resolved) {
-  const fs::path root = fs::weakly_canonical(fs::path(HCPF_PROJECT_SOURCE_DIR));
-  const fs::path rel = fs::path(resolved).lexically_relative(root);
-  if (!rel.empty() && *rel.begin() != "..") return rel.generic_string();
+  // Relative to the first of the project's folder and the current folder
+  // that holds it: a second clone run from its own folder (or a checkout
+  // mounted elsewhere than the binary was built) writes the same path, so
+  // the same configuration hash (a determinism audit found the clone's
+  // absolute path, and sweeps that could then be neither resumed from there
+  // nor merged). Both are places the lookup (ResolveModelPath) looks in.
+  std::error_code ec;
+  for (const fs::path& folder :
+       {fs::weakly_canonical(fs::path(HCPF_PROJECT_SOURCE_DIR)), fs::current_path(ec)}) {
+    if (folder.empty() || folder == folder.root_path()) continue;  // "/" holds every file
+    const fs::path rel = fs::path(resolved).lexically_relative(fs::weakly_canonical(folder));
+    if (!rel.empty() && *rel.begin() != ".." && rel.is_relative()) return rel.generic_string();
+  }
   return resolved;
 }
 

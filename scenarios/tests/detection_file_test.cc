@@ -328,5 +328,37 @@ TEST(DetectionFile, ADigestOrHashThatIsNoneOrAFileForTheRenderingIsSaidToBe) {
       << error;
 }
 
+// A model beside the scenario, in a folder run from: written relative to
+// the current folder, so two clones run each from its own folder write the
+// same path and hash (a determinism audit: the clone's absolute path was
+// written, and its sweeps could be neither resumed from another folder nor
+// merged). Run from elsewhere: absolute, as before.
+TEST(ModelPath, RelativeToTheCurrentFolderThatHoldsIt) {
+  const fs::path dir = hcpf::testing::FreshDir("model-path-cwd");
+  const auto resolved_model = [&](const fs::path& clone, const fs::path& cwd) {
+    fs::create_directories(clone / "m");
+    fs::copy_file(fs::path(HCPF_SOURCE_DIR) / "assets" / "vehicles" / "tank.glb",
+                  clone / "m" / "tank.glb", fs::copy_options::overwrite_existing);
+    const fs::path kept = fs::current_path();
+    fs::current_path(cwd);
+    const Scenario s =
+        LoadScenarioText(kMinimal, (clone / "m" / "s.yaml").string(),
+                         {{"targets.0", "{id: 1, model: tank.glb, path: {waypoints: [[0, 0]]}}"}});
+    // Written (as a run writes it) in the folder it was run from.
+    const auto written = std::pair{ToResolvedYaml(s), ConfigHash(s)};
+    fs::current_path(kept);
+    return written;
+  };
+  const auto [one, one_hash] = resolved_model(dir / "one", dir / "one");
+  const auto [two, two_hash] = resolved_model(dir / "two", dir / "two");
+  EXPECT_NE(one.find("model: \"m/tank.glb\""), std::string::npos) << one;
+  EXPECT_EQ(one, two);
+  EXPECT_EQ(one_hash, two_hash);
+  const auto [outside, outside_hash] = resolved_model(dir / "one", dir / "two");
+  EXPECT_NE(outside.find("model: \"" + (dir / "one" / "m" / "tank.glb").string() + "\""),
+            std::string::npos)
+      << outside;
+}
+
 }  // namespace
 }  // namespace hcpf::scenarios

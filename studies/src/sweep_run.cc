@@ -24,6 +24,7 @@
 #include "hcpf/renderer/image_io.h"
 #include "hcpf/renderer/renderer.h"
 #include "hcpf/scenarios/frames.h"
+#include "hcpf/scenarios/models.h"
 #include "hcpf/scenarios/output_folder.h"
 #include "hcpf/scenarios/overlay.h"
 #include "hcpf/scenarios/progress.h"
@@ -312,7 +313,12 @@ SweepPlan PrepareSweep(const SweepSpec& spec, const std::vector<SweepRun>& runs,
 
   StoreMeta meta;
   meta.sweep_hash = SweepHash(runs);
-  meta.sweep_file = spec.file;
+  // Relative to the project's folder when the file is inside it, else its
+  // absolute path: the same file started from another folder (or a shard
+  // started elsewhere) records the same name, so a merge does not take the
+  // first shard's spelling and a resume does not rewrite it (a determinism
+  // audit: the path was stored as typed).
+  meta.sweep_file = scenarios::ProjectRelativePath(spec.file);
   meta.swept_keys = spec.SweptKeys();
   meta.report = spec.report;
   if (spec.base_paths.size() > 1) {

@@ -22,6 +22,7 @@
 #include <vector>
 
 #include "hcpf/metrics/report.h"
+#include "hcpf/scenarios/models.h"
 #include "hcpf/scenarios/run.h"
 #include "hcpf/studies/metric_catalogue.h"
 #include "hcpf/studies/report.h"
@@ -713,6 +714,26 @@ TEST(RunSweep, ResumingWithAnEditedReportBlockTakesTheNewSettings) {
   EXPECT_EQ(meta.report.y, std::vector<std::string>{"hota"});
   EXPECT_EQ(meta.report.series, "");
   EXPECT_EQ(fs::path(meta.sweep_file).filename(), "second.yaml");
+}
+
+// The sweep's file is recorded by where it is, not as it was typed: a
+// relative path started from the file's folder records the absolute path
+// (outside the project), so a resume started elsewhere keeps the same name
+// and a merge of shards started in different folders does not depend on
+// their order (a determinism audit). Inside the project: relative to it.
+TEST(RunSweep, RecordsTheSweepFileByWhereItIs) {
+  const auto dir = SweepFolder("sweep-file-name");
+  const fs::path file = WriteSweep(dir, kSweep, "named.yaml");
+  const fs::path kept = fs::current_path();
+  fs::current_path(dir);
+  const SweepSpec spec = LoadSweepFile("named.yaml");
+  RunSweep(spec, ExpandSweep(spec), Options(dir / "out", 2));
+  fs::current_path(kept);
+  EXPECT_EQ(ResultsStore::Open((dir / "out" / "results.sqlite").string())->meta().sweep_file,
+            fs::weakly_canonical(file).string());
+  EXPECT_EQ(scenarios::ProjectRelativePath(std::string(HCPF_SOURCE_DIR) +
+                                           "/scenarios/sweeps/../sweeps/default.yaml"),
+            "scenarios/sweeps/default.yaml");
 }
 
 // --out takes a new, empty or earlier sweep folder; a run folder or a

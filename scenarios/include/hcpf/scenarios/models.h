@@ -21,8 +21,15 @@ std::string ResolveModelPath(const std::string& written, const std::string& scen
                              const SourceLocation& where,
                              const std::string& expected = "the path of an existing model file");
 
+// `file` relative to the project's source folder when inside it, else its
+// absolute path: the same whatever the current folder (a sweep's
+// meta.sweep_file).
+std::string ProjectRelativePath(const std::string& file);
+
 // The path written to resolved scenarios: relative to the project's source
-// folder when the file is inside it (shipped assets stay portable), else absolute.
+// folder when the file is inside it (shipped assets stay portable), else to
+// the current folder when it is inside that (a second clone run from its own
+// folder), else absolute.
 std::string PortableModelPath(const std::string& resolved);
 
 // Length (along +x), width and height of a model file's bounding box, in

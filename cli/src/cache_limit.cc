@@ -7,6 +7,8 @@
 
 #include "hcpf/core/error.h"
 #include "hcpf/scenarios/cache.h"
+#include "hcpf/scenarios/frames.h"
+#include "hcpf/scenarios/output_folder.h"
 
 namespace hcpf::cli {
 
@@ -14,6 +16,12 @@ std::string FrameCacheFolder(const std::string& cache, bool cache_given, bool no
   if (cache_given && no_cache) {
     throw InputError(SourceLocation{"command line", 0, 0, "--no-cache"},
                      "either --cache DIR or --no-cache", "both (--cache " + cache + ")");
+  }
+  // The default folder is checked here, naming where it came from: a
+  // bad-input audit found HCPF_CACHE_DIR naming a file reported as
+  // "--cache: expected a cache folder", an option not given.
+  if (!no_cache && !cache_given) {
+    scenarios::CheckFolderArgument(cache, scenarios::DefaultFrameCacheSource());
   }
   return no_cache ? "" : cache;
 }

@@ -15,6 +15,7 @@
 #include "hcpf/core/error.h"
 #include "hcpf/scenarios/cache.h"
 #include "hcpf/scenarios/frames.h"
+#include "hcpf/scenarios/output_folder.h"
 
 namespace hcpf::cli {
 
@@ -53,16 +54,24 @@ Command AddCacheCommand(CLI::App& parent) {
         // an empty cache. The default may not exist yet (nothing cached).
         std::error_code ec;
         const auto status = std::filesystem::status(options->cache, ec);
+        // The folder's source as the error names it: --cache, or where its
+        // default came from (a bad-input audit: HCPF_CACHE_DIR naming a file
+        // was reported as --cache, not given).
+        const std::string key =
+            cache->count() > 0 ? std::string("--cache") : scenarios::DefaultFrameCacheSource();
         if (std::filesystem::exists(status) && !std::filesystem::is_directory(status)) {
-          throw InputError(SourceLocation{options->cache, 0, 0, "--cache"}, "a cache folder",
+          throw InputError(SourceLocation{options->cache, 0, 0, key}, "a cache folder",
                            "an existing file");
         }
         if (!std::filesystem::exists(status) && cache->count() > 0) {
           throw InputError(
-              SourceLocation{options->cache, 0, 0, "--cache"}, "an existing cache folder",
+              SourceLocation{options->cache, 0, 0, key}, "an existing cache folder",
               "no such folder",
               "hcpf run and sweep create it; the default is " + scenarios::DefaultFrameCacheDir());
         }
+        // A default below a file can never be created (it was "not created
+        // yet: nothing cached", exit 0).
+        if (!std::filesystem::exists(status)) scenarios::CheckFolderArgument(options->cache, key);
         // $HCPF_CACHE_MAX_SIZE, said when set (a bad value is bad input here too).
         const std::optional<uint64_t> limit = scenarios::CacheMaxSizeFromEnvironment();
         const scenarios::CacheContents contents = scenarios::ScanCache(options->cache);
@@ -101,7 +110,7 @@ Command AddCacheCommand(CLI::App& parent) {
         }
         if (!contents.foreign.empty()) {
           throw InputError(
-              SourceLocation{options->cache, 0, 0, "--cache"},
+              SourceLocation{options->cache, 0, 0, key},
               "a cache folder of hcpf (scene folders of NNNNNN.frame and .json files, "
               "detections/*.det of hcpf)",
               fmt::format("{}, which is not a cache entry{}", contents.foreign.front().string(),

@@ -47,6 +47,15 @@ std::string DefaultFrameCacheDir() {
   return ".hcpf-cache/frames";
 }
 
+std::string DefaultFrameCacheSource() {
+  for (const char* variable : {"HCPF_CACHE_DIR", "XDG_CACHE_HOME", "HOME"}) {
+    if (const char* value = std::getenv(variable); value != nullptr && *value != '\0') {
+      return std::string(variable) + " (environment)";
+    }
+  }
+  return "the default";
+}
+
 void MakeFrameCacheFolder(const std::filesystem::path& dir) {
   std::error_code ec;
   std::filesystem::create_directories(dir, ec);

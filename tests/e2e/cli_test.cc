@@ -144,6 +144,38 @@ TEST(Cli, NumberOptionsAreFiniteDecimals) {
   }
 }
 
+// A default cache folder that cannot be one is named by where it came from
+// (a bad-input audit: HCPF_CACHE_DIR naming a file was reported as
+// "--cache", an option not given; one below a file was "not created yet:
+// nothing cached", exit 0).
+TEST(Cli, ABadCacheFromTheEnvironmentIsNamedSo) {
+  const fs::path dir = FreshDir("cache-env");
+  std::ofstream(dir / "file") << "not a folder\n";
+  const std::string env = "HCPF_CACHE_DIR=" + (dir / "file").string() + " ";
+  const auto cache = RunCommand(env + kHcpf + " cache");
+  EXPECT_EQ(cache.exit_code, 2) << cache.output;
+  EXPECT_NE(cache.output.find((dir / "file").string() +
+                              ": HCPF_CACHE_DIR (environment): expected a cache folder, found an "
+                              "existing file"),
+            std::string::npos)
+      << cache.output;
+  const auto below =
+      RunCommand("HCPF_CACHE_DIR=" + (dir / "file" / "sub").string() + " " + kHcpf + " cache");
+  EXPECT_EQ(below.exit_code, 2) << below.output;
+  EXPECT_NE(below.output.find("HCPF_CACHE_DIR (environment): expected a folder (new or "
+                              "existing), found a path below the file " +
+                              (dir / "file").string()),
+            std::string::npos)
+      << below.output;
+  const auto run = RunCommand(env + kHcpf + " run " + LibraryScenario("crossing") + " --out " +
+                              (dir / "run").string());
+  EXPECT_EQ(run.exit_code, 2) << run.output;
+  EXPECT_NE(run.output.find("HCPF_CACHE_DIR (environment): expected a folder"), std::string::npos)
+      << run.output;
+  EXPECT_EQ(run.output.find("--cache"), std::string::npos) << run.output;
+  EXPECT_FALSE(fs::exists(dir / "run"));
+}
+
 // Integer options take decimal digits only, checked before their range (a
 // second bad-input audit: CLI11 read --jobs 0x2 as 2, and --jobs 1.5 was
 // "not in range"). Exit 2 with the option named, nothing written; every

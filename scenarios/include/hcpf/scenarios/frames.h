@@ -23,6 +23,10 @@ renderer::RendererOptions RendererOptionsOf(const Scenario& scenario);
 
 // $HCPF_CACHE_DIR, else $XDG_CACHE_HOME/hcpf/frames, else $HOME/.cache/hcpf/frames.
 std::string DefaultFrameCacheDir();
+// Where DefaultFrameCacheDir() came from, as an error names it:
+// "HCPF_CACHE_DIR (environment)", "XDG_CACHE_HOME (environment)", "HOME
+// (environment)", or "the default" (the current folder's .hcpf-cache).
+std::string DefaultFrameCacheSource();
 
 // Creates a frame cache folder (and its parents), or throws RunError naming
 // it and the ways to another (--cache DIR, HCPF_CACHE_DIR, --no-cache): the

@@ -584,6 +584,15 @@ Scenario LoadFromNode(YAML::Node root, const std::string& file,
                        "hcpf sweep FILE --out DIR runs a sweep; a sweep's base and a regress "
                        "suite's scenes are scenario files");
     }
+    // A regression suite or baseline likewise (a bad-input audit: "required
+    // key frames missing", never saying what the file was).
+    for (auto it = root.begin(); it != root.end(); ++it) {
+      if (!it->first.IsScalar() || it->first.Scalar() != "scenes") continue;
+      throw InputError(r.Key(it->first).Where(), "a scenario file",
+                       "a regression suite or baseline (it has `scenes:` at the top)",
+                       "hcpf regress SUITE.yaml --baseline BASELINE.json runs a suite; its "
+                       "scenes name scenario files");
+    }
   }
   ApplyOverrides(root, overrides, context.get());
   return ReadScenario(YamlReader(root, "", context), file);

@@ -316,6 +316,13 @@ std::vector<BadCase> Cases() {
        "seeds: 2\ngrid:\n  tracker.particles: [10, 20]\n",
        {},
        {"bad.yaml:2:1:", "grid", "expected a scenario file", "found a sweep file", "hcpf sweep"}},
+      // A fourth bad-input audit: a regression suite (or baseline) where a
+      // scenario goes was "required key frames missing".
+      {"RegressSuiteAsScenario",
+       "scenes:\n  - {name: a, scenario: crossing.yaml}\nmetrics:\n  mota: {tolerance: 0.01}\n",
+       {},
+       {"bad.yaml:1:1:", "scenes", "expected a scenario file",
+        "found a regression suite or baseline (it has `scenes:` at the top)", "hcpf regress"}},
       // A bad-input audit: a map likelihood with nothing making maps.
       {"MapLikelihoodWithoutMaps",
        m,

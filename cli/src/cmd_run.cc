@@ -50,7 +50,7 @@ Command AddRunCommand(CLI::App& parent) {
             std::vector<scenarios::Override> overrides;
             for (const auto& s : options->sets) overrides.push_back(scenarios::ParseOverride(s));
             const scenarios::Scenario scenario =
-                scenarios::LoadScenarioFile(options->file, overrides);
+                scenarios::LoadScenarioFromCommandLine(options->file, overrides);
             if (const std::string note = scenarios::LargeScenarioNote(scenario); !note.empty()) {
               spdlog::warn("{}", note);
             }

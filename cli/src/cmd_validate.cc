@@ -55,7 +55,7 @@ Command AddValidateCommand(CLI::App& parent) {
             std::vector<scenarios::Override> overrides;
             for (const auto& s : options->sets) overrides.push_back(scenarios::ParseOverride(s));
             const scenarios::Scenario scenario =
-                scenarios::LoadScenarioFile(options->file, overrides);
+                scenarios::LoadScenarioFromCommandLine(options->file, overrides);
             if (options->print) std::cout << scenarios::ToResolvedYaml(scenario);
             spdlog::info("{}: valid scenario \"{}\" ({} frames, {} targets)", options->file,
                          scenario.name, scenario.world.frames, scenario.world.targets.size());

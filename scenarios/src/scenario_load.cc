@@ -4,6 +4,7 @@
 // by hand is the structure (lists, kinds) and the rules across keys.
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -610,6 +611,27 @@ Scenario LoadScenarioFile(const std::string& path, const std::vector<Override>& 
     throw InputError(SourceLocation{path, 0, 0, ""}, "a scenario YAML file", "a directory");
   }
   return LoadFromNode(YamlReader::ParseFile(path), path, overrides);
+}
+
+Scenario LoadScenarioFromCommandLine(const std::string& path,
+                                     const std::vector<Override>& overrides) {
+  try {
+    return LoadScenarioFile(path, overrides);
+  } catch (const InputError& e) {
+    // At an override's own value the error already names it (--set k=v).
+    if (overrides.empty() || e.where().override_index >= 0) throw;
+    // An error of the file itself, which it makes without the overrides, as it is.
+    try {
+      LoadScenarioFile(path);
+    } catch (const InputError&) {
+      throw e;
+    }
+    std::vector<std::string> labels;
+    for (const Override& o : overrides) labels.push_back(o.Label());
+    const std::string with = fmt::format("with {}", fmt::join(labels, ", "));
+    throw InputError(e.where(), e.expected(), e.found(),
+                     e.hint().empty() ? with : e.hint() + "; " + with);
+  }
 }
 
 Scenario Reseeded(const Scenario& scenario, uint64_t seed) {

@@ -144,6 +144,32 @@ TEST(Cli, NumberOptionsAreFiniteDecimals) {
   }
 }
 
+// An error that a --set makes at a line of the file valid on its own names
+// the overrides (a bad-input audit: the line was blamed, the --set unnamed);
+// one at the override's own value names it as before; the file's own errors
+// stay as they are.
+TEST(Cli, ErrorsMadeByASetNameIt) {
+  const std::string scenario = LibraryScenario("crossing");
+  const auto id = RunCommand(kHcpf + " validate " + scenario + " --set targets.0.id=2");
+  EXPECT_EQ(id.exit_code, 2) << id.output;
+  EXPECT_NE(id.output.find("targets[1].id: expected an id used by no other target, found \"2\" "
+                           "(with --set targets.0.id=2)"),
+            std::string::npos)
+      << id.output;
+  const auto frames =
+      RunCommand(kHcpf + " run " + scenario + " --set frames=10 --set seed=3 --out " +
+                 (FreshDir("set-named") / "out").string());
+  EXPECT_EQ(frames.exit_code, 2) << frames.output;
+  EXPECT_NE(frames.output.find("expected an integer in [0, 9], found \"12\" (with --set frames=10, "
+                               "--set seed=3)"),
+            std::string::npos)
+      << frames.output;
+  const auto own = RunCommand(kHcpf + " validate " + scenario + " --set frames=x");
+  EXPECT_NE(own.output.find("--set frames=x: frames: expected an integer"), std::string::npos)
+      << own.output;
+  EXPECT_EQ(own.output.find("(with --set"), std::string::npos) << own.output;
+}
+
 // A default cache folder that cannot be one is named by where it came from
 // (a bad-input audit: HCPF_CACHE_DIR naming a file was reported as
 // "--cache", an option not given; one below a file was "not created yet:

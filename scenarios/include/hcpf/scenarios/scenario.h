@@ -305,6 +305,13 @@ inline constexpr std::array<std::string_view, 3> kSweepFileKeys = {"base", "grid
 Scenario LoadScenarioFile(const std::string& path, const std::vector<Override>& overrides = {});
 Scenario LoadScenarioText(const std::string& text, const std::string& file_name,
                           const std::vector<Override>& overrides = {});
+// LoadScenarioFile for a command's FILE and --set overrides: an error that
+// the overrides make at a line of the file valid on its own (another
+// target's id, a path frame past the overridden frames) ends with the
+// overrides ("with --set frames=10"), as a sweep names a cell's swept
+// values (a bad-input audit: the line was blamed, the override unnamed).
+Scenario LoadScenarioFromCommandLine(const std::string& path,
+                                     const std::vector<Override>& overrides);
 
 // The resolved scenario as YAML: every key with its value, seeds included.
 // Loading this text gives back an identical Scenario (and the same text).

@@ -134,7 +134,8 @@ std::vector<DetectionFileRow> DetectionRowsOf(const MotFile& file) {
                                           row.box.height},
                                   .score = row.conf},
                     .id = row.id,
-                    .line = row.line});
+                    .line = row.line,
+                    .id_whole = row.id_whole});
   }
   return rows;
 }
@@ -142,13 +143,16 @@ std::vector<DetectionFileRow> DetectionRowsOf(const MotFile& file) {
 void ReadDetectionLabels(const MotFile& file, const std::set<int64_t>& targets,
                          const std::string& labels_option, std::vector<DetectionFileRow>* rows) {
   for (DetectionFileRow& row : *rows) {
-    if (row.id == -1) continue;
-    if (!targets.contains(row.id)) {
+    if (row.id == -1 && row.id_whole) continue;
+    // A fractional label names no target (a bad-input audit: 1.5 was read
+    // as "no label", where 7 is refused); MotFile keeps only its truncation.
+    if (!row.id_whole || !targets.contains(row.id)) {
       throw InputError(SourceLocation{file.path, row.line, 2, "column 2 (id)"},
                        fmt::format("the id of one of the targets ({}), or -1 for a detection of "
                                    "none: {} reads column 2 as the target",
                                    fmt::join(targets, ", "), labels_option),
-                       std::to_string(row.id));
+                       row.id_whole ? std::to_string(row.id)
+                                    : fmt::format("a fraction (read as {} by truncation)", row.id));
     }
     row.detection.target = ObjectId{static_cast<int32_t>(row.id)};
   }

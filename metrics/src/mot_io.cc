@@ -399,6 +399,7 @@ inline void AppendRow(const RowValues& r, const std::string& path, int line_no, 
   row.line = line_no;
   row.frame = static_cast<int>(std::trunc(v[0]));
   row.id = r.has_exact_id ? r.exact_id : static_cast<int64_t>(std::trunc(v[1]));
+  row.id_whole = r.has_exact_id || v[1] == std::trunc(v[1]);
   row.box = BoxPx{v[2], v[3], v[4], v[5]};
   if (count >= 7) row.conf = v[6];
   if (count >= 8) row.col8 = v[7];

@@ -864,6 +864,8 @@ TEST(Cli, ScoreDetectionsScoresADetectorsOwnOutputAgainstAGtJson) {
   // Bad input: exit 2, the file, line and column named, nothing written.
   std::ofstream(dir / "zero.txt") << "1,-1,11,11,20,20,0.9\n2,-1,11,11,0,20,0.9\n";
   std::ofstream(dir / "stranger.txt") << "1,4,11,11,20,20,0.9\n2,9,11,11,20,20,0.9\n";
+  // A fourth bad-input audit: a fractional label read as "no label".
+  std::ofstream(dir / "fraction.txt") << "1,1.5,11,11,20,20,0.9\n";
   std::ofstream(dir / "late.txt") << "3,-1,11,11,20,20,0.9\n";
   std::ofstream(dir / "far.txt") << "1,-1,1e300,11,20,20,0.9\n";
   for (const auto& [args, message] : std::vector<std::pair<std::string, std::string>>{
@@ -887,6 +889,11 @@ TEST(Cli, ScoreDetectionsScoresADetectorsOwnOutputAgainstAGtJson) {
                 (dir / "stranger.txt").string(),
             "stranger.txt:2:2: column 2 (id): expected the id of one of the targets (1, 2, 3, 4), "
             "or -1 for a detection of none: --labels reads column 2 as the target, found 9"},
+           {" --detections --labels " + (dir / "gt.json").string() + " " +
+                (dir / "fraction.txt").string(),
+            "fraction.txt:1:2: column 2 (id): expected the id of one of the targets (1, 2, 3, 4), "
+            "or -1 for a detection of none: --labels reads column 2 as the target, found a "
+            "fraction (read as 1 by truncation)"},
            {" --labels " + (dir / "gt.json").string() + " " + (dir / "det.txt").string(),
             "--labels: expected --labels only with --detections"}}) {
     const auto bad = RunCommand(kHcpf + " score" + args + " --json " + (dir / "x.json").string());

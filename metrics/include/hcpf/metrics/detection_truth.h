@@ -45,6 +45,7 @@ struct DetectionFileRow {
   Detection detection;
   int64_t id = -1;  // column 2 as written (-1 in MOTChallenge's det.txt)
   int line = 0;
+  bool id_whole = true;  // MotRow::id_whole
 };
 
 // The detections of a MOTChallenge det.txt (frame, id, left, top, width,

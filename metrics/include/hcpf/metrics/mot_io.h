@@ -35,6 +35,9 @@ struct MotRow {
   double col9 = -1.0;   // MOT17 gt: visibility; MOT15 gt: world y
   double col10 = -1.0;  // MOT15 gt: world z
   int line = 0;         // 1-based line in the file it came from (0 = not read from a file)
+  // Column 2 is a whole number ("7", "7.0", "7e0"); false for "1.5", whose
+  // `id` is the truncation TrackEval reads (int(float(text))).
+  bool id_whole = true;
   friend bool operator==(const MotRow&, const MotRow&) = default;
 };
 

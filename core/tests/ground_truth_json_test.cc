@@ -2,6 +2,10 @@
 
 #include <gtest/gtest.h>
 
+#include <string>
+
+#include "hcpf/core/error.h"
+
 namespace hcpf {
 namespace {
 
@@ -50,10 +54,52 @@ TEST(GroundTruthJson, RoundTripIsExact) {
   }
 }
 
-TEST(GroundTruthJson, MissingFieldThrows) {
-  nlohmann::json j = GroundTruthToJson(FrameGroundTruth{});
+// A field missing or not of the type written is an InputError naming its
+// path in the frame (a bad-input audit: the JSON library's text; a frame 3.5
+// or an id 1.7 truncated without a word).
+TEST(GroundTruthJson, AFieldThatDoesNotReadIsNamed) {
+  FrameGroundTruth gt;
+  gt.frame = 3;
+  GroundTruthObject o;
+  o.id = ObjectId{1};
+  gt.objects = {o};
+  const nlohmann::json good = GroundTruthToJson(gt);
+  const auto error = [](const nlohmann::json& j) -> std::string {
+    try {
+      GroundTruthFromJson(j);
+    } catch (const InputError& e) {
+      return e.what();
+    }
+    return "read";
+  };
+  EXPECT_EQ(error(good), "read");
+  nlohmann::json j = good;
   j.erase("camera");
-  EXPECT_THROW(GroundTruthFromJson(j), nlohmann::json::exception);
+  EXPECT_NE(error(j).find("camera: expected the frame's camera, found nothing"), std::string::npos)
+      << error(j);
+  j = good;
+  j["frame"] = 3.5;
+  EXPECT_NE(error(j).find("frame: expected a whole number in [0, 2147483647], found 3.5"),
+            std::string::npos)
+      << error(j);
+  j = good;
+  j["objects"][0]["id"] = 1.7;
+  EXPECT_NE(error(j).find("objects[0].id: expected a whole number"), std::string::npos) << error(j);
+  j = good;
+  j["objects"][0].erase("visible_box");
+  EXPECT_NE(error(j).find("objects[0].visible_box: expected the object's visible_box, found "
+                          "nothing"),
+            std::string::npos)
+      << error(j);
+  j = good;
+  j["camera"]["K"][1] = {1, "x", 3};
+  EXPECT_NE(error(j).find("camera.K[1][1]: expected a number, found \"x\""), std::string::npos)
+      << error(j);
+  j = good;
+  j["objects"][0]["in_frame"] = 1;
+  EXPECT_NE(error(j).find("objects[0].in_frame: expected true or false, found 1"),
+            std::string::npos)
+      << error(j);
 }
 
 }  // namespace

@@ -5,6 +5,7 @@
 
 #include <cmath>
 #include <nlohmann/json.hpp>
+#include <set>
 
 #include "hcpf/core/error.h"
 #include "hcpf/core/ground_truth_json.h"
@@ -68,9 +69,12 @@ GroundTruthFile ReadGroundTruthJson(const std::string& path) {
     const std::string key = fmt::format("frames[{}]", f);
     try {
       file.frames.push_back(GroundTruthFromJson((*frames)[f]));
-    } catch (const nlohmann::json::exception& e) {
-      throw InputError(SourceLocation{path, 0, 0, key}, "a frame as hcpf writes it",
-                       fmt::format("one that does not read ({})", e.what()));
+    } catch (const InputError& e) {
+      // The field that does not read, by its path (a bad-input audit: only
+      // frames[i] and the JSON library's text).
+      const std::string& field = e.where().key;
+      throw InputError(SourceLocation{path, 0, 0, field.empty() ? key : key + "." + field},
+                       e.expected(), e.found());
     }
     const FrameGroundTruth& frame = file.frames.back();
     if (frame.frame != static_cast<int>(f)) {
@@ -80,9 +84,15 @@ GroundTruthFile ReadGroundTruthJson(const std::string& path) {
     // What the scores read: a box of finite numbers and a size of at least
     // 0, fractions in [0, 1] (hcpf writes nothing else; a file made by hand
     // may).
+    std::set<int32_t> ids;
     for (size_t i = 0; i < frame.objects.size(); ++i) {
       const GroundTruthObject& o = frame.objects[i];
       const std::string object = fmt::format("{}.objects[{}]", key, i);
+      if (!ids.insert(Value(o.id)).second) {
+        throw InputError(SourceLocation{path, 0, 0, object + ".id"},
+                         "an id no other object of the frame has",
+                         fmt::format("{}, an earlier object's too", Value(o.id)));
+      }
       const BoxPx& b = o.amodal_box;
       if (!std::isfinite(b.left) || !std::isfinite(b.top) || !std::isfinite(b.width) ||
           !std::isfinite(b.height) || b.width < 0.0 || b.height < 0.0 ||

@@ -97,9 +97,29 @@ TEST(DetectionTruth, AFileThatIsNotAGtJsonIsNamedWithWhatIsWrong) {
   const std::string field = ErrorOf(
       Write(dir / "a.json",
             {{"format", "hcpf-gt/1"}, {"source", "rendered"}, {"frames", {frame0, missing}}}));
-  EXPECT_NE(field.find("frames[1]: expected a frame as hcpf writes it"), std::string::npos)
+  // By its path, not the JSON library's text (a bad-input audit).
+  EXPECT_NE(field.find("frames[1].objects[0].truncation: expected the object's truncation, found "
+                       "nothing"),
+            std::string::npos)
       << field;
-  EXPECT_NE(field.find("truncation"), std::string::npos) << field;
+  // A fractional id, and an id two objects of a frame share (a bad-input
+  // audit: 1.7 was read as 1, and the pair accepted).
+  nlohmann::json fractional = frame0;
+  fractional["objects"][0]["id"] = 1.7;
+  const std::string id = ErrorOf(Write(
+      dir / "f.json", {{"format", "hcpf-gt/1"}, {"source", "rendered"}, {"frames", {fractional}}}));
+  EXPECT_NE(id.find("frames[0].objects[0].id: expected a whole number in [0, 2147483647], found "
+                    "1.7"),
+            std::string::npos)
+      << id;
+  nlohmann::json twice = frame0;
+  twice["objects"].push_back(frame0["objects"][0]);
+  const std::string shared = ErrorOf(Write(
+      dir / "g.json", {{"format", "hcpf-gt/1"}, {"source", "rendered"}, {"frames", {twice}}}));
+  EXPECT_NE(shared.find("frames[0].objects[" + std::to_string(twice["objects"].size() - 1) +
+                        "].id: expected an id no other object of the frame has"),
+            std::string::npos)
+      << shared;
   const std::string order = ErrorOf(
       Write(dir / "b.json",
             {{"format", "hcpf-gt/1"}, {"source", "rendered"}, {"frames", {frame0, frame0}}}));

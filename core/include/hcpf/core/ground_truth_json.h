@@ -14,8 +14,10 @@ namespace hcpf {
 nlohmann::json GroundTruthToJson(const FrameGroundTruth& gt);
 
 // The inverse of GroundTruthToJson: GroundTruthFromJson(GroundTruthToJson(g))
-// == g. Throws nlohmann::json::exception when a field is missing or of the
-// wrong type.
+// == g. Throws InputError whose key is the path in the frame ("objects[0].
+// visible_box", "camera.K[1]"; no file: the caller names it) when a field is
+// missing or not of the type written: ids, frames and pixel counts whole
+// numbers (a frame 3.5 or an id 1.7 is refused, not truncated).
 FrameGroundTruth GroundTruthFromJson(const nlohmann::json& j);
 
 }  // namespace hcpf

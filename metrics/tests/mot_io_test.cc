@@ -164,12 +164,9 @@ TEST(MotIo, UnusualSpellingsParseAsWritten) {
       (MotRow{
           .frame = 2, .id = 9007199254740993, .box = {3, 0.5, 100, 4}, .conf = 0.9, .line = 2}));
   // 8.9 is read as TrackEval reads it, 8, and marked as no whole number.
-  EXPECT_EQ(f.rows[2], (MotRow{.frame = 3,
-                               .id = 8,
-                               .box = {1, 2, 3, 4},
-                               .conf = 1,
-                               .line = 4,
-                               .id_whole = false}));
+  EXPECT_EQ(
+      f.rows[2],
+      (MotRow{.frame = 3, .id = 8, .box = {1, 2, 3, 4}, .conf = 1, .line = 4, .id_whole = false}));
   EXPECT_EQ(f.rows[3], (MotRow{.frame = 4,
                                .id = -2,
                                .box = {1, 2, 3, 4},

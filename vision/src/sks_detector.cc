@@ -130,9 +130,10 @@ void ResizeLike(int width, int height, GreyImageF& image) {
 // THE Gaussian smoothing of this file: every smoothing of the detector goes
 // through here. 8-bit images (the octave images) go through the stacked
 // integral image blur; float images (the structure tensor's products of
-// derivatives, whose range the 8-bit blur's input cannot hold) through
-// OpenCV's separable Gaussian with the same clamp-to-edge border, until the
-// stacked blur takes float input. `out` must not be `in`.
+// derivatives, whose range the 8-bit blur's input cannot hold) through an
+// exact separable Gaussian with the same clamp-to-edge border and the same
+// bytes on every machine (SeparableGaussianBlur: cv::GaussianBlur's float
+// kernels differ with the CPU's vector extensions). `out` must not be `in`.
 template <typename Image>
 void Smooth(const Image& in, const Blur& blur, GreyImageF& out) {
   ResizeLike(in.width, in.height, out);
@@ -144,10 +145,7 @@ void Smooth(const Image& in, const Blur& blur, GreyImageF& out) {
     StackedIntegralBlur(in, blur.boxes, out);
   } else {
     static_assert(std::is_same_v<Image, GreyImageF>);
-    const cv::Mat src(in.height, in.width, CV_32F, const_cast<float*>(in.pixels.data()));
-    cv::Mat dst(out.height, out.width, CV_32F, out.pixels.data());  // OpenCV writes in place
-    cv::GaussianBlur(src, dst, cv::Size(), blur.sigma, blur.sigma, cv::BORDER_REPLICATE);
-    HCPF_CHECK(dst.data == reinterpret_cast<uchar*>(out.pixels.data()));
+    SeparableGaussianBlur(in, blur.sigma, out);
   }
 }
 

@@ -107,4 +107,22 @@ void StackedIntegralBlur(const GreyImage& input, const StackedBoxKernel& kernel,
 void StackedIntegralBlur(const GreyImage& input, const StackedBoxKernel& kernel,
                          GreyImageF& output);
 
+// An exact sampled Gaussian of a float image, separable, with replicate
+// borders: the kernel of OpenCV's cv::GaussianBlur for float images (radius
+// round(4 sigma), weights exp(-i^2 / 2 sigma^2) normalised in double, then
+// float), applied down the columns and then along the rows, each output
+// pixel summed in one fixed order (the centre tap, then the pairs of taps
+// i and -i outward). For inputs the stacked blur cannot hold (SKS's products
+// of derivatives). Unlike cv::GaussianBlur, whose float kernels OpenCV picks
+// by the CPU's vector extensions at run time (AVX2 and the baseline round
+// differently: a determinism audit saw SKS's boxes and a run's metrics
+// change), the result is the same bytes on every x86-64 machine: Eigen's
+// SSE2 arithmetic, which every x86-64 CPU has, and no FMA contraction.
+// - `output` is resized to the input's size; it must not be `input`.
+// - About as fast as cv::GaussianBlur (bench/vision_bench.cc,
+//   BM_SeparableGaussianBlur; docs/performance.md).
+// Preconditions (HCPF_CHECK): 0 < sigma <= 64; input.pixels.size() ==
+// width * height; &output != &input.
+void SeparableGaussianBlur(const GreyImageF& input, double sigma, GreyImageF& output);
+
 }  // namespace hcpf::vision

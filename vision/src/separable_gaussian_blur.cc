@@ -58,8 +58,8 @@ void SeparableGaussianBlur(const GreyImageF& input, double sigma, GreyImageF& ou
     Row acc(columns.data() + static_cast<size_t>(y) * w, w);
     acc = k[0] * ConstRow(input.row(y), w);
     for (int i = 1; i <= r; ++i) {
-      acc += k[static_cast<size_t>(i)] *
-             (ConstRow(input.row(std::max(0, y - i)), w) + ConstRow(input.row(std::min(h - 1, y + i)), w));
+      acc += k[static_cast<size_t>(i)] * (ConstRow(input.row(std::max(0, y - i)), w) +
+                                          ConstRow(input.row(std::min(h - 1, y + i)), w));
     }
   }
   // Along each row, from a copy padded by r edge values on each side.

@@ -361,6 +361,14 @@ TEST(Regress, BadBaselinesAreBadInput) {
       {R"({"scenes": {"a": [0.9]}})", {"scenes.a", "an object"}},
       {R"({"scenes": {"b": {"metrics": {"idf1": 0.9}}}})", {"scenes.a.metrics", "none"}},
       {"{\"scenes\": ", {"baseline.json", "a baseline JSON file"}},
+      // A key twice in one object (a fourth bad-input audit: the JSON
+      // library kept the last, so a baseline compared with 0.2 silently).
+      {R"({"scenes": {"a": {"metrics": {"idf1": 1.0, "idf1": 0.2}}}})",
+       {"scenes.a.metrics.idf1: expected each key once in its object, found \"idf1\" a second "
+        "time"}},
+      {R"({"scenes": {"a": {"seeds": [1, 2], "config_hashes": ["x", "y"], "metrics": {}}, )"
+       R"("a": {"metrics": {"idf1": 0.9}}}})",
+       {"scenes.a: expected each key once in its object, found \"a\" a second time"}},
       // A syntax error at its line and column (it was inside the JSON
       // library's text: a bad-input audit).
       {"{\n  \"scenes\": {\n    \"a\": x\n",

@@ -1023,10 +1023,47 @@ std::string TrackerText(const RunFolder& run) {
 
 // The run folder's manifest.json and metrics.json; throws InputError when
 // either is missing, not JSON, or not a run's.
+// The manifest's fields of the type hcpf run writes them, where present (a
+// bad-input audit: "frames": "twenty" and "seed": -1 were shown in the
+// header, "timings": "x" dropped a row without a word). Absent fields are
+// left to the readers (manifests of older builds lack some).
+void CheckRunManifest(const json& manifest, const fs::path& path) {
+  if (!manifest.is_object()) {
+    throw InputError(SourceLocation{path.string(), 0, 0, ""}, "the manifest.json of hcpf run",
+                     manifest.dump().substr(0, 40));
+  }
+  const auto bad = [&](const char* key, const std::string& expected) {
+    throw InputError(SourceLocation{path.string(), 0, 0, key}, expected,
+                     manifest[key].dump().substr(0, 60));
+  };
+  const auto whole = [&](const char* key, int64_t lo) {
+    if (manifest.contains(key) &&
+        (!manifest[key].is_number_integer() || manifest[key].get<int64_t>() < lo)) {
+      bad(key, fmt::format("a whole number, {} or more", lo));
+    }
+  };
+  whole("frames", 1);
+  whole("frames_rendered", 0);
+  whole("frames_from_cache", 0);
+  whole("detections", 0);
+  whole("gt_boxes", 0);
+  if (manifest.contains("seed") && !manifest["seed"].is_number_unsigned()) {
+    bad("seed", "a seed (a whole number, 0 or more)");
+  }
+  for (const char* key : {"config_hash", "detector", "hcpf_version", "git_revision", "scenario",
+                          "observation_source", "ground_truth", "format"}) {
+    if (manifest.contains(key) && !manifest[key].is_string()) bad(key, "text");
+  }
+  for (const char* key : {"timings", "files", "libraries", "seeds", "tracker", "video"}) {
+    if (manifest.contains(key) && !manifest[key].is_object()) bad(key, "an object");
+  }
+}
+
 RunFolder ReadRunFolder(const fs::path& dir) {
   RunFolder run;
   run.dir = dir;
   run.manifest = ReadRunJson(dir / "manifest.json");
+  CheckRunManifest(run.manifest, dir / "manifest.json");
   run.metrics = ReadRunJson(dir / "metrics.json");
   // Every run's metrics.json has its MOT block, whatever the tracker: without
   // it ("{}", a file of another tool) the report would be NaN throughout.

@@ -795,6 +795,34 @@ TEST(RunReport, GnuplotThatCannotRunIsBadInputBeforeAnythingIsWritten) {
   }
 }
 
+// A manifest.json whose fields are not of the types hcpf run writes is bad
+// input naming the field (a bad-input audit: "frames": "twenty" and "seed":
+// -1 were shown in the header, "timings": "x" dropped a row).
+TEST(RunReport, AManifestFieldOfAnotherTypeIsBadInput) {
+  const auto dir = testing::SweepFolder("run-report-manifest-types");
+  const fs::path run = RunMinimal(dir, "none");
+  const auto good = nlohmann::json::parse(Read(run / "manifest.json"));
+  for (const auto& [key, value, expected] :
+       std::vector<std::tuple<std::string, nlohmann::json, std::string>>{
+           {"frames", "twenty", "frames: expected a whole number, 1 or more, found \"twenty\""},
+           {"seed", -1, "seed: expected a seed (a whole number, 0 or more), found -1"},
+           {"timings", "x", "timings: expected an object, found \"x\""},
+           {"config_hash", 17, "config_hash: expected text, found 17"}}) {
+    nlohmann::json edited = good;
+    edited[key] = value;
+    std::ofstream(run / "manifest.json", std::ios::trunc) << edited.dump();
+    try {
+      WriteReport({.dir = run.string()});
+      ADD_FAILURE() << key << " = " << value.dump() << " was accepted";
+    } catch (const InputError& e) {
+      EXPECT_NE(std::string(e.what()).find("manifest.json: " + expected), std::string::npos)
+          << e.what();
+    }
+  }
+  std::ofstream(run / "manifest.json", std::ios::trunc) << good.dump();
+  EXPECT_NO_THROW(WriteReport({.dir = run.string()}));
+}
+
 // A gnuplot that exits 0 and writes no SVG (a bad-input audit: /bin/true
 // gave a report of empty plots, "3 plots", exit 0) fails the report as a
 // failing gnuplot does, and no report.html is published.

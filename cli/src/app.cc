@@ -48,6 +48,7 @@ std::string CommandLineMessage(const std::string& what, const std::string& comma
   static const std::regex kRequired(R"(^(--[\w-]+|[A-Za-z]\w*) is required$)");
   static const std::regex kExtra(R"(^The following arguments? (?:was|were) not expected: (.*)$)");
   static const std::regex kOurs(R"(^(--[\w-]+): (expected .*)$)");
+  static const std::regex kAtMost(R"(^(--[\w-]+): At Most (\d+) required but received (\d+)$)");
   std::smatch m;
   std::string text;
   if (std::regex_match(what, m, kRange)) {
@@ -93,6 +94,11 @@ std::string CommandLineMessage(const std::string& what, const std::string& comma
     }
     text = fmt::format("expected no more arguments, found {}{}", fmt::join(quoted, ", "),
                        near.empty() ? "" : " (did you mean \"" + near + "\"?)");
+  } else if (std::regex_match(what, m, kAtMost)) {
+    // A fourth bad-input audit: CLI11's "At Most 1 required but received 2".
+    text = fmt::format("{}: expected it {}, found it {} times", m.str(1),
+                       m.str(2) == "1" ? std::string("once") : "at most " + m.str(2) + " times",
+                       m.str(3));
   } else if (std::regex_match(what, m, kOurs)) {
     text = fmt::format("{}: {}", m.str(1), m.str(2));
   } else {
@@ -171,6 +177,26 @@ int ParseAndRun(int argc, char** argv, std::span<const AddCommandFn> adders,
       spdlog::error("expected a command ({}), found \"{}\"{}",
                     fmt::format("{}", fmt::join(names, ", ")), rest.front(),
                     near.empty() ? "" : " (did you mean \"" + near + "\"?)");
+      return 2;
+    }
+    // An unknown option before the command (`hcpf -v validate F`): CLI11
+    // blames the command's arguments (a fourth bad-input audit).
+    for (int i = 1; i < argc; ++i) {
+      const std::string word = argv[i];
+      if (word == kLogLevelOption) {
+        ++i;  // its value
+        continue;
+      }
+      if (word.rfind(std::string(kLogLevelOption) + "=", 0) == 0 || word == "--version" ||
+          word == "--help" || word == "-h") {
+        continue;
+      }
+      if (word.empty() || word[0] != '-') break;  // the command
+      const std::string near = ClosestMatch(word, {kLogLevelOption, "--version", "--help"});
+      spdlog::error(
+          "command line: {}: expected an option of hcpf before the command ({} LEVEL, --version, "
+          "--help), found \"{}\"{}",
+          word, kLogLevelOption, word, near.empty() ? "" : " (did you mean \"" + near + "\"?)");
       return 2;
     }
     // The command given (its options are the ones to list), if any.

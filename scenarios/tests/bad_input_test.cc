@@ -316,6 +316,19 @@ std::vector<BadCase> Cases() {
        "seeds: 2\ngrid:\n  tracker.particles: [10, 20]\n",
        {},
        {"bad.yaml:2:1:", "grid", "expected a scenario file", "found a sweep file", "hcpf sweep"}},
+      // A fourth bad-input audit: these two enums were written "a, b, found
+      // charged", every other "a | b, found \"x\"".
+      {"SceneFilterChargedResampling",
+       m,
+       {{"tracker.scene_filter.resampling", "charged"}},
+       {"tracker.scene_filter.resampling: expected one of multinomial | systematic | stratified | "
+        "residual (not charged",
+        "found \"charged\""}},
+      {"ChargedCandidates",
+       m,
+       {{"tracker.resampling.candidates", "charged"}},
+       {"tracker.resampling.candidates: expected one of multinomial | systematic",
+        "found \"charged\""}},
       // A fourth bad-input audit: a regression suite (or baseline) where a
       // scenario goes was "required key frames missing".
       {"RegressSuiteAsScenario",

@@ -242,8 +242,15 @@ TEST(Cli, IntegerOptionsAreDecimal) {
            // A review: std::regex overflowed the stack on a message of
            // thousands of characters (exit 139).
            {" score a b " + std::string(40000, 'x'), "command line: The following argument"},
-           {" run " + scenario,
-            "command line: --out: expected the option --out (it is required)"}}) {
+           {" run " + scenario, "command line: --out: expected the option --out (it is required)"},
+           // A fourth bad-input audit: CLI11's "At Most 1 required but
+           // received 2", and an unknown option before the command blamed on
+           // the command's arguments.
+           {" cache --max-size 10M --max-size 20M",
+            "command line: --max-size: expected it once, found it 2 times"},
+           {" --verison validate " + scenario,
+            "command line: --verison: expected an option of hcpf before the command (--log-level "
+            "LEVEL, --version, --help), found \"--verison\" (did you mean \"--version\"?)"}}) {
     const auto r = RunCommand(kHcpf + args);
     EXPECT_EQ(r.exit_code, 2) << args << "\n" << r.output;
     EXPECT_NE(r.output.find(message), std::string::npos) << args << "\n" << r.output;

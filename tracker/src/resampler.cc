@@ -35,8 +35,10 @@ std::span<const Field<ResamplerOptions>> ResamplerOptions::Fields() {
 void ResamplerOptions::Validate(std::string_view prefix) const {
   CheckFields(*this, Fields(), prefix);
   if (candidates == ResamplingMethod::kCharged) {
-    FailOption(prefix, "candidates", "one of multinomial, systematic, stratified, residual",
-               "charged");
+    FailOption(prefix, "candidates",
+               "one of multinomial | systematic | stratified | residual (not charged: the "
+               "candidates a charged resampling draws from)",
+               "\"charged\"");
   }
 }
 

@@ -62,8 +62,10 @@ std::span<const Field<SceneMotionOptions>> SceneMotionOptions::Fields() {
 void SceneMotionOptions::Validate(std::string_view prefix) const {
   CheckFields(*this, Fields(), prefix);
   if (resampling == ResamplingMethod::kCharged) {
-    FailOption(prefix, "resampling", "one of multinomial, systematic, stratified, residual",
-               "charged");
+    FailOption(prefix, "resampling",
+               "one of multinomial | systematic | stratified | residual (not charged: a resampler "
+               "of one cloud)",
+               "\"charged\"");
   }
 }
 

@@ -1886,11 +1886,17 @@ struct ReplicationTable {
   int only_there = 0;                // and there without a partner here
 };
 
-std::unique_ptr<AgainstStore> OpenAgainst(const std::string& against, const StoreMeta& meta,
-                                          const Paired& paired) {
+std::unique_ptr<AgainstStore> OpenAgainst(const std::string& against, const fs::path& dir,
+                                          const StoreMeta& meta, const Paired& paired) {
   const SourceLocation where{"hcpf report", 0, 0, "--against"};
   const char* expected_kind = "a sweep folder (results.sqlite) over the same swept keys";
   std::error_code ec;
+  // DIR itself, as a run's --against refuses it (a fourth bad-input audit:
+  // accepted, the replication section then saying it was none).
+  if (fs::equivalent(against, dir, ec)) {
+    throw InputError(where, std::string(expected_kind) + ", other than DIR",
+                     fmt::format("{}, DIR itself", against));
+  }
   if (!fs::is_regular_file(fs::path(against) / "results.sqlite", ec)) {
     throw InputError(
         where, expected_kind,
@@ -2616,7 +2622,7 @@ ReportResult WriteReport(const ReportOptions& options) {
         meta.report.series, paired.reference);
   }
   const std::unique_ptr<AgainstStore> there =
-      options.against.empty() ? nullptr : OpenAgainst(options.against, meta, paired);
+      options.against.empty() ? nullptr : OpenAgainst(options.against, dir, meta, paired);
 
   const fs::path work = MakePlotWorkDir(out, options.out_dir.empty());
   std::error_code ec;

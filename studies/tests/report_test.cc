@@ -2782,10 +2782,23 @@ TEST(Report, AgainstAnotherStoreSaysWhichFindingsReplicate) {
                 .find("0 comparisons of this report have no partner there and 2 there none here"),
             std::string::npos)
       << Read(fewer / "findings.md");
-  // The same store against itself: the same runs, said to be no replication.
-  EXPECT_NE(Read(WriteReport({.dir = ten.string(), .against = ten.string()}).html_path)
+  // A copy of the store (the same root seed): the same runs, said to be no
+  // replication. The store itself is refused, as a run's --against refuses
+  // its DIR (a fourth bad-input audit: accepted).
+  const fs::path copy = ten.parent_path() / (ten.filename().string() + "-copy");
+  fs::copy(ten, copy, fs::copy_options::recursive);
+  EXPECT_NE(Read(WriteReport({.dir = ten.string(), .against = copy.string()}).html_path)
                 .find("so matching runs are the same runs: this is no replication."),
             std::string::npos);
+  try {
+    WriteReport({.dir = ten.string(), .against = ten.string()});
+    ADD_FAILURE() << "a store against itself was accepted";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("--against: expected a sweep folder (results.sqlite) over "
+                                         "the same swept keys, other than DIR, found "),
+              std::string::npos)
+        << e.what();
+  }
   // Without --against, an earlier replication.csv goes.
   WriteReport({.dir = ten.string()});
   EXPECT_FALSE(fs::exists(ten / "replication.csv"));

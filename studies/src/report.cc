@@ -1449,8 +1449,13 @@ std::vector<Finding> FindingsOf(const std::vector<Cell>& cells, const Paired& pa
         }
         const auto [lo, hi] = pairs[s];
         if (hi == 0) {
-          f.text += fmt::format(" {} \u2212 {}: no pairs (the metric is absent from one of them).",
-                                s, paired.reference);
+          // No seed with a finite value in both cells: runs not in this
+          // store (a shard, a sweep stopped early), failed, or a metric one
+          // side lacks (a fourth bad-input audit: only the last was said).
+          f.text += fmt::format(
+              " {} \u2212 {}: no seed pairs (no seed has a value of the metric in both: its runs "
+              "are not in this store, failed, or lack the metric).",
+              s, paired.reference);
           continue;
         }
         f.text += fmt::format(" {} \u2212 {}: {} ({} seed pair{}{}).", s, paired.reference,

@@ -2893,6 +2893,24 @@ constexpr const char* kFourRuns =
     "  tracker.resampling.method: [systematic, charged]\n"
     "report: {x: tracker.particles, series: tracker.resampling.method, y: [idf1]}\n";
 
+// Two compared cells with no seed in common (a shard, a sweep stopped early)
+// have no seed pairs, and the findings say why without blaming the metric (a
+// fourth bad-input audit: "the metric is absent from one of them").
+TEST(Report, CellsWithoutACommonSeedHaveNoPairsAndSayWhy) {
+  const auto dir = testing::SweepFolder("report-no-common-seed");
+  const SweepSpec spec = LoadSweepFile(testing::WriteSweep(dir, kFourRuns, "s.yaml"));
+  const fs::path out = RunQuietly(spec, dir);
+  EditStore(out,
+            "DELETE FROM runs WHERE (\"tracker.resampling.method\" = 'charged' AND seed_index = 0) "
+            "OR (\"tracker.resampling.method\" = 'systematic' AND seed_index = 1)");
+  WriteReport({.dir = out.string()});
+  EXPECT_NE(Read(out / "findings.md")
+                .find("charged \u2212 systematic: no seed pairs (no seed has a value of the metric "
+                      "in both: its runs are not in this store, failed, or lack the metric)."),
+            std::string::npos)
+      << Read(out / "findings.md");
+}
+
 // A store's report.reference that no run has (a bad-input audit: edited to
 // "nope", the report said "0 compared cells" and nothing else, exit 0): the
 // findings say why nothing is compared.

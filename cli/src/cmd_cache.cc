@@ -64,6 +64,8 @@ Command AddCacheCommand(CLI::App& parent) {
                            "an existing file");
         }
         if (!std::filesystem::exists(status) && cache->count() > 0) {
+          // Below a file, said so (it was "no such folder").
+          scenarios::CheckFolderArgument(options->cache, key);
           throw InputError(
               SourceLocation{options->cache, 0, 0, key}, "an existing cache folder",
               "no such folder",

@@ -391,8 +391,19 @@ void ResultsStore::AddMissingColumns(StoreAccess access) {
 std::unique_ptr<ResultsStore> ResultsStore::Open(const std::string& path, StoreAccess access) {
   std::error_code ec;
   if (!fs::exists(path, ec)) {
+    // What the folder is instead (a fourth bad-input audit: a file given
+    // as a sweep folder, and a run folder, were both "no such file").
+    const fs::path folder = fs::path(path).parent_path();
+    std::string found = "no such file";
+    if (!folder.empty() && fs::exists(folder, ec) && !fs::is_directory(folder, ec)) {
+      found = fmt::format("no such file: {} is a file, not a sweep folder", folder.string());
+    } else if (!folder.empty() && fs::is_regular_file(folder / "manifest.json", ec)) {
+      found = fmt::format(
+          "no such file: {} is a run or render folder (manifest.json), not a sweep folder",
+          folder.string());
+    }
     throw InputError(SourceLocation{path, 0, 0, ""}, "a results store written by hcpf sweep",
-                     "no such file");
+                     found);
   }
   // A directory, FIFO or device is bad input; a file we may not read is an I/O error.
   CheckRegularFile(path, "a results store written by hcpf sweep");

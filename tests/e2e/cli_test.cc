@@ -170,6 +170,38 @@ TEST(Cli, ErrorsMadeByASetNameIt) {
   EXPECT_EQ(own.output.find("(with --set"), std::string::npos) << own.output;
 }
 
+// A file or a run folder given where a sweep folder goes is said to be one
+// (a fourth bad-input audit: both were "results.sqlite: no such file"), and
+// a --cache below a file is "a path below the file", not "no such folder".
+TEST(Cli, AFileOrARunFolderWhereASweepGoesIsNamed) {
+  const fs::path dir = FreshDir("not-a-sweep");
+  std::ofstream(dir / "afile") << "x\n";
+  const auto merged = RunCommand(kHcpf + " merge " + (dir / "out").string() + " " +
+                                 (dir / "afile").string() + " " + (dir / "afile").string());
+  EXPECT_EQ(merged.exit_code, 2) << merged.output;
+  EXPECT_NE(merged.output.find("found no such file: " + (dir / "afile").string() +
+                               " is a file, not a sweep folder"),
+            std::string::npos)
+      << merged.output;
+  const auto run = RunCommand(kHcpf + " run " + LibraryScenario("crossing") +
+                              " --set frames=20 --set targets.1.path.start_frame=0 --out " +
+                              (dir / "run").string());
+  ASSERT_EQ(run.exit_code, 0) << run.output;
+  const auto exported = RunCommand(kHcpf + " export " + (dir / "run").string() + " --trackeval " +
+                                   (dir / "te").string());
+  EXPECT_EQ(exported.exit_code, 2) << exported.output;
+  EXPECT_NE(exported.output.find("is a run or render folder (manifest.json), not a sweep folder"),
+            std::string::npos)
+      << exported.output;
+  const auto cache = RunCommand(kHcpf + " cache --cache " + (dir / "afile" / "x").string());
+  EXPECT_EQ(cache.exit_code, 2) << cache.output;
+  EXPECT_NE(cache.output.find("--cache: expected a folder (new or existing), found a path below "
+                              "the file " +
+                              (dir / "afile").string()),
+            std::string::npos)
+      << cache.output;
+}
+
 // A default cache folder that cannot be one is named by where it came from
 // (a bad-input audit: HCPF_CACHE_DIR naming a file was reported as
 // "--cache", an option not given; one below a file was "not created yet:

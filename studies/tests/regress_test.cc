@@ -358,6 +358,11 @@ TEST(Regress, BadBaselinesAreBadInput) {
       {R"({"format": "hcpf-regress-baseline/2", "sweet": "x", "scenes": {)" + scene + "}}",
        {"sweet", "one of the keys format, suite, scenes"}},
       {R"({"format": 2, "scenes": {)" + scene + "}}", {"format", "found 2"}},
+      // Format 1 holds exact scenes only (a fourth bad-input audit: a seeded
+      // scene was accepted in it).
+      {R"({"format": "hcpf-regress-baseline/1", "scenes": {"a": {"seeds": ["1"], )"
+       R"("metrics": {"idf1": [0.9]}}}})",
+       {"scenes.a.seeds", "one of the keys config_hash, metrics"}},
       {R"({"scenes": {"a": [0.9]}})", {"scenes.a", "an object"}},
       {R"({"scenes": {"b": {"metrics": {"idf1": 0.9}}}})", {"scenes.a.metrics", "none"}},
       {"{\"scenes\": ", {"baseline.json", "a baseline JSON file"}},

@@ -71,7 +71,10 @@ void WriteContactSheet(const fs::path& out, const std::vector<SweepRun>& runs,
          f += std::max(1, frames / kSheetFrames)) {
       std::optional<renderer::RenderedFrame> frame = cache.Load(f);
       if (!frame) {
-        spdlog::debug("sweep: frame {} of the contact sheet is not cached; no contact sheet", f);
+        spdlog::info(
+            "sweep: no contact_sheet.png (frame {} of the first rendered run is not in the frame "
+            "cache: its runs were copied or rendered into another cache)",
+            f + 1);
         return;
       }
       sheet.push_back(std::move(*frame));

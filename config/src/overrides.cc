@@ -50,6 +50,13 @@ void ApplyOverride(YAML::Node root, const Override& o, int index) {
                      "an override sets a value; to take a key's default, leave it out of the "
                      "file");
   }
+  // An empty mapping likewise (`tracker={}`: a fourth bad-input audit
+  // found the file's section reset to its defaults, exit 0).
+  if (value.IsMap() && value.size() == 0) {
+    throw InputError(at, "a value", "an empty mapping, which would reset the file's keys there",
+                     "an override sets a value; to take a section's defaults, leave it out of "
+                     "the file, or --set its keys one by one");
+  }
   std::vector<std::string> parts;
   size_t start = 0;
   while (true) {

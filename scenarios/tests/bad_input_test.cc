@@ -223,6 +223,13 @@ std::vector<BadCase> Cases() {
        m,
        {{"camera.fov_deg", "~"}},
        {"--set camera.fov_deg=~", "camera.fov_deg", "found nothing"}},
+      // A fourth bad-input audit: `tracker={}` reset the file's tracker
+      // section to its defaults, exit 0.
+      {"EmptyMappingOverrideValue",
+       m,
+       {{"tracker", "{}"}},
+       {"--set tracker={}", "found an empty mapping, which would reset the file's keys there",
+        "leave it out of the file"}},
       // Issue 15, items 12 and 13.
       {"DuplicateStrengthId",
        m + "observation: {simulated: {strength: {1: 1.0, 01: 0.3}}}\n",

@@ -35,7 +35,7 @@ bool SameRow(const metrics::MotRow& a, const metrics::MotRow& b) {
          SameBits(a.box.left, b.box.left) && SameBits(a.box.top, b.box.top) &&
          SameBits(a.box.width, b.box.width) && SameBits(a.box.height, b.box.height) &&
          SameBits(a.conf, b.conf) && SameBits(a.col8, b.col8) && SameBits(a.col9, b.col9) &&
-         SameBits(a.col10, b.col10);
+         SameBits(a.col10, b.col10) && a.id_whole == b.id_whole;
 }
 
 // ParseMotText, checked against the reference reader. nullopt when the text is rejected.

@@ -36,25 +36,28 @@ renderer::RendererOptions RendererOptionsOf(const Scenario& s) {
   return o;
 }
 
-std::string DefaultFrameCacheDir() {
-  if (const char* dir = std::getenv("HCPF_CACHE_DIR"); dir != nullptr && *dir != '\0') return dir;
+namespace {
+
+// The default frame cache folder and where it came from, in one order for
+// both (a review: the order was written twice).
+std::pair<std::string, std::string> DefaultFrameCache() {
+  if (const char* dir = std::getenv("HCPF_CACHE_DIR"); dir != nullptr && *dir != '\0') {
+    return {dir, "HCPF_CACHE_DIR (environment)"};
+  }
   if (const char* xdg = std::getenv("XDG_CACHE_HOME"); xdg != nullptr && *xdg != '\0') {
-    return std::string(xdg) + "/hcpf/frames";
+    return {std::string(xdg) + "/hcpf/frames", "XDG_CACHE_HOME (environment)"};
   }
   if (const char* home = std::getenv("HOME"); home != nullptr && *home != '\0') {
-    return std::string(home) + "/.cache/hcpf/frames";
+    return {std::string(home) + "/.cache/hcpf/frames", "HOME (environment)"};
   }
-  return ".hcpf-cache/frames";
+  return {".hcpf-cache/frames", "the default"};
 }
 
-std::string DefaultFrameCacheSource() {
-  for (const char* variable : {"HCPF_CACHE_DIR", "XDG_CACHE_HOME", "HOME"}) {
-    if (const char* value = std::getenv(variable); value != nullptr && *value != '\0') {
-      return std::string(variable) + " (environment)";
-    }
-  }
-  return "the default";
-}
+}  // namespace
+
+std::string DefaultFrameCacheDir() { return DefaultFrameCache().first; }
+
+std::string DefaultFrameCacheSource() { return DefaultFrameCache().second; }
 
 void MakeFrameCacheFolder(const std::filesystem::path& dir) {
   std::error_code ec;

@@ -30,19 +30,15 @@ std::string ProjectRelativePath(const std::string& file) {
 }
 
 std::string PortableModelPath(const std::string& resolved) {
-  // Relative to the first of the project's folder and the current folder
-  // that holds it: a second clone run from its own folder (or a checkout
-  // mounted elsewhere than the binary was built) writes the same path, so
-  // the same configuration hash (a determinism audit found the clone's
-  // absolute path, and sweeps that could then be neither resumed from there
-  // nor merged). Both are places the lookup (ResolveModelPath) looks in.
-  std::error_code ec;
-  for (const fs::path& folder :
-       {fs::weakly_canonical(fs::path(HCPF_PROJECT_SOURCE_DIR)), fs::current_path(ec)}) {
-    if (folder.empty() || folder == folder.root_path()) continue;  // "/" holds every file
-    const fs::path rel = fs::path(resolved).lexically_relative(fs::weakly_canonical(folder));
-    if (!rel.empty() && *rel.begin() != ".." && rel.is_relative()) return rel.generic_string();
-  }
+  // Relative to the project's folder only: that is the same wherever hcpf
+  // is started. (Relative to the current folder too was tried on
+  // 2026-12-05 and reverted the same day: a review found the run's identity
+  // then depending on the folder hcpf was started from, a resolved scenario
+  // that no longer loaded from another folder, and an external tracker in
+  // the current folder written as a bare name, looked up on PATH.)
+  const fs::path root = fs::weakly_canonical(fs::path(HCPF_PROJECT_SOURCE_DIR));
+  const fs::path rel = fs::path(resolved).lexically_relative(root);
+  if (!rel.empty() && *rel.begin() != "..") return rel.generic_string();
   return resolved;
 }
 

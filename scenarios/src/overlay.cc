@@ -171,7 +171,14 @@ std::string FitHeaderLine(const std::string& text, double scale, int max_width_p
     kept.resize(comma);
     if (fits(kept + kCut)) return kept + kCut;
   }
-  while (!kept.empty() && !fits(kept + kCut)) kept.pop_back();
+  // Whole UTF-8 characters only (a review: a cut inside one drew '?').
+  const auto pop_character = [&kept] {
+    while (!kept.empty() && (static_cast<unsigned char>(kept.back()) & 0xC0) == 0x80) {
+      kept.pop_back();
+    }
+    if (!kept.empty()) kept.pop_back();
+  };
+  while (!kept.empty() && !fits(kept + kCut)) pop_character();
   return kept.empty() ? std::string() : kept + kCut;
 }
 

@@ -328,36 +328,34 @@ TEST(DetectionFile, ADigestOrHashThatIsNoneOrAFileForTheRenderingIsSaidToBe) {
       << error;
 }
 
-// A model beside the scenario, in a folder run from: written relative to
-// the current folder, so two clones run each from its own folder write the
-// same path and hash (a determinism audit: the clone's absolute path was
-// written, and its sweeps could be neither resumed from another folder nor
-// merged). Run from elsewhere: absolute, as before.
-TEST(ModelPath, RelativeToTheCurrentFolderThatHoldsIt) {
+// A model outside the project is written by its absolute path whatever
+// folder hcpf is started from, so the run's configuration hash does not
+// depend on it (a review reverted a day's rule that wrote it relative to the
+// current folder: the hash then changed with the folder, and the resolved
+// scenario did not load from another).
+TEST(ModelPath, OutsideTheProjectItIsAbsoluteFromAnyFolder) {
   const fs::path dir = hcpf::testing::FreshDir("model-path-cwd");
-  const auto resolved_model = [&](const fs::path& clone, const fs::path& cwd) {
-    fs::create_directories(clone / "m");
-    fs::copy_file(fs::path(HCPF_SOURCE_DIR) / "assets" / "vehicles" / "tank.glb",
-                  clone / "m" / "tank.glb", fs::copy_options::overwrite_existing);
+  fs::create_directories(dir / "one" / "m");
+  fs::copy_file(fs::path(HCPF_SOURCE_DIR) / "assets" / "vehicles" / "tank.glb",
+                dir / "one" / "m" / "tank.glb");
+  const auto written_from = [&](const fs::path& cwd) {
     const fs::path kept = fs::current_path();
     fs::current_path(cwd);
     const Scenario s =
-        LoadScenarioText(kMinimal, (clone / "m" / "s.yaml").string(),
+        LoadScenarioText(kMinimal, (dir / "one" / "m" / "s.yaml").string(),
                          {{"targets.0", "{id: 1, model: tank.glb, path: {waypoints: [[0, 0]]}}"}});
-    // Written (as a run writes it) in the folder it was run from.
+    // Written (as a run writes it) in the folder it was started from.
     const auto written = std::pair{ToResolvedYaml(s), ConfigHash(s)};
     fs::current_path(kept);
     return written;
   };
-  const auto [one, one_hash] = resolved_model(dir / "one", dir / "one");
-  const auto [two, two_hash] = resolved_model(dir / "two", dir / "two");
-  EXPECT_NE(one.find("model: \"m/tank.glb\""), std::string::npos) << one;
-  EXPECT_EQ(one, two);
-  EXPECT_EQ(one_hash, two_hash);
-  const auto [outside, outside_hash] = resolved_model(dir / "one", dir / "two");
-  EXPECT_NE(outside.find("model: \"" + (dir / "one" / "m" / "tank.glb").string() + "\""),
+  const auto [inside, inside_hash] = written_from(dir / "one");
+  const auto [outside, outside_hash] = written_from(dir);
+  EXPECT_NE(inside.find("model: \"" + (dir / "one" / "m" / "tank.glb").string() + "\""),
             std::string::npos)
-      << outside;
+      << inside;
+  EXPECT_EQ(inside, outside);
+  EXPECT_EQ(inside_hash, outside_hash);
 }
 
 }  // namespace

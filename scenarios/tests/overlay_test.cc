@@ -396,6 +396,17 @@ TEST(Overlay, HeaderLinesAreCutToTheFrame) {
   EXPECT_EQ(cut, "seed 1 ..");
   // No room at all: nothing.
   EXPECT_EQ(internal::FitHeaderLine(tag, 0.35, 2), "");
+  // Whole UTF-8 characters are cut (a review: a cut inside a two-byte "é"
+  // left its first byte, drawn as '?'): at every width the text kept before
+  // " .." is an even number of bytes.
+  std::string accents;
+  for (int i = 0; i < 30; ++i) accents += "\xC3\xA9";
+  for (int w = 10; w < width(accents); w += 7) {
+    const std::string cut_accents = internal::FitHeaderLine(accents, 0.35, w);
+    if (cut_accents.empty()) continue;
+    ASSERT_GE(cut_accents.size(), 3U);
+    EXPECT_EQ((cut_accents.size() - 3) % 2, 0U) << w;
+  }
 }
 
 // The tag is drawn: the header's second line (its rectangle: x from 6,

@@ -9,7 +9,9 @@
 
 #include <algorithm>
 #include <filesystem>
+#include <fstream>
 #include <map>
+#include <nlohmann/json.hpp>
 #include <set>
 #include <vector>
 
@@ -138,6 +140,21 @@ void MakeDirs(const fs::path& dir) {
   if (ec) throw RunError(fmt::format("cannot create {}: {}", dir.string(), ec.message()));
 }
 
+// Whether a run's manifest.json lists the files the run wrote ("files"): a
+// manifest that cannot be read counts as listing them (RunFolderIntact then
+// finds it damaged).
+bool ManifestListsFiles(const fs::path& run_dir) {
+  const nlohmann::json::parser_callback_t top_level = [](int depth, nlohmann::json::parse_event_t,
+                                                         nlohmann::json&) { return depth <= 1; };
+  try {
+    std::ifstream in(run_dir / "manifest.json");
+    const nlohmann::json manifest = nlohmann::json::parse(in, top_level);
+    return !manifest.is_object() || manifest.contains("files");
+  } catch (const nlohmann::json::exception&) {
+    return true;
+  }
+}
+
 }  // namespace
 
 void TrackEvalExportOptions::Validate() const {
@@ -210,10 +227,14 @@ TrackEvalExportResult ExportTrackEval(const TrackEvalExportOptions& options) {
     // Whole as resume, --reuse and merge ask (RunFolderIntact: every file
     // of the manifest's list at the size written, the metrics the store
     // holds): a bad-input audit found an emptied tracks.txt exported as a
-    // tracker that found nothing, exit 0.
+    // tracker that found nothing, exit 0. A run written before manifests
+    // listed their files (2026-11-23) is asked only for the three files the
+    // export copies (a review: its older runs lack camera_motion.csv, which
+    // RunFolderIntact asks of them, and were all left out).
     if (!r.ok || !fs::is_regular_file(run_dir / "gt" / "gt.txt") ||
         !fs::is_regular_file(run_dir / "tracks.txt") ||
-        !fs::is_regular_file(run_dir / "seqinfo.ini") || !RunFolderIntact(run_dir.string(), r)) {
+        !fs::is_regular_file(run_dir / "seqinfo.ini") ||
+        (ManifestListsFiles(run_dir) && !RunFolderIntact(run_dir.string(), r))) {
       ++result.not_ok;
       if (r.ok) damaged.push_back(r.run_dir);
       continue;

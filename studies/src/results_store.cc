@@ -809,6 +809,13 @@ bool RunFolderIntact(const std::string& run_dir, const RunRecord& record) {
   try {
     const json manifest = ReadRunJson(run_dir, "manifest.json");
     if (!RunFilesWhole(run_dir, manifest)) return false;
+    // The run of its row: a run's key is its configuration hash (a fourth
+    // bad-input audit: a folder whose manifest names another configuration
+    // was merged as ok and reused).
+    if (manifest.is_object() && manifest.contains("config_hash") &&
+        manifest["config_hash"] != json(record.key)) {
+      return false;
+    }
     now = RunMetricsOf(ReadRunJson(run_dir, "metrics.json"), manifest);
   } catch (const RunError&) {
     return false;

@@ -11,6 +11,7 @@
 #include <filesystem>
 #include <fstream>
 #include <map>
+#include <nlohmann/json.hpp>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -156,6 +157,20 @@ TEST(ExportTrackEval, LayoutReadsBackToEveryRunsMetrics) {
   EXPECT_EQ(damaged.not_ok, 2);
   EXPECT_EQ(damaged.skipped, 2);
   EXPECT_EQ(ReadFile(dir / "te4" / "gt" / "mot_challenge" / "seqmaps" / "HCPF-train.txt"),
+            "name\n" + seqs[0] + "\n" + seqs[2] + "\n");
+
+  // A run written before manifests listed their files (2026-11-23), which
+  // also had no camera_motion.csv: exported as before, asked only for the
+  // files the export copies (a review: all such runs were left out).
+  const fs::path old_run = sweep / run_of[{seqs[0], trackers[0]}].run_dir;
+  auto manifest = nlohmann::json::parse(ReadFile(old_run / "manifest.json"));
+  manifest.erase("files");
+  std::ofstream(old_run / "manifest.json", std::ios::trunc) << manifest.dump(2);
+  fs::remove(old_run / "camera_motion.csv");
+  const TrackEvalExportResult older =
+      ExportTrackEval({.dir = sweep.string(), .out = (dir / "te5").string()});
+  EXPECT_EQ(older.not_ok, 2);
+  EXPECT_EQ(ReadFile(dir / "te5" / "gt" / "mot_challenge" / "seqmaps" / "HCPF-train.txt"),
             "name\n" + seqs[0] + "\n" + seqs[2] + "\n");
 }
 

@@ -2492,8 +2492,9 @@ TEST(Report, FindingsIgnoreKeysThatFollowTheSeries) {
   EXPECT_EQ(r.findings, 2);
   const std::string md = Read(dir / "findings.md");
   EXPECT_NE(md.find("- **da_accuracy**: best mean (higher is better): pf at every "
-                    "tracker.particles. sort \u2212 pf: no pairs (the metric is absent from one "
-                    "of them).\n"),
+                    "tracker.particles. sort \u2212 pf: no seed pairs (no seed has a value of the "
+                    "metric in both: its runs are not in this store, failed, or lack the "
+                    "metric).\n"),
             std::string::npos)
       << md;
   // The family Holm is over counts the comparisons with pairs only: mota's

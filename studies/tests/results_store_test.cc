@@ -404,12 +404,18 @@ TEST(MetricCatalogue, EveryEntryIsReadFromARealRunFolder) {
 TEST(RunFolderIntact, AFileDeletedCutEmptiedOrGrownIsDamage) {
   const auto dir = SweepFolder("intact");
   const fs::path run = RunBase(dir);
-  RunRecord record;
-  record.metrics = ReadRunMetrics(run.string());
-  ASSERT_TRUE(RunFolderIntact(run.string(), record));
-
   nlohmann::json manifest;
   std::ifstream(run / "manifest.json") >> manifest;
+  RunRecord record;
+  record.key = manifest["config_hash"];  // a row's key is its run's configuration hash
+  record.metrics = ReadRunMetrics(run.string());
+  ASSERT_TRUE(RunFolderIntact(run.string(), record));
+  // A row whose run folder holds another configuration's run (a fourth
+  // bad-input audit: merged as ok and reused).
+  RunRecord other = record;
+  other.key = "0123456789abcdef";
+  EXPECT_FALSE(RunFolderIntact(run.string(), other));
+
   std::set<std::string> listed;
   for (const auto& [name, bytes] : manifest["files"].items()) listed.insert(name);
   std::set<std::string> written;

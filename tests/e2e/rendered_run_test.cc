@@ -186,10 +186,6 @@ TEST(RenderedRun, CacheWithHolesRendersOnlyTheMissingFramesAndChangesNothing) {
   EXPECT_EQ(cache.output.find("renderers.txt"), std::string::npos) << cache.output;
 }
 
-// Pixels reach the tracker: a vision/ detector on the rendered frames, with
-// target models cut when each target is first wholly in view, gives the
-// filters their own target's detections; det/det.txt holds them in
-// MOTChallenge's format; the manifest names the detector and its models.
 // A run with SKS gives the same bytes on a CPU without AVX2 and its kin
 // (OpenCV's own switch OPENCV_CPU_DISABLE makes this machine one): a
 // determinism audit found cv::GaussianBlur's float result, and with it
@@ -211,6 +207,10 @@ TEST(RenderedRun, SksGivesTheSameBytesWithoutTheCpusVectorExtensions) {
   }
 }
 
+// Pixels reach the tracker: a vision/ detector on the rendered frames, with
+// target models cut when each target is first wholly in view, gives the
+// filters their own target's detections; det/det.txt holds them in
+// MOTChallenge's format; the manifest names the detector and its models.
 TEST(RenderedRun, ADetectorOnTheRenderedFramesFeedsTheTracker) {
   const fs::path dir = FreshDir("detector-run");
   const std::string common =

@@ -27,9 +27,8 @@ std::string ResolveModelPath(const std::string& written, const std::string& scen
 std::string ProjectRelativePath(const std::string& file);
 
 // The path written to resolved scenarios: relative to the project's source
-// folder when the file is inside it (shipped assets stay portable), else to
-// the current folder when it is inside that (a second clone run from its own
-// folder), else absolute.
+// folder when the file is inside it (shipped assets stay portable), else
+// absolute: the same whatever folder hcpf is started from.
 std::string PortableModelPath(const std::string& resolved);
 
 // Length (along +x), width and height of a model file's bounding box, in

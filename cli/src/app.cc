@@ -194,9 +194,9 @@ int ParseAndRun(int argc, char** argv, std::span<const AddCommandFn> adders,
       if (word.empty() || word[0] != '-') break;  // the command
       const std::string near = ClosestMatch(word, {kLogLevelOption, "--version", "--help"});
       spdlog::error(
-          "command line: {}: expected an option of hcpf before the command ({} LEVEL, --version, "
+          "command line: expected an option of hcpf before the command ({} LEVEL, --version, "
           "--help), found \"{}\"{}",
-          word, kLogLevelOption, word, near.empty() ? "" : " (did you mean \"" + near + "\"?)");
+          kLogLevelOption, word, near.empty() ? "" : " (did you mean \"" + near + "\"?)");
       return 2;
     }
     // The command given (its options are the ones to list), if any.

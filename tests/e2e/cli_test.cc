@@ -281,7 +281,7 @@ TEST(Cli, IntegerOptionsAreDecimal) {
            {" cache --max-size 10M --max-size 20M",
             "command line: --max-size: expected it once, found it 2 times"},
            {" --verison validate " + scenario,
-            "command line: --verison: expected an option of hcpf before the command (--log-level "
+            "command line: expected an option of hcpf before the command (--log-level "
             "LEVEL, --version, --help), found \"--verison\" (did you mean \"--version\"?)"}}) {
     const auto r = RunCommand(kHcpf + args);
     EXPECT_EQ(r.exit_code, 2) << args << "\n" << r.output;

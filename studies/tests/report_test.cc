@@ -2786,8 +2786,8 @@ TEST(Report, AgainstAnotherStoreSaysWhichFindingsReplicate) {
   // A copy of the store (the same root seed): the same runs, said to be no
   // replication. The store itself is refused, as a run's --against refuses
   // its DIR (a fourth bad-input audit: accepted).
-  const fs::path copy = ten.parent_path() / (ten.filename().string() + "-copy");
-  fs::copy(ten, copy, fs::copy_options::recursive);
+  const fs::path copy = testing::SweepFolder("replicate-ten-copy");  // removed when it passes
+  fs::copy(ten, copy, fs::copy_options::recursive | fs::copy_options::overwrite_existing);
   EXPECT_NE(Read(WriteReport({.dir = ten.string(), .against = copy.string()}).html_path)
                 .find("so matching runs are the same runs: this is no replication."),
             std::string::npos);

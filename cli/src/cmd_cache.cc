@@ -63,17 +63,16 @@ Command AddCacheCommand(CLI::App& parent) {
           throw InputError(SourceLocation{options->cache, 0, 0, key}, "a cache folder",
                            "an existing file");
         }
+        // A folder below a file can never be created: said so (it was "no
+        // such folder", and a default there "not created yet: nothing
+        // cached", exit 0).
+        if (!std::filesystem::exists(status)) scenarios::CheckFolderArgument(options->cache, key);
         if (!std::filesystem::exists(status) && cache->count() > 0) {
-          // Below a file, said so (it was "no such folder").
-          scenarios::CheckFolderArgument(options->cache, key);
           throw InputError(
               SourceLocation{options->cache, 0, 0, key}, "an existing cache folder",
               "no such folder",
               "hcpf run and sweep create it; the default is " + scenarios::DefaultFrameCacheDir());
         }
-        // A default below a file can never be created (it was "not created
-        // yet: nothing cached", exit 0).
-        if (!std::filesystem::exists(status)) scenarios::CheckFolderArgument(options->cache, key);
         // $HCPF_CACHE_MAX_SIZE, said when set (a bad value is bad input here too).
         const std::optional<uint64_t> limit = scenarios::CacheMaxSizeFromEnvironment();
         const scenarios::CacheContents contents = scenarios::ScanCache(options->cache);

@@ -21,14 +21,6 @@ std::string ResolveModelPath(const std::string& written, const std::string& scen
   return fs::weakly_canonical(config::FindFileOrFail(where, written, beside, expected)).string();
 }
 
-std::string ProjectRelativePath(const std::string& file) {
-  std::error_code ec;
-  const fs::path path = fs::weakly_canonical(fs::absolute(file, ec), ec);
-  const fs::path rel =
-      path.lexically_relative(fs::weakly_canonical(fs::path(HCPF_PROJECT_SOURCE_DIR), ec));
-  return !rel.empty() && *rel.begin() != ".." ? rel.generic_string() : path.string();
-}
-
 std::string PortableModelPath(const std::string& resolved) {
   // Relative to the project's folder only: that is the same wherever hcpf
   // is started. (Relative to the current folder too was tried on
@@ -40,6 +32,11 @@ std::string PortableModelPath(const std::string& resolved) {
   const fs::path rel = fs::path(resolved).lexically_relative(root);
   if (!rel.empty() && *rel.begin() != "..") return rel.generic_string();
   return resolved;
+}
+
+std::string ProjectRelativePath(const std::string& file) {
+  std::error_code ec;
+  return PortableModelPath(fs::weakly_canonical(fs::absolute(file, ec), ec).string());
 }
 
 Eigen::Vector3d ModelDimensions(const std::string& path, const SourceLocation& where) {

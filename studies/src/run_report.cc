@@ -1021,8 +1021,6 @@ std::string TrackerText(const RunFolder& run) {
   }
 }
 
-// The run folder's manifest.json and metrics.json; throws InputError when
-// either is missing, not JSON, or not a run's.
 // The manifest's fields of the type hcpf run writes them, where present (a
 // bad-input audit: "frames": "twenty" and "seed": -1 were shown in the
 // header, "timings": "x" dropped a row without a word). Absent fields are
@@ -1059,6 +1057,8 @@ void CheckRunManifest(const json& manifest, const fs::path& path) {
   }
 }
 
+// The run folder's manifest.json and metrics.json; throws InputError when
+// either is missing, not JSON, or not a run's.
 RunFolder ReadRunFolder(const fs::path& dir) {
   RunFolder run;
   run.dir = dir;

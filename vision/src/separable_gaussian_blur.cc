@@ -60,21 +60,21 @@ void SeparableGaussianBlur(const GreyImageF& input, double sigma, GreyImageF& ou
   const std::vector<float> k = HalfKernel(sigma);
   const int r = static_cast<int>(k.size()) - 1;
 
-  // Down the columns, a whole row at a time: row y of `columns` is
+  // Down the columns, a whole row at a time, into `output`: its row y is
   // k0 row(y) + sum_i k_i (row(y - i) + row(y + i)), rows clamped.
-  std::vector<float> columns(input.pixels.size());
   for (int y = 0; y < h; ++y) {
-    Row acc(columns.data() + static_cast<size_t>(y) * w, w);
+    Row acc(output.row(y), w);
     acc = k[0] * ConstRow(input.row(y), w);
     for (int i = 1; i <= r; ++i) {
       acc += k[static_cast<size_t>(i)] * (ConstRow(input.row(std::max(0, y - i)), w) +
                                           ConstRow(input.row(std::min(h - 1, y + i)), w));
     }
   }
-  // Along each row, from a copy padded by r edge values on each side.
+  // Along each row of `output`, in place: from a copy of the row padded by
+  // r edge values on each side (the only buffer: one row, not a frame).
   std::vector<float> padded(static_cast<size_t>(w + 2 * r));
   for (int y = 0; y < h; ++y) {
-    const float* src = columns.data() + static_cast<size_t>(y) * w;
+    const float* src = output.row(y);
     std::fill(padded.begin(), padded.begin() + r, src[0]);
     std::copy(src, src + w, padded.begin() + r);
     std::fill(padded.begin() + r + w, padded.end(), src[w - 1]);

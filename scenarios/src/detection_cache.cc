@@ -5,6 +5,7 @@
 #include <zstd.h>
 
 #include <cstring>
+#include <filesystem>
 #include <fstream>
 #include <iterator>
 #include <mutex>
@@ -160,50 +161,64 @@ XXH128_hash_t PixelDigest(const ImageView& image) {
   return digest;
 }
 
-std::string CodeFile() {
+std::vector<std::string> CodeFiles() {
   // The loaded object whose segments hold this function: the executable
   // (dl_iterate_phdr names it "") or a shared library, by the path it was
   // loaded from. The `hcpf` launcher loads libhcpf_cli.so, which holds the
   // detectors: hashing the launcher alone would let a rebuilt detector read
-  // the outputs of the build before it.
+  // the outputs of the build before it. Beside it, the shared libraries
+  // whose arithmetic the detectors call: OpenCV's and the C maths library
+  // (another OpenCV build, or another libm's exp, can move a detection).
   struct Search {
     uintptr_t address = 0;
-    std::string file;
+    std::string code;
     bool found = false;
-  } search{.address = reinterpret_cast<uintptr_t>(&CodeFile)};
+    std::set<std::string> libraries;  // sorted: the digest's order
+  } search{.address = reinterpret_cast<uintptr_t>(&CodeFiles)};
   dl_iterate_phdr(
       [](dl_phdr_info* info, size_t, void* data) -> int {
         auto* s = static_cast<Search*>(data);
-        for (int i = 0; i < info->dlpi_phnum; ++i) {
+        const std::string name = info->dlpi_name != nullptr ? info->dlpi_name : "";
+        const std::string base = std::filesystem::path(name).filename().string();
+        if (base.rfind("libopencv_", 0) == 0 || base.rfind("libm.so", 0) == 0) {
+          s->libraries.insert(name);
+        }
+        for (int i = 0; !s->found && i < info->dlpi_phnum; ++i) {
           const ElfW(Phdr)& ph = info->dlpi_phdr[i];
           if (ph.p_type != PT_LOAD) continue;
           const uintptr_t start = info->dlpi_addr + ph.p_vaddr;
           if (s->address >= start && s->address < start + ph.p_memsz) {
-            s->file = info->dlpi_name != nullptr ? info->dlpi_name : "";
+            s->code = name;
             s->found = true;
-            return 1;
           }
         }
         return 0;
       },
       &search);
-  if (!search.found || search.file.empty()) return "/proc/self/exe";
-  return search.file;
+  std::vector<std::string> files{search.code.empty() ? "/proc/self/exe" : search.code};
+  files.insert(files.end(), search.libraries.begin(), search.libraries.end());
+  return files;
 }
 
 const std::optional<XXH128_hash_t>& ProgramDigest() {
   static const std::optional<XXH128_hash_t> digest = []() -> std::optional<XXH128_hash_t> {
-    std::ifstream in(CodeFile(), std::ios::binary);
-    if (!in) return std::nullopt;
     XXH3_state_t* state = XXH3_createState();
     HCPF_CHECK(state != nullptr) << "XXH3_createState";
     XXH3_128bits_reset(state);
     std::vector<char> buffer(1 << 20);
-    while (in) {
-      in.read(buffer.data(), static_cast<std::streamsize>(buffer.size()));
-      XXH3_128bits_update(state, buffer.data(), static_cast<size_t>(in.gcount()));
+    bool ok = true;
+    for (const std::string& file : CodeFiles()) {
+      std::ifstream in(file, std::ios::binary);
+      uint64_t bytes = 0;
+      while (in) {
+        in.read(buffer.data(), static_cast<std::streamsize>(buffer.size()));
+        XXH3_128bits_update(state, buffer.data(), static_cast<size_t>(in.gcount()));
+        bytes += static_cast<uint64_t>(in.gcount());
+      }
+      // Each file's length after it: the concatenation is then unambiguous.
+      XXH3_128bits_update(state, &bytes, sizeof(bytes));
+      ok = ok && in.eof();
     }
-    const bool ok = in.eof();
     const XXH128_hash_t h = XXH3_128bits_digest(state);
     XXH3_freeState(state);
     if (!ok) return std::nullopt;

@@ -13,6 +13,7 @@
 #include <span>
 #include <string>
 #include <string_view>
+#include <vector>
 
 #include "hcpf/core/image.h"
 #include "hcpf/vision/detector.h"
@@ -28,16 +29,20 @@ bool IsDigestHex(std::string_view text);
 // XXH3-128 of an image's size and pixels.
 XXH128_hash_t PixelDigest(const ImageView& image);
 
-// The file of the loaded object that holds the detection code (this
+// The files of the code that detects, in the order ProgramDigest hashes
+// them: first the loaded object that holds the detection code (this
 // module's): the running executable when it is linked in (the tests;
 // "/proc/self/exe"), or the shared library that holds it (the `hcpf`
-// launcher loads libhcpf_cli.so, which links every module).
-std::string CodeFile();
+// launcher loads libhcpf_cli.so, which links every module); then every
+// loaded OpenCV library (libopencv_*) and the C maths library (libm.so.*),
+// by path, sorted.
+std::vector<std::string> CodeFiles();
 
-// XXH3-128 of CodeFile(), computed once: part of every key, so a rebuilt
-// detector (any code change relinks that file: the modules are static
-// libraries) never reads an older build's output. nullopt when the file
-// cannot be read: then no detection is cached.
+// XXH3-128 of the contents of CodeFiles() (each followed by its length),
+// computed once: part of every key, so a rebuilt detector (any code change
+// relinks the first file: the modules are static libraries) or another
+// OpenCV or libm never reads outputs made by other code. nullopt when a
+// file cannot be read: then no detection is cached.
 const std::optional<XXH128_hash_t>& ProgramDigest();
 
 // Builds a key: feed every input, then Finish().

@@ -4,16 +4,20 @@
 
 #include "hcpf/scenarios/cache.h"
 
+#include <dlfcn.h>
 #include <gtest/gtest.h>
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <cstdlib>
 #include <fstream>
+#include <opencv2/imgproc.hpp>
 #include <optional>
 #include <string>
 #include <vector>
 
+#include "detection_cache.h"
 #include "hcpf/core/error.h"
 #include "support/process.h"
 
@@ -374,6 +378,30 @@ TEST(Cache, SizesAreBytesOrPowersOf1024) {
   EXPECT_EQ(FormatSize(300), "300 B");
   EXPECT_EQ(FormatSize(512 * 1024), "512.0 KiB");
   EXPECT_EQ(FormatSize(3u * 1024u * 1024u * 1024u / 2u), "1.5 GiB");
+}
+
+// The detection cache's key covers the code that detects: this test
+// executable (where the modules are linked in), then the libraries whose
+// arithmetic the detectors call, found independently of CodeFiles: the
+// files dladdr says hold cv::GaussianBlur and exp. (Before 2026-12-05 only
+// the first: two OpenCV builds sharing a cache could read each other's
+// detections.)
+TEST(DetectionCacheKey, CoversTheCodeOpenCvAndTheMathsLibrary) {
+  const std::vector<std::string> files = internal::CodeFiles();
+  ASSERT_FALSE(files.empty());
+  EXPECT_EQ(files.front(), "/proc/self/exe");
+  Dl_info opencv{}, maths{};
+  void (*blur)(cv::InputArray, cv::OutputArray, cv::Size, double, double, int) = &cv::GaussianBlur;
+  double (*exponential)(double) = &::exp;
+  ASSERT_NE(dladdr(reinterpret_cast<void*>(blur), &opencv), 0);
+  ASSERT_NE(dladdr(reinterpret_cast<void*>(exponential), &maths), 0);
+  EXPECT_NE(std::string(opencv.dli_fname).find("libopencv_imgproc"), std::string::npos)
+      << opencv.dli_fname;
+  EXPECT_NE(std::find(files.begin(), files.end(), opencv.dli_fname), files.end())
+      << opencv.dli_fname;
+  EXPECT_NE(std::find(files.begin(), files.end(), maths.dli_fname), files.end()) << maths.dli_fname;
+  EXPECT_TRUE(std::is_sorted(files.begin() + 1, files.end()));
+  EXPECT_TRUE(internal::ProgramDigest().has_value());
 }
 
 }  // namespace

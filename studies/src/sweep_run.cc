@@ -346,10 +346,43 @@ SweepPlan PrepareSweep(const SweepSpec& spec, const std::vector<SweepRun>& runs,
   // Finished runs are reused only while their folders still hold what the
   // store records (a deleted or damaged folder is computed again).
   const std::vector<RunRecord> stored = plan.store->Runs();
+  // A row is this sweep's run only while it says what the expansion says of
+  // the run of its key: its index, seeds, swept values and folder. A row
+  // edited by hand (a swept value changed: the report drew a cell the sweep
+  // does not have, and resume kept it, a bad-input audit) is computed again,
+  // which rewrites it; a row of a key the sweep has no run of is refused.
+  std::map<std::string, const SweepRun*> planned;
+  for (const SweepRun& run : runs) planned.emplace(run.key, &run);
+  std::vector<char> edited(stored.size(), 0);
+  for (size_t i = 0; i < stored.size(); ++i) {
+    const RunRecord& r = stored[i];
+    const auto it = planned.find(r.key);
+    if (it == planned.end()) {
+      throw InputError(
+          SourceLocation{(out / "results.sqlite").string(), 0, 0, fmt::format("runs[{}]", r.key)},
+          "a row of a run of this sweep (its key a configuration hash of the "
+          "sweep's expansion)",
+          fmt::format("run {}, whose key no run of the sweep has", r.index),
+          "the store was edited; delete the row, or the store to compute every run "
+          "again");
+    }
+    const RunRecord want = NewRecord(*it->second);
+    if (r.index != want.index || r.seed_index != want.seed_index || r.seed != want.seed ||
+        r.values != want.values || r.run_dir != want.run_dir) {
+      if (r.ok) {
+        spdlog::warn(
+            "sweep: the row of run {} ({}) in {} says index {}, seed {}, swept values {}; the "
+            "sweep says index {}, seed {}, swept values {}: computing it again",
+            want.index, r.key, (out / "results.sqlite").string(), r.index, r.seed,
+            fmt::join(r.values, ", "), want.index, want.seed, fmt::join(want.values, ", "));
+      }
+      edited[i] = 1;
+    }
+  }
   std::vector<char> intact(stored.size(), 0);
   ParallelFor(stored.size(), options.jobs, [&](size_t i) {
     const RunRecord& r = stored[i];
-    intact[i] = r.ok && RunFolderIntact((out / r.run_dir).string(), r);
+    intact[i] = r.ok && !edited[i] && RunFolderIntact((out / r.run_dir).string(), r);
   });
   std::map<std::string, bool> finished;  // key -> ok and intact
   // The video is not part of a run's key: a finished run that --video asks a
@@ -362,7 +395,7 @@ SweepPlan PrepareSweep(const SweepSpec& spec, const std::vector<SweepRun>& runs,
         !fs::is_regular_file(out / stored[i].run_dir / "overlay.mp4", ec)) {
       lacks_video.insert(stored[i].key);
     }
-    if (stored[i].ok && !intact[i]) {
+    if (stored[i].ok && !intact[i] && !edited[i]) {
       spdlog::warn(
           "sweep: run {} ({}) is recorded as done but its folder {} is missing or "
           "damaged: computing it again",

@@ -677,6 +677,46 @@ TEST(RunSweep, AFailingRunIsRecordedAndTheOthersFinish) {
   EXPECT_EQ(resumed.failed, 0);
 }
 
+// A row edited by hand no longer says what the sweep says of its run: a
+// bad-input audit changed run 3's swept particle count to 999, and the report
+// drew a cell of 999 particles that resume kept. Resume now computes the run
+// again (rewriting its row), and refuses a row whose key no run has.
+TEST(RunSweep, AStoreRowEditedByHandIsComputedAgainOrRefused) {
+  const auto dir = SweepFolder("edited-row");
+  const SweepSpec spec = LoadSweepFile(WriteSweep(dir, kSweep));
+  const auto runs = ExpandSweep(spec);
+  ASSERT_EQ(RunSweep(spec, runs, Options(dir / "out", 2)).computed, 8);
+  const std::string path = (dir / "out" / "results.sqlite").string();
+  const std::vector<std::string> before = StoreRows(dir / "out");
+  ExecSql(path, "UPDATE runs SET \"tracker.particles\" = '999' WHERE run_index = 3");
+  ASSERT_EQ(ResultsStore::Open(path)->Runs()[3].values[0], "999");
+  const SweepResult resumed = RunSweep(spec, runs, Options(dir / "out", 2));
+  EXPECT_EQ(resumed.reused, 7);
+  EXPECT_EQ(resumed.computed, 1);
+  EXPECT_EQ(ResultsStore::Open(path)->Runs()[3].values[0], runs[3].values[0]);
+  EXPECT_EQ(StoreRows(dir / "out"), before);
+  // The seed of another row: the same.
+  ExecSql(path, "UPDATE runs SET seed = '12345' WHERE run_index = 6");
+  EXPECT_EQ(RunSweep(spec, runs, Options(dir / "out", 2)).computed, 1);
+  EXPECT_EQ(StoreRows(dir / "out"), before);
+  // A row of a key no run has.
+  ExecSql(path,
+          "UPDATE runs SET key = '0123456789abcdef', run_dir = 'runs/0123456789abcdef' "
+          "WHERE run_index = 5");
+  try {
+    RunSweep(spec, runs, Options(dir / "out", 2));
+    ADD_FAILURE() << "a row of no run of the sweep was kept";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("runs[0123456789abcdef]: expected a row of a run of this "
+                                         "sweep"),
+              std::string::npos)
+        << e.what();
+    EXPECT_NE(std::string(e.what()).find("found run 5, whose key no run of the sweep has"),
+              std::string::npos)
+        << e.what();
+  }
+}
+
 // A sweep of explicit seeds (grid: {seed: [...]}, no seeds:) is allowed by
 // the sweep file; its store failed on "duplicate column name: seed" (a
 // bad-input audit). The swept values go to their own column, and each run's

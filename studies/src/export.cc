@@ -8,10 +8,10 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <array>
 #include <filesystem>
 #include <fstream>
 #include <map>
-#include <nlohmann/json.hpp>
 #include <set>
 #include <vector>
 
@@ -134,25 +134,14 @@ void CheckOutFolder(const fs::path& out) {
   }
 }
 
+// The files of a run that the export copies: all a run folder written
+// before manifests listed their files is asked for.
+constexpr std::array<const char*, 3> kExportedFiles = {"gt/gt.txt", "tracks.txt", "seqinfo.ini"};
+
 void MakeDirs(const fs::path& dir) {
   std::error_code ec;
   fs::create_directories(dir, ec);
   if (ec) throw RunError(fmt::format("cannot create {}: {}", dir.string(), ec.message()));
-}
-
-// Whether a run's manifest.json lists the files the run wrote ("files"): a
-// manifest that cannot be read counts as listing them (RunFolderIntact then
-// finds it damaged).
-bool ManifestListsFiles(const fs::path& run_dir) {
-  const nlohmann::json::parser_callback_t top_level = [](int depth, nlohmann::json::parse_event_t,
-                                                         nlohmann::json&) { return depth <= 1; };
-  try {
-    std::ifstream in(run_dir / "manifest.json");
-    const nlohmann::json manifest = nlohmann::json::parse(in, top_level);
-    return !manifest.is_object() || manifest.contains("files");
-  } catch (const nlohmann::json::exception&) {
-    return true;
-  }
 }
 
 }  // namespace
@@ -230,11 +219,8 @@ TrackEvalExportResult ExportTrackEval(const TrackEvalExportOptions& options) {
     // tracker that found nothing, exit 0. A run written before manifests
     // listed their files (2026-11-23) is asked only for the three files the
     // export copies (a review: its older runs lack camera_motion.csv, which
-    // RunFolderIntact asks of them, and were all left out).
-    if (!r.ok || !fs::is_regular_file(run_dir / "gt" / "gt.txt") ||
-        !fs::is_regular_file(run_dir / "tracks.txt") ||
-        !fs::is_regular_file(run_dir / "seqinfo.ini") ||
-        (ManifestListsFiles(run_dir) && !RunFolderIntact(run_dir.string(), r))) {
+    // RunFolderIntact asks of them by default, and were all left out).
+    if (!r.ok || !RunFolderIntact(run_dir.string(), r, kExportedFiles)) {
       ++result.not_ok;
       if (r.ok) damaged.push_back(r.run_dir);
       continue;

@@ -17,6 +17,7 @@
 #include <limits>
 #include <nlohmann/json.hpp>
 #include <set>
+#include <span>
 #include <sstream>
 
 #include "hcpf/core/check.h"
@@ -685,11 +686,11 @@ json ReadRunJson(const std::string& run_dir, const std::string& name) {
 // Whether every file the manifest lists ("files": path -> bytes, written by
 // RunScenario) is still a regular file of that size. A manifest of an hcpf
 // from before the list asks only that the files every run writes are there.
-bool RunFilesWhole(const std::string& run_dir, const json& manifest) {
+bool RunFilesWhole(const std::string& run_dir, const json& manifest,
+                   std::span<const char* const> files_before_the_list) {
   std::error_code ec;
   if (!manifest.contains("files")) {
-    for (const char* name : {"scenario.resolved.yaml", "gt/gt.txt", "seqinfo.ini", "gt.json",
-                             "detections.txt", "tracks.txt", "camera_motion.csv"}) {
+    for (const char* name : files_before_the_list) {
       if (!fs::is_regular_file(fs::path(run_dir) / name, ec)) return false;
     }
     return true;
@@ -804,11 +805,12 @@ std::string ReadRunBuild(const std::string& run_dir) {
   }
 }
 
-bool RunFolderIntact(const std::string& run_dir, const RunRecord& record) {
+bool RunFolderIntact(const std::string& run_dir, const RunRecord& record,
+                     std::span<const char* const> files_before_the_list) {
   std::map<std::string, double> now;
   try {
     const json manifest = ReadRunJson(run_dir, "manifest.json");
-    if (!RunFilesWhole(run_dir, manifest)) return false;
+    if (!RunFilesWhole(run_dir, manifest, files_before_the_list)) return false;
     // The run of its row: a run's key is its configuration hash (a fourth
     // bad-input audit: a folder whose manifest names another configuration
     // was merged as ok and reused).

@@ -14,12 +14,14 @@
 // Every Put() is one transaction, so a killed process loses at most the runs
 // it had not yet put. Thread-safe (one connection behind a mutex).
 
+#include <array>
 #include <cstdint>
 #include <map>
 #include <memory>
 #include <mutex>
 #include <optional>
 #include <set>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -139,12 +141,20 @@ void ReadRunFolderInto(const std::string& run_dir, RunRecord& record);
 // git revision. Reads only the manifest's top level.
 std::string ReadRunBuild(const std::string& run_dir);
 
+// The files every run folder holds: what RunFolderIntact asks of a folder
+// written before manifests listed their files (2026-11-23).
+inline constexpr std::array<const char*, 7> kEveryRunsFiles = {
+    "scenario.resolved.yaml", "gt/gt.txt",  "seqinfo.ini",      "gt.json",
+    "detections.txt",         "tracks.txt", "camera_motion.csv"};
+
 // Whether a run folder still holds the run the store records: its
 // metrics.json and manifest.json read back (ReadRunMetrics) to exactly the
 // record's metrics, and every file the manifest lists under "files" is there
-// with the size it was written with. False when the folder was deleted or a
-// file removed, cut short, emptied or damaged.
-bool RunFolderIntact(const std::string& run_dir, const RunRecord& record);
+// with the size it was written with (a manifest without the list: every file
+// of `files_before_the_list` is there). False when the folder was deleted or
+// a file removed, cut short, emptied or damaged.
+bool RunFolderIntact(const std::string& run_dir, const RunRecord& record,
+                     std::span<const char* const> files_before_the_list = kEveryRunsFiles);
 
 // Checks that `dir` may take a sweep's outputs (`option` names the argument:
 // "--out", "OUT"): a folder that does not exist yet, an empty one, or one a

@@ -11,6 +11,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <limits>
 #include <map>
 #include <nlohmann/json.hpp>
@@ -619,6 +620,140 @@ void CheckOutputs(const RegressOptions& o, const RegressSuite& suite) {
   }
 }
 
+// The parser's input: the baseline's text, counting what the parser has read
+// (`*consumed`), so that a callback knows where in the text it is (the JSON
+// library gives positions only in its syntax errors).
+class CountingIterator {
+ public:
+  using iterator_category = std::input_iterator_tag;
+  using value_type = char;
+  using difference_type = std::ptrdiff_t;
+  using pointer = const char*;
+  using reference = const char&;
+
+  CountingIterator(const char* at, const char* begin, size_t* consumed)
+      : at_(at), begin_(begin), consumed_(consumed) {}
+  reference operator*() const { return *at_; }
+  CountingIterator& operator++() {
+    ++at_;
+    *consumed_ = static_cast<size_t>(at_ - begin_);
+    return *this;
+  }
+  CountingIterator operator++(int) {
+    CountingIterator before = *this;
+    ++*this;
+    return before;
+  }
+  bool operator==(const CountingIterator& other) const { return at_ == other.at_; }
+
+ private:
+  const char* at_;
+  const char* begin_;
+  size_t* consumed_;
+};
+
+// Reads and checks the baseline file `path` against `suite`. Every error
+// names the line and column of its key (or of the nearest key above it that
+// the file has): each key's dotted name is noted where the parser read it
+// (a bad-input audit: value errors named the key but no line).
+json ReadBaseline(const std::string& path, const RegressSuite& suite) {
+  const std::string text = ReadInputFile(path, "a baseline JSON file", kMaxBaselineBytes);
+  size_t consumed = 0;
+  // Where the key the parser has just read begins: its opening quote, the
+  // first unescaped one before its closing quote, the last character read.
+  const auto key_start = [&text, &consumed]() {
+    size_t at = std::min(consumed, text.size());
+    if (at > 0) --at;  // the closing quote
+    while (at > 0) {
+      --at;
+      size_t backslashes = 0;
+      while (backslashes < at && text[at - 1 - backslashes] == '\\') ++backslashes;
+      if (text[at] == '"' && backslashes % 2 == 0) break;
+    }
+    return PositionOf(text, at);
+  };
+  // A key twice in one object is refused, as the suite's YAML refuses it
+  // (a bad-input audit: the JSON library keeps the last value, so
+  // "mota": 1.0, "mota": 0.2 compared with 0.2 without a word).
+  struct Open {
+    bool object = false;
+    std::set<std::string> keys;
+    std::string key;
+    int index = -1;
+  };
+  std::vector<Open> open;
+  // The dotted key of `last` in the innermost container open.
+  const auto dotted = [&open](const std::string& last) {
+    std::string at;
+    for (const Open& o : open) {
+      if (&o == &open.back()) break;
+      at += o.object ? (at.empty() ? "" : ".") + o.key : fmt::format("[{}]", o.index);
+    }
+    return at.empty() ? last : at + "." + last;
+  };
+  std::map<std::string, TextPosition> where;  // dotted key -> where it begins
+  const json::parser_callback_t note = [&](int, json::parse_event_t event, json& parsed) {
+    using E = json::parse_event_t;
+    if ((event == E::object_start || event == E::array_start || event == E::value) &&
+        !open.empty() && !open.back().object) {
+      ++open.back().index;
+    }
+    if (event == E::object_start || event == E::array_start) {
+      open.push_back({.object = event == E::object_start});
+    } else if (event == E::object_end || event == E::array_end) {
+      if (!open.empty()) open.pop_back();
+    } else if (event == E::key && !open.empty()) {
+      const std::string key = parsed.get<std::string>();
+      const TextPosition at = key_start();
+      if (!open.back().keys.insert(key).second) {
+        throw InputError(SourceLocation{path, at.line, at.column, dotted(key)},
+                         "each key once in its object", fmt::format("\"{}\" a second time", key));
+      }
+      open.back().key = key;
+      where.emplace(dotted(key), at);
+    }
+    return true;
+  };
+  json baseline;
+  try {
+    baseline =
+        json::parse(CountingIterator(text.data(), text.data(), &consumed),
+                    CountingIterator(text.data() + text.size(), text.data(), &consumed), note);
+  } catch (const json::parse_error& e) {
+    // At the file's line and column, with the parser's words after its own
+    // position (a bad-input audit: both were inside the library's text).
+    const TextPosition at = PositionOf(text, e.byte > 0 ? e.byte - 1 : 0);
+    std::string why = e.what();
+    if (const size_t column = why.find("column"); column != std::string::npos) {
+      if (const size_t colon = why.find(": ", column); colon != std::string::npos) {
+        why = why.substr(colon + 2);
+      }
+    }
+    throw InputError(SourceLocation{path, at.line, at.column, ""}, "a baseline JSON file",
+                     "a JSON syntax error (" + why + ")");
+  } catch (const json::exception& e) {
+    throw InputError(SourceLocation{path, 0, 0, ""}, "a baseline JSON file", e.what());
+  }
+  try {
+    CheckBaseline(baseline, path, suite);
+  } catch (const InputError& e) {
+    if (e.where().line > 0) throw;
+    // The key, or the nearest key above it that the file has (a value the
+    // suite asks for and the file lacks: its scene's or its "metrics").
+    std::string key = e.where().key;
+    auto found = where.find(key);
+    while (found == where.end() && !key.empty()) {
+      const size_t cut = key.find_last_of(".[");
+      key = cut == std::string::npos ? std::string() : key.substr(0, cut);
+      found = where.find(key);
+    }
+    if (found == where.end()) throw;
+    throw InputError(SourceLocation{path, found->second.line, found->second.column, e.where().key},
+                     e.expected(), e.found(), e.hint());
+  }
+  return baseline;
+}
+
 }  // namespace
 
 fs::path RegressOptions::RunsFolder() const {
@@ -641,65 +776,7 @@ RegressResult RunRegress(const RegressOptions& options) {
       throw InputError(SourceLocation{options.baseline_path, 0, 0, "--baseline"},
                        "a baseline JSON file", "no such file", "create it with --update-baseline");
     }
-    const std::string text =
-        ReadInputFile(options.baseline_path, "a baseline JSON file", kMaxBaselineBytes);
-    // A key twice in one object is refused, as the suite's YAML refuses it
-    // (a bad-input audit: the JSON library keeps the last value, so
-    // "mota": 1.0, "mota": 0.2 compared with 0.2 without a word).
-    struct Open {
-      bool object = false;
-      std::set<std::string> keys;
-      std::string key;
-      int index = -1;
-    };
-    std::vector<Open> open;
-    const auto dotted = [&open](const std::string& last) {
-      std::string at;
-      for (const Open& o : open) {
-        if (&o == &open.back()) break;
-        at += o.object ? (at.empty() ? "" : ".") + o.key : fmt::format("[{}]", o.index);
-      }
-      return at.empty() ? last : at + "." + last;
-    };
-    const json::parser_callback_t once = [&](int, json::parse_event_t event, json& parsed) {
-      using E = json::parse_event_t;
-      if ((event == E::object_start || event == E::array_start || event == E::value) &&
-          !open.empty() && !open.back().object) {
-        ++open.back().index;
-      }
-      if (event == E::object_start || event == E::array_start) {
-        open.push_back({.object = event == E::object_start});
-      } else if (event == E::object_end || event == E::array_end) {
-        if (!open.empty()) open.pop_back();
-      } else if (event == E::key && !open.empty()) {
-        const std::string key = parsed.get<std::string>();
-        if (!open.back().keys.insert(key).second) {
-          throw InputError(SourceLocation{options.baseline_path, 0, 0, dotted(key)},
-                           "each key once in its object", fmt::format("\"{}\" a second time", key));
-        }
-        open.back().key = key;
-      }
-      return true;
-    };
-    try {
-      baseline = json::parse(text, once);
-    } catch (const json::parse_error& e) {
-      // At the file's line and column, with the parser's words after its own
-      // position (a bad-input audit: both were inside the library's text).
-      const TextPosition at = PositionOf(text, e.byte > 0 ? e.byte - 1 : 0);
-      std::string why = e.what();
-      if (const size_t column = why.find("column"); column != std::string::npos) {
-        if (const size_t colon = why.find(": ", column); colon != std::string::npos) {
-          why = why.substr(colon + 2);
-        }
-      }
-      throw InputError(SourceLocation{options.baseline_path, at.line, at.column, ""},
-                       "a baseline JSON file", "a JSON syntax error (" + why + ")");
-    } catch (const json::exception& e) {
-      throw InputError(SourceLocation{options.baseline_path, 0, 0, ""}, "a baseline JSON file",
-                       e.what());
-    }
-    CheckBaseline(baseline, options.baseline_path, suite);
+    baseline = ReadBaseline(options.baseline_path, suite);
   }
 
   const bool temporary = options.work_dir.empty();

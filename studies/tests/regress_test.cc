@@ -404,6 +404,66 @@ TEST(Regress, BadBaselinesAreBadInput) {
   EXPECT_TRUE(std::isnan(r.rows[0].baseline));
 }
 
+// Every baseline error names the line and column where its key begins, or
+// where the nearest key above it that the file has begins (a bad-input audit:
+// the value errors named the key but no line, the JSON library giving no
+// positions after parsing). Worked out by hand from the text below.
+TEST(Regress, BaselineErrorsNameTheLineOfTheirKey) {
+  const auto dir = testing::SweepFolder("regress-baseline-lines");
+  std::ofstream(dir / "suite.yaml") << "scenes:\n  - {name: a, scenario: base.yaml}\n"
+                                       "metrics:\n  idf1: {tolerance: 0.01}\n";
+  RegressOptions o;
+  o.suite_path = (dir / "suite.yaml").string();
+  o.baseline_path = (dir / "baseline.json").string();
+  const auto error_of = [&](const std::string& text) -> std::string {
+    std::ofstream(o.baseline_path) << text;
+    try {
+      RunRegress(o);
+    } catch (const InputError& e) {
+      return e.what();
+    }
+    return "(accepted)";
+  };
+  // Line 6, column 9: "idf1" after eight spaces.
+  EXPECT_NE(error_of("{\n"
+                     "  \"scenes\": {\n"
+                     "    \"a\": {\n"
+                     "      \"config_hash\": \"0123\",\n"
+                     "      \"metrics\": {\n"
+                     "        \"idf1\": 7\n"
+                     "      }\n"
+                     "    }\n"
+                     "  }\n"
+                     "}\n")
+                .find("baseline.json:6:9: scenes.a.metrics.idf1: expected a number in [0, 1]"),
+            std::string::npos);
+  // A key with an escaped quote in it: at its opening quote (line 3,
+  // column 3), not at the escaped one.
+  EXPECT_NE(error_of("{\"scenes\": {\n"
+                     "  \"a\": {\"metrics\": {\"idf1\": 0.5},\n"
+                     "  \"x\\\"y\": 1}}}\n")
+                .find("baseline.json:3:3: scenes.a.x\"y: expected one of the keys"),
+            std::string::npos);
+  // A hash of the wrong type: line 3, column 20.
+  EXPECT_NE(error_of("{\"scenes\": {\n"
+                     "  \"a\": {\"metrics\": {\"idf1\": 0.5},\n"
+                     "                   \"config_hash\": 17}}}\n")
+                .find("baseline.json:3:20: scenes.a.config_hash: expected a configuration hash"),
+            std::string::npos);
+  // The suite's scene is absent: at the key above it, "scenes" (line 2,
+  // column 3).
+  EXPECT_NE(error_of("{\n  \"scenes\": {\n    \"b\": {\"metrics\": {\"idf1\": 0.5}}}}\n")
+                .find("baseline.json:2:3: scenes.a.metrics: expected a baseline value for every "
+                      "scene and metric of the suite, found none"),
+            std::string::npos);
+  // A key twice: at the second.
+  EXPECT_NE(error_of("{\"scenes\": {\"a\": {\"metrics\": {\n"
+                     "  \"idf1\": 0.5,\n"
+                     "  \"idf1\": 0.6}}}}\n")
+                .find("baseline.json:3:3: scenes.a.metrics.idf1: expected each key once"),
+            std::string::npos);
+}
+
 // Outputs are checked before anything runs (a bad-input audit: --junit
 // naming the baseline replaced it with XML, exit 0; --update-baseline onto
 // the suite replaced the suite; a missing folder failed with exit 1 after

@@ -272,7 +272,7 @@ struct DocumentSpan {
 // dotted key path.
 struct TaggedScalar {
   YAML::Mark mark;
-  std::string path;
+  std::string path;  // the value's dotted path; a key's: its mapping's
 };
 
 // Walks a stream's documents without building them. YAML::LoadAll cannot be
@@ -314,7 +314,11 @@ class DocumentScanner final : public YAML::EventHandler {
   void OnScalar(const YAML::Mark& mark, const std::string& tag, YAML::anchor_t,
                 const std::string& value) override {
     const std::string path = Enter(value);
-    if (tag != "?") tagged_.push_back({mark, path});
+    // A quoted key is named by its mapping's path: the text of a key whose
+    // quote never closes is the rest of the file (`[20, "40]` gave the key
+    // path "particles[1].40] ", a bad-input audit).
+    const bool key = !stack_.empty() && stack_.back().map && !stack_.back().key_next;
+    if (tag != "?") tagged_.push_back({mark, key ? stack_.back().path : path});
     Saw(mark, true);
   }
   void OnSequenceStart(const YAML::Mark& mark, const std::string&, YAML::anchor_t,

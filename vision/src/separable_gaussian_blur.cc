@@ -1,16 +1,17 @@
 // An exact sampled Gaussian of float images in a fixed summation order
 // (stacked_integral_blur.h, SeparableGaussianBlur).
 
-// No fused multiply-add here, whatever the build's flags (see Row below).
+// No fused multiply-add here, whatever the build's flags
+// (separable_blur_kernel.h).
 #pragma GCC optimize("fp-contract=off")
 
-#include <Eigen/Core>
-#include <algorithm>
 #include <cmath>
+#include <cstddef>
 #include <vector>
 
 #include "hcpf/core/check.h"
 #include "hcpf/vision/stacked_integral_blur.h"
+#include "separable_blur_kernel.h"
 
 namespace hcpf::vision {
 
@@ -36,14 +37,16 @@ std::vector<float> HalfKernel(double sigma) {
   return half;
 }
 
-// The same bytes on every x86-64 CPU rest on two things: each output value
-// is one expression evaluated in a fixed order (vector lanes and the scalar
-// ends of Eigen's loops compute it alike), and no multiply-add is fused,
-// which the project's -ffp-contract=off (CMakeLists.txt) guarantees; built
-// with GCC's default (fast) contraction and -mfma the results would differ
-// (a review checked both), so this file asks for it itself as well.
-using Row = Eigen::Map<Eigen::ArrayXf>;
-using ConstRow = Eigen::Map<const Eigen::ArrayXf>;
+// The passes, cloned for AVX-512, AVX2 and the x86-64 baseline (SSE2): the
+// loader picks the widest the CPU has. Every clone computes the same bytes
+// (separable_blur_kernel.h; tests/separable_gaussian_blur_test.cc compares
+// each with a scalar sum); the wider ones are faster (docs/performance.md).
+__attribute__((target_clones("avx512f", "avx2", "default"))) void BlurPasses(const float* in, int w,
+                                                                             int h, const float* k,
+                                                                             int r, float* out,
+                                                                             float* padded) {
+  internal::SeparableBlurPasses(in, w, h, k, r, out, padded);
+}
 
 }  // namespace
 
@@ -60,31 +63,8 @@ void SeparableGaussianBlur(const GreyImageF& input, double sigma, GreyImageF& ou
   const std::vector<float> k = HalfKernel(sigma);
   const int r = static_cast<int>(k.size()) - 1;
 
-  // Down the columns, a whole row at a time, into `output`: its row y is
-  // k0 row(y) + sum_i k_i (row(y - i) + row(y + i)), rows clamped.
-  for (int y = 0; y < h; ++y) {
-    Row acc(output.row(y), w);
-    acc = k[0] * ConstRow(input.row(y), w);
-    for (int i = 1; i <= r; ++i) {
-      acc += k[static_cast<size_t>(i)] * (ConstRow(input.row(std::max(0, y - i)), w) +
-                                          ConstRow(input.row(std::min(h - 1, y + i)), w));
-    }
-  }
-  // Along each row of `output`, in place: from a copy of the row padded by
-  // r edge values on each side (the only buffer: one row, not a frame).
   std::vector<float> padded(static_cast<size_t>(w + 2 * r));
-  for (int y = 0; y < h; ++y) {
-    const float* src = output.row(y);
-    std::fill(padded.begin(), padded.begin() + r, src[0]);
-    std::copy(src, src + w, padded.begin() + r);
-    std::fill(padded.begin() + r + w, padded.end(), src[w - 1]);
-    Row acc(output.row(y), w);
-    acc = k[0] * ConstRow(padded.data() + r, w);
-    for (int i = 1; i <= r; ++i) {
-      acc += k[static_cast<size_t>(i)] *
-             (ConstRow(padded.data() + r - i, w) + ConstRow(padded.data() + r + i, w));
-    }
-  }
+  BlurPasses(input.pixels.data(), w, h, k.data(), r, output.pixels.data(), padded.data());
 }
 
 }  // namespace hcpf::vision

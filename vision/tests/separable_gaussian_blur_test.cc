@@ -8,12 +8,14 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <opencv2/core.hpp>
 #include <opencv2/imgproc.hpp>
 #include <vector>
 
 #include "hcpf/core/rng.h"
 #include "hcpf/vision/stacked_integral_blur.h"
+#include "separable_blur_kernel.h"
 
 namespace hcpf::vision {
 namespace {
@@ -88,17 +90,20 @@ TEST(SeparableGaussianBlur, MatchesOpenCvsFloatGaussianToRounding) {
   }
 }
 
-// Bit for bit the documented order, written out with scalar floats: down the
-// columns, then along the rows; per pixel the centre tap, then for i = 1 ..
-// r the pair k_i (p[-i] + p[+i]) added, edges repeated. The same bytes
-// wherever the vectorised loops split their work.
-TEST(SeparableGaussianBlur, IsExactlyTheFixedOrderSum) {
-  const GreyImageF in = RandomFloatImage(37, 23, 9);
-  const double sigma = 1.7;
+// The half kernel k_0 .. k_r by its definition, as floats.
+std::vector<float> HalfKernelByHand(double sigma) {
   const int r = static_cast<int>(std::lround(sigma * 8.0 + 1.0) | 1) / 2;
   const std::vector<double> kd = HandKernel(sigma, r);
   std::vector<float> k;
   for (int i = 0; i <= r; ++i) k.push_back(static_cast<float>(kd[static_cast<size_t>(r + i)]));
+  return k;
+}
+
+// Bit for bit the documented order, written out with scalar floats: down the
+// columns, then along the rows; per pixel the centre tap, then for i = 1 ..
+// r the pair k_i (p[-i] + p[+i]) added, edges repeated.
+GreyImageF FixedOrderSum(const GreyImageF& in, const std::vector<float>& k) {
+  const int r = static_cast<int>(k.size()) - 1;
   const int w = in.width, h = in.height;
   const auto clamp = [](int v, int n) { return std::clamp(v, 0, n - 1); };
   GreyImageF columns{w, h, std::vector<float>(in.pixels.size())};
@@ -122,7 +127,59 @@ TEST(SeparableGaussianBlur, IsExactlyTheFixedOrderSum) {
       expected.at(x, y) = acc;
     }
   }
-  EXPECT_EQ(Blurred(in, sigma), expected);
+  return expected;
+}
+
+// The library's blur (whichever clone this CPU runs) is that sum, bit for
+// bit, wherever the vectorised loops split their work.
+TEST(SeparableGaussianBlur, IsExactlyTheFixedOrderSum) {
+  const GreyImageF in = RandomFloatImage(37, 23, 9);
+  EXPECT_EQ(Blurred(in, 1.7), FixedOrderSum(in, HalfKernelByHand(1.7)));
+}
+
+// The passes built for each instruction set explicitly, as the library's
+// target_clones builds them (this file is compiled with -O3, as the library
+// is), on a frame whose width is a multiple of no vector width (the
+// remainder loops run too): each gives the scalar sum's bytes, so a machine
+// with AVX-512, one with AVX2 only and one with neither agree (a clone with a
+// fused multiply-add or an approximate instruction would not).
+#define HCPF_BLUR_PASSES(SUFFIX, ATTR)                                                           \
+  ATTR void Passes##SUFFIX(const GreyImageF& in, const std::vector<float>& k, GreyImageF& out) { \
+    const int r = static_cast<int>(k.size()) - 1;                                                \
+    out = GreyImageF{in.width, in.height, std::vector<float>(in.pixels.size())};                 \
+    std::vector<float> padded(static_cast<size_t>(in.width + 2 * r));                            \
+    internal::SeparableBlurPasses(in.pixels.data(), in.width, in.height, k.data(), r,            \
+                                  out.pixels.data(), padded.data());                             \
+  }
+HCPF_BLUR_PASSES(Baseline, __attribute__((noinline)))
+HCPF_BLUR_PASSES(Avx2, __attribute__((noinline, target("avx2"))))
+HCPF_BLUR_PASSES(Avx512, __attribute__((noinline, target("avx512f"))))
+#undef HCPF_BLUR_PASSES
+
+TEST(SeparableGaussianBlur, EveryInstructionSetClonesTheScalarSum) {
+  __builtin_cpu_init();
+  const struct {
+    const char* name;
+    bool supported;
+    void (*passes)(const GreyImageF&, const std::vector<float>&, GreyImageF&);
+  } isas[] = {{"baseline", true, PassesBaseline},
+              {"avx2", __builtin_cpu_supports("avx2") != 0, PassesAvx2},
+              {"avx512f", __builtin_cpu_supports("avx512f") != 0, PassesAvx512}};
+  const GreyImageF in = RandomFloatImage(203, 61, 4);
+  for (const double sigma : {0.8, 1.7, 4.0}) {
+    const std::vector<float> k = HalfKernelByHand(sigma);
+    const GreyImageF expected = FixedOrderSum(in, k);
+    EXPECT_EQ(Blurred(in, sigma), expected) << "sigma " << sigma;
+    for (const auto& isa : isas) {
+      if (!isa.supported) {
+        std::printf("[ SKIPPED  ] %s: this CPU lacks it\n", isa.name);
+        continue;
+      }
+      GreyImageF out;
+      isa.passes(in, k, out);
+      EXPECT_EQ(out, expected) << isa.name << ", sigma " << sigma;
+    }
+  }
 }
 
 // A constant image stays constant to the rounding of the float weights'

@@ -116,10 +116,12 @@ void StackedIntegralBlur(const GreyImage& input, const StackedBoxKernel& kernel,
 // of derivatives). Unlike cv::GaussianBlur, whose float kernels OpenCV picks
 // by the CPU's vector extensions at run time (AVX2 and the baseline round
 // differently: a determinism audit saw SKS's boxes and a run's metrics
-// change), the result is the same bytes on every x86-64 machine: Eigen's
-// SSE2 arithmetic, which every x86-64 CPU has, and no FMA contraction.
+// change), the result is the same bytes on every x86-64 machine: each
+// value is computed element by element in that order, with no FMA
+// contraction, by whichever clone of the loops (AVX-512, AVX2 or the SSE2
+// baseline) the CPU runs, and every clone gives the same bytes.
 // - `output` is resized to the input's size; it must not be `input`.
-// - About as fast as cv::GaussianBlur (bench/vision_bench.cc,
+// - Faster than cv::GaussianBlur's float kernels (bench/vision_bench.cc,
 //   BM_SeparableGaussianBlur; docs/performance.md).
 // Preconditions (HCPF_CHECK): 0 < sigma <= 64; input.pixels.size() ==
 // width * height; &output != &input.

@@ -8,7 +8,9 @@
 #include <filesystem>
 #include <fstream>
 #include <iterator>
+#include <map>
 #include <mutex>
+#include <opencv2/core/utility.hpp>
 #include <set>
 #include <system_error>
 #include <vector>
@@ -161,6 +163,8 @@ XXH128_hash_t PixelDigest(const ImageView& image) {
   return digest;
 }
 
+std::string CpuFeatures() { return cv::getCPUFeaturesLine(); }
+
 std::vector<std::string> CodeFiles() {
   // The loaded object whose segments hold this function: the executable
   // (dl_iterate_phdr names it "") or a shared library, by the path it was
@@ -173,7 +177,7 @@ std::vector<std::string> CodeFiles() {
     uintptr_t address = 0;
     std::string code;
     bool found = false;
-    std::set<std::string> libraries;  // sorted: the digest's order
+    std::map<std::string, std::string> libraries;  // file name -> path, in name order
   } search{.address = reinterpret_cast<uintptr_t>(&CodeFiles)};
   dl_iterate_phdr(
       [](dl_phdr_info* info, size_t, void* data) -> int {
@@ -181,7 +185,7 @@ std::vector<std::string> CodeFiles() {
         const std::string name = info->dlpi_name != nullptr ? info->dlpi_name : "";
         const std::string base = std::filesystem::path(name).filename().string();
         if (base.rfind("libopencv_", 0) == 0 || base.rfind("libm.so", 0) == 0) {
-          s->libraries.insert(name);
+          s->libraries.emplace(base, name);
         }
         for (int i = 0; !s->found && i < info->dlpi_phnum; ++i) {
           const ElfW(Phdr)& ph = info->dlpi_phdr[i];
@@ -196,7 +200,7 @@ std::vector<std::string> CodeFiles() {
       },
       &search);
   std::vector<std::string> files{search.code.empty() ? "/proc/self/exe" : search.code};
-  files.insert(files.end(), search.libraries.begin(), search.libraries.end());
+  for (const auto& [base, path] : search.libraries) files.push_back(path);
   return files;
 }
 
@@ -219,6 +223,12 @@ const std::optional<XXH128_hash_t>& ProgramDigest() {
       XXH3_128bits_update(state, &bytes, sizeof(bytes));
       ok = ok && in.eof();
     }
+    // The instruction sets OpenCV dispatches its kernels to on this CPU (as
+    // OPENCV_CPU_DISABLE leaves them): NCC's matchTemplate and the
+    // differencing's corners and optical flow round differently on another
+    // CPU, so a cache shared by unlike machines must not mix them.
+    const std::string cpu = CpuFeatures();
+    XXH3_128bits_update(state, cpu.data(), cpu.size());
     const XXH128_hash_t h = XXH3_128bits_digest(state);
     XXH3_freeState(state);
     if (!ok) return std::nullopt;

@@ -35,14 +35,21 @@ XXH128_hash_t PixelDigest(const ImageView& image);
 // "/proc/self/exe"), or the shared library that holds it (the `hcpf`
 // launcher loads libhcpf_cli.so, which links every module); then every
 // loaded OpenCV library (libopencv_*) and the C maths library (libm.so.*),
-// by path, sorted.
+// in order of their file names (not paths: the same install reached through
+// /lib or /usr/lib hashes alike).
 std::vector<std::string> CodeFiles();
 
-// XXH3-128 of the contents of CodeFiles() (each followed by its length),
-// computed once: part of every key, so a rebuilt detector (any code change
-// relinks the first file: the modules are static libraries) or another
-// OpenCV or libm never reads outputs made by other code. nullopt when a
-// file cannot be read: then no detection is cached.
+// OpenCV's line of the CPU's instruction sets and which of them its kernels
+// dispatch to (cv::getCPUFeaturesLine: "SSE SSE2 *SSE4.1 ... *AVX2", with
+// "?" after those OPENCV_CPU_DISABLE turns off).
+std::string CpuFeatures();
+
+// XXH3-128 of the contents of CodeFiles() (each followed by its length) and
+// CpuFeatures(), computed once: part of every key, so a rebuilt detector
+// (any code change relinks the first file: the modules are static
+// libraries), another OpenCV or libm, or another CPU's OpenCV kernels never
+// read outputs made by other code. nullopt when a file cannot be read: then
+// no detection is cached.
 const std::optional<XXH128_hash_t>& ProgramDigest();
 
 // Builds a key: feed every input, then Finish().

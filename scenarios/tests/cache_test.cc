@@ -383,10 +383,12 @@ TEST(Cache, SizesAreBytesOrPowersOf1024) {
 // The detection cache's key covers the code that detects: this test
 // executable (where the modules are linked in), then the libraries whose
 // arithmetic the detectors call, found independently of CodeFiles: the
-// files dladdr says hold cv::GaussianBlur and exp. (Before 2026-12-05 only
-// the first: two OpenCV builds sharing a cache could read each other's
-// detections.)
-TEST(DetectionCacheKey, CoversTheCodeOpenCvAndTheMathsLibrary) {
+// files dladdr says hold cv::GaussianBlur and exp; then the CPU's instruction
+// sets as OpenCV dispatches to them. The digest is worked out here from
+// those files' bytes (each followed by its length) and the CPU line. (Before
+// 2026-12-05 only the first file: two OpenCV builds, or two CPUs, sharing a
+// cache could read each other's detections.)
+TEST(DetectionCacheKey, CoversTheCodeOpenCvTheMathsLibraryAndTheCpu) {
   const std::vector<std::string> files = internal::CodeFiles();
   ASSERT_FALSE(files.empty());
   EXPECT_EQ(files.front(), "/proc/self/exe");
@@ -400,8 +402,25 @@ TEST(DetectionCacheKey, CoversTheCodeOpenCvAndTheMathsLibrary) {
   EXPECT_NE(std::find(files.begin(), files.end(), opencv.dli_fname), files.end())
       << opencv.dli_fname;
   EXPECT_NE(std::find(files.begin(), files.end(), maths.dli_fname), files.end()) << maths.dli_fname;
-  EXPECT_TRUE(std::is_sorted(files.begin() + 1, files.end()));
-  EXPECT_TRUE(internal::ProgramDigest().has_value());
+  const std::string cpu = internal::CpuFeatures();
+  EXPECT_NE(cpu.find("SSE2"), std::string::npos) << cpu;
+
+  XXH3_state_t* state = XXH3_createState();
+  XXH3_128bits_reset(state);
+  for (const std::string& file : files) {
+    std::ifstream in(file, std::ios::binary);
+    std::string bytes(static_cast<size_t>(std::filesystem::file_size(file)), '\0');
+    in.read(bytes.data(), static_cast<std::streamsize>(bytes.size()));
+    ASSERT_EQ(in.gcount(), static_cast<std::streamsize>(bytes.size())) << file;
+    XXH3_128bits_update(state, bytes.data(), bytes.size());
+    const uint64_t length = bytes.size();
+    XXH3_128bits_update(state, &length, sizeof(length));
+  }
+  XXH3_128bits_update(state, cpu.data(), cpu.size());
+  const XXH128_hash_t expected = XXH3_128bits_digest(state);
+  XXH3_freeState(state);
+  ASSERT_TRUE(internal::ProgramDigest().has_value());
+  EXPECT_TRUE(XXH128_isEqual(*internal::ProgramDigest(), expected));
 }
 
 }  // namespace

@@ -620,9 +620,10 @@ void CheckOutputs(const RegressOptions& o, const RegressSuite& suite) {
   }
 }
 
-// The parser's input: the baseline's text, counting what the parser has read
-// (`*consumed`), so that a callback knows where in the text it is (the JSON
-// library gives positions only in its syntax errors).
+// The parser's input: the baseline's text, noting how far the parser has
+// read (`*consumed`; a character past a number or literal, whose end it
+// knows only then), so that a callback knows where in the text it is (the
+// JSON library gives positions only in its syntax errors).
 class CountingIterator {
  public:
   using iterator_category = std::input_iterator_tag;
@@ -659,8 +660,19 @@ class CountingIterator {
 json ReadBaseline(const std::string& path, const RegressSuite& suite) {
   const std::string text = ReadInputFile(path, "a baseline JSON file", kMaxBaselineBytes);
   size_t consumed = 0;
-  // Where the key the parser has just read begins: its opening quote, the
-  // first unescaped one before its closing quote, the last character read.
+  // A byte offset's line and column, as an editor counts them: a byte-order
+  // mark (which the parser skips) is no column of line 1. Worked out only
+  // for an error: from the start of the file each time, it would make
+  // reading a baseline quadratic in its keys (a review).
+  const size_t bom = ByteOrderMarkLength(text);
+  const auto position = [&text, bom](size_t offset) {
+    TextPosition at = PositionOf(text, offset);
+    if (at.line == 1) at.column = std::max(1, at.column - static_cast<int>(bom));
+    return at;
+  };
+  // Where the key the parser has just read begins (a byte offset): its
+  // opening quote, the first unescaped one before its closing quote, the
+  // last character read.
   const auto key_start = [&text, &consumed]() {
     size_t at = std::min(consumed, text.size());
     if (at > 0) --at;  // the closing quote
@@ -670,7 +682,7 @@ json ReadBaseline(const std::string& path, const RegressSuite& suite) {
       while (backslashes < at && text[at - 1 - backslashes] == '\\') ++backslashes;
       if (text[at] == '"' && backslashes % 2 == 0) break;
     }
-    return PositionOf(text, at);
+    return at;
   };
   // A key twice in one object is refused, as the suite's YAML refuses it
   // (a bad-input audit: the JSON library keeps the last value, so
@@ -691,7 +703,7 @@ json ReadBaseline(const std::string& path, const RegressSuite& suite) {
     }
     return at.empty() ? last : at + "." + last;
   };
-  std::map<std::string, TextPosition> where;  // dotted key -> where it begins
+  std::map<std::string, size_t> where;  // dotted key -> the offset where it begins
   const json::parser_callback_t note = [&](int, json::parse_event_t event, json& parsed) {
     using E = json::parse_event_t;
     if ((event == E::object_start || event == E::array_start || event == E::value) &&
@@ -704,9 +716,10 @@ json ReadBaseline(const std::string& path, const RegressSuite& suite) {
       if (!open.empty()) open.pop_back();
     } else if (event == E::key && !open.empty()) {
       const std::string key = parsed.get<std::string>();
-      const TextPosition at = key_start();
+      const size_t at = key_start();
       if (!open.back().keys.insert(key).second) {
-        throw InputError(SourceLocation{path, at.line, at.column, dotted(key)},
+        const TextPosition second = position(at);
+        throw InputError(SourceLocation{path, second.line, second.column, dotted(key)},
                          "each key once in its object", fmt::format("\"{}\" a second time", key));
       }
       open.back().key = key;
@@ -722,7 +735,7 @@ json ReadBaseline(const std::string& path, const RegressSuite& suite) {
   } catch (const json::parse_error& e) {
     // At the file's line and column, with the parser's words after its own
     // position (a bad-input audit: both were inside the library's text).
-    const TextPosition at = PositionOf(text, e.byte > 0 ? e.byte - 1 : 0);
+    const TextPosition at = position(e.byte > 0 ? e.byte - 1 : 0);
     std::string why = e.what();
     if (const size_t column = why.find("column"); column != std::string::npos) {
       if (const size_t colon = why.find(": ", column); colon != std::string::npos) {
@@ -748,8 +761,9 @@ json ReadBaseline(const std::string& path, const RegressSuite& suite) {
       found = where.find(key);
     }
     if (found == where.end()) throw;
-    throw InputError(SourceLocation{path, found->second.line, found->second.column, e.where().key},
-                     e.expected(), e.found(), e.hint());
+    const TextPosition at = position(found->second);
+    throw InputError(SourceLocation{path, at.line, at.column, e.where().key}, e.expected(),
+                     e.found(), e.hint());
   }
   return baseline;
 }

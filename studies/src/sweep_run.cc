@@ -345,17 +345,22 @@ SweepPlan PrepareSweep(const SweepSpec& spec, const std::vector<SweepRun>& runs,
 
   // Finished runs are reused only while their folders still hold what the
   // store records (a deleted or damaged folder is computed again).
-  const std::vector<RunRecord> stored = plan.store->Runs();
-  // A row is this sweep's run only while it says what the expansion says of
-  // the run of its key: its index, seeds, swept values and folder. A row
-  // edited by hand (a swept value changed: the report drew a cell the sweep
-  // does not have, and resume kept it, a bad-input audit) is computed again,
-  // which rewrites it; a row of a key the sweep has no run of is refused.
+  std::vector<RunRecord> stored = plan.store->Runs();
+  // A run's key is its resolved scenario, so a row of a key says which run
+  // it is (the store's reader holds its folder to runs/<key>); its index,
+  // seeds and swept values are labels, which must say what the sweep's
+  // expansion says of that run. A row whose labels differ (edited by hand:
+  // the report drew a cell of a swept value the sweep does not have, and
+  // resume kept it, a bad-input audit; or a value written otherwise in the
+  // sweep file, 0.10 for 0.1, which is the same run) is rewritten from the
+  // expansion, keeping its run; a row of a key the sweep has no run of is
+  // refused.
   std::map<std::string, const SweepRun*> planned;
   for (const SweepRun& run : runs) planned.emplace(run.key, &run);
-  std::vector<char> edited(stored.size(), 0);
+  std::vector<char> relabelled(stored.size(), 0);
+  std::string first_relabelled;
   for (size_t i = 0; i < stored.size(); ++i) {
-    const RunRecord& r = stored[i];
+    RunRecord& r = stored[i];
     const auto it = planned.find(r.key);
     if (it == planned.end()) {
       throw InputError(
@@ -366,24 +371,41 @@ SweepPlan PrepareSweep(const SweepSpec& spec, const std::vector<SweepRun>& runs,
           "the store was edited; delete the row, or the store to compute every run "
           "again");
     }
-    const RunRecord want = NewRecord(*it->second);
-    if (r.index != want.index || r.seed_index != want.seed_index || r.seed != want.seed ||
-        r.values != want.values || r.run_dir != want.run_dir) {
-      if (r.ok) {
-        spdlog::warn(
-            "sweep: the row of run {} ({}) in {} says index {}, seed {}, swept values {}; the "
-            "sweep says index {}, seed {}, swept values {}: computing it again",
-            want.index, r.key, (out / "results.sqlite").string(), r.index, r.seed,
-            fmt::join(r.values, ", "), want.index, want.seed, fmt::join(want.values, ", "));
-      }
-      edited[i] = 1;
+    RunRecord want = NewRecord(*it->second);
+    if (r.index == want.index && r.seed_index == want.seed_index && r.seed == want.seed &&
+        r.values == want.values) {
+      continue;
     }
+    if (first_relabelled.empty()) {
+      first_relabelled = fmt::format(
+          "run {} ({}): the row said index {}, seed {} (seed index {}), swept values [{}]; the "
+          "sweep says index {}, seed {} (seed index {}), swept values [{}]",
+          want.index, r.key, r.index, r.seed, r.seed_index, fmt::join(r.values, ", "), want.index,
+          want.seed, want.seed_index, fmt::join(want.values, ", "));
+    }
+    want.ok = r.ok;
+    want.error = std::move(r.error);
+    want.metrics = std::move(r.metrics);
+    want.build = std::move(r.build);
+    r = std::move(want);
+    relabelled[i] = 1;
   }
   std::vector<char> intact(stored.size(), 0);
   ParallelFor(stored.size(), options.jobs, [&](size_t i) {
     const RunRecord& r = stored[i];
-    intact[i] = r.ok && !edited[i] && RunFolderIntact((out / r.run_dir).string(), r);
+    intact[i] = r.ok && RunFolderIntact((out / r.run_dir).string(), r);
   });
+  if (const auto count = std::count(relabelled.begin(), relabelled.end(), 1); count > 0) {
+    // Rewritten now when the run is reused; a run computed again rewrites it.
+    for (size_t i = 0; i < stored.size(); ++i) {
+      if (relabelled[i] && intact[i]) plan.store->Put(stored[i]);
+    }
+    spdlog::warn(
+        "sweep: {} row(s) of {} did not say what the sweep says of their run (edited by hand, "
+        "or a swept value written otherwise in the sweep file); rewritten from the sweep, the "
+        "runs kept where their folders are whole. First: {}",
+        count, (out / "results.sqlite").string(), first_relabelled);
+  }
   std::map<std::string, bool> finished;  // key -> ok and intact
   // The video is not part of a run's key: a finished run that --video asks a
   // video of (its first seed's) but that was computed without one is computed
@@ -395,7 +417,7 @@ SweepPlan PrepareSweep(const SweepSpec& spec, const std::vector<SweepRun>& runs,
         !fs::is_regular_file(out / stored[i].run_dir / "overlay.mp4", ec)) {
       lacks_video.insert(stored[i].key);
     }
-    if (stored[i].ok && !intact[i] && !edited[i]) {
+    if (stored[i].ok && !intact[i]) {
       spdlog::warn(
           "sweep: run {} ({}) is recorded as done but its folder {} is missing or "
           "damaged: computing it again",

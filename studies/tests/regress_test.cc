@@ -456,6 +456,11 @@ TEST(Regress, BaselineErrorsNameTheLineOfTheirKey) {
                 .find("baseline.json:2:3: scenes.a.metrics: expected a baseline value for every "
                       "scene and metric of the suite, found none"),
             std::string::npos);
+  // A byte-order mark is no column (an editor does not show it): "idf1"
+  // opens at column 31 of line 1 with or without one.
+  EXPECT_NE(error_of("\xEF\xBB\xBF{\"scenes\": {\"a\": {\"metrics\": {\"idf1\": 7}}}}\n")
+                .find("baseline.json:1:31: scenes.a.metrics.idf1: expected a number"),
+            std::string::npos);
   // A key twice: at the second.
   EXPECT_NE(error_of("{\"scenes\": {\"a\": {\"metrics\": {\n"
                      "  \"idf1\": 0.5,\n"

@@ -679,26 +679,32 @@ TEST(RunSweep, AFailingRunIsRecordedAndTheOthersFinish) {
 
 // A row edited by hand no longer says what the sweep says of its run: a
 // bad-input audit changed run 3's swept particle count to 999, and the report
-// drew a cell of 999 particles that resume kept. Resume now computes the run
-// again (rewriting its row), and refuses a row whose key no run has.
-TEST(RunSweep, AStoreRowEditedByHandIsComputedAgainOrRefused) {
+// drew a cell of 999 particles that resume kept. The key names the run, so
+// resume rewrites the row's labels from the sweep and keeps the run (its
+// folder is whole); a row whose key no run has is refused.
+TEST(RunSweep, AStoreRowEditedByHandIsRelabelledOrRefused) {
   const auto dir = SweepFolder("edited-row");
   const SweepSpec spec = LoadSweepFile(WriteSweep(dir, kSweep));
   const auto runs = ExpandSweep(spec);
   ASSERT_EQ(RunSweep(spec, runs, Options(dir / "out", 2)).computed, 8);
   const std::string path = (dir / "out" / "results.sqlite").string();
   const std::vector<std::string> before = StoreRows(dir / "out");
+  const auto resume = [&] {
+    const SweepResult r = RunSweep(spec, runs, Options(dir / "out", 2));
+    EXPECT_EQ(r.reused, 8);
+    EXPECT_EQ(r.computed, 0);
+    EXPECT_EQ(StoreRows(dir / "out"), before);
+  };
   ExecSql(path, "UPDATE runs SET \"tracker.particles\" = '999' WHERE run_index = 3");
   ASSERT_EQ(ResultsStore::Open(path)->Runs()[3].values[0], "999");
-  const SweepResult resumed = RunSweep(spec, runs, Options(dir / "out", 2));
-  EXPECT_EQ(resumed.reused, 7);
-  EXPECT_EQ(resumed.computed, 1);
+  resume();
   EXPECT_EQ(ResultsStore::Open(path)->Runs()[3].values[0], runs[3].values[0]);
-  EXPECT_EQ(StoreRows(dir / "out"), before);
-  // The seed of another row: the same.
+  // A seed and a seed index: the same. (A folder other than runs/<key> the
+  // store's reader refuses itself.)
   ExecSql(path, "UPDATE runs SET seed = '12345' WHERE run_index = 6");
-  EXPECT_EQ(RunSweep(spec, runs, Options(dir / "out", 2)).computed, 1);
-  EXPECT_EQ(StoreRows(dir / "out"), before);
+  resume();
+  ExecSql(path, "UPDATE runs SET seed_index = 1 WHERE run_index = 0");
+  resume();
   // A row of a key no run has.
   ExecSql(path,
           "UPDATE runs SET key = '0123456789abcdef', run_dir = 'runs/0123456789abcdef' "

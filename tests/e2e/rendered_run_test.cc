@@ -868,6 +868,18 @@ TEST(RenderedRun, TheDetectionCacheServesTrackerSweepsAndNeverMisreads) {
   };
   EXPECT_EQ(run_with("same-build", false), 30);
   EXPECT_EQ(run_with("rebuilt", true), 0);
+  // Another CPU, whose OpenCV kernels (NCC's matchTemplate here) run on other
+  // instruction sets, as OPENCV_CPU_DISABLE makes this one: misses too (a
+  // review: the key covered the code but not the CPU it dispatches to).
+  __builtin_cpu_init();
+  if (__builtin_cpu_supports("avx2")) {
+    const auto r =
+        RunCommand("OPENCV_CPU_DISABLE=AVX2 " + common + " --out " + (dir / "other-cpu").string());
+    EXPECT_EQ(r.exit_code, 0) << r.output;
+    EXPECT_EQ(nlohmann::json::parse(
+                  ReadFile(dir / "other-cpu" / "manifest.json"))["detections_from_cache"],
+              0);
+  }
   // Damage two entries (one truncated, one with a flipped byte): both are
   // recomputed, and the detections are unchanged.
   fs::remove_all(dir / "cache" / "detections");

@@ -141,9 +141,11 @@ void ReadRunFolderInto(const std::string& run_dir, RunRecord& record);
 // git revision. Reads only the manifest's top level.
 std::string ReadRunBuild(const std::string& run_dir);
 
-// The files every run folder holds: what RunFolderIntact asks of a folder
-// written before manifests listed their files (2026-11-23).
-inline constexpr std::array<const char*, 7> kEveryRunsFiles = {
+// What RunFolderIntact asks by default of a folder written before manifests
+// listed their files (2026-11-23): the files resume, --reuse and merge need.
+// (Export asks only for the three it copies: the oldest folders lack
+// camera_motion.csv.)
+inline constexpr std::array<const char*, 7> kRunFilesBeforeTheList = {
     "scenario.resolved.yaml", "gt/gt.txt",  "seqinfo.ini",      "gt.json",
     "detections.txt",         "tracks.txt", "camera_motion.csv"};
 
@@ -154,7 +156,7 @@ inline constexpr std::array<const char*, 7> kEveryRunsFiles = {
 // of `files_before_the_list` is there). False when the folder was deleted or
 // a file removed, cut short, emptied or damaged.
 bool RunFolderIntact(const std::string& run_dir, const RunRecord& record,
-                     std::span<const char* const> files_before_the_list = kEveryRunsFiles);
+                     std::span<const char* const> files_before_the_list = kRunFilesBeforeTheList);
 
 // Checks that `dir` may take a sweep's outputs (`option` names the argument:
 // "--out", "OUT"): a folder that does not exist yet, an empty one, or one a

@@ -121,8 +121,9 @@ void StackedIntegralBlur(const GreyImage& input, const StackedBoxKernel& kernel,
 // contraction, by whichever clone of the loops (AVX-512, AVX2 or the SSE2
 // baseline) the CPU runs, and every clone gives the same bytes.
 // - `output` is resized to the input's size; it must not be `input`.
-// - Faster than cv::GaussianBlur's float kernels (bench/vision_bench.cc,
-//   BM_SeparableGaussianBlur; docs/performance.md).
+// - About as fast as cv::GaussianBlur's float kernels, or faster, on an
+//   AVX-512 machine (bench/vision_bench.cc, BM_SeparableGaussianBlur;
+//   docs/performance.md).
 // Preconditions (HCPF_CHECK): 0 < sigma <= 64; input.pixels.size() ==
 // width * height; &output != &input.
 void SeparableGaussianBlur(const GreyImageF& input, double sigma, GreyImageF& output);

@@ -653,90 +653,131 @@ class CountingIterator {
   size_t* consumed_;
 };
 
-// Reads and checks the baseline file `path` against `suite`. Every error
-// names the line and column of its key (or of the nearest key above it that
-// the file has): each key's dotted name is noted where the parser read it
-// (a bad-input audit: value errors named the key but no line).
-json ReadBaseline(const std::string& path, const RegressSuite& suite) {
-  const std::string text = ReadInputFile(path, "a baseline JSON file", kMaxBaselineBytes);
-  size_t consumed = 0;
-  // A byte offset's line and column, as an editor counts them: a byte-order
-  // mark (which the parser skips) is no column of line 1. Worked out only
-  // for an error: from the start of the file each time, it would make
-  // reading a baseline quadratic in its keys (a review).
-  const size_t bom = ByteOrderMarkLength(text);
-  const auto position = [&text, bom](size_t offset) {
-    TextPosition at = PositionOf(text, offset);
-    if (at.line == 1) at.column = std::max(1, at.column - static_cast<int>(bom));
-    return at;
-  };
-  // Where the key the parser has just read begins (a byte offset): its
-  // opening quote, the first unescaped one before its closing quote, the
-  // last character read.
-  const auto key_start = [&text, &consumed]() {
-    size_t at = std::min(consumed, text.size());
-    if (at > 0) --at;  // the closing quote
-    while (at > 0) {
-      --at;
-      size_t backslashes = 0;
-      while (backslashes < at && text[at - 1 - backslashes] == '\\') ++backslashes;
-      if (text[at] == '"' && backslashes % 2 == 0) break;
+// A byte offset of `text`'s line and column as an editor counts them: a
+// byte-order mark (which the JSON parser skips) is no column of line 1.
+TextPosition EditorPosition(const std::string& text, size_t offset) {
+  TextPosition at = PositionOf(text, offset);
+  if (at.line == 1) {
+    at.column = std::max(1, at.column - static_cast<int>(ByteOrderMarkLength(text)));
+  }
+  return at;
+}
+
+// A SAX handler (nlohmann::json::sax_parse) that notes where each key of a
+// baseline begins, by its dotted name, and refuses a key twice in one object,
+// as the suite's YAML refuses it (a bad-input audit: the JSON library keeps
+// the last value, so "mota": 1.0, "mota": 0.2 compared with 0.2 without a
+// word). A pass of its own before the plain parse that builds the document:
+// the library's DOM parser with a callback walks an object's members at the
+// end of each member object (to drop discarded values), which made a
+// baseline of 20,000 scenes take 3.3 s, quadratic in the scenes. Offsets,
+// not lines: counting lines from the start of the file for every key was
+// quadratic too (a review); lines are worked out for an error only.
+class BaselineKeys {
+ public:
+  BaselineKeys(const std::string& path, const std::string& text, const size_t& consumed)
+      : path_(path), text_(text), consumed_(consumed) {}
+
+  // Dotted key -> the offset of its opening quote.
+  const std::map<std::string, size_t>& where() const { return where_; }
+  // After a syntax error: its offset and the library's words.
+  size_t error_byte() const { return error_byte_; }
+  const std::string& error() const { return error_; }
+
+  bool null() { return Value(); }
+  bool boolean(bool) { return Value(); }
+  bool number_integer(json::number_integer_t) { return Value(); }
+  bool number_unsigned(json::number_unsigned_t) { return Value(); }
+  bool number_float(json::number_float_t, const std::string&) { return Value(); }
+  bool string(json::string_t&) { return Value(); }
+  bool binary(json::binary_t&) { return Value(); }
+  bool start_object(std::size_t) { return Open(true); }
+  bool start_array(std::size_t) { return Open(false); }
+  bool end_object() { return Close(); }
+  bool end_array() { return Close(); }
+  bool key(json::string_t& key) {
+    const size_t at = KeyStart();
+    if (!open_.back().keys.insert(key).second) {
+      const TextPosition second = EditorPosition(text_, at);
+      throw InputError(SourceLocation{path_, second.line, second.column, Dotted(key)},
+                       "each key once in its object", fmt::format("\"{}\" a second time", key));
     }
-    return at;
-  };
-  // A key twice in one object is refused, as the suite's YAML refuses it
-  // (a bad-input audit: the JSON library keeps the last value, so
-  // "mota": 1.0, "mota": 0.2 compared with 0.2 without a word).
-  struct Open {
+    open_.back().key = key;
+    where_.emplace(Dotted(key), at);
+    return true;
+  }
+  bool parse_error(std::size_t byte, const std::string&, const json::exception& e) {
+    error_byte_ = byte;
+    error_ = e.what();
+    return false;
+  }
+
+ private:
+  struct Level {
     bool object = false;
     std::set<std::string> keys;
     std::string key;
     int index = -1;
   };
-  std::vector<Open> open;
+  bool Value() {
+    if (!open_.empty() && !open_.back().object) ++open_.back().index;
+    return true;
+  }
+  bool Open(bool object) {
+    Value();
+    open_.push_back({.object = object});
+    return true;
+  }
+  bool Close() {
+    open_.pop_back();
+    return true;
+  }
   // The dotted key of `last` in the innermost container open.
-  const auto dotted = [&open](const std::string& last) {
+  std::string Dotted(const std::string& last) const {
     std::string at;
-    for (const Open& o : open) {
-      if (&o == &open.back()) break;
+    for (const Level& o : open_) {
+      if (&o == &open_.back()) break;
       at += o.object ? (at.empty() ? "" : ".") + o.key : fmt::format("[{}]", o.index);
     }
     return at.empty() ? last : at + "." + last;
-  };
-  std::map<std::string, size_t> where;  // dotted key -> the offset where it begins
-  const json::parser_callback_t note = [&](int, json::parse_event_t event, json& parsed) {
-    using E = json::parse_event_t;
-    if ((event == E::object_start || event == E::array_start || event == E::value) &&
-        !open.empty() && !open.back().object) {
-      ++open.back().index;
+  }
+  // Where the key the parser has just read begins: its opening quote, the
+  // first unescaped one before its closing quote, the last character read.
+  size_t KeyStart() const {
+    size_t at = std::min(consumed_, text_.size());
+    if (at > 0) --at;  // the closing quote
+    while (at > 0) {
+      --at;
+      size_t backslashes = 0;
+      while (backslashes < at && text_[at - 1 - backslashes] == '\\') ++backslashes;
+      if (text_[at] == '"' && backslashes % 2 == 0) break;
     }
-    if (event == E::object_start || event == E::array_start) {
-      open.push_back({.object = event == E::object_start});
-    } else if (event == E::object_end || event == E::array_end) {
-      if (!open.empty()) open.pop_back();
-    } else if (event == E::key && !open.empty()) {
-      const std::string key = parsed.get<std::string>();
-      const size_t at = key_start();
-      if (!open.back().keys.insert(key).second) {
-        const TextPosition second = position(at);
-        throw InputError(SourceLocation{path, second.line, second.column, dotted(key)},
-                         "each key once in its object", fmt::format("\"{}\" a second time", key));
-      }
-      open.back().key = key;
-      where.emplace(dotted(key), at);
-    }
-    return true;
-  };
-  json baseline;
-  try {
-    baseline =
-        json::parse(CountingIterator(text.data(), text.data(), &consumed),
-                    CountingIterator(text.data() + text.size(), text.data(), &consumed), note);
-  } catch (const json::parse_error& e) {
+    return at;
+  }
+
+  const std::string& path_;
+  const std::string& text_;
+  const size_t& consumed_;
+  std::vector<Level> open_;
+  std::map<std::string, size_t> where_;
+  size_t error_byte_ = 0;
+  std::string error_;
+};
+
+// Reads and checks the baseline file `path` against `suite`. Every error
+// names the line and column of its key (or of the nearest key above it that
+// the file has; a bad-input audit: value errors named the key but no line).
+json ReadBaseline(const std::string& path, const RegressSuite& suite) {
+  const std::string text = ReadInputFile(path, "a baseline JSON file", kMaxBaselineBytes);
+  size_t consumed = 0;
+  BaselineKeys keys(path, text, consumed);
+  if (!json::sax_parse(CountingIterator(text.data(), text.data(), &consumed),
+                       CountingIterator(text.data() + text.size(), text.data(), &consumed),
+                       &keys)) {
     // At the file's line and column, with the parser's words after its own
     // position (a bad-input audit: both were inside the library's text).
-    const TextPosition at = position(e.byte > 0 ? e.byte - 1 : 0);
-    std::string why = e.what();
+    const TextPosition at = EditorPosition(text, keys.error_byte() > 0 ? keys.error_byte() - 1 : 0);
+    std::string why = keys.error();
     if (const size_t column = why.find("column"); column != std::string::npos) {
       if (const size_t colon = why.find(": ", column); colon != std::string::npos) {
         why = why.substr(colon + 2);
@@ -744,6 +785,11 @@ json ReadBaseline(const std::string& path, const RegressSuite& suite) {
     }
     throw InputError(SourceLocation{path, at.line, at.column, ""}, "a baseline JSON file",
                      "a JSON syntax error (" + why + ")");
+  }
+  const std::map<std::string, size_t>& where = keys.where();
+  json baseline;
+  try {
+    baseline = json::parse(text);
   } catch (const json::exception& e) {
     throw InputError(SourceLocation{path, 0, 0, ""}, "a baseline JSON file", e.what());
   }
@@ -761,7 +807,7 @@ json ReadBaseline(const std::string& path, const RegressSuite& suite) {
       found = where.find(key);
     }
     if (found == where.end()) throw;
-    const TextPosition at = position(found->second);
+    const TextPosition at = EditorPosition(text, found->second);
     throw InputError(SourceLocation{path, at.line, at.column, e.where().key}, e.expected(),
                      e.found(), e.hint());
   }

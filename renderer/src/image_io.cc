@@ -3,7 +3,6 @@
 #include <fmt/format.h>
 
 #include <algorithm>
-#include <array>
 #include <cmath>
 #include <opencv2/core.hpp>
 #include <opencv2/imgproc.hpp>
@@ -13,6 +12,7 @@
 #include "codecs.h"
 #include "hcpf/core/check.h"
 #include "hcpf/core/error.h"
+#include "hcpf/core/label_placement.h"
 
 namespace hcpf::renderer {
 namespace {
@@ -57,7 +57,7 @@ constexpr int kHalo = 1;
 
 // The rectangle a label drawn by putText at origin (x, y) covers, halo
 // included (the origin is the text's bottom-left, on its baseline).
-internal::PixelRect TextRect(const std::string& text, double font, int x, int y) {
+PixelRect TextRect(const std::string& text, double font, int x, int y) {
   int baseline = 0;
   const cv::Size size = cv::getTextSize(text, cv::FONT_HERSHEY_PLAIN, font, 1, &baseline);
   return {x - kHalo, y - size.height - kHalo, size.width + 2 * kHalo,
@@ -65,63 +65,12 @@ internal::PixelRect TextRect(const std::string& text, double font, int x, int y)
 }
 
 // The putText origin that puts a label's rectangle (TextRect) at `place`.
-cv::Point TextOrigin(const std::string& text, double font, const internal::PixelRect& place) {
-  const internal::PixelRect at_zero = TextRect(text, font, 0, 0);
+cv::Point TextOrigin(const std::string& text, double font, const PixelRect& place) {
+  const PixelRect at_zero = TextRect(text, font, 0, 0);
   return {place.x - at_zero.x, place.y - at_zero.y};
 }
 
 }  // namespace
-
-namespace internal {
-
-std::vector<PixelRect> PlaceLabels(const std::vector<PixelRect>& boxes,
-                                   const std::vector<PixelRect>& sizes, int width, int height,
-                                   std::vector<PixelRect> taken) {
-  HCPF_CHECK(boxes.size() == sizes.size());
-  std::vector<PixelRect> places;
-  for (size_t i = 0; i < boxes.size(); ++i) {
-    const PixelRect& b = boxes[i];
-    const int w = sizes[i].width, h = sizes[i].height;
-    const int right = b.x + b.width - w;  // a label ending at the box's right edge
-    const std::array<PixelRect, 6> candidates = {
-        PixelRect{b.x, b.y - h, w, h},       PixelRect{b.x, b.y + b.height, w, h},
-        PixelRect{right, b.y - h, w, h},     PixelRect{right, b.y + b.height, w, h},
-        PixelRect{b.x + b.width, b.y, w, h}, PixelRect{b.x - w, b.y, w, h}};
-    const auto inside = [&](const PixelRect& r) {
-      return r.x >= 0 && r.y >= 0 && r.x + r.width <= width && r.y + r.height <= height;
-    };
-    const auto free = [&](const PixelRect& r) {
-      return std::none_of(taken.begin(), taken.end(),
-                          [&](const PixelRect& t) { return t.Overlaps(r); });
-    };
-    const auto clear_of_boxes = [&](const PixelRect& r) {
-      for (size_t j = 0; j < boxes.size(); ++j) {
-        if (j != i && boxes[j].Overlaps(r)) return false;
-      }
-      return true;
-    };
-    // Free of other targets' boxes too if possible, else of labels only.
-    auto found = std::find_if(candidates.begin(), candidates.end(), [&](const PixelRect& r) {
-      return inside(r) && free(r) && clear_of_boxes(r);
-    });
-    if (found == candidates.end()) {
-      found = std::find_if(candidates.begin(), candidates.end(),
-                           [&](const PixelRect& r) { return inside(r) && free(r); });
-    }
-    PixelRect place = candidates[0];
-    if (found != candidates.end()) {
-      place = *found;
-    } else {
-      place.x = std::clamp(place.x, 0, std::max(0, width - w));
-      place.y = std::clamp(place.y, 0, std::max(0, height - h));
-    }
-    places.push_back(place);
-    taken.push_back(place);
-  }
-  return places;
-}
-
-}  // namespace internal
 
 RgbImage MakeContactSheet(const std::vector<RenderedFrame>& frames,
                           const ContactSheetOptions& options) {
@@ -168,20 +117,20 @@ RgbImage MakeContactSheet(const std::vector<RenderedFrame>& frames,
     // placed so that no two overlap (an audit: two targets side by side at
     // the end of a crossing had their labels printed over each other).
     const std::string frame_number = fmt::format("{}", f.frame + 1);
-    std::vector<internal::PixelRect> taken = {TextRect(frame_number, kFrameFont, 4, 14)};
-    std::vector<internal::PixelRect> boxes, sizes;
+    std::vector<LabelRequest> requests;
     std::vector<std::string> texts;
     for (const GroundTruthObject& o : f.ground_truth.objects) {
       if (!o.in_frame) continue;
       const BoxPx& a = o.amodal_box;
       texts.push_back(fmt::format("{} {:.2f}", Value(o.id), o.visible_fraction));
-      boxes.push_back(
-          {to(a.left), to(a.top), to(a.right()) - to(a.left) + 1, to(a.bottom()) - to(a.top) + 1});
-      const internal::PixelRect size = TextRect(texts.back(), kLabelFont, 0, 0);
-      sizes.push_back({0, 0, size.width, size.height});
+      const PixelRect size = TextRect(texts.back(), kLabelFont, 0, 0);
+      requests.push_back({.box = {to(a.left), to(a.top), to(a.right()) - to(a.left) + 1,
+                                  to(a.bottom()) - to(a.top) + 1},
+                          .text_width = size.width,
+                          .text_height = size.height});
     }
-    const std::vector<internal::PixelRect> places =
-        internal::PlaceLabels(boxes, sizes, tw, th, std::move(taken));
+    const std::vector<PixelRect> places =
+        PlaceLabels(requests, {0, 0, tw, th}, {TextRect(frame_number, kFrameFont, 4, 14)});
     for (size_t k = 0; k < texts.size(); ++k) {
       label(texts[k], TextOrigin(texts[k], kLabelFont, places[k]), kLabelFont);
     }

@@ -611,50 +611,39 @@ TEST(ContactSheet, BoxesAreOutlinedInBlack) {
   EXPECT_EQ(rgb(13), (std::array<int, 3>{0, 150, 0}));
 }
 
-// Labels of targets side by side (an audit: at the end of a crossing two
-// labels were printed over each other on the contact sheet). Worked by hand:
-// a label 30 x 10 goes above its box at the left edge; the second box,
-// 4 px to the right of the first and as high, finds that place, the next one
-// (below at the left) and the two ending at its right edge taken or outside,
-// and goes right of the box; a label does not cover another target's box
-// where it has room; a box at the top goes below; the frame number's corner
-// is kept free.
-TEST(ContactSheet, LabelsDoNotOverlap) {
-  using internal::PixelRect;
-  const PixelRect size{0, 0, 30, 10};
-  // Alone: above the box, at its left edge.
-  EXPECT_EQ(internal::PlaceLabels({{50, 40, 8, 20}}, {size}, 200, 100, {}),
-            (std::vector<PixelRect>{{50, 30, 30, 10}}));
-  // Side by side, both 20 px high: the first above-left; the second (x 54)
-  // above-left would overlap it, below-left (54, 60) is free.
-  const std::vector<PixelRect> two =
-      internal::PlaceLabels({{50, 40, 8, 20}, {54, 40, 8, 20}}, {size, size}, 200, 100, {});
-  EXPECT_EQ(two[0], (PixelRect{50, 30, 30, 10}));
-  EXPECT_EQ(two[1], (PixelRect{54, 60, 30, 10}));
-  EXPECT_FALSE(two[0].Overlaps(two[1]));
-  // A third box there, 20 px high: above-left, below-left and the two
-  // right-aligned places overlap the first two labels; right of it (66, 40)
-  // is free.
-  const std::vector<PixelRect> three = internal::PlaceLabels(
-      {{50, 40, 8, 20}, {54, 40, 8, 20}, {58, 40, 8, 20}}, {size, size, size}, 200, 100, {});
-  EXPECT_EQ(three[2], (PixelRect{66, 40, 30, 10}));
-  for (size_t i = 0; i < 3; ++i) {
-    for (size_t j = i + 1; j < 3; ++j) EXPECT_FALSE(three[i].Overlaps(three[j])) << i << j;
+// Labels of targets side by side go apart (an audit: at the end of a
+// crossing two labels were printed over each other on the contact sheet).
+// On a black frame at scale 1, two boxes 8 x 20 at x = 50 and 54, y = 40:
+// the first label goes above its box; the second's place above is taken by
+// it, so it goes below (from y = 40 + 20 + 2 = 62, hcpf::PlaceLabels). Its
+// white text is there, under both boxes, where nothing was drawn when every
+// label went above its box.
+TEST(ContactSheet, LabelsOfTargetsSideBySideGoApart) {
+  std::vector<RenderedFrame> frames(1);
+  frames[0].rgb = Flat(200, 100, 0);
+  for (const int id : {1, 2}) {
+    GroundTruthObject o;
+    o.id = ObjectId{id};
+    o.in_frame = true;
+    o.amodal_box = {.left = 46.0 + 4 * id, .top = 40, .width = 7, .height = 19};
+    o.visible_fraction = 1.0;
+    frames[0].ground_truth.objects.push_back(o);
   }
-  // A label that would cover another target's box goes where it does not:
-  // above-left of A (50, 30) covers B (60..68 x 25..35), below-left is clear;
-  // B's own above-left (60, 15) is.
-  EXPECT_EQ(internal::PlaceLabels({{50, 40, 8, 20}, {60, 25, 8, 10}}, {size, size}, 200, 100, {}),
-            (std::vector<PixelRect>{{50, 60, 30, 10}, {60, 15, 30, 10}}));
-  // At the top of the thumbnail: below the box.
-  EXPECT_EQ(internal::PlaceLabels({{50, 2, 8, 20}}, {size}, 200, 100, {}),
-            (std::vector<PixelRect>{{50, 22, 30, 10}}));
-  // Under the frame number's corner (taken): below the box.
-  EXPECT_EQ(internal::PlaceLabels({{2, 20, 8, 20}}, {size}, 200, 100, {{0, 0, 20, 16}}),
-            (std::vector<PixelRect>{{2, 40, 30, 10}}));
-  // No free place: the first, moved inside the thumbnail.
-  EXPECT_EQ(internal::PlaceLabels({{0, 0, 30, 10}}, {size}, 30, 10, {}),
-            (std::vector<PixelRect>{{0, 0, 30, 10}}));
+  ContactSheetOptions options;
+  options.columns = 1;
+  options.thumb_width_px = 200;
+  const RgbImage sheet = MakeContactSheet(frames, options);
+  constexpr int kGap = 4;
+  int white_below = 0, white_above = 0;
+  for (int y = 0; y < 100; ++y) {
+    for (int x = 40; x < 120; ++x) {
+      const uint8_t* px = sheet.at(kGap + x, kGap + y);
+      if (px[0] < 200 || px[1] < 200 || px[2] < 200) continue;  // not the labels' white
+      (y >= 62 ? white_below : white_above) += 1;
+    }
+  }
+  EXPECT_GT(white_above, 0);
+  EXPECT_GT(white_below, 0);
 }
 
 // The device selection of issue 13 item 3, on described devices: a GPU's

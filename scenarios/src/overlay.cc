@@ -12,6 +12,7 @@
 #include "hcpf/core/check.h"
 #include "hcpf/core/enum_names.h"
 #include "hcpf/core/error.h"
+#include "hcpf/core/label_placement.h"
 #include "video_sink.h"
 
 namespace hcpf::scenarios {
@@ -53,46 +54,6 @@ cv::Scalar StateColour(metrics::FilterState state) {
 }  // namespace
 
 namespace internal {
-
-std::vector<PixelRect> PlaceLabels(const std::vector<LabelRequest>& labels, PixelRect image,
-                                   std::vector<PixelRect> taken) {
-  std::vector<PixelRect> out;
-  out.reserve(labels.size());
-  const auto inside = [&image](const PixelRect& r) {
-    return r.x >= image.x && r.y >= image.y && r.x + r.width <= image.x + image.width &&
-           r.y + r.height <= image.y + image.height;
-  };
-  for (const LabelRequest& l : labels) {
-    const PixelRect& b = l.box;
-    const int w = l.text_width, h = l.text_height;
-    const PixelRect above{b.x, b.y - 4 - h, w, h};
-    const PixelRect below{b.x, b.y + b.height + 2, w, h};
-    const PixelRect right{b.x + b.width + 3, b.y, w, h};
-    const PixelRect left{b.x - w - 3, b.y, w, h};
-    const PixelRect above2{b.x, above.y - h - 2, w, h};
-    const PixelRect below2{b.x, below.y + h + 2, w, h};
-    const std::vector<PixelRect> candidates =
-        l.below_first ? std::vector<PixelRect>{below, above, right, left, below2, above2}
-                      : std::vector<PixelRect>{above, below, right, left, above2, below2};
-    const PixelRect* chosen = nullptr;
-    for (const PixelRect& c : candidates) {
-      if (!inside(c)) continue;
-      const bool free = std::none_of(taken.begin(), taken.end(),
-                                     [&c](const PixelRect& t) { return c.Overlaps(t); });
-      if (free) {
-        chosen = &c;
-        break;
-      }
-    }
-    if (chosen == nullptr) {
-      const auto first_inside = std::find_if(candidates.begin(), candidates.end(), inside);
-      chosen = first_inside != candidates.end() ? &*first_inside : &candidates.front();
-    }
-    out.push_back(*chosen);
-    taken.push_back(*chosen);
-  }
-  return out;
-}
 
 std::string OverlayRunTag(const Scenario& scenario) {
   if (scenario.tracker_choice.external()) {
@@ -198,20 +159,18 @@ void Label(cv::Mat& image, const std::string& text, cv::Point at, const cv::Scal
 // Drawn last: a detection on its filter's box shows as a line inside it.
 const cv::Scalar kDetectionColour{0, 255, 255};  // BGR: yellow
 
-void DrawDetection(cv::Mat& image, const Detection& d) {
-  const cv::Rect r = ToRect(d.box);
-  cv::rectangle(image, r, kDetectionColour, 1, cv::LINE_AA);
-  // The label beside the box (the truth's is below it, a filter's above):
-  // the target whose model fired, and the score unless every detection has
-  // the same (the oracle's 1).
+// Draws a detection's box and returns its label (placed with the others),
+// right of the box first (the truth's is below it first, a filter's above):
+// the target whose model fired, and the score unless every detection has the
+// same (the oracle's 1); "" for none.
+std::string DrawDetection(cv::Mat& image, const Detection& d) {
+  cv::rectangle(image, ToRect(d.box), kDetectionColour, 1, cv::LINE_AA);
   std::string text;
   if (d.target) text = fmt::format("m{}", Value(*d.target));
   if (d.target || d.score < 1.0) {
     text += fmt::format("{}{:.2f}", text.empty() ? "" : " ", d.score);
   }
-  if (!text.empty()) {
-    Label(image, text, {r.x + r.width + 3, r.y + r.height / 2 + 4}, kDetectionColour, 0.35);
-  }
+  return text;
 }
 
 }  // namespace
@@ -277,18 +236,19 @@ OverlayVideo WriteOverlayVideo(const std::string& path, const Scenario& scenario
       std::string text;
       cv::Scalar colour;
       int text_height = 0;
+      double scale = kLabelScale;
     };
     std::vector<PendingLabel> pending;
-    std::vector<internal::LabelRequest> requests;
+    std::vector<LabelRequest> requests;
     const auto request = [&](std::string text, const cv::Rect& r, const cv::Scalar& colour,
-                             bool below_first) {
+                             LabelSide first, double scale = kLabelScale) {
       int text_height = 0;
-      const cv::Size size = LabelSize(text, kLabelScale, &text_height);
+      const cv::Size size = LabelSize(text, scale, &text_height);
       requests.push_back({.box = {r.x, r.y, r.width, r.height},
                           .text_width = size.width,
                           .text_height = size.height,
-                          .below_first = below_first});
-      pending.push_back({std::move(text), colour, text_height});
+                          .first = first});
+      pending.push_back({std::move(text), colour, text_height, scale});
     };
     for (const GroundTruthObject& o : truth[f].objects) {
       if (!o.in_frame) continue;
@@ -317,15 +277,21 @@ OverlayVideo WriteOverlayVideo(const std::string& path, const Scenario& scenario
           text += std::string(" ") + metrics::FilterStateName(it->second);
           text_colour = StateColour(it->second);
         }
-        request(text, r, text_colour, false);
+        request(text, r, text_colour, LabelSide::kAbove);
       }
     }
     for (const GroundTruthObject& o : truth[f].objects) {
       if (o.in_frame)
-        request(fmt::format("gt {}", Value(o.id)), ToRect(o.amodal_box), {255, 255, 255}, true);
+        request(fmt::format("gt {}", Value(o.id)), ToRect(o.amodal_box), {255, 255, 255},
+                LabelSide::kBelow);
     }
     if (!observations.empty()) {
-      for (const Detection& d : observations[f].detections) DrawDetection(image, d);
+      for (const Detection& d : observations[f].detections) {
+        std::string text = DrawDetection(image, d);
+        if (!text.empty()) {
+          request(std::move(text), ToRect(d.box), kDetectionColour, LabelSide::kRight, 0.35);
+        }
+      }
     }
     // The header's lines (top left, internal::OverlayHeaderLines), whose
     // rectangles the labels keep off: the scene and frame in white, the
@@ -347,17 +313,16 @@ OverlayVideo WriteOverlayVideo(const std::string& path, const Scenario& scenario
                         i == 2 ? kDetectionColour : cv::Scalar(255, 255, 255),
                         scale});
     }
-    std::vector<internal::PixelRect> taken;
+    std::vector<PixelRect> taken;
     for (const HeaderLine& line : header) {
       int text_height = 0;
       const cv::Size size = LabelSize(line.text, line.scale, &text_height);
       taken.push_back({line.at.x, line.at.y - text_height, size.width, size.height});
     }
-    const std::vector<internal::PixelRect> placed =
-        internal::PlaceLabels(requests, {0, 0, width, height}, taken);
+    const std::vector<PixelRect> placed = PlaceLabels(requests, {0, 0, width, height}, taken);
     for (size_t i = 0; i < pending.size(); ++i) {
       Label(image, pending[i].text, {placed[i].x, placed[i].y + pending[i].text_height},
-            pending[i].colour);
+            pending[i].colour, pending[i].scale);
     }
     for (const HeaderLine& line : header) Label(image, line.text, line.at, line.colour, line.scale);
     writer->Write(image);

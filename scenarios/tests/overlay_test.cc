@@ -291,51 +291,6 @@ TEST(Overlay, SameBytesWhateverTheCoreCount) {
                                 << on_one.size() << " on one";
 }
 
-// Labels are placed apart (an audit: at the crossing "F1 F2 CORRECT" were
-// drawn on each other and "gt 1" under a box). By hand, in a 320 x 240
-// image, three labels 50 x 10 on one box at (100, 100) of 20 x 20: the
-// first filter's above it (y = 100 − 4 − 10), the second's below it (y =
-// 100 + 20 + 2), the truth's, below first, right of it (x = 100 + 20 + 3).
-// A box at the top edge gets its label below; one under the header's taken
-// rectangle too.
-TEST(Overlay, LabelsArePlacedApart) {
-  using internal::LabelRequest;
-  using internal::PixelRect;
-  const PixelRect image{0, 0, 320, 240};
-  const PixelRect box{100, 100, 20, 20};
-  const std::vector<PixelRect> placed = internal::PlaceLabels(
-      {LabelRequest{.box = box, .text_width = 50, .text_height = 10},
-       LabelRequest{.box = box, .text_width = 50, .text_height = 10},
-       LabelRequest{.box = box, .text_width = 50, .text_height = 10, .below_first = true}},
-      image, {});
-  ASSERT_EQ(placed.size(), 3u);
-  const auto xy = [](const PixelRect& r) { return std::pair{r.x, r.y}; };
-  EXPECT_EQ(xy(placed[0]), std::pair(100, 86));
-  EXPECT_EQ(xy(placed[1]), std::pair(100, 122));
-  EXPECT_EQ(xy(placed[2]), std::pair(123, 100));
-  // At the top edge: above would leave the image.
-  EXPECT_EQ(xy(internal::PlaceLabels(
-                {LabelRequest{.box = {10, 5, 20, 20}, .text_width = 50, .text_height = 10}}, image,
-                {})[0]),
-            std::pair(10, 27));
-  // Under the header's line (taken): below instead of above.
-  EXPECT_EQ(xy(internal::PlaceLabels(
-                {LabelRequest{.box = {10, 30, 20, 20}, .text_width = 50, .text_height = 10}}, image,
-                {PixelRect{6, 6, 100, 12}})[0]),
-            std::pair(10, 52));
-  // Every candidate taken: the first inside the image (below, the box at the
-  // top edge having no room above), not one off it.
-  EXPECT_EQ(xy(internal::PlaceLabels(
-                {LabelRequest{.box = {10, 5, 20, 20}, .text_width = 50, .text_height = 10}}, image,
-                {PixelRect{0, 0, 320, 240}})[0]),
-            std::pair(10, 27));
-  // No candidate inside the image (a box as large as it): the first, above.
-  const std::vector<PixelRect> crowded = internal::PlaceLabels(
-      {LabelRequest{.box = {0, 0, 320, 240}, .text_width = 50, .text_height = 10}}, image,
-      {PixelRect{0, 0, 320, 240}});
-  EXPECT_EQ(xy(crowded[0]), std::pair(0, -14)) << "no candidate inside: the first";
-}
-
 // The header says which run it is (an audit: two runs' videos side by side
 // in `hcpf report --against` both read "crossing frame 1 / detections
 // (sks)"): the scene and frame, the run's seed and tracker in the run

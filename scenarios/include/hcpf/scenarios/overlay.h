@@ -72,31 +72,6 @@ inline constexpr int kMaxVideoSide = 8191;
 
 namespace internal {
 
-// A rectangle in pixels: left, top, width, height.
-struct PixelRect {
-  int x = 0, y = 0, width = 0, height = 0;
-  bool Overlaps(const PixelRect& o) const {
-    return x < o.x + o.width && o.x < x + width && y < o.y + o.height && o.y < y + height;
-  }
-};
-
-// A label to place beside `box`: its text's size, and whether it goes
-// below the box first (a ground-truth label) or above it (a filter's).
-struct LabelRequest {
-  PixelRect box;
-  int text_width = 0, text_height = 0;
-  bool below_first = false;
-};
-
-// Where each label's text goes (its rectangle), in order: the first of
-// above, below, right of and left of its box (below first when asked), then
-// a line further up or down, that lies inside `image` and overlaps neither
-// `taken` nor a label placed before it; when none does, the first inside the
-// image (the first candidate when none is). At the two vehicles' crossing
-// "F1 F2 CORRECT" were drawn on each other and "gt 1" under a box (an audit).
-std::vector<PixelRect> PlaceLabels(const std::vector<LabelRequest>& labels, PixelRect image,
-                                   std::vector<PixelRect> taken);
-
 // The run's tag: its seed and tracker, in the run report header's words
 // ("seed 7, 500 particles, charged resampling"; an external tracker's
 // "seed 7, tracker: external (python3 sort.py)", its command's words by

@@ -320,27 +320,38 @@ TEST(Regress, BaselineRoundTripAndPlantedRegression) {
   EXPECT_EQ(r.better, 1);
 }
 
+// A suite of one scene, "a" (the sweep fixture's base.yaml), judged by IDF1,
+// in a fresh folder; ErrorOf(text) writes `text` as its baseline and returns
+// what RunRegress refuses it with, "(accepted)" when it runs.
+struct OneSceneSuite {
+  explicit OneSceneSuite(const std::string& name) : dir(testing::SweepFolder(name)) {
+    std::ofstream(dir / "suite.yaml") << "scenes:\n  - {name: a, scenario: base.yaml}\n"
+                                         "metrics:\n  idf1: {tolerance: 0.01}\n";
+    options.suite_path = (dir / "suite.yaml").string();
+    options.baseline_path = (dir / "baseline.json").string();
+  }
+  std::string ErrorOf(const std::string& text) const {
+    std::ofstream(options.baseline_path) << text;
+    try {
+      RunRegress(options);
+    } catch (const InputError& e) {
+      return e.what();
+    }
+    return "(accepted)";
+  }
+  fs::path dir;
+  RegressOptions options;
+};
+
 // A baseline is bad input (InputError, exit 2) unless each of its keys is
 // known, its hashes are strings and its values are numbers in the metric's
 // range: a bad-input audit found a number for config_hash ending in a JSON
 // type error (exit 1), and a misspelt key, an unknown metric and an idf1 of
 // 7 accepted. Checked before anything runs.
 TEST(Regress, BadBaselinesAreBadInput) {
-  const auto dir = testing::SweepFolder("regress-bad-baseline");
-  std::ofstream(dir / "suite.yaml") << "scenes:\n  - {name: a, scenario: base.yaml}\n"
-                                       "metrics:\n  idf1: {tolerance: 0.01}\n";
-  RegressOptions o;
-  o.suite_path = (dir / "suite.yaml").string();
-  o.baseline_path = (dir / "baseline.json").string();
-  const auto error_of = [&](const std::string& text) -> std::string {
-    std::ofstream(o.baseline_path) << text;
-    try {
-      RunRegress(o);
-    } catch (const InputError& e) {
-      return e.what();
-    }
-    return "(accepted)";
-  };
+  const OneSceneSuite suite("regress-bad-baseline");
+  const RegressOptions& o = suite.options;
+  const auto error_of = [&suite](const std::string& text) { return suite.ErrorOf(text); };
   const std::string scene = R"("a": {"config_hash": "0123", "metrics": {"idf1": 0.9}})";
   const std::vector<std::pair<std::string, std::vector<std::string>>> cases = {
       {R"({"scenes": {"a": {"config_hash": 17, "metrics": {"idf1": 0.9}}}})",
@@ -409,21 +420,8 @@ TEST(Regress, BadBaselinesAreBadInput) {
 // the value errors named the key but no line, the JSON library giving no
 // positions after parsing). Worked out by hand from the text below.
 TEST(Regress, BaselineErrorsNameTheLineOfTheirKey) {
-  const auto dir = testing::SweepFolder("regress-baseline-lines");
-  std::ofstream(dir / "suite.yaml") << "scenes:\n  - {name: a, scenario: base.yaml}\n"
-                                       "metrics:\n  idf1: {tolerance: 0.01}\n";
-  RegressOptions o;
-  o.suite_path = (dir / "suite.yaml").string();
-  o.baseline_path = (dir / "baseline.json").string();
-  const auto error_of = [&](const std::string& text) -> std::string {
-    std::ofstream(o.baseline_path) << text;
-    try {
-      RunRegress(o);
-    } catch (const InputError& e) {
-      return e.what();
-    }
-    return "(accepted)";
-  };
+  const OneSceneSuite suite("regress-baseline-lines");
+  const auto error_of = [&suite](const std::string& text) { return suite.ErrorOf(text); };
   // Line 6, column 9: "idf1" after eight spaces.
   EXPECT_NE(error_of("{\n"
                      "  \"scenes\": {\n"

@@ -13,15 +13,19 @@ std::vector<PixelRect> PlaceLabels(const std::vector<LabelRequest>& labels, Pixe
     return r.x >= image.x && r.y >= image.y && r.x + r.width <= image.x + image.width &&
            r.y + r.height <= image.y + image.height;
   };
-  const auto free = [&taken](const PixelRect& r) {
+  const auto untaken = [&taken](const PixelRect& r) {
     return std::none_of(taken.begin(), taken.end(),
                         [&r](const PixelRect& t) { return r.Overlaps(t); });
   };
-  const auto clear_of_boxes = [&labels](const PixelRect& r) {
-    return std::none_of(labels.begin(), labels.end(),
-                        [&r](const LabelRequest& l) { return r.Overlaps(l.box); });
-  };
   for (const LabelRequest& l : labels) {
+    // Off the other boxes, but not those that overlap its own (the same
+    // target's filter, truth and detection boxes nearly coincide: avoiding
+    // them would send its labels from side to side as a filter jitters).
+    const auto clear_of_boxes = [&labels, &l](const PixelRect& r) {
+      return std::none_of(labels.begin(), labels.end(), [&](const LabelRequest& other) {
+        return !other.box.Overlaps(l.box) && r.Overlaps(other.box);
+      });
+    };
     const PixelRect& b = l.box;
     const int w = l.text_width, h = l.text_height;
     const PixelRect above{b.x, b.y - 4 - h, w, h};
@@ -43,17 +47,24 @@ std::vector<PixelRect> PlaceLabels(const std::vector<LabelRequest>& labels, Pixe
         break;
     }
     auto chosen = std::find_if(candidates.begin(), candidates.end(), [&](const PixelRect& c) {
-      return inside(c) && free(c) && clear_of_boxes(c);
+      return inside(c) && untaken(c) && clear_of_boxes(c);
     });
     if (chosen == candidates.end()) {
       chosen = std::find_if(candidates.begin(), candidates.end(),
-                            [&](const PixelRect& c) { return inside(c) && free(c); });
+                            [&](const PixelRect& c) { return inside(c) && untaken(c); });
     }
-    if (chosen == candidates.end())
+    if (chosen == candidates.end()) {
       chosen = std::find_if(candidates.begin(), candidates.end(), inside);
-    if (chosen == candidates.end()) chosen = candidates.begin();
-    out.push_back(*chosen);
-    taken.push_back(*chosen);
+    }
+    PixelRect place = chosen != candidates.end() ? *chosen : candidates.front();
+    if (chosen == candidates.end()) {
+      // Moved inside the image, so that it is drawn at all (a box as tall
+      // as a thumbnail left its label off it: a review).
+      place.x = std::clamp(place.x, image.x, std::max(image.x, image.x + image.width - w));
+      place.y = std::clamp(place.y, image.y, std::max(image.y, image.y + image.height - h));
+    }
+    out.push_back(place);
+    taken.push_back(place);
   }
   return out;
 }

@@ -387,6 +387,18 @@ TEST(Regress, BadBaselinesAreBadInput) {
        {"scenes.a: expected each key once in its object, found \"a\" a second time"}},
       // A syntax error at its line and column (it was inside the JSON
       // library's text: a bad-input audit).
+      // A number no double holds, a NUL byte (the JSON library stopped
+      // there as at the end), nesting deeper than any baseline (a review:
+      // dotted names of keys thousands deep took seconds and gigabytes).
+      {R"({"scenes": {"a": {"metrics": {"idf1": 1e999}}}})",
+       {"baseline.json:1:",
+        "expected a baseline JSON file, found a number out of range (number "
+        "overflow parsing '1e999')"}},
+      {std::string("{\"scenes\": {}}\n\0{\"x\": 1}", 24),
+       {"baseline.json:2:1: expected a baseline JSON file, found a NUL byte"}},
+      {"{\"scenes\": " + std::string(70, '[') + std::string(70, ']') + "}",
+       {"expected a baseline JSON file nested at most 64 levels deep, found a list or object "
+        "nested deeper"}},
       {"{\n  \"scenes\": {\n    \"a\": x\n",
        {"baseline.json:3:10: expected a baseline JSON file, found a JSON syntax error (syntax "
         "error while parsing value - invalid literal"}},

@@ -34,9 +34,11 @@ struct LabelRequest {
 // order from `first` (kBelow: below, above, right, left, further down,
 // further up; kRight: right, above, below, left, further up, further down).
 // A label takes the first candidate that lies inside `image` and overlaps
-// neither `taken`, nor a label placed before it, nor any request's box; else
-// the first that overlaps no label and nothing taken (it covers a box); else
-// the first inside the image; else the first. At the crossing of two
+// neither `taken`, nor a label placed before it, nor the box of another
+// request whose box does not overlap its own; else the first inside the
+// image that overlaps no label and nothing taken (it covers a box); else the
+// first inside the image; else the first, moved inside the image. In a crowd
+// labels may still overlap: there is no room. At the crossing of two
 // vehicles "F1 F2 CORRECT" were drawn on each other and "gt 1" under a box
 // (an audit), and the contact sheet's labels over each other (another).
 std::vector<PixelRect> PlaceLabels(const std::vector<LabelRequest>& labels, PixelRect image,

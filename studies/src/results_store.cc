@@ -455,8 +455,9 @@ std::vector<std::pair<std::string, std::string>> DescriptiveMeta(const StoreMeta
 
 }  // namespace
 
-std::unique_ptr<ResultsStore> ResultsStore::OpenOrCreate(const std::string& path,
-                                                         const StoreMeta& meta) {
+std::unique_ptr<ResultsStore> ResultsStore::OpenOrCreate(
+    const std::string& path, const StoreMeta& meta,
+    const std::function<void(const ResultsStore&)>& check) {
   if (fs::exists(path)) {
     // Checked on a read-only connection first: a store of another sweep is
     // refused untouched (a bad-input audit: the refusal had already switched
@@ -477,6 +478,8 @@ std::unique_ptr<ResultsStore> ResultsStore::OpenOrCreate(const std::string& path
                           ? fmt::format(" with root seed {}, this sweep's is {}",
                                         store->meta().root_seed, meta.root_seed)
                           : std::string()));
+    } else if (check) {
+      check(*store);
     }
     auto store = Open(path, StoreAccess::kReadWrite);
     // The report: block, the file's name and where the root seed came from

@@ -341,11 +341,6 @@ SweepPlan PrepareSweep(const SweepSpec& spec, const std::vector<SweepRun>& runs,
   }
   meta.run_count = static_cast<int64_t>(runs.size());
   SetRootSeedMeta(spec, meta);
-  plan.store = ResultsStore::OpenOrCreate((out / "results.sqlite").string(), meta);
-
-  // Finished runs are reused only while their folders still hold what the
-  // store records (a deleted or damaged folder is computed again).
-  std::vector<RunRecord> stored = plan.store->Runs();
   // A run's key is its resolved scenario, so a row of a key says which run
   // it is (the store's reader holds its folder to runs/<key>); its index,
   // seeds and swept values are labels, which must say what the sweep's
@@ -354,23 +349,37 @@ SweepPlan PrepareSweep(const SweepSpec& spec, const std::vector<SweepRun>& runs,
   // resume kept it, a bad-input audit; or a value written otherwise in the
   // sweep file, 0.10 for 0.1, which is the same run) is rewritten from the
   // expansion, keeping its run; a row of a key the sweep has no run of is
-  // refused.
+  // refused, before the store is written to (a review: the refusal came
+  // after the store had taken this sweep file's name and report: block).
   std::map<std::string, const SweepRun*> planned;
   for (const SweepRun& run : runs) planned.emplace(run.key, &run);
+  const std::string store_path = (out / "results.sqlite").string();
+  const auto refuse_foreign_rows = [&](const std::vector<RunRecord>& rows) {
+    for (const RunRecord& r : rows) {
+      if (planned.count(r.key) > 0) continue;
+      throw InputError(SourceLocation{store_path, 0, 0, fmt::format("runs[{}]", r.key)},
+                       "a row of a run of this sweep (its key a configuration hash of the "
+                       "sweep's expansion)",
+                       fmt::format("run {}, whose key no run of the sweep has", r.index),
+                       "the store was edited; delete the row, or the store to compute every run "
+                       "again");
+    }
+  };
+  plan.store = ResultsStore::OpenOrCreate(store_path, meta, [&](const ResultsStore& existing) {
+    refuse_foreign_rows(existing.Runs());
+  });
+
+  // Finished runs are reused only while their folders still hold what the
+  // store records (a deleted or damaged folder is computed again).
+  std::vector<RunRecord> stored = plan.store->Runs();
+  // Read again: the folder lock keeps other sweeps out, not a hand edit
+  // between the two reads.
+  refuse_foreign_rows(stored);
   std::vector<char> relabelled(stored.size(), 0);
   std::string first_relabelled;
   for (size_t i = 0; i < stored.size(); ++i) {
     RunRecord& r = stored[i];
     const auto it = planned.find(r.key);
-    if (it == planned.end()) {
-      throw InputError(
-          SourceLocation{(out / "results.sqlite").string(), 0, 0, fmt::format("runs[{}]", r.key)},
-          "a row of a run of this sweep (its key a configuration hash of the "
-          "sweep's expansion)",
-          fmt::format("run {}, whose key no run of the sweep has", r.index),
-          "the store was edited; delete the row, or the store to compute every run "
-          "again");
-    }
     RunRecord want = NewRecord(*it->second);
     if (r.index == want.index && r.seed_index == want.seed_index && r.seed == want.seed &&
         r.values == want.values) {

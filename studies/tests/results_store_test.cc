@@ -705,12 +705,16 @@ TEST(RunSweep, AStoreRowEditedByHandIsRelabelledOrRefused) {
   resume();
   ExecSql(path, "UPDATE runs SET seed_index = 1 WHERE run_index = 0");
   resume();
-  // A row of a key no run has.
+  // A row of a key no run has: refused before the store is written to,
+  // here by the same sweep under another file name (which a resume records
+  // in the store's meta, and which switched it to write-ahead logging).
   ExecSql(path,
           "UPDATE runs SET key = '0123456789abcdef', run_dir = 'runs/0123456789abcdef' "
           "WHERE run_index = 5");
+  const std::string edited = hcpf::testing::ReadFile(path);
+  const SweepSpec renamed = LoadSweepFile(WriteSweep(dir, kSweep, "renamed.yaml"));
   try {
-    RunSweep(spec, runs, Options(dir / "out", 2));
+    RunSweep(renamed, ExpandSweep(renamed), Options(dir / "out", 2));
     ADD_FAILURE() << "a row of no run of the sweep was kept";
   } catch (const InputError& e) {
     EXPECT_NE(std::string(e.what()).find("runs[0123456789abcdef]: expected a row of a run of this "
@@ -721,6 +725,9 @@ TEST(RunSweep, AStoreRowEditedByHandIsRelabelledOrRefused) {
               std::string::npos)
         << e.what();
   }
+  // Compared whole, not printed: a store's bytes fill a screen.
+  EXPECT_TRUE(hcpf::testing::ReadFile(path) == edited) << "the refused store was written to";
+  EXPECT_EQ(fs::path(ResultsStore::Open(path)->meta().sweep_file).filename(), "sweep.yaml");
 }
 
 // A sweep of explicit seeds (grid: {seed: [...]}, no seeds:) is allowed by

@@ -16,6 +16,7 @@
 
 #include <array>
 #include <cstdint>
+#include <functional>
 #include <map>
 #include <memory>
 #include <mutex>
@@ -93,8 +94,13 @@ class ResultsStore {
   static std::unique_ptr<ResultsStore> Open(const std::string& path,
                                             StoreAccess access = StoreAccess::kReadOnly);
   // Opens `path`, creating it with `meta` when absent. Throws InputError when
-  // it exists and holds a different sweep (another sweep_hash).
-  static std::unique_ptr<ResultsStore> OpenOrCreate(const std::string& path, const StoreMeta& meta);
+  // it exists and holds a different sweep (another sweep_hash). An existing
+  // store of the sweep is first shown to `check` on a read-only connection,
+  // before anything is written to it (the descriptive meta, the journal
+  // mode): a store `check` refuses by throwing is left byte for byte as it was.
+  static std::unique_ptr<ResultsStore> OpenOrCreate(
+      const std::string& path, const StoreMeta& meta,
+      const std::function<void(const ResultsStore&)>& check = {});
 
   ~ResultsStore();
   ResultsStore(const ResultsStore&) = delete;

@@ -535,8 +535,7 @@ void CheckQuotedScalars(const std::string& text, const std::string& file,
     // number of quoted values: a review).
     if (close != std::string::npos && text.find('\n', open) > close) continue;
     const TextPosition from = PositionOf(text, open);
-    const int column = from.column - (from.line == 1 ? static_cast<int>(bom) : 0);
-    const SourceLocation where{file, from.line, column, scalar.path};
+    const SourceLocation where{file, from.line, from.column, scalar.path};
     const std::string quote = text[open] == '"' ? "a \" quote" : "a ' quote";
     // The key that owns the value: a continuation line that reads as a key
     // no deeper than it is a key of that mapping or an outer one; deeper, it

@@ -142,6 +142,8 @@ TEST(YamlReader, TextThatIsNotUtf8IsRefusedAtItsByte) {
   };
   const std::vector<Case> cases = {
       {"name: caf\xE9\n", "f.yaml:1:10:", "0xE9"},       // Latin-1 é
+      {"\xEF\xBB\xBFname: caf\xE9\n", "f.yaml:1:10:",    // after a byte-order mark,
+       "0xE9"},                                          // no column
       {"a: 1\nname: ab\xC3\n", "f.yaml:2:9:", "0xC3"},   // cut short at the end
       {"a: 1\nb: \xC0\xAF\n", "f.yaml:2:4:", "0xC0"},    // overlong '/'
       {"b: \xED\xA0\x80\n", "f.yaml:1:4:", "0xED"},      // a surrogate

@@ -183,8 +183,9 @@ TextPosition PositionOf(std::string_view text, size_t offset) {
   offset = std::min(offset, text.size());
   const size_t newline = offset == 0 ? std::string_view::npos : text.rfind('\n', offset - 1);
   const size_t line_start = newline == std::string_view::npos ? 0 : newline + 1;
+  const size_t first_column = line_start == 0 ? ByteOrderMarkLength(text) : line_start;
   return {.line = 1 + static_cast<int>(std::count(text.begin(), text.begin() + offset, '\n')),
-          .column = static_cast<int>(offset - line_start) + 1};
+          .column = static_cast<int>(offset - std::min(offset, first_column)) + 1};
 }
 
 std::string TempFileTarget(std::string_view entry) {

@@ -46,6 +46,22 @@ TEST(TextFile, PositionOfCountsLinesAndColumnsFromOne) {
   EXPECT_EQ(at(7), std::pair(4, 1));
   EXPECT_EQ(at(8), std::pair(4, 2));    // the end
   EXPECT_EQ(at(100), std::pair(4, 2));  // past it: the end
+  // A byte-order mark (bytes 0-2 of "\xEF\xBB\xBFab\ncd") is no column, as an
+  // editor shows the file: 'a' (byte 3) is column 1, 'b' 2, 'c' (byte 6)
+  // column 1 of line 2; a byte of the mark itself is column 1.
+  const std::string marked =
+      "\xEF\xBB\xBF"
+      "ab\ncd";
+  const auto marked_at = [&](size_t offset) {
+    const TextPosition p = PositionOf(marked, offset);
+    return std::pair{p.line, p.column};
+  };
+  EXPECT_EQ(marked_at(0), std::pair(1, 1));
+  EXPECT_EQ(marked_at(2), std::pair(1, 1));
+  EXPECT_EQ(marked_at(3), std::pair(1, 1));
+  EXPECT_EQ(marked_at(4), std::pair(1, 2));
+  EXPECT_EQ(marked_at(6), std::pair(2, 1));
+  EXPECT_EQ(marked_at(7), std::pair(2, 2));
 }
 
 TEST(WriteTextFile, ReplacesAFileWholeOrNotAtAll) {

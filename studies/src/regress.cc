@@ -653,16 +653,6 @@ class CountingIterator {
   size_t* consumed_;
 };
 
-// A byte offset of `text`'s line and column as an editor counts them: a
-// byte-order mark (which the JSON parser skips) is no column of line 1.
-TextPosition EditorPosition(const std::string& text, size_t offset) {
-  TextPosition at = PositionOf(text, offset);
-  if (at.line == 1) {
-    at.column = std::max(1, at.column - static_cast<int>(ByteOrderMarkLength(text)));
-  }
-  return at;
-}
-
 // A SAX handler (nlohmann::json::sax_parse) that notes where each key of a
 // baseline begins, by its dotted name, and refuses a key twice in one object,
 // as the suite's YAML refuses it (a bad-input audit: the JSON library keeps
@@ -701,7 +691,7 @@ class BaselineKeys {
   bool key(json::string_t& key) {
     const size_t at = KeyStart();
     if (!open_.back().keys.insert(key).second) {
-      const TextPosition second = EditorPosition(text_, at);
+      const TextPosition second = PositionOf(text_, at);
       throw InputError(SourceLocation{path_, second.line, second.column, Dotted(key)},
                        "each key once in its object", fmt::format("\"{}\" a second time", key));
     }
@@ -738,7 +728,7 @@ class BaselineKeys {
     // thousands deep are long and many (a crafted 240 KB file took 20 s and
     // 1.9 GB: a review).
     if (open_.size() >= kMaxDepth) {
-      const TextPosition at = EditorPosition(text_, consumed_ > 0 ? consumed_ - 1 : 0);
+      const TextPosition at = PositionOf(text_, consumed_ > 0 ? consumed_ - 1 : 0);
       throw InputError(SourceLocation{path_, at.line, at.column, Dotted("")},
                        fmt::format("a baseline JSON file nested at most {} levels deep", kMaxDepth),
                        "a list or object nested deeper");
@@ -796,7 +786,7 @@ json ReadBaseline(const std::string& path, const RegressSuite& suite) {
   // The JSON library stops at a NUL byte as at the end of the text: what
   // follows it would go unread (a review).
   if (const size_t nul = text.find('\0'); nul != std::string::npos) {
-    const TextPosition at = EditorPosition(text, nul);
+    const TextPosition at = PositionOf(text, nul);
     throw InputError(SourceLocation{path, at.line, at.column, ""}, "a baseline JSON file",
                      "a NUL byte");
   }
@@ -807,7 +797,7 @@ json ReadBaseline(const std::string& path, const RegressSuite& suite) {
                        &keys)) {
     // At the file's line and column, with the parser's words after its own
     // position (a bad-input audit: both were inside the library's text).
-    const TextPosition at = EditorPosition(text, keys.error_byte() > 0 ? keys.error_byte() - 1 : 0);
+    const TextPosition at = PositionOf(text, keys.error_byte() > 0 ? keys.error_byte() - 1 : 0);
     std::string why = keys.error();
     if (const size_t column = why.find("column"); column != std::string::npos) {
       if (const size_t colon = why.find(": ", column); colon != std::string::npos) {
@@ -835,7 +825,7 @@ json ReadBaseline(const std::string& path, const RegressSuite& suite) {
       found = where.find(key);
     }
     if (found == where.end()) throw;
-    const TextPosition at = EditorPosition(text, found->second);
+    const TextPosition at = PositionOf(text, found->second);
     throw InputError(SourceLocation{path, at.line, at.column, e.where().key}, e.expected(),
                      e.found(), e.hint());
   }

@@ -11,7 +11,9 @@
 namespace hcpf {
 
 // The 1-based line and column of byte `offset` of `text` (an offset past the
-// end counts as the end), for errors a parser reports by byte.
+// end counts as the end), for errors a parser reports by byte, as an editor
+// counts them: a UTF-8 byte-order mark at the start is no column of line 1
+// (the regress baseline reader and the YAML reader each took it off by hand).
 struct TextPosition {
   int line = 1;
   int column = 1;

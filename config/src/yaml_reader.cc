@@ -273,6 +273,7 @@ struct DocumentSpan {
 struct TaggedScalar {
   YAML::Mark mark;
   std::string path;  // the value's dotted path; a key's: its mapping's
+  bool key = false;  // a key of a mapping
 };
 
 // Walks a stream's documents without building them. YAML::LoadAll cannot be
@@ -291,6 +292,8 @@ class DocumentScanner final : public YAML::EventHandler {
   const std::vector<TaggedScalar>& tagged() const { return tagged_; }
   // Where the last event was, and the path of the node after it.
   const YAML::Mark& last() const { return span_.last; }
+  // Whether the node after the last event is a key of a mapping.
+  bool NextIsKey() const { return !stack_.empty() && stack_.back().map && stack_.back().key_next; }
   std::string NextPath() const {
     if (stack_.empty()) return "";
     const Level& level = stack_.back();
@@ -318,7 +321,7 @@ class DocumentScanner final : public YAML::EventHandler {
     // quote never closes is the rest of the file (`[20, "40]` gave the key
     // path "particles[1].40] ", a bad-input audit).
     const bool key = !stack_.empty() && stack_.back().map && !stack_.back().key_next;
-    if (tag != "?") tagged_.push_back({mark, key ? stack_.back().path : path});
+    if (tag != "?") tagged_.push_back({mark, key ? stack_.back().path : path, key});
     Saw(mark, true);
   }
   void OnSequenceStart(const YAML::Mark& mark, const std::string&, YAML::anchor_t,
@@ -522,6 +525,20 @@ void CheckBlanks(const std::string& text, const std::string& file, int line) {
 // silently took in the rest of the file (a third bad-input audit). A quoted
 // value that spans lines is valid YAML and is kept when no line inside it
 // looks like a key.
+// The dotted path to name a quoted scalar left open by: a value's own; a
+// key's, its mapping's and, where the quote's line reads `"word: ...`, the
+// word (`"seed: 3` at the top level had no key to name, a review; the text
+// yaml-cpp read as the key is the rest of the file).
+std::string QuotedKeyPath(const std::string& text, size_t open, const TaggedScalar& scalar) {
+  if (!scalar.key) return scalar.path;
+  const size_t line_end = std::min(text.find('\n', open), text.size());
+  const std::string_view rest(text.data() + open + 1, line_end - open - 1);
+  if (!LooksLikeKeyLine(rest) || KeyColumn(rest) != 0) return scalar.path;
+  std::string_view word = rest.substr(0, rest.find(':'));
+  word = word.substr(0, word.find_last_not_of(" \t") + 1);
+  return scalar.path.empty() ? std::string(word) : scalar.path + "." + std::string(word);
+}
+
 void CheckQuotedScalars(const std::string& text, const std::string& file,
                         const std::vector<TaggedScalar>& scalars) {
   // yaml-cpp's positions do not count a byte-order mark.
@@ -535,7 +552,7 @@ void CheckQuotedScalars(const std::string& text, const std::string& file,
     // number of quoted values: a review).
     if (close != std::string::npos && text.find('\n', open) > close) continue;
     const TextPosition from = PositionOf(text, open);
-    const SourceLocation where{file, from.line, from.column, scalar.path};
+    const SourceLocation where{file, from.line, from.column, QuotedKeyPath(text, open, scalar)};
     const std::string quote = text[open] == '"' ? "a \" quote" : "a ' quote";
     // The key that owns the value: a continuation line that reads as a key
     // no deeper than it is a key of that mapping or an outer one; deeper, it
@@ -658,7 +675,8 @@ YAML::Node YamlReader::Parse(const std::string& text, const std::string& file) {
       if (open != std::string::npos) {
         YAML::Mark mark;
         mark.pos = static_cast<int>(open - bom);
-        CheckQuotedScalars(text, file, {TaggedScalar{mark, scanner.NextPath()}});
+        CheckQuotedScalars(text, file,
+                           {TaggedScalar{mark, scanner.NextPath(), scanner.NextIsKey()}});
       }
     }
     CheckBlanks(text, file, e.mark.line);

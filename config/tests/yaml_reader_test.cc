@@ -328,6 +328,20 @@ TEST(YamlReader, AQuoteLeftOpenIsRefusedAtTheQuote) {
       << ParseError("a:\n  b: [20, \"40]\n");
   EXPECT_EQ(ParseError("a:\n  b: [20, '40]\nc: 1\n").find("f.yaml:2:11: a.b[1]: expected a "), 0u)
       << ParseError("a:\n  b: [20, '40]\nc: 1\n");
+  // A key whose quote never closes is named by the word before the colon
+  // on its line (a review: at the top level nothing was named; yaml-cpp's
+  // key is the rest of the file), in a mapping after the mapping's path; a
+  // quote before no `word:` names the mapping alone.
+  EXPECT_EQ(ParseError("name: x\n\"seed: 3\nframes: 10\n")
+                .find("f.yaml:2:1: seed: expected a quoted value closed before the next key"),
+            0u)
+      << ParseError("name: x\n\"seed: 3\nframes: 10\n");
+  EXPECT_EQ(ParseError("name: x\n\"seed: 3").find("f.yaml:2:1: seed: expected a quoted "), 0u)
+      << ParseError("name: x\n\"seed: 3");
+  EXPECT_EQ(ParseError("a:\n  b: 1\n  'c d: 2\n").find("f.yaml:3:3: a: expected a quoted "), 0u)
+      << ParseError("a:\n  b: 1\n  'c d: 2\n");
+  EXPECT_EQ(ParseError("a:\n  b: 1\n  'cd: 2\n").find("f.yaml:3:3: a.cd: expected a quoted "), 0u)
+      << ParseError("a:\n  b: 1\n  'cd: 2\n");
   // Valid quoted values: over two lines, with escaped quotes, and plain
   // values holding an apostrophe.
   EXPECT_EQ(YamlReader::Parse("name: \"two\n  lines\"\nb: 1\n", "f.yaml")["name"].as<std::string>(),

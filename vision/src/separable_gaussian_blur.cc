@@ -1,8 +1,13 @@
 // An exact sampled Gaussian of float images in a fixed summation order
 // (stacked_integral_blur.h, SeparableGaussianBlur).
 
-// No fused multiply-add here, whatever the build's flags
-// (separable_blur_kernel.h).
+// The same bytes on every x86-64 CPU rest on two things: each output value
+// is one expression evaluated in a fixed order, element by element (vector
+// lanes of any width and the scalar ends of the loops compute it alike), and
+// no multiply-add is fused, which the project's -ffp-contract=off
+// (CMakeLists.txt) guarantees and this file asks for itself as well; built
+// with GCC's default (fast) contraction and -mfma the AVX-512 build would
+// differ.
 #pragma GCC optimize("fp-contract=off")
 
 #include <cmath>
@@ -11,7 +16,6 @@
 
 #include "hcpf/core/check.h"
 #include "hcpf/vision/stacked_integral_blur.h"
-#include "separable_blur_kernel.h"
 
 namespace hcpf::vision {
 
@@ -37,20 +41,90 @@ std::vector<float> HalfKernel(double sigma) {
   return half;
 }
 
-// The passes, cloned for AVX-512, AVX2 and the x86-64 baseline (SSE2): the
-// loader picks the widest the CPU has. Every clone computes the same bytes
-// (separable_blur_kernel.h; tests/separable_gaussian_blur_test.cc compares
-// each with a scalar sum); the wider ones are faster (docs/performance.md).
-__attribute__((target_clones("avx512f", "avx2", "default"))) void BlurPasses(const float* in, int w,
-                                                                             int h, const float* k,
-                                                                             int r, float* out,
-                                                                             float* padded) {
-  internal::SeparableBlurPasses(in, w, h, k, r, out, padded);
+// The two passes on raw rows, always inlined, so that each instruction-set
+// build below vectorises them for its own instruction set.
+// acc[x] = k c[x].
+[[gnu::always_inline]] inline void ScaledRow(float* __restrict acc, const float* __restrict c,
+                                             float k, int w) {
+  for (int x = 0; x < w; ++x) acc[x] = k * c[x];
 }
 
-}  // namespace
+// acc[x] += k (a[x] + b[x]) (a may be b: the clamped rows at an edge).
+[[gnu::always_inline]] inline void AddPairRow(float* __restrict acc, const float* __restrict a,
+                                              const float* __restrict b, float k, int w) {
+  for (int x = 0; x < w; ++x) acc[x] += k * (a[x] + b[x]);
+}
 
-void SeparableGaussianBlur(const GreyImageF& input, double sigma, GreyImageF& output) {
+// The blur of the w x h image `in` (rows of w floats, w, h >= 1) by the
+// symmetric kernel of taps k[0..r], into `out` (not `in`): down the columns,
+// row y = k0 row(y) + sum_{i=1..r} k_i (row(y - i) + row(y + i)), rows
+// clamped; then along each row of `out` in place, from a copy padded by r
+// edge values on each side in `padded` (w + 2r floats).
+[[gnu::always_inline]] inline void SeparableBlurPasses(const float* in, int w, int h,
+                                                       const float* k, int r, float* out,
+                                                       float* padded) {
+  const auto row = [w](const float* image, int y) {
+    return image + static_cast<std::ptrdiff_t>(y) * w;
+  };
+  for (int y = 0; y < h; ++y) {
+    float* acc = out + static_cast<std::ptrdiff_t>(y) * w;
+    ScaledRow(acc, row(in, y), k[0], w);
+    for (int i = 1; i <= r; ++i) {
+      AddPairRow(acc, row(in, y - i < 0 ? 0 : y - i), row(in, y + i > h - 1 ? h - 1 : y + i), k[i],
+                 w);
+    }
+  }
+  for (int y = 0; y < h; ++y) {
+    float* acc = out + static_cast<std::ptrdiff_t>(y) * w;
+    for (int x = 0; x < r; ++x) padded[x] = acc[0];
+    for (int x = 0; x < w; ++x) padded[r + x] = acc[x];
+    for (int x = 0; x < r; ++x) padded[r + w + x] = acc[w - 1];
+    const float* p = padded + r;
+    ScaledRow(acc, p, k[0], w);
+    for (int i = 1; i <= r; ++i) AddPairRow(acc, p - i, p + i, k[i], w);
+  }
+}
+
+// The passes built for AVX-512, AVX2 and the x86-64 baseline (SSE2);
+// SeparableGaussianBlur runs the widest the CPU has. Every build computes the
+// same bytes (tests/separable_gaussian_blur_test.cc compares each with a
+// scalar sum); the wider ones are faster (docs/performance.md). Chosen by
+// hand rather than by target_clones, so that a test can run each.
+using PassesFn = void (*)(const float*, int, int, const float*, int, float*, float*);
+__attribute__((target("avx512f"))) void PassesAvx512(const float* in, int w, int h, const float* k,
+                                                     int r, float* out, float* padded) {
+  SeparableBlurPasses(in, w, h, k, r, out, padded);
+}
+__attribute__((target("avx2"))) void PassesAvx2(const float* in, int w, int h, const float* k,
+                                                int r, float* out, float* padded) {
+  SeparableBlurPasses(in, w, h, k, r, out, padded);
+}
+void PassesBaseline(const float* in, int w, int h, const float* k, int r, float* out,
+                    float* padded) {
+  SeparableBlurPasses(in, w, h, k, r, out, padded);
+}
+
+PassesFn PassesFor(internal::BlurInstructionSet set) {
+  switch (set) {
+    case internal::BlurInstructionSet::kAvx512:
+      return PassesAvx512;
+    case internal::BlurInstructionSet::kAvx2:
+      return PassesAvx2;
+    case internal::BlurInstructionSet::kBaseline:
+      break;
+  }
+  return PassesBaseline;
+}
+
+internal::BlurInstructionSet WidestOnThisCpu() {
+  using internal::BlurInstructionSet;
+  for (const BlurInstructionSet set : {BlurInstructionSet::kAvx512, BlurInstructionSet::kAvx2}) {
+    if (internal::CpuHas(set)) return set;
+  }
+  return BlurInstructionSet::kBaseline;
+}
+
+void Blur(PassesFn passes, const GreyImageF& input, double sigma, GreyImageF& output) {
   HCPF_CHECK(sigma > 0.0 && sigma <= 64.0) << "sigma " << sigma;
   HCPF_CHECK(&input != &output);
   const int w = input.width, h = input.height;
@@ -64,7 +138,37 @@ void SeparableGaussianBlur(const GreyImageF& input, double sigma, GreyImageF& ou
   const int r = static_cast<int>(k.size()) - 1;
 
   std::vector<float> padded(static_cast<size_t>(w + 2 * r));
-  BlurPasses(input.pixels.data(), w, h, k.data(), r, output.pixels.data(), padded.data());
+  passes(input.pixels.data(), w, h, k.data(), r, output.pixels.data(), padded.data());
 }
+
+}  // namespace
+
+void SeparableGaussianBlur(const GreyImageF& input, double sigma, GreyImageF& output) {
+  static const PassesFn passes = PassesFor(WidestOnThisCpu());
+  Blur(passes, input, sigma, output);
+}
+
+namespace internal {
+
+bool CpuHas(BlurInstructionSet set) {
+  __builtin_cpu_init();
+  switch (set) {
+    case BlurInstructionSet::kAvx512:
+      return __builtin_cpu_supports("avx512f") != 0;
+    case BlurInstructionSet::kAvx2:
+      return __builtin_cpu_supports("avx2") != 0;
+    case BlurInstructionSet::kBaseline:
+      break;
+  }
+  return true;
+}
+
+void SeparableGaussianBlurAs(BlurInstructionSet set, const GreyImageF& input, double sigma,
+                             GreyImageF& output) {
+  HCPF_CHECK(CpuHas(set)) << "this CPU lacks instruction set " << static_cast<int>(set);
+  Blur(PassesFor(set), input, sigma, output);
+}
+
+}  // namespace internal
 
 }  // namespace hcpf::vision

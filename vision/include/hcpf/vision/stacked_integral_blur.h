@@ -118,8 +118,8 @@ void StackedIntegralBlur(const GreyImage& input, const StackedBoxKernel& kernel,
 // differently: a determinism audit saw SKS's boxes and a run's metrics
 // change), the result is the same bytes on every x86-64 machine: each
 // value is computed element by element in that order, with no FMA
-// contraction, by whichever clone of the loops (AVX-512, AVX2 or the SSE2
-// baseline) the CPU runs, and every clone gives the same bytes.
+// contraction, by whichever build of the loops (AVX-512, AVX2 or the SSE2
+// baseline) the CPU runs, and every build gives the same bytes.
 // - `output` is resized to the input's size; it must not be `input`.
 // - About as fast as cv::GaussianBlur's float kernels, or faster, on an
 //   AVX-512 machine (bench/vision_bench.cc, BM_SeparableGaussianBlur;
@@ -127,5 +127,18 @@ void StackedIntegralBlur(const GreyImage& input, const StackedBoxKernel& kernel,
 // Preconditions (HCPF_CHECK): 0 < sigma <= 64; input.pixels.size() ==
 // width * height; &output != &input.
 void SeparableGaussianBlur(const GreyImageF& input, double sigma, GreyImageF& output);
+
+namespace internal {
+
+// The instruction sets SeparableGaussianBlur's loops are built for; it runs
+// the widest this CPU has. Every one must give the same bytes:
+// SeparableGaussianBlurAs runs one of them (HCPF_CHECK: the CPU has it), so a
+// test can compare the library's own builds on one machine.
+enum class BlurInstructionSet { kBaseline, kAvx2, kAvx512 };
+bool CpuHas(BlurInstructionSet set);
+void SeparableGaussianBlurAs(BlurInstructionSet set, const GreyImageF& input, double sigma,
+                             GreyImageF& output);
+
+}  // namespace internal
 
 }  // namespace hcpf::vision

@@ -81,8 +81,11 @@ class ColourDetector final : public Detector {
           }
         }
       }
-      out.maps.push_back({model.target, PoolToMap(mean_in_box, region.x, region.y, width, height,
-                                                  options_.cell_px)});
+      // At the centre of the box it averages (above).
+      out.maps.push_back(
+          {model.target, PoolToMap(mean_in_box, region.x + (box_size.width % 2 == 1 ? 0.5 : 0.0),
+                                   region.y + (box_size.height % 2 == 1 ? 0.5 : 0.0), width, height,
+                                   options_.cell_px)});
     }
     return out;
   }

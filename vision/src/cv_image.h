@@ -21,10 +21,15 @@ inline cv::Mat RgbMat(const ImageView& view) {
 // Grey levels (OpenCV's RGB2GRAY: 0.299 R + 0.587 G + 0.114 B, rounded).
 cv::Mat GreyMat(const ImageView& view);
 
-// A response defined at every pixel of an image of `width` x `height`
-// (`response` may be smaller: it covers pixels [x0, x0 + cols) x [y0, y0 +
-// rows)), max-pooled into cells of `cell_px`; negative values become 0.
-LikelihoodMap PoolToMap(const cv::Mat& response, int x0, int y0, int width, int height,
+// A response over an image of `width` x `height`, max-pooled into cells of
+// `cell_px`; negative values become 0. Its value (x, y) stands for the point
+// (x0 + x, y0 + y) of the image, in continuous coordinates (pixel i spans
+// [i, i + 1)), and goes to the cell holding that point: a template of odd
+// width centres its match in the middle of a pixel, x0 = left + w / 2.0
+// (pooled by the pixel's index, such a match went to the cell before its
+// centre's wherever a cell edge fell inside its pixel, with cells of a
+// fractional size).
+LikelihoodMap PoolToMap(const cv::Mat& response, double x0, double y0, int width, int height,
                         double cell_px);
 
 // The box clipped to [0, width) x [0, height), or nullopt when less than a

@@ -54,9 +54,9 @@ class NccDetector final : public Detector {
         }
       }
       // A response pixel is the template's top-left corner; the map holds it
-      // at the template's centre.
-      const int x0 = search.region.x + search.templ.width / 2;
-      const int y0 = search.region.y + search.templ.height / 2;
+      // at the template's centre (in the middle of a pixel for an odd side).
+      const double x0 = search.region.x + search.templ.width / 2.0;
+      const double y0 = search.region.y + search.templ.height / 2.0;
       out.maps.push_back(
           {model.target, PoolToMap(response, x0, y0, width, height, options_.cell_px)});
       if (response.empty()) continue;

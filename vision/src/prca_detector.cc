@@ -592,8 +592,9 @@ class PrcaDetector final : public Detector {
       const cv::Mat region =
           merged.votes.empty() ? cv::Mat()
                                : cv::Mat(merged.height, merged.width, CV_32F, merged.votes.data());
-      TargetMap map{target.target, internal::PoolToMap(region, merged.x0, merged.y0, width, height,
-                                                       options_.cell_px)};
+      // A vote's pixel x stands for its centre, x + 0.5 (VoteCircle).
+      TargetMap map{target.target, internal::PoolToMap(region, merged.x0 + 0.5, merged.y0 + 0.5,
+                                                       width, height, options_.cell_px)};
       for (float& v : map.map.values) v = static_cast<float>(v * per_cluster);
       out.maps.push_back(std::move(map));
       if (scales_.size() == 1) {

@@ -1,5 +1,7 @@
 #include <gtest/gtest.h>
 
+#include <algorithm>
+
 #include "hcpf/core/error.h"
 #include "hcpf/vision/detectors.h"
 #include "synthetic_scene.h"
@@ -67,6 +69,32 @@ TEST(NccDetector, WindowedSearchScalesTheTemplateAndIgnoresLookAlikesOutside) {
   // vehicle's (a 1.2x template over a 24 x 12 vehicle).
   EXPECT_NEAR(d.box.centre_x(), truth.centre_x(), 3.0);
   EXPECT_NEAR(d.box.centre_y(), truth.centre_y(), 3.0);
+}
+
+// The map holds a match at its template's centre, which for a template of
+// odd width is the middle of a pixel. A model of 23 x 11 px cut from inside
+// vehicle 1 (columns 60-82, rows 50-60) and the vehicle moved by (3, 0): the
+// best match's top-left is (63, 50), its centre (63 + 11.5, 50 + 5.5) =
+// (74.5, 55.5), which with cells of 2.25 px lies in cell (33, 24) (74.5 /
+// 2.25 = 33.1, 55.5 / 2.25 = 24.7). Pooled by the centre pixel's index
+// (74 / 2.25 = 32.9), it went to cell 32, before its centre's.
+TEST(NccDetector, TheMapHoldsAMatchAtItsTemplatesCentre) {
+  const TargetModel model = CutTargetModel(Frame(Targets()), BoxPx{60, 50, 23, 11}, ObjectId{1}, 0);
+  ASSERT_EQ(model.patch.width, 23);
+  DetectorOptions options;
+  options.ncc.cell_px = 2.25;
+  Rng rng(1);
+  const DetectorOutput out =
+      MakeDetector("ncc", options)
+          ->Detect({.image = Frame(Targets(3.0, 0.0)), .models = std::span(&model, 1)}, rng);
+  ASSERT_EQ(out.detections.size(), 1u);
+  EXPECT_EQ(out.detections[0].box, (BoxPx{63, 50, 23, 11}));
+  ASSERT_EQ(out.maps.size(), 1u);
+  const LikelihoodMap& map = out.maps[0].map;
+  const auto best = std::max_element(map.values.begin(), map.values.end()) - map.values.begin();
+  EXPECT_EQ(best % map.width, 33);
+  EXPECT_EQ(best / map.width, 24);
+  EXPECT_NEAR(map.values[static_cast<size_t>(best)], 1.0, 1e-4);
 }
 
 TEST(NccDetector, BelowTheThresholdNothingIsDetected) {

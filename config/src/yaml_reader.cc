@@ -319,7 +319,8 @@ class DocumentScanner final : public YAML::EventHandler {
     const std::string path = Enter(value);
     // A quoted key is named by its mapping's path: the text of a key whose
     // quote never closes is the rest of the file (`[20, "40]` gave the key
-    // path "particles[1].40] ", a bad-input audit).
+    // path "particles[1].40] ", a bad-input audit). An error adds the word
+    // before the colon on the quote's line (QuotedKeyPath).
     const bool key = !stack_.empty() && stack_.back().map && !stack_.back().key_next;
     if (tag != "?") tagged_.push_back({mark, key ? stack_.back().path : path, key});
     Saw(mark, true);
@@ -519,12 +520,6 @@ void CheckBlanks(const std::string& text, const std::string& file, int line) {
   }
 }
 
-// Refuses a quoted scalar that is never closed, or that goes on over a line
-// that reads as a key: yaml-cpp reads an unclosed quote at the end of a file
-// that ends in a newline as a value running to the end, so `name: "small`
-// silently took in the rest of the file (a third bad-input audit). A quoted
-// value that spans lines is valid YAML and is kept when no line inside it
-// looks like a key.
 // The dotted path to name a quoted scalar left open by: a value's own; a
 // key's, its mapping's and, where the quote's line reads `"word: ...`, the
 // word (`"seed: 3` at the top level had no key to name, a review; the text
@@ -539,6 +534,12 @@ std::string QuotedKeyPath(const std::string& text, size_t open, const TaggedScal
   return scalar.path.empty() ? std::string(word) : scalar.path + "." + std::string(word);
 }
 
+// Refuses a quoted scalar that is never closed, or that goes on over a line
+// that reads as a key: yaml-cpp reads an unclosed quote at the end of a file
+// that ends in a newline as a value running to the end, so `name: "small`
+// silently took in the rest of the file (a third bad-input audit). A quoted
+// value that spans lines is valid YAML and is kept when no line inside it
+// looks like a key.
 void CheckQuotedScalars(const std::string& text, const std::string& file,
                         const std::vector<TaggedScalar>& scalars) {
   // yaml-cpp's positions do not count a byte-order mark.

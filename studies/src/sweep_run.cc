@@ -373,7 +373,8 @@ SweepPlan PrepareSweep(const SweepSpec& spec, const std::vector<SweepRun>& runs,
   // store records (a deleted or damaged folder is computed again).
   std::vector<RunRecord> stored = plan.store->Runs();
   // Read again: the folder lock keeps other sweeps out, not a hand edit
-  // between the two reads.
+  // between the two reads (refused then after the store took this sweep's
+  // descriptive meta, the one write before this point).
   refuse_foreign_rows(stored);
   std::vector<char> relabelled(stored.size(), 0);
   std::string first_relabelled;
@@ -413,7 +414,7 @@ SweepPlan PrepareSweep(const SweepSpec& spec, const std::vector<SweepRun>& runs,
         "sweep: {} row(s) of {} did not say what the sweep says of their run (edited by hand, "
         "or a swept value written otherwise in the sweep file); rewritten from the sweep, the "
         "runs kept where their folders are whole. First: {}",
-        count, (out / "results.sqlite").string(), first_relabelled);
+        count, store_path, first_relabelled);
   }
   std::map<std::string, bool> finished;  // key -> ok and intact
   // The video is not part of a run's key: a finished run that --video asks a

@@ -16,6 +16,12 @@ cv::Mat Hsv(const ImageView& view) {
   return hsv;
 }
 
+// Where the box of `side` px that cv::blur averages at index 0 (its default
+// anchor: pixels -floor(side/2) ... side - 1 - floor(side/2)) is centred:
+// 0.5 for an odd side, 0 for an even one. The detection's box and the map
+// both use it.
+double BoxCentreOffset(int side) { return 0.5 * side - side / 2; }
+
 class ColourDetector final : public Detector {
  public:
   explicit ColourDetector(const ColourOptions& options) : options_(options) { options_.Validate(); }
@@ -69,9 +75,8 @@ class ColourDetector final : public Detector {
           cv::minMaxLoc(mean_in_box, nullptr, &peak, nullptr, &at);
           const double contrast = frame_mean < 1.0 ? (peak - frame_mean) / (1.0 - frame_mean) : 0.0;
           if (contrast >= options_.min_contrast) {
-            const auto centre = [](int at, int side) { return at - side / 2 + 0.5 * side; };
-            const BoxPx box = BoxPx::FromCentre(region.x + centre(at.x, box_size.width),
-                                                region.y + centre(at.y, box_size.height),
+            const BoxPx box = BoxPx::FromCentre(region.x + at.x + BoxCentreOffset(box_size.width),
+                                                region.y + at.y + BoxCentreOffset(box_size.height),
                                                 box_size.width, box_size.height);
             if (const auto inside = ClipToImage(box, width, height)) {
               out.detections.push_back({.box = *inside,
@@ -81,10 +86,10 @@ class ColourDetector final : public Detector {
           }
         }
       }
-      // At the centre of the box it averages (above).
+      // A value stands for the centre of the box it averages.
       out.maps.push_back(
-          {model.target, PoolToMap(mean_in_box, region.x + (box_size.width % 2 == 1 ? 0.5 : 0.0),
-                                   region.y + (box_size.height % 2 == 1 ? 0.5 : 0.0), width, height,
+          {model.target, PoolToMap(mean_in_box, region.x + BoxCentreOffset(box_size.width),
+                                   region.y + BoxCentreOffset(box_size.height), width, height,
                                    options_.cell_px)});
     }
     return out;

@@ -112,9 +112,9 @@ LikelihoodMap PoolToMap(const cv::Mat& response, double x0, double y0, int width
   map.values.assign(static_cast<size_t>(map.width) * map.height, 0.0f);
   for (int y = 0; y < response.rows; ++y) {
     const float* row = response.ptr<float>(y);
-    const int cy = std::min(map.height - 1, static_cast<int>(std::floor((y0 + y) / cell_px)));
+    const int cy = std::clamp(static_cast<int>(std::floor((y0 + y) / cell_px)), 0, map.height - 1);
     for (int x = 0; x < response.cols; ++x) {
-      const int cx = std::min(map.width - 1, static_cast<int>(std::floor((x0 + x) / cell_px)));
+      const int cx = std::clamp(static_cast<int>(std::floor((x0 + x) / cell_px)), 0, map.width - 1);
       float& cell = map.values[static_cast<size_t>(cy) * map.width + cx];
       if (std::isfinite(row[x])) cell = std::max(cell, row[x]);
     }

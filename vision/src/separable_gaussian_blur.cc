@@ -43,6 +43,7 @@ std::vector<float> HalfKernel(double sigma) {
 
 // The two passes on raw rows, always inlined, so that each instruction-set
 // build below vectorises them for its own instruction set.
+
 // acc[x] = k c[x].
 [[gnu::always_inline]] inline void ScaledRow(float* __restrict acc, const float* __restrict c,
                                              float k, int w) {
@@ -165,7 +166,8 @@ bool CpuHas(BlurInstructionSet set) {
 
 void SeparableGaussianBlurAs(BlurInstructionSet set, const GreyImageF& input, double sigma,
                              GreyImageF& output) {
-  HCPF_CHECK(CpuHas(set)) << "this CPU lacks instruction set " << static_cast<int>(set);
+  HCPF_CHECK(CpuHas(set)) << "this CPU lacks "
+                          << (set == BlurInstructionSet::kAvx512 ? "AVX-512F" : "AVX2");
   Blur(PassesFor(set), input, sigma, output);
 }
 

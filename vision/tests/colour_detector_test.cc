@@ -112,6 +112,33 @@ TEST(ColourDetector, TheBoxIsCentredOnTheBlockForEvenAndOddSides) {
   }
 }
 
+// The map holds a box mean at the centre of the box it averages (the middle
+// of a pixel for an odd side): a block at (71, 30) of side 7 is centred at
+// (74.5, 33.5), in cell (33, 14) of 2.25 px (74.5 / 2.25 = 33.1, 33.5 / 2.25
+// = 14.9); of side 8 at (75, 34), cell (33, 15) (33.3, 15.1). Pooled by the
+// index of the mean's pixel (74 / 2.25 = 32.9) the odd block's peak went to
+// cell 32, before its centre's.
+TEST(ColourDetector, TheMapHoldsEachMeanAtItsBoxsCentre) {
+  for (const auto& [side, cx, cy] : {std::array{7, 33, 14}, std::array{8, 33, 15}}) {
+    const RgbImage patch = Blocks(side, side, {{0, 0}}, side, {200, 30, 30});
+    const std::vector<TargetModel> models{CutTargetModel(
+        patch, BoxPx{0, 0, static_cast<double>(side), static_cast<double>(side)}, ObjectId{4}, 0)};
+    DetectorOptions options;
+    options.colour.cell_px = 2.25;
+    Rng rng(1);
+    const DetectorOutput out =
+        MakeDetector("colour", options)
+            ->Detect({.image = Blocks(96, 64, {{71, 30}}, side, {200, 30, 30}), .models = models},
+                     rng);
+    ASSERT_EQ(out.maps.size(), 1u);
+    const LikelihoodMap& map = out.maps[0].map;
+    const auto best = std::max_element(map.values.begin(), map.values.end()) - map.values.begin();
+    EXPECT_EQ(best % map.width, cx) << side;
+    EXPECT_EQ(best / map.width, cy) << side;
+    EXPECT_NEAR(map.values[static_cast<size_t>(best)], 1.0, 1.0 / 255.0) << side;
+  }
+}
+
 TEST(ColourOptions, RangesAreChecked) {
   ColourOptions o;
   o.hue_bins = 1;

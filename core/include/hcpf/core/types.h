@@ -62,7 +62,9 @@ struct Detection {
 };
 
 // A dense likelihood (or detector accumulator) over the image at a reduced
-// resolution: value(cx, cy) covers image pixels [cx*cell_px, (cx+1)*cell_px).
+// resolution: value(cx, cy) covers the image points [cx*cell_px,
+// (cx+1)*cell_px) in continuous coordinates (pixel i spans [i, i + 1); a
+// detector pools a value by the point it stands for, e.g. a pixel's centre).
 struct LikelihoodMap {
   int width = 0;   // cells
   int height = 0;  // cells

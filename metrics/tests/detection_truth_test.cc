@@ -85,6 +85,11 @@ TEST(DetectionTruth, AFileThatIsNotAGtJsonIsNamedWithWhatIsWrong) {
   const std::string broken = ErrorOf((dir / "broken.json").string());
   EXPECT_NE(broken.find("broken.json:4:1"), std::string::npos) << broken;
   EXPECT_NE(broken.find("does not parse as JSON"), std::string::npos) << broken;
+  // On line 1 after a byte-order mark, the column an editor shows: the bad
+  // '}' of {"format": } is its twelfth character, byte 14 of the file.
+  std::ofstream(dir / "marked.json") << "\xEF\xBB\xBF{\"format\": }\n";
+  const std::string marked = ErrorOf((dir / "marked.json").string());
+  EXPECT_NE(marked.find("marked.json:1:12"), std::string::npos) << marked;
   // Another JSON file (a metrics.json).
   const std::string other = ErrorOf(Write(dir / "metrics.json", {{"mot", 1}}));
   EXPECT_NE(other.find("format: expected a gt.json written by hcpf render or hcpf run (format "

@@ -290,6 +290,11 @@ std::string ParseError(const std::string& text) {
 // that reads as a key, is refused at the opening quote; a quoted value over
 // several lines without such a line is valid YAML and still read.
 TEST(YamlReader, AQuoteLeftOpenIsRefusedAtTheQuote) {
+  // The error of `text` begins with `prefix` (file:line:column: key: ...).
+  const auto ExpectRefusedAs = [](const std::string& text, const std::string& prefix) {
+    const std::string error = ParseError(text);
+    EXPECT_EQ(error.rfind(prefix, 0), 0u) << error;
+  };
   const std::string hint =
       " (close the quote on the line where the value ends, or write text over several lines as "
       "a block scalar: key: >)";
@@ -303,13 +308,10 @@ TEST(YamlReader, AQuoteLeftOpenIsRefusedAtTheQuote) {
                 hint);
   // The last line, with or without a final newline (yaml-cpp itself reported
   // only the latter, at the end of the file).
-  EXPECT_EQ(ParseError("frames: 20\nname: \"abc\n")
-                .find("f.yaml:2:7: name: expected a quoted value closed before the next key"),
-            0u);
-  EXPECT_EQ(ParseError("frames: 20\nname: \"abc")
-                .find("f.yaml:2:7: name: expected a quoted value closed before the next key"),
-            0u)
-      << ParseError("frames: 20\nname: \"abc");
+  ExpectRefusedAs("frames: 20\nname: \"abc\n",
+                  "f.yaml:2:7: name: expected a quoted value closed before the next key");
+  ExpectRefusedAs("frames: 20\nname: \"abc",
+                  "f.yaml:2:7: name: expected a quoted value closed before the next key");
   // Closed by the next quote in the file: a syntax error follows, the quote
   // is what is reported.
   EXPECT_EQ(ParseError("name: \"small\ntracker:\n  type: \"x\"\n"),
@@ -318,30 +320,21 @@ TEST(YamlReader, AQuoteLeftOpenIsRefusedAtTheQuote) {
             "which reads as a key" +
                 hint);
   // Deeper keys and list items are named by their dotted path.
-  EXPECT_EQ(ParseError("a:\n  - b: 'x\n    c: 1\n").find("f.yaml:2:8: a[0].b: expected a quoted "),
-            0u)
-      << ParseError("a:\n  - b: 'x\n    c: 1\n");
+  ExpectRefusedAs("a:\n  - b: 'x\n    c: 1\n", "f.yaml:2:8: a[0].b: expected a quoted ");
   // An item of a flow list whose quote never closes: yaml-cpp reads it as
   // the key of a one-pair mapping, whose text (the rest of the file) named
   // it ("a.b[1].40] : ...", a bad-input audit); the item is named.
-  EXPECT_EQ(ParseError("a:\n  b: [20, \"40]\n").find("f.yaml:2:11: a.b[1]: expected a quoted "), 0u)
-      << ParseError("a:\n  b: [20, \"40]\n");
-  EXPECT_EQ(ParseError("a:\n  b: [20, '40]\nc: 1\n").find("f.yaml:2:11: a.b[1]: expected a "), 0u)
-      << ParseError("a:\n  b: [20, '40]\nc: 1\n");
+  ExpectRefusedAs("a:\n  b: [20, \"40]\n", "f.yaml:2:11: a.b[1]: expected a quoted ");
+  ExpectRefusedAs("a:\n  b: [20, '40]\nc: 1\n", "f.yaml:2:11: a.b[1]: expected a ");
   // A key whose quote never closes is named by the word before the colon
   // on its line (a review: at the top level nothing was named; yaml-cpp's
   // key is the rest of the file), in a mapping after the mapping's path; a
   // quote before no `word:` names the mapping alone.
-  EXPECT_EQ(ParseError("name: x\n\"seed: 3\nframes: 10\n")
-                .find("f.yaml:2:1: seed: expected a quoted value closed before the next key"),
-            0u)
-      << ParseError("name: x\n\"seed: 3\nframes: 10\n");
-  EXPECT_EQ(ParseError("name: x\n\"seed: 3").find("f.yaml:2:1: seed: expected a quoted "), 0u)
-      << ParseError("name: x\n\"seed: 3");
-  EXPECT_EQ(ParseError("a:\n  b: 1\n  'c d: 2\n").find("f.yaml:3:3: a: expected a quoted "), 0u)
-      << ParseError("a:\n  b: 1\n  'c d: 2\n");
-  EXPECT_EQ(ParseError("a:\n  b: 1\n  'cd: 2\n").find("f.yaml:3:3: a.cd: expected a quoted "), 0u)
-      << ParseError("a:\n  b: 1\n  'cd: 2\n");
+  ExpectRefusedAs("name: x\n\"seed: 3\nframes: 10\n",
+                  "f.yaml:2:1: seed: expected a quoted value closed before the next key");
+  ExpectRefusedAs("name: x\n\"seed: 3", "f.yaml:2:1: seed: expected a quoted ");
+  ExpectRefusedAs("a:\n  b: 1\n  'c d: 2\n", "f.yaml:3:3: a: expected a quoted ");
+  ExpectRefusedAs("a:\n  b: 1\n  'cd: 2\n", "f.yaml:3:3: a.cd: expected a quoted ");
   // Valid quoted values: over two lines, with escaped quotes, and plain
   // values holding an apostrophe.
   EXPECT_EQ(YamlReader::Parse("name: \"two\n  lines\"\nb: 1\n", "f.yaml")["name"].as<std::string>(),
@@ -357,8 +350,7 @@ TEST(YamlReader, AQuoteLeftOpenIsRefusedAtTheQuote) {
   // An apostrophe in a comment is no quote: the one left open (here at the
   // end of a file without a final newline) is reported.
   const std::string comment = "a:\n  b: # 'til the end\n    \"xyz";
-  EXPECT_EQ(ParseError(comment).find("f.yaml:3:5: a.b: expected a quoted value closed"), 0u)
-      << ParseError(comment);
+  ExpectRefusedAs(comment, "f.yaml:3:5: a.b: expected a quoted value closed");
   EXPECT_EQ(YamlReader::Parse("a: 'it''s: x'\nb: \"say \\\"c: d\\\"\"\n", "f.yaml")["b"]
                 .as<std::string>(),
             "say \"c: d\"");

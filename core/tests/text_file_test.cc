@@ -34,10 +34,11 @@ std::string ReadAll(const fs::path& path) {
 // bytes 0 'a', 2 the first newline, 3 'c', 6 the empty line's newline, 7 'x'.
 TEST(TextFile, PositionOfCountsLinesAndColumnsFromOne) {
   const std::string text = "ab\ncd\n\nx";
-  const auto at = [&](size_t offset) {
-    const TextPosition p = PositionOf(text, offset);
+  const auto position = [](const std::string& of, size_t offset) {
+    const TextPosition p = PositionOf(of, offset);
     return std::pair{p.line, p.column};
   };
+  const auto at = [&](size_t offset) { return position(text, offset); };
   EXPECT_EQ(at(0), std::pair(1, 1));
   EXPECT_EQ(at(2), std::pair(1, 3));
   EXPECT_EQ(at(3), std::pair(2, 1));
@@ -52,10 +53,7 @@ TEST(TextFile, PositionOfCountsLinesAndColumnsFromOne) {
   const std::string marked =
       "\xEF\xBB\xBF"
       "ab\ncd";
-  const auto marked_at = [&](size_t offset) {
-    const TextPosition p = PositionOf(marked, offset);
-    return std::pair{p.line, p.column};
-  };
+  const auto marked_at = [&](size_t offset) { return position(marked, offset); };
   EXPECT_EQ(marked_at(0), std::pair(1, 1));
   EXPECT_EQ(marked_at(2), std::pair(1, 1));
   EXPECT_EQ(marked_at(3), std::pair(1, 1));

@@ -7,6 +7,7 @@
 #include <numeric>
 
 #include "hcpf/core/check.h"
+#include "hcpf/core/instruction_set.h"
 
 namespace hcpf::renderer::internal {
 namespace {
@@ -95,9 +96,11 @@ RoundedGaussianTable::RoundedGaussianTable(double sigma) {
 
 namespace {
 
+// AVX-512 (F and BW) in the CPU and in the active instruction set (a test
+// may choose a narrower one: hcpf/core/instruction_set.h).
 bool CpuHasAvx512() {
   static const bool has = __builtin_cpu_supports("avx512f") && __builtin_cpu_supports("avx512bw");
-  return has;
+  return has && ActiveInstructionSet() == InstructionSet::kAvx512;
 }
 
 // GCC 12's AVX-512 intrinsics start some results from an "undefined"

@@ -8,6 +8,7 @@
 #include <span>
 
 #include "codecs.h"
+#include "hcpf/core/instruction_set.h"
 #include "hcpf/core/rng.h"
 #include "hcpf/renderer/renderer.h"
 #include "rounded_gaussian.h"
@@ -23,15 +24,30 @@ constexpr size_t kNoiseBlock = 8192;
 // trip count is a compile-time constant.
 constexpr size_t kChunk = 16;
 
+constexpr size_t kNoiseLanes = 8;
+
+// `n` words (a multiple of kNoiseLanes) of the lanes' states s0..s3, lane by
+// lane, advancing them; built for AVX-512, AVX2 and the baseline, the CPU's
+// widest run (hcpf/core/instruction_set.h), every build the same words.
+HCPF_DISPATCHED(void, FillLanes,
+                (uint64_t* __restrict s0, uint64_t* __restrict s1, uint64_t* __restrict s2,
+                 uint64_t* __restrict s3, uint64_t* __restrict out, size_t n),
+                (s0, s1, s2, s3, out, n), {
+                  for (size_t k = 0; k < n; k += kNoiseLanes) {
+                    for (size_t l = 0; l < kNoiseLanes; ++l)
+                      out[k + l] = Xoshiro256StarStar(s0[l], s1[l], s2[l], s3[l]);
+                  }
+                })
+
 // Eight xoshiro256** streams advanced in lockstep, lane l the stream
 // Rng::Fork("noise/lane", l) of the frame's: no step depends on another
-// lane's, so the step vectorises (fixed trip count; clones for AVX-512, AVX2
-// and the baseline give the same words). Word 8k + l of the output is lane
-// l's k-th draw. One stream made the noise wait on its own serial
-// dependency chain (~0.9 ns a word, 720,000 words a 800 x 600 frame).
+// lane's, so the step vectorises (fixed trip count; FillLanes). Word 8k + l
+// of the output is lane l's k-th draw. One stream made the noise wait on its
+// own serial dependency chain (~0.9 ns a word, 720,000 words a 800 x 600
+// frame).
 class NoiseWords {
  public:
-  static constexpr size_t kLanes = 8;
+  static constexpr size_t kLanes = kNoiseLanes;
   explicit NoiseWords(const Rng& rng) {
     for (size_t l = 0; l < kLanes; ++l) {
       const std::array<uint64_t, 4> s = rng.Fork("noise/lane", static_cast<int64_t>(l)).state();
@@ -47,15 +63,6 @@ class NoiseWords {
   }
 
  private:
-  __attribute__((target_clones("avx512f", "avx2", "default"))) static void FillLanes(
-      uint64_t* __restrict s0, uint64_t* __restrict s1, uint64_t* __restrict s2,
-      uint64_t* __restrict s3, uint64_t* __restrict out, size_t n) {
-    for (size_t k = 0; k < n; k += kLanes) {
-      for (size_t l = 0; l < kLanes; ++l)
-        out[k + l] = Xoshiro256StarStar(s0[l], s1[l], s2[l], s3[l]);
-    }
-  }
-
   alignas(64) std::array<uint64_t, kLanes> s0_{}, s1_{}, s2_{}, s3_{};
 };
 

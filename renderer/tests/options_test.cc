@@ -6,6 +6,7 @@
 #include <cerrno>
 #include <cmath>
 #include <cstdint>
+#include <cstdio>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
@@ -16,6 +17,7 @@
 #include <vector>
 
 #include "hcpf/core/error.h"
+#include "hcpf/core/instruction_set.h"
 #include "hcpf/core/text_file.h"
 #include "hcpf/renderer/image_io.h"
 #include "hcpf/renderer/renderer.h"
@@ -241,6 +243,35 @@ TEST(SensorEffects, SameStreamGivesTheSameBytesAndAnotherFrameOther) {
     if (w * h > 1) {
       // (not for one pixel: its three values after JPEG may well coincide)
       EXPECT_NE(a, c) << w << "x" << h;
+    }
+  }
+}
+
+// Every instruction set this CPU has gives the same bytes: the noise words'
+// lanes (FillLanes) and, with AVX-512, the table lookups sixteen at a time
+// (SampleWordsAvx512; a narrower set takes the scalar lookups), at a sigma
+// whose table fits the vector path (3) and one whose does not (10).
+TEST(SensorEffects, EveryInstructionSetGivesTheSameBytes) {
+  for (const double sigma : {3.0, 10.0}) {
+    SensorOptions s;
+    s.noise_sigma = sigma;
+    const auto noisy = [&] {
+      RgbImage a = Flat(203, 61, 128);
+      ApplySensorEffects(s, Rng(8).Fork("renderer/sensor", 0), a);
+      return a.pixels;
+    };
+    std::vector<uint8_t> expected;
+    {
+      const hcpf::testing::ScopedInstructionSet baseline(InstructionSet::kBaseline);
+      expected = noisy();
+    }
+    for (const InstructionSet set : {InstructionSet::kAvx2, InstructionSet::kAvx512}) {
+      if (!CpuHas(set)) {
+        std::printf("[ SKIPPED  ] %s: this CPU lacks it\n", NameOf(set).data());
+        continue;
+      }
+      const hcpf::testing::ScopedInstructionSet scoped(set);
+      EXPECT_TRUE(noisy() == expected) << NameOf(set) << ", sigma " << sigma;
     }
   }
 }

@@ -1,8 +1,9 @@
 #pragma once
 // The charged resampler's inner loop (the potential of the other filters'
 // charges at every candidate and its acceptance probability), shared by
-// resampler.cc (which compiles it into AVX-512, AVX2 and baseline clones with
-// target_clones) and by the test that checks those clones agree bit for bit.
+// resampler.cc (which builds it for AVX-512, AVX2 and the baseline:
+// HCPF_DISPATCHED) and by the test that checks those builds against a scalar
+// one, bit for bit.
 
 #include <cstddef>
 

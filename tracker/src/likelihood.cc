@@ -8,6 +8,7 @@
 
 #include "fast_math.h"
 #include "hcpf/core/check.h"
+#include "hcpf/core/instruction_set.h"
 #include "mixture_kernel.h"
 
 namespace hcpf::tracker {
@@ -99,22 +100,25 @@ double ExactLogMixture(std::span<const Component> comps, double log_clutter, dou
   return max_term + std::log(total);
 }
 
-__attribute__((target_clones("avx512f", "avx2", "default"))) void MixtureChunk(
-    const Component* comps, size_t num_comps, const double* px, const double* py,
-    const double* log_s, double inv_2s2, double inv_2ss2, double* sum, size_t m) {
-  if (inv_2ss2 > 0.0) {
-    internal::MixtureKernel<true>(comps, num_comps, px, py, log_s, inv_2s2, inv_2ss2, sum, m);
-  } else {
-    internal::MixtureKernel<false>(comps, num_comps, px, py, log_s, inv_2s2, inv_2ss2, sum, m);
-  }
-}
+// Built for AVX-512, AVX2 and the baseline, the CPU's widest run
+// (hcpf/core/instruction_set.h; isa_clones_test.cc runs each).
+HCPF_DISPATCHED(void, MixtureChunk,
+                (const Component* comps, size_t num_comps, const double* px, const double* py,
+                 const double* log_s, double inv_2s2, double inv_2ss2, double* sum, size_t m),
+                (comps, num_comps, px, py, log_s, inv_2s2, inv_2ss2, sum, m), {
+                  if (inv_2ss2 > 0.0) {
+                    internal::MixtureKernel<true>(comps, num_comps, px, py, log_s, inv_2s2,
+                                                  inv_2ss2, sum, m);
+                  } else {
+                    internal::MixtureKernel<false>(comps, num_comps, px, py, log_s, inv_2s2,
+                                                   inv_2ss2, sum, m);
+                  }
+                })
 
-__attribute__((target_clones("avx512f", "avx2", "default"))) void AddLogOfSum(const double* sum,
-                                                                              double clutter,
-                                                                              double* log_w,
-                                                                              size_t m) {
-  for (size_t i = 0; i < m; ++i) log_w[i] += internal::FastLog(sum[i] + clutter);
-}
+HCPF_DISPATCHED(void, AddLogOfSum, (const double* sum, double clutter, double* log_w, size_t m),
+                (sum, clutter, log_w, m), {
+                  for (size_t i = 0; i < m; ++i) log_w[i] += internal::FastLog(sum[i] + clutter);
+                })
 
 }  // namespace
 

@@ -1,7 +1,8 @@
 #pragma once
 // The inner loop of the detections_mixture likelihood, shared by
-// likelihood.cc (which compiles it into AVX-512, AVX2 and baseline clones with
-// target_clones) and by the test that checks those clones agree bit for bit.
+// likelihood.cc (which builds it for AVX-512, AVX2 and the baseline:
+// HCPF_DISPATCHED) and by the test that checks those builds against a scalar
+// one, bit for bit.
 
 #include <cstddef>
 

@@ -5,16 +5,17 @@
 
 #include "fast_math.h"
 #include "hcpf/core/check.h"
+#include "hcpf/core/instruction_set.h"
 
 namespace hcpf::tracker {
 namespace {
 
-__attribute__((target_clones("avx512f", "avx2", "default"))) void ExpShifted(const double* log_w,
-                                                                             double shift,
-                                                                             double* out,
-                                                                             size_t n) {
-  for (size_t i = 0; i < n; ++i) out[i] = internal::FastExp(log_w[i] - shift);
-}
+// Built for AVX-512, AVX2 and the baseline, the CPU's widest run
+// (hcpf/core/instruction_set.h; isa_clones_test.cc runs each).
+HCPF_DISPATCHED(void, ExpShifted, (const double* log_w, double shift, double* out, size_t n),
+                (log_w, shift, out, n), {
+                  for (size_t i = 0; i < n; ++i) out[i] = internal::FastExp(log_w[i] - shift);
+                })
 
 }  // namespace
 

@@ -8,6 +8,7 @@
 #include "charge_kernel.h"
 #include "fast_math.h"
 #include "hcpf/core/check.h"
+#include "hcpf/core/instruction_set.h"
 
 namespace hcpf::tracker {
 
@@ -79,10 +80,11 @@ void MergeSortedPoints(std::span<const double> w, size_t count, PointFn point, i
   }
 }
 
-__attribute__((target_clones("avx512f", "avx2", "default"))) void NegLogInPlace(double* v,
-                                                                                size_t n) {
+// Built for AVX-512, AVX2 and the baseline, the CPU's widest run
+// (hcpf/core/instruction_set.h; isa_clones_test.cc runs each).
+HCPF_DISPATCHED(void, NegLogInPlace, (double* v, size_t n), (v, n), {
   for (size_t i = 0; i < n; ++i) v[i] = -internal::FastLog(v[i]);
-}
+})
 
 // `count` sorted uniforms in [0, 1) by normalised exponential spacings, merged
 // with weights w into out[0..count). O(count + w.size()).
@@ -286,12 +288,15 @@ double PotentialAt(const std::vector<Charge>& charges, ChargePotential potential
 }
 
 // Vectorised pass (charge_kernel.h): acceptance probability exp(-beta U) of
-// every candidate, in AVX-512, AVX2 and baseline clones.
-__attribute__((target_clones("avx512f", "avx2", "default"))) void AcceptanceProbabilities(
-    const Charge* charges, size_t num_charges, bool gaussian, double q, double beta, double eps2,
-    const double* x, const double* y, double* u, double* accept, size_t n) {
-  internal::AcceptanceKernel(charges, num_charges, gaussian, q, beta, eps2, x, y, u, accept, n);
-}
+// every candidate, built for AVX-512, AVX2 and the baseline.
+HCPF_DISPATCHED(void, AcceptanceProbabilities,
+                (const Charge* charges, size_t num_charges, bool gaussian, double q, double beta,
+                 double eps2, const double* x, const double* y, double* u, double* accept,
+                 size_t n),
+                (charges, num_charges, gaussian, q, beta, eps2, x, y, u, accept, n), {
+                  internal::AcceptanceKernel(charges, num_charges, gaussian, q, beta, eps2, x, y, u,
+                                             accept, n);
+                })
 
 }  // namespace
 

@@ -1,10 +1,13 @@
-// The hot loops are compiled as AVX-512, AVX2 and baseline clones
-// (target_clones); which one runs depends on the machine. Determinism requires
-// that they compute the same bits. Here the same kernels are built for each
-// instruction set explicitly (this file is compiled with -O3 so the loops are
-// vectorised as in the library) and compared with a scalar, unvectorised build
-// on random inputs: any use of FMA contraction or an approximate instruction
-// in one clone shows up as a mismatch.
+// The hot loops are built for AVX-512, AVX2 and the baseline
+// (HCPF_DISPATCHED, hcpf/core/instruction_set.h); which one runs depends on
+// the machine. Determinism requires that they compute the same bits. Two
+// checks: the kernels built here for each instruction set explicitly (this
+// file is compiled with -O3 so the loops are vectorised as in the library)
+// against a scalar, unvectorised build on random inputs (any FMA contraction
+// or approximate instruction in one shows up as a mismatch); and the
+// library's own builds, each run through the public functions that call them
+// (the likelihood, the weight normalisation, the multinomial and charged
+// resamplers), against the library's baseline build.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -14,7 +17,11 @@
 
 #include "charge_kernel.h"
 #include "fast_math.h"
+#include "hcpf/core/instruction_set.h"
 #include "hcpf/core/rng.h"
+#include "hcpf/tracker/likelihood.h"
+#include "hcpf/tracker/particle_set.h"
+#include "hcpf/tracker/resampler.h"
 #include "mixture_kernel.h"
 
 namespace hcpf::tracker {
@@ -160,6 +167,105 @@ TEST(IsaClones, EveryInstructionSetComputesTheScalarBits) {
     EXPECT_TRUE(SameBits(e, ref_exp)) << isa.name << ": FastExp";
     EXPECT_TRUE(SameBits(ef, ref_expf)) << isa.name << ": FastExpF";
     EXPECT_TRUE(SameBits(l, ref_log)) << isa.name << ": FastLog";
+  }
+}
+
+// What the library computes with the active instruction set on 1003
+// particles: the detections-mixture likelihood without and with the size
+// term, the normalised weights, and the ancestors of the multinomial
+// resampler (its sorted uniforms go through NegLogInPlace) and of the
+// charged one under both potentials (with their rejection counts).
+struct LibraryOutputs {
+  std::vector<double> log_w, log_w_size, w;
+  std::vector<int32_t> multinomial, gaussian, coulomb;
+  int64_t gaussian_rejections = 0, coulomb_rejections = 0;
+};
+
+LibraryOutputs RunLibrary(const Inputs& in) {
+  const size_t n = in.px.size();
+  ParticleSet set;
+  set.Resize(n);
+  for (size_t i = 0; i < n; ++i) {
+    set.px[i] = in.px[i];
+    set.py[i] = in.py[i];
+    set.s[i] = std::exp(in.log_s[i]);
+  }
+  Observation obs;
+  for (const MixtureComponent& c : in.comps) {
+    obs.detections.push_back({.box = BoxPx::FromCentre(c.cx, c.cy, 12.0, 12.0),
+                              .score = 0.2 + 0.8 * c.weight / (c.weight + 1e-4)});
+  }
+  LikelihoodOptions options;
+  options.sigma_px = 2.0;
+  options.clutter_density = 1e-8;
+  LibraryOutputs out;
+  ParticleSet sized = set;
+  DetectionsMixtureLikelihood(options).AddLogLikelihood(set, {.observation = &obs});
+  out.log_w = set.log_w;
+  options.sigma_log_size = 0.2;
+  DetectionsMixtureLikelihood(options).AddLogLikelihood(sized,
+                                                        {.observation = &obs, .base_w_px = 12.0});
+  out.log_w_size = sized.log_w;
+  NormaliseLogWeights(set);
+  out.w = set.w;
+  const auto ancestors = [&](const ResamplerOptions& o, std::span<const FilterSummary> others,
+                             int64_t* rejections) {
+    std::vector<int32_t> a(n);
+    Rng rng(5);
+    const ResampleResult r = MakeResampler(o)->Resample(set, {others}, rng, a);
+    if (rejections != nullptr) *rejections = r.rejections;
+    return a;
+  };
+  ResamplerOptions multinomial;
+  multinomial.method = ResamplingMethod::kMultinomial;
+  out.multinomial = ancestors(multinomial, {}, nullptr);
+  std::vector<FilterSummary> others;
+  for (const Charge& ch : in.charges) {
+    FilterSummary f;
+    f.mean = {ch.mx, ch.my};
+    f.cov << 9.0, 0.0, 0.0, 9.0;
+    others.push_back(f);
+  }
+  ResamplerOptions charged;
+  charged.method = ResamplingMethod::kCharged;
+  charged.beta = 2.0;
+  charged.softening_px = 6.0;
+  out.gaussian = ancestors(charged, others, &out.gaussian_rejections);
+  charged.potential = ChargePotential::kCoulomb;
+  charged.charge = 40.0;
+  out.coulomb = ancestors(charged, others, &out.coulomb_rejections);
+  return out;
+}
+
+TEST(IsaClones, TheLibrarysBuildsComputeTheSameBits) {
+  const Inputs in = MakeInputs(1003, 91);
+  LibraryOutputs expected;
+  {
+    const hcpf::testing::ScopedInstructionSet baseline(InstructionSet::kBaseline);
+    expected = RunLibrary(in);
+  }
+  // The inputs exercise every path: the weights are far from uniform and
+  // the charges reject some candidates under both potentials.
+  EXPECT_GT(*std::max_element(expected.w.begin(), expected.w.end()),
+            1e3 * *std::min_element(expected.w.begin(), expected.w.end()));
+  EXPECT_GT(expected.gaussian_rejections, 0);
+  EXPECT_GT(expected.coulomb_rejections, 0);
+  for (const InstructionSet set : {InstructionSet::kAvx2, InstructionSet::kAvx512}) {
+    if (!CpuHas(set)) {
+      std::printf("[ SKIPPED  ] %s: this CPU does not have it\n", NameOf(set).data());
+      continue;
+    }
+    const hcpf::testing::ScopedInstructionSet scoped(set);
+    const LibraryOutputs out = RunLibrary(in);
+    EXPECT_TRUE(SameBits(out.log_w, expected.log_w)) << NameOf(set) << ": mixture likelihood";
+    EXPECT_TRUE(SameBits(out.log_w_size, expected.log_w_size))
+        << NameOf(set) << ": mixture likelihood with size";
+    EXPECT_TRUE(SameBits(out.w, expected.w)) << NameOf(set) << ": normalised weights";
+    EXPECT_EQ(out.multinomial, expected.multinomial) << NameOf(set) << ": multinomial";
+    EXPECT_EQ(out.gaussian, expected.gaussian) << NameOf(set) << ": charged, gaussian";
+    EXPECT_EQ(out.coulomb, expected.coulomb) << NameOf(set) << ": charged, coulomb";
+    EXPECT_EQ(out.gaussian_rejections, expected.gaussian_rejections) << NameOf(set);
+    EXPECT_EQ(out.coulomb_rejections, expected.coulomb_rejections) << NameOf(set);
   }
 }
 

@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "hcpf/core/check.h"
+#include "hcpf/core/instruction_set.h"
 #include "hcpf/vision/stacked_integral_blur.h"
 
 namespace hcpf::vision {
@@ -86,46 +87,19 @@ std::vector<float> HalfKernel(double sigma) {
   }
 }
 
-// The passes built for AVX-512, AVX2 and the x86-64 baseline (SSE2);
-// SeparableGaussianBlur runs the widest the CPU has. Every build computes the
-// same bytes (tests/separable_gaussian_blur_test.cc compares each with a
-// scalar sum); the wider ones are faster (docs/performance.md). Chosen by
-// hand rather than by target_clones, so that a test can run each.
-using PassesFn = void (*)(const float*, int, int, const float*, int, float*, float*);
-__attribute__((target("avx512f"))) void PassesAvx512(const float* in, int w, int h, const float* k,
-                                                     int r, float* out, float* padded) {
-  SeparableBlurPasses(in, w, h, k, r, out, padded);
-}
-__attribute__((target("avx2"))) void PassesAvx2(const float* in, int w, int h, const float* k,
-                                                int r, float* out, float* padded) {
-  SeparableBlurPasses(in, w, h, k, r, out, padded);
-}
-void PassesBaseline(const float* in, int w, int h, const float* k, int r, float* out,
-                    float* padded) {
-  SeparableBlurPasses(in, w, h, k, r, out, padded);
-}
+// The passes built for AVX-512, AVX2 and the x86-64 baseline (SSE2); a call
+// runs the build of the CPU's widest set, or of the set a test chose
+// (hcpf/core/instruction_set.h). Every build computes the same bytes
+// (tests/separable_gaussian_blur_test.cc runs each and compares it with a
+// scalar sum); the wider ones are faster (docs/performance.md).
+HCPF_DISPATCHED(void, BlurPasses,
+                (const float* in, int w, int h, const float* k, int r, float* out, float* padded),
+                (in, w, h, k, r, out, padded),
+                { SeparableBlurPasses(in, w, h, k, r, out, padded); })
 
-PassesFn PassesFor(internal::BlurInstructionSet set) {
-  switch (set) {
-    case internal::BlurInstructionSet::kAvx512:
-      return PassesAvx512;
-    case internal::BlurInstructionSet::kAvx2:
-      return PassesAvx2;
-    case internal::BlurInstructionSet::kBaseline:
-      break;
-  }
-  return PassesBaseline;
-}
+}  // namespace
 
-internal::BlurInstructionSet WidestOnThisCpu() {
-  using internal::BlurInstructionSet;
-  for (const BlurInstructionSet set : {BlurInstructionSet::kAvx512, BlurInstructionSet::kAvx2}) {
-    if (internal::CpuHas(set)) return set;
-  }
-  return BlurInstructionSet::kBaseline;
-}
-
-void Blur(PassesFn passes, const GreyImageF& input, double sigma, GreyImageF& output) {
+void SeparableGaussianBlur(const GreyImageF& input, double sigma, GreyImageF& output) {
   HCPF_CHECK(sigma > 0.0 && sigma <= 64.0) << "sigma " << sigma;
   HCPF_CHECK(&input != &output);
   const int w = input.width, h = input.height;
@@ -139,38 +113,7 @@ void Blur(PassesFn passes, const GreyImageF& input, double sigma, GreyImageF& ou
   const int r = static_cast<int>(k.size()) - 1;
 
   std::vector<float> padded(static_cast<size_t>(w + 2 * r));
-  passes(input.pixels.data(), w, h, k.data(), r, output.pixels.data(), padded.data());
+  BlurPasses(input.pixels.data(), w, h, k.data(), r, output.pixels.data(), padded.data());
 }
-
-}  // namespace
-
-void SeparableGaussianBlur(const GreyImageF& input, double sigma, GreyImageF& output) {
-  static const PassesFn passes = PassesFor(WidestOnThisCpu());
-  Blur(passes, input, sigma, output);
-}
-
-namespace internal {
-
-bool CpuHas(BlurInstructionSet set) {
-  __builtin_cpu_init();
-  switch (set) {
-    case BlurInstructionSet::kAvx512:
-      return __builtin_cpu_supports("avx512f") != 0;
-    case BlurInstructionSet::kAvx2:
-      return __builtin_cpu_supports("avx2") != 0;
-    case BlurInstructionSet::kBaseline:
-      break;
-  }
-  return true;
-}
-
-void SeparableGaussianBlurAs(BlurInstructionSet set, const GreyImageF& input, double sigma,
-                             GreyImageF& output) {
-  HCPF_CHECK(CpuHas(set)) << "this CPU lacks "
-                          << (set == BlurInstructionSet::kAvx512 ? "AVX-512F" : "AVX2");
-  Blur(PassesFor(set), input, sigma, output);
-}
-
-}  // namespace internal
 
 }  // namespace hcpf::vision

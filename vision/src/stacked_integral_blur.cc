@@ -10,6 +10,7 @@
 
 #include "cv_image.h"
 #include "hcpf/core/check.h"
+#include "hcpf/core/instruction_set.h"
 
 namespace hcpf::vision {
 
@@ -269,21 +270,23 @@ constexpr size_t kChunk = 16;
 
 size_t RoundUpToChunk(size_t n) { return (n + kChunk - 1) / kChunk * kChunk; }
 
-// The hot loops are compiled for AVX-512, AVX2 and the x86-64 baseline and
-// picked at load time (docs/performance.md has the figures). Floating-point
-// results are identical in every clone: per pixel the same IEEE operations in
-// the same order, no FMA (-ffp-contract=off).
-#define HCPF_VISION_CLONES __attribute__((target_clones("avx512f", "avx2", "default")))
+// The hot loops are built for AVX-512, AVX2 and the x86-64 baseline; a call
+// runs the build of the CPU's widest set, or of the one a test chose
+// (HCPF_DISPATCHED, hcpf/core/instruction_set.h; docs/performance.md has the
+// figures). Floating-point results are identical in every build: per pixel
+// the same IEEE operations in the same order, no FMA (-ffp-contract=off).
 
 // row[j] = above[j] + sums[j], j < n (a multiple of kChunk). Its own function
 // so that the restrict parameters tell GCC the rows do not overlap (they are
 // rows of one array, `stride` apart).
-HCPF_VISION_CLONES void AddRow(const uint32_t* __restrict above, const uint32_t* __restrict sums,
-                               uint32_t* __restrict row, size_t n) {
-  for (size_t c = 0; c < n; c += kChunk) {
-    for (size_t j = 0; j < kChunk; ++j) row[c + j] = above[c + j] + sums[c + j];
-  }
-}
+HCPF_DISPATCHED(void, AddRow,
+                (const uint32_t* __restrict above, const uint32_t* __restrict sums,
+                 uint32_t* __restrict row, size_t n),
+                (above, sums, row, n), {
+                  for (size_t c = 0; c < n; c += kChunk) {
+                    for (size_t j = 0; j < kChunk; ++j) row[c + j] = above[c + j] + sums[c + j];
+                  }
+                })
 
 // The integral image of the input replicate-padded by `pad` on every side:
 //   S[i][j] = sum of P[y][x] over y < i, x < j, P[y][x] = I[clamp(y - pad)][clamp(x - pad)],
@@ -318,40 +321,43 @@ void BuildIntegral(const GreyImage& in, int pad, size_t stride, uint32_t* integr
 // acc[x] (+)= scale * (sum of the box of width n whose integral-image corners
 // are top[x], top[x + n], bottom[x], bottom[x + n]) for x < width, a multiple
 // of kChunk. The uint32 differences wrap back to the true sum.
-HCPF_VISION_CLONES void AccumulateBox(const uint32_t* top, const uint32_t* bottom, int n,
-                                      float scale, bool first, float* acc, size_t width) {
-  for (size_t c = 0; c < width; c += kChunk) {
-    const uint32_t* __restrict tl = top + c;
-    const uint32_t* __restrict tr = top + c + n;
-    const uint32_t* __restrict bl = bottom + c;
-    const uint32_t* __restrict br = bottom + c + n;
-    float* __restrict out = acc + c;
-    if (first) {
-      for (size_t i = 0; i < kChunk; ++i) {
-        const uint32_t box = br[i] - bl[i] - tr[i] + tl[i];
-        out[i] = scale * static_cast<float>(static_cast<int32_t>(box));
-      }
-    } else {
-      for (size_t i = 0; i < kChunk; ++i) {
-        const uint32_t box = br[i] - bl[i] - tr[i] + tl[i];
-        out[i] += scale * static_cast<float>(static_cast<int32_t>(box));
-      }
-    }
-  }
-}
+HCPF_DISPATCHED(void, AccumulateBox,
+                (const uint32_t* top, const uint32_t* bottom, int n, float scale, bool first,
+                 float* acc, size_t width),
+                (top, bottom, n, scale, first, acc, width), {
+                  for (size_t c = 0; c < width; c += kChunk) {
+                    const uint32_t* __restrict tl = top + c;
+                    const uint32_t* __restrict tr = top + c + n;
+                    const uint32_t* __restrict bl = bottom + c;
+                    const uint32_t* __restrict br = bottom + c + n;
+                    float* __restrict out = acc + c;
+                    if (first) {
+                      for (size_t i = 0; i < kChunk; ++i) {
+                        const uint32_t box = br[i] - bl[i] - tr[i] + tl[i];
+                        out[i] = scale * static_cast<float>(static_cast<int32_t>(box));
+                      }
+                    } else {
+                      for (size_t i = 0; i < kChunk; ++i) {
+                        const uint32_t box = br[i] - bl[i] - tr[i] + tl[i];
+                        out[i] += scale * static_cast<float>(static_cast<int32_t>(box));
+                      }
+                    }
+                  }
+                })
 
 // Rounds half up; acc is in [0, 255 (1 + 1e-6)] (positive weights summing to
 // 1), so acc + 0.5 truncates to [0, 255].
-uint8_t RoundToByte(float v) { return static_cast<uint8_t>(static_cast<int32_t>(v + 0.5f)); }
+inline uint8_t RoundToByte(float v) { return static_cast<uint8_t>(static_cast<int32_t>(v + 0.5f)); }
 
-HCPF_VISION_CLONES void RoundToBytes(const float* __restrict acc, uint8_t* __restrict out,
-                                     size_t width) {
-  size_t c = 0;
-  for (; c + kChunk <= width; c += kChunk) {
-    for (size_t i = 0; i < kChunk; ++i) out[c + i] = RoundToByte(acc[c + i]);
-  }
-  for (; c < width; ++c) out[c] = RoundToByte(acc[c]);
-}
+HCPF_DISPATCHED(void, RoundToBytes,
+                (const float* __restrict acc, uint8_t* __restrict out, size_t width),
+                (acc, out, width), {
+                  size_t c = 0;
+                  for (; c + kChunk <= width; c += kChunk) {
+                    for (size_t i = 0; i < kChunk; ++i) out[c + i] = RoundToByte(acc[c + i]);
+                  }
+                  for (; c < width; ++c) out[c] = RoundToByte(acc[c]);
+                })
 
 void CheckInput(const GreyImage& input, const StackedBoxKernel& kernel) {
   HCPF_CHECK(input.width >= 0 && input.height >= 0);

@@ -15,6 +15,7 @@
 #include <utility>
 #include <vector>
 
+#include "hcpf/core/instruction_set.h"
 #include "hcpf/core/rng.h"
 #include "hcpf/vision/stacked_integral_blur.h"
 
@@ -147,35 +148,23 @@ TEST(SeparableGaussianBlur, IsExactlyTheFixedOrderSum) {
 // were once the test's own copies of the kernel, as the library's clones
 // were the loader's to pick: a review.
 TEST(SeparableGaussianBlur, EveryInstructionSetGivesTheScalarSum) {
-  using internal::BlurInstructionSet;
-  const struct {
-    const char* name;
-    BlurInstructionSet set;
-  } isas[] = {{"baseline", BlurInstructionSet::kBaseline},
-              {"avx2", BlurInstructionSet::kAvx2},
-              {"avx512f", BlurInstructionSet::kAvx512}};
   const auto same_bytes = [](const GreyImageF& a, const GreyImageF& b) {
     return a.width == b.width && a.height == b.height && a.pixels.size() == b.pixels.size() &&
            std::memcmp(a.pixels.data(), b.pixels.data(), a.pixels.size() * sizeof(float)) == 0;
   };
-  for (const auto& isa : isas) {
-    if (!internal::CpuHas(isa.set)) {
-      std::printf("[ SKIPPED  ] %s: this CPU lacks it\n", isa.name);
+  for (const InstructionSet set :
+       {InstructionSet::kBaseline, InstructionSet::kAvx2, InstructionSet::kAvx512}) {
+    if (!CpuHas(set)) {
+      std::printf("[ SKIPPED  ] %s: this CPU lacks it\n", NameOf(set).data());
+      continue;
     }
-  }
-  for (const auto& [w, h] :
-       {std::pair{203, 61}, std::pair{1, 1}, std::pair{3, 2}, std::pair{17, 1}, std::pair{1, 9}}) {
-    const GreyImageF in = RandomFloatImage(w, h, 4);
-    for (const double sigma : {0.8, 1.7, 4.0}) {
-      const std::vector<float> k = HalfKernelByHand(sigma);
-      const GreyImageF expected = FixedOrderSum(in, k);
-      EXPECT_TRUE(same_bytes(Blurred(in, sigma), expected)) << w << " x " << h << ", " << sigma;
-      for (const auto& isa : isas) {
-        if (!internal::CpuHas(isa.set)) continue;
-        GreyImageF out;
-        internal::SeparableGaussianBlurAs(isa.set, in, sigma, out);
-        EXPECT_TRUE(same_bytes(out, expected))
-            << isa.name << ", " << w << " x " << h << ", sigma " << sigma;
+    const hcpf::testing::ScopedInstructionSet scoped(set);
+    for (const auto& [w, h] : {std::pair{203, 61}, std::pair{1, 1}, std::pair{3, 2},
+                               std::pair{17, 1}, std::pair{1, 9}}) {
+      const GreyImageF in = RandomFloatImage(w, h, 4);
+      for (const double sigma : {0.8, 1.7, 4.0}) {
+        EXPECT_TRUE(same_bytes(Blurred(in, sigma), FixedOrderSum(in, HalfKernelByHand(sigma))))
+            << NameOf(set) << ", " << w << " x " << h << ", sigma " << sigma;
       }
     }
   }

@@ -21,6 +21,7 @@
 #include <vector>
 
 #include "hcpf/core/image.h"
+#include "hcpf/core/instruction_set.h"
 #include "hcpf/core/rng.h"
 #include "hcpf/renderer/renderer.h"
 
@@ -414,32 +415,41 @@ TEST(StackedIntegralBlur, MatchesBruteForceBoxSumsWithReplicatedBorders) {
 }
 
 TEST(StackedIntegralBlur, FloatOutputIsExactlyTheScalarFormula) {
-  // Whichever ISA clone of the inner loops runs here (AVX-512, AVX2 or the
+  // In every build of the inner loops this CPU can run (AVX-512, AVX2, the
   // baseline), the float output must be bit for bit the documented formula
   // evaluated in scalar float arithmetic: sum_k (float)(w_k / n_k^2) *
   // (float)(box sum), boxes in order, box sums exact (int64 here). That is
   // what makes results identical on every machine.
   const GreyImage in = RandomImage(83, 29, 21);  // width not a multiple of 16
-  for (double sigma : {1.0, 4.0}) {
-    const StackedBoxKernel kernel = MakeStackedBoxKernel(sigma, 5);
-    const GreyImageF out = BlurredF(in, kernel);
-    const GreyImage out8 = Blurred(in, kernel);
-    for (int y = 0; y < in.height; ++y) {
-      for (int x = 0; x < in.width; ++x) {
-        float acc = 0.0f;
-        for (int k = 0; k < kernel.boxes(); ++k) {
-          const int r = kernel.radii[k];
-          int64_t box = 0;
-          for (int j = -r; j <= r; ++j) {
-            for (int i = -r; i <= r; ++i) box += Clamped(in, x + i, y + j);
+  for (const InstructionSet set :
+       {InstructionSet::kBaseline, InstructionSet::kAvx2, InstructionSet::kAvx512}) {
+    if (!CpuHas(set)) {
+      std::printf("[ SKIPPED  ] %s: this CPU lacks it\n", NameOf(set).data());
+      continue;
+    }
+    const hcpf::testing::ScopedInstructionSet scoped(set);
+    SCOPED_TRACE(NameOf(set));
+    for (double sigma : {1.0, 4.0}) {
+      const StackedBoxKernel kernel = MakeStackedBoxKernel(sigma, 5);
+      const GreyImageF out = BlurredF(in, kernel);
+      const GreyImage out8 = Blurred(in, kernel);
+      for (int y = 0; y < in.height; ++y) {
+        for (int x = 0; x < in.width; ++x) {
+          float acc = 0.0f;
+          for (int k = 0; k < kernel.boxes(); ++k) {
+            const int r = kernel.radii[k];
+            int64_t box = 0;
+            for (int j = -r; j <= r; ++j) {
+              for (int i = -r; i <= r; ++i) box += Clamped(in, x + i, y + j);
+            }
+            const double n = 2.0 * r + 1.0;
+            const float term =
+                static_cast<float>(kernel.weights[k] / (n * n)) * static_cast<float>(box);
+            acc = k == 0 ? term : acc + term;
           }
-          const double n = 2.0 * r + 1.0;
-          const float term =
-              static_cast<float>(kernel.weights[k] / (n * n)) * static_cast<float>(box);
-          acc = k == 0 ? term : acc + term;
+          ASSERT_EQ(out.at(x, y), acc) << x << ", " << y;
+          ASSERT_EQ(out8.at(x, y), static_cast<int>(acc + 0.5f)) << x << ", " << y;
         }
-        ASSERT_EQ(out.at(x, y), acc) << x << ", " << y;
-        ASSERT_EQ(out8.at(x, y), static_cast<int>(acc + 0.5f)) << x << ", " << y;
       }
     }
   }

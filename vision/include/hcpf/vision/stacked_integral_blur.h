@@ -128,17 +128,4 @@ void StackedIntegralBlur(const GreyImage& input, const StackedBoxKernel& kernel,
 // width * height; &output != &input.
 void SeparableGaussianBlur(const GreyImageF& input, double sigma, GreyImageF& output);
 
-namespace internal {
-
-// The instruction sets SeparableGaussianBlur's loops are built for; it runs
-// the widest this CPU has. Every one must give the same bytes:
-// SeparableGaussianBlurAs runs one of them (HCPF_CHECK: the CPU has it), so a
-// test can compare the library's own builds on one machine.
-enum class BlurInstructionSet { kBaseline, kAvx2, kAvx512 };
-bool CpuHas(BlurInstructionSet set);
-void SeparableGaussianBlurAs(BlurInstructionSet set, const GreyImageF& input, double sigma,
-                             GreyImageF& output);
-
-}  // namespace internal
-
 }  // namespace hcpf::vision

@@ -21,9 +21,12 @@ std::atomic<int> active{-1};
 InstructionSet Active() {
   const int set = active.load(std::memory_order_relaxed);
   if (set >= 0) return static_cast<InstructionSet>(set);
-  const InstructionSet widest = Widest();
-  active.store(static_cast<int>(widest), std::memory_order_relaxed);
-  return widest;
+  // Only over the -1: a test's set made meanwhile stays.
+  int expected = -1;
+  const int widest = static_cast<int>(Widest());
+  return active.compare_exchange_strong(expected, widest, std::memory_order_relaxed)
+             ? static_cast<InstructionSet>(widest)
+             : static_cast<InstructionSet>(expected);
 }
 
 }  // namespace

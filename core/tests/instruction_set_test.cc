@@ -3,11 +3,12 @@
 // a loop defined with HCPF_DISPATCHED gives the same bytes in every build.
 // (The modules' own loops are compared build by build in their tests:
 // tracker/tests/isa_clones_test.cc, vision/tests/separable_gaussian_blur_test.cc,
-// vision/tests/stacked_integral_blur_test.cc, renderer/tests/sensor_test.cc.)
+// vision/tests/stacked_integral_blur_test.cc, renderer/tests/options_test.cc.)
 #include "hcpf/core/instruction_set.h"
 
 #include <gtest/gtest.h>
 
+#include <cstdio>
 #include <cstring>
 #include <vector>
 
@@ -76,6 +77,48 @@ TEST(InstructionSet, ADispatchedLoopGivesTheSameBytesInEveryBuild) {
     MixedSum(a.data(), b.data(), 0.3f, out.data(), n);
     EXPECT_EQ(std::memcmp(out.data(), expected.data(), n * sizeof(float)), 0) << NameOf(set);
   }
+}
+
+// The dispatcher runs the build of the active set: a loop compiled here
+// with contraction allowed fuses a * b + c in its AVX-512 build (which has
+// FMA) and in no other, so that build's bytes differ from the baseline's
+// where the fused result rounds otherwise (AVX2 has no FMA: its build cannot
+// be told from the baseline this way).
+#pragma GCC push_options
+#pragma GCC optimize("O2", "fp-contract=fast")
+HCPF_DISPATCHED(void, FusedWhereItCan, (const double* a, const double* b, double* out, int n),
+                (a, b, out, n), {
+                  for (int i = 0; i < n; ++i) out[i] = a[i] * b[i] + 1.0;
+                })
+#pragma GCC pop_options
+
+TEST(InstructionSet, TheActiveSetsBuildRuns) {
+  if (!CpuHas(InstructionSet::kAvx512)) {
+    std::printf("[ SKIPPED  ] avx512f: this CPU lacks it\n");
+    return;
+  }
+  const int n = 64;
+  std::vector<double> a(n), b(n), baseline(n), wide(n);
+  for (int i = 0; i < n; ++i) {
+    a[i] = 1.0 + 1.0 / (i + 3);
+    b[i] = 1.0 - 1.0 / (i + 7);
+  }
+  {
+    const testing::ScopedInstructionSet scoped(InstructionSet::kBaseline);
+    FusedWhereItCan(a.data(), b.data(), baseline.data(), n);
+  }
+  {
+    const testing::ScopedInstructionSet scoped(InstructionSet::kAvx512);
+    FusedWhereItCan(a.data(), b.data(), wide.data(), n);
+  }
+  int fused = 0;
+  for (int i = 0; i < n; ++i) {
+    // The baseline build rounds the product, then the sum.
+    const double product = a[i] * b[i];
+    EXPECT_EQ(baseline[i], product + 1.0) << i;
+    fused += wide[i] != baseline[i] ? 1 : 0;
+  }
+  EXPECT_GT(fused, 0) << "the AVX-512 build gave the baseline's bytes everywhere: did it run?";
 }
 
 }  // namespace

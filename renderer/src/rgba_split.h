@@ -10,6 +10,8 @@
 #include <cstring>
 #include <vector>
 
+#include "hcpf/core/instruction_set.h"
+
 namespace hcpf::renderer::internal {
 
 // The visible pixels of each instance id (the colour pass's alpha; 0 is
@@ -92,7 +94,8 @@ inline void SplitRgba(const uint8_t* rgba, int width, int height, uint8_t* rgb, 
   static const bool vbmi = __builtin_cpu_supports("avx512f") &&
                            __builtin_cpu_supports("avx512bw") &&
                            __builtin_cpu_supports("avx512vbmi");
-  if (vbmi && !words_only) {
+  // And the active set AVX-512 (a test may choose a narrower one).
+  if (vbmi && !words_only && ActiveInstructionSet() == InstructionSet::kAvx512) {
     SplitRgbaVbmi(rgba, width, height, rgb, ids);
     return;
   }

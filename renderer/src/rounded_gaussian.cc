@@ -96,9 +96,9 @@ RoundedGaussianTable::RoundedGaussianTable(double sigma) {
 
 namespace {
 
-// AVX-512 (F and BW) in the CPU and in the active instruction set (a test
-// may choose a narrower one: hcpf/core/instruction_set.h).
-bool CpuHasAvx512() {
+// AVX-512 (F and BW) in the CPU and the active instruction set AVX-512 (a
+// test may choose a narrower one: hcpf/core/instruction_set.h).
+bool VectorLookupsAllowed() {
   static const bool has = __builtin_cpu_supports("avx512f") && __builtin_cpu_supports("avx512bw");
   return has && ActiveInstructionSet() == InstructionSet::kAvx512;
 }
@@ -152,7 +152,7 @@ __attribute__((target("avx512f,avx512bw"))) void SampleWordsAvx512(const uint32_
 }  // namespace
 
 bool RoundedGaussianTable::HasVectorPath() const {
-  return bins_.size() <= kVectorBins && CpuHasAvx512();
+  return bins_.size() <= kVectorBins && VectorLookupsAllowed();
 }
 
 void RoundedGaussianTable::SampleWords(const uint64_t* words, size_t count, int16_t* out,

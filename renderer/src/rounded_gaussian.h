@@ -46,7 +46,9 @@ class RoundedGaussianTable {
   // permutes; otherwise, or when `scalar`, one at a time with Sample. Both
   // give the same values (RoundedGaussian.VectorLookupsEqualSample).
   void SampleWords(const uint64_t* words, size_t count, int16_t* out, bool scalar = false) const;
-  // Whether SampleWords has its vector path on this machine and table.
+  // Whether SampleWords has its vector path on this machine and table (and
+  // the active instruction set is AVX-512: hcpf/core/instruction_set.h; a
+  // narrower one takes Sample, SensorEffects.EveryInstructionSetGivesTheSameBytes).
   bool HasVectorPath() const;
 
   int kmax() const { return kmax_; }

@@ -1,12 +1,12 @@
 #pragma once
 // Branch-free exp and log for the hot per-particle loops. Written with plain
 // double arithmetic and bit operations only, so GCC vectorises loops that call
-// them (SSE2 two-wide on the x86-64 baseline, four-wide in the AVX2 clones) and
+// them (SSE2 two-wide on the x86-64 baseline, four-wide in the AVX2 builds) and
 // every lane computes exactly the same bits as the scalar code: results do not
-// depend on which clone runs (AVX-512, AVX2 or baseline). No fused multiply-add
-// is used: the project compiles with -ffp-contract=off, because the AVX-512
-// clone has FMA and GCC would otherwise contract a*b+c there. Checked by
-// tests/isa_clones_test.cc.
+// depend on which build runs (AVX-512, AVX2 or baseline: HCPF_DISPATCHED). No
+// fused multiply-add is used: the project compiles with -ffp-contract=off,
+// because the AVX-512 build has FMA and GCC would otherwise contract a*b+c
+// there. Checked by tests/isa_clones_test.cc.
 //
 // Accuracy (checked in fast_math_test.cc against std::exp/std::log): relative
 // error below 1e-14 over the ranges documented on each function.

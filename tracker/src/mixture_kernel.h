@@ -1,8 +1,9 @@
 #pragma once
 // The inner loop of the detections_mixture likelihood, shared by
 // likelihood.cc (which builds it for AVX-512, AVX2 and the baseline:
-// HCPF_DISPATCHED) and by the test that checks those builds against a scalar
-// one, bit for bit.
+// HCPF_DISPATCHED) and by tests/isa_clones_test.cc, which builds it for each
+// set itself and checks those builds against a scalar one, bit for bit (and
+// the library's builds against the library's baseline one).
 
 #include <cstddef>
 

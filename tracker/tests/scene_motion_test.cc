@@ -185,7 +185,7 @@ TEST(SceneMotionFilterTest, ConvergesAmongOutliersWithinAFewFrames) {
       EXPECT_GE(report.ess, 1.0);
       EXPECT_LE(report.ess, SceneMotionOptions{}.particles + 1e-9);
       if (frame >= 5) {
-        SCOPED_TRACE(testing::Message() << "seed " << seed << " frame " << frame);
+        SCOPED_TRACE(::testing::Message() << "seed " << seed << " frame " << frame);
         ExpectNear(estimate, kTruth);
         // The weighted cloud is narrower than one random-walk sigma (observed
         // sd_tx <= 0.23 px, sd_log_scale <= 4e-4).
@@ -275,7 +275,7 @@ TEST(SceneMotionFilterTest, HomographyOracleRecoversASimilarity) {
   for (int frame = 0; frame < 12; ++frame) {
     const SimilarityMotion estimate = filter.Step(evidence, {});
     if (frame >= 5) {
-      SCOPED_TRACE(testing::Message() << "frame " << frame);
+      SCOPED_TRACE(::testing::Message() << "frame " << frame);
       ExpectNear(estimate, kTruth);
     }
   }

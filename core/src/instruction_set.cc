@@ -1,6 +1,7 @@
 #include "hcpf/core/instruction_set.h"
 
 #include <atomic>
+#include <cstdio>
 
 #include "hcpf/core/check.h"
 
@@ -54,6 +55,17 @@ ScopedInstructionSet::ScopedInstructionSet(InstructionSet set) : previous_(Activ
 }
 
 ScopedInstructionSet::~ScopedInstructionSet() { active.store(static_cast<int>(previous_)); }
+
+void ForEachInstructionSetOfThisCpu(const std::function<void(InstructionSet)>& body) {
+  for (const auto& [set, name] : EnumNames<InstructionSet>::kNames) {
+    if (!CpuHas(set)) {
+      std::printf("[ SKIPPED  ] %s: this CPU lacks it\n", name.data());
+      continue;
+    }
+    const ScopedInstructionSet scoped(set);
+    body(set);
+  }
+}
 
 }  // namespace testing
 }  // namespace hcpf

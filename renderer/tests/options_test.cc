@@ -265,14 +265,9 @@ TEST(SensorEffects, EveryInstructionSetGivesTheSameBytes) {
       const hcpf::testing::ScopedInstructionSet baseline(InstructionSet::kBaseline);
       expected = noisy();
     }
-    for (const InstructionSet set : {InstructionSet::kAvx2, InstructionSet::kAvx512}) {
-      if (!CpuHas(set)) {
-        std::printf("[ SKIPPED  ] %s: this CPU lacks it\n", NameOf(set).data());
-        continue;
-      }
-      const hcpf::testing::ScopedInstructionSet scoped(set);
+    hcpf::testing::ForEachInstructionSetOfThisCpu([&](InstructionSet set) {
       EXPECT_TRUE(noisy() == expected) << NameOf(set) << ", sigma " << sigma;
-    }
+    });
   }
 }
 

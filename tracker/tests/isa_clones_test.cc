@@ -250,12 +250,7 @@ TEST(IsaClones, TheLibrarysBuildsComputeTheSameBits) {
             1e3 * *std::min_element(expected.w.begin(), expected.w.end()));
   EXPECT_GT(expected.gaussian_rejections, 0);
   EXPECT_GT(expected.coulomb_rejections, 0);
-  for (const InstructionSet set : {InstructionSet::kAvx2, InstructionSet::kAvx512}) {
-    if (!CpuHas(set)) {
-      std::printf("[ SKIPPED  ] %s: this CPU does not have it\n", NameOf(set).data());
-      continue;
-    }
-    const hcpf::testing::ScopedInstructionSet scoped(set);
+  hcpf::testing::ForEachInstructionSetOfThisCpu([&](InstructionSet set) {
     const LibraryOutputs out = RunLibrary(in);
     EXPECT_TRUE(SameBits(out.log_w, expected.log_w)) << NameOf(set) << ": mixture likelihood";
     EXPECT_TRUE(SameBits(out.log_w_size, expected.log_w_size))
@@ -266,7 +261,7 @@ TEST(IsaClones, TheLibrarysBuildsComputeTheSameBits) {
     EXPECT_EQ(out.coulomb, expected.coulomb) << NameOf(set) << ": charged, coulomb";
     EXPECT_EQ(out.gaussian_rejections, expected.gaussian_rejections) << NameOf(set);
     EXPECT_EQ(out.coulomb_rejections, expected.coulomb_rejections) << NameOf(set);
-  }
+  });
 }
 
 }  // namespace

@@ -152,13 +152,7 @@ TEST(SeparableGaussianBlur, EveryInstructionSetGivesTheScalarSum) {
     return a.width == b.width && a.height == b.height && a.pixels.size() == b.pixels.size() &&
            std::memcmp(a.pixels.data(), b.pixels.data(), a.pixels.size() * sizeof(float)) == 0;
   };
-  for (const InstructionSet set :
-       {InstructionSet::kBaseline, InstructionSet::kAvx2, InstructionSet::kAvx512}) {
-    if (!CpuHas(set)) {
-      std::printf("[ SKIPPED  ] %s: this CPU lacks it\n", NameOf(set).data());
-      continue;
-    }
-    const hcpf::testing::ScopedInstructionSet scoped(set);
+  hcpf::testing::ForEachInstructionSetOfThisCpu([&](InstructionSet set) {
     for (const auto& [w, h] : {std::pair{203, 61}, std::pair{1, 1}, std::pair{3, 2},
                                std::pair{17, 1}, std::pair{1, 9}}) {
       const GreyImageF in = RandomFloatImage(w, h, 4);
@@ -167,7 +161,7 @@ TEST(SeparableGaussianBlur, EveryInstructionSetGivesTheScalarSum) {
             << NameOf(set) << ", " << w << " x " << h << ", sigma " << sigma;
       }
     }
-  }
+  });
 }
 
 // A constant image stays constant to the rounding of the float weights'

@@ -421,13 +421,7 @@ TEST(StackedIntegralBlur, FloatOutputIsExactlyTheScalarFormula) {
   // (float)(box sum), boxes in order, box sums exact (int64 here). That is
   // what makes results identical on every machine.
   const GreyImage in = RandomImage(83, 29, 21);  // width not a multiple of 16
-  for (const InstructionSet set :
-       {InstructionSet::kBaseline, InstructionSet::kAvx2, InstructionSet::kAvx512}) {
-    if (!CpuHas(set)) {
-      std::printf("[ SKIPPED  ] %s: this CPU lacks it\n", NameOf(set).data());
-      continue;
-    }
-    const hcpf::testing::ScopedInstructionSet scoped(set);
+  hcpf::testing::ForEachInstructionSetOfThisCpu([&](InstructionSet set) {
     SCOPED_TRACE(NameOf(set));
     for (double sigma : {1.0, 4.0}) {
       const StackedBoxKernel kernel = MakeStackedBoxKernel(sigma, 5);
@@ -452,7 +446,7 @@ TEST(StackedIntegralBlur, FloatOutputIsExactlyTheScalarFormula) {
         }
       }
     }
-  }
+  });
 }
 
 TEST(StackedIntegralBlur, BorderPixelsRepeatOutwards) {

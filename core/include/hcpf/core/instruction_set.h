@@ -14,6 +14,7 @@
 // tests checked copies of the kernels built in the test files (a review).
 
 #include <array>
+#include <functional>
 #include <string_view>
 #include <utility>
 
@@ -54,6 +55,11 @@ class ScopedInstructionSet {
  private:
   InstructionSet previous_;
 };
+
+// Calls body(set) for every set this CPU has, the baseline first, each under
+// a ScopedInstructionSet; prints a "[ SKIPPED  ]" line for each it lacks.
+// The loop of every test that compares a module's builds.
+void ForEachInstructionSetOfThisCpu(const std::function<void(InstructionSet)>& body);
 
 }  // namespace testing
 }  // namespace hcpf

@@ -696,8 +696,9 @@ struct PairedRow {
   const Cell* reference = nullptr;
   std::map<std::string, PairedComparison> metrics;  // report.y names
   std::map<std::string, PairExtremes> extremes;     // report.y names
-  // The signed-rank p-values adjusted by Holm's method over the report's
-  // family (Paired::family); NaN for a comparison without pairs.
+  // The signed-rank p-values adjusted by Holm's method with Tarone's rule
+  // over the report's tested comparisons (HolmTaroneAdjusted); NaN for a
+  // comparison not tested.
   std::map<std::string, double> holm;
 };
 
@@ -711,19 +712,30 @@ struct Paired {
   // reference's value in the partner cell.
   FollowingKeys follow_series;
   std::vector<PairedRow> rows;
-  // The family Holm's adjustment is over: every comparison of the report
-  // (compared cell × report.y metric) that has pairs.
+  // The comparisons the report tests (Tested: compared cell × report.y
+  // metric with pairs, some of which differ, not a timing): Holm's family.
+  // At the correction's first step Tarone's rule counts only `family` of
+  // them, those whose p can fall below 0.05 / tarone_k (TaroneFamilyOf over
+  // their SignedRankFloor(nonzero)); family == 0: none can be kept.
+  int tested = 0;
   int family = 0;
-  // Comparisons of the family whose seed pairs are too few for Holm's
-  // correction to keep them whatever the data (SignedRankFloor(pairs) >=
-  // 0.05 / family), the most pairs among them, and the pairs it needs.
+  int tarone_k = 0;
+  // Tested comparisons outside that first-step family whose seed pairs are
+  // too few whatever the ties (SignedRankFloor(pairs) >= 0.05 / tarone_k),
+  // the most pairs among them, and the pairs that would bring every
+  // comparison in (PairsForHolm(tested)).
   int holm_unreachable = 0;
   int unreachable_pairs = 0;
   int pairs_for_holm = 0;
-  // Comparisons with the pairs but too few of them that differ (tied seeds
-  // leave the signed-rank test): SignedRankFloor(nonzero) >= 0.05 / family
-  // with at least one nonzero difference.
+  // Tested comparisons outside it with the pairs but too few of them that
+  // differ (tied seeds leave the signed-rank test): fewer than
+  // nonzero_for_family (PairsForHolm(tarone_k)).
   int holm_tied_out = 0;
+  int nonzero_for_family = 0;
+  // Of those outside it (unreachable or tied out), the ones whose p cannot
+  // fall below 0.05 at all (SignedRankFloor(nonzero) >= 0.05): never a
+  // finding. The others can be kept at a later step, after enough others.
+  int holm_never = 0;
   // Comparisons (not timings) whose every pair ties (EveryPairTies): not
   // tested, outside the family.
   int every_pair_ties = 0;
@@ -821,15 +833,18 @@ Paired PairedRowsOf(const std::vector<Cell>& cells, const StoreMeta& meta) {
   }
   // Holm over the whole family: a report of 8 cells and 7 metrics makes 56
   // tests, and chance alone makes about 3 of them findings at p < 0.05.
-  // Timings and comparisons whose every pair ties are not tested (Tested):
-  // outside the family.
-  std::vector<double> p;
+  // Timings and comparisons whose every pair ties are not tested (Tested).
+  // Each step of the correction counts only the comparisons left whose p
+  // can still reach its level (Tarone's rule over the signed-rank floors of
+  // their nonzero differences): the others would only make it stricter.
+  std::vector<double> p, floors;
   for (const PairedRow& row : paired.rows) {
     for (const std::string& m : meta.report.y) {
       const PairedComparison& c = row.metrics.at(m);
       const bool tested = Tested(c, m);
       p.push_back(tested ? c.test.p_value : kNaN);
-      paired.family += tested ? 1 : 0;
+      floors.push_back(tested ? SignedRankFloor(c.test.nonzero) : kNaN);
+      paired.tested += tested ? 1 : 0;
       if (EveryPairTies(c) && !MachineDependent(m)) {
         ++paired.every_pair_ties;
         if (std::find(paired.tied_metrics.begin(), paired.tied_metrics.end(), m) ==
@@ -839,18 +854,26 @@ Paired PairedRowsOf(const std::vector<Cell>& cells, const StoreMeta& meta) {
       }
     }
   }
-  const std::vector<double> adjusted = HolmAdjusted(p);
+  const TaroneFamily family = TaroneFamilyOf(floors, 0.05);
+  paired.family = family.size;
+  paired.tarone_k = family.k;
+  const std::vector<double> adjusted = HolmTaroneAdjusted(p, floors, 0.05);
   size_t next = 0;
   for (PairedRow& row : paired.rows) {
     for (const std::string& m : meta.report.y) row.holm[m] = adjusted[next++];
   }
-  if (paired.family > 0) {
-    paired.pairs_for_holm = PairsForHolm(paired.family, 0.05);
+  if (paired.tested > 0) {
+    paired.pairs_for_holm = PairsForHolm(paired.tested, 0.05);
+    paired.nonzero_for_family = PairsForHolm(family.k, 0.05);
+    next = 0;
     for (const PairedRow& row : paired.rows) {
-      for (const auto& [m, c] : row.metrics) {
-        if (!Tested(c, m)) continue;
-        if (SignedRankFloor(c.pairs) < 0.05 / paired.family) {
-          if (SignedRankFloor(c.test.nonzero) >= 0.05 / paired.family) ++paired.holm_tied_out;
+      for (const std::string& m : meta.report.y) {
+        const PairedComparison& c = row.metrics.at(m);
+        const bool member = family.member[next++];
+        if (!Tested(c, m) || member) continue;
+        if (SignedRankFloor(c.test.nonzero) >= 0.05) ++paired.holm_never;
+        if (SignedRankFloor(c.pairs) < 0.05 / family.k) {
+          ++paired.holm_tied_out;
           continue;
         }
         ++paired.holm_unreachable;
@@ -947,45 +970,91 @@ std::string TiesNote(const Paired& paired) {
       paired.every_pair_ties == 1 ? "it" : "they");
 }
 
-// What the seed count allows: empty when every comparison has the pairs
-// for Holm's correction to keep it; else how many cannot be kept, whatever
-// their data, and the seeds that would let them; then how many have the
-// pairs but too few that differ (Paired::holm_tied_out).
+// What the seed count allows: empty when every tested comparison can reach
+// the first step of Holm's correction with Tarone's rule (Paired::family);
+// else how many cannot and why: too few seed pairs whatever the data, and
+// then the pairs that would let every comparison in, or the pairs but too
+// few of them that differ (Paired::holm_tied_out). None in: no comparison
+// can be kept; some: the others only after enough are kept before them.
 std::string HolmReachNote(const Paired& paired) {
-  const std::string tied =
-      paired.holm_tied_out == 0
-          ? std::string()
-          : fmt::format(
-                "{}{} {} the seed pairs but so few seeds where the two differ (tied seeds leave "
-                "the signed-rank test; fewer than {} remain) that Holm's correction cannot keep "
-                "{}{}, whatever the differences.",
-                paired.holm_unreachable == 0 ? "" : "Of the others, ", paired.holm_tied_out,
-                paired.holm_tied_out == 1 ? "comparison has" : "comparisons have",
-                paired.pairs_for_holm, paired.holm_tied_out == 1 ? "it" : "them",
-                paired.holm_unreachable == 0 ? "" : " either");
-  if (paired.holm_unreachable == 0) return tied;
+  const int left_out = paired.tested - paired.family;
+  if (paired.tested == 0 || left_out == 0) return {};
   const int n = paired.unreachable_pairs;
   const double floor = SignedRankFloor(n);
-  const std::string who =
-      paired.holm_unreachable == paired.family
-          ? std::string("no comparison of this report can")
-          : fmt::format("{} of the {} comparisons (those with {} pairs or fewer) cannot",
-                        paired.holm_unreachable, paired.family, n);
-  const std::string what =
-      floor >= 0.05 ? fmt::format(
-                          "With {} seed pairs the signed-rank test cannot give p below {:.3g}: {} "
-                          "be a finding, whatever the data.",
-                          n, floor, who)
-                    : fmt::format(
-                          "With {} seed pairs the signed-rank test cannot give p below {:.3g}, and "
-                          "Holm's correction for {} comparisons needs p < {:.3g} for its first: {} "
-                          "stay significant after it, whatever the data.",
-                          n, floor, paired.family, 0.05 / paired.family, who);
-  return what + fmt::format(
-                    " {} pairs per comparison (seeds, times the pooled values) at least are "
-                    "needed for Holm's correction to keep one, more for a difference that does "
-                    "not have the same sign in every seed.{}",
-                    paired.pairs_for_holm, tied.empty() ? tied : " " + tied);
+  const std::string needed =
+      paired.holm_unreachable == 0
+          ? std::string()
+          : fmt::format(
+                " {} pairs per comparison (seeds, times the pooled values) at least are needed "
+                "for Holm's correction to keep one, more for a difference that does not have the "
+                "same sign in every seed.",
+                paired.pairs_for_holm);
+  if (paired.family == 0 && paired.holm_tied_out == 0) {
+    // Every comparison has too few pairs: the reason in one sentence (its
+    // floor is at least 0.05 / K, and K is at most the tested count).
+    if (floor >= 0.05) {
+      return fmt::format(
+                 "With {} seed pairs the signed-rank test cannot give p below {:.3g}: no "
+                 "comparison of this report can be a finding, whatever the data.",
+                 n, floor) +
+             needed;
+    }
+    return fmt::format(
+               "With {} seed pairs the signed-rank test cannot give p below {:.3g}, and Holm's "
+               "correction for {} comparisons needs p < {:.3g} for its first (Tarone's rule: K "
+               "= {}): no comparison of this report can stay significant after it, whatever the "
+               "data.",
+               n, floor, paired.tested, 0.05 / paired.tarone_k, paired.tarone_k) +
+           needed;
+  }
+  std::vector<std::string> why;
+  if (paired.holm_unreachable > 0) {
+    why.push_back(fmt::format(
+        "{} with {} seed pairs or fewer, where the signed-rank test cannot give p below {:.3g}",
+        paired.holm_unreachable, n, floor));
+  }
+  if (paired.holm_tied_out > 0) {
+    why.push_back(fmt::format(
+        "{} with {} seed pairs but fewer than {} where the two differ (a tied seed leaves the "
+        "signed-rank test)",
+        paired.holm_tied_out, paired.holm_unreachable == 0 ? "the" : "more",
+        paired.nonzero_for_family));
+  }
+  const std::string rule = fmt::format(
+      "p < {:.3g}, the first step's level (Tarone's rule: K = {}, the smallest k with at most k "
+      "comparisons whose p can fall below 0.05 / k; docs/sweeps.md, \"Holm's correction\")",
+      0.05 / paired.tarone_k, paired.tarone_k);
+  // Pairs enough for every comparison to count at the first step whatever
+  // the others (each below 0.05 / tested).
+  const std::string every =
+      paired.holm_unreachable == 0
+          ? std::string()
+          : fmt::format(
+                " {} pairs per comparison (seeds, times the pooled values), each differing, "
+                "would let every comparison count from the first step.",
+                paired.pairs_for_holm);
+  if (paired.family == 0) {
+    return fmt::format(
+               "No comparison of this report can stay significant after Holm's correction, "
+               "whatever the data: none of the {} can reach {}: {}.",
+               paired.tested, rule, fmt::join(why, "; ")) +
+           every;
+  }
+  const int never = paired.holm_never, later = left_out - never;
+  const std::string after =
+      "can stay significant only at a later step, after enough others are kept";
+  const std::string at_all = "cannot reach p < 0.05 at all";
+  const std::string which = never == 0 ? fmt::format("{} {}.", left_out == 1 ? "It" : "They", after)
+                            : later == 0
+                                ? fmt::format("{} {}.", left_out == 1 ? "It" : "They", at_all)
+                                : fmt::format("{} of them {}; {} {}.", later, after, never, at_all);
+  return fmt::format(
+             "Of the {} comparisons, {} can reach {}. The other {} cannot, whatever the "
+             "data: {}. {}",
+             paired.tested, paired.family, rule,
+             left_out == 1 ? std::string("one") : std::to_string(left_out), fmt::join(why, "; "),
+             which) +
+         every;
 }
 
 // The table columns of a list of cells' swept values: every key whose value
@@ -1174,16 +1243,22 @@ std::string PairedHtml(const Paired& paired, const StoreMeta& meta, const Layout
       EscapeMarkup(meta.report.series), EscapeMarkup(paired.reference),
       meta.report.reference.empty() ? ", else the first series value" : "",
       kExactSignedRankMaxPairs,
-      paired.family == 0
-          ? std::string("This table tests no comparison, so no cell is coloured.")
+      paired.tested == 0 ? std::string("This table tests no comparison, so no cell is coloured.")
+      : paired.family == 0
+          ? fmt::format("<b>Holm</b>: none of the {} comparisons of this table can reach the "
+                        "p Holm's correction needs (below), so no coloured cell stays a "
+                        "finding when all are tested at once.",
+                        paired.tested)
           : fmt::format(
                 "<b>Holm</b>, in coloured cells: p adjusted by Holm's step-down method over the "
-                "{0} "
-                "comparisons of this table (cells &times; metrics with pairs, not every pair "
-                "tied); chance alone makes about 1 in 20 of them coloured where nothing differs, "
-                "and a cell whose Holm p is also below 0.05 (in bold) stays a finding when all "
-                "{0} are tested at once.",
-                paired.family),
+                "{0} comparisons of this table (cells &times; metrics with pairs, not every pair "
+                "tied), with Tarone's rule: each step multiplies the p not by the count of "
+                "comparisons left but by Tarone's K over them, smaller where some cannot reach p "
+                "&lt; 0.05 / K (docs/sweeps.md, &quot;Holm's correction&quot;); chance alone makes "
+                "about 1 in "
+                "20 of them coloured where nothing differs, and a cell whose Holm p is also below "
+                "0.05 (in bold) stays a finding when all {0} are tested at once.",
+                paired.tested),
       reach_note.empty() ? std::string() : " <b>" + EscapeMarkup(reach_note) + "</b>",
       EscapeMarkup(TimingsNote(meta)), EscapeMarkup(TiesNote(paired)));
   // Scrolled by itself when wider than the page (an audit: 1290 px at 1280).
@@ -1467,11 +1542,11 @@ std::vector<Finding> FindingsOf(const std::vector<Cell>& cells, const Paired& pa
           f.text += kept.empty() ? fmt::format(
                                        " None stays significant after Holm's correction for the "
                                        "report's {} comparisons.",
-                                       paired.family)
+                                       paired.tested)
                                  : fmt::format(
                                        " After Holm's correction for the report's {} comparisons: "
                                        "still significant{}.",
-                                       paired.family, at(kept));
+                                       paired.tested, at(kept));
         }
       }
       findings.push_back(std::move(f));
@@ -1568,7 +1643,7 @@ std::string FindingsIntro(const Paired& paired, const GlanceTable& glance, const
     kept += g.holm;
   }
   const std::string reach_note = HolmReachNote(paired);
-  if (paired.family == 0) {
+  if (paired.tested == 0) {
     // Timings alone, or every comparison tied (a review: "makes 0
     // comparisons ... about 0.0 findings").
     return fmt::format(
@@ -1587,13 +1662,13 @@ std::string FindingsIntro(const Paired& paired, const GlanceTable& glance, const
       "and a 95 % interval that excludes 0 (the green and red cells of the paired differences). "
       "A better mean without that is not a finding. This report makes {2} comparisons; where "
       "nothing differs, chance alone makes about {3:.1f} of them findings. {4}{5}{6}",
-      meta.report.series, paired.reference, paired.family, 0.05 * paired.family,
+      meta.report.series, paired.reference, paired.tested, 0.05 * paired.tested,
       findings == 0
           ? std::string("None of them is a finding.")
           : fmt::format("Of them {} {}, and {} of those {} significant after Holm's correction "
-                        "for all {} (Holm p < 0.05).",
+                        "{} (Holm p < 0.05).",
                         findings, findings == 1 ? "is a finding" : "are findings", kept,
-                        kept == 1 ? "stays" : "stay", paired.family),
+                        kept == 1 ? "stays" : "stay", fmt::format("for all {}", paired.tested)),
       reach_note.empty() ? std::string() : " " + reach_note, TiesNote(paired));
 }
 
@@ -1607,7 +1682,7 @@ std::string FindingsIntro(const Paired& paired, const GlanceTable& glance, const
 std::vector<std::string> SummaryOf(const std::vector<Cell>& cells, const Paired& paired,
                                    const StoreMeta& meta, const Layout& layout) {
   std::vector<std::string> out;
-  if (paired.series_index < 0 || paired.family == 0) return out;
+  if (paired.series_index < 0 || paired.tested == 0) return out;
   const auto& keys = meta.swept_keys;
   const auto si = static_cast<size_t>(paired.series_index);
   const int xi = layout.x_index;
@@ -2184,6 +2259,10 @@ std::string CellReplicationHtml(const CellReplicationTable& table, const StoreMe
   return h + "</table>\n";
 }
 
+// A Holm p in a CSV: empty outside the family (not tested, or left out by
+// Tarone's rule).
+std::string HolmCsv(double holm) { return std::isnan(holm) ? std::string() : Number(holm); }
+
 // replication.csv: one row per comparison made in both stores.
 std::string ReplicationCsv(const ReplicationTable& table, const Paired& here,
                            const StoreMeta& meta) {
@@ -2197,14 +2276,14 @@ std::string ReplicationCsv(const ReplicationTable& table, const Paired& here,
     for (const std::string& v : r.here->cell->values) csv += Csv(v) + ",";
     const PairedComparison& a = r.there->metrics.at(r.metric);
     const PairedComparison& b = r.here->metrics.at(r.metric);
-    csv += fmt::format(
-        "{},{},{},{},{},{},{},{},{},{},{},{},{},{},{}\n", Csv(here.reference), r.metric, a.pairs,
-        Number(a.difference.mean), Tested(a, r.metric) ? Number(a.test.p_value) : std::string(),
-        Tested(a, r.metric) ? Number(r.there->holm.at(r.metric)) : std::string(),
-        VerdictName(r.there_verdict), r.there_kept ? 1 : 0, b.pairs, Number(b.difference.mean),
-        Tested(b, r.metric) ? Number(b.test.p_value) : std::string(),
-        Tested(b, r.metric) ? Number(r.here->holm.at(r.metric)) : std::string(),
-        VerdictName(r.here_verdict), r.here_kept ? 1 : 0, ReplicationName(r.outcome));
+    csv += fmt::format("{},{},{},{},{},{},{},{},{},{},{},{},{},{},{}\n", Csv(here.reference),
+                       r.metric, a.pairs, Number(a.difference.mean),
+                       Tested(a, r.metric) ? Number(a.test.p_value) : std::string(),
+                       HolmCsv(r.there->holm.at(r.metric)), VerdictName(r.there_verdict),
+                       r.there_kept ? 1 : 0, b.pairs, Number(b.difference.mean),
+                       Tested(b, r.metric) ? Number(b.test.p_value) : std::string(),
+                       HolmCsv(r.here->holm.at(r.metric)), VerdictName(r.here_verdict),
+                       r.here_kept ? 1 : 0, ReplicationName(r.outcome));
   }
   return csv;
 }

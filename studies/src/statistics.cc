@@ -277,19 +277,80 @@ int PairsForHolm(int m, double alpha) {
   return n;
 }
 
-std::vector<double> HolmAdjusted(std::span<const double> p_values) {
-  std::vector<double> adjusted(p_values.size(), std::numeric_limits<double>::quiet_NaN());
+namespace {
+
+// The indices of the tests (p not NaN), by ascending p; ties in given order.
+std::vector<size_t> AscendingTests(std::span<const double> p_values) {
   std::vector<size_t> order;
   for (size_t i = 0; i < p_values.size(); ++i) {
     if (!std::isnan(p_values[i])) order.push_back(i);
   }
   std::stable_sort(order.begin(), order.end(),
                    [&](size_t a, size_t b) { return p_values[a] < p_values[b]; });
+  return order;
+}
+
+// Tarone's K over floors sorted ascending: the smallest k >= 1 with at most
+// k of them below alpha / k. That count falls as k grows and is at most the
+// floors' count, so K is at most that count (1 for none).
+int TaroneKOfSorted(const std::vector<double>& sorted, double alpha) {
+  int k = 1;
+  while (std::lower_bound(sorted.begin(), sorted.end(), alpha / k) - sorted.begin() > k) ++k;
+  return k;
+}
+
+}  // namespace
+
+std::vector<double> HolmAdjusted(std::span<const double> p_values) {
+  std::vector<double> adjusted(p_values.size(), std::numeric_limits<double>::quiet_NaN());
+  const std::vector<size_t> order = AscendingTests(p_values);
   const size_t m = order.size();
   double running = 0.0;  // the max over j <= i keeps the adjusted values monotone
   for (size_t j = 0; j < m; ++j) {
     running = std::max(running, static_cast<double>(m - j) * p_values[order[j]]);
     adjusted[order[j]] = std::min(1.0, running);
+  }
+  return adjusted;
+}
+
+TaroneFamily TaroneFamilyOf(std::span<const double> floors, double alpha) {
+  HCPF_CHECK(alpha > 0.0 && alpha < 1.0);
+  TaroneFamily family;
+  family.member.assign(floors.size(), false);
+  std::vector<double> sorted;
+  for (const double f : floors) {
+    if (!std::isnan(f)) sorted.push_back(f);
+  }
+  if (sorted.empty()) return family;
+  std::sort(sorted.begin(), sorted.end());
+  const int k = TaroneKOfSorted(sorted, alpha);
+  family.k = k;
+  for (size_t i = 0; i < floors.size(); ++i) {
+    family.member[i] = !std::isnan(floors[i]) && floors[i] < alpha / k;
+    family.size += family.member[i] ? 1 : 0;
+  }
+  return family;
+}
+
+std::vector<double> HolmTaroneAdjusted(std::span<const double> p_values,
+                                       std::span<const double> floors, double alpha) {
+  HCPF_CHECK(p_values.size() == floors.size());
+  HCPF_CHECK(alpha > 0.0 && alpha < 1.0);
+  std::vector<double> adjusted(p_values.size(), std::numeric_limits<double>::quiet_NaN());
+  const std::vector<size_t> order = AscendingTests(p_values);
+  // The floors of the tests left, sorted.
+  std::vector<double> left;
+  for (const size_t i : order) {
+    HCPF_CHECK(!std::isnan(floors[i]));
+    left.push_back(floors[i]);
+  }
+  std::sort(left.begin(), left.end());
+  double running = 0.0;  // the max over j <= i keeps the adjusted values monotone
+  for (const size_t i : order) {
+    const int k = TaroneKOfSorted(left, alpha);
+    running = std::max(running, static_cast<double>(k) * p_values[i]);
+    adjusted[i] = std::min(1.0, running);
+    left.erase(std::lower_bound(left.begin(), left.end(), floors[i]));
   }
   return adjusted;
 }

@@ -369,6 +369,10 @@ std::string SeedsForHolmNote(const SweepSpec& spec) {
   const double floor = SignedRankFloor(n);
   if (floor < 0.05 / m) return {};
   const int needed = PairsForHolm(m, 0.05);
+  // Tarone's K for m comparisons of this floor (every pair differing): the
+  // smallest k with none below 0.05 / k, the first step's multiplier.
+  int tarone_k = 1;
+  while (tarone_k < m && floor < 0.05 / tarone_k) ++tarone_k;
   const int seeds_needed = static_cast<int>(std::ceil(needed / pooled));
   const std::string why =
       floor >= 0.05
@@ -378,10 +382,10 @@ std::string SeedsForHolmNote(const SweepSpec& spec) {
                 floor)
           : fmt::format(
                 "the signed-rank test cannot give p below {:.3g}, and Holm's correction "
-                "over the report's {} paired comparisons needs p < {:.3g} for its first, "
-                "so none can survive it unless comparisons tied on every seed pair, which "
-                "are not tested, leave {} or fewer",
-                floor, m, 0.05 / m, static_cast<int>(std::ceil(0.05 / floor)) - 1);
+                "over the report's {} paired comparisons needs p < {:.3g} for its first "
+                "(Tarone's rule: K = {}), so none can survive it unless ties (seeds where "
+                "both runs have the same value) raise the floor of all but {} or fewer",
+                floor, m, 0.05 / tarone_k, tarone_k, static_cast<int>(std::ceil(0.05 / floor)) - 1);
   return fmt::format(
       "{}: with {} seeds{} each paired comparison of the report ({} against {}) has {} pairs: "
       "{}, whatever the data. {} pairs at least are needed (seeds: {} or more; more for a "

@@ -1822,21 +1822,34 @@ TEST(Report, PairedDifferencesByHand) {
   EXPECT_EQ(row[15], "1");
   EXPECT_NEAR(std::stod(row_of("1000", "hijack_rate")[14]), 0.0625, 1e-9);
   // mota at 100: d = 0 on every seed (0.9 both), not tested: no p, no Holm
-  // p, outside the family. p_holm over the other 3: sorted 2/1024, 0.0625,
-  // 94/1024 times 3, 2, 1: 6/1024 = 0.005859, 0.125, 0.091797 (raised to
-  // 0.125).
+  // p, outside the family. The other 3 are tested, sorted p 2/1024,
+  // 0.0625, 94/1024, whose p cannot fall below 2/1024, 2/32 (hijack_rate at
+  // 1000: 5 nonzero) and 2/1024. Holm with Tarone's rule: step 1, below
+  // 0.05 / 1 two floors, below 0.05 / 2 two: K = 2, 4/1024 = 0.003906; step
+  // 2 (2/32, 2/1024 left): below 0.05 one: K = 1, 0.0625; step 3: K = 1,
+  // 0.091797. (Holm alone: 6/1024, 0.125, 0.125.)
   EXPECT_EQ(row_of("100", "mota")[12], "0");
   EXPECT_EQ(row_of("100", "mota")[14], "");
   EXPECT_EQ(row_of("100", "mota")[16], "");
-  EXPECT_NEAR(std::stod(row_of("100", "hijack_rate")[16]), 6.0 / 1024.0, 1e-6);
-  EXPECT_NEAR(std::stod(row_of("1000", "hijack_rate")[16]), 0.125, 1e-6);
-  EXPECT_NEAR(std::stod(row_of("1000", "mota")[16]), 0.125, 1e-6);
+  EXPECT_NEAR(std::stod(row_of("100", "hijack_rate")[16]), 4.0 / 1024.0, 1e-6);
+  EXPECT_NEAR(std::stod(row_of("1000", "hijack_rate")[16]), 0.0625, 1e-6);
+  EXPECT_NEAR(std::stod(row_of("1000", "mota")[16]), 94.0 / 1024.0, 1e-6);
 
   const std::string html = Read(r.html_path);
   EXPECT_NE(html.find("<h2 id=\"paired\">Paired differences</h2>"), std::string::npos);
   EXPECT_NE(html.find("charged &minus; systematic</td><td>10</td>"), std::string::npos);
-  EXPECT_NE(html.find("p&nbsp;=&nbsp;0.002, <b>Holm&nbsp;0.006</b>"), std::string::npos);
+  EXPECT_NE(html.find("p&nbsp;=&nbsp;0.002, <b>Holm&nbsp;0.004</b>"), std::string::npos);
   EXPECT_NE(html.find("over the 3 comparisons of this table"), std::string::npos);
+  // The first step's level with K = 2 is p < 0.025: 7 nonzero differences
+  // (2/128 = 0.0156; 6 give 0.03125).
+  EXPECT_NE(html.find("Of the 3 comparisons, 2 can reach p &lt; 0.025, the first step's level "
+                      "(Tarone's rule: K = 2, the smallest k with at most k comparisons whose p "
+                      "can fall below 0.05 / k; docs/sweeps.md, &quot;Holm's correction&quot;). "
+                      "The other one cannot, whatever the data: 1 with the seed pairs but fewer "
+                      "than 7 where the two differ (a tied seed leaves the signed-rank test). It "
+                      "cannot reach p &lt; 0.05 at all."),
+            std::string::npos)
+      << html;
   EXPECT_NE(html.find(" 1 comparison (mota) has the same value in every seed pair"),
             std::string::npos);
   // Lower hijack rate is better: significant and negative → green.
@@ -2210,14 +2223,15 @@ TEST(Report, TheSummarySaysPerPanelWhatSurvivesHolmsCorrection) {
 // (p = 0.002, interval [−1, −1]) and not at 1000 (p = 0.0625). mota: equal
 // means (0.9) at 100, charged best at 1000 (0.95 > 0.9); no difference is a
 // finding (p = 0.092 at 1000), and at 100 every pair ties (0.9 both), so it
-// is not tested: the family is 3. With charged as the reference the sign
-// turns: systematic − charged is worse at 100.
+// is not tested: the family is 3, and Tarone's rule makes Holm's first
+// step K = 2 (PairedDifferencesByHand). With charged as the reference the
+// sign turns: systematic − charged is worse at 100.
 TEST(Report, FindingsSayWhichSeriesIsBestAndWhereTheDifferenceIsSignificant) {
   const fs::path dir = HandStore("report-findings");
   const ReportResult r = WriteReport({.dir = dir.string()});
   EXPECT_EQ(r.findings, 2);
   const std::string md = Read(dir / "findings.md");
-  // The summary first: the one finding, kept by Holm (2/1024 × 3 = 0.0059).
+  // The summary first: the one finding, kept by Holm (2/1024 × 2 = 0.0039).
   EXPECT_NE(md.find("# Findings\n\n**Summary.** charged \u2212 systematic, after Holm's "
                     "correction: better in hijack_rate at tracker.particles = 100; worse in no "
                     "metric.\n"),
@@ -2273,10 +2287,11 @@ TEST(Report, FindingsSayWhichSeriesIsBestAndWhereTheDifferenceIsSignificant) {
 // (p = 2/64 = 0.03125, interval [−1, −1]) and mota at 1000 +0.1 on all 6
 // (p = 0.03125, [0.1, 0.1]): two findings. Holm over the 3 comparisons
 // (0.03125, 0.03125, hijack_rate at 1000: 5 nonzero, p = 2/32 = 0.0625;
-// mota at 100 ties on every pair, not tested) gives 0.09375, 0.0625 raised
-// to 0.09375, 0.0625 raised to 0.09375: neither finding survives, and the
-// report says so rather than calling them two results. Holm's first needs
-// p < 0.05/3 = 0.0167: 7 pairs (2/128 = 0.0156), not 6.
+// mota at 100 ties on every pair, not tested) with Tarone's rule (below)
+// gives 0.0625 each: its first step needs p < 0.05/2 = 0.025, which 2/64
+// misses. Neither finding survives, and the report says so rather than
+// calling them two results; 7 pairs (2/128 = 0.0156 < 0.05/3) would let all
+// three count.
 TEST(Report, FindingsSayWhenNoneSurvivesHolmsCorrection) {
   const fs::path dir = HandStore("report-holm", "systematic", 6);
   const ReportResult r = WriteReport({.dir = dir.string()});
@@ -2290,8 +2305,9 @@ TEST(Report, FindingsSayWhenNoneSurvivesHolmsCorrection) {
               "about 0.2 of them findings. Of them 2 are findings, and 0 of those stay "
               "significant after Holm's correction for all 3 (Holm p < 0.05). With 6 seed "
               "pairs the signed-rank test cannot give p below 0.0312, and Holm's correction "
-              "for 3 comparisons needs p < 0.0167 for its first: no comparison of this "
-              "report can stay significant after it, whatever the data. 7 pairs per "
+              "for 3 comparisons needs p < 0.025 for its first (Tarone's rule: K = 2): no "
+              "comparison of this report can stay significant after it, whatever the data. 7 "
+              "pairs per "
               "comparison (seeds, times the pooled values) at least are needed for Holm's "
               "correction to keep one, more for a difference that does not have the same "
               "sign in every seed. 1 comparison (mota) has the same value in every seed pair"),
@@ -2309,27 +2325,35 @@ TEST(Report, FindingsSayWhenNoneSurvivesHolmsCorrection) {
   EXPECT_NE(md.find("| mota | charged \u2212 systematic | 1 | 0 | 0 | 0 | 1 | 2 |\n"),
             std::string::npos)
       << md;
+  // Holm with Tarone's rule: sorted p 2/64, 2/64, 2/32 with the same floors.
+  // Step 1: below 0.05 two, below 0.025 none: K = 2, 0.0625; step 2 (2/64,
+  // 2/32): below 0.05 one, K = 1, 0.03125 raised to 0.0625; step 3: 0.0625.
+  // No comparison reaches the first step's 0.025 (Holm alone: 0.09375 each).
   const auto rows = CsvRows(dir / "paired.csv");
   ASSERT_EQ(rows.size(), 4U);
   for (const auto& row : rows) {
     if (row[0] == "100" && row[3] == "mota") {
       EXPECT_EQ(row[16], "");  // not tested
     } else {
-      EXPECT_NEAR(std::stod(row[16]), 0.09375, 1e-9) << row[0] << " " << row[3];
+      EXPECT_NEAR(std::stod(row[16]), 0.0625, 1e-9) << row[0] << " " << row[3];
     }
   }
-  // The coloured cells give Holm's p, not in bold (not below 0.05).
+  // The coloured cells give Holm's p, not in bold (not below 0.05); the
+  // table says none can be kept.
   const std::string html = Read(r.html_path);
-  EXPECT_NE(html.find("p&nbsp;=&nbsp;0.031, Holm&nbsp;0.094</td>"), std::string::npos);
+  EXPECT_NE(html.find("p&nbsp;=&nbsp;0.031, Holm&nbsp;0.062</td>"), std::string::npos);
   EXPECT_EQ(html.find("<b>Holm&nbsp;"), std::string::npos);
+  EXPECT_NE(html.find("<b>Holm</b>: none of the 3 comparisons of this table can reach the p "
+                      "Holm's correction needs (below)"),
+            std::string::npos);
   // The paired table's note says it too, in bold.
   EXPECT_NE(html.find("<b>With 6 seed pairs the signed-rank test cannot give p below 0.0312"),
             std::string::npos);
 
-  // 10 seeds: 2 / 1024 = 0.00195 < 0.0167, every comparison can be kept,
-  // and nothing is said. With the charged runs at 1000 failed on seeds 0–3,
-  // the two comparisons at 1000 have 6 pairs and cannot: the note counts
-  // them.
+  // 10 seeds: 2 / 1024 = 0.00195 < 0.0167, no comparison has too few pairs,
+  // and that is not said. With the charged runs at 1000 failed on seeds 0–3,
+  // the two comparisons at 1000 have 6 pairs and cannot be kept: the note
+  // counts them.
   const fs::path ten = HandStore("report-holm-ten");
   WriteReport({.dir = ten.string()});
   EXPECT_EQ(Read(ten / "findings.md").find("seed pairs the signed-rank test cannot"),
@@ -2337,22 +2361,39 @@ TEST(Report, FindingsSayWhenNoneSurvivesHolmsCorrection) {
       << Read(ten / "findings.md");
   // But hijack_rate at 1000 differs on 5 of its 10 seeds only (systematic
   // hijacked on seeds 0–4, charged never): 5 nonzero differences give p >=
-  // 2/32, so Holm cannot keep it whatever they are, and the report says so.
+  // 2/32, so Holm cannot keep it whatever they are; Tarone's rule does not
+  // count it at the first step (PairedDifferencesByHand), and the report
+  // says so.
   EXPECT_NE(Read(ten / "findings.md")
-                .find("significant after Holm's correction for all 3 (Holm p < 0.05). 1 "
-                      "comparison has the seed pairs but so few seeds where the two differ "
-                      "(tied seeds leave the signed-rank test; fewer than 7 remain) that Holm's "
-                      "correction cannot keep it, whatever the differences. 1 comparison (mota) "
-                      "has the same value in every seed pair"),
+                .find("significant after Holm's correction for all 3 (Holm p < 0.05). Of the 3 "
+                      "comparisons, 2 can reach p < 0.025, the first step's level (Tarone's "
+                      "rule: K = 2, the smallest k with at most k comparisons whose p can fall "
+                      "below 0.05 / k; docs/sweeps.md, \"Holm's correction\"). The other one "
+                      "cannot, whatever the data: 1 with the seed pairs but fewer than 7 where "
+                      "the two differ (a tied seed leaves the signed-rank test). It cannot reach "
+                      "p < 0.05 at all. 1 comparison (mota) has the same value in every seed "
+                      "pair"),
             std::string::npos)
       << Read(ten / "findings.md");
+  // The two at 1000: hijack_rate differs on seed 4 alone of 4–9 (floor 1),
+  // mota on all six (floor 2/64); hijack_rate at 100 has 10 (2/1024). Below
+  // 0.05 two, below 0.025 one: K = 2, and only hijack_rate at 100 can reach
+  // the first step's 0.025. Both at 1000 have 6 pairs, whose floor (2/64)
+  // is above 0.025 whatever the ties; mota's can still reach 0.05 (at a
+  // later step), hijack_rate's (1) cannot. 7 pairs, each differing, reach
+  // 2/128 < 0.05 / 3.
   const fs::path some = HandStore("report-holm-some", "systematic", 10, 4);
   WriteReport({.dir = some.string()});
   EXPECT_NE(Read(some / "findings.md")
-                .find("With 6 seed pairs the signed-rank test cannot give p below 0.0312, and "
-                      "Holm's correction for 3 comparisons needs p < 0.0167 for its first: 2 of "
-                      "the 3 comparisons (those with 6 pairs or fewer) cannot stay significant "
-                      "after it, whatever the data. 7 pairs per comparison"),
+                .find("Of the 3 comparisons, 1 can reach p < 0.025, the first step's level "
+                      "(Tarone's rule: K = 2, the smallest k with at most k comparisons whose p "
+                      "can fall below 0.05 / k; docs/sweeps.md, \"Holm's correction\"). The "
+                      "other 2 cannot, whatever the data: 2 with 6 seed pairs or fewer, where "
+                      "the signed-rank test cannot give p below 0.0312. 1 of them can stay "
+                      "significant only at a later step, after enough others are kept; 1 cannot "
+                      "reach p < 0.05 at all. 7 pairs per comparison (seeds, times the pooled "
+                      "values), each differing, would let every comparison count from the first "
+                      "step."),
             std::string::npos)
       << Read(some / "findings.md");
 }
@@ -2658,8 +2699,11 @@ void EditStore(const fs::path& dir, const std::string& sql) {
 // Holm), at 1000 not (5 nonzero, p = 0.0625); mota is a finding nowhere (at
 // 1000 nine +0.1 and one −0.4: the interval reaches 0). With 6 seeds
 // hijack_rate at 100 (p = 2/64) and mota at 1000 (six +0.1, p = 2/64) are
-// findings, neither kept by Holm over 3 comparisons. mota at 100 ties on
-// every pair in both stores: tested in neither, no replication outcome.
+// findings, neither kept by Holm (Holm p 0.0625 each:
+// FindingsSayWhenNoneSurvivesHolmsCorrection; in the 10-seed store
+// hijack_rate at 100 has Holm p 4/1024 = 0.00390625: PairedDifferencesByHand).
+// mota at 100 ties on every pair in both stores: tested in neither, no
+// replication outcome.
 TEST(Report, AgainstAnotherStoreSaysWhichFindingsReplicate) {
   const fs::path ten = HandStore("replicate-ten", "systematic", 10);
   const fs::path six = HandStore("replicate-six", "systematic", 6);
@@ -2676,14 +2720,16 @@ TEST(Report, AgainstAnotherStoreSaysWhichFindingsReplicate) {
   std::string csv = Read(six / "replication.csv");
   EXPECT_NE(csv.find("100,charged,systematic,hijack_rate,10,-1,0.00195312,"), std::string::npos)
       << csv;
-  EXPECT_NE(csv.find(",better,1,6,-1,0.03125,0.09375,better,0,replicated\n"), std::string::npos)
+  EXPECT_NE(csv.find("100,charged,systematic,hijack_rate,10,-1,0.00195312,0.00390625,better,1,"),
+            std::string::npos)
+      << csv;
+  EXPECT_NE(csv.find(",better,1,6,-1,0.03125,0.0625,better,0,replicated\n"), std::string::npos)
       << csv;
   EXPECT_EQ(csv.find("100,charged,systematic,mota,"), std::string::npos) << csv;
   EXPECT_NE(csv.find("1000,charged,systematic,hijack_rate,10,-0.5,0.0625,"), std::string::npos)
       << csv;
   EXPECT_NE(csv.find("1000,charged,systematic,mota,10,0.05,"), std::string::npos) << csv;
-  EXPECT_NE(csv.find(",none,0,6,0.1,0.03125,0.09375,better,0,new here\n"), std::string::npos)
-      << csv;
+  EXPECT_NE(csv.find(",none,0,6,0.1,0.03125,0.0625,better,0,new here\n"), std::string::npos) << csv;
   EXPECT_EQ(Count(csv, "\n"), 4U) << csv;  // the header and 3 comparisons
   const std::string sentence =
       "Against `" + ten.string() +
@@ -2714,7 +2760,7 @@ TEST(Report, AgainstAnotherStoreSaysWhichFindingsReplicate) {
   // The other way round: the 6-seed finding at 1000 is not one with 10 seeds.
   r = WriteReport({.dir = ten.string(), .against = six.string()});
   csv = Read(ten / "replication.csv");
-  EXPECT_NE(csv.find("1000,charged,systematic,mota,6,0.1,0.03125,0.09375,better,0,10,0.05,"),
+  EXPECT_NE(csv.find("1000,charged,systematic,mota,6,0.1,0.03125,0.0625,better,0,10,0.05,"),
             std::string::npos)
       << csv;
   EXPECT_NE(csv.find(",none,0,not replicated\n"), std::string::npos) << csv;
@@ -2726,7 +2772,7 @@ TEST(Report, AgainstAnotherStoreSaysWhichFindingsReplicate) {
   const fs::path five = HandStore("replicate-five", "systematic", 5);
   WriteReport({.dir = five.string(), .against = ten.string()});
   csv = Read(five / "replication.csv");
-  EXPECT_NE(csv.find("100,charged,systematic,hijack_rate,10,-1,0.00195312,0.00585938,better,1,5,"
+  EXPECT_NE(csv.find("100,charged,systematic,hijack_rate,10,-1,0.00195312,0.00390625,better,1,5,"
                      "-1,0.0625,"),
             std::string::npos)
       << csv;
@@ -2742,13 +2788,15 @@ TEST(Report, AgainstAnotherStoreSaysWhichFindingsReplicate) {
             "'100'");
   WriteReport({.dir = swapped.string(), .against = ten.string()});
   csv = Read(swapped / "replication.csv");
-  EXPECT_NE(csv.find("100,charged,systematic,hijack_rate,10,-1,0.00195312,0.00585938,better,1,10,"
-                     "1,0.00195312,0.00585938,worse,1,reversed\n"),
+  EXPECT_NE(csv.find("100,charged,systematic,hijack_rate,10,-1,0.00195312,0.00390625,better,1,10,"
+                     "1,0.00195312,0.00390625,worse,1,reversed\n"),
             std::string::npos)
       << csv;
   // Tied in one store only: mota at 100 differs here (charged 0.95 against
-  // 0.9 on every seed: p = 2/1024; Holm over 4, 2/1024 twice, 0.0625 and
-  // 94/1024: 0.0078125), ties there; there's side has no p, no Holm p.
+  // 0.9 on every seed: p = 2/1024; 4 tested, floors 2/1024 three times and
+  // 2/32: below 0.05 / 3 three, so Holm's first step has K = 3: 3 × 2/1024
+  // = 0.00585938, and the second (K = 2, 4/1024) keeps it), ties there;
+  // there's side has no p, no Holm p.
   const fs::path untied = HandStore("replicate-untied", "systematic", 10);
   EditStore(untied,
             "UPDATE runs SET mota = 0.95 WHERE \"tracker.particles\" = '100' AND "
@@ -2756,7 +2804,7 @@ TEST(Report, AgainstAnotherStoreSaysWhichFindingsReplicate) {
   WriteReport({.dir = untied.string(), .against = ten.string()});
   csv = Read(untied / "replication.csv");
   EXPECT_NE(
-      csv.find("100,charged,systematic,mota,10,0,,,none,0,10,0.05,0.00195312,0.0078125,better,"
+      csv.find("100,charged,systematic,mota,10,0,,,none,0,10,0.05,0.00195312,0.00585938,better,"
                "1,new here\n"),
       std::string::npos)
       << csv;

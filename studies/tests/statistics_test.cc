@@ -430,6 +430,97 @@ TEST(SignedRankFloor, ByHandAndReachedByOneSignedDifferences) {
   EXPECT_EQ(PairsForHolm(112, 0.05), 13);
 }
 
+// Tarone's family by hand, alpha = 0.05. Floors {2/32, 2/1024, NaN, 2/1024,
+// 2/128, 2/1024}: five tests, sorted 0.00195 (three), 0.0156, 0.0625. Below
+// 0.05 / k: k = 1 (0.05), 2 (0.025), 3 (0.0167): four, more than k; k = 4
+// (0.0125): three, so K = 4 and the family is the three of 10 differing
+// seeds. Holm over all five would need p < 0.01 first, over them 0.0167.
+TEST(TaroneFamily, TheSmallestKWithAtMostKFloorsBelowAlphaOverK) {
+  const std::vector<double> floors = {0.0625,     2.0 / 1024, std::nan(""),
+                                      2.0 / 1024, 2.0 / 128,  2.0 / 1024};
+  const TaroneFamily f = TaroneFamilyOf(floors, 0.05);
+  EXPECT_EQ(f.k, 4);
+  EXPECT_EQ(f.size, 3);
+  EXPECT_EQ(f.member, (std::vector<bool>{false, true, false, true, false, true}));
+  // Twenty comparisons of 10 differing seeds and ten of 5: below 0.05 / k
+  // twenty for every k up to 25 (0.002 > 0.00195), so K = 20 and the ten
+  // leave: Holm's first step needs p < 0.0025, which 2 / 1024 reaches; over
+  // all thirty it would need 0.00167, which it does not.
+  std::vector<double> mixed(20, 2.0 / 1024);
+  mixed.resize(30, 0.0625);
+  const TaroneFamily twenty = TaroneFamilyOf(mixed, 0.05);
+  EXPECT_EQ(twenty.k, 20);
+  EXPECT_EQ(twenty.size, 20);
+  EXPECT_LT(mixed[0], 0.05 / twenty.size);
+  EXPECT_GT(mixed[0], 0.05 / 30);
+  // Thirty of 10 seeds: thirty below 0.05 / k up to k = 25, none from 26
+  // (0.001923): K = 26 and no comparison can be kept, as with Holm over 30.
+  const std::vector<double> thirty(30, 2.0 / 1024);
+  const TaroneFamily none = TaroneFamilyOf(thirty, 0.05);
+  EXPECT_EQ(none.k, 26);
+  EXPECT_EQ(none.size, 0);
+  // Every floor low enough: all of them, K = their count.
+  const std::vector<double> low(7, 2.0 / 1024);
+  EXPECT_EQ(TaroneFamilyOf(low, 0.05).size, 7);
+  EXPECT_EQ(TaroneFamilyOf(low, 0.05).k, 7);
+  // No test: no family.
+  const std::vector<double> nan_only = {std::nan("")};
+  EXPECT_EQ(TaroneFamilyOf(nan_only, 0.05).k, 0);
+  EXPECT_EQ(TaroneFamilyOf(nan_only, 0.05).member, std::vector<bool>{false});
+  EXPECT_EQ(TaroneFamilyOf(std::vector<double>{}, 0.05).size, 0);
+}
+
+// Holm with Tarone's rule by hand, alpha = 0.05: at each step the smallest
+// p left times Tarone's K over the floors left, kept monotone.
+TEST(HolmTaroneAdjusted, StepDownByHandWithTaronesKPerStep) {
+  const double nan = std::nan("");
+  // p {0.001, 0.02, NaN, 0.5} with floors {0.001, 0.02, NaN, 0.02}. Step 1:
+  // below 0.05 / 1 and 0.05 / 2 three, below 0.05 / 3 one: K = 3, 0.003.
+  // Step 2 (floors 0.02, 0.02): below 0.025 two: K = 2, 0.04. Step 3: K =
+  // 1, 0.5. As Holm: a family fixed at the first step (the one floor below
+  // 0.0167) would have lost 0.02, which the step-down keeps.
+  const std::vector<double> p = {0.001, 0.02, nan, 0.5}, f = {0.001, 0.02, nan, 0.02};
+  const std::vector<double> h = HolmTaroneAdjusted(p, f, 0.05);
+  ASSERT_EQ(h.size(), 4U);
+  EXPECT_NEAR(h[0], 0.003, 1e-12);
+  EXPECT_NEAR(h[1], 0.04, 1e-12);
+  EXPECT_TRUE(std::isnan(h[2]));
+  EXPECT_NEAR(h[3], 0.5, 1e-12);
+  // p 2/1024, 0.03, 0.04 with floors 2/1024, 2/128, 2/64. Step 1: below
+  // 0.05 three, below 0.025 two: K = 2, 4/1024 (Holm: 3 × 2/1024). Step 2
+  // (2/128, 2/64): below 0.05 two, below 0.025 one: K = 2, 0.06. Step 3: K
+  // = 1, 0.04 raised to 0.06.
+  const std::vector<double> p3 = {2.0 / 1024, 0.03, 0.04}, f3 = {2.0 / 1024, 2.0 / 128, 2.0 / 64};
+  const std::vector<double> h3 = HolmTaroneAdjusted(p3, f3, 0.05);
+  EXPECT_NEAR(h3[0], 4.0 / 1024, 1e-12);
+  EXPECT_NEAR(h3[1], 0.06, 1e-12);
+  EXPECT_NEAR(h3[2], 0.06, 1e-12);
+  EXPECT_NEAR(HolmAdjusted(p3)[0], 6.0 / 1024, 1e-12);
+  // Twenty of 10 seeds all one sign (p = floor = 2/1024) beside ten of 5
+  // (floor 2/32, p 0.0625): K = 20 at step 1, 20 × 2/1024 = 0.0390625, and
+  // 19, 18, ... after: all twenty kept. The ten: K = 1, p 0.0625. Holm
+  // over thirty keeps none (30 × 2/1024 = 0.0586).
+  std::vector<double> pm(20, 2.0 / 1024), fm(20, 2.0 / 1024);
+  pm.resize(30, 0.0625);
+  fm.resize(30, 0.0625);
+  const std::vector<double> hm = HolmTaroneAdjusted(pm, fm, 0.05);
+  for (int i = 0; i < 20; ++i) EXPECT_NEAR(hm[static_cast<size_t>(i)], 0.0390625, 1e-12) << i;
+  for (int i = 20; i < 30; ++i) EXPECT_NEAR(hm[static_cast<size_t>(i)], 0.0625, 1e-12) << i;
+  EXPECT_GT(HolmAdjusted(pm)[0], 0.05);
+  // Every floor low: Tarone's K is the count left, and it is Holm.
+  const std::vector<double> plain = {0.04, 0.005, nan, 0.03, 0.01, 0.5};
+  const std::vector<double> tiny = {1e-9, 1e-9, nan, 1e-9, 1e-9, 1e-9};
+  const std::vector<double> tarone = HolmTaroneAdjusted(plain, tiny, 0.05);
+  const std::vector<double> holm = HolmAdjusted(plain);
+  for (size_t i = 0; i < plain.size(); ++i) {
+    EXPECT_EQ(std::isnan(tarone[i]), std::isnan(holm[i])) << i;
+    if (!std::isnan(holm[i])) {
+      EXPECT_EQ(tarone[i], holm[i]) << i;
+    }
+  }
+  EXPECT_TRUE(HolmTaroneAdjusted(std::vector<double>{}, std::vector<double>{}, 0.05).empty());
+}
+
 TEST(MetricCatalogue, ProportionsAreTheFractionsOfCountedEvents) {
   for (const char* name :
        {"da_accuracy", "hijack_rate", "hijacked_fraction", "det_precision", "det_recall",

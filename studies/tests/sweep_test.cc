@@ -210,7 +210,10 @@ TEST(Sweep, ReportReferenceIsAValueOfTheSeries) {
 // which 5 are tested (ms_per_frame, a timing, is not): 2 compared cells x 5
 // = 10 comparisons, Holm's first step p < 0.05 / 10 = 0.005. 10 seeds: p
 // can reach 2/1024 = 0.00195, no warning; 8 seeds: 2/256 = 0.0078, a
-// warning, and 9 pairs (2/512 = 0.0039) are needed.
+// warning, and 9 pairs (2/512 = 0.0039) are needed. With Tarone's rule the
+// first step's K for ten floors of 0.0078 is 7: below 0.05 / k all ten up to
+// k = 6 (0.0083), none at 7 (0.00714); 0.0078 could be kept among 6 (6 ×
+// 0.0078 = 0.047).
 TEST(Sweep, SeedsTooFewForHolmAreSaidBeforeTheSweepRuns) {
   const auto dir = SweepFolder("holm-note");
   const std::string grid =
@@ -223,9 +226,10 @@ TEST(Sweep, SeedsTooFewForHolmAreSaidBeforeTheSweepRuns) {
       note.find("with 8 seeds each paired comparison of the report "
                 "(tracker.resampling.method against systematic) has 8 pairs: the "
                 "signed-rank test cannot give p below 0.00781, and Holm's correction over "
-                "the report's 10 paired comparisons needs p < 0.005 for its first, so "
-                "none can survive it unless comparisons tied on every seed pair, which are "
-                "not tested, leave 6 or fewer, whatever the data. 9 pairs at least are needed "
+                "the report's 10 paired comparisons needs p < 0.00714 for its first "
+                "(Tarone's rule: K = 7), so none can survive it unless ties (seeds where both "
+                "runs have the same value) raise the floor of all but 6 or fewer, whatever the "
+                "data. 9 pairs at least are needed "
                 "(seeds: 9 or more;"),
       std::string::npos)
       << note;
@@ -253,17 +257,18 @@ TEST(Sweep, SeedsTooFewForHolmAreSaidBeforeTheSweepRuns) {
   EXPECT_NE(note.find("with 2 seeds and 3 pooled values each paired comparison of the report "
                       "(tracker.resampling.method against systematic) has 6 pairs: the "
                       "signed-rank test cannot give p below 0.0312, and Holm's correction over "
-                      "the report's 2 paired comparisons needs p < 0.025 for its first, so none "
-                      "can survive it unless comparisons tied on every seed pair, which are not "
-                      "tested, leave 1 or fewer"),
+                      "the report's 2 paired comparisons needs p < 0.025 for its first (Tarone's "
+                      "rule: K = 2), so none can survive it unless ties (seeds where both runs "
+                      "have the same value) raise the floor of all but 1 or fewer"),
             std::string::npos)
       << note;
   EXPECT_NE(note.find("7 pairs at least are needed (seeds: 3 or more;"), std::string::npos) << note;
   EXPECT_EQ(SeedsForHolmNote(LoadSweepFile(WriteSweep(dir, pooled + "seeds: 3\n"))), "");
   // A series zipped with another key: 2 particle counts x 3 zip positions,
   // the 2 positions but the reference's compared, y [mota, idf1]: 8
-  // comparisons (p < 0.00625). 8 seeds: 2/256 = 0.0078, a warning, 9 pairs
-  // needed (2/512 = 0.0039); 9 seeds: none.
+  // comparisons (p < 0.00625 without Tarone's rule; with it K = 7, as above:
+  // p < 0.00714). 8 seeds: 2/256 = 0.0078, a warning, 9 pairs needed (2/512
+  // = 0.0039); 9 seeds: none.
   const std::string zipped =
       "base: base.yaml\ngrid:\n  tracker.particles: [10, 20]\nzip:\n"
       "  tracker.resampling.method: [systematic, charged, stratified]\n"
@@ -273,7 +278,8 @@ TEST(Sweep, SeedsTooFewForHolmAreSaidBeforeTheSweepRuns) {
   EXPECT_NE(note.find("with 8 seeds each paired comparison of the report "
                       "(tracker.resampling.method against systematic) has 8 pairs: the "
                       "signed-rank test cannot give p below 0.00781, and Holm's correction over "
-                      "the report's 8 paired comparisons needs p < 0.00625 for its first"),
+                      "the report's 8 paired comparisons needs p < 0.00714 for its first "
+                      "(Tarone's rule: K = 7)"),
             std::string::npos)
       << note;
   EXPECT_NE(note.find("9 pairs at least are needed (seeds: 9 or more;"), std::string::npos) << note;

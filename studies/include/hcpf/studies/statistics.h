@@ -170,4 +170,41 @@ PairedComparison ComparePaired(std::span<const double> a, std::span<const double
 // adjusted values are equal anyway).
 std::vector<double> HolmAdjusted(std::span<const double> p_values);
 
+// Tarone's rule (Tarone 1990, "A modified Bonferroni method for discrete
+// data") for tests whose p-value cannot fall below a floor (SignedRankFloor
+// of their nonzero differences): with floors[i] per test (NaN: not a test),
+// K is the smallest k >= 1 with at most k floors below alpha / k, and the
+// family is the tests whose floor is below alpha / K: at most K of them, the
+// only ones that can reach p < alpha / K. Bonferroni at alpha / K over them
+// keeps the chance of any false rejection among all the tests at most alpha
+// (K counts every test that could be rejected at that level).
+// Precondition: 0 < alpha < 1.
+struct TaroneFamily {
+  int k = 0;                 // Tarone's K; 0 when there is no test
+  std::vector<bool> member;  // per test given, in order
+  int size = 0;              // members
+};
+TaroneFamily TaroneFamilyOf(std::span<const double> floors, double alpha);
+
+// Holm's step-down adjustment with Tarone's rule (Hommel and Krummenauer
+// 1998): as HolmAdjusted, but the multiplier at each step is not the count
+// of tests left but Tarone's K over them (TaroneFamilyOf their floors at
+// `alpha`), never more than that count: a test whose p cannot fall low
+// enough to be rejected among the tests left does not make the step
+// stricter for the others. With p_(1) <= ... <= p_(m) sorted ascending and
+// K_j Tarone's K over the tests from the j-th on,
+//   p̃_(i) = min(1, max_{j <= i} K_j · p_(j)),
+// and p̃ < alpha exactly where the step-down rejects at level alpha: a
+// closed test whose local tests are Tarone's Bonferroni, so the chance of
+// any false rejection stays at most alpha, whatever the dependence. It
+// rejects at least what HolmAdjusted does. The K_j are taken at `alpha`:
+// compare p̃ with alpha, not another level. NaN p-values are not tests.
+// Precondition: a floor (not NaN) for every test, 0 < alpha < 1. A floor
+// must not exceed what its test can give: SignedRankFloor is exact up to 30
+// pairs; above, it is the untied normal approximation's, which a tied test
+// can undercut a little, at levels (below 1.3e-6) that only a family of more
+// than 40 000 comparisons reaches.
+std::vector<double> HolmTaroneAdjusted(std::span<const double> p_values,
+                                       std::span<const double> floors, double alpha);
+
 }  // namespace hcpf::studies

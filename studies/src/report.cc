@@ -714,11 +714,11 @@ struct Paired {
   std::vector<PairedRow> rows;
   // The comparisons the report tests (Tested: compared cell × report.y
   // metric with pairs, some of which differ, not a timing): Holm's family.
-  // At the correction's first step Tarone's rule counts only `family` of
-  // them, those whose p can fall below 0.05 / tarone_k (TaroneFamilyOf over
-  // their SignedRankFloor(nonzero)); family == 0: none can be kept.
+  // At the correction's first step Tarone's rule counts only `first_step`
+  // of them, those whose p can fall below 0.05 / tarone_k (TaroneFamilyOf
+  // over their SignedRankFloor(nonzero)); first_step == 0: none can be kept.
   int tested = 0;
-  int family = 0;
+  int first_step = 0;
   int tarone_k = 0;
   // Tested comparisons outside that first-step family whose seed pairs are
   // too few whatever the ties (SignedRankFloor(pairs) >= 0.05 / tarone_k),
@@ -732,10 +732,12 @@ struct Paired {
   // nonzero_for_family (PairsForHolm(tarone_k)).
   int holm_tied_out = 0;
   int nonzero_for_family = 0;
-  // Of those outside it (unreachable or tied out), the ones whose p cannot
-  // fall below 0.05 at all (SignedRankFloor(nonzero) >= 0.05): never a
-  // finding. The others can be kept at a later step, after enough others.
-  int holm_never = 0;
+  // Of those outside it (unreachable or tied out), the ones that can be
+  // kept at a later step, after enough others: kept where every p is at its
+  // floor (the correction keeps more as any p falls, and up to 30 pairs a
+  // floor is reached when every seed differs the same way). The others
+  // cannot be kept at any step.
+  int holm_later = 0;
   // Comparisons (not timings) whose every pair ties (EveryPairTies): not
   // tested, outside the family.
   int every_pair_ties = 0;
@@ -855,9 +857,10 @@ Paired PairedRowsOf(const std::vector<Cell>& cells, const StoreMeta& meta) {
     }
   }
   const TaroneFamily family = TaroneFamilyOf(floors, 0.05);
-  paired.family = family.size;
+  paired.first_step = family.size;
   paired.tarone_k = family.k;
   const std::vector<double> adjusted = HolmTaroneAdjusted(p, floors, 0.05);
+  const std::vector<double> at_floors = HolmTaroneAdjusted(floors, floors, 0.05);
   size_t next = 0;
   for (PairedRow& row : paired.rows) {
     for (const std::string& m : meta.report.y) row.holm[m] = adjusted[next++];
@@ -869,9 +872,9 @@ Paired PairedRowsOf(const std::vector<Cell>& cells, const StoreMeta& meta) {
     for (const PairedRow& row : paired.rows) {
       for (const std::string& m : meta.report.y) {
         const PairedComparison& c = row.metrics.at(m);
-        const bool member = family.member[next++];
-        if (!Tested(c, m) || member) continue;
-        if (SignedRankFloor(c.test.nonzero) >= 0.05) ++paired.holm_never;
+        const size_t i = next++;
+        if (!Tested(c, m) || family.member[i]) continue;
+        if (at_floors[i] < 0.05) ++paired.holm_later;
         if (SignedRankFloor(c.pairs) < 0.05 / family.k) {
           ++paired.holm_tied_out;
           continue;
@@ -977,7 +980,7 @@ std::string TiesNote(const Paired& paired) {
 // few of them that differ (Paired::holm_tied_out). None in: no comparison
 // can be kept; some: the others only after enough are kept before them.
 std::string HolmReachNote(const Paired& paired) {
-  const int left_out = paired.tested - paired.family;
+  const int left_out = paired.tested - paired.first_step;
   if (paired.tested == 0 || left_out == 0) return {};
   const int n = paired.unreachable_pairs;
   const double floor = SignedRankFloor(n);
@@ -989,7 +992,7 @@ std::string HolmReachNote(const Paired& paired) {
                 "for Holm's correction to keep one, more for a difference that does not have the "
                 "same sign in every seed.",
                 paired.pairs_for_holm);
-  if (paired.family == 0 && paired.holm_tied_out == 0) {
+  if (paired.first_step == 0 && paired.holm_tied_out == 0) {
     // Every comparison has too few pairs: the reason in one sentence (its
     // floor is at least 0.05 / K, and K is at most the tested count).
     if (floor >= 0.05) {
@@ -1017,7 +1020,7 @@ std::string HolmReachNote(const Paired& paired) {
     why.push_back(fmt::format(
         "{} with {} seed pairs but fewer than {} where the two differ (a tied seed leaves the "
         "signed-rank test)",
-        paired.holm_tied_out, paired.holm_unreachable == 0 ? "the" : "more",
+        paired.holm_tied_out, paired.holm_unreachable == 0 ? "enough" : "more",
         paired.nonzero_for_family));
   }
   const std::string rule = fmt::format(
@@ -1033,25 +1036,26 @@ std::string HolmReachNote(const Paired& paired) {
                 " {} pairs per comparison (seeds, times the pooled values), each differing, "
                 "would let every comparison count from the first step.",
                 paired.pairs_for_holm);
-  if (paired.family == 0) {
+  if (paired.first_step == 0) {
     return fmt::format(
                "No comparison of this report can stay significant after Holm's correction, "
-               "whatever the data: none of the {} can reach {}: {}.",
-               paired.tested, rule, fmt::join(why, "; ")) +
+               "whatever the data: {} can reach {}: {}.",
+               paired.tested == 1 ? std::string("the one comparison cannot")
+                                  : fmt::format("none of the {}", paired.tested),
+               rule, fmt::join(why, "; ")) +
            every;
   }
-  const int never = paired.holm_never, later = left_out - never;
-  const std::string after =
-      "can stay significant only at a later step, after enough others are kept";
-  const std::string at_all = "cannot reach p < 0.05 at all";
-  const std::string which = never == 0 ? fmt::format("{} {}.", left_out == 1 ? "It" : "They", after)
-                            : later == 0
-                                ? fmt::format("{} {}.", left_out == 1 ? "It" : "They", at_all)
-                                : fmt::format("{} of them {}; {} {}.", later, after, never, at_all);
+  const int later = paired.holm_later, never = left_out - later;
+  const std::string after = "can be kept at a later step, after enough others are kept";
+  const std::string not_later = "cannot be kept at any step";
+  const std::string which =
+      never == 0   ? fmt::format("{} {}.", left_out == 1 ? "It" : "They", after)
+      : later == 0 ? fmt::format("{} {}.", left_out == 1 ? "It" : "They", not_later)
+                   : fmt::format("{} of them {}; {} {}.", later, after, never, not_later);
   return fmt::format(
              "Of the {} comparisons, {} can reach {}. The other {} cannot, whatever the "
              "data: {}. {}",
-             paired.tested, paired.family, rule,
+             paired.tested, paired.first_step, rule,
              left_out == 1 ? std::string("one") : std::to_string(left_out), fmt::join(why, "; "),
              which) +
          every;
@@ -1244,11 +1248,10 @@ std::string PairedHtml(const Paired& paired, const StoreMeta& meta, const Layout
       meta.report.reference.empty() ? ", else the first series value" : "",
       kExactSignedRankMaxPairs,
       paired.tested == 0 ? std::string("This table tests no comparison, so no cell is coloured.")
-      : paired.family == 0
-          ? fmt::format("<b>Holm</b>: none of the {} comparisons of this table can reach the "
-                        "p Holm's correction needs (below), so no coloured cell stays a "
-                        "finding when all are tested at once.",
-                        paired.tested)
+      : paired.first_step == 0
+          ? std::string("<b>Holm</b>: no comparison of this table can reach the p Holm's "
+                        "correction needs (below), so no coloured cell stays a finding when all "
+                        "are tested at once.")
           : fmt::format(
                 "<b>Holm</b>, in coloured cells: p adjusted by Holm's step-down method over the "
                 "{0} comparisons of this table (cells &times; metrics with pairs, not every pair "
@@ -1666,9 +1669,9 @@ std::string FindingsIntro(const Paired& paired, const GlanceTable& glance, const
       findings == 0
           ? std::string("None of them is a finding.")
           : fmt::format("Of them {} {}, and {} of those {} significant after Holm's correction "
-                        "{} (Holm p < 0.05).",
+                        "for all {} (Holm p < 0.05).",
                         findings, findings == 1 ? "is a finding" : "are findings", kept,
-                        kept == 1 ? "stays" : "stay", fmt::format("for all {}", paired.tested)),
+                        kept == 1 ? "stays" : "stay", paired.tested),
       reach_note.empty() ? std::string() : " " + reach_note, TiesNote(paired));
 }
 
@@ -2259,8 +2262,7 @@ std::string CellReplicationHtml(const CellReplicationTable& table, const StoreMe
   return h + "</table>\n";
 }
 
-// A Holm p in a CSV: empty outside the family (not tested, or left out by
-// Tarone's rule).
+// A Holm p in a CSV: empty for a comparison not tested.
 std::string HolmCsv(double holm) { return std::isnan(holm) ? std::string() : Number(holm); }
 
 // replication.csv: one row per comparison made in both stores.

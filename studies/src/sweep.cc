@@ -370,7 +370,8 @@ std::string SeedsForHolmNote(const SweepSpec& spec) {
   if (floor < 0.05 / m) return {};
   const int needed = PairsForHolm(m, 0.05);
   // Tarone's K for m comparisons of this floor (every pair differing): the
-  // smallest k with none below 0.05 / k, the first step's multiplier.
+  // smallest k with none below 0.05 / k, the first step's multiplier
+  // (counted here, not by TaroneFamilyOf: m can be a billion).
   int tarone_k = 1;
   while (tarone_k < m && floor < 0.05 / tarone_k) ++tarone_k;
   const int seeds_needed = static_cast<int>(std::ceil(needed / pooled));
@@ -384,13 +385,12 @@ std::string SeedsForHolmNote(const SweepSpec& spec) {
                 "the signed-rank test cannot give p below {:.3g}, and Holm's correction "
                 "over the report's {} paired comparisons needs p < {:.3g} for its first "
                 "(Tarone's rule: K = {}), so none can survive it unless ties (seeds where "
-                "both runs have the same value) raise the floor of all but {} or fewer",
+                "both runs have the same value) leave {} or fewer comparisons at this floor",
                 floor, m, 0.05 / tarone_k, tarone_k, static_cast<int>(std::ceil(0.05 / floor)) - 1);
   return fmt::format(
       "{}: with {} seeds{} each paired comparison of the report ({} against {}) has {} pairs: "
-      "{}, whatever the data. {} pairs at least are needed (seeds: {} or more; more for a "
-      "difference that does not have the same sign in every seed); docs/sweeps.md, \"Seeds "
-      "enough for Holm\"",
+      "{}, whatever the data. {} pairs at least are needed (seeds: {} or more; more where "
+      "some seeds tie or differ the other way); docs/sweeps.md, \"Seeds enough for Holm\"",
       spec.file.empty() ? std::string("sweep") : spec.file, spec.seeds,
       pooled > 1.0 ? fmt::format(" and {} pooled values", static_cast<int>(pooled)) : "",
       report.series, report.reference.empty() ? series->values.front() : report.reference, n, why,

@@ -1845,9 +1845,9 @@ TEST(Report, PairedDifferencesByHand) {
   EXPECT_NE(html.find("Of the 3 comparisons, 2 can reach p &lt; 0.025, the first step's level "
                       "(Tarone's rule: K = 2, the smallest k with at most k comparisons whose p "
                       "can fall below 0.05 / k; docs/sweeps.md, &quot;Holm's correction&quot;). "
-                      "The other one cannot, whatever the data: 1 with the seed pairs but fewer "
-                      "than 7 where the two differ (a tied seed leaves the signed-rank test). It "
-                      "cannot reach p &lt; 0.05 at all."),
+                      "The other one cannot, whatever the data: 1 with enough seed pairs but "
+                      "fewer than 7 where the two differ (a tied seed leaves the signed-rank "
+                      "test). It cannot be kept at any step."),
             std::string::npos)
       << html;
   EXPECT_NE(html.find(" 1 comparison (mota) has the same value in every seed pair"),
@@ -2290,8 +2290,8 @@ TEST(Report, FindingsSayWhichSeriesIsBestAndWhereTheDifferenceIsSignificant) {
 // mota at 100 ties on every pair, not tested) with Tarone's rule (below)
 // gives 0.0625 each: its first step needs p < 0.05/2 = 0.025, which 2/64
 // misses. Neither finding survives, and the report says so rather than
-// calling them two results; 7 pairs (2/128 = 0.0156 < 0.05/3) would let all
-// three count.
+// calling them two results; 7 pairs, each differing (2/128 = 0.0156 <
+// 0.05/3), would let all three count.
 TEST(Report, FindingsSayWhenNoneSurvivesHolmsCorrection) {
   const fs::path dir = HandStore("report-holm", "systematic", 6);
   const ReportResult r = WriteReport({.dir = dir.string()});
@@ -2343,8 +2343,8 @@ TEST(Report, FindingsSayWhenNoneSurvivesHolmsCorrection) {
   const std::string html = Read(r.html_path);
   EXPECT_NE(html.find("p&nbsp;=&nbsp;0.031, Holm&nbsp;0.062</td>"), std::string::npos);
   EXPECT_EQ(html.find("<b>Holm&nbsp;"), std::string::npos);
-  EXPECT_NE(html.find("<b>Holm</b>: none of the 3 comparisons of this table can reach the p "
-                      "Holm's correction needs (below)"),
+  EXPECT_NE(html.find("<b>Holm</b>: no comparison of this table can reach the p Holm's "
+                      "correction needs (below)"),
             std::string::npos);
   // The paired table's note says it too, in bold.
   EXPECT_NE(html.find("<b>With 6 seed pairs the signed-rank test cannot give p below 0.0312"),
@@ -2369,9 +2369,9 @@ TEST(Report, FindingsSayWhenNoneSurvivesHolmsCorrection) {
                       "comparisons, 2 can reach p < 0.025, the first step's level (Tarone's "
                       "rule: K = 2, the smallest k with at most k comparisons whose p can fall "
                       "below 0.05 / k; docs/sweeps.md, \"Holm's correction\"). The other one "
-                      "cannot, whatever the data: 1 with the seed pairs but fewer than 7 where "
-                      "the two differ (a tied seed leaves the signed-rank test). It cannot reach "
-                      "p < 0.05 at all. 1 comparison (mota) has the same value in every seed "
+                      "cannot, whatever the data: 1 with enough seed pairs but fewer than 7 "
+                      "where the two differ (a tied seed leaves the signed-rank test). It cannot "
+                      "be kept at any step. 1 comparison (mota) has the same value in every seed "
                       "pair"),
             std::string::npos)
       << Read(ten / "findings.md");
@@ -2379,9 +2379,11 @@ TEST(Report, FindingsSayWhenNoneSurvivesHolmsCorrection) {
   // mota on all six (floor 2/64); hijack_rate at 100 has 10 (2/1024). Below
   // 0.05 two, below 0.025 one: K = 2, and only hijack_rate at 100 can reach
   // the first step's 0.025. Both at 1000 have 6 pairs, whose floor (2/64)
-  // is above 0.025 whatever the ties; mota's can still reach 0.05 (at a
-  // later step), hijack_rate's (1) cannot. 7 pairs, each differing, reach
-  // 2/128 < 0.05 / 3.
+  // is above 0.025 whatever the ties. With every p at its floor, hijack_rate
+  // at 100 is kept first (2 × 2/1024), then K over the two left (floors 1
+  // and 2/64) is 1 and mota's 2/64 is kept: it can be kept at a later step;
+  // hijack_rate's floor (1) never. 7 pairs, each differing, reach 2/128 <
+  // 0.05 / 3.
   const fs::path some = HandStore("report-holm-some", "systematic", 10, 4);
   WriteReport({.dir = some.string()});
   EXPECT_NE(Read(some / "findings.md")
@@ -2389,9 +2391,9 @@ TEST(Report, FindingsSayWhenNoneSurvivesHolmsCorrection) {
                       "(Tarone's rule: K = 2, the smallest k with at most k comparisons whose p "
                       "can fall below 0.05 / k; docs/sweeps.md, \"Holm's correction\"). The "
                       "other 2 cannot, whatever the data: 2 with 6 seed pairs or fewer, where "
-                      "the signed-rank test cannot give p below 0.0312. 1 of them can stay "
-                      "significant only at a later step, after enough others are kept; 1 cannot "
-                      "reach p < 0.05 at all. 7 pairs per comparison (seeds, times the pooled "
+                      "the signed-rank test cannot give p below 0.0312. 1 of them can be kept at "
+                      "a later step, after enough others are kept; 1 cannot be kept at any step. "
+                      "7 pairs per comparison (seeds, times the pooled "
                       "values), each differing, would let every comparison count from the first "
                       "step."),
             std::string::npos)

@@ -434,7 +434,8 @@ TEST(SignedRankFloor, ByHandAndReachedByOneSignedDifferences) {
 // 2/128, 2/1024}: five tests, sorted 0.00195 (three), 0.0156, 0.0625. Below
 // 0.05 / k: k = 1 (0.05), 2 (0.025), 3 (0.0167): four, more than k; k = 4
 // (0.0125): three, so K = 4 and the family is the three of 10 differing
-// seeds. Holm over all five would need p < 0.01 first, over them 0.0167.
+// seeds. Holm over all five would need p < 0.01 first; Tarone's
+// Bonferroni, 0.05 / K = 0.0125.
 TEST(TaroneFamily, TheSmallestKWithAtMostKFloorsBelowAlphaOverK) {
   const std::vector<double> floors = {0.0625,     2.0 / 1024, std::nan(""),
                                       2.0 / 1024, 2.0 / 128,  2.0 / 1024};
@@ -451,7 +452,7 @@ TEST(TaroneFamily, TheSmallestKWithAtMostKFloorsBelowAlphaOverK) {
   const TaroneFamily twenty = TaroneFamilyOf(mixed, 0.05);
   EXPECT_EQ(twenty.k, 20);
   EXPECT_EQ(twenty.size, 20);
-  EXPECT_LT(mixed[0], 0.05 / twenty.size);
+  EXPECT_LT(mixed[0], 0.05 / twenty.k);
   EXPECT_GT(mixed[0], 0.05 / 30);
   // Thirty of 10 seeds: thirty below 0.05 / k up to k = 25, none from 26
   // (0.001923): K = 26 and no comparison can be kept, as with Holm over 30.

@@ -228,8 +228,8 @@ TEST(Sweep, SeedsTooFewForHolmAreSaidBeforeTheSweepRuns) {
                 "signed-rank test cannot give p below 0.00781, and Holm's correction over "
                 "the report's 10 paired comparisons needs p < 0.00714 for its first "
                 "(Tarone's rule: K = 7), so none can survive it unless ties (seeds where both "
-                "runs have the same value) raise the floor of all but 6 or fewer, whatever the "
-                "data. 9 pairs at least are needed "
+                "runs have the same value) leave 6 or fewer comparisons at this floor, "
+                "whatever the data. 9 pairs at least are needed "
                 "(seeds: 9 or more;"),
       std::string::npos)
       << note;
@@ -259,7 +259,7 @@ TEST(Sweep, SeedsTooFewForHolmAreSaidBeforeTheSweepRuns) {
                       "signed-rank test cannot give p below 0.0312, and Holm's correction over "
                       "the report's 2 paired comparisons needs p < 0.025 for its first (Tarone's "
                       "rule: K = 2), so none can survive it unless ties (seeds where both runs "
-                      "have the same value) raise the floor of all but 1 or fewer"),
+                      "have the same value) leave 1 or fewer comparisons at this floor"),
             std::string::npos)
       << note;
   EXPECT_NE(note.find("7 pairs at least are needed (seeds: 3 or more;"), std::string::npos) << note;

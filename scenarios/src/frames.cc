@@ -175,8 +175,7 @@ SceneFrames ProduceFrames(const Scenario& scenario, const FrameSourceOptions& op
   if (cache_writer) cache_writer->Finish();
   progress.Finish();
   if (out.frames_from_cache > 0) {
-    // Said per run only outside a sweep (see run.cc's detection line).
-    spdlog::log(options.show_progress ? spdlog::level::info : spdlog::level::debug,
+    spdlog::log(RunSummaryLevel(options.show_progress),
                 "{} of {} frames read from the frame cache {}", out.frames_from_cache, frames,
                 cache->dir().string());
     out.cache_renderers = cache->Renderers();

@@ -89,4 +89,8 @@ void Progress::Print(bool final) {
   }
 }
 
+spdlog::level::level_enum RunSummaryLevel(bool show_progress) {
+  return show_progress ? spdlog::level::info : spdlog::level::debug;
+}
+
 }  // namespace hcpf::scenarios

@@ -375,10 +375,8 @@ RunSummary RunScenario(const Scenario& scenario, const RunOptions& options) {
                                  .floor = camera_motion.FloorSummary()};
   timings["metrics_s"] = Seconds(t0);
   if (scores.detection) {
-    // Inside a sweep (no progress of its own) one line per run wrote over the
-    // sweep's progress line, 140 times in a 140-run sweep (an audit): the
-    // run's metrics.json has it.
-    spdlog::log(options.show_progress ? spdlog::level::info : spdlog::level::debug,
+    // Inside a sweep only at debug: the run's metrics.json has it.
+    spdlog::log(RunSummaryLevel(options.show_progress),
                 "detection ({}): precision {:.3f}  recall {:.3f}  F1 {:.3f} (IoU >= 0.5)",
                 scenario.observation.DetectorName(), scores.detection->iou.precision(),
                 scores.detection->iou.recall(), scores.detection->iou.f1());

@@ -31,5 +31,12 @@ TEST(Progress, TheEtaRunsAtTheRateOfTheLaterHalfOfTheItemsDone) {
   EXPECT_EQ(Progress::Format("sweep", 100, 100, 0, 7.0), "sweep 100/100 (100%) 0:07 elapsed");
 }
 
+// A run's summary lines: said by a run alone, kept to debug inside a sweep,
+// whose progress line they would write over.
+TEST(Progress, ARunsSummaryLinesAreDebugInsideASweep) {
+  EXPECT_EQ(RunSummaryLevel(true), spdlog::level::info);
+  EXPECT_EQ(RunSummaryLevel(false), spdlog::level::debug);
+}
+
 }  // namespace
 }  // namespace hcpf::scenarios

@@ -416,6 +416,37 @@ TEST(PrcaDetector, FindsEachTargetAfterTranslationWhereTheVotesSay) {
   }
 }
 
+// The map pools each vote pixel at its centre, x + 0.5, where the boxes put
+// it: with cells of 3.01 px the edge 25 × 3.01 = 75.25 falls between vehicle
+// 1's best pixel (75, 52) and its centre (75.5, 52.5), so the best vote is in
+// column 25 (75.5 / 3.01 = 25.08), the detection's, not 24 (75 / 3.01 =
+// 24.92); row 17 either way. Vehicles 2 and 3 (centres 215.5 and 135.5)
+// stay in the column of their pixel. Each detection's centre cell holds the
+// map's maximum, its score (the votes as above).
+TEST(PrcaDetector, TheMapHoldsEachVoteAtItsPixelsCentre) {
+  PrcaOptions o;
+  o.lambda = 0.25;
+  o.cell_px = 3.01;
+  const std::vector<TargetModel> models = ModelsAtFrame0();
+  const DetectorOutput out = RunPrca(o, Frame(Targets(3.0, -2.0)), models);
+  ASSERT_EQ(out.detections.size(), 3u);
+  ASSERT_EQ(out.maps.size(), 3u);
+  for (size_t i = 0; i < 3; ++i) {
+    const Detection& d = out.detections[i];
+    const LikelihoodMap& map = out.maps[i].map;
+    EXPECT_EQ(map.width, 107);  // ceil(320 / 3.01)
+    const int col = static_cast<int>(std::floor(d.box.centre_x() / o.cell_px));
+    const int row = static_cast<int>(std::floor(d.box.centre_y() / o.cell_px));
+    if (i == 0) {
+      EXPECT_EQ(col, 25);
+      EXPECT_EQ(row, 17);
+    }
+    EXPECT_NEAR(map.values[static_cast<size_t>(row) * map.width + col], MapMax(out.maps[i]), 1e-7)
+        << i;
+    EXPECT_NEAR(MapMax(out.maps[i]), d.score, 1e-6) << i;
+  }
+}
+
 // The frame rotated about its centre (bilinear, outside filled with ground
 // colour), every 15 degrees, default options: each vehicle is found. The
 // error is measured along the vehicle's axis and across it:

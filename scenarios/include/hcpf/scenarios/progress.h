@@ -4,6 +4,8 @@
 // stderr is not a terminal (CI, logs): a plain log line at most every 5 s.
 // Quiet work (under a second) prints nothing.
 
+#include <spdlog/common.h>
+
 #include <chrono>
 #include <cstdint>
 #include <limits>
@@ -53,5 +55,11 @@ class Progress {
   std::chrono::steady_clock::time_point last_print_;
   std::vector<double> finished_s_;  // when each item finished, seconds from the start
 };
+
+// The log level of a run's own summary lines (its detection scores, the
+// frames it read from the cache): info for a run by itself, debug inside a
+// sweep (`show_progress` false), where one such line per run wrote over the
+// sweep's progress line (an audit: 140 times in a 140-run sweep).
+spdlog::level::level_enum RunSummaryLevel(bool show_progress);
 
 }  // namespace hcpf::scenarios

@@ -2,12 +2,19 @@
 // `seeds` seeds in 2 cells. BM_ExpandSweep is ExpandSweep as shipped (seed
 // indices >= 2 reseeded from each cell's first run); BM_ExpandSweepFullLoad
 // loads every run in full, as the expansion did before (the figure that
-// justifies the reseeding, docs/performance.md).
+// justifies the reseeding, docs/performance.md). BM_HolmTarone: the
+// report's multiple-comparison correction over m comparisons (a sweep of
+// m / 5 compared cells and 5 metrics), a third of them with few seeds that
+// differ, against BM_Holm, Holm's correction alone.
 
 #include <benchmark/benchmark.h>
 
+#include <algorithm>
+#include <cmath>
 #include <string>
+#include <vector>
 
+#include "hcpf/studies/statistics.h"
 #include "hcpf/studies/sweep.h"
 
 namespace {
@@ -39,5 +46,37 @@ void BM_ExpandSweepFullLoad(benchmark::State& state) {
   state.SetItemsProcessed(state.iterations() * spec.RunCount());
 }
 BENCHMARK(BM_ExpandSweepFullLoad)->Arg(100)->Unit(benchmark::kMillisecond);
+
+// m comparisons: p spread over (0, 1) by a fixed rule, floors 2 / 2^20 for
+// two in three, 2 / 2^6 for the rest (p raised to its floor where below).
+struct Comparisons {
+  std::vector<double> p, floors;
+};
+Comparisons MakeComparisons(int m) {
+  Comparisons c;
+  for (int i = 0; i < m; ++i) {
+    const double floor = i % 3 == 2 ? std::ldexp(2.0, -6) : std::ldexp(2.0, -20);
+    const double p = std::fmod(0.6180339887 * (i + 1), 1.0) * std::pow(10.0, -(i % 7));
+    c.floors.push_back(floor);
+    c.p.push_back(std::max(p, floor));
+  }
+  return c;
+}
+
+void BM_HolmTarone(benchmark::State& state) {
+  const Comparisons c = MakeComparisons(static_cast<int>(state.range(0)));
+  for (auto _ : state) {
+    benchmark::DoNotOptimize(hcpf::studies::HolmTaroneAdjusted(c.p, c.floors, 0.05));
+  }
+  state.SetItemsProcessed(state.iterations() * state.range(0));
+}
+BENCHMARK(BM_HolmTarone)->Arg(100)->Arg(1000)->Arg(10000)->Unit(benchmark::kMillisecond);
+
+void BM_Holm(benchmark::State& state) {
+  const Comparisons c = MakeComparisons(static_cast<int>(state.range(0)));
+  for (auto _ : state) benchmark::DoNotOptimize(hcpf::studies::HolmAdjusted(c.p));
+  state.SetItemsProcessed(state.iterations() * state.range(0));
+}
+BENCHMARK(BM_Holm)->Arg(100)->Arg(1000)->Arg(10000)->Unit(benchmark::kMillisecond);
 
 }  // namespace

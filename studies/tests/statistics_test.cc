@@ -6,7 +6,9 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <random>
 #include <tuple>
 #include <vector>
 
@@ -520,6 +522,56 @@ TEST(HolmTaroneAdjusted, StepDownByHandWithTaronesKPerStep) {
     }
   }
   EXPECT_TRUE(HolmTaroneAdjusted(std::vector<double>{}, std::vector<double>{}, 0.05).empty());
+}
+
+// The step-down against its definition written out plainly: per step,
+// Tarone's K by counting from k = 1 over the floors of the tests left
+// (linear scans), on 300 tests with floors 2 / 2^n for n in 1..24 (many
+// equal) and p at or above them, some equal, in a fixed pseudo-random order.
+TEST(HolmTaroneAdjusted, MatchesTheDefinitionStepByStep) {
+  std::mt19937 gen(7);
+  std::uniform_int_distribution<int> pairs(1, 24);
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  const int m = 300;
+  std::vector<double> p(m), f(m);
+  for (int i = 0; i < m; ++i) {
+    f[static_cast<size_t>(i)] = std::ldexp(2.0, -pairs(gen));
+    const double u = unit(gen);
+    p[static_cast<size_t>(i)] =
+        u < 0.2 ? f[static_cast<size_t>(i)] : std::max(f[static_cast<size_t>(i)], u * u * u);
+  }
+  p[5] = std::nan("");  // not a test
+  std::vector<size_t> order;
+  for (size_t i = 0; i < p.size(); ++i) {
+    if (!std::isnan(p[i])) order.push_back(i);
+  }
+  std::stable_sort(order.begin(), order.end(), [&](size_t a, size_t b) { return p[a] < p[b]; });
+  std::vector<double> want(p.size(), std::nan(""));
+  double running = 0.0;
+  for (size_t step = 0; step < order.size(); ++step) {
+    int k = 1;
+    for (;; ++k) {
+      int below = 0;
+      for (size_t j = step; j < order.size(); ++j) below += f[order[j]] < 0.05 / k ? 1 : 0;
+      if (below <= k) break;
+    }
+    running = std::max(running, k * p[order[step]]);
+    want[order[step]] = std::min(1.0, running);
+  }
+  const std::vector<double> got = HolmTaroneAdjusted(p, f, 0.05);
+  ASSERT_EQ(got.size(), want.size());
+  int kept = 0;
+  for (size_t i = 0; i < p.size(); ++i) {
+    if (std::isnan(want[i])) {
+      EXPECT_TRUE(std::isnan(got[i])) << i;
+      continue;
+    }
+    EXPECT_EQ(got[i], want[i]) << i;
+    kept += want[i] < 0.05 ? 1 : 0;
+  }
+  // Not a degenerate case: some kept, some not.
+  EXPECT_GT(kept, 0);
+  EXPECT_LT(kept, m - 1);
 }
 
 TEST(MetricCatalogue, ProportionsAreTheFractionsOfCountedEvents) {

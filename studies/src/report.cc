@@ -984,17 +984,14 @@ std::string HolmReachNote(const Paired& paired) {
   if (paired.tested == 0 || left_out == 0) return {};
   const int n = paired.unreachable_pairs;
   const double floor = SignedRankFloor(n);
-  const std::string needed =
-      paired.holm_unreachable == 0
-          ? std::string()
-          : fmt::format(
-                " {} pairs per comparison (seeds, times the pooled values) at least are needed "
-                "for Holm's correction to keep one, more for a difference that does not have the "
-                "same sign in every seed.",
-                paired.pairs_for_holm);
   if (paired.first_step == 0 && paired.holm_tied_out == 0) {
     // Every comparison has too few pairs: the reason in one sentence (its
     // floor is at least 0.05 / K, and K is at most the tested count).
+    const std::string needed = fmt::format(
+        " {} pairs per comparison (seeds, times the pooled values) at least are needed for "
+        "Holm's correction to keep one, more for a difference that does not have the same sign "
+        "in every seed.",
+        paired.pairs_for_holm);
     if (floor >= 0.05) {
       return fmt::format(
                  "With {} seed pairs the signed-rank test cannot give p below {:.3g}: no "
@@ -1321,6 +1318,9 @@ std::string PairedHtml(const Paired& paired, const StoreMeta& meta, const Layout
 }
 
 // paired.csv: one row per comparison and report.y metric.
+// A Holm p in a CSV: empty for a comparison not tested.
+std::string HolmCsv(double holm) { return std::isnan(holm) ? std::string() : Number(holm); }
+
 std::string PairedCsv(const Paired& paired, const StoreMeta& meta) {
   std::string csv;
   for (const std::string& k : meta.swept_keys) csv += Csv(k) + ",";
@@ -1341,7 +1341,7 @@ std::string PairedCsv(const Paired& paired, const StoreMeta& meta) {
           c.negative, c.pairs - c.positive - c.negative, c.test.nonzero, Number(c.test.w_plus),
           // A comparison not tested (a timing, every pair tied): no p-value (a review).
           Tested(c, m) ? Number(c.test.p_value) : std::string(), c.test.exact ? 1 : 0,
-          std::isnan(holm) ? std::string() : Number(holm));
+          HolmCsv(holm));
       // The pairs to look at: their difference and both runs' keys.
       const PairExtremes& e = row.extremes.at(m);
       csv += e.max_run == nullptr ? std::string(",,,,,,\n")
@@ -2261,9 +2261,6 @@ std::string CellReplicationHtml(const CellReplicationTable& table, const StoreMe
   }
   return h + "</table>\n";
 }
-
-// A Holm p in a CSV: empty for a comparison not tested.
-std::string HolmCsv(double holm) { return std::isnan(holm) ? std::string() : Number(holm); }
 
 // replication.csv: one row per comparison made in both stores.
 std::string ReplicationCsv(const ReplicationTable& table, const Paired& here,

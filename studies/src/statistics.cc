@@ -311,15 +311,17 @@ int TaroneK(int n, Below below) {
 }
 
 // Counts of a fixed multiset of floors, sorted, some of them removed: how
-// many of those left are below x, in O(log n) (a Fenwick tree over their
-// ranks).
+// many are left, and how many of those are below x, in O(log n) (a Fenwick
+// tree over their ranks).
 class FloorsLeft {
  public:
   explicit FloorsLeft(std::vector<double> sorted)
-      : sorted_(std::move(sorted)), tree_(sorted_.size() + 1, 0) {
+      : sorted_(std::move(sorted)),
+        tree_(sorted_.size() + 1, 0),
+        left_(static_cast<int>(sorted_.size())) {
     for (size_t i = 0; i < sorted_.size(); ++i) Add(i, 1);
   }
-  int size() const { return static_cast<int>(sorted_.size()); }
+  int size() const { return left_; }
   // Those left below x.
   int Below(double x) const {
     size_t end =
@@ -329,7 +331,10 @@ class FloorsLeft {
     return count;
   }
   // Removes the floor at `rank` (its index in the sorted floors).
-  void Remove(size_t rank) { Add(rank, -1); }
+  void Remove(size_t rank) {
+    Add(rank, -1);
+    --left_;
+  }
 
  private:
   void Add(size_t rank, int delta) {
@@ -337,6 +342,7 @@ class FloorsLeft {
   }
   std::vector<double> sorted_;
   std::vector<int> tree_;
+  int left_;
 };
 
 }  // namespace
@@ -393,14 +399,12 @@ std::vector<double> HolmTaroneAdjusted(std::span<const double> p_values,
     sorted.push_back(floors[by_floor[r]]);
   }
   FloorsLeft left(std::move(sorted));
-  int count = left.size();
   double running = 0.0;  // the max over j <= i keeps the adjusted values monotone
   for (const size_t i : order) {
-    const int k = TaroneK(count, [&](int j) { return left.Below(alpha / j); });
+    const int k = TaroneK(left.size(), [&](int j) { return left.Below(alpha / j); });
     running = std::max(running, static_cast<double>(k) * p_values[i]);
     adjusted[i] = std::min(1.0, running);
     left.Remove(rank[i]);
-    --count;
   }
   return adjusted;
 }

@@ -27,8 +27,9 @@ std::span<const FileKey> SweepFileKeys() {
        "`da_accuracy, hijack_rate, idf1, hota, mota, ms_per_frame`", "one plot each"},
       {"report.series", "a swept key other than `x`", "none", "one line per value"},
       {"report.pool", "list of swept keys other than `x` and `series`", "none",
-       "keys whose values are pooled into each cell like extra seeds (e.g. sun azimuths when "
-       "recall is plotted against sun elevation): fewer lines, more runs per point"},
+       "keys whose values are pooled into each cell (e.g. sun azimuths when recall is plotted "
+       "against sun elevation): fewer lines, more runs per point, averaged per seed before the "
+       "bands and tests (they count seeds)"},
       {"report.x_metric", "a metric name", "none",
        "place each cell on the x axis at this metric's mean over its runs (e.g. `det_size_px`, "
        "the measured target size) instead of its value of `x`; `x` still orders each line"},

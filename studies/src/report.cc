@@ -102,6 +102,33 @@ std::string SceneContactSheet(const fs::path& dir) {
 
 namespace {
 
+// A cell's finished runs grouped by seed, in order of first appearance.
+std::vector<std::vector<const RunRecord*>> OkRunsBySeed(const std::vector<const RunRecord*>& runs) {
+  std::vector<std::vector<const RunRecord*>> out;
+  std::map<uint64_t, size_t> index;
+  for (const RunRecord* r : runs) {
+    if (!r->ok) continue;
+    const auto [it, inserted] = index.emplace(r->seed, out.size());
+    if (inserted) out.emplace_back();
+    out[it->second].push_back(r);
+  }
+  return out;
+}
+
+// The mean of metric `m` over one seed's runs, its finite values only (NaN
+// when none is).
+double SeedMean(const std::vector<const RunRecord*>& runs, const std::string& m) {
+  double sum = 0.0;
+  int n = 0;
+  for (const RunRecord* r : runs) {
+    const double x = r->metrics.at(m);
+    if (!std::isfinite(x)) continue;
+    sum = n == 0 ? x : sum + x;  // one run's mean is its value, −0 included
+    ++n;
+  }
+  return n > 0 ? sum / n : kNaN;
+}
+
 // Stage 1, cells: runs grouped by their swept values (in order of first
 // appearance, which is the expansion order), each with every catalogue
 // metric's mean and 95 % interval over its finished runs.
@@ -125,13 +152,16 @@ std::vector<Cell> CellsOf(const std::vector<RunRecord>& runs, const StoreMeta& m
     cell.runs.push_back(&r);
     if (!r.ok) ++cell.failures;
   }
-  // Stage 2, statistics.
+  // Stage 2, statistics over seeds. The runs of one seed in a pooled cell
+  // (one per pooled value) share that seed's random streams (terrain,
+  // noise, camera shake): they are averaged into one value per seed, and
+  // the band is over those means, one independent unit per seed. Without
+  // pooled keys a cell has one run per seed, whose mean is its value.
   for (Cell& cell : cells) {
+    const std::vector<std::vector<const RunRecord*>> by_seed = OkRunsBySeed(cell.runs);
     for (const std::string& m : MetricNames()) {
       std::vector<double> v;
-      for (const RunRecord* r : cell.runs) {
-        if (r->ok) v.push_back(r->metrics.at(m));
-      }
+      for (const auto& seed_runs : by_seed) v.push_back(SeedMean(seed_runs, m));
       cell.stats[m] = CellInterval(m, v);
     }
   }
@@ -678,7 +708,8 @@ std::string SummaryCsv(const std::vector<Cell>& cells, const std::vector<std::st
 // value is not the reference is compared with the cell that has the same
 // values but the reference series value (same x, same panel, same other
 // keys): run against run with the same seed (and, in pooled cells, the same
-// pooled values), difference = cell − reference per report.y metric.
+// pooled values), difference = cell − reference per report.y metric. A
+// pooled cell's pairs of one seed are averaged: one pair of means per seed.
 // The seed pairs of one comparison whose difference (cell − reference) is
 // largest and smallest: the first such pair in the cell's run order. Null
 // runs when the comparison has no pair.
@@ -806,17 +837,31 @@ Paired PairedRowsOf(const std::vector<Cell>& cells, const StoreMeta& meta) {
     }
     PairedRow row{&c, ref->second, {}, {}, {}};
     for (const std::string& m : meta.report.y) {
-      std::vector<double> a, b;
+      // Per seed, the sums of the run pairs whose values are both finite
+      // (in a pooled cell, one pair per pooled value; else one): the test
+      // and the band take one pair of means per seed, its independent unit.
+      struct SeedSums {
+        double a = 0.0, b = 0.0;
+        int n = 0;
+      };
+      std::vector<SeedSums> sums;
+      std::map<uint64_t, size_t> seed_at;
       PairExtremes& extremes = row.extremes[m];
       for (const RunRecord* r : c.runs) {
         if (!r->ok) continue;
         const auto p = partner.find(pair_key(*r));
         if (p == partner.end()) continue;
-        a.push_back(r->metrics.at(m));
-        b.push_back(p->second->metrics.at(m));
+        const auto [at, inserted] = seed_at.emplace(r->seed, sums.size());
+        if (inserted) sums.emplace_back();
+        const double va = r->metrics.at(m), vb = p->second->metrics.at(m);
         // Pairs as ComparePaired counts them: both values finite.
-        if (!std::isfinite(a.back()) || !std::isfinite(b.back())) continue;
-        const double d = a.back() - b.back();
+        if (!std::isfinite(va) || !std::isfinite(vb)) continue;
+        SeedSums& seed = sums[at->second];
+        // One pair's mean is its values, −0 included.
+        seed.a = seed.n == 0 ? va : seed.a + va;
+        seed.b = seed.n == 0 ? vb : seed.b + vb;
+        ++seed.n;
+        const double d = va - vb;
         if (extremes.max_run == nullptr || d > extremes.max_difference) {
           extremes.max_run = r;
           extremes.max_reference = p->second;
@@ -827,6 +872,11 @@ Paired PairedRowsOf(const std::vector<Cell>& cells, const StoreMeta& meta) {
           extremes.min_reference = p->second;
           extremes.min_difference = d;
         }
+      }
+      std::vector<double> a, b;
+      for (const SeedSums& seed : sums) {
+        a.push_back(seed.n > 0 ? seed.a / seed.n : kNaN);
+        b.push_back(seed.n > 0 ? seed.b / seed.n : kNaN);
       }
       const CatalogueMetric* entry = FindMetric(m);
       row.metrics[m] = ComparePaired(a, b, entry ? entry->range : MetricRange::Unbounded());
@@ -988,7 +1038,7 @@ std::string HolmReachNote(const Paired& paired) {
     // Every comparison has too few pairs: the reason in one sentence (its
     // floor is at least 0.05 / K, and K is at most the tested count).
     const std::string needed = fmt::format(
-        " {} pairs per comparison (seeds, times the pooled values) at least are needed for "
+        " At least {} seed pairs per comparison are needed for "
         "Holm's correction to keep one, more for a difference that does not have the same sign "
         "in every seed.",
         paired.pairs_for_holm);
@@ -1026,13 +1076,12 @@ std::string HolmReachNote(const Paired& paired) {
       0.05 / paired.tarone_k, paired.tarone_k);
   // Pairs enough for every comparison to count at the first step whatever
   // the others (each below 0.05 / tested).
-  const std::string every =
-      paired.holm_unreachable == 0
-          ? std::string()
-          : fmt::format(
-                " {} pairs per comparison (seeds, times the pooled values), each differing, "
-                "would let every comparison count from the first step.",
-                paired.pairs_for_holm);
+  const std::string every = paired.holm_unreachable == 0
+                                ? std::string()
+                                : fmt::format(
+                                      " {} seed pairs per comparison, each differing, "
+                                      "would let every comparison count from the first step.",
+                                      paired.pairs_for_holm);
   if (paired.first_step == 0) {
     return fmt::format(
                "No comparison of this report can stay significant after Holm's correction, "
@@ -2484,7 +2533,9 @@ std::string ReportHtml(const fs::path& dir, const std::string& link_prefix, cons
   if (!meta.report.pool.empty()) {
     h += fmt::format(
         "<p>Pooled (<code>report.pool</code>): each cell holds the runs of every value of "
-        "<code>{}</code>, counted like extra seeds; tables show <code>all</code>.</p>\n",
+        "<code>{}</code>; tables show <code>all</code>. A seed's runs share its random "
+        "streams, so they are averaged first: n, the bands and the paired tests count seeds, "
+        "one mean per seed (docs/sweeps.md, \"Measured x and pooled keys\").</p>\n",
         [&] {
           std::vector<std::string> keys;
           for (const std::string& k : meta.report.pool) keys.push_back(EscapeMarkup(k));

@@ -362,7 +362,9 @@ std::string SeedsForHolmNote(const SweepSpec& spec) {
   const auto tested = std::count_if(report.y.begin(), report.y.end(),
                                     [](const std::string& m) { return !MachineDependent(m); });
   const double comparisons = cells / pooled * (values - 1.0) / values * static_cast<double>(tested);
-  const double pairs = static_cast<double>(spec.seeds) * pooled;
+  // A pooled cell's runs of one seed are averaged (one pair of means per
+  // seed): pooled values add no pairs.
+  const double pairs = static_cast<double>(spec.seeds);
   if (comparisons < 1.0 || pairs > 1000.0) return {};
   const int m = static_cast<int>(std::min(comparisons, 1e9));
   const int n = static_cast<int>(pairs);
@@ -374,7 +376,6 @@ std::string SeedsForHolmNote(const SweepSpec& spec) {
   // (counted here, not by TaroneFamilyOf: m can be a billion).
   int tarone_k = 1;
   while (tarone_k < m && floor < 0.05 / tarone_k) ++tarone_k;
-  const int seeds_needed = static_cast<int>(std::ceil(needed / pooled));
   const std::string why =
       floor >= 0.05
           ? fmt::format(
@@ -388,13 +389,15 @@ std::string SeedsForHolmNote(const SweepSpec& spec) {
                 "both runs have the same value) leave {} or fewer comparisons at this floor",
                 floor, m, 0.05 / tarone_k, tarone_k, static_cast<int>(std::ceil(0.05 / floor)) - 1);
   return fmt::format(
-      "{}: with {} seeds{} each paired comparison of the report ({} against {}) has {} pairs: "
-      "{}, whatever the data. {} pairs at least are needed (seeds: {} or more; more where "
-      "some seeds tie or differ the other way); docs/sweeps.md, \"Seeds enough for Holm\"",
-      spec.file.empty() ? std::string("sweep") : spec.file, spec.seeds,
-      pooled > 1.0 ? fmt::format(" and {} pooled values", static_cast<int>(pooled)) : "",
-      report.series, report.reference.empty() ? series->values.front() : report.reference, n, why,
-      needed, seeds_needed);
+      "{}: with {} seeds each paired comparison of the report ({} against {}) has {} pairs{}: "
+      "{}, whatever the data. {} seeds at least are needed (more where some seeds tie or "
+      "differ the other way); docs/sweeps.md, \"Seeds enough for Holm\"",
+      spec.file.empty() ? std::string("sweep") : spec.file, spec.seeds, report.series,
+      report.reference.empty() ? series->values.front() : report.reference, n,
+      pooled > 1.0 ? fmt::format(" (the runs of its {} pooled values are averaged in each seed)",
+                                 static_cast<int>(pooled))
+                   : "",
+      why, needed);
 }
 
 std::vector<std::string> SweepSpec::SweptKeys() const {

@@ -1652,6 +1652,108 @@ fs::path HandStore(const std::string& name, const std::string& reference = "syst
   return dir;
 }
 
+// A pooled store written directly: particles {100} × {systematic, charged}
+// × sun azimuth {0, 90, 180} (pooled) × 4 seeds, report.y [mota].
+// systematic: 0.5 everywhere; charged on seed s at the three azimuths: 0.5
+// + m_s − 0.05, + m_s, + m_s + 0.05 with m_s = 0.1 (s + 1). The runs of a
+// seed share its random streams: one value per seed.
+//   charged's cell: seed means 0.6, 0.7, 0.8, 0.9; mean 0.75, s =
+//   √(0.05 / 3) = 0.129099, t(0.975, 3) = 3.182 (StudentT975's table),
+//   half-width 3.182 · 0.129099 / 2 = 0.205397: [0.544603, 0.955397], n =
+//   4 (12 runs). The 12
+//   runs taken as independent would give n = 12 and a half-width of
+//   2.201 · 0.124316 / √12 = 0.078988.
+//   charged − systematic: 4 pairs of seed means, differences 0.1 … 0.4,
+//   mean 0.25, [0.044603, 0.455397]; all positive: W+ = 10, exact p = 2/16
+//   = 0.125, not a finding. The 12 run pairs, all positive, would give p =
+//   2/4096 = 0.000488 and call it one.
+fs::path PooledHandStore(const std::string& name) {
+  const auto dir = testing::SweepFolder(name);
+  StoreMeta meta;
+  meta.sweep_hash = "hand";
+  meta.sweep_file = "hand.yaml";
+  meta.swept_keys = {"tracker.particles", "tracker.resampling.method", "world.sun.azimuth_deg"};
+  meta.report.x = "tracker.particles";
+  meta.report.series = "tracker.resampling.method";
+  meta.report.pool = {"world.sun.azimuth_deg"};
+  meta.report.y = {"mota"};
+  meta.run_count = 2 * 3 * 4;
+  auto store = ResultsStore::OpenOrCreate((dir / "results.sqlite").string(), meta);
+  int64_t index = 0;
+  for (const char* method : {"systematic", "charged"}) {
+    for (int a = 0; a < 3; ++a) {
+      for (int seed = 0; seed < 4; ++seed) {
+        RunRecord r;
+        r.key = fmt::format("100-{}-{}-{}", method, a * 90, seed);
+        r.index = index++;
+        r.seed_index = seed;
+        r.seed = 1000 + seed;
+        r.values = {"100", method, std::to_string(a * 90)};
+        r.ok = true;
+        r.run_dir = "runs/" + r.key;
+        const double m = 0.1 * (seed + 1);
+        r.metrics["mota"] = std::string(method) == "systematic" ? 0.5 : 0.5 + m + 0.05 * (a - 1);
+        store->Put(r);
+      }
+    }
+  }
+  return dir;
+}
+
+// The column of `name` in a CSV file's header.
+size_t CsvColumn(const fs::path& path, const std::string& name) {
+  std::stringstream text(Read(path));
+  std::string header, field;
+  std::getline(text, header);
+  std::stringstream f(header);
+  for (size_t i = 0; std::getline(f, field, ','); ++i) {
+    if (field == name) return i;
+  }
+  ADD_FAILURE() << name << " not in " << path;
+  return 0;
+}
+
+// A pooled cell's runs of one seed are averaged before its band and its
+// paired test (PooledHandStore's comment works the values out).
+TEST(Report, PooledRunsOfASeedCountAsOneUnit) {
+  const fs::path dir = PooledHandStore("report-pool-seeds");
+  const ReportResult r = WriteReport({.dir = dir.string()});
+  EXPECT_EQ(r.cells, 2);
+  const auto cells = CsvRows(r.csv_path);
+  ASSERT_EQ(cells.size(), 2U);
+  const size_t runs = CsvColumn(r.csv_path, "runs"), mean = CsvColumn(r.csv_path, "mota_mean"),
+               lo = CsvColumn(r.csv_path, "mota_lo95"), hi = CsvColumn(r.csv_path, "mota_hi95"),
+               n = CsvColumn(r.csv_path, "mota_n");
+  const auto& charged = cells[1];
+  ASSERT_EQ(charged[1], "charged");
+  EXPECT_EQ(charged[2], "all");
+  EXPECT_EQ(charged[runs], "12");
+  EXPECT_EQ(charged[n], "4");
+  EXPECT_NEAR(std::stod(charged[mean]), 0.75, 1e-9);
+  EXPECT_NEAR(std::stod(charged[lo]), 0.544603, 1e-6);
+  EXPECT_NEAR(std::stod(charged[hi]), 0.955397, 1e-6);
+  EXPECT_EQ(cells[0][n], "4");
+  const auto paired = CsvRows(dir / "paired.csv");
+  ASSERT_EQ(paired.size(), 1U);
+  const size_t pairs = CsvColumn(dir / "paired.csv", "pairs"),
+               difference = CsvColumn(dir / "paired.csv", "mean_difference"),
+               dlo = CsvColumn(dir / "paired.csv", "lo95"),
+               dhi = CsvColumn(dir / "paired.csv", "hi95"),
+               positive = CsvColumn(dir / "paired.csv", "positive"),
+               p = CsvColumn(dir / "paired.csv", "p_value");
+  EXPECT_EQ(paired[0][pairs], "4");
+  EXPECT_EQ(paired[0][positive], "4");
+  EXPECT_NEAR(std::stod(paired[0][difference]), 0.25, 1e-9);
+  EXPECT_NEAR(std::stod(paired[0][dlo]), 0.044603, 1e-6);
+  EXPECT_NEAR(std::stod(paired[0][dhi]), 0.455397, 1e-6);
+  EXPECT_NEAR(std::stod(paired[0][p]), 0.125, 1e-12);
+  const std::string md = Read(dir / "findings.md");
+  EXPECT_EQ(md.find("significantly better"), std::string::npos) << md;
+  EXPECT_NE(md.find("4 seed pairs"), std::string::npos) << md;
+  EXPECT_NE(Read(r.html_path).find("n, the bands and the paired tests count seeds"),
+            std::string::npos);
+}
+
 // Bands of a 0/1 metric stay inside [0, 1]: Wilson, by hand
 // (statistics_test.cc): 0 of 10 and 10 of 10 have no spread, n* = 10:
 // [0, 0.277533] and [0.722467, 1]; 5 of 10 has n* = 6.756993:
@@ -2306,9 +2408,8 @@ TEST(Report, FindingsSayWhenNoneSurvivesHolmsCorrection) {
               "significant after Holm's correction for all 3 (Holm p < 0.05). With 6 seed "
               "pairs the signed-rank test cannot give p below 0.0312, and Holm's correction "
               "for 3 comparisons needs p < 0.025 for its first (Tarone's rule: K = 2): no "
-              "comparison of this report can stay significant after it, whatever the data. 7 "
-              "pairs per "
-              "comparison (seeds, times the pooled values) at least are needed for Holm's "
+              "comparison of this report can stay significant after it, whatever the data. At "
+              "least 7 seed pairs per comparison are needed for Holm's "
               "correction to keep one, more for a difference that does not have the same "
               "sign in every seed. 1 comparison (mota) has the same value in every seed pair"),
       std::string::npos)
@@ -2393,8 +2494,8 @@ TEST(Report, FindingsSayWhenNoneSurvivesHolmsCorrection) {
                       "other 2 cannot, whatever the data: 2 with 6 seed pairs or fewer, where "
                       "the signed-rank test cannot give p below 0.0312. 1 of them can be kept at "
                       "a later step, after enough others are kept; 1 cannot be kept at any step. "
-                      "7 pairs per comparison (seeds, times the pooled "
-                      "values), each differing, would let every comparison count from the first "
+                      "7 seed pairs per comparison, each differing, would let every comparison "
+                      "count from the first "
                       "step."),
             std::string::npos)
       << Read(some / "findings.md");
@@ -2545,7 +2646,7 @@ TEST(Report, FindingsIgnoreKeysThatFollowTheSeries) {
   EXPECT_NE(md.find("This report makes 2 comparisons; where nothing differs, chance alone makes "
                     "about 0.1 of them findings. None of them is a finding. With 3 seed pairs "
                     "the signed-rank test cannot give p below 0.25: no comparison of this report "
-                    "can be a finding, whatever the data. 7 pairs per comparison"),
+                    "can be a finding, whatever the data. At least 7 seed pairs per comparison"),
             std::string::npos)
       << md;
   // At a glance, da_accuracy has no pairs in either cell.

@@ -54,14 +54,19 @@ TEST(ShippedSweeps, ResamplerComparisonsSweepBothLikelihoodModels) {
 // A shipped sweep that names a reference to compare with has the seeds for
 // its comparisons to survive Holm's correction (SeedsForHolmNote says
 // nothing). Left out: crossing-rendered.yaml, the speed sweep issue 11
-// specifies at 10 seeds, whose report is read for its curves; the
+// specifies at 10 seeds, whose report is read for its curves; and
+// detector-sun-confirm.yaml, a test stated and run on 2026-12-04 with 6
+// seeds when pooled azimuths counted as pairs, kept as it ran (its second
+// claim is re-tested with the seeds by detector-sun-low.yaml). The
 // descriptive detector-size and detector-sun sweeps name none. Before the
 // rule the main job (default.yaml, 10 seeds, 84 comparisons) could keep none.
 TEST(ShippedSweeps, ComparisonsHaveTheSeedsHolmNeeds) {
   const fs::path dir = fs::path(HCPF_SOURCE_DIR) / "scenarios" / "sweeps";
   int checked = 0;
   for (const auto& entry : fs::directory_iterator(dir)) {
-    if (entry.path().extension() != ".yaml" || entry.path().filename() == "crossing-rendered.yaml")
+    const std::string name = entry.path().filename().string();
+    if (entry.path().extension() != ".yaml" || name == "crossing-rendered.yaml" ||
+        name == "detector-sun-confirm.yaml")
       continue;
     const SweepSpec spec = LoadSweepFile(entry.path().string());
     if (spec.report.reference.empty()) continue;

@@ -229,8 +229,8 @@ TEST(Sweep, SeedsTooFewForHolmAreSaidBeforeTheSweepRuns) {
                 "the report's 10 paired comparisons needs p < 0.00714 for its first "
                 "(Tarone's rule: K = 7), so none can survive it unless ties (seeds where both "
                 "runs have the same value) leave 6 or fewer comparisons at this floor, "
-                "whatever the data. 9 pairs at least are needed "
-                "(seeds: 9 or more;"),
+                "whatever the data. 9 seeds at least are needed "
+                "(more where some seeds tie"),
       std::string::npos)
       << note;
   EXPECT_NE(note.find("sweep.yaml: "), std::string::npos) << note;
@@ -244,26 +244,29 @@ TEST(Sweep, SeedsTooFewForHolmAreSaidBeforeTheSweepRuns) {
                 dir, "base: base.yaml\nseeds: 2\ngrid:\n  tracker.particles: [10, 20]\n"))),
             "");
   EXPECT_EQ(SeedsForHolmNote(LoadSweepFile(WriteSweep(dir, grid))), "");
-  // Pooled values pair like seeds: sigma (x) {2, 4} x particles {10, 20,
-  // 40} pooled x method, y [mota]: 2 comparisons (p < 0.025), 2 seeds x 3
-  // pooled = 6 pairs, 2/64 = 0.03125: a warning, 7 pairs needed, 3 seeds.
-  // With 3 seeds, 9 pairs (2/512): none.
+  // Pooled values add no pairs: a seed's pooled runs share its random
+  // streams and are averaged into one pair of means. Sigma (x) {2, 4} x
+  // particles {10, 20, 40} pooled x method, y [mota]: 2 comparisons (p <
+  // 0.025). 6 seeds x 3 pooled values: 6 pairs (not 18, whose floor 2/2^18
+  // would say nothing), 2/64 = 0.03125: a warning, 7 seeds needed; with 7
+  // seeds (2/128) none.
   const std::string pooled =
       "base: base.yaml\ngrid:\n  tracker.likelihood.sigma_px: [2, 4]\n"
       "  tracker.particles: [10, 20, 40]\n  tracker.resampling.method: [systematic, charged]\n"
       "report: {x: tracker.likelihood.sigma_px, series: tracker.resampling.method, pool: "
       "[tracker.particles], y: [mota]}\n";
-  note = SeedsForHolmNote(LoadSweepFile(WriteSweep(dir, pooled + "seeds: 2\n")));
-  EXPECT_NE(note.find("with 2 seeds and 3 pooled values each paired comparison of the report "
-                      "(tracker.resampling.method against systematic) has 6 pairs: the "
+  note = SeedsForHolmNote(LoadSweepFile(WriteSweep(dir, pooled + "seeds: 6\n")));
+  EXPECT_NE(note.find("with 6 seeds each paired comparison of the report "
+                      "(tracker.resampling.method against systematic) has 6 pairs (the runs of "
+                      "its 3 pooled values are averaged in each seed): the "
                       "signed-rank test cannot give p below 0.0312, and Holm's correction over "
                       "the report's 2 paired comparisons needs p < 0.025 for its first (Tarone's "
                       "rule: K = 2), so none can survive it unless ties (seeds where both runs "
                       "have the same value) leave 1 or fewer comparisons at this floor"),
             std::string::npos)
       << note;
-  EXPECT_NE(note.find("7 pairs at least are needed (seeds: 3 or more;"), std::string::npos) << note;
-  EXPECT_EQ(SeedsForHolmNote(LoadSweepFile(WriteSweep(dir, pooled + "seeds: 3\n"))), "");
+  EXPECT_NE(note.find("7 seeds at least are needed (more where"), std::string::npos) << note;
+  EXPECT_EQ(SeedsForHolmNote(LoadSweepFile(WriteSweep(dir, pooled + "seeds: 7\n"))), "");
   // A series zipped with another key: 2 particle counts x 3 zip positions,
   // the 2 positions but the reference's compared, y [mota, idf1]: 8
   // comparisons (p < 0.00625 without Tarone's rule; with it K = 7, as above:
@@ -282,7 +285,7 @@ TEST(Sweep, SeedsTooFewForHolmAreSaidBeforeTheSweepRuns) {
                       "(Tarone's rule: K = 7)"),
             std::string::npos)
       << note;
-  EXPECT_NE(note.find("9 pairs at least are needed (seeds: 9 or more;"), std::string::npos) << note;
+  EXPECT_NE(note.find("9 seeds at least are needed (more where"), std::string::npos) << note;
   EXPECT_EQ(SeedsForHolmNote(LoadSweepFile(WriteSweep(dir, zipped + "seeds: 9\n"))), "");
 }
 

@@ -809,13 +809,34 @@ Paired PairedRowsOf(const std::vector<Cell>& cells, const StoreMeta& meta) {
   // particle filter's, whose tracker.type and command differ).
   paired.follow_series = KeysFollowing(cells, keys.size(), paired.series_index);
   const FollowingKeys& follow_series = paired.follow_series;
+  // The keys a run's partner may differ in: the series and the keys that
+  // follow it. A pooled key reads "all" in every cell, so KeysFollowing
+  // finds it following the series; its runs' values decide instead: it is
+  // cleared only where they follow the series too, else each run pairs with
+  // the reference's run of the same pooled value (until 2026-12-06 every
+  // run of a seed paired with the reference's first: an audit).
+  std::vector<bool> cleared(keys.size(), false);
+  for (size_t j = 0; j < keys.size() && j < follow_series.size(); ++j) {
+    cleared[j] = follow_series[j].has_value();
+    const bool pooled = std::find(meta.report.pool.begin(), meta.report.pool.end(), keys[j]) !=
+                        meta.report.pool.end();
+    if (!cleared[j] || !pooled) continue;
+    std::map<std::string, std::string> value_at_series;
+    for (const Cell& c : cells) {
+      for (const RunRecord* r : c.runs) {
+        if (si >= r->values.size() || j >= r->values.size()) continue;
+        const auto [it, inserted] = value_at_series.emplace(r->values[si], r->values[j]);
+        cleared[j] = cleared[j] && (inserted || it->second == r->values[j]);
+      }
+    }
+  }
   // A run's partner key: its values without the series value (and the keys
   // that follow it), and its seed.
   const auto pair_key = [&](const RunRecord& r) {
     std::vector<std::string> k = r.values;
     if (si < k.size()) k[si].clear();
-    for (size_t j = 0; j < k.size() && j < follow_series.size(); ++j) {
-      if (follow_series[j]) k[j].clear();
+    for (size_t j = 0; j < k.size() && j < cleared.size(); ++j) {
+      if (cleared[j]) k[j].clear();
     }
     k.push_back(std::to_string(r.seed));
     return k;

@@ -1654,9 +1654,9 @@ fs::path HandStore(const std::string& name, const std::string& reference = "syst
 
 // A pooled store written directly: particles {100} × {systematic, charged}
 // × sun azimuth {0, 90, 180} (pooled) × 4 seeds, report.y [mota].
-// systematic: 0.5 everywhere; charged on seed s at the three azimuths: 0.5
-// + m_s − 0.05, + m_s, + m_s + 0.05 with m_s = 0.1 (s + 1). The runs of a
-// seed share its random streams: one value per seed.
+// systematic: 0.47, 0.5, 0.53 at the three azimuths on every seed; charged
+// on seed s: 0.5 + m_s − 0.05, + m_s, + m_s + 0.05 with m_s = 0.1 (s + 1).
+// The runs of a seed share its random streams: one value per seed.
 //   charged's cell: seed means 0.6, 0.7, 0.8, 0.9; mean 0.75, s =
 //   √(0.05 / 3) = 0.129099, t(0.975, 3) = 3.182 (StudentT975's table),
 //   half-width 3.182 · 0.129099 / 2 = 0.205397: [0.544603, 0.955397], n =
@@ -1666,7 +1666,9 @@ fs::path HandStore(const std::string& name, const std::string& reference = "syst
 //   charged − systematic: 4 pairs of seed means, differences 0.1 … 0.4,
 //   mean 0.25, [0.044603, 0.455397]; all positive: W+ = 10, exact p = 2/16
 //   = 0.125, not a finding. The 12 run pairs, all positive, would give p =
-//   2/4096 = 0.000488 and call it one.
+//   2/4096 = 0.000488 and call it one. Each run pairs with the reference's
+//   run of its own azimuth: paired with the first (0.47) the differences
+//   would be 0.03 larger. The largest run pair: seed 3 at 180, 0.95 − 0.53.
 fs::path PooledHandStore(const std::string& name) {
   const auto dir = testing::SweepFolder(name);
   StoreMeta meta;
@@ -1692,7 +1694,8 @@ fs::path PooledHandStore(const std::string& name) {
         r.ok = true;
         r.run_dir = "runs/" + r.key;
         const double m = 0.1 * (seed + 1);
-        r.metrics["mota"] = std::string(method) == "systematic" ? 0.5 : 0.5 + m + 0.05 * (a - 1);
+        r.metrics["mota"] =
+            std::string(method) == "systematic" ? 0.5 + 0.03 * (a - 1) : 0.5 + m + 0.05 * (a - 1);
         store->Put(r);
       }
     }
@@ -1747,6 +1750,12 @@ TEST(Report, PooledRunsOfASeedCountAsOneUnit) {
   EXPECT_NEAR(std::stod(paired[0][dlo]), 0.044603, 1e-6);
   EXPECT_NEAR(std::stod(paired[0][dhi]), 0.455397, 1e-6);
   EXPECT_NEAR(std::stod(paired[0][p]), 0.125, 1e-12);
+  const size_t max_difference = CsvColumn(dir / "paired.csv", "max_difference"),
+               max_run = CsvColumn(dir / "paired.csv", "max_run"),
+               max_reference = CsvColumn(dir / "paired.csv", "max_reference_run");
+  EXPECT_NEAR(std::stod(paired[0][max_difference]), 0.42, 1e-9);
+  EXPECT_EQ(paired[0][max_run], "100-charged-180-3");
+  EXPECT_EQ(paired[0][max_reference], "100-systematic-180-3");
   const std::string md = Read(dir / "findings.md");
   EXPECT_EQ(md.find("significantly better"), std::string::npos) << md;
   EXPECT_NE(md.find("4 seed pairs"), std::string::npos) << md;

@@ -309,20 +309,28 @@ Layout LayoutOf(const std::vector<Cell>& cells, const StoreMeta& meta) {
   return layout;
 }
 
-// A cell's per-run values of `metric`: every finished run's, finite, in
-// run order (the faint points behind a plot's means).
+// A cell's per-seed values of `metric` (the faint points behind a plot's
+// means): each seed's mean over its finished runs (SeedMean; one run's
+// value without pooled keys), finite, in order of first appearance. They
+// are the values the cell's band is over.
 std::vector<double> SeedValues(const Cell& c, const std::string& metric) {
   std::vector<double> out;
-  for (const RunRecord* r : c.runs) {
-    if (!r->ok) continue;
-    const auto it = r->metrics.find(metric);
-    if (it != r->metrics.end() && std::isfinite(it->second)) out.push_back(it->second);
+  for (const auto& seed_runs : OkRunsBySeed(c.runs)) {
+    const double v = SeedMean(seed_runs, metric);
+    if (std::isfinite(v)) out.push_back(v);
   }
   return out;
 }
 
+// Whether a cell holds several finished runs of one seed (pooled keys).
+bool HasPooledRuns(const Cell& c) {
+  const auto ok =
+      std::count_if(c.runs.begin(), c.runs.end(), [](const RunRecord* r) { return r->ok; });
+  return static_cast<size_t>(ok) > OkRunsBySeed(c.runs).size();
+}
+
 // The smallest and largest value the plots of `metric` laid out by
-// `layouts` draw (means, band edges and, with `seeds`, every run's value of
+// `layouts` draw (means, band edges and, with `seeds`, every seed's value of
 // the cells with an x position, as PlotSvg draws them): ±infinity when none.
 std::pair<double, double> DrawnRange(const std::vector<Layout>& layouts, const std::string& metric,
                                      bool seeds) {
@@ -436,13 +444,13 @@ std::string PlotSvg(const Layout& layout, const std::string& metric, const std::
     text += "\n\n";
   }
   WriteTextFile(data.string(), text);
-  // A plot of means also shows every run's value (an audit: a cell of IDF1
+  // A plot of means also shows every seed's value (an audit: a cell of IDF1
   // 0.953 [0.91, 1.0] was most seeds at 1 and a few far below, which a mean
   // and its interval cannot show): faint points spread sideways around the
   // cell's x (SeedOffsets), behind the bands and lines.
   const bool difference = !reference.empty();
   const fs::path seeds_data = work / fmt::format("plot_{}_seeds.dat", p);
-  bool any_seed = false;
+  bool any_seed = false, pooled_runs = false;
   if (!difference) {
     const std::vector<std::vector<double>> offsets = SeedOffsets(layout);
     std::string seeds;
@@ -452,8 +460,9 @@ std::string PlotSvg(const Layout& layout, const std::string& metric, const std::
         const double x = layout.XPosition(*c);
         if (std::isnan(x)) continue;
         const std::vector<double> values = SeedValues(*c, metric);
+        pooled_runs = pooled_runs || HasPooledRuns(*c);
         for (size_t k = 0; k < values.size(); ++k) {
-          // Run k of n, in line l's slot of the strip around x.
+          // Seed k of n, in line l's slot of the strip around x.
           const double slot = offsets[l][0], width = offsets[l][1];
           const double offset =
               slot +
@@ -580,7 +589,10 @@ std::string PlotSvg(const Layout& layout, const std::string& metric, const std::
           "notitle",
           GpString(seeds_data.string()), l, kPlotColours[l % std::size(kPlotColours)] + 1));
     }
-    plots.push_back("NaN with points pt 7 ps 0.5 lc rgb '#99888888' title 'one run (seed)'");
+    plots.push_back(pooled_runs ? "NaN with points pt 7 ps 0.5 lc rgb '#99888888' title 'one seed "
+                                  "(its pooled runs averaged)'"
+                                : "NaN with points pt 7 ps 0.5 lc rgb '#99888888' title 'one run "
+                                  "(seed)'");
   }
   for (size_t l = 0; l < lines.size(); ++l) {
     if (!has_data[l]) continue;

@@ -1720,7 +1720,9 @@ size_t CsvColumn(const fs::path& path, const std::string& name) {
 // paired test (PooledHandStore's comment works the values out).
 TEST(Report, PooledRunsOfASeedCountAsOneUnit) {
   const fs::path dir = PooledHandStore("report-pool-seeds");
-  const ReportResult r = WriteReport({.dir = dir.string()});
+  const fs::path kept = dir / "kept";
+  const ReportResult r =
+      WriteReport({.dir = dir.string(), .gnuplot = KeepingGnuplot(dir, kept).string()});
   EXPECT_EQ(r.cells, 2);
   const auto cells = CsvRows(r.csv_path);
   ASSERT_EQ(cells.size(), 2U);
@@ -1760,6 +1762,26 @@ TEST(Report, PooledRunsOfASeedCountAsOneUnit) {
   EXPECT_EQ(md.find("significantly better"), std::string::npos) << md;
   EXPECT_NE(md.find("4 seed pairs"), std::string::npos) << md;
   EXPECT_NE(Read(r.html_path).find("n, the bands and the paired tests count seeds"),
+            std::string::npos);
+  // The plot's faint points are the seeds' means the band is over: charged's
+  // block (the second) has 4 of them, 0.6 … 0.9, not the 12 runs.
+  std::stringstream points(Read(kept / "plot_0_seeds.dat"));
+  std::vector<std::vector<double>> blocks(1);
+  std::string line;
+  while (std::getline(points, line)) {
+    if (line.empty()) {
+      if (!blocks.back().empty()) blocks.emplace_back();
+      continue;
+    }
+    double x = 0.0, y = 0.0;
+    std::stringstream(line) >> x >> y;
+    blocks.back().push_back(y);
+  }
+  if (blocks.back().empty()) blocks.pop_back();
+  ASSERT_EQ(blocks.size(), 2U);
+  ASSERT_EQ(blocks[1].size(), 4U);
+  for (size_t k = 0; k < 4; ++k) EXPECT_NEAR(blocks[1][k], 0.6 + 0.1 * k, 1e-12) << k;
+  EXPECT_NE(Read(kept / "plot_0.gp").find("title 'one seed (its pooled runs averaged)'"),
             std::string::npos);
 }
 

@@ -64,6 +64,10 @@ struct Cell {
   // A cell of paired differences (DifferenceCells), per metric: 1 when the
   // difference is a finding (VerdictOf), 2 when Holm's correction keeps it.
   std::map<std::string, int> finding;
+  // The combinations of pooled values among its runs (report.pool; 1
+  // without): a seed counts in the cell's statistics only with a finite
+  // value at every one of them (SeedMean).
+  int pooled_values = 1;
 };
 
 // The statistic of metric `m` over `values` (its catalogue range decides
@@ -115,18 +119,25 @@ std::vector<std::vector<const RunRecord*>> OkRunsBySeed(const std::vector<const 
   return out;
 }
 
-// The mean of metric `m` over one seed's runs, its finite values only (NaN
-// when none is).
-double SeedMean(const std::vector<const RunRecord*>& runs, const std::string& m) {
-  double sum = 0.0;
-  int n = 0;
+// The mean of `values` (one seed's, finite), or NaN when there are fewer
+// than `required`: a seed missing a pooled value (a failed run, a metric
+// undefined there) is left out rather than averaged over the others, since
+// the pooled values differ (SKS's recall at a 35° sun: 0.71 from 225°, 0.97
+// from the other two azimuths). One value's mean is itself, −0 included.
+double MeanOfSeed(const std::vector<double>& values, int required) {
+  if (values.empty() || static_cast<int>(values.size()) < required) return kNaN;
+  return values.size() == 1 ? values.front() : Mean(values);
+}
+
+// The mean of metric `m` over one seed's finished runs (MeanOfSeed of their
+// finite values; `required`: the cell's Cell::pooled_values).
+double SeedMean(const std::vector<const RunRecord*>& runs, const std::string& m, int required) {
+  std::vector<double> values;
   for (const RunRecord* r : runs) {
     const double x = r->metrics.at(m);
-    if (!std::isfinite(x)) continue;
-    sum = n == 0 ? x : sum + x;  // one run's mean is its value, −0 included
-    ++n;
+    if (std::isfinite(x)) values.push_back(x);
   }
-  return n > 0 ? sum / n : kNaN;
+  return MeanOfSeed(values, required);
 }
 
 // Stage 1, cells: runs grouped by their swept values (in order of first
@@ -152,6 +163,11 @@ std::vector<Cell> CellsOf(const std::vector<RunRecord>& runs, const StoreMeta& m
     cell.runs.push_back(&r);
     if (!r.ok) ++cell.failures;
   }
+  for (Cell& cell : cells) {
+    std::set<std::vector<std::string>> combinations;
+    for (const RunRecord* r : cell.runs) combinations.insert(r->values);
+    cell.pooled_values = static_cast<int>(combinations.size());
+  }
   // Stage 2, statistics over seeds. The runs of one seed in a pooled cell
   // (one per pooled value) share that seed's random streams (terrain,
   // noise, camera shake): they are averaged into one value per seed, and
@@ -161,7 +177,7 @@ std::vector<Cell> CellsOf(const std::vector<RunRecord>& runs, const StoreMeta& m
     const std::vector<std::vector<const RunRecord*>> by_seed = OkRunsBySeed(cell.runs);
     for (const std::string& m : MetricNames()) {
       std::vector<double> v;
-      for (const auto& seed_runs : by_seed) v.push_back(SeedMean(seed_runs, m));
+      for (const auto& seed_runs : by_seed) v.push_back(SeedMean(seed_runs, m, cell.pooled_values));
       cell.stats[m] = CellInterval(m, v);
     }
   }
@@ -316,7 +332,7 @@ Layout LayoutOf(const std::vector<Cell>& cells, const StoreMeta& meta) {
 std::vector<double> SeedValues(const Cell& c, const std::string& metric) {
   std::vector<double> out;
   for (const auto& seed_runs : OkRunsBySeed(c.runs)) {
-    const double v = SeedMean(seed_runs, metric);
+    const double v = SeedMean(seed_runs, metric, c.pooled_values);
     if (std::isfinite(v)) out.push_back(v);
   }
   return out;
@@ -870,16 +886,22 @@ Paired PairedRowsOf(const std::vector<Cell>& cells, const StoreMeta& meta) {
     }
     PairedRow row{&c, ref->second, {}, {}, {}};
     for (const std::string& m : meta.report.y) {
-      // Per seed, the sums of the run pairs whose values are both finite
-      // (in a pooled cell, one pair per pooled value; else one): the test
-      // and the band take one pair of means per seed, its independent unit.
-      struct SeedSums {
-        double a = 0.0, b = 0.0;
-        int n = 0;
+      // Per seed, the run pairs whose values are both finite (in a pooled
+      // cell, one pair per pooled value; else one): the test and the band
+      // take one pair of means per seed, its independent unit, and only
+      // from a seed with such a pair at every pooled value (MeanOfSeed).
+      struct SeedPairs {
+        std::vector<double> a, b;
       };
-      std::vector<SeedSums> sums;
+      std::vector<SeedPairs> sums;
       std::map<uint64_t, size_t> seed_at;
-      PairExtremes& extremes = row.extremes[m];
+      struct RunPair {
+        size_t seed;
+        const RunRecord* run;
+        const RunRecord* reference;
+        double difference;
+      };
+      std::vector<RunPair> run_pairs;  // in the cell's run order
       for (const RunRecord* r : c.runs) {
         if (!r->ok) continue;
         const auto p = partner.find(pair_key(*r));
@@ -889,27 +911,30 @@ Paired PairedRowsOf(const std::vector<Cell>& cells, const StoreMeta& meta) {
         const double va = r->metrics.at(m), vb = p->second->metrics.at(m);
         // Pairs as ComparePaired counts them: both values finite.
         if (!std::isfinite(va) || !std::isfinite(vb)) continue;
-        SeedSums& seed = sums[at->second];
-        // One pair's mean is its values, −0 included.
-        seed.a = seed.n == 0 ? va : seed.a + va;
-        seed.b = seed.n == 0 ? vb : seed.b + vb;
-        ++seed.n;
-        const double d = va - vb;
+        sums[at->second].a.push_back(va);
+        sums[at->second].b.push_back(vb);
+        run_pairs.push_back({at->second, r, p->second, va - vb});
+      }
+      std::vector<double> a, b;
+      for (const SeedPairs& seed : sums) {
+        a.push_back(MeanOfSeed(seed.a, c.pooled_values));
+        b.push_back(MeanOfSeed(seed.b, c.pooled_values));
+      }
+      // The extremes among the run pairs of the seeds the test counts.
+      PairExtremes& extremes = row.extremes[m];
+      for (const RunPair& pair : run_pairs) {
+        if (!std::isfinite(a[pair.seed])) continue;
+        const double d = pair.difference;
         if (extremes.max_run == nullptr || d > extremes.max_difference) {
-          extremes.max_run = r;
-          extremes.max_reference = p->second;
+          extremes.max_run = pair.run;
+          extremes.max_reference = pair.reference;
           extremes.max_difference = d;
         }
         if (extremes.min_run == nullptr || d < extremes.min_difference) {
-          extremes.min_run = r;
-          extremes.min_reference = p->second;
+          extremes.min_run = pair.run;
+          extremes.min_reference = pair.reference;
           extremes.min_difference = d;
         }
-      }
-      std::vector<double> a, b;
-      for (const SeedSums& seed : sums) {
-        a.push_back(seed.n > 0 ? seed.a / seed.n : kNaN);
-        b.push_back(seed.n > 0 ? seed.b / seed.n : kNaN);
       }
       const CatalogueMetric* entry = FindMetric(m);
       row.metrics[m] = ComparePaired(a, b, entry ? entry->range : MetricRange::Unbounded());
@@ -1236,15 +1261,27 @@ std::string SeedsToLookAtHtml(const Paired& paired, const StoreMeta& meta,
   const auto si = static_cast<size_t>(paired.series_index);
   std::string rows;
   int findings = 0, counterexamples = 0;
+  // In a pooled report the extremes are run pairs (one seed at one pooled
+  // value), named by their pooled values; the test is over the seeds' means.
+  const bool pooled = !meta.report.pool.empty();
+  const auto pooled_values = [&](const RunRecord* run) {
+    std::string out;
+    for (size_t k = 0; k < keys.size() && k < run->values.size(); ++k) {
+      if (std::find(meta.report.pool.begin(), meta.report.pool.end(), keys[k]) !=
+          meta.report.pool.end())
+        out += fmt::format(", {} = {}", EscapeMarkup(keys[k]), EscapeMarkup(run->values[k]));
+    }
+    return out;
+  };
   const auto pair_text = [&](const RunRecord* run, const RunRecord* reference, double d,
                              bool against) {
     const auto folder = [&](const RunRecord* r) {
       return ShellWord((fs::path(dir) / r->run_dir).string());
     };
     return fmt::format(
-        "<a href=\"{}\">seed index {}</a>: &Delta;&nbsp;{:.3g}{}<br><code>hcpf report {} --against "
-        "{}</code>",
-        EscapeMarkup(link_prefix + run->run_dir), run->seed_index, d,
+        "<a href=\"{}\">seed index {}{}</a>: &Delta;&nbsp;{:.3g}{}<br><code>hcpf report {} "
+        "--against {}</code>",
+        EscapeMarkup(link_prefix + run->run_dir), run->seed_index, pooled_values(run), d,
         against ? " <b>(against it)</b>" : "", EscapeMarkup(folder(run)),
         EscapeMarkup(folder(reference)));
   };
@@ -1279,8 +1316,8 @@ std::string SeedsToLookAtHtml(const Paired& paired, const StoreMeta& meta,
   if (findings == 0) return {};
   std::string h = fmt::format(
       "<details id=\"seeds-to-look-at\"><summary><b>Seeds to look at</b>: for {} coloured "
-      "cell{}, the seed whose difference goes furthest in the direction of the mean and the "
-      "seed that goes least far ({} of them against it: the other sign), with the command that "
+      "cell{}, the {} whose difference goes furthest in the direction of the mean and the "
+      "{} that goes least far ({} of them against it: the other sign{}), with the command that "
       "sets the two runs side by side (docs/sweeps.md, \"Two runs side by "
       "side\").</summary>\n<p>That report plays the runs' overlay videos side by side when "
       "both have one (the first seed of each cell under <code>hcpf sweep --video</code>); for "
@@ -1288,7 +1325,11 @@ std::string SeedsToLookAtHtml(const Paired& paired, const StoreMeta& meta,
       "the same run with one (the same files), and <code>hcpf report NEW --against "
       "OTHER_NEW</code> then shows both.</p>\n<table><tr>",
       findings == 1 ? std::string("the one") : fmt::format("each of the {}", findings),
-      findings == 1 ? "" : "s", counterexamples);
+      findings == 1 ? "" : "s", pooled ? "run pair (one seed at one pooled value)" : "seed",
+      pooled ? "run pair" : "seed", counterexamples,
+      pooled ? "; the test is over each seed's mean of its pooled runs, so a run pair against "
+               "it need not be a seed against it"
+             : "");
   for (size_t k : shown) h += "<th>" + EscapeMarkup(keys[k]) + "</th>";
   h += "<th>compared</th><th>metric</th><th>&Delta;</th><th>furthest</th><th>least far</th>"
        "</tr>\n";
@@ -1316,7 +1357,7 @@ std::string PairedHtml(const Paired& paired, const StoreMeta& meta, const Layout
       "seed's difference cancels what the seed does to both. <b>&Delta;</b>: the mean of the "
       "per-seed differences with its 95&nbsp;% t interval (cut to the range a difference can "
       "take, marked &dagger;); <b>n</b>: the pairs (seeds where both runs finished with a "
-      "value); <b>+/&minus;/=</b>: pairs where the value is above, below and equal to the "
+      "value{8}); <b>+/&minus;/=</b>: pairs where the value is above, below and equal to the "
       "reference's; <b>p</b>: two-sided Wilcoxon signed-rank test on the nonzero differences "
       "(exact up to {3} of them, normal approximation above; with 5 or fewer nonzero "
       "differences p cannot fall below 0.05). Green: better than the reference in the metric's "
@@ -1342,7 +1383,10 @@ std::string PairedHtml(const Paired& paired, const StoreMeta& meta, const Layout
                 "0.05 (in bold) stays a finding when all {0} are tested at once.",
                 paired.tested),
       reach_note.empty() ? std::string() : " <b>" + EscapeMarkup(reach_note) + "</b>",
-      EscapeMarkup(TimingsNote(meta)), EscapeMarkup(TiesNote(paired)));
+      EscapeMarkup(TimingsNote(meta)), EscapeMarkup(TiesNote(paired)),
+      meta.report.pool.empty()
+          ? ""
+          : " at every pooled value; a seed's value in each cell is the mean of its pooled runs");
   // Scrolled by itself when wider than the page (an audit: 1290 px at 1280).
   h += "<div class=\"wide\"><table><tr>";
   for (size_t k : shown) h += "<th>" + EscapeMarkup(keys[k]) + "</th>";
@@ -2592,17 +2636,31 @@ std::string ReportHtml(const fs::path& dir, const std::string& link_prefix, cons
     h += fmt::format("<div class=\"plot\" id=\"plot-{}\">\n{}\n</div>\n", EscapeMarkup(id), svg);
   }
   h += paired_html;
-  h += "<h2>Cells</h2>\n<p>Mean [95&nbsp;% interval] over the n seeds (W: Wilson; &dagger;: "
-       "the t interval cut at the metric's bound).</p>\n<div class=\"wide\"><table><tr>";
+  h += std::string(
+           "<h2>Cells</h2>\n<p>Mean [95&nbsp;% interval] over the n seeds (W: Wilson; "
+           "&dagger;: the t interval cut at the metric's bound)") +
+       (meta.report.pool.empty()
+            ? ""
+            : "; each seed's value is the mean of its pooled runs, and a seed without a value "
+              "at every pooled value is left out of a metric's mean and interval") +
+       ".</p>\n<div class=\"wide\"><table><tr>";
   for (const std::string& k : keys) h += "<th>" + EscapeMarkup(k) + "</th>";
-  h += "<th>n</th><th>failures</th>";
+  // n: the seeds with a finished run at every pooled value (the finished
+  // runs themselves without pooled keys); a pooled report adds the runs.
+  const bool pooled_report = !meta.report.pool.empty();
+  h += pooled_report ? "<th>n</th><th>runs</th><th>failures</th>" : "<th>n</th><th>failures</th>";
   for (const std::string& m : meta.report.y) h += "<th>" + EscapeMarkup(m) + "</th>";
   h += "</tr>\n";
   for (const Cell& c : cells) {
     h += "<tr>";
     for (const std::string& v : c.values) h += "<td class=\"k\">" + EscapeMarkup(v) + "</td>";
-    h += fmt::format("<td>{}</td><td{}>{}</td>", c.runs.size() - c.failures,
-                     c.failures ? " class=\"failed\"" : "", c.failures);
+    const auto by_seed = OkRunsBySeed(c.runs);
+    h += fmt::format("<td>{}</td>",
+                     std::count_if(by_seed.begin(), by_seed.end(), [&](const auto& runs) {
+                       return static_cast<int>(runs.size()) >= c.pooled_values;
+                     }));
+    if (pooled_report) h += fmt::format("<td>{}</td>", c.runs.size() - c.failures);
+    h += fmt::format("<td{}>{}</td>", c.failures ? " class=\"failed\"" : "", c.failures);
     for (const std::string& m : meta.report.y) {
       const Interval& s = c.stats.at(m);
       if (s.n == 0) {

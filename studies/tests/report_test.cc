@@ -1653,10 +1653,13 @@ fs::path HandStore(const std::string& name, const std::string& reference = "syst
 }
 
 // A pooled store written directly: particles {100} × {systematic, charged}
-// × sun azimuth {0, 90, 180} (pooled) × 4 seeds, report.y [mota].
+// × sun azimuth {0, 90, 180} (pooled) × 5 seeds, report.y [mota].
 // systematic: 0.47, 0.5, 0.53 at the three azimuths on every seed; charged
-// on seed s: 0.5 + m_s − 0.05, + m_s, + m_s + 0.05 with m_s = 0.1 (s + 1).
-// The runs of a seed share its random streams: one value per seed.
+// on seeds s = 0–3: 0.5 + m_s − 0.05, + m_s, + m_s + 0.05 with m_s = 0.1 (s
+// + 1); on seed 4, 0 at 0 and 180 and its run at 90 failed. The runs of a
+// seed share its random streams: one value per seed, and only from a seed
+// with every pooled value (charged's seed 4 is left out, not averaged over
+// its two zeros).
 //   charged's cell: seed means 0.6, 0.7, 0.8, 0.9; mean 0.75, s =
 //   √(0.05 / 3) = 0.129099, t(0.975, 3) = 3.182 (StudentT975's table),
 //   half-width 3.182 · 0.129099 / 2 = 0.205397: [0.544603, 0.955397], n =
@@ -1669,7 +1672,10 @@ fs::path HandStore(const std::string& name, const std::string& reference = "syst
 //   2/4096 = 0.000488 and call it one. Each run pairs with the reference's
 //   run of its own azimuth: paired with the first (0.47) the differences
 //   would be 0.03 larger. The largest run pair: seed 3 at 180, 0.95 − 0.53.
-fs::path PooledHandStore(const std::string& name) {
+// With `complete` and `step` (PooledRunsNameTheirPooledValues): seeds 0 …
+// complete − 1 as seeds 0–3 above with m_s = step (s + 1), and seed
+// `complete` as seed 4.
+fs::path PooledHandStore(const std::string& name, int complete = 4, double step = 0.1) {
   const auto dir = testing::SweepFolder(name);
   StoreMeta meta;
   meta.sweep_hash = "hand";
@@ -1679,23 +1685,25 @@ fs::path PooledHandStore(const std::string& name) {
   meta.report.series = "tracker.resampling.method";
   meta.report.pool = {"world.sun.azimuth_deg"};
   meta.report.y = {"mota"};
-  meta.run_count = 2 * 3 * 4;
+  meta.run_count = 2 * 3 * (complete + 1);
   auto store = ResultsStore::OpenOrCreate((dir / "results.sqlite").string(), meta);
   int64_t index = 0;
   for (const char* method : {"systematic", "charged"}) {
     for (int a = 0; a < 3; ++a) {
-      for (int seed = 0; seed < 4; ++seed) {
+      for (int seed = 0; seed <= complete; ++seed) {
         RunRecord r;
         r.key = fmt::format("100-{}-{}-{}", method, a * 90, seed);
         r.index = index++;
         r.seed_index = seed;
         r.seed = 1000 + seed;
         r.values = {"100", method, std::to_string(a * 90)};
-        r.ok = true;
+        const bool systematic = std::string(method) == "systematic";
+        r.ok = systematic || seed < complete || a != 1;
         r.run_dir = "runs/" + r.key;
-        const double m = 0.1 * (seed + 1);
-        r.metrics["mota"] =
-            std::string(method) == "systematic" ? 0.5 + 0.03 * (a - 1) : 0.5 + m + 0.05 * (a - 1);
+        const double m = step * (seed + 1);
+        r.metrics["mota"] = systematic        ? 0.5 + 0.03 * (a - 1)
+                            : seed < complete ? 0.5 + m + 0.05 * (a - 1)
+                                              : 0.0;
         store->Put(r);
       }
     }
@@ -1732,12 +1740,13 @@ TEST(Report, PooledRunsOfASeedCountAsOneUnit) {
   const auto& charged = cells[1];
   ASSERT_EQ(charged[1], "charged");
   EXPECT_EQ(charged[2], "all");
-  EXPECT_EQ(charged[runs], "12");
+  EXPECT_EQ(charged[runs], "15");
   EXPECT_EQ(charged[n], "4");
   EXPECT_NEAR(std::stod(charged[mean]), 0.75, 1e-9);
   EXPECT_NEAR(std::stod(charged[lo]), 0.544603, 1e-6);
   EXPECT_NEAR(std::stod(charged[hi]), 0.955397, 1e-6);
-  EXPECT_EQ(cells[0][n], "4");
+  EXPECT_EQ(cells[0][n], "5");
+  EXPECT_NEAR(std::stod(cells[0][mean]), 0.5, 1e-12);
   const auto paired = CsvRows(dir / "paired.csv");
   ASSERT_EQ(paired.size(), 1U);
   const size_t pairs = CsvColumn(dir / "paired.csv", "pairs"),
@@ -1783,6 +1792,37 @@ TEST(Report, PooledRunsOfASeedCountAsOneUnit) {
   for (size_t k = 0; k < 4; ++k) EXPECT_NEAR(blocks[1][k], 0.6 + 0.1 * k, 1e-12) << k;
   EXPECT_NE(Read(kept / "plot_0.gp").find("title 'one seed (its pooled runs averaged)'"),
             std::string::npos);
+  // The cells table: n counts the seeds with a run at every pooled value
+  // (charged: 4; systematic: 5), then the finished runs and the failures.
+  const std::string html = Read(r.html_path);
+  EXPECT_NE(html.find("<th>n</th><th>runs</th><th>failures</th>"), std::string::npos);
+  EXPECT_NE(html.find("<td class=\"k\">charged</td><td class=\"k\">all</td><td>4</td><td>14</td>"
+                      "<td class=\"failed\">1</td>"),
+            std::string::npos)
+      << html;
+  EXPECT_NE(html.find("<td class=\"k\">systematic</td><td class=\"k\">all</td><td>5</td>"
+                      "<td>15</td><td>0</td>"),
+            std::string::npos);
+}
+
+// A pooled report's seeds to look at are run pairs, named by their pooled
+// value. PooledHandStore with 6 complete seeds, m_s = 0.05 (s + 1): every
+// seed's mean difference is m_s > 0, p = 2/64 = 0.031, a finding. Its run
+// pairs differ by m_s + 0.02 (a − 1): the furthest is seed 5 at 180 (0.3 +
+// 0.02 = 0.32), the least far seed 0 at 0 (0.05 − 0.02 = 0.03).
+TEST(Report, PooledRunsNameTheirPooledValues) {
+  const fs::path dir = PooledHandStore("report-pool-look", 6, 0.05);
+  const std::string html = Read(WriteReport({.dir = dir.string()}).html_path);
+  EXPECT_NE(html.find("the run pair (one seed at one pooled value) whose difference goes furthest"),
+            std::string::npos)
+      << html;
+  EXPECT_NE(html.find("so a run pair against it need not be a seed against it"), std::string::npos);
+  EXPECT_NE(html.find(">seed index 5, world.sun.azimuth_deg = 180</a>: &Delta;&nbsp;0.32<br>"),
+            std::string::npos)
+      << html;
+  EXPECT_NE(html.find(">seed index 0, world.sun.azimuth_deg = 0</a>: &Delta;&nbsp;0.03<br>"),
+            std::string::npos)
+      << html.substr(html.find("seeds-to-look-at"), 3000);
 }
 
 // Bands of a 0/1 metric stay inside [0, 1]: Wilson, by hand

@@ -1611,6 +1611,21 @@ TEST(Report, WideRangesGetALogarithmicYAxis) {
   EXPECT_GE(linear_plots, 1);
 }
 
+// The meta of a store written by hand: its swept keys (the first is x),
+// the series ("" for none), the reported metrics and the run count.
+StoreMeta HandMeta(std::vector<std::string> keys, const std::string& series,
+                   std::vector<std::string> y, int64_t runs) {
+  StoreMeta meta;
+  meta.sweep_hash = "hand";
+  meta.sweep_file = "hand.yaml";
+  meta.report.x = keys.front();
+  meta.swept_keys = std::move(keys);
+  meta.report.series = series;
+  meta.report.y = std::move(y);
+  meta.run_count = runs;
+  return meta;
+}
+
 // A store written directly, with hand-picked values: particles {100, 1000} ×
 // {systematic, charged} × 10 seeds. hijack_rate per run is 0 or 1:
 // systematic 1 on every seed at 100 and on seeds 0–4 at 1000, charged 0
@@ -1619,15 +1634,9 @@ TEST(Report, WideRangesGetALogarithmicYAxis) {
 fs::path HandStore(const std::string& name, const std::string& reference = "systematic",
                    int seeds = 10, int failed_charged_at_1000 = 0) {
   const auto dir = testing::SweepFolder(name);
-  StoreMeta meta;
-  meta.sweep_hash = "hand";
-  meta.sweep_file = "hand.yaml";
-  meta.swept_keys = {"tracker.particles", "tracker.resampling.method"};
-  meta.report.x = "tracker.particles";
-  meta.report.series = "tracker.resampling.method";
-  meta.report.y = {"hijack_rate", "mota"};
+  StoreMeta meta = HandMeta({"tracker.particles", "tracker.resampling.method"},
+                            "tracker.resampling.method", {"hijack_rate", "mota"}, 4 * seeds);
   meta.report.reference = reference;
-  meta.run_count = 4 * seeds;
   auto store = ResultsStore::OpenOrCreate((dir / "results.sqlite").string(), meta);
   int64_t index = 0;
   for (const char* particles : {"100", "1000"}) {
@@ -1677,15 +1686,10 @@ fs::path HandStore(const std::string& name, const std::string& reference = "syst
 // `complete` as seed 4.
 fs::path PooledHandStore(const std::string& name, int complete = 4, double step = 0.1) {
   const auto dir = testing::SweepFolder(name);
-  StoreMeta meta;
-  meta.sweep_hash = "hand";
-  meta.sweep_file = "hand.yaml";
-  meta.swept_keys = {"tracker.particles", "tracker.resampling.method", "world.sun.azimuth_deg"};
-  meta.report.x = "tracker.particles";
-  meta.report.series = "tracker.resampling.method";
+  StoreMeta meta =
+      HandMeta({"tracker.particles", "tracker.resampling.method", "world.sun.azimuth_deg"},
+               "tracker.resampling.method", {"mota"}, 2 * 3 * (complete + 1));
   meta.report.pool = {"world.sun.azimuth_deg"};
-  meta.report.y = {"mota"};
-  meta.run_count = 2 * 3 * (complete + 1);
   auto store = ResultsStore::OpenOrCreate((dir / "results.sqlite").string(), meta);
   int64_t index = 0;
   for (const char* method : {"systematic", "charged"}) {
@@ -2575,13 +2579,7 @@ TEST(Report, FindingsSayWhenNoneSurvivesHolmsCorrection) {
 // A store written by hand: tracker.particles swept over 100 and 1000, one ok
 // run each with MOTA 0.5 (and no other metric), report.y = `y`.
 void WriteTwoRunStore(const fs::path& dir, const std::vector<std::string>& y) {
-  StoreMeta meta;
-  meta.sweep_hash = "hand";
-  meta.sweep_file = "hand.yaml";
-  meta.swept_keys = {"tracker.particles"};
-  meta.report.x = "tracker.particles";
-  meta.report.y = y;
-  meta.run_count = 2;
+  const StoreMeta meta = HandMeta({"tracker.particles"}, "", y, 2);
   auto store = ResultsStore::OpenOrCreate((dir / "results.sqlite").string(), meta);
   for (int i = 0; i < 2; ++i) {
     RunRecord r;
@@ -2671,15 +2669,9 @@ TEST(Report, MetricsNoRunMeasuredAreNamed) {
 // for a metric sort does not have).
 TEST(Report, FindingsIgnoreKeysThatFollowTheSeries) {
   const auto dir = testing::SweepFolder("report-findings-follow");
-  StoreMeta meta;
-  meta.sweep_hash = "hand";
-  meta.sweep_file = "hand.yaml";
-  meta.swept_keys = {"tracker.particles", "name", "tracker.type"};
-  meta.report.x = "tracker.particles";
-  meta.report.series = "name";
+  StoreMeta meta =
+      HandMeta({"tracker.particles", "name", "tracker.type"}, "name", {"mota", "da_accuracy"}, 12);
   meta.report.reference = "pf";
-  meta.report.y = {"mota", "da_accuracy"};
-  meta.run_count = 12;
   {
     auto store = ResultsStore::OpenOrCreate((dir / "results.sqlite").string(), meta);
     int64_t index = 0;

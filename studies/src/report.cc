@@ -106,6 +106,16 @@ std::string SceneContactSheet(const fs::path& dir) {
 
 namespace {
 
+// Per swept key, whether report.pool lists it.
+std::vector<bool> PooledKeys(const StoreMeta& meta) {
+  std::vector<bool> pooled(meta.swept_keys.size(), false);
+  for (size_t k = 0; k < meta.swept_keys.size(); ++k) {
+    pooled[k] = std::find(meta.report.pool.begin(), meta.report.pool.end(), meta.swept_keys[k]) !=
+                meta.report.pool.end();
+  }
+  return pooled;
+}
+
 // A cell's finished runs grouped by seed, in order of first appearance.
 std::vector<std::vector<const RunRecord*>> OkRunsBySeed(const std::vector<const RunRecord*>& runs) {
   std::vector<std::vector<const RunRecord*>> out;
@@ -145,11 +155,7 @@ double SeedMean(const std::vector<const RunRecord*>& runs, const std::string& m,
 // metric's mean and 95 % interval over its finished runs.
 // Pooled keys (report.pool) read "all": their runs share a cell.
 std::vector<Cell> CellsOf(const std::vector<RunRecord>& runs, const StoreMeta& meta) {
-  std::vector<bool> pooled(meta.swept_keys.size(), false);
-  for (size_t k = 0; k < meta.swept_keys.size(); ++k) {
-    pooled[k] = std::find(meta.report.pool.begin(), meta.report.pool.end(), meta.swept_keys[k]) !=
-                meta.report.pool.end();
-  }
+  const std::vector<bool> pooled = PooledKeys(meta);
   std::vector<Cell> cells;
   std::map<std::vector<std::string>, size_t> cell_of;
   for (const RunRecord& r : runs) {
@@ -219,19 +225,28 @@ struct Layout {
 // with x), its value at each value of that key; nullopt for the others (and
 // for every key when index < 0: no such key).
 using FollowingKeys = std::vector<std::optional<std::map<std::string, std::string>>>;
+
+// Over `rows` (swept values, one vector per cell or run), key k's value at
+// each value of key `index` when it follows from it; nullopt when it does
+// not.
+std::optional<std::map<std::string, std::string>> ValuesFollowing(
+    const std::vector<const std::vector<std::string>*>& rows, size_t index, size_t k) {
+  std::map<std::string, std::string> value_at;
+  for (const std::vector<std::string>* row : rows) {
+    const auto [it, inserted] = value_at.emplace((*row)[index], (*row)[k]);
+    if (!inserted && it->second != (*row)[k]) return std::nullopt;
+  }
+  return value_at;
+}
+
 FollowingKeys KeysFollowing(const std::vector<Cell>& cells, size_t keys, int index) {
   FollowingKeys out(keys);
   if (index < 0) return out;
   const auto si = static_cast<size_t>(index);
+  std::vector<const std::vector<std::string>*> rows;
+  for (const Cell& c : cells) rows.push_back(&c.values);
   for (size_t k = 0; k < keys; ++k) {
-    if (k == si) continue;
-    std::map<std::string, std::string> value_at_series;
-    bool follows = true;
-    for (const Cell& c : cells) {
-      const auto [it, inserted] = value_at_series.emplace(c.values[si], c.values[k]);
-      follows = follows && (inserted || it->second == c.values[k]);
-    }
-    if (follows) out[k] = std::move(value_at_series);
+    if (k != si) out[k] = ValuesFollowing(rows, si, k);
   }
   return out;
 }
@@ -336,13 +351,6 @@ std::vector<double> SeedValues(const Cell& c, const std::string& metric) {
     if (std::isfinite(v)) out.push_back(v);
   }
   return out;
-}
-
-// Whether a cell holds several finished runs of one seed (pooled keys).
-bool HasPooledRuns(const Cell& c) {
-  const auto ok =
-      std::count_if(c.runs.begin(), c.runs.end(), [](const RunRecord* r) { return r->ok; });
-  return static_cast<size_t>(ok) > OkRunsBySeed(c.runs).size();
 }
 
 // The smallest and largest value the plots of `metric` laid out by
@@ -476,7 +484,7 @@ std::string PlotSvg(const Layout& layout, const std::string& metric, const std::
         const double x = layout.XPosition(*c);
         if (std::isnan(x)) continue;
         const std::vector<double> values = SeedValues(*c, metric);
-        pooled_runs = pooled_runs || HasPooledRuns(*c);
+        pooled_runs = pooled_runs || c->pooled_values > 1;
         for (size_t k = 0; k < values.size(); ++k) {
           // Seed k of n, in line l's slot of the strip around x.
           const double slot = offsets[l][0], width = offsets[l][1];
@@ -843,20 +851,17 @@ Paired PairedRowsOf(const std::vector<Cell>& cells, const StoreMeta& meta) {
   // cleared only where they follow the series too, else each run pairs with
   // the reference's run of the same pooled value (until 2026-12-06 every
   // run of a seed paired with the reference's first: an audit).
+  const std::vector<bool> pooled = PooledKeys(meta);
+  std::vector<const std::vector<std::string>*> run_values;
+  for (const Cell& c : cells) {
+    for (const RunRecord* r : c.runs) {
+      if (r->values.size() == keys.size()) run_values.push_back(&r->values);
+    }
+  }
   std::vector<bool> cleared(keys.size(), false);
   for (size_t j = 0; j < keys.size() && j < follow_series.size(); ++j) {
-    cleared[j] = follow_series[j].has_value();
-    const bool pooled = std::find(meta.report.pool.begin(), meta.report.pool.end(), keys[j]) !=
-                        meta.report.pool.end();
-    if (!cleared[j] || !pooled) continue;
-    std::map<std::string, std::string> value_at_series;
-    for (const Cell& c : cells) {
-      for (const RunRecord* r : c.runs) {
-        if (si >= r->values.size() || j >= r->values.size()) continue;
-        const auto [it, inserted] = value_at_series.emplace(r->values[si], r->values[j]);
-        cleared[j] = cleared[j] && (inserted || it->second == r->values[j]);
-      }
-    }
+    cleared[j] = follow_series[j].has_value() &&
+                 (!pooled[j] || ValuesFollowing(run_values, si, j).has_value());
   }
   // A run's partner key: its values without the series value (and the keys
   // that follow it), and its seed.
@@ -893,7 +898,7 @@ Paired PairedRowsOf(const std::vector<Cell>& cells, const StoreMeta& meta) {
       struct SeedPairs {
         std::vector<double> a, b;
       };
-      std::vector<SeedPairs> sums;
+      std::vector<SeedPairs> seeds;
       std::map<uint64_t, size_t> seed_at;
       struct RunPair {
         size_t seed;
@@ -906,17 +911,17 @@ Paired PairedRowsOf(const std::vector<Cell>& cells, const StoreMeta& meta) {
         if (!r->ok) continue;
         const auto p = partner.find(pair_key(*r));
         if (p == partner.end()) continue;
-        const auto [at, inserted] = seed_at.emplace(r->seed, sums.size());
-        if (inserted) sums.emplace_back();
+        const auto [at, inserted] = seed_at.emplace(r->seed, seeds.size());
+        if (inserted) seeds.emplace_back();
         const double va = r->metrics.at(m), vb = p->second->metrics.at(m);
         // Pairs as ComparePaired counts them: both values finite.
         if (!std::isfinite(va) || !std::isfinite(vb)) continue;
-        sums[at->second].a.push_back(va);
-        sums[at->second].b.push_back(vb);
+        seeds[at->second].a.push_back(va);
+        seeds[at->second].b.push_back(vb);
         run_pairs.push_back({at->second, r, p->second, va - vb});
       }
       std::vector<double> a, b;
-      for (const SeedPairs& seed : sums) {
+      for (const SeedPairs& seed : seeds) {
         a.push_back(MeanOfSeed(seed.a, c.pooled_values));
         b.push_back(MeanOfSeed(seed.b, c.pooled_values));
       }
@@ -1264,11 +1269,11 @@ std::string SeedsToLookAtHtml(const Paired& paired, const StoreMeta& meta,
   // In a pooled report the extremes are run pairs (one seed at one pooled
   // value), named by their pooled values; the test is over the seeds' means.
   const bool pooled = !meta.report.pool.empty();
+  const std::vector<bool> pooled_key = PooledKeys(meta);
   const auto pooled_values = [&](const RunRecord* run) {
     std::string out;
     for (size_t k = 0; k < keys.size() && k < run->values.size(); ++k) {
-      if (std::find(meta.report.pool.begin(), meta.report.pool.end(), keys[k]) !=
-          meta.report.pool.end())
+      if (pooled_key[k])
         out += fmt::format(", {} = {}", EscapeMarkup(keys[k]), EscapeMarkup(run->values[k]));
     }
     return out;

@@ -14,6 +14,7 @@
 
 #include "cv_image.h"
 #include "hcpf/core/check.h"
+#include "hcpf/core/instruction_set.h"
 #include "hcpf/vision/detector.h"
 #include "hcpf/vision/sks.h"
 #include "hcpf/vision/stacked_integral_blur.h"
@@ -333,6 +334,55 @@ struct Workspace {
   GreyImageF smooth, xx, xy, yy, spare;
 };
 
+// The two per-pixel loops of the Harris response, built for AVX-512, AVX2
+// and the x86-64 baseline (HCPF_DISPATCHED, hcpf/core/instruction_set.h) and
+// written in chunks of a fixed count, which GCC 12's -O2 vectorises (its
+// "very cheap" cost model takes no loop with a run-time trip count). Each
+// value is the same IEEE expression in every build (no FMA:
+// -ffp-contract=off), so every build gives the same bytes
+// (SksDetector.EveryInstructionSetGivesTheSameFeatures). Before, as plain
+// scalar loops, they were about half of the keypoint extraction's time
+// (docs/performance.md).
+constexpr size_t kHarrisChunk = 16;
+
+// For x in [1, n - 1): a = half (row[x + 1] - row[x - 1]),
+// b = half (down[x] - up[x]); xx = a^2, xy = a b, yy = b^2.
+HCPF_DISPATCHED(void, InteriorProducts,
+                (const float* __restrict row, const float* __restrict up,
+                 const float* __restrict down, float half, float* __restrict xx,
+                 float* __restrict xy, float* __restrict yy, size_t n),
+                (row, up, down, half, xx, xy, yy, n), {
+                  auto at = [&](size_t x) {
+                    const float a = half * (row[x + 1] - row[x - 1]);
+                    const float b = half * (down[x] - up[x]);
+                    xx[x] = a * a;
+                    xy[x] = a * b;
+                    yy[x] = b * b;
+                  };
+                  size_t x = 1;
+                  for (; x + kHarrisChunk < n; x += kHarrisChunk) {
+                    for (size_t j = 0; j < kHarrisChunk; ++j) at(x + j);
+                  }
+                  for (; x + 1 < n; ++x) at(x);
+                })
+
+// out[i] = p[i] q[i] - r[i]^2 - a (p[i] + q[i])^2: det(C) - a trace^2(C)
+// with C = [p, r; r, q].
+HCPF_DISPATCHED(void, HarrisOfTensor,
+                (const float* __restrict p, const float* __restrict q, const float* __restrict r,
+                 float a, float* __restrict out, size_t n),
+                (p, q, r, a, out, n), {
+                  auto at = [&](size_t i) {
+                    const float trace = p[i] + q[i];
+                    out[i] = p[i] * q[i] - r[i] * r[i] - a * trace * trace;
+                  };
+                  size_t i = 0;
+                  for (; i + kHarrisChunk <= n; i += kHarrisChunk) {
+                    for (size_t j = 0; j < kHarrisChunk; ++j) at(i + j);
+                  }
+                  for (; i < n; ++i) at(i);
+                })
+
 // The Harris responses det(C) - alpha trace^2(C) of one scale into
 // `ws.spare`, with C = sigma_D^2 G(sigma_I) * [Lx^2, LxLy; LxLy, Ly^2]
 // (Mikolajczyk & Schmid 2004, eq. 2).
@@ -359,7 +409,7 @@ void HarrisResponse(const GreyImage& image, const Scale& s, double alpha, Worksp
       pyy[x] = b * b;
     };
     store(0, half * (row[std::min(w - 1, 1)] - row[0]));
-    for (int x = 1; x + 1 < w; ++x) store(x, half * (row[x + 1] - row[x - 1]));
+    InteriorProducts(row, up, down, half, pxx, pxy, pyy, static_cast<size_t>(w));
     if (w > 1) store(w - 1, half * (row[w - 1] - row[w - 2]));
   }
   for (GreyImageF* product : {&ws.xx, &ws.xy, &ws.yy}) {
@@ -368,16 +418,25 @@ void HarrisResponse(const GreyImage& image, const Scale& s, double alpha, Worksp
   }
   ResizeLike(w, h, ws.spare);
   const float a = static_cast<float>(alpha);
-  const size_t n = ws.spare.pixels.size();
-  const float* p = ws.xx.pixels.data();
-  const float* q = ws.yy.pixels.data();
-  const float* r = ws.xy.pixels.data();
-  float* out = ws.spare.pixels.data();
-  for (size_t i = 0; i < n; ++i) {
-    const float trace = p[i] + q[i];
-    out[i] = p[i] * q[i] - r[i] * r[i] - a * trace * trace;
-  }
+  HarrisOfTensor(ws.xx.pixels.data(), ws.yy.pixels.data(), ws.xy.pixels.data(), a,
+                 ws.spare.pixels.data(), ws.spare.pixels.size());
 }
+
+// The start of the first whole chunk of row[from, n) (from a multiple of
+// kHarrisChunk) holding a value above `threshold`, or where the whole chunks
+// end (the last n % kHarrisChunk values are not looked at). Most of a
+// response is below the threshold: LocalMaxima skips it a chunk at a time.
+HCPF_DISPATCHED(size_t, NextChunkAbove,
+                (const float* __restrict row, float threshold, size_t from, size_t n),
+                (row, threshold, from, n), {
+                  size_t c = from;
+                  for (; c + kHarrisChunk <= n; c += kHarrisChunk) {
+                    int above = 0;
+                    for (size_t j = 0; j < kHarrisChunk; ++j) above |= row[c + j] > threshold;
+                    if (above != 0) break;
+                  }
+                  return c;
+                })
 
 // 3 x 3 local maxima of `response` above `threshold` (a pixel must beat its
 // earlier neighbours strictly and equal or beat its later ones, so a plateau
@@ -390,6 +449,11 @@ void LocalMaxima(const GreyImageF& response, float threshold, int scale,
     const float* up = y > 0 ? response.row(y - 1) : nullptr;
     const float* down = y + 1 < h ? response.row(y + 1) : nullptr;
     for (int x = 0; x < w; ++x) {
+      if (x % kHarrisChunk == 0) {
+        // Every value of the chunks skipped is at or below the threshold.
+        x = static_cast<int>(NextChunkAbove(row, threshold, x, w));
+        if (x >= w) break;
+      }
       const float v = row[x];
       if (!(v > threshold)) continue;
       bool peak = true;

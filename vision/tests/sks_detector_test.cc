@@ -13,9 +13,11 @@
 #include <cmath>
 #include <numbers>
 #include <opencv2/imgproc.hpp>
+#include <optional>
 #include <vector>
 
 #include "hcpf/core/error.h"
+#include "hcpf/core/instruction_set.h"
 #include "hcpf/vision/detector.h"
 #include "hcpf/vision/sks.h"
 
@@ -404,6 +406,35 @@ TEST(SksDetector, DeterministicAndIndependentOfTheRng) {
   EXPECT_EQ(a.detections, b.detections);
   ASSERT_EQ(a.maps.size(), b.maps.size());
   for (size_t i = 0; i < a.maps.size(); ++i) EXPECT_EQ(a.maps[i].map, b.maps[i].map);
+}
+
+// SKS's per-pixel loops (the Harris response's products and determinant, the
+// scan for responses above the threshold, the blurs) are built for AVX-512,
+// AVX2 and the baseline: every build this CPU runs gives the same detections
+// and maps, bit for bit. The frame is cropped to 637 x 473 so that no row,
+// octave or image is a whole number of the loops' 16-value chunks.
+TEST(SksDetector, EveryInstructionSetGivesTheSameOutput) {
+  const std::vector<TargetModel> models = Models(Vehicles());
+  const RgbImage full = VehicleFrame(Vehicles(5.0, -3.0), 20.0, 1.05);
+  RgbImage frame{.width = full.width - 3, .height = full.height - 7};
+  for (int y = 0; y < frame.height; ++y) {
+    const uint8_t* from = full.at(0, y);
+    frame.pixels.insert(frame.pixels.end(), from, from + 3 * static_cast<size_t>(frame.width));
+  }
+  std::optional<DetectorOutput> baseline;
+  hcpf::testing::ForEachInstructionSetOfThisCpu([&](InstructionSet set) {
+    SCOPED_TRACE(NameOf(set));
+    DetectorOutput out = DetectIn(frame, models);
+    if (!baseline) {
+      EXPECT_EQ(set, InstructionSet::kBaseline);
+      EXPECT_EQ(out.detections.size(), 3u);
+      baseline = std::move(out);
+      return;
+    }
+    EXPECT_EQ(out.detections, baseline->detections);
+    ASSERT_EQ(out.maps.size(), baseline->maps.size());
+    for (size_t i = 0; i < out.maps.size(); ++i) EXPECT_EQ(out.maps[i].map, baseline->maps[i].map);
+  });
 }
 
 // A model whose patch missed the image (empty) detects nothing and keeps its

@@ -327,7 +327,7 @@ void CheckDetectionFileSeeds(const SweepSpec& spec, const scenarios::Scenario& s
 
 std::string SeedsForHolmNote(const SweepSpec& spec) {
   const ReportSpec& report = spec.report;
-  if (report.series.empty() || spec.seeds < 2 || report.y.empty()) return {};
+  if (report.series.empty() || report.y.empty()) return {};
   const auto is_series = [&](const SweepAxis& a) { return a.key == report.series; };
   // The series is a grid key, or a zip key (each zip position then a series
   // value, the other zip keys following it: they pair with the reference's).
@@ -363,14 +363,30 @@ std::string SeedsForHolmNote(const SweepSpec& spec) {
                                     [](const std::string& m) { return !MachineDependent(m); });
   const double comparisons = cells / pooled * (values - 1.0) / values * static_cast<double>(tested);
   // A pooled cell's runs of one seed are averaged (one pair of means per
-  // seed): pooled values add no pairs.
-  const double pairs = static_cast<double>(spec.seeds);
+  // seed): pooled values add no pairs. Without `seeds:` each cell runs once,
+  // on the base file's seed: one pair, as with `seeds: 1`.
+  const double pairs = static_cast<double>(std::max(spec.seeds, 1));
   if (comparisons < 1.0 || pairs > 1000.0) return {};
   const int m = static_cast<int>(std::min(comparisons, 1e9));
   const int n = static_cast<int>(pairs);
   const double floor = SignedRankFloor(n);
   if (floor < 0.05 / m) return {};
   const int needed = PairsForHolm(m, 0.05);
+  const std::string file = spec.file.empty() ? std::string("sweep") : spec.file;
+  const std::string reference =
+      report.reference.empty() ? series->values.front() : report.reference;
+  if (n == 1) {
+    // One run per cell: no spread to give an interval, no pairs to test.
+    return fmt::format(
+        "{}: {} each cell of the report runs once, so it has no interval and its paired "
+        "comparisons ({} against {}) one pair each: none can be a finding, whatever the data. "
+        "{} seeds at least are needed (more where some seeds tie or differ the other way); "
+        "docs/sweeps.md, \"Seeds enough for Holm\"",
+        file,
+        spec.seeds == 1 ? std::string("with 1 seed")
+                        : std::string("without `seeds:` (the base file's seed alone)"),
+        report.series, reference, needed);
+  }
   // Tarone's K for m comparisons of this floor (every pair differing): the
   // smallest k with none below 0.05 / k, the first step's multiplier
   // (counted here, not by TaroneFamilyOf: m can be a billion).
@@ -392,8 +408,7 @@ std::string SeedsForHolmNote(const SweepSpec& spec) {
       "{}: with {} seeds each paired comparison of the report ({} against {}) has {} pairs{}: "
       "{}, whatever the data. {} seeds at least are needed (more where some seeds tie or "
       "differ the other way); docs/sweeps.md, \"Seeds enough for Holm\"",
-      spec.file.empty() ? std::string("sweep") : spec.file, spec.seeds, report.series,
-      report.reference.empty() ? series->values.front() : report.reference, n,
+      file, spec.seeds, report.series, reference, n,
       pooled > 1.0 ? fmt::format(" (the runs of its {} pooled values are averaged in each seed)",
                                  static_cast<int>(pooled))
                    : "",

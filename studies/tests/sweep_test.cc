@@ -239,11 +239,26 @@ TEST(Sweep, SeedsTooFewForHolmAreSaidBeforeTheSweepRuns) {
   EXPECT_NE(note.find("cannot give p below 0.5, so no comparison can be a finding"),
             std::string::npos)
       << note;
-  // No series, or no seeds: nothing is paired, nothing is said.
+  // No series: nothing is paired, nothing is said.
   EXPECT_EQ(SeedsForHolmNote(LoadSweepFile(WriteSweep(
                 dir, "base: base.yaml\nseeds: 2\ngrid:\n  tracker.particles: [10, 20]\n"))),
             "");
-  EXPECT_EQ(SeedsForHolmNote(LoadSweepFile(WriteSweep(dir, grid))), "");
+  // One seed, or no `seeds:` (one run per cell on the base file's seed): one
+  // pair per comparison, no interval; said, with the 9 seeds needed (until
+  // 2026-12-06 nothing was said: the report just had no findings).
+  note = SeedsForHolmNote(LoadSweepFile(WriteSweep(dir, grid + "seeds: 1\n")));
+  EXPECT_TRUE(note.ends_with(
+      "/sweep.yaml: with 1 seed each cell of the report runs once, so it has no interval "
+      "and its paired comparisons (tracker.resampling.method against systematic) one pair "
+      "each: none can be a finding, whatever the data. 9 seeds at least are needed (more "
+      "where some seeds tie or differ the other way); docs/sweeps.md, \"Seeds enough for "
+      "Holm\""))
+      << note;
+  note = SeedsForHolmNote(LoadSweepFile(WriteSweep(dir, grid)));
+  EXPECT_NE(note.find("sweep.yaml: without `seeds:` (the base file's seed alone) each cell of "
+                      "the report runs once"),
+            std::string::npos)
+      << note;
   // Pooled values add no pairs: a seed's pooled runs share its random
   // streams and are averaged into one pair of means. Sigma (x) {2, 4} x
   // particles {10, 20, 40} pooled x method, y [mota]: 2 comparisons (p <

@@ -322,8 +322,11 @@ Layout LayoutOf(const std::vector<Cell>& cells, const StoreMeta& meta) {
       x_min = std::min(x_min, x);
       x_max = std::max(x_max, x);
     }
-    if (!(x_min <= x_max)) x_min = x_max = 0.0;  // no cell has a value
   }
+  // No cell has a value (or no cell at all: a store stopped before its first
+  // run; until 2026-12-06 a particle-count x then gave gnuplot "set xrange
+  // [nan:nan]" on a log axis, and the report failed: an audit).
+  if (!(x_min <= x_max)) x_min = x_max = 0.0;
   // Log axis for particle counts, and for any positive x spanning >= 20x.
   layout.log_x =
       numeric_x && x_min > 0 && (meta.report.x.ends_with("particles") || x_max / x_min >= 20.0);

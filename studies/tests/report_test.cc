@@ -3221,6 +3221,24 @@ TEST(Report, OfAShardSaysHowManyRunsAreMissing) {
   EXPECT_EQ(Read(fs::path(o.out_dir) / "findings.md").find("The store holds"), std::string::npos);
 }
 
+// A store stopped before its first run (or a shard given none) over
+// particle counts, whose axis is logarithmic when it has values: the report
+// is written, says every run is missing, and leaves no work folder. Until
+// 2026-12-06 its x range was [nan:nan] on a log axis and gnuplot failed the
+// report (exit 1, .report-work left behind: an audit).
+TEST(Report, OfAStoreWithoutRunsIsWritten) {
+  const auto dir = testing::SweepFolder("report-no-runs");
+  {
+    auto store = ResultsStore::OpenOrCreate((dir / "results.sqlite").string(),
+                                            HandMeta({"tracker.particles"}, "", {"mota"}, 2));
+  }
+  ReportResult r;
+  ASSERT_NO_THROW(r = WriteReport({.dir = dir.string()}));
+  EXPECT_EQ(r.missing_runs, 2);
+  EXPECT_NE(Read(r.html_path).find("The store holds 0 of the sweep's 2 runs"), std::string::npos);
+  EXPECT_FALSE(fs::exists(dir / ".report-work"));
+}
+
 // A store written before the build column: the report (which opens it
 // read-only, and leaves it so) reads each finished run's manifest instead;
 // a missing manifest names no build.

@@ -9,6 +9,7 @@
 
 #include "command.h"
 #include "hcpf/core/error.h"
+#include "hcpf/scenarios/cache.h"
 #include "hcpf/scenarios/scenario.h"
 #include "hcpf/studies/sweep.h"
 
@@ -32,6 +33,10 @@ Command AddValidateCommand(CLI::App& parent) {
   app->add_flag("--print", options->print,
                 "Print the resolved scenario (every default and seed filled in) to stdout");
   return {app, [options] {
+            // $HCPF_CACHE_MAX_SIZE: hcpf run, render and sweep refuse a bad
+            // value before anything runs, so validate does too (it accepts
+            // what they accept).
+            scenarios::CacheMaxSizeFromEnvironment();
             // A sweep file: the same checks `hcpf sweep` makes before it runs
             // anything (every cell's scenario loaded and validated).
             if (studies::IsSweepFile(options->file)) {

@@ -370,6 +370,16 @@ TEST(Cli, TheCacheLimitPrunesWhatWasUsedBeforeTheCommand) {
   EXPECT_NE(r.output.find("environment: HCPF_CACHE_MAX_SIZE: expected a size"), std::string::npos)
       << r.output;
   EXPECT_FALSE(fs::exists(dir / "bad"));
+  // hcpf validate accepts what hcpf run accepts: the same refusal, for a
+  // scenario and for a sweep (until 2026-12-06 validate said "valid", exit 0:
+  // an audit).
+  for (const std::string& file : {scenario, (dir / "sweep.yaml").string()}) {
+    r = RunCommand("HCPF_CACHE_MAX_SIZE=lots " + kHcpf + " validate " + file);
+    EXPECT_EQ(r.exit_code, 2) << file << r.output;
+    EXPECT_NE(r.output.find("environment: HCPF_CACHE_MAX_SIZE: expected a size"),
+              std::string::npos)
+        << r.output;
+  }
 }
 
 // hcpf sweep --seed: bad text, an empty value and a sweep without seeds:

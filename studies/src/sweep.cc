@@ -147,6 +147,17 @@ SweepSpec ReadSweep(YAML::Node root, const std::string& file, const std::string&
                      : (!root.IsDefined() || root.IsNull()) ? config::DescribeNullRoot(root)
                                                             : "a single value");
   }
+  // None of the keys that make a sweep (a scenario file given to hcpf sweep,
+  // say): said as such, not as a missing `base:` at the file's first key
+  // (an audit: "sweep.yaml:2:1: base: expected the required key").
+  if (std::none_of(scenarios::kSweepFileKeys.begin(), scenarios::kSweepFileKeys.end(),
+                   [&root](std::string_view key) { return root[std::string(key)].IsDefined(); })) {
+    throw InputError(SourceLocation{file, 1, 1, ""},
+                     "a sweep file: base: (or grid.base) and, as needed, grid:, zip:, seeds: "
+                     "and report:",
+                     "none of base, grid or zip",
+                     "a scenario file is run by hcpf run FILE --out DIR; docs/sweeps.md");
+  }
   YamlReader r(root, "", context);
   SweepSpec spec;
   spec.file = file;

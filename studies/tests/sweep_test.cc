@@ -205,6 +205,24 @@ TEST(Sweep, ReportReferenceIsAValueOfTheSeries) {
   EXPECT_NE(e.find("report.x_metric"), std::string::npos) << e;
 }
 
+// A scenario file given to hcpf sweep (none of base, grid, zip) is said to
+// be one, at its first line, with the command that runs it; until
+// 2026-12-06 the error was a missing `base:` at the file's first key (an
+// audit).
+TEST(Sweep, AScenarioFileIsNoSweepAndTheErrorSaysHowToRunIt) {
+  const auto dir = SweepFolder("scenario-as-sweep");
+  try {
+    LoadSweepFile(WriteSweep(dir, "\nname: a scenario\ntracker:\n  particles: 50\n"));
+    FAIL() << "accepted";
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.where().line, 1);
+    EXPECT_EQ(e.found(), "none of base, grid or zip");
+    EXPECT_NE(e.hint().find("a scenario file is run by hcpf run FILE --out DIR"),
+              std::string::npos)
+        << e.hint();
+  }
+}
+
 // The warning before a sweep runs, by hand. particles {10, 20} x method
 // {systematic, charged}, series method, the 6 default report metrics, of
 // which 5 are tested (ms_per_frame, a timing, is not): 2 compared cells x 5

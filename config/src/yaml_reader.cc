@@ -13,6 +13,8 @@
 #include <cstring>
 #include <fstream>
 #include <sstream>
+#include <string_view>
+#include <utility>
 #include <vector>
 
 #include "hcpf/core/text_file.h"
@@ -632,6 +634,23 @@ size_t FirstNonUtf8(const std::string& text) {
 }  // namespace
 
 YAML::Node YamlReader::Parse(const std::string& text, const std::string& file) {
+  // A UTF-16 or UTF-32 byte-order mark (a Windows editor's "Unicode"): named
+  // as such, not as a Latin-1 byte (an audit).
+  for (const auto& [mark, encoding] : {std::pair<std::string_view, std::string_view>{
+                                           std::string_view("\x00\x00\xFE\xFF", 4), "UTF-32BE"},
+                                       {std::string_view("\xFF\xFE\x00\x00", 4), "UTF-32LE"},
+                                       {"\xFE\xFF", "UTF-16BE"},
+                                       {"\xFF\xFE", "UTF-16LE"}}) {
+    if (!text.starts_with(mark)) continue;
+    std::string bytes;
+    for (const char c : mark) {
+      bytes += fmt::format("{}{:02X}", bytes.empty() ? "" : " ", static_cast<unsigned char>(c));
+    }
+    throw InputError(SourceLocation{file, 1, 1, ""}, "UTF-8 text",
+                     fmt::format("a {} byte-order mark ({}): the file is {}", encoding, bytes,
+                                 encoding.substr(0, 6)),
+                     fmt::format("save the file as UTF-8, e.g. iconv -f {} -t UTF-8", encoding));
+  }
   if (const size_t bad = FirstNonUtf8(text); bad != std::string::npos) {
     // yaml-cpp passes such bytes through into strings, where they break the
     // JSON outputs much later: refuse them here, where the line is known.

@@ -296,8 +296,24 @@ uint64_t ParseSize(std::string_view text, std::string_view option) {
   const auto [ptr, ec] = std::from_chars(s.data(), s.data() + s.size(), number);
   if (ec != std::errc() || ptr != s.data() + s.size()) return fail();
   const double value = number * unit;
-  if (!std::isfinite(value) || value >= 9.0e18) return fail();  // llround's range
-  return static_cast<uint64_t>(std::llround(value));
+  // Within llround's range, and said so (an audit: 8388607T was refused as
+  // if it were no size).
+  constexpr double kLargest = 8.0e6 * 1024.0 * 1024.0 * 1024.0 * 1024.0;
+  if (!std::isfinite(value) || value > kLargest) {
+    throw InputError(SourceLocation{.file = "command line", .key = std::string(option)},
+                     "a size up to 8000000T", fmt::format("\"{}\"", text));
+  }
+  // Whole bytes: a byte count with a fraction (1.5), or a size that rounds
+  // to no byte but is not 0 (0.0001K), is no size (an audit: they were
+  // rounded to 2 and 0 without a word). A fraction of K, M, G or T is kept
+  // to the nearest byte (1.5G).
+  const double bytes = std::round(value);
+  if ((unit == 1.0 && bytes != value) || (bytes == 0.0 && value > 0.0)) {
+    throw InputError(SourceLocation{.file = "command line", .key = std::string(option)},
+                     "a size of whole bytes (a fraction only with K, M, G or T: 1.5G)",
+                     fmt::format("\"{}\", {} bytes", text, value));
+  }
+  return static_cast<uint64_t>(bytes);
 }
 
 std::string FormatSize(uint64_t bytes) {

@@ -359,6 +359,27 @@ TEST(Cache, SizesAreBytesOrPowersOf1024) {
   EXPECT_EQ(ParseSize("1.5G", "--max-size"), 1536u * 1024u * 1024u);
   EXPECT_EQ(ParseSize("2T", "--max-size"), 2ull << 40);
   EXPECT_EQ(ParseSize("0", "--max-size"), 0u);
+  EXPECT_EQ(ParseSize("0.0K", "--max-size"), 0u);
+  EXPECT_EQ(ParseSize("8000000T", "--max-size"), 8000000ull << 40);
+  // Above the largest size, and sizes that are no whole bytes, are refused
+  // saying so (an audit: the first with the generic message, the others
+  // rounded to 2 and 0 bytes).
+  const auto found_and_expected = [](const std::string& text) {
+    try {
+      ParseSize(text, "--max-size");
+      return std::string("accepted");
+    } catch (const InputError& e) {
+      return e.expected() + " / " + e.found();
+    }
+  };
+  EXPECT_EQ(found_and_expected("8000001T"), "a size up to 8000000T / \"8000001T\"");
+  EXPECT_EQ(found_and_expected("18446744073709551615"),
+            "a size up to 8000000T / \"18446744073709551615\"");
+  EXPECT_EQ(found_and_expected("1.5"),
+            "a size of whole bytes (a fraction only with K, M, G or T: 1.5G) / \"1.5\", 1.5 bytes");
+  EXPECT_EQ(found_and_expected("0.0001K"),
+            "a size of whole bytes (a fraction only with K, M, G or T: 1.5G) / \"0.0001K\", "
+            "0.1024 bytes");
   // A number too long for a double was exit 1 ("stod", a third bad-input
   // audit).
   const std::string long_number(400, '1');

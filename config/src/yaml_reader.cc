@@ -24,8 +24,28 @@ namespace {
 
 std::string Quote(const std::string& s) { return "\"" + s + "\""; }
 
+// An integer written with a leading zero (0500, -05): YAML 1.2, and
+// yaml-cpp, read it as decimal, YAML 1.1 readers (PyYAML) as octal (0500 is
+// 320 there), so a file means two things: refused, with kLeadingZeroHint (an
+// audit found 0500 read as 500 without a word).
+bool HasLeadingZero(const std::string& text) {
+  const size_t digits = !text.empty() && (text[0] == '+' || text[0] == '-') ? 1 : 0;
+  return text.size() >= digits + 2 && text[digits] == '0' &&
+         std::all_of(text.begin() + static_cast<std::ptrdiff_t>(digits), text.end(),
+                     [](char c) { return c >= '0' && c <= '9'; });
+}
+
+constexpr const char* kLeadingZeroHint =
+    "no leading zero: YAML 1.1 readers take 0500 as octal (320), so write 500";
+
+// The hint for a number that failed to read: kLeadingZeroHint when its text
+// has a leading zero, else none.
+std::string NumberHint(const YAML::Node& node) {
+  return node.IsScalar() && HasLeadingZero(node.Scalar()) ? kLeadingZeroHint : "";
+}
+
 bool ParseDouble(const std::string& text, double* out) {
-  if (text.empty() || StartsWithTwoSigns(text)) return false;
+  if (text.empty() || StartsWithTwoSigns(text) || HasLeadingZero(text)) return false;
   // YAML spellings of infinity/NaN are not accepted anywhere in the schema.
   const char* begin = text.data();
   const char* end = text.data() + text.size();
@@ -35,7 +55,7 @@ bool ParseDouble(const std::string& text, double* out) {
 }
 
 bool ParseInt(const std::string& text, int64_t* out) {
-  if (text.empty() || StartsWithTwoSigns(text)) return false;
+  if (text.empty() || StartsWithTwoSigns(text) || HasLeadingZero(text)) return false;
   const char* begin = text.data();
   const char* end = text.data() + text.size();
   if (*begin == '+') ++begin;
@@ -955,7 +975,7 @@ double YamlReader::AsNumber(double lo, double hi) const { return AsNumber(Closed
 double YamlReader::AsNumber(const FieldRange& range) const {
   double value = 0.0;
   if (!TypedScalar(node_) || !ParseDouble(node_.Scalar(), &value) || !range.Contains(value)) {
-    Fail(FieldExpectation(FieldType::kNumber, range));
+    Fail(FieldExpectation(FieldType::kNumber, range), NumberHint(node_));
   }
   return value;
 }
@@ -964,7 +984,7 @@ int64_t YamlReader::AsInteger(int64_t lo, int64_t hi) const {
   int64_t value = 0;
   const std::string expected = fmt::format("an integer in [{}, {}]", lo, hi);
   if (!TypedScalar(node_, ScalarKind::kInteger) || !ParseInt(node_.Scalar(), &value)) {
-    Fail(expected);
+    Fail(expected, NumberHint(node_));
   }
   if (value < lo || value > hi) Fail(expected);
   return value;
@@ -979,7 +999,7 @@ Eigen::VectorXd YamlReader::AsVector(int n, double lo, double hi) const {
     double value = 0.0;
     if (!TypedScalar(item.node_) || !ParseDouble(item.node_.Scalar(), &value) || value < lo ||
         value > hi) {
-      item.Fail(fmt::format("a number in {}", RangeText(lo, hi)));
+      item.Fail(fmt::format("a number in {}", RangeText(lo, hi)), NumberHint(item.node_));
     }
     v[i] = value;
   }
@@ -1022,9 +1042,11 @@ uint64_t YamlReader::Seed(const std::string& key, std::optional<uint64_t> fallba
     Child(key);
   }
   YamlReader child = Child(key);
-  const std::optional<uint64_t> value = ParseSeed(
-      TypedScalar(child.node_, ScalarKind::kInteger) ? child.node_.Scalar() : std::string());
-  if (!value) child.Fail("a non-negative integer seed below 2^64");
+  const std::optional<uint64_t> value =
+      TypedScalar(child.node_, ScalarKind::kInteger) && !HasLeadingZero(child.node_.Scalar())
+          ? ParseSeed(child.node_.Scalar())
+          : std::nullopt;
+  if (!value) child.Fail("a non-negative integer seed below 2^64", NumberHint(child.node_));
   return *value;
 }
 

@@ -141,12 +141,12 @@ TEST(YamlReader, TextThatIsNotUtf8IsRefusedAtItsByte) {
     const char* byte;
   };
   const std::vector<Case> cases = {
-      {"name: caf\xE9\n", "f.yaml:1:10:", "0xE9"},       // Latin-1 é
-      {"\xEF\xBB\xBFname: caf\xE9\n", "f.yaml:1:10:",    // after a byte-order mark,
-       "0xE9"},                                          // no column
-      {"a: 1\nname: ab\xC3\n", "f.yaml:2:9:", "0xC3"},   // cut short at the end
-      {"a: 1\nb: \xC0\xAF\n", "f.yaml:2:4:", "0xC0"},    // overlong '/'
-      {"b: \xED\xA0\x80\n", "f.yaml:1:4:", "0xED"},      // a surrogate
+      {"name: caf\xE9\n", "f.yaml:1:10:", "0xE9"},        // Latin-1 é
+      {"\xEF\xBB\xBFname: caf\xE9\n", "f.yaml:1:10:",     // after a byte-order mark,
+       "0xE9"},                                           // no column
+      {"a: 1\nname: ab\xC3\n", "f.yaml:2:9:", "0xC3"},    // cut short at the end
+      {"a: 1\nb: \xC0\xAF\n", "f.yaml:2:4:", "0xC0"},     // overlong '/'
+      {"b: \xED\xA0\x80\n", "f.yaml:1:4:", "0xED"},       // a surrogate
       {"b: \xF4\x90\x80\x80\n", "f.yaml:1:4:", "0xF4"}};  // past U+10FFFF
   for (const Case& c : cases) ExpectRefused(c.text, {c.where, "expected UTF-8 text", c.byte});
   // A UTF-16 or UTF-32 file's byte-order mark is named as one, with the
@@ -172,6 +172,41 @@ TEST(YamlReader, TextThatIsNotUtf8IsRefusedAtItsByte) {
                               "f.yaml")["a"]
                 .as<int>(),
             1);
+}
+
+// An integer with a leading zero is read as decimal by YAML 1.2 (yaml-cpp)
+// and as octal by YAML 1.1 readers (PyYAML: 0500 is 320): refused wherever a
+// number, an integer or a seed is read, with the hint that says why (an
+// audit found `particles: 0500` run with 500). Zero itself, a decimal
+// fraction and an exponent are no such case.
+TEST(YamlReader, IntegersWithALeadingZeroAreRefused) {
+  const auto error_of = [](const std::string& text, const std::function<void(YamlReader&)>& read) {
+    YamlReader r(YamlReader::Parse(text, "f.yaml"), "", std::make_shared<YamlContext>());
+    try {
+      read(r);
+      return std::string("(no error)");
+    } catch (const InputError& e) {
+      return e.found() + " | " + e.hint();
+    }
+  };
+  const auto integer = [](YamlReader& r) { r.Integer("a", std::nullopt, -1000, 1000); };
+  const auto number = [](YamlReader& r) { r.Number("a", std::nullopt, -1000.0, 1000.0); };
+  const auto seed = [](YamlReader& r) { r.Seed("a", std::nullopt); };
+  const auto vector = [](YamlReader& r) { r.Child("a").AsVector(2, -1000.0, 1000.0); };
+  const std::string hint =
+      "no leading zero: YAML 1.1 readers take 0500 as octal (320), so write 500";
+  EXPECT_EQ(error_of("a: 0500\n", integer), "\"0500\" | " + hint);
+  EXPECT_EQ(error_of("a: -05\n", integer), "\"-05\" | " + hint);
+  EXPECT_EQ(error_of("a: +00\n", number), "\"+00\" | " + hint);
+  EXPECT_EQ(error_of("a: 010\n", seed), "\"010\" | " + hint);
+  EXPECT_EQ(error_of("a: [1, 010]\n", vector), "\"010\" | " + hint);
+  for (const char* fine : {"a: 0\n", "a: -0\n", "a: 500\n", "a: 10\n"}) {
+    EXPECT_EQ(error_of(fine, integer), "(no error)") << fine;
+    EXPECT_EQ(error_of(fine, number), "(no error)") << fine;
+  }
+  for (const char* fine : {"a: 0.5\n", "a: 00.5\n", "a: 1e-05\n", "a: 0e0\n"}) {
+    EXPECT_EQ(error_of(fine, number), "(no error)") << fine;
+  }
 }
 
 // The error of reading `key` of `text` (with `overrides` applied) with

@@ -230,9 +230,10 @@ std::vector<BadCase> Cases() {
        {{"tracker", "{}"}},
        {"--set tracker={}", "found an empty mapping, which would reset the file's keys there",
         "leave it out of the file"}},
-      // Issue 15, items 12 and 13.
+      // Issue 15, items 12 and 13. (Spelled 01 until 2026-12-06, when a
+      // leading zero became an error of its own.)
       {"DuplicateStrengthId",
-       m + "observation: {simulated: {strength: {1: 1.0, 01: 0.3}}}\n",
+       m + "observation: {simulated: {strength: {1: 1.0, +1: 0.3}}}\n",
        {},
        {"bad.yaml:19:", "observation.simulated.strength", "each target id once", "\"1\""}},
       {"ControlCharacterInName",

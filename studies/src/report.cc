@@ -2566,6 +2566,13 @@ std::string WhereMeasured(const std::string& metric) {
   return entry == nullptr ? metric : fmt::format("{} ({} {})", metric, entry->file, entry->pointer);
 }
 
+// Whether the report places cells at a measured metric (report.x_metric)
+// that no finished run measured: every plot is then empty, and its note
+// "no values of this metric" would blame the metric drawn (an audit).
+bool XMetricUnmeasured(const std::vector<RunRecord>& runs, const StoreMeta& meta) {
+  return !meta.report.x_metric.empty() && !UnmeasuredMetrics(runs, {meta.report.x_metric}).empty();
+}
+
 std::string ReportHtml(const fs::path& dir, const std::string& link_prefix, const StoreMeta& meta,
                        const std::vector<RunRecord>& runs, const std::vector<Cell>& cells,
                        const Layout& layout,
@@ -2630,6 +2637,14 @@ std::string ReportHtml(const fs::path& dir, const std::string& link_prefix, cons
   h += findings_html;
   h += replication_html;
   h += "<h2>Plots</h2>\n";
+  if (XMetricUnmeasured(runs, meta)) {
+    h += fmt::format(
+        "<p class=\"note\">No finished run of this sweep measured the x axis's metric, {} "
+        "(<code>report.x_metric</code>): the plots place each cell at its mean of it, so every "
+        "plot is empty, whatever the metrics drawn (detection metrics are measured by rendered "
+        "runs, <code>observation.source: rendered</code>).</p>\n",
+        EscapeMarkup(WhereMeasured(meta.report.x_metric)));
+  }
   if (!unmeasured.empty()) {
     std::vector<std::string> items;
     for (const std::string& m : unmeasured) items.push_back(EscapeMarkup(WhereMeasured(m)));
@@ -2879,6 +2894,12 @@ ReportResult WriteReport(const ReportOptions& options) {
   const std::vector<std::string> unmeasured = UnmeasuredMetrics(runs, meta.report.y);
   for (const std::string& metric : unmeasured) {
     spdlog::warn("report: no finished run measured {}: its plot is empty", WhereMeasured(metric));
+  }
+  if (XMetricUnmeasured(runs, meta)) {
+    spdlog::warn(
+        "report: no finished run measured the x axis's metric, {} (report.x_metric): every plot "
+        "is empty",
+        WhereMeasured(meta.report.x_metric));
   }
   std::vector<std::pair<std::string, std::string>> svgs =
       Plots(cells, layout, meta, work, options.gnuplot, "", "");

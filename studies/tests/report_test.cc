@@ -2593,6 +2593,41 @@ void WriteTwoRunStore(const fs::path& dir, const std::vector<std::string>& y) {
   }
 }
 
+// Cells placed at a measured metric (report.x_metric) that no run measured
+// (detection-level runs have no det_size_px): the page says every plot is
+// empty because of the x axis, not the metrics drawn, which were measured
+// (an audit: every plot said "no values of this metric", mota's too).
+TEST(Report, AnXMetricNoRunMeasuredIsNamed) {
+  const auto dir = testing::SweepFolder("report-x-unmeasured");
+  // Two runs measuring mota alone, cells placed at `x_metric`.
+  const auto report_at = [](const fs::path& folder, const std::string& x_metric) {
+    StoreMeta meta = HandMeta({"tracker.particles"}, "", {"mota"}, 2);
+    meta.report.x_metric = x_metric;
+    {
+      auto store = ResultsStore::OpenOrCreate((folder / "results.sqlite").string(), meta);
+      for (int i = 0; i < 2; ++i) {
+        RunRecord r;
+        r.key = "k" + std::to_string(i);
+        r.index = i;
+        r.values = {i == 0 ? "100" : "1000"};
+        r.ok = true;
+        r.run_dir = "runs/" + r.key;
+        r.metrics["mota"] = 0.5;
+        store->Put(r);
+      }
+    }
+    return Read(WriteReport({.dir = folder.string()}).html_path);
+  };
+  const std::string html = report_at(dir, "det_size_px");
+  EXPECT_NE(html.find("No finished run of this sweep measured the x axis's metric, det_size_px"),
+            std::string::npos)
+      << html.substr(0, 4000);
+  EXPECT_EQ(html.find("No finished run of this sweep measured mota"), std::string::npos);
+  // Measured, it is not said.
+  EXPECT_EQ(report_at(testing::SweepFolder("report-x-measured"), "mota").find("x axis's metric"),
+            std::string::npos);
+}
+
 // Without a series there is nothing to compare: no findings, no file.
 // A report that fails part-way (here a full disk: RLIMIT_FSIZE one byte
 // under report.html's size, in a forked child) leaves the earlier report's

@@ -217,8 +217,7 @@ TEST(Sweep, AScenarioFileIsNoSweepAndTheErrorSaysHowToRunIt) {
   } catch (const InputError& e) {
     EXPECT_EQ(e.where().line, 1);
     EXPECT_EQ(e.found(), "none of base, grid or zip");
-    EXPECT_NE(e.hint().find("a scenario file is run by hcpf run FILE --out DIR"),
-              std::string::npos)
+    EXPECT_NE(e.hint().find("a scenario file is run by hcpf run FILE --out DIR"), std::string::npos)
         << e.hint();
   }
 }

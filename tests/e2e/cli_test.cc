@@ -376,8 +376,7 @@ TEST(Cli, TheCacheLimitPrunesWhatWasUsedBeforeTheCommand) {
   for (const std::string& file : {scenario, (dir / "sweep.yaml").string()}) {
     r = RunCommand("HCPF_CACHE_MAX_SIZE=lots " + kHcpf + " validate " + file);
     EXPECT_EQ(r.exit_code, 2) << file << r.output;
-    EXPECT_NE(r.output.find("environment: HCPF_CACHE_MAX_SIZE: expected a size"),
-              std::string::npos)
+    EXPECT_NE(r.output.find("environment: HCPF_CACHE_MAX_SIZE: expected a size"), std::string::npos)
         << r.output;
   }
 }

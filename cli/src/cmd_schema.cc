@@ -5,6 +5,7 @@
 
 #include <cerrno>
 #include <cstring>
+#include <filesystem>
 #include <fstream>
 #include <iostream>
 #include <memory>
@@ -65,10 +66,24 @@ Command AddSchemaCommand(CLI::App& parent) {
                   "(docs/scenario.md, docs/sweeps.md)");
   return {app, [options] {
             if (!options->update.empty()) {
+              // A folder or a missing file said as such (an audit: "found
+              // none" for a folder, "found No such file or directory").
+              std::error_code ec;
+              const auto status = std::filesystem::status(options->update, ec);
+              if (status.type() == std::filesystem::file_type::not_found) {
+                throw InputError(SourceLocation{options->update, 0, 0, "--update"},
+                                 "a markdown file with generated tables", "no such file");
+              }
+              if (status.type() == std::filesystem::file_type::directory) {
+                throw InputError(SourceLocation{options->update, 0, 0, "--update"},
+                                 "a markdown file with generated tables", "a folder");
+              }
               std::ifstream in(options->update, std::ios::binary);
               if (!in) {
                 throw InputError(SourceLocation{options->update, 0, 0, "--update"},
-                                 "a readable markdown file", std::strerror(errno));
+                                 "a readable markdown file",
+                                 fmt::format("a file that cannot be read ({})",
+                                             std::strerror(errno)));
               }
               std::stringstream text;
               text << in.rdbuf();

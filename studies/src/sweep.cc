@@ -250,8 +250,16 @@ SweepSpec ReadSweep(YAML::Node root, const std::string& file, const std::string&
       }
       for (const YamlReader& item : y_items) spec.report.y.push_back(scalar(item));
     }
+    // One key may be written alone, as y's one metric may (`pool: world.sun.azimuth_deg`;
+    // until 2026-12-06 y took it and pool refused it: an audit).
     std::vector<YamlReader> pool_items;
-    if (auto pool = report->Optional("pool")) pool_items = pool->Items();
+    if (auto pool = report->Optional("pool")) {
+      if (pool->node().IsSequence()) {
+        pool_items = pool->Items();
+      } else {
+        pool_items.push_back(*pool);
+      }
+    }
     for (const YamlReader& item : pool_items) spec.report.pool.push_back(scalar(item));
     spec.report.panels = report->String("panels", "");
     spec.report.reference = present_text("reference", "a value of report.series");

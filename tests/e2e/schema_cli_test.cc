@@ -200,6 +200,24 @@ TEST(SchemaCli, UpdateRewritesADocumentWholeOrNotAtAll) {
   EXPECT_EQ(testing::ReadFile(doc), shipped);
 }
 
+// --update naming a folder or a missing file says which (an audit: a folder
+// was "found none", a missing file "found No such file or directory").
+TEST(SchemaCli, UpdateOfAFolderOrAMissingFileSaysWhich) {
+  const fs::path dir = FreshDir("schema-update-bad");
+  auto r = RunCommand(kHcpf + " schema --update " + dir.string());
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_NE(r.output.find(dir.string() + ": --update: expected a markdown file with generated "
+                                         "tables, found a folder"),
+            std::string::npos)
+      << r.output;
+  r = RunCommand(kHcpf + " schema --update " + (dir / "none.md").string());
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_NE(r.output.find("none.md: --update: expected a markdown file with generated tables, "
+                          "found no such file"),
+            std::string::npos)
+      << r.output;
+}
+
 TEST(SchemaCli, EveryDeclaredRangeIsRefusedByValidateAndRunAlike) {
   const std::vector<DeclaredKey> keys = DeclaredKeys();
   ASSERT_GT(keys.size(), 60u) << "hcpf schema lists too few keys";

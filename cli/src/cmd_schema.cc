@@ -80,10 +80,9 @@ Command AddSchemaCommand(CLI::App& parent) {
               }
               std::ifstream in(options->update, std::ios::binary);
               if (!in) {
-                throw InputError(SourceLocation{options->update, 0, 0, "--update"},
-                                 "a readable markdown file",
-                                 fmt::format("a file that cannot be read ({})",
-                                             std::strerror(errno)));
+                throw InputError(
+                    SourceLocation{options->update, 0, 0, "--update"}, "a readable markdown file",
+                    fmt::format("a file that cannot be read ({})", std::strerror(errno)));
               }
               std::stringstream text;
               text << in.rdbuf();

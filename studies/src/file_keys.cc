@@ -23,10 +23,11 @@ std::span<const FileKey> SweepFileKeys() {
        "(one run per cell)"},
       {"seed", "integer 0 … 2⁶⁴−1", "1", "root of the derived run seeds"},
       {"report.x", "a swept key", "the first swept key", "x axis of every plot"},
-      {"report.y", "list of metric names",
+      {"report.y", "list of metric names (one may be written alone: `y: hota`)",
        "`da_accuracy, hijack_rate, idf1, hota, mota, ms_per_frame`", "one plot each"},
       {"report.series", "a swept key other than `x`", "none", "one line per value"},
-      {"report.pool", "list of swept keys other than `x` and `series`", "none",
+      {"report.pool", "list of swept keys other than `x` and `series` (one may be written alone)",
+       "none",
        "keys whose values are pooled into each cell (e.g. sun azimuths when recall is plotted "
        "against sun elevation): fewer lines, more runs per point, averaged per seed before the "
        "bands and tests (they count seeds)"},

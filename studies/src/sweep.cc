@@ -564,6 +564,7 @@ std::vector<SweepRun> ExpandSweep(const SweepSpec& spec) {
   std::vector<SweepRun> runs;
   runs.reserve(static_cast<size_t>(total));
   std::map<std::string, int64_t> index_of_key;
+  std::vector<std::vector<int64_t>> positions_of_cell;
   scenarios::Progress progress("expand", total, total >= 20000);
   for (int64_t cell = 0; cell < total / seeds; ++cell) {
     // A cell: one grid point and zip position, `seeds` runs that differ only in their seed.
@@ -577,12 +578,18 @@ std::vector<SweepRun> ExpandSweep(const SweepSpec& spec) {
       digits[g] = rest % n;
       rest /= n;
     }
+    // Each value's place in its list (grid digits, then the zip position per
+    // zip key) and in the file.
+    std::vector<int64_t>& position = positions_of_cell.emplace_back(digits);
+    for (size_t z = 0; z < spec.zip.size(); ++z) position.push_back(zip_position);
     std::vector<std::string> values;
+    std::vector<SourceLocation> value_where;
     std::vector<config::Override> overrides;
     std::vector<SourceLocation> where;
     size_t base = 0;
     for (size_t g = 0; g < spec.grid.size(); ++g) {
       values.push_back(spec.grid[g].values[digits[g]]);
+      value_where.push_back(spec.grid[g].where[digits[g]]);
       if (static_cast<int>(g) == base_axis) {
         // Not an override: it picks the file the overrides apply to.
         base = static_cast<size_t>(digits[g]);
@@ -593,6 +600,7 @@ std::vector<SweepRun> ExpandSweep(const SweepSpec& spec) {
     }
     for (const SweepAxis& a : spec.zip) {
       values.push_back(a.values[zip_position]);
+      value_where.push_back(a.where[zip_position]);
       overrides.push_back({a.key, a.values[zip_position]});
       where.push_back(a.where[zip_position]);
     }
@@ -653,8 +661,19 @@ std::vector<SweepRun> ExpandSweep(const SweepSpec& spec) {
       // names a value twice is a mistake in the sweep file.
       const auto [at_key, inserted] = index_of_key.emplace(run.key, index);
       if (!inserted) {
-        const SourceLocation at =
-            where.empty() ? SourceLocation{spec.file, 0, 0, ""} : where.front();
+        // At the first list item in which this run's cell differs from the
+        // earlier run's: the value that repeats a scenario (a base file
+        // listed twice in grid.base has no override to point at: an audit
+        // found that error without a line).
+        const std::vector<int64_t>& earlier =
+            positions_of_cell[static_cast<size_t>(at_key->second / seeds)];
+        SourceLocation at = where.empty() ? SourceLocation{spec.file, 0, 0, ""} : where.front();
+        for (size_t i = 0; i < position.size() && i < earlier.size(); ++i) {
+          if (position[i] != earlier[i]) {
+            at = value_where[i];
+            break;
+          }
+        }
         throw InputError(SourceLocation{at.file, at.line, at.column, "grid/zip"},
                          "every run a different scenario (no value listed twice)",
                          fmt::format("runs {} and {} resolve to the same scenario ({})",

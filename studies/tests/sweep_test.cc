@@ -620,6 +620,15 @@ TEST(Sweep, BadFilesNameLineKeyExpectedFoundAndHint) {
       WriteSweep(dir, "base: base.yaml\ngrid:\n  tracker.particles: [10, 20, 10]\n", "k.yaml"));
   EXPECT_NE(e.find("k.yaml:3"), std::string::npos) << e;
   EXPECT_NE(e.find("runs 0 and 2 resolve to the same scenario"), std::string::npos) << e;
+  // At the value that repeats: the third particle count (line 3, column
+  // 31), and a base file listed twice in grid.base, which is no override
+  // (until 2026-12-06 that error had no line: an audit).
+  EXPECT_NE(e.find("k.yaml:3:31: grid/zip"), std::string::npos) << e;
+  e = ExpandErrorOf(WriteSweep(
+      dir, "seeds: 2\ngrid:\n  base: [base.yaml, base.yaml]\n  tracker.particles: [10]\n",
+      "l.yaml"));
+  EXPECT_NE(e.find("l.yaml:3:21: grid/zip"), std::string::npos) << e;
+  EXPECT_NE(e.find("runs 0 and 2 resolve to the same scenario"), std::string::npos) << e;
   e = ErrorOf(WriteSweep(dir, "base: base.yaml\nseeds: 0\n", "j.yaml"));
   EXPECT_NE(e.find("j.yaml:2:8: seeds"), std::string::npos) << e;
   // A key and one inside it, in either order and across grid and zip: the

@@ -2578,8 +2578,10 @@ TEST(Report, FindingsSayWhenNoneSurvivesHolmsCorrection) {
 
 // A store written by hand: tracker.particles swept over 100 and 1000, one ok
 // run each with MOTA 0.5 (and no other metric), report.y = `y`.
-void WriteTwoRunStore(const fs::path& dir, const std::vector<std::string>& y) {
-  const StoreMeta meta = HandMeta({"tracker.particles"}, "", y, 2);
+void WriteTwoRunStore(const fs::path& dir, const std::vector<std::string>& y,
+                      const std::string& x_metric = "") {
+  StoreMeta meta = HandMeta({"tracker.particles"}, "", y, 2);
+  meta.report.x_metric = x_metric;
   auto store = ResultsStore::OpenOrCreate((dir / "results.sqlite").string(), meta);
   for (int i = 0; i < 2; ++i) {
     RunRecord r;
@@ -2601,21 +2603,7 @@ TEST(Report, AnXMetricNoRunMeasuredIsNamed) {
   const auto dir = testing::SweepFolder("report-x-unmeasured");
   // Two runs measuring mota alone, cells placed at `x_metric`.
   const auto report_at = [](const fs::path& folder, const std::string& x_metric) {
-    StoreMeta meta = HandMeta({"tracker.particles"}, "", {"mota"}, 2);
-    meta.report.x_metric = x_metric;
-    {
-      auto store = ResultsStore::OpenOrCreate((folder / "results.sqlite").string(), meta);
-      for (int i = 0; i < 2; ++i) {
-        RunRecord r;
-        r.key = "k" + std::to_string(i);
-        r.index = i;
-        r.values = {i == 0 ? "100" : "1000"};
-        r.ok = true;
-        r.run_dir = "runs/" + r.key;
-        r.metrics["mota"] = 0.5;
-        store->Put(r);
-      }
-    }
+    WriteTwoRunStore(folder, {"mota"}, x_metric);
     return Read(WriteReport({.dir = folder.string()}).html_path);
   };
   const std::string html = report_at(dir, "det_size_px");

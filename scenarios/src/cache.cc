@@ -270,11 +270,15 @@ void MarkUsed(const fs::path& path) {
 }
 
 uint64_t ParseSize(std::string_view text, std::string_view option) {
-  const auto fail = [&]() -> uint64_t {
-    throw InputError(SourceLocation{.file = "command line", .key = std::string(option)},
-                     "a size: bytes (1048576) or a number with K, M, G or T (powers of 1024: "
-                     "500M, 1.5G)",
-                     fmt::format("\"{}\"", text));
+  const auto refuse = [&](const std::string& expected, const std::string& found) -> uint64_t {
+    throw InputError(SourceLocation{.file = "command line", .key = std::string(option)}, expected,
+                     found);
+  };
+  const std::string quoted = fmt::format("\"{}\"", text);
+  const auto fail = [&] {
+    return refuse(
+        "a size: bytes (1048576) or a number with K, M, G or T (powers of 1024: 500M, 1.5G)",
+        quoted);
   };
   std::string s(text);
   if (s.empty()) return fail();
@@ -299,19 +303,15 @@ uint64_t ParseSize(std::string_view text, std::string_view option) {
   // Within llround's range, and said so (an audit: 8388607T was refused as
   // if it were no size).
   constexpr double kLargest = 8.0e6 * 1024.0 * 1024.0 * 1024.0 * 1024.0;
-  if (!std::isfinite(value) || value > kLargest) {
-    throw InputError(SourceLocation{.file = "command line", .key = std::string(option)},
-                     "a size up to 8000000T", fmt::format("\"{}\"", text));
-  }
+  if (!std::isfinite(value) || value > kLargest) return refuse("a size up to 8000000T", quoted);
   // Whole bytes: a byte count with a fraction (1.5), or a size that rounds
   // to no byte but is not 0 (0.0001K), is no size (an audit: they were
   // rounded to 2 and 0 without a word). A fraction of K, M, G or T is kept
   // to the nearest byte (1.5G).
   const double bytes = std::round(value);
   if ((unit == 1.0 && bytes != value) || (bytes == 0.0 && value > 0.0)) {
-    throw InputError(SourceLocation{.file = "command line", .key = std::string(option)},
-                     "a size of whole bytes (a fraction only with K, M, G or T: 1.5G)",
-                     fmt::format("\"{}\", {} bytes", text, value));
+    return refuse("a size of whole bytes (a fraction only with K, M, G or T: 1.5G)",
+                  fmt::format("{}, {} bytes", quoted, value));
   }
   return static_cast<uint64_t>(bytes);
 }

@@ -137,6 +137,13 @@ std::vector<SweepAxis> ReadAxes(YamlReader& parent, const std::string& name, con
   return axes;
 }
 
+// Whether the mapping `root` has one of the keys that make a sweep file
+// (scenarios::kSweepFileKeys).
+bool HasSweepFileKey(const YAML::Node& root) {
+  return std::any_of(scenarios::kSweepFileKeys.begin(), scenarios::kSweepFileKeys.end(),
+                     [&root](std::string_view key) { return root[std::string(key)].IsDefined(); });
+}
+
 SweepSpec ReadSweep(YAML::Node root, const std::string& file, const std::string& dir) {
   auto context = std::make_shared<YamlContext>();
   context->file = file;
@@ -150,8 +157,7 @@ SweepSpec ReadSweep(YAML::Node root, const std::string& file, const std::string&
   // None of the keys that make a sweep (a scenario file given to hcpf sweep,
   // say): said as such, not as a missing `base:` at the file's first key
   // (an audit: "sweep.yaml:2:1: base: expected the required key").
-  if (std::none_of(scenarios::kSweepFileKeys.begin(), scenarios::kSweepFileKeys.end(),
-                   [&root](std::string_view key) { return root[std::string(key)].IsDefined(); })) {
+  if (!HasSweepFileKey(root)) {
     throw InputError(SourceLocation{file, 1, 1, ""},
                      "a sweep file: base: (or grid.base) and, as needed, grid:, zip:, seeds: "
                      "and report:",
@@ -239,27 +245,21 @@ SweepSpec ReadSweep(YAML::Node root, const std::string& file, const std::string&
       return value;
     };
     spec.report.x_metric = present_text("x_metric", "a metric name");
+    // y and pool: a list, or its one item written alone (`y: hota`, `pool:
+    // world.sun.azimuth_deg`; until 2026-12-06 pool refused the second: an
+    // audit).
+    const auto items_or_one = [](const YamlReader& node) {
+      return node.node().IsSequence() ? node.Items() : std::vector<YamlReader>{node};
+    };
     std::vector<YamlReader> y_items;
     std::optional<YamlReader> y = report->Optional("y");
     if (y) {
       spec.report.y.clear();
-      if (y->node().IsSequence()) {
-        y_items = y->Items();
-      } else {
-        y_items.push_back(*y);
-      }
+      y_items = items_or_one(*y);
       for (const YamlReader& item : y_items) spec.report.y.push_back(scalar(item));
     }
-    // One key may be written alone, as y's one metric may (`pool: world.sun.azimuth_deg`;
-    // until 2026-12-06 y took it and pool refused it: an audit).
     std::vector<YamlReader> pool_items;
-    if (auto pool = report->Optional("pool")) {
-      if (pool->node().IsSequence()) {
-        pool_items = pool->Items();
-      } else {
-        pool_items.push_back(*pool);
-      }
-    }
+    if (auto pool = report->Optional("pool")) pool_items = items_or_one(*pool);
     for (const YamlReader& item : pool_items) spec.report.pool.push_back(scalar(item));
     spec.report.panels = report->String("panels", "");
     spec.report.reference = present_text("reference", "a value of report.series");
@@ -501,10 +501,7 @@ bool IsSweepFile(const std::string& path) {
     // The reader every sweep and scenario goes through (its guards against
     // yaml-cpp's hangs included).
     const YAML::Node root = YamlReader::ParseFile(path);
-    if (!root.IsMap()) return false;
-    return std::any_of(
-        scenarios::kSweepFileKeys.begin(), scenarios::kSweepFileKeys.end(),
-        [&root](std::string_view key) { return root[std::string(key)].IsDefined(); });
+    return root.IsMap() && HasSweepFileKey(root);
   } catch (const InputError&) {
     return false;
   }
@@ -564,32 +561,34 @@ std::vector<SweepRun> ExpandSweep(const SweepSpec& spec) {
   std::vector<SweepRun> runs;
   runs.reserve(static_cast<size_t>(total));
   std::map<std::string, int64_t> index_of_key;
-  std::vector<std::vector<int64_t>> positions_of_cell;
+  // A cell's place in the lists: its grid digits (the last grid key varies
+  // fastest) and its zip position.
+  struct CellPlace {
+    std::vector<int64_t> digits;
+    int64_t zip_position = 0;
+  };
+  const auto place_of = [&](int64_t cell) {
+    CellPlace place{std::vector<int64_t>(spec.grid.size()), cell % zip_length};
+    int64_t rest = cell / zip_length;
+    for (size_t g = spec.grid.size(); g-- > 0;) {
+      const auto n = static_cast<int64_t>(spec.grid[g].values.size());
+      place.digits[g] = rest % n;
+      rest /= n;
+    }
+    return place;
+  };
   scenarios::Progress progress("expand", total, total >= 20000);
   for (int64_t cell = 0; cell < total / seeds; ++cell) {
     // A cell: one grid point and zip position, `seeds` runs that differ only in their seed.
-    int64_t rest = cell;
-    const int64_t zip_position = rest % zip_length;
-    rest /= zip_length;
-    // Grid digits: the last grid key varies fastest.
-    std::vector<int64_t> digits(spec.grid.size());
-    for (size_t g = spec.grid.size(); g-- > 0;) {
-      const auto n = static_cast<int64_t>(spec.grid[g].values.size());
-      digits[g] = rest % n;
-      rest /= n;
-    }
-    // Each value's place in its list (grid digits, then the zip position per
-    // zip key) and in the file.
-    std::vector<int64_t>& position = positions_of_cell.emplace_back(digits);
-    for (size_t z = 0; z < spec.zip.size(); ++z) position.push_back(zip_position);
+    const CellPlace place = place_of(cell);
+    const std::vector<int64_t>& digits = place.digits;
+    const int64_t zip_position = place.zip_position;
     std::vector<std::string> values;
-    std::vector<SourceLocation> value_where;
     std::vector<config::Override> overrides;
     std::vector<SourceLocation> where;
     size_t base = 0;
     for (size_t g = 0; g < spec.grid.size(); ++g) {
       values.push_back(spec.grid[g].values[digits[g]]);
-      value_where.push_back(spec.grid[g].where[digits[g]]);
       if (static_cast<int>(g) == base_axis) {
         // Not an override: it picks the file the overrides apply to.
         base = static_cast<size_t>(digits[g]);
@@ -600,7 +599,6 @@ std::vector<SweepRun> ExpandSweep(const SweepSpec& spec) {
     }
     for (const SweepAxis& a : spec.zip) {
       values.push_back(a.values[zip_position]);
-      value_where.push_back(a.where[zip_position]);
       overrides.push_back({a.key, a.values[zip_position]});
       where.push_back(a.where[zip_position]);
     }
@@ -665,14 +663,14 @@ std::vector<SweepRun> ExpandSweep(const SweepSpec& spec) {
         // earlier run's: the value that repeats a scenario (a base file
         // listed twice in grid.base has no override to point at: an audit
         // found that error without a line).
-        const std::vector<int64_t>& earlier =
-            positions_of_cell[static_cast<size_t>(at_key->second / seeds)];
+        const CellPlace earlier = place_of(at_key->second / seeds);
         SourceLocation at = where.empty() ? SourceLocation{spec.file, 0, 0, ""} : where.front();
-        for (size_t i = 0; i < position.size() && i < earlier.size(); ++i) {
-          if (position[i] != earlier[i]) {
-            at = value_where[i];
-            break;
-          }
+        const auto differs = std::mismatch(digits.begin(), digits.end(), earlier.digits.begin());
+        if (differs.first != digits.end()) {
+          const auto g = static_cast<size_t>(differs.first - digits.begin());
+          at = spec.grid[g].where[digits[g]];
+        } else if (zip_position != earlier.zip_position) {
+          at = spec.zip.front().where[zip_position];
         }
         throw InputError(SourceLocation{at.file, at.line, at.column, "grid/zip"},
                          "every run a different scenario (no value listed twice)",

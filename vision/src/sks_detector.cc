@@ -334,13 +334,14 @@ struct Workspace {
   GreyImageF smooth, xx, xy, yy, spare;
 };
 
-// The two per-pixel loops of the Harris response, built for AVX-512, AVX2
+// The per-pixel loops of the Harris response (and, below, LocalMaxima's
+// scan, NextChunkAbove), built for AVX-512, AVX2
 // and the x86-64 baseline (HCPF_DISPATCHED, hcpf/core/instruction_set.h) and
 // written in chunks of a fixed count, which GCC 12's -O2 vectorises (its
 // "very cheap" cost model takes no loop with a run-time trip count). Each
 // value is the same IEEE expression in every build (no FMA:
 // -ffp-contract=off), so every build gives the same bytes
-// (SksDetector.EveryInstructionSetGivesTheSameFeatures). Before, as plain
+// (SksDetector.EveryInstructionSetGivesTheSameOutput). Before, as plain
 // scalar loops, they were about half of the keypoint extraction's time
 // (docs/performance.md).
 constexpr size_t kHarrisChunk = 16;

@@ -26,6 +26,7 @@
 #include "hcpf/core/text_file.h"
 #include "hcpf/scenarios/output_folder.h"
 #include "hcpf/scenarios/version.h"
+#include "hcpf/studies/file_keys.h"
 #include "hcpf/studies/metric_catalogue.h"
 #include "sweep_plan.h"
 #include "text.h"
@@ -190,6 +191,16 @@ sqlite3* OpenDb(const std::string& path, StoreAccess access, bool create) {
   return db;
 }
 
+json ExpansionToJson(const StoredExpansion& e) {
+  const auto axes = [](const std::vector<StoredExpansion::Axis>& list) {
+    json out = json::array();
+    for (const StoredExpansion::Axis& a : list)
+      out.push_back({{"key", a.key}, {"values", a.values}});
+    return out;
+  };
+  return {{"grid", axes(e.grid)}, {"zip", axes(e.zip)}, {"seeds", e.seeds}};
+}
+
 json ReportToJson(const ReportSpec& r) {
   json j = {{"x", r.x}, {"y", r.y}, {"series", r.series}};
   if (!r.x_metric.empty()) j["x_metric"] = r.x_metric;
@@ -258,7 +269,14 @@ void ResultsStore::ReadMeta() {
                       "a results store of hcpf sweep: " + expected, fmt::format("\"{}\"", m[key]),
                       "the store's meta table was changed after the sweep wrote it");
   };
-  if (m.count("run_count")) {
+  // Every sweep has written run_count (a bad-input audit: a store without it
+  // was reported without a word, no run counted as missing).
+  if (m.count("run_count") == 0) {
+    throw InputError(SourceLocation{path_, 0, 0, "meta.run_count"},
+                     "a results store of hcpf sweep: the sweep's number of runs", "no run_count",
+                     "the store's meta table was changed after the sweep wrote it");
+  }
+  {
     const std::string& text = m["run_count"];
     const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), meta_.run_count);
     if (ec != std::errc() || end != text.data() + text.size() || meta_.run_count < 0) {
@@ -325,7 +343,66 @@ void ResultsStore::ReadMeta() {
   meta_.report.pool = list("pool");
   meta_.report.panels = text("panels");
   meta_.report.reference = text("reference");
+  meta_.expansion.reset();
+  if (!m["expansion"].empty()) meta_.expansion = ReadExpansion(m["expansion"]);
   CheckStoredMeta();
+}
+
+// The meta's "expansion" (ExpansionToJson), held to the store: its keys are
+// the swept keys in column order, each with values, the zip's of one length,
+// and it expands to run_count runs.
+StoredExpansion ResultsStore::ReadExpansion(const std::string& text) const {
+  const auto damaged = [&](const std::string& expected, const std::string& found) {
+    return InputError(SourceLocation{path_, 0, 0, "meta.expansion"},
+                      "a results store of hcpf sweep: " + expected, found,
+                      "the store's meta table was changed after the sweep wrote it");
+  };
+  const std::string shape =
+      "the sweep's expansion as JSON: {\"grid\": [{\"key\": ..., \"values\": [...]}, ...], "
+      "\"zip\": [...], \"seeds\": n}";
+  StoredExpansion e;
+  try {
+    const json j = json::parse(text);
+    const auto axes = [&](const char* name, std::vector<StoredExpansion::Axis>& out) {
+      for (const json& a : j.at(name)) {
+        StoredExpansion::Axis axis{a.at("key").get<std::string>(),
+                                   a.at("values").get<std::vector<std::string>>()};
+        if (axis.values.empty() || static_cast<int64_t>(axis.values.size()) > kMaxSweepRuns) {
+          throw damaged(fmt::format("1 to {} values of {}", kMaxSweepRuns, axis.key),
+                        fmt::format("{}", axis.values.size()));
+        }
+        out.push_back(std::move(axis));
+      }
+    };
+    axes("grid", e.grid);
+    axes("zip", e.zip);
+    e.seeds = j.at("seeds").get<int>();
+  } catch (const json::exception&) {
+    throw damaged(shape, fmt::format("\"{}\"", text.substr(0, 80)));
+  }
+  std::vector<std::string> keys;
+  for (const auto& a : e.grid) keys.push_back(a.key);
+  for (const auto& a : e.zip) keys.push_back(a.key);
+  if (keys != meta_.swept_keys) {
+    throw damaged(fmt::format("the swept keys [{}]", fmt::join(meta_.swept_keys, ", ")),
+                  fmt::format("[{}]", fmt::join(keys, ", ")));
+  }
+  for (const auto& a : e.zip) {
+    if (a.values.size() != e.zip.front().values.size()) {
+      throw damaged(fmt::format("zip lists of one length ({} values, as {})",
+                                e.zip.front().values.size(), e.zip.front().key),
+                    fmt::format("{} values of {}", a.values.size(), a.key));
+    }
+  }
+  if (e.seeds < 0 || e.seeds > kMaxSweepSeeds) {
+    throw damaged(fmt::format("seeds from 0 to {}", kMaxSweepSeeds), fmt::format("{}", e.seeds));
+  }
+  if (e.RunCount() != meta_.run_count) {
+    throw damaged(fmt::format("an expansion of run_count ({}) runs", meta_.run_count),
+                  e.RunCount() > kMaxSweepRuns ? fmt::format("more than {}", kMaxSweepRuns)
+                                               : fmt::format("{}", e.RunCount()));
+  }
+  return e;
 }
 
 void ResultsStore::CheckStoredMeta() const {
@@ -447,6 +524,7 @@ namespace {
 // the sweep hash): a resumed sweep writes its own over the store's.
 std::vector<std::pair<std::string, std::string>> DescriptiveMeta(const StoreMeta& meta) {
   return {{"report", ReportToJson(meta.report).dump()},
+          {"expansion", meta.expansion ? ExpansionToJson(*meta.expansion).dump() : ""},
           {"sweep_file", meta.sweep_file},
           {"root_seed", meta.root_seed},
           {"root_seed_from", meta.root_seed_from},
@@ -595,8 +673,21 @@ void ResultsStore::Put(const RunRecord& r) {
   Exec("COMMIT");
 }
 
-std::vector<RunRecord> ResultsStore::Runs() const {
+std::vector<RunRecord> ResultsStore::Runs() const { return ReadRuns(true); }
+
+std::vector<RunRecord> ResultsStore::RunsAsStored() const { return ReadRuns(false); }
+
+std::vector<RunRecord> ResultsStore::ReadRuns(bool check_labels) const {
   std::lock_guard lock(mutex_);
+  // A seed index that is not the seed's is checked against the sweep's seed
+  // when the store records its root.
+  uint64_t root_seed = 0;
+  const bool derived_seeds =
+      meta_.expansion && meta_.expansion->seeds > 0 &&
+      std::from_chars(meta_.root_seed.data(), meta_.root_seed.data() + meta_.root_seed.size(),
+                      root_seed)
+              .ptr == meta_.root_seed.data() + meta_.root_seed.size() &&
+      !meta_.root_seed.empty();
   std::string columns = "key, run_index, seed_index, seed, status, error, run_dir";
   for (const std::string& k : meta_.swept_keys) columns += ", " + SweptColumn(k);
   for (const std::string& m : MetricNames()) {
@@ -610,7 +701,7 @@ std::vector<RunRecord> ResultsStore::Runs() const {
     int i = 0;
     r.key = s.Text(i++);
     r.index = s.Int(i++);
-    r.seed_index = static_cast<int>(s.Int(i++));
+    const int64_t seed_index = s.Int(i++);
     // A bad-input audit: rows edited by hand were read silently (a metric
     // given as text counted as 0, an unknown status as neither ok nor
     // failed); a seed that is not a number threw std::stoull's text.
@@ -633,6 +724,11 @@ std::vector<RunRecord> ResultsStore::Runs() const {
                                     ? fmt::format(", the index of run {} too", out.back().key)
                                     : ""));
     }
+    if (seed_index < 0 || seed_index >= kMaxSweepSeeds) {
+      throw damaged("seed_index", fmt::format("a seed index, 0 to {}", kMaxSweepSeeds - 1),
+                    fmt::format("{}", seed_index));
+    }
+    r.seed_index = static_cast<int>(seed_index);
     const std::string seed = s.Text(i++);
     const auto [end, ec] = std::from_chars(seed.data(), seed.data() + seed.size(), r.seed);
     if (ec != std::errc() || end != seed.data() + seed.size() || seed.empty()) {
@@ -655,6 +751,35 @@ std::vector<RunRecord> ResultsStore::Runs() const {
                        fmt::format("key \"{}\" with run_dir \"{}\"", r.key, r.run_dir));
     }
     for (size_t k = 0; k < meta_.swept_keys.size(); ++k) r.values.push_back(s.Text(i++));
+    // The labels of the run at its index (a bad-input audit: a swept value
+    // edited to one the sweep does not have drew a cell of its own, and a
+    // seed index past the sweep's seeds was reported as a seed).
+    if (check_labels && meta_.expansion) {
+      const StoredExpansion& e = *meta_.expansion;
+      const auto mislabelled = [&](const std::string& column, const std::string& want,
+                                   const std::string& found) {
+        return InputError(
+            SourceLocation{path_, 0, 0, fmt::format("runs[{}].{}", r.key, column)},
+            fmt::format("{} (what the sweep's expansion says of run {})", want, r.index), found,
+            "the store's runs table was changed after the sweep wrote it; `hcpf sweep` with its "
+            "sweep file on this folder rewrites the row");
+      };
+      if (const int want = e.SeedIndex(r.index); r.seed_index != want) {
+        throw mislabelled("seed_index", fmt::format("{}", want), fmt::format("{}", r.seed_index));
+      }
+      if (derived_seeds) {
+        if (const uint64_t want = SweepSeed(root_seed, r.seed_index); r.seed != want) {
+          throw mislabelled("seed", fmt::format("{}", want), fmt::format("{}", r.seed));
+        }
+      }
+      const std::vector<std::string> want = e.Values(r.index);
+      for (size_t k = 0; k < want.size(); ++k) {
+        if (r.values[k] != want[k]) {
+          throw mislabelled(meta_.swept_keys[k], fmt::format("\"{}\"", want[k]),
+                            fmt::format("\"{}\"", r.values[k]));
+        }
+      }
+    }
     for (const std::string& m : MetricNames()) {
       if (!s.Null(i) && !s.Number(i)) {
         throw damaged(m, "a finite number or NULL", fmt::format("the text \"{}\"", s.Text(i)));
@@ -742,6 +867,40 @@ std::map<std::string, double> RunMetricsOf(const json& metrics, const json& mani
 }
 
 }  // namespace
+
+int64_t StoredExpansion::RunCount() const {
+  std::vector<int64_t> lengths;
+  for (const Axis& a : grid) lengths.push_back(static_cast<int64_t>(a.values.size()));
+  if (!zip.empty()) lengths.push_back(static_cast<int64_t>(zip.front().values.size()));
+  int64_t runs = std::max(seeds, 1);
+  for (const int64_t n : lengths) {
+    if (__builtin_mul_overflow(runs, n, &runs)) return std::numeric_limits<int64_t>::max();
+  }
+  return runs;
+}
+
+int StoredExpansion::SeedIndex(int64_t index) const {
+  return static_cast<int>(index % std::max(seeds, 1));
+}
+
+std::vector<std::string> StoredExpansion::Values(int64_t index) const {
+  std::vector<int64_t> lengths;
+  for (const Axis& a : grid) lengths.push_back(static_cast<int64_t>(a.values.size()));
+  const int64_t zip_length = zip.empty() ? 1 : static_cast<int64_t>(zip.front().values.size());
+  const CellPlace place = PlaceOfCell(lengths, zip_length, index / std::max(seeds, 1));
+  std::vector<std::string> values;
+  for (size_t g = 0; g < grid.size(); ++g) values.push_back(grid[g].values[place.digits[g]]);
+  for (const Axis& a : zip) values.push_back(a.values[place.zip_position]);
+  return values;
+}
+
+StoredExpansion ExpansionOf(const SweepSpec& spec) {
+  StoredExpansion e;
+  for (const SweepAxis& a : spec.grid) e.grid.push_back({a.key, a.values});
+  for (const SweepAxis& a : spec.zip) e.zip.push_back({a.key, a.values});
+  e.seeds = spec.seeds;
+  return e;
+}
 
 void SetRootSeedMeta(const SweepSpec& spec, StoreMeta& meta) {
   if (spec.seeds == 0) {
@@ -924,8 +1083,16 @@ MergeResult MergeStores(const std::string& out_dir, const std::vector<std::strin
     present[r.key] = r.ok && RunFolderIntact((fs::path(out_dir) / r.run_dir).string(), r);
   }
   MergeResult result;
+  const std::optional<StoredExpansion>& expansion = out->meta().expansion;
   for (size_t i = 0; i < inputs.size(); ++i) {
     for (RunRecord& r : rows[i]) {
+      // Labelled as OUT's expansion says: a shard run from the sweep file
+      // with a value written otherwise (0.10 for 0.1; the same runs, so the
+      // same hash) holds that spelling.
+      if (expansion) {
+        r.seed_index = expansion->SeedIndex(r.index);
+        r.values = expansion->Values(r.index);
+      }
       if (r.ok && !RunFolderIntact((fs::path(input_dirs[i]) / r.run_dir).string(), r)) {
         // Kept as a failed row: resuming the sweep on the merged folder recomputes it.
         r.ok = false;

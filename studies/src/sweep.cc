@@ -485,6 +485,16 @@ void SetRootSeed(SweepSpec& spec, const std::string& text, const std::string& op
   spec.seed_from = option;
 }
 
+CellPlace PlaceOfCell(const std::vector<int64_t>& grid_lengths, int64_t zip_length, int64_t cell) {
+  CellPlace place{std::vector<int64_t>(grid_lengths.size()), cell % zip_length};
+  int64_t rest = cell / zip_length;
+  for (size_t g = grid_lengths.size(); g-- > 0;) {
+    place.digits[g] = rest % grid_lengths[g];
+    rest /= grid_lengths[g];
+  }
+  return place;
+}
+
 uint64_t SweepSeed(uint64_t sweep_seed, int index) {
   return Rng(sweep_seed).Fork("sweep/seed", index).identity();
 }
@@ -561,22 +571,10 @@ std::vector<SweepRun> ExpandSweep(const SweepSpec& spec) {
   std::vector<SweepRun> runs;
   runs.reserve(static_cast<size_t>(total));
   std::map<std::string, int64_t> index_of_key;
-  // A cell's place in the lists: its grid digits (the last grid key varies
-  // fastest) and its zip position.
-  struct CellPlace {
-    std::vector<int64_t> digits;
-    int64_t zip_position = 0;
-  };
-  const auto place_of = [&](int64_t cell) {
-    CellPlace place{std::vector<int64_t>(spec.grid.size()), cell % zip_length};
-    int64_t rest = cell / zip_length;
-    for (size_t g = spec.grid.size(); g-- > 0;) {
-      const auto n = static_cast<int64_t>(spec.grid[g].values.size());
-      place.digits[g] = rest % n;
-      rest /= n;
-    }
-    return place;
-  };
+  std::vector<int64_t> grid_lengths;
+  for (const SweepAxis& a : spec.grid)
+    grid_lengths.push_back(static_cast<int64_t>(a.values.size()));
+  const auto place_of = [&](int64_t cell) { return PlaceOfCell(grid_lengths, zip_length, cell); };
   scenarios::Progress progress("expand", total, total >= 20000);
   for (int64_t cell = 0; cell < total / seeds; ++cell) {
     // A cell: one grid point and zip position, `seeds` runs that differ only in their seed.

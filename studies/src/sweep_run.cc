@@ -185,7 +185,8 @@ std::vector<std::unique_ptr<Donor>> OpenDonors(const SweepOptions& options) {
     }
     const auto store =
         ResultsStore::Open((fs::path(dir) / "results.sqlite").string(), StoreAccess::kReadOnly);
-    for (RunRecord& r : store->Runs()) {
+    // Matched by key alone: its labels are the donor sweep's.
+    for (RunRecord& r : store->RunsAsStored()) {
       if (r.ok) donor->finished.emplace(r.key, std::move(r));
     }
     donors.push_back(std::move(donor));
@@ -340,6 +341,7 @@ SweepPlan PrepareSweep(const SweepSpec& spec, const std::vector<SweepRun>& runs,
     meta.base_resolved = ToResolvedYaml(LoadScenarioFile(spec.base_path));
   }
   meta.run_count = static_cast<int64_t>(runs.size());
+  meta.expansion = ExpansionOf(spec);
   SetRootSeedMeta(spec, meta);
   // A run's key is its resolved scenario, so a row of a key says which run
   // it is (the store's reader holds its folder to runs/<key>); its index,
@@ -366,12 +368,12 @@ SweepPlan PrepareSweep(const SweepSpec& spec, const std::vector<SweepRun>& runs,
     }
   };
   plan.store = ResultsStore::OpenOrCreate(store_path, meta, [&](const ResultsStore& existing) {
-    refuse_foreign_rows(existing.Runs());
+    refuse_foreign_rows(existing.RunsAsStored());
   });
 
   // Finished runs are reused only while their folders still hold what the
   // store records (a deleted or damaged folder is computed again).
-  std::vector<RunRecord> stored = plan.store->Runs();
+  std::vector<RunRecord> stored = plan.store->RunsAsStored();
   // Read again: the folder lock keeps other sweeps out, not a hand edit
   // between the two reads (refused then after the store took this sweep's
   // descriptive meta, the one write before this point).

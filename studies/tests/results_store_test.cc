@@ -3,6 +3,7 @@
 #include "hcpf/studies/results_store.h"
 
 #include <fcntl.h>
+#include <fmt/format.h>
 #include <gtest/gtest.h>
 #include <sqlite3.h>
 #include <sys/file.h>
@@ -575,7 +576,14 @@ TEST(ResultsStore, HandEditedRowsAreBadInputNamingTheRowAndColumn) {
           {"UPDATE runs SET status = 'weird'",
            R"(runs[k1].status: expected a results store of hcpf sweep: "ok" or "failed", found "weird")"},
           {"UPDATE runs SET seed = 'x1'",
-           R"(runs[k1].seed: expected a results store of hcpf sweep: a seed (a whole number, as decimal text), found "x1")"}}) {
+           R"(runs[k1].seed: expected a results store of hcpf sweep: a seed (a whole number, as decimal text), found "x1")"},
+          // A store without its expansion (written before it was recorded)
+          // still holds a seed index to what a sweep can have: 2^40 was cut
+          // to an int.
+          {"UPDATE runs SET seed_index = 1099511627776",
+           R"(runs[k1].seed_index: expected a results store of hcpf sweep: a seed index, 0 to 99999, found 1099511627776)"},
+          {"UPDATE runs SET seed_index = -1",
+           R"(runs[k1].seed_index: expected a results store of hcpf sweep: a seed index, 0 to 99999, found -1)"}}) {
     fs::copy_file(good, path, fs::copy_options::overwrite_existing);
     ExecSql(path, sql);
     try {
@@ -696,7 +704,7 @@ TEST(RunSweep, AStoreRowEditedByHandIsRelabelledOrRefused) {
     EXPECT_EQ(StoreRows(dir / "out"), before);
   };
   ExecSql(path, "UPDATE runs SET \"tracker.particles\" = '999' WHERE run_index = 3");
-  ASSERT_EQ(ResultsStore::Open(path)->Runs()[3].values[0], "999");
+  ASSERT_EQ(ResultsStore::Open(path)->RunsAsStored()[3].values[0], "999");
   resume();
   EXPECT_EQ(ResultsStore::Open(path)->Runs()[3].values[0], runs[3].values[0]);
   // A seed and a seed index: the same. (A folder other than runs/<key> the
@@ -728,6 +736,112 @@ TEST(RunSweep, AStoreRowEditedByHandIsRelabelledOrRefused) {
   // Compared whole, not printed: a store's bytes fill a screen.
   EXPECT_TRUE(hcpf::testing::ReadFile(path) == edited) << "the refused store was written to";
   EXPECT_EQ(fs::path(ResultsStore::Open(path)->meta().sweep_file).filename(), "sweep.yaml");
+}
+
+// A row's seed index, seed and swept values follow from its run index and
+// the sweep's expansion, which the store records: a reader refuses a row
+// that says otherwise, naming it (a bad-input audit: a swept value changed
+// to text drew a fifth cell of one run in the report, and a seed index past
+// the sweep's seeds was reported as a seed). The meta is held to the
+// expansion too, and a store without run_count is refused.
+TEST(ResultsStore, RowsAreHeldToTheSweepsExpansion) {
+  const auto dir = SweepFolder("expansion");
+  const SweepSpec spec = LoadSweepFile(WriteSweep(dir, kSweep));
+  const auto runs = ExpandSweep(spec);
+  ASSERT_EQ(RunSweep(spec, runs, Options(dir / "out", 2)).computed, 8);
+  const std::string path = (dir / "out" / "results.sqlite").string();
+  const std::string good = (dir / "good.sqlite").string();
+  fs::copy_file(path, good);
+  ASSERT_TRUE(ResultsStore::Open(path)->meta().expansion.has_value());
+  EXPECT_EQ(ResultsStore::Open(path)->Runs().size(), 8U);
+  const auto refused = [&](const std::string& sql, const std::string& expected) {
+    fs::copy_file(good, path, fs::copy_options::overwrite_existing);
+    ExecSql(path, sql);
+    try {
+      ResultsStore::Open(path)->Runs();
+      ADD_FAILURE() << sql << " was accepted";
+    } catch (const InputError& e) {
+      EXPECT_NE(std::string(e.what()).find(expected), std::string::npos) << e.what();
+    }
+  };
+  // Run 3 is particles 20, charged, seed index 1 (index = cell * 2 + seed).
+  refused("UPDATE runs SET \"tracker.particles\" = 'abc' WHERE run_index = 3",
+          fmt::format("runs[{}].tracker.particles: expected \"20\" (what the sweep's expansion "
+                      "says of run 3), found \"abc\"",
+                      runs[3].key));
+  refused("UPDATE runs SET \"tracker.resampling.method\" = 'systematic' WHERE run_index = 3",
+          fmt::format("runs[{}].tracker.resampling.method: expected \"charged\"", runs[3].key));
+  refused("UPDATE runs SET seed_index = 7 WHERE run_index = 3",
+          fmt::format("runs[{}].seed_index: expected 1 (what the sweep's expansion says of run 3), "
+                      "found 7",
+                      runs[3].key));
+  refused("UPDATE runs SET seed = '12345' WHERE run_index = 6",
+          fmt::format("runs[{}].seed: expected {} (what the sweep's expansion says of run 6), "
+                      "found 12345",
+                      runs[6].key, runs[6].seed));
+  // The sweep itself reads the rows as stored (it rewrites them).
+  EXPECT_EQ(ResultsStore::Open(path)->RunsAsStored()[6].seed, 12345U);
+  const auto meta_refused = [&](const std::string& sql, const std::string& expected) {
+    fs::copy_file(good, path, fs::copy_options::overwrite_existing);
+    ExecSql(path, sql);
+    try {
+      ResultsStore::Open(path);
+      ADD_FAILURE() << sql << " was accepted";
+    } catch (const InputError& e) {
+      EXPECT_NE(std::string(e.what()).find(expected), std::string::npos) << e.what();
+    }
+  };
+  meta_refused("DELETE FROM meta WHERE name = 'run_count'",
+               "meta.run_count: expected a results store of hcpf sweep: the sweep's number of "
+               "runs, found no run_count");
+  meta_refused("UPDATE meta SET value = '9' WHERE name = 'run_count'",
+               "meta.expansion: expected a results store of hcpf sweep: an expansion of run_count "
+               "(9) runs, found 8");
+  meta_refused("UPDATE meta SET value = '{\"grid\": 3}' WHERE name = 'expansion'",
+               "meta.expansion: expected a results store of hcpf sweep: the sweep's expansion as "
+               "JSON");
+  meta_refused(
+      "UPDATE meta SET value = replace(value, '\"tracker.particles\"', '\"camera.fov_deg\"') "
+      "WHERE name = 'expansion'",
+      "meta.expansion: expected a results store of hcpf sweep: the swept keys "
+      "[tracker.particles, tracker.resampling.method], found [camera.fov_deg, "
+      "tracker.resampling.method]");
+  meta_refused(
+      "UPDATE meta SET value = replace(value, '\"seeds\":2', '\"seeds\":-2') "
+      "WHERE name = 'expansion'",
+      "meta.expansion: expected a results store of hcpf sweep: seeds from 0 to 100000, "
+      "found -2");
+  // A store written before the expansion was recorded is read as it was.
+  fs::copy_file(good, path, fs::copy_options::overwrite_existing);
+  ExecSql(path, "DELETE FROM meta WHERE name = 'expansion'");
+  ExecSql(path, "UPDATE runs SET \"tracker.particles\" = 'abc' WHERE run_index = 3");
+  EXPECT_FALSE(ResultsStore::Open(path)->meta().expansion.has_value());
+  EXPECT_EQ(ResultsStore::Open(path)->Runs()[3].values[0], "abc");
+}
+
+// Shards of one sweep run from files that write a value otherwise (40 and
+// 40.0 are one run, so one sweep) merge into rows labelled as the merged
+// store's expansion says, which a reader then accepts.
+TEST(MergeStores, RowsAreLabelledAsTheMergedStoresExpansion) {
+  const auto dir = SweepFolder("merge-spelling");
+  std::vector<std::string> shards;
+  for (int i = 0; i < 2; ++i) {
+    const SweepSpec spec =
+        LoadSweepFile(WriteSweep(dir,
+                                 i == 0 ? "base: base.yaml\ngrid: {camera.fov_deg: [40, 45]}\n"
+                                        : "base: base.yaml\ngrid: {camera.fov_deg: [40.0, 45.0]}\n",
+                                 fmt::format("s{}.yaml", i)));
+    SweepOptions o = Options(dir / fmt::format("shard{}", i), 1);
+    o.shard_index = i;
+    o.shard_count = 2;
+    RunSweep(spec, ExpandSweep(spec), o);
+    shards.push_back((dir / fmt::format("shard{}", i)).string());
+  }
+  EXPECT_EQ(MergeStores((dir / "merged").string(), shards).added, 2);
+  const auto merged = ResultsStore::Open((dir / "merged" / "results.sqlite").string())->Runs();
+  ASSERT_EQ(merged.size(), 2U);
+  EXPECT_EQ(merged[0].values, std::vector<std::string>{"40"});
+  EXPECT_EQ(merged[1].values, std::vector<std::string>{"45"});
 }
 
 // A sweep of explicit seeds (grid: {seed: [...]}, no seeds:) is allowed by

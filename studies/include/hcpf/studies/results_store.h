@@ -3,7 +3,7 @@
 //
 //   table meta(name TEXT PRIMARY KEY, value TEXT): sweep_hash, sweep_file,
 //       swept_keys (JSON list), report (JSON), base_resolved (YAML), run_count,
-//       root_seed, root_seed_from (StoreMeta)
+//       root_seed, root_seed_from, expansion (JSON) (StoreMeta)
 //   table runs: key TEXT PRIMARY KEY (ConfigHash of the resolved scenario),
 //       run_index, seed_index, seed (decimal text: seeds are 64-bit unsigned),
 //       one TEXT column per swept key (named by the key, e.g. "tracker.particles"),
@@ -35,6 +35,29 @@ namespace hcpf::studies {
 // The format of the stores this version writes and reads (meta "format").
 inline constexpr const char* kStoreFormat = "hcpf-results/1";
 
+// The sweep's expansion as a store records it (meta "expansion"): every grid
+// key's and zip key's values, as YAML text the way the rows hold them, and
+// `seeds`. A row's seed index and swept values follow from its run index, so
+// a reader can tell a row edited by hand (a swept value changed to a value
+// the sweep does not have drew a cell of its own) from one the sweep wrote.
+struct StoredExpansion {
+  struct Axis {
+    std::string key;
+    std::vector<std::string> values;
+  };
+  std::vector<Axis> grid;  // in file order, the last varying fastest
+  std::vector<Axis> zip;   // lists of one length
+  int seeds = 0;           // 0: every run keeps its base scenario's seed
+
+  // The runs it expands to: product of grid lengths * zip length * max(seeds, 1).
+  int64_t RunCount() const;
+  // The seed index of run `index`.
+  int SeedIndex(int64_t index) const;
+  // The swept values of run `index` (grid keys, then zip keys).
+  std::vector<std::string> Values(int64_t index) const;
+};
+StoredExpansion ExpansionOf(const SweepSpec& spec);
+
 struct StoreMeta {
   std::string sweep_hash;
   std::string sweep_file;
@@ -42,6 +65,9 @@ struct StoreMeta {
   ReportSpec report;
   std::string base_resolved;  // the resolved base scenario (YAML)
   int64_t run_count = 0;      // runs of the whole sweep (all shards)
+  // Absent in a store written before it was recorded (2026-12-06): its rows'
+  // labels are then read as they are.
+  std::optional<StoredExpansion> expansion;
   // The root of the runs' derived seeds (decimal) and where it came from:
   // "sweep file" (its `seed:`) or an option ("--seed"), with the file's own
   // seed then (root_file_seed). Without `seeds:` root_seed_from is "base
@@ -110,13 +136,21 @@ class ResultsStore {
   const std::string& path() const { return path_; }
   // Inserts or replaces the row of record.key in one transaction.
   void Put(const RunRecord& record);
-  // Every row, sorted by run index.
+  // Every row, sorted by run index. Throws InputError naming the row and
+  // column when a row's seed index, seed or swept values are not what the
+  // store's expansion (when it has one) says of its run index.
   std::vector<RunRecord> Runs() const;
+  // Every row with its labels as stored: for the sweep, which rewrites a
+  // row's labels from its own expansion (resuming a store edited by hand, or
+  // a sweep file that writes a value otherwise, 0.10 for 0.1).
+  std::vector<RunRecord> RunsAsStored() const;
 
  private:
   ResultsStore(std::string path, sqlite3* db);
   void Exec(const std::string& sql) const;
   void ReadMeta();
+  std::vector<RunRecord> ReadRuns(bool check_labels) const;
+  StoredExpansion ReadExpansion(const std::string& text) const;
   // InputError when the meta read does not fit the store: a swept key
   // without its column, a report naming an unknown metric or key.
   void CheckStoredMeta() const;

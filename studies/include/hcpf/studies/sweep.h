@@ -106,6 +106,16 @@ struct SweepSpec {
 inline constexpr int64_t kMaxSweepRuns = 10'000'000;
 int64_t CheckedRunCount(const SweepSpec& spec);
 
+// A cell's place in the sweep's lists: its position in each grid key's values
+// (the last grid key varies fastest) and its zip position. `grid_lengths` are
+// the grid keys' numbers of values, `zip_length` the zip's (1 without one);
+// cell = run index / max(seeds, 1).
+struct CellPlace {
+  std::vector<int64_t> digits;
+  int64_t zip_position = 0;
+};
+CellPlace PlaceOfCell(const std::vector<int64_t>& grid_lengths, int64_t zip_length, int64_t cell);
+
 // One run of a sweep.
 struct SweepRun {
   int64_t index = 0;

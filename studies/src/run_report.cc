@@ -36,6 +36,7 @@
 #include "hcpf/metrics/mot_io.h"
 #include "hcpf/renderer/renderer.h"
 #include "hcpf/scenarios/output_folder.h"
+#include "hcpf/scenarios/scenario.h"
 #include "hcpf/studies/metric_catalogue.h"
 #include "hcpf/studies/report.h"
 #include "hcpf/studies/results_store.h"
@@ -1040,7 +1041,13 @@ void CheckRunManifest(const json& manifest, const fs::path& path) {
       bad(key, fmt::format("a whole number, {} or more", lo));
     }
   };
-  whole("frames", 1);
+  // A scenario's frames, at most (a bad-input audit: 10^8 kept the report
+  // busy past a minute, sizing every per-frame table by it).
+  if (manifest.contains("frames") &&
+      (!manifest["frames"].is_number_integer() || manifest["frames"].get<int64_t>() < 1 ||
+       manifest["frames"].get<int64_t>() > scenarios::kMaxFrames)) {
+    bad("frames", fmt::format("a whole number, 1 to {}", scenarios::kMaxFrames));
+  }
   whole("frames_rendered", 0);
   whole("frames_from_cache", 0);
   whole("detections", 0);
@@ -1106,12 +1113,22 @@ RunFolder ReadRunFolder(const fs::path& dir) {
   const fs::path resolved = dir / "scenario.resolved.yaml";
   if (fs::is_regular_file(resolved, ec)) {
     run.resolved = ReadInputFile(resolved.string(), "a resolved scenario", kMaxRunFileBytes);
+    YAML::Node scenario;
     try {
-      (void)YAML::Load(*run.resolved);
+      scenario = YAML::Load(*run.resolved);
     } catch (const YAML::Exception& e) {
       throw InputError(SourceLocation{resolved.string(), e.mark.line + 1, e.mark.column + 1, ""},
                        "the resolved scenario hcpf run writes (YAML)",
                        fmt::format("text that does not parse ({})", e.msg));
+    }
+    // The manifest's frames are the scenario's, which the run was made of
+    // (an edited count drew the timeline and per-frame tables to it).
+    if (run.frames > 0 && scenario.IsMap() && scenario["frames"].IsScalar() &&
+        scenario["frames"].Scalar() != std::to_string(run.frames)) {
+      throw InputError(
+          SourceLocation{(dir / "manifest.json").string(), 0, 0, "frames"},
+          fmt::format("{}, the frames of its scenario.resolved.yaml", scenario["frames"].Scalar()),
+          std::to_string(run.frames));
     }
   }
   return run;

@@ -804,7 +804,12 @@ TEST(RunReport, AManifestFieldOfAnotherTypeIsBadInput) {
   const auto good = nlohmann::json::parse(Read(run / "manifest.json"));
   for (const auto& [key, value, expected] :
        std::vector<std::tuple<std::string, nlohmann::json, std::string>>{
-           {"frames", "twenty", "frames: expected a whole number, 1 or more, found \"twenty\""},
+           {"frames", "twenty", "frames: expected a whole number, 1 to 100000, found \"twenty\""},
+           // A later audit: 10^8 kept the report busy past a minute; a count
+           // other than the scenario's drew the timeline to it.
+           {"frames", 100000000, "frames: expected a whole number, 1 to 100000, found 100000000"},
+           {"frames", 19,
+            "frames: expected 20, the frames of its scenario.resolved.yaml, found 19"},
            {"seed", -1, "seed: expected a seed (a whole number, 0 or more), found -1"},
            {"timings", "x", "timings: expected an object, found \"x\""},
            {"config_hash", 17, "config_hash: expected text, found 17"}}) {
@@ -1014,8 +1019,14 @@ TEST(RunReport, AgainstARunOfTheSameScenarioChecksDeterminism) {
                       "<code>tracks.txt</code> differs</strong>"),
             std::string::npos);
 
-  // Another frame count: not compared frame by frame, and said why.
+  // Another frame count (B's manifest and scenario, which must agree): not
+  // compared frame by frame, and said why.
   auto manifest = nlohmann::json::parse(Read(b / "manifest.json"));
+  const std::string resolved = Read(b / "scenario.resolved.yaml");
+  std::string longer = resolved;
+  ASSERT_NE(longer.find("\nframes: 20\n"), std::string::npos);
+  longer.replace(longer.find("\nframes: 20\n"), 12, "\nframes: 21\n");
+  std::ofstream(b / "scenario.resolved.yaml") << longer;
   manifest["frames"] = 21;
   std::ofstream(b / "manifest.json") << manifest.dump();
   r = WriteReport({.dir = a.string(), .against = b.string()});
@@ -1023,6 +1034,7 @@ TEST(RunReport, AgainstARunOfTheSameScenarioChecksDeterminism) {
   EXPECT_NE(Read(r.html_path).find("Run A has 20 frames and run B 21, so"), std::string::npos);
   manifest["frames"] = 20;
   std::ofstream(b / "manifest.json") << manifest.dump();
+  std::ofstream(b / "scenario.resolved.yaml") << resolved;
 
   std::ofstream(b / "gt" / "gt.txt", std::ios::app) << "20,3,1,1,5,5,1,1,1\n";
   const fs::path kept = dir / "kept";

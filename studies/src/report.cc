@@ -1286,12 +1286,19 @@ std::string SeedsToLookAtHtml(const Paired& paired, const StoreMeta& meta,
     const auto folder = [&](const RunRecord* r) {
       return ShellWord((fs::path(dir) / r->run_dir).string());
     };
-    return fmt::format(
-        "<a href=\"{}\">seed index {}{}</a>: &Delta;&nbsp;{:.3g}{}<br><code>hcpf report {} "
-        "--against {}</code>",
-        EscapeMarkup(link_prefix + run->run_dir), run->seed_index, pooled_values(run), d,
-        against ? " <b>(against it)</b>" : "", EscapeMarkup(folder(run)),
-        EscapeMarkup(folder(reference)));
+    // A run whose folder is gone (the page says how many) is named, not
+    // linked, and has no command to compare it.
+    std::error_code ec;
+    const auto here = [&](const RunRecord* r) {
+      return fs::is_directory(fs::path(dir) / r->run_dir, ec);
+    };
+    const std::string name = fmt::format("seed index {}{}", run->seed_index, pooled_values(run));
+    const std::string tail =
+        fmt::format(": &Delta;&nbsp;{:.3g}{}", d, against ? " <b>(against it)</b>" : "");
+    if (!here(run) || !here(reference)) return name + tail + " (a folder of the pair is gone)";
+    return fmt::format("<a href=\"{}\">{}</a>{}<br><code>hcpf report {} --against {}</code>",
+                       EscapeMarkup(link_prefix + run->run_dir), name, tail,
+                       EscapeMarkup(folder(run)), EscapeMarkup(folder(reference)));
   };
   for (const PairedRow& row : paired.rows) {
     for (const std::string& m : meta.report.y) {
@@ -2499,15 +2506,41 @@ std::string PairedReplicationHtml(const ReplicationTable& table, const AgainstSt
   return h + "</table>\n";
 }
 
+// How many finished runs have no folder (runs/ deleted or moved, a copy of
+// results.sqlite alone: a bad-input audit found the report linking to them
+// without a word), and how many finished runs there are.
+std::pair<int64_t, int64_t> AbsentRunFolders(const std::vector<RunRecord>& runs,
+                                             const fs::path& dir) {
+  int64_t absent = 0, finished = 0;
+  std::error_code ec;
+  for (const RunRecord& r : runs) {
+    if (!r.ok) continue;
+    ++finished;
+    if (r.run_dir.empty() || !fs::is_directory(dir / r.run_dir, ec)) ++absent;
+  }
+  return {absent, finished};
+}
+
+// The sentence on the page and in findings.md ("" when every folder is there).
+std::string AbsentFoldersSentence(int64_t absent, int64_t finished, const fs::path& dir) {
+  if (absent == 0) return "";
+  return fmt::format(
+      "{} of the {} finished runs have no folder in `{}` (deleted or moved): their numbers here "
+      "are the store's, and nothing links to them. `hcpf sweep` with the sweep file on this "
+      "folder computes them again.",
+      absent, finished, (dir / "runs").string());
+}
+
 // Above the resolved base: what the runs did not take from it (an audit: a
 // rendered SKS sweep's base read "source: simulated, detector: oracle",
 // seed 7 and its sub-seeds, with nothing to say that no run used them).
 std::string BaseScenarioNote(const std::vector<RunRecord>& runs, const StoreMeta& meta,
-                             const std::string& link_prefix) {
+                             const fs::path& dir, const std::string& link_prefix) {
   std::vector<std::vector<std::string>> values(meta.swept_keys.size());
-  const RunRecord* first = nullptr;
+  const RunRecord* first = nullptr;  // the first finished run whose folder is there
+  std::error_code ec;
   for (const RunRecord& r : runs) {
-    if (first == nullptr && r.ok) first = &r;
+    if (first == nullptr && r.ok && fs::is_directory(dir / r.run_dir, ec)) first = &r;
     for (size_t k = 0; k < values.size() && k < r.values.size(); ++k) {
       if (std::find(values[k].begin(), values[k].end(), r.values[k]) == values[k].end())
         values[k].push_back(r.values[k]);
@@ -2743,7 +2776,7 @@ std::string ReportHtml(const fs::path& dir, const std::string& link_prefix, cons
   h += SceneContactSheet(dir);
   const bool several_bases = std::find(keys.begin(), keys.end(), kSweptBaseKey) != keys.end();
   h += fmt::format("<h2>Base scenario{} (resolved)</h2>\n", several_bases ? "s" : "");
-  h += BaseScenarioNote(runs, meta, link_prefix);
+  h += BaseScenarioNote(runs, meta, dir, link_prefix);
   h += fmt::format("<pre>{}</pre>\n", EscapeMarkup(meta.base_resolved));
   h += "</body></html>\n";
   return h;
@@ -2880,11 +2913,19 @@ ReportResult WriteReport(const ReportOptions& options) {
     link_prefix = LinkFrom(out, dir) + "/";
   }
   ReportResult result;
-  const std::string missing = MissingRunsSentence(meta, runs.size());
-  if (!missing.empty()) {
-    spdlog::warn("report: {}", missing);
+  const std::string missing_runs = MissingRunsSentence(meta, runs.size());
+  if (!missing_runs.empty()) {
+    spdlog::warn("report: {}", missing_runs);
     result.missing_runs = meta.run_count - static_cast<int64_t>(runs.size());
   }
+  const auto [absent, finished] = AbsentRunFolders(runs, dir);
+  const std::string absent_folders = AbsentFoldersSentence(absent, finished, dir);
+  if (!absent_folders.empty()) {
+    spdlog::warn("report: {}", absent_folders);
+    result.absent_run_folders = absent;
+  }
+  const std::string missing =
+      missing_runs + (missing_runs.empty() || absent_folders.empty() ? "" : " ") + absent_folders;
   const Builds builds = BuildsOf(runs, dir);
   result.builds = static_cast<int>(builds.runs.size());
   if (builds.runs.size() > 1) {

@@ -1664,6 +1664,7 @@ fs::path HandStore(const std::string& name, const std::string& reference = "syst
         const bool many = std::string(particles) == "1000";
         r.ok = systematic || !many || seed >= failed_charged_at_1000;
         r.run_dir = "runs/" + r.key;
+        fs::create_directories(dir / r.run_dir);  // linked from the report
         r.metrics["hijack_rate"] = systematic && (!many || seed < 5) ? 1.0 : 0.0;
         r.metrics["mota"] = systematic ? 0.9 : (many ? (seed < 9 ? 1.0 : 0.5) : 0.9);
         store->Put(r);
@@ -1716,6 +1717,7 @@ fs::path PooledHandStore(const std::string& name, int complete = 4, double step 
         const bool systematic = std::string(method) == "systematic";
         r.ok = systematic || seed < complete || a != 1;
         r.run_dir = "runs/" + r.key;
+        fs::create_directories(dir / r.run_dir);  // linked from the report
         const double m = step * (seed + 1);
         r.metrics["mota"] = systematic        ? 0.5 + 0.03 * (a - 1)
                             : seed < complete ? 0.5 + m + 0.05 * (a - 1)
@@ -2158,6 +2160,7 @@ fs::path TwoMethodStore(
       r.values = {"1", method};
       r.ok = true;
       r.run_dir = "runs/" + r.key;
+      fs::create_directories(dir / r.run_dir);  // linked from the report
       for (const auto& [metric, value] : values(method, seed)) r.metrics[metric] = value;
       store->Put(r);
     }
@@ -2245,6 +2248,43 @@ TEST(Report, SeedsToLookAtNameTheFurthestAndTheLeastFarPairOfEachFinding) {
             std::string::npos);
   EXPECT_NE(html.find("seed index 9</a>: &Delta;&nbsp;-0.1 <b>(against it)</b>"), std::string::npos)
       << html;
+}
+
+// A sweep report whose run folders are gone (runs/ deleted, or results.sqlite
+// copied alone) says so on the page, in findings.md and in the log, and
+// links to none of them (a bad-input audit: it linked every seed to look at
+// and the first run's scenario to folders that were not there).
+TEST(Report, RunsWhoseFoldersAreGoneAreNamedNotLinked) {
+  const auto dir =
+      TwoMethodStore("report-folders-gone", {"mota"}, [](const std::string& method, int seed) {
+        return std::map<std::string, double>{
+            {"mota", method == "systematic" ? 0.5 : 0.8 - 0.01 * seed}};
+      });
+  ReportResult r = WriteReport({.dir = dir.string()});
+  EXPECT_EQ(r.absent_run_folders, 0);
+  std::string html = Read(r.html_path);
+  EXPECT_NE(html.find("<a href=\"runs/1-charged-0\">seed index 0</a>"), std::string::npos);
+  EXPECT_NE(html.find("/scenario.resolved.yaml</a>"), std::string::npos);
+  fs::remove_all(dir / "runs" / "1-systematic-0");
+  r = WriteReport({.dir = dir.string()});
+  EXPECT_EQ(r.absent_run_folders, 1);
+  html = Read(r.html_path);
+  const std::string sentence =
+      "1 of the 20 finished runs have no folder in <code>" + (dir / "runs").string() +
+      "</code> (deleted or moved): their numbers here are the store's, and nothing links to them.";
+  EXPECT_NE(html.find(sentence), std::string::npos) << html;
+  // The pair of seed 0 (its reference run's folder gone) is named, not linked.
+  EXPECT_EQ(html.find("href=\"runs/1-charged-0\""), std::string::npos);
+  EXPECT_NE(html.find("seed index 0: &Delta;&nbsp;0.3 (a folder of the pair is gone)"),
+            std::string::npos);
+  fs::remove_all(dir / "runs");
+  r = WriteReport({.dir = dir.string()});
+  EXPECT_EQ(r.absent_run_folders, 20);
+  html = Read(r.html_path);
+  EXPECT_EQ(html.find("href=\"runs/"), std::string::npos);
+  EXPECT_EQ(html.find("scenario.resolved.yaml</a>"), std::string::npos);
+  EXPECT_NE(Read(dir / "findings.md").find("20 of the 20 finished runs have no folder in `"),
+            std::string::npos);
 }
 
 // A report of timings alone tests nothing, and says so (a review: it said
@@ -2373,6 +2413,7 @@ TEST(Report, TheSummarySaysPerPanelWhatSurvivesHolmsCorrection) {
               r.values = {panel, particles, method};
               r.ok = true;
               r.run_dir = "runs/" + r.key;
+              fs::create_directories(dir / r.run_dir);  // linked from the report
               const bool charged = method == "charged" && panel == "a";
               const double spread = 0.01 * seed;  // the same in both methods
               r.metrics["mota"] = (charged && particles != "50" ? 0.6 : 0.5) + spread;
@@ -2602,6 +2643,7 @@ void WriteTwoRunStore(const fs::path& dir, const std::vector<std::string>& y,
     r.values = {i == 0 ? "100" : "1000"};
     r.ok = true;
     r.run_dir = "runs/" + r.key;
+    fs::create_directories(dir / r.run_dir);  // linked from the report
     r.metrics["mota"] = 0.5;
     store->Put(r);
   }
@@ -2722,6 +2764,7 @@ TEST(Report, FindingsIgnoreKeysThatFollowTheSeries) {
           r.values = {x, name, sort ? "external" : "particle_filter"};
           r.ok = true;
           r.run_dir = "runs/" + r.key;
+          fs::create_directories(dir / r.run_dir);  // linked from the report
           r.metrics["mota"] = sort ? 0.8 : 0.9;
           // An external tracker has no particle filters to score.
           r.metrics["da_accuracy"] = sort ? std::nan("") : 0.95;

@@ -59,8 +59,9 @@ struct ReportResult {
   int differing_keys = 0;           // a run with `against`: resolved keys that differ between them
   int compared_targets = 0;         // a run with `against`: targets compared frame by frame
   int cells = 0;
-  int builds = 0;            // a sweep's report: builds of hcpf that made its finished runs
-  int64_t missing_runs = 0;  // a sweep's report: runs of the sweep not in the store
+  int builds = 0;                  // a sweep's report: builds of hcpf that made its finished runs
+  int64_t missing_runs = 0;        // a sweep's report: runs of the sweep not in the store
+  int64_t absent_run_folders = 0;  // a sweep's report: finished runs whose folder is gone
 };
 
 // What `hcpf report DIR` was given.

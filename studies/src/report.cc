@@ -239,6 +239,18 @@ std::optional<std::map<std::string, std::string>> ValuesFollowing(
   return value_at;
 }
 
+// Per swept key, whether the store's expansion zips it with key `index`
+// (both zip keys); every key may be when the store records no expansion
+// (written before 2026-12-06), where the runs' values alone decide.
+std::vector<bool> ZippedWith(const StoreMeta& meta, size_t index) {
+  const size_t keys = meta.swept_keys.size();
+  if (!meta.expansion) return std::vector<bool>(keys, true);
+  const size_t grid = meta.expansion->grid.size();
+  std::vector<bool> zipped(keys, false);
+  for (size_t k = grid; k < keys && index >= grid; ++k) zipped[k] = k != index;
+  return zipped;
+}
+
 FollowingKeys KeysFollowing(const std::vector<Cell>& cells, size_t keys, int index) {
   FollowingKeys out(keys);
   if (index < 0) return out;
@@ -850,32 +862,32 @@ Paired PairedRowsOf(const std::vector<Cell>& cells, const StoreMeta& meta) {
   const FollowingKeys& follow_series = paired.follow_series;
   // The keys a run's partner may differ in: the series and the keys that
   // follow it. A pooled key reads "all" in every cell, so KeysFollowing
-  // finds it following the series; its runs' values decide instead: it is
-  // cleared only where they follow the series too, else each run pairs with
-  // the reference's run of the same pooled value (until 2026-12-06 every
-  // run of a seed paired with the reference's first: an audit).
+  // finds it following the series; the runs of the two cells compared
+  // decide instead: it is cleared where their values follow the series,
+  // else each run pairs with the reference's run of the same pooled value
+  // (until 2026-12-06 every run of a seed paired with the reference's
+  // first: an audit). A store that records its expansion clears only a
+  // pooled key zipped with the series: a grid key never follows it, though
+  // the runs of a partial store (each series value at one pooled value) can
+  // look as if it did (a review). Decided per comparison (until 2026-12-06
+  // once over the store: a pooled key zipped with x and the series follows
+  // the series at each x, not over all of them).
   const std::vector<bool> pooled = PooledKeys(meta);
-  std::vector<const std::vector<std::string>*> run_values;
-  for (const Cell& c : cells) {
-    for (const RunRecord* r : c.runs) {
-      if (r->values.size() == keys.size()) run_values.push_back(&r->values);
+  const std::vector<bool> zipped_with_series = ZippedWith(meta, si);
+  const auto cleared_between = [&](const Cell& c, const Cell& reference) {
+    std::vector<const std::vector<std::string>*> run_values;
+    for (const Cell* cell : {&c, &reference}) {
+      for (const RunRecord* r : cell->runs) {
+        if (r->values.size() == keys.size()) run_values.push_back(&r->values);
+      }
     }
-  }
-  std::vector<bool> cleared(keys.size(), false);
-  for (size_t j = 0; j < keys.size() && j < follow_series.size(); ++j) {
-    cleared[j] = follow_series[j].has_value() &&
-                 (!pooled[j] || ValuesFollowing(run_values, si, j).has_value());
-  }
-  // A run's partner key: its values without the series value (and the keys
-  // that follow it), and its seed.
-  const auto pair_key = [&](const RunRecord& r) {
-    std::vector<std::string> k = r.values;
-    if (si < k.size()) k[si].clear();
-    for (size_t j = 0; j < k.size() && j < cleared.size(); ++j) {
-      if (cleared[j]) k[j].clear();
+    std::vector<bool> cleared(keys.size(), false);
+    for (size_t j = 0; j < keys.size() && j < follow_series.size(); ++j) {
+      cleared[j] =
+          follow_series[j].has_value() &&
+          (!pooled[j] || (zipped_with_series[j] && ValuesFollowing(run_values, si, j).has_value()));
     }
-    k.push_back(std::to_string(r.seed));
-    return k;
+    return cleared;
   };
   for (const Cell& c : cells) {
     if (c.values[si] == paired.reference) continue;
@@ -888,6 +900,18 @@ Paired PairedRowsOf(const std::vector<Cell>& cells, const StoreMeta& meta) {
     }
     const auto ref = by_values.find(ref_values);
     if (ref == by_values.end()) continue;
+    // A run's partner key: its values without the series value (and the
+    // keys that follow it), and its seed.
+    const std::vector<bool> cleared = cleared_between(c, *ref->second);
+    const auto pair_key = [&](const RunRecord& r) {
+      std::vector<std::string> k = r.values;
+      if (si < k.size()) k[si].clear();
+      for (size_t j = 0; j < k.size() && j < cleared.size(); ++j) {
+        if (cleared[j]) k[j].clear();
+      }
+      k.push_back(std::to_string(r.seed));
+      return k;
+    };
     std::map<std::vector<std::string>, const RunRecord*> partner;
     for (const RunRecord* r : ref->second->runs) {
       if (r->ok) partner.emplace(pair_key(*r), r);

@@ -1742,6 +1742,89 @@ size_t CsvColumn(const fs::path& path, const std::string& name) {
   return 0;
 }
 
+// A store of the runs `cells` × seeds 0–4 of a sweep over particles (x),
+// method (series) and the sun's azimuth (pooled), recording `expansion`
+// when given; each run's index is its cell's position in the expansion
+// (`cell_index`) times 5 plus its seed. mota: 0.5 for systematic, 0.5 + 0.1 ×
+// (seed + 1) for charged.
+fs::path PooledSunStore(const std::string& name,
+                        const std::vector<std::pair<int64_t, std::vector<std::string>>>& cells,
+                        const std::optional<StoredExpansion>& expansion) {
+  const auto dir = testing::SweepFolder(name);
+  StoreMeta meta =
+      HandMeta({"tracker.particles", "tracker.resampling.method", "world.sun.azimuth_deg"},
+               "tracker.resampling.method", {"mota"}, 20);
+  meta.report.pool = {"world.sun.azimuth_deg"};
+  meta.expansion = expansion;
+  auto store = ResultsStore::OpenOrCreate((dir / "results.sqlite").string(), meta);
+  for (const auto& [cell_index, values] : cells) {
+    for (int seed = 0; seed < 5; ++seed) {
+      RunRecord r;
+      r.key = fmt::format("{}-{}-{}-{}", values[0], values[1], values[2], seed);
+      r.index = cell_index * 5 + seed;
+      r.seed_index = seed;
+      r.seed = 1000 + seed;
+      r.values = values;
+      r.ok = true;
+      r.run_dir = "runs/" + r.key;
+      fs::create_directories(dir / r.run_dir);  // linked from the report
+      r.metrics["mota"] = values[1] == "systematic" ? 0.5 : 0.5 + 0.1 * (seed + 1);
+      store->Put(r);
+    }
+  }
+  return dir;
+}
+
+// A pooled key is cleared from a run's partner key only where it follows the
+// series in the comparison made (a review of the pooled pairing):
+// - a store that stopped with each series value at one pooled value of a
+//   grid key: the runs look as if the azimuth followed the method, but the
+//   recorded expansion says it is swept across every method, so no run pairs
+//   with a run of another azimuth (a store without the expansion, written
+//   before it was recorded, still pairs them);
+// - an azimuth zipped with x and the series follows the series at each x,
+//   not over the store: until 2026-12-06 that was decided once over every
+//   run, and no run paired.
+TEST(Report, APooledKeyIsClearedOnlyWhereItFollowsTheSeriesInTheComparison) {
+  StoredExpansion grid;
+  grid.grid = {{"tracker.particles", {"100"}},
+               {"tracker.resampling.method", {"systematic", "charged"}},
+               {"world.sun.azimuth_deg", {"0", "180"}}};
+  grid.seeds = 5;
+  // Cells in expansion order: (systematic, 0) 0, (systematic, 180) 1,
+  // (charged, 0) 2, (charged, 180) 3; the store holds cells 0 and 3.
+  const std::vector<std::pair<int64_t, std::vector<std::string>>> partial = {
+      {0, {"100", "systematic", "0"}}, {3, {"100", "charged", "180"}}};
+  const auto pairs_of = [](const fs::path& dir) {
+    WriteReport({.dir = dir.string()});
+    const auto rows = CsvRows(dir / "paired.csv");
+    std::vector<std::string> pairs;
+    for (const auto& row : rows) pairs.push_back(row[CsvColumn(dir / "paired.csv", "pairs")]);
+    return pairs;
+  };
+  EXPECT_EQ(pairs_of(PooledSunStore("report-pool-partial", partial, grid)),
+            std::vector<std::string>{"0"});
+  EXPECT_EQ(pairs_of(PooledSunStore("report-pool-partial-old", partial, std::nullopt)),
+            std::vector<std::string>{"5"});
+
+  StoredExpansion zip;
+  zip.zip = {{"tracker.particles", {"100", "100", "1000", "1000"}},
+             {"tracker.resampling.method", {"systematic", "charged", "systematic", "charged"}},
+             {"world.sun.azimuth_deg", {"0", "90", "180", "270"}}};
+  zip.seeds = 5;
+  const std::vector<std::pair<int64_t, std::vector<std::string>>> zipped = {
+      {0, {"100", "systematic", "0"}},
+      {1, {"100", "charged", "90"}},
+      {2, {"1000", "systematic", "180"}},
+      {3, {"1000", "charged", "270"}}};
+  const fs::path dir = PooledSunStore("report-pool-zipped", zipped, zip);
+  EXPECT_EQ(pairs_of(dir), (std::vector<std::string>{"5", "5"}));
+  // Each seed's charged run at 90° pairs with its systematic run at 0°.
+  const auto rows = CsvRows(dir / "paired.csv");
+  EXPECT_EQ(rows[0][CsvColumn(dir / "paired.csv", "max_run")], "100-charged-90-4");
+  EXPECT_EQ(rows[0][CsvColumn(dir / "paired.csv", "max_reference_run")], "100-systematic-0-4");
+}
+
 // A pooled cell's runs of one seed are averaged before its band and its
 // paired test (PooledHandStore's comment works the values out).
 TEST(Report, PooledRunsOfASeedCountAsOneUnit) {

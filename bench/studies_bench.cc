@@ -8,12 +8,16 @@
 // differ, against BM_Holm, Holm's correction alone.
 
 #include <benchmark/benchmark.h>
+#include <fmt/format.h>
+#include <unistd.h>
 
 #include <algorithm>
 #include <cmath>
+#include <filesystem>
 #include <string>
 #include <vector>
 
+#include "hcpf/studies/results_store.h"
 #include "hcpf/studies/statistics.h"
 #include "hcpf/studies/sweep.h"
 
@@ -46,6 +50,61 @@ void BM_ExpandSweepFullLoad(benchmark::State& state) {
   state.SetItemsProcessed(state.iterations() * spec.RunCount());
 }
 BENCHMARK(BM_ExpandSweepFullLoad)->Arg(100)->Unit(benchmark::kMillisecond);
+
+// Reading a results store of `runs` rows (a grid of 2 keys × 10 seeds, every
+// row put): BM_StoreRuns is Runs(), which holds each row's labels to the
+// recorded expansion; BM_StoreRunsAsStored reads them as they are (the
+// sweep's read). The difference is the cost of the check.
+std::string StoreOf(int runs) {
+  namespace st = hcpf::studies;
+  const std::string path = fmt::format("/tmp/hcpf-bench-store-{}-{}.sqlite", runs, ::getpid());
+  std::filesystem::remove(path);
+  const int side = static_cast<int>(std::sqrt(runs / 10));
+  st::StoreMeta meta;
+  meta.sweep_hash = "bench";
+  meta.swept_keys = {"tracker.particles", "camera.fov_deg"};
+  meta.report = {"tracker.particles", {"mota"}, ""};
+  st::StoredExpansion e;
+  e.grid = {{"tracker.particles", {}}, {"camera.fov_deg", {}}};
+  for (int i = 0; i < side; ++i) {
+    e.grid[0].values.push_back(std::to_string(100 + i));
+    e.grid[1].values.push_back(std::to_string(20 + i));
+  }
+  e.seeds = 10;
+  meta.run_count = e.RunCount();
+  meta.expansion = e;
+  auto store = st::ResultsStore::OpenOrCreate(path, meta);
+  for (int64_t i = 0; i < meta.run_count; ++i) {
+    st::RunRecord r;
+    r.key = fmt::format("{:016x}", i);
+    r.index = i;
+    r.seed_index = e.SeedIndex(i);
+    r.seed = static_cast<uint64_t>(r.seed_index);
+    r.values = e.Values(i);
+    r.ok = true;
+    r.run_dir = "runs/" + r.key;
+    r.metrics["mota"] = 0.5;
+    store->Put(r);
+  }
+  return path;
+}
+
+void StoreRead(benchmark::State& state, bool checked) {
+  const std::string path = StoreOf(static_cast<int>(state.range(0)));
+  const auto store = hcpf::studies::ResultsStore::Open(path);
+  size_t rows = 0;
+  for (auto _ : state) {
+    const auto runs = checked ? store->Runs() : store->RunsAsStored();
+    rows = runs.size();
+    benchmark::DoNotOptimize(runs.data());
+  }
+  state.SetItemsProcessed(state.iterations() * static_cast<int64_t>(rows));
+  std::filesystem::remove(path);
+}
+void BM_StoreRuns(benchmark::State& state) { StoreRead(state, true); }
+void BM_StoreRunsAsStored(benchmark::State& state) { StoreRead(state, false); }
+BENCHMARK(BM_StoreRuns)->Arg(10000)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_StoreRunsAsStored)->Arg(10000)->Unit(benchmark::kMillisecond);
 
 // m comparisons: p spread over (0, 1) by a fixed rule, floors 2 / 2^20 for
 // two in three, 2 / 2^6 for the rest (p raised to its floor where below).

@@ -240,8 +240,9 @@ std::optional<std::map<std::string, std::string>> ValuesFollowing(
 }
 
 // Per swept key, whether the store's expansion zips it with key `index`
-// (both zip keys); every key may be when the store records no expansion
-// (written before 2026-12-06), where the runs' values alone decide.
+// (both zip keys). A store that records no expansion (written before
+// 2026-12-06) cannot say: every key is taken as possibly zipped, and the
+// runs' values alone decide whether it follows.
 std::vector<bool> ZippedWith(const StoreMeta& meta, size_t index) {
   const size_t keys = meta.swept_keys.size();
   if (!meta.expansion) return std::vector<bool>(keys, true);

@@ -376,7 +376,12 @@ StoredExpansion ResultsStore::ReadExpansion(const std::string& text) const {
     };
     axes("grid", e.grid);
     axes("zip", e.zip);
-    e.seeds = j.at("seeds").get<int>();
+    const json& seeds = j.at("seeds");
+    if (!seeds.is_number_integer() || seeds.get<int64_t>() < 0 ||
+        seeds.get<int64_t>() > kMaxSweepSeeds) {
+      throw damaged(fmt::format("seeds from 0 to {}", kMaxSweepSeeds), seeds.dump());
+    }
+    e.seeds = seeds.get<int>();
   } catch (const json::exception&) {
     throw damaged(shape, fmt::format("\"{}\"", text.substr(0, 80)));
   }
@@ -393,9 +398,6 @@ StoredExpansion ResultsStore::ReadExpansion(const std::string& text) const {
                                 e.zip.front().values.size(), e.zip.front().key),
                     fmt::format("{} values of {}", a.values.size(), a.key));
     }
-  }
-  if (e.seeds < 0 || e.seeds > kMaxSweepSeeds) {
-    throw damaged(fmt::format("seeds from 0 to {}", kMaxSweepSeeds), fmt::format("{}", e.seeds));
   }
   if (e.RunCount() != meta_.run_count) {
     throw damaged(fmt::format("an expansion of run_count ({}) runs", meta_.run_count),
@@ -679,15 +681,16 @@ std::vector<RunRecord> ResultsStore::RunsAsStored() const { return ReadRuns(fals
 
 std::vector<RunRecord> ResultsStore::ReadRuns(bool check_labels) const {
   std::lock_guard lock(mutex_);
-  // A seed index that is not the seed's is checked against the sweep's seed
-  // when the store records its root.
-  uint64_t root_seed = 0;
-  const bool derived_seeds =
-      meta_.expansion && meta_.expansion->seeds > 0 &&
-      std::from_chars(meta_.root_seed.data(), meta_.root_seed.data() + meta_.root_seed.size(),
-                      root_seed)
-              .ptr == meta_.root_seed.data() + meta_.root_seed.size() &&
-      !meta_.root_seed.empty();
+  // With `seeds:` every run's seed derives from the root seed the store
+  // records (SweepSeed(root, seed index)); nullopt without `seeds:`, or in a
+  // store that records no root.
+  std::optional<uint64_t> root_seed;
+  if (meta_.expansion && meta_.expansion->seeds > 0) {
+    const std::string& text = meta_.root_seed;
+    uint64_t root = 0;
+    const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), root);
+    if (!text.empty() && ec == std::errc() && end == text.data() + text.size()) root_seed = root;
+  }
   std::string columns = "key, run_index, seed_index, seed, status, error, run_dir";
   for (const std::string& k : meta_.swept_keys) columns += ", " + SweptColumn(k);
   for (const std::string& m : MetricNames()) {
@@ -767,8 +770,8 @@ std::vector<RunRecord> ResultsStore::ReadRuns(bool check_labels) const {
       if (const int want = e.SeedIndex(r.index); r.seed_index != want) {
         throw mislabelled("seed_index", fmt::format("{}", want), fmt::format("{}", r.seed_index));
       }
-      if (derived_seeds) {
-        if (const uint64_t want = SweepSeed(root_seed, r.seed_index); r.seed != want) {
+      if (root_seed) {
+        if (const uint64_t want = SweepSeed(*root_seed, r.seed_index); r.seed != want) {
           throw mislabelled("seed", fmt::format("{}", want), fmt::format("{}", r.seed));
         }
       }

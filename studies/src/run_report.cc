@@ -1035,19 +1035,19 @@ void CheckRunManifest(const json& manifest, const fs::path& path) {
     throw InputError(SourceLocation{path.string(), 0, 0, key}, expected,
                      manifest[key].dump().substr(0, 60));
   };
-  const auto whole = [&](const char* key, int64_t lo) {
+  constexpr int64_t kNoBound = std::numeric_limits<int64_t>::max();
+  const auto whole = [&](const char* key, int64_t lo,
+                         int64_t hi = std::numeric_limits<int64_t>::max()) {
     if (manifest.contains(key) &&
-        (!manifest[key].is_number_integer() || manifest[key].get<int64_t>() < lo)) {
-      bad(key, fmt::format("a whole number, {} or more", lo));
+        (!manifest[key].is_number_integer() || manifest[key].get<int64_t>() < lo ||
+         manifest[key].get<int64_t>() > hi)) {
+      bad(key, hi == kNoBound ? fmt::format("a whole number, {} or more", lo)
+                              : fmt::format("a whole number, {} to {}", lo, hi));
     }
   };
   // A scenario's frames, at most (a bad-input audit: 10^8 kept the report
   // busy past a minute, sizing every per-frame table by it).
-  if (manifest.contains("frames") &&
-      (!manifest["frames"].is_number_integer() || manifest["frames"].get<int64_t>() < 1 ||
-       manifest["frames"].get<int64_t>() > scenarios::kMaxFrames)) {
-    bad("frames", fmt::format("a whole number, 1 to {}", scenarios::kMaxFrames));
-  }
+  whole("frames", 1, scenarios::kMaxFrames);
   whole("frames_rendered", 0);
   whole("frames_from_cache", 0);
   whole("detections", 0);

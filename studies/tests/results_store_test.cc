@@ -811,6 +811,15 @@ TEST(ResultsStore, RowsAreHeldToTheSweepsExpansion) {
       "WHERE name = 'expansion'",
       "meta.expansion: expected a results store of hcpf sweep: seeds from 0 to 100000, "
       "found -2");
+  // 2^32 + 2 and 2.5 were read by the JSON library as 2.
+  meta_refused(
+      "UPDATE meta SET value = replace(value, '\"seeds\":2', '\"seeds\":4294967298') "
+      "WHERE name = 'expansion'",
+      "seeds from 0 to 100000, found 4294967298");
+  meta_refused(
+      "UPDATE meta SET value = replace(value, '\"seeds\":2', '\"seeds\":2.5') "
+      "WHERE name = 'expansion'",
+      "seeds from 0 to 100000, found 2.5");
   // A store written before the expansion was recorded is read as it was.
   fs::copy_file(good, path, fs::copy_options::overwrite_existing);
   ExecSql(path, "DELETE FROM meta WHERE name = 'expansion'");

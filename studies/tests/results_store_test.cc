@@ -103,6 +103,22 @@ void ExecSql(const std::string& path, const std::string& sql) {
   sqlite3_close(db);
 }
 
+// Puts the store `good` back at `path`, runs `sql` on it, and expects the
+// store opened (with `rows`: its rows read too) to be refused as bad input
+// whose message holds `expected`.
+void ExpectRefusedAfterEdit(const std::string& good, const std::string& path,
+                            const std::string& sql, const std::string& expected, bool rows) {
+  fs::copy_file(good, path, fs::copy_options::overwrite_existing);
+  ExecSql(path, sql);
+  try {
+    const auto store = ResultsStore::Open(path);
+    if (rows) store->Runs();
+    ADD_FAILURE() << sql << " was accepted";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find(expected), std::string::npos) << e.what();
+  }
+}
+
 TEST(ResultsStore, PutRunsRoundTripAndRefusesAnotherSweep) {
   const auto dir = SweepFolder("store");
   StoreMeta meta = TwoRunMeta();
@@ -584,14 +600,7 @@ TEST(ResultsStore, HandEditedRowsAreBadInputNamingTheRowAndColumn) {
            R"(runs[k1].seed_index: expected a results store of hcpf sweep: a seed index, 0 to 99999, found 1099511627776)"},
           {"UPDATE runs SET seed_index = -1",
            R"(runs[k1].seed_index: expected a results store of hcpf sweep: a seed index, 0 to 99999, found -1)"}}) {
-    fs::copy_file(good, path, fs::copy_options::overwrite_existing);
-    ExecSql(path, sql);
-    try {
-      ResultsStore::Open(path)->Runs();
-      ADD_FAILURE() << sql << " was accepted";
-    } catch (const InputError& e) {
-      EXPECT_NE(std::string(e.what()).find(expected), std::string::npos) << e.what();
-    }
+    ExpectRefusedAfterEdit(good, path, sql, expected, true);
   }
   // A number written as an integer is a number; the store as written reads.
   fs::copy_file(good, path, fs::copy_options::overwrite_existing);
@@ -755,14 +764,7 @@ TEST(ResultsStore, RowsAreHeldToTheSweepsExpansion) {
   ASSERT_TRUE(ResultsStore::Open(path)->meta().expansion.has_value());
   EXPECT_EQ(ResultsStore::Open(path)->Runs().size(), 8U);
   const auto refused = [&](const std::string& sql, const std::string& expected) {
-    fs::copy_file(good, path, fs::copy_options::overwrite_existing);
-    ExecSql(path, sql);
-    try {
-      ResultsStore::Open(path)->Runs();
-      ADD_FAILURE() << sql << " was accepted";
-    } catch (const InputError& e) {
-      EXPECT_NE(std::string(e.what()).find(expected), std::string::npos) << e.what();
-    }
+    ExpectRefusedAfterEdit(good, path, sql, expected, true);
   };
   // Run 3 is particles 20, charged, seed index 1 (index = cell * 2 + seed).
   refused("UPDATE runs SET \"tracker.particles\" = 'abc' WHERE run_index = 3",
@@ -782,14 +784,7 @@ TEST(ResultsStore, RowsAreHeldToTheSweepsExpansion) {
   // The sweep itself reads the rows as stored (it rewrites them).
   EXPECT_EQ(ResultsStore::Open(path)->RunsAsStored()[6].seed, 12345U);
   const auto meta_refused = [&](const std::string& sql, const std::string& expected) {
-    fs::copy_file(good, path, fs::copy_options::overwrite_existing);
-    ExecSql(path, sql);
-    try {
-      ResultsStore::Open(path);
-      ADD_FAILURE() << sql << " was accepted";
-    } catch (const InputError& e) {
-      EXPECT_NE(std::string(e.what()).find(expected), std::string::npos) << e.what();
-    }
+    ExpectRefusedAfterEdit(good, path, sql, expected, false);
   };
   meta_refused("DELETE FROM meta WHERE name = 'run_count'",
                "meta.run_count: expected a results store of hcpf sweep: the sweep's number of "

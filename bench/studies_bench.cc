@@ -71,6 +71,8 @@ std::string StoreOf(int runs) {
     e.grid[1].values.push_back(std::to_string(20 + i));
   }
   e.seeds = 10;
+  meta.root_seed = "1";
+  meta.root_seed_from = "sweep file";
   meta.run_count = e.RunCount();
   meta.expansion = e;
   auto store = st::ResultsStore::OpenOrCreate(path, meta);
@@ -79,7 +81,7 @@ std::string StoreOf(int runs) {
     r.key = fmt::format("{:016x}", i);
     r.index = i;
     r.seed_index = e.SeedIndex(i);
-    r.seed = static_cast<uint64_t>(r.seed_index);
+    r.seed = st::SweepSeed(1, r.seed_index);
     r.values = e.Values(i);
     r.ok = true;
     r.run_dir = "runs/" + r.key;

@@ -165,6 +165,9 @@ TrackEvalExportResult ExportTrackEval(const TrackEvalExportOptions& options) {
   if (!out.has_filename()) out = out.parent_path();
   CheckOutFolder(out);
   auto store = ResultsStore::Open((dir / "results.sqlite").string(), StoreAccess::kReadOnly);
+  if (const std::string unchecked = UncheckedLabelsSentence(*store); !unchecked.empty()) {
+    spdlog::warn("export: {}", unchecked);
+  }
   const StoreMeta& meta = store->meta();
   const std::vector<RunRecord> records = store->Runs();
 
@@ -295,7 +298,8 @@ TrackEvalExportResult ExportTrackEval(const TrackEvalExportOptions& options) {
     // (a known false positive) and command (1)'s release build shows it.
     for (const std::string& key : meta.swept_keys) {
       csv += ',';
-      csv += Csv(key);
+      // A swept `seed` has the store's column name: the run's seed is `seed`.
+      csv += Csv(key == "seed" ? "swept.seed" : key);
     }
     csv += "\n";
     for (const std::string& sequence : sequences) {

@@ -2862,8 +2862,12 @@ std::string SceneSketchHtml(const fs::path& dir, const std::vector<Cell>& cells,
     const std::string value =
         base == keys.end() ? std::string() : c.values[static_cast<size_t>(base - keys.begin())];
     if (std::find(seen.begin(), seen.end(), value) != seen.end()) continue;
-    const auto run =
-        std::find_if(c.runs.begin(), c.runs.end(), [](const RunRecord* r) { return r->ok; });
+    // The first finished run whose folder is there (a bad-input audit: a
+    // deleted first run was "its folder has no gt.json").
+    std::error_code ec;
+    const auto run = std::find_if(c.runs.begin(), c.runs.end(), [&](const RunRecord* r) {
+      return r->ok && fs::is_directory(dir / r->run_dir, ec);
+    });
     if (run == c.runs.end()) continue;
     seen.push_back(value);
     const fs::path gt = dir / (*run)->run_dir / "gt.json";
@@ -2876,7 +2880,6 @@ std::string SceneSketchHtml(const fs::path& dir, const std::vector<Cell>& cells,
     const std::string who =
         fmt::format("run {} (seed index {}{}{})", (*run)->key, (*run)->seed_index,
                     swept.empty() ? "" : "; ", fmt::join(swept, ", "));
-    std::error_code ec;
     if (!fs::is_regular_file(gt, ec)) {
       body += "<p class=\"note\">No sketch of " + EscapeMarkup(who) +
               ": its folder has no "
@@ -2914,6 +2917,9 @@ ReportResult WriteReport(const ReportOptions& options) {
   if (!options.out_dir.empty()) CheckReportOut(options.out_dir);
   const fs::path out = options.out_dir.empty() ? dir : fs::path(options.out_dir);
   auto store = ResultsStore::Open((dir / "results.sqlite").string(), StoreAccess::kReadOnly);
+  if (const std::string unchecked = UncheckedLabelsSentence(*store); !unchecked.empty()) {
+    spdlog::warn("report: {}", unchecked);
+  }
   const StoreMeta& meta = store->meta();
   const std::vector<RunRecord> runs = store->Runs();
   const std::vector<Cell> cells = CellsOf(runs, meta);

@@ -5,6 +5,7 @@
 #include <spdlog/spdlog.h>
 #include <sqlite3.h>
 #include <unistd.h>
+#include <yaml-cpp/yaml.h>
 
 #include <algorithm>
 #include <cctype>
@@ -122,6 +123,7 @@ class Statement {
     return t == nullptr ? std::string() : std::string(reinterpret_cast<const char*>(t));
   }
   int64_t Int(int i) const { return sqlite3_column_int64(stmt_, i); }
+  bool Integer(int i) const { return sqlite3_column_type(stmt_, i) == SQLITE_INTEGER; }
   bool Null(int i) const { return sqlite3_column_type(stmt_, i) == SQLITE_NULL; }
   bool Number(int i) const {
     const int type = sqlite3_column_type(stmt_, i);
@@ -189,6 +191,22 @@ sqlite3* OpenDb(const std::string& path, StoreAccess access, bool create) {
     sqlite3_exec(db, "PRAGMA synchronous=NORMAL", nullptr, nullptr, nullptr);
   }
   return db;
+}
+
+// The top-level `seed` of a resolved scenario (the store's base_resolved),
+// nullopt where it has none that reads as a seed.
+std::optional<uint64_t> SeedOfResolved(const std::string& yaml) {
+  try {
+    const YAML::Node root = YAML::Load(yaml);
+    if (!root.IsMap() || !root["seed"].IsScalar()) return std::nullopt;
+    const std::string text = root["seed"].Scalar();
+    uint64_t seed = 0;
+    const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), seed);
+    if (ec != std::errc() || end != text.data() + text.size()) return std::nullopt;
+    return seed;
+  } catch (const YAML::Exception&) {
+    return std::nullopt;
+  }
 }
 
 json ExpansionToJson(const StoredExpansion& e) {
@@ -344,7 +362,34 @@ void ResultsStore::ReadMeta() {
   meta_.report.panels = text("panels");
   meta_.report.reference = text("reference");
   meta_.expansion.reset();
-  if (!m["expansion"].empty()) meta_.expansion = ReadExpansion(m["expansion"]);
+  base_seed_.reset();
+  if (!m["expansion"].empty()) {
+    meta_.expansion = ReadExpansion(m["expansion"]);
+    // The root seed a store with an expansion records (the sweep writes both):
+    // a whole number with `seeds:`, "base scenario" without (a bad-input
+    // audit: "abc" was shown as the root seed and switched the rows' seed
+    // check off).
+    if (meta_.expansion->seeds > 0) {
+      uint64_t root = 0;
+      const std::string& text = meta_.root_seed;
+      const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), root);
+      if (text.empty() || ec != std::errc() || end != text.data() + text.size() ||
+          std::to_string(root) != text) {
+        throw damaged("root_seed", "the root of the runs' seeds (a whole number below 2^64)");
+      }
+    } else if (meta_.root_seed_from != "base scenario" || !meta_.root_seed.empty()) {
+      throw InputError(
+          SourceLocation{path_, 0, 0, "meta.root_seed_from"},
+          "a results store of hcpf sweep: \"base scenario\" and no root_seed (the "
+          "sweep has no seeds:)",
+          fmt::format("\"{}\" with root_seed \"{}\"", meta_.root_seed_from, meta_.root_seed),
+          "the store's meta table was changed after the sweep wrote it");
+    } else if (std::find(meta_.swept_keys.begin(), meta_.swept_keys.end(), kSweptBaseKey) ==
+               meta_.swept_keys.end()) {
+      // Without `seeds:` every run keeps the one base scenario's seed.
+      base_seed_ = SeedOfResolved(meta_.base_resolved);
+    }
+  }
   CheckStoredMeta();
 }
 
@@ -399,10 +444,15 @@ StoredExpansion ResultsStore::ReadExpansion(const std::string& text) const {
                     fmt::format("{} values of {}", a.values.size(), a.key));
     }
   }
+  if (e.RunCount() > kMaxSweepRuns) {
+    throw damaged(fmt::format("an expansion of at most {} runs (a sweep's limit)", kMaxSweepRuns),
+                  e.RunCount() == std::numeric_limits<int64_t>::max()
+                      ? std::string("more than 2^63 runs")
+                      : fmt::format("{} runs", e.RunCount()));
+  }
   if (e.RunCount() != meta_.run_count) {
     throw damaged(fmt::format("an expansion of run_count ({}) runs", meta_.run_count),
-                  e.RunCount() > kMaxSweepRuns ? fmt::format("more than {}", kMaxSweepRuns)
-                                               : fmt::format("{}", e.RunCount()));
+                  fmt::format("{}", e.RunCount()));
   }
   return e;
 }
@@ -526,6 +576,10 @@ namespace {
 // the sweep hash): a resumed sweep writes its own over the store's.
 std::vector<std::pair<std::string, std::string>> DescriptiveMeta(const StoreMeta& meta) {
   return {{"report", ReportToJson(meta.report).dump()},
+          // With its expansion: a resume rewrites both (a bad-input audit: an
+          // edited run_count the expansion was made to fit was left beside
+          // the sweep's own expansion, and no command opened the store again).
+          {"run_count", std::to_string(meta.run_count)},
           {"expansion", meta.expansion ? ExpansionToJson(*meta.expansion).dump() : ""},
           {"sweep_file", meta.sweep_file},
           {"root_seed", meta.root_seed},
@@ -615,8 +669,7 @@ std::unique_ptr<ResultsStore> ResultsStore::OpenOrCreate(
         {"format", kStoreFormat},
         {"sweep_hash", meta.sweep_hash},
         {"swept_keys", json(meta.swept_keys).dump()},
-        {"base_resolved", meta.base_resolved},
-        {"run_count", std::to_string(meta.run_count)}};
+        {"base_resolved", meta.base_resolved}};
     for (auto& entry : DescriptiveMeta(meta)) rows.push_back(std::move(entry));
     for (const auto& [name, value] : rows) {
       Statement s(store.db_, "INSERT INTO meta(name, value) VALUES (?, ?)");
@@ -691,6 +744,10 @@ std::vector<RunRecord> ResultsStore::ReadRuns(bool check_labels) const {
     const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), root);
     if (!text.empty() && ec == std::errc() && end == text.data() + text.size()) root_seed = root;
   }
+  std::optional<size_t> swept_seed;  // a swept `seed` key's place among the values
+  for (size_t k = 0; k < meta_.swept_keys.size(); ++k) {
+    if (meta_.swept_keys[k] == "seed") swept_seed = k;
+  }
   std::string columns = "key, run_index, seed_index, seed, status, error, run_dir";
   for (const std::string& k : meta_.swept_keys) columns += ", " + SweptColumn(k);
   for (const std::string& m : MetricNames()) {
@@ -703,7 +760,11 @@ std::vector<RunRecord> ResultsStore::ReadRuns(bool check_labels) const {
     RunRecord r;
     int i = 0;
     r.key = s.Text(i++);
+    const bool index_whole = s.Integer(i);
+    const std::string index_text = s.Text(i);
     r.index = s.Int(i++);
+    const bool seed_index_whole = s.Integer(i);
+    const std::string seed_index_text = s.Text(i);
     const int64_t seed_index = s.Int(i++);
     // A bad-input audit: rows edited by hand were read silently (a metric
     // given as text counted as 0, an unknown status as neither ok nor
@@ -714,6 +775,15 @@ std::vector<RunRecord> ResultsStore::ReadRuns(bool check_labels) const {
                         "a results store of hcpf sweep: " + expected, found,
                         "the store's runs table was changed after the sweep wrote it");
     };
+    // Whole numbers, as the sweep writes them (a bad-input audit: 3.5 was
+    // read as 3, 'x' as 0).
+    if (!index_whole) {
+      throw damaged("run_index", "a run index (a whole number)", fmt::format("\"{}\"", index_text));
+    }
+    if (!seed_index_whole) {
+      throw damaged("seed_index", "a seed index (a whole number)",
+                    fmt::format("\"{}\"", seed_index_text));
+    }
     // Each run of the sweep's expansion has its own index, below the run
     // count (a bad-input audit: -3 and a second row of one index were kept).
     if (r.index < 0 || (meta_.run_count > 0 && r.index >= meta_.run_count) ||
@@ -734,7 +804,9 @@ std::vector<RunRecord> ResultsStore::ReadRuns(bool check_labels) const {
     r.seed_index = static_cast<int>(seed_index);
     const std::string seed = s.Text(i++);
     const auto [end, ec] = std::from_chars(seed.data(), seed.data() + seed.size(), r.seed);
-    if (ec != std::errc() || end != seed.data() + seed.size() || seed.empty()) {
+    // As the sweep writes it (std::to_string): a leading zero or sign is an edit.
+    if (ec != std::errc() || end != seed.data() + seed.size() || seed.empty() ||
+        std::to_string(r.seed) != seed) {
       throw damaged("seed", "a seed (a whole number, as decimal text)",
                     fmt::format("\"{}\"", seed));
     }
@@ -770,17 +842,29 @@ std::vector<RunRecord> ResultsStore::ReadRuns(bool check_labels) const {
       if (const int want = e.SeedIndex(r.index); r.seed_index != want) {
         throw mislabelled("seed_index", fmt::format("{}", want), fmt::format("{}", r.seed_index));
       }
-      if (root_seed) {
-        if (const uint64_t want = SweepSeed(*root_seed, r.seed_index); r.seed != want) {
-          throw mislabelled("seed", fmt::format("{}", want), fmt::format("{}", r.seed));
-        }
-      }
       const std::vector<std::string> want = e.Values(r.index);
       for (size_t k = 0; k < want.size(); ++k) {
         if (r.values[k] != want[k]) {
-          throw mislabelled(meta_.swept_keys[k], fmt::format("\"{}\"", want[k]),
+          const std::string& key = meta_.swept_keys[k];
+          throw mislabelled(key == "seed" ? "swept.seed" : key, fmt::format("\"{}\"", want[k]),
                             fmt::format("\"{}\"", r.values[k]));
         }
+      }
+      // The run's seed: derived from the root seed with `seeds:`; else a
+      // swept `seed`'s value, or the one base scenario's seed.
+      std::optional<uint64_t> want_seed;
+      if (root_seed) {
+        want_seed = SweepSeed(*root_seed, r.seed_index);
+      } else if (swept_seed) {
+        uint64_t v = 0;
+        const std::string& text = want[*swept_seed];
+        const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), v);
+        if (ec == std::errc() && end == text.data() + text.size()) want_seed = v;
+      } else {
+        want_seed = base_seed_;
+      }
+      if (want_seed && r.seed != *want_seed) {
+        throw mislabelled("seed", fmt::format("{}", *want_seed), fmt::format("{}", r.seed));
       }
     }
     for (const std::string& m : MetricNames()) {
@@ -925,6 +1009,15 @@ std::string MissingRunsSentence(const StoreMeta& meta, size_t stored_runs) {
       "or one shard of several: resume it with the same `hcpf sweep` command, or `hcpf merge` "
       "the shards' folders), and everything here is of the runs it holds.",
       stored, meta.run_count, meta.run_count - stored);
+}
+
+std::string UncheckedLabelsSentence(const ResultsStore& store) {
+  if (store.meta().expansion) return "";
+  return fmt::format(
+      "{} records no expansion (a store written before 2026-12-06, or edited): its rows' seed "
+      "indices, seeds and swept values are read as they are, unchecked; `hcpf sweep` with its "
+      "sweep file on its folder records one",
+      store.path());
 }
 
 std::string RootSeedSentence(const StoreMeta& meta) {
@@ -1077,8 +1170,15 @@ MergeResult MergeStores(const std::string& out_dir, const std::vector<std::strin
   const internal::FolderLock lock(out_dir, out_dir, "OUT");
   // Run folders an earlier merge or sweep was killed while copying or writing.
   scenarios::RemoveStaleStagingFolders(fs::path(out_dir) / "runs", "");
-  auto out = ResultsStore::OpenOrCreate((fs::path(out_dir) / "results.sqlite").string(),
-                                        inputs.front()->meta());
+  // The meta of the first input that records its expansion (a store of an
+  // older hcpf records none; a bad-input audit: merged first, it left the
+  // spellings of the others unlabelled, and their cells split in two).
+  const auto described = std::find_if(inputs.begin(), inputs.end(), [](const auto& input) {
+    return input->meta().expansion.has_value();
+  });
+  auto out =
+      ResultsStore::OpenOrCreate((fs::path(out_dir) / "results.sqlite").string(),
+                                 (described != inputs.end() ? *described : inputs.front())->meta());
   // An ok row counts as present only while its run folder still holds the
   // metrics the row records; a deleted or damaged one can be replaced.
   std::map<std::string, bool> present;  // key -> ok

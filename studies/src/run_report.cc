@@ -1121,14 +1121,24 @@ RunFolder ReadRunFolder(const fs::path& dir) {
                        "the resolved scenario hcpf run writes (YAML)",
                        fmt::format("text that does not parse ({})", e.msg));
     }
-    // The manifest's frames are the scenario's, which the run was made of
-    // (an edited count drew the timeline and per-frame tables to it).
-    if (run.frames > 0 && scenario.IsMap() && scenario["frames"].IsScalar() &&
-        scenario["frames"].Scalar() != std::to_string(run.frames)) {
+    // The scenario's frames (a whole number, as hcpf run writes it: a
+    // bad-input audit found "abc" blamed on the manifest, and none at all
+    // accepted), and the manifest's are the same: an edited count drew the
+    // timeline and per-frame tables to it.
+    const YAML::Node frames = scenario.IsMap() ? scenario["frames"] : YAML::Node();
+    const std::string text = frames.IsScalar() ? frames.Scalar() : std::string();
+    if (text.empty() || text.find_first_not_of("0123456789") != std::string::npos ||
+        text.size() > 6 || std::stoi(text) < 1 || std::stoi(text) > scenarios::kMaxFrames) {
       throw InputError(
-          SourceLocation{(dir / "manifest.json").string(), 0, 0, "frames"},
-          fmt::format("{}, the frames of its scenario.resolved.yaml", scenario["frames"].Scalar()),
-          std::to_string(run.frames));
+          SourceLocation{resolved.string(), frames.IsDefined() ? frames.Mark().line + 1 : 0,
+                         frames.IsDefined() ? frames.Mark().column + 1 : 0, "frames"},
+          fmt::format("the run's frames, 1 to {}", scenarios::kMaxFrames),
+          frames.IsDefined() ? fmt::format("\"{}\"", text) : std::string("no frames"));
+    }
+    if (run.frames > 0 && text != std::to_string(run.frames)) {
+      throw InputError(SourceLocation{(dir / "manifest.json").string(), 0, 0, "frames"},
+                       fmt::format("{}, the frames of its scenario.resolved.yaml", text),
+                       std::to_string(run.frames));
     }
   }
   return run;

@@ -826,6 +826,28 @@ TEST(RunReport, AManifestFieldOfAnotherTypeIsBadInput) {
   }
   std::ofstream(run / "manifest.json", std::ios::trunc) << good.dump();
   EXPECT_NO_THROW(WriteReport({.dir = run.string()}));
+  // The scenario's frames themselves (a second audit: "abc" was blamed on
+  // the manifest, and a scenario without frames accepted).
+  const std::string resolved = Read(run / "scenario.resolved.yaml");
+  ASSERT_NE(resolved.find("\nframes: 20\n"), std::string::npos);
+  for (const auto& [replacement, expected] : std::vector<std::pair<std::string, std::string>>{
+           {"\nframes: abc\n",
+            "scenario.resolved.yaml:8:9: frames: expected the run's frames, 1 to 100000, found "
+            "\"abc\""},
+           {"\n",
+            "scenario.resolved.yaml: frames: expected the run's frames, 1 to 100000, found "
+            "no frames"}}) {
+    std::string edited = resolved;
+    edited.replace(edited.find("\nframes: 20\n"), 12, replacement);
+    std::ofstream(run / "scenario.resolved.yaml", std::ios::trunc) << edited;
+    try {
+      WriteReport({.dir = run.string()});
+      ADD_FAILURE() << replacement << " was accepted";
+    } catch (const InputError& e) {
+      EXPECT_NE(std::string(e.what()).find(expected), std::string::npos) << e.what();
+    }
+  }
+  std::ofstream(run / "scenario.resolved.yaml", std::ios::trunc) << resolved;
 }
 
 // A gnuplot that exits 0 and writes no SVG (a bad-input audit: /bin/true
@@ -1756,6 +1778,8 @@ fs::path PooledSunStore(const std::string& name,
                "tracker.resampling.method", {"mota"}, 20);
   meta.report.pool = {"world.sun.azimuth_deg"};
   meta.expansion = expansion;
+  meta.root_seed = "1";
+  meta.root_seed_from = "sweep file";
   auto store = ResultsStore::OpenOrCreate((dir / "results.sqlite").string(), meta);
   for (const auto& [cell_index, values] : cells) {
     for (int seed = 0; seed < 5; ++seed) {
@@ -1763,7 +1787,7 @@ fs::path PooledSunStore(const std::string& name,
       r.key = fmt::format("{}-{}-{}-{}", values[0], values[1], values[2], seed);
       r.index = cell_index * 5 + seed;
       r.seed_index = seed;
-      r.seed = 1000 + seed;
+      r.seed = SweepSeed(1, seed);
       r.values = values;
       r.ok = true;
       r.run_dir = "runs/" + r.key;
@@ -3269,6 +3293,20 @@ constexpr const char* kFourRuns =
     "  tracker.resampling.method: [systematic, charged]\n"
     "report: {x: tracker.particles, series: tracker.resampling.method, y: [idf1]}\n";
 
+// The scene sketch is of the first run of a cell whose folder is there (a
+// bad-input audit: with the first run's folder deleted it said "its folder
+// has no gt.json").
+TEST(Report, TheSceneSketchTakesARunWhoseFolderIsThere) {
+  const auto dir = testing::SweepFolder("report-sketch-folder");
+  const SweepSpec spec = LoadSweepFile(testing::WriteSweep(dir, kFourRuns, "s.yaml"));
+  const std::vector<SweepRun> runs = ExpandSweep(spec);
+  const fs::path out = RunQuietly(spec, dir);
+  fs::remove_all(out / "runs" / runs[0].key);
+  const std::string html = Read(WriteReport({.dir = out.string()}).html_path);
+  EXPECT_EQ(html.find("No sketch of"), std::string::npos);
+  EXPECT_NE(html.find("<p>run " + runs[1].key + " (seed index 1; "), std::string::npos);
+}
+
 // Two compared cells with no seed in common (a shard, a sweep stopped early)
 // have no seed pairs, and the findings say why without blaming the metric (a
 // fourth bad-input audit: "the metric is absent from one of them").
@@ -3480,13 +3518,14 @@ TEST(Report, SaysWhereTheRunsSeedsComeFrom) {
                       "<code>seed:</code>.</p>"),
             std::string::npos);
 
-  // A store of before: no root seed rows. Read as not recorded, said so.
+  // A store of before: no root seed rows (nor the expansion, recorded
+  // later). Read as not recorded, said so.
   {
     sqlite3* db = nullptr;
     ASSERT_EQ(sqlite3_open(store_path.c_str(), &db), SQLITE_OK);
-    ASSERT_EQ(
-        sqlite3_exec(db, "DELETE FROM meta WHERE name LIKE 'root%'", nullptr, nullptr, nullptr),
-        SQLITE_OK);
+    ASSERT_EQ(sqlite3_exec(db, "DELETE FROM meta WHERE name LIKE 'root%' OR name = 'expansion'",
+                           nullptr, nullptr, nullptr),
+              SQLITE_OK);
     sqlite3_close(db);
   }
   meta = ResultsStore::Open(store_path)->meta();

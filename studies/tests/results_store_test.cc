@@ -815,12 +815,64 @@ TEST(ResultsStore, RowsAreHeldToTheSweepsExpansion) {
       "UPDATE meta SET value = replace(value, '\"seeds\":2', '\"seeds\":2.5') "
       "WHERE name = 'expansion'",
       "seeds from 0 to 100000, found 2.5");
+  // Its root seed is held to what the sweep writes (a second audit: "abc"
+  // and a deleted root were read, and switched the rows' seed check off).
+  meta_refused("UPDATE meta SET value = 'abc' WHERE name = 'root_seed'",
+               "meta.root_seed: expected a results store of hcpf sweep: the root of the runs' "
+               "seeds (a whole number below 2^64), found \"abc\"");
+  meta_refused("UPDATE meta SET value = '18446744073709551616' WHERE name = 'root_seed'",
+               "meta.root_seed: expected");
+  meta_refused("DELETE FROM meta WHERE name = 'root_seed'", "meta.root_seed: expected");
+  // A sweep's limit holds for an expansion that fits its run_count: 100 ×
+  // 2 values × 100000 seeds (2·10^7 runs) was reported as "8 of 20000000".
+  {
+    std::vector<std::string> many;
+    for (int i = 0; i < 100; ++i) many.push_back(std::to_string(i + 1));
+    nlohmann::json e = nlohmann::json::parse(R"({"zip": [], "seeds": 100000})");
+    e["grid"] = {{{"key", "tracker.particles"}, {"values", many}},
+                 {{"key", "tracker.resampling.method"}, {"values", {"systematic", "charged"}}}};
+    meta_refused("UPDATE meta SET value = '" + e.dump() +
+                     "' WHERE name = 'expansion'; UPDATE meta SET value = '20000000' WHERE name "
+                     "= 'run_count'",
+                 "meta.expansion: expected a results store of hcpf sweep: an expansion of at most "
+                 "10000000 runs (a sweep's limit), found 20000000 runs");
+  }
+  // Whole numbers where the sweep writes them (3.5 was read as 3, 'x' as 0,
+  // a seed with a leading zero as the seed).
+  refused("UPDATE runs SET run_index = 3.5 WHERE run_index = 3",
+          fmt::format("runs[{}].run_index: expected a results store of hcpf sweep: a run index (a "
+                      "whole number), found \"3.5\"",
+                      runs[3].key));
+  refused("UPDATE runs SET seed_index = 'x' WHERE run_index = 2",
+          fmt::format("runs[{}].seed_index: expected a results store of hcpf sweep: a seed index "
+                      "(a whole number), found \"x\"",
+                      runs[2].key));
+  refused(fmt::format("UPDATE runs SET seed = '0{}' WHERE run_index = 2", runs[2].seed),
+          fmt::format("runs[{}].seed: expected a results store of hcpf sweep: a seed (a whole "
+                      "number, as decimal text), found \"0{}\"",
+                      runs[2].key, runs[2].seed));
+  // A resume repairs a meta edited to fit itself (run_count 12 and a third
+  // particle count): it rewrites run_count with the expansion (a second
+  // audit: it wrote the expansion alone, and no command opened the store).
+  fs::copy_file(good, path, fs::copy_options::overwrite_existing);
+  ExecSql(path,
+          "UPDATE meta SET value = '12' WHERE name = 'run_count'; UPDATE meta SET value = "
+          "replace(value, '[\"20\",\"60\"]', '[\"20\",\"60\",\"90\"]') WHERE name = "
+          "'expansion'");
+  EXPECT_EQ(ResultsStore::Open(path)->meta().run_count, 12);
+  EXPECT_EQ(RunSweep(spec, runs, Options(dir / "out", 2)).reused, 8);
+  EXPECT_EQ(ResultsStore::Open(path)->meta().run_count, 8);
+  EXPECT_EQ(ResultsStore::Open(path)->Runs().size(), 8U);
   // A store written before the expansion was recorded is read as it was.
   fs::copy_file(good, path, fs::copy_options::overwrite_existing);
   ExecSql(path, "DELETE FROM meta WHERE name = 'expansion'");
   ExecSql(path, "UPDATE runs SET \"tracker.particles\" = 'abc' WHERE run_index = 3");
   EXPECT_FALSE(ResultsStore::Open(path)->meta().expansion.has_value());
   EXPECT_EQ(ResultsStore::Open(path)->Runs()[3].values[0], "abc");
+  // ... and report and export warn that its labels are unchecked.
+  EXPECT_NE(UncheckedLabelsSentence(*ResultsStore::Open(path)).find("records no expansion"),
+            std::string::npos);
+  EXPECT_EQ(UncheckedLabelsSentence(*ResultsStore::Open(good)), "");
 }
 
 // Shards of one sweep run from files that write a value otherwise (40 and
@@ -846,6 +898,17 @@ TEST(MergeStores, RowsAreLabelledAsTheMergedStoresExpansion) {
   ASSERT_EQ(merged.size(), 2U);
   EXPECT_EQ(merged[0].values, std::vector<std::string>{"40"});
   EXPECT_EQ(merged[1].values, std::vector<std::string>{"45"});
+  // A first shard of an older hcpf (no expansion) takes the expansion of the
+  // next (a second bad-input audit: the merged store had none, and kept
+  // both spellings).
+  ExecSql(shards[0] + "/results.sqlite", "DELETE FROM meta WHERE name = 'expansion'");
+  EXPECT_EQ(MergeStores((dir / "merged-older").string(), shards).added, 2);
+  const auto older = ResultsStore::Open((dir / "merged-older" / "results.sqlite").string());
+  EXPECT_TRUE(older->meta().expansion.has_value());
+  const auto relabelled = older->Runs();
+  ASSERT_EQ(relabelled.size(), 2U);
+  EXPECT_EQ(relabelled[0].values, std::vector<std::string>{"40.0"});
+  EXPECT_EQ(relabelled[1].values, std::vector<std::string>{"45.0"});
 }
 
 // A sweep of explicit seeds (grid: {seed: [...]}, no seeds:) is allowed by
@@ -863,7 +926,8 @@ TEST(RunSweep, ASweptSeedIsStoredBesideTheRunSeed) {
   const SweepResult r = RunSweep(spec, runs, Options(dir / "out", 2));
   EXPECT_EQ(r.computed, 2);
   EXPECT_EQ(r.failed, 0);
-  const auto stored = ResultsStore::Open((dir / "out" / "results.sqlite").string())->Runs();
+  const std::string path = (dir / "out" / "results.sqlite").string();
+  const auto stored = ResultsStore::Open(path)->Runs();
   ASSERT_EQ(stored.size(), 2U);
   for (size_t i = 0; i < 2; ++i) {
     ASSERT_EQ(stored[i].values.size(), 2U);
@@ -871,6 +935,29 @@ TEST(RunSweep, ASweptSeedIsStoredBesideTheRunSeed) {
     EXPECT_EQ(stored[i].seed, i == 0 ? 11U : 12U);
     EXPECT_TRUE(stored[i].ok) << stored[i].error;
   }
+  // Without `seeds:` a run's seed is its swept seed (a second bad-input
+  // audit: an edited seed was reported; a swept seed's error named the
+  // run's seed column).
+  const std::string good = (dir / "good.sqlite").string();
+  fs::copy_file(path, good);
+  ExpectRefusedAfterEdit(good, path, "UPDATE runs SET seed = '8' WHERE run_index = 0",
+                         fmt::format("runs[{}].seed: expected 11 (what the sweep's expansion says "
+                                     "of run 0), found 8",
+                                     stored[0].key),
+                         true);
+  ExpectRefusedAfterEdit(good, path, "UPDATE runs SET \"swept.seed\" = '13' WHERE run_index = 0",
+                         fmt::format("runs[{}].swept.seed: expected \"11\"", stored[0].key), true);
+  // ... or, not swept, its base scenario's (kMinimal's seed: 7).
+  const SweepSpec plain = LoadSweepFile(
+      WriteSweep(dir, "base: base.yaml\ngrid: {tracker.particles: [20]}\n", "p.yaml"));
+  RunSweep(plain, ExpandSweep(plain), Options(dir / "plain", 1));
+  const std::string plain_path = (dir / "plain" / "results.sqlite").string();
+  EXPECT_EQ(ResultsStore::Open(plain_path)->Runs().at(0).seed, 7U);
+  const std::string plain_good = (dir / "plain-good.sqlite").string();
+  fs::copy_file(plain_path, plain_good);
+  ExpectRefusedAfterEdit(plain_good, plain_path, "UPDATE runs SET seed = '8'",
+                         "].seed: expected 7 (what the sweep's expansion says of run 0), found 8",
+                         true);
 }
 
 // Resuming with an edited report: block (the same runs) takes the new

@@ -91,6 +91,11 @@ std::string RootSeedSentence(const StoreMeta& meta);
 // "" when every run is there. Markdown (backticks for code).
 std::string MissingRunsSentence(const StoreMeta& meta, size_t stored_runs);
 
+// A warning for readers of a store that records no expansion (written
+// before 2026-12-06): its rows' labels are read unchecked. "" when it has one.
+class ResultsStore;
+std::string UncheckedLabelsSentence(const ResultsStore& store);
+
 struct RunRecord {
   std::string key;
   int64_t index = 0;
@@ -162,6 +167,8 @@ class ResultsStore {
   std::string path_;
   sqlite3* db_ = nullptr;
   StoreMeta meta_;
+  // Without `seeds:` and `grid.base`, every run's seed: the base scenario's.
+  std::optional<uint64_t> base_seed_;
   std::set<std::string> absent_metrics_;  // read-only stores of an older catalogue
   bool build_absent_ = false;             // a read-only store older than the build column
   mutable std::mutex mutex_;

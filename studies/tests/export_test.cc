@@ -189,6 +189,24 @@ TEST(ExportTrackEval, OfAShardCountsTheMissingRuns) {
   EXPECT_EQ(r.runs + r.skipped + r.not_ok, 4);
 }
 
+// A swept `seed` (a sweep of explicit seeds) is the column `swept.seed`,
+// beside the run's `seed`, as in the store (a bad-input audit: the header
+// named `seed` twice).
+TEST(ExportTrackEval, ASweptSeedIsItsOwnColumn) {
+  const auto dir = testing::SweepFolder("export-swept-seed");
+  const SweepSpec spec =
+      LoadSweepFile(testing::WriteSweep(dir, "base: base.yaml\ngrid:\n  seed: [11, 12]\n"));
+  SweepOptions o;
+  o.out_dir = (dir / "sweep").string();
+  o.progress = false;
+  RunSweep(spec, ExpandSweep(spec), o);
+  ExportTrackEval({.dir = o.out_dir, .out = (dir / "te").string()});
+  std::stringstream csv(ReadFile(dir / "te" / "export.csv"));
+  std::string header;
+  std::getline(csv, header);
+  EXPECT_EQ(header, "sequence,tracker,run_key,run_index,seed_index,seed,run_dir,swept.seed");
+}
+
 TEST(ExportTrackEval, RemovesTheStagingFoldersOfKilledExports) {
   const auto dir = testing::SweepFolder("export-stale");
   const fs::path sweep = SmallSweep(dir);

@@ -362,6 +362,7 @@ void ResultsStore::ReadMeta() {
   meta_.report.panels = text("panels");
   meta_.report.reference = text("reference");
   meta_.expansion.reset();
+  root_seed_.reset();
   base_seed_.reset();
   if (!m["expansion"].empty()) {
     meta_.expansion = ReadExpansion(m["expansion"]);
@@ -377,6 +378,7 @@ void ResultsStore::ReadMeta() {
           std::to_string(root) != text) {
         throw damaged("root_seed", "the root of the runs' seeds (a whole number below 2^64)");
       }
+      root_seed_ = root;
     } else if (meta_.root_seed_from != "base scenario" || !meta_.root_seed.empty()) {
       throw InputError(
           SourceLocation{path_, 0, 0, "meta.root_seed_from"},
@@ -734,16 +736,6 @@ std::vector<RunRecord> ResultsStore::RunsAsStored() const { return ReadRuns(fals
 
 std::vector<RunRecord> ResultsStore::ReadRuns(bool check_labels) const {
   std::lock_guard lock(mutex_);
-  // With `seeds:` every run's seed derives from the root seed the store
-  // records (SweepSeed(root, seed index)); nullopt without `seeds:`, or in a
-  // store that records no root.
-  std::optional<uint64_t> root_seed;
-  if (meta_.expansion && meta_.expansion->seeds > 0) {
-    const std::string& text = meta_.root_seed;
-    uint64_t root = 0;
-    const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), root);
-    if (!text.empty() && ec == std::errc() && end == text.data() + text.size()) root_seed = root;
-  }
   std::optional<size_t> swept_seed;  // a swept `seed` key's place among the values
   for (size_t k = 0; k < meta_.swept_keys.size(); ++k) {
     if (meta_.swept_keys[k] == "seed") swept_seed = k;
@@ -853,8 +845,8 @@ std::vector<RunRecord> ResultsStore::ReadRuns(bool check_labels) const {
       // The run's seed: derived from the root seed with `seeds:`; else a
       // swept `seed`'s value, or the one base scenario's seed.
       std::optional<uint64_t> want_seed;
-      if (root_seed) {
-        want_seed = SweepSeed(*root_seed, r.seed_index);
+      if (root_seed_) {
+        want_seed = SweepSeed(*root_seed_, r.seed_index);
       } else if (swept_seed) {
         uint64_t v = 0;
         const std::string& text = want[*swept_seed];

@@ -167,7 +167,10 @@ class ResultsStore {
   std::string path_;
   sqlite3* db_ = nullptr;
   StoreMeta meta_;
-  // Without `seeds:` and `grid.base`, every run's seed: the base scenario's.
+  // What each row's seed follows from, read with the expansion: with
+  // `seeds:` the root seed (SweepSeed(root, seed index)); without `seeds:`
+  // and `grid.base`, the base scenario's seed, every run's.
+  std::optional<uint64_t> root_seed_;
   std::optional<uint64_t> base_seed_;
   std::set<std::string> absent_metrics_;  // read-only stores of an older catalogue
   bool build_absent_ = false;             // a read-only store older than the build column

@@ -106,6 +106,14 @@ std::string SceneContactSheet(const fs::path& dir) {
 
 namespace {
 
+// Whether a run's folder is there under the sweep folder `dir` (runs/
+// deleted or moved, or results.sqlite copied alone, leave none: the report
+// counts such runs and links to none of them).
+bool HasRunFolder(const fs::path& dir, const RunRecord& r) {
+  std::error_code ec;
+  return !r.run_dir.empty() && fs::is_directory(dir / r.run_dir, ec);
+}
+
 // Per swept key, whether report.pool lists it.
 std::vector<bool> PooledKeys(const StoreMeta& meta) {
   std::vector<bool> pooled(meta.swept_keys.size(), false);
@@ -1313,10 +1321,7 @@ std::string SeedsToLookAtHtml(const Paired& paired, const StoreMeta& meta,
     };
     // A run whose folder is gone (the page says how many) is named, not
     // linked, and has no command to compare it.
-    std::error_code ec;
-    const auto here = [&](const RunRecord* r) {
-      return fs::is_directory(fs::path(dir) / r->run_dir, ec);
-    };
+    const auto here = [&](const RunRecord* r) { return HasRunFolder(dir, *r); };
     const std::string name = fmt::format("seed index {}{}", run->seed_index, pooled_values(run));
     const std::string tail =
         fmt::format(": &Delta;&nbsp;{:.3g}{}", d, against ? " <b>(against it)</b>" : "");
@@ -2537,11 +2542,10 @@ std::string PairedReplicationHtml(const ReplicationTable& table, const AgainstSt
 std::pair<int64_t, int64_t> AbsentRunFolders(const std::vector<RunRecord>& runs,
                                              const fs::path& dir) {
   int64_t absent = 0, finished = 0;
-  std::error_code ec;
   for (const RunRecord& r : runs) {
     if (!r.ok) continue;
     ++finished;
-    if (r.run_dir.empty() || !fs::is_directory(dir / r.run_dir, ec)) ++absent;
+    if (!HasRunFolder(dir, r)) ++absent;
   }
   return {absent, finished};
 }
@@ -2563,9 +2567,8 @@ std::string BaseScenarioNote(const std::vector<RunRecord>& runs, const StoreMeta
                              const fs::path& dir, const std::string& link_prefix) {
   std::vector<std::vector<std::string>> values(meta.swept_keys.size());
   const RunRecord* first = nullptr;  // the first finished run whose folder is there
-  std::error_code ec;
   for (const RunRecord& r : runs) {
-    if (first == nullptr && r.ok && fs::is_directory(dir / r.run_dir, ec)) first = &r;
+    if (first == nullptr && r.ok && HasRunFolder(dir, r)) first = &r;
     for (size_t k = 0; k < values.size() && k < r.values.size(); ++k) {
       if (std::find(values[k].begin(), values[k].end(), r.values[k]) == values[k].end())
         values[k].push_back(r.values[k]);
@@ -2864,9 +2867,8 @@ std::string SceneSketchHtml(const fs::path& dir, const std::vector<Cell>& cells,
     if (std::find(seen.begin(), seen.end(), value) != seen.end()) continue;
     // The first finished run whose folder is there (a bad-input audit: a
     // deleted first run was "its folder has no gt.json").
-    std::error_code ec;
     const auto run = std::find_if(c.runs.begin(), c.runs.end(), [&](const RunRecord* r) {
-      return r->ok && fs::is_directory(dir / r->run_dir, ec);
+      return r->ok && HasRunFolder(dir, *r);
     });
     if (run == c.runs.end()) continue;
     seen.push_back(value);
@@ -2880,6 +2882,7 @@ std::string SceneSketchHtml(const fs::path& dir, const std::vector<Cell>& cells,
     const std::string who =
         fmt::format("run {} (seed index {}{}{})", (*run)->key, (*run)->seed_index,
                     swept.empty() ? "" : "; ", fmt::join(swept, ", "));
+    std::error_code ec;
     if (!fs::is_regular_file(gt, ec)) {
       body += "<p class=\"note\">No sketch of " + EscapeMarkup(who) +
               ": its folder has no "

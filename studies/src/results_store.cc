@@ -193,17 +193,27 @@ sqlite3* OpenDb(const std::string& path, StoreAccess access, bool create) {
   return db;
 }
 
+// `text` read whole as a decimal seed (below 2^64), else nullopt.
+std::optional<uint64_t> DecimalSeed(std::string_view text) {
+  uint64_t seed = 0;
+  const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), seed);
+  if (text.empty() || ec != std::errc() || end != text.data() + text.size()) return std::nullopt;
+  return seed;
+}
+
+// A seed as the sweep writes it (std::to_string): no leading zero or sign.
+std::optional<uint64_t> WrittenSeed(std::string_view text) {
+  const std::optional<uint64_t> seed = DecimalSeed(text);
+  return seed && std::to_string(*seed) == text ? seed : std::nullopt;
+}
+
 // The top-level `seed` of a resolved scenario (the store's base_resolved),
 // nullopt where it has none that reads as a seed.
 std::optional<uint64_t> SeedOfResolved(const std::string& yaml) {
   try {
     const YAML::Node root = YAML::Load(yaml);
     if (!root.IsMap() || !root["seed"].IsScalar()) return std::nullopt;
-    const std::string text = root["seed"].Scalar();
-    uint64_t seed = 0;
-    const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), seed);
-    if (ec != std::errc() || end != text.data() + text.size()) return std::nullopt;
-    return seed;
+    return DecimalSeed(root["seed"].Scalar());
   } catch (const YAML::Exception&) {
     return std::nullopt;
   }
@@ -371,14 +381,10 @@ void ResultsStore::ReadMeta() {
     // audit: "abc" was shown as the root seed and switched the rows' seed
     // check off).
     if (meta_.expansion->seeds > 0) {
-      uint64_t root = 0;
-      const std::string& text = meta_.root_seed;
-      const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), root);
-      if (text.empty() || ec != std::errc() || end != text.data() + text.size() ||
-          std::to_string(root) != text) {
+      root_seed_ = WrittenSeed(meta_.root_seed);
+      if (!root_seed_) {
         throw damaged("root_seed", "the root of the runs' seeds (a whole number below 2^64)");
       }
-      root_seed_ = root;
     } else if (meta_.root_seed_from != "base scenario" || !meta_.root_seed.empty()) {
       throw InputError(
           SourceLocation{path_, 0, 0, "meta.root_seed_from"},
@@ -752,12 +758,6 @@ std::vector<RunRecord> ResultsStore::ReadRuns(bool check_labels) const {
     RunRecord r;
     int i = 0;
     r.key = s.Text(i++);
-    const bool index_whole = s.Integer(i);
-    const std::string index_text = s.Text(i);
-    r.index = s.Int(i++);
-    const bool seed_index_whole = s.Integer(i);
-    const std::string seed_index_text = s.Text(i);
-    const int64_t seed_index = s.Int(i++);
     // A bad-input audit: rows edited by hand were read silently (a metric
     // given as text counted as 0, an unknown status as neither ok nor
     // failed); a seed that is not a number threw std::stoull's text.
@@ -769,13 +769,15 @@ std::vector<RunRecord> ResultsStore::ReadRuns(bool check_labels) const {
     };
     // Whole numbers, as the sweep writes them (a bad-input audit: 3.5 was
     // read as 3, 'x' as 0).
-    if (!index_whole) {
-      throw damaged("run_index", "a run index (a whole number)", fmt::format("\"{}\"", index_text));
+    if (!s.Integer(i)) {
+      throw damaged("run_index", "a run index (a whole number)", fmt::format("\"{}\"", s.Text(i)));
     }
-    if (!seed_index_whole) {
+    r.index = s.Int(i++);
+    if (!s.Integer(i)) {
       throw damaged("seed_index", "a seed index (a whole number)",
-                    fmt::format("\"{}\"", seed_index_text));
+                    fmt::format("\"{}\"", s.Text(i)));
     }
+    const int64_t seed_index = s.Int(i++);
     // Each run of the sweep's expansion has its own index, below the run
     // count (a bad-input audit: -3 and a second row of one index were kept).
     if (r.index < 0 || (meta_.run_count > 0 && r.index >= meta_.run_count) ||
@@ -795,10 +797,10 @@ std::vector<RunRecord> ResultsStore::ReadRuns(bool check_labels) const {
     }
     r.seed_index = static_cast<int>(seed_index);
     const std::string seed = s.Text(i++);
-    const auto [end, ec] = std::from_chars(seed.data(), seed.data() + seed.size(), r.seed);
-    // As the sweep writes it (std::to_string): a leading zero or sign is an edit.
-    if (ec != std::errc() || end != seed.data() + seed.size() || seed.empty() ||
-        std::to_string(r.seed) != seed) {
+    // As the sweep writes it: a leading zero or sign is an edit.
+    if (const std::optional<uint64_t> written = WrittenSeed(seed)) {
+      r.seed = *written;
+    } else {
       throw damaged("seed", "a seed (a whole number, as decimal text)",
                     fmt::format("\"{}\"", seed));
     }
@@ -848,10 +850,7 @@ std::vector<RunRecord> ResultsStore::ReadRuns(bool check_labels) const {
       if (root_seed_) {
         want_seed = SweepSeed(*root_seed_, r.seed_index);
       } else if (swept_seed) {
-        uint64_t v = 0;
-        const std::string& text = want[*swept_seed];
-        const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), v);
-        if (ec == std::errc() && end == text.data() + text.size()) want_seed = v;
+        want_seed = DecimalSeed(want[*swept_seed]);
       } else {
         want_seed = base_seed_;
       }

@@ -1127,8 +1127,10 @@ RunFolder ReadRunFolder(const fs::path& dir) {
     // timeline and per-frame tables to it.
     const YAML::Node frames = scenario.IsMap() ? scenario["frames"] : YAML::Node();
     const std::string text = frames.IsScalar() ? frames.Scalar() : std::string();
-    if (text.empty() || text.find_first_not_of("0123456789") != std::string::npos ||
-        text.size() > 6 || std::stoi(text) < 1 || std::stoi(text) > scenarios::kMaxFrames) {
+    int count = 0;
+    const auto [end, failure] = std::from_chars(text.data(), text.data() + text.size(), count);
+    if (text.empty() || failure != std::errc() || end != text.data() + text.size() || count < 1 ||
+        count > scenarios::kMaxFrames) {
       throw InputError(
           SourceLocation{resolved.string(), frames.IsDefined() ? frames.Mark().line + 1 : 0,
                          frames.IsDefined() ? frames.Mark().column + 1 : 0, "frames"},

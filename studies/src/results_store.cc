@@ -740,6 +740,19 @@ std::vector<RunRecord> ResultsStore::Runs() const { return ReadRuns(true); }
 
 std::vector<RunRecord> ResultsStore::RunsAsStored() const { return ReadRuns(false); }
 
+int64_t ResultsStore::RowsIfNoSeedFollows(uint64_t root) const {
+  Statement s(db_, "SELECT seed_index, seed FROM runs");
+  int64_t rows = 0;
+  while (s.Step()) {
+    if (s.Integer(0) && s.Int(0) >= 0 && s.Int(0) < kMaxSweepSeeds &&
+        WrittenSeed(s.Text(1)) == SweepSeed(root, static_cast<int>(s.Int(0)))) {
+      return 0;
+    }
+    ++rows;
+  }
+  return rows;
+}
+
 std::vector<RunRecord> ResultsStore::ReadRuns(bool check_labels) const {
   std::lock_guard lock(mutex_);
   std::optional<size_t> swept_seed;  // a swept `seed` key's place among the values
@@ -855,6 +868,23 @@ std::vector<RunRecord> ResultsStore::ReadRuns(bool check_labels) const {
         want_seed = base_seed_;
       }
       if (want_seed && r.seed != *want_seed) {
+        // A root seed edited by hand moves every row's seed, an edited row
+        // only its own: when no row's seed follows from the root, the root
+        // is what changed (an audit: 2 written for 1 was blamed on the
+        // first row, with a hint to rewrite it).
+        if (root_seed_) {
+          if (const int64_t rows = RowsIfNoSeedFollows(*root_seed_); rows >= 2) {
+            throw InputError(
+                SourceLocation{path_, 0, 0, "meta.root_seed"},
+                fmt::format("the root seed the runs' seeds follow from (none of the {} rows' seeds "
+                            "follows from this one: run {} at seed index {} has seed {}, where "
+                            "it would give {})",
+                            rows, r.index, r.seed_index, r.seed, *want_seed),
+                meta_.root_seed,
+                "the store's meta.root_seed was changed after the sweep wrote it; write back the "
+                "sweep's root seed (its file's seed:, or the --seed it ran with)");
+          }
+        }
         throw mislabelled("seed", fmt::format("{}", *want_seed), fmt::format("{}", r.seed));
       }
     }

@@ -823,6 +823,24 @@ TEST(ResultsStore, RowsAreHeldToTheSweepsExpansion) {
   meta_refused("UPDATE meta SET value = '18446744073709551616' WHERE name = 'root_seed'",
                "meta.root_seed: expected");
   meta_refused("DELETE FROM meta WHERE name = 'root_seed'", "meta.root_seed: expected");
+  // A valid root seed, but not the sweep's: every row's seed then differs,
+  // and the root is blamed, not the first row (an audit: the message said
+  // the runs table was changed). One row edited the same way is the row's.
+  {
+    const std::string root = ResultsStore::Open(good)->meta().root_seed;
+    const uint64_t other = std::stoull(root) + 1;
+    ExpectRefusedAfterEdit(
+        good, path, fmt::format("UPDATE meta SET value = '{}' WHERE name = 'root_seed'", other),
+        fmt::format("meta.root_seed: expected the root seed the runs' seeds follow from (none "
+                    "of the 8 rows' seeds follows from this one: run 0 at seed index 0 has seed "
+                    "{}, where it would give {}), found {}",
+                    runs[0].seed, SweepSeed(other, 0), other),
+        true);
+    ExpectRefusedAfterEdit(
+        good, path,
+        fmt::format("UPDATE runs SET seed = '{}' WHERE run_index = 0", SweepSeed(other, 0)),
+        fmt::format("runs[{}].seed: expected {}", runs[0].key, runs[0].seed), true);
+  }
   // A sweep's limit holds for an expansion that fits its run_count: 100 ×
   // 2 values × 100000 seeds (2·10^7 runs) was reported as "8 of 20000000".
   {

@@ -155,6 +155,9 @@ class ResultsStore {
   void Exec(const std::string& sql) const;
   void ReadMeta();
   std::vector<RunRecord> ReadRuns(bool check_labels) const;
+  // The runs table's number of rows when none of their seeds follows from
+  // `root` at its seed index (SweepSeed); 0 when one does.
+  int64_t RowsIfNoSeedFollows(uint64_t root) const;
   StoredExpansion ReadExpansion(const std::string& text) const;
   // InputError when the meta read does not fit the store: a swept key
   // without its column, a report naming an unknown metric or key.

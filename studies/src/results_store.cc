@@ -219,6 +219,38 @@ std::optional<uint64_t> SeedOfResolved(const std::string& yaml) {
   }
 }
 
+// Each base scenario's seed, by the value naming it, from a grid.base
+// sweep's base_resolved: every base's resolved YAML headed by "# base:
+// VALUE", in the order of the grid's values (sweep_run.cc). A base whose
+// text is not found, or has no seed that reads as one, is left out (its
+// rows' seeds unchecked).
+std::map<std::string, uint64_t> SeedsOfBases(const std::string& text, const StoredExpansion& e) {
+  std::map<std::string, uint64_t> out;
+  const StoredExpansion::Axis* axis = nullptr;
+  for (const StoredExpansion::Axis& a : e.grid) {
+    if (a.key == kSweptBaseKey) axis = &a;
+  }
+  if (axis == nullptr) return out;
+  // Where each base's head begins: the text's start, then each after a
+  // line break, in order.
+  std::vector<size_t> heads;
+  for (const std::string& value : axis->values) {
+    const std::string head = "# base: " + value + "\n";
+    const size_t found = heads.empty() ? (text.starts_with(head) ? 0 : std::string::npos)
+                                       : text.find("\n" + head, heads.back());
+    if (found == std::string::npos) return out;
+    heads.push_back(heads.empty() ? 0 : found + 1);
+  }
+  for (size_t b = 0; b < heads.size(); ++b) {
+    const size_t begin = heads[b] + ("# base: " + axis->values[b] + "\n").size();
+    const size_t end = b + 1 < heads.size() ? heads[b + 1] : text.size();
+    if (const auto seed = SeedOfResolved(text.substr(begin, end - begin))) {
+      out.emplace(axis->values[b], *seed);
+    }
+  }
+  return out;
+}
+
 json ExpansionToJson(const StoredExpansion& e) {
   const auto axes = [](const std::vector<StoredExpansion::Axis>& list) {
     json out = json::array();
@@ -374,6 +406,7 @@ void ResultsStore::ReadMeta() {
   meta_.expansion.reset();
   root_seed_.reset();
   base_seed_.reset();
+  base_seeds_.clear();
   if (!m["expansion"].empty()) {
     meta_.expansion = ReadExpansion(m["expansion"]);
     // The root seed a store with an expansion records (the sweep writes both):
@@ -396,6 +429,10 @@ void ResultsStore::ReadMeta() {
                meta_.swept_keys.end()) {
       // Without `seeds:` every run keeps the one base scenario's seed.
       base_seed_ = SeedOfResolved(meta_.base_resolved);
+    } else {
+      // With `grid.base`, its base scenario's (an audit: a row's seed was
+      // not checked under grid.base).
+      base_seeds_ = SeedsOfBases(meta_.base_resolved, *meta_.expansion);
     }
   }
   CheckStoredMeta();
@@ -756,8 +793,10 @@ int64_t ResultsStore::RowsIfNoSeedFollows(uint64_t root) const {
 std::vector<RunRecord> ResultsStore::ReadRuns(bool check_labels) const {
   std::lock_guard lock(mutex_);
   std::optional<size_t> swept_seed;  // a swept `seed` key's place among the values
+  std::optional<size_t> base_place;  // grid.base's
   for (size_t k = 0; k < meta_.swept_keys.size(); ++k) {
     if (meta_.swept_keys[k] == "seed") swept_seed = k;
+    if (meta_.swept_keys[k] == kSweptBaseKey) base_place = k;
   }
   std::string columns = "key, run_index, seed_index, seed, status, error, run_dir";
   for (const std::string& k : meta_.swept_keys) columns += ", " + SweptColumn(k);
@@ -864,6 +903,9 @@ std::vector<RunRecord> ResultsStore::ReadRuns(bool check_labels) const {
         want_seed = SweepSeed(*root_seed_, r.seed_index);
       } else if (swept_seed) {
         want_seed = DecimalSeed(want[*swept_seed]);
+      } else if (base_place) {
+        const auto seed = base_seeds_.find(want[*base_place]);
+        if (seed != base_seeds_.end()) want_seed = seed->second;
       } else {
         want_seed = base_seed_;
       }

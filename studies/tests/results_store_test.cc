@@ -976,6 +976,33 @@ TEST(RunSweep, ASweptSeedIsStoredBesideTheRunSeed) {
   ExpectRefusedAfterEdit(plain_good, plain_path, "UPDATE runs SET seed = '8'",
                          "].seed: expected 7 (what the sweep's expansion says of run 0), found 8",
                          true);
+  // ... and under grid.base, the seed of the row's own base scenario (the
+  // forty-eighth sitting left a row's seed unchecked there): a second base
+  // of seed 9, whose rows are refused with base.yaml's seed 7 and base.yaml's
+  // rows with 9.
+  std::string second = hcpf::testing::ReadFile(dir / "base.yaml");
+  second.replace(second.find("seed: 7\n"), 8, "seed: 9\n");
+  std::ofstream(dir / "second.yaml") << second;
+  const SweepSpec bases = LoadSweepFile(WriteSweep(
+      dir, "grid:\n  base: [base.yaml, second.yaml]\n  tracker.particles: [20]\n", "b.yaml"));
+  RunSweep(bases, ExpandSweep(bases), Options(dir / "bases", 1));
+  const std::string bases_path = (dir / "bases" / "results.sqlite").string();
+  const auto base_rows = ResultsStore::Open(bases_path)->Runs();
+  ASSERT_EQ(base_rows.size(), 2U);
+  EXPECT_EQ(base_rows[0].seed, 7U);
+  EXPECT_EQ(base_rows[1].seed, 9U);
+  const std::string bases_good = (dir / "bases-good.sqlite").string();
+  fs::copy_file(bases_path, bases_good);
+  ExpectRefusedAfterEdit(bases_good, bases_path, "UPDATE runs SET seed = '9' WHERE run_index = 0",
+                         fmt::format("runs[{}].seed: expected 7 (what the sweep's expansion says "
+                                     "of run 0), found 9",
+                                     base_rows[0].key),
+                         true);
+  ExpectRefusedAfterEdit(bases_good, bases_path, "UPDATE runs SET seed = '7' WHERE run_index = 1",
+                         fmt::format("runs[{}].seed: expected 9 (what the sweep's expansion says "
+                                     "of run 1), found 7",
+                                     base_rows[1].key),
+                         true);
 }
 
 // Resuming with an edited report: block (the same runs) takes the new

@@ -175,6 +175,9 @@ class ResultsStore {
   // and `grid.base`, the base scenario's seed, every run's.
   std::optional<uint64_t> root_seed_;
   std::optional<uint64_t> base_seed_;
+  // With `grid.base` and without `seeds:`: each base scenario's seed, by the
+  // value that names it.
+  std::map<std::string, uint64_t> base_seeds_;
   std::set<std::string> absent_metrics_;  // read-only stores of an older catalogue
   bool build_absent_ = false;             // a read-only store older than the build column
   mutable std::mutex mutex_;

@@ -11,7 +11,9 @@
 #include <cstdlib>
 #include <ctime>
 #include <exception>
+#include <map>
 #include <nlohmann/json.hpp>
+#include <set>
 #include <string>
 #include <string_view>
 #include <system_error>
@@ -49,9 +51,33 @@ bool IsSceneFile(const std::string& name) {
   return rest.front() == '.' && (rest.ends_with(".frame.tmp") || rest.ends_with(".json.tmp"));
 }
 
-// A detector output of ours: it starts with "HCPFDET" (then the format
-// version, detection_cache.cc).
-bool IsDetectionFile(const fs::path& path) { return ReadFilePrefix(path.string(), 7) == "HCPFDET"; }
+// A detector's name as a label holds it: "sks", "sks+prca" (letters,
+// digits, '+', '_', '-').
+bool IsDetectorName(std::string_view name) {
+  return !name.empty() && std::all_of(name.begin(), name.end(), [](char c) {
+    return (c >= 'a' && c <= 'z') || (c >= '0' && c <= '9') || c == '+' || c == '_' || c == '-';
+  });
+}
+
+// Reads a detector output's head into `entry`: whether it is one of ours (it
+// starts with "HCPFDET", then the format version, detection_cache.cc), and
+// from format 3 its label (DetectionLabel: the byte count, then the scene's
+// folder name and the detector), left "" when it does not read as one.
+bool ReadDetectionHead(CacheEntry* entry) {
+  const std::string head = ReadFilePrefix(entry->path.string(), 9 + kMaxDetectionLabelBytes);
+  if (!head.starts_with("HCPFDET")) return false;
+  if (head.size() < 9 || head[7] != '3') return true;
+  const std::string_view label = std::string_view(head).substr(9, static_cast<uint8_t>(head[8]));
+  const size_t space = label.find(' ');
+  if (label.size() != static_cast<uint8_t>(head[8]) || space == std::string_view::npos ||
+      !IsSceneName(std::string(label.substr(0, space))) ||
+      !IsDetectorName(label.substr(space + 1))) {
+    return true;
+  }
+  entry->scene = std::string(label.substr(0, space));
+  entry->detector = std::string(label.substr(space + 1));
+  return true;
+}
 
 // A frame's file of a scene folder: six digits and `extension` (".frame",
 // ".json").
@@ -166,11 +192,11 @@ CacheContents ScanCache(const fs::path& root) {
   if (fs::is_directory(detections, ec)) {
     for (fs::directory_iterator it(detections, ec), end; !ec && it != end; it.increment(ec)) {
       if (it->path().extension() != ".det") continue;
-      if (it->is_symlink(ec) || !it->is_regular_file(ec) || !IsDetectionFile(it->path())) {
+      CacheEntry d{.kind = CacheEntry::Kind::kDetection, .path = it->path()};
+      if (it->is_symlink(ec) || !it->is_regular_file(ec) || !ReadDetectionHead(&d)) {
         out.foreign.push_back(it->path());
         continue;
       }
-      CacheEntry d{.kind = CacheEntry::Kind::kDetection, .path = it->path()};
       d.bytes = it->file_size(ec);
       if (!ec) d.last_used = it->last_write_time(ec);
       if (ec) CannotRead(it->path(), ec);
@@ -392,36 +418,97 @@ SceneDescription DescribeScene(const fs::path& folder) {
   return out;
 }
 
+std::string DetectionLabel(std::string_view scene, std::string_view detector) {
+  return fmt::format("{} {}", scene, detector);
+}
+
 std::vector<std::string> ListCacheEntries(const std::vector<CacheEntry>& entries, bool verbose,
                                           std::string_view indent) {
   std::vector<std::string> lines;
-  std::vector<const CacheEntry*> detections;
+  // The detector outputs by scene ("" for those without a label), each in
+  // the entries' order (least recently used first).
+  std::map<std::string, std::vector<const CacheEntry*>> by_scene;
+  std::set<std::string> scenes_listed;
   for (const CacheEntry& e : entries) {
     if (e.kind == CacheEntry::Kind::kDetection) {
-      detections.push_back(&e);
-      continue;
+      by_scene[e.scene].push_back(&e);
+    } else {
+      scenes_listed.insert(e.path.filename().string());
     }
+  }
+  const auto used = [](const std::vector<const CacheEntry*>& list) {
+    const auto [first, last] = std::minmax_element(
+        list.begin(), list.end(),
+        [](const CacheEntry* a, const CacheEntry* b) { return a->last_used < b->last_used; });
+    return std::pair((*first)->last_used, (*last)->last_used);
+  };
+  const auto size_of = [](const std::vector<const CacheEntry*>& list) {
+    uint64_t bytes = 0;
+    for (const CacheEntry* d : list) bytes += d->bytes;
+    return bytes;
+  };
+  // "sks 30 (612.0 KiB), ncc 30 (600.0 KiB)": each detector's outputs, in
+  // the order of their first (least recent) entry.
+  const auto detectors = [&](const std::vector<const CacheEntry*>& list) {
+    std::vector<std::pair<std::string, std::pair<int, uint64_t>>> counts;
+    for (const CacheEntry* d : list) {
+      auto it = std::find_if(counts.begin(), counts.end(),
+                             [&](const auto& c) { return c.first == d->detector; });
+      if (it == counts.end()) it = counts.insert(counts.end(), {d->detector, {0, 0}});
+      ++it->second.first;
+      it->second.second += d->bytes;
+    }
+    std::string text;
+    for (const auto& [name, count] : counts) {
+      text += fmt::format("{}{} {} ({})", text.empty() ? "" : ", ", name, count.first,
+                          FormatSize(count.second));
+    }
+    return text;
+  };
+  const auto each_output = [&](const std::vector<const CacheEntry*>& list) {
+    if (!verbose) return;
+    for (const CacheEntry* d : list) {
+      lines.push_back(fmt::format("{}    {}  {:>10}  detections/{}{}", indent,
+                                  FormatLastUsed(d->last_used), FormatSize(d->bytes),
+                                  d->path.filename().string(),
+                                  d->detector.empty() ? "" : "  " + d->detector));
+    }
+  };
+  for (const CacheEntry& e : entries) {
+    if (e.kind == CacheEntry::Kind::kDetection) continue;
     lines.push_back(fmt::format("{}{}  {:>10}  {}  {}", indent, FormatLastUsed(e.last_used),
                                 FormatSize(e.bytes), SceneText(DescribeScene(e.path)),
                                 e.path.filename().string()));
+    const auto outputs = by_scene.find(e.path.filename().string());
+    if (outputs == by_scene.end()) continue;
+    lines.push_back(fmt::format("{}  and its detector outputs: {}; last used {}", indent,
+                                detectors(outputs->second),
+                                FormatLastUsed(used(outputs->second).second)));
+    each_output(outputs->second);
   }
-  if (detections.empty()) return lines;
-  uint64_t bytes = 0;
-  for (const CacheEntry* d : detections) bytes += d->bytes;
-  const auto [first, last] = std::minmax_element(
-      detections.begin(), detections.end(),
-      [](const CacheEntry* a, const CacheEntry* b) { return a->last_used < b->last_used; });
-  lines.push_back(fmt::format(
-      "{}{} detector output(s), {}, used from {} to {} (not by scene: a detector output does not "
-      "record its scene)",
-      indent, detections.size(), FormatSize(bytes), FormatLastUsed((*first)->last_used),
-      FormatLastUsed((*last)->last_used)));
-  if (verbose) {
-    for (const CacheEntry* d : detections) {
-      lines.push_back(fmt::format("{}  {}  {:>10}  detections/{}", indent,
-                                  FormatLastUsed(d->last_used), FormatSize(d->bytes),
-                                  d->path.filename().string()));
-    }
+  // Outputs of scenes not listed: the folder beside them, or none.
+  for (const auto& [scene, list] : by_scene) {
+    if (scene.empty() || scenes_listed.contains(scene)) continue;
+    const fs::path folder = list.front()->path.parent_path().parent_path() / scene;
+    std::error_code ec;
+    const std::string what = fs::is_directory(folder, ec)
+                                 ? SceneText(DescribeScene(folder)) + ", its frames kept"
+                                 : std::string("its frames no longer cached");
+    const auto [first, last] = used(list);
+    lines.push_back(
+        fmt::format("{}{} detector output(s), {}, used from {} to {}, of scene {} ({}): {}", indent,
+                    list.size(), FormatSize(size_of(list)), FormatLastUsed(first),
+                    FormatLastUsed(last), scene, what, detectors(list)));
+    each_output(list);
+  }
+  if (const auto unlabelled = by_scene.find(""); unlabelled != by_scene.end()) {
+    const auto [first, last] = used(unlabelled->second);
+    lines.push_back(fmt::format(
+        "{}{} detector output(s), {}, used from {} to {}, of no known scene (written by an hcpf "
+        "before 2026-12-06, which did not record the scene)",
+        indent, unlabelled->second.size(), FormatSize(size_of(unlabelled->second)),
+        FormatLastUsed(first), FormatLastUsed(last)));
+    each_output(unlabelled->second);
   }
   return lines;
 }

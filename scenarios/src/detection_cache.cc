@@ -27,7 +27,9 @@ namespace {
 // meaning of a stored output changes: entries of another version are misses.
 // Version 2: the payload compressed by zstd (version 1 stored it raw; the
 // maps, mostly zeros and smooth, shrink to a fifth, docs/vision.md).
-constexpr char kMagic[8] = {'H', 'C', 'P', 'F', 'D', 'E', 'T', '2'};
+// Version 3: a label after the magic, the scene and the detector
+// (DetectionLabel), which `hcpf cache` lists the entry under.
+constexpr char kMagic[8] = {'H', 'C', 'P', 'F', 'D', 'E', 'T', '3'};
 // zstd level 1: fast to write, and higher levels gain little on the maps.
 constexpr int kZstdLevel = 1;
 // No stored output is anywhere near this; a larger size read from a damaged
@@ -135,6 +137,19 @@ std::optional<vision::DetectorOutput> Decode(const char* data, size_t size) {
   }
   if (!r.done()) return std::nullopt;
   return out;
+}
+
+// The entry's checksum: XXH3-64 of its label followed by its payload, so
+// that a damaged label, which `hcpf cache` lists, is a miss too.
+uint64_t Checksum(std::string_view label, const std::vector<char>& payload) {
+  XXH3_state_t* state = XXH3_createState();
+  HCPF_CHECK(state != nullptr) << "XXH3_createState";
+  XXH3_64bits_reset(state);
+  XXH3_64bits_update(state, label.data(), label.size());
+  XXH3_64bits_update(state, payload.data(), payload.size());
+  const uint64_t sum = XXH3_64bits_digest(state);
+  XXH3_freeState(state);
+  return sum;
 }
 
 }  // namespace
@@ -257,7 +272,9 @@ std::string DetectionKey::Finish() const {
   return DigestHex(XXH3_128bits_digest(state_));  // state_ is left as it is
 }
 
-DetectionCache::DetectionCache(const std::filesystem::path& root) : dir_(root / "detections") {
+DetectionCache::DetectionCache(const std::filesystem::path& root, std::string label)
+    : dir_(root / "detections"), label_(std::move(label)) {
+  HCPF_CHECK(label_.size() <= kMaxDetectionLabelBytes) << label_;
   // What killed writes left (WriteTextFile's temporary files of processes
   // that no longer run), once per folder and process: the folder holds a
   // file per frame and detector, and a sweep makes a cache per run.
@@ -273,23 +290,29 @@ std::optional<vision::DetectorOutput> DetectionCache::Load(const std::string& ke
   if (!in) return std::nullopt;
   const std::vector<char> bytes((std::istreambuf_iterator<char>(in)),
                                 std::istreambuf_iterator<char>());
-  // magic, u64 payload bytes, the payload compressed by zstd, XXH3-64 of the
-  // payload.
-  constexpr size_t kOverhead = sizeof(kMagic) + 2 * sizeof(uint64_t);
-  if (bytes.size() < kOverhead || std::memcmp(bytes.data(), kMagic, sizeof(kMagic)) != 0) {
+  // magic, u8 label bytes and the label, u64 payload bytes, the payload
+  // compressed by zstd, XXH3-64 of the label and the payload (Checksum).
+  if (bytes.size() < sizeof(kMagic) + 1 || std::memcmp(bytes.data(), kMagic, sizeof(kMagic)) != 0) {
     return std::nullopt;
   }
+  const size_t header = sizeof(kMagic) + 1 + static_cast<uint8_t>(bytes[sizeof(kMagic)]);
+  const size_t overhead = header + 2 * sizeof(uint64_t);
+  if (bytes.size() < overhead) return std::nullopt;
   uint64_t payload_size = 0;
   uint64_t checksum = 0;
-  std::memcpy(&payload_size, bytes.data() + sizeof(kMagic), sizeof(payload_size));
+  std::memcpy(&payload_size, bytes.data() + header, sizeof(payload_size));
   std::memcpy(&checksum, bytes.data() + bytes.size() - sizeof(checksum), sizeof(checksum));
   if (payload_size > kMaxPayloadBytes) return std::nullopt;
-  const char* compressed = bytes.data() + sizeof(kMagic) + sizeof(payload_size);
-  const size_t compressed_size = bytes.size() - kOverhead;
+  const char* compressed = bytes.data() + header + sizeof(payload_size);
+  const size_t compressed_size = bytes.size() - overhead;
   std::vector<char> payload(static_cast<size_t>(payload_size));
   const size_t got = ZSTD_decompress(payload.data(), payload.size(), compressed, compressed_size);
   if (ZSTD_isError(got) || got != payload.size()) return std::nullopt;
-  if (checksum != XXH3_64bits(payload.data(), payload.size())) return std::nullopt;
+  if (checksum !=
+      Checksum(std::string_view(bytes.data() + sizeof(kMagic) + 1, header - sizeof(kMagic) - 1),
+               payload)) {
+    return std::nullopt;
+  }
   std::optional<vision::DetectorOutput> out = Decode(payload.data(), payload.size());
   if (out) MarkUsed(path);  // `hcpf cache --max-size` prunes the least used
   return out;
@@ -304,12 +327,14 @@ void DetectionCache::Store(const std::string& key, const vision::DetectorOutput&
   }
   const std::vector<char> payload = Encode(output);
   const uint64_t payload_size = payload.size();
-  const uint64_t checksum = XXH3_64bits(payload.data(), payload.size());
+  const uint64_t checksum = Checksum(label_, payload);
   std::vector<char> compressed(ZSTD_compressBound(payload.size()));
   const size_t compressed_size = ZSTD_compress(compressed.data(), compressed.size(), payload.data(),
                                                payload.size(), kZstdLevel);
   HCPF_CHECK(!ZSTD_isError(compressed_size)) << ZSTD_getErrorName(compressed_size);
   std::string bytes(kMagic, sizeof(kMagic));
+  bytes += static_cast<char>(static_cast<uint8_t>(label_.size()));
+  bytes += label_;
   bytes.append(reinterpret_cast<const char*>(&payload_size), sizeof(payload_size));
   bytes.append(compressed.data(), compressed_size);
   bytes.append(reinterpret_cast<const char*>(&checksum), sizeof(checksum));

@@ -72,8 +72,10 @@ class DetectionKey {
 
 class DetectionCache {
  public:
-  // Entries live in `root`/detections/ (root: the frame cache's folder).
-  explicit DetectionCache(const std::filesystem::path& root);
+  // Entries live in `root`/detections/ (root: the frame cache's folder);
+  // each written with `label` (DetectionLabel: what `hcpf cache` lists it
+  // under; at most kMaxDetectionLabelBytes).
+  DetectionCache(const std::filesystem::path& root, std::string label);
   // The output stored under `key`, or nullopt when absent, of another format
   // version or damaged (its checksum does not match): then it is recomputed.
   std::optional<vision::DetectorOutput> Load(const std::string& key) const;
@@ -83,6 +85,7 @@ class DetectionCache {
 
  private:
   std::filesystem::path dir_;
+  std::string label_;
 };
 
 }  // namespace hcpf::scenarios::internal

@@ -5,6 +5,8 @@
 #include <algorithm>
 
 #include "hcpf/core/check.h"
+#include "hcpf/scenarios/cache.h"
+#include "hcpf/scenarios/frames.h"
 
 namespace hcpf::scenarios::internal {
 namespace {
@@ -59,7 +61,12 @@ DetectionPass::DetectionPass(const Scenario& scenario, const std::string& cache_
   HCPF_CHECK(detector_ != nullptr) << "unknown detector " << scenario.observation.DetectorName();
   // The file's rows are at hand: nothing to cache.
   if (!cache_dir.empty() && ProgramDigest() && !scenario.observation.from_file()) {
-    cache_ = std::make_unique<DetectionCache>(cache_dir);
+    // Labelled with the scene's frame folder (`hcpf cache` lists the
+    // outputs under it) and the detector.
+    cache_ = std::make_unique<DetectionCache>(
+        cache_dir, DetectionLabel(renderer::PixelHash(scenario.world, RendererOptionsOf(scenario),
+                                                      scenario.seeds.renderer),
+                                  scenario.observation.DetectorName()));
   }
 }
 

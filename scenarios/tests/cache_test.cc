@@ -41,6 +41,16 @@ void WriteDetection(const fs::path& path, size_t n) {
   std::ofstream(path, std::ios::binary) << "HCPFDET2" << std::string(n - 8, 'x');
 }
 
+// One of format 3, labelled (DetectionLabel) with `scene` and `detector`,
+// padded to `n` bytes.
+void WriteLabelledDetection(const fs::path& path, const std::string& scene,
+                            const std::string& detector, size_t n) {
+  fs::create_directories(path.parent_path());
+  const std::string label = DetectionLabel(scene, detector);
+  const std::string head = "HCPFDET3" + std::string(1, static_cast<char>(label.size())) + label;
+  std::ofstream(path, std::ios::binary) << head << std::string(n - head.size(), 'x');
+}
+
 // Two scenes (a: 300 + 100 bytes, used 30 h ago; b: 500 bytes, 10 h ago),
 // three detector outputs (d1 50 bytes 40 h ago, d2 70 bytes 20 h ago, d3 80
 // bytes now) and what the cache never touches: a folder whose name is not a
@@ -235,12 +245,13 @@ void WritePadded(const fs::path& path, const std::string& text, size_t n) {
 // `hcpf cache` lists a scene a line, by what its scene.json says, the
 // time of its last use to the minute (an audit: 1,440 detector outputs were
 // listed a line each, then scenes named only by their hash, all with one
-// date); the detector outputs in one line. Three scenes, least recently
-// used first: c (a scene.json that is not JSON, 100 + 1 bytes), a (noted:
-// crossing, seed 7, 2 of 240 frames cached; 2 x 1000 + 2 x 100 + 200 bytes),
-// b (cached before notes: its size from its frame's truth; 500 + 300 bytes);
-// two detector outputs (50 and 70 bytes) used on the 1st and the 3rd.
-TEST(Cache, ListsEachSceneByItsNoteAndTheDetectorOutputsTogether) {
+// date); the detector outputs under their scene. Three scenes, least
+// recently used first: c (a scene.json that is not JSON, 100 + 1 bytes), a
+// (noted: crossing, seed 7, 2 of 240 frames cached; 2 x 1000 + 2 x 100 +
+// 200 bytes), b (cached before notes: its size from its frame's truth; 500
+// + 300 bytes); two unlabelled detector outputs (50 and 70 bytes) used on
+// the 1st and the 3rd, and five labelled ones.
+TEST(Cache, ListsEachSceneByItsNoteAndItsDetectorOutputs) {
   const fs::path root = FreshCacheDir("list");
   const fs::path a = root / "0123456789abcdef0123456789abcdef";
   const fs::path b = root / "fedcba9876543210fedcba9876543210";
@@ -262,37 +273,75 @@ TEST(Cache, ListsEachSceneByItsNoteAndTheDetectorOutputsTogether) {
   const fs::path d2 = root / "detections" / "k2.det";
   WriteDetection(d1, 50);
   WriteDetection(d2, 70);
+  // Labelled outputs: two SKS and one fused of scene a, one NCC of a scene
+  // whose frames are gone, and one whose label names no scene folder (read
+  // as unlabelled).
+  const std::string gone = "abcdefabcdefabcdefabcdefabcdefab";
+  const fs::path l1 = root / "detections" / "l1.det";
+  const fs::path l2 = root / "detections" / "l2.det";
+  const fs::path l3 = root / "detections" / "l3.det";
+  const fs::path l4 = root / "detections" / "l4.det";
+  const fs::path l5 = root / "detections" / "l5.det";
+  WriteLabelledDetection(l1, a.filename().string(), "sks", 100);
+  WriteLabelledDetection(l2, a.filename().string(), "sks+prca", 200);
+  WriteLabelledDetection(l3, a.filename().string(), "sks", 300);
+  WriteLabelledDetection(l4, gone, "ncc", 400);
+  WriteLabelledDetection(l5, "not-a-scene", "ncc", 80);
   fs::last_write_time(c, UtcTime(2026, 1, 1, 23, 59));
   fs::last_write_time(a, UtcTime(2026, 1, 2, 3, 4));
   fs::last_write_time(b, UtcTime(2026, 1, 2, 5, 6));
   fs::last_write_time(d1, UtcTime(2026, 1, 1, 10, 0));
   fs::last_write_time(d2, UtcTime(2026, 1, 3, 11, 12));
+  fs::last_write_time(l1, UtcTime(2026, 1, 2, 3, 0));
+  fs::last_write_time(l2, UtcTime(2026, 1, 2, 3, 1));
+  fs::last_write_time(l3, UtcTime(2026, 1, 2, 3, 5));
+  fs::last_write_time(l4, UtcTime(2026, 1, 1, 9, 0));
+  fs::last_write_time(l5, UtcTime(2026, 1, 1, 9, 30));
 
   const CacheContents contents = ScanCache(root);
   EXPECT_TRUE(contents.foreign.empty()) << "scene.json is a scene's file";
   EXPECT_EQ(contents.scenes, 3);
   const std::vector<std::string> lines = ListCacheEntries(contents.entries, false, "  ");
+  // Each labelled output under its scene, by detector; those of a scene
+  // whose frames are gone a line of their own; the unlabelled together (an
+  // audit: every output was one line apart from the scenes).
   EXPECT_EQ(lines,
             (std::vector<std::string>{
                 "  2026-01-01 23:59       101 B  scene unknown: scene.json is not a JSON object; 1 "
                 "frame(s) cached  00000000000000000000000000000001",
                 "  2026-01-02 03:04     2.3 KiB  crossing, seed 7, 2 of 240 frame(s) cached, 640 x "
                 "480  0123456789abcdef0123456789abcdef",
+                "    and its detector outputs: sks 2 (400 B), sks+prca 1 (200 B); last used "
+                "2026-01-02 03:05",
                 "  2026-01-02 05:06       800 B  scene unknown: no scene.json (cached before hcpf "
                 "noted its scenes); 1 frame(s) cached, 320 x 240  "
                 "fedcba9876543210fedcba9876543210",
-                "  2 detector output(s), 120 B, used from 2026-01-01 10:00 to 2026-01-03 11:12 "
-                "(not by scene: a detector output does not record its scene)"}));
-  // --verbose: a line per detector output too, after theirs.
+                "  1 detector output(s), 400 B, used from 2026-01-01 09:00 to 2026-01-01 09:00, of "
+                "scene abcdefabcdefabcdefabcdefabcdefab (its frames no longer cached): ncc 1 (400 "
+                "B)",
+                "  3 detector output(s), 200 B, used from 2026-01-01 09:30 to 2026-01-03 11:12, of "
+                "no known scene (written by an hcpf before 2026-12-06, which did not record the "
+                "scene)"}));
+  // --verbose: a line per detector output too, after each group's.
   const std::vector<std::string> verbose = ListCacheEntries(contents.entries, true, "  ");
-  ASSERT_EQ(verbose.size(), 6u);
-  EXPECT_EQ(std::vector<std::string>(verbose.begin(), verbose.begin() + 4), lines);
-  EXPECT_EQ(verbose[4], "    2026-01-01 10:00        50 B  detections/k1.det");
-  EXPECT_EQ(verbose[5], "    2026-01-03 11:12        70 B  detections/k2.det");
-  // What PruneOrder returns is listed alike: at most 1000 bytes keeps b and d2.
-  EXPECT_EQ(ListCacheEntries(PruneOrder(contents, 1000), false, "").back(),
-            "1 detector output(s), 50 B, used from 2026-01-01 10:00 to 2026-01-01 10:00 (not by "
-            "scene: a detector output does not record its scene)");
+  ASSERT_EQ(verbose.size(), 13u);
+  EXPECT_EQ(verbose[3], "      2026-01-02 03:00       100 B  detections/l1.det  sks");
+  EXPECT_EQ(verbose[4], "      2026-01-02 03:01       200 B  detections/l2.det  sks+prca");
+  EXPECT_EQ(verbose[5], "      2026-01-02 03:05       300 B  detections/l3.det  sks");
+  EXPECT_EQ(verbose[10], "      2026-01-01 09:30        80 B  detections/l5.det");
+  EXPECT_EQ(verbose[11], "      2026-01-01 10:00        50 B  detections/k1.det");
+  EXPECT_EQ(verbose[12], "      2026-01-03 11:12        70 B  detections/k2.det");
+  // What PruneOrder returns is listed alike: at most 1800 of the 4501 bytes
+  // takes l4, l5, d1, c, l1, l2 and a (l3, a's third output, stays), and
+  // a's line lists l1 and l2 alone.
+  const std::vector<std::string> pruned = ListCacheEntries(PruneOrder(contents, 1800), false, "");
+  EXPECT_EQ(pruned.size(), 5u);
+  EXPECT_EQ(pruned[2],
+            "  and its detector outputs: sks 1 (100 B), sks+prca 1 (200 B); last used "
+            "2026-01-02 03:01");
+  EXPECT_EQ(pruned.back(),
+            "2 detector output(s), 130 B, used from 2026-01-01 09:30 to 2026-01-01 10:00, of no "
+            "known scene (written by an hcpf before 2026-12-06, which did not record the scene)");
   EXPECT_EQ(FormatLastUsed(UtcTime(2026, 12, 5, 14, 2)), "2026-12-05 14:02");
   // The folder is the world's, not the frame count's: a note of 1 frame
   // (the first run's) beside 2 cached frames (a longer run's) says 2.

@@ -809,7 +809,8 @@ TEST(RenderedRun, TheDetectionCacheServesTrackerSweepsAndNeverMisreads) {
     EXPECT_EQ(r.exit_code, 0) << r.output;
     return nlohmann::json::parse(ReadFile(dir / name / "manifest.json"));
   };
-  EXPECT_EQ(run("a", "")["detections_from_cache"], 0);
+  const nlohmann::json first = run("a", "");
+  EXPECT_EQ(first["detections_from_cache"], 0);
   // Every hit marks its entry used (hcpf cache --max-size prunes the least
   // recently used): entries dated two days back are dated now after run b.
   const auto two_days_ago = fs::file_time_type::clock::now() - std::chrono::hours(48);
@@ -831,16 +832,29 @@ TEST(RenderedRun, TheDetectionCacheServesTrackerSweepsAndNeverMisreads) {
     EXPECT_GT(fs::last_write_time(e.path()), two_days_ago + std::chrono::hours(47)) << e.path();
   }
   EXPECT_EQ(ReadFile(dir / "a" / "det" / "det.txt"), ReadFile(dir / "b" / "det" / "det.txt"));
-  // Each entry is stored compressed: "HCPFDET2", the payload's size, then
-  // zstd's frame of it, smaller than the payload (NCC's two maps of floats).
+  // Each entry is stored compressed: "HCPFDET3", its label (a byte count,
+  // then the scene's frame folder and the detector), the payload's size,
+  // then zstd's frame of it, smaller than the payload (NCC's two maps of
+  // floats).
+  const std::string label = first["pixel_hash"].get<std::string>() + " ncc";
   for (const auto& e : fs::directory_iterator(dir / "cache" / "detections")) {
     const std::string bytes = ReadFile(e.path());
-    ASSERT_GT(bytes.size(), 16u);
-    EXPECT_EQ(bytes.substr(0, 8), "HCPFDET2");
+    ASSERT_GT(bytes.size(), 25 + label.size());
+    EXPECT_EQ(bytes.substr(0, 8), "HCPFDET3");
+    EXPECT_EQ(static_cast<uint8_t>(bytes[8]), label.size());
+    EXPECT_EQ(bytes.substr(9, label.size()), label) << e.path();
     uint64_t payload = 0;
-    std::memcpy(&payload, bytes.data() + 8, sizeof(payload));
+    std::memcpy(&payload, bytes.data() + 9 + label.size(), sizeof(payload));
     EXPECT_LT(bytes.size(), payload) << e.path();
   }
+  // hcpf cache lists the outputs under their scene, by detector (they were
+  // one line apart from every scene before they carried a label).
+  const auto listed =
+      RunCommand(std::string(HCPF_EXE) + " cache --cache " + (dir / "cache").string());
+  EXPECT_NE(listed.output.find(first["pixel_hash"].get<std::string>() +
+                               "\n      and its detector outputs: ncc 30 ("),
+            std::string::npos)
+      << listed.output;
   // Another detector option: other detections, none from the cache.
   EXPECT_EQ(run("c", " --set observation.ncc.min_correlation=0.95")["detections_from_cache"], 0);
   EXPECT_NE(ReadFile(dir / "a" / "det" / "det.txt"), ReadFile(dir / "c" / "det" / "det.txt"));
@@ -880,7 +894,8 @@ TEST(RenderedRun, TheDetectionCacheServesTrackerSweepsAndNeverMisreads) {
                   ReadFile(dir / "other-cpu" / "manifest.json"))["detections_from_cache"],
               0);
   }
-  // Damage two entries (one truncated, one with a flipped byte): both are
+  // Damage three entries (one truncated, one with a byte of its label
+  // flipped, one with a byte of its compressed payload flipped): all are
   // recomputed, and the detections are unchanged.
   fs::remove_all(dir / "cache" / "detections");
   EXPECT_EQ(run("f", "")["detections_from_cache"], 0);
@@ -891,13 +906,16 @@ TEST(RenderedRun, TheDetectionCacheServesTrackerSweepsAndNeverMisreads) {
   std::sort(entries.begin(), entries.end());
   ASSERT_EQ(entries.size(), 30u);
   fs::resize_file(entries[0], fs::file_size(entries[0]) / 2);
-  {
-    std::fstream f(entries[1], std::ios::in | std::ios::out | std::ios::binary);
-    f.seekp(20);
-    f.put('\x7f');
+  for (const auto& [entry, at] : {std::pair(entries[1], static_cast<uintmax_t>(20)),
+                                  std::pair(entries[2], fs::file_size(entries[2]) - 20)}) {
+    std::fstream f(entry, std::ios::in | std::ios::out | std::ios::binary);
+    f.seekg(static_cast<std::streamoff>(at));
+    const char was = static_cast<char>(f.get());
+    f.seekp(static_cast<std::streamoff>(at));
+    f.put(static_cast<char>(was ^ 0x5a));
   }
   const auto damaged = run("e", " --set tracker.particles=70");
-  EXPECT_EQ(damaged["detections_from_cache"], 28) << "a damaged entry was read";
+  EXPECT_EQ(damaged["detections_from_cache"], 27) << "a damaged entry was read";
   EXPECT_EQ(ReadFile(dir / "a" / "det" / "det.txt"), ReadFile(dir / "e" / "det" / "det.txt"));
 }
 

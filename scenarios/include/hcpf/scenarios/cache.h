@@ -3,7 +3,8 @@
 // The cache folder (DefaultFrameCacheDir(), or --cache) holds one folder of
 // rendered frames per scene, named by its 32-hex-digit pixel hash
 // (renderer::FrameCache), and detections/*.det, one detector output per
-// frame and detector setting (the detection cache, docs/vision.md). Both
+// frame and detector setting (the detection cache, docs/vision.md; each
+// labelled with its scene's folder name and its detector). Both
 // only grow: every rebuild of the detectors keys new entries, and every
 // scene or seed renders a new folder. Each use marks its entry (MarkUsed:
 // the file's or folder's modification time), so that pruning removes what
@@ -24,7 +25,21 @@ struct CacheEntry {
   std::filesystem::path path;  // a scene's folder or a .det file
   uint64_t bytes = 0;          // a scene: every file in its folder
   std::filesystem::file_time_type last_used;
+  // A detector output's label (DetectionLabel): the folder name of the scene
+  // whose frame it was detected in, and the detector; both "" when the file
+  // has none (written by an hcpf before labels, 2026-12-06) or it does not
+  // read as one.
+  std::string scene;
+  std::string detector;
 };
+
+// The label a detector output is stored with (the detection cache's format
+// 3, docs/vision.md): the name of its scene's frame folder (the scene's
+// renderer::PixelHash, 32 hex digits: the folder exists while the frames
+// are cached) and the detector's name (`observation.detector`, "sks+prca"
+// when fused), joined by a space. At most kMaxDetectionLabelBytes.
+inline constexpr size_t kMaxDetectionLabelBytes = 255;
+std::string DetectionLabel(std::string_view scene, std::string_view detector);
 
 struct CacheContents {
   std::vector<CacheEntry> entries;  // least recently used first (ties by path)
@@ -143,12 +158,14 @@ SceneDescription DescribeScene(const std::filesystem::path& folder);
 // The lines `hcpf cache` lists `entries` with (a CacheContents' or
 // PruneOrder's, least recently used first), each starting with `indent`: one
 // per scene, in that order (most recently used last): when it was last used,
-// its size, what it is (DescribeScene) and its folder's name; then one for
-// every detector output together (how many, their size, when they were first
-// and last used): a .det file does not record its scene (its key hashes the
-// frame's pixels, the detector and its options), so it is listed with none.
-// With `verbose`, one more line per detector output (its file, size and last
-// use) after that line.
+// its size, what it is (DescribeScene) and its folder's name, followed by a
+// line of the detector outputs of that scene among `entries`, if any (each
+// detector's count and size, the last use); then a line per scene whose
+// outputs are among `entries` but not the scene (its folder removed, or not
+// being pruned: what the folder holds, or that it is gone); then one line
+// for the outputs without a label (how many, their size, when first and last
+// used). With `verbose`, after each of those lines one more per detector
+// output (its file, detector, size and last use).
 std::vector<std::string> ListCacheEntries(const std::vector<CacheEntry>& entries, bool verbose,
                                           std::string_view indent);
 

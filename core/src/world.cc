@@ -292,15 +292,19 @@ Eigen::Vector3d Interpolate(const std::vector<CameraKeyframe>& keys, double fram
 
 }  // namespace
 
-CameraState EvaluateCamera(const CameraSpec& camera, int frame) {
+CameraPathPoint InterpolateCamera(const CameraSpec& camera, int frame) {
   HCPF_CHECK(!camera.path.empty()) << "camera path without keyframes";
   const auto position = [](const CameraKeyframe& k) { return k.position_m; };
   const auto look_at = [](const CameraKeyframe& k) { return k.look_at_m; };
+  return {Interpolate(camera.path, frame, position), Interpolate(camera.path, frame, look_at)};
+}
+
+CameraState EvaluateCamera(const CameraSpec& camera, int frame) {
+  const CameraPathPoint at = InterpolateCamera(camera, frame);
   CameraState state;
   state.intrinsics =
       CameraIntrinsics::FromHorizontalFov(camera.width_px, camera.height_px, camera.hfov_deg);
-  state.pose = CameraPose::LookAt(Interpolate(camera.path, frame, position),
-                                  Interpolate(camera.path, frame, look_at));
+  state.pose = CameraPose::LookAt(at.position_m, at.look_at_m);
   if (camera.shake_px > 0.0) {
     Rng shake = Rng(camera.shake_seed).Fork("camera/shake", frame);
     state.intrinsics.cx_px += shake.Normal(0.0, camera.shake_px);

@@ -166,6 +166,71 @@ void ReadCamera(YamlReader r, int frames, CameraSpec* c) {
   r.Finish();
 }
 
+// The camera frame by frame along its whole path, as the run evaluates it
+// (an audit of valid input: a path whose keyframes were each valid aborted
+// the run at a frame where the interpolated camera reached the point it
+// looked at; a camera below the ground ran, its targets seen through the
+// terrain; one on the ground, or turning 90 degrees or more between two
+// frames, failed the run's camera-motion metric without naming a key, after
+// validate had said valid). Frames are counted from 0, as the keyframes.
+void CheckCameraPath(YamlReader path, const WorldSpec& world) {
+  const CameraSpec& camera = world.camera;
+  // The terrain's highest point: its height field stays within half its
+  // relief of 0, whatever its seed (TerrainSpec::HeightAt).
+  const double top = 0.5 * world.terrain.relief_m;
+  const auto where_on_path = [&camera](int frame) {
+    for (size_t i = 0; i < camera.path.size(); ++i) {
+      if (camera.path[i].frame == frame) return fmt::format("at the keyframe of frame {}", frame);
+      if (camera.path[i].frame > frame) {
+        return i == 0 ? fmt::format("at frame {}, before the first keyframe", frame)
+                      : fmt::format("at frame {}, between the keyframes of frames {} and {}", frame,
+                                    camera.path[i - 1].frame, camera.path[i].frame);
+      }
+    }
+    return fmt::format("at frame {}, after the last keyframe", frame);
+  };
+  std::optional<Eigen::Matrix3d> previous;
+  for (int frame = 0; frame < world.frames; ++frame) {
+    const CameraPathPoint at = InterpolateCamera(camera, frame);
+    const Eigen::Vector3d& p = at.position_m;
+    if ((p - at.look_at_m).norm() < 1e-6) {
+      throw InputError(path.Where(),
+                       "a path on which the camera never reaches the point it looks at",
+                       fmt::format("the camera and its look_at both at [{:g}, {:g}, {:g}] {}",
+                                   p.x(), p.y(), p.z(), where_on_path(frame)));
+    }
+    if (!(p.z() > top)) {
+      throw InputError(
+          path.Where(),
+          top > 0.0 ? fmt::format("a camera above the ground at every frame: higher than {:g} m, "
+                                  "the terrain's highest point (half its relief_m)",
+                                  top)
+                    : std::string("a camera above the ground at every frame: higher than 0 m"),
+          fmt::format("a camera at height {:g} m {}", p.z(), where_on_path(frame)));
+    }
+    const Eigen::Matrix3d h = EvaluateCamera(camera, frame).ImageFromGround(0.0);
+    if (previous) {
+      // What the camera-motion metric maps (metrics::CornerDisplacementPx).
+      const Eigen::Matrix3d t = h * previous->inverse();
+      const double w = camera.width_px, hgt = camera.height_px;
+      for (const Eigen::Vector2d& c : {Eigen::Vector2d(0, 0), Eigen::Vector2d(w, 0),
+                                       Eigen::Vector2d(w, hgt), Eigen::Vector2d(0, hgt)}) {
+        const Eigen::Vector3d q = t * Eigen::Vector3d(c.x(), c.y(), 1.0);
+        if (q.z() > 0.0 && q.allFinite()) continue;
+        throw InputError(
+            path.Where(),
+            "a path along which the ground seen at each image corner stays in front of the "
+            "camera from one frame to the next (the camera-motion metric maps the corners by "
+            "the ground's homography, docs/metrics.md)",
+            fmt::format("corner ({:g}, {:g}) mapped to homogeneous z = {:g} from frame {} to {} "
+                        "(the camera turns or moves too far between them) {}",
+                        c.x(), c.y(), q.z(), frame - 1, frame, where_on_path(frame)));
+      }
+    }
+    previous = h;
+  }
+}
+
 // A det.txt of a long run: 10 000 frames of a few hundred detections take
 // about 100 MB.
 constexpr uint64_t kMaxDetectionFileBytes = uint64_t{1} << 30;
@@ -465,6 +530,7 @@ Scenario ReadScenario(YamlReader root, const std::string& file) {
   s.world.terrain.seed = s.seeds.world;
   ReadCamera(root.Child("camera"), frames, &s.world.camera);
   s.world.camera.shake_seed = s.seeds.world;
+  CheckCameraPath(root.Child("camera").Child("path"), s.world);
 
   YamlReader targets = root.Child("targets");
   std::set<int32_t> ids;

@@ -400,6 +400,34 @@ std::vector<BadCase> Cases() {
        {"bad.yaml:8:", "camera.path[0].look_at",
         "expected a point different from the camera position, found [0, -20, 120], the camera's "
         "position there"}},
+      // The camera along its whole path (an audit of valid input): keyframes
+      // each valid whose interpolated camera reaches its look-at point at
+      // frame 9 (the run aborted there), a camera below the ground (it ran,
+      // seeing targets through the terrain), and a half turn between two
+      // frames (the run's camera-motion metric failed naming no key).
+      {"CameraReachesItsLookAtBetweenKeyframes",
+       Replace(m, "    - {frame: 0, position: [0, -20, 120], look_at: [0, 0, 0]}\n",
+               "    - {frame: 0, position: [0, -10, 50], look_at: [0, 10, 40]}\n"
+               "    - {frame: 18, position: [0, 10, 30], look_at: [0, -10, 40]}\n"),
+       {},
+       {"bad.yaml:8:5:", "camera.path",
+        "expected a path on which the camera never reaches the point it looks at, found the "
+        "camera and its look_at both at [0, 0, 40] at frame 9, between the keyframes of frames 0 "
+        "and 18"}},
+      {"CameraBelowTheGround",
+       Replace(m, "position: [0, -20, 120]", "position: [0, -20, -50]"),
+       {},
+       {"bad.yaml:8:5:", "camera.path",
+        "expected a camera above the ground at every frame: higher than 0 m, found a camera at "
+        "height -50 m at the keyframe of frame 0"}},
+      {"CameraTurnsHalfAroundBetweenTwoFrames",
+       Replace(m, "    - {frame: 0, position: [0, -20, 120], look_at: [0, 0, 0]}\n",
+               "    - {frame: 0, position: [0, 0, 10], look_at: [0, 100, 0]}\n"
+               "    - {frame: 1, position: [0, 0, 10], look_at: [0, -100, 0]}\n"),
+       {},
+       {"bad.yaml:8:5:", "camera.path", "the ground seen at each image corner stays in front",
+        "found corner (0, 0) mapped to homogeneous z = -1.03425 from frame 0 to 1 (the camera "
+        "turns or moves too far between them) at the keyframe of frame 1"}},
       // A blank name left seqinfo.ini's name= empty (a bad-input audit).
       {"BlankName",
        Replace(m, "name: minimal", "name: \"  \""),

@@ -159,9 +159,17 @@ TargetPose EvaluatePath(const TargetPathSpec& path, int frame, double fps);
 TargetPose EvaluateTarget(const TargetSpec& target, const TerrainSpec& terrain, int frame,
                           double fps);
 
-// Camera at a frame: position and look-at interpolated with a C1 cubic
-// (Catmull–Rom tangents, one-sided at the ends) between keyframes, then the
-// seeded shake added to the optical centre.
+// The camera's position and look-at point at a frame, interpolated with a
+// C1 cubic (Catmull–Rom tangents, one-sided at the ends) between keyframes.
+struct CameraPathPoint {
+  Eigen::Vector3d position_m;
+  Eigen::Vector3d look_at_m;
+};
+CameraPathPoint InterpolateCamera(const CameraSpec& camera, int frame);
+
+// Camera at a frame: its pose looking from InterpolateCamera's position at
+// its look-at point (they must differ), then the seeded shake added to the
+// optical centre.
 CameraState EvaluateCamera(const CameraSpec& camera, int frame);
 
 // Length of a polyline.

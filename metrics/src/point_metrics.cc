@@ -14,6 +14,10 @@
 namespace hcpf::metrics {
 namespace {
 
+// The largest power of ten a p-th power may reach (c^p, γ^p): a frame's
+// sums of up to 10^8 such terms stay below a double's 1.8e308.
+constexpr int kMaxPowerExponent = 300;
+
 double Distance(const IdPoint& a, const IdPoint& b) { return std::hypot(a.x - b.x, a.y - b.y); }
 
 // Optimal assignment of truths to estimates minimising sum min(d, c)^p.
@@ -46,7 +50,24 @@ std::span<const Field<PointMetricsOptions>> PointMetricsOptions::Fields() {
   return fields;
 }
 
-void PointMetricsOptions::Validate() const { CheckFields(*this, Fields(), "metrics"); }
+void PointMetricsOptions::Validate() const {
+  CheckFields(*this, Fields(), "metrics");
+  // OSPA and GOSPA sum p-th powers of distances up to c (and GOSPA's
+  // switching penalty γ^p): past 1e300 a double overflows to infinity and a
+  // frame's value becomes NaN (an audit of valid input: c = 10^6 with p = 60
+  // wrote "nan" throughout, exit 0).
+  const double largest = std::max(cutoff_px, switching_penalty);
+  if (largest > 1.0 && order * std::log10(largest) > kMaxPowerExponent) {
+    FailOption("metrics", "ospa_order",
+               fmt::format("an order p with {}^p at most 1e{} (p at most {:.4g} with that {}): "
+                           "OSPA and GOSPA sum p-th powers, which a double cannot hold past that",
+                           largest == cutoff_px ? "ospa_cutoff_px" : "gospa_switching_penalty",
+                           kMaxPowerExponent, kMaxPowerExponent / std::log10(largest),
+                           largest == cutoff_px ? fmt::format("cut-off, {:g} px", cutoff_px)
+                                                : fmt::format("penalty, {:g}", switching_penalty)),
+               order);
+  }
+}
 
 std::vector<PointFrame> PointFramesFromSequence(const Sequence& seq) {
   HCPF_CHECK(!seq.sparse()) << "point metrics need every frame (a dense Sequence)";

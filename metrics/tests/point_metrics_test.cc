@@ -83,6 +83,33 @@ TEST(PointMetricsOptions, DefaultsValidateAndBadFieldsAreNamed) {
   EXPECT_THROW(PointMetricsOptions{.switching_penalty = -1}.Validate(), InputError);
 }
 
+// c^p and γ^p must fit a double with room for a frame's sums (an audit of
+// valid input: c = 10^6 with p = 60 gave NaN for every frame, exit 0). At
+// p = 50 (c^p = 1e300) a frame of one missed truth and one far estimate
+// still gives the hand-checked OSPA c and GOSPA (c^p / 2 * 2)^(1/p) = c.
+TEST(PointMetricsOptions, PowersPastWhatADoubleHoldsAreRefused) {
+  const auto refused = [](const PointMetricsOptions& o, const std::string& expected) {
+    try {
+      o.Validate();
+      ADD_FAILURE() << "accepted";
+    } catch (const InputError& e) {
+      EXPECT_NE(std::string(e.what()).find(expected), std::string::npos) << e.what();
+    }
+  };
+  refused({.cutoff_px = 1e6, .order = 60},
+          "metrics.ospa_order: expected an order p with ospa_cutoff_px^p at most 1e300 (p at "
+          "most 50 with that cut-off");
+  refused({.cutoff_px = 10, .order = 100, .switching_penalty = 1e4},
+          "gospa_switching_penalty^p at most 1e300 (p at most 75 with that penalty");
+  const PointMetricsOptions edge{.cutoff_px = 1e6, .order = 50};
+  EXPECT_NO_THROW(edge.Validate());
+  const std::vector<IdPoint> truth = {{1, 0, 0}};
+  const std::vector<IdPoint> far = {{7, 3e6, 0}};
+  EXPECT_NEAR(Ospa(truth, far, edge.cutoff_px, edge.order), 1e6, 1e-6);  // rounding of pow
+  EXPECT_NEAR(Gospa(truth, far, edge.cutoff_px, edge.order).distance, 1e6, 1e-6);
+  EXPECT_NO_THROW((PointMetricsOptions{.cutoff_px = 1000, .order = 100}.Validate()));
+}
+
 TEST(PointMetrics, CentresFromSequence) {
   Sequence seq;
   seq.frames.resize(1);

@@ -235,7 +235,9 @@ constexpr double kRoundingPx = 1e-9;
 // A distance in px, 0 when it is rounding.
 double RoundedPx(double px) { return std::abs(px) < kRoundingPx ? 0.0 : px; }
 
-std::string PixelText(double px) { return Number(RoundedPx(px)); }
+// "–" where nothing was measured (a run of one frame: metrics.json holds
+// null, which the page printed as "nan": an audit).
+std::string PixelText(double px) { return std::isfinite(px) ? Number(RoundedPx(px)) : "–"; }
 
 // The per-frame plot: error_px on the left axis with the similarity floor
 // when the file has it; ESS on the right when the file has any. Returns the

@@ -1398,6 +1398,24 @@ TEST(RunReport, MalformedCameraMotionCsvNamesFileLineAndColumn) {
 // errors of ~1e-14 px: rounding, which was drawn as a plot of noise on a 0
 // to 7e-14 axis with "mean 6.86149e-14 px" (an audit). Shown as 0, and not
 // plotted; an error of 1e-6 px is still one.
+// A run of one frame measured no camera motion (metrics.json's summaries
+// are null): the table says "–", and nothing on the page reads "nan" (an
+// audit of valid input: eight cells did).
+TEST(RunReport, ARunOfOneFrameShowsNoCameraMotionAsADash) {
+  const auto dir = testing::SweepFolder("run-report-one-frame");
+  const fs::path run = dir / "one";
+  std::string text = scenarios::testing::kMinimal;
+  text.replace(text.find("start_frame: 2"), 14, "start_frame: 0");
+  scenarios::RunScenario(scenarios::LoadScenarioText(text, "base.yaml", {{"frames", "1"}}),
+                         {.out_dir = run.string()});
+  const auto metrics = nlohmann::json::parse(Read(run / "metrics.json"));
+  ASSERT_TRUE(metrics["camera_motion"]["mean_px"].is_null()) << metrics["camera_motion"];
+  const std::string html = Read(WriteReport({.dir = run.string()}).html_path);
+  EXPECT_NE(html.find("<tr><td>error</td><td>–</td><td>–</td><td>–</td><td>–</td></tr>"),
+            std::string::npos);
+  EXPECT_EQ(html.find("nan"), std::string::npos);
+}
+
 TEST(RunReport, CameraMotionErrorsOfRoundingAreShownAsZeroAndNotPlotted) {
   const auto dir = testing::SweepFolder("run-report-rounding");
   const fs::path run = RunMinimal(dir, "none");

@@ -958,11 +958,18 @@ TEST(RunSweep, ASweptSeedIsStoredBesideTheRunSeed) {
   // run's seed column).
   const std::string good = (dir / "good.sqlite").string();
   fs::copy_file(path, good);
-  ExpectRefusedAfterEdit(good, path, "UPDATE runs SET seed = '8' WHERE run_index = 0",
-                         fmt::format("runs[{}].seed: expected 11 (what the sweep's expansion says "
-                                     "of run 0), found 8",
-                                     stored[0].key),
-                         true);
+  // Run `index` of the store at `path` (a copy of `good`) given seed
+  // `found`: refused, naming the row (`key`) and the seed it must have.
+  const auto seed_refused = [](const std::string& good, const std::string& path, int index,
+                               const std::string& key, uint64_t want, uint64_t found) {
+    ExpectRefusedAfterEdit(
+        good, path, fmt::format("UPDATE runs SET seed = '{}' WHERE run_index = {}", found, index),
+        fmt::format("runs[{}].seed: expected {} (what the sweep's expansion says of run {}), "
+                    "found {}",
+                    key, want, index, found),
+        true);
+  };
+  seed_refused(good, path, 0, stored[0].key, 11, 8);
   ExpectRefusedAfterEdit(good, path, "UPDATE runs SET \"swept.seed\" = '13' WHERE run_index = 0",
                          fmt::format("runs[{}].swept.seed: expected \"11\"", stored[0].key), true);
   // ... or, not swept, its base scenario's (kMinimal's seed: 7).
@@ -973,9 +980,7 @@ TEST(RunSweep, ASweptSeedIsStoredBesideTheRunSeed) {
   EXPECT_EQ(ResultsStore::Open(plain_path)->Runs().at(0).seed, 7U);
   const std::string plain_good = (dir / "plain-good.sqlite").string();
   fs::copy_file(plain_path, plain_good);
-  ExpectRefusedAfterEdit(plain_good, plain_path, "UPDATE runs SET seed = '8'",
-                         "].seed: expected 7 (what the sweep's expansion says of run 0), found 8",
-                         true);
+  seed_refused(plain_good, plain_path, 0, ResultsStore::Open(plain_path)->Runs().at(0).key, 7, 8);
   // ... and under grid.base, the seed of the row's own base scenario (the
   // forty-eighth sitting left a row's seed unchecked there): a second base
   // of seed 9, whose rows are refused with base.yaml's seed 7 and base.yaml's
@@ -993,16 +998,8 @@ TEST(RunSweep, ASweptSeedIsStoredBesideTheRunSeed) {
   EXPECT_EQ(base_rows[1].seed, 9U);
   const std::string bases_good = (dir / "bases-good.sqlite").string();
   fs::copy_file(bases_path, bases_good);
-  ExpectRefusedAfterEdit(bases_good, bases_path, "UPDATE runs SET seed = '9' WHERE run_index = 0",
-                         fmt::format("runs[{}].seed: expected 7 (what the sweep's expansion says "
-                                     "of run 0), found 9",
-                                     base_rows[0].key),
-                         true);
-  ExpectRefusedAfterEdit(bases_good, bases_path, "UPDATE runs SET seed = '7' WHERE run_index = 1",
-                         fmt::format("runs[{}].seed: expected 9 (what the sweep's expansion says "
-                                     "of run 1), found 7",
-                                     base_rows[1].key),
-                         true);
+  seed_refused(bases_good, bases_path, 0, base_rows[0].key, 7, 9);
+  seed_refused(bases_good, bases_path, 1, base_rows[1].key, 9, 7);
 }
 
 // Resuming with an edited report: block (the same runs) takes the new

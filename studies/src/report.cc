@@ -599,7 +599,13 @@ std::string PlotSvg(const Layout& layout, const std::string& metric, const std::
   // (every seed at 1) is not drawn on the plot's frame (an audit).
   if (std::isfinite(y_min) && std::isfinite(y_max)) {
     const double span = y_max - y_min;
-    const double pad = span > 0.0 ? 0.04 * span : 0.05 * std::max(std::abs(y_max), 1.0);
+    // At least 0.05 % of the values' size: the bounds are written to six
+    // significant digits, and values that differ past them (a similarity
+    // floor of 0.06562598 and 0.06562599 px over seeds) gave a range of one
+    // number, which gnuplot refuses, failing the report (an audit).
+    const double magnitude = std::max(std::abs(y_min), std::abs(y_max));
+    const double pad = span > 0.0 ? std::max(0.04 * span, 5e-4 * magnitude)
+                                  : 0.05 * std::max(std::abs(y_max), 1.0);
     gp += log_y ? fmt::format("set yrange [{}:{}]\n", Number(y_min / 1.15), Number(y_max * 1.15))
                 : fmt::format("set yrange [{}:{}]\n", Number(y_min - pad), Number(y_max + pad));
   }

@@ -2017,6 +2017,41 @@ TEST(Report, BandsOfAZeroOneMetricAreWilsonInsideTheUnitInterval) {
   EXPECT_NE(csv.find(",0.5,0.198979,0.801021,10,"), std::string::npos) << csv;
 }
 
+// Values that differ only past the six significant digits the y range is
+// written with (a similarity floor of 0.0656259... px over seeds) get a
+// range of two numbers: it was [0.065626:0.065626], which gnuplot refuses
+// ("empty y range"), and the report failed (an audit of valid input).
+TEST(Report, NearlyEqualValuesStillGetAYRange) {
+  const auto dir = testing::SweepFolder("report-near-equal");
+  const StoreMeta meta = HandMeta({"tracker.particles"}, "", {"mota"}, 6);
+  auto store = ResultsStore::OpenOrCreate((dir / "results.sqlite").string(), meta);
+  for (int64_t i = 0; i < 6; ++i) {
+    RunRecord r;
+    r.key = fmt::format("run-{}", i);
+    r.index = i;
+    r.seed_index = static_cast<int>(i % 3);
+    r.seed = 1000 + static_cast<uint64_t>(i % 3);
+    r.values = {i < 3 ? "20" : "40"};
+    r.ok = true;
+    r.run_dir = "runs/" + r.key;
+    fs::create_directories(dir / r.run_dir);
+    r.metrics["mota"] = 0.0656259790 + 1e-9 * static_cast<double>(i);
+    store->Put(r);
+  }
+  store.reset();
+  const fs::path kept = dir / "kept";
+  WriteReport({.dir = dir.string(), .gnuplot = KeepingGnuplot(dir, kept).string()});
+  const std::string gp = Read(kept / "plot_0.gp");
+  double lo = 0.0, hi = 0.0;
+  const size_t at = gp.find("set yrange [");
+  ASSERT_NE(at, std::string::npos) << gp;
+  ASSERT_EQ(std::sscanf(gp.c_str() + at, "set yrange [%lf:%lf]", &lo, &hi), 2) << gp;
+  // 0.05 % of 0.065626 (3.28e-5) on each side, to six digits: [0.0655932,
+  // 0.0656588].
+  EXPECT_NEAR(lo, 0.0655932, 1e-9);
+  EXPECT_NEAR(hi, 0.0656588, 1e-9);
+}
+
 // Every run's value is drawn behind a plot's means (an audit: a cell of
 // IDF1 0.953 [0.91, 1.0] was most seeds at 1 and a few far below, which a
 // mean and its interval cannot show), spread sideways so the two lines'

@@ -614,7 +614,10 @@ std::string PlotSvg(const Layout& layout, const std::string& metric, const std::
     for (size_t i = 0; i < x_values.size(); ++i) {
       tics += fmt::format("{}{} {}", i ? ", " : "", GpString(x_values[i]), i);
     }
-    gp += fmt::format("set xtics ({})\nset xrange [-0.5:{}]\n", tics, x_values.size() - 0.5);
+    // As written: gnuplot's enhanced text drew detections_mixture with a
+    // subscript m (an audit).
+    gp += fmt::format("set xtics ({}) noenhanced\nset xrange [-0.5:{}]\n", tics,
+                      x_values.size() - 0.5);
   } else if (x_min == x_max) {
     gp += fmt::format("set xrange [{}:{}]\n", Number(log_x ? x_min / 2 : x_min - 1),
                       Number(log_x ? x_max * 2 : x_max + 1));
@@ -631,7 +634,7 @@ std::string PlotSvg(const Layout& layout, const std::string& metric, const std::
       tics += fmt::format("{}{} {}", i ? ", " : "", GpString(x_values[i]),
                           Number(*ParseNumber(x_values[i])));
     }
-    gp += fmt::format("set xtics ({})\n", tics);
+    gp += fmt::format("set xtics ({}) noenhanced\n", tics);
   }
   std::vector<std::string> plots;
   if (any_seed) {

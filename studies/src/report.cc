@@ -877,6 +877,14 @@ Paired PairedRowsOf(const std::vector<Cell>& cells, const StoreMeta& meta) {
   // partner cell (an external tracker's cells pair with the reference
   // particle filter's, whose tracker.type and command differ).
   paired.follow_series = KeysFollowing(cells, keys.size(), paired.series_index);
+  // A comparison sets two cells at one x, and in one panel, apart: x and the
+  // panels never follow the series. Zipped with it one to one, they did, and
+  // charged at 100 particles was compared with systematic at 50, filed
+  // under 100 (an audit of valid input); such a cell has no partner now.
+  for (const std::string& key : {meta.report.x, meta.report.panels}) {
+    const auto at = std::find(keys.begin(), keys.end(), key);
+    if (!key.empty() && at != keys.end()) paired.follow_series[at - keys.begin()].reset();
+  }
   const FollowingKeys& follow_series = paired.follow_series;
   // The keys a run's partner may differ in: the series and the keys that
   // follow it. A pooled key reads "all" in every cell, so KeysFollowing
@@ -1837,6 +1845,12 @@ std::string FindingsIntro(const Paired& paired, const GlanceTable& glance, const
             ? fmt::format(" no run has the reference value {} = {} (report.reference), so no "
                           "cell has a partner.",
                           meta.report.series, paired.reference)
+        : paired.rows.empty()
+            ? fmt::format(" no cell has a partner, a cell of {} = {} at its {}{} (each {} value "
+                          "is swept at other values of them: zipped with them one to one).",
+                          meta.report.series, paired.reference, meta.report.x,
+                          meta.report.panels.empty() ? "" : " and " + meta.report.panels,
+                          meta.report.series)
             : std::string());
   }
   return fmt::format(

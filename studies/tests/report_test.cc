@@ -2017,6 +2017,49 @@ TEST(Report, BandsOfAZeroOneMetricAreWilsonInsideTheUnitInterval) {
   EXPECT_NE(csv.find(",0.5,0.198979,0.801021,10,"), std::string::npos) << csv;
 }
 
+// A series zipped one to one with x has no two series at one x: nothing is
+// compared. The report compared charged at 100 particles with systematic at
+// 50 and filed it under 100 (an audit of valid input: "no significant
+// difference at tracker.particles = 100", where no systematic run was).
+TEST(Report, ASeriesZippedWithXComparesNothingAcrossX) {
+  const auto dir = testing::SweepFolder("report-series-zipped-with-x");
+  StoreMeta meta = HandMeta({"tracker.particles", "tracker.resampling.method"},
+                            "tracker.resampling.method", {"mota"}, 6);
+  StoredExpansion zip;
+  zip.zip = {{"tracker.particles", {"50", "100"}},
+             {"tracker.resampling.method", {"systematic", "charged"}}};
+  zip.seeds = 3;
+  meta.expansion = zip;
+  meta.root_seed = "1";
+  meta.root_seed_from = "sweep file";
+  auto store = ResultsStore::OpenOrCreate((dir / "results.sqlite").string(), meta);
+  for (int64_t i = 0; i < 6; ++i) {
+    RunRecord r;
+    r.key = fmt::format("run-{}", i);
+    r.index = i;
+    r.seed_index = static_cast<int>(i % 3);
+    r.seed = SweepSeed(1, r.seed_index);
+    r.values = zip.Values(i);
+    r.ok = true;
+    r.run_dir = "runs/" + r.key;
+    fs::create_directories(dir / r.run_dir);
+    r.metrics["mota"] = i < 3 ? 0.5 : 0.9;
+    store->Put(r);
+  }
+  store.reset();
+  const ReportResult r = WriteReport({.dir = dir.string()});
+  EXPECT_EQ(r.cells, 2);
+  EXPECT_EQ(r.comparisons, 0);
+  const std::string findings = Read(dir / "findings.md");
+  EXPECT_EQ(findings.find("charged − systematic"), std::string::npos) << findings;
+  EXPECT_NE(findings.find("This report tests no comparison: no cell has a partner, a cell of "
+                          "tracker.resampling.method = systematic at its tracker.particles (each "
+                          "tracker.resampling.method value is swept at other values of them: "
+                          "zipped with them one to one)."),
+            std::string::npos)
+      << findings;
+}
+
 // Values that differ only past the six significant digits the y range is
 // written with (a similarity floor of 0.0656259... px over seeds) get a
 // range of two numbers: it was [0.065626:0.065626], which gnuplot refuses

@@ -89,6 +89,21 @@ TEST(Regress, CompareSeedsFiveSeedsByHand) {
   EXPECT_NE(table.find("[-0.0496293, -0.0103707]"), std::string::npos) << table;
 }
 
+// No seed with a number on both sides: the row shows each side's own mean
+// (the baseline NaN, the current 1, 1, 0: 0.666667), beside its WORSE
+// verdict (three seeds NaN on one side only); the table read "nan nan".
+TEST(Regress, WithNoPairEachSideShowsItsOwnMean) {
+  const double nan = std::nan("");
+  const RegressRow r =
+      CompareSeeds(V{nan, nan, nan}, V{1.0, 1.0, 0.0}, {"hijack_rate", 0.5, false});
+  EXPECT_EQ(r.pairs, 0);
+  EXPECT_EQ(r.nan_mismatches, 3);
+  EXPECT_EQ(r.verdict, RegressVerdict::kWorse);
+  EXPECT_TRUE(std::isnan(r.baseline));
+  EXPECT_NEAR(r.current, 2.0 / 3.0, 1e-12);
+  EXPECT_NE(FormatRegressTable({r}).find("0.666667"), std::string::npos) << FormatRegressTable({r});
+}
+
 // A consistent drop of 0.02 on every seed (tolerance 0.01) fails: d_i = −0.02,
 // s = 0, interval [−0.02, −0.02]. One noisy seed with the same mean does not:
 // d = −0.1, 0, 0, 0, 0 has mean −0.02, Σ(d − d̄)² = 0.08² + 4 · 0.02² = 0.008,

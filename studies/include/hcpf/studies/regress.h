@@ -61,7 +61,8 @@ struct RegressRow {
   std::string scene;
   std::string metric;
   // Exact mode: the two values. Seeded: the means over the `pairs` seeds
-  // where both values are finite.
+  // where both values are finite; with no such seed, each side's mean over
+  // its finite values (NaN when it has none).
   double baseline = 0.0;
   double current = 0.0;
   double tolerance = 0.0;

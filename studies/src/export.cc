@@ -266,8 +266,10 @@ TrackEvalExportResult ExportTrackEval(const TrackEvalExportOptions& options) {
       sequences.push_back(sequence);
     } else {
       result.skipped += static_cast<int>(by_tracker.size());
-      spdlog::warn("export: sequence {} left out: only {} of the {} trackers have an ok run on it",
-                   sequence, by_tracker.size(), trackers.size());
+      spdlog::warn(
+          "export: sequence {} left out: only {} of the {} trackers have an ok run on it (the "
+          "others failed, lost a file, or the sweep did not run them on it)",
+          sequence, by_tracker.size(), trackers.size());
     }
   }
   if (sequences.empty()) {
@@ -275,12 +277,19 @@ TrackEvalExportResult ExportTrackEval(const TrackEvalExportOptions& options) {
     for (const std::string& t : trackers) {
       if (trackers_with_runs.count(t) == 0) without += (without.empty() ? "" : ", ") + t;
     }
-    throw InputError(SourceLocation{(dir / "results.sqlite").string(), 0, 0, "runs"},
-                     "a sequence with an ok run of every tracker",
-                     runs.empty() ? std::string("no ok run with its files")
-                     : without.empty()
-                         ? std::string("none")
-                         : fmt::format("none: no ok run of the tracker(s) {}", without));
+    throw InputError(
+        SourceLocation{(dir / "results.sqlite").string(), 0, 0, "runs"},
+        "a sequence with an ok run of every tracker",
+        runs.empty() ? std::string("no ok run with its files")
+        : without.empty()
+            // Every tracker ran, each on other sequences (an
+            // audit: a tracker key zipped with a scene key read
+            // as if runs had failed).
+            ? std::string("none: every tracker has ok runs, but on other sequences (a "
+                          "tracker key zipped with a scene key runs each tracker on its own "
+                          "sequences; TrackEval's layout needs every tracker on every "
+                          "sequence: sweep the tracker keys in grid:)")
+            : fmt::format("none: no ok run of the tracker(s) {}", without));
   }
 
   // Write everything into a staging folder, then rename it into place.

@@ -327,6 +327,26 @@ TEST(ExportTrackEval, ANameZippedWithTheTrackerLabelsItAndATrackerWithoutRunsIsN
   EXPECT_FALSE(fs::exists(dir / "te-failing"));
 }
 
+// A tracker key zipped with a scene key runs each tracker on its own
+// sequences: refused, saying so (an audit of valid input: the message
+// implied failed runs).
+TEST(ExportTrackEval, TrackersZippedWithSceneKeysAreSaidToBe) {
+  const auto dir = testing::SweepFolder("export-zip-scene");
+  const SweepSpec spec =
+      LoadSweepFile(testing::WriteSweep(dir,
+                                        "base: base.yaml\nzip:\n  tracker.particles: [40, 80]\n"
+                                        "  observation.simulated.sigma_px: [1, 2]\n"));
+  SweepOptions o;
+  o.out_dir = (dir / "sweep").string();
+  o.progress = false;
+  ASSERT_EQ(RunSweep(spec, ExpandSweep(spec), o).failed, 0);
+  const std::string e = ErrorOf({.dir = o.out_dir, .out = (dir / "te").string()});
+  EXPECT_NE(e.find("found none: every tracker has ok runs, but on other sequences (a tracker key "
+                   "zipped with a scene key"),
+            std::string::npos)
+      << e;
+}
+
 TEST(ExportTrackEval, BadInputs) {
   const auto dir = testing::SweepFolder("export-bad");
   // A folder without a results store.

@@ -2017,6 +2017,28 @@ TEST(Report, BandsOfAZeroOneMetricAreWilsonInsideTheUnitInterval) {
   EXPECT_NE(csv.find(",0.5,0.198979,0.801021,10,"), std::string::npos) << csv;
 }
 
+// Puts `runs` hand-made runs into a store of `meta` at `dir`: run i has
+// the swept values `values(i)`, seed index i % `seeds` (its seed derived from
+// root seed 1) and mota `mota(i)`, and a folder.
+void PutHandRuns(const fs::path& dir, const StoreMeta& meta, int64_t runs, int seeds,
+                 const std::function<std::vector<std::string>(int64_t)>& values,
+                 const std::function<double(int64_t)>& mota) {
+  auto store = ResultsStore::OpenOrCreate((dir / "results.sqlite").string(), meta);
+  for (int64_t i = 0; i < runs; ++i) {
+    RunRecord r;
+    r.key = fmt::format("run-{}", i);
+    r.index = i;
+    r.seed_index = static_cast<int>(i % seeds);
+    r.seed = SweepSeed(1, r.seed_index);
+    r.values = values(i);
+    r.ok = true;
+    r.run_dir = "runs/" + r.key;
+    fs::create_directories(dir / r.run_dir);
+    r.metrics["mota"] = mota(i);
+    store->Put(r);
+  }
+}
+
 // A series zipped one to one with x has no two series at one x: nothing is
 // compared. The report compared charged at 100 particles with systematic at
 // 50 and filed it under 100 (an audit of valid input: "no significant
@@ -2032,21 +2054,9 @@ TEST(Report, ASeriesZippedWithXComparesNothingAcrossX) {
   meta.expansion = zip;
   meta.root_seed = "1";
   meta.root_seed_from = "sweep file";
-  auto store = ResultsStore::OpenOrCreate((dir / "results.sqlite").string(), meta);
-  for (int64_t i = 0; i < 6; ++i) {
-    RunRecord r;
-    r.key = fmt::format("run-{}", i);
-    r.index = i;
-    r.seed_index = static_cast<int>(i % 3);
-    r.seed = SweepSeed(1, r.seed_index);
-    r.values = zip.Values(i);
-    r.ok = true;
-    r.run_dir = "runs/" + r.key;
-    fs::create_directories(dir / r.run_dir);
-    r.metrics["mota"] = i < 3 ? 0.5 : 0.9;
-    store->Put(r);
-  }
-  store.reset();
+  PutHandRuns(
+      dir, meta, 6, 3, [&zip](int64_t i) { return zip.Values(i); },
+      [](int64_t i) { return i < 3 ? 0.5 : 0.9; });
   const ReportResult r = WriteReport({.dir = dir.string()});
   EXPECT_EQ(r.cells, 2);
   EXPECT_EQ(r.comparisons, 0);
@@ -2067,21 +2077,9 @@ TEST(Report, ASeriesZippedWithXComparesNothingAcrossX) {
 TEST(Report, NearlyEqualValuesStillGetAYRange) {
   const auto dir = testing::SweepFolder("report-near-equal");
   const StoreMeta meta = HandMeta({"tracker.particles"}, "", {"mota"}, 6);
-  auto store = ResultsStore::OpenOrCreate((dir / "results.sqlite").string(), meta);
-  for (int64_t i = 0; i < 6; ++i) {
-    RunRecord r;
-    r.key = fmt::format("run-{}", i);
-    r.index = i;
-    r.seed_index = static_cast<int>(i % 3);
-    r.seed = 1000 + static_cast<uint64_t>(i % 3);
-    r.values = {i < 3 ? "20" : "40"};
-    r.ok = true;
-    r.run_dir = "runs/" + r.key;
-    fs::create_directories(dir / r.run_dir);
-    r.metrics["mota"] = 0.0656259790 + 1e-9 * static_cast<double>(i);
-    store->Put(r);
-  }
-  store.reset();
+  PutHandRuns(
+      dir, meta, 6, 3, [](int64_t i) { return std::vector<std::string>{i < 3 ? "20" : "40"}; },
+      [](int64_t i) { return 0.0656259790 + 1e-9 * static_cast<double>(i); });
   const fs::path kept = dir / "kept";
   WriteReport({.dir = dir.string(), .gnuplot = KeepingGnuplot(dir, kept).string()});
   const std::string gp = Read(kept / "plot_0.gp");
@@ -2101,21 +2099,10 @@ TEST(Report, NearlyEqualValuesStillGetAYRange) {
 TEST(Report, CategoryTicsAreDrawnAsWritten) {
   const auto dir = testing::SweepFolder("report-category-tics");
   const StoreMeta meta = HandMeta({"tracker.likelihood.model"}, "", {"mota"}, 4);
-  auto store = ResultsStore::OpenOrCreate((dir / "results.sqlite").string(), meta);
-  for (int64_t i = 0; i < 4; ++i) {
-    RunRecord r;
-    r.key = fmt::format("run-{}", i);
-    r.index = i;
-    r.seed_index = static_cast<int>(i % 2);
-    r.seed = 1000 + static_cast<uint64_t>(i % 2);
-    r.values = {i < 2 ? "detections_mixture" : "x&y^2"};
-    r.ok = true;
-    r.run_dir = "runs/" + r.key;
-    fs::create_directories(dir / r.run_dir);
-    r.metrics["mota"] = 0.5 + 0.1 * static_cast<double>(i);
-    store->Put(r);
-  }
-  store.reset();
+  PutHandRuns(
+      dir, meta, 4, 2,
+      [](int64_t i) { return std::vector<std::string>{i < 2 ? "detections_mixture" : "x&y^2"}; },
+      [](int64_t i) { return 0.5 + 0.1 * static_cast<double>(i); });
   const std::string html = Read(WriteReport({.dir = dir.string()}).html_path);
   const size_t plot = html.find("<svg");
   ASSERT_NE(plot, std::string::npos);

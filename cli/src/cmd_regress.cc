@@ -51,8 +51,12 @@ Command AddRegressCommand(CLI::App& parent) {
   app->add_option("--baseline", options->baseline_path, "Baseline JSON")->required();
   app->add_flag("--update-baseline", options->update_baseline,
                 "Write the baseline from this run instead of comparing");
-  app->add_option("--junit", options->junit_path, "Also write JUnit XML here");
-  app->add_option("--markdown", options->markdown_path, "Also write a Markdown summary here");
+  app->add_option("--junit", options->junit_path,
+                  "Also write JUnit XML here (- for standard output)")
+      ->transform(DashIsStandardOutput);
+  app->add_option("--markdown", options->markdown_path,
+                  "Also write a Markdown summary here (- for standard output)")
+      ->transform(DashIsStandardOutput);
   app->add_option("--work", options->work_dir,
                   "Keep the scenes' run folders here (default: a temporary folder)");
   app->add_option("--jobs", options->jobs, "Runs in parallel (scenes, and seeds of seeded scenes)")

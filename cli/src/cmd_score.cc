@@ -143,9 +143,13 @@ Command AddScoreCommand(CLI::App& parent) {
          "Preprocessing rules: MOT15, MOT17 (also MOT16/MOT20) or auto (9-column gt = MOT17)")
       ->check(CLI::IsMember({"MOT15", "MOT16", "MOT17", "MOT20", "auto"}))
       ->capture_default_str();
-  app->add_option("--json", options->json, "Write every metric value to this JSON file");
+  app->add_option("--json", options->json,
+                  "Write every metric value to this JSON file (- for standard output)")
+      ->transform(DashIsStandardOutput);
   app->add_option("--events", options->events,
-                  "Write the per-frame event log (MATCH, SWITCH, ...) as JSON lines to this file");
+                  "Write the per-frame event log (MATCH, SWITCH, ...) as JSON lines to this file "
+                  "(- for standard output)")
+      ->transform(DashIsStandardOutput);
   app->add_option("--trackeval-root", options->trackeval_root,
                   "Score a TrackEval folder (gt/mot_challenge/<bench>/<seq>, "
                   "trackers/mot_challenge/<bench>/<tracker>/data; the sequences of "

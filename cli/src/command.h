@@ -25,6 +25,13 @@ struct Command {
 // standard output, which then carries that file alone.
 std::ostream& TableStream(std::initializer_list<std::string> output_paths);
 
+// An output file option's value, with "-" for standard output, as
+// /dev/stdout (a CLI11 transform: `--json -` wrote a file named "-" in the
+// current folder: an audit).
+inline std::string DashIsStandardOutput(std::string path) {
+  return path == "-" ? std::string("/dev/stdout") : path;
+}
+
 Command AddValidateCommand(CLI::App& parent);
 Command AddRunCommand(CLI::App& parent);
 Command AddScoreCommand(CLI::App& parent);

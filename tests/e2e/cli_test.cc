@@ -765,13 +765,18 @@ TEST(Cli, ScoreWritesItsJsonAloneToStandardOutputAndTheTableToStandardError) {
   auto r = RunCommand(base + " --json " + (dir / "m.json").string() + " --events " +
                       (dir / "e.jsonl").string());
   ASSERT_EQ(r.exit_code, 0) << r.output;
-  for (const auto& [option, file] : std::vector<std::pair<std::string, std::string>>{
-           {"--json", "m.json"}, {"--events", "e.jsonl"}}) {
-    r = RunCommand("(" + base + " " + option + " /dev/stdout > " + (dir / "out").string() + " 2> " +
-                   (dir / "err").string() + ")");
-    EXPECT_EQ(r.exit_code, 0) << option << "\n" << r.output;
-    EXPECT_EQ(ReadFile(dir / "out"), ReadFile(dir / file)) << option;
-    EXPECT_NE(ReadFile(dir / "err").find("HOTA"), std::string::npos) << option;
+  // "-" is standard output too, run in `dir`: it wrote a file named "-" there
+  // (an audit of valid input).
+  for (const std::string to : {"/dev/stdout", "-"}) {
+    for (const auto& [option, file] : std::vector<std::pair<std::string, std::string>>{
+             {"--json", "m.json"}, {"--events", "e.jsonl"}}) {
+      r = RunCommand("(cd " + dir.string() + " && " + base + " " + option + " " + to + " > " +
+                     (dir / "out").string() + " 2> " + (dir / "err").string() + ")");
+      EXPECT_EQ(r.exit_code, 0) << option << " " << to << "\n" << r.output;
+      EXPECT_EQ(ReadFile(dir / "out"), ReadFile(dir / file)) << option << " " << to;
+      EXPECT_NE(ReadFile(dir / "err").find("HOTA"), std::string::npos) << option << " " << to;
+      EXPECT_FALSE(fs::exists(dir / "-")) << option << " " << to;
+    }
   }
   // Without it, the table is standard output.
   r = RunCommand("(" + base + " > " + (dir / "out").string() + " 2> " + (dir / "err").string() +

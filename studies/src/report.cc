@@ -2597,6 +2597,23 @@ std::string BaseScenarioNote(const std::vector<RunRecord>& runs, const StoreMeta
         values[k].push_back(r.values[k]);
     }
   }
+  // The sweep's values where the store records them, whatever runs it holds
+  // (an audit: an empty shard's page read "frames = ; tracker.particles = ").
+  if (meta.expansion) {
+    size_t k = 0;
+    for (const auto* axes : {&meta.expansion->grid, &meta.expansion->zip}) {
+      for (const StoredExpansion::Axis& a : *axes) {
+        if (k < values.size()) {
+          values[k].clear();
+          for (const std::string& v : a.values) {
+            if (std::find(values[k].begin(), values[k].end(), v) == values[k].end())
+              values[k].push_back(v);
+          }
+        }
+        ++k;
+      }
+    }
+  }
   std::vector<std::string> set;
   for (size_t k = 0; k < values.size(); ++k) {
     std::string shown;
@@ -3045,8 +3062,14 @@ ReportResult WriteReport(const ReportOptions& options) {
       sentence = ReplicationSentence(table, *there, meta);
     } else {
       stale.push_back("replication.csv");
+      // A store with a series but no finished run (an empty shard) has no
+      // cell to compare (an audit: it said "without report.series").
       sentence = AgainstIntro(*there, meta) +
-                 ": without `report.series` there are no paired comparisons to make again. " +
+                 (meta.report.series.empty()
+                      ? std::string(": without `report.series` there are no paired comparisons "
+                                    "to make again. ")
+                      : std::string(": this store holds no finished run, so there are no paired "
+                                    "comparisons to make again. ")) +
                  SameSeedNote(*there, meta);
       while (!sentence.empty() && sentence.back() == ' ') sentence.pop_back();
       replication_html += "<p>" + CodeSpansToHtml(sentence) + "</p>\n";

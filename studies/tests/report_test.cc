@@ -2070,6 +2070,35 @@ TEST(Report, ASeriesZippedWithXComparesNothingAcrossX) {
       << findings;
 }
 
+// A store that holds no run yet (an empty shard) names the sweep's swept
+// values from its expansion, and set against another store says why nothing
+// is compared again (an audit of valid input: "frames = ; tracker.particles
+// = " and "without report.series", though the store's report names one).
+TEST(Report, AStoreWithoutRunsNamesItsSweepsValues) {
+  const auto dir = testing::SweepFolder("report-no-runs");
+  StoreMeta meta = HandMeta({"tracker.particles", "tracker.resampling.method"},
+                            "tracker.resampling.method", {"mota"}, 40);
+  StoredExpansion grid;
+  grid.grid = {{"tracker.particles", {"100", "1000"}},
+               {"tracker.resampling.method", {"systematic", "charged"}}};
+  grid.seeds = 10;
+  meta.expansion = grid;
+  meta.root_seed = "1";
+  meta.root_seed_from = "sweep file";
+  ResultsStore::OpenOrCreate((dir / "results.sqlite").string(), meta);
+  const fs::path there = HandStore("report-no-runs-there");
+  const ReportResult r = WriteReport({.dir = dir.string(), .against = there.string()});
+  const std::string html = Read(r.html_path);
+  EXPECT_NE(html.find("Every run replaces 2 keys: <code>tracker.particles</code> = 100, 1000; "
+                      "<code>tracker.resampling.method</code> = systematic, charged."),
+            std::string::npos)
+      << html;
+  EXPECT_NE(html.find("this store holds no finished run, so there are no paired comparisons to "
+                      "make again"),
+            std::string::npos);
+  EXPECT_EQ(html.find("without <code>report.series</code>"), std::string::npos);
+}
+
 // Values that differ only past the six significant digits the y range is
 // written with (a similarity floor of 0.0656259... px over seeds) get a
 // range of two numbers: it was [0.065626:0.065626], which gnuplot refuses

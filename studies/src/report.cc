@@ -2190,6 +2190,22 @@ std::unique_ptr<AgainstStore> OpenAgainst(const std::string& against, const fs::
   const auto store =
       ResultsStore::Open((fs::path(against) / "results.sqlite").string(), StoreAccess::kReadOnly);
   other->meta = store->meta();
+  // The same keys listed in another order (grid: in another order in the
+  // other sweep file, the same runs): its rows are read in this store's
+  // order (an audit of valid input: refused). Which keys are zipped is then
+  // left to the runs' values (as for a store that records no expansion).
+  std::vector<size_t> order;  // this store's key k is the other's key order[k]
+  if (other->meta.swept_keys != meta.swept_keys &&
+      std::is_permutation(meta.swept_keys.begin(), meta.swept_keys.end(),
+                          other->meta.swept_keys.begin(), other->meta.swept_keys.end())) {
+    for (const std::string& key : meta.swept_keys) {
+      order.push_back(static_cast<size_t>(
+          std::find(other->meta.swept_keys.begin(), other->meta.swept_keys.end(), key) -
+          other->meta.swept_keys.begin()));
+    }
+    other->meta.swept_keys = meta.swept_keys;
+    other->meta.expansion.reset();
+  }
   if (other->meta.swept_keys != meta.swept_keys) {
     throw InputError(where, fmt::format("{} ({})", expected_kind, fmt::join(meta.swept_keys, ", ")),
                      fmt::format("{} sweeping {}", against,
@@ -2201,6 +2217,13 @@ std::unique_ptr<AgainstStore> OpenAgainst(const std::string& against, const fs::
   other->meta.report = meta.report;
   other->meta.report.reference = paired.reference;
   other->runs = store->Runs();
+  if (!order.empty()) {
+    for (RunRecord& r : other->runs) {
+      std::vector<std::string> values;
+      for (size_t k : order) values.push_back(k < r.values.size() ? r.values[k] : std::string());
+      r.values = std::move(values);
+    }
+  }
   other->cells = CellsOf(other->runs, other->meta);
   other->paired = PairedRowsOf(other->cells, other->meta);
   return other;

@@ -2070,6 +2070,33 @@ TEST(Report, ASeriesZippedWithXComparesNothingAcrossX) {
       << findings;
 }
 
+// --against a store of the same swept keys listed in another order (its
+// sweep file's grid written the other way round): its runs are read in
+// this store's order, and the comparisons are made again (an audit of valid
+// input: refused, exit 2). Here HandStore's mota values, keys swapped.
+TEST(Report, AgainstTheSameKeysInAnotherOrderReplicates) {
+  const fs::path here = HandStore("report-against-order");
+  const auto dir = testing::SweepFolder("report-against-order-there");
+  StoreMeta meta = HandMeta({"tracker.resampling.method", "tracker.particles"},
+                            "tracker.resampling.method", {"mota"}, 40);
+  meta.report.x = "tracker.particles";
+  PutHandRuns(
+      dir, meta, 40, 10,
+      [](int64_t i) {
+        return std::vector<std::string>{(i / 10) % 2 == 0 ? "systematic" : "charged",
+                                        i < 20 ? "100" : "1000"};
+      },
+      [](int64_t i) {
+        const bool charged = (i / 10) % 2 == 1, many = i >= 20;
+        return !charged ? 0.9 : (many ? (i % 10 < 9 ? 1.0 : 0.5) : 0.9);
+      });
+  const ReportResult r = WriteReport({.dir = here.string(), .against = dir.string()});
+  // mota, charged − systematic at 1000 (at 100 every pair ties in both: no
+  // outcome to compare).
+  EXPECT_EQ(r.replication_comparisons, 1);
+  EXPECT_EQ(r.replication_cells, 4);  // mota's four cell means (hijack_rate: none there)
+}
+
 // A store that holds no run yet (an empty shard) names the sweep's swept
 // values from its expansion, and set against another store says why nothing
 // is compared again (an audit of valid input: "frames = ; tracker.particles

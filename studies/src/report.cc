@@ -808,6 +808,9 @@ struct Paired {
   // No cell has the reference value (a store's report.reference edited, or
   // a store stopped before its runs): nothing is compared, said so.
   bool reference_absent = false;
+  // Whether x or the panels follow the series (zipped with it one to one):
+  // then no cell has a partner at its x.
+  bool zipped_with_x_or_panels = false;
   // Keys that follow the series value (KeysFollowing): they take the
   // reference's value in the partner cell.
   FollowingKeys follow_series;
@@ -883,7 +886,9 @@ Paired PairedRowsOf(const std::vector<Cell>& cells, const StoreMeta& meta) {
   // under 100 (an audit of valid input); such a cell has no partner now.
   for (const std::string& key : {meta.report.x, meta.report.panels}) {
     const auto at = std::find(keys.begin(), keys.end(), key);
-    if (!key.empty() && at != keys.end()) paired.follow_series[at - keys.begin()].reset();
+    if (key.empty() || at == keys.end() || !paired.follow_series[at - keys.begin()]) continue;
+    paired.follow_series[at - keys.begin()].reset();
+    paired.zipped_with_x_or_panels = true;
   }
   const FollowingKeys& follow_series = paired.follow_series;
   // The keys a run's partner may differ in: the series and the keys that
@@ -1845,7 +1850,7 @@ std::string FindingsIntro(const Paired& paired, const GlanceTable& glance, const
             ? fmt::format(" no run has the reference value {} = {} (report.reference), so no "
                           "cell has a partner.",
                           meta.report.series, paired.reference)
-        : paired.rows.empty()
+        : paired.rows.empty() && paired.zipped_with_x_or_panels
             ? fmt::format(" no cell has a partner, a cell of {} = {} at its {}{} (each {} value "
                           "is swept at other values of them: zipped with them one to one).",
                           meta.report.series, paired.reference, meta.report.x,

@@ -220,10 +220,10 @@ std::optional<uint64_t> SeedOfResolved(const std::string& yaml) {
 }
 
 // Each base scenario's seed, by the value naming it, from a grid.base
-// sweep's base_resolved: every base's resolved YAML headed by "# base:
-// VALUE", in the order of the grid's values (sweep_run.cc). A base whose
-// text is not found, or has no seed that reads as one, is left out (its
-// rows' seeds unchecked).
+// sweep's base_resolved: every base's resolved YAML headed by its
+// BaseResolvedHead, in the order of the grid's values (sweep_run.cc). A base
+// whose text is not found, or has no seed that reads as one, is left out
+// (its rows' seeds unchecked).
 std::map<std::string, uint64_t> SeedsOfBases(const std::string& text, const StoredExpansion& e) {
   std::map<std::string, uint64_t> out;
   const StoredExpansion::Axis* axis = nullptr;
@@ -235,14 +235,14 @@ std::map<std::string, uint64_t> SeedsOfBases(const std::string& text, const Stor
   // line break, in order.
   std::vector<size_t> heads;
   for (const std::string& value : axis->values) {
-    const std::string head = "# base: " + value + "\n";
+    const std::string head = internal::BaseResolvedHead(value);
     const size_t found = heads.empty() ? (text.starts_with(head) ? 0 : std::string::npos)
                                        : text.find("\n" + head, heads.back());
     if (found == std::string::npos) return out;
     heads.push_back(heads.empty() ? 0 : found + 1);
   }
   for (size_t b = 0; b < heads.size(); ++b) {
-    const size_t begin = heads[b] + ("# base: " + axis->values[b] + "\n").size();
+    const size_t begin = heads[b] + internal::BaseResolvedHead(axis->values[b]).size();
     const size_t end = b + 1 < heads.size() ? heads[b + 1] : text.size();
     if (const auto seed = SeedOfResolved(text.substr(begin, end - begin))) {
       out.emplace(axis->values[b], *seed);

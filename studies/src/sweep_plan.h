@@ -15,6 +15,11 @@
 
 namespace hcpf::studies::internal {
 
+// The line that heads each base scenario's resolved YAML in a grid.base
+// sweep's meta.base_resolved ("# base: VALUE\n", VALUE as the grid writes
+// it): written by the sweep, read back for each base's seed by the store.
+inline std::string BaseResolvedHead(const std::string& value) { return "# base: " + value + "\n"; }
+
 // The advisory lock on DIR/sweep.lock (one sweep process per folder),
 // released when this object is destroyed or the process ends however it ends.
 class FolderLock {

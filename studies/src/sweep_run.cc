@@ -333,9 +333,9 @@ SweepPlan PrepareSweep(const SweepSpec& spec, const std::vector<SweepRun>& runs,
     }
     HCPF_CHECK(base_axis != nullptr && base_axis->values.size() == spec.base_paths.size());
     for (size_t b = 0; b < spec.base_paths.size(); ++b) {
-      meta.base_resolved += fmt::format("# base: {}\n{}{}", base_axis->values[b],
-                                        ToResolvedYaml(LoadScenarioFile(spec.base_paths[b])),
-                                        b + 1 < spec.base_paths.size() ? "\n" : "");
+      meta.base_resolved += internal::BaseResolvedHead(base_axis->values[b]) +
+                            ToResolvedYaml(LoadScenarioFile(spec.base_paths[b])) +
+                            (b + 1 < spec.base_paths.size() ? "\n" : "");
     }
   } else {
     meta.base_resolved = ToResolvedYaml(LoadScenarioFile(spec.base_path));

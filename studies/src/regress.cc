@@ -241,14 +241,8 @@ RegressRow CompareSeeds(std::span<const double> baseline, std::span<const double
     // No seed has both: each side's own mean, so the table shows what the
     // current run measured (an audit of valid input: a hijack rate of NaN
     // on every baseline seed and 1, 1, 0 now read "nan nan" beside WORSE).
-    for (double x : baseline) {
-      if (std::isfinite(x)) b.push_back(x);
-    }
-    for (double x : current) {
-      if (std::isfinite(x)) v.push_back(x);
-    }
-    row.baseline = b.empty() ? kNaN : Mean(b);
-    row.current = v.empty() ? kNaN : Mean(v);
+    row.baseline = Mean(Finite(baseline));
+    row.current = Mean(Finite(current));
   }
   row.difference = c.difference.mean;
   row.lower = c.difference.lower;

@@ -12,8 +12,6 @@
 
 namespace hcpf::studies {
 
-namespace {
-
 std::vector<double> Finite(std::span<const double> values) {
   std::vector<double> out;
   out.reserve(values.size());
@@ -22,8 +20,6 @@ std::vector<double> Finite(std::span<const double> values) {
   }
   return out;
 }
-
-}  // namespace
 
 // The mean as v_0 plus the mean of x − v_0: values all equal give v_0
 // exactly, so their sum of squared deviations is exactly 0 (summed directly,

@@ -59,6 +59,9 @@ struct Interval {
   bool clipped = false;
 };
 
+// The finite values of `values`, in order.
+std::vector<double> Finite(std::span<const double> values);
+
 // The mean of `values` (all finite; NaN when there are none), summed as
 // v₀ + mean(x − v₀) so that values all equal give that value exactly.
 double Mean(std::span<const double> values);

@@ -2616,28 +2616,25 @@ std::string AbsentFoldersSentence(int64_t absent, int64_t finished, const fs::pa
 // seed 7 and its sub-seeds, with nothing to say that no run used them).
 std::string BaseScenarioNote(const std::vector<RunRecord>& runs, const StoreMeta& meta,
                              const fs::path& dir, const std::string& link_prefix) {
+  // Each swept key's values, each once: the sweep's where the store records
+  // its expansion, whatever runs it holds (an audit: an empty shard's page
+  // read "frames = ; tracker.particles = "), else the runs'.
   std::vector<std::vector<std::string>> values(meta.swept_keys.size());
+  const auto add = [&values](size_t k, const std::string& v) {
+    if (k < values.size() && std::find(values[k].begin(), values[k].end(), v) == values[k].end())
+      values[k].push_back(v);
+  };
   const RunRecord* first = nullptr;  // the first finished run whose folder is there
   for (const RunRecord& r : runs) {
     if (first == nullptr && r.ok && HasRunFolder(dir, r)) first = &r;
-    for (size_t k = 0; k < values.size() && k < r.values.size(); ++k) {
-      if (std::find(values[k].begin(), values[k].end(), r.values[k]) == values[k].end())
-        values[k].push_back(r.values[k]);
-    }
+    if (meta.expansion) continue;
+    for (size_t k = 0; k < r.values.size(); ++k) add(k, r.values[k]);
   }
-  // The sweep's values where the store records them, whatever runs it holds
-  // (an audit: an empty shard's page read "frames = ; tracker.particles = ").
   if (meta.expansion) {
     size_t k = 0;
     for (const auto* axes : {&meta.expansion->grid, &meta.expansion->zip}) {
       for (const StoredExpansion::Axis& a : *axes) {
-        if (k < values.size()) {
-          values[k].clear();
-          for (const std::string& v : a.values) {
-            if (std::find(values[k].begin(), values[k].end(), v) == values[k].end())
-              values[k].push_back(v);
-          }
-        }
+        for (const std::string& v : a.values) add(k, v);
         ++k;
       }
     }

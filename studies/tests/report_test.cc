@@ -1782,6 +1782,15 @@ size_t CsvColumn(const fs::path& path, const std::string& name) {
   return 0;
 }
 
+// `meta` recording `expansion` (none when nullopt) with root seed 1 (the
+// seeds SweepSeed(1, seed index) of the hand stores' runs), as a sweep file's
+// `seed: 1` writes it.
+void RecordExpansion(StoreMeta* meta, const std::optional<StoredExpansion>& expansion) {
+  meta->expansion = expansion;
+  meta->root_seed = "1";
+  meta->root_seed_from = "sweep file";
+}
+
 // A store of the runs `cells` × seeds 0–4 of a sweep over particles (x),
 // method (series) and the sun's azimuth (pooled), recording `expansion`
 // when given; each run's index is its cell's position in the expansion
@@ -1795,9 +1804,7 @@ fs::path PooledSunStore(const std::string& name,
       HandMeta({"tracker.particles", "tracker.resampling.method", "world.sun.azimuth_deg"},
                "tracker.resampling.method", {"mota"}, 20);
   meta.report.pool = {"world.sun.azimuth_deg"};
-  meta.expansion = expansion;
-  meta.root_seed = "1";
-  meta.root_seed_from = "sweep file";
+  RecordExpansion(&meta, expansion);
   auto store = ResultsStore::OpenOrCreate((dir / "results.sqlite").string(), meta);
   for (const auto& [cell_index, values] : cells) {
     for (int seed = 0; seed < 5; ++seed) {
@@ -2051,9 +2058,7 @@ TEST(Report, ASeriesZippedWithXComparesNothingAcrossX) {
   zip.zip = {{"tracker.particles", {"50", "100"}},
              {"tracker.resampling.method", {"systematic", "charged"}}};
   zip.seeds = 3;
-  meta.expansion = zip;
-  meta.root_seed = "1";
-  meta.root_seed_from = "sweep file";
+  RecordExpansion(&meta, zip);
   PutHandRuns(
       dir, meta, 6, 3, [&zip](int64_t i) { return zip.Values(i); },
       [](int64_t i) { return i < 3 ? 0.5 : 0.9; });
@@ -2109,9 +2114,7 @@ TEST(Report, AStoreWithoutRunsNamesItsSweepsValues) {
   grid.grid = {{"tracker.particles", {"100", "1000"}},
                {"tracker.resampling.method", {"systematic", "charged"}}};
   grid.seeds = 10;
-  meta.expansion = grid;
-  meta.root_seed = "1";
-  meta.root_seed_from = "sweep file";
+  RecordExpansion(&meta, grid);
   ResultsStore::OpenOrCreate((dir / "results.sqlite").string(), meta);
   const fs::path there = HandStore("report-no-runs-there");
   const ReportResult r = WriteReport({.dir = dir.string(), .against = there.string()});

@@ -7,6 +7,7 @@
 #include <spdlog/spdlog.h>
 #include <sys/wait.h>
 #include <unistd.h>
+#include <yaml-cpp/yaml.h>
 
 #include <algorithm>
 #include <array>
@@ -2168,8 +2169,115 @@ struct ReplicationTable {
   int only_there = 0;                // and there without a partner here
 };
 
+// Whether two spellings of a swept value are one value: the same text,
+// or the same YAML with numbers compared as numbers (3 and 3.0, 0.1 and
+// 0.10, [320, 240] and [320.0, 240]).
+bool SameYamlValue(const YAML::Node& a, const YAML::Node& b) {
+  if (a.Type() != b.Type()) return false;
+  if (a.IsScalar()) {
+    const std::string& x = a.Scalar();
+    const std::string& y = b.Scalar();
+    if (x == y) return true;
+    const auto number = [](const std::string& text) -> std::optional<double> {
+      double v = 0.0;
+      const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), v);
+      if (ec != std::errc() || end != text.data() + text.size() || !std::isfinite(v)) {
+        return std::nullopt;
+      }
+      return v;
+    };
+    const auto u = number(x), v = number(y);
+    return u && v && *u == *v;
+  }
+  if (a.IsSequence()) {
+    if (a.size() != b.size()) return false;
+    for (size_t i = 0; i < a.size(); ++i) {
+      if (!SameYamlValue(a[i], b[i])) return false;
+    }
+    return true;
+  }
+  if (a.IsMap()) {
+    if (a.size() != b.size()) return false;
+    for (const auto& entry : a) {
+      const YAML::Node other = b[entry.first.Scalar()];
+      if (!other || !SameYamlValue(entry.second, other)) return false;
+    }
+    return true;
+  }
+  return a.IsNull();
+}
+
+bool SameSpelledValue(const std::string& a, const std::string& b) {
+  if (a == b) return true;
+  try {
+    return SameYamlValue(YAML::Load(a), YAML::Load(b));
+  } catch (const YAML::Exception&) {
+    return false;
+  }
+}
+
+// The other store's runs read in this store's spelling of each swept value
+// where it writes the same value otherwise: a number written 3.0 for 3, or
+// a grid.base path written relative in one sweep file and absolute in the
+// other whose resolved scenarios are the same (an audit of valid input:
+// such stores of one sweep matched no cell). Returns a line per value
+// respelled, for the log.
+std::vector<std::string> RespellAsHere(const std::vector<RunRecord>& runs, const StoreMeta& meta,
+                                       AgainstStore& other) {
+  const std::map<std::string, std::string> bases_here = ResolvedBases(meta);
+  const std::map<std::string, std::string> bases_there = ResolvedBases(other.meta);
+  std::vector<std::string> lines;
+  for (size_t k = 0; k < meta.swept_keys.size(); ++k) {
+    const std::string& key = meta.swept_keys[k];
+    std::set<std::string> here, there;
+    for (const RunRecord& r : runs) {
+      if (k < r.values.size()) here.insert(r.values[k]);
+    }
+    if (meta.expansion) {
+      for (const auto* axes : {&meta.expansion->grid, &meta.expansion->zip}) {
+        for (const StoredExpansion::Axis& a : *axes) {
+          if (a.key == key) here.insert(a.values.begin(), a.values.end());
+        }
+      }
+    }
+    for (const RunRecord& r : other.runs) {
+      if (k < r.values.size()) there.insert(r.values[k]);
+    }
+    std::map<std::string, std::string> respelled;
+    for (const std::string& v : there) {
+      if (here.count(v) != 0) continue;
+      std::vector<std::string> same;
+      for (const std::string& u : here) {
+        bool equal = false;
+        if (key == kSweptBaseKey) {
+          const auto a = bases_here.find(u), b = bases_there.find(v);
+          equal = a != bases_here.end() && b != bases_there.end() && a->second == b->second;
+        } else {
+          equal = SameSpelledValue(u, v);
+        }
+        if (equal) same.push_back(u);
+      }
+      if (same.size() != 1) continue;
+      respelled.emplace(v, same.front());
+      lines.push_back(key == kSweptBaseKey
+                          ? fmt::format("{}'s {} = {} read as {} (the same resolved scenario)",
+                                        other.dir, key, v, same.front())
+                          : fmt::format("{}'s {} = {} read as {} (the same value)", other.dir, key,
+                                        v, same.front()));
+    }
+    if (respelled.empty()) continue;
+    for (RunRecord& r : other.runs) {
+      if (k >= r.values.size()) continue;
+      const auto it = respelled.find(r.values[k]);
+      if (it != respelled.end()) r.values[k] = it->second;
+    }
+  }
+  return lines;
+}
+
 std::unique_ptr<AgainstStore> OpenAgainst(const std::string& against, const fs::path& dir,
-                                          const StoreMeta& meta, const Paired& paired) {
+                                          const StoreMeta& meta, const std::vector<RunRecord>& runs,
+                                          const Paired& paired) {
   const SourceLocation where{"hcpf report", 0, 0, "--against"};
   const char* expected_kind = "a sweep folder (results.sqlite) over the same swept keys";
   std::error_code ec;
@@ -2228,6 +2336,9 @@ std::unique_ptr<AgainstStore> OpenAgainst(const std::string& against, const fs::
       for (size_t k : order) values.push_back(k < r.values.size() ? r.values[k] : std::string());
       r.values = std::move(values);
     }
+  }
+  for (const std::string& line : RespellAsHere(runs, meta, *other)) {
+    spdlog::info("report: --against: {}", line);
   }
   other->cells = CellsOf(other->runs, other->meta);
   other->paired = PairedRowsOf(other->cells, other->meta);
@@ -3002,7 +3113,7 @@ ReportResult WriteReport(const ReportOptions& options) {
         meta.report.series, paired.reference);
   }
   const std::unique_ptr<AgainstStore> there =
-      options.against.empty() ? nullptr : OpenAgainst(options.against, dir, meta, paired);
+      options.against.empty() ? nullptr : OpenAgainst(options.against, dir, meta, runs, paired);
 
   const fs::path work = MakePlotWorkDir(out, options.out_dir.empty());
   std::error_code ec;

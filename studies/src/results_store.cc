@@ -220,33 +220,12 @@ std::optional<uint64_t> SeedOfResolved(const std::string& yaml) {
 }
 
 // Each base scenario's seed, by the value naming it, from a grid.base
-// sweep's base_resolved: every base's resolved YAML headed by its
-// BaseResolvedHead, in the order of the grid's values (sweep_run.cc). A base
-// whose text is not found, or has no seed that reads as one, is left out
-// (its rows' seeds unchecked).
-std::map<std::string, uint64_t> SeedsOfBases(const std::string& text, const StoredExpansion& e) {
+// sweep's base_resolved (ResolvedBases). A base whose text is not found, or
+// has no seed that reads as one, is left out (its rows' seeds unchecked).
+std::map<std::string, uint64_t> SeedsOfBases(const StoreMeta& meta) {
   std::map<std::string, uint64_t> out;
-  const StoredExpansion::Axis* axis = nullptr;
-  for (const StoredExpansion::Axis& a : e.grid) {
-    if (a.key == kSweptBaseKey) axis = &a;
-  }
-  if (axis == nullptr) return out;
-  // Where each base's head begins: the text's start, then each after a
-  // line break, in order.
-  std::vector<size_t> heads;
-  for (const std::string& value : axis->values) {
-    const std::string head = internal::BaseResolvedHead(value);
-    const size_t found = heads.empty() ? (text.starts_with(head) ? 0 : std::string::npos)
-                                       : text.find("\n" + head, heads.back());
-    if (found == std::string::npos) return out;
-    heads.push_back(heads.empty() ? 0 : found + 1);
-  }
-  for (size_t b = 0; b < heads.size(); ++b) {
-    const size_t begin = heads[b] + internal::BaseResolvedHead(axis->values[b]).size();
-    const size_t end = b + 1 < heads.size() ? heads[b + 1] : text.size();
-    if (const auto seed = SeedOfResolved(text.substr(begin, end - begin))) {
-      out.emplace(axis->values[b], *seed);
-    }
+  for (const auto& [value, text] : ResolvedBases(meta)) {
+    if (const auto seed = SeedOfResolved(text)) out.emplace(value, *seed);
   }
   return out;
 }
@@ -432,7 +411,7 @@ void ResultsStore::ReadMeta() {
     } else {
       // With `grid.base`, its base scenario's (an audit: a row's seed was
       // not checked under grid.base).
-      base_seeds_ = SeedsOfBases(meta_.base_resolved, *meta_.expansion);
+      base_seeds_ = SeedsOfBases(meta_);
     }
   }
   CheckStoredMeta();
@@ -1081,6 +1060,33 @@ std::string UncheckedLabelsSentence(const ResultsStore& store) {
       "indices, seeds and swept values are read as they are, unchecked; `hcpf sweep` with its "
       "sweep file on its folder records one",
       store.path());
+}
+
+std::map<std::string, std::string> ResolvedBases(const StoreMeta& meta) {
+  std::map<std::string, std::string> out;
+  if (!meta.expansion) return out;
+  const StoredExpansion::Axis* axis = nullptr;
+  for (const StoredExpansion::Axis& a : meta.expansion->grid) {
+    if (a.key == kSweptBaseKey) axis = &a;
+  }
+  if (axis == nullptr) return out;
+  const std::string& text = meta.base_resolved;
+  // Where each base's head begins: the text's start, then each after a
+  // line break, in order.
+  std::vector<size_t> heads;
+  for (const std::string& value : axis->values) {
+    const std::string head = internal::BaseResolvedHead(value);
+    const size_t found = heads.empty() ? (text.starts_with(head) ? 0 : std::string::npos)
+                                       : text.find("\n" + head, heads.back());
+    if (found == std::string::npos) return out;
+    heads.push_back(heads.empty() ? 0 : found + 1);
+  }
+  for (size_t b = 0; b < heads.size(); ++b) {
+    const size_t begin = heads[b] + internal::BaseResolvedHead(axis->values[b]).size();
+    const size_t end = b + 1 < heads.size() ? heads[b + 1] : text.size();
+    out.emplace(axis->values[b], text.substr(begin, end - begin));
+  }
+  return out;
 }
 
 std::string RootSeedSentence(const StoreMeta& meta) {

@@ -2102,6 +2102,70 @@ TEST(Report, AgainstTheSameKeysInAnotherOrderReplicates) {
   EXPECT_EQ(r.replication_cells, 4);  // mota's four cell means (hijack_rate: none there)
 }
 
+// A store whose sweep file writes the same values otherwise (100.0 and 1e3
+// for 100 and 1000) is read in this store's spelling, so its cells meet
+// these (an audit of valid input: no comparison and no cell matched).
+TEST(Report, AgainstAStoreSpellingItsValuesOtherwiseReplicates) {
+  const fs::path here = HandStore("report-against-spelling");
+  const auto dir = testing::SweepFolder("report-against-spelling-there");
+  const StoreMeta meta = HandMeta({"tracker.particles", "tracker.resampling.method"},
+                                  "tracker.resampling.method", {"mota"}, 40);
+  PutHandRuns(
+      dir, meta, 40, 10,
+      [](int64_t i) {
+        return std::vector<std::string>{i < 20 ? "100.0" : "1e3",
+                                        (i / 10) % 2 == 0 ? "systematic" : "charged"};
+      },
+      [](int64_t i) {
+        const bool charged = (i / 10) % 2 == 1, many = i >= 20;
+        return !charged ? 0.9 : (many ? (i % 10 < 9 ? 1.0 : 0.5) : 0.9);
+      });
+  const ReportResult r = WriteReport({.dir = here.string(), .against = dir.string()});
+  EXPECT_EQ(r.replication_comparisons, 1);  // mota, charged − systematic at 1000
+  EXPECT_EQ(r.replication_cells, 4);
+}
+
+// grid.base paths written otherwise in the other sweep file (absolute for
+// relative) whose resolved scenarios are the same are the same cells; a
+// base whose resolved scenario differs is not.
+TEST(Report, AgainstAStoreNamingTheSameBasesOtherwiseReplicates) {
+  const auto store = [](const std::string& name, const std::string& a, const std::string& b,
+                        const std::string& b_text) {
+    const auto dir = testing::SweepFolder(name);
+    StoreMeta meta =
+        HandMeta({"base", "tracker.resampling.method"}, "tracker.resampling.method", {"mota"}, 40);
+    StoredExpansion grid;
+    grid.grid = {{"base", {a, b}}, {"tracker.resampling.method", {"systematic", "charged"}}};
+    grid.seeds = 10;
+    RecordExpansion(&meta, grid);
+    meta.base_resolved = "# base: " + a + "\nseed: 5\nframes: 10\n# base: " + b + "\n" + b_text;
+    PutHandRuns(
+        dir, meta, 40, 10,
+        [a, b](int64_t i) {
+          return std::vector<std::string>{i < 20 ? a : b,
+                                          (i / 10) % 2 == 0 ? "systematic" : "charged"};
+        },
+        [](int64_t i) {
+          const bool charged = (i / 10) % 2 == 1, second = i >= 20;
+          return !charged ? 0.9 : (second ? (i % 10 < 9 ? 1.0 : 0.5) : 0.9);
+        });
+    return dir;
+  };
+  const std::string b_text = "seed: 6\nframes: 20\n";
+  const fs::path here = store("report-against-bases", "a.yaml", "b.yaml", b_text);
+  const fs::path there =
+      store("report-against-bases-there", "/elsewhere/a.yaml", "/elsewhere/b.yaml", b_text);
+  const ReportResult r = WriteReport({.dir = here.string(), .against = there.string()});
+  EXPECT_EQ(r.replication_comparisons, 1);  // mota, charged − systematic on b
+  EXPECT_EQ(r.replication_cells, 4);
+  // b's scenario differs there (frames 30): only a's two cells meet.
+  const fs::path other = store("report-against-bases-other", "/elsewhere/a.yaml",
+                               "/elsewhere/b.yaml", "seed: 6\nframes: 30\n");
+  const ReportResult o = WriteReport({.dir = here.string(), .against = other.string()});
+  EXPECT_EQ(o.replication_comparisons, 0);
+  EXPECT_EQ(o.replication_cells, 2);
+}
+
 // A store that holds no run yet (an empty shard) names the sweep's swept
 // values from its expansion, and set against another store says why nothing
 // is compared again (an audit of valid input: "frames = ; tracker.particles

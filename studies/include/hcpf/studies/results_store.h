@@ -85,6 +85,12 @@ void SetRootSeedMeta(const SweepSpec& spec, StoreMeta& meta);
 // sweep file's `seed:` is 1)." Markdown (backticks for code).
 std::string RootSeedSentence(const StoreMeta& meta);
 
+// Each base scenario's resolved YAML, by the value naming it, from a
+// grid.base sweep's base_resolved (every base's text headed by
+// "# base: VALUE", in the order of the expansion's values). Empty when the
+// store sweeps no base, records no expansion, or its text lacks a head.
+std::map<std::string, std::string> ResolvedBases(const StoreMeta& meta);
+
 // When a store holds fewer rows than the sweep has runs (a sweep stopped
 // before its end, one shard of several): a sentence saying how many are
 // missing and how to get them, for reports and exports made of the rest.

@@ -465,11 +465,19 @@ std::string PlotSvg(const Layout& layout, const std::string& metric, const std::
   // The smallest and largest value drawn (means and band edges), for the y axis.
   double y_min = std::numeric_limits<double>::infinity();
   double y_max = -std::numeric_limits<double>::infinity();
+  // Cells with values of the metric but none of report.x_metric, which
+  // places them: an empty plot then names the x axis's metric, not the one
+  // drawn (a panel of runs that do not measure it: an audit).
+  bool unplaced = false;
   for (size_t l = 0; l < lines.size(); ++l) {
     std::vector<std::pair<double, const Cell*>> points;
     for (const Cell* c : layout.line_cells.at(lines[l])) {
       const double x = layout.XPosition(*c);
-      if (!std::isnan(x)) points.push_back({x, c});
+      if (!std::isnan(x)) {
+        points.push_back({x, c});
+      } else if (!layout.x_metric.empty() && c->stats.at(metric).n > 0) {
+        unplaced = true;
+      }
     }
     // A measured x (x_metric) keeps the order of the swept values along the
     // line; otherwise points go left to right.
@@ -683,10 +691,13 @@ std::string PlotSvg(const Layout& layout, const std::string& metric, const std::
     // Nothing to draw (no finished run, or no run with this metric: an
     // external tracker has no particle filters to score). An empty frame on a
     // linear axis: [0, 1] is not a range a log axis can take.
-    gp +=
-        "unset logscale x\nunset logscale y\n"
-        "set label 1 'no values of this metric' at graph 0.5, 0.5 center\n"
-        "plot [0:1] [0:1] NaN notitle\n";
+    gp += "unset logscale x\nunset logscale y\n" +
+          fmt::format(
+              "set label 1 {} at graph 0.5, 0.5 center noenhanced\n",
+              GpString(unplaced ? fmt::format("no values of {}, the x axis, {}", layout.x_metric,
+                                              panel.empty() ? "in these runs" : "in this panel")
+                                : std::string("no values of this metric"))) +
+          "plot [0:1] [0:1] NaN notitle\n";
   } else {
     gp += "plot " + fmt::format("{}", fmt::join(plots, ", \\\n     ")) + "\n";
   }

@@ -3012,6 +3012,45 @@ TEST(Report, AnXMetricNoRunMeasuredIsNamed) {
             std::string::npos);
 }
 
+// A panel whose runs measure the metric drawn but not report.x_metric (the
+// simulated runs of a sweep over the observation source have no detection
+// size) names the x axis's metric in its empty plot; it said "no values of
+// this metric" of a metric each of its runs measured (an audit of valid
+// input). The other panel is drawn.
+TEST(Report, APanelWithoutTheXMetricNamesIt) {
+  const auto dir = testing::SweepFolder("report-panel-x-unmeasured");
+  StoreMeta meta = HandMeta({"observation.source", "tracker.particles"}, "", {"mota"}, 4);
+  meta.report.x = "tracker.particles";
+  meta.report.x_metric = "det_size_px";
+  meta.report.panels = "observation.source";
+  auto store = ResultsStore::OpenOrCreate((dir / "results.sqlite").string(), meta);
+  for (int i = 0; i < 4; ++i) {
+    RunRecord r;
+    r.key = "k" + std::to_string(i);
+    r.index = i;
+    const bool rendered = i >= 2;
+    r.values = {rendered ? "rendered" : "simulated", i % 2 == 0 ? "100" : "1000"};
+    r.ok = true;
+    r.run_dir = "runs/" + r.key;
+    fs::create_directories(dir / r.run_dir);
+    r.metrics["mota"] = 0.5;
+    if (rendered) r.metrics["det_size_px"] = 20.0 + i;
+    store->Put(r);
+  }
+  const fs::path kept = dir / "kept";
+  WriteReport({.dir = dir.string(), .gnuplot = KeepingGnuplot(dir, kept).string()});
+  int named = 0, drawn = 0;
+  for (const auto& entry : fs::directory_iterator(kept)) {
+    if (entry.path().extension() != ".gp") continue;
+    const std::string gp = Read(entry.path());
+    EXPECT_EQ(gp.find("no values of this metric"), std::string::npos) << gp;
+    named += gp.find("'no values of det_size_px, the x axis, in this panel'") != std::string::npos;
+    drawn += gp.find("with linespoints") != std::string::npos;
+  }
+  EXPECT_EQ(named, 1);  // mota's simulated panel
+  EXPECT_GE(drawn, 1);  // its rendered panel
+}
+
 // Without a series there is nothing to compare: no findings, no file.
 // A report that fails part-way (here a full disk: RLIMIT_FSIZE one byte
 // under report.html's size, in a forked child) leaves the earlier report's

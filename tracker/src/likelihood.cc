@@ -41,10 +41,16 @@ using Component = internal::MixtureComponent;
 
 constexpr size_t kWeightChunk = 256;
 // Below this a mixture sum may be subnormal (FastLog is exact only for normal
-// numbers, and FastExpF flushes exponents below -87 to zero): such particles
-// are recomputed with the exact log-sum-exp. 1e-300 leaves eight decades of
-// margin above DBL_MIN ~ 2.2e-308.
+// numbers): such particles are recomputed with the exact log-sum-exp. 1e-300
+// leaves eight decades of margin above DBL_MIN ~ 2.2e-308.
 constexpr double kTinySum = 1e-300;
+// FastExpF flushes exponents below kMixtureUnderflow (-87) to zero, so the
+// fast sum may leave out up to W e^-87 (W: the components' weights summed).
+// A particle whose sum + clutter is below W e^(-87 + 37) may thus be off by
+// more than 2^-53 relative and is recomputed exactly: with no clutter, a
+// particle 13σ from one detection and 13.2σ from ten others lost the ten
+// (1.5 nats: a review).
+constexpr double kFlushMarginLog = 37.0;
 
 // Per-component quadratic exponent of particle i.
 inline double Exponent(const Component& c, double x, double y, double log_s, double inv_2s2,
@@ -149,6 +155,11 @@ bool DetectionsMixtureLikelihood::AddLogLikelihood(ParticleSet& set,
   // Far detections of other targets then cost nothing.
   const double negligible_log = clutter > 0.0 ? log_clutter - 60.0 * std::numbers::ln2
                                               : -std::numeric_limits<double>::infinity();
+  // Where the fast sum is exact to double resolution (kFlushMarginLog).
+  double total_weight = 0.0;
+  for (const Component& c : comps) total_weight += c.weight;
+  const double exact_below =
+      std::max(kTinySum, total_weight * std::exp(internal::kMixtureUnderflow + kFlushMarginLog));
   std::vector<Component> active;
   active.reserve(comps.size());
   std::array<double, kWeightChunk> sum;
@@ -188,13 +199,13 @@ bool DetectionsMixtureLikelihood::AddLogLikelihood(ParticleSet& set,
                  m);
     double* log_w = set.log_w.data() + begin;
     bool any_tiny = false;
-    for (size_t i = 0; i < m; ++i) any_tiny |= (sum[i] + clutter) < kTinySum;
+    for (size_t i = 0; i < m; ++i) any_tiny |= (sum[i] + clutter) < exact_below;
     if (!any_tiny) {
       AddLogOfSum(sum.data(), clutter, log_w, m);
       continue;
     }
     for (size_t i = 0; i < m; ++i) {
-      if (sum[i] + clutter < kTinySum) {
+      if (sum[i] + clutter < exact_below) {
         const double ls = use_size ? std::log(s[i]) : 0.0;
         log_w[i] += ExactLogMixture(comps, log_clutter, px[i], py[i], ls, inv_2s2, inv_2ss2);
       } else {

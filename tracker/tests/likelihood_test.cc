@@ -184,6 +184,52 @@ TEST(DetectionsMixtureLikelihood, ManyParticlesMatchScalarFormula) {
   }
 }
 
+// Without clutter, terms past the vectorised exp's flush limit (exponent
+// -87, 13.2σ) are not negligible against a sum that is itself near it: a
+// particle at exponent -86.5 from one detection and -87.5 from ten others
+// lost the ten (1.54 nats, a review). Such particles are recomputed exactly;
+// along a line from 0 to 25σ every particle matches the formula to the fast
+// path's bound.
+TEST(DetectionsMixtureLikelihood, TermsPastTheFlushLimitCountWithoutClutter) {
+  LikelihoodOptions o;
+  o.sigma_px = 3.0;  // exponent -d² / 18
+  o.clutter_density = 0.0;
+  DetectionsMixtureLikelihood lik(o);
+  Observation obs;
+  obs.detections.push_back(Det(std::sqrt(86.5 * 18.0), 0.0));
+  for (int k = 0; k < 10; ++k) {
+    const double angle = 0.5 + 0.2 * k;
+    const double r = std::sqrt(87.5 * 18.0);
+    obs.detections.push_back(Det(r * std::cos(angle), r * std::sin(angle)));
+  }
+  const double w = 1.0 / (2.0 * std::numbers::pi * 9.0);
+  ParticleSet one = At({{0.0, 0.0}});
+  lik.AddLogLikelihood(one, {.observation = &obs});
+  const double exact = std::log(w) + std::log(std::exp(-86.5) + 10.0 * std::exp(-87.5));
+  EXPECT_NEAR(one.log_w[0], exact, 1e-9);
+
+  std::vector<std::pair<double, double>> pts;
+  for (int i = 0; i <= 500; ++i) pts.emplace_back(-0.15 * i, -0.05 * i);  // 0 … 25σ
+  ParticleSet set = At(pts);
+  lik.AddLogLikelihood(set, {.observation = &obs});
+  for (size_t i = 0; i < pts.size(); ++i) {
+    double max_term = -INFINITY;
+    std::vector<double> terms;
+    for (const Detection& d : obs.detections) {
+      const double dx = pts[i].first - d.box.centre_x();
+      const double dy = pts[i].second - d.box.centre_y();
+      terms.push_back(std::log(w) - (dx * dx + dy * dy) / 18.0);
+      max_term = std::max(max_term, terms.back());
+    }
+    double total = 0.0;
+    for (const double t : terms) total += std::exp(t - max_term);
+    // The fast path's bound at this particle's largest exponent (as in
+    // ManyParticlesMatchScalarFormula); exact particles are well inside it.
+    const double e = std::log(w) - max_term;
+    ASSERT_NEAR(set.log_w[i], max_term + std::log(total), 2e-7 + 0x1p-24 * std::abs(e) + 1e-9) << i;
+  }
+}
+
 TEST(MapLikelihood, BilinearSampleAndFloor) {
   // 2x2 cells of 10 px, values [[0, 1], [2, 3]]: (10, 10) is midway between
   // the four cell centres -> 1.5; (5, 5) is cell (0,0)'s centre -> 0 -> floor.

@@ -29,6 +29,15 @@ void AssociationOptions::Validate(std::string_view prefix) const {
 
 std::optional<double> GatedCost(const TrackPrediction& track, const Detection& detection,
                                 const AssociationOptions& options) {
+  // A box with a non-finite side is no position (a broken detector output):
+  // never gated in, as the likelihoods ignore it. The IoU's min and max let
+  // a NaN left through (a review: it passed at IoU 0.6, counted as the
+  // filter's support).
+  const BoxPx& b = detection.box;
+  if (!std::isfinite(b.left) || !std::isfinite(b.top) || !std::isfinite(b.width) ||
+      !std::isfinite(b.height)) {
+    return std::nullopt;
+  }
   if (options.gate == GateKind::kIou) {
     const double iou = Iou(track.box, detection.box);
     if (iou < options.min_iou || iou <= 0.0) return std::nullopt;

@@ -125,6 +125,29 @@ TEST(GatedCost, IouGate) {
   EXPECT_FALSE(GatedCost(Track(0, 0), DetAt(5, 0), o).has_value());
 }
 
+// A detection box with a non-finite side is never gated in, by either gate
+// (the IoU gate took a NaN left for an overlap of 0.6: a review).
+TEST(GatedCost, NonFiniteBoxesAreNeverGatedIn) {
+  for (const GateKind gate : {GateKind::kIou, GateKind::kMahalanobis}) {
+    AssociationOptions o;
+    o.gate = gate;
+    o.min_iou = 0.1;
+    o.measurement_sigma_px = 5.0;
+    ASSERT_TRUE(GatedCost(Track(0, 0), DetAt(1, 0), o).has_value());
+    for (int side = 0; side < 4; ++side) {
+      for (const double bad : {std::nan(""), std::numeric_limits<double>::infinity()}) {
+        Detection d = DetAt(1, 0);
+        (side == 0   ? d.box.left
+         : side == 1 ? d.box.top
+         : side == 2 ? d.box.width
+                     : d.box.height) = bad;
+        EXPECT_FALSE(GatedCost(Track(0, 0), d, o).has_value())
+            << static_cast<int>(gate) << " side " << side << " " << bad;
+      }
+    }
+  }
+}
+
 TEST(MrfInteraction, HandComputedPenalty) {
   // lambda 2, r 10, particle 10 px from the other filter's mean:
   // log w -= 2 exp(-100 / 200) = 2 e^-0.5 = 1.2130613.

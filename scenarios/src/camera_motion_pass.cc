@@ -1,5 +1,6 @@
 #include "camera_motion_pass.h"
 
+#include <Eigen/Geometry>
 #include <Eigen/LU>
 #include <cmath>
 #include <complex>
@@ -40,6 +41,26 @@ SimilarityMotion BestSimilarity(const Eigen::Matrix3d& h, int width, int height)
   }
   if (p.size() < 2) return {};
   return FitComplexSimilarity(p, q).motion();
+}
+
+Eigen::Vector2d GroundTruthBirthVelocity(const Scenario& scenario, int frame, ObjectId id) {
+  const bool compensated = scenario.tracker.camera_motion != tracker::CameraMotionMode::kNone;
+  const auto truth = [&](int f) { return ComputeGroundTruth(scenario.world, f); };
+  if (frame >= 0 && frame + 1 < scenario.world.frames) {
+    const FrameGroundTruth now = truth(frame), next = truth(frame + 1);
+    if (const auto v = ImageVelocity(now, next, id, compensated)) {
+      if (!compensated) return *v;
+      const SimilarityMotion m = BestSimilarity(
+          FrameToFrame(now, next), scenario.world.camera.width_px, scenario.world.camera.height_px);
+      const Eigen::Vector2d back =
+          std::exp(-m.log_scale) * (Eigen::Rotation2Dd(-m.rotation_rad) * *v);
+      if (back.allFinite()) return back;
+    }
+  }
+  if (frame >= 1 && frame < scenario.world.frames) {
+    if (const auto v = ImageVelocity(truth(frame - 1), truth(frame), id, compensated)) return *v;
+  }
+  return Eigen::Vector2d::Zero();
 }
 
 CameraMotionPass::CameraMotionPass(const Scenario& scenario)

@@ -34,6 +34,18 @@ struct CameraMotionRecord {
 // width x height image (closed form: complex linear regression).
 SimilarityMotion BestSimilarity(const Eigen::Matrix3d& h, int width, int height);
 
+// tracker.management.birth_velocity: ground_truth. Target `id`'s image motion
+// from `frame` to the next (ImageVelocity; from the frame before at the last
+// frame or when it is gone by the next), without the camera's motion when
+// tracker.camera_motion applies that to the particles separately; zero when
+// neither pair of frames holds it. With the camera's motion applied, the
+// filter's next prediction turns its velocity by that motion's linear part
+// (sR v, tracker::ApplyCameraMotion) before adding it, so the displacement
+// measured in the next frame's pixels is returned through (sR)^-1 (the best
+// similarity of the true frame-to-frame homography): born so, the filter
+// moves by the truth's own displacement.
+Eigen::Vector2d GroundTruthBirthVelocity(const Scenario& scenario, int frame, ObjectId id);
+
 class CameraMotionPass {
  public:
   explicit CameraMotionPass(const Scenario& scenario);

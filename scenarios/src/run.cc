@@ -44,23 +44,6 @@ double Seconds(Clock::time_point since) {
   return std::chrono::duration<double>(Clock::now() - since).count();
 }
 
-// tracker.management.birth_velocity: ground_truth. Target `id`'s image motion
-// from `frame` to the next (ImageVelocity, from the frame before at the last
-// frame or when it is gone by the next), without the camera's motion when
-// tracker.camera_motion applies that to the particles separately; zero when
-// neither pair of frames holds it.
-Eigen::Vector2d GroundTruthBirthVelocity(const Scenario& scenario, int frame, ObjectId id) {
-  const bool compensated = scenario.tracker.camera_motion != tracker::CameraMotionMode::kNone;
-  const auto velocity = [&](int from) -> std::optional<Eigen::Vector2d> {
-    if (from < 0 || from + 1 >= scenario.world.frames) return std::nullopt;
-    return ImageVelocity(ComputeGroundTruth(scenario.world, from),
-                         ComputeGroundTruth(scenario.world, from + 1), id, compensated);
-  };
-  if (const auto forward = velocity(frame)) return *forward;
-  if (const auto backward = velocity(frame - 1)) return *backward;
-  return Eigen::Vector2d::Zero();
-}
-
 }  // namespace
 
 RunSummary RunScenario(const Scenario& scenario, const RunOptions& options) {
@@ -198,7 +181,7 @@ RunSummary RunScenario(const Scenario& scenario, const RunOptions& options) {
           // tracker.management.birth_velocity: at rest, or the target's own.
           Eigen::Vector2d velocity = Eigen::Vector2d::Zero();
           if (tracker_options.management.birth_velocity == tracker::BirthVelocity::kGroundTruth) {
-            velocity = GroundTruthBirthVelocity(scenario, gt.frame, o.id);
+            velocity = internal::GroundTruthBirthVelocity(scenario, gt.frame, o.id);
           }
           tracker->BirthTrack(TrackId{Value(o.id)}, o.amodal_box, velocity);
         }

@@ -144,9 +144,9 @@ Command AddSweepCommand(CLI::App& parent) {
         const CacheLimit cache_limit(rendered ? sweep_options.frame_cache_dir : "");
         CacheLimit::HideFromChildren();
         // Said once: by rank 0 under an MPI launcher.
-        if (const std::string note = studies::SeedsForHolmNote(spec);
-            !note.empty() && studies::IsFirstLaunchedRank()) {
-          spdlog::warn("{}", note);
+        for (const std::string& note :
+             {studies::ZippedPoolNote(spec), studies::SeedsForHolmNote(spec)}) {
+          if (!note.empty() && studies::IsFirstLaunchedRank()) spdlog::warn("{}", note);
         }
         // Ctrl-C (or a batch system's SIGTERM) still ends the sweep at once,
         // losing the runs in flight; it now also says how to go on. Under

@@ -52,8 +52,9 @@ Command AddValidateCommand(CLI::App& parent) {
               const int seeds = std::max(spec.seeds, 1);
               spdlog::info("{}: valid sweep: {} runs ({} cells x {} seed(s)), every scenario valid",
                            options->file, runs.size(), runs.size() / seeds, seeds);
-              if (const std::string note = studies::SeedsForHolmNote(spec); !note.empty()) {
-                spdlog::warn("{}", note);
+              for (const std::string& note :
+                   {studies::ZippedPoolNote(spec), studies::SeedsForHolmNote(spec)}) {
+                if (!note.empty()) spdlog::warn("{}", note);
               }
               return 0;
             }

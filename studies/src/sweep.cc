@@ -368,13 +368,17 @@ std::string SeedsForHolmNote(const SweepSpec& spec) {
     if (std::find(report.pool.begin(), report.pool.end(), a.key) != report.pool.end())
       pooled *= static_cast<double>(a.values.size());
   }
-  const bool zip_pooled = std::any_of(spec.zip.begin(), spec.zip.end(), [&](const SweepAxis& a) {
+  const auto is_pooled = [&](const SweepAxis& a) {
     return std::find(report.pool.begin(), report.pool.end(), a.key) != report.pool.end();
-  });
-  if (zip_pooled) {
+  };
+  if (std::any_of(spec.zip.begin(), spec.zip.end(), is_pooled)) {
     // Pooling the zip would pool the series zipped in it: no comparison to count.
     if (series_zipped) return {};
-    pooled *= zip_length;
+    // A zip key pooled beside one that is not pools nothing: each zip
+    // position is still its own cell (it holds the one pooled value its
+    // position gives). Until 2026-12-06 its values were counted as pooled,
+    // and the comparisons as a third of what the report makes.
+    if (std::all_of(spec.zip.begin(), spec.zip.end(), is_pooled)) pooled *= zip_length;
   }
   const double values = static_cast<double>(series->values.size());
   // Timings are not tested (MachineDependent): not in the family.
@@ -432,6 +436,24 @@ std::string SeedsForHolmNote(const SweepSpec& spec) {
                                  static_cast<int>(pooled))
                    : "",
       why, needed);
+}
+
+std::string ZippedPoolNote(const SweepSpec& spec) {
+  const auto pooled = [&](const std::string& key) {
+    return std::find(spec.report.pool.begin(), spec.report.pool.end(), key) !=
+           spec.report.pool.end();
+  };
+  std::vector<std::string> in, out;
+  for (const SweepAxis& a : spec.zip) (pooled(a.key) ? in : out).push_back(a.key);
+  if (in.empty() || out.empty()) return {};
+  return fmt::format(
+      "{}: report.pool lists {} but not {}, zipped with {}: each zip position is still its "
+      "own cell, holding the one value of {} its position gives, so the report pools nothing "
+      "of {}. Pool every zip key, or sweep {} in grid: to pool {} within each cell",
+      spec.file.empty() ? std::string("sweep") : spec.file, fmt::join(in, ", "),
+      fmt::join(out, ", "), in.size() == 1 ? "it" : "them", in.size() == 1 ? "it" : "each",
+      in.size() == 1 ? "it" : "them", fmt::join(in, ", "),
+      in.size() == 1 ? "its values" : "their values");
 }
 
 std::vector<std::string> SweepSpec::SweptKeys() const {

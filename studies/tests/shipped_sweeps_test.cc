@@ -69,6 +69,7 @@ TEST(ShippedSweeps, ComparisonsHaveTheSeedsHolmNeeds) {
         name == "detector-sun-confirm.yaml")
       continue;
     const SweepSpec spec = LoadSweepFile(entry.path().string());
+    EXPECT_EQ(ZippedPoolNote(spec), "") << entry.path();
     if (spec.report.reference.empty()) continue;
     ++checked;
     EXPECT_EQ(SeedsForHolmNote(spec), "") << entry.path();

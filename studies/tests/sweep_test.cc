@@ -310,6 +310,34 @@ TEST(Sweep, SeedsTooFewForHolmAreSaidBeforeTheSweepRuns) {
       << note;
   EXPECT_NE(note.find("7 seeds at least are needed (more where"), std::string::npos) << note;
   EXPECT_EQ(SeedsForHolmNote(LoadSweepFile(WriteSweep(dir, pooled + "seeds: 7\n"))), "");
+  // A pooled key zipped with one that is not pools nothing: method x 3 zip
+  // positions of (azimuth, particles), azimuth pooled, y [mota]: each
+  // position is its own cell, 3 comparisons (p < 0.0167), and 6 seeds'
+  // floor 2/64 = 0.03125 cannot reach it. The note counted the 3 azimuths
+  // as pooled (1 comparison, p < 0.05) and said nothing.
+  {
+    const std::string half_pooled =
+        "base: base.yaml\ngrid:\n  tracker.resampling.method: [systematic, charged]\nzip:\n"
+        "  world.sun.azimuth_deg: [0, 90, 180]\n  tracker.particles: [10, 20, 40]\n"
+        "report: {x: tracker.particles, series: tracker.resampling.method, pool: "
+        "[world.sun.azimuth_deg], y: [mota]}\n";
+    note = SeedsForHolmNote(LoadSweepFile(WriteSweep(dir, half_pooled + "seeds: 6\n")));
+    EXPECT_NE(note.find("with 6 seeds each paired comparison of the report "
+                        "(tracker.resampling.method against systematic) has 6 pairs: the "
+                        "signed-rank test cannot give p below 0.0312, and Holm's correction "
+                        "over the report's 3 paired comparisons"),
+              std::string::npos)
+        << note;  // And said so before anything runs.
+    const std::string zipped_pool =
+        ZippedPoolNote(LoadSweepFile(WriteSweep(dir, half_pooled + "seeds: 6\n")));
+    EXPECT_TRUE(zipped_pool.ends_with(
+        "sweep.yaml: report.pool lists world.sun.azimuth_deg but not tracker.particles, zipped "
+        "with it: each zip position is still its own cell, holding the one value of it its "
+        "position gives, so the report pools nothing of it. Pool every zip key, or sweep "
+        "world.sun.azimuth_deg in grid: to pool its values within each cell"))
+        << zipped_pool;
+    EXPECT_EQ(ZippedPoolNote(LoadSweepFile(WriteSweep(dir, pooled + "seeds: 6\n"))), "");
+  }
   // A series zipped with another key: 2 particle counts x 3 zip positions,
   // the 2 positions but the reference's compared, y [mota, idf1]: 8
   // comparisons (p < 0.00625 without Tarone's rule; with it K = 7, as above:

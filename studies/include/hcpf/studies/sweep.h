@@ -166,9 +166,16 @@ SweepSpec LoadSweepText(const std::string& text, const std::string& file_name,
 // be enough; "" when they are, without report.series or with fewer than 2
 // seeds (one run per cell: nothing to pair). A series zipped with other keys
 // counts a comparison per zip position but the reference's. Pooled values
-// count as more pairs. The count is the most the report
-// can make (a metric without pairs in a cell is not a comparison).
+// add no pairs (a seed's pooled runs are averaged into one value). The count
+// is the most the report can make (a metric without pairs in a cell is not a
+// comparison).
 std::string SeedsForHolmNote(const SweepSpec& spec);
+
+// Before anything runs: a warning when report.pool lists a zip key zipped
+// with a key it does not list: each zip position is then still its own cell,
+// holding the one value of the pooled key its position gives, so nothing of
+// that key is pooled. "" otherwise.
+std::string ZippedPoolNote(const SweepSpec& spec);
 
 // The run list in expansion order (see top). Every run's scenario is loaded
 // and validated; a bad swept value throws InputError naming the sweep file

@@ -327,7 +327,8 @@ TEST(Sweep, SeedsTooFewForHolmAreSaidBeforeTheSweepRuns) {
                         "signed-rank test cannot give p below 0.0312, and Holm's correction "
                         "over the report's 3 paired comparisons"),
               std::string::npos)
-        << note;  // And said so before anything runs.
+        << note;
+    // And said so before anything runs.
     const std::string zipped_pool =
         ZippedPoolNote(LoadSweepFile(WriteSweep(dir, half_pooled + "seeds: 6\n")));
     EXPECT_TRUE(zipped_pool.ends_with(

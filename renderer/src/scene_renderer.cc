@@ -48,7 +48,7 @@ using internal::GlApi;
 
 constexpr double kDegToRad = std::numbers::pi / 180.0;
 constexpr double kNearM = 0.5;
-constexpr int kMaxTargets = 255;
+constexpr int kMaxTargets = kMaxRenderedTargets;
 // Lighting (linear units; albedo * (ambient + sun * N.L * lit)).
 const Eigen::Vector3f kSunColor{0.95f, 0.92f, 0.85f};
 const Eigen::Vector3f kSkyAmbient{0.36f, 0.40f, 0.46f};

@@ -23,6 +23,7 @@
 #include "hcpf/core/subprocess.h"
 #include "hcpf/core/text_file.h"
 #include "hcpf/metrics/detection_truth.h"
+#include "hcpf/renderer/renderer.h"
 #include "hcpf/scenarios/frames.h"
 #include "hcpf/scenarios/models.h"
 #include "hcpf/scenarios/scenario.h"
@@ -578,6 +579,35 @@ Scenario ReadScenario(YamlReader root, const std::string& file) {
   if (auto t = root.Optional("tracker")) ReadTracker(*t, &s);
   if (auto m = root.Optional("metrics")) ReadMetrics(*m, &s.metrics);
   root.Finish();
+  // What the renderer can draw, checked at load when the run renders (a
+  // rendered source, or frames written beside a detection-level run), so
+  // `hcpf validate` refuses what `hcpf run` would (a scale audit: 256 targets
+  // validated, then every run failed after its GL context, at no line).
+  const bool renders = s.observation.source == ObservationSource::kRendered ||
+                       s.renderer.write_frames || s.renderer.write_depth ||
+                       s.renderer.write_instance_ids;
+  if (renders && s.world.targets.size() > static_cast<size_t>(renderer::kMaxRenderedTargets)) {
+    targets.Fail(
+        fmt::format("at most {} targets where the run renders (observation.source: rendered, or "
+                    "renderer.write_frames, write_depth or write_instance_ids): the renderer "
+                    "marks each pixel's target in 8 bits",
+                    renderer::kMaxRenderedTargets));
+  }
+  // A 16-bit instance image holds ids up to 65534 (id + 1; ids up to 10^9
+  // were clamped to 65535, two targets then one value: a scale audit).
+  if (s.renderer.write_instance_ids) {
+    size_t k = 0;  // targets.Items() in the order they were read
+    for (YamlReader t : targets.Items()) {
+      const int32_t id = Value(s.world.targets[k++].id);
+      if (id <= renderer::kMaxInstanceImageId) continue;
+      (t.Has("id") ? t.Child("id") : t)
+          .Fail(fmt::format("an id of at most {} with renderer.write_instance_ids (its 16-bit "
+                            "_ids.png holds id + 1)",
+                            renderer::kMaxInstanceImageId),
+                std::to_string(id));
+    }
+  }
+
   // Every module's own checks (ranges and cross-field rules), run at load
   // time so `hcpf validate` and `hcpf run` accept the same scenarios; an error
   // is reported at the line of the key it names.

@@ -2,6 +2,7 @@
 // names the file, the line (and column), the dotted key, what was expected and
 // what was found. Each case lists substrings that must all be in the message.
 
+#include <fmt/format.h>
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -33,6 +34,19 @@ std::string Replace(std::string text, const std::string& from, const std::string
   const size_t at = text.find(from);
   if (at == std::string::npos) throw std::logic_error("test text lacks: " + from);
   return text.replace(at, from.size(), to);
+}
+
+// kMinimal with `n` targets (ids 1 … n, each on its own lane) in place of its two.
+std::string ManyTargets(const std::string& m, int n) {
+  std::string targets = "targets:\n";
+  for (int i = 1; i <= n; ++i) {
+    targets += fmt::format(
+        "  - {{id: {}, dimensions_m: [4, 2, 1.5], path: {{waypoints: [[-20, {}], [20, {}]], "
+        "speed_mps: 6}}}}\n",
+        i, i % 40 - 20, i % 40 - 20);
+  }
+  const size_t from = m.find("targets:\n"), to = m.find("tracker:\n");
+  return m.substr(0, from) + targets + m.substr(to);
 }
 
 std::vector<BadCase> Cases() {
@@ -433,6 +447,18 @@ std::vector<BadCase> Cases() {
        Replace(m, "name: minimal", "name: \"  \""),
        {},
        {"bad.yaml:1:7:", "name", "expected a name with a visible character", "found \"  \""}},
+      // What the renderer can draw, refused at load where the run renders
+      // (a scale audit: validated, then every run failed at no line).
+      {"InstanceIdsPastSixteenBits",
+       Replace(m, "  - id: 2\n", "  - id: 70000\n") + "renderer: {write_instance_ids: true}\n",
+       {},
+       {"bad.yaml:13:9:", "expected an id of at most 65534 with renderer.write_instance_ids",
+        "found \"70000\""}},
+      {"MoreTargetsThanTheRendererDraws",
+       ManyTargets(m, 256) + "observation: {source: rendered}\n",
+       {},
+       {"bad.yaml:10:3:", "targets", "expected at most 255 targets where the run renders",
+        "found a list of 256 item(s)"}},
       {"NulByteIsEscaped",
        Replace(m, "frames: 20\n",
                std::string("frames: 2\0"
@@ -461,6 +487,15 @@ TEST_P(BadInput, IsRejectedWithLocationKeyExpectedAndFound) {
 
 // What a map likelihood needs, accepted: the oracle's maps, a model-based
 // detector's.
+// Past the renderer's 255 targets and 16-bit ids, a run that does not
+// render is valid.
+TEST(BadInputFile, ManyTargetsAndLargeIdsAreValidWithoutRendering) {
+  EXPECT_NO_THROW(LoadScenarioText(ManyTargets(kMinimal, 256), "ok.yaml"));
+  EXPECT_NO_THROW(LoadScenarioText(
+      Replace(kMinimal, "  - id: 2\n", "  - id: 70000\n") + "observation: {source: rendered}\n",
+      "ok.yaml"));
+}
+
 TEST(BadInputFile, MapLikelihoodWithMapsIsAccepted) {
   const std::string m = kMinimal;
   EXPECT_NO_THROW(LoadScenarioText(

@@ -39,6 +39,13 @@
 
 namespace hcpf::renderer {
 
+// The most targets one scene renders: the colour pass carries each pixel's
+// target in its 8-bit alpha channel, 0 for none.
+inline constexpr int kMaxRenderedTargets = 255;
+// The largest target id a 16-bit instance image (`_ids.png`: id + 1, 0 for
+// none) holds.
+inline constexpr int32_t kMaxInstanceImageId = 65534;
+
 // Effects applied to the rendered 8-bit image, in this order: exposure,
 // blur, noise, JPEG. Randomness from Rng::Fork("renderer/sensor", frame).
 struct SensorOptions {

@@ -2183,22 +2183,48 @@ struct ReplicationTable {
 // Whether two spellings of a swept value are one value: the same text,
 // or the same YAML with numbers compared as numbers (3 and 3.0, 0.1 and
 // 0.10, [320, 240] and [320.0, 240]).
+// A number as a sweep file may spell it: a whole number (digits, with an
+// optional sign, up to 2^64 − 1) kept exactly, or any finite decimal.
+struct SpelledNumber {
+  bool whole = false;
+  bool negative = false;
+  uint64_t magnitude = 0;  // whole numbers (0 is never negative)
+  double value = 0.0;
+};
+
+std::optional<SpelledNumber> ReadSpelledNumber(std::string text) {
+  if (!text.empty() && text.front() == '+') text.erase(0, 1);
+  SpelledNumber n;
+  const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), n.value);
+  if (ec != std::errc() || end != text.data() + text.size() || !std::isfinite(n.value)) {
+    return std::nullopt;
+  }
+  const bool minus = !text.empty() && text.front() == '-';
+  const std::string digits = minus ? text.substr(1) : text;
+  if (!digits.empty() && digits.find_first_not_of("0123456789") == std::string::npos) {
+    const auto [at, error] =
+        std::from_chars(digits.data(), digits.data() + digits.size(), n.magnitude);
+    n.whole = error == std::errc() && at == digits.data() + digits.size();
+    n.negative = minus && n.magnitude != 0;
+  }
+  return n;
+}
+
 bool SameYamlValue(const YAML::Node& a, const YAML::Node& b) {
   if (a.Type() != b.Type()) return false;
   if (a.IsScalar()) {
     const std::string& x = a.Scalar();
     const std::string& y = b.Scalar();
     if (x == y) return true;
-    const auto number = [](const std::string& text) -> std::optional<double> {
-      double v = 0.0;
-      const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), v);
-      if (ec != std::errc() || end != text.data() + text.size() || !std::isfinite(v)) {
-        return std::nullopt;
-      }
-      return v;
-    };
-    const auto u = number(x), v = number(y);
-    return u && v && *u == *v;
+    const std::optional<SpelledNumber> u = ReadSpelledNumber(x), v = ReadSpelledNumber(y);
+    if (!u || !v) return false;
+    // Whole numbers as written compare exactly (two seeds past 2^53 round
+    // to one double: a review); a whole number past 2^53 equals no
+    // fraction or exponent spelling.
+    if (u->whole && v->whole) return u->negative == v->negative && u->magnitude == v->magnitude;
+    constexpr uint64_t kExact = uint64_t{1} << 53;
+    if ((u->whole && u->magnitude > kExact) || (v->whole && v->magnitude > kExact)) return false;
+    return u->value == v->value;
   }
   if (a.IsSequence()) {
     if (a.size() != b.size()) return false;
@@ -2233,10 +2259,12 @@ bool SameSpelledValue(const std::string& a, const std::string& b) {
 // other whose resolved scenarios are the same (an audit of valid input:
 // such stores of one sweep matched no cell). Returns a line per value
 // respelled, for the log.
+// `bases_there`: ResolvedBases of the other store's meta as it was read
+// (its expansion is dropped when it lists the keys in another order).
 std::vector<std::string> RespellAsHere(const std::vector<RunRecord>& runs, const StoreMeta& meta,
+                                       const std::map<std::string, std::string>& bases_there,
                                        AgainstStore& other) {
   const std::map<std::string, std::string> bases_here = ResolvedBases(meta);
-  const std::map<std::string, std::string> bases_there = ResolvedBases(other.meta);
   std::vector<std::string> lines;
   for (size_t k = 0; k < meta.swept_keys.size(); ++k) {
     const std::string& key = meta.swept_keys[k];
@@ -2314,6 +2342,7 @@ std::unique_ptr<AgainstStore> OpenAgainst(const std::string& against, const fs::
   const auto store =
       ResultsStore::Open((fs::path(against) / "results.sqlite").string(), StoreAccess::kReadOnly);
   other->meta = store->meta();
+  const std::map<std::string, std::string> bases_there = ResolvedBases(other->meta);
   // The same keys listed in another order (grid: in another order in the
   // other sweep file, the same runs): its rows are read in this store's
   // order (an audit of valid input: refused). Which keys are zipped is then
@@ -2348,7 +2377,7 @@ std::unique_ptr<AgainstStore> OpenAgainst(const std::string& against, const fs::
       r.values = std::move(values);
     }
   }
-  for (const std::string& line : RespellAsHere(runs, meta, *other)) {
+  for (const std::string& line : RespellAsHere(runs, meta, bases_there, *other)) {
     spdlog::info("report: --against: {}", line);
   }
   other->cells = CellsOf(other->runs, other->meta);

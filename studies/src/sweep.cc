@@ -342,6 +342,28 @@ void CheckDetectionFileSeeds(const SweepSpec& spec, const scenarios::Scenario& s
       "folder the detector ran on; seeds: N then varies the tracker and observation seeds");
 }
 
+// Whether report.pool lists `key`.
+bool Pooled(const ReportSpec& report, const std::string& key) {
+  return std::find(report.pool.begin(), report.pool.end(), key) != report.pool.end();
+}
+
+// The cells the zip's positions make in the report: positions with the same
+// values of the zip keys report.pool does not list share one (their pooled
+// keys read "all"). The zip's length when none is pooled; 1 when all are (or
+// without a zip).
+size_t ZipCells(const SweepSpec& spec) {
+  if (spec.zip.empty()) return 1;
+  std::set<std::vector<std::string>> cells;
+  for (size_t i = 0; i < spec.zip.front().values.size(); ++i) {
+    std::vector<std::string> kept;
+    for (const SweepAxis& a : spec.zip) {
+      if (!Pooled(spec.report, a.key)) kept.push_back(a.values[i]);
+    }
+    cells.insert(std::move(kept));
+  }
+  return cells.size();
+}
+
 }  // namespace
 
 std::string SeedsForHolmNote(const SweepSpec& spec) {
@@ -351,35 +373,27 @@ std::string SeedsForHolmNote(const SweepSpec& spec) {
   // The series is a grid key, or a zip key (each zip position then a series
   // value, the other zip keys following it: they pair with the reference's).
   const SweepAxis* series = nullptr;
-  bool series_zipped = false;
   if (const auto g = std::find_if(spec.grid.begin(), spec.grid.end(), is_series);
       g != spec.grid.end()) {
     series = &*g;
   } else if (const auto z = std::find_if(spec.zip.begin(), spec.zip.end(), is_series);
              z != spec.zip.end()) {
     series = &*z;
-    series_zipped = true;
   }
   if (series == nullptr || series->values.size() < 2) return {};
   const double zip_length = spec.zip.empty() ? 1.0 : static_cast<double>(spec.zip[0].values.size());
   double cells = zip_length, pooled = 1.0;
   for (const SweepAxis& a : spec.grid) {
     cells *= static_cast<double>(a.values.size());
-    if (std::find(report.pool.begin(), report.pool.end(), a.key) != report.pool.end())
-      pooled *= static_cast<double>(a.values.size());
+    if (Pooled(report, a.key)) pooled *= static_cast<double>(a.values.size());
   }
-  const auto is_pooled = [&](const SweepAxis& a) {
-    return std::find(report.pool.begin(), report.pool.end(), a.key) != report.pool.end();
-  };
-  if (std::any_of(spec.zip.begin(), spec.zip.end(), is_pooled)) {
-    // Pooling the zip would pool the series zipped in it: no comparison to count.
-    if (series_zipped) return {};
-    // A zip key pooled beside one that is not pools nothing: each zip
-    // position is still its own cell (it holds the one pooled value its
-    // position gives). Until 2026-12-06 its values were counted as pooled,
-    // and the comparisons as a third of what the report makes.
-    if (std::all_of(spec.zip.begin(), spec.zip.end(), is_pooled)) pooled *= zip_length;
-  }
+  // The zip's pooled keys pool the positions that share their values of the
+  // keys it does not pool (ZipCells): all of them when every zip key is
+  // pooled, none when those values differ at every position (the series
+  // zipped, say). Until 2026-12-06 a pooled zip key counted all its values
+  // as pooled beside an unpooled one, and a series zipped beside one made
+  // the note say nothing.
+  pooled *= zip_length / static_cast<double>(ZipCells(spec));
   const double values = static_cast<double>(series->values.size());
   // Timings are not tested (MachineDependent): not in the family.
   const auto tested = std::count_if(report.y.begin(), report.y.end(),
@@ -439,21 +453,39 @@ std::string SeedsForHolmNote(const SweepSpec& spec) {
 }
 
 std::string ZippedPoolNote(const SweepSpec& spec) {
-  const auto pooled = [&](const std::string& key) {
-    return std::find(spec.report.pool.begin(), spec.report.pool.end(), key) !=
-           spec.report.pool.end();
-  };
   std::vector<std::string> in, out;
-  for (const SweepAxis& a : spec.zip) (pooled(a.key) ? in : out).push_back(a.key);
+  for (const SweepAxis& a : spec.zip) (Pooled(spec.report, a.key) ? in : out).push_back(a.key);
   if (in.empty() || out.empty()) return {};
+  const size_t positions = spec.zip.front().values.size(), cells = ZipCells(spec);
+  if (cells == 1) return {};  // the unpooled keys never change: everything is pooled
+  const auto list = [](const std::vector<std::string>& keys) {
+    if (keys.size() == 1) return keys.front();
+    return fmt::format("{} and {}", fmt::join(keys.begin(), keys.end() - 1, ", "), keys.back());
+  };
+  const bool one = in.size() == 1;
+  const std::string what =
+      cells == positions
+          ? fmt::format(
+                "each zip position is still its own cell, holding the one value of {} "
+                "that its position gives, so the report pools nothing of {}",
+                one ? "it" : "each", one ? "it" : "them")
+          : fmt::format(
+                "only zip positions with the same values of {} share a cell ({} cells "
+                "of {} positions), so the report pools {} only there",
+                list(out), cells, positions, one ? "it" : "them");
+  // Pooling the other zip keys too is advice only where report.pool may list
+  // them (not x, the series or the panels).
+  const bool poolable = std::none_of(out.begin(), out.end(), [&](const std::string& k) {
+    return k == spec.report.x || k == spec.report.series || k == spec.report.panels;
+  });
   return fmt::format(
-      "{}: report.pool lists {} but not {}, zipped with {}: each zip position is still its "
-      "own cell, holding the one value of {} its position gives, so the report pools nothing "
-      "of {}. Pool every zip key, or sweep {} in grid: to pool {} within each cell",
-      spec.file.empty() ? std::string("sweep") : spec.file, fmt::join(in, ", "),
-      fmt::join(out, ", "), in.size() == 1 ? "it" : "them", in.size() == 1 ? "it" : "each",
-      in.size() == 1 ? "it" : "them", fmt::join(in, ", "),
-      in.size() == 1 ? "its values" : "their values");
+      "{}: report.pool lists {} but not {}, zipped with {}: {}. {}weep {} as a key of grid: to "
+      "pool {} within each cell (each cell then holds every value of {}, with every "
+      "combination of the other keys)",
+      spec.file.empty() ? std::string("sweep") : spec.file, list(in), list(out),
+      one ? "it" : "them", what,
+      poolable ? fmt::format("Pool {} too, or s", list(out)) : std::string("S"), list(in),
+      one ? "its values" : "their values", one ? "it" : "them");
 }
 
 std::vector<std::string> SweepSpec::SweptKeys() const {

@@ -2102,43 +2102,20 @@ TEST(Report, AgainstTheSameKeysInAnotherOrderReplicates) {
   EXPECT_EQ(r.replication_cells, 4);  // mota's four cell means (hijack_rate: none there)
 }
 
-// A store whose sweep file writes the same values otherwise (100.0 and 1e3
-// for 100 and 1000) is read in this store's spelling, so its cells meet
-// these (an audit of valid input: no comparison and no cell matched).
+// A store whose sweep file writes the same values otherwise (2.0 and 3e0
+// for 2 and 3) is read in this store's spelling, so its cells meet these
+// (an audit of valid input: no comparison and no cell matched). Whole
+// numbers compare exactly: two seeds past 2^53 that round to one double are
+// two values (a review: they were merged).
 TEST(Report, AgainstAStoreSpellingItsValuesOtherwiseReplicates) {
-  const fs::path here = HandStore("report-against-spelling");
-  const auto dir = testing::SweepFolder("report-against-spelling-there");
-  const StoreMeta meta = HandMeta({"tracker.particles", "tracker.resampling.method"},
-                                  "tracker.resampling.method", {"mota"}, 40);
-  PutHandRuns(
-      dir, meta, 40, 10,
-      [](int64_t i) {
-        return std::vector<std::string>{i < 20 ? "100.0" : "1e3",
-                                        (i / 10) % 2 == 0 ? "systematic" : "charged"};
-      },
-      [](int64_t i) {
-        const bool charged = (i / 10) % 2 == 1, many = i >= 20;
-        return !charged ? 0.9 : (many ? (i % 10 < 9 ? 1.0 : 0.5) : 0.9);
-      });
-  const ReportResult r = WriteReport({.dir = here.string(), .against = dir.string()});
-  EXPECT_EQ(r.replication_comparisons, 1);  // mota, charged − systematic at 1000
-  EXPECT_EQ(r.replication_cells, 4);
-}
-
-// grid.base paths written otherwise in the other sweep file (absolute for
-// relative) whose resolved scenarios are the same are the same cells; a
-// base whose resolved scenario differs is not.
-TEST(Report, AgainstAStoreNamingTheSameBasesOtherwiseReplicates) {
-  const auto store = [](const std::string& name, const std::string& a, const std::string& b,
-                        const std::string& b_text) {
+  // key {a, b} x method {systematic, charged} x 10 seeds; mota: charged at b
+  // 1.0 on nine seeds and 0.5 on the tenth, 0.9 elsewhere (a finding at b
+  // only).
+  const auto store = [](const std::string& name, const std::string& key, const std::string& a,
+                        const std::string& b) {
     const auto dir = testing::SweepFolder(name);
-    StoreMeta meta =
-        HandMeta({"base", "tracker.resampling.method"}, "tracker.resampling.method", {"mota"}, 40);
-    StoredExpansion grid;
-    grid.grid = {{"base", {a, b}}, {"tracker.resampling.method", {"systematic", "charged"}}};
-    grid.seeds = 10;
-    RecordExpansion(&meta, grid);
-    meta.base_resolved = "# base: " + a + "\nseed: 5\nframes: 10\n# base: " + b + "\n" + b_text;
+    const StoreMeta meta =
+        HandMeta({key, "tracker.resampling.method"}, "tracker.resampling.method", {"mota"}, 40);
     PutHandRuns(
         dir, meta, 40, 10,
         [a, b](int64_t i) {
@@ -2151,6 +2128,61 @@ TEST(Report, AgainstAStoreNamingTheSameBasesOtherwiseReplicates) {
         });
     return dir;
   };
+  const std::string sigma = "tracker.likelihood.sigma_px";
+  const fs::path here = store("report-against-spelling", sigma, "2", "3");
+  const fs::path there = store("report-against-spelling-there", sigma, "2.0", "+3e0");
+  const ReportResult r = WriteReport({.dir = here.string(), .against = there.string()});
+  EXPECT_EQ(r.replication_comparisons, 1);  // mota, charged − systematic at 3
+  EXPECT_EQ(r.replication_cells, 4);
+
+  const std::string seed = "seeds.world";
+  const fs::path big = store("report-against-big-seeds", seed, "1000", "18446744073709551614");
+  const fs::path other =
+      store("report-against-big-seeds-there", seed, "1000", "18446744073709551615");
+  const ReportResult o = WriteReport({.dir = big.string(), .against = other.string()});
+  EXPECT_EQ(o.replication_comparisons, 0);  // only the cells at 1000 meet, every pair tied
+  EXPECT_EQ(o.replication_cells, 2);
+}
+
+// grid.base paths written otherwise in the other sweep file (absolute for
+// relative) whose resolved scenarios are the same are the same cells; a
+// base whose resolved scenario differs is not.
+TEST(Report, AgainstAStoreNamingTheSameBasesOtherwiseReplicates) {
+  // `reversed`: the other sweep file lists its keys the other way round
+  // (its expansion is then dropped; the bases' texts were read from it:
+  // a review found them lost).
+  const auto store = [](const std::string& name, const std::string& a, const std::string& b,
+                        const std::string& b_text, bool reversed = false) {
+    const auto dir = testing::SweepFolder(name);
+    const std::string method = "tracker.resampling.method";
+    StoreMeta meta = HandMeta(reversed ? std::vector<std::string>{method, "base"}
+                                       : std::vector<std::string>{"base", method},
+                              method, {"mota"}, 40);
+    meta.report.x = "base";
+    StoredExpansion grid;
+    grid.grid = {{"base", {a, b}}, {method, {"systematic", "charged"}}};
+    if (reversed) std::swap(grid.grid[0], grid.grid[1]);
+    grid.seeds = 10;
+    RecordExpansion(&meta, grid);
+    meta.base_resolved = "# base: " + a + "\nseed: 5\nframes: 10\n# base: " + b + "\n" + b_text;
+    // Run i: base i / 20, method (i / 10) % 2, seed i % 10 (reversed: method
+    // i / 20, base (i / 10) % 2); mota: charged on b 1.0 on nine seeds and
+    // 0.5 on the tenth, 0.9 elsewhere.
+    PutHandRuns(
+        dir, meta, 40, 10,
+        [a, b, reversed](int64_t i) {
+          const bool second = reversed ? (i / 10) % 2 == 1 : i >= 20;
+          const bool charged = reversed ? i >= 20 : (i / 10) % 2 == 1;
+          const std::string base = second ? b : a, m = charged ? "charged" : "systematic";
+          return reversed ? std::vector<std::string>{m, base} : std::vector<std::string>{base, m};
+        },
+        [reversed](int64_t i) {
+          const bool second = reversed ? (i / 10) % 2 == 1 : i >= 20;
+          const bool charged = reversed ? i >= 20 : (i / 10) % 2 == 1;
+          return !charged ? 0.9 : (second ? (i % 10 < 9 ? 1.0 : 0.5) : 0.9);
+        });
+    return dir;
+  };
   const std::string b_text = "seed: 6\nframes: 20\n";
   const fs::path here = store("report-against-bases", "a.yaml", "b.yaml", b_text);
   const fs::path there =
@@ -2158,6 +2190,11 @@ TEST(Report, AgainstAStoreNamingTheSameBasesOtherwiseReplicates) {
   const ReportResult r = WriteReport({.dir = here.string(), .against = there.string()});
   EXPECT_EQ(r.replication_comparisons, 1);  // mota, charged − systematic on b
   EXPECT_EQ(r.replication_cells, 4);
+  const fs::path reversed = store("report-against-bases-reversed", "/elsewhere/a.yaml",
+                                  "/elsewhere/b.yaml", b_text, true);
+  const ReportResult v = WriteReport({.dir = here.string(), .against = reversed.string()});
+  EXPECT_EQ(v.replication_comparisons, 1);
+  EXPECT_EQ(v.replication_cells, 4);
   // b's scenario differs there (frames 30): only a's two cells meet.
   const fs::path other = store("report-against-bases-other", "/elsewhere/a.yaml",
                                "/elsewhere/b.yaml", "seed: 6\nframes: 30\n");

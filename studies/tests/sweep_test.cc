@@ -333,10 +333,29 @@ TEST(Sweep, SeedsTooFewForHolmAreSaidBeforeTheSweepRuns) {
         ZippedPoolNote(LoadSweepFile(WriteSweep(dir, half_pooled + "seeds: 6\n")));
     EXPECT_TRUE(zipped_pool.ends_with(
         "sweep.yaml: report.pool lists world.sun.azimuth_deg but not tracker.particles, zipped "
-        "with it: each zip position is still its own cell, holding the one value of it its "
-        "position gives, so the report pools nothing of it. Pool every zip key, or sweep "
-        "world.sun.azimuth_deg in grid: to pool its values within each cell"))
+        "with it: each zip position is still its own cell, holding the one value of it that "
+        "its position gives, so the report pools nothing of it. Sweep world.sun.azimuth_deg as "
+        "a key of grid: to pool its values within each cell (each cell then holds every value "
+        "of it, with every combination of the other keys)"))
         << zipped_pool;
+    // Positions sharing the unpooled key's value share a cell: pooled there
+    // (a review: "pools nothing" was said of 4 cells of 2 values each), and
+    // pooling the other key too is advice where it is neither x nor series.
+    const std::string shared =
+        "base: base.yaml\ngrid:\n  tracker.particles: [10, 20]\n"
+        "  tracker.resampling.method: [systematic, charged]\nzip:\n"
+        "  world.sun.azimuth_deg: [0, 90, 180, 270]\n  tracker.likelihood.sigma_px: [2, 2, 3, 3]\n"
+        "report: {x: tracker.particles, series: tracker.resampling.method, pool: "
+        "[world.sun.azimuth_deg], y: [mota]}\nseeds: 10\n";
+    EXPECT_TRUE(ZippedPoolNote(LoadSweepFile(WriteSweep(dir, shared)))
+                    .ends_with("only zip positions with the same values of "
+                               "tracker.likelihood.sigma_px share a cell (2 cells of 4 "
+                               "positions), so the report pools it only there. Pool "
+                               "tracker.likelihood.sigma_px too, or sweep world.sun.azimuth_deg as "
+                               "a key of grid: to pool its values within each cell (each cell "
+                               "then holds every value of it, with every combination of the other "
+                               "keys)"))
+        << ZippedPoolNote(LoadSweepFile(WriteSweep(dir, shared)));
     EXPECT_EQ(ZippedPoolNote(LoadSweepFile(WriteSweep(dir, pooled + "seeds: 6\n"))), "");
   }
   // A series zipped with another key: 2 particle counts x 3 zip positions,
@@ -359,6 +378,13 @@ TEST(Sweep, SeedsTooFewForHolmAreSaidBeforeTheSweepRuns) {
       << note;
   EXPECT_NE(note.find("9 seeds at least are needed (more where"), std::string::npos) << note;
   EXPECT_EQ(SeedsForHolmNote(LoadSweepFile(WriteSweep(dir, zipped + "seeds: 9\n"))), "");
+  // The key zipped with the series pooled: each position is still its own
+  // cell (the series differs at each), the same 8 comparisons; the note said
+  // nothing (a review).
+  std::string zipped_pooled = zipped;
+  zipped_pooled.replace(zipped_pooled.find("y: [mota"), 1,
+                        "pool: [tracker.likelihood.sigma_px], y");
+  EXPECT_EQ(SeedsForHolmNote(LoadSweepFile(WriteSweep(dir, zipped_pooled + "seeds: 8\n"))), note);
 }
 
 TEST(Sweep, NoSeedsKeepsTheBaseSeedAndSweepSeedChangesDerivedSeeds) {

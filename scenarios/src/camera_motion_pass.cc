@@ -48,13 +48,22 @@ Eigen::Vector2d GroundTruthBirthVelocity(const Scenario& scenario, int frame, Ob
   const auto truth = [&](int f) { return ComputeGroundTruth(scenario.world, f); };
   if (frame >= 0 && frame + 1 < scenario.world.frames) {
     const FrameGroundTruth now = truth(frame), next = truth(frame + 1);
-    if (const auto v = ImageVelocity(now, next, id, compensated)) {
-      if (!compensated) return *v;
+    if (const auto d = ImageVelocity(now, next, id, false)) {
+      if (!compensated) return *d;
+      // x(t+1) = S(x(t)) + sR v: v = (sR)^-1 (x(t+1) - S(x(t))), with S the
+      // best similarity of the true homography (what camera_motion: oracle
+      // applies).
       const SimilarityMotion m = BestSimilarity(
           FrameToFrame(now, next), scenario.world.camera.width_px, scenario.world.camera.height_px);
-      const Eigen::Vector2d back =
-          std::exp(-m.log_scale) * (Eigen::Rotation2Dd(-m.rotation_rad) * *v);
-      if (back.allFinite()) return back;
+      for (const GroundTruthObject& o : now.objects) {
+        if (o.id != id) continue;
+        const Eigen::Vector2d before(o.amodal_box.centre_x(), o.amodal_box.centre_y());
+        const Eigen::Rotation2Dd r(m.rotation_rad);
+        const double s = std::exp(m.log_scale);
+        const Eigen::Vector2d carried = s * (r * before) + Eigen::Vector2d(m.tx_px, m.ty_px);
+        const Eigen::Vector2d v = (r.inverse() * (before + *d - carried)) / s;
+        if (v.allFinite()) return v;
+      }
     }
   }
   if (frame >= 1 && frame < scenario.world.frames) {

@@ -35,15 +35,14 @@ struct CameraMotionRecord {
 SimilarityMotion BestSimilarity(const Eigen::Matrix3d& h, int width, int height);
 
 // tracker.management.birth_velocity: ground_truth. Target `id`'s image motion
-// from `frame` to the next (ImageVelocity; from the frame before at the last
-// frame or when it is gone by the next), without the camera's motion when
-// tracker.camera_motion applies that to the particles separately; zero when
-// neither pair of frames holds it. With the camera's motion applied, the
-// filter's next prediction turns its velocity by that motion's linear part
-// (sR v, tracker::ApplyCameraMotion) before adding it, so the displacement
-// measured in the next frame's pixels is returned through (sR)^-1 (the best
-// similarity of the true frame-to-frame homography): born so, the filter
-// moves by the truth's own displacement.
+// from `frame` to the next (from the frame before at the last frame, or when
+// it is gone by the next); zero when neither pair of frames holds it. When
+// tracker.camera_motion moves the particles, the tracker's model of the
+// next centre is S(x) + sR v (tracker::ApplyCameraMotion, then the
+// constant-velocity step), so the velocity is v = (sR)^-1 (x' - S(x)) with S
+// the best similarity of the true frame-to-frame homography, as
+// camera_motion: oracle applies it: born so, the filter's first prediction
+// without noise lands on the truth's next centre.
 Eigen::Vector2d GroundTruthBirthVelocity(const Scenario& scenario, int frame, ObjectId id);
 
 class CameraMotionPass {

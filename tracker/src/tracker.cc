@@ -482,6 +482,14 @@ void MultiTargetTracker::ManageTracks(const Observation& observation,
   std::vector<size_t> free_detections;
   for (size_t d = 0; d < observation.detections.size(); ++d) {
     if (assigned[d]) continue;
+    // A box with a non-finite side (a broken detector output) is no
+    // position: never gated in, never a birth (a review: with confirm_hits 1
+    // a NaN left was born as a NaN filter, a NaN width aborted).
+    const BoxPx& b = observation.detections[d].box;
+    if (!std::isfinite(b.left) || !std::isfinite(b.top) || !std::isfinite(b.width) ||
+        !std::isfinite(b.height)) {
+      continue;
+    }
     const bool gated = std::any_of(predictions.begin(), predictions.end(), [&](const auto& p) {
       return GatedCost(p, observation.detections[d], options_.association).has_value();
     });

@@ -191,7 +191,8 @@ fs::path StagingFolderFor(const fs::path& out) {
   return Absolute(out).string() + fmt::format(".partial-{}", ::getpid());
 }
 
-StagedFolder::StagedFolder(const fs::path& out) : out_(AbsoluteFolder(out)) {
+StagedFolder::StagedFolder(const fs::path& out, bool remove_stale_siblings)
+    : out_(AbsoluteFolder(out)) {
   std::error_code ec;
   const SourceLocation where{out_.string(), 0, 0, "--out"};
   const std::string why = WhyNotReplaceable(out_);
@@ -200,7 +201,8 @@ StagedFolder::StagedFolder(const fs::path& out) : out_(AbsoluteFolder(out)) {
         where, "a new or empty folder, or an earlier output folder of hcpf run or hcpf render", why,
         "nothing was changed; name another folder");
   }
-  RemoveStaleStagingFolders(out_.parent_path(), out_.filename().string());
+  if (remove_stale_siblings)
+    RemoveStaleStagingFolders(out_.parent_path(), out_.filename().string());
   partial_ = StagingFolderFor(out_);
   fs::remove_all(partial_, ec);
   fs::create_directories(partial_, ec);

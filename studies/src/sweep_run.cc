@@ -505,6 +505,9 @@ RunRecord ExecuteRun(const SweepRun& run, const SweepOptions& options,
     run_options.show_progress = false;
     run_options.frame_cache_dir = options.frame_cache_dir;
     run_options.video = options.video && run.seed_index == 0;
+    // PrepareSweep removed the staging folders of dead processes in runs/,
+    // and the folder lock keeps others out: not listed again per run.
+    run_options.remove_stale_siblings = false;
     executor.Execute(run, run_options);
     ReadRunFolderInto(run_options.out_dir, record);
     record.ok = true;

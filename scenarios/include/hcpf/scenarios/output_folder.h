@@ -29,9 +29,12 @@ class StagedFolder {
  public:
   // Checks `out` (InputError naming --out when it is a file or a foreign
   // folder), removes siblings "<out>.partial-<pid>" / "<out>.old-<pid>" left
-  // by processes that no longer run, and creates the partial folder (RunError
+  // by processes that no longer run (unless `remove_stale_siblings` is false:
+  // that lists the parent folder, and a sweep, which cleans its runs/ once
+  // under its folder lock, would list it once per run: a scale audit found
+  // a 20,000-run sweep quadratic), and creates the partial folder (RunError
   // on failure).
-  explicit StagedFolder(const std::filesystem::path& out);
+  explicit StagedFolder(const std::filesystem::path& out, bool remove_stale_siblings = true);
   // Removes the partial folder unless Publish() succeeded.
   ~StagedFolder();
   StagedFolder(const StagedFolder&) = delete;

@@ -26,6 +26,9 @@ struct RunOptions {
   bool show_progress = true;
   // Rendered scenarios: the frame cache folder ("" = render every time).
   std::string frame_cache_dir;
+  // Whether to remove the staging folders of dead processes beside out_dir
+  // (StagedFolder). A sweep does that once for its runs/ and sets this false.
+  bool remove_stale_siblings = true;
 };
 
 struct RunSummary {

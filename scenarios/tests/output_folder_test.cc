@@ -1,15 +1,14 @@
 // StagedFolder (output_folder.h): the staging folders of dead processes
 // beside an output.
 
+#include "hcpf/scenarios/output_folder.h"
+
+#include <gtest/gtest.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
-#include <gtest/gtest.h>
-
 #include <filesystem>
 #include <string>
-
-#include "hcpf/scenarios/output_folder.h"
 
 namespace hcpf::scenarios {
 namespace {
@@ -30,8 +29,8 @@ std::string DeadPid() {
 // itself (a sweep's runs/, listed once under its lock instead of once per
 // run: a scale audit found a 20,000-run sweep quadratic).
 TEST(StagedFolder, RemovesADeadProcesssStagingFolderUnlessAskedNotTo) {
-  const fs::path dir = fs::path(::testing::TempDir()) /
-                       ("hcpf-staged-" + std::to_string(::getpid()));
+  const fs::path dir =
+      fs::path(::testing::TempDir()) / ("hcpf-staged-" + std::to_string(::getpid()));
   fs::remove_all(dir);
   fs::create_directories(dir);
   const std::string dead = DeadPid();

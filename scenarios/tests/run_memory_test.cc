@@ -1,11 +1,10 @@
 // What a run holds while it runs: frame by frame data the tracker has read
 // is not kept for every frame.
 
+#include <gtest/gtest.h>
 #include <sys/resource.h>
 #include <sys/wait.h>
 #include <unistd.h>
-
-#include <gtest/gtest.h>
 
 #include <filesystem>
 #include <fstream>
@@ -38,15 +37,15 @@ long ResidentKb() {
 // run, in a child, must peak less than 100 MB above the test's own memory
 // (its truth, reports and files take about 10 KB a frame).
 TEST(RunMemory, TheOraclesLikelihoodMapsAreNotKeptForEveryFrame) {
-  const Scenario s = LoadScenarioText(
-      testing::kMinimal, "minimal.yaml",
-      {ParseOverride("frames=1000"), ParseOverride("tracker.particles=20"),
-       ParseOverride("tracker.resampling.method=systematic"),
-       ParseOverride("tracker.likelihood.model=map"),
-       ParseOverride("observation.simulated.likelihood_map=true"),
-       ParseOverride("observation.simulated.map_cell_px=1")});
-  const fs::path out = fs::path(::testing::TempDir()) /
-                       ("hcpf-run-memory-" + std::to_string(::getpid()));
+  const Scenario s =
+      LoadScenarioText(testing::kMinimal, "minimal.yaml",
+                       {ParseOverride("frames=1000"), ParseOverride("tracker.particles=20"),
+                        ParseOverride("tracker.resampling.method=systematic"),
+                        ParseOverride("tracker.likelihood.model=map"),
+                        ParseOverride("observation.simulated.likelihood_map=true"),
+                        ParseOverride("observation.simulated.map_cell_px=1")});
+  const fs::path out =
+      fs::path(::testing::TempDir()) / ("hcpf-run-memory-" + std::to_string(::getpid()));
   fs::remove_all(out);
   const long before_kb = ResidentKb();
   const pid_t child = fork();

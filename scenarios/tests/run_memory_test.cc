@@ -37,6 +37,12 @@ long ResidentKb() {
 // run, in a child, must peak less than 100 MB above the test's own memory
 // (its truth, reports and files take about 10 KB a frame).
 TEST(RunMemory, TheOraclesLikelihoodMapsAreNotKeptForEveryFrame) {
+#if defined(__SANITIZE_ADDRESS__)
+  // AddressSanitizer keeps freed memory in its quarantine (256 MB by
+  // default), so a run that frees each map peaks as one that keeps them.
+  GTEST_SKIP() << "peak memory is not measured under AddressSanitizer (its quarantine holds "
+                  "freed memory)";
+#endif
   const Scenario s =
       LoadScenarioText(testing::kMinimal, "minimal.yaml",
                        {ParseOverride("frames=1000"), ParseOverride("tracker.particles=20"),

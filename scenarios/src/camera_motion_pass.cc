@@ -1,6 +1,5 @@
 #include "camera_motion_pass.h"
 
-#include <Eigen/Geometry>
 #include <Eigen/LU>
 #include <cmath>
 #include <complex>
@@ -55,13 +54,13 @@ Eigen::Vector2d GroundTruthBirthVelocity(const Scenario& scenario, int frame, Ob
       // applies).
       const SimilarityMotion m = BestSimilarity(
           FrameToFrame(now, next), scenario.world.camera.width_px, scenario.world.camera.height_px);
+      // (sR)^-1 as a similarity of its own, without translation.
+      const SimilarityMotion linear_inverse{.log_scale = -m.log_scale,
+                                            .rotation_rad = -m.rotation_rad};
       for (const GroundTruthObject& o : now.objects) {
         if (o.id != id) continue;
         const Eigen::Vector2d before(o.amodal_box.centre_x(), o.amodal_box.centre_y());
-        const Eigen::Rotation2Dd r(m.rotation_rad);
-        const double s = std::exp(m.log_scale);
-        const Eigen::Vector2d carried = s * (r * before) + Eigen::Vector2d(m.tx_px, m.ty_px);
-        const Eigen::Vector2d v = (r.inverse() * (before + *d - carried)) / s;
+        const Eigen::Vector2d v = Apply(linear_inverse, before + *d - Apply(m, before));
         if (v.allFinite()) return v;
       }
     }

@@ -105,8 +105,8 @@ bool DetectionPass::Detects(ObjectId target) const {
                      [&](const vision::TargetModel& m) { return m.target == target; });
 }
 
-const Observation& DetectionPass::Add(const renderer::RenderedFrame& frame,
-                                      std::span<const vision::SearchWindow> windows) {
+Observation& DetectionPass::Add(const renderer::RenderedFrame& frame,
+                                std::span<const vision::SearchWindow> windows) {
   if (detector_->uses_models()) {
     for (const GroundTruthObject& o : frame.ground_truth.objects) {
       // Cut when the target is first wholly inside the image and mostly

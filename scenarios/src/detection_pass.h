@@ -35,20 +35,11 @@ class DetectionPass {
   DetectionPass(const Scenario& scenario, const std::string& cache_dir);
   // Detects in `frame` (searching each model's window, when given, else the
   // whole frame) and returns the frame's observation.
-  const Observation& Add(const renderer::RenderedFrame& frame,
-                         std::span<const vision::SearchWindow> windows = {});
+  Observation& Add(const renderer::RenderedFrame& frame,
+                   std::span<const vision::SearchWindow> windows = {});
   int frames_from_cache() const { return from_cache_; }
   // The observations of every frame added, in order.
   std::vector<Observation> Take() { return std::move(observations_); }
-  // Frees the likelihood maps of the frame last added, once the tracker has
-  // read them: nothing after the tracker needs them, and kept for every
-  // frame they grew without bound (a scale audit: 155 KB a frame for SKS
-  // and PRCA at 640x480, 1 GB at 6000 frames).
-  void ReleaseMaps() {
-    if (observations_.empty()) return;
-    std::vector<TargetMap>().swap(observations_.back().target_maps);
-    observations_.back().likelihood.reset();
-  }
   const std::vector<vision::TargetModel>& models() const { return models_; }
   // Whether the detector can report `target` from the frame last added on:
   // always for a model-free detector, once its model is cut for a model-based

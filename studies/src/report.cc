@@ -2183,6 +2183,33 @@ struct ReplicationTable {
 // Whether two spellings of a swept value are one value: the same text,
 // or the same YAML with numbers compared as numbers (3 and 3.0, 0.1 and
 // 0.10, [320, 240] and [320.0, 240]).
+// Each of `keys` swept keys' values, each once, in order of first
+// appearance: the sweep's where `expansion` is given (a store's recorded
+// expansion: its rows are held to it), whatever runs there are, else the
+// runs'.
+std::vector<std::vector<std::string>> SweptValues(const std::vector<RunRecord>& runs, size_t keys,
+                                                  const std::optional<StoredExpansion>& expansion) {
+  std::vector<std::vector<std::string>> values(keys);
+  const auto add = [&values](size_t k, const std::string& v) {
+    if (k < values.size() && std::find(values[k].begin(), values[k].end(), v) == values[k].end())
+      values[k].push_back(v);
+  };
+  if (expansion) {
+    size_t k = 0;
+    for (const auto* axes : {&expansion->grid, &expansion->zip}) {
+      for (const StoredExpansion::Axis& a : *axes) {
+        for (const std::string& v : a.values) add(k, v);
+        ++k;
+      }
+    }
+    return values;
+  }
+  for (const RunRecord& r : runs) {
+    for (size_t k = 0; k < r.values.size(); ++k) add(k, r.values[k]);
+  }
+  return values;
+}
+
 // A number as a sweep file may spell it: a whole number (digits, with an
 // optional sign, up to 2^64 − 1) kept exactly, or any finite decimal.
 struct SpelledNumber {
@@ -2265,26 +2292,18 @@ std::vector<std::string> RespellAsHere(const std::vector<RunRecord>& runs, const
                                        const std::map<std::string, std::string>& bases_there,
                                        AgainstStore& other) {
   const std::map<std::string, std::string> bases_here = ResolvedBases(meta);
+  const size_t keys = meta.swept_keys.size();
+  const std::vector<std::vector<std::string>> values_here = SweptValues(runs, keys, meta.expansion);
+  // There: the values its runs hold.
+  const std::vector<std::vector<std::string>> values_there =
+      SweptValues(other.runs, keys, std::nullopt);
   std::vector<std::string> lines;
-  for (size_t k = 0; k < meta.swept_keys.size(); ++k) {
+  for (size_t k = 0; k < keys; ++k) {
     const std::string& key = meta.swept_keys[k];
-    std::set<std::string> here, there;
-    for (const RunRecord& r : runs) {
-      if (k < r.values.size()) here.insert(r.values[k]);
-    }
-    if (meta.expansion) {
-      for (const auto* axes : {&meta.expansion->grid, &meta.expansion->zip}) {
-        for (const StoredExpansion::Axis& a : *axes) {
-          if (a.key == key) here.insert(a.values.begin(), a.values.end());
-        }
-      }
-    }
-    for (const RunRecord& r : other.runs) {
-      if (k < r.values.size()) there.insert(r.values[k]);
-    }
+    const std::vector<std::string>& here = values_here[k];
     std::map<std::string, std::string> respelled;
-    for (const std::string& v : there) {
-      if (here.count(v) != 0) continue;
+    for (const std::string& v : values_there[k]) {
+      if (std::find(here.begin(), here.end(), v) != here.end()) continue;
       std::vector<std::string> same;
       for (const std::string& u : here) {
         bool equal = false;
@@ -2767,27 +2786,15 @@ std::string AbsentFoldersSentence(int64_t absent, int64_t finished, const fs::pa
 // seed 7 and its sub-seeds, with nothing to say that no run used them).
 std::string BaseScenarioNote(const std::vector<RunRecord>& runs, const StoreMeta& meta,
                              const fs::path& dir, const std::string& link_prefix) {
-  // Each swept key's values, each once: the sweep's where the store records
-  // its expansion, whatever runs it holds (an audit: an empty shard's page
-  // read "frames = ; tracker.particles = "), else the runs'.
-  std::vector<std::vector<std::string>> values(meta.swept_keys.size());
-  const auto add = [&values](size_t k, const std::string& v) {
-    if (k < values.size() && std::find(values[k].begin(), values[k].end(), v) == values[k].end())
-      values[k].push_back(v);
-  };
+  // Each swept key's values, each once (an audit: an empty shard's page
+  // read "frames = ; tracker.particles = ").
+  const std::vector<std::vector<std::string>> values =
+      SweptValues(runs, meta.swept_keys.size(), meta.expansion);
   const RunRecord* first = nullptr;  // the first finished run whose folder is there
   for (const RunRecord& r : runs) {
-    if (first == nullptr && r.ok && HasRunFolder(dir, r)) first = &r;
-    if (meta.expansion) continue;
-    for (size_t k = 0; k < r.values.size(); ++k) add(k, r.values[k]);
-  }
-  if (meta.expansion) {
-    size_t k = 0;
-    for (const auto* axes : {&meta.expansion->grid, &meta.expansion->zip}) {
-      for (const StoredExpansion::Axis& a : *axes) {
-        for (const std::string& v : a.values) add(k, v);
-        ++k;
-      }
+    if (r.ok && HasRunFolder(dir, r)) {
+      first = &r;
+      break;
     }
   }
   std::vector<std::string> set;

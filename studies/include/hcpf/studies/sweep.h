@@ -172,9 +172,10 @@ SweepSpec LoadSweepText(const std::string& text, const std::string& file_name,
 std::string SeedsForHolmNote(const SweepSpec& spec);
 
 // Before anything runs: a warning when report.pool lists a zip key zipped
-// with a key it does not list: each zip position is then still its own cell,
-// holding the one value of the pooled key its position gives, so nothing of
-// that key is pooled. "" otherwise.
+// with a key it does not list: only the zip positions that share their
+// values of the unpooled keys share a cell, so the pooled key is pooled only
+// there (nowhere when those values differ at every position). "" otherwise,
+// and when the unpooled keys never change (everything is pooled).
 std::string ZippedPoolNote(const SweepSpec& spec);
 
 // The run list in expansion order (see top). Every run's scenario is loaded

@@ -97,6 +97,17 @@ SceneFrames ProduceFrames(const Scenario& scenario, const FrameSourceOptions& op
   if (cache) NoteScene(cache->dir(), note);  // a folder cached before notes were kept
   // Misses are stored on a worker thread while the next frame renders.
   std::unique_ptr<renderer::FrameCacheWriter> cache_writer;
+  const int workers = std::max(1, options.workers);
+  // The spool (FrameSourceOptions::spool_dir): every frame stored on a worker
+  // thread as the cache stores its misses, where no frame cache keeps them.
+  std::unique_ptr<renderer::FrameCacheWriter> spool_writer;
+  if (!options.spool_dir.empty()) {
+    out.readback_root = cache ? options.cache_dir : options.spool_dir;
+    if (!cache) {
+      spool_writer = std::make_unique<renderer::FrameCacheWriter>(
+          renderer::FrameCache(options.spool_dir, out.pixel_hash), workers > 1 ? 1 : 4, workers);
+    }
+  }
   std::unique_ptr<renderer::SceneRenderer> scene;  // created on the first cache miss
   // "frames", not "render": from a warm cache nothing is rendered (an audit
   // saw "render 240/240" for frames read from the cache).
@@ -112,7 +123,6 @@ SceneFrames ProduceFrames(const Scenario& scenario, const FrameSourceOptions& op
   // are those of Render(f) frame after frame for any number of workers.
   // Declared last: destroyed first, it waits for its jobs before what they
   // use goes.
-  const int workers = std::max(1, options.workers);
   OrderedWorkers finisher(workers);
   const auto finish = [&](renderer::RenderedFrame frame, bool rendered) {
     auto shared = std::make_shared<renderer::RenderedFrame>(std::move(frame));
@@ -132,6 +142,7 @@ SceneFrames ProduceFrames(const Scenario& scenario, const FrameSourceOptions& op
             }
             cache_writer->Submit(frame);  // a copy: the frame is used below
           }
+          if (spool_writer) spool_writer->Submit(frame);
           if (options.on_frame) options.on_frame(frame);
           out.frame_digests.push_back(FrameDigest(frame.rgb));
           out.truth.push_back(options.analytic_truth
@@ -173,6 +184,7 @@ SceneFrames ProduceFrames(const Scenario& scenario, const FrameSourceOptions& op
   }
   finisher.Wait();
   if (cache_writer) cache_writer->Finish();
+  if (spool_writer) spool_writer->Finish();
   progress.Finish();
   if (out.frames_from_cache > 0) {
     spdlog::log(RunSummaryLevel(options.show_progress),
@@ -188,6 +200,38 @@ SceneFrames ProduceFrames(const Scenario& scenario, const FrameSourceOptions& op
     }
   }
   return out;
+}
+
+std::function<RgbImage(int frame)> ReadBackFrames(const Scenario& scenario,
+                                                  const SceneFrames& frames) {
+  HCPF_CHECK(!frames.readback_root.empty()) << "frames produced without a spool_dir";
+  struct State {
+    renderer::FrameCache store;
+    std::vector<std::string> digests;
+    std::unique_ptr<renderer::SceneRenderer> renderer;  // created on the first miss
+  };
+  auto state = std::make_shared<State>(
+      State{renderer::FrameCache(frames.readback_root, frames.pixel_hash), frames.frame_digests});
+  return [&scenario, state](int f) -> RgbImage {
+    HCPF_CHECK(f >= 0 && static_cast<size_t>(f) < state->digests.size())
+        << "frame " << f << " of " << state->digests.size();
+    const std::string& digest = state->digests[static_cast<size_t>(f)];
+    std::optional<renderer::RenderedFrame> frame = state->store.Load(f);
+    if (frame && FrameDigest(frame->rgb) == digest) return std::move(frame->rgb);
+    if (!state->renderer) {
+      spdlog::warn(
+          "frame {} is gone from {}, or holds other pixels there (the frame cache pruned or "
+          "rewritten while the run ran?): it is rendered again, as is any other such frame",
+          f + 1, state->store.dir().string());
+      state->renderer = renderer::SceneRenderer::Create(scenario.world, RendererOptionsOf(scenario),
+                                                        Rng(scenario.seeds.renderer));
+    }
+    renderer::RenderedFrame again = state->renderer->Render(f);
+    if (FrameDigest(again.rgb) != digest) {
+      spdlog::warn("frame {} rendered again differs from the run's (another GL renderer?)", f + 1);
+    }
+    return std::move(again.rgb);
+  };
 }
 
 std::string FrameDigest(const RgbImage& image) {

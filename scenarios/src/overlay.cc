@@ -199,18 +199,6 @@ void CheckVideoFits(const Scenario& scenario, const std::string& option) {
       "nothing was run; leave out " + option + " or lower camera.resolution");
 }
 
-std::string VideoMemoryNote(const Scenario& scenario) {
-  if (scenario.observation.source != ObservationSource::kRendered) return {};
-  const double bytes = 3.0 * scenario.world.camera.width_px * scenario.world.camera.height_px *
-                       scenario.world.frames;
-  if (bytes <= 256.0 * 1024 * 1024) return {};
-  return fmt::format(
-      "--video: the run keeps every rendered frame until it writes the video, about {:.1f} GB "
-      "for {} frames of {}x{} (a sweep's --video runs once per cell, each job holding its own)",
-      bytes / 1e9, scenario.world.frames, scenario.world.camera.width_px,
-      scenario.world.camera.height_px);
-}
-
 OverlayVideo WriteOverlayVideo(const std::string& path, const Scenario& scenario,
                                const OverlayContent& content, const OverlayFrameSource& frame_at) {
   const std::span<const FrameGroundTruth> truth = content.truth;

@@ -113,5 +113,45 @@ TEST_F(Frames, AFailureWhileFinishingAFrameStopsTheRun) {
   EXPECT_EQ(finished, 3);
 }
 
+// A rendered run's overlay video reads its frames back one at a time
+// (ReadBackFrames) instead of holding them all (a scale audit: 1.8 GB for
+// 2000 frames of 640x480). Without a frame cache they are spooled, with one
+// they are read from it; a frame the cache lost, or holds with other pixels,
+// is rendered again.
+TEST_F(Frames, ReadBackGivesEachFrameFromTheSpoolOrTheCache) {
+  const Scenario s = Noisy();
+  auto reference =
+      renderer::SceneRenderer::Create(s.world, RendererOptionsOf(s), Rng(s.seeds.renderer));
+  std::vector<RgbImage> expected;
+  for (int f = 0; f < s.world.frames; ++f) expected.push_back(reference->Render(f).rgb);
+  const fs::path dir = FreshDir("frames-read-back");
+  FrameSourceOptions options;
+  options.show_progress = false;
+  options.spool_dir = (dir / "spool").string();
+  {
+    SCOPED_TRACE("no cache: spooled");
+    const SceneFrames out = ProduceFrames(s, options);
+    EXPECT_TRUE(out.images.empty());
+    EXPECT_EQ(out.readback_root, options.spool_dir);
+    const auto read = ReadBackFrames(s, out);
+    for (int f = 0; f < s.world.frames; ++f) EXPECT_EQ(read(f), expected[f]) << "frame " << f;
+    const renderer::FrameCache spool(options.spool_dir, out.pixel_hash);
+    for (int f = 0; f < s.world.frames; ++f) EXPECT_TRUE(spool.Contains(f)) << "frame " << f;
+  }
+  fs::remove_all(options.spool_dir);
+  options.cache_dir = (dir / "cache").string();
+  const SceneFrames out = ProduceFrames(s, options);
+  EXPECT_EQ(out.readback_root, options.cache_dir);
+  EXPECT_FALSE(fs::exists(options.spool_dir)) << "the frame cache holds the frames already";
+  // Frame 2 lost, frame 4 holding frame 3's pixels: both rendered again.
+  const fs::path scene = fs::path(options.cache_dir) / out.pixel_hash;
+  fs::remove(scene / "000002.frame");
+  fs::copy_file(scene / "000003.frame", scene / "000004.frame",
+                fs::copy_options::overwrite_existing);
+  ASSERT_NE(expected[3], expected[4]);
+  const auto read = ReadBackFrames(s, out);
+  for (int f = 0; f < s.world.frames; ++f) EXPECT_EQ(read(f), expected[f]) << "frame " << f;
+}
+
 }  // namespace
 }  // namespace hcpf::scenarios

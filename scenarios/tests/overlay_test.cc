@@ -50,25 +50,6 @@ Clip PlainClip(const Scenario& scenario, int frames, std::array<uint8_t, 3> rgb)
   return clip;
 }
 
-// --video keeps a rendered run's frames until it writes the video: said
-// before the run when that passes 256 MiB (3 bytes a pixel), never at
-// detection level.
-TEST(Overlay, AVideoOfManyRenderedFramesSaysWhatItHolds) {
-  const auto load = [](const std::string& frames, const std::string& source) {
-    return LoadScenarioText(
-        testing::kMinimal, "v.yaml",
-        {ParseOverride("frames=" + frames), ParseOverride("camera.resolution=[640, 480]"),
-         ParseOverride("observation.source=" + source)});
-  };
-  // 2000 x 640 x 480 x 3 = 1.84 GB; 200 frames 184 MB.
-  EXPECT_EQ(VideoMemoryNote(load("2000", "rendered")),
-            "--video: the run keeps every rendered frame until it writes the video, about 1.8 GB "
-            "for 2000 frames of 640x480 (a sweep's --video runs once per cell, each job holding "
-            "its own)");
-  EXPECT_EQ(VideoMemoryNote(load("200", "rendered")), "");
-  EXPECT_EQ(VideoMemoryNote(load("2000", "simulated")), "");
-}
-
 TEST(Overlay, VideoReadsBackWithFrameCountAndSize) {
   const auto dir = ::hcpf::testing::FreshDir("overlay");
   const Scenario scenario =

@@ -35,8 +35,14 @@ void MakeFrameCacheFolder(const std::filesystem::path& dir);
 
 struct FrameSourceOptions {
   bool render = false;       // render even when the scenario is at detection level
-  bool keep_images = false;  // keep the colour frames (videos, `hcpf render`)
-  std::string cache_dir;     // "" = no cache
+  bool keep_images = false;  // keep every colour frame in memory (SceneFrames::images)
+  // Rendered frames: keep them where ReadBackFrames reads them back later
+  // (an overlay video) without holding them in memory. The frame cache holds
+  // them when there is one; else they are stored here, compressed as the
+  // cache stores them (a frame cache of the run's own, which the caller
+  // removes). "" = neither.
+  std::string spool_dir;
+  std::string cache_dir;  // "" = no cache
   bool show_progress = true;
   // Rendered frames: called with every frame, rendered or read from the cache,
   // in frame order (to write images without keeping them all).
@@ -75,9 +81,21 @@ struct SceneFrames {
   // themselves, where pixel_hash is what shapes them (manifest
   // `frame_digests`; a det.txt's run compares them with its rendering's).
   std::vector<std::string> frame_digests;
+  // With FrameSourceOptions::spool_dir: the frame cache root that holds every
+  // frame under pixel_hash (the run's frame cache, or the spool).
+  std::string readback_root;
 };
 
 SceneFrames ProduceFrames(const Scenario& scenario, const FrameSourceOptions& options);
+
+// Frames produced with FrameSourceOptions::spool_dir, read back one at a time
+// from `frames.readback_root`: frame f's colour image, checked against
+// frames.frame_digests[f]. A frame the folder no longer holds, or holds with
+// other pixels (a frame cache pruned or rewritten while the run ran), is
+// rendered again, with a warning naming how many were. Each call of the
+// function returned reads one frame; it must not outlive `scenario`.
+std::function<RgbImage(int frame)> ReadBackFrames(const Scenario& scenario,
+                                                  const SceneFrames& frames);
 // A frame's entry of SceneFrames::frame_digests (the manifests'
 // `frame_digests`): XXH3-128 of its width, height and RGB pixels, as 32
 // lowercase hex digits.

@@ -101,11 +101,4 @@ std::string FitHeaderLine(const std::string& text, double scale, int max_width_p
 // run asked for a video does not fail at its end (a second bad-input audit).
 void CheckVideoFits(const Scenario& scenario, const std::string& option);
 
-// A warning when the overlay video of a rendered run would hold more than
-// 256 MiB of frames: the run keeps every rendered frame (width x height x 3
-// bytes) until it writes the video (a scale audit: 1.9 GB at 2000 frames of
-// 640x480, and no estimate said so). "" otherwise, and at detection level
-// (drawn on a plain background, frame by frame).
-std::string VideoMemoryNote(const Scenario& scenario);
-
 }  // namespace hcpf::scenarios

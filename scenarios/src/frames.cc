@@ -76,7 +76,13 @@ SceneFrames ProduceFrames(const Scenario& scenario, const FrameSourceOptions& op
   out.truth.reserve(frames);
   const bool render = options.render || scenario.observation.source == ObservationSource::kRendered;
   if (!render) {
-    for (int f = 0; f < frames; ++f) out.truth.push_back(ComputeGroundTruth(scenario.world, f));
+    // Seconds for hundreds of packed targets over thousands of frames.
+    Progress progress("ground truth", frames, options.show_progress);
+    for (int f = 0; f < frames; ++f) {
+      out.truth.push_back(ComputeGroundTruth(scenario.world, f));
+      progress.Advance();
+    }
+    progress.Finish();
     return out;
   }
   out.rendered = !options.analytic_truth;

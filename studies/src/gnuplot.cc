@@ -36,6 +36,40 @@ void RunGnuplot(const std::string& gnuplot, const fs::path& script) {
       status.signal != 0 ? status.signal : status.exit_code, script.string(), messages));
 }
 
+std::string SvgTerminal(int width, const std::string& height) {
+  return fmt::format("set terminal svg size {},{} dynamic font 'sans,11' background rgb 'white'\n",
+                     width, height);
+}
+
+std::string FitCanvasToBox(int width, int trial_height, int box_px, const fs::path& svg,
+                           const fs::path& box_file) {
+  std::string gp =
+      fmt::format("hcpf_height = int({} - (GPVAL_TERM_YMAX - GPVAL_TERM_YMIN) + {} + 0.5)\n",
+                  trial_height, box_px);
+  gp += SvgTerminal(width, "hcpf_height");
+  gp += fmt::format("set output {}\nreplot\n", GpString(svg.string()));
+  // The box, in px from the left and from the bottom, and the height.
+  gp += fmt::format(
+      "set print {}\nprint GPVAL_TERM_XMIN, GPVAL_TERM_XMAX, GPVAL_TERM_YMIN, "
+      "GPVAL_TERM_YMAX, hcpf_height\nunset print\n",
+      GpString(box_file.string()));
+  return gp;
+}
+
+std::optional<PlotBox> ReadPlotBox(const fs::path& box_file, int width) {
+  std::error_code ec;
+  if (!fs::is_regular_file(box_file, ec)) return std::nullopt;
+  std::istringstream in(ReadWholeFile(box_file));
+  double x0 = 0, x1 = 0, y0 = 0, y1 = 0;
+  int height = 0;
+  if (!(in >> x0 >> x1 >> y0 >> y1 >> height) || !(x0 >= 0 && x0 < x1 && x1 <= width) ||
+      !(y0 >= 0 && y0 < y1 && y1 <= height)) {
+    return std::nullopt;
+  }
+  return PlotBox{
+      .left = x0, .right = x1, .top = height - y1, .bottom = height - y0, .height = height};
+}
+
 std::string RunGnuplotToSvg(const std::string& gnuplot, const fs::path& script,
                             const std::string& gp, const fs::path& svg) {
   WriteTextFile(script.string(), gp);

@@ -4,6 +4,7 @@
 // an SVG file, and that file's <svg> element inlined into the page.
 
 #include <filesystem>
+#include <optional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -59,6 +60,32 @@ void PublishReportFiles(const std::filesystem::path& work, const std::filesystem
 // anything else, another sweep, a run folder or a symbolic link, is an
 // InputError naming what it holds, before anything is written.
 void CheckReportOut(const std::string& out_dir);
+
+// A plot's canvas that fits its key. The end of a gnuplot script whose
+// `plot` was drawn on a canvas `trial_height` tall: it reads where gnuplot
+// put the plot's box (GPVAL_TERM_YMIN / YMAX), sets the terminal to `width`
+// by the height that makes the box `box_px` tall, whatever the title, axis
+// labels and key take, and plots again into `svg`; then writes the box and
+// that height to `box_file` (ReadPlotBox). On a canvas of fixed height a key
+// of many entries took the plot's place (an audit: 18 targets' centre-error
+// lines left their plot 200 of 440 px; the timeline's key ran off its
+// canvas).
+std::string FitCanvasToBox(int width, int trial_height, int box_px,
+                           const std::filesystem::path& svg, const std::filesystem::path& box_file);
+
+// The terminal line of every plot: `width` by `height` px ("hcpf_height", the
+// gnuplot variable FitCanvasToBox sets, is taken as written).
+std::string SvgTerminal(int width, const std::string& height);
+
+// Where gnuplot drew a plot's box, in the SVG's own units (its viewBox: x
+// from the left, y from the top), and the canvas height, as FitCanvasToBox
+// wrote them to `box_file`; nullopt when the file is missing or does not fit
+// a canvas `width` wide.
+struct PlotBox {
+  double left = 0, right = 0, top = 0, bottom = 0;
+  int height = 0;
+};
+std::optional<PlotBox> ReadPlotBox(const std::filesystem::path& box_file, int width);
 
 // Line colours of every plot, in order (tab10).
 inline constexpr const char* kPlotColours[] = {"#1f77b4", "#d62728", "#2ca02c", "#ff7f0e",

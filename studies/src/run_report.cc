@@ -622,6 +622,14 @@ std::vector<CentreErrorLine> CentreErrorLines(const metrics::MotFile& gt,
   return lines;
 }
 
+// A mean error in a key: three significant digits ("1.66", "16.4"), whole
+// px from 100 ("112", "1234"), 0 under 0.005 px (rounding, not an error).
+std::string ShortPx(double px) {
+  if (std::abs(px) < 0.005) return "0";
+  if (std::abs(px) >= 100.0) return fmt::format("{:.0f}", px);
+  return fmt::format("{:.3g}", px);
+}
+
 // The plot: one line per (target, filter), broken where frames are missing,
 // its mean in the legend. The standard picture of a particle filter's run,
 // and where two runs' accuracy differs (an audit found two runs differing
@@ -644,21 +652,28 @@ std::string CentreErrorSvg(const std::vector<CentreErrorLine>& lines, const fs::
       previous = frame;
     }
     text += "\n\n";
+    // Past ten lines the colours come round again, dashed: one dash pattern
+    // per round.
     plots.push_back(fmt::format(
-        "{} index {} using 1:2 with lines lw 1.5 lc rgb '{}' title {}", GpString(data.string()), l,
-        kPlotColours[l % std::size(kPlotColours)],
+        "{} index {} using 1:2 with lines lw 1.5 lc rgb '{}' dt {} title {}",
+        GpString(data.string()), l, kPlotColours[l % std::size(kPlotColours)],
+        l / std::size(kPlotColours) % 5 + 1,
         GpString(fmt::format("{}, mean {} px", lines[l].label,
-                             Number(sum / static_cast<double>(lines[l].points.size()))))));
+                             ShortPx(sum / static_cast<double>(lines[l].points.size()))))));
   }
   WriteTextFile(data.string(), text);
-  std::string gp;
-  gp += "set terminal svg size 820,440 dynamic font 'sans,11' background rgb 'white'\n";
+  // The plot's box 300 px tall, below it a key of any number of lines
+  // (FitCanvasToBox), drawn first on a canvas tall enough for the key in one
+  // column (on one too short gnuplot draws the key over the plot).
+  const int trial_height = 440 + 20 * static_cast<int>(lines.size());
+  std::string gp = SvgTerminal(820, std::to_string(trial_height));
   gp += fmt::format("set output {}\n", GpString(svg.string()));
   gp += "set title 'centre error of each target''s filter, frame by frame' noenhanced\n";
   gp += "set xlabel 'frame (from 1, as in gt/gt.txt and tracks.txt)' noenhanced\n";
   gp += "set ylabel 'filter box centre to target box centre, px' noenhanced\n";
-  gp += "set grid\nset key below noenhanced\nset yrange [0:*]\n";
+  gp += "set grid\nset key below noenhanced height 1\nset yrange [0:*]\n";
   gp += "plot " + fmt::format("{}", fmt::join(plots, ", \\\n     ")) + "\n";
+  gp += FitCanvasToBox(820, trial_height, 300, svg, work / "centre_error-box.txt");
   return RunGnuplotToSvg(gnuplot, script, gp, svg);
 }
 
@@ -917,11 +932,12 @@ TimelinePlot TimelineSvg(const std::vector<TimelineRow>& rows, int frames, const
   }
   const int n = static_cast<int>(rows.size());
   constexpr int kWidth = 820;
-  const int height = 170 + 22 * n;
+  // Rows 24 px apart, whatever the key's entries (FitCanvasToBox), drawn
+  // first on a canvas tall enough for a key of up to 15 entries in one
+  // column (on one too short gnuplot draws the key over the plot).
+  const int trial_height = 170 + 24 * n + 300;
   const fs::path box = work / "timeline-box.txt";
-  std::string gp;
-  gp += fmt::format("set terminal svg size {},{} dynamic font 'sans,11' background rgb 'white'\n",
-                    kWidth, height);
+  std::string gp = SvgTerminal(kWidth, std::to_string(trial_height));
   gp += fmt::format("set output {}\n", GpString(svg.string()));
   gp += fmt::format("set title {} noenhanced\n", GpString(title));
   gp += "set xlabel 'frame (from 1, as in gt/gt.txt and filters.csv)' noenhanced\n";
@@ -932,7 +948,10 @@ TimelinePlot TimelineSvg(const std::vector<TimelineRow>& rows, int frames, const
     tics += fmt::format("{}{} {}", r ? ", " : "", GpString(rows[static_cast<size_t>(r)].label), -r);
   }
   gp += fmt::format("set ytics ({}) noenhanced\n", tics);
-  gp += "set grid xtics\nset key below noenhanced maxcols 3\n";
+  // gnuplot sizes the key's columns by the longest entry's bytes, not its
+  // width ("≥" is 3 bytes), so without `width -12` one column of 9 to 14
+  // entries; `height 1` keeps it off the axis label.
+  gp += "set grid xtics\nset key below noenhanced maxcols 3 width -12 height 1\n";
   std::string plot =
       fmt::format("plot {} using 1:2:3:(0):4 with vectors nohead lw 9 lc rgb variable notitle",
                   GpString(data.string()));
@@ -955,24 +974,14 @@ TimelinePlot TimelineSvg(const std::vector<TimelineRow>& rows, int frames, const
     }
   }
   gp += plot + "\n";
-  // The plot's box, in pixels from the left and from the bottom.
-  gp += fmt::format(
-      "set print {}\nprint GPVAL_TERM_XMIN, GPVAL_TERM_XMAX, GPVAL_TERM_YMIN, "
-      "GPVAL_TERM_YMAX\nunset print\n",
-      GpString(box.string()));
+  gp += FitCanvasToBox(kWidth, trial_height, 24 * n, svg, box);
   TimelinePlot out{.svg = RunGnuplotToSvg(gnuplot, script, gp, svg)};
-  std::error_code ec;
-  if (fs::is_regular_file(box, ec)) {
-    std::istringstream in(ReadWholeFile(box));
-    double x0 = 0, x1 = 0, y0 = 0, y1 = 0;
-    if (in >> x0 >> x1 >> y0 >> y1 && x0 >= 0 && x0 < x1 && x1 <= kWidth && y0 >= 0 && y0 < y1 &&
-        y1 <= height) {
-      out.has_box = true;
-      out.left = x0;
-      out.right = x1;
-      out.top = height - y1;
-      out.bottom = height - y0;
-    }
+  if (const std::optional<PlotBox> b = ReadPlotBox(box, kWidth)) {
+    out.has_box = true;
+    out.left = b->left;
+    out.right = b->right;
+    out.top = b->top;
+    out.bottom = b->bottom;
   }
   return out;
 }

@@ -61,12 +61,15 @@ std::string RunQuietly(const SweepSpec& spec, const fs::path& dir) {
 }
 
 // A gnuplot that keeps a copy of the data files and the script of every
-// plot in `kept`.
+// plot in `kept`, and of the box files gnuplot writes (FitCanvasToBox).
 fs::path KeepingGnuplot(const fs::path& dir, const fs::path& kept) {
   fs::create_directories(kept);
   const fs::path wrapper = dir / "gnuplot.sh";
-  std::ofstream(wrapper) << "#!/bin/sh\ncp \"$(dirname \"$1\")\"/*.dat \"$(dirname \"$1\")\"/*.gp "
-                         << kept.string() << "/\nexec gnuplot \"$@\"\n";
+  std::ofstream(wrapper)
+      << "#!/bin/sh\nwork=\"$(dirname \"$1\")\"\ncp \"$work\"/*.dat \"$work\"/*.gp "
+      << kept.string() << "/\ngnuplot \"$@\" || exit $?\n"
+      << "for f in \"$work\"/*-box.txt; do [ -f \"$f\" ] && cp \"$f\" " << kept.string()
+      << "/; done\nexit 0\n";
   fs::permissions(wrapper, fs::perms::owner_all);
   return wrapper;
 }
@@ -613,6 +616,73 @@ TEST(RunReport, PlotsTheCentreErrorOfEachTargetsFilter) {
   EXPECT_EQ(Read(kept / "centre_error.dat"), "# target 1: filter 1\n1 5\n2 5\n\n5 5\n\n\n");
   EXPECT_NE(Read(kept / "centre_error.gp").find("title 'target 1: filter 1, mean 5 px'"),
             std::string::npos);
+}
+
+// A plot's key takes canvas, not plot (FitCanvasToBox): the timeline's rows
+// stay 24 px apart and the centre-error plot 300 px tall whatever their keys
+// hold (an audit: 18 targets' centre-error lines left their plot 200 of 440
+// px, and the timeline's key of nine entries ran off its canvas). One target
+// and its filter, CORRECT throughout, against 40 targets each with a filter
+// (80 timeline rows, 40 centre-error lines, every state's colour in the
+// key). Past ten lines the centre-error colours come round again, dashed.
+TEST(RunReport, APlotsKeyTakesCanvasNotPlot) {
+  const auto dir = testing::SweepFolder("run-report-key");
+  const fs::path run = RunMinimal(dir, "none");
+  const fs::path kept = dir / "kept";
+  const char* states[] = {"CORRECT", "SWAPPED", "HIJACKED", "STRAYED", "LOST", "COASTING"};
+  // box file: xmin xmax ymin ymax height, px from the bottom.
+  const auto box = [&](const char* file) {
+    std::istringstream in(Read(kept / file));
+    std::array<double, 5> v{};
+    for (double& x : v) in >> x;
+    EXPECT_TRUE(in) << file;
+    return v;
+  };
+  std::array<double, 5> small{};
+  for (const int targets : {1, 40}) {
+    SCOPED_TRACE(fmt::format("{} targets", targets));
+    std::ofstream gt(run / "gt" / "gt.txt", std::ios::trunc);
+    std::ofstream tracks(run / "tracks.txt", std::ios::trunc);
+    auto metrics = nlohmann::json::parse(Read(run / "metrics.json"));
+    nlohmann::json mapping = nlohmann::json::array(), per_frame = nlohmann::json::array();
+    for (int t = 1; t <= targets; ++t) {
+      for (int f = 1; f <= 3; ++f) {
+        gt << fmt::format("{},{},{},10,20,10,1,1,1\n", f, t, 10 * t);
+        tracks << fmt::format("{},{},{},13,20,10,1,-1,-1,-1\n", f, t, 10 * t + f);
+        per_frame.push_back({{"frame", f - 1},
+                             {"filter", t},
+                             {"state", targets == 1 ? "CORRECT" : states[(t + f) % 6]}});
+      }
+      mapping.push_back({{"filter", t}, {"target", t}});
+    }
+    gt.close();
+    tracks.close();
+    metrics["filters"]["mapping"] = mapping;
+    metrics["filters"]["per_frame_states"] = per_frame;
+    metrics.erase("detection");
+    std::ofstream(run / "metrics.json", std::ios::trunc) << metrics.dump();
+    WriteReport({.dir = run.string(), .gnuplot = KeepingGnuplot(dir, kept).string()});
+    const std::array<double, 5> timeline = box("timeline-box.txt");
+    const std::array<double, 5> centre = box("centre_error-box.txt");
+    // gnuplot places the box's edges to within a pixel.
+    EXPECT_NEAR(timeline[3] - timeline[2], 24.0 * 2 * targets, 1.0);
+    EXPECT_NEAR(centre[3] - centre[2], 300.0, 1.0);
+    if (targets == 1) {
+      small = centre;
+      EXPECT_EQ(Read(kept / "centre_error.gp").find(" dt 2 "), std::string::npos);
+      continue;
+    }
+    EXPECT_GT(centre[4], small[4] + 100) << "40 key entries below the plot";
+    const std::string gp = Read(kept / "centre_error.gp");
+    EXPECT_NE(gp.find("lc rgb '#1f77b4' dt 1 title 'target 1: filter 1, mean "), std::string::npos);
+    EXPECT_NE(gp.find("lc rgb '#1f77b4' dt 2 title 'target 11: filter 11, mean "),
+              std::string::npos);
+    for (const char* state : states) {
+      EXPECT_NE(Read(kept / "timeline.gp").find(fmt::format("title '{}'", state)),
+                std::string::npos)
+          << state;
+    }
+  }
 }
 
 // A tracks.txt the plot cannot read, cut short or missing: the section says

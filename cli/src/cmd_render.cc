@@ -52,8 +52,8 @@ Command AddRenderCommand(CLI::App& parent) {
       app, [options, app] {
         std::vector<scenarios::Override> overrides;
         for (const auto& s : options->sets) overrides.push_back(scenarios::ParseOverride(s));
-        const scenarios::Scenario scenario =
-            scenarios::LoadScenarioFromCommandLine(options->file, overrides);
+        const scenarios::Scenario scenario = scenarios::LoadScenarioFromCommandLine(
+            options->file, overrides, scenarios::ScenarioUse::kRender);
         scenarios::RenderFolderOptions render_options;
         render_options.out_dir = options->out;
         render_options.cache_dir =

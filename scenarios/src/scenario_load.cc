@@ -480,7 +480,7 @@ void ReadMetrics(YamlReader r, MetricsConfig* m) {
   r.Finish();
 }
 
-Scenario ReadScenario(YamlReader root, const std::string& file) {
+Scenario ReadScenario(YamlReader root, const std::string& file, ScenarioUse use) {
   root.ExpectMap();
   if (!root.node().IsDefined() || root.node().IsNull()) root.Fail("a scenario mapping");
   Scenario s;
@@ -580,18 +580,24 @@ Scenario ReadScenario(YamlReader root, const std::string& file) {
   if (auto m = root.Optional("metrics")) ReadMetrics(*m, &s.metrics);
   root.Finish();
   // What the renderer can draw, checked at load when the run renders (a
-  // rendered source, or frames written beside a detection-level run), so
-  // `hcpf validate` refuses what `hcpf run` would (a scale audit: 256 targets
-  // validated, then every run failed after its GL context, at no line).
+  // rendered source, or frames written beside a detection-level run) and for
+  // `hcpf render`, so `hcpf validate` refuses what `hcpf run` would (a scale
+  // audit: 256 targets validated, then every run failed after its GL
+  // context, at no line; `hcpf render` failed so too).
   const bool renders = s.observation.source == ObservationSource::kRendered ||
                        s.renderer.write_frames || s.renderer.write_depth ||
                        s.renderer.write_instance_ids;
-  if (renders && s.world.targets.size() > static_cast<size_t>(renderer::kMaxRenderedTargets)) {
+  if ((renders || use == ScenarioUse::kRender) &&
+      s.world.targets.size() > static_cast<size_t>(renderer::kMaxRenderedTargets)) {
     targets.Fail(
-        fmt::format("at most {} targets where the run renders (observation.source: rendered, or "
-                    "renderer.write_frames, write_depth or write_instance_ids): the renderer "
-                    "marks each pixel's target in 8 bits",
-                    renderer::kMaxRenderedTargets));
+        use == ScenarioUse::kRender && !renders
+            ? fmt::format("at most {} targets for hcpf render: the renderer marks each pixel's "
+                          "target in 8 bits",
+                          renderer::kMaxRenderedTargets)
+            : fmt::format("at most {} targets where the run renders (observation.source: "
+                          "rendered, or renderer.write_frames, write_depth or "
+                          "write_instance_ids): the renderer marks each pixel's target in 8 bits",
+                          renderer::kMaxRenderedTargets));
   }
   // A 16-bit instance image holds ids up to 65534 (id + 1; ids up to 10^9
   // were clamped to 65535, two targets then one value: a scale audit).
@@ -653,7 +659,7 @@ Scenario ReadScenario(YamlReader root, const std::string& file) {
 }
 
 Scenario LoadFromNode(YAML::Node root, const std::string& file,
-                      const std::vector<Override>& overrides) {
+                      const std::vector<Override>& overrides, ScenarioUse use) {
   auto context = std::make_shared<YamlContext>();
   context->file = file;
   if ((!root.IsDefined() || root.IsNull()) && overrides.empty()) {
@@ -692,33 +698,34 @@ Scenario LoadFromNode(YAML::Node root, const std::string& file,
     }
   }
   ApplyOverrides(root, overrides, context.get());
-  return ReadScenario(YamlReader(root, "", context), file);
+  return ReadScenario(YamlReader(root, "", context), file, use);
 }
 
 }  // namespace
 
 Scenario LoadScenarioText(const std::string& text, const std::string& file_name,
-                          const std::vector<Override>& overrides) {
-  return LoadFromNode(YamlReader::Parse(text, file_name), file_name, overrides);
+                          const std::vector<Override>& overrides, ScenarioUse use) {
+  return LoadFromNode(YamlReader::Parse(text, file_name), file_name, overrides, use);
 }
 
-Scenario LoadScenarioFile(const std::string& path, const std::vector<Override>& overrides) {
+Scenario LoadScenarioFile(const std::string& path, const std::vector<Override>& overrides,
+                          ScenarioUse use) {
   if (std::filesystem::is_directory(path)) {
     throw InputError(SourceLocation{path, 0, 0, ""}, "a scenario YAML file", "a directory");
   }
-  return LoadFromNode(YamlReader::ParseFile(path), path, overrides);
+  return LoadFromNode(YamlReader::ParseFile(path), path, overrides, use);
 }
 
 Scenario LoadScenarioFromCommandLine(const std::string& path,
-                                     const std::vector<Override>& overrides) {
+                                     const std::vector<Override>& overrides, ScenarioUse use) {
   try {
-    return LoadScenarioFile(path, overrides);
+    return LoadScenarioFile(path, overrides, use);
   } catch (const InputError& e) {
     // At an override's own value the error already names it (--set k=v).
     if (overrides.empty() || e.where().override_index >= 0) throw;
     // An error of the file itself, which it makes without the overrides, as it is.
     try {
-      LoadScenarioFile(path);
+      LoadScenarioFile(path, {}, use);
     } catch (const InputError&) {
       throw e;
     }

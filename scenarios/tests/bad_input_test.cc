@@ -496,6 +496,22 @@ TEST(BadInputFile, ManyTargetsAndLargeIdsAreValidWithoutRendering) {
       "ok.yaml"));
 }
 
+// `hcpf render` always renders: past 255 targets a scenario is refused at
+// the line of `targets` though it is at detection level (ScenarioUse).
+TEST(BadInputFile, RenderRefusesMoreTargetsThanTheRendererDraws) {
+  try {
+    LoadScenarioText(ManyTargets(kMinimal, 256), "bad.yaml", {}, ScenarioUse::kRender);
+    FAIL() << "accepted";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find(
+                  "bad.yaml:10:3: targets: expected at most 255 targets for hcpf render"),
+              std::string::npos)
+        << e.what();
+  }
+  EXPECT_NO_THROW(
+      LoadScenarioText(ManyTargets(kMinimal, 255), "ok.yaml", {}, ScenarioUse::kRender));
+}
+
 TEST(BadInputFile, MapLikelihoodWithMapsIsAccepted) {
   const std::string m = kMinimal;
   EXPECT_NO_THROW(LoadScenarioText(

@@ -544,6 +544,30 @@ TEST(Reliability, VideoLargerThanMpeg4CodesIsBadInputBeforeTheRun) {
   EXPECT_GT(fs::file_size(dir / "ok" / "overlay.mp4"), 0u);
 }
 
+// `hcpf render` of a detection-level scenario of more than 255 targets (a
+// valid scenario for `hcpf run`, which does not render it) was refused only
+// once its GL context was made, at no line (a scale audit). Now at load, at
+// the line of `targets`, exit 2 and no --out folder; `hcpf validate`, which
+// accepts what `hcpf run` accepts, still says it is valid.
+TEST(Reliability, RenderOfMoreTargetsThanTheRendererDrawsIsBadInputAtTheirLine) {
+  const fs::path dir = FreshDir("render-many");
+  std::string text = SmallScenario();
+  for (int id = 2; id <= 256; ++id) {
+    text += "  - {id: " + std::to_string(id) + ", dimensions_m: [4, 2, 1.5], path: {waypoints: [[" +
+            std::to_string(id % 20) + ", 0]]}}\n";
+  }
+  const fs::path scenario = Write(dir / "s.yaml", text);
+  const auto r = RunCommand(kHcpf + " render " + scenario.string() + " --no-cache --out " +
+                            (dir / "out").string());
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_NE(r.output.find(scenario.string() + ":6:3: targets: expected at most 255 targets for "
+                                              "hcpf render"),
+            std::string::npos)
+      << r.output;
+  EXPECT_FALSE(fs::exists(dir / "out"));
+  EXPECT_EQ(RunCommand(kHcpf + " validate " + scenario.string()).exit_code, 0);
+}
+
 // Found by the fuzzer: Debian 12's assimp PLY reader hangs, crashes or aborts
 // on small malformed files (fuzz/regressions/assimp/*.ply, whose first byte is
 // the fuzz target's format selector). A model must never take the tool down:

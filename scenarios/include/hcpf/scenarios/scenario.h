@@ -300,18 +300,28 @@ using config::ParseOverride;
 // refused by them.
 inline constexpr std::array<std::string_view, 3> kSweepFileKeys = {"base", "grid", "zip"};
 
+// What a scenario is loaded for: a run (`hcpf run`, `hcpf validate`, a
+// sweep's cells), which renders when its observation source or renderer
+// keys say so, or `hcpf render`, which always renders: what only the
+// renderer limits (at most renderer::kMaxRenderedTargets targets) is then
+// checked at load, at the line of `targets`, for every scenario.
+enum class ScenarioUse { kRun, kRender };
+
 // Loads, applies overrides, validates and resolves a scenario. Throws
 // InputError naming file, line, column, key, expected and found.
-Scenario LoadScenarioFile(const std::string& path, const std::vector<Override>& overrides = {});
+Scenario LoadScenarioFile(const std::string& path, const std::vector<Override>& overrides = {},
+                          ScenarioUse use = ScenarioUse::kRun);
 Scenario LoadScenarioText(const std::string& text, const std::string& file_name,
-                          const std::vector<Override>& overrides = {});
+                          const std::vector<Override>& overrides = {},
+                          ScenarioUse use = ScenarioUse::kRun);
 // LoadScenarioFile for a command's FILE and --set overrides: an error that
 // the overrides make at a line of the file valid on its own (another
 // target's id, a path frame past the overridden frames) ends with the
 // overrides ("with --set frames=10"), as a sweep names a cell's swept
 // values (a bad-input audit: the line was blamed, the override unnamed).
 Scenario LoadScenarioFromCommandLine(const std::string& path,
-                                     const std::vector<Override>& overrides);
+                                     const std::vector<Override>& overrides,
+                                     ScenarioUse use = ScenarioUse::kRun);
 
 // The resolved scenario as YAML: every key with its value, seeds included.
 // Loading this text gives back an identical Scenario (and the same text).

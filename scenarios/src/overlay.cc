@@ -186,6 +186,22 @@ OverlayVideo WriteOverlayVideo(const std::string& path, const Scenario& scenario
   return WriteOverlayVideo(path, scenario, content, source);
 }
 
+bool FitsAnH264Level(int width, int height) {
+  const int64_t across = (int64_t{width} + 15) / 16, down = (int64_t{height} + 15) / 16;
+  return across * down <= kMaxH264FrameMacroblocks;
+}
+
+std::string VideoLevelNote(const Scenario& scenario) {
+  const int width = scenario.world.camera.width_px;
+  const int height = scenario.world.camera.height_px;
+  if (FitsAnH264Level(width, height)) return {};
+  return fmt::format(
+      "--video: a {}x{} frame is larger than any H.264 level codes ({} macroblocks of 16x16 px at "
+      "most, 8176x4352 say): the video is written, but a browser may refuse to play it, and the "
+      "report links it instead of showing it",
+      width, height, kMaxH264FrameMacroblocks);
+}
+
 void CheckVideoFits(const Scenario& scenario, const std::string& option) {
   const int width = scenario.world.camera.width_px;
   const int height = scenario.world.camera.height_px;
@@ -334,7 +350,7 @@ OverlayVideo WriteOverlayVideo(const std::string& path, const Scenario& scenario
   const bool h264 = std::string(writer->fourcc()) == "avc1";
   return {.fourcc = writer->fourcc(),
           .codec = h264 ? "H.264" : "MPEG-4 Part 2",
-          .plays_in_browsers = h264,
+          .plays_in_browsers = h264 && FitsAnH264Level(width, height),
           .frames = static_cast<int>(truth.size()),
           .fps = scenario.world.fps,
           .width = width,

@@ -60,7 +60,12 @@ RunSummary RunScenario(const Scenario& scenario, const RunOptions& options) {
   const auto start = Clock::now();
   // A file named as the cache failed mid-run (exit 1) creating a scene there.
   if (!options.frame_cache_dir.empty()) CheckFolderArgument(options.frame_cache_dir, "--cache");
-  if (options.video) CheckVideoFits(scenario, "--video");
+  if (options.video) {
+    CheckVideoFits(scenario, "--video");
+    if (const std::string note = VideoLevelNote(scenario); !note.empty()) {
+      spdlog::warn("run \"{}\": {}", scenario.name, note);
+    }
+  }
   if (const std::string slow = SceneFilterCostWarning(scenario); !slow.empty()) {
     spdlog::warn("run \"{}\": {}", scenario.name, slow);
   }

@@ -50,6 +50,26 @@ Clip PlainClip(const Scenario& scenario, int frames, std::array<uint8_t, 3> rgb)
   return clip;
 }
 
+// H.264's largest level codes frames of up to 139,264 macroblocks; libx264
+// wrote an 8190 x 8190 overlay declaring that level (a scale audit). Such a
+// video is not said to play in browsers, and a run says so before it starts.
+TEST(Overlay, AFrameLargerThanAnyH264LevelIsSaidSo) {
+  EXPECT_TRUE(FitsAnH264Level(8176, 4352));   // 511 x 272 = 138,992 macroblocks
+  EXPECT_TRUE(FitsAnH264Level(8191, 4352));   // 512 x 272 = 139,264
+  EXPECT_FALSE(FitsAnH264Level(8191, 4353));  // 512 x 273
+  EXPECT_FALSE(FitsAnH264Level(8190, 8190));
+  EXPECT_TRUE(FitsAnH264Level(640, 480));
+  const auto load = [](const std::string& resolution) {
+    return LoadScenarioText(testing::kMinimal, "v.yaml",
+                            {ParseOverride("camera.resolution=" + resolution)});
+  };
+  EXPECT_EQ(VideoLevelNote(load("[640, 480]")), "");
+  EXPECT_EQ(VideoLevelNote(load("[8190, 8190]")),
+            "--video: a 8190x8190 frame is larger than any H.264 level codes (139264 macroblocks "
+            "of 16x16 px at most, 8176x4352 say): the video is written, but a browser may refuse "
+            "to play it, and the report links it instead of showing it");
+}
+
 TEST(Overlay, VideoReadsBackWithFrameCountAndSize) {
   const auto dir = ::hcpf::testing::FreshDir("overlay");
   const Scenario scenario =

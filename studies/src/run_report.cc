@@ -1610,6 +1610,9 @@ std::string VideoSection(const RunFolder& a, const RunFolder* b, const fs::path&
               ? fmt::format(" (made by an hcpf that wrote no H.264: its manifest.json has no "
                             "video entry; {} that plays here)",
                             again)
+          : r->video_codec == "H.264"
+              ? std::string(" (its frames are larger than any H.264 level codes, 8176 x 4352 "
+                            "say)")
               : std::string(" (the FFmpeg that wrote it had no H.264 encoder)"));
       continue;
     }

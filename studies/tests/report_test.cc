@@ -1215,6 +1215,18 @@ TEST(RunReport, LinksTheOverlayVideoWhenTheRunHasOne) {
   EXPECT_NE(Read(WriteReport({.dir = run.string(), .out_dir = out.string()}).html_path)
                 .find("<a href=\"../run-none/overlay.mp4\">"),
             std::string::npos);
+  // H.264 that no browser is said to play: frames past every H.264 level
+  // (scenarios::FitsAnH264Level).
+  auto manifest = nlohmann::json::parse(Read(run / "manifest.json"));
+  manifest["video"] = {
+      {"file", "overlay.mp4"}, {"fourcc", "avc1"}, {"codec", "H.264"}, {"plays_in_browsers", false},
+      {"frames", 20},          {"fps", 30.0},      {"width", 8190},    {"height", 8190}};
+  std::ofstream(run / "manifest.json", std::ios::trunc) << manifest.dump();
+  EXPECT_NE(Read(WriteReport({.dir = run.string()}).html_path)
+                .find("<a href=\"overlay.mp4\">overlay.mp4</a>, H.264, which VLC and mpv play "
+                      "and most browsers do not (its frames are larger than any H.264 level "
+                      "codes, 8176 x 4352 say)"),
+            std::string::npos);
 }
 
 // hcpf run --video writes H.264, which browsers play: the report shows the

@@ -70,6 +70,15 @@ OverlayVideo WriteOverlayVideo(const std::string& path, const Scenario& scenario
 // fallback) codes them in 13 bits, and FFmpeg's encoder refuses 8192.
 inline constexpr int kMaxVideoSide = 8191;
 
+// H.264's largest level (6.2, Annex A) codes frames of at most 139,264
+// macroblocks of 16 x 16 px (8176 x 4352, say). libx264 writes a larger
+// frame all the same, declaring level 6.2, which it exceeds, so a browser may
+// refuse it: such a video is not said to play in browsers
+// (OverlayVideo::plays_in_browsers), and a run warns before it starts
+// (VideoLevelNote).
+inline constexpr int64_t kMaxH264FrameMacroblocks = 139264;
+bool FitsAnH264Level(int width, int height);
+
 namespace internal {
 
 // The run's tag: its seed and tracker, in the run report header's words
@@ -100,5 +109,9 @@ std::string FitHeaderLine(const std::string& text, double scale, int max_width_p
 // larger than kMaxVideoSide either way: checked before a run starts, so a
 // run asked for a video does not fail at its end (a second bad-input audit).
 void CheckVideoFits(const Scenario& scenario, const std::string& option);
+
+// A warning when the scenario's camera is larger than any H.264 level
+// (FitsAnH264Level), "" otherwise.
+std::string VideoLevelNote(const Scenario& scenario);
 
 }  // namespace hcpf::scenarios

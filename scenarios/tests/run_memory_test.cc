@@ -10,6 +10,7 @@
 #include <fstream>
 #include <opencv2/imgproc.hpp>
 #include <opencv2/videoio.hpp>
+#include <optional>
 #include <string>
 
 #include "hcpf/renderer/renderer.h"
@@ -31,6 +32,31 @@ long ResidentKb() {
     if (line.rfind("VmRSS:", 0) == 0) return std::stol(line.substr(6));
   }
   return 0;
+}
+
+// Runs `s` into `out` in a child process and returns how far its peak
+// resident memory rose above this process's now, in KB (below it, negative,
+// when the child touched less than the test holds); nullopt when the run
+// failed.
+std::optional<long> RunPeakAboveKb(const Scenario& s, const fs::path& out, bool video) {
+  fs::remove_all(out);
+  const long before_kb = ResidentKb();
+  const pid_t child = fork();
+  if (child < 0) return std::nullopt;
+  if (child == 0) {
+    try {
+      RunScenario(s, {.out_dir = out.string(), .video = video, .show_progress = false});
+    } catch (...) {
+      _exit(3);
+    }
+    _exit(0);
+  }
+  int status = 0;
+  rusage usage{};
+  if (wait4(child, &status, 0, &usage) != child || !WIFEXITED(status) || WEXITSTATUS(status) != 0) {
+    return std::nullopt;
+  }
+  return usage.ru_maxrss - before_kb;
 }
 
 // The oracle's likelihood maps (observation.simulated.likelihood_map) are
@@ -56,26 +82,10 @@ TEST(RunMemory, TheOraclesLikelihoodMapsAreNotKeptForEveryFrame) {
                         ParseOverride("observation.simulated.map_cell_px=1")});
   const fs::path out =
       fs::path(::testing::TempDir()) / ("hcpf-run-memory-" + std::to_string(::getpid()));
-  fs::remove_all(out);
-  const long before_kb = ResidentKb();
-  const pid_t child = fork();
-  ASSERT_GE(child, 0);
-  if (child == 0) {
-    try {
-      RunScenario(s, {.out_dir = out.string(), .show_progress = false});
-    } catch (...) {
-      _exit(3);
-    }
-    _exit(0);
-  }
-  int status = 0;
-  rusage usage{};
-  ASSERT_EQ(wait4(child, &status, 0, &usage), child);
-  ASSERT_TRUE(WIFEXITED(status));
-  ASSERT_EQ(WEXITSTATUS(status), 0);
+  const std::optional<long> peak_kb = RunPeakAboveKb(s, out, false);
+  ASSERT_TRUE(peak_kb) << "the run failed";
   EXPECT_TRUE(fs::exists(out / "metrics.json"));
-  EXPECT_LT(usage.ru_maxrss - before_kb, 100 * 1024)
-      << "peak " << usage.ru_maxrss << " KB, the test " << before_kb << " KB before";
+  EXPECT_LT(*peak_kb, 100 * 1024) << "peak " << *peak_kb << " KB above the test";
   fs::remove_all(out);
 }
 
@@ -99,25 +109,9 @@ TEST(RunMemory, ARenderedRunsVideoFramesAreReadBackNotKept) {
        ParseOverride("observation.source=rendered"), ParseOverride("tracker.particles=20")});
   const fs::path out =
       fs::path(::testing::TempDir()) / ("hcpf-run-video-memory-" + std::to_string(::getpid()));
-  fs::remove_all(out);
-  const long before_kb = ResidentKb();
-  const pid_t child = fork();
-  ASSERT_GE(child, 0);
-  if (child == 0) {
-    try {
-      RunScenario(s, {.out_dir = out.string(), .video = true, .show_progress = false});
-    } catch (...) {
-      _exit(3);
-    }
-    _exit(0);
-  }
-  int status = 0;
-  rusage usage{};
-  ASSERT_EQ(wait4(child, &status, 0, &usage), child);
-  ASSERT_TRUE(WIFEXITED(status));
-  ASSERT_EQ(WEXITSTATUS(status), 0);
-  EXPECT_LT(usage.ru_maxrss - before_kb, 120 * 1024)
-      << "peak " << usage.ru_maxrss << " KB, the test " << before_kb << " KB before";
+  const std::optional<long> peak_kb = RunPeakAboveKb(s, out, true);
+  ASSERT_TRUE(peak_kb) << "the run failed";
+  EXPECT_LT(*peak_kb, 120 * 1024) << "peak " << *peak_kb << " KB above the test";
   EXPECT_FALSE(fs::exists(out / ".video-frames"));
   // Frames 0, 99 and 199 of the video against the renderer's: H.264 and the
   // boxes drawn over them differ by 3.5-3.7 grey levels on average; the plain

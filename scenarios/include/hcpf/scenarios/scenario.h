@@ -259,11 +259,12 @@ bool UsesRansac(const Scenario& scenario);
 // similarity for its inliers, so `tracker.ransac` takes effect too.
 bool UsesPerspective(const Scenario& scenario);
 
-// The scene filter's evidence evaluations a frame: its particles times the
-// points each one is weighed on (scene_filter.points for simulated evidence,
-// at most point_tracker.max_corners for image evidence, the 10 x 10 grid of
-// the oracle); 0 when no scene filter runs (tracker.camera_motion other than
-// scene_filter).
+// The scene filter's evidence evaluations a frame: its hypotheses (its
+// particles, and with the laplace proposal the ~169 its Newton search weighs)
+// times the points each one is weighed on (scene_filter.points for simulated
+// evidence, at most point_tracker.max_corners for image evidence, the 10 x 10
+// grid of the oracle); 0 when no scene filter runs (tracker.camera_motion
+// other than scene_filter).
 int64_t SceneFilterEvaluationsPerFrame(const Scenario& scenario);
 // A warning for a scene filter that would take more than a second a frame at
 // about 10 ns an evaluation (BM_SceneFilterStep: 2.0 ms for 1000 particles

@@ -2280,6 +2280,38 @@ bool SameSpelledValue(const std::string& a, const std::string& b) {
   }
 }
 
+// Whether `key` holds text in the store's resolved base scenario(s): a
+// quoted scalar there (the resolved YAML quotes text and paths,
+// docs/scenario.md). Its values are compared as written, never as numbers:
+// `name: 1.10` and `1.1` are two names (a review). False where the key is
+// not found (a number's spellings are then compared as numbers).
+bool TakesText(const StoreMeta& meta, const std::string& key) {
+  std::vector<std::string> texts;
+  for (const auto& [value, text] : ResolvedBases(meta)) texts.push_back(text);
+  if (texts.empty()) texts.push_back(meta.base_resolved);
+  for (const std::string& text : texts) {
+    try {
+      YAML::Node node = YAML::Load(text);
+      std::stringstream path(key);
+      for (std::string part; node && std::getline(path, part, '.');) {
+        if (node.IsSequence() && !part.empty() &&
+            part.find_first_not_of("0123456789") == std::string::npos) {
+          const size_t i = std::stoul(part);
+          node = i < node.size() ? node[i] : YAML::Node();
+        } else if (node.IsMap()) {
+          node = node[part];
+        } else {
+          node = YAML::Node();
+        }
+      }
+      if (node && node.IsScalar() && node.Tag() == "!") return true;
+    } catch (const std::exception&) {
+      continue;  // text that is not YAML, an index past size_t: not found here
+    }
+  }
+  return false;
+}
+
 // The other store's runs read in this store's spelling of each swept value
 // where it writes the same value otherwise: a number written 3.0 for 3, or
 // a grid.base path written relative in one sweep file and absolute in the
@@ -2300,6 +2332,7 @@ std::vector<std::string> RespellAsHere(const std::vector<RunRecord>& runs, const
   std::vector<std::string> lines;
   for (size_t k = 0; k < keys; ++k) {
     const std::string& key = meta.swept_keys[k];
+    if (key != kSweptBaseKey && TakesText(meta, key)) continue;
     const std::vector<std::string>& here = values_here[k];
     std::map<std::string, std::string> respelled;
     for (const std::string& v : values_there[k]) {

@@ -2194,10 +2194,11 @@ TEST(Report, AgainstAStoreSpellingItsValuesOtherwiseReplicates) {
   // 1.0 on nine seeds and 0.5 on the tenth, 0.9 elsewhere (a finding at b
   // only).
   const auto store = [](const std::string& name, const std::string& key, const std::string& a,
-                        const std::string& b) {
+                        const std::string& b, const std::string& resolved = "") {
     const auto dir = testing::SweepFolder(name);
-    const StoreMeta meta =
+    StoreMeta meta =
         HandMeta({key, "tracker.resampling.method"}, "tracker.resampling.method", {"mota"}, 40);
+    if (!resolved.empty()) meta.base_resolved = resolved;
     PutHandRuns(
         dir, meta, 40, 10,
         [a, b](int64_t i) {
@@ -2216,6 +2217,15 @@ TEST(Report, AgainstAStoreSpellingItsValuesOtherwiseReplicates) {
   const ReportResult r = WriteReport({.dir = here.string(), .against = there.string()});
   EXPECT_EQ(r.replication_comparisons, 1);  // mota, charged − systematic at 3
   EXPECT_EQ(r.replication_cells, 4);
+
+  // A key that takes text (quoted in the resolved base scenario): 1.10 and
+  // 1.1 are two names, so only the cells at 2 meet (a review).
+  const std::string resolved = "name: \"x\"\nseed: 5\nframes: 10\n";
+  const ReportResult t = WriteReport(
+      {.dir = store("report-against-text", "name", "1.1", "2", resolved).string(),
+       .against = store("report-against-text-there", "name", "1.10", "2", resolved).string()});
+  EXPECT_EQ(t.replication_comparisons, 1);  // mota, charged − systematic at 2
+  EXPECT_EQ(t.replication_cells, 2);
 
   const std::string seed = "seeds.world";
   const fs::path big = store("report-against-big-seeds", seed, "1000", "18446744073709551614");

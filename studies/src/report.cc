@@ -468,13 +468,16 @@ std::string PlotSvg(const Layout& layout, const std::string& metric, const std::
   // Cells with values of the metric but none of report.x_metric, which
   // places them: an empty plot then names the x axis's metric, not the one
   // drawn (a panel of runs that do not measure it: an audit).
-  bool unplaced = false;
+  // Cells placed but without the metric: with unplaced ones the message
+  // names both (it named the x axis alone: a review).
+  bool unplaced = false, placed_without_metric = false;
   for (size_t l = 0; l < lines.size(); ++l) {
     std::vector<std::pair<double, const Cell*>> points;
     for (const Cell* c : layout.line_cells.at(lines[l])) {
       const double x = layout.XPosition(*c);
       if (!std::isnan(x)) {
         points.push_back({x, c});
+        placed_without_metric = placed_without_metric || c->stats.at(metric).n == 0;
       } else if (!layout.x_metric.empty() && c->stats.at(metric).n > 0) {
         unplaced = true;
       }
@@ -694,9 +697,14 @@ std::string PlotSvg(const Layout& layout, const std::string& metric, const std::
     gp += "unset logscale x\nunset logscale y\n" +
           fmt::format(
               "set label 1 {} at graph 0.5, 0.5 center noenhanced\n",
-              GpString(unplaced ? fmt::format("no values of {}, the x axis, {}", layout.x_metric,
-                                              panel.empty() ? "in these runs" : "in this panel")
-                                : std::string("no values of this metric"))) +
+              GpString(!unplaced ? std::string("no values of this metric")
+                       : placed_without_metric
+                           ? fmt::format("no cell with values of both this metric and {}, the x "
+                                         "axis, {}",
+                                         layout.x_metric,
+                                         panel.empty() ? "in these runs" : "in this panel")
+                           : fmt::format("no values of {}, the x axis, {}", layout.x_metric,
+                                         panel.empty() ? "in these runs" : "in this panel"))) +
           "plot [0:1] [0:1] NaN notitle\n";
   } else {
     gp += "plot " + fmt::format("{}", fmt::join(plots, ", \\\n     ")) + "\n";

@@ -3148,35 +3148,41 @@ TEST(Report, AnXMetricNoRunMeasuredIsNamed) {
 // input). The other panel is drawn.
 TEST(Report, APanelWithoutTheXMetricNamesIt) {
   const auto dir = testing::SweepFolder("report-panel-x-unmeasured");
-  StoreMeta meta = HandMeta({"observation.source", "tracker.particles"}, "", {"mota"}, 4);
+  // A third panel ("file"): one cell with mota but no det_size_px, the other
+  // with det_size_px but no mota: both are named (a review).
+  StoreMeta meta = HandMeta({"observation.source", "tracker.particles"}, "", {"mota"}, 6);
   meta.report.x = "tracker.particles";
   meta.report.x_metric = "det_size_px";
   meta.report.panels = "observation.source";
   auto store = ResultsStore::OpenOrCreate((dir / "results.sqlite").string(), meta);
-  for (int i = 0; i < 4; ++i) {
+  for (int i = 0; i < 6; ++i) {
     RunRecord r;
     r.key = "k" + std::to_string(i);
     r.index = i;
-    const bool rendered = i >= 2;
-    r.values = {rendered ? "rendered" : "simulated", i % 2 == 0 ? "100" : "1000"};
+    const char* source = i < 2 ? "simulated" : i < 4 ? "rendered" : "file";
+    r.values = {source, i % 2 == 0 ? "100" : "1000"};
     r.ok = true;
     r.run_dir = "runs/" + r.key;
     fs::create_directories(dir / r.run_dir);
-    r.metrics["mota"] = 0.5;
-    if (rendered) r.metrics["det_size_px"] = 20.0 + i;
+    if (i != 5) r.metrics["mota"] = 0.5;
+    if (i >= 2 && i != 4) r.metrics["det_size_px"] = 20.0 + i;
     store->Put(r);
   }
   const fs::path kept = dir / "kept";
   WriteReport({.dir = dir.string(), .gnuplot = KeepingGnuplot(dir, kept).string()});
-  int named = 0, drawn = 0;
+  int named = 0, both = 0, drawn = 0;
   for (const auto& entry : fs::directory_iterator(kept)) {
     if (entry.path().extension() != ".gp") continue;
     const std::string gp = Read(entry.path());
     EXPECT_EQ(gp.find("no values of this metric"), std::string::npos) << gp;
     named += gp.find("'no values of det_size_px, the x axis, in this panel'") != std::string::npos;
+    both += gp.find(
+                "'no cell with values of both this metric and det_size_px, the x axis, in "
+                "this panel'") != std::string::npos;
     drawn += gp.find("with linespoints") != std::string::npos;
   }
   EXPECT_EQ(named, 1);  // mota's simulated panel
+  EXPECT_EQ(both, 1);   // its file panel
   EXPECT_GE(drawn, 1);  // its rendered panel
 }
 

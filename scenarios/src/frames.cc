@@ -109,6 +109,7 @@ SceneFrames ProduceFrames(const Scenario& scenario, const FrameSourceOptions& op
   std::unique_ptr<renderer::FrameCacheWriter> spool_writer;
   if (!options.spool_dir.empty()) {
     out.readback_root = cache ? options.cache_dir : options.spool_dir;
+    out.readback_is_spool = !cache;
     if (!cache) {
       spool_writer = std::make_unique<renderer::FrameCacheWriter>(
           renderer::FrameCache(options.spool_dir, out.pixel_hash), workers > 1 ? 1 : 4, workers);
@@ -148,7 +149,21 @@ SceneFrames ProduceFrames(const Scenario& scenario, const FrameSourceOptions& op
             }
             cache_writer->Submit(frame);  // a copy: the frame is used below
           }
-          if (spool_writer) spool_writer->Submit(frame);
+          if (spool_writer) {
+            // The colour and truth alone (what a cache file holds): a frame
+            // spooled here may carry depth and instance images too.
+            renderer::RenderedFrame colour;
+            colour.frame = frame.frame;
+            colour.rgb = frame.rgb;
+            colour.ground_truth = frame.ground_truth;
+            try {
+              spool_writer->Submit(std::move(colour));
+            } catch (const RunError& e) {
+              throw RunError(
+                  fmt::format("cannot spool the video's frames in {} (the run's folder): {}",
+                              options.spool_dir, e.what()));
+            }
+          }
           if (options.on_frame) options.on_frame(frame);
           out.frame_digests.push_back(FrameDigest(frame.rgb));
           out.truth.push_back(options.analytic_truth
@@ -190,7 +205,14 @@ SceneFrames ProduceFrames(const Scenario& scenario, const FrameSourceOptions& op
   }
   finisher.Wait();
   if (cache_writer) cache_writer->Finish();
-  if (spool_writer) spool_writer->Finish();
+  if (spool_writer) {
+    try {
+      spool_writer->Finish();
+    } catch (const RunError& e) {
+      throw RunError(fmt::format("cannot spool the video's frames in {} (the run's folder): {}",
+                                 options.spool_dir, e.what()));
+    }
+  }
   progress.Finish();
   if (out.frames_from_cache > 0) {
     spdlog::log(RunSummaryLevel(options.show_progress),
@@ -208,36 +230,43 @@ SceneFrames ProduceFrames(const Scenario& scenario, const FrameSourceOptions& op
   return out;
 }
 
-std::function<RgbImage(int frame)> ReadBackFrames(const Scenario& scenario,
-                                                  const SceneFrames& frames) {
+FrameReader::FrameReader(const Scenario& scenario, const SceneFrames& frames)
+    : scenario_(scenario),
+      store_(frames.readback_root, frames.pixel_hash),
+      digests_(frames.frame_digests),
+      source_(fmt::format("the {} {}", frames.readback_is_spool ? "spool" : "frame cache",
+                          store_.dir().string())) {
   HCPF_CHECK(!frames.readback_root.empty()) << "frames produced without a spool_dir";
-  struct State {
-    renderer::FrameCache store;
-    std::vector<std::string> digests;
-    std::unique_ptr<renderer::SceneRenderer> renderer;  // created on the first miss
-  };
-  auto state = std::make_shared<State>(
-      State{renderer::FrameCache(frames.readback_root, frames.pixel_hash), frames.frame_digests});
-  return [&scenario, state](int f) -> RgbImage {
-    HCPF_CHECK(f >= 0 && static_cast<size_t>(f) < state->digests.size())
-        << "frame " << f << " of " << state->digests.size();
-    const std::string& digest = state->digests[static_cast<size_t>(f)];
-    std::optional<renderer::RenderedFrame> frame = state->store.Load(f);
-    if (frame && FrameDigest(frame->rgb) == digest) return std::move(frame->rgb);
-    if (!state->renderer) {
-      spdlog::warn(
-          "frame {} is gone from {}, or holds other pixels there (the frame cache pruned or "
-          "rewritten while the run ran?): it is rendered again, as is any other such frame",
-          f + 1, state->store.dir().string());
-      state->renderer = renderer::SceneRenderer::Create(scenario.world, RendererOptionsOf(scenario),
-                                                        Rng(scenario.seeds.renderer));
-    }
-    renderer::RenderedFrame again = state->renderer->Render(f);
-    if (FrameDigest(again.rgb) != digest) {
-      spdlog::warn("frame {} rendered again differs from the run's (another GL renderer?)", f + 1);
-    }
-    return std::move(again.rgb);
-  };
+}
+
+FrameReader::~FrameReader() = default;
+
+RgbImage FrameReader::Read(int f) {
+  HCPF_CHECK(f >= 0 && static_cast<size_t>(f) < digests_.size())
+      << "frame " << f << " of " << digests_.size();
+  const std::string& digest = digests_[static_cast<size_t>(f)];
+  std::optional<renderer::RenderedFrame> frame = store_.Load(f);
+  if (frame && FrameDigest(frame->rgb) == digest) return std::move(frame->rgb);
+  if (!renderer_) {
+    renderer_ = renderer::SceneRenderer::Create(scenario_.world, RendererOptionsOf(scenario_),
+                                                Rng(scenario_.seeds.renderer));
+  }
+  renderer::RenderedFrame again = renderer_->Render(f);
+  ++rendered_again_;
+  if (FrameDigest(again.rgb) != digest) ++differing_;
+  return std::move(again.rgb);
+}
+
+void FrameReader::Finish() const {
+  if (rendered_again_ == 0) return;
+  spdlog::warn(
+      "{} of {} frames were gone from {}, or held other pixels there (pruned or rewritten "
+      "while the run ran?): rendered again{}",
+      rendered_again_, digests_.size(), source_,
+      differing_ == 0 ? std::string(", each the run's pixels")
+                      : fmt::format("; {} of them differ from the run's frames (another GL "
+                                    "renderer?), and the video shows them as rendered now",
+                                    differing_));
 }
 
 std::string FrameDigest(const RgbImage& image) {

@@ -186,20 +186,40 @@ OverlayVideo WriteOverlayVideo(const std::string& path, const Scenario& scenario
   return WriteOverlayVideo(path, scenario, content, source);
 }
 
-bool FitsAnH264Level(int width, int height) {
-  const int64_t across = (int64_t{width} + 15) / 16, down = (int64_t{height} + 15) / 16;
-  return across * down <= kMaxH264FrameMacroblocks;
+namespace {
+
+int64_t Macroblocks(int width, int height) {
+  return ((int64_t{width} + 15) / 16) * ((int64_t{height} + 15) / 16);
+}
+
+}  // namespace
+
+bool FitsAnH264Level(int width, int height, double fps) {
+  const int64_t mbs = Macroblocks(width, height);
+  return mbs <= kMaxH264FrameMacroblocks &&
+         static_cast<double>(mbs) * fps <= kMaxH264MacroblocksPerSecond;
 }
 
 std::string VideoLevelNote(const Scenario& scenario) {
   const int width = scenario.world.camera.width_px;
   const int height = scenario.world.camera.height_px;
-  if (FitsAnH264Level(width, height)) return {};
+  const double fps = scenario.world.fps;
+  if (FitsAnH264Level(width, height, fps)) return {};
+  const int64_t mbs = Macroblocks(width, height);
+  const std::string why =
+      mbs > kMaxH264FrameMacroblocks
+          ? fmt::format(
+                "a {}x{} frame is larger than any H.264 level codes ({} macroblocks of "
+                "16x16 px at most, 8176x4352 say)",
+                width, height, kMaxH264FrameMacroblocks)
+          : fmt::format(
+                "{}x{} at {} fps is faster than any H.264 level codes ({} macroblocks "
+                "of 16x16 px a second at most, 1920x1080 at 2048 fps say)",
+                width, height, fps, kMaxH264MacroblocksPerSecond);
   return fmt::format(
-      "--video: a {}x{} frame is larger than any H.264 level codes ({} macroblocks of 16x16 px at "
-      "most, 8176x4352 say): the video is written, but a browser may refuse to play it, and the "
-      "report links it instead of showing it",
-      width, height, kMaxH264FrameMacroblocks);
+      "--video: {}: the video is written, but a browser may refuse to play it, and the report "
+      "links it instead of showing it",
+      why);
 }
 
 void CheckVideoFits(const Scenario& scenario, const std::string& option) {
@@ -350,7 +370,7 @@ OverlayVideo WriteOverlayVideo(const std::string& path, const Scenario& scenario
   const bool h264 = std::string(writer->fourcc()) == "avc1";
   return {.fourcc = writer->fourcc(),
           .codec = h264 ? "H.264" : "MPEG-4 Part 2",
-          .plays_in_browsers = h264 && FitsAnH264Level(width, height),
+          .plays_in_browsers = h264 && FitsAnH264Level(width, height, scenario.world.fps),
           .frames = static_cast<int>(truth.size()),
           .fps = scenario.world.fps,
           .width = width,

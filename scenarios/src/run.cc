@@ -84,7 +84,7 @@ RunSummary RunScenario(const Scenario& scenario, const RunOptions& options) {
   auto t0 = Clock::now();
   FrameSourceOptions frame_options;
   frame_options.cache_dir = options.frame_cache_dir;
-  // A rendered run's video reads its frames back (ReadBackFrames): from the
+  // A rendered run's video reads its frames back (FrameReader): from the
   // frame cache, else from a spool in the run's folder removed once the video
   // is written. Kept in memory, 2000 frames of 640x480 took 1.8 GB (a scale
   // audit).
@@ -430,10 +430,10 @@ RunSummary RunScenario(const Scenario& scenario, const RunOptions& options) {
     // At detection level there are no pixels: the overlay is drawn on a
     // plain background.
     OverlayFrameSource frame_at;
+    std::shared_ptr<FrameReader> reader;
     if (scene.rendered) {
-      frame_at = [read = ReadBackFrames(scenario, scene)](int f) -> std::optional<RgbImage> {
-        return read(f);
-      };
+      reader = std::make_shared<FrameReader>(scenario, scene);
+      frame_at = [reader](int f) -> std::optional<RgbImage> { return reader->Read(f); };
     }
     video = WriteOverlayVideo((partial / "overlay.mp4").string(), scenario,
                               {.truth = truth,
@@ -441,6 +441,7 @@ RunSummary RunScenario(const Scenario& scenario, const RunOptions& options) {
                                .observations = observations,
                                .filters = scores.filters ? &*scores.filters : nullptr},
                               frame_at);
+    if (reader) reader->Finish();
     fs::remove_all(video_spool, ec);
     if (ec) throw RunError(fmt::format("cannot remove {}: {}", video_spool.string(), ec.message()));
   }

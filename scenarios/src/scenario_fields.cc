@@ -411,8 +411,10 @@ namespace {
 // The hypotheses the Laplace proposal's Newton search weighs a frame
 // (SceneMotionFilter::FindMode), whatever the particles: the 33-point
 // stencil at the start and after each of typically four iterations, and a
-// trial step each. Left out, 10 particles x 10^6 points counted 10^7 terms,
-// 0.1 s, for a run that took 2.0 s a frame (a scale audit; crossing, 20
+// trial step each. A typical frame's count, so a lower bound: a frame whose
+// search restarts from its best particle weighs them twice (and its
+// particles twice), and up to 30 iterations of up to 30 trial steps. Left out, 10 particles x 10^6
+// points counted 10^7 terms, 0.1 s, for a run that took 2.0 s a frame (a scale audit; crossing, 20
 // frames, 39.5 s; 179 x 10^6 terms at 10 ns are 1.8 s).
 constexpr int64_t kLaplaceHypotheses = 33 * 5 + 4;
 
@@ -439,12 +441,14 @@ std::string SceneFilterCostWarning(const Scenario& scenario) {
   return fmt::format(
       "the scene filter weighs (tracker.scene_filter.particles ({}){}) x {} ({}) = {:.3g} "
       "evidence terms a frame: about {:.3g} s a frame at ~10 ns each (BM_SceneFilterStep), "
-      "{:.3g} h for {} frames; fewer particles or points make it faster",
+      "{:.3g} h for {} frames; fewer particles or points make it faster{}",
       scenario.tracker.scene_filter.particles,
-      laplace ? fmt::format(" + ~{} of the laplace proposal's Newton search", kLaplaceHypotheses)
+      laplace ? fmt::format(" + at least ~{} of the laplace proposal's Newton search",
+                            kLaplaceHypotheses)
               : std::string(),
       points.source, points.count, static_cast<double>(evaluations), per_frame,
-      per_frame * scenario.world.frames / 3600.0, scenario.world.frames);
+      per_frame * scenario.world.frames / 3600.0, scenario.world.frames,
+      laplace ? ", as does tracker.scene_filter.proposal: dynamics (no Newton search)" : "");
 }
 
 bool UsesRansac(const Scenario& scenario) {

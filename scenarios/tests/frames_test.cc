@@ -114,7 +114,7 @@ TEST_F(Frames, AFailureWhileFinishingAFrameStopsTheRun) {
 }
 
 // A rendered run's overlay video reads its frames back one at a time
-// (ReadBackFrames) instead of holding them all (a scale audit: 1.8 GB for
+// (FrameReader) instead of holding them all (a scale audit: 1.8 GB for
 // 2000 frames of 640x480). Without a frame cache they are spooled, with one
 // they are read from it; a frame the cache lost, or holds with other pixels,
 // is rendered again.
@@ -133,8 +133,10 @@ TEST_F(Frames, ReadBackGivesEachFrameFromTheSpoolOrTheCache) {
     const SceneFrames out = ProduceFrames(s, options);
     EXPECT_TRUE(out.images.empty());
     EXPECT_EQ(out.readback_root, options.spool_dir);
-    const auto read = ReadBackFrames(s, out);
-    for (int f = 0; f < s.world.frames; ++f) EXPECT_EQ(read(f), expected[f]) << "frame " << f;
+    EXPECT_TRUE(out.readback_is_spool);
+    FrameReader read(s, out);
+    for (int f = 0; f < s.world.frames; ++f) EXPECT_EQ(read.Read(f), expected[f]) << "frame " << f;
+    EXPECT_EQ(read.rendered_again(), 0) << "every frame read from the spool";
     const renderer::FrameCache spool(options.spool_dir, out.pixel_hash);
     for (int f = 0; f < s.world.frames; ++f) EXPECT_TRUE(spool.Contains(f)) << "frame " << f;
   }
@@ -142,15 +144,22 @@ TEST_F(Frames, ReadBackGivesEachFrameFromTheSpoolOrTheCache) {
   options.cache_dir = (dir / "cache").string();
   const SceneFrames out = ProduceFrames(s, options);
   EXPECT_EQ(out.readback_root, options.cache_dir);
+  EXPECT_FALSE(out.readback_is_spool);
   EXPECT_FALSE(fs::exists(options.spool_dir)) << "the frame cache holds the frames already";
+  {
+    FrameReader read(s, out);
+    for (int f = 0; f < s.world.frames; ++f) EXPECT_EQ(read.Read(f), expected[f]) << "frame " << f;
+    EXPECT_EQ(read.rendered_again(), 0) << "every frame read from the cache";
+  }
   // Frame 2 lost, frame 4 holding frame 3's pixels: both rendered again.
   const fs::path scene = fs::path(options.cache_dir) / out.pixel_hash;
   fs::remove(scene / "000002.frame");
   fs::copy_file(scene / "000003.frame", scene / "000004.frame",
                 fs::copy_options::overwrite_existing);
   ASSERT_NE(expected[3], expected[4]);
-  const auto read = ReadBackFrames(s, out);
-  for (int f = 0; f < s.world.frames; ++f) EXPECT_EQ(read(f), expected[f]) << "frame " << f;
+  FrameReader read(s, out);
+  for (int f = 0; f < s.world.frames; ++f) EXPECT_EQ(read.Read(f), expected[f]) << "frame " << f;
+  EXPECT_EQ(read.rendered_again(), 2) << "frames 2 and 4";
 }
 
 }  // namespace

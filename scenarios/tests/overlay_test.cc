@@ -50,24 +50,33 @@ Clip PlainClip(const Scenario& scenario, int frames, std::array<uint8_t, 3> rgb)
   return clip;
 }
 
-// H.264's largest level codes frames of up to 139,264 macroblocks; libx264
-// wrote an 8190 x 8190 overlay declaring that level (a scale audit). Such a
-// video is not said to play in browsers, and a run says so before it starts.
-TEST(Overlay, AFrameLargerThanAnyH264LevelIsSaidSo) {
-  EXPECT_TRUE(FitsAnH264Level(8176, 4352));   // 511 x 272 = 138,992 macroblocks
-  EXPECT_TRUE(FitsAnH264Level(8191, 4352));   // 512 x 272 = 139,264
-  EXPECT_FALSE(FitsAnH264Level(8191, 4353));  // 512 x 273
-  EXPECT_FALSE(FitsAnH264Level(8190, 8190));
-  EXPECT_TRUE(FitsAnH264Level(640, 480));
-  const auto load = [](const std::string& resolution) {
-    return LoadScenarioText(testing::kMinimal, "v.yaml",
-                            {ParseOverride("camera.resolution=" + resolution)});
+// H.264's largest level codes frames of up to 139,264 macroblocks and
+// 16,711,680 macroblocks a second; libx264 wrote an 8190 x 8190 overlay
+// declaring that level (a scale audit). Such a video, or one too fast, is
+// not said to play in browsers, and a run says so before it starts.
+TEST(Overlay, AVideoLargerOrFasterThanAnyH264LevelIsSaidSo) {
+  EXPECT_TRUE(FitsAnH264Level(8176, 4352, 30));   // 511 x 272 = 138,992 macroblocks
+  EXPECT_TRUE(FitsAnH264Level(8191, 4352, 30));   // 512 x 272 = 139,264
+  EXPECT_FALSE(FitsAnH264Level(8191, 4353, 30));  // 512 x 273
+  EXPECT_FALSE(FitsAnH264Level(8190, 8190, 30));
+  EXPECT_TRUE(FitsAnH264Level(640, 480, 30));
+  EXPECT_TRUE(FitsAnH264Level(1920, 1080, 2048));   // 8160 x 2048 = 16,711,680 a second
+  EXPECT_FALSE(FitsAnH264Level(1920, 1080, 2049));  // past it
+  const auto load = [](const std::string& resolution, const std::string& fps) {
+    return LoadScenarioText(
+        testing::kMinimal, "v.yaml",
+        {ParseOverride("camera.resolution=" + resolution), ParseOverride("fps=" + fps)});
   };
-  EXPECT_EQ(VideoLevelNote(load("[640, 480]")), "");
-  EXPECT_EQ(VideoLevelNote(load("[8190, 8190]")),
+  EXPECT_EQ(VideoLevelNote(load("[640, 480]", "30")), "");
+  EXPECT_EQ(VideoLevelNote(load("[8190, 8190]", "30")),
             "--video: a 8190x8190 frame is larger than any H.264 level codes (139264 macroblocks "
             "of 16x16 px at most, 8176x4352 say): the video is written, but a browser may refuse "
             "to play it, and the report links it instead of showing it");
+  EXPECT_EQ(VideoLevelNote(load("[1920, 1080]", "2100")),
+            "--video: 1920x1080 at 2100 fps is faster than any H.264 level codes (16711680 "
+            "macroblocks of 16x16 px a second at most, 1920x1080 at 2048 fps say): the video is "
+            "written, but a browser may refuse to play it, and the report links it instead of "
+            "showing it");
 }
 
 TEST(Overlay, VideoReadsBackWithFrameCountAndSize) {

@@ -149,10 +149,11 @@ TEST(LoadScenario, SceneFilterCostIsCountedAndAVerySlowOneIsNamed) {
                                 {"tracker.scene_filter.points", "1000000"},
                                 {"frames", "20"}});
   EXPECT_EQ(SceneFilterCostWarning(points),
-            "the scene filter weighs (tracker.scene_filter.particles (10) + ~169 of the laplace "
-            "proposal's Newton search) x tracker.scene_filter.points (1000000) = 1.79e+08 "
-            "evidence terms a frame: about 1.79 s a frame at ~10 ns each (BM_SceneFilterStep), "
-            "0.00994 h for 20 frames; fewer particles or points make it faster");
+            "the scene filter weighs (tracker.scene_filter.particles (10) + at least ~169 of the "
+            "laplace proposal's Newton search) x tracker.scene_filter.points (1000000) = "
+            "1.79e+08 evidence terms a frame: about 1.79 s a frame at ~10 ns each "
+            "(BM_SceneFilterStep), 0.00994 h for 20 frames; fewer particles or points make it "
+            "faster, as does tracker.scene_filter.proposal: dynamics (no Newton search)");
 }
 
 }  // namespace

@@ -1611,8 +1611,8 @@ std::string VideoSection(const RunFolder& a, const RunFolder* b, const fs::path&
                             "video entry; {} that plays here)",
                             again)
           : r->video_codec == "H.264"
-              ? std::string(" (its frames are larger than any H.264 level codes, 8176 x 4352 "
-                            "say)")
+              ? std::string(" (its frames are larger, or come faster, than any H.264 level "
+                            "codes: 8176 x 4352, or 1920 x 1080 at 2048 fps, say)")
               : std::string(" (the FFmpeg that wrote it had no H.264 encoder)"));
       continue;
     }

@@ -8,6 +8,7 @@
 
 #include <filesystem>
 #include <functional>
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
@@ -36,7 +37,7 @@ void MakeFrameCacheFolder(const std::filesystem::path& dir);
 struct FrameSourceOptions {
   bool render = false;       // render even when the scenario is at detection level
   bool keep_images = false;  // keep every colour frame in memory (SceneFrames::images)
-  // Rendered frames: keep them where ReadBackFrames reads them back later
+  // Rendered frames: keep them where a FrameReader reads them back later
   // (an overlay video) without holding them in memory. The frame cache holds
   // them when there is one; else they are stored here, compressed as the
   // cache stores them (a frame cache of the run's own, which the caller
@@ -82,20 +83,41 @@ struct SceneFrames {
   // `frame_digests`; a det.txt's run compares them with its rendering's).
   std::vector<std::string> frame_digests;
   // With FrameSourceOptions::spool_dir: the frame cache root that holds every
-  // frame under pixel_hash (the run's frame cache, or the spool).
+  // frame under pixel_hash (the run's frame cache, or the spool), and which.
   std::string readback_root;
+  bool readback_is_spool = false;
 };
 
 SceneFrames ProduceFrames(const Scenario& scenario, const FrameSourceOptions& options);
 
 // Frames produced with FrameSourceOptions::spool_dir, read back one at a time
-// from `frames.readback_root`: frame f's colour image, checked against
-// frames.frame_digests[f]. A frame the folder no longer holds, or holds with
-// other pixels (a frame cache pruned or rewritten while the run ran), is
-// rendered again, with a warning naming how many were. Each call of the
-// function returned reads one frame; it must not outlive `scenario`.
-std::function<RgbImage(int frame)> ReadBackFrames(const Scenario& scenario,
-                                                  const SceneFrames& frames);
+// from `frames.readback_root` (the frame cache, or the run's spool): frame
+// f's colour image, checked against frames.frame_digests[f]. A frame the
+// folder no longer holds, or holds with other pixels (a frame cache pruned
+// or rewritten while the run ran), is rendered again; Finish() then warns
+// once, with how many were and how many of those still differ. It must not
+// outlive `scenario`.
+class FrameReader {
+ public:
+  FrameReader(const Scenario& scenario, const SceneFrames& frames);
+  ~FrameReader();
+  FrameReader(const FrameReader&) = delete;
+  FrameReader& operator=(const FrameReader&) = delete;
+
+  RgbImage Read(int frame);
+  int rendered_again() const { return rendered_again_; }
+  // The warning (spdlog) when any frame was rendered again.
+  void Finish() const;
+
+ private:
+  const Scenario& scenario_;
+  renderer::FrameCache store_;
+  std::vector<std::string> digests_;
+  std::string source_;                                 // "the frame cache DIR" or "the spool DIR"
+  std::unique_ptr<renderer::SceneRenderer> renderer_;  // created on the first miss
+  int rendered_again_ = 0;
+  int differing_ = 0;
+};
 // A frame's entry of SceneFrames::frame_digests (the manifests'
 // `frame_digests`): XXH3-128 of its width, height and RGB pixels, as 32
 // lowercase hex digits.

@@ -70,14 +70,17 @@ OverlayVideo WriteOverlayVideo(const std::string& path, const Scenario& scenario
 // fallback) codes them in 13 bits, and FFmpeg's encoder refuses 8192.
 inline constexpr int kMaxVideoSide = 8191;
 
-// H.264's largest level (6.2, Annex A) codes frames of at most 139,264
-// macroblocks of 16 x 16 px (8176 x 4352, say). libx264 writes a larger
-// frame all the same, declaring level 6.2, which it exceeds, so a browser may
-// refuse it: such a video is not said to play in browsers
+// H.264's largest level (6.2, Annex A, Table A-1) codes frames of at most
+// 139,264 macroblocks of 16 x 16 px (8176 x 4352, say) and 16,711,680
+// macroblocks a second (1920 x 1080 at 2048 fps). libx264 writes a larger or
+// faster video all the same, declaring level 6.2, which it exceeds, so a
+// browser may refuse it: such a video is not said to play in browsers
 // (OverlayVideo::plays_in_browsers), and a run warns before it starts
-// (VideoLevelNote).
+// (VideoLevelNote). (Each side's limit, sqrt(8 x 139,264) macroblocks =
+// 16,880 px, is past kMaxVideoSide.)
 inline constexpr int64_t kMaxH264FrameMacroblocks = 139264;
-bool FitsAnH264Level(int width, int height);
+inline constexpr double kMaxH264MacroblocksPerSecond = 16711680.0;
+bool FitsAnH264Level(int width, int height, double fps);
 
 namespace internal {
 
@@ -110,8 +113,8 @@ std::string FitHeaderLine(const std::string& text, double scale, int max_width_p
 // run asked for a video does not fail at its end (a second bad-input audit).
 void CheckVideoFits(const Scenario& scenario, const std::string& option);
 
-// A warning when the scenario's camera is larger than any H.264 level
-// (FitsAnH264Level), "" otherwise.
+// A warning when the scenario's video is larger or faster than any H.264
+// level codes (FitsAnH264Level), "" otherwise.
 std::string VideoLevelNote(const Scenario& scenario);
 
 }  // namespace hcpf::scenarios

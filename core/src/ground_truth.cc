@@ -46,18 +46,18 @@ FrameGroundTruth ComputeGroundTruth(const WorldSpec& world, int frame,
   // frames took 65 s).
   struct Blocker {
     OrientedBox box;
+    BoxPx projected;             // ProjectBox: a target's amodal box
+    bool in_front = false;       // every corner in front of the camera
     std::optional<BoxPx> image;  // padded; nullopt: test every ray
   };
   const auto blocker = [&](const OrientedBox& box) {
-    Blocker b{box, std::nullopt};
-    bool in_front = false;
-    const BoxPx projected = ProjectBox(gt.camera, box, &in_front);
-    if (in_front) {
-      const double pad =
-          1e-3 + 1e-9 * std::max({std::abs(projected.left), std::abs(projected.top),
-                                  std::abs(projected.right()), std::abs(projected.bottom())});
-      b.image = BoxPx::FromCorners(projected.left - pad, projected.top - pad,
-                                   projected.right() + pad, projected.bottom() + pad);
+    Blocker b{.box = box};
+    b.projected = ProjectBox(gt.camera, box, &b.in_front);
+    if (b.in_front) {
+      const BoxPx& p = b.projected;
+      const double pad = 1e-3 + 1e-9 * std::max({std::abs(p.left), std::abs(p.top),
+                                                 std::abs(p.right()), std::abs(p.bottom())});
+      b.image = BoxPx::FromCorners(p.left - pad, p.top - pad, p.right() + pad, p.bottom() + pad);
     }
     return b;
   };
@@ -96,10 +96,9 @@ FrameGroundTruth ComputeGroundTruth(const WorldSpec& world, int frame,
     obj.position_m = p.pose.position_m;
     obj.heading_deg = p.pose.heading_deg;
     obj.dimensions_m = p.spec->dimensions_m;
-    bool in_front = false;
-    obj.amodal_box = ProjectBox(gt.camera, p.blocker.box, &in_front);
+    obj.amodal_box = p.blocker.projected;
     const BoxPx clipped = Intersect(obj.amodal_box, image);
-    obj.in_frame = in_front && !clipped.empty();
+    obj.in_frame = p.blocker.in_front && !clipped.empty();
     if (obj.in_frame) {
       obj.truncation = 1.0 - clipped.area() / obj.amodal_box.area();
       // Occluders first, then the other targets, each in the world's order.

@@ -104,17 +104,25 @@ SceneFrames ProduceFrames(const Scenario& scenario, const FrameSourceOptions& op
   // Misses are stored on a worker thread while the next frame renders.
   std::unique_ptr<renderer::FrameCacheWriter> cache_writer;
   const int workers = std::max(1, options.workers);
+  // Four frames may wait for one writer; with several, one each (memory: an
+  // 800 x 600 frame is 1.4 MB).
+  const auto writer_of = [workers](renderer::FrameCache store) {
+    return std::make_unique<renderer::FrameCacheWriter>(std::move(store), workers > 1 ? 1 : 4,
+                                                        workers);
+  };
   // The spool (FrameSourceOptions::spool_dir): every frame stored on a worker
   // thread as the cache stores its misses, where no frame cache keeps them.
   std::unique_ptr<renderer::FrameCacheWriter> spool_writer;
   if (!options.spool_dir.empty()) {
     out.readback_root = cache ? options.cache_dir : options.spool_dir;
     out.readback_is_spool = !cache;
-    if (!cache) {
-      spool_writer = std::make_unique<renderer::FrameCacheWriter>(
-          renderer::FrameCache(options.spool_dir, out.pixel_hash), workers > 1 ? 1 : 4, workers);
-    }
+    if (!cache) spool_writer = writer_of(renderer::FrameCache(options.spool_dir, out.pixel_hash));
   }
+  // A spool's failure names the run's folder, not a frame cache.
+  const auto spool_failed = [&options](const RunError& e) {
+    return RunError(fmt::format("cannot spool the video's frames in {} (the run's folder): {}",
+                                options.spool_dir, e.what()));
+  };
   std::unique_ptr<renderer::SceneRenderer> scene;  // created on the first cache miss
   // "frames", not "render": from a warm cache nothing is rendered (an audit
   // saw "render 240/240" for frames read from the cache).
@@ -141,12 +149,7 @@ SceneFrames ProduceFrames(const Scenario& scenario, const FrameSourceOptions& op
         [&, shared, rendered] {
           renderer::RenderedFrame& frame = *shared;
           if (rendered && cache) {
-            if (!cache_writer) {
-              // Four frames may wait for one writer; with several, one each
-              // (memory: an 800 x 600 frame is 1.4 MB).
-              cache_writer = std::make_unique<renderer::FrameCacheWriter>(
-                  *cache, workers > 1 ? 1 : 4, workers);
-            }
+            if (!cache_writer) cache_writer = writer_of(*cache);
             cache_writer->Submit(frame);  // a copy: the frame is used below
           }
           if (spool_writer) {
@@ -159,9 +162,7 @@ SceneFrames ProduceFrames(const Scenario& scenario, const FrameSourceOptions& op
             try {
               spool_writer->Submit(std::move(colour));
             } catch (const RunError& e) {
-              throw RunError(
-                  fmt::format("cannot spool the video's frames in {} (the run's folder): {}",
-                              options.spool_dir, e.what()));
+              throw spool_failed(e);
             }
           }
           if (options.on_frame) options.on_frame(frame);
@@ -169,7 +170,6 @@ SceneFrames ProduceFrames(const Scenario& scenario, const FrameSourceOptions& op
           out.truth.push_back(options.analytic_truth
                                   ? ComputeGroundTruth(scenario.world, frame.frame)
                                   : std::move(frame.ground_truth));
-          if (options.keep_images) out.images.push_back(std::move(frame.rgb));
           progress.Advance();
         });
   };
@@ -209,8 +209,7 @@ SceneFrames ProduceFrames(const Scenario& scenario, const FrameSourceOptions& op
     try {
       spool_writer->Finish();
     } catch (const RunError& e) {
-      throw RunError(fmt::format("cannot spool the video's frames in {} (the run's folder): {}",
-                                 options.spool_dir, e.what()));
+      throw spool_failed(e);
     }
   }
   progress.Finish();

@@ -404,10 +404,6 @@ ScenePoints SceneFilterPoints(const Scenario& scenario) {
   return {};
 }
 
-}  // namespace
-
-namespace {
-
 // The hypotheses the Laplace proposal's Newton search weighs a frame
 // (SceneMotionFilter::FindMode), whatever the particles: the 33-point
 // stencil at the start and after each of typically four iterations, and a

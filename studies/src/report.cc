@@ -562,7 +562,7 @@ std::string PlotSvg(const Layout& layout, const std::string& metric, const std::
   }
 
   std::string gp;
-  gp += "set terminal svg size 820,440 dynamic font 'sans,11' background rgb 'white'\n";
+  gp += SvgTerminal(820, "440");
   gp += fmt::format("set output {}\n", GpString(svg.string()));
   // Titles and axes from the metric catalogue: "hijack rate (hijack_rate)",
   // "tracker time per frame, ms (ms_per_frame)".
@@ -2188,9 +2188,6 @@ struct ReplicationTable {
   int only_there = 0;                // and there without a partner here
 };
 
-// Whether two spellings of a swept value are one value: the same text,
-// or the same YAML with numbers compared as numbers (3 and 3.0, 0.1 and
-// 0.10, [320, 240] and [320.0, 240]).
 // Each of `keys` swept keys' values, each once, in order of first
 // appearance: the sweep's where `expansion` is given (a store's recorded
 // expansion: its rows are held to it), whatever runs there are, else the
@@ -2279,6 +2276,9 @@ bool SameYamlValue(const YAML::Node& a, const YAML::Node& b) {
   return a.IsNull();
 }
 
+// Whether two spellings of a swept value are one value: the same text,
+// or the same YAML with numbers compared as numbers (3 and 3.0, 0.1 and
+// 0.10, [320, 240] and [320.0, 240]).
 bool SameSpelledValue(const std::string& a, const std::string& b) {
   if (a == b) return true;
   try {
@@ -2288,28 +2288,27 @@ bool SameSpelledValue(const std::string& a, const std::string& b) {
   }
 }
 
-// Whether `key` holds text in the store's resolved base scenario(s): a
-// quoted scalar there (the resolved YAML quotes text and paths,
-// docs/scenario.md). Its values are compared as written, never as numbers:
-// `name: 1.10` and `1.1` are two names (a review). False where the key is
-// not found (a number's spellings are then compared as numbers).
-bool TakesText(const StoreMeta& meta, const std::string& key) {
-  std::vector<std::string> texts;
-  for (const auto& [value, text] : ResolvedBases(meta)) texts.push_back(text);
-  if (texts.empty()) texts.push_back(meta.base_resolved);
-  for (const std::string& text : texts) {
+// Whether `key` holds text in a store's resolved base scenario(s)
+// (`resolved`: ResolvedBases' texts, else base_resolved): a quoted scalar
+// there (the resolved YAML quotes text and paths, docs/scenario.md). Its
+// values are compared as written, never as numbers: `name: 1.10` and `1.1`
+// are two names (a review). False where the key is not found (a number's
+// spellings are then compared as numbers).
+bool TakesText(const std::vector<std::string>& resolved, const std::string& key) {
+  for (const std::string& text : resolved) {
     try {
       YAML::Node node = YAML::Load(text);
       std::stringstream path(key);
       for (std::string part; node && std::getline(path, part, '.');) {
+        // reset(), not =: assigning a node writes into the tree it was bound to.
         if (node.IsSequence() && !part.empty() &&
             part.find_first_not_of("0123456789") == std::string::npos) {
           const size_t i = std::stoul(part);
-          node = i < node.size() ? node[i] : YAML::Node();
+          node.reset(i < node.size() ? node[i] : YAML::Node());
         } else if (node.IsMap()) {
-          node = node[part];
+          node.reset(node[part]);
         } else {
-          node = YAML::Node();
+          node.reset(YAML::Node());
         }
       }
       if (node && node.IsScalar() && node.Tag() == "!") return true;
@@ -2332,6 +2331,9 @@ std::vector<std::string> RespellAsHere(const std::vector<RunRecord>& runs, const
                                        const std::map<std::string, std::string>& bases_there,
                                        AgainstStore& other) {
   const std::map<std::string, std::string> bases_here = ResolvedBases(meta);
+  std::vector<std::string> resolved_here;  // for TakesText
+  for (const auto& [value, text] : bases_here) resolved_here.push_back(text);
+  if (resolved_here.empty()) resolved_here.push_back(meta.base_resolved);
   const size_t keys = meta.swept_keys.size();
   const std::vector<std::vector<std::string>> values_here = SweptValues(runs, keys, meta.expansion);
   // There: the values its runs hold.
@@ -2340,7 +2342,7 @@ std::vector<std::string> RespellAsHere(const std::vector<RunRecord>& runs, const
   std::vector<std::string> lines;
   for (size_t k = 0; k < keys; ++k) {
     const std::string& key = meta.swept_keys[k];
-    if (key != kSweptBaseKey && TakesText(meta, key)) continue;
+    if (key != kSweptBaseKey && TakesText(resolved_here, key)) continue;
     const std::vector<std::string>& here = values_here[k];
     std::map<std::string, std::string> respelled;
     for (const std::string& v : values_there[k]) {

@@ -259,7 +259,7 @@ std::string CameraMotionSvg(const std::vector<CameraMotionRow>& rows, const std:
   }
   WriteTextFile(data.string(), text);
   std::string gp;
-  gp += "set terminal svg size 820,440 dynamic font 'sans,11' background rgb 'white'\n";
+  gp += SvgTerminal(820, "440");
   gp += fmt::format("set output {}\n", GpString(svg.string()));
   gp += fmt::format("set title {} noenhanced\n",
                     GpString(fmt::format("camera-motion error per frame, mode {}", mode)));
@@ -368,7 +368,7 @@ std::string PrecisionRecallSvg(const json& pr, const fs::path& work, const std::
   const double best_precision = JsonDouble(f1, "precision");
   const bool has_best = std::isfinite(best_recall) && std::isfinite(best_precision);
   std::string gp;
-  gp += "set terminal svg size 820,440 dynamic font 'sans,11' background rgb 'white'\n";
+  gp += SvgTerminal(820, "440");
   gp += fmt::format("set output {}\n", GpString(svg.string()));
   gp += fmt::format("set title {} noenhanced\n",
                     GpString(fmt::format("precision against recall (IoU >= 0.5), every score "

@@ -167,7 +167,7 @@ std::string SceneSketchSvg(const SceneSketch& sketch, const std::string& title,
   WriteTextFile(data.string(), text);
 
   std::string gp;
-  gp += "set terminal svg size 820,560 dynamic font 'sans,11' background rgb 'white'\n";
+  gp += SvgTerminal(820, "560");
   gp += fmt::format("set output {}\n", GpString(svg.string()));
   gp += fmt::format("set title {} noenhanced\n", GpString(title));
   gp += "set xlabel 'east, m'\nset ylabel 'north, m'\nset size ratio -1\nset grid\n";

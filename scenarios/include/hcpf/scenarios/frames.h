@@ -35,8 +35,7 @@ std::string DefaultFrameCacheSource();
 void MakeFrameCacheFolder(const std::filesystem::path& dir);
 
 struct FrameSourceOptions {
-  bool render = false;       // render even when the scenario is at detection level
-  bool keep_images = false;  // keep every colour frame in memory (SceneFrames::images)
+  bool render = false;  // render even when the scenario is at detection level
   // Rendered frames: keep them where a FrameReader reads them back later
   // (an overlay video) without holding them in memory. The frame cache holds
   // them when there is one; else they are stored here, compressed as the
@@ -66,7 +65,6 @@ struct FrameSourceOptions {
 
 struct SceneFrames {
   std::vector<FrameGroundTruth> truth;  // one per frame
-  std::vector<RgbImage> images;         // when rendered and keep_images
   bool rendered = false;                // pixel-exact ground truth
   // When frames were rendered (or read from the cache): renderer::PixelHash
   // of the scene, the frames' identity (manifest `pixel_hash`).

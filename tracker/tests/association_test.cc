@@ -1,9 +1,11 @@
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <functional>
 #include <limits>
 
+#include "hcpf/core/assignment.h"
 #include "hcpf/core/rng.h"
 #include "hcpf/tracker/associator.h"
 #include "hcpf/tracker/hungarian.h"
@@ -64,6 +66,68 @@ TEST(SolveAssignment, MatchesBruteForceOnRandomSmallCases) {
     BruteForce(cost, rows, cols, 0, used, 0, 0.0, &best_pairs, &best_total);
     EXPECT_EQ(pairs, best_pairs) << "trial " << trial;
     EXPECT_NEAR(total, best_total, 1e-9) << "trial " << trial;
+  }
+}
+
+// Points gated as the M-of-N initiator gates them fall into many blocks (and,
+// at this density, a few large ones): the block-by-block solution must pair
+// as many rows and cost as little as one dense solve of the whole matrix with
+// forbidden entries priced above any finite assignment (core/assignment.h,
+// checked against scipy). Costs are integers so the totals compare exactly.
+TEST(SolveAssignment, BlockByBlockEqualsOneDenseSolve) {
+  Rng rng(77);
+  for (int trial = 0; trial < 20; ++trial) {
+    const int rows = 150 + static_cast<int>(rng.UniformInt(100));
+    const int cols = 150 + static_cast<int>(rng.UniformInt(100));
+    std::vector<double> x(static_cast<size_t>(rows + cols)), y(x.size());
+    for (size_t k = 0; k < x.size(); ++k) {
+      x[k] = std::floor(rng.Uniform(0.0, 320.0));
+      y[k] = std::floor(rng.Uniform(0.0, 240.0));
+    }
+    std::vector<double> cost(static_cast<size_t>(rows) * cols, kInfinity);
+    int finite = 0;
+    for (int r = 0; r < rows; ++r) {
+      for (int c = 0; c < cols; ++c) {
+        const double dx = x[static_cast<size_t>(r)] - x[static_cast<size_t>(rows + c)];
+        const double dy = y[static_cast<size_t>(r)] - y[static_cast<size_t>(rows + c)];
+        if (dx * dx + dy * dy <= 400.0) {
+          cost[static_cast<size_t>(r) * cols + c] = dx * dx + dy * dy;
+          ++finite;
+        }
+      }
+    }
+    ASSERT_GT(finite, rows) << "the gate should join rows into blocks";
+    const std::vector<int> a = SolveAssignment(cost, rows, cols);
+    int pairs = 0;
+    double total = 0.0;
+    std::vector<char> seen(static_cast<size_t>(cols), 0);
+    for (int r = 0; r < rows; ++r) {
+      if (a[static_cast<size_t>(r)] < 0) continue;
+      ASSERT_FALSE(seen[static_cast<size_t>(a[static_cast<size_t>(r)])]) << "column used twice";
+      seen[static_cast<size_t>(a[static_cast<size_t>(r)])] = 1;
+      const double v = cost[static_cast<size_t>(r) * cols + a[static_cast<size_t>(r)]];
+      ASSERT_TRUE(std::isfinite(v)) << "forbidden pair assigned";
+      ++pairs;
+      total += v;
+    }
+    // One dense solve: each forbidden pair it must use costs more than all
+    // finite pairs together, so it first uses as few as it can.
+    std::vector<double> dense = cost;
+    const double forbidden = 801.0 * static_cast<double>(std::min(rows, cols) + 1);
+    for (double& v : dense) {
+      if (!std::isfinite(v)) v = forbidden;
+    }
+    const std::vector<int> d = hcpf::SolveAssignment(dense, rows, cols, AssignmentSense::kMinimise);
+    int dense_pairs = 0;
+    double dense_total = 0.0;
+    for (int r = 0; r < rows; ++r) {
+      const int c = d[static_cast<size_t>(r)];
+      if (c < 0 || !std::isfinite(cost[static_cast<size_t>(r) * cols + c])) continue;
+      ++dense_pairs;
+      dense_total += cost[static_cast<size_t>(r) * cols + c];
+    }
+    EXPECT_EQ(pairs, dense_pairs) << "trial " << trial;
+    EXPECT_EQ(total, dense_total) << "trial " << trial;
   }
 }
 

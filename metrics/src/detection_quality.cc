@@ -56,12 +56,16 @@ bool Compatible(const Detection& d, const DetectionTruth& t) {
 enum class Labels { kRespected, kIgnored };
 
 // Whether the centre of `d` lies within half of `t`'s box (|dx| <= w/2 and
-// |dy| <= h/2), and its distance normalised by the half-diagonal.
+// |dy| <= h/2), and its distance normalised by the half-diagonal; never for a
+// box of no size.
 std::optional<double> CentreCost(const Detection& d, const DetectionTruth& t) {
   const double dx = d.box.centre_x() - t.box.centre_x();
   const double dy = d.box.centre_y() - t.box.centre_y();
   if (std::abs(dx) > 0.5 * t.box.width || std::abs(dy) > 0.5 * t.box.height) return std::nullopt;
   const double half_diagonal = 0.5 * std::hypot(t.box.width, t.box.height);
+  // A box of no size (a 0 x 0 truth box is valid input) has no centre
+  // distance to normalise: nothing matches it (0 / 0 stopped the solver).
+  if (!(half_diagonal > 0.0)) return std::nullopt;
   return std::hypot(dx, dy) / half_diagonal;
 }
 
@@ -245,8 +249,24 @@ DetectionQuality ScoreDetections(std::span<const DetectionFrame> frames,
   double centre_error_sum = 0.0, iou_sum = 0.0;
   std::vector<double> sizes;
   std::map<int32_t, TargetDetections> by_target;
+  // The mostly visible subset, matched again under its own "don't care"
+  // (below): the matching over every counted target gives a less visible
+  // target a detection that the subset gives a mostly visible one.
+  DetectionQualityOptions mostly = options;
+  mostly.min_visible = kMostlyVisible;
+  const bool subset = options.min_visible < kMostlyVisible;
   for (size_t i = 0; i < frames.size(); ++i) {
     const DetectionFrame& f = frames[i];
+    if (subset) {
+      const std::vector<int> match = Match(f, Rule::kIou, mostly, solver);
+      std::vector<char> matched(f.detections.size(), 0);  // to any target, counted or not
+      for (size_t t = 0; t < f.truth.size(); ++t) {
+        if (match[t] >= 0) matched[static_cast<size_t>(match[t])] = 1;
+        if (Counted(f.truth[t], mostly))
+          ++(match[t] >= 0 ? q.iou_mostly_visible.tp : q.iou_mostly_visible.fn);
+      }
+      q.iou_mostly_visible.fp += std::count(matched.begin(), matched.end(), 0);
+    }
     for (const DetectionTruth& truth : f.truth) {
       by_target[Value(truth.target)].target = truth.target;
       if (Counted(truth, options)) sizes.push_back(SizeOf(truth.box));
@@ -328,16 +348,8 @@ DetectionQuality ScoreDetections(std::span<const DetectionFrame> frames,
     q.precision_recall_mostly_visible = q.precision_recall;
     return q;
   }
-  // The subset's counts follow from these: the per-frame matching is over
-  // every target either way, so its true positives and misses are those of
-  // the last visibility bin, and its false detections those matched to no
-  // target at all, as here (a match to a less visible target is ignored in
-  // both). Only the greedy curve is drawn again, with the subset's
-  // "don't care".
-  const DetectionCounts& mostly_visible = q.by_visibility.back().iou;
-  q.iou_mostly_visible = {.tp = mostly_visible.tp, .fp = q.iou.fp, .fn = mostly_visible.fn};
-  DetectionQualityOptions mostly = options;
-  mostly.min_visible = kMostlyVisible;
+  // The subset's curve, drawn again with its "don't care" (its counts are
+  // above).
   q.precision_recall_mostly_visible = ComputePrecisionRecall(frames, mostly);
   return q;
 }

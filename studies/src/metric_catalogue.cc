@@ -54,10 +54,12 @@ std::span<const CatalogueMetric> MetricCatalogue() {
       // The condition (visible fraction >= 0.75), the lenient centre
       // rule (what a tracker needs of a small target), and the size the
       // counts are about (sweeps against target size: report.x_metric).
-      {"det_recall_visible", "metrics.json", "/detection/by_visibility/3/iou/recall", true,
+      // The subset scored alone: detections on less visible targets neither
+      // true nor false (metrics.json detection.mostly_visible; until
+      // 2026-12-07 the recall was the visibility bin's, from the matching
+      // over every target).
+      {"det_recall_visible", "metrics.json", "/detection/mostly_visible/iou/recall", true,
        "detection recall at visible fraction >= 0.75", "", kProportion},
-      // The same subset with a precision: detections on less visible
-      // targets neither true nor false (metrics.json detection.mostly_visible).
       {"det_precision_visible", "metrics.json", "/detection/mostly_visible/iou/precision", true,
        "detection precision at visible fraction >= 0.75", "", kProportion},
       {"det_recall_centre", "metrics.json", "/detection/centre/recall", true,

@@ -18,6 +18,16 @@ inline cv::Mat RgbMat(const ImageView& view) {
   return cv::Mat(view.height, view.width, CV_8UC3, const_cast<uint8_t*>(view.data), view.stride);
 }
 
+// A point of a cv::pyrDown image in its source image's coordinates, in
+// OpenCV's pixel coordinates (pixel i's centre at i, as cv::warpAffine reads
+// a matrix): pyrDown centres its pixel i on source pixel 2 i. (2 i + 0.5, a
+// centre convention that warpAffine does not share, put the diff detector's
+// fitted warp half a pixel off: any rotation or scale A moved every pixel by
+// (A - I)(0.5, 0.5), 0.026 px at 2 degrees and x1.01; a review.)
+inline cv::Point2f FullResolutionOfHalf(cv::Point2f half) {
+  return cv::Point2f(2.0f * half.x, 2.0f * half.y);
+}
+
 // Grey levels (OpenCV's RGB2GRAY: 0.299 R + 0.587 G + 0.114 B, rounded).
 cv::Mat GreyMat(const ImageView& view);
 

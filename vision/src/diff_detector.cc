@@ -199,10 +199,7 @@ class DiffDetector final : public Detector {
     std::vector<float> error;
     cv::calcOpticalFlowPyrLK(current_half, earlier_half, corners, tracked, status, error,
                              cv::Size(15, 15), 3);
-    // Half-resolution pixel centre (x, y) is full-resolution 2 x + 0.5.
-    const auto full = [](cv::Point2f p) {
-      return cv::Point2f(2.0f * p.x + 0.5f, 2.0f * p.y + 0.5f);
-    };
+    const auto full = internal::FullResolutionOfHalf;
     std::vector<cv::Point2f> from, to;
     for (size_t i = 0; i < corners.size(); ++i) {
       if (status[i] == 0) continue;

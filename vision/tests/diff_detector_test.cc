@@ -2,7 +2,9 @@
 
 #include <algorithm>
 #include <iterator>
+#include <opencv2/imgproc.hpp>
 
+#include "cv_image.h"
 #include "hcpf/core/error.h"
 #include "hcpf/core/rng.h"
 #include "hcpf/vision/detectors.h"
@@ -169,6 +171,34 @@ TEST(DiffDetector, FragmentsOfOneVehicleAreOneDetection) {
   DiffOptions unmerged;
   unmerged.merge_px = 0;
   EXPECT_GT(DiffAt(3, unmerged).detections.size(), 1u);
+}
+
+// The registration fits its warp on corners tracked at half resolution and
+// applies it with cv::warpAffine at full resolution: the two must share one
+// pixel frame. A bright pixel at full-resolution column 40, row 24 is
+// brightest at half-resolution (20, 12) after cv::pyrDown, and that point
+// maps back to (40, 24); a small square's centroid at half resolution maps
+// back to its own, off the pixel grid too.
+TEST(DiffDetector, HalfResolutionPointsMapBackToTheirFullResolutionPixels) {
+  cv::Mat dot = cv::Mat::zeros(48, 80, CV_32F);
+  dot.at<float>(24, 40) = 1.0f;
+  cv::Mat half;
+  cv::pyrDown(dot, half);
+  cv::Point peak;
+  cv::minMaxLoc(half, nullptr, nullptr, nullptr, &peak);
+  EXPECT_EQ(peak, cv::Point(20, 12));
+  const cv::Point2f back = internal::FullResolutionOfHalf(cv::Point2f(peak));
+  EXPECT_FLOAT_EQ(back.x, 40.0f);
+  EXPECT_FLOAT_EQ(back.y, 24.0f);
+  // A 4 x 4 square over columns 30..33 and rows 16..19: centroid (31.5, 17.5).
+  cv::Mat square = cv::Mat::zeros(48, 80, CV_32F);
+  square(cv::Rect(30, 16, 4, 4)).setTo(1.0f);
+  cv::pyrDown(square, half);
+  const cv::Moments m = cv::moments(half);
+  const cv::Point2f centroid = internal::FullResolutionOfHalf(
+      cv::Point2f(static_cast<float>(m.m10 / m.m00), static_cast<float>(m.m01 / m.m00)));
+  EXPECT_NEAR(centroid.x, 31.5f, 1e-3f);
+  EXPECT_NEAR(centroid.y, 17.5f, 1e-3f);
 }
 
 TEST(DiffOptions, RangesAreChecked) {

@@ -133,9 +133,10 @@ struct DetectionQuality {
   // false. The visibility bin [0.75, 1] gives this subset's recall only (a
   // false detection has no visibility); here it has a precision as well.
   // IoU rule; the same as `iou` and `precision_recall` when min_visible is
-  // already at least kMostlyVisible. Its tp and fn are the last visibility
-  // bin's and its fp the total's (the same matching), so only its curve is
-  // computed again.
+  // already at least kMostlyVisible. Each frame is matched again for it: in
+  // the matching over every counted target, a less visible target may take
+  // the detection of a mostly visible one it overlaps, which the subset
+  // counts as found (so its tp and fn can differ from the last bin's).
   DetectionCounts iou_mostly_visible;
   PrecisionRecall precision_recall_mostly_visible;
   // Absent when no detection carries a label (the oracle, a model-free

@@ -90,8 +90,11 @@ struct Encounter {
   int64_t target_a = 0, target_b = 0;   // a < b
   int first_frame = 0, last_frame = 0;  // inclusive
   int eval_frame = 0;                   // min(last_frame + post_window, last frame of the sequence)
-  bool hijacked = false;  // a filter of a or b HIJACKED/STRAYED/LOST (or gone) at eval_frame
-  bool swapped = false;   // the filters of a and b both SWAPPED at eval_frame
+  // A filter of a or b HIJACKED/STRAYED/LOST at eval_frame, or gone while its
+  // target is in view and at least min_visible visible (gone otherwise counts
+  // as COASTING, not as hijacked).
+  bool hijacked = false;
+  bool swapped = false;  // the filters of a and b both SWAPPED at eval_frame
 };
 
 struct VisibilityBin {
@@ -101,9 +104,9 @@ struct VisibilityBin {
 };
 
 // What became of the filters re-acquired (FilterSequence::reacquired): over
-// each one's frames after its re-acquisition, up to and including the frame
-// of its next one (or the end), the scored filter-frames and the CORRECT ones.
-// Together those are each filter's frames after its first re-acquisition.
+// each re-acquired filter's frames from the frame of its first re-acquisition
+// on (that frame included, to the end), the scored filter-frames and the
+// CORRECT ones.
 struct Reacquisitions {
   int64_t count = 0;
   int64_t scored_after = 0;

@@ -141,7 +141,10 @@ std::vector<ClusterStats> ClusterStatistics(const ImageView& image, const Cluste
 
 // eta (eq. 3.5): || [<r>, <g>, <b>, omega / omega_big]_m - [...]_s ||_2
 // with omega_big = max(omega_m, omega_s). A match error: 0 for identical
-// statistics, at most sqrt(3).
+// statistics; below 2 (each colour in [0, 1], the size ratio in (0, 1]), and
+// at most sqrt(3) under l2 and l1 normalisation, whose colours are unit
+// vectors or sum to 1. (`none`, R / 255: black against white is sqrt(3) in
+// colour alone.)
 double MatchScore(const ClusterStats& model, const ClusterStats& scene);
 
 struct RankedMatch {

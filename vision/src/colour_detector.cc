@@ -56,19 +56,32 @@ class ColourDetector final : public Detector {
           region = AroundBox(b, options_.window_scale, width, height);
         }
         if (region.width > 0 && region.height > 0) {
-          const cv::Mat scene = hsv(region).clone();
-          // The model's bin value of every pixel, in [0, 1] (to 1/255: the
-          // back-projection of an 8-bit image is 8-bit, so the histogram is
-          // scaled to 255 for it; at scale 1 it was rounded to 0 or 1, a
-          // pixel counting only where its bin held half the largest: audit).
+          // The model's bin value of every pixel of the frame, in [0, 1] (to
+          // 1/255: the back-projection of an 8-bit image is 8-bit, so the
+          // histogram is scaled to 255 for it; at scale 1 it was rounded to
+          // 0 or 1, a pixel counting only where its bin held half the
+          // largest: audit). The whole frame even for a window: the contrast
+          // is against the frame's mean.
           cv::Mat back;
-          cv::calcBackProject(&scene, 1, channels, hist, back, ranges, 255.0);
+          cv::calcBackProject(&hsv, 1, channels, hist, back, ranges, 255.0);
           back.convertTo(back, CV_32F, 1.0 / 255.0);
-          // Mean back-projection over a model-sized box at each pixel
-          // (outside the image counts as 0): at index x it covers pixels
-          // x - floor(w/2) ... x - floor(w/2) + w - 1 (OpenCV's anchor), a box
-          // centred on x + 0.5 for odd w and on x for even w.
-          cv::blur(back, mean_in_box, box_size, cv::Point(-1, -1), cv::BORDER_CONSTANT);
+          // Mean back-projection over a model-sized box at each pixel of the
+          // region (outside the image counts as 0): at index x it covers
+          // pixels x - floor(w/2) ... x - floor(w/2) + w - 1 (OpenCV's
+          // anchor), a box centred on x + 0.5 for odd w and on x for even w.
+          // A window's boxes read the frame's pixels beyond it: the region
+          // grown by the box on each side is blurred, its edges zero only
+          // where they are the image's (until 2026-12-07 a window was blurred
+          // alone, zero beyond it, against its own mean, so a window of the
+          // target's size had contrast 0 and found nothing: a review).
+          const cv::Rect grown =
+              cv::Rect(region.x - box_size.width, region.y - box_size.height,
+                       region.width + 2 * box_size.width, region.height + 2 * box_size.height) &
+              cv::Rect(0, 0, width, height);
+          cv::Mat blurred;
+          cv::blur(back(grown), blurred, box_size, cv::Point(-1, -1),
+                   cv::BORDER_CONSTANT | cv::BORDER_ISOLATED);
+          mean_in_box = blurred(region - grown.tl()).clone();
           const double frame_mean = cv::mean(back)[0];
           double peak = 0.0;
           cv::Point at;

@@ -1096,13 +1096,13 @@ DetectorOutput SksDetector::Detect(const DetectorInput& input, Rng&) const {
   std::vector<Model> models(input.models.size());
   std::vector<Region> regions(input.models.size());
   std::vector<cv::Rect> areas(input.models.size());  // windowed: where its frame features come from
+  std::vector<char> windowed(input.models.size(), 0);
   // Frame keypoints within this many pixels of a window's edge see the
   // pixels beyond it through their filters: 3 sigma of the largest scale.
   const int margin = static_cast<int>(
       std::ceil(3.0 * options_.base_sigma * std::pow(options_.scale_step, options_.scales - 1)));
   const cv::Rect all(0, 0, width, height);
-  bool whole_frame = false;
-  double window_pixels = 0.0;
+  bool whole_frame = false;  // some model searches the whole frame
   for (size_t m = 0; m < input.models.size(); ++m) {
     const TargetModel& model = input.models[m];
     if (width == 0 || model.patch.width <= 0 || model.patch.height <= 0) continue;
@@ -1113,10 +1113,10 @@ DetectorOutput SksDetector::Detect(const DetectorInput& input, Rng&) const {
     const SearchWindow* window = WindowOf(input.windows, model.target);
     if (window != nullptr && !window->box.empty()) {
       rect = AroundBox(window->box, options_.window_scale, width, height);
+      windowed[m] = 1;
       areas[m] = cv::Rect(rect.x - margin, rect.y - margin, rect.width + 2 * margin,
                           rect.height + 2 * margin) &
                  all;
-      window_pixels += areas[m].area();
     } else {
       whole_frame = true;
     }
@@ -1125,11 +1125,13 @@ DetectorOutput SksDetector::Detect(const DetectorInput& input, Rng&) const {
                   static_cast<double>(rect.y + rect.height)};
   }
 
-  // The frame's features: once for the whole frame, shared by every model;
-  // or, when every model has a window and the windows (with their margins)
-  // cover less than the frame, per window, so that a windowed search costs
-  // O(window pixels).
-  const bool per_window = !whole_frame && window_pixels < static_cast<double>(all.area());
+  // The frame's features: a model with a window takes those of its window
+  // (with its margin), so that a windowed search costs O(window pixels);
+  // the models without one share the whole frame's, extracted once. Each
+  // model's features thus depend on its own window alone. (Until 2026-12-07
+  // every model took the whole frame's whenever one model had no window or
+  // the windows covered the frame: another target's window, or a new model
+  // without one, changed a target's keypoints, scores and boxes; a review.)
   auto features_of = [&](const cv::Rect& area) {
     if (area.area() <= 0) return Features{};
     return extractor.Extract(ToGrey(input.image.Crop(area.x, area.y, area.width, area.height)),
@@ -1137,7 +1139,7 @@ DetectorOutput SksDetector::Detect(const DetectorInput& input, Rng&) const {
   };
   const bool any_model =
       std::any_of(models.begin(), models.end(), [](const Model& m) { return m.width > 0.0; });
-  const Features frame = any_model && !per_window ? features_of(all) : Features{};
+  const Features frame = any_model && whole_frame ? features_of(all) : Features{};
 
   for (size_t m = 0; m < input.models.size(); ++m) {
     const TargetModel& model = input.models[m];
@@ -1147,7 +1149,7 @@ DetectorOutput SksDetector::Detect(const DetectorInput& input, Rng&) const {
     map.height = static_cast<int>(std::ceil(height / options_.cell_px));
     map.values.assign(static_cast<size_t>(map.width) * map.height, 0.0f);
     const std::vector<Vote> votes =
-        per_window
+        windowed[m]
             ? CastVotes(features_of(areas[m]), models[m], regions[m], options_.match_distance)
             : CastVotes(frame, models[m], regions[m], options_.match_distance);
     Accumulate(votes, options_.vote_sigma_px, map);

@@ -38,6 +38,16 @@ namespace fs = std::filesystem;
 
 namespace {
 
+// Charged resampling's cost per potential term, the acceptance tests and
+// redraws included: 2.0-2.6 ns (5000 particles, 20, 40 and 80 targets packed
+// 2 m apart under parallel.yaml's camera, 200 frames: the charged run's time
+// over the systematic one's, over its terms; 2026-12-07, docs/tracker.md).
+constexpr double kSecondsPerChargedTerm = 2e-9;
+// ChargedResamplingNote speaks when the charges cost at least this long and
+// at least this share of the tracker's time.
+constexpr double kChargedNoteSeconds = 5.0;
+constexpr double kChargedNoteShare = 0.5;
+
 using Clock = std::chrono::steady_clock;
 
 double Seconds(Clock::time_point since) {
@@ -55,6 +65,28 @@ void DropMaps(Observation& observation) {
 }
 
 }  // namespace
+
+std::string ChargedResamplingNote(std::span<const tracker::FrameReport> reports, int particles,
+                                  double tracker_seconds) {
+  int64_t terms = 0, filter_frames = 0;
+  for (const tracker::FrameReport& report : reports) {
+    for (const tracker::FilterReport& r : report.filters) {
+      terms += r.potential_terms;
+      filter_frames += r.potential_terms > 0 ? 1 : 0;
+    }
+  }
+  const double seconds = static_cast<double>(terms) * kSecondsPerChargedTerm;
+  if (seconds < kChargedNoteSeconds || seconds < kChargedNoteShare * tracker_seconds) return "";
+  return fmt::format(
+      "charged resampling weighed {:.3g} potential terms, about {:.3g} s of the tracker's {:.3g} s "
+      "at ~{:g} ns each: each of a filter's {} draws a frame met {:.3g} other filters' charges on "
+      "average, redraws included. Its cost grows with the filters within reach of one another, "
+      "about N K^2 for K filters all within reach (docs/tracker.md); "
+      "tracker.resampling.softening_px and the filters' spread set the reach, tracker.particles "
+      "and tracker.resampling.max_tries the draws",
+      static_cast<double>(terms), seconds, tracker_seconds, kSecondsPerChargedTerm * 1e9, particles,
+      static_cast<double>(terms) / (static_cast<double>(filter_frames) * particles));
+}
 
 RunSummary RunScenario(const Scenario& scenario, const RunOptions& options) {
   const auto start = Clock::now();
@@ -338,6 +370,11 @@ RunSummary RunScenario(const Scenario& scenario, const RunOptions& options) {
     tracker_seconds += Seconds(t);
   }
   timings["tracker_s"] = tracker_seconds;
+  if (const std::string note =
+          ChargedResamplingNote(reports, tracker_options.particles, tracker_seconds);
+      !note.empty()) {
+    spdlog::warn("run \"{}\": {}", scenario.name, note);
+  }
 
   // 4. MOT files, then the metrics computed from exactly those files, so
   // `hcpf score` on the outputs reproduces metrics.json.

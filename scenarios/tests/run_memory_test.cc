@@ -134,5 +134,34 @@ TEST(RunMemory, ARenderedRunsVideoFramesAreReadBackNotKept) {
   fs::remove_all(out);
 }
 
+// Charged resampling among many filters within reach of one another costs
+// about N K^2 and said nothing (a scale audit: 80 packed targets). 200 frames
+// of 80 filters whose 5000 draws each met 47 charges: 3.76e9 terms, ~7.5 s
+// at 2 ns a term, said while that is at least 5 s and half the tracker's
+// time; a run whose tracker took 20 s, a sparse one, and one without charged
+// resampling (no terms) say nothing.
+TEST(ChargedResamplingNote, NamesTheTermsWhenTheyAreMuchOfTheTrackersTime) {
+  std::vector<tracker::FrameReport> reports(200);
+  for (tracker::FrameReport& report : reports) {
+    report.filters.resize(80);
+    for (tracker::FilterReport& r : report.filters) r.potential_terms = 5000 * 47;
+  }
+  const std::string note = ChargedResamplingNote(reports, 5000, 9.0);
+  EXPECT_NE(note.find("3.76e+09 potential terms"), std::string::npos) << note;
+  EXPECT_NE(note.find("about 7.52 s of the tracker's 9 s"), std::string::npos) << note;
+  EXPECT_NE(note.find("5000 draws a frame met 47 other filters' charges"), std::string::npos)
+      << note;
+  EXPECT_NE(note.find("tracker.resampling.softening_px"), std::string::npos) << note;
+  EXPECT_EQ(ChargedResamplingNote(reports, 5000, 20.0), "");
+  for (tracker::FrameReport& report : reports) {
+    for (tracker::FilterReport& r : report.filters) r.potential_terms = 5000 * 5;
+  }
+  EXPECT_EQ(ChargedResamplingNote(reports, 5000, 1.0), "");  // 0.8 s
+  for (tracker::FrameReport& report : reports) {
+    for (tracker::FilterReport& r : report.filters) r.potential_terms = 0;
+  }
+  EXPECT_EQ(ChargedResamplingNote(reports, 5000, 0.0), "");
+}
+
 }  // namespace
 }  // namespace hcpf::scenarios

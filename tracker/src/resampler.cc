@@ -396,6 +396,7 @@ ResampleResult ChargedResampler::Resample(const ParticleSet& set, const Resample
     pending += rejected ? 1 : 0;
   }
   int64_t rejections = static_cast<int64_t>(pending);
+  int64_t draws = static_cast<int64_t>(n);
   if (pending > 0 && options_.max_tries > 0) {
     // Replacement draws are made in rounds: in round t every still-rejected
     // slot (in slot order) draws its t-th replacement, multinomially from
@@ -410,6 +411,7 @@ ResampleResult ChargedResampler::Resample(const ParticleSet& set, const Resample
     }
     const size_t last = LastPositive(set.w);
     for (int t = 0; t < options_.max_tries && pending > 0; ++t) {
+      draws += static_cast<int64_t>(pending);
       for (size_t k = 0; k < pending; ++k) {
         const int32_t j = DrawFromCumulative(s.cum, last, rng);
         s.draw[k] = j;
@@ -437,6 +439,7 @@ ResampleResult ChargedResampler::Resample(const ParticleSet& set, const Resample
   }
   for (size_t k = 0; k < pending; ++k) ancestors[static_cast<size_t>(s.slot[k])] = s.best[k];
   result.rejections = rejections;
+  result.potential_terms = draws * static_cast<int64_t>(charges.size());
   return result;
 }
 

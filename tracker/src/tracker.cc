@@ -426,6 +426,7 @@ void MultiTargetTracker::Resample(const std::vector<FilterSummary>& posterior,
         components_.resampler->Resample(f.set, ResampleContext{others}, f.rng, f.ancestors);
     r.resampled = result.resampled;
     r.rejections = result.rejections;
+    r.potential_terms = result.potential_terms;
     if (result.resampled) ApplyAncestors(f.set, f.ancestors, f.scratch);
   });
 }

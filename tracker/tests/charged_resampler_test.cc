@@ -154,7 +154,24 @@ TEST(ChargedResampler, RejectionsEqualNearCandidatesWhenNoRetries) {
   int64_t near = 0;
   for (const int32_t i : a) near += i < 1000 ? 1 : 0;
   EXPECT_EQ(r.rejections, near);
-  EXPECT_EQ(near, 1000);  // systematic on equal weights: each particle once
+  EXPECT_EQ(near, 1000);               // systematic on equal weights: each particle once
+  EXPECT_EQ(r.potential_terms, 2000);  // every candidate against the one charge
+}
+
+// The potential terms are every draw times the charges within reach: with
+// no redraws, N candidates against the two neighbours near the particles;
+// the one 10^4 px away is out of reach (its exponent is below -40 at every
+// particle) and weighs nothing.
+TEST(ChargedResampler, PotentialTermsAreDrawsTimesChargesWithinReach) {
+  const ParticleSet set = Strip(1000);
+  const std::vector<FilterSummary> others = {Neighbour(20.0, 5.0), Neighbour(80.0, 5.0),
+                                             Neighbour(1e4, 1e4)};
+  ChargedResampler charged(Charged(1.0, 0));
+  Rng rng(3);
+  std::vector<int32_t> a(1000);
+  EXPECT_EQ(charged.Resample(set, {others}, rng, a).potential_terms, 1000 * 2);
+  const std::vector<FilterSummary> far = {Neighbour(1e4, 1e4)};
+  EXPECT_EQ(charged.Resample(set, {far}, rng, a).potential_terms, 0);
 }
 
 TEST(ChargedResampler, AllRejectedCountsEveryDrawAndKeepsLowestPotential) {
@@ -176,6 +193,7 @@ TEST(ChargedResampler, AllRejectedCountsEveryDrawAndKeepsLowestPotential) {
   std::vector<int32_t> a(300);
   const ResampleResult r = charged.Resample(set, {others}, rng, a);
   EXPECT_EQ(r.rejections, 300 * (1 + 7));
+  EXPECT_EQ(r.potential_terms, 300 * (1 + 7));  // every draw, one charge
   int on_neighbour = 0;
   for (size_t slot = 0; slot < 300; ++slot) {
     // Systematic candidates on equal weights are the identity: slots >= 150

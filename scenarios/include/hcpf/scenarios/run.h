@@ -6,9 +6,11 @@
 // sibling "<out>.partial-<pid>" folder that is renamed into place at the end,
 // so a failed or killed run never leaves a folder that looks finished.
 
+#include <span>
 #include <string>
 
 #include "hcpf/scenarios/scenario.h"
+#include "hcpf/tracker/tracker.h"
 
 namespace hcpf::scenarios {
 
@@ -49,5 +51,16 @@ struct RunSummary {
 // exists and is neither empty nor an earlier run's folder; RunError when
 // writing fails.
 RunSummary RunScenario(const Scenario& scenario, const RunOptions& options);
+
+// After a run with charged resampling: a note when its potential terms
+// (tracker::FilterReport::potential_terms, each draw against every other
+// filter's charge within reach) cost at least 5 s and half the tracker's
+// time at ~2 ns each (measured, run.cc), which happens when many filters
+// are within reach of one another, the cost then growing like N K^2 for K
+// filters; it names the totals and the keys that set the reach and the
+// draws. "" otherwise, and for every other resampler (no terms).
+// `particles`: tracker.particles.
+std::string ChargedResamplingNote(std::span<const tracker::FrameReport> reports, int particles,
+                                  double tracker_seconds);
 
 }  // namespace hcpf::scenarios

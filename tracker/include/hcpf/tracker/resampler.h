@@ -36,6 +36,11 @@ struct ResampleResult {
   // Charged resampling: number of rejected draws this call (candidates and
   // replacement draws alike). 0 for every other resampler.
   int64_t rejections = 0;
+  // Charged resampling: the potential terms weighed this call, every draw
+  // (candidates and replacements) times the other filters' charges within
+  // reach (docs/tracker.md). 0 for every other resampler. Its cost grows with
+  // the filters within reach of one another, not with the filters alone.
+  int64_t potential_terms = 0;
 };
 
 // Contract:

@@ -162,6 +162,7 @@ struct FilterReport {
   Eigen::Matrix2d cov = Eigen::Matrix2d::Zero();   // px^2
   double ess = 0.0;                                // effective sample size, [1, N]
   int64_t rejections = 0;                          // charged resampling rejections
+  int64_t potential_terms = 0;                     // charged: ResampleResult::potential_terms
   bool recovered_degenerate = false;               // all weights vanished; reset (docs)
   bool coasting = false;                           // predicted only this frame
   bool resampled = false;

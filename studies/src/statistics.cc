@@ -128,6 +128,14 @@ Interval MeanInterval95(std::span<const double> values, const MetricRange& range
     if (std::sqrt(s2) > kRoundingRelative * largest) {
       const double df_factor = kZ975 / StudentT975(n - 1);
       trials = n * p * (1.0 - p) / s2 * df_factor * df_factor;
+    } else if (p > 0.0 && p < 1.0) {
+      // No spread inside (0, 1): the seeds do not vary, and n* grows
+      // without bound as s² falls to 0, so the band is the t interval's, of
+      // width 0 (until 2026-12-07 it was the binomial's over the seeds, the
+      // widest band, which one seed off by 0.01 shrank to nearly nothing: a
+      // review). At 0 or 1 the sample can show no spread whatever the
+      // uncertainty, and the binomial band over the seeds stays.
+      return StudentInterval95(v, range);
     }
   }
   Interval r = WilsonInterval95(p, trials);

@@ -2918,6 +2918,53 @@ TEST(Report, TheSummarySaysPerPanelWhatSurvivesHolmsCorrection) {
   }
 }
 
+// A finding needs the signed-rank test and the t interval to say the same
+// way. 40 seed pairs: charged 0.01 above systematic on 34 seeds and 0.5
+// below on 6. The mean difference is -0.0665 and its t interval [-0.125,
+// -0.0075] excludes 0, but the ranks say "higher": the 34 ties at rank 17.5
+// give W+ = 595 against 410 expected, p = 0.0072 two-sided (a review). The
+// report called charged significantly worse; now it is no finding.
+TEST(Report, AFindingNeedsTheTestAndTheIntervalToSayTheSameWay) {
+  const auto dir = testing::SweepFolder("report-test-and-interval-disagree");
+  StoreMeta meta;
+  meta.sweep_hash = "disagree";
+  meta.sweep_file = "disagree.yaml";
+  meta.swept_keys = {"tracker.particles", "tracker.resampling.method"};
+  meta.report.x = "tracker.particles";
+  meta.report.series = "tracker.resampling.method";
+  meta.report.y = {"da_accuracy"};
+  meta.report.reference = "systematic";
+  meta.run_count = 2 * 40;
+  {
+    auto store = ResultsStore::OpenOrCreate((dir / "results.sqlite").string(), meta);
+    int64_t index = 0;
+    for (const std::string method : {"systematic", "charged"}) {
+      for (int seed = 0; seed < 40; ++seed) {
+        RunRecord r;
+        r.key = method + "-" + std::to_string(seed);
+        r.index = index++;
+        r.seed_index = seed;
+        r.seed = 5000 + seed;
+        r.values = {"100", method};
+        r.ok = true;
+        r.run_dir = "runs/" + r.key;
+        fs::create_directories(dir / r.run_dir);
+        const bool outlier = seed >= 34;
+        r.metrics["da_accuracy"] =
+            method == "systematic" ? (outlier ? 0.95 : 0.90) : (outlier ? 0.45 : 0.91);
+        store->Put(r);
+      }
+    }
+  }
+  WriteReport({.dir = dir.string()});
+  const std::string md = Read(dir / "findings.md");
+  EXPECT_NE(md.find("None of them is a finding."), std::string::npos) << md;
+  EXPECT_EQ(md.find("worse in da_accuracy"), std::string::npos) << md;
+  EXPECT_EQ(md.find("significantly worse"), std::string::npos) << md;
+  const std::string paired = Read(dir / "paired.csv");
+  EXPECT_NE(paired.find(",595,"), std::string::npos) << paired;  // W+ as the review computed
+}
+
 // The findings of the hand store (values above): hijack_rate, lower is
 // better: charged's means are 0 and 0 against systematic's 1 and 0.5, so
 // charged is best at both x; the paired differences are a finding at 100
@@ -3003,7 +3050,8 @@ TEST(Report, FindingsSayWhenNoneSurvivesHolmsCorrection) {
       << md;
   EXPECT_NE(
       md.find("This report makes 3 comparisons; where nothing differs, chance alone makes "
-              "about 0.2 of them findings. Of them 2 are findings, and 0 of those stay "
+              "at most about 0.1 of them findings (0.05 for each of the 2 whose seed pairs can "
+              "reach p < 0.05). Of them 2 are findings, and 0 of those stay "
               "significant after Holm's correction for all 3 (Holm p < 0.05). With 6 seed "
               "pairs the signed-rank test cannot give p below 0.0312, and Holm's correction "
               "for 3 comparisons needs p < 0.025 for its first (Tarone's rule: K = 2): no "
@@ -3300,8 +3348,11 @@ TEST(Report, FindingsIgnoreKeysThatFollowTheSeries) {
       << md;
   // The family Holm is over counts the comparisons with pairs only: mota's
   // two (3 pairs each, all lower: p = 0.25, no finding).
+  // Neither can reach p < 0.05, so chance makes none of them findings (it
+  // said "about 0.1" beside "no comparison ... can be a finding": a review).
   EXPECT_NE(md.find("This report makes 2 comparisons; where nothing differs, chance alone makes "
-                    "about 0.1 of them findings. None of them is a finding. With 3 seed pairs "
+                    "none of them findings (no comparison's seed pairs can reach p < 0.05). None "
+                    "of them is a finding. With 3 seed pairs "
                     "the signed-rank test cannot give p below 0.25: no comparison of this report "
                     "can be a finding, whatever the data. At least 7 seed pairs per comparison"),
             std::string::npos)

@@ -156,9 +156,16 @@ TEST(MeanInterval95, ProportionsGetWilsonWithTheEffectiveNumberOfTrials) {
 // hand, Wilson at p̂ = 0.9, n = 10: centre (0.9 + 3.841459/20) / 1.3841459
 // = 0.7889869, half-width 1.959964 / 1.3841459 · √(0.009 + 3.841459/400) =
 // 0.1931369: [0.5958500, 0.9821238]; at 0.3: [0.1077913, 0.6032219].
-TEST(MeanInterval95, SeedsOfOneValueGetTheBinomialBandOfTheirCount) {
+// Every seed 0 (or 1): a proportion at its bound shows no spread whatever
+// its uncertainty, so the band is the binomial's over the 10 seeds, Wilson
+// by hand: upper = (z²/n) / (1 + z²/n) = 0.384146 / 1.384146 = 0.2775328.
+// Inside (0, 1) the seeds of one value do not vary: the band has width 0,
+// as the t interval's, and a seed off by 0.001 widens it a little (n* is
+// finite). It was the binomial band there too ([0.5958500, 0.9821238] for
+// ten 0.9s), widest with no spread and nearly shut with a little (a review).
+TEST(MeanInterval95, SeedsOfOneValueGetTheBinomialBandAtTheBoundsAndWidthZeroInside) {
   for (const auto& [value, lower, upper] :
-       {std::tuple{0.9, 0.5958500, 0.9821238}, std::tuple{0.3, 0.1077913, 0.6032219}}) {
+       {std::tuple{0.0, 0.0, 0.2775328}, std::tuple{1.0, 0.7224672, 1.0}}) {
     const std::vector<double> same(10, value);
     const Interval r = MeanInterval95(same, MetricRange::Proportion());
     EXPECT_EQ(r.mean, value);
@@ -166,13 +173,24 @@ TEST(MeanInterval95, SeedsOfOneValueGetTheBinomialBandOfTheirCount) {
     EXPECT_NEAR(r.lower, lower, 1e-6) << value;
     EXPECT_NEAR(r.upper, upper, 1e-6) << value;
   }
+  for (const double value : {0.9, 0.3}) {
+    std::vector<double> same(10, value);
+    const Interval r = MeanInterval95(same, MetricRange::Proportion());
+    EXPECT_EQ(r.mean, value);
+    EXPECT_EQ(r.lower, value);
+    EXPECT_EQ(r.upper, value);
+    same[0] += 0.001;
+    const Interval off = MeanInterval95(same, MetricRange::Proportion());
+    EXPECT_LT(off.lower, off.mean);
+    EXPECT_GT(off.upper, off.mean);
+    EXPECT_LT(off.upper - off.lower, 0.002);
+  }
 }
 
 // Seeds equal but for rounding (one fraction reached by two formulas:
-// 0.1 + 0.2 is 0.30000000000000004) had s² ~ 1e-33, n* ~ 1e32 and a band of
-// width 0, while ComparePaired called the same values equal (a review). The
-// band is that of ten seeds of 0.3, by hand above: [0.1077913, 0.6032219].
-// Summed directly, ten 0.9s have mean 0.8999999999999999; the regression
+// 0.1 + 0.2 is 0.30000000000000004) count as seeds of one value, as
+// ComparePaired calls them equal (a review): below, the band of ten seeds
+// of 0.3, width 0 (above). Summed directly, ten 0.9s have mean 0.8999999999999999; the regression
 // gate's rows took their means that way (a review: its own copy).
 TEST(Mean, ValuesAllEqualGiveThatValueExactly) {
   const std::vector<double> nines(10, 0.9);
@@ -186,14 +204,13 @@ TEST(Mean, ValuesAllEqualGiveThatValueExactly) {
   EXPECT_EQ(row.current, 0.9);
 }
 
-TEST(MeanInterval95, SeedsEqualButForRoundingGetTheBinomialBandOfTheirCount) {
+TEST(MeanInterval95, SeedsEqualButForRoundingAreSeedsOfOneValue) {
   std::vector<double> values(10, 0.3);
   for (int i = 0; i < 10; i += 2) values[i] = 0.1 + 0.2;
   ASSERT_NE(values[0], values[1]);
   const Interval r = MeanInterval95(values, MetricRange::Proportion());
-  EXPECT_EQ(r.trials, 10.0);
-  EXPECT_NEAR(r.lower, 0.1077913, 1e-6);
-  EXPECT_NEAR(r.upper, 0.6032219, 1e-6);
+  EXPECT_NEAR(r.lower, 0.3, 1e-15);  // no spread: width 0, not n* ~ 1e32's rounding
+  EXPECT_NEAR(r.upper, 0.3, 1e-15);
   // A true spread, however small against the values, is kept.
   values[1] = 0.3 + 1e-6;
   EXPECT_GT(MeanInterval95(values, MetricRange::Proportion()).trials, 1e6);

@@ -402,8 +402,10 @@ void VoteCircle(Accumulator& accumulator, double cx, double cy, double radius_px
     // Inside the inner circle no pixel gets a vote: the row is two spans.
     const double xi =
         (inner > 0.0 && std::abs(dy) < inner) ? std::sqrt(inner * inner - dy * dy) : -1.0;
-    float* row = accumulator.votes.data() +
-                 static_cast<size_t>(y - accumulator.y0) * accumulator.width - accumulator.x0;
+    // The row's first pixel is x0 (indexed x - x0: a pointer x0 before the
+    // row would point before the array, undefined; a review).
+    float* row =
+        accumulator.votes.data() + static_cast<size_t>(y - accumulator.y0) * accumulator.width;
     const auto span = [&](double from, double to) {
       // Pixel centres x + 0.5 in [from, to].
       const int xa = std::max(accumulator.x0, static_cast<int>(std::ceil(from - 0.5)));
@@ -412,7 +414,7 @@ void VoteCircle(Accumulator& accumulator, double cx, double cy, double radius_px
         const double dx = x + 0.5 - cx;
         const double e = std::abs(std::sqrt(dx * dx + dy * dy) - radius_px);
         const double v = 1.0 - e * inv_ring;
-        if (v > 0.0) row[x] += static_cast<float>(weight * v);
+        if (v > 0.0) row[x - accumulator.x0] += static_cast<float>(weight * v);
       }
     };
     if (xi < 0.0) {

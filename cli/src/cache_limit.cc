@@ -33,7 +33,8 @@ CacheLimit::CacheLimit(std::string cache_dir)
       // coarse clock (a tick behind), and an entry used at the start is the
       // command's.
       since_(std::filesystem::file_time_type::clock::now() - std::chrono::seconds(2)) {
-  if (max_bytes_) max_text_ = std::getenv(scenarios::kCacheMaxSizeVariable);
+  if (max_bytes_) max_text_ = scenarios::CacheMaxSizeText();
+  by_default_ = std::getenv(scenarios::kCacheMaxSizeVariable) == nullptr;
 }
 
 void CacheLimit::Apply() const {
@@ -45,6 +46,8 @@ void CacheLimit::Apply() const {
         scenarios::DescribeAutoPrune(cache_dir_, result, *max_bytes_, max_text_);
     if (result.left > *max_bytes_ || !result.foreign.empty()) {
       spdlog::warn("{}", line);
+    } else if (by_default_ && result.scenes + result.detections == 0) {
+      spdlog::debug("{}", line);  // the default limit, nothing to do: every rendered run
     } else {
       spdlog::info("{}", line);
     }
@@ -54,6 +57,7 @@ void CacheLimit::Apply() const {
   }
 }
 
-void CacheLimit::HideFromChildren() { ::unsetenv(scenarios::kCacheMaxSizeVariable); }
+// "off", not unset: unset is the default limit.
+void CacheLimit::HideFromChildren() { ::setenv(scenarios::kCacheMaxSizeVariable, "off", 1); }
 
 }  // namespace hcpf::cli

@@ -24,7 +24,7 @@ class CacheLimit {
   // Reads the variable (throws InputError when it cannot); `cache_dir` ""
   // means the command uses no cache.
   explicit CacheLimit(std::string cache_dir);
-  // Whether a limit applies (the variable set and a cache in use).
+  // Whether a limit applies (not `off`, and a cache in use).
   bool active() const { return max_bytes_.has_value() && !cache_dir_.empty(); }
   // Prunes and logs what was done (a warning when what is left is over the
   // limit, or when pruning failed: the command's own work is done and stays).
@@ -37,6 +37,7 @@ class CacheLimit {
   std::string cache_dir_;
   std::optional<uint64_t> max_bytes_;
   std::string max_text_;
+  bool by_default_ = false;  // the variable unset: the default limit
   std::filesystem::file_time_type since_;
 };
 

@@ -89,9 +89,13 @@ Command AddCacheCommand(CLI::App& parent) {
         }
         if (limit) {
           std::printf(
-              "  limit: %s after each hcpf run, render and sweep (%s=%s), what they used kept\n",
-              scenarios::FormatSize(*limit).c_str(), scenarios::kCacheMaxSizeVariable,
-              std::getenv(scenarios::kCacheMaxSizeVariable));
+              "  limit: %s after each hcpf run, render and sweep (%s), what they used kept\n",
+              scenarios::FormatSize(*limit).c_str(),
+              std::getenv(scenarios::kCacheMaxSizeVariable) != nullptr
+                  ? fmt::format("{}={}", scenarios::kCacheMaxSizeVariable,
+                                std::getenv(scenarios::kCacheMaxSizeVariable))
+                        .c_str()
+                  : fmt::format("{} unset: the default", scenarios::kCacheMaxSizeVariable).c_str());
         }
         // One line per scene (last used, size, what it is, its folder) and
         // one for the detector outputs together: a cache of 1440 detector

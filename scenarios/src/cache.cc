@@ -237,15 +237,25 @@ void RemoveCacheEntries(const std::vector<CacheEntry>& entries) {
 
 std::optional<uint64_t> CacheMaxSizeFromEnvironment() {
   const char* text = std::getenv(kCacheMaxSizeVariable);
-  if (text == nullptr || *text == '\0') return std::nullopt;
+  if (text == nullptr) return kDefaultCacheMaxBytes;
+  if (*text == '\0' || std::string_view(text) == "off") return std::nullopt;
   try {
     return ParseSize(text, kCacheMaxSizeVariable);
   } catch (const InputError& e) {
     throw InputError(SourceLocation{.file = "environment", .key = kCacheMaxSizeVariable},
                      e.expected(), e.found(),
-                     "the most the frame cache may hold after each hcpf run, render or sweep; "
-                     "unset it to keep everything");
+                     fmt::format("the most the frame cache may hold after each hcpf run, render "
+                                 "or sweep (unset: {}); off keeps everything",
+                                 kDefaultCacheMaxText));
   }
+}
+
+std::string CacheMaxSizeText() {
+  const char* text = std::getenv(kCacheMaxSizeVariable);
+  if (text == nullptr) {
+    return fmt::format("{} (the default: the variable is unset)", kDefaultCacheMaxText);
+  }
+  return text;
 }
 
 AutoPrune PruneAfterCommand(const fs::path& root, uint64_t max_bytes, fs::file_time_type since) {

@@ -382,13 +382,19 @@ TEST(Cache, NoteSceneWritesOnceIntoAnExistingFolder) {
 
 // The variable: unset or empty is no limit; a size as the command line
 // writes it; anything else is bad input naming the variable.
+// Unset, the cache is held to 20 GiB (it grew without end: every frame of
+// every scene rendered); `off`, or empty, keeps everything.
 TEST(Cache, TheLimitComesFromTheEnvironment) {
   ::unsetenv("HCPF_CACHE_MAX_SIZE");
+  EXPECT_EQ(CacheMaxSizeFromEnvironment(), std::optional<uint64_t>(20ull << 30));
+  EXPECT_EQ(CacheMaxSizeText(), "20G (the default: the variable is unset)");
+  ::setenv("HCPF_CACHE_MAX_SIZE", "off", 1);
   EXPECT_EQ(CacheMaxSizeFromEnvironment(), std::nullopt);
   ::setenv("HCPF_CACHE_MAX_SIZE", "", 1);
   EXPECT_EQ(CacheMaxSizeFromEnvironment(), std::nullopt);
   ::setenv("HCPF_CACHE_MAX_SIZE", "1.5G", 1);
   EXPECT_EQ(CacheMaxSizeFromEnvironment(), std::optional<uint64_t>(1536ull << 20));
+  EXPECT_EQ(CacheMaxSizeText(), "1.5G");
   ::setenv("HCPF_CACHE_MAX_SIZE", "lots", 1);
   try {
     CacheMaxSizeFromEnvironment();

@@ -361,6 +361,15 @@ TEST(Cli, TheCacheLimitPrunesWhatWasUsedBeforeTheCommand) {
                           "(HCPF_CACHE_MAX_SIZE=1K), what they used kept\n"),
             std::string::npos)
       << r.output;
+  // Unset, the default 20 GiB; off, none.
+  r = RunCommand("env -u HCPF_CACHE_MAX_SIZE " + kHcpf + " cache --cache " + cache.string());
+  EXPECT_NE(r.output.find("  limit: 20.0 GiB after each hcpf run, render and sweep "
+                          "(HCPF_CACHE_MAX_SIZE unset: the default), what they used kept\n"),
+            std::string::npos)
+      << r.output;
+  r = RunCommand("HCPF_CACHE_MAX_SIZE=off " + kHcpf + " cache --cache " + cache.string());
+  EXPECT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_EQ(r.output.find("limit:"), std::string::npos) << r.output;
   EXPECT_EQ(RunCommand("HCPF_CACHE_MAX_SIZE=lots " + kHcpf + " cache --cache " + cache.string())
                 .exit_code,
             2);

@@ -76,9 +76,19 @@ void RemoveCacheEntries(const std::vector<CacheEntry>& entries);
 // uses it (hcpf run, render, sweep): a size as ParseSize reads it.
 inline constexpr const char* kCacheMaxSizeVariable = "HCPF_CACHE_MAX_SIZE";
 
-// $HCPF_CACHE_MAX_SIZE as bytes; nullopt when unset or empty. Throws
-// hcpf::InputError naming the variable, what is expected and what was found.
+// The limit when the variable is unset: a cache of every frame of every
+// scene rendered grows without end otherwise (a rendered 640 x 480 frame is
+// ~0.45 MB; 20 GiB holds ~45,000 of them).
+inline constexpr uint64_t kDefaultCacheMaxBytes = 20ull << 30;
+inline constexpr const char* kDefaultCacheMaxText = "20G";
+
+// $HCPF_CACHE_MAX_SIZE as bytes: unset, kDefaultCacheMaxBytes; `off` (or
+// empty): nullopt, no limit. Throws hcpf::InputError naming the variable,
+// what is expected and what was found.
 std::optional<uint64_t> CacheMaxSizeFromEnvironment();
+// The limit as messages say it, after the variable's name: the variable's
+// value ("8G"), or "20G (the default: the variable is unset)".
+std::string CacheMaxSizeText();
 
 // What PruneAfterCommand did.
 struct AutoPrune {

@@ -1090,8 +1090,9 @@ TEST(CameraMotion, PerspectiveStageMeetsTheCameraMotionTargets) {
 
 TEST(CameraMotion, ImageEvidenceFeedsTheSceneFilterAndTheRansacBaseline) {
   // Rendered climb, corners tracked by pyramidal LK (issue 12 items 2 and 3).
-  // The oracle mode (the best similarity to the true motion) is the floor;
-  // both estimators from the pixels must land within 25 % of it (on the full
+  // The oracle mode (a least-squares similarity of the true motion on a
+  // grid, not the floor: docs/tracker.md) is the reference here; both
+  // estimators from the pixels must land within 25 % of it (on the full
   // climb both are within 3 %, docs/tracker.md), far below no compensation.
   const fs::path dir = FreshDir("camera-motion-image");
   const std::string common =

@@ -99,6 +99,10 @@ FrameGroundTruth ComputeGroundTruth(const WorldSpec& world, int frame,
     obj.amodal_box = p.blocker.projected;
     const BoxPx clipped = Intersect(obj.amodal_box, image);
     obj.in_frame = p.blocker.in_front && !clipped.empty();
+    // In front of the camera but out of frame: none of the box is in the
+    // image, truncation 1 as the renderer writes (it was left 0 here: a
+    // review). Behind the camera there is no box: 0, as the renderer.
+    if (p.blocker.in_front && clipped.empty()) obj.truncation = 1.0;
     if (obj.in_frame) {
       obj.truncation = 1.0 - clipped.area() / obj.amodal_box.area();
       // Occluders first, then the other targets, each in the world's order.

@@ -126,6 +126,9 @@ TEST(ComputeGroundTruth, TruncationAndOutOfFrame) {
   w.targets[0].path.waypoints_m = {{60.0, 0.0}};
   gt = ComputeGroundTruth(w, 0);
   EXPECT_FALSE(gt.objects[0].in_frame);
+  // Wholly outside the image: all of it is outside, as the renderer writes
+  // (it was 0 here, the renderer's 1; a review).
+  EXPECT_EQ(gt.objects[0].truncation, 1.0);
 }
 
 TEST(ComputeGroundTruth, AbsentTargetsAreNotListed) {

@@ -23,16 +23,21 @@ void Write16(const cv::Mat& mat, const std::string& path) {
 
 }  // namespace
 
-void WriteDepthPng(const DepthImage& depth, const std::string& path) {
+int64_t WriteDepthPng(const DepthImage& depth, const std::string& path, double unit_mm) {
+  HCPF_CHECK(unit_mm > 0.0) << "depth unit " << unit_mm;
   cv::Mat mat(depth.height, depth.width, CV_16UC1);
+  const double per_metre = 1000.0 / unit_mm;
+  int64_t saturated = 0;
   for (int y = 0; y < depth.height; ++y) {
     for (int x = 0; x < depth.width; ++x) {
       const float d = depth.depth_m[static_cast<size_t>(y) * depth.width + x];
-      const double mm = std::isfinite(d) ? std::round(d * 1000.0) : 0.0;
-      mat.at<uint16_t>(y, x) = static_cast<uint16_t>(std::clamp(mm, 0.0, 65535.0));
+      const double units = std::isfinite(d) ? std::round(d * per_metre) : 0.0;
+      saturated += units > 65535.0 ? 1 : 0;
+      mat.at<uint16_t>(y, x) = static_cast<uint16_t>(std::clamp(units, 0.0, 65535.0));
     }
   }
   Write16(mat, path);
+  return saturated;
 }
 
 void WriteInstancePng(const InstanceImage& ids, const std::string& path) {

@@ -11,6 +11,7 @@
 #include <filesystem>
 #include <fstream>
 #include <iterator>
+#include <limits>
 #include <sstream>
 #include <string>
 #include <utility>
@@ -27,6 +28,28 @@ namespace hcpf::renderer {
 namespace {
 
 TEST(RendererOptions, DefaultsValidate) { EXPECT_NO_THROW(RendererOptions().Validate()); }
+
+// The depth PNG holds 65535 units: at 1 mm, 100 m is past it and written
+// 65535, and counted (every library camera is 90-400 m away, so every pixel
+// was 65535 and nothing said so: a review); at 10 mm it fits. Read back
+// (libpng's 8-bit reading, monotone in the value): 100 m is the brightest
+// grey only where it saturated.
+TEST(WriteDepthPng, CountsWhatItsUnitCannotHold) {
+  const DepthImage depth{
+      .width = 3, .height = 1, .depth_m = {50.0f, 100.0f, std::numeric_limits<float>::infinity()}};
+  const std::string path =
+      (std::filesystem::temp_directory_path() / "hcpf-depth-unit-test.png").string();
+  EXPECT_EQ(WriteDepthPng(depth, path, 1.0), 1);
+  RgbImage mm = ReadPng(path);
+  EXPECT_EQ(mm.at(1, 0)[0], 255);  // 100,000 mm: written 65535
+  EXPECT_LT(mm.at(0, 0)[0], 255);  // 50,000 mm
+  EXPECT_EQ(mm.at(2, 0)[0], 0);    // nothing drawn
+  EXPECT_EQ(WriteDepthPng(depth, path, 10.0), 0);
+  RgbImage cm = ReadPng(path);
+  EXPECT_LT(cm.at(1, 0)[0], 255);  // 10,000 cm
+  EXPECT_LT(cm.at(0, 0)[0], cm.at(1, 0)[0]);
+  std::filesystem::remove(path);
+}
 
 TEST(RendererOptions, BadFieldsAreNamed) {
   const auto message = [](const RendererOptions& o) {

@@ -268,15 +268,28 @@ void FrameReader::Finish() const {
                                     differing_));
 }
 
+std::string DepthSaturationNote(int64_t saturated, double depth_unit_mm) {
+  if (saturated == 0) return "";
+  const double next = depth_unit_mm * 10.0;
+  return fmt::format(
+      "renderer.write_depth: {} pixel(s) lie beyond the depth PNG's 65535 units of "
+      "renderer.depth_unit_mm {:g} ({:g} m) and are written 65535; renderer.depth_unit_mm: {:g} "
+      "holds {:g} m",
+      saturated, depth_unit_mm, 65.535 * depth_unit_mm, next, 65.535 * next);
+}
+
 std::string FrameDigest(const RgbImage& image) {
   return internal::DigestHex(internal::PixelDigest(image));
 }
 
 void WriteFrameImages(const renderer::RenderedFrame& frame, const std::string& frames_dir,
-                      bool colour) {
+                      bool colour, double depth_unit_mm, std::atomic<int64_t>* saturated) {
   const std::string stem = fmt::format("{}/{:06d}", frames_dir, frame.frame + 1);
   if (colour) renderer::WritePng(frame.rgb, stem + ".png");
-  if (frame.depth) renderer::WriteDepthPng(*frame.depth, stem + "_depth.png");
+  if (frame.depth) {
+    const int64_t n = renderer::WriteDepthPng(*frame.depth, stem + "_depth.png", depth_unit_mm);
+    if (saturated != nullptr) *saturated += n;
+  }
   if (frame.instance_ids) renderer::WriteInstancePng(*frame.instance_ids, stem + "_ids.png");
 }
 

@@ -1,8 +1,10 @@
 #include "hcpf/scenarios/render_folder.h"
 
 #include <fmt/format.h>
+#include <spdlog/spdlog.h>
 
 #include <algorithm>
+#include <atomic>
 #include <chrono>
 #include <nlohmann/json.hpp>
 
@@ -41,10 +43,12 @@ RenderFolderSummary RenderToFolder(const Scenario& scenario, const RenderFolderO
   frame_options.workers = options.threads;
   // PNG encoding (zlib) costs more than a GPU's frame: each frame's files are
   // written on the frame's worker thread, several frames at once.
-  frame_options.on_frame_work =
-      [frames_dir = (dir / "frames").string()](const renderer::RenderedFrame& frame) {
-        WriteFrameImages(frame, frames_dir, true);
-      };
+  std::atomic<int64_t> saturated{0};  // depth pixels past the PNG's range
+  frame_options.on_frame_work = [frames_dir = (dir / "frames").string(),
+                                 unit = scenario.renderer.depth_unit_mm,
+                                 &saturated](const renderer::RenderedFrame& frame) {
+    WriteFrameImages(frame, frames_dir, true, unit, &saturated);
+  };
   frame_options.on_frame = [&](const renderer::RenderedFrame& frame) {
     if (std::find(sheet_frames.begin(), sheet_frames.end(), frame.frame) != sheet_frames.end()) {
       renderer::RenderedFrame thumb;
@@ -55,6 +59,10 @@ RenderFolderSummary RenderToFolder(const Scenario& scenario, const RenderFolderO
     }
   };
   const SceneFrames scene = ProduceFrames(scenario, frame_options);
+  if (const std::string note = DepthSaturationNote(saturated, scenario.renderer.depth_unit_mm);
+      !note.empty()) {
+    spdlog::warn("render \"{}\": {}", scenario.name, note);
+  }
 
   WriteTextFile((dir / "scenario.resolved.yaml").string(), ToResolvedYaml(scenario));
   WriteTextFile((dir / "gt" / "gt.txt").string(),

@@ -6,6 +6,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <atomic>
 #include <chrono>
 #include <filesystem>
 #include <limits>
@@ -136,6 +137,7 @@ RunSummary RunScenario(const Scenario& scenario, const RunOptions& options) {
   const bool write_colour = images.write_frames || (external && scenario.observation.source ==
                                                                     ObservationSource::kRendered);
   const fs::path frames_dir = fs::absolute(partial / "frames");
+  std::atomic<int64_t> saturated{0};  // depth pixels past the PNG's range
   if (write_colour || images.write_depth || images.write_instance_ids) {
     fs::create_directories(frames_dir, ec);
     if (ec) throw RunError(fmt::format("cannot create {}: {}", frames_dir.string(), ec.message()));
@@ -143,10 +145,11 @@ RunSummary RunScenario(const Scenario& scenario, const RunOptions& options) {
     frame_options.analytic_truth = scenario.observation.source != ObservationSource::kRendered;
     // On the frames' worker threads (--threads): an external tracker, sent a
     // frame's path from on_frame, finds its file written.
-    frame_options.on_frame_work =
-        [write_colour, dir = frames_dir.string()](const renderer::RenderedFrame& frame) {
-          WriteFrameImages(frame, dir, write_colour);
-        };
+    frame_options.on_frame_work = [write_colour, dir = frames_dir.string(),
+                                   unit = images.depth_unit_mm,
+                                   &saturated](const renderer::RenderedFrame& frame) {
+      WriteFrameImages(frame, dir, write_colour, unit, &saturated);
+    };
   }
   // The tracker. Filters are born from ground truth at each target's first
   // in-frame appearance when the scenario asks for it (the pipeline passes
@@ -278,6 +281,10 @@ RunSummary RunScenario(const Scenario& scenario, const RunOptions& options) {
     };
   }
   SceneFrames scene = ProduceFrames(scenario, frame_options);
+  if (const std::string note = DepthSaturationNote(saturated, images.depth_unit_mm);
+      !note.empty()) {
+    spdlog::warn("run \"{}\": {}", scenario.name, note);
+  }
   const std::vector<FrameGroundTruth>& truth = scene.truth;
   // A det.txt made on a named rendering: its frames' pixels against this
   // run's, frame by frame, where both have digests; else (a rendering from

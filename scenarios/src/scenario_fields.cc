@@ -622,7 +622,11 @@ std::span<const Field<RendererConfig>> RendererConfig::Fields() {
       FlagField("write_frames", &O::write_frames,
                 "hcpf run: also write frames/NNNNNN.png (rendered even at detection level)"),
       FlagField("write_depth", &O::write_depth,
-                "hcpf run and render: also write frames/NNNNNN_depth.png (16-bit, mm)"),
+                "hcpf run and render: also write frames/NNNNNN_depth.png (16-bit, in "
+                "depth_unit_mm)"),
+      NumberField("depth_unit_mm", &O::depth_unit_mm, AboveUpTo(0, 1e6), "mm",
+                  "write_depth: the depth PNG's unit; its 16 bits hold 65535 of them (65.5 m "
+                  "at 1, 655 m at 10), farther is written 65535 and the run says how many"),
       FlagField("write_instance_ids", &O::write_instance_ids,
                 "hcpf run and render: also write frames/NNNNNN_ids.png (16-bit, id + 1)"),
   };

@@ -1219,6 +1219,19 @@ TEST(RenderedRun, WriteFramesKeysWriteTheRunsFrames) {
   ASSERT_EQ(r.exit_code, 0) << r.output;
   EXPECT_TRUE(fs::exists(dir / "depth" / "frames" / "000003_depth.png"));
   EXPECT_FALSE(fs::exists(dir / "depth" / "frames" / "000003.png"));
+  // crossing's camera is ~120 m from the ground: past the 65.5 m of 1 mm
+  // units, so the run says so and names the unit that holds it; at 10 mm
+  // nothing is past it (every pixel was written 65535, unsaid: a review).
+  EXPECT_NE(r.output.find("pixel(s) lie beyond the depth PNG's 65535 units of "
+                          "renderer.depth_unit_mm 1 (65.535 m) and are written 65535; "
+                          "renderer.depth_unit_mm: 10 holds 655.35 m"),
+            std::string::npos)
+      << r.output;
+  r = RunCommand(common +
+                 " --set renderer.write_depth=true --set renderer.depth_unit_mm=10 --out " +
+                 (dir / "depth-cm").string());
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_EQ(r.output.find("depth PNG"), std::string::npos) << r.output;
 }
 
 }  // namespace

@@ -1,6 +1,7 @@
 #pragma once
 // Image outputs of the renderer (OpenCV inside, not in this header).
 
+#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -10,7 +11,11 @@ namespace hcpf::renderer {
 
 // Depth as a 16-bit PNG in millimetres (0 = nothing drawn or beyond 65.535 m
 // is clamped to 65535). Throws hcpf::RunError.
-void WriteDepthPng(const DepthImage& depth, const std::string& path);
+// 16-bit grey PNG of the depth in units of `unit_mm` millimetres, rounded; 0
+// where nothing was drawn. A depth beyond 65535 units is written 65535;
+// returns how many pixels were (65.5 m at 1 mm: every pixel of a camera
+// 100 m up; a review).
+int64_t WriteDepthPng(const DepthImage& depth, const std::string& path, double unit_mm = 1.0);
 // Instance ids as a 16-bit PNG: ObjectId value + 1, 0 = no target. Throws
 // hcpf::RunError.
 void WriteInstancePng(const InstanceImage& ids, const std::string& path);

@@ -6,6 +6,7 @@
 // (renderer::PixelHash), so runs that differ only in tracker or observation
 // settings render once.
 
+#include <atomic>
 #include <filesystem>
 #include <functional>
 #include <memory>
@@ -122,10 +123,16 @@ class FrameReader {
 std::string FrameDigest(const RgbImage& image);
 
 // Writes a rendered frame's images into `frames_dir` as NNNNNN.png (when
-// `colour`), NNNNNN_depth.png and NNNNNN_ids.png (when the frame has them),
-// NNNNNN = frame + 1: the layout of `hcpf render` and of `hcpf run` with
-// renderer.write_frames / write_depth / write_instance_ids.
+// `colour`), NNNNNN_depth.png (in units of `depth_unit_mm`) and
+// NNNNNN_ids.png (when the frame has them), NNNNNN = frame + 1: the layout
+// of `hcpf render` and of `hcpf run` with renderer.write_frames /
+// write_depth / write_instance_ids. Adds to `*saturated` (any thread) the
+// depth pixels beyond the PNG's 65535 units.
 void WriteFrameImages(const renderer::RenderedFrame& frame, const std::string& frames_dir,
-                      bool colour);
+                      bool colour, double depth_unit_mm, std::atomic<int64_t>* saturated);
+
+// The warning for `saturated` depth pixels written 65535 (WriteFrameImages);
+// "" for none.
+std::string DepthSaturationNote(int64_t saturated, double depth_unit_mm);
 
 }  // namespace hcpf::scenarios

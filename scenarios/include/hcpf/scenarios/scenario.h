@@ -174,6 +174,8 @@ struct RendererConfig {
   int pcf_radius = 0;
   bool write_frames = false;  // `hcpf run`: also write frames/*.png
   bool write_depth = false;
+  // write_depth: the depth PNG's unit; its 16 bits hold 65535 of them.
+  double depth_unit_mm = 1.0;
   bool write_instance_ids = false;
 
   // The declared fields; ranges are the renderer's (renderer::RendererOptions).

@@ -176,6 +176,19 @@ std::optional<Eigen::Vector2d> FitPerspective(std::span<const PointTrack> tracks
   if (llt.info() != Eigen::Success) return std::nullopt;
   const Vec6 v = llt.solve(rhs);
   if (!v.allFinite()) return std::nullopt;
+  // A fit from tracks bunched in a corner of the frame can extrapolate to a
+  // perspective no camera makes between two frames: the denominator
+  // 1 + g x + h y at an image corner at 0 or below (the corner behind the
+  // camera; the run stopped on it, blaming the true homography: a review)
+  // or far from 1. Such a fit is no fit.
+  for (const double sx : {-1.0, 1.0}) {
+    for (const double sy : {-1.0, 1.0}) {
+      const double d = 1.0 + v(4) * sx * centre.x() + v(5) * sy * centre.y();
+      if (!(d >= kMinPerspectiveDenominator && d <= 1.0 / kMinPerspectiveDenominator)) {
+        return std::nullopt;
+      }
+    }
+  }
   return Eigen::Vector2d(v(4), v(5));
 }
 

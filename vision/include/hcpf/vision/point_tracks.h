@@ -123,8 +123,13 @@ struct PerspectiveOptions {
 // in coordinates centred on `centre` (x = p - centre), fitted by linear least
 // squares over the tracks that `guide` maps within `inlier_px` of their q:
 // q (1 + g x + h y) = a x + t (complex form; every track two rows of a
-// 6-parameter system, DLT-style). nullopt with fewer than 8 such tracks or a
-// system that is not positive definite. Cost O(n).
+// 6-parameter system, DLT-style). nullopt with fewer than 8 such tracks, a
+// system that is not positive definite, or a fit whose denominator
+// 1 + g x + h y leaves [kMinPerspectiveDenominator, 1 / that] at a corner of
+// the image centred on `centre` (2 centre.x wide, 2 centre.y high): a
+// corner's scale halved or doubled from one frame to the next is no camera's
+// motion, and at 0 the corner is behind the camera. Cost O(n).
+inline constexpr double kMinPerspectiveDenominator = 0.5;
 std::optional<Eigen::Vector2d> FitPerspective(std::span<const PointTrack> tracks,
                                               const SimilarityMotion& guide, double inlier_px,
                                               const Eigen::Vector2d& centre);

@@ -2914,6 +2914,13 @@ TEST(Report, TheSummarySaysPerPanelWhatSurvivesHolmsCorrection) {
                           "Under tracker.likelihood.model = a,"),
                 std::string::npos)
           << html;
+      // The bands' rule as MeanInterval95 has it (it said the binomial band
+      // "when they all agree", which since 2026-12-07 holds at 0 and 1 only).
+      EXPECT_NE(html.find("the binomial over the n seeds when every seed is 0 or every seed is "
+                          "1, so a band even there; width 0 when every seed has one value "
+                          "between"),
+                std::string::npos)
+          << html;
     }
   }
 }

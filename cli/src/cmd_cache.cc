@@ -88,14 +88,14 @@ Command AddCacheCommand(CLI::App& parent) {
                       scenarios::FormatLastUsed(contents.entries.back().last_used).c_str());
         }
         if (limit) {
+          const char* set = std::getenv(scenarios::kCacheMaxSizeVariable);
+          const std::string source =
+              set != nullptr
+                  ? fmt::format("{}={}", scenarios::kCacheMaxSizeVariable, set)
+                  : fmt::format("{} unset: the default", scenarios::kCacheMaxSizeVariable);
           std::printf(
               "  limit: %s after each hcpf run, render and sweep (%s), what they used kept\n",
-              scenarios::FormatSize(*limit).c_str(),
-              std::getenv(scenarios::kCacheMaxSizeVariable) != nullptr
-                  ? fmt::format("{}={}", scenarios::kCacheMaxSizeVariable,
-                                std::getenv(scenarios::kCacheMaxSizeVariable))
-                        .c_str()
-                  : fmt::format("{} unset: the default", scenarios::kCacheMaxSizeVariable).c_str());
+              scenarios::FormatSize(*limit).c_str(), source.c_str());
         }
         // One line per scene (last used, size, what it is, its folder) and
         // one for the detector outputs together: a cache of 1440 detector

@@ -1041,7 +1041,7 @@ Paired PairedRowsOf(const std::vector<Cell>& cells, const StoreMeta& meta) {
       p.push_back(tested ? c.test.p_value : kNaN);
       floors.push_back(tested ? SignedRankFloor(c.test.nonzero) : kNaN);
       paired.tested += tested ? 1 : 0;
-      paired.can_reach += tested && SignedRankFloor(c.test.nonzero) < 0.05 ? 1 : 0;
+      paired.can_reach += floors.back() < 0.05 ? 1 : 0;  // NaN (untested) is not below
       if (EveryPairTies(c) && !MachineDependent(m)) {
         ++paired.every_pair_ties;
         if (std::find(paired.tied_metrics.begin(), paired.tied_metrics.end(), m) ==

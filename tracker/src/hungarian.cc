@@ -7,19 +7,11 @@
 
 #include "hcpf/core/assignment.h"
 #include "hcpf/core/check.h"
+#include "hcpf/core/union_find.h"
 
 namespace hcpf::tracker {
 
 namespace {
-
-// Root of x's set, halving the path on the way.
-int Find(std::vector<int>& parent, int x) {
-  while (parent[static_cast<size_t>(x)] != x) {
-    parent[static_cast<size_t>(x)] = parent[static_cast<size_t>(parent[static_cast<size_t>(x)])];
-    x = parent[static_cast<size_t>(x)];
-  }
-  return x;
-}
 
 // One connected block of the gated matrix: its rows and columns, ascending.
 struct Block {
@@ -83,8 +75,8 @@ std::vector<int> SolveAssignment(const std::vector<double>& cost, int rows, int 
       const double c = cost[static_cast<size_t>(i) * cols + j];
       if (std::isfinite(c)) {
         HCPF_CHECK(c >= 0.0 && c < 1e12) << "assignment cost " << c << " outside [0, 1e12)";
-        const int a = Find(parent, i);
-        const int b = Find(parent, rows + j);
+        const int a = FindRoot(parent, i);
+        const int b = FindRoot(parent, rows + j);
         if (a != b) parent[static_cast<size_t>(std::max(a, b))] = std::min(a, b);
       } else {
         HCPF_CHECK(c == std::numeric_limits<double>::infinity()) << "assignment cost " << c;
@@ -97,17 +89,18 @@ std::vector<int> SolveAssignment(const std::vector<double>& cost, int rows, int 
   std::vector<int> block_of(static_cast<size_t>(rows), -1);
   std::vector<Block> blocks;
   for (int i = 0; i < rows; ++i) {
-    const int root = Find(parent, i);
+    const int root = FindRoot(parent, i);
     if (root == i) {
       block_of[static_cast<size_t>(i)] = static_cast<int>(blocks.size());
       blocks.emplace_back();
     }
   }
   for (int i = 0; i < rows; ++i) {
-    blocks[static_cast<size_t>(block_of[static_cast<size_t>(Find(parent, i))])].rows.push_back(i);
+    blocks[static_cast<size_t>(block_of[static_cast<size_t>(FindRoot(parent, i))])].rows.push_back(
+        i);
   }
   for (int j = 0; j < cols; ++j) {
-    const int root = Find(parent, rows + j);
+    const int root = FindRoot(parent, rows + j);
     if (root < rows) {
       blocks[static_cast<size_t>(block_of[static_cast<size_t>(root)])].cols.push_back(j);
     }

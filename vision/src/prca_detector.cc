@@ -17,6 +17,7 @@
 #include <unordered_map>
 
 #include "cv_image.h"
+#include "hcpf/core/union_find.h"
 #include "hcpf/vision/prca.h"
 
 namespace hcpf::vision {
@@ -82,17 +83,6 @@ std::vector<double> PrcaOptions::Scales() const {
 
 namespace prca {
 namespace {
-
-// Union-find over pixel indices with path halving. A parent is never after
-// its child in row-major order (unions hang the later root under the
-// earlier one), so every root is the first pixel of its component.
-int32_t Find(std::vector<int32_t>& parent, int32_t p) {
-  while (parent[p] != p) {
-    parent[p] = parent[parent[p]];
-    p = parent[p];
-  }
-  return p;
-}
 
 // Neighbour bits of the 8-neighbourhood, k = 0 .. 7: (-1,-1) (0,-1) (1,-1)
 // (-1,0) (1,0) (-1,1) (0,1) (1,1); the opposite of bit k is bit 7 - k.
@@ -177,10 +167,12 @@ ClusteredImage FormClusters(const ImageView& image, const PrcaOptions& options) 
     parent[p] = kPopCount[sim[p]] >= min_similar ? static_cast<int32_t>(p) : -1;
   }
   // Links: similar 8-neighbours that are both dense (the later half of the
-  // neighbourhood; the earlier half linked this pixel already).
+  // neighbourhood; the earlier half linked this pixel already). A link hangs
+  // the later root under the earlier one, so a parent is never after its
+  // child in row-major order and every root is its component's first pixel.
   const auto link = [&](int32_t& root, int32_t q) {
     if (parent[q] < 0) return;
-    const int32_t rq = Find(parent, q);
+    const int32_t rq = FindRoot(parent, q);
     if (rq < root) {
       parent[root] = rq;
       root = rq;
@@ -193,7 +185,7 @@ ClusteredImage FormClusters(const ImageView& image, const PrcaOptions& options) 
       const int32_t p = y * w + x;
       const uint8_t bits = sim[static_cast<size_t>(p)];
       if (parent[p] < 0 || (bits & (kBitE | kBitSW | kBitS | kBitSE)) == 0) continue;
-      int32_t root = Find(parent, p);
+      int32_t root = FindRoot(parent, p);
       if (bits & kBitE) link(root, p + 1);
       if (bits & kBitSW) link(root, p + w - 1);
       if (bits & kBitS) link(root, p + w);

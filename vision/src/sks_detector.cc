@@ -1102,7 +1102,7 @@ DetectorOutput SksDetector::Detect(const DetectorInput& input, Rng&) const {
   const int margin = static_cast<int>(
       std::ceil(3.0 * options_.base_sigma * std::pow(options_.scale_step, options_.scales - 1)));
   const cv::Rect all(0, 0, width, height);
-  bool whole_frame = false;  // some model searches the whole frame
+  bool whole_frame = false;  // some model (with a patch, in an image) searches the whole frame
   for (size_t m = 0; m < input.models.size(); ++m) {
     const TargetModel& model = input.models[m];
     if (width == 0 || model.patch.width <= 0 || model.patch.height <= 0) continue;
@@ -1137,9 +1137,7 @@ DetectorOutput SksDetector::Detect(const DetectorInput& input, Rng&) const {
     return extractor.Extract(ToGrey(input.image.Crop(area.x, area.y, area.width, area.height)),
                              options_.max_keypoints, area.x, area.y);
   };
-  const bool any_model =
-      std::any_of(models.begin(), models.end(), [](const Model& m) { return m.width > 0.0; });
-  const Features frame = any_model && whole_frame ? features_of(all) : Features{};
+  const Features frame = whole_frame ? features_of(all) : Features{};
 
   for (size_t m = 0; m < input.models.size(); ++m) {
     const TargetModel& model = input.models[m];

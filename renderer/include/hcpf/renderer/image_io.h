@@ -9,12 +9,10 @@
 
 namespace hcpf::renderer {
 
-// Depth as a 16-bit PNG in millimetres (0 = nothing drawn or beyond 65.535 m
-// is clamped to 65535). Throws hcpf::RunError.
-// 16-bit grey PNG of the depth in units of `unit_mm` millimetres, rounded; 0
+// Depth as a 16-bit grey PNG in units of `unit_mm` millimetres, rounded; 0
 // where nothing was drawn. A depth beyond 65535 units is written 65535;
 // returns how many pixels were (65.5 m at 1 mm: every pixel of a camera
-// 100 m up; a review).
+// 100 m up; a review). Throws hcpf::RunError.
 int64_t WriteDepthPng(const DepthImage& depth, const std::string& path, double unit_mm = 1.0);
 // Instance ids as a 16-bit PNG: ObjectId value + 1, 0 = no target. Throws
 // hcpf::RunError.

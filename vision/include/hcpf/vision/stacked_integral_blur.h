@@ -110,8 +110,8 @@ void StackedIntegralBlur(const GreyImage& input, const StackedBoxKernel& kernel,
 // An exact sampled Gaussian of a float image, separable, with replicate
 // borders: the kernel of OpenCV's cv::GaussianBlur for float images (size
 // round(8 sigma + 1) | 1, so radius round(8 sigma + 1) | 1 over 2: 4 at
-// sigma 0.84, where round(4 sigma) is 3; weights exp(-i^2 / 2 sigma^2) normalised in double, then
-// float), applied down the columns and then along the rows, each output
+// sigma 0.84, where round(4 sigma) is 3; weights exp(-i^2 / 2 sigma^2)
+// normalised in double, then float), applied down the columns and then along the rows, each output
 // pixel summed in one fixed order (the centre tap, then the pairs of taps
 // i and -i outward). For inputs the stacked blur cannot hold (SKS's products
 // of derivatives). Unlike cv::GaussianBlur, whose float kernels OpenCV picks

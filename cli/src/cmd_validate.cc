@@ -63,10 +63,12 @@ Command AddValidateCommand(CLI::App& parent) {
             const scenarios::Scenario scenario =
                 scenarios::LoadScenarioFromCommandLine(options->file, overrides);
             if (options->print) std::cout << scenarios::ToResolvedYaml(scenario);
-            spdlog::info("{}: valid scenario \"{}\" ({} frames, {} targets)", options->file,
-                         scenario.name, scenario.world.frames, scenario.world.targets.size());
-            if (const std::string note = scenarios::LargeScenarioNote(scenario); !note.empty()) {
-              spdlog::warn("{}", note);
+            spdlog::info("{}: valid scenario \"{}\" ({} frames, {} target{})", options->file,
+                         scenario.name, scenario.world.frames, scenario.world.targets.size(),
+                         scenario.world.targets.size() == 1 ? "" : "s");
+            for (const std::string& note :
+                 {scenarios::LargeScenarioNote(scenario), scenarios::CameraTurnNote(scenario)}) {
+              if (!note.empty()) spdlog::warn("{}", note);
             }
             return 0;
           }};

@@ -1,5 +1,6 @@
 #include "hcpf/core/camera.h"
 
+#include <algorithm>
 #include <cmath>
 #include <numbers>
 
@@ -29,11 +30,28 @@ CameraPose CameraPose::LookAt(const Eigen::Vector3d& position, const Eigen::Vect
   const Eigen::Vector3d forward_raw = target - position;
   HCPF_CHECK(forward_raw.norm() > 1e-9) << "camera position equals look-at point";
   const Eigen::Vector3d forward = forward_raw.normalized();
-  // cos(8 deg) = 0.990: closer to vertical than that, world up is ill-defined
-  // as an image "up", so north is used instead.
-  const Eigen::Vector3d up_hint =
-      std::abs(forward.z()) > 0.990 ? Eigen::Vector3d::UnitY() : Eigen::Vector3d::UnitZ();
-  const Eigen::Vector3d right = forward.cross(up_hint).normalized();
+  // The image's "up" is world +z (a level horizon) more than 8 degrees from
+  // vertical and north (+y) within 2 degrees of it, where +z says nothing;
+  // between, the right axis moves smoothly from the one to the other, so the
+  // image turns continuously as a path crosses the band (until 2026-12-07 it
+  // switched at 8 degrees and turned at once: by 0.74 degrees on climb, by up
+  // to 180 degrees elsewhere). No rule from the view direction alone can be
+  // smooth everywhere (a tangent field on the sphere has a zero): the one
+  // direction left is in the band, about 6 degrees south of straight down in
+  // the y-z plane, where the two right axes are opposite and weigh the same.
+  constexpr double kOuter = 0.990;                // cos(8.1 deg)
+  constexpr double kInner = 0.99939082701909576;  // cos(2 deg)
+  const double t = std::clamp((std::abs(forward.z()) - kOuter) / (kInner - kOuter), 0.0, 1.0);
+  const double w = t * t * (3.0 - 2.0 * t);
+  const Eigen::Vector3d north_right = forward.cross(Eigen::Vector3d::UnitY()).normalized();
+  Eigen::Vector3d right = north_right;
+  if (w < 1.0) {
+    // Each right axis at unit length: the level one is short near vertical,
+    // and blended as it is would take over late and fast.
+    right = (1.0 - w) * forward.cross(Eigen::Vector3d::UnitZ()).normalized() + w * north_right;
+    if (right.norm() < 1e-12) right = north_right;
+    right.normalize();
+  }
   const Eigen::Vector3d down = forward.cross(right);
   CameraPose pose;
   pose.position_m = position;

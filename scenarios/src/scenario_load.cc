@@ -12,6 +12,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <map>
+#include <numbers>
 #include <set>
 
 #include "detection_cache.h"
@@ -735,6 +736,41 @@ Scenario LoadScenarioFromCommandLine(const std::string& path,
     throw InputError(e.where(), e.expected(), e.found(),
                      e.hint().empty() ? with : e.hint() + "; " + with);
   }
+}
+
+std::string CameraTurnNote(const Scenario& scenario) {
+  // 5 degrees a frame: 150 degrees a second at 30 fps, beyond the roll of
+  // any path in scenarios/library (climb-yaw-dive, the strongest: 1.6).
+  constexpr double kTurnDeg = 5.0;
+  const CameraSpec& camera = scenario.world.camera;
+  double worst_deg = 0.0;
+  int worst_frame = 0;
+  Eigen::Matrix3d previous;
+  for (int frame = 0; frame < scenario.world.frames; ++frame) {
+    const CameraPathPoint at = InterpolateCamera(camera, frame);
+    const Eigen::Matrix3d r = CameraPose::LookAt(at.position_m, at.look_at_m).world_from_camera;
+    if (frame > 0) {
+      // The previous right axis carried by the smallest rotation from the
+      // previous view to this one: what is left is the image's own turn.
+      const Eigen::Vector3d carried =
+          Eigen::Quaterniond::FromTwoVectors(previous.col(2), r.col(2)) * previous.col(0);
+      const double turn_deg =
+          std::abs(std::atan2(carried.cross(r.col(0)).dot(r.col(2)), carried.dot(r.col(0)))) *
+          180.0 / std::numbers::pi;
+      if (turn_deg > worst_deg) {
+        worst_deg = turn_deg;
+        worst_frame = frame;
+      }
+    }
+    previous = r;
+  }
+  if (!(worst_deg > kTurnDeg)) return "";
+  return fmt::format(
+      "the image turns by {:.1f} degrees about its centre from frame {} to {} (camera.path): a "
+      "view near straight down turns the image as its heading swings, and most of all near "
+      "the one view where the image's up is undefined, about 6 degrees south of straight down "
+      "(docs/scenario.md); trackers and camera-motion estimators see that turn at once",
+      worst_deg, worst_frame - 1, worst_frame);
 }
 
 Scenario Reseeded(const Scenario& scenario, uint64_t seed) {

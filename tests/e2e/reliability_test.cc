@@ -293,6 +293,37 @@ TEST(Reliability, BadGlbMagicIsRefusedBeforeTheFileIsRead) {
   EXPECT_NE(t.output.find("truncated"), std::string::npos) << t.output;
 }
 
+// A path through the view where the image's "up" is undefined (a review: a
+// camera moved from [0, 30, 120] to [0, 5, 120] looking at the origin turned
+// the image by half a turn between two frames, and validate and run said
+// nothing). The same path 30 m east turns the image less than 5 degrees a frame.
+TEST(Reliability, AnImageThatTurnsAtOnceIsSaid) {
+  const fs::path dir = FreshDir("turn");
+  const auto scenario = [](const std::string& x) {
+    return "frames: 10\n"
+           "camera:\n"
+           "  resolution: [320, 240]\n"
+           "  path: [{frame: 0, position: [" +
+           x + ", 30, 120], look_at: [0, 0, 0]},\n         {frame: 9, position: [" + x +
+           ", 5, 120], look_at: [0, 0, 0]}]\n"
+           "targets:\n"
+           "  - {id: 1, dimensions_m: [4, 2, 1.5], path: {waypoints: [[0, 0]]}}\n";
+  };
+  const fs::path file = Write(dir / "s.yaml", scenario("0"));
+  const std::string said =
+      "the image turns by 180.0 degrees about its centre from frame 6 to 7 (camera.path)";
+  auto r = RunCommand(kHcpf + " validate " + file.string());
+  EXPECT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find(said), std::string::npos) << r.output;
+  r = RunCommand(kHcpf + " run " + file.string() + " --out " + (dir / "out").string());
+  EXPECT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find(said), std::string::npos) << r.output;
+  const fs::path east = Write(dir / "east.yaml", scenario("30"));
+  r = RunCommand(kHcpf + " validate " + east.string());
+  EXPECT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_EQ(r.output.find("the image turns"), std::string::npos) << r.output;
+}
+
 // Item 10: `frames: 1000000`, the documented maximum, needed 10.7 GB. The
 // bound is now what runs, and validate says what a large scenario costs.
 TEST(Reliability, LargeScenariosAreBoundedAndTheirCostIsShown) {

@@ -978,8 +978,14 @@ TEST(CameraMotion, ModesAreScoredAgainstTheTrueMotion) {
     EXPECT_NE(csv.find("\n2,"), std::string::npos) << "the first row is frame 2";
     EXPECT_NE(csv.find("\n120,"), std::string::npos) << "the last row is frame 120";
     EXPECT_EQ(csv.find("\n1,"), std::string::npos) << "frame 1 has no motion";
+    // The same numbering in filters.csv, where a filter lives to the end
+    // (without compensation both are lost on this shortened climb: by frame
+    // 84 on the frames of 2026-12-07, whose roll no longer jumps).
     const std::string filters = ReadFile(dir / mode / "filters.csv");
-    EXPECT_NE(filters.find("\n120,"), std::string::npos) << "the same numbering";
+    if (mode != "none") {
+      EXPECT_NE(filters.find("\n120,"), std::string::npos) << "the same numbering";
+    }
+    EXPECT_EQ(filters.find("\n121,"), std::string::npos) << "the same numbering";
   }
   EXPECT_GT(mean["none"], 1.0);
   EXPECT_LT(mean["oracle"], 0.2 * mean["none"]);

@@ -36,8 +36,9 @@ struct CameraPose {
   // the camera's right, down and forward axes expressed in the world.
   Eigen::Matrix3d world_from_camera = Eigen::Matrix3d::Identity();
 
-  // Camera looking from `position` at `target`. Image "up" is world +z, or
-  // world +y (north) when the view is within ~8 degrees of vertical.
+  // Camera looking from `position` at `target`. Image "up" is world +z more
+  // than 8 degrees from vertical, world +y (north) within 2 degrees of it,
+  // and between them a smooth blend of the two (docs/scenario.md).
   static CameraPose LookAt(const Eigen::Vector3d& position, const Eigen::Vector3d& target);
   Eigen::Matrix3d camera_from_world() const { return world_from_camera.transpose(); }
 };

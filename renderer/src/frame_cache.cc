@@ -37,8 +37,11 @@ namespace {
 // (sensor.cc), same distribution; 8: the shadow pass culls the back faces of
 // closed casters (a few texels at shadow silhouettes move); 9: texture mipmaps
 // computed by the renderer (textures.h, HalveTexture) instead of
-// glGenerateMipmap (the far terrain ~1-2 levels darker on Mesa).
-constexpr int kRendererVersion = 9;
+// glGenerateMipmap (the far terrain ~1-2 levels darker on Mesa); 10: the
+// camera's roll between 8.1 and 2 degrees from straight down blends the two
+// rules smoothly (core/camera.cc, CameraPose::LookAt; climb's frames from
+// 11 on turn by up to 0.74 degrees).
+constexpr int kRendererVersion = 10;
 
 // A model file by its name and content, not its folder: the same scene
 // rendered from another clone or machine (whose model paths are absolute

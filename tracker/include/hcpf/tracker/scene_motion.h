@@ -44,6 +44,13 @@ class CameraMotionEvidence {
   virtual ~CameraMotionEvidence() = default;
   virtual void AddLogLikelihood(std::span<const SimilarityMotion> hypotheses,
                                 std::span<const BoxPx> exclude, std::span<double> log_w) const = 0;
+  // A robust estimate of the motion from the evidence alone (e.g. the
+  // similarity most of its point tracks agree on), or none: a second start
+  // for the scene filter's search of the evidence's mode (SceneMotionFilter).
+  // Const and deterministic, as AddLogLikelihood. Default: none.
+  virtual std::optional<SimilarityMotion> RobustStart(std::span<const BoxPx> /*exclude*/) const {
+    return std::nullopt;
+  }
 };
 
 // How the scene filter draws its particles each frame (SceneMotionFilter):
@@ -180,6 +187,12 @@ class PointTrackEvidence final : public CameraMotionEvidence {
   PointTrackEvidence(std::vector<PointTrack> tracks, const SceneMotionOptions& options);
   void AddLogLikelihood(std::span<const SimilarityMotion> hypotheses,
                         std::span<const BoxPx> exclude, std::span<double> log_w) const override;
+  // The similarity with the largest consensus: of up to 200 pairs of tracks
+  // not excluded (a fixed low-discrepancy sequence of index pairs, their p
+  // at least 8 px apart), the pair whose similarity maps the most tracks
+  // within 3 sigma_px of their q, refitted by least squares to those. None
+  // with fewer than 3 tracks or no such pair. O(M) per pair.
+  std::optional<SimilarityMotion> RobustStart(std::span<const BoxPx> exclude) const override;
 
   // Whether `track` is ignored given `exclude` (exposed for tests and overlays).
   bool Excluded(const PointTrack& track, std::span<const BoxPx> exclude) const;
@@ -236,6 +249,10 @@ struct SceneMotionReport {
   bool laplace = false;
   // Newton iterations spent finding the mode (0 without one).
   int newton_iterations = 0;
+  // laplace proposal: the mode came from the evidence's robust start, which
+  // explained the evidence better than the mode found from the particles'
+  // mean (that start had settled on a weaker mode).
+  bool robust_start = false;
   friend bool operator==(const SceneMotionReport&, const SceneMotionReport&) = default;
 };
 
@@ -270,7 +287,13 @@ struct SceneMotionReport {
 //        and weighted by the exact ratio
 //          log w_i += l(u'_i) + log N(u'_i; u_i, Q) - log q_i(u'_i),
 //        so the filter's target is the same as the bootstrap filter's; only
-//        the variance of the weights changes. If Newton found no mode, or the
+//        the variance of the weights changes. When the evidence has a robust
+//        start (CameraMotionEvidence::RobustStart: the similarity most point
+//        tracks agree on) outside the mode found, more than 8 nats below it
+//        by the mode's own curvature, Newton runs from it as well and its
+//        mode is taken if it explains the evidence better by more than 1 nat
+//        (unmasked coherent target tracks can hold the particles' mean in a
+//        wrong mode; report.robust_start). If Newton found no mode, or the
 //        best particle then explains the evidence better than m by more than
 //        1 nat (m was a local mode), Newton restarts from that particle and the
 //        frame is drawn again. Without a usable mode (no tracks, flat evidence) the frame
@@ -307,6 +330,7 @@ class SceneMotionFilter {
  private:
   using Vec = Eigen::Matrix<double, 4, 1>;
   SimilarityMotion ToMotion(const Vec& u) const;
+  Vec FromMotion(const SimilarityMotion& motion) const;
   // Log-likelihood of each u in `us` under the evidence.
   void Evaluate(const CameraMotionEvidence& evidence, std::span<const BoxPx> exclude,
                 std::span<const Vec> us, std::span<double> out);

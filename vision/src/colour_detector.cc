@@ -51,8 +51,8 @@ class ColourDetector final : public Detector {
         box_size = cv::Size(model.patch.width, model.patch.height);
         if (window != nullptr && !window->box.empty()) {
           const BoxPx& b = window->box;
-          box_size = cv::Size(std::max(1, static_cast<int>(std::lround(b.width))),
-                              std::max(1, static_cast<int>(std::lround(b.height))));
+          box_size = cv::Size(ClampToInt(std::round(b.width), 1, std::max(1, width)),
+                              ClampToInt(std::round(b.height), 1, std::max(1, height)));
           region = AroundBox(b, options_.window_scale, width, height);
         }
         if (region.width > 0 && region.height > 0) {

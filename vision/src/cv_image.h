@@ -53,4 +53,8 @@ const SearchWindow* WindowOf(std::span<const SearchWindow> windows, ObjectId tar
 // to the image (possibly empty).
 cv::Rect AroundBox(const BoxPx& box, double scale, int width, int height);
 
+// v clamped to [lo, hi], then truncated to an int (NaN gives lo): a cast of a
+// value beyond int is undefined, so the clamp comes first.
+int ClampToInt(double v, int lo, int hi);
+
 }  // namespace hcpf::vision::internal

@@ -131,19 +131,32 @@ std::optional<BoxPx> ClipToImage(const BoxPx& box, int width, int height) {
 
 const SearchWindow* WindowOf(std::span<const SearchWindow> windows, ObjectId target) {
   for (const SearchWindow& w : windows) {
-    if (w.target == target) return &w;
+    if (w.target != target) continue;
+    // A box with a side of no number is no window (a diverged filter's).
+    const BoxPx& b = w.box;
+    return std::isfinite(b.left) && std::isfinite(b.top) && std::isfinite(b.width) &&
+                   std::isfinite(b.height)
+               ? &w
+               : nullptr;
   }
   return nullptr;
+}
+
+int ClampToInt(double v, int lo, int hi) {
+  // Clamped as a double first: a cast of a value beyond int is undefined.
+  if (!(v > lo)) return lo;
+  if (!(v < hi)) return hi;
+  return static_cast<int>(v);
 }
 
 cv::Rect AroundBox(const BoxPx& box, double scale, int width, int height) {
   const BoxPx around =
       BoxPx::FromCentre(box.centre_x(), box.centre_y(), scale * box.width, scale * box.height);
-  const int x0 = std::clamp(static_cast<int>(std::floor(around.left)), 0, width);
-  const int y0 = std::clamp(static_cast<int>(std::floor(around.top)), 0, height);
-  const int x1 = std::clamp(static_cast<int>(std::ceil(around.right())), 0, width);
-  const int y1 = std::clamp(static_cast<int>(std::ceil(around.bottom())), 0, height);
-  return {x0, y0, x1 - x0, y1 - y0};
+  const int x0 = ClampToInt(std::floor(around.left), 0, width);
+  const int y0 = ClampToInt(std::floor(around.top), 0, height);
+  const int x1 = ClampToInt(std::ceil(around.right()), 0, width);
+  const int y1 = ClampToInt(std::ceil(around.bottom()), 0, height);
+  return {x0, y0, std::max(0, x1 - x0), std::max(0, y1 - y0)};
 }
 
 }  // namespace internal

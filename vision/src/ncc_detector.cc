@@ -24,8 +24,8 @@ Search SearchFor(const TargetModel& model, const SearchWindow* window, double wi
     return {cv::Rect(0, 0, width, height), cv::Size(model.patch.width, model.patch.height)};
   }
   const BoxPx& b = window->box;
-  const cv::Size templ(std::max(2, static_cast<int>(std::lround(b.width))),
-                       std::max(2, static_cast<int>(std::lround(b.height))));
+  const cv::Size templ(ClampToInt(std::round(b.width), 2, std::max(2, width)),
+                       ClampToInt(std::round(b.height), 2, std::max(2, height)));
   return {AroundBox(b, window_scale, width, height), templ};
 }
 

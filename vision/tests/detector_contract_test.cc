@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <set>
 #include <thread>
 
@@ -149,6 +150,33 @@ TEST_P(DetectorContract, WindowedSearchStaysInsideItsWindow) {
     EXPECT_LE(d.box.bottom(), w.centre_y() + 1.5 * w.height + 1.0);
   }
   EXPECT_EQ(found.size(), windows.size()) << GetParam();
+}
+
+// A window no filter should give, but a diverged one could: a box with a
+// NaN or infinite side is no window (the target is searched for as without
+// one), and a finite box larger than any frame is the frame. Until
+// 2026-12-07 their coordinates were cast to int before clamping (undefined
+// behaviour; a review's suspicion, unconfirmed in runs).
+TEST_P(DetectorContract, WindowsOfNoNumberOrBeyondTheFrameAreSafe) {
+  if (!detector_->uses_models()) {
+    GTEST_SKIP() << "search windows belong to target models; " << GetParam() << " has none";
+  }
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  const double inf = std::numeric_limits<double>::infinity();
+  const DetectorOutput none = Run(frame_);
+  for (const BoxPx& bad : {BoxPx{nan, 10, 20, 20}, BoxPx{10, 10, nan, 20}, BoxPx{10, 10, inf, 20},
+                           BoxPx{-inf, 10, 20, 20}}) {
+    std::vector<SearchWindow> windows;
+    for (const auto& t : Targets()) windows.push_back({t.id, bad});
+    ExpectSame(Run(frame_, windows), none);
+  }
+  std::vector<SearchWindow> huge;
+  for (const auto& t : Targets()) huge.push_back({t.id, BoxPx{-1e300, -1e300, 2e300, 2e300}});
+  const DetectorOutput out = Run(frame_, huge);
+  for (const Detection& d : out.detections) {
+    EXPECT_GE(d.box.left, 0.0);
+    EXPECT_LE(d.box.right(), frame_.width);
+  }
 }
 
 INSTANTIATE_TEST_SUITE_P(Registered, DetectorContract, ::testing::ValuesIn(DetectorNames()),

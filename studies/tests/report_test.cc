@@ -37,6 +37,22 @@ namespace {
 
 namespace fs = std::filesystem;
 
+// A finished hand-made run of the store in `dir`, its folder made (the
+// report links it); the caller adds its metrics (and may set ok = false).
+RunRecord HandRun(const fs::path& dir, std::string key, int64_t index, int seed_index,
+                  uint64_t seed, std::vector<std::string> values) {
+  RunRecord r;
+  r.key = std::move(key);
+  r.index = index;
+  r.seed_index = seed_index;
+  r.seed = seed;
+  r.values = std::move(values);
+  r.ok = true;
+  r.run_dir = "runs/" + r.key;
+  fs::create_directories(dir / r.run_dir);
+  return r;
+}
+
 std::string Read(const fs::path& p) {
   std::ifstream in(p);
   std::stringstream s;
@@ -1776,17 +1792,12 @@ fs::path HandStore(const std::string& name, const std::string& reference = "syst
   for (const char* particles : {"100", "1000"}) {
     for (const char* method : {"systematic", "charged"}) {
       for (int seed = 0; seed < seeds; ++seed) {
-        RunRecord r;
-        r.key = std::string(particles) + "-" + method + "-" + std::to_string(seed);
-        r.index = index++;
-        r.seed_index = seed;
-        r.seed = 1000 + seed;
-        r.values = {particles, method};
+        RunRecord r =
+            HandRun(dir, std::string(particles) + "-" + method + "-" + std::to_string(seed),
+                    index++, seed, 1000 + seed, {particles, method});
         const bool systematic = std::string(method) == "systematic";
         const bool many = std::string(particles) == "1000";
         r.ok = systematic || !many || seed >= failed_charged_at_1000;
-        r.run_dir = "runs/" + r.key;
-        fs::create_directories(dir / r.run_dir);  // linked from the report
         r.metrics["hijack_rate"] = systematic && (!many || seed < 5) ? 1.0 : 0.0;
         r.metrics["mota"] = systematic ? 0.9 : (many ? (seed < 9 ? 1.0 : 0.5) : 0.9);
         store->Put(r);
@@ -1830,16 +1841,10 @@ fs::path PooledHandStore(const std::string& name, int complete = 4, double step 
   for (const char* method : {"systematic", "charged"}) {
     for (int a = 0; a < 3; ++a) {
       for (int seed = 0; seed <= complete; ++seed) {
-        RunRecord r;
-        r.key = fmt::format("100-{}-{}-{}", method, a * 90, seed);
-        r.index = index++;
-        r.seed_index = seed;
-        r.seed = 1000 + seed;
-        r.values = {"100", method, std::to_string(a * 90)};
+        RunRecord r = HandRun(dir, fmt::format("100-{}-{}-{}", method, a * 90, seed), index++, seed,
+                              1000 + seed, {"100", method, std::to_string(a * 90)});
         const bool systematic = std::string(method) == "systematic";
         r.ok = systematic || seed < complete || a != 1;
-        r.run_dir = "runs/" + r.key;
-        fs::create_directories(dir / r.run_dir);  // linked from the report
         const double m = step * (seed + 1);
         r.metrics["mota"] = systematic        ? 0.5 + 0.03 * (a - 1)
                             : seed < complete ? 0.5 + m + 0.05 * (a - 1)
@@ -1890,15 +1895,8 @@ fs::path PooledSunStore(const std::string& name,
   auto store = ResultsStore::OpenOrCreate((dir / "results.sqlite").string(), meta);
   for (const auto& [cell_index, values] : cells) {
     for (int seed = 0; seed < 5; ++seed) {
-      RunRecord r;
-      r.key = fmt::format("{}-{}-{}-{}", values[0], values[1], values[2], seed);
-      r.index = cell_index * 5 + seed;
-      r.seed_index = seed;
-      r.seed = SweepSeed(1, seed);
-      r.values = values;
-      r.ok = true;
-      r.run_dir = "runs/" + r.key;
-      fs::create_directories(dir / r.run_dir);  // linked from the report
+      RunRecord r = HandRun(dir, fmt::format("{}-{}-{}-{}", values[0], values[1], values[2], seed),
+                            cell_index * 5 + seed, seed, SweepSeed(1, seed), values);
       r.metrics["mota"] = values[1] == "systematic" ? 0.5 : 0.5 + 0.1 * (seed + 1);
       store->Put(r);
     }
@@ -2114,15 +2112,9 @@ void PutHandRuns(const fs::path& dir, const StoreMeta& meta, int64_t runs, int s
                  const std::function<double(int64_t)>& mota) {
   auto store = ResultsStore::OpenOrCreate((dir / "results.sqlite").string(), meta);
   for (int64_t i = 0; i < runs; ++i) {
-    RunRecord r;
-    r.key = fmt::format("run-{}", i);
-    r.index = i;
-    r.seed_index = static_cast<int>(i % seeds);
-    r.seed = SweepSeed(1, r.seed_index);
-    r.values = values(i);
-    r.ok = true;
-    r.run_dir = "runs/" + r.key;
-    fs::create_directories(dir / r.run_dir);
+    const int seed_index = static_cast<int>(i % seeds);
+    RunRecord r =
+        HandRun(dir, fmt::format("run-{}", i), i, seed_index, SweepSeed(1, seed_index), values(i));
     r.metrics["mota"] = mota(i);
     store->Put(r);
   }
@@ -2623,15 +2615,8 @@ fs::path TwoMethodStore(
   int64_t index = 0;
   for (const char* method : {"systematic", "charged"}) {
     for (int seed = 0; seed < 10; ++seed) {
-      RunRecord r;
-      r.key = std::string("1-") + method + "-" + std::to_string(seed);
-      r.index = index++;
-      r.seed_index = seed;
-      r.seed = 2000 + seed;
-      r.values = {"1", method};
-      r.ok = true;
-      r.run_dir = "runs/" + r.key;
-      fs::create_directories(dir / r.run_dir);  // linked from the report
+      RunRecord r = HandRun(dir, std::string("1-") + method + "-" + std::to_string(seed), index++,
+                            seed, 2000 + seed, {"1", method});
       for (const auto& [metric, value] : values(method, seed)) r.metrics[metric] = value;
       store->Put(r);
     }
@@ -2876,15 +2861,9 @@ TEST(Report, TheSummarySaysPerPanelWhatSurvivesHolmsCorrection) {
         for (const std::string& particles : counts) {
           for (const std::string method : {"systematic", "charged"}) {
             for (int seed = 0; seed < 10; ++seed) {
-              RunRecord r;
-              r.key = panel + "-" + particles + "-" + method + "-" + std::to_string(seed);
-              r.index = index++;
-              r.seed_index = seed;
-              r.seed = 3000 + seed;
-              r.values = {panel, particles, method};
-              r.ok = true;
-              r.run_dir = "runs/" + r.key;
-              fs::create_directories(dir / r.run_dir);  // linked from the report
+              RunRecord r =
+                  HandRun(dir, panel + "-" + particles + "-" + method + "-" + std::to_string(seed),
+                          index++, seed, 3000 + seed, {panel, particles, method});
               const bool charged = method == "charged" && panel == "a";
               const double spread = 0.01 * seed;  // the same in both methods
               r.metrics["mota"] = (charged && particles != "50" ? 0.6 : 0.5) + spread;
@@ -2947,15 +2926,8 @@ TEST(Report, AFindingNeedsTheTestAndTheIntervalToSayTheSameWay) {
     int64_t index = 0;
     for (const std::string method : {"systematic", "charged"}) {
       for (int seed = 0; seed < 40; ++seed) {
-        RunRecord r;
-        r.key = method + "-" + std::to_string(seed);
-        r.index = index++;
-        r.seed_index = seed;
-        r.seed = 5000 + seed;
-        r.values = {"100", method};
-        r.ok = true;
-        r.run_dir = "runs/" + r.key;
-        fs::create_directories(dir / r.run_dir);
+        RunRecord r = HandRun(dir, method + "-" + std::to_string(seed), index++, seed, 5000 + seed,
+                              {"100", method});
         const bool outlier = seed >= 34;
         r.metrics["da_accuracy"] =
             method == "systematic" ? (outlier ? 0.95 : 0.90) : (outlier ? 0.45 : 0.91);
@@ -3163,13 +3135,7 @@ void WriteTwoRunStore(const fs::path& dir, const std::vector<std::string>& y,
   meta.report.x_metric = x_metric;
   auto store = ResultsStore::OpenOrCreate((dir / "results.sqlite").string(), meta);
   for (int i = 0; i < 2; ++i) {
-    RunRecord r;
-    r.key = "k" + std::to_string(i);
-    r.index = i;
-    r.values = {i == 0 ? "100" : "1000"};
-    r.ok = true;
-    r.run_dir = "runs/" + r.key;
-    fs::create_directories(dir / r.run_dir);  // linked from the report
+    RunRecord r = HandRun(dir, "k" + std::to_string(i), i, 0, 0, {i == 0 ? "100" : "1000"});
     r.metrics["mota"] = 0.5;
     store->Put(r);
   }
@@ -3211,14 +3177,9 @@ TEST(Report, APanelWithoutTheXMetricNamesIt) {
   meta.report.panels = "observation.source";
   auto store = ResultsStore::OpenOrCreate((dir / "results.sqlite").string(), meta);
   for (int i = 0; i < 6; ++i) {
-    RunRecord r;
-    r.key = "k" + std::to_string(i);
-    r.index = i;
     const char* source = i < 2 ? "simulated" : i < 4 ? "rendered" : "file";
-    r.values = {source, i % 2 == 0 ? "100" : "1000"};
-    r.ok = true;
-    r.run_dir = "runs/" + r.key;
-    fs::create_directories(dir / r.run_dir);
+    RunRecord r =
+        HandRun(dir, "k" + std::to_string(i), i, 0, 0, {source, i % 2 == 0 ? "100" : "1000"});
     if (i != 5) r.metrics["mota"] = 0.5;
     if (i >= 2 && i != 4) r.metrics["det_size_px"] = 20.0 + i;
     store->Put(r);
@@ -3326,16 +3287,9 @@ TEST(Report, FindingsIgnoreKeysThatFollowTheSeries) {
     for (const char* x : {"100", "1000"}) {
       for (const char* name : {"pf", "sort"}) {
         for (int seed = 0; seed < 3; ++seed) {
-          RunRecord r;
-          r.key = std::string(x) + name + std::to_string(seed);
-          r.index = index++;
-          r.seed_index = seed;
-          r.seed = 7 + seed;
           const bool sort = std::string(name) == "sort";
-          r.values = {x, name, sort ? "external" : "particle_filter"};
-          r.ok = true;
-          r.run_dir = "runs/" + r.key;
-          fs::create_directories(dir / r.run_dir);  // linked from the report
+          RunRecord r = HandRun(dir, std::string(x) + name + std::to_string(seed), index++, seed,
+                                7 + seed, {x, name, sort ? "external" : "particle_filter"});
           r.metrics["mota"] = sort ? 0.8 : 0.9;
           // An external tracker has no particle filters to score.
           r.metrics["da_accuracy"] = sort ? std::nan("") : 0.95;

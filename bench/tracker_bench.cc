@@ -282,26 +282,6 @@ void BM_SceneFilterStep(benchmark::State& state) {
 }
 BENCHMARK(BM_SceneFilterStep)->Args({200, 500})->Args({1000, 200})->Unit(benchmark::kMillisecond);
 
-// The evidence's robust start (PointTrackEvidence::RobustStart: 200 pairs,
-// each scored on every track), which the scene filter asks for each frame:
-// state.range(0) tracks as in BM_SceneFilterStep.
-void BM_PointTrackRobustStart(benchmark::State& state) {
-  SceneMotionOptions options;
-  const SimilarityMotion truth{2.0, -1.0, 0.004, 0.002};
-  Rng rng(3);
-  std::vector<PointTrack> tracks;
-  for (int k = 0; k < state.range(0); ++k) {
-    PointTrack t;
-    t.p = {rng.Uniform(0, 640), rng.Uniform(0, 480)};
-    t.q = Apply(truth, t.p) + Eigen::Vector2d(0.3 * rng.Normal(), 0.3 * rng.Normal());
-    if (rng.Uniform() < 0.1) t.q = {rng.Uniform(0, 640), rng.Uniform(0, 480)};
-    tracks.push_back(t);
-  }
-  const PointTrackEvidence evidence(tracks, options);
-  for (auto _ : state) benchmark::DoNotOptimize(evidence.RobustStart({}));
-}
-BENCHMARK(BM_PointTrackRobustStart)->Arg(200)->Arg(500)->Unit(benchmark::kMicrosecond);
-
 // The M-of-N initiator's matrix under clutter: n tentatives and n free
 // detections uniform in a 640x480 frame, cost the squared distance within
 // the gate, forbidden beyond. 20 px is the default tentative gate; at 800

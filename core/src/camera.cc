@@ -36,16 +36,20 @@ CameraPose CameraPose::LookAt(const Eigen::Vector3d& position, const Eigen::Vect
   // image turns continuously as a path crosses the band (until 2026-12-07 it
   // switched at 8 degrees and turned at once: by 0.74 degrees on climb, by up
   // to 180 degrees elsewhere). No rule from the view direction alone can be
-  // smooth everywhere (a tangent field on the sphere has a zero): the one
-  // direction left is in the band, about 6 degrees south of straight down in
-  // the y-z plane, where the two right axes are opposite and weigh the same.
+  // smooth everywhere (a tangent field on the sphere has a zero): two views
+  // are left in the band, where the two right axes are opposite and weigh
+  // the same, both in the y-z plane: 5.9 degrees south of straight down (the
+  // camera north of what it looks at) and 5.9 degrees north of straight up.
   constexpr double kOuter = 0.990;                // cos(8.1 deg)
   constexpr double kInner = 0.99939082701909576;  // cos(2 deg)
   const double t = std::clamp((std::abs(forward.z()) - kOuter) / (kInner - kOuter), 0.0, 1.0);
   const double w = t * t * (3.0 - 2.0 * t);
   const Eigen::Vector3d north_right = forward.cross(Eigen::Vector3d::UnitY()).normalized();
   Eigen::Vector3d right = north_right;
-  if (w < 1.0) {
+  if (w <= 0.0) {
+    // Outside the band: the level rule alone, as before to the bit.
+    right = forward.cross(Eigen::Vector3d::UnitZ()).normalized();
+  } else if (w < 1.0) {
     // Each right axis at unit length: the level one is short near vertical,
     // and blended as it is would take over late and fast.
     right = (1.0 - w) * forward.cross(Eigen::Vector3d::UnitZ()).normalized() + w * north_right;

@@ -6,6 +6,8 @@
 #include <cmath>
 #include <numbers>
 
+#include "hcpf/core/rng.h"
+
 namespace hcpf {
 namespace {
 
@@ -108,10 +110,38 @@ TEST(CameraPose, ImageTurnsContinuouslyAsTheViewNearsVertical) {
   // rule from the view alone cannot avoid it). 2.5 degrees bounds the paths
   // tried; the old switch made 20 at least.
   EXPECT_LT(worst, 2.5);
-  // The singular direction itself: a right axis, not NaN.
-  for (double tilt = 1.5; tilt < 9.0; tilt += 0.0005) {
-    EXPECT_TRUE(Tilted(tilt, 0.0).world_from_camera.allFinite()) << tilt;
+  // At the singular view itself (the two right axes' blend 1e-12 long: a
+  // review found this view), a rotation all the same.
+  const Eigen::Vector3d singular(0.0, -0.10286415480173679, -0.99469541350954482);
+  const Eigen::Matrix3d r = CameraPose::LookAt({0, 0, 0}, 100.0 * singular).world_from_camera;
+  EXPECT_LT((r.transpose() * r - Eigen::Matrix3d::Identity()).norm(), 1e-12);
+  EXPECT_NEAR(r.determinant(), 1.0, 1e-12);
+}
+
+// Outside the band the rule is the level one, and inside 2 degrees the north
+// one, as computed before 2026-12-07, to the bit (so no scene outside the
+// band changed).
+TEST(CameraPose, OutsideTheBandThePoseIsTheOldRulesToTheBit) {
+  const auto old_rule = [](const Eigen::Vector3d& position, const Eigen::Vector3d& target) {
+    const Eigen::Vector3d forward = (target - position).normalized();
+    const Eigen::Vector3d hint =
+        std::abs(forward.z()) > 0.990 ? Eigen::Vector3d::UnitY() : Eigen::Vector3d::UnitZ();
+    return forward.cross(hint).normalized();
+  };
+  Rng rng(17);
+  int outside = 0;
+  for (int k = 0; k < 20000; ++k) {
+    const Eigen::Vector3d position(rng.Uniform(-200, 200), rng.Uniform(-200, 200),
+                                   rng.Uniform(1, 400));
+    const Eigen::Vector3d target(rng.Uniform(-50, 50), rng.Uniform(-50, 50), rng.Uniform(-5, 5));
+    const double c = std::abs((target - position).normalized().z());
+    if (c > 0.990 && c < 0.99939082701909576) continue;  // the band
+    ++outside;
+    ASSERT_EQ(CameraPose::LookAt(position, target).world_from_camera.col(0),
+              old_rule(position, target))
+        << k;
   }
+  EXPECT_GT(outside, 15000);
 }
 
 TEST(CameraState, GroundHomographyMatchesProjection) {

@@ -180,8 +180,13 @@ std::optional<SimilarityMotion> CameraMotionPass::Step(const FrameGroundTruth& c
           }
           if (gh) tracks = vision::RemovePerspective(tracks, *gh, centre);
         }
-        record.motion =
-            filter_->Step(tracker::PointTrackEvidence(std::move(tracks), options_), exclude);
+        // RANSAC's similarity of the unmasked tracks: the scene filter's second
+        // start where its particles sit in a weaker mode (docs/tracker.md).
+        const auto ransac = [this](std::span<const PointTrack> t) {
+          return vision::EstimateSimilarityRansac(t, ransac_);
+        };
+        record.motion = filter_->Step(
+            tracker::PointTrackEvidence(std::move(tracks), options_, ransac), exclude);
         if (gh) {
           record.motion = metrics::CornerOptimalSimilarity(
               vision::PerspectiveHomography(record.motion, *gh, centre), width_, height_);

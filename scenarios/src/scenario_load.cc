@@ -768,8 +768,9 @@ std::string CameraTurnNote(const Scenario& scenario) {
   return fmt::format(
       "the image turns by {:.1f} degrees about its centre from frame {} to {} (camera.path): a "
       "view near straight down turns the image as its heading swings, and most of all near "
-      "the one view where the image's up is undefined, about 6 degrees south of straight down "
-      "(docs/scenario.md); trackers and camera-motion estimators see that turn at once",
+      "the view 6 degrees south of straight down (the camera north of what it looks at), where "
+      "the image's up is undefined (docs/scenario.md); trackers and camera-motion estimators see "
+      "that turn at once",
       worst_deg, worst_frame - 1, worst_frame);
 }
 

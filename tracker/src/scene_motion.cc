@@ -8,7 +8,6 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
-#include <complex>
 #include <utility>
 
 #include "hcpf/core/check.h"
@@ -71,8 +70,8 @@ void SceneMotionOptions::Validate(std::string_view prefix) const {
 }
 
 PointTrackEvidence::PointTrackEvidence(std::vector<PointTrack> tracks,
-                                       const SceneMotionOptions& options)
-    : tracks_(std::move(tracks)), options_(options) {
+                                       const SceneMotionOptions& options, RobustFit robust_fit)
+    : tracks_(std::move(tracks)), options_(options), robust_fit_(std::move(robust_fit)) {
   options_.Validate();
 }
 
@@ -126,59 +125,19 @@ void PointTrackEvidence::AddLogLikelihood(std::span<const SimilarityMotion> hypo
 
 std::optional<SimilarityMotion> PointTrackEvidence::RobustStart(
     std::span<const BoxPx> exclude) const {
-  std::vector<double> px, py, qx, qy;
+  if (!robust_fit_) return std::nullopt;
+  std::vector<PointTrack> kept;
+  kept.reserve(tracks_.size());
   for (const PointTrack& track : tracks_) {
-    if (Excluded(track, exclude)) continue;
-    px.push_back(track.p.x());
-    py.push_back(track.p.y());
-    qx.push_back(track.q.x());
-    qy.push_back(track.q.y());
+    if (!Excluded(track, exclude)) kept.push_back(track);
   }
-  const size_t n = px.size();
-  if (n < 3) return std::nullopt;
-  constexpr int kPairs = 200;
-  constexpr double kMinSeparationPx = 8.0;
-  const double inlier2 = 9.0 * options_.sigma_px * options_.sigma_px;
-  // p' = a p + b in complex form, a = (ar, ai), b = (br, bi).
-  const auto is_inlier = [&](double ar, double ai, double br, double bi, size_t k) {
-    const double dx = ar * px[k] - ai * py[k] + br - qx[k];
-    const double dy = ai * px[k] + ar * py[k] + bi - qy[k];
-    return dx * dx + dy * dy < inlier2;
-  };
-  std::optional<ComplexSimilarity> best;
-  size_t best_count = 0;
-  for (int k = 1; k <= kPairs; ++k) {
-    // The R2 sequence (Roberts 2018): well spread pairs, no random stream.
-    const double fi = std::fmod(k * 0.7548776662466927, 1.0);
-    const double fj = std::fmod(k * 0.5698402909980532, 1.0);
-    const auto i = std::min(n - 1, static_cast<size_t>(fi * static_cast<double>(n)));
-    const auto j = std::min(n - 1, static_cast<size_t>(fj * static_cast<double>(n)));
-    const std::complex<double> pi(px[i], py[i]), pj(px[j], py[j]);
-    if (std::abs(pj - pi) < kMinSeparationPx) continue;
-    ComplexSimilarity s;
-    s.a = (std::complex<double>(qx[j], qy[j]) - std::complex<double>(qx[i], qy[i])) / (pj - pi);
-    s.b = std::complex<double>(qx[i], qy[i]) - s.a * pi;
-    size_t count = 0;
-    for (size_t m = 0; m < n; ++m) {
-      count += is_inlier(s.a.real(), s.a.imag(), s.b.real(), s.b.imag(), m);
-    }
-    if (count > best_count) {
-      best_count = count;
-      best = s;
-    }
+  // A fit that maps every track to one point (scale 0) is none.
+  const std::optional<SimilarityMotion> fit = robust_fit_(kept);
+  if (!fit || !std::isfinite(fit->tx_px) || !std::isfinite(fit->ty_px) ||
+      !std::isfinite(fit->log_scale) || !std::isfinite(fit->rotation_rad)) {
+    return std::nullopt;
   }
-  if (!best) return std::nullopt;
-  std::vector<std::complex<double>> p, q;
-  for (size_t m = 0; m < n; ++m) {
-    if (!is_inlier(best->a.real(), best->a.imag(), best->b.real(), best->b.imag(), m)) continue;
-    p.emplace_back(px[m], py[m]);
-    q.emplace_back(qx[m], qy[m]);
-  }
-  // The pair's own two tracks are inliers, and at least 8 px apart.
-  const ComplexSimilarity fit = FitComplexSimilarity(p, q);
-  const bool finite = std::isfinite(fit.a.real()) && std::isfinite(fit.a.imag()) &&
-                      std::isfinite(fit.b.real()) && std::isfinite(fit.b.imag());
-  return finite && std::abs(fit.a) > 0.0 ? fit.motion() : best->motion();
+  return fit;
 }
 
 HomographyEvidence::HomographyEvidence(const Eigen::Matrix3d& frame_from_previous, int width,

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "hcpf/core/error.h"
+#include "hcpf/vision/point_tracks.h"
 
 namespace hcpf::tracker {
 namespace {
@@ -258,49 +259,71 @@ TEST(SceneMotionFilterTest, MaskingTargetsRemovesTheirBias) {
   EXPECT_LT(robust_unmasked, 0.25 * MaxCornerError(biased, kTruth));
 }
 
+// The pipeline's robust fit: OpenCV's RANSAC similarity (vision/point_tracks.h).
+std::optional<SimilarityMotion> Ransac(std::span<const PointTrack> tracks) {
+  return vision::EstimateSimilarityRansac(tracks, vision::RansacOptions{});
+}
+
 TEST(SceneMotionFilterTest, LaplaceProposalUnmaskedStartsFromTheTracksConsensus) {
   // The laplace proposal, unmasked, locked onto the target's coherent motion
   // here until 2026-12-07 (12.5-12.9 px at the worst corner for all 12
   // frames: Newton from the particles' mean settled in the target tracks'
   // mode, and no particle reached the background's narrow peak). The
-  // evidence's robust start (the similarity 120 of 200 tracks agree on)
-  // gives Newton a second start, whose mode explains the evidence better.
+  // evidence's robust start (RANSAC's similarity, which 120 of the 200 tracks
+  // agree on) gives Newton a second start, whose mode explains the evidence
+  // better.
   SceneMotionOptions o;
-  SceneMotionFilter filter(o, kWidth, kHeight, Rng(5).Fork("scene"));
-  int robust_frames = 0;
-  for (int frame = 0; frame < 12; ++frame) {
-    const SimilarityMotion estimate =
-        filter.Step(PointTrackEvidence(TargetHeavyTracks(frame), o), {});
-    robust_frames += filter.LastReport().robust_start;
-    SCOPED_TRACE(::testing::Message() << "frame " << frame);
-    // The dynamics proposal's 0.53 px (above), with room for the draws.
-    EXPECT_LT(MaxCornerError(estimate, kTruth), 1.0);
-  }
+  const auto run = [&o](const PointTrackEvidence::RobustFit& fit) {
+    SceneMotionFilter filter(o, kWidth, kHeight, Rng(5).Fork("scene"));
+    double worst = 0.0;
+    int robust_frames = 0;
+    for (int frame = 0; frame < 12; ++frame) {
+      const SimilarityMotion estimate =
+          filter.Step(PointTrackEvidence(TargetHeavyTracks(frame), o, fit), {});
+      robust_frames += filter.LastReport().robust_start;
+      worst = std::max(worst, MaxCornerError(estimate, kTruth));
+    }
+    return std::pair(worst, robust_frames);
+  };
+  // The dynamics proposal's 0.53 px (above), with room for the draws.
+  const auto [worst, robust_frames] = run(Ransac);
+  EXPECT_LT(worst, 1.0);
   EXPECT_GE(robust_frames, 1);
+  // Without a robust fit, the limit as it was.
+  const auto [worst_without, none] = run({});
+  EXPECT_GT(worst_without, 10.0);
+  EXPECT_EQ(none, 0);
   // Masked, the particles' mean finds the mode alone: no second start taken.
   SceneMotionFilter masked(o, kWidth, kHeight, Rng(5).Fork("scene"));
   const std::vector<BoxPx> boxes = {kTargetBox};
   for (int frame = 0; frame < 12; ++frame) {
-    masked.Step(PointTrackEvidence(TargetHeavyTracks(frame), o), boxes);
+    masked.Step(PointTrackEvidence(TargetHeavyTracks(frame), o, Ransac), boxes);
     EXPECT_FALSE(masked.LastReport().robust_start) << frame;
   }
 }
 
-TEST(PointTrackEvidenceTest, RobustStartIsTheLargestConsensus) {
+TEST(PointTrackEvidenceTest, RobustStartIsTheFitOfTheTracksNotExcluded) {
   SceneMotionOptions o;
-  // 120 background tracks and 80 coherent target tracks 8 px off.
-  const std::optional<SimilarityMotion> start =
-      PointTrackEvidence(TargetHeavyTracks(0), o).RobustStart({});
-  ASSERT_TRUE(start);
-  // The least-squares fit of exact background tracks: the truth up to rounding.
-  EXPECT_LT(MaxCornerError(*start, kTruth), 1e-6);
-  // 2 tracks: fewer than 3, none.
   const std::vector<PointTrack> all = TargetHeavyTracks(0);
-  const std::vector<PointTrack> two(all.begin(), all.begin() + 2);
-  EXPECT_FALSE(PointTrackEvidence(two, o).RobustStart({}));
-  // Every track excluded: none.
-  const BoxPx everything{.left = -10, .top = -10, .width = kWidth + 20, .height = kHeight + 20};
-  EXPECT_FALSE(PointTrackEvidence(all, o).RobustStart({&everything, 1}));
+  // No fit, no start.
+  EXPECT_FALSE(PointTrackEvidence(all, o).RobustStart({}));
+  // The fit sees exactly the tracks outside the dilated boxes.
+  size_t seen = 0;
+  const auto count = [&seen](std::span<const PointTrack> tracks) {
+    seen = tracks.size();
+    return std::optional<SimilarityMotion>(SimilarityMotion{});
+  };
+  const std::vector<BoxPx> boxes = {kTargetBox};
+  const PointTrackEvidence evidence(all, o, count);
+  ASSERT_TRUE(evidence.RobustStart(boxes));
+  EXPECT_EQ(seen, 120u);  // the 80 target tracks masked
+  ASSERT_TRUE(evidence.RobustStart({}));
+  EXPECT_EQ(seen, 200u);
+  // RANSAC over 120 exact background tracks and 80 coherent target tracks
+  // 8 px off: the background's similarity, to RANSAC's refinement.
+  const std::optional<SimilarityMotion> start = PointTrackEvidence(all, o, Ransac).RobustStart({});
+  ASSERT_TRUE(start);
+  EXPECT_LT(MaxCornerError(*start, kTruth), 1e-3);
 }
 
 TEST(SceneMotionFilterTest, HomographyOracleRecoversASimilarity) {

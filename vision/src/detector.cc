@@ -150,12 +150,18 @@ int ClampToInt(double v, int lo, int hi) {
 }
 
 cv::Rect AroundBox(const BoxPx& box, double scale, int width, int height) {
+  // A box too large for a double (its centre or its scaled side overflows)
+  // covers the frame (computed as it was, its edges would be NaN: empty).
   const BoxPx around =
       BoxPx::FromCentre(box.centre_x(), box.centre_y(), scale * box.width, scale * box.height);
-  const int x0 = ClampToInt(std::floor(around.left), 0, width);
-  const int y0 = ClampToInt(std::floor(around.top), 0, height);
-  const int x1 = ClampToInt(std::ceil(around.right()), 0, width);
-  const int y1 = ClampToInt(std::ceil(around.bottom()), 0, height);
+  if (!std::isfinite(box.centre_x()) || !std::isfinite(box.centre_y())) {
+    return {0, 0, width, height};
+  }
+  const bool wide = !std::isfinite(around.width), tall = !std::isfinite(around.height);
+  const int x0 = wide ? 0 : ClampToInt(std::floor(around.left), 0, width);
+  const int y0 = tall ? 0 : ClampToInt(std::floor(around.top), 0, height);
+  const int x1 = wide ? width : ClampToInt(std::ceil(around.right()), 0, width);
+  const int y1 = tall ? height : ClampToInt(std::ceil(around.bottom()), 0, height);
   return {x0, y0, std::max(0, x1 - x0), std::max(0, y1 - y0)};
 }
 

@@ -37,7 +37,7 @@ struct CameraPose {
   Eigen::Matrix3d world_from_camera = Eigen::Matrix3d::Identity();
 
   // Camera looking from `position` at `target`. Image "up" is world +z more
-  // than 8 degrees from vertical, world +y (north) within 2 degrees of it,
+  // than 8.1 degrees from vertical, world +y (north) within 2 degrees of it,
   // and between them a smooth blend of the two (docs/scenario.md).
   static CameraPose LookAt(const Eigen::Vector3d& position, const Eigen::Vector3d& target);
   Eigen::Matrix3d camera_from_world() const { return world_from_camera.transpose(); }

@@ -10,6 +10,7 @@
 
 #include <Eigen/Core>
 #include <array>
+#include <functional>
 #include <memory>
 #include <optional>
 #include <span>
@@ -184,14 +185,15 @@ bool InsideDilatedBoxes(const Eigen::Vector2d& p, std::span<const BoxPx> boxes, 
 class PointTrackEvidence final : public CameraMotionEvidence {
  public:
   // Reads sigma_px, loss, student_t_dof and mask_dilation_px; validates `options`.
-  PointTrackEvidence(std::vector<PointTrack> tracks, const SceneMotionOptions& options);
+  // A robust similarity of point tracks (e.g. RANSAC's), or none: the
+  // source of RobustStart. Deterministic and const, as the evidence.
+  using RobustFit = std::function<std::optional<SimilarityMotion>(std::span<const PointTrack>)>;
+  PointTrackEvidence(std::vector<PointTrack> tracks, const SceneMotionOptions& options,
+                     RobustFit robust_fit = {});
   void AddLogLikelihood(std::span<const SimilarityMotion> hypotheses,
                         std::span<const BoxPx> exclude, std::span<double> log_w) const override;
-  // The similarity with the largest consensus: of up to 200 pairs of tracks
-  // not excluded (a fixed low-discrepancy sequence of index pairs, their p
-  // at least 8 px apart), the pair whose similarity maps the most tracks
-  // within 3 sigma_px of their q, refitted by least squares to those. None
-  // with fewer than 3 tracks or no such pair. O(M) per pair.
+  // robust_fit (set by the pipeline: vision::EstimateSimilarityRansac, OpenCV's
+  // RANSAC) applied to the tracks not excluded; none without one.
   std::optional<SimilarityMotion> RobustStart(std::span<const BoxPx> exclude) const override;
 
   // Whether `track` is ignored given `exclude` (exposed for tests and overlays).
@@ -200,6 +202,7 @@ class PointTrackEvidence final : public CameraMotionEvidence {
  private:
   std::vector<PointTrack> tracks_;
   SceneMotionOptions options_;
+  RobustFit robust_fit_;
 };
 
 // ORACLE evidence from the true frame-to-frame image homography H (frame t-1
@@ -288,8 +291,8 @@ struct SceneMotionReport {
 //          log w_i += l(u'_i) + log N(u'_i; u_i, Q) - log q_i(u'_i),
 //        so the filter's target is the same as the bootstrap filter's; only
 //        the variance of the weights changes. When the evidence has a robust
-//        start (CameraMotionEvidence::RobustStart: the similarity most point
-//        tracks agree on) outside the mode found, more than 8 nats below it
+//        start (CameraMotionEvidence::RobustStart: in a run, RANSAC's
+//        similarity of the unmasked tracks) outside the mode found, more than 8 nats below it
 //        by the mode's own curvature, Newton runs from it as well and its
 //        mode is taken if it explains the evidence better by more than 1 nat
 //        (unmasked coherent target tracks can hold the particles' mean in a

@@ -295,8 +295,8 @@ TEST(Reliability, BadGlbMagicIsRefusedBeforeTheFileIsRead) {
 
 // A path through the view where the image's "up" is undefined (a review: a
 // camera moved from [0, 30, 120] to [0, 5, 120] looking at the origin turned
-// the image by half a turn between two frames, and validate and run said
-// nothing). The same path 30 m east turns the image less than 5 degrees a frame.
+// the image by half a turn between two frames, and validate, run and render
+// said nothing). The same path 30 m east turns the image less than 5 degrees a frame.
 TEST(Reliability, AnImageThatTurnsAtOnceIsSaid) {
   const fs::path dir = FreshDir("turn");
   const auto scenario = [](const std::string& x) {
@@ -316,6 +316,10 @@ TEST(Reliability, AnImageThatTurnsAtOnceIsSaid) {
   EXPECT_EQ(r.exit_code, 0) << r.output;
   EXPECT_NE(r.output.find(said), std::string::npos) << r.output;
   r = RunCommand(kHcpf + " run " + file.string() + " --out " + (dir / "out").string());
+  EXPECT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find(said), std::string::npos) << r.output;
+  r = RunCommand(kHcpf + " render " + file.string() + " --no-cache --out " +
+                 (dir / "frames").string());
   EXPECT_EQ(r.exit_code, 0) << r.output;
   EXPECT_NE(r.output.find(said), std::string::npos) << r.output;
   const fs::path east = Write(dir / "east.yaml", scenario("30"));

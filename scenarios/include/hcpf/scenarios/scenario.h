@@ -367,7 +367,8 @@ std::string LargeScenarioNote(const Scenario& scenario);
 // A one-line note when the image turns about its centre by more than 5
 // degrees between two frames ("" otherwise): a view near straight down
 // whose heading swings, or passes near the view where the image's "up" is
-// undefined (CameraPose::LookAt). `hcpf validate` and `hcpf run` print it.
+// undefined (CameraPose::LookAt). `hcpf validate`, `hcpf run` and `hcpf render`
+// print it.
 std::string CameraTurnNote(const Scenario& scenario);
 
 }  // namespace hcpf::scenarios

@@ -747,8 +747,7 @@ std::string CameraTurnNote(const Scenario& scenario) {
   int worst_frame = 0;
   Eigen::Matrix3d previous;
   for (int frame = 0; frame < scenario.world.frames; ++frame) {
-    const CameraPathPoint at = InterpolateCamera(camera, frame);
-    const Eigen::Matrix3d r = CameraPose::LookAt(at.position_m, at.look_at_m).world_from_camera;
+    const Eigen::Matrix3d r = EvaluateCamera(camera, frame).pose.world_from_camera;
     if (frame > 0) {
       // The previous right axis carried by the smallest rotation from the
       // previous view to this one: what is left is the image's own turn.

@@ -131,13 +131,7 @@ std::optional<SimilarityMotion> PointTrackEvidence::RobustStart(
   for (const PointTrack& track : tracks_) {
     if (!Excluded(track, exclude)) kept.push_back(track);
   }
-  // A fit that maps every track to one point (scale 0) is none.
-  const std::optional<SimilarityMotion> fit = robust_fit_(kept);
-  if (!fit || !std::isfinite(fit->tx_px) || !std::isfinite(fit->ty_px) ||
-      !std::isfinite(fit->log_scale) || !std::isfinite(fit->rotation_rad)) {
-    return std::nullopt;
-  }
-  return fit;
+  return robust_fit_(kept);
 }
 
 HomographyEvidence::HomographyEvidence(const Eigen::Matrix3d& frame_from_previous, int width,
@@ -419,8 +413,11 @@ SimilarityMotion SceneMotionFilter::Step(const CameraMotionEvidence& evidence,
     // is the same mode, and nothing is searched again.
     if (const std::optional<SimilarityMotion> robust = evidence.RobustStart(exclude)) {
       const Vec s = FromMotion(*robust);
-      const Vec d = s - (mode ? mode->u : start);
-      if (!mode || 0.5 * d.dot(-mode->hessian * d) > 8.0) {
+      const auto nats_below_mode = [&](const Mode& m) {
+        const Vec d = s - m.u;
+        return 0.5 * d.dot(-m.hessian * d);
+      };
+      if (!mode || nats_below_mode(*mode) > 8.0) {
         int more = 0;
         std::optional<Mode> other = FindMode(evidence, exclude, s, more);
         report.newton_iterations += more;

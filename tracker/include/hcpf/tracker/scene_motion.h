@@ -185,8 +185,9 @@ bool InsideDilatedBoxes(const Eigen::Vector2d& p, std::span<const BoxPx> boxes, 
 class PointTrackEvidence final : public CameraMotionEvidence {
  public:
   // Reads sigma_px, loss, student_t_dof and mask_dilation_px; validates `options`.
-  // A robust similarity of point tracks (e.g. RANSAC's), or none: the
-  // source of RobustStart. Deterministic and const, as the evidence.
+  // A robust similarity of point tracks (e.g. RANSAC's), finite, or none
+  // (vision::EstimateSimilarityRansac returns none for a fit of scale 0):
+  // the source of RobustStart. Deterministic and const, as the evidence.
   using RobustFit = std::function<std::optional<SimilarityMotion>(std::span<const PointTrack>)>;
   PointTrackEvidence(std::vector<PointTrack> tracks, const SceneMotionOptions& options,
                      RobustFit robust_fit = {});

@@ -145,7 +145,8 @@ Command AddSweepCommand(CLI::App& parent) {
         CacheLimit::HideFromChildren();
         // Said once: by rank 0 under an MPI launcher.
         for (const std::string& note :
-             {studies::ZippedPoolNote(spec), studies::SeedsForHolmNote(spec)}) {
+             {studies::ZippedPoolNote(spec), studies::SeedsForHolmNote(spec),
+              studies::CameraTurnNote(spec, runs)}) {
           if (!note.empty() && studies::IsFirstLaunchedRank()) spdlog::warn("{}", note);
         }
         // Ctrl-C (or a batch system's SIGTERM) still ends the sweep at once,

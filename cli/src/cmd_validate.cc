@@ -53,7 +53,8 @@ Command AddValidateCommand(CLI::App& parent) {
               spdlog::info("{}: valid sweep: {} runs ({} cells x {} seed(s)), every scenario valid",
                            options->file, runs.size(), runs.size() / seeds, seeds);
               for (const std::string& note :
-                   {studies::ZippedPoolNote(spec), studies::SeedsForHolmNote(spec)}) {
+                   {studies::ZippedPoolNote(spec), studies::SeedsForHolmNote(spec),
+                    studies::CameraTurnNote(spec, runs)}) {
                 if (!note.empty()) spdlog::warn("{}", note);
               }
               return 0;

@@ -738,14 +738,10 @@ Scenario LoadScenarioFromCommandLine(const std::string& path,
   }
 }
 
-std::string CameraTurnNote(const Scenario& scenario) {
-  // 5 degrees a frame: 150 degrees a second at 30 fps, beyond the roll of
-  // any path in scenarios/library (climb-yaw-dive, the strongest: 1.6).
-  constexpr double kTurnDeg = 5.0;
+CameraTurn StrongestCameraTurn(const Scenario& scenario) {
   const CameraSpec& camera = scenario.world.camera;
-  double worst_deg = 0.0;
-  int worst_frame = 0;
-  Eigen::Matrix3d previous;
+  CameraTurn worst;
+  Eigen::Matrix3d previous = Eigen::Matrix3d::Identity();
   for (int frame = 0; frame < scenario.world.frames; ++frame) {
     const Eigen::Matrix3d r = EvaluateCamera(camera, frame).pose.world_from_camera;
     if (frame > 0) {
@@ -756,21 +752,28 @@ std::string CameraTurnNote(const Scenario& scenario) {
       const double turn_deg =
           std::abs(std::atan2(carried.cross(r.col(0)).dot(r.col(2)), carried.dot(r.col(0)))) *
           180.0 / std::numbers::pi;
-      if (turn_deg > worst_deg) {
-        worst_deg = turn_deg;
-        worst_frame = frame;
-      }
+      if (turn_deg > worst.degrees) worst = {turn_deg, frame};
     }
     previous = r;
   }
-  if (!(worst_deg > kTurnDeg)) return "";
+  return worst;
+}
+
+std::string CameraTurnReason() {
+  return "a view near straight down turns the image as its heading swings, and most of all near "
+         "the view 6 degrees south of straight down (the camera north of what it looks at), where "
+         "the image's up is undefined (docs/scenario.md); trackers and camera-motion estimators "
+         "see "
+         "that turn at once";
+}
+
+std::string CameraTurnNote(const Scenario& scenario) {
+  const CameraTurn worst = StrongestCameraTurn(scenario);
+  if (!(worst.degrees > kCameraTurnNoteDeg)) return "";
   return fmt::format(
-      "the image turns by {:.1f} degrees about its centre from frame {} to {} (camera.path): a "
-      "view near straight down turns the image as its heading swings, and most of all near "
-      "the view 6 degrees south of straight down (the camera north of what it looks at), where "
-      "the image's up is undefined (docs/scenario.md); trackers and camera-motion estimators see "
-      "that turn at once",
-      worst_deg, worst_frame - 1, worst_frame);
+      "the image turns by {:.1f} degrees about its centre from frame {} to {} "
+      "(camera.path): {}",
+      worst.degrees, worst.frame - 1, worst.frame, CameraTurnReason());
 }
 
 Scenario Reseeded(const Scenario& scenario, uint64_t seed) {

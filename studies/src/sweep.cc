@@ -488,6 +488,50 @@ std::string ZippedPoolNote(const SweepSpec& spec) {
       one ? "its values" : "their values", one ? "it" : "them");
 }
 
+std::string CameraTurnNote(const SweepSpec& spec, const std::vector<SweepRun>& runs) {
+  // The turn depends on the frame count and the camera's keyframes alone:
+  // each distinct path is evaluated once (most sweeps have one).
+  std::map<std::vector<double>, scenarios::CameraTurn> turn_of_path;
+  int64_t cells = 0, turning = 0;
+  scenarios::CameraTurn worst;
+  const SweepRun* worst_run = nullptr;
+  for (const SweepRun& run : runs) {
+    if (run.seed_index != 0 || !run.cell) continue;  // a cell's seeds share its camera
+    ++cells;
+    const WorldSpec& world = run.cell->world;
+    std::vector<double> path = {static_cast<double>(world.frames)};
+    for (const CameraKeyframe& k : world.camera.path) {
+      path.push_back(k.frame);
+      path.insert(path.end(), k.position_m.data(), k.position_m.data() + 3);
+      path.insert(path.end(), k.look_at_m.data(), k.look_at_m.data() + 3);
+    }
+    auto it = turn_of_path.find(path);
+    if (it == turn_of_path.end()) {
+      it = turn_of_path.emplace(std::move(path), scenarios::StrongestCameraTurn(*run.cell)).first;
+    }
+    const scenarios::CameraTurn& turn = it->second;
+    if (!(turn.degrees > scenarios::kCameraTurnNoteDeg)) continue;
+    ++turning;
+    if (!worst_run || turn.degrees > worst.degrees) {
+      worst = turn;
+      worst_run = &run;
+    }
+  }
+  if (!worst_run) return {};
+  const std::vector<std::string> keys = spec.SweptKeys();
+  std::vector<std::string> cell;
+  for (size_t k = 0; k < keys.size() && k < worst_run->values.size(); ++k) {
+    cell.push_back(fmt::format("{} = {}", keys[k], worst_run->values[k]));
+  }
+  return fmt::format(
+      "{}: in {} of {} cells the image turns by more than {:g} degrees about its centre between "
+      "two frames; most, by {:.1f} degrees from frame {} to {} (camera.path), in the cell {}: {}",
+      spec.file.empty() ? std::string("sweep") : spec.file, turning, cells,
+      scenarios::kCameraTurnNoteDeg, worst.degrees, worst.frame - 1, worst.frame,
+      cell.empty() ? std::string("of the base scenario") : fmt::format("{}", fmt::join(cell, ", ")),
+      scenarios::CameraTurnReason());
+}
+
 std::vector<std::string> SweepSpec::SweptKeys() const {
   std::vector<std::string> keys;
   for (const SweepAxis& a : grid) keys.push_back(a.key);

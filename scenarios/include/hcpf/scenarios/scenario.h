@@ -364,11 +364,30 @@ RunCost EstimateRunCost(const Scenario& scenario);
 // `hcpf run` print it.
 std::string LargeScenarioNote(const Scenario& scenario);
 
+// The strongest turn of the image about its centre between two frames: the
+// camera's right axis against the previous frame's carried by the smallest
+// rotation from the previous view to this one. `frame` is the later frame of
+// the two (0 with a single frame, where nothing turns).
+struct CameraTurn {
+  double degrees = 0.0;
+  int frame = 0;
+};
+CameraTurn StrongestCameraTurn(const Scenario& scenario);
+
+// The turn between two frames that CameraTurnNote reports: 150 degrees a
+// second at 30 fps, beyond the roll of any path in scenarios/library
+// (climb-yaw-dive, the strongest: 1.6).
+inline constexpr double kCameraTurnNoteDeg = 5.0;
+
 // A one-line note when the image turns about its centre by more than 5
 // degrees between two frames ("" otherwise): a view near straight down
 // whose heading swings, or passes near the view where the image's "up" is
 // undefined (CameraPose::LookAt). `hcpf validate`, `hcpf run` and `hcpf render`
-// print it.
+// print it (for a sweep file, studies::CameraTurnNote).
 std::string CameraTurnNote(const Scenario& scenario);
+
+// Why an image turns at once, and what it does to a run: the tail of
+// CameraTurnNote, shared with the sweep's note.
+std::string CameraTurnReason();
 
 }  // namespace hcpf::scenarios

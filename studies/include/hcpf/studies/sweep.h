@@ -178,6 +178,13 @@ std::string SeedsForHolmNote(const SweepSpec& spec);
 // and when the unpooled keys never change (everything is pooled).
 std::string ZippedPoolNote(const SweepSpec& spec);
 
+// Before anything runs, from ExpandSweep's runs: scenarios::CameraTurnNote
+// for a sweep, a warning when the image turns by more than 5 degrees about
+// its centre between two frames in any cell (a swept camera.path, or a swept
+// key it depends on), counting those cells and naming the one that turns
+// most; "" when none does. `hcpf validate` and `hcpf sweep` print it.
+std::string CameraTurnNote(const SweepSpec& spec, const std::vector<SweepRun>& runs);
+
 // The run list in expansion order (see top). Every run's scenario is loaded
 // and validated; a bad swept value throws InputError naming the sweep file
 // line of that value.

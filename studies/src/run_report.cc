@@ -11,6 +11,7 @@
 
 #include <algorithm>
 #include <array>
+#include <cctype>
 #include <charconv>
 #include <cmath>
 #include <cstdint>
@@ -1122,6 +1123,7 @@ RunFolder ReadRunFolder(const fs::path& dir) {
     }
   }
   const fs::path resolved = dir / "scenario.resolved.yaml";
+  int scenario_frames = 0;  // its frames, when it has them
   if (fs::is_regular_file(resolved, ec)) {
     run.resolved = ReadInputFile(resolved.string(), "a resolved scenario", kMaxRunFileBytes);
     YAML::Node scenario;
@@ -1152,6 +1154,38 @@ RunFolder ReadRunFolder(const fs::path& dir) {
       throw InputError(SourceLocation{(dir / "manifest.json").string(), 0, 0, "frames"},
                        fmt::format("{}, the frames of its scenario.resolved.yaml", text),
                        std::to_string(run.frames));
+    }
+    scenario_frames = count;
+  }
+  // seqinfo.ini's seqLength, which hcpf run writes with the same count: a
+  // manifest and a resolved scenario edited together were read past it (the
+  // timeline and per-frame tables drawn to their count).
+  const fs::path seqinfo = dir / "seqinfo.ini";
+  const int frames_said = run.frames > 0 ? run.frames : scenario_frames;
+  if (frames_said > 0 && fs::is_regular_file(seqinfo, ec)) {
+    const std::string text =
+        ReadInputFile(seqinfo.string(), "the seqinfo.ini of hcpf run", kMaxRunFileBytes);
+    const metrics::SeqInfo info = metrics::ParseSeqInfo(text, seqinfo.string());
+    if (info.seq_length != frames_said) {
+      // The line that says it (ParseSeqInfo reads the name in any case).
+      int line = 0, at = 0;
+      std::istringstream lines(text);
+      for (std::string l; std::getline(lines, l);) {
+        ++at;
+        std::string lower =
+            l.substr(l.find_first_not_of(" \t") == std::string::npos ? l.size()
+                                                                     : l.find_first_not_of(" \t"));
+        std::transform(lower.begin(), lower.end(), lower.begin(),
+                       [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+        if (lower.starts_with("seqlength")) line = at;
+      }
+      throw InputError(SourceLocation{seqinfo.string(), line, 0, "seqLength"},
+                       fmt::format("{}, the frames of its {}", frames_said,
+                                   run.frames > 0 && scenario_frames > 0
+                                       ? "manifest.json and scenario.resolved.yaml"
+                                   : run.frames > 0 ? "manifest.json"
+                                                    : "scenario.resolved.yaml"),
+                       std::to_string(info.seq_length));
     }
   }
   return run;

@@ -934,6 +934,35 @@ TEST(RunReport, AManifestFieldOfAnotherTypeIsBadInput) {
     }
   }
   std::ofstream(run / "scenario.resolved.yaml", std::ios::trunc) << resolved;
+  // A manifest and a resolved scenario edited together past seqinfo.ini's
+  // seqLength, which hcpf run writes with the same count (they were read,
+  // the timeline drawn to their count).
+  const std::string seqinfo = Read(run / "seqinfo.ini");
+  ASSERT_NE(seqinfo.find("\nseqLength=20\n"), std::string::npos) << seqinfo;
+  nlohmann::json longer = good;
+  longer["frames"] = 400;
+  std::ofstream(run / "manifest.json", std::ios::trunc) << longer.dump();
+  std::string edited = resolved;
+  edited.replace(edited.find("\nframes: 20\n"), 12, "\nframes: 400\n");
+  std::ofstream(run / "scenario.resolved.yaml", std::ios::trunc) << edited;
+  const int line = static_cast<int>(
+      std::count(seqinfo.begin(), seqinfo.begin() + seqinfo.find("seqLength="), '\n') + 1);
+  fs::remove(run / "report.html");
+  try {
+    WriteReport({.dir = run.string()});
+    ADD_FAILURE() << "frames 400 against seqLength 20 was accepted";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find(fmt::format(
+                  "seqinfo.ini:{}: seqLength: expected 400, the frames of its manifest.json and "
+                  "scenario.resolved.yaml, found 20",
+                  line)),
+              std::string::npos)
+        << e.what();
+  }
+  EXPECT_FALSE(fs::exists(run / "report.html"));
+  std::ofstream(run / "manifest.json", std::ios::trunc) << good.dump();
+  std::ofstream(run / "scenario.resolved.yaml", std::ios::trunc) << resolved;
+  EXPECT_NO_THROW(WriteReport({.dir = run.string()}));
 }
 
 // A gnuplot that exits 0 and writes no SVG (a bad-input audit: /bin/true
@@ -1127,8 +1156,8 @@ TEST(RunReport, AgainstARunOfTheSameScenarioChecksDeterminism) {
                       "<code>tracks.txt</code> differs</strong>"),
             std::string::npos);
 
-  // Another frame count (B's manifest and scenario, which must agree): not
-  // compared frame by frame, and said why.
+  // Another frame count (B's manifest, scenario and seqinfo.ini, which must
+  // agree): not compared frame by frame, and said why.
   auto manifest = nlohmann::json::parse(Read(b / "manifest.json"));
   const std::string resolved = Read(b / "scenario.resolved.yaml");
   std::string longer = resolved;
@@ -1137,12 +1166,18 @@ TEST(RunReport, AgainstARunOfTheSameScenarioChecksDeterminism) {
   std::ofstream(b / "scenario.resolved.yaml") << longer;
   manifest["frames"] = 21;
   std::ofstream(b / "manifest.json") << manifest.dump();
+  const std::string seqinfo = Read(b / "seqinfo.ini");
+  std::string longer_seqinfo = seqinfo;
+  ASSERT_NE(longer_seqinfo.find("\nseqLength=20\n"), std::string::npos);
+  longer_seqinfo.replace(longer_seqinfo.find("\nseqLength=20\n"), 15, "\nseqLength=21\n");
+  std::ofstream(b / "seqinfo.ini") << longer_seqinfo;
   r = WriteReport({.dir = a.string(), .against = b.string()});
   EXPECT_EQ(r.compared_targets, 0);
   EXPECT_NE(Read(r.html_path).find("Run A has 20 frames and run B 21, so"), std::string::npos);
   manifest["frames"] = 20;
   std::ofstream(b / "manifest.json") << manifest.dump();
   std::ofstream(b / "scenario.resolved.yaml") << resolved;
+  std::ofstream(b / "seqinfo.ini") << seqinfo;
 
   std::ofstream(b / "gt" / "gt.txt", std::ios::app) << "20,3,1,1,5,5,1,1,1\n";
   const fs::path kept = dir / "kept";

@@ -2323,9 +2323,9 @@ bool SameSpelledValue(const std::string& a, const std::string& b) {
 // (`resolved`: ResolvedBases' texts, else base_resolved): a quoted scalar
 // there (the resolved YAML quotes text and paths, docs/scenario.md). Its
 // values are compared as written, never as numbers: `name: 1.10` and `1.1`
-// are two names (a review). False where the key is not found (a number's
-// spellings are then compared as numbers).
-bool TakesText(const std::vector<std::string>& resolved, const std::string& key) {
+// are two names (a review). nullopt where the key is not found in any of
+// them.
+std::optional<bool> TakesText(const std::vector<std::string>& resolved, const std::string& key) {
   for (const std::string& text : resolved) {
     try {
       YAML::Node node = YAML::Load(text);
@@ -2342,10 +2342,32 @@ bool TakesText(const std::vector<std::string>& resolved, const std::string& key)
           node.reset(YAML::Node());
         }
       }
-      if (node && node.IsScalar() && node.Tag() == "!") return true;
+      if (node && node.IsScalar()) return node.Tag() == "!";
     } catch (const std::exception&) {
       continue;  // text that is not YAML, an index past size_t: not found here
     }
+  }
+  return std::nullopt;
+}
+
+// TakesText for a key the resolved base scenario leaves out (an optional
+// path such as targets.0.model, which the resolved YAML writes only when
+// set: its values were compared as numbers, a review): read from the
+// scenario.resolved.yaml of this store's runs in `dir` (the key is swept
+// key `k`), the first that holds it; one run of each value is read (a run
+// whose value leaves the key out holds none). False where none does.
+bool TakesText(const std::vector<std::string>& resolved, const std::string& key, size_t k,
+               const fs::path& dir, const std::vector<RunRecord>& runs) {
+  if (const std::optional<bool> text = TakesText(resolved, key)) return *text;
+  std::set<std::string> tried;
+  for (const RunRecord& run : runs) {
+    if (!run.ok || run.run_dir.empty() || k >= run.values.size()) continue;
+    if (!tried.insert(run.values[k]).second) continue;
+    std::ifstream in(dir / run.run_dir / "scenario.resolved.yaml", std::ios::binary);
+    if (!in) continue;
+    std::stringstream text;
+    text << in.rdbuf();
+    if (const std::optional<bool> found = TakesText({text.str()}, key)) return *found;
   }
   return false;
 }
@@ -2358,7 +2380,8 @@ bool TakesText(const std::vector<std::string>& resolved, const std::string& key)
 // respelled, for the log.
 // `bases_there`: ResolvedBases of the other store's meta as it was read
 // (its expansion is dropped when it lists the keys in another order).
-std::vector<std::string> RespellAsHere(const std::vector<RunRecord>& runs, const StoreMeta& meta,
+std::vector<std::string> RespellAsHere(const fs::path& dir, const std::vector<RunRecord>& runs,
+                                       const StoreMeta& meta,
                                        const std::map<std::string, std::string>& bases_there,
                                        AgainstStore& other) {
   const std::map<std::string, std::string> bases_here = ResolvedBases(meta);
@@ -2373,7 +2396,7 @@ std::vector<std::string> RespellAsHere(const std::vector<RunRecord>& runs, const
   std::vector<std::string> lines;
   for (size_t k = 0; k < keys; ++k) {
     const std::string& key = meta.swept_keys[k];
-    if (key != kSweptBaseKey && TakesText(resolved_here, key)) continue;
+    if (key != kSweptBaseKey && TakesText(resolved_here, key, k, dir, runs)) continue;
     const std::vector<std::string>& here = values_here[k];
     std::map<std::string, std::string> respelled;
     for (const std::string& v : values_there[k]) {
@@ -2470,7 +2493,7 @@ std::unique_ptr<AgainstStore> OpenAgainst(const std::string& against, const fs::
       r.values = std::move(values);
     }
   }
-  for (const std::string& line : RespellAsHere(runs, meta, bases_there, *other)) {
+  for (const std::string& line : RespellAsHere(dir, runs, meta, bases_there, *other)) {
     spdlog::info("report: --against: {}", line);
   }
   other->cells = CellsOf(other->runs, other->meta);

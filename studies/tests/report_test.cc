@@ -2253,6 +2253,25 @@ TEST(Report, AgainstAStoreSpellingItsValuesOtherwiseReplicates) {
        .against = store("report-against-text-there", "name", "1.10", "2", resolved).string()});
   EXPECT_EQ(t.replication_comparisons, 1);  // mota, charged − systematic at 2
   EXPECT_EQ(t.replication_cells, 2);
+  // An optional path, which the resolved base leaves out where it is not
+  // set: read from the runs' resolved scenarios, which quote it (a review:
+  // its values were compared as numbers, 1.1 and 1.10 one model).
+  const std::string model = "targets.0.model";
+  const std::string no_model = "seed: 5\nframes: 10\ntargets:\n  - id: 1\n";
+  const auto with_models = [&](const std::string& name, const std::string& a) {
+    const fs::path dir = store(name, model, a, "2", no_model);
+    // Every run's file quotes a model (which one is not read here).
+    for (const auto& run : fs::directory_iterator(dir / "runs")) {
+      std::ofstream(run.path() / "scenario.resolved.yaml")
+          << "seed: 5\nframes: 10\ntargets:\n  - id: 1\n    model: \"" << a << "\"\n";
+    }
+    return dir;
+  };
+  const ReportResult m =
+      WriteReport({.dir = with_models("report-against-model", "1.1").string(),
+                   .against = with_models("report-against-model-there", "1.10").string()});
+  EXPECT_EQ(m.replication_comparisons, 1);  // mota, charged − systematic at 2
+  EXPECT_EQ(m.replication_cells, 2);
 
   const std::string seed = "seeds.world";
   const fs::path big = store("report-against-big-seeds", seed, "1000", "18446744073709551614");

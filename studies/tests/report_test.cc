@@ -641,6 +641,82 @@ TEST(RunReport, PlotsTheCentreErrorOfEachTargetsFilter) {
 // and its filter, CORRECT throughout, against 40 targets each with a filter
 // (80 timeline rows, 40 centre-error lines, every state's colour in the
 // key). Past ten lines the centre-error colours come round again, dashed.
+// A text gnuplot's SVG terminal placed: its anchor (x, y from the top) and
+// what it says.
+struct SvgText {
+  double x = 0, y = 0;
+  std::string text;
+};
+
+// The SVG of `html` holding a text that starts with `marker`: its canvas
+// height (the viewBox's) and every text placed with translate().
+std::pair<double, std::vector<SvgText>> SvgTexts(const std::string& html,
+                                                 const std::string& marker) {
+  // Found by hand: std::regex recurses per character and overflows the
+  // stack on a whole SVG.
+  const std::string translate = "<g transform=\"translate(";
+  for (size_t at = html.find("<svg"); at != std::string::npos; at = html.find("<svg", at + 1)) {
+    const size_t end = std::min(html.find("</svg>", at), html.size());
+    const size_t view = html.find("viewBox=\"0 0 ", at);
+    if (view == std::string::npos || view > end) continue;
+    std::istringstream box(html.substr(view + 13, 40));
+    double width = 0, height = 0;
+    box >> width >> height;
+    std::vector<SvgText> texts;
+    bool holds = false;
+    for (size_t g = html.find(translate, at); g < end; g = html.find(translate, g + 1)) {
+      SvgText t;
+      char comma = 0;
+      std::istringstream xy(html.substr(g + translate.size(), 40));
+      xy >> t.x >> comma >> t.y;
+      const size_t open = html.find('>', g);
+      const size_t text = html.find_first_not_of(" \t\n", open + 1);
+      if (!xy || comma != ',' || text >= end || html.compare(text, 6, "<text>") != 0) continue;
+      t.text = html.substr(text + 6, html.find('<', text + 6) - text - 6);
+      holds = holds || t.text.starts_with(marker);
+      texts.push_back(std::move(t));
+    }
+    if (holds) return {height, texts};
+  }
+  ADD_FAILURE() << "no SVG holds a text starting with " << marker;
+  return {};
+}
+
+// Each key entry (a text starting with one of `entries`, found once) lies on
+// the canvas and outside the plot's box (xmin xmax ymin ymax, px from the
+// bottom), and two entries on one line do not overlap: the right-aligned
+// text of the next one (about 5.5 px a character at 11 px sans) starts past
+// the end of the one before.
+void ExpectKeyEntriesOffThePlot(const std::pair<double, std::vector<SvgText>>& svg,
+                                const std::array<double, 5>& box,
+                                const std::vector<std::string>& entries) {
+  const auto& [height, texts] = svg;
+  std::map<double, std::vector<const SvgText*>> lines;
+  for (const std::string& entry : entries) {
+    std::vector<const SvgText*> found;
+    for (const SvgText& t : texts) {
+      if (t.text.starts_with(entry)) found.push_back(&t);
+    }
+    ASSERT_EQ(found.size(), 1u) << entry;
+    const SvgText& t = *found.front();
+    const double from_bottom = height - t.y;
+    EXPECT_GT(t.x, 0.0) << t.text;
+    EXPECT_GT(t.y, 0.0) << t.text;
+    EXPECT_LT(t.y, height) << t.text;
+    const bool inside =
+        t.x > box[0] && t.x < box[1] && from_bottom > box[2] && from_bottom < box[3];
+    EXPECT_FALSE(inside) << t.text << " at (" << t.x << ", " << t.y << ") is inside the plot";
+    lines[t.y].push_back(&t);
+  }
+  for (auto& [y, line] : lines) {
+    std::sort(line.begin(), line.end(), [](auto* a, auto* b) { return a->x < b->x; });
+    for (size_t i = 1; i < line.size(); ++i) {
+      EXPECT_GE(line[i]->x - 5.5 * static_cast<double>(line[i]->text.size()), line[i - 1]->x)
+          << line[i - 1]->text << " and " << line[i]->text << " overlap at y " << y;
+    }
+  }
+}
+
 TEST(RunReport, APlotsKeyTakesCanvasNotPlot) {
   const auto dir = testing::SweepFolder("run-report-key");
   const fs::path run = RunMinimal(dir, "none");
@@ -677,12 +753,25 @@ TEST(RunReport, APlotsKeyTakesCanvasNotPlot) {
     metrics["filters"]["per_frame_states"] = per_frame;
     metrics.erase("detection");
     std::ofstream(run / "metrics.json", std::ios::trunc) << metrics.dump();
-    WriteReport({.dir = run.string(), .gnuplot = KeepingGnuplot(dir, kept).string()});
+    const std::string html =
+        Read(WriteReport({.dir = run.string(), .gnuplot = KeepingGnuplot(dir, kept).string()})
+                 .html_path);
     const std::array<double, 5> timeline = box("timeline-box.txt");
     const std::array<double, 5> centre = box("centre_error-box.txt");
     // gnuplot places the box's edges to within a pixel.
     EXPECT_NEAR(timeline[3] - timeline[2], 24.0 * 2 * targets, 1.0);
     EXPECT_NEAR(centre[3] - centre[2], 300.0, 1.0);
+    // Each key entry where it is drawn (a review: only the box and the
+    // canvas were checked).
+    std::vector<std::string> centre_entries;
+    for (int t = 1; t <= targets; ++t) {
+      centre_entries.push_back(fmt::format("target {}: filter {}, mean ", t, t));
+    }
+    ExpectKeyEntriesOffThePlot(SvgTexts(html, "target 1: filter 1, mean "), centre, centre_entries);
+    if (targets > 1) {
+      ExpectKeyEntriesOffThePlot(SvgTexts(html, "HIJACKED"), timeline,
+                                 {std::begin(states), std::end(states)});
+    }
     if (targets == 1) {
       small = centre;
       EXPECT_EQ(Read(kept / "centre_error.gp").find(" dt 2 "), std::string::npos);

@@ -143,11 +143,13 @@ Command AddSweepCommand(CLI::App& parent) {
                                           [](const studies::SweepRun& r) { return r.rendered(); });
         const CacheLimit cache_limit(rendered ? sweep_options.frame_cache_dir : "");
         CacheLimit::HideFromChildren();
-        // Said once: by rank 0 under an MPI launcher.
-        for (const std::string& note :
-             {studies::ZippedPoolNote(spec), studies::SeedsForHolmNote(spec),
-              studies::CameraTurnNote(spec, runs)}) {
-          if (!note.empty() && studies::IsFirstLaunchedRank()) spdlog::warn("{}", note);
+        // Said once: by rank 0 under an MPI launcher (the others make none).
+        if (studies::IsFirstLaunchedRank()) {
+          for (const std::string& note :
+               {studies::ZippedPoolNote(spec), studies::SeedsForHolmNote(spec),
+                studies::CameraTurnNote(spec, runs)}) {
+            if (!note.empty()) spdlog::warn("{}", note);
+          }
         }
         // Ctrl-C (or a batch system's SIGTERM) still ends the sweep at once,
         // losing the runs in flight; it now also says how to go on. Under

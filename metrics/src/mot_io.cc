@@ -718,6 +718,7 @@ SeqInfo ParseSeqInfo(const std::string& text, const std::string& path) {
     };
     if (name == "seqlength") {
       info.seq_length = parse_int(1);
+      info.seq_length_line = line_no;
       have_length = true;
     } else if (name == "name") {
       info.name = std::string(value);

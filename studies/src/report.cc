@@ -2342,7 +2342,8 @@ std::optional<bool> TakesText(const std::vector<std::string>& resolved, const st
           node.reset(YAML::Node());
         }
       }
-      if (node && node.IsScalar()) return node.Tag() == "!";
+      // Found: text when a quoted scalar (a list or a mapping is not).
+      if (node && node.IsDefined() && !node.IsNull()) return node.IsScalar() && node.Tag() == "!";
     } catch (const std::exception&) {
       continue;  // text that is not YAML, an index past size_t: not found here
     }

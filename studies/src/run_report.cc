@@ -11,7 +11,6 @@
 
 #include <algorithm>
 #include <array>
-#include <cctype>
 #include <charconv>
 #include <cmath>
 #include <cstdint>
@@ -1165,27 +1164,26 @@ RunFolder ReadRunFolder(const fs::path& dir) {
   if (frames_said > 0 && fs::is_regular_file(seqinfo, ec)) {
     const std::string text =
         ReadInputFile(seqinfo.string(), "the seqinfo.ini of hcpf run", kMaxRunFileBytes);
-    const metrics::SeqInfo info = metrics::ParseSeqInfo(text, seqinfo.string());
+    const std::string why =
+        "hcpf run writes the three with one count; the report reads the run's per-frame files to "
+        "it";
+    metrics::SeqInfo info;
+    try {
+      info = metrics::ParseSeqInfo(text, seqinfo.string());
+    } catch (const InputError& e) {
+      throw InputError(
+          e.where(), e.expected(), e.found(),
+          e.hint().empty() ? "the report checks seqLength against the run's frames" : e.hint());
+    }
     if (info.seq_length != frames_said) {
-      // The line that says it (ParseSeqInfo reads the name in any case).
-      int line = 0, at = 0;
-      std::istringstream lines(text);
-      for (std::string l; std::getline(lines, l);) {
-        ++at;
-        std::string lower =
-            l.substr(l.find_first_not_of(" \t") == std::string::npos ? l.size()
-                                                                     : l.find_first_not_of(" \t"));
-        std::transform(lower.begin(), lower.end(), lower.begin(),
-                       [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
-        if (lower.starts_with("seqlength")) line = at;
-      }
-      throw InputError(SourceLocation{seqinfo.string(), line, 0, "seqLength"},
-                       fmt::format("{}, the frames of its {}", frames_said,
-                                   run.frames > 0 && scenario_frames > 0
-                                       ? "manifest.json and scenario.resolved.yaml"
-                                   : run.frames > 0 ? "manifest.json"
-                                                    : "scenario.resolved.yaml"),
-                       std::to_string(info.seq_length));
+      throw InputError(
+          SourceLocation{seqinfo.string(), info.seq_length_line, 0, "Sequence.seqLength"},
+          fmt::format("{}, the frames of its {}", frames_said,
+                      run.frames > 0 && scenario_frames > 0
+                          ? "manifest.json and scenario.resolved.yaml"
+                      : run.frames > 0 ? "manifest.json"
+                                       : "scenario.resolved.yaml"),
+          std::to_string(info.seq_length), why);
     }
   }
   return run;

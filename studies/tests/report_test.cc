@@ -683,8 +683,8 @@ std::pair<double, std::vector<SvgText>> SvgTexts(const std::string& html,
 }
 
 // Each key entry (a text starting with one of `entries`, found once) lies on
-// the canvas and outside the plot's box (xmin xmax ymin ymax, px from the
-// bottom), and two entries on one line do not overlap: the right-aligned
+// the canvas and off the plot's box (xmin xmax ymin ymax, px from the
+// bottom), its whole text too, and two entries on one line do not overlap: the right-aligned
 // text of the next one (about 5.5 px a character at 11 px sans) starts past
 // the end of the one before.
 void ExpectKeyEntriesOffThePlot(const std::pair<double, std::vector<SvgText>>& svg,
@@ -703,9 +703,10 @@ void ExpectKeyEntriesOffThePlot(const std::pair<double, std::vector<SvgText>>& s
     EXPECT_GT(t.x, 0.0) << t.text;
     EXPECT_GT(t.y, 0.0) << t.text;
     EXPECT_LT(t.y, height) << t.text;
-    const bool inside =
-        t.x > box[0] && t.x < box[1] && from_bottom > box[2] && from_bottom < box[3];
-    EXPECT_FALSE(inside) << t.text << " at (" << t.x << ", " << t.y << ") is inside the plot";
+    // The text runs left from its anchor (gnuplot's key text is right-aligned).
+    const double left = t.x - 5.5 * static_cast<double>(t.text.size());
+    const bool over = left < box[1] && t.x > box[0] && from_bottom > box[2] && from_bottom < box[3];
+    EXPECT_FALSE(over) << t.text << " at (" << t.x << ", " << t.y << ") is over the plot";
     lines[t.y].push_back(&t);
   }
   for (auto& [y, line] : lines) {
@@ -1041,10 +1042,10 @@ TEST(RunReport, AManifestFieldOfAnotherTypeIsBadInput) {
     WriteReport({.dir = run.string()});
     ADD_FAILURE() << "frames 400 against seqLength 20 was accepted";
   } catch (const InputError& e) {
-    EXPECT_NE(std::string(e.what()).find(fmt::format(
-                  "seqinfo.ini:{}: seqLength: expected 400, the frames of its manifest.json and "
-                  "scenario.resolved.yaml, found 20",
-                  line)),
+    EXPECT_NE(std::string(e.what()).find(
+                  fmt::format("seqinfo.ini:{}: Sequence.seqLength: expected 400, the frames of its "
+                              "manifest.json and scenario.resolved.yaml, found 20",
+                              line)),
               std::string::npos)
         << e.what();
   }
@@ -1258,7 +1259,7 @@ TEST(RunReport, AgainstARunOfTheSameScenarioChecksDeterminism) {
   const std::string seqinfo = Read(b / "seqinfo.ini");
   std::string longer_seqinfo = seqinfo;
   ASSERT_NE(longer_seqinfo.find("\nseqLength=20\n"), std::string::npos);
-  longer_seqinfo.replace(longer_seqinfo.find("\nseqLength=20\n"), 15, "\nseqLength=21\n");
+  longer_seqinfo.replace(longer_seqinfo.find("\nseqLength=20\n"), 14, "\nseqLength=21\n");
   std::ofstream(b / "seqinfo.ini") << longer_seqinfo;
   r = WriteReport({.dir = a.string(), .against = b.string()});
   EXPECT_EQ(r.compared_targets, 0);

@@ -70,7 +70,8 @@ MotFile ParseMotText(const std::string& text, const std::string& path, MotFileKi
 // [Sequence] section of a seqinfo.ini.
 struct SeqInfo {
   std::string name;
-  int seq_length = 0;  // required, >= 1
+  int seq_length = 0;       // required, >= 1
+  int seq_length_line = 0;  // the line it was read from (1-based; 0 when not from a file)
   double frame_rate = 30.0;
   int im_width = 0;
   int im_height = 0;

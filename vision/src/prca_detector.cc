@@ -48,6 +48,9 @@ std::span<const Field<PrcaOptions>> PrcaOptions::Fields() {
                   "half-width of the vote ring at distance D"),
       NumberField("min_score", &O::min_score, AboveUpTo(0, 1), "",
                   "normalised peak vote (peak / N_m) needed for a detection"),
+      FlagField("subpixel_peak", &O::subpixel_peak,
+                "the detection's centre refined by a parabola through the argmax and its "
+                "neighbours (false: the argmax pixel's centre, the thesis)"),
       NumberField("scale_min", &O::scale_min, Closed(0.25, 1), "",
                   "smallest scale searched (target size / model size; 1: the thesis)"),
       NumberField("scale_max", &O::scale_max, Closed(1, 4), "",
@@ -431,6 +434,28 @@ Peak ArgMax(const Accumulator& accumulator) {
   return peak;
 }
 
+SubPixel SubPixelPeak(const Accumulator& accumulator, const Peak& peak) {
+  SubPixel offset;
+  if (peak.x < 0) return offset;
+  // Along one axis: the votes before, at and after the peak.
+  const auto vertex = [](double l, double c, double r) {
+    const double curvature = l - 2.0 * c + r;
+    // c is at least l and r (the argmax): curvature <= 0, and 0 only when
+    // all three are equal (a plateau: no better centre than the pixel's).
+    if (!(curvature < 0.0)) return 0.0;
+    return std::clamp((l - r) / (2.0 * curvature), -0.5, 0.5);
+  };
+  const int x = peak.x, y = peak.y;
+  const double c = accumulator.at(x, y);
+  if (x > accumulator.x0 && x + 1 < accumulator.x0 + accumulator.width) {
+    offset.dx = vertex(accumulator.at(x - 1, y), c, accumulator.at(x + 1, y));
+  }
+  if (y > accumulator.y0 && y + 1 < accumulator.y0 + accumulator.height) {
+    offset.dy = vertex(accumulator.at(x, y - 1), c, accumulator.at(x, y + 1));
+  }
+  return offset;
+}
+
 namespace {
 
 // MODEL PREPARATION: the model's clusters (at most max_model_clusters, the
@@ -555,6 +580,7 @@ class PrcaDetector final : public Detector {
       // with several scales the map is their maximum over all their pixels.
       Peak peak;
       double peak_scale = 1.0;
+      SubPixel offset;  // the peak's, with subpixel_peak
       Accumulator merged;
       if (scales_.size() > 1) {
         merged = AccumulatorOver(model.circles, width, height, std::move(merged_buffer));
@@ -573,6 +599,7 @@ class PrcaDetector final : public Detector {
         if (at_scale.x >= 0 && (peak.x < 0 || at_scale.votes > peak.votes)) {
           peak = at_scale;
           peak_scale = scales_[k];
+          if (options_.subpixel_peak) offset = SubPixelPeak(accumulator, peak);
         }
         if (scales_.size() == 1) {
           merged = std::move(accumulator);
@@ -600,7 +627,7 @@ class PrcaDetector final : public Detector {
       // box of the model's size at the winning scale.
       const double score = std::min(1.0, peak.votes * per_cluster);
       if (!(peak.votes > 0.0f) || score < options_.min_score) continue;
-      const BoxPx box = BoxPx::FromCentre(peak.x + 0.5, peak.y + 0.5,
+      const BoxPx box = BoxPx::FromCentre(peak.x + 0.5 + offset.dx, peak.y + 0.5 + offset.dy,
                                           peak_scale * static_cast<double>(target.patch.width),
                                           peak_scale * static_cast<double>(target.patch.height));
       if (const auto inside = internal::ClipToImage(box, width, height)) {

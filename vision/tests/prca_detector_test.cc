@@ -366,6 +366,41 @@ TEST(PrcaVoteCircle, RingProfileAndOffsetAccumulator) {
   EXPECT_EQ(prca::ArgMax(prca::Accumulator{}).x, -1);
 }
 
+// Votes sampled from 5 - (x - 10.3)^2 - 2 (y - 6.8)^2 on x 8..12, y 5..8:
+// the argmax is (10, 7) and each axis's parabola through three samples is
+// the function itself there, so the vertex is exact: (10.3 - 10, 6.8 - 7).
+// A tie with the right neighbour puts it halfway (+0.5); a plateau, an edge
+// of the accumulator and an empty peak give 0.
+TEST(PrcaSubPixelPeak, IsTheVertexOfTheParabolaThroughTheArgmaxAndItsNeighbours) {
+  prca::Accumulator a{.x0 = 8, .y0 = 5, .width = 5, .height = 4, .votes = std::vector<float>(20)};
+  for (int y = 5; y < 9; ++y) {
+    for (int x = 8; x < 13; ++x) {
+      a.votes[static_cast<size_t>((y - 5) * 5 + (x - 8))] =
+          static_cast<float>(5.0 - (x - 10.3) * (x - 10.3) - 2.0 * (y - 6.8) * (y - 6.8));
+    }
+  }
+  const prca::Peak peak = prca::ArgMax(a);
+  ASSERT_EQ(peak.x, 10);
+  ASSERT_EQ(peak.y, 7);
+  prca::SubPixel at = prca::SubPixelPeak(a, peak);
+  EXPECT_NEAR(at.dx, 0.3, 1e-5);  // float votes
+  EXPECT_NEAR(at.dy, -0.2, 1e-5);
+  // 1, 3, 3, 1 along x (row 0 of a 4 x 1 accumulator): the first 3 wins, and
+  // the vertex is halfway to the second.
+  prca::Accumulator tie{.width = 4, .height = 1, .votes = {1.0f, 3.0f, 3.0f, 1.0f}};
+  const prca::Peak first = prca::ArgMax(tie);
+  ASSERT_EQ(first.x, 1);
+  at = prca::SubPixelPeak(tie, first);
+  EXPECT_DOUBLE_EQ(at.dx, 0.5);
+  EXPECT_DOUBLE_EQ(at.dy, 0.0);  // one row: no neighbours along y
+  // A plateau, and a peak on the accumulator's edge.
+  prca::Accumulator flat{.width = 3, .height = 1, .votes = {2.0f, 2.0f, 2.0f}};
+  EXPECT_DOUBLE_EQ(prca::SubPixelPeak(flat, prca::ArgMax(flat)).dx, 0.0);
+  prca::Accumulator edge{.width = 3, .height = 1, .votes = {4.0f, 2.0f, 1.0f}};
+  EXPECT_DOUBLE_EQ(prca::SubPixelPeak(edge, prca::ArgMax(edge)).dx, 0.0);
+  EXPECT_DOUBLE_EQ(prca::SubPixelPeak(edge, prca::Peak{}).dx, 0.0);
+}
+
 DetectorOutput RunPrca(const PrcaOptions& options, const ImageView& image,
                        std::span<const TargetModel> models,
                        std::span<const SearchWindow> windows = {}) {
@@ -525,17 +560,29 @@ RgbImage SmallTarget(double left, double top) {
 TEST(PrcaDetector, FindsASmallBlurredTargetAtEverySubPixelPhase) {
   const std::vector<TargetModel> models = {
       CutTargetModel(SmallTarget(40.0, 30.0), BoxPx{40, 30, 10, 5}, ObjectId{1}, 0)};
-  for (double ox : {0.0, 0.25, 0.5, 0.75}) {
-    for (double oy : {0.0, 1.0 / 3.0, 2.0 / 3.0}) {
-      SCOPED_TRACE(::testing::Message() << ox << ", " << oy);
-      const double left = 150.0 + ox, top = 100.0 + oy;
-      const DetectorOutput out = RunPrca(PrcaOptions{}, SmallTarget(left, top), models);
-      ASSERT_EQ(out.detections.size(), 1u);
-      EXPECT_LE(std::hypot(out.detections[0].box.centre_x() - (left + 5.0),
-                           out.detections[0].box.centre_y() - (top + 2.5)),
-                2.0);
+  PrcaOptions subpixel;
+  subpixel.subpixel_peak = true;
+  std::vector<double> squared_error(2, 0.0);  // summed over the phases: argmax, subpixel
+  for (const PrcaOptions& options : {PrcaOptions{}, subpixel}) {
+    SCOPED_TRACE(options.subpixel_peak ? "subpixel_peak" : "argmax");
+    for (double ox : {0.0, 0.25, 0.5, 0.75}) {
+      for (double oy : {0.0, 1.0 / 3.0, 2.0 / 3.0}) {
+        SCOPED_TRACE(::testing::Message() << ox << ", " << oy);
+        const double left = 150.0 + ox, top = 100.0 + oy;
+        const DetectorOutput out = RunPrca(options, SmallTarget(left, top), models);
+        ASSERT_EQ(out.detections.size(), 1u);
+        const double ex = out.detections[0].box.centre_x() - (left + 5.0);
+        const double ey = out.detections[0].box.centre_y() - (top + 2.5);
+        EXPECT_LE(std::hypot(ex, ey), 2.0);
+        squared_error[options.subpixel_peak ? 1 : 0] += ex * ex + ey * ey;
+      }
     }
   }
+  // subpixel_peak: the argmax pixel's centre is up to half a pixel off the
+  // votes' peak on each axis, which the parabola mostly removes. Measured
+  // RMS over the 12 phases: 0.71 px at the argmax, 0.37 refined; the bound,
+  // 0.6 of the argmax's, leaves room for the clusters' changes with phase.
+  EXPECT_LT(std::sqrt(squared_error[1] / 12.0), 0.6 * std::sqrt(squared_error[0] / 12.0));
 }
 
 // The ground alone is one cluster of ~76800 px: against any vehicle cluster

@@ -75,6 +75,11 @@ struct PrcaOptions {
   // Detection (eq. 3.10): the argmax's normalised vote (peak / N_m, at most
   // 1) needed for a detection; it is also the detection's score.
   double min_score = 0.25;
+  // The detection's centre (an extension; the thesis takes the argmax
+  // pixel's centre, up to half a pixel off the votes' peak): false, the
+  // argmax pixel's centre; true, refined by a parabola through the argmax
+  // and its two neighbours along x and along y (SubPixelPeak).
+  bool subpixel_peak = false;
   // Scales searched (an extension; the thesis matches the model at its own
   // scale only): s = scale_step^k for every integer k with scale_min <= s <=
   // scale_max. At scale s the model is its patch resampled to s times its
@@ -213,6 +218,18 @@ struct Peak {
   float votes = 0.0f;
 };
 Peak ArgMax(const Accumulator& accumulator);
+
+// The peak's offset from the argmax pixel's centre, per axis the vertex of
+// the parabola through the votes at the argmax and its two neighbours along
+// that axis: (l - r) / (2 (l - 2c + r)), in [-0.5, 0.5]. On a tie with one
+// neighbour the vertex is the point halfway between the two (+-0.5); 0 along
+// an axis where a neighbour is outside the accumulator or the three votes
+// are equal. {0, 0} for an empty peak.
+struct SubPixel {
+  double dx = 0.0;
+  double dy = 0.0;
+};
+SubPixel SubPixelPeak(const Accumulator& accumulator, const Peak& peak);
 
 }  // namespace prca
 }  // namespace hcpf::vision

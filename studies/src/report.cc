@@ -3240,6 +3240,13 @@ std::string SceneSketchHtml(const fs::path& dir, const std::vector<Cell>& cells,
 ReportResult WriteReport(const ReportOptions& options) {
   options.Validate();
   if (ClassifyReportFolder(options.dir) == ReportFolder::kRun) return WriteRunReport(options);
+  if (!options.more_against.empty()) {
+    throw InputError(SourceLocation{"hcpf report", 0, 0, "--against"},
+                     "one --against with a sweep folder (a sweep is compared with one other "
+                     "sweep; several --against compare runs)",
+                     fmt::format("{} more: {}", options.more_against.size(),
+                                 fmt::join(options.more_against, ", ")));
+  }
   const fs::path dir(options.dir);
   if (!options.out_dir.empty()) CheckReportOut(options.out_dir);
   const fs::path out = options.out_dir.empty() ? dir : fs::path(options.out_dir);

@@ -1731,6 +1731,63 @@ std::string TruthDifference(const RunFolder& a, const RunFolder& b) {
   return "";
 }
 
+// A run in the comparison's text: its folder, scenario, seed, config hash
+// and build.
+std::string WhoIs(const RunFolder& r) {
+  return fmt::format(
+      "<code>{}</code> (scenario <code>{}</code>, seed {}, config hash "
+      "<code>{}</code>, hcpf {} at <code>{}</code>)",
+      EscapeMarkup(r.dir.string()), EscapeMarkup(JsonText(r.manifest, "scenario")),
+      EscapeMarkup(JsonText(r.manifest, "seed")), EscapeMarkup(JsonText(r.manifest, "config_hash")),
+      EscapeMarkup(JsonText(r.manifest, "hcpf_version")),
+      EscapeMarkup(JsonText(r.manifest, "git_revision")));
+}
+
+// The label of the k-th run beside A: B for the first (--against), then C, D, ...
+std::string RunLabel(size_t k) { return std::string(1, static_cast<char>('B' + k)); }
+
+// The most runs one report sets beside A: B to Z.
+constexpr size_t kMostComparedRuns = 25;
+
+// The section of the runs set beside A after B (several --against): who
+// each is and the resolved keys it differs from A in ("" without them).
+std::string MoreRunsSection(const RunFolder& a, const std::vector<RunFolder>& more) {
+  if (more.empty()) return {};
+  std::string h = fmt::format(
+      "<h2>More runs beside A</h2>\n<p>{} more run{} (<code>--against</code> after the first), "
+      "set beside A in the headline metrics below (each with A − that run). Only B is compared "
+      "with A file by file and frame by frame.</p>\n<table><tr><th>run</th><th>who</th>"
+      "<th>resolved keys differing from A</th></tr>\n",
+      more.size(), more.size() == 1 ? "" : "s");
+  for (size_t k = 0; k < more.size(); ++k) {
+    const RunFolder& x = more[k];
+    std::string keys;
+    if (!a.resolved || !x.resolved) {
+      keys = fmt::format("not compared (run {} has no <code>scenario.resolved.yaml</code>)",
+                         a.resolved ? RunLabel(k + 1) : std::string("A"));
+    } else {
+      const std::vector<config::LeafDifference> differ =
+          config::DifferingLeaves(*a.resolved, *x.resolved);
+      std::string rows;
+      for (const config::LeafDifference& d : differ) {
+        rows += fmt::format("{}<code>{}</code>: {} → {}", rows.empty() ? "" : "<br>",
+                            EscapeMarkup(d.key), EscapeMarkup(d.first.value_or("(absent)")),
+                            EscapeMarkup(d.second.value_or("(absent)")));
+      }
+      // A few keys shown, more folded (another detector's whole block).
+      constexpr size_t kShownKeys = 6;
+      keys =
+          differ.empty() ? std::string("none: the same resolved scenario")
+          : differ.size() <= kShownKeys
+              ? rows
+              : fmt::format("<details><summary>{} keys</summary>{}</details>", differ.size(), rows);
+    }
+    h += fmt::format("<tr><td><b>{}</b></td><td class=\"k\">{}</td><td class=\"k\">{}</td></tr>\n",
+                     RunLabel(k + 1), WhoIs(x), keys);
+  }
+  return h + "</table>\n";
+}
+
 // The comparison's own section (hcpf report RUN --against OTHER): who A and B
 // are, the resolved keys they differ in, which files are the same, and, over
 // one ground truth, target by target where their filters are CORRECT.
@@ -1739,16 +1796,7 @@ std::string ComparisonSection(const RunFolder& a, const RunFolder& b,
                               const std::set<int64_t>& truth_targets, const FrameLink& link,
                               ReportResult* result) {
   std::string h = "<h2>Compared with another run</h2>\n";
-  const auto who = [](const RunFolder& r) {
-    return fmt::format(
-        "<code>{}</code> (scenario <code>{}</code>, seed {}, config hash "
-        "<code>{}</code>, hcpf {} at <code>{}</code>)",
-        EscapeMarkup(r.dir.string()), EscapeMarkup(JsonText(r.manifest, "scenario")),
-        EscapeMarkup(JsonText(r.manifest, "seed")),
-        EscapeMarkup(JsonText(r.manifest, "config_hash")),
-        EscapeMarkup(JsonText(r.manifest, "hcpf_version")),
-        EscapeMarkup(JsonText(r.manifest, "git_revision")));
-  };
+  const auto who = WhoIs;
   h += fmt::format(
       "<p><b>A</b> is this run, {}; <b>B</b> is {} (<code>--against</code>). "
       "Differences are A − B.</p>\n",
@@ -1930,6 +1978,32 @@ ReportResult WriteRunReport(const ReportOptions& options) {
   // Every input is read and checked before anything is written.
   std::optional<RunFolder> other;
   if (!options.against.empty()) other = ReadAgainstRun(options.against, dir);
+  // Runs C, D, ...: each another run folder, named once.
+  std::vector<RunFolder> more;
+  if (!options.more_against.empty()) {
+    const SourceLocation where{"hcpf report", 0, 0, "--against"};
+    if (!other) {
+      throw InputError(where, "the run B to compare A with before more runs",
+                       fmt::format("{} more runs and no first", options.more_against.size()));
+    }
+    if (options.more_against.size() + 1 > kMostComparedRuns) {
+      throw InputError(where, fmt::format("at most {} runs beside A", kMostComparedRuns),
+                       fmt::format("{}", options.more_against.size() + 1));
+    }
+    std::vector<std::string> named = {options.against};
+    for (const std::string& path : options.more_against) {
+      RunFolder x = ReadAgainstRun(path, dir);
+      std::error_code same;
+      for (const std::string& earlier : named) {
+        if (fs::equivalent(path, earlier, same)) {
+          throw InputError(where, "each run folder once",
+                           fmt::format("{} again (as {})", path, earlier));
+        }
+      }
+      named.push_back(path);
+      more.push_back(std::move(x));
+    }
+  }
   if (!options.out_dir.empty()) CheckReportOut(options.out_dir);
   const fs::path out = options.out_dir.empty() ? dir : fs::path(options.out_dir);
 
@@ -2088,11 +2162,23 @@ ReportResult WriteRunReport(const ReportOptions& options) {
   if (other) {
     h += ComparisonSection(run, *other, truth_difference, truth_targets, link, &result);
   }
+  h += MoreRunsSection(run, more);
+  result.more_runs = static_cast<int>(more.size());
 
-  h += other ? "<h2>Headline metrics</h2>\n<table><tr><th>metric</th><th>name</th><th>A</th>"
-               "<th>B</th><th>A − B</th></tr>\n"
-             : "<h2>Headline metrics</h2>\n<table><tr><th>metric</th><th>name</th>"
-               "<th>value</th></tr>\n";
+  // The runs beside A: B, then C, D, ...
+  std::vector<const RunFolder*> beside;
+  if (other) beside.push_back(&*other);
+  for (const RunFolder& x : more) beside.push_back(&x);
+  if (beside.empty()) {
+    h += "<h2>Headline metrics</h2>\n<table><tr><th>metric</th><th>name</th>"
+         "<th>value</th></tr>\n";
+  } else {
+    h += "<h2>Headline metrics</h2>\n<table><tr><th>metric</th><th>name</th><th>A</th>";
+    for (size_t k = 0; k < beside.size(); ++k) {
+      h += fmt::format("<th>{0}</th><th>A − {0}</th>", RunLabel(k));
+    }
+    h += "</tr>\n";
+  }
   const auto value = [](const std::map<std::string, double>& values, std::string_view name) {
     const auto it = values.find(std::string(name));
     return it == values.end() ? kNaN : it->second;
@@ -2118,8 +2204,13 @@ ReportResult WriteRunReport(const ReportOptions& options) {
     // camera-motion error of 7e-14 px): 0.
     const auto rounded = [&m](double v) { return m.unit == "px" ? RoundedPx(v) : v; };
     const double a = rounded(value(headline, m.name));
-    const double b = other ? rounded(value(other->headline, m.name)) : kNaN;
-    if (!std::isfinite(a) && !std::isfinite(b)) continue;  // measured in neither run
+    std::vector<double> others;
+    for (const RunFolder* x : beside) others.push_back(rounded(value(x->headline, m.name)));
+    // Measured in no run.
+    if (!std::isfinite(a) &&
+        std::none_of(others.begin(), others.end(), [](double v) { return std::isfinite(v); })) {
+      continue;
+    }
     const std::string unit = m.unit.empty() ? "" : " " + EscapeMarkup(std::string(m.unit));
     // A hijack rate of 1 beside a hijacked fraction of 0 read as a
     // contradiction (an audit): a lost filter counts as a hijack.
@@ -2133,7 +2224,7 @@ ReportResult WriteRunReport(const ReportOptions& options) {
         "<tr><td class=\"k\">{}{}</td><td class=\"k\"><code>{}</code></td><td>{}{}</td>",
         EscapeMarkup(std::string(m.label)), note, EscapeMarkup(std::string(m.name)),
         text(m, a, false), std::isfinite(a) ? unit : "");
-    if (other) {
+    for (const double b : others) {
       // A − B green where A is better in the metric's direction, red where
       // worse; not coloured: a time (MachineDependent), and what describes
       // the scene or the run rather than scores it (Descriptive, a review).

@@ -1282,6 +1282,93 @@ TEST(RunReport, AgainstARunOfTheSameScenarioChecksDeterminism) {
   EXPECT_EQ(gp.find("of runs A and B"), std::string::npos);
 }
 
+// Several --against: runs C, D, ... beside A in the headline table (each
+// value and A − it, coloured), and who each is with the keys it differs from
+// A in; each must be another run folder, named once, and a sweep takes one.
+TEST(RunReport, MoreRunsAreSetBesideAInTheHeadlineMetrics) {
+  const auto dir = testing::SweepFolder("run-report-more-runs");
+  const fs::path a = RunMinimal(dir / "a", "none");
+  const fs::path b = RunMinimal(dir / "b", "none");
+  const fs::path c = RunMinimal(dir / "c", "none");
+  const fs::path d = RunMinimal(dir / "d", "none");
+  const auto set_da = [](const fs::path& run, double value) {
+    auto metrics = nlohmann::json::parse(Read(run / "metrics.json"));
+    metrics["filters"]["da_accuracy"] = value;
+    std::ofstream(run / "metrics.json", std::ios::trunc) << metrics.dump();
+  };
+  set_da(a, 0.75);
+  set_da(b, 0.5);
+  set_da(c, 0.875);
+  set_da(d, 0.75);
+  // C's scenario differs from A's in one key.
+  std::string resolved = Read(c / "scenario.resolved.yaml");
+  ASSERT_TRUE(resolved.starts_with("name: \"minimal\"\n")) << resolved;
+  resolved.replace(0, 7, "name: \"other-");
+  std::ofstream(c / "scenario.resolved.yaml", std::ios::trunc) << resolved;
+  const ReportResult r = WriteReport(
+      {.dir = a.string(), .against = b.string(), .more_against = {c.string(), d.string()}});
+  EXPECT_EQ(r.more_runs, 2);
+  const std::string html = Read(r.html_path);
+  EXPECT_NE(html.find("<th>A</th><th>B</th><th>A − B</th><th>C</th><th>A − C</th><th>D</th>"
+                      "<th>A − D</th>"),
+            std::string::npos);
+  EXPECT_NE(html.find("<code>da_accuracy</code></td><td>0.750</td><td>0.500</td><td "
+                      "style=\"background:#dff3df\">+0.250</td><td>0.875</td><td "
+                      "style=\"background:#f8dede\">-0.125</td><td>0.750</td><td>0</td>"),
+            std::string::npos)
+      << html;
+  const size_t more = html.find("<h2>More runs beside A</h2>");
+  ASSERT_NE(more, std::string::npos);
+  const std::string section = html.substr(more, html.find("</table>", more) - more);
+  EXPECT_NE(section.find("<b>C</b></td><td class=\"k\"><code>" + c.string() + "</code>"),
+            std::string::npos)
+      << section;
+  EXPECT_NE(section.find("<code>name</code>: minimal → other-minimal"), std::string::npos)
+      << section;
+  EXPECT_NE(section.find("none: the same resolved scenario"), std::string::npos) << section;
+  // Without more runs, neither the section nor their columns.
+  const std::string two = Read(WriteReport({.dir = a.string(), .against = b.string()}).html_path);
+  EXPECT_EQ(two.find("More runs beside A"), std::string::npos);
+  EXPECT_NE(two.find("<th>A − B</th></tr>"), std::string::npos);
+
+  // Bad input, before anything is written: a run named twice, DIR itself, a
+  // sweep folder, more runs without a first, several with a sweep.
+  fs::create_directories(dir / "sweep");
+  std::ofstream(dir / "sweep" / "results.sqlite") << "";
+  const fs::path out = dir / "out";
+  for (const auto& [options, found] : std::vector<std::pair<ReportOptions, std::string>>{
+           {{.dir = a.string(),
+             .out_dir = out.string(),
+             .against = b.string(),
+             .more_against = {c.string(), b.string()}},
+            "expected each run folder once, found " + b.string() + " again"},
+           {{.dir = a.string(),
+           .out_dir = out.string(),
+           .against = b.string(),
+           .more_against = {a.string()}},
+            "DIR itself"},
+           {{.dir = a.string(),
+           .out_dir = out.string(),
+           .against = b.string(),
+           .more_against = {(dir / "sweep").string()}},
+            "a sweep folder"},
+           {{.dir = a.string(), .out_dir = out.string(), .more_against = {c.string()}},
+            "expected the run B to compare A with before more runs"},
+           {{.dir = (dir / "sweep").string(),
+           .out_dir = out.string(),
+           .against = b.string(),
+           .more_against = {c.string()}},
+            "expected one --against with a sweep folder"}}) {
+    try {
+      WriteReport(options);
+      ADD_FAILURE() << found << ": accepted";
+    } catch (const InputError& e) {
+      EXPECT_NE(std::string(e.what()).find(found), std::string::npos) << e.what();
+    }
+    EXPECT_FALSE(fs::exists(out)) << found;
+  }
+}
+
 // --against with a run is another run folder: anything else is bad input
 // naming --against, found before anything is written.
 TEST(RunReport, AgainstWhatIsNoOtherRunIsBadInput) {

@@ -1107,6 +1107,20 @@ TEST(Cli, ReportOnARunFolderAndOnAnotherFolder) {
       << r.output;
   EXPECT_NE(ReadFile(run / "report.html").find("<code>tracker.camera_motion</code>"),
             std::string::npos);
+  // --against again: a third run beside them, each --against taking one
+  // folder (DIR after them is still DIR).
+  r = RunCommand(kHcpf + " report --against " + oracle.string() + " --against " + oracle.string() +
+                 "/ " + run.string());
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_NE(r.output.find("--against: expected each run folder once"), std::string::npos)
+      << r.output;
+  const fs::path none = dir / "none";
+  fs::copy(run, none, fs::copy_options::recursive);
+  r = RunCommand(kHcpf + " report --against " + oracle.string() + " --against " + none.string() +
+                 " " + run.string());
+  EXPECT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("; 1 more run beside them"), std::string::npos) << r.output;
+  EXPECT_NE(ReadFile(run / "report.html").find("<th>C</th><th>A − C</th>"), std::string::npos);
 
   const fs::path other = dir / "other";
   fs::create_directories(other);

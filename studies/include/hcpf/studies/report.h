@@ -44,6 +44,12 @@ struct ReportOptions {
   // metrics side by side, and over one ground truth both runs' filters on one
   // timeline and compared target by target, frame by frame. "" = none.
   std::string against;
+  // With a run folder as `dir` and `against` set: more run folders (runs C,
+  // D, ..., at most 24), each set beside A in the headline table (its value
+  // and A − X) and in a table of who it is and the resolved keys it differs
+  // from A in. The comparison frame by frame, the files, the timeline and
+  // the videos stay A's with B. Bad input with a sweep folder as `dir`.
+  std::vector<std::string> more_against;
   void Validate() const;
 };
 
@@ -58,6 +64,7 @@ struct ReportResult {
   int replication_cells = 0;        // with `against`: cell means with an interval in both
   int differing_keys = 0;           // a run with `against`: resolved keys that differ between them
   int compared_targets = 0;         // a run with `against`: targets compared frame by frame
+  int more_runs = 0;                // a run with `more_against`: the runs set beside A and B
   int cells = 0;
   int builds = 0;                  // a sweep's report: builds of hcpf that made its finished runs
   int64_t missing_runs = 0;        // a sweep's report: runs of the sweep not in the store

@@ -1,5 +1,5 @@
-// hcpf report DIR [--out FOLDER] [--against OTHER]: DIR is a sweep's or a run's folder,
-// OTHER another of the same kind.
+// hcpf report DIR [--out FOLDER] [--against OTHER ...]: DIR is a sweep's or a run's folder,
+// OTHER another of the same kind (several: runs beside a run).
 
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
@@ -33,8 +33,10 @@ Command AddReportCommand(CLI::App& parent) {
                   "compared with it (the keys they differ in, the same files, the metrics side by "
                   "side, and over one ground truth their filters frame by frame); repeated, "
                   "more runs set beside it in the headline metrics")
-      // One folder per --against (a list would take DIR after it).
+      // One folder per --against: the words after it are DIR or another
+      // option's (a review: a list took DIR, and `--against B C` took C).
       ->expected(1)
+      ->allow_extra_args(false)
       ->multi_option_policy(CLI::MultiOptionPolicy::TakeAll);
   app->add_option("--gnuplot", options->gnuplot, "The gnuplot executable")->capture_default_str();
   return {app, [options, against] {

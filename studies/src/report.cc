@@ -3242,10 +3242,14 @@ ReportResult WriteReport(const ReportOptions& options) {
   if (ClassifyReportFolder(options.dir) == ReportFolder::kRun) return WriteRunReport(options);
   if (!options.more_against.empty()) {
     throw InputError(SourceLocation{"hcpf report", 0, 0, "--against"},
-                     "one --against with a sweep folder (a sweep is compared with one other "
-                     "sweep; several --against compare runs)",
-                     fmt::format("{} more: {}", options.more_against.size(),
-                                 fmt::join(options.more_against, ", ")));
+                     fmt::format("one --against with the sweep folder {} (a sweep is compared "
+                                 "with one other sweep; several --against compare runs)",
+                                 options.dir),
+                     fmt::format("{} after {}: {}",
+                                 options.more_against.size() + 1 == 2
+                                     ? "one more"
+                                     : fmt::format("{} more", options.more_against.size()),
+                                 options.against, fmt::join(options.more_against, ", ")));
   }
   const fs::path dir(options.dir);
   if (!options.out_dir.empty()) CheckReportOut(options.out_dir);

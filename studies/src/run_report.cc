@@ -1983,12 +1983,15 @@ ReportResult WriteRunReport(const ReportOptions& options) {
   if (!options.more_against.empty()) {
     const SourceLocation where{"hcpf report", 0, 0, "--against"};
     if (!other) {
-      throw InputError(where, "the run B to compare A with before more runs",
-                       fmt::format("{} more runs and no first", options.more_against.size()));
+      throw InputError(
+          where, "the run B to compare A with before more runs",
+          fmt::format("only more runs ({}) and no first", fmt::join(options.more_against, ", ")));
     }
     if (options.more_against.size() + 1 > kMostComparedRuns) {
-      throw InputError(where, fmt::format("at most {} runs beside A", kMostComparedRuns),
-                       fmt::format("{}", options.more_against.size() + 1));
+      throw InputError(
+          where, fmt::format("at most {} runs beside A (B to Z)", kMostComparedRuns),
+          fmt::format("{} runs (--against given {} times)", options.more_against.size() + 1,
+                      options.more_against.size() + 1));
     }
     std::vector<std::string> named = {options.against};
     for (const std::string& path : options.more_against) {

@@ -1358,7 +1358,7 @@ TEST(RunReport, MoreRunsAreSetBesideAInTheHeadlineMetrics) {
            .out_dir = out.string(),
            .against = b.string(),
            .more_against = {c.string()}},
-            "expected one --against with a sweep folder"}}) {
+            "expected one --against with the sweep folder " + (dir / "sweep").string()}}) {
     try {
       WriteReport(options);
       ADD_FAILURE() << found << ": accepted";

@@ -1121,6 +1121,20 @@ TEST(Cli, ReportOnARunFolderAndOnAnotherFolder) {
   EXPECT_EQ(r.exit_code, 0) << r.output;
   EXPECT_NE(r.output.find("; 1 more run beside them"), std::string::npos) << r.output;
   EXPECT_NE(ReadFile(run / "report.html").find("<th>C</th><th>A − C</th>"), std::string::npos);
+  // One word per --against (a review: a list took DIR after it, and a
+  // second word became a third run): DIR and --out after it are read as
+  // before, and a stray word is refused.
+  r = RunCommand(kHcpf + " report --against " + oracle.string() + " " + run.string() + " --out " +
+                 (dir / "beside").string());
+  EXPECT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_TRUE(fs::exists(dir / "beside" / "report.html")) << r.output;
+  r = RunCommand(kHcpf + " report " + run.string() + " --against " + oracle.string() + " " +
+                 none.string() + " --out " + (dir / "stray").string());
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_NE(r.output.find("expected no more arguments, found \"" + none.string() + "\""),
+            std::string::npos)
+      << r.output;
+  EXPECT_FALSE(fs::exists(dir / "stray"));
 
   const fs::path other = dir / "other";
   fs::create_directories(other);

@@ -399,6 +399,16 @@ TEST(PrcaSubPixelPeak, IsTheVertexOfTheParabolaThroughTheArgmaxAndItsNeighbours)
   prca::Accumulator edge{.width = 3, .height = 1, .votes = {4.0f, 2.0f, 1.0f}};
   EXPECT_DOUBLE_EQ(prca::SubPixelPeak(edge, prca::ArgMax(edge)).dx, 0.0);
   EXPECT_DOUBLE_EQ(prca::SubPixelPeak(edge, prca::Peak{}).dx, 0.0);
+  // The edges of an accumulator away from the image's origin (x0 = 8, y0 =
+  // 5): a peak in its first column or last row has no neighbour there.
+  prca::Accumulator offset_edge{
+      .x0 = 8, .y0 = 5, .width = 3, .height = 2, .votes = {1.0f, 2.0f, 1.0f, 5.0f, 3.0f, 1.0f}};
+  const prca::Peak corner = prca::ArgMax(offset_edge);
+  ASSERT_EQ(corner.x, 8);
+  ASSERT_EQ(corner.y, 6);
+  at = prca::SubPixelPeak(offset_edge, corner);
+  EXPECT_DOUBLE_EQ(at.dx, 0.0);
+  EXPECT_DOUBLE_EQ(at.dy, 0.0);
 }
 
 DetectorOutput RunPrca(const PrcaOptions& options, const ImageView& image,
@@ -722,6 +732,21 @@ TEST(PrcaDetector, FindsTargetsSmallerThanTheirModelsAtTheScalesItSearches) {
     EXPECT_NEAR(d.box.height, 24.0 * s, 1e-9);
     // The map is the maximum over the scales: its peak is the detection's score.
     EXPECT_NEAR(MapMax(out.maps[0]), d.score, 1e-6);
+    PrcaOptions refined = scales;
+    refined.subpixel_peak = true;
+    const DetectorOutput sub = RunPrca(refined, scene, models);
+    ASSERT_EQ(sub.detections.size(), 1u);
+    // subpixel_peak at several scales: the winning scale's votes refine its
+    // peak (a review asked for this case), the box keeps its size, and on
+    // these clean blocks the centre comes nearer (measured 0.67 -> 0.34,
+    // 0.36 -> 0.18 and 0.71 -> 0.08 px at the three scales).
+    const Detection& r = sub.detections[0];
+    EXPECT_NEAR(r.box.width, d.box.width, 1e-9);
+    EXPECT_NEAR(r.box.height, d.box.height, 1e-9);
+    EXPECT_LE(std::abs(r.box.centre_x() - d.box.centre_x()), 0.5);
+    EXPECT_LE(std::abs(r.box.centre_y() - d.box.centre_y()), 0.5);
+    EXPECT_LT(std::hypot(r.box.centre_x() - cx, r.box.centre_y() - cy),
+              std::hypot(d.box.centre_x() - cx, d.box.centre_y() - cy));
   }
 }
 

@@ -763,8 +763,7 @@ std::string CameraTurnReason() {
   return "a view near straight down turns the image as its heading swings, and most of all near "
          "the view 6 degrees south of straight down (the camera north of what it looks at), where "
          "the image's up is undefined (docs/scenario.md); trackers and camera-motion estimators "
-         "see "
-         "that turn at once";
+         "see that turn at once";
 }
 
 std::string CameraTurnNote(const Scenario& scenario) {

@@ -3245,10 +3245,7 @@ ReportResult WriteReport(const ReportOptions& options) {
                      fmt::format("one --against with the sweep folder {} (a sweep is compared "
                                  "with one other sweep; several --against compare runs)",
                                  options.dir),
-                     fmt::format("{} after {}: {}",
-                                 options.more_against.size() + 1 == 2
-                                     ? "one more"
-                                     : fmt::format("{} more", options.more_against.size()),
+                     fmt::format("{} more after {}: {}", options.more_against.size(),
                                  options.against, fmt::join(options.more_against, ", ")));
   }
   const fs::path dir(options.dir);

@@ -1796,11 +1796,10 @@ std::string ComparisonSection(const RunFolder& a, const RunFolder& b,
                               const std::set<int64_t>& truth_targets, const FrameLink& link,
                               ReportResult* result) {
   std::string h = "<h2>Compared with another run</h2>\n";
-  const auto who = WhoIs;
   h += fmt::format(
       "<p><b>A</b> is this run, {}; <b>B</b> is {} (<code>--against</code>). "
       "Differences are A − B.</p>\n",
-      who(a), who(b));
+      WhoIs(a), WhoIs(b));
 
   // The resolved scenarios, key by key (both parsed when they were read).
   if (a.resolved && b.resolved) {

@@ -2364,11 +2364,9 @@ bool TakesText(const std::vector<std::string>& resolved, const std::string& key,
   for (const RunRecord& run : runs) {
     if (!run.ok || run.run_dir.empty() || k >= run.values.size()) continue;
     if (!tried.insert(run.values[k]).second) continue;
-    std::ifstream in(dir / run.run_dir / "scenario.resolved.yaml", std::ios::binary);
-    if (!in) continue;
-    std::stringstream text;
-    text << in.rdbuf();
-    if (const std::optional<bool> found = TakesText({text.str()}, key)) return *found;
+    // A missing or unreadable file reads as "", which holds no key.
+    const std::string text = ReadWholeFile(dir / run.run_dir / "scenario.resolved.yaml");
+    if (const std::optional<bool> found = TakesText({text}, key)) return *found;
   }
   return false;
 }

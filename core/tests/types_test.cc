@@ -2,6 +2,8 @@
 
 #include <gtest/gtest.h>
 
+#include <limits>
+
 namespace hcpf {
 namespace {
 
@@ -19,6 +21,20 @@ TEST(BoxPx, UnionAndIntersect) {
   EXPECT_EQ(Union({}, {1, 2, 3, 4}), (BoxPx{1, 2, 3, 4}));
   EXPECT_TRUE(Intersect({0, 0, 1, 1}, {2, 2, 1, 1}).empty());
   EXPECT_EQ(Intersect({0, 0, 4, 4}, {2, 1, 4, 4}), (BoxPx{2, 1, 2, 3}));
+}
+
+TEST(BoxPx, FiniteOnlyWhenEverySideIsANumber) {
+  EXPECT_TRUE((BoxPx{1, 2, 3, 4}).finite());
+  EXPECT_TRUE((BoxPx{-1e300, 0, 0, -5}).finite());  // empty or negative, still numbers
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  const double inf = std::numeric_limits<double>::infinity();
+  for (int side = 0; side < 4; ++side) {
+    for (double bad : {nan, inf, -inf}) {
+      BoxPx b{1, 2, 3, 4};
+      (side == 0 ? b.left : side == 1 ? b.top : side == 2 ? b.width : b.height) = bad;
+      EXPECT_FALSE(b.finite()) << "side " << side << " = " << bad;
+    }
+  }
 }
 
 TEST(LikelihoodMap, BilinearSampleBetweenCellCentres) {

@@ -94,10 +94,9 @@ GroundTruthFile ReadGroundTruthJson(const std::string& path) {
                          fmt::format("{}, an earlier object's too", Value(o.id)));
       }
       const BoxPx& b = o.amodal_box;
-      if (!std::isfinite(b.left) || !std::isfinite(b.top) || !std::isfinite(b.width) ||
-          !std::isfinite(b.height) || b.width < 0.0 || b.height < 0.0 ||
-          std::fabs(b.left) > kMaxCoordinatePx || std::fabs(b.top) > kMaxCoordinatePx ||
-          b.width > kMaxCoordinatePx || b.height > kMaxCoordinatePx) {
+      if (!b.finite() || b.width < 0.0 || b.height < 0.0 || std::fabs(b.left) > kMaxCoordinatePx ||
+          std::fabs(b.top) > kMaxCoordinatePx || b.width > kMaxCoordinatePx ||
+          b.height > kMaxCoordinatePx) {
         throw InputError(SourceLocation{path, 0, 0, object + ".amodal_box"},
                          fmt::format("[left, top, width, height] in pixels, width and height at "
                                      "least 0, each within {:g} px",

@@ -33,11 +33,7 @@ std::optional<double> GatedCost(const TrackPrediction& track, const Detection& d
   // never gated in, as the likelihoods ignore it. The IoU's min and max let
   // a NaN left through (a review: it passed at IoU 0.6, counted as the
   // filter's support).
-  const BoxPx& b = detection.box;
-  if (!std::isfinite(b.left) || !std::isfinite(b.top) || !std::isfinite(b.width) ||
-      !std::isfinite(b.height)) {
-    return std::nullopt;
-  }
+  if (!detection.box.finite()) return std::nullopt;
   if (options.gate == GateKind::kIou) {
     const double iou = Iou(track.box, detection.box);
     if (iou < options.min_iou || iou <= 0.0) return std::nullopt;

@@ -486,11 +486,7 @@ void MultiTargetTracker::ManageTracks(const Observation& observation,
     // A box with a non-finite side (a broken detector output) is no
     // position: never gated in, never a birth (a review: with confirm_hits 1
     // a NaN left was born as a NaN filter, a NaN width aborted).
-    const BoxPx& b = observation.detections[d].box;
-    if (!std::isfinite(b.left) || !std::isfinite(b.top) || !std::isfinite(b.width) ||
-        !std::isfinite(b.height)) {
-      continue;
-    }
+    if (!observation.detections[d].box.finite()) continue;
     const bool gated = std::any_of(predictions.begin(), predictions.end(), [&](const auto& p) {
       return GatedCost(p, observation.detections[d], options_.association).has_value();
     });

@@ -133,11 +133,7 @@ const SearchWindow* WindowOf(std::span<const SearchWindow> windows, ObjectId tar
   for (const SearchWindow& w : windows) {
     if (w.target != target) continue;
     // A box with a side of no number is no window (a diverged filter's).
-    const BoxPx& b = w.box;
-    return std::isfinite(b.left) && std::isfinite(b.top) && std::isfinite(b.width) &&
-                   std::isfinite(b.height)
-               ? &w
-               : nullptr;
+    return w.box.finite() ? &w : nullptr;
   }
   return nullptr;
 }

@@ -4,6 +4,7 @@
 // behaviour beyond small geometric helpers. Units are in the names.
 
 #include <Eigen/Core>
+#include <cmath>
 #include <compare>
 #include <cstdint>
 #include <optional>
@@ -31,6 +32,11 @@ struct BoxPx {
   double centre_y() const { return top + 0.5 * height; }
   double area() const { return width > 0.0 && height > 0.0 ? width * height : 0.0; }
   bool empty() const { return !(width > 0.0 && height > 0.0); }
+  // Every side a number (a diverged filter's or a broken file's box is not).
+  bool finite() const {
+    return std::isfinite(left) && std::isfinite(top) && std::isfinite(width) &&
+           std::isfinite(height);
+  }
 
   static BoxPx FromCentre(double cx, double cy, double w, double h) {
     return {cx - 0.5 * w, cy - 0.5 * h, w, h};

@@ -32,7 +32,8 @@ Command AddReportCommand(CLI::App& parent) {
                   "replication.csv, replication_cells.csv). For a run: another run folder, "
                   "compared with it (the keys they differ in, the same files, the metrics side by "
                   "side, and over one ground truth their filters frame by frame); repeated, "
-                  "more runs set beside it in the headline metrics")
+                  "more runs set beside it in the headline metrics; or a sweep folder: the run "
+                  "beside its cell's seeds")
       // One folder per --against: the words after it are DIR or another
       // option's (a review: a list took DIR, and `--against B C` took C).
       ->expected(1)
@@ -48,7 +49,16 @@ Command AddReportCommand(CLI::App& parent) {
             const studies::ReportResult r = studies::WriteReport(*options);
             const double s =
                 std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-            if (r.csv_path.empty() && !options->against.empty()) {
+            if (r.csv_path.empty() && r.cell_runs > 0) {
+              spdlog::info(
+                  "report: {} plots in {:.2f} s; beside {} runs of a cell of {}{}", r.plots, s,
+                  r.cell_runs, options->against,
+                  r.cell_differing_keys == 0
+                      ? std::string(" (its own)")
+                      : fmt::format(" (the nearest: {} resolved key{} differ{})",
+                                    r.cell_differing_keys, r.cell_differing_keys == 1 ? "" : "s",
+                                    r.cell_differing_keys == 1 ? "s" : ""));
+            } else if (r.csv_path.empty() && !options->against.empty()) {
               spdlog::info(
                   "report: {} plots in {:.2f} s; against {}: {} resolved key{} differ{}, {} "
                   "target{} compared frame by frame{}",

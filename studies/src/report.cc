@@ -2201,6 +2201,8 @@ struct AgainstStore {
   std::vector<RunRecord> runs;
   std::vector<Cell> cells;
   Paired paired;
+  // Its swept values read in this store's spelling (RespellAsHere's lines).
+  std::vector<std::string> respelled;
 };
 
 struct ReplicationRow {
@@ -2356,9 +2358,10 @@ std::optional<bool> TakesText(const std::vector<std::string>& resolved, const st
 // set: its values were compared as numbers, a review): read from the
 // scenario.resolved.yaml of this store's runs in `dir` (the key is swept
 // key `k`), the first that holds it; one run of each value is read (a run
-// whose value leaves the key out holds none). False where none does.
-bool TakesText(const std::vector<std::string>& resolved, const std::string& key, size_t k,
-               const fs::path& dir, const std::vector<RunRecord>& runs) {
+// whose value leaves the key out holds none). nullopt where none does (the
+// run folders gone, or every value leaves the key out).
+std::optional<bool> TakesText(const std::vector<std::string>& resolved, const std::string& key,
+                              size_t k, const fs::path& dir, const std::vector<RunRecord>& runs) {
   if (const std::optional<bool> text = TakesText(resolved, key)) return *text;
   std::set<std::string> tried;
   for (const RunRecord& run : runs) {
@@ -2368,7 +2371,7 @@ bool TakesText(const std::vector<std::string>& resolved, const std::string& key,
     const std::string text = ReadWholeFile(dir / run.run_dir / "scenario.resolved.yaml");
     if (const std::optional<bool> found = TakesText({text}, key)) return *found;
   }
-  return false;
+  return std::nullopt;
 }
 
 // The other store's runs read in this store's spelling of each swept value
@@ -2395,7 +2398,12 @@ std::vector<std::string> RespellAsHere(const fs::path& dir, const std::vector<Ru
   std::vector<std::string> lines;
   for (size_t k = 0; k < keys; ++k) {
     const std::string& key = meta.swept_keys[k];
-    if (key != kSweptBaseKey && TakesText(resolved_here, key, k, dir, runs)) continue;
+    // Text is compared as written; a key no resolved scenario here holds
+    // (its run folders gone) is read as numbers, which its lines say.
+    const std::optional<bool> text = key == kSweptBaseKey
+                                         ? std::optional<bool>(false)
+                                         : TakesText(resolved_here, key, k, dir, runs);
+    if (text.value_or(false)) continue;
     const std::vector<std::string>& here = values_here[k];
     std::map<std::string, std::string> respelled;
     for (const std::string& v : values_there[k]) {
@@ -2416,8 +2424,12 @@ std::vector<std::string> RespellAsHere(const fs::path& dir, const std::vector<Ru
       lines.push_back(key == kSweptBaseKey
                           ? fmt::format("{}'s {} = {} read as {} (the same resolved scenario)",
                                         other.dir, key, v, same.front())
-                          : fmt::format("{}'s {} = {} read as {} (the same value)", other.dir, key,
-                                        v, same.front()));
+                      : text ? fmt::format("{}'s {} = {} read as {} (the same value)", other.dir,
+                                           key, v, same.front())
+                             : fmt::format("{}'s {} = {} read as {} (the same value as numbers: no "
+                                           "resolved scenario of this store's base or runs holds "
+                                           "{}, so whether it takes text is not known)",
+                                           other.dir, key, v, same.front(), key));
     }
     if (respelled.empty()) continue;
     for (RunRecord& r : other.runs) {
@@ -2492,9 +2504,8 @@ std::unique_ptr<AgainstStore> OpenAgainst(const std::string& against, const fs::
       r.values = std::move(values);
     }
   }
-  for (const std::string& line : RespellAsHere(dir, runs, meta, bases_there, *other)) {
-    spdlog::info("report: --against: {}", line);
-  }
+  other->respelled = RespellAsHere(dir, runs, meta, bases_there, *other);
+  for (const std::string& line : other->respelled) spdlog::info("report: --against: {}", line);
   other->cells = CellsOf(other->runs, other->meta);
   other->paired = PairedRowsOf(other->cells, other->meta);
   return other;
@@ -3369,6 +3380,13 @@ ReportResult WriteReport(const ReportOptions& options) {
     result.replication_cells = static_cast<int>(cell_table.rows.size());
     files.emplace_back("replication_cells.csv", CellReplicationCsv(cell_table, meta));
     replication_html += CellReplicationHtml(cell_table, meta);
+    if (!there->respelled.empty()) {
+      replication_html += "<p>Values of the other store read in this store's spelling:</p>\n<ul>";
+      for (const std::string& line : there->respelled) {
+        replication_html += "<li>" + EscapeMarkup(line) + "</li>";
+      }
+      replication_html += "</ul>\n";
+    }
     const std::string cell_sentence = CellReplicationSentence(cell_table);
     spdlog::info("report: {}", sentence);
     spdlog::info("report: {}", cell_sentence);

@@ -40,6 +40,7 @@
 #include "hcpf/studies/metric_catalogue.h"
 #include "hcpf/studies/report.h"
 #include "hcpf/studies/results_store.h"
+#include "run_cell.h"
 #include "scene_sketch.h"
 #include "text.h"
 
@@ -228,12 +229,6 @@ std::string FramesSentence(const json& manifest) {
   }
   return fmt::format("<p>Frames: {}.</p>\n", fmt::join(parts, "; "));
 }
-
-// Below this a camera-motion error in px is rounding: shown as 0.
-constexpr double kRoundingPx = 1e-9;
-
-// A distance in px, 0 when it is rounding.
-double RoundedPx(double px) { return std::abs(px) < kRoundingPx ? 0.0 : px; }
 
 // "–" where nothing was measured (a run of one frame: metrics.json holds
 // null, which the page printed as "nan": an audit).
@@ -1194,7 +1189,8 @@ RunFolder ReadRunFolder(const fs::path& dir) {
 RunFolder ReadAgainstRun(const std::string& against, const fs::path& dir) {
   const SourceLocation where{"hcpf report", 0, 0, "--against"};
   const std::string expected =
-      "another run folder (hcpf run --out) to compare this run with, when DIR is a run";
+      "another run folder (hcpf run --out) to compare this run with (or, as the only "
+      "--against, a sweep folder), when DIR is a run";
   ReportFolder kind{};
   try {
     kind = ClassifyReportFolder(against);
@@ -1203,13 +1199,36 @@ RunFolder ReadAgainstRun(const std::string& against, const fs::path& dir) {
   }
   if (kind != ReportFolder::kRun) {
     throw InputError(where, expected,
-                     fmt::format("{}, a sweep folder (a sweep is compared with a sweep)", against));
+                     fmt::format("{}, a sweep folder after the first --against (a sweep is set "
+                                 "beside run A as the only --against)",
+                                 against));
   }
   std::error_code ec;
   if (fs::equivalent(against, dir, ec)) {
     throw InputError(where, expected, fmt::format("{}, DIR itself", against));
   }
   return ReadRunFolder(against);
+}
+
+// Run A's cell in the sweep folder --against names (FindRunCell), found by
+// A's resolved scenario and seed; InputError at --against when A has none.
+RunCell FindRunCellOf(const RunFolder& run, const std::string& sweep_dir) {
+  const SourceLocation where{"hcpf report", 0, 0, "--against"};
+  const std::string expected =
+      "a run with scenario.resolved.yaml and its seed, to find its cell in the sweep";
+  if (!run.resolved) {
+    throw InputError(where, expected,
+                     fmt::format("{}: no scenario.resolved.yaml", run.dir.string()));
+  }
+  uint64_t seed = 0;
+  try {
+    seed = YAML::Load(*run.resolved)["seed"].as<uint64_t>();
+  } catch (const YAML::Exception&) {
+    throw InputError(
+        where, expected,
+        fmt::format("{}: scenario.resolved.yaml without a whole-number seed", run.dir.string()));
+  }
+  return FindRunCell(sweep_dir, run.dir.string(), *run.resolved, seed);
 }
 
 // Whether two files hold the same bytes; nullopt when either is not a
@@ -1976,7 +1995,19 @@ ReportResult WriteRunReport(const ReportOptions& options) {
   const fs::path dir(options.dir);
   // Every input is read and checked before anything is written.
   std::optional<RunFolder> other;
-  if (!options.against.empty()) other = ReadAgainstRun(options.against, dir);
+  // A sweep folder as the only --against: run A beside its cell's seeds.
+  std::error_code sweep_ec;
+  const bool against_sweep = !options.against.empty() &&
+                             fs::exists(fs::path(options.against) / "results.sqlite", sweep_ec);
+  if (against_sweep && !options.more_against.empty()) {
+    throw InputError(SourceLocation{"hcpf report", 0, 0, "--against"},
+                     "one sweep folder alone (run A beside its cell), or run folders",
+                     fmt::format("the sweep folder {}, then {}", options.against,
+                                 fmt::join(options.more_against, ", ")));
+  }
+  if (!options.against.empty() && !against_sweep) {
+    other = ReadAgainstRun(options.against, dir);
+  }
   // Runs C, D, ...: each another run folder, named once.
   std::vector<RunFolder> more;
   if (!options.more_against.empty()) {
@@ -2010,6 +2041,8 @@ ReportResult WriteRunReport(const ReportOptions& options) {
   const fs::path out = options.out_dir.empty() ? dir : fs::path(options.out_dir);
 
   const RunFolder run = ReadRunFolder(dir);
+  std::optional<RunCell> cell;
+  if (against_sweep) cell = FindRunCellOf(run, options.against);
   const json& manifest = run.manifest;
   const json& metrics = run.metrics;
   const std::map<std::string, double>& headline = run.headline;
@@ -2166,6 +2199,11 @@ ReportResult WriteRunReport(const ReportOptions& options) {
   }
   h += MoreRunsSection(run, more);
   result.more_runs = static_cast<int>(more.size());
+  if (cell) {
+    h += RunCellSection(*cell, headline, ReadRunBuild(dir.string()));
+    result.cell_runs = static_cast<int>(cell->runs.size());
+    result.cell_differing_keys = static_cast<int>(cell->differences.size());
+  }
 
   // The runs beside A: B, then C, D, ...
   std::vector<const RunFolder*> beside;
@@ -2185,22 +2223,8 @@ ReportResult WriteRunReport(const ReportOptions& options) {
     const auto it = values.find(std::string(name));
     return it == values.end() ? kNaN : it->second;
   };
-  // One precision per kind of value (an audit: "0.952 / 0.8017 / 0.04147
-  // ms / 3.967e-14 px" in one column): a score of at most 1 with 3 decimals,
-  // a whole number as one, anything else with 4 significant digits; a
-  // difference signed, 0 unsigned.
-  const auto text = [](const CatalogueMetric& m, double v, bool sign) {
-    if (!std::isfinite(v)) return std::string("–");
-    if (sign && v == 0.0) return std::string("0");
-    const bool score = m.unit.empty() && m.range.upper == 1.0;
-    const bool whole = !score && v == std::round(v) && std::abs(v) < 1e15;
-    // A difference a score's 3 decimals would print as +0.000: 2 digits.
-    if (score && sign && std::abs(v) < 0.0005) return fmt::format("{:+.2g}", v);
-    return fmt::format(fmt::runtime(score   ? (sign ? "{:+.3f}" : "{:.3f}")
-                                    : whole ? (sign ? "{:+.0f}" : "{:.0f}")
-                                            : (sign ? "{:+.4g}" : "{:.4g}")),
-                       v);
-  };
+  // One precision per kind of value (MetricValueText).
+  const auto text = MetricValueText;
   for (const CatalogueMetric& m : MetricCatalogue()) {
     // A distance in px below kRoundingPx is rounding (a static camera's
     // camera-motion error of 7e-14 px): 0.

@@ -34,6 +34,13 @@ std::string ShellWord(std::string word);
 // A number for tables and CSV: "{:.6g}", "nan" when not finite.
 std::string Number(double v);
 
+// Below this a distance in px (a camera-motion error) is rounding: a run
+// report shows it as 0.
+inline constexpr double kRoundingPx = 1e-9;
+
+// A distance in px, 0 when it is rounding.
+inline double RoundedPx(double px) { return px < kRoundingPx && px > -kRoundingPx ? 0.0 : px; }
+
 // A missing value (a metric a run did not report, a cell without runs).
 inline constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 

@@ -1380,7 +1380,6 @@ TEST(RunReport, AgainstWhatIsNoOtherRunIsBadInput) {
   const std::vector<std::pair<fs::path, std::string>> cases = {
       {dir / "missing", "no such folder"},
       {dir / "file.txt", "a file, not a folder"},
-      {dir / "sweep", "a sweep folder (a sweep is compared with a sweep)"},
       {run, "DIR itself"},
       {dir, "a folder with neither results.sqlite nor manifest.json"}};
   for (const auto& [against, found] : cases) {
@@ -1410,6 +1409,243 @@ TEST(RunReport, AgainstWhatIsNoOtherRunIsBadInput) {
         << e.what();
   }
   EXPECT_FALSE(fs::exists(dir / "out"));
+}
+
+// A sweep folder as --against: run A beside its cell's seeds. The cell is
+// the one whose runs' resolved scenario is A's, seeds aside, else the nearest
+// (said, with the keys it differs in); the cell's run of A's seed must give
+// A's metrics; each metric's row has the cell's mean, range and A's place,
+// counted here from the store's rows.
+TEST(RunReport, AgainstASweepSetsTheRunBesideItsCell) {
+  const auto dir = testing::SweepFolder("run-report-against-sweep");
+  const fs::path sweep =
+      RunQuietly(LoadSweepFile(testing::WriteSweep(
+                     dir,
+                     "base: base.yaml\nseeds: 3\ngrid:\n  tracker.particles: [20, 50]\n"
+                     "  tracker.resampling.method: [systematic, charged]\n")),
+                 dir);
+  std::vector<RunRecord> cell;
+  for (RunRecord& r : ResultsStore::Open((sweep / "results.sqlite").string())->Runs()) {
+    if (r.values == std::vector<std::string>{"50", "charged"}) cell.push_back(r);
+  }
+  ASSERT_EQ(cell.size(), 3u);
+  const RunRecord& twin = cell[1];
+  // Run A: the cell's scenario with its second seed.
+  const auto run = [&](const fs::path& out, const std::string& particles, uint64_t seed) {
+    scenarios::RunScenario(scenarios::LoadScenarioText(scenarios::testing::kMinimal, "base.yaml",
+                                                       {{"tracker.particles", particles},
+                                                        {"tracker.resampling.method", "charged"},
+                                                        {"seed", std::to_string(seed)}}),
+                           {.out_dir = out.string()});
+    return out;
+  };
+  const fs::path a = run(dir / "a", "50", twin.seed);
+  ReportResult r = WriteReport({.dir = a.string(), .against = sweep.string()});
+  EXPECT_EQ(r.cell_runs, 3);
+  EXPECT_EQ(r.cell_differing_keys, 0);
+  std::string html = Read(r.html_path);
+  const size_t at = html.find("<h2>Beside a sweep's cell</h2>");
+  ASSERT_NE(at, std::string::npos);
+  std::string section = html.substr(at, html.find("</table>", at) - at);
+  EXPECT_NE(section.find("the cell <code>tracker.particles = 50</code>, "
+                         "<code>tracker.resampling.method = charged</code> of the sweep"),
+            std::string::npos)
+      << section;
+  // The drawn leaves: those two runs of one cell differ in.
+  EXPECT_NE(section.find("Its seeds are drawn over <code>seed, seeds.observation, "
+                         "seeds.renderer, seeds.tracker, seeds.world</code>. Its resolved "
+                         "scenario is A's but for those"),
+            std::string::npos)
+      << section;
+  EXPECT_NE(section.find(fmt::format("<code>{}</code> has A's seed {} and A's whole resolved "
+                                     "scenario",
+                                     twin.run_dir, twin.seed)),
+            std::string::npos)
+      << section;
+  EXPECT_NE(section.find("It gives A's values in all"), std::string::npos) << section;
+  // The da_accuracy row: A, the seeds' mean, lowest and highest, A's place.
+  std::vector<double> da;
+  for (const RunRecord& x : cell) da.push_back(x.metrics.at("da_accuracy"));
+  const double a_da = twin.metrics.at("da_accuracy");
+  const auto row = [&](const std::string& text) {
+    const size_t start = text.find("<code>da_accuracy</code>");
+    return start == std::string::npos ? std::string()
+                                      : text.substr(start, text.find("</tr>", start) - start);
+  };
+  const auto count = [&](auto pred) { return std::count_if(da.begin(), da.end(), pred); };
+  std::vector<std::string> place;
+  if (const auto n = count([&](double v) { return v < a_da; })) {
+    place.push_back(fmt::format("higher than {}", n));
+  }
+  place.push_back(fmt::format("equal to {}", count([&](double v) { return v == a_da; })));
+  if (const auto n = count([&](double v) { return v > a_da; })) {
+    place.push_back(fmt::format("lower than {}", n));
+  }
+  EXPECT_NE(row(section).find(fmt::format("<td>{:.3f}</td><td>3</td><td>{:.3f}</td>", a_da,
+                                          (da[0] + da[1] + da[2]) / 3.0)),
+            std::string::npos)
+      << row(section);
+  EXPECT_NE(row(section).find(fmt::format("<td>{:.3f}</td><td>{:.3f}</td><td class=\"k\">{} of 3",
+                                          *std::min_element(da.begin(), da.end()),
+                                          *std::max_element(da.begin(), da.end()),
+                                          fmt::join(place, ", "))),
+            std::string::npos)
+      << row(section);
+
+  // A's DA accuracy above every seed's: marked, and its twin no longer gives
+  // it.
+  auto metrics = nlohmann::json::parse(Read(a / "metrics.json"));
+  metrics["filters"]["da_accuracy"] = 2.0;
+  // A camera-motion error of rounding is 0 px, as in the headline table.
+  metrics["camera_motion"]["mean_px"] = 7e-14;
+  std::ofstream(a / "metrics.json", std::ios::trunc) << metrics.dump();
+  html = Read(WriteReport({.dir = a.string(), .against = sweep.string()}).html_path);
+  EXPECT_NE(html.find("<code>camera_motion_error_px</code></td><td>0 px</td><td>3</td>"),
+            std::string::npos);
+  EXPECT_NE(html.find("<td class=\"k\" style=\"background:#fff3cd\">higher than every seed</td>"),
+            std::string::npos);
+  // (Its camera-motion error is compared as written: 7e-14 is not its twin's.)
+  EXPECT_NE(html.find("<b>It gives other values in 2 of"), std::string::npos);
+  EXPECT_NE(html.find(fmt::format("<code>da_accuracy</code> (A 2.000, that run {:.3f})", a_da)),
+            std::string::npos);
+
+  // A scenario no cell has: the nearest, with the key it differs in; A's
+  // seed (the base's 7) is none of its seeds.
+  const fs::path b = run(dir / "b", "30", 7);
+  r = WriteReport({.dir = b.string(), .against = sweep.string()});
+  EXPECT_EQ(r.cell_runs, 3);
+  EXPECT_EQ(r.cell_differing_keys, 1);
+  html = Read(r.html_path);
+  EXPECT_NE(html.find("<b>No cell of the sweep has A's resolved scenario</b> but for the drawn "
+                      "keys (4 cells compared)."),
+            std::string::npos);
+  EXPECT_NE(html.find("<code>tracker.particles</code>: 30 → 20"), std::string::npos);
+  // The cell at 50 is as near: said.
+  EXPECT_NE(html.find("1 other cell is as near, left out: tracker.particles = 50, "
+                      "tracker.resampling.method = charged."),
+            std::string::npos);
+  EXPECT_NE(html.find("<code>tracker.resampling.method = charged</code>"), std::string::npos);
+  EXPECT_NE(html.find("A's seed is none of the cell's"), std::string::npos);
+
+  // Bad input, before anything is written: more runs after a sweep, a store
+  // that is none, a sweep without its run folders, A without its resolved
+  // scenario.
+  const fs::path out = dir / "out-report";
+  fs::create_directories(dir / "empty");
+  std::ofstream(dir / "empty" / "results.sqlite") << "";
+  const fs::path moved = dir / "moved";
+  fs::rename(sweep / "runs", moved);
+  const fs::path bare = dir / "bare";
+  fs::copy(b, bare, fs::copy_options::recursive);
+  fs::remove(bare / "scenario.resolved.yaml");
+  for (const auto& [options, found] : std::vector<std::pair<ReportOptions, std::string>>{
+           {{.dir = a.string(),
+             .out_dir = out.string(),
+             .against = sweep.string(),
+             .more_against = {b.string()}},
+            "expected one sweep folder alone (run A beside its cell), or run folders, found the "
+            "sweep folder " +
+                sweep.string() + ", then " + b.string()},
+           {{.dir = a.string(),
+           .out_dir = out.string(),
+           .against = b.string(),
+           .more_against = {sweep.string()}},
+            "a sweep folder after the first --against"},
+           {{.dir = a.string(), .out_dir = out.string(), .against = (dir / "empty").string()},
+            (dir / "empty" / "results.sqlite").string()},
+           {{.dir = a.string(), .out_dir = out.string(), .against = sweep.string()},
+            "none of its 12 runs' folders holds one"},
+           {{.dir = bare.string(), .out_dir = out.string(), .against = (dir / "empty").string()},
+            "no scenario.resolved.yaml"}}) {
+    try {
+      WriteReport(options);
+      ADD_FAILURE() << found << ": accepted";
+    } catch (const InputError& e) {
+      EXPECT_NE(std::string(e.what()).find(found), std::string::npos) << e.what();
+    }
+    EXPECT_FALSE(fs::exists(out)) << found;
+  }
+  fs::rename(moved, sweep / "runs");
+
+  // A cell whose first run's file is empty (cut short) is read from its
+  // next run; a cell with no readable file is not compared, which is said.
+  std::ofstream(sweep / cell[0].run_dir / "scenario.resolved.yaml", std::ios::trunc) << "";
+  r = WriteReport({.dir = a.string(), .against = sweep.string()});
+  EXPECT_EQ(r.cell_differing_keys, 0);
+  for (const RunRecord& x : cell) fs::rename(sweep / x.run_dir, dir / x.key);
+  r = WriteReport({.dir = a.string(), .against = sweep.string()});
+  EXPECT_EQ(r.cell_differing_keys, 1);
+  EXPECT_NE(Read(r.html_path)
+                .find("(3 cells compared). 1 cell could not be compared (no run folder with a "
+                      "readable <code>scenario.resolved.yaml</code>): tracker.particles = 50, "
+                      "tracker.resampling.method = charged."),
+            std::string::npos);
+  for (const RunRecord& x : cell) fs::rename(dir / x.key, sweep / x.run_dir);
+
+  // A run of the sweep reported against it: left out of its own seeds.
+  r = WriteReport({.dir = (sweep / twin.run_dir).string(),
+                   .out_dir = (dir / "itself").string(),
+                   .against = sweep.string()});
+  html = Read(r.html_path);
+  EXPECT_NE(html.find(fmt::format("<p>A is the cell's run <code>{}</code> itself: it is left out "
+                                  "of the seeds below.</p>",
+                                  twin.run_dir)),
+            std::string::npos);
+  EXPECT_NE(row(html).find("</td><td>2</td>"), std::string::npos) << row(html);
+}
+
+// The leaves a cell's seeds are drawn over are read from two of its runs: a
+// seed the grid sweeps, or the base pins, counts like any other key (a
+// review: `seed` and `seeds.*` were always set aside, so a swept seeds.world
+// matched the first cell and a pinned one called another terrain a draw).
+TEST(RunReport, AgainstASweepCountsTheSeedsItSweepsOrPins) {
+  const auto dir = testing::SweepFolder("run-report-against-seeds");
+  std::ofstream(dir / "pinned.yaml") << scenarios::testing::kMinimal << "seeds:\n  world: 5\n";
+  const fs::path swept = RunQuietly(
+      LoadSweepFile(testing::WriteSweep(
+          dir, "base: base.yaml\nseeds: 2\ngrid:\n  seeds.world: [11, 12]\n", "swept.yaml")),
+      dir / "swept");
+  const fs::path pinned = RunQuietly(
+      LoadSweepFile(testing::WriteSweep(dir, "base: pinned.yaml\nseeds: 2\n", "pinned-sweep.yaml")),
+      dir / "pinned");
+  const auto second_seed = [](const fs::path& sweep, const std::string& value) {
+    for (const RunRecord& x : ResultsStore::Open((sweep / "results.sqlite").string())->Runs()) {
+      if (x.seed_index == 1 && (value.empty() || x.values.front() == value)) return x;
+    }
+    return RunRecord{};
+  };
+  const auto run = [&](const fs::path& out, const std::vector<config::Override>& set) {
+    scenarios::RunScenario(
+        scenarios::LoadScenarioText(scenarios::testing::kMinimal, "base.yaml", set),
+        {.out_dir = out.string()});
+    return out;
+  };
+  // seeds.world 12 with the second seed: the cell at 12, its run of that seed A's twin.
+  const RunRecord twin = second_seed(swept, "12");
+  ASSERT_FALSE(twin.key.empty());
+  const fs::path a = run(dir / "a", {{"seed", std::to_string(twin.seed)}, {"seeds.world", "12"}});
+  ReportResult r = WriteReport({.dir = a.string(), .against = swept.string()});
+  EXPECT_EQ(r.cell_differing_keys, 0);
+  std::string html = Read(r.html_path);
+  EXPECT_NE(html.find("the cell <code>seeds.world = 12</code>"), std::string::npos);
+  EXPECT_NE(html.find("drawn over <code>seed, seeds.observation, seeds.renderer, "
+                      "seeds.tracker</code>."),
+            std::string::npos);
+  EXPECT_NE(html.find("It gives A's values in all"), std::string::npos);
+
+  // The base pins seeds.world 5: A's own terrain is another key, and its
+  // seed's run is of another scenario, not a failed replay.
+  const RunRecord pinned_twin = second_seed(pinned, "");
+  ASSERT_FALSE(pinned_twin.key.empty());
+  const fs::path b = run(dir / "b", {{"seed", std::to_string(pinned_twin.seed)}});
+  r = WriteReport({.dir = b.string(), .against = pinned.string()});
+  EXPECT_EQ(r.cell_differing_keys, 1);
+  html = Read(r.html_path);
+  EXPECT_NE(html.find("<code>seeds.world</code>: "), std::string::npos);
+  EXPECT_NE(html.find("but its resolved scenario differs from A's in 1 key, so its values are not "
+                      "expected to be A's"),
+            std::string::npos);
+  EXPECT_EQ(html.find("It gives other values"), std::string::npos);
 }
 
 TEST(RunReport, ModeNoneHasNoEssLine) {
@@ -2421,6 +2657,22 @@ TEST(Report, AgainstAStoreSpellingItsValuesOtherwiseReplicates) {
   const ReportResult r = WriteReport({.dir = here.string(), .against = there.string()});
   EXPECT_EQ(r.replication_comparisons, 1);  // mota, charged − systematic at 3
   EXPECT_EQ(r.replication_cells, 4);
+  // The values read in this store's spelling are listed in the Replication
+  // section. No resolved scenario here holds the key (a hand-made base, no
+  // run folder's file): read as numbers, which the line says.
+  EXPECT_NE(Read(r.html_path)
+                .find("<li>" + there.string() + "'s " + sigma +
+                      " = +3e0 read as 3 (the same value as numbers: no resolved scenario of this "
+                      "store's base or runs holds " +
+                      sigma + ", so whether it takes text is not known)</li>"),
+            std::string::npos);
+  // A base that holds it as a number.
+  const std::string numeric = "seed: 5\nframes: 10\ntracker:\n  likelihood:\n    sigma_px: 2\n";
+  const ReportResult n = WriteReport(
+      {.dir = store("report-against-numbers", sigma, "2", "3", numeric).string(),
+       .against = store("report-against-numbers-there", sigma, "2.0", "+3e0", numeric).string()});
+  EXPECT_EQ(n.replication_comparisons, 1);
+  EXPECT_NE(Read(n.html_path).find("= +3e0 read as 3 (the same value)</li>"), std::string::npos);
 
   // A key that takes text (quoted in the resolved base scenario): 1.10 and
   // 1.1 are two names, so only the cells at 2 meet (a review).

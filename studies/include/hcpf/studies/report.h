@@ -42,7 +42,11 @@ struct ReportOptions {
   // With a run folder as `dir`: another run folder (run B; `dir` is run A):
   // the resolved keys they differ in, which files are the same, the headline
   // metrics side by side, and over one ground truth both runs' filters on one
-  // timeline and compared target by target, frame by frame. "" = none.
+  // timeline and compared target by target, frame by frame. Or, with a run
+  // folder as `dir`, a sweep folder: run A set beside its cell's seeds (the
+  // cell whose runs' resolved scenario is A's, seeds aside, else the
+  // nearest, with the keys it differs in), and the cell's run of A's seed
+  // checked to give A's metrics. "" = none.
   std::string against;
   // With a run folder as `dir` and `against` set: more run folders (runs C,
   // D, ..., at most 24), each set beside A in the headline table (its value
@@ -65,6 +69,10 @@ struct ReportResult {
   int differing_keys = 0;           // a run with `against`: resolved keys that differ between them
   int compared_targets = 0;         // a run with `against`: targets compared frame by frame
   int more_runs = 0;                // a run with `more_against`: the runs set beside A and B
+  int cell_runs = 0;  // a run with a sweep as `against`: the runs of its cell (0 without)
+  // ... and the resolved keys, seeds aside, in which that cell differs from
+  // the run (0: the run's own cell).
+  int cell_differing_keys = 0;
   int cells = 0;
   int builds = 0;                  // a sweep's report: builds of hcpf that made its finished runs
   int64_t missing_runs = 0;        // a sweep's report: runs of the sweep not in the store

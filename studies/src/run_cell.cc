@@ -1,0 +1,396 @@
+// `hcpf report RUN --against SWEEP`: the run set beside its cell's seeds.
+
+#include "run_cell.h"
+
+#include <fmt/format.h>
+#include <fmt/ranges.h>
+#include <yaml-cpp/exceptions.h>
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <memory>
+#include <set>
+#include <utility>
+
+#include "hcpf/core/error.h"
+#include "hcpf/core/text_file.h"
+#include "hcpf/studies/statistics.h"
+#include "text.h"
+
+namespace hcpf::studies {
+
+namespace fs = std::filesystem;
+
+bool IsSeedLeaf(const std::string& key) { return key == "seed" || key.starts_with("seeds."); }
+
+namespace {
+
+const SourceLocation kAgainst{"hcpf report", 0, 0, "--against"};
+
+// A cell's values as "k = v, k2 = v2".
+std::string ValuesText(const std::vector<std::string>& keys,
+                       const std::vector<std::string>& values) {
+  std::string out;
+  for (size_t k = 0; k < keys.size() && k < values.size(); ++k) {
+    out += fmt::format("{}{} = {}", out.empty() ? "" : ", ", keys[k], values[k]);
+  }
+  return out;
+}
+
+// "k = v, k2 = v2" in code spans.
+std::string CellName(const RunCell& cell) {
+  std::string out;
+  for (size_t k = 0; k < cell.keys.size() && k < cell.values.size(); ++k) {
+    out += fmt::format("{}<code>{} = {}</code>", out.empty() ? "" : ", ",
+                       EscapeMarkup(cell.keys[k]), EscapeMarkup(cell.values[k]));
+  }
+  return out;
+}
+
+// The leaf differences as lines "key: A's → the other's".
+std::string DifferenceLines(const std::vector<config::LeafDifference>& differ) {
+  std::string rows;
+  for (const config::LeafDifference& d : differ) {
+    rows += fmt::format("<br><code>{}</code>: {} → {}", EscapeMarkup(d.key),
+                        EscapeMarkup(d.first.value_or("(absent)")),
+                        EscapeMarkup(d.second.value_or("(absent)")));
+  }
+  return rows;
+}
+
+// A run folder's scenario.resolved.yaml when it is there, not empty and
+// YAML (a truncated or damaged file is no file here: the cell's next run is
+// read).
+std::optional<std::string> ReadableResolved(const fs::path& sweep, const RunRecord& r) {
+  std::error_code ec;
+  if (r.run_dir.empty()) return std::nullopt;
+  const fs::path file = sweep / r.run_dir / "scenario.resolved.yaml";
+  if (!fs::is_regular_file(file, ec)) return std::nullopt;
+  std::string text = ReadWholeFile(file);
+  if (text.empty()) return std::nullopt;
+  try {
+    (void)config::DifferingLeaves(text, text);
+  } catch (const YAML::Exception&) {
+    return std::nullopt;
+  }
+  return text;
+}
+
+}  // namespace
+
+RunCell FindRunCell(const std::string& sweep_dir, const std::string& run_dir,
+                    const std::string& run_resolved, uint64_t run_seed) {
+  const fs::path dir(sweep_dir);
+  const fs::path store_file = dir / "results.sqlite";
+  std::error_code ec;
+  if (!fs::is_regular_file(store_file, ec)) {
+    throw InputError(kAgainst, "a sweep folder (results.sqlite, a file)",
+                     fmt::format("{}, not a file", store_file.string()));
+  }
+  std::unique_ptr<ResultsStore> store;
+  try {
+    store = ResultsStore::Open(store_file.string(), StoreAccess::kReadOnly);
+  } catch (const InputError& e) {
+    throw InputError(kAgainst, "a sweep folder whose results.sqlite is a results store",
+                     fmt::format("{}: {}", store_file.string(), e.found()));
+  }
+  RunCell best;
+  best.sweep_dir = sweep_dir;
+  best.keys = store->meta().swept_keys;
+  const std::vector<RunRecord> runs = store->Runs();
+  best.missing_runs = MissingRunsSentence(store->meta(), runs.size());
+  // The cells in the order of their first run (the expansion's).
+  std::vector<std::vector<std::string>> order;
+  std::map<std::vector<std::string>, std::vector<size_t>> rows_of;
+  for (size_t i = 0; i < runs.size(); ++i) {
+    auto [it, inserted] = rows_of.try_emplace(runs[i].values);
+    if (inserted) order.push_back(runs[i].values);
+    it->second.push_back(i);
+  }
+  // Each cell's first readable resolved scenario; the drawn leaves from the
+  // first cell with two.
+  std::vector<std::optional<std::string>> texts;
+  std::optional<std::vector<std::string>> drawn;
+  for (const std::vector<std::string>& values : order) {
+    std::optional<std::string> first;
+    for (const size_t i : rows_of[values]) {
+      std::optional<std::string> text = ReadableResolved(dir, runs[i]);
+      if (!text) continue;
+      if (!first) {
+        first = std::move(text);
+        if (drawn) break;
+        continue;
+      }
+      drawn.emplace();
+      for (const config::LeafDifference& d : config::DifferingLeaves(*first, *text)) {
+        drawn->push_back(d.key);
+      }
+      break;
+    }
+    texts.push_back(std::move(first));
+  }
+  if (!drawn) {
+    // Every cell one readable run: the seed leaves the grid does not sweep
+    // (every leaf of the run's scenario, against an empty mapping).
+    drawn.emplace();
+    for (const config::LeafDifference& d : config::DifferingLeaves(run_resolved, "{}")) {
+      if (IsSeedLeaf(d.key) &&
+          std::find(best.keys.begin(), best.keys.end(), d.key) == best.keys.end()) {
+        drawn->push_back(d.key);
+      }
+    }
+  }
+  best.drawn = *drawn;
+  const std::set<std::string> drawn_set(drawn->begin(), drawn->end());
+  std::optional<size_t> fewest;
+  for (size_t c = 0; c < order.size(); ++c) {
+    const std::string name = ValuesText(best.keys, order[c]);
+    if (!texts[c]) {
+      best.uncompared.push_back(name);
+      continue;
+    }
+    ++best.cells;
+    std::vector<config::LeafDifference> differ = config::DifferingLeaves(run_resolved, *texts[c]);
+    std::erase_if(differ,
+                  [&](const config::LeafDifference& d) { return drawn_set.contains(d.key); });
+    if (fewest && differ.size() == *fewest) {
+      best.as_near.push_back(name);
+    } else if (!fewest || differ.size() < *fewest) {
+      fewest = differ.size();
+      best.values = order[c];
+      best.as_near.clear();
+      best.differences = std::move(differ);
+      best.runs.clear();
+      for (const size_t j : rows_of[order[c]]) best.runs.push_back(runs[j]);
+    }
+  }
+  if (!fewest) {
+    throw InputError(
+        kAgainst,
+        "a sweep folder whose run folders hold scenario.resolved.yaml (the run's cell is the one "
+        "whose resolved scenario is the run's, seeds aside)",
+        fmt::format("{}: {}", sweep_dir,
+                    runs.empty() ? "no runs in its results.sqlite"
+                                 : fmt::format("none of its {} runs' folders holds one (runs/ "
+                                               "removed, or the store copied alone)",
+                                               runs.size())));
+  }
+  for (const RunRecord& r : best.runs) {
+    if (ReadableResolved(dir, r)) {
+      best.compared_file = (dir / r.run_dir / "scenario.resolved.yaml").string();
+      break;
+    }
+  }
+  for (size_t i = 0; i < best.runs.size(); ++i) {
+    const RunRecord& r = best.runs[i];
+    if (!best.itself && !r.run_dir.empty() && fs::equivalent(dir / r.run_dir, run_dir, ec)) {
+      best.itself = i;
+      continue;
+    }
+    if (best.same_seed || r.seed != run_seed) continue;
+    best.same_seed = i;
+    if (const std::optional<std::string> text = ReadableResolved(dir, r)) {
+      best.same_seed_differences = config::DifferingLeaves(run_resolved, *text);
+    }
+  }
+  return best;
+}
+
+std::string MetricValueText(const CatalogueMetric& m, double v, bool sign) {
+  if (!std::isfinite(v)) return "–";
+  if (sign && v == 0.0) return "0";
+  const bool score = m.unit.empty() && m.range.upper == 1.0;
+  const bool whole = !score && v == std::round(v) && std::abs(v) < 1e15;
+  // A difference a score's 3 decimals would print as +0.000: 2 digits.
+  if (score && sign && std::abs(v) < 0.0005) return fmt::format("{:+.2g}", v);
+  return fmt::format(fmt::runtime(score   ? (sign ? "{:+.3f}" : "{:.3f}")
+                                  : whole ? (sign ? "{:+.0f}" : "{:.0f}")
+                                          : (sign ? "{:+.4g}" : "{:.4g}")),
+                     v);
+}
+
+std::string RunCellSection(const RunCell& cell, const std::map<std::string, double>& headline,
+                           const std::string& build) {
+  const auto value_of = [&headline](const std::string& name) {
+    const auto it = headline.find(name);
+    return it == headline.end() ? kNaN : it->second;
+  };
+  // The cell's finished runs, A's own folder aside (A reported from inside
+  // the sweep is not one more of its seeds).
+  std::vector<const RunRecord*> ok;
+  for (size_t i = 0; i < cell.runs.size(); ++i) {
+    if (cell.runs[i].ok && cell.itself != i) ok.push_back(&cell.runs[i]);
+  }
+  const std::string drawn =
+      cell.drawn.empty()
+          ? std::string("nothing")
+          : fmt::format("<code>{}</code>",
+                        EscapeMarkup(fmt::format("{}", fmt::join(cell.drawn, ", "))));
+  std::string h = "<h2>Beside a sweep's cell</h2>\n";
+  h += fmt::format(
+      "<p>Run A is set beside the cell {} of the sweep <code>{}</code> "
+      "(<code>--against</code>): {} run{} of it, {} finished. Its seeds are drawn over {}.",
+      CellName(cell), EscapeMarkup(cell.sweep_dir), cell.runs.size(),
+      cell.runs.size() == 1 ? "" : "s", ok.size() + (cell.itself && cell.runs[*cell.itself].ok),
+      drawn);
+  if (!cell.missing_runs.empty()) h += " " + CodeSpansToHtml(cell.missing_runs);
+  const std::string uncompared =
+      cell.uncompared.empty()
+          ? std::string()
+          : fmt::format(
+                " {} cell{} could not be compared (no run folder with a readable "
+                "<code>scenario.resolved.yaml</code>): {}.",
+                cell.uncompared.size(), cell.uncompared.size() == 1 ? "" : "s",
+                EscapeMarkup(fmt::format("{}", fmt::join(cell.uncompared, "; "))));
+  const std::string as_near =
+      cell.as_near.empty()
+          ? std::string()
+          : fmt::format(" {} other cell{} {} as near, left out: {}.", cell.as_near.size(),
+                        cell.as_near.size() == 1 ? "" : "s",
+                        cell.as_near.size() == 1 ? "is" : "are",
+                        EscapeMarkup(fmt::format("{}", fmt::join(cell.as_near, "; "))));
+  if (cell.differences.empty()) {
+    h += fmt::format(
+        " Its resolved scenario is A's but for those (<code>{}</code> compared with A's): A is "
+        "one more draw of this cell.{}{}</p>\n",
+        EscapeMarkup(cell.compared_file), as_near, uncompared);
+  } else {
+    h += fmt::format(
+        "</p>\n<p style=\"background:#fff3cd;padding:4px\"><b>No cell of the sweep has A's "
+        "resolved scenario</b> but for the drawn keys ({} cell{} compared).{} This, the nearest, "
+        "differs from A in {} key{} (A's → the cell's, from <code>{}</code>):{}<br>{}Its seeds "
+        "are not A's population: read A's place among them with that in mind.</p>\n",
+        cell.cells, cell.cells == 1 ? "" : "s", uncompared, cell.differences.size(),
+        cell.differences.size() == 1 ? "" : "s", EscapeMarkup(cell.compared_file),
+        DifferenceLines(cell.differences), as_near.empty() ? "" : as_near.substr(1) + " ");
+  }
+
+  if (cell.itself) {
+    h += fmt::format(
+        "<p>A is the cell's run <code>{}</code> itself: it is left out of the seeds below.</p>\n",
+        EscapeMarkup(cell.runs[*cell.itself].run_dir));
+  }
+  // The cell's run of A's seed: the same resolved scenario gives the same
+  // outputs (docs/outputs.md, "Determinism"), so the same metrics but for
+  // the times. Of another scenario, its values are not expected to be A's.
+  if (cell.same_seed) {
+    const RunRecord& r = cell.runs[*cell.same_seed];
+    const std::string who = fmt::format("The cell's run <code>{}</code> has A's seed {}",
+                                        EscapeMarkup(r.run_dir), r.seed);
+    const auto& differ = cell.same_seed_differences;
+    if (!r.ok) {
+      h += fmt::format("<p>{}; it failed ({}).</p>\n", who, EscapeMarkup(r.error));
+    } else if (differ && !differ->empty()) {
+      h += fmt::format(
+          "<p>{}, but its resolved scenario differs from A's in {} key{}, so its values are not "
+          "expected to be A's (A's → that run's):{}</p>\n",
+          who, differ->size(), differ->size() == 1 ? "" : "s", DifferenceLines(*differ));
+    } else {
+      std::vector<std::string> unequal;  // metrics that run gives otherwise
+      int compared = 0;
+      for (const CatalogueMetric& m : MetricCatalogue()) {
+        if (MachineDependent(m.name)) continue;
+        const std::string name(m.name);
+        const double a = value_of(name);
+        const auto it = r.metrics.find(name);
+        const double b = it == r.metrics.end() ? kNaN : it->second;
+        if (!std::isfinite(a) && !std::isfinite(b)) continue;
+        ++compared;
+        if (a == b) continue;
+        // Shortest round-trip digits where the table's would print one text.
+        const bool alike = MetricValueText(m, a, false) == MetricValueText(m, b, false);
+        unequal.push_back(fmt::format("<code>{}</code> (A {}, that run {})", EscapeMarkup(name),
+                                      alike ? fmt::format("{}", a) : MetricValueText(m, a, false),
+                                      alike ? fmt::format("{}", b) : MetricValueText(m, b, false)));
+      }
+      const std::string scenario =
+          differ ? " and A's whole resolved scenario, so it should give A's metrics "
+                   "(docs/outputs.md, \"Determinism\")"
+                 : " (its folder holds no readable resolved scenario: whether it is A's is not "
+                   "known)";
+      const std::string builds =
+          r.build && !r.build->empty()
+              ? fmt::format(" It was made by hcpf {}, A by {}.", EscapeMarkup(*r.build),
+                            EscapeMarkup(build.empty() ? "an hcpf that names no build" : build))
+              : std::string();
+      if (unequal.empty()) {
+        h += fmt::format(
+            "<p>{}{}. It gives A's values in all {} metrics measured (the times aside, which "
+            "depend on the machine).{} It is one of the cell's seeds below.</p>\n",
+            who, scenario, compared, builds);
+      } else {
+        // Marked only where the scenarios are known to be one.
+        h += fmt::format(
+            "<p{}>{}{}. <b>It gives other values in {} of {} metrics</b> (the times aside): "
+            "{}.{} It is one of the cell's seeds below.</p>\n",
+            differ ? " style=\"background:#f8dede;padding:4px\"" : "", who, scenario,
+            unequal.size(), compared, fmt::join(unequal, ", "), builds);
+      }
+    }
+  } else if (!cell.itself) {
+    h += "<p>A's seed is none of the cell's: A is a draw beside them, not one of them.</p>\n";
+  }
+
+  h += "<table><tr><th>metric</th><th>name</th><th>A</th><th>seeds</th><th>mean</th>"
+       "<th>95 % interval of the mean</th><th>lowest</th><th>highest</th>"
+       "<th>A among the seeds</th></tr>\n";
+  for (const CatalogueMetric& m : MetricCatalogue()) {
+    const std::string name(m.name);
+    // A distance in px below kRoundingPx is rounding, as in the headline table.
+    const auto rounded = [&m](double v) { return m.unit == "px" ? RoundedPx(v) : v; };
+    const double a = rounded(value_of(name));
+    std::vector<double> values;
+    for (const RunRecord* r : ok) {
+      const auto it = r->metrics.find(name);
+      if (it != r->metrics.end() && std::isfinite(it->second)) {
+        values.push_back(rounded(it->second));
+      }
+    }
+    if (!std::isfinite(a) && values.empty()) continue;  // measured nowhere
+    const Interval interval = MeanInterval95(values, m.range);
+    const auto [low, high] = values.empty()
+                                 ? std::pair{kNaN, kNaN}
+                                 : std::pair{*std::min_element(values.begin(), values.end()),
+                                             *std::max_element(values.begin(), values.end())};
+    std::string place = "–";
+    std::string style;
+    if (std::isfinite(a) && !values.empty()) {
+      const auto below =
+          std::count_if(values.begin(), values.end(), [a](double v) { return v < a; });
+      const auto equal = std::count(values.begin(), values.end(), a);
+      const auto above = static_cast<long>(values.size()) - below - equal;
+      if (below == static_cast<long>(values.size()) || above == static_cast<long>(values.size())) {
+        place = below > 0 ? "higher than every seed" : "lower than every seed";
+        // Outside the cell's range: marked, not called better or worse.
+        if (!MachineDependent(m.name)) style = " style=\"background:#fff3cd\"";
+      } else {
+        std::vector<std::string> parts;
+        if (below > 0) parts.push_back(fmt::format("higher than {}", below));
+        if (equal > 0) parts.push_back(fmt::format("equal to {}", equal));
+        if (above > 0) parts.push_back(fmt::format("lower than {}", above));
+        place = fmt::format("{} of {}", fmt::join(parts, ", "), values.size());
+      }
+    }
+    const std::string unit = m.unit.empty() ? "" : " " + EscapeMarkup(std::string(m.unit));
+    const auto with_unit = [&](double v) {
+      return MetricValueText(m, v, false) + (std::isfinite(v) ? unit : "");
+    };
+    const std::string band =
+        interval.method == IntervalMethod::kNone
+            ? "–"
+            : fmt::format("{} to {}", MetricValueText(m, interval.lower, false),
+                          with_unit(interval.upper));
+    h += fmt::format(
+        "<tr><td class=\"k\">{}</td><td class=\"k\"><code>{}</code></td><td>{}</td><td>{}</td>"
+        "<td>{}</td><td>{}</td><td>{}</td><td>{}</td><td class=\"k\"{}>{}</td></tr>\n",
+        EscapeMarkup(std::string(m.label)), EscapeMarkup(name), with_unit(a), values.size(),
+        with_unit(interval.mean), band, with_unit(low), with_unit(high), style, place);
+  }
+  h += "</table>\n<p>The interval is the sweep report's (docs/sweeps.md): Student's t over the "
+       "seeds, or for a proportion Wilson's with the seeds as clusters. A value outside every "
+       "seed's is marked, not called better or worse: one run is one draw.</p>\n";
+  return h;
+}
+
+}  // namespace hcpf::studies

@@ -1150,6 +1150,29 @@ TEST(Cli, ReportOnARunFolderAndOnAnotherFolder) {
   r = RunCommand(kHcpf + " report " + run.string() + " --against " + other.string());
   EXPECT_EQ(r.exit_code, 2) << r.output;
   EXPECT_NE(r.output.find("--against: expected another run folder"), std::string::npos) << r.output;
+
+  // A sweep folder: the run beside its cell's seeds, said in the log line;
+  // with another --against after it, bad input.
+  const fs::path sweep = dir / "sweep";
+  std::ofstream(dir / "sweep.yaml") << "base: " << LibraryScenario("climb")
+                                    << "\nseeds: 2\ngrid:\n  frames: [30]\n"
+                                       "  camera.path.2.frame: [29]\n  camera.path.1.frame: [15]\n"
+                                       "  tracker.camera_motion: [none, oracle]\n";
+  r = RunCommand(kHcpf + " sweep " + (dir / "sweep.yaml").string() + " --out " + sweep.string());
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  r = RunCommand(kHcpf + " report " + oracle.string() + " --against " + sweep.string());
+  EXPECT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("; beside 2 runs of a cell of " + sweep.string() + " (its own)"),
+            std::string::npos)
+      << r.output;
+  EXPECT_NE(ReadFile(oracle / "report.html").find("<code>tracker.camera_motion = oracle</code>"),
+            std::string::npos);
+  r = RunCommand(kHcpf + " report " + oracle.string() + " --against " + sweep.string() +
+                 " --against " + run.string() + " --out " + (dir / "two").string());
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_NE(r.output.find("--against: expected one sweep folder alone"), std::string::npos)
+      << r.output;
+  EXPECT_FALSE(fs::exists(dir / "two"));
 }
 
 // The strong-motion and low-texture scenes run on rendered frames too, and

@@ -49,10 +49,10 @@ Command AddReportCommand(CLI::App& parent) {
             const studies::ReportResult r = studies::WriteReport(*options);
             const double s =
                 std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-            if (r.csv_path.empty() && r.cell_runs > 0) {
+            if (r.beside_cell) {
               spdlog::info(
-                  "report: {} plots in {:.2f} s; beside {} runs of a cell of {}{}", r.plots, s,
-                  r.cell_runs, options->against,
+                  "report: {} plots in {:.2f} s; beside {} finished run{} of a cell of {}{}",
+                  r.plots, s, r.cell_runs, r.cell_runs == 1 ? "" : "s", options->against,
                   r.cell_differing_keys == 0
                       ? std::string(" (its own)")
                       : fmt::format(" (the nearest: {} resolved key{} differ{})",

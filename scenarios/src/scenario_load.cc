@@ -36,9 +36,9 @@ using config::ApplyOverrides;
 using config::ReadFields;
 using config::YamlContext;
 using config::YamlReader;
-namespace {
-
 uint64_t DeriveSeed(uint64_t seed, const char* name) { return Rng(seed).Fork(name).identity(); }
+
+namespace {
 
 // Every seed not pinned derived from s->seed, and the world's copies of the
 // world seed: the one derivation, for loading and for Reseeded.

@@ -2357,18 +2357,22 @@ std::optional<bool> TakesText(const std::vector<std::string>& resolved, const st
 // path such as targets.0.model, which the resolved YAML writes only when
 // set: its values were compared as numbers, a review): read from the
 // scenario.resolved.yaml of this store's runs in `dir` (the key is swept
-// key `k`), the first that holds it; one run of each value is read (a run
-// whose value leaves the key out holds none). nullopt where none does (the
-// run folders gone, or every value leaves the key out).
+// key `k`), the first that holds it; for each value, its runs (failed or
+// not) until one has a file (a run whose value leaves the key out holds
+// none). nullopt where none does (the run folders gone, or every value
+// leaves the key out); `files_read` counts the files read.
 std::optional<bool> TakesText(const std::vector<std::string>& resolved, const std::string& key,
-                              size_t k, const fs::path& dir, const std::vector<RunRecord>& runs) {
+                              size_t k, const fs::path& dir, const std::vector<RunRecord>& runs,
+                              int& files_read) {
   if (const std::optional<bool> text = TakesText(resolved, key)) return *text;
-  std::set<std::string> tried;
+  std::set<std::string> read;  // the values one of whose runs' files was read
   for (const RunRecord& run : runs) {
-    if (!run.ok || run.run_dir.empty() || k >= run.values.size()) continue;
-    if (!tried.insert(run.values[k]).second) continue;
-    // A missing or unreadable file reads as "", which holds no key.
+    if (run.run_dir.empty() || k >= run.values.size() || read.contains(run.values[k])) continue;
+    // A missing or unreadable file reads as "": the value's next run.
     const std::string text = ReadWholeFile(dir / run.run_dir / "scenario.resolved.yaml");
+    if (text.empty()) continue;
+    read.insert(run.values[k]);
+    ++files_read;
     if (const std::optional<bool> found = TakesText({text}, key)) return *found;
   }
   return std::nullopt;
@@ -2400,9 +2404,10 @@ std::vector<std::string> RespellAsHere(const fs::path& dir, const std::vector<Ru
     const std::string& key = meta.swept_keys[k];
     // Text is compared as written; a key no resolved scenario here holds
     // (its run folders gone) is read as numbers, which its lines say.
+    int files_read = 0;
     const std::optional<bool> text = key == kSweptBaseKey
                                          ? std::optional<bool>(false)
-                                         : TakesText(resolved_here, key, k, dir, runs);
+                                         : TakesText(resolved_here, key, k, dir, runs, files_read);
     if (text.value_or(false)) continue;
     const std::vector<std::string>& here = values_here[k];
     std::map<std::string, std::string> respelled;
@@ -2426,10 +2431,11 @@ std::vector<std::string> RespellAsHere(const fs::path& dir, const std::vector<Ru
                                         other.dir, key, v, same.front())
                       : text ? fmt::format("{}'s {} = {} read as {} (the same value)", other.dir,
                                            key, v, same.front())
-                             : fmt::format("{}'s {} = {} read as {} (the same value as numbers: no "
-                                           "resolved scenario of this store's base or runs holds "
-                                           "{}, so whether it takes text is not known)",
-                                           other.dir, key, v, same.front(), key));
+                             : fmt::format("{}'s {} = {} read as {} (the same value as numbers: "
+                                           "neither this store's base nor the {} run file{} read "
+                                           "here holds {}, so whether it takes text is not known)",
+                                           other.dir, key, v, same.front(), files_read,
+                                           files_read == 1 ? "" : "s", key));
     }
     if (respelled.empty()) continue;
     for (RunRecord& r : other.runs) {

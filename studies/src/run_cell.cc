@@ -4,7 +4,7 @@
 
 #include <fmt/format.h>
 #include <fmt/ranges.h>
-#include <yaml-cpp/exceptions.h>
+#include <yaml-cpp/yaml.h>
 
 #include <algorithm>
 #include <cmath>
@@ -15,14 +15,13 @@
 
 #include "hcpf/core/error.h"
 #include "hcpf/core/text_file.h"
+#include "hcpf/scenarios/scenario.h"
 #include "hcpf/studies/statistics.h"
 #include "text.h"
 
 namespace hcpf::studies {
 
 namespace fs = std::filesystem;
-
-bool IsSeedLeaf(const std::string& key) { return key == "seed" || key.starts_with("seeds."); }
 
 namespace {
 
@@ -77,6 +76,31 @@ std::optional<std::string> ReadableResolved(const fs::path& sweep, const RunReco
   return text;
 }
 
+// The leaves of a resolved scenario that are draws of its seed: `seed`,
+// and each `seeds.X` equal to what `seed` derives for X (not pinned by the
+// scenario, not swept). Empty for text without a whole-number seed.
+std::set<std::string> DrawnLeaves(const std::string& text) {
+  std::set<std::string> out;
+  try {
+    const YAML::Node root = YAML::Load(text);
+    const uint64_t seed = root["seed"].as<uint64_t>();
+    out.insert("seed");
+    const YAML::Node seeds = root["seeds"];
+    if (seeds && seeds.IsMap()) {
+      for (const auto& entry : seeds) {
+        const std::string name = entry.first.Scalar();
+        if (entry.second.IsScalar() &&
+            entry.second.Scalar() == std::to_string(scenarios::DeriveSeed(seed, name.c_str()))) {
+          out.insert("seeds." + name);
+        }
+      }
+    }
+  } catch (const YAML::Exception&) {
+    out.clear();
+  }
+  return out;
+}
+
 }  // namespace
 
 RunCell FindRunCell(const std::string& sweep_dir, const std::string& run_dir,
@@ -97,75 +121,65 @@ RunCell FindRunCell(const std::string& sweep_dir, const std::string& run_dir,
   }
   RunCell best;
   best.sweep_dir = sweep_dir;
-  best.keys = store->meta().swept_keys;
   const std::vector<RunRecord> runs = store->Runs();
   best.missing_runs = MissingRunsSentence(store->meta(), runs.size());
-  // The cells in the order of their first run (the expansion's).
+  // A swept `seed` replicates (a sweep of explicit seeds): its column makes
+  // no cell.
+  const std::vector<std::string>& swept = store->meta().swept_keys;
+  const auto seed_column = std::find(swept.begin(), swept.end(), "seed") - swept.begin();
+  const auto cell_values = [&](const std::vector<std::string>& values) {
+    std::vector<std::string> out = values;
+    if (seed_column < static_cast<std::ptrdiff_t>(out.size())) out.erase(out.begin() + seed_column);
+    return out;
+  };
+  best.keys = cell_values(swept);
+  // The cells in the order of their first run (the expansion's); the cell
+  // of the run's own folder when it is one of the store's.
   std::vector<std::vector<std::string>> order;
   std::map<std::vector<std::string>, std::vector<size_t>> rows_of;
+  std::optional<std::vector<std::string>> own;
   for (size_t i = 0; i < runs.size(); ++i) {
-    auto [it, inserted] = rows_of.try_emplace(runs[i].values);
-    if (inserted) order.push_back(runs[i].values);
+    const std::vector<std::string> values = cell_values(runs[i].values);
+    auto [it, inserted] = rows_of.try_emplace(values);
+    if (inserted) order.push_back(values);
     it->second.push_back(i);
+    if (!own && !runs[i].run_dir.empty() && fs::equivalent(dir / runs[i].run_dir, run_dir, ec)) {
+      own = values;
+    }
   }
-  // Each cell's first readable resolved scenario; the drawn leaves from the
-  // first cell with two.
-  std::vector<std::optional<std::string>> texts;
-  std::optional<std::vector<std::string>> drawn;
+  // Each cell compared through the first of its runs whose folder holds a
+  // readable file.
+  struct Compared {
+    const std::vector<std::string>* values;
+    std::vector<config::LeafDifference> differ;
+    std::set<std::string> drawn;  // seeds that both files derive from their `seed`
+    fs::path file;
+  };
+  const std::set<std::string> run_drawn = DrawnLeaves(run_resolved);
+  std::vector<Compared> compared;
   for (const std::vector<std::string>& values : order) {
-    std::optional<std::string> first;
+    std::optional<std::string> text;
+    fs::path file;
     for (const size_t i : rows_of[values]) {
-      std::optional<std::string> text = ReadableResolved(dir, runs[i]);
-      if (!text) continue;
-      if (!first) {
-        first = std::move(text);
-        if (drawn) break;
-        continue;
-      }
-      drawn.emplace();
-      for (const config::LeafDifference& d : config::DifferingLeaves(*first, *text)) {
-        drawn->push_back(d.key);
-      }
-      break;
-    }
-    texts.push_back(std::move(first));
-  }
-  if (!drawn) {
-    // Every cell one readable run: the seed leaves the grid does not sweep
-    // (every leaf of the run's scenario, against an empty mapping).
-    drawn.emplace();
-    for (const config::LeafDifference& d : config::DifferingLeaves(run_resolved, "{}")) {
-      if (IsSeedLeaf(d.key) &&
-          std::find(best.keys.begin(), best.keys.end(), d.key) == best.keys.end()) {
-        drawn->push_back(d.key);
+      if ((text = ReadableResolved(dir, runs[i]))) {
+        file = dir / runs[i].run_dir / "scenario.resolved.yaml";
+        break;
       }
     }
-  }
-  best.drawn = *drawn;
-  const std::set<std::string> drawn_set(drawn->begin(), drawn->end());
-  std::optional<size_t> fewest;
-  for (size_t c = 0; c < order.size(); ++c) {
-    const std::string name = ValuesText(best.keys, order[c]);
-    if (!texts[c]) {
-      best.uncompared.push_back(name);
+    if (!text) {
+      best.uncompared.push_back(ValuesText(best.keys, values));
       continue;
     }
-    ++best.cells;
-    std::vector<config::LeafDifference> differ = config::DifferingLeaves(run_resolved, *texts[c]);
-    std::erase_if(differ,
-                  [&](const config::LeafDifference& d) { return drawn_set.contains(d.key); });
-    if (fewest && differ.size() == *fewest) {
-      best.as_near.push_back(name);
-    } else if (!fewest || differ.size() < *fewest) {
-      fewest = differ.size();
-      best.values = order[c];
-      best.as_near.clear();
-      best.differences = std::move(differ);
-      best.runs.clear();
-      for (const size_t j : rows_of[order[c]]) best.runs.push_back(runs[j]);
+    // A seed pinned or swept in either counts like any other key.
+    Compared c{&values, config::DifferingLeaves(run_resolved, *text), {}, file};
+    for (const std::string& key : DrawnLeaves(*text)) {
+      if (run_drawn.contains(key)) c.drawn.insert(key);
     }
+    std::erase_if(c.differ,
+                  [&](const config::LeafDifference& d) { return c.drawn.contains(d.key); });
+    compared.push_back(std::move(c));
   }
-  if (!fewest) {
+  if (compared.empty()) {
     throw InputError(
         kAgainst,
         "a sweep folder whose run folders hold scenario.resolved.yaml (the run's cell is the one "
@@ -176,12 +190,28 @@ RunCell FindRunCell(const std::string& sweep_dir, const std::string& run_dir,
                                                "removed, or the store copied alone)",
                                                runs.size())));
   }
-  for (const RunRecord& r : best.runs) {
-    if (ReadableResolved(dir, r)) {
-      best.compared_file = (dir / r.run_dir / "scenario.resolved.yaml").string();
-      break;
+  best.cells = compared.size();
+  // The run's own cell when it is one of the store's runs; else the first
+  // of the fewest differences.
+  auto chosen = std::min_element(
+      compared.begin(), compared.end(),
+      [](const Compared& a, const Compared& b) { return a.differ.size() < b.differ.size(); });
+  if (own) {
+    const auto it = std::find_if(compared.begin(), compared.end(),
+                                 [&](const Compared& c) { return *c.values == *own; });
+    if (it != compared.end()) chosen = it;
+  }
+  for (const Compared& c : compared) {
+    if (&c != &*chosen && c.differ.size() == chosen->differ.size()) {
+      best.as_near.push_back(ValuesText(best.keys, *c.values));
     }
   }
+  best.values = *chosen->values;
+  best.differences = chosen->differ;
+  best.compared_file = chosen->file.string();
+  for (const size_t j : rows_of[best.values]) best.runs.push_back(runs[j]);
+  const std::set<std::string>& drawn = chosen->drawn;
+  best.drawn.assign(drawn.begin(), drawn.end());
   for (size_t i = 0; i < best.runs.size(); ++i) {
     const RunRecord& r = best.runs[i];
     if (!best.itself && !r.run_dir.empty() && fs::equivalent(dir / r.run_dir, run_dir, ec)) {
@@ -251,10 +281,16 @@ std::string RunCellSection(const RunCell& cell, const std::map<std::string, doub
                         cell.as_near.size() == 1 ? "is" : "are",
                         EscapeMarkup(fmt::format("{}", fmt::join(cell.as_near, "; "))));
   if (cell.differences.empty()) {
+    const bool replay =
+        cell.same_seed && cell.same_seed_differences && cell.same_seed_differences->empty();
     h += fmt::format(
-        " Its resolved scenario is A's but for those (<code>{}</code> compared with A's): A is "
-        "one more draw of this cell.{}{}</p>\n",
-        EscapeMarkup(cell.compared_file), as_near, uncompared);
+        " Its resolved scenario is A's but for those (<code>{}</code> compared with A's): {}.{}{}"
+        "</p>\n",
+        EscapeMarkup(cell.compared_file),
+        cell.itself ? "A is one of this cell's runs"
+        : replay    ? "A replays one of this cell's runs (below)"
+                    : "A is one more draw of this cell",
+        as_near, uncompared);
   } else {
     h += fmt::format(
         "</p>\n<p style=\"background:#fff3cd;padding:4px\"><b>No cell of the sweep has A's "
@@ -362,8 +398,11 @@ std::string RunCellSection(const RunCell& cell, const std::map<std::string, doub
       const auto above = static_cast<long>(values.size()) - below - equal;
       if (below == static_cast<long>(values.size()) || above == static_cast<long>(values.size())) {
         place = below > 0 ? "higher than every seed" : "lower than every seed";
-        // Outside the cell's range: marked, not called better or worse.
-        if (!MachineDependent(m.name)) style = " style=\"background:#fff3cd\"";
+        // Outside the cell's range: marked, not called better or worse (one
+        // seed is no range).
+        if (!MachineDependent(m.name) && values.size() >= 2) {
+          style = " style=\"background:#fff3cd\"";
+        }
       } else {
         std::vector<std::string> parts;
         if (below > 0) parts.push_back(fmt::format("higher than {}", below));

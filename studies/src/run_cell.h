@@ -20,18 +20,20 @@ namespace hcpf::studies {
 // the nearest one).
 struct RunCell {
   std::string sweep_dir;
-  std::vector<std::string> keys;    // the sweep's swept keys
-  std::vector<std::string> values;  // the cell's, per key
-  size_t cells = 0;                 // the sweep's cells compared with the run
+  // The sweep's swept keys but `seed` (a swept seed replicates: its runs
+  // share a cell), and the cell's values of them.
+  std::vector<std::string> keys;
+  std::vector<std::string> values;
+  size_t cells = 0;  // the sweep's cells compared with the run
   // Cells with no run folder holding a readable resolved scenario: not
   // compared (their values, "k = v, ..." as text).
   std::vector<std::string> uncompared;
   // Other cells exactly as near as this one (their values as text).
   std::vector<std::string> as_near;
-  // The leaves a cell's seeds are drawn over: those that differ between two
-  // runs of one cell (`seed`, `seeds.*` unless the base pins or the grid
-  // sweeps them); with no cell of two readable runs, the seed leaves the
-  // grid does not sweep.
+  // The leaves the cell's seeds are drawn over: `seed`, and each `seeds.X`
+  // that both the run's resolved scenario and the cell's derive from their
+  // `seed` (scenarios::DeriveSeed; a seed the base pins or the grid sweeps
+  // is a key like any other).
   std::vector<std::string> drawn;
   // The cell's scenario.resolved.yaml that was compared with the run's.
   std::string compared_file;
@@ -52,18 +54,14 @@ struct RunCell {
   std::string missing_runs;
 };
 
-// Whether a leaf key of a resolved scenario is one of its seeds (`seed`,
-// `seeds.world`, ...), which differ from run to run of one cell.
-bool IsSeedLeaf(const std::string& key);
-
 // The cell of the sweep folder `sweep_dir` (results.sqlite and runs/) whose
 // runs' resolved scenario differs least from `run_resolved` (the
 // scenario.resolved.yaml of the run in `run_dir`), the drawn leaves aside:
 // each cell is compared through the first of its runs whose folder holds a
 // readable, non-empty scenario.resolved.yaml; the first of the cells that
-// tie. `run_seed`: the run's `seed`. Throws InputError at --against when
-// the folder holds no store, or no run folder with a resolved scenario
-// (runs/ removed: the cell is found by it).
+// tie, or the cell of `run_dir` itself when it is one of the sweep's runs. `run_seed`: the run's
+// `seed`. Throws InputError at --against when the folder holds no store, or no run folder with a
+// resolved scenario (runs/ removed: the cell is found by it).
 RunCell FindRunCell(const std::string& sweep_dir, const std::string& run_dir,
                     const std::string& run_resolved, uint64_t run_seed);
 

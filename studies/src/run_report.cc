@@ -2201,7 +2201,10 @@ ReportResult WriteRunReport(const ReportOptions& options) {
   result.more_runs = static_cast<int>(more.size());
   if (cell) {
     h += RunCellSection(*cell, headline, ReadRunBuild(dir.string()));
-    result.cell_runs = static_cast<int>(cell->runs.size());
+    result.beside_cell = true;
+    for (size_t i = 0; i < cell->runs.size(); ++i) {
+      result.cell_runs += cell->runs[i].ok && cell->itself != i ? 1 : 0;
+    }
     result.cell_differing_keys = static_cast<int>(cell->differences.size());
   }
 

@@ -1646,6 +1646,55 @@ TEST(RunReport, AgainstASweepCountsTheSeedsItSweepsOrPins) {
                       "expected to be A's"),
             std::string::npos);
   EXPECT_EQ(html.find("It gives other values"), std::string::npos);
+
+  // Two bases, the pinned one first (a second review: the drawn leaves
+  // were read once, from the first cell, and applied to every cell): each
+  // run is set beside its own base's cell.
+  const fs::path bases =
+      RunQuietly(LoadSweepFile(testing::WriteSweep(
+                     dir, "seeds: 2\ngrid:\n  base: [pinned.yaml, base.yaml]\n", "bases.yaml")),
+                 dir / "bases");
+  std::vector<RunRecord> rows = ResultsStore::Open((bases / "results.sqlite").string())->Runs();
+  ASSERT_EQ(rows.size(), 4u);
+  for (const RunRecord& x : rows) {
+    SCOPED_TRACE(x.run_dir);
+    r = WriteReport({.dir = (bases / x.run_dir).string(),
+                     .out_dir = (dir / ("of-" + x.key)).string(),
+                     .against = bases.string()});
+    EXPECT_EQ(r.cell_differing_keys, 0);
+    EXPECT_EQ(r.cell_runs, 1);  // the cell's other seed
+    html = Read(r.html_path);
+    EXPECT_NE(html.find("<code>base = " + x.values.front() + "</code>"), std::string::npos);
+    EXPECT_NE(html.find("A is one of this cell's runs."), std::string::npos);
+    EXPECT_EQ(html.find("as near"), std::string::npos);
+  }
+  // A run of the unpinned base with the seed of its cell's second run: that
+  // cell, and it replays that run.
+  const RunRecord unpinned = rows[3];
+  ASSERT_EQ(unpinned.values.front(), "base.yaml");
+  const fs::path c = run(dir / "c", {{"seed", std::to_string(unpinned.seed)}});
+  r = WriteReport({.dir = c.string(), .against = bases.string()});
+  EXPECT_EQ(r.cell_differing_keys, 0);
+  html = Read(r.html_path);
+  EXPECT_NE(html.find("<code>base = base.yaml</code>"), std::string::npos);
+  EXPECT_NE(html.find("A replays one of this cell's runs (below)."), std::string::npos);
+  EXPECT_NE(html.find("It gives A's values in all"), std::string::npos);
+
+  // A swept `seed` replicates: its runs share one cell, and A with one of
+  // those seeds replays its run.
+  const fs::path seeds = RunQuietly(
+      LoadSweepFile(testing::WriteSweep(
+          dir, "base: base.yaml\ngrid:\n  seed: [5, 6, 7]\n  tracker.particles: [50, 100]\n",
+          "seeds.yaml")),
+      dir / "seeds");
+  const fs::path d = run(dir / "d", {{"seed", "6"}, {"tracker.particles", "100"}});
+  r = WriteReport({.dir = d.string(), .against = seeds.string()});
+  EXPECT_EQ(r.cell_differing_keys, 0);
+  EXPECT_EQ(r.cell_runs, 3);
+  html = Read(r.html_path);
+  EXPECT_NE(html.find("the cell <code>tracker.particles = 100</code> of the sweep"),
+            std::string::npos);
+  EXPECT_NE(html.find("has A's seed 6 and A's whole resolved scenario"), std::string::npos);
 }
 
 TEST(RunReport, ModeNoneHasNoEssLine) {
@@ -2662,8 +2711,8 @@ TEST(Report, AgainstAStoreSpellingItsValuesOtherwiseReplicates) {
   // run folder's file): read as numbers, which the line says.
   EXPECT_NE(Read(r.html_path)
                 .find("<li>" + there.string() + "'s " + sigma +
-                      " = +3e0 read as 3 (the same value as numbers: no resolved scenario of this "
-                      "store's base or runs holds " +
+                      " = +3e0 read as 3 (the same value as numbers: neither this store's base "
+                      "nor the 0 run files read here holds " +
                       sigma + ", so whether it takes text is not known)</li>"),
             std::string::npos);
   // A base that holds it as a number.

@@ -1162,7 +1162,7 @@ TEST(Cli, ReportOnARunFolderAndOnAnotherFolder) {
   ASSERT_EQ(r.exit_code, 0) << r.output;
   r = RunCommand(kHcpf + " report " + oracle.string() + " --against " + sweep.string());
   EXPECT_EQ(r.exit_code, 0) << r.output;
-  EXPECT_NE(r.output.find("; beside 2 runs of a cell of " + sweep.string() + " (its own)"),
+  EXPECT_NE(r.output.find("; beside 2 finished runs of a cell of " + sweep.string() + " (its own)"),
             std::string::npos)
       << r.output;
   EXPECT_NE(ReadFile(oracle / "report.html").find("<code>tracker.camera_motion = oracle</code>"),

@@ -32,6 +32,10 @@ struct Seeds {
   uint64_t renderer = 0;     // sensor noise, procedural textures
 };
 
+// The seed of stream `name` ("world", "observation", "tracker", "renderer")
+// that a scenario's `seed` gives it where `seeds:` does not pin it.
+uint64_t DeriveSeed(uint64_t seed, const char* name);
+
 // The simulated (oracle) detector of detection-level mode.
 struct SimulatedObservationOptions {
   double sigma_px = 2.0;               // std. dev. of the detected centre, pixels

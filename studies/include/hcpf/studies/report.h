@@ -69,7 +69,11 @@ struct ReportResult {
   int differing_keys = 0;           // a run with `against`: resolved keys that differ between them
   int compared_targets = 0;         // a run with `against`: targets compared frame by frame
   int more_runs = 0;                // a run with `more_against`: the runs set beside A and B
-  int cell_runs = 0;  // a run with a sweep as `against`: the runs of its cell (0 without)
+  // A run with a sweep as `against`: set beside a cell of it; the cell's
+  // finished runs set beside it (the run's own aside when it is one of the
+  // sweep's).
+  bool beside_cell = false;
+  int cell_runs = 0;
   // ... and the resolved keys, seeds aside, in which that cell differs from
   // the run (0: the run's own cell).
   int cell_differing_keys = 0;

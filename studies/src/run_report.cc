@@ -1736,13 +1736,14 @@ std::string FramesToLookAtHtml(const RunFolder& a, const RunFolder* b, const Fra
 
 // Why two runs cannot be compared frame by frame ("" when they can): their
 // frame counts or ground truths (gt/gt.txt) differ, or one lacks either.
-std::string TruthDifference(const RunFolder& a, const RunFolder& b) {
+// `label`: the second run's letter in the text (B, C, ...).
+std::string TruthDifference(const RunFolder& a, const RunFolder& b, const std::string& label) {
   if (a.frames == 0 || b.frames == 0) {
     return fmt::format("The manifest.json of run {} has no frame count",
-                       a.frames == 0 ? (b.frames == 0 ? "A nor B" : "A") : "B");
+                       a.frames == 0 ? (b.frames == 0 ? "A nor " + label : "A") : label);
   }
   if (a.frames != b.frames) {
-    return fmt::format("Run A has {} frames and run B {}", a.frames, b.frames);
+    return fmt::format("Run A has {} frames and run {} {}", a.frames, label, b.frames);
   }
   const std::optional<bool> same = SameBytes(a.dir / "gt" / "gt.txt", b.dir / "gt" / "gt.txt");
   if (!same) return "One of the runs has no <code>gt/gt.txt</code>";
@@ -1769,14 +1770,20 @@ std::string RunLabel(size_t k) { return std::string(1, static_cast<char>('B' + k
 constexpr size_t kMostComparedRuns = 25;
 
 // The section of the runs set beside A after B (several --against): who
-// each is and the resolved keys it differs from A in ("" without them).
-std::string MoreRunsSection(const RunFolder& a, const std::vector<RunFolder>& more) {
+// each is, the resolved keys it differs from A in and, over A's ground
+// truth (`a_targets`: gt/gt.txt's targets), the target-frames whose filters
+// are CORRECT in both, in A alone and in it alone ("" without them).
+std::string MoreRunsSection(const RunFolder& a, const std::vector<RunFolder>& more,
+                            const std::set<int64_t>& a_targets) {
   if (more.empty()) return {};
   std::string h = fmt::format(
       "<h2>More runs beside A</h2>\n<p>{} more run{} (<code>--against</code> after the first), "
-      "set beside A in the headline metrics below (each with A − that run). Only B is compared "
-      "with A file by file and frame by frame.</p>\n<table><tr><th>run</th><th>who</th>"
-      "<th>resolved keys differing from A</th></tr>\n",
+      "set beside A in the headline metrics below (each with A − that run). Over one ground "
+      "truth, the target-frames whose filters the identity mapping gives the target are CORRECT "
+      "are counted as for B (in both, in A alone, in that run alone); only B is compared with A "
+      "file by file, target by target and on the timeline.</p>\n<table><tr><th>run</th>"
+      "<th>who</th><th>resolved keys differing from A</th><th>target-frames CORRECT: in "
+      "both, in A alone, in it alone</th></tr>\n",
       more.size(), more.size() == 1 ? "" : "s");
   for (size_t k = 0; k < more.size(); ++k) {
     const RunFolder& x = more[k];
@@ -1801,8 +1808,30 @@ std::string MoreRunsSection(const RunFolder& a, const std::vector<RunFolder>& mo
               ? rows
               : fmt::format("<details><summary>{} keys</summary>{}</details>", differ.size(), rows);
     }
-    h += fmt::format("<tr><td><b>{}</b></td><td class=\"k\">{}</td><td class=\"k\">{}</td></tr>\n",
-                     RunLabel(k + 1), WhoIs(x), keys);
+    // Counted as ComparisonSection counts B's: over one ground truth, both
+    // runs with filter states.
+    std::string correct;
+    const std::string truth = TruthDifference(a, x, RunLabel(k + 1));
+    if (a_targets.empty()) {
+      correct = "not counted (run A has no <code>gt/gt.txt</code>)";
+    } else if (!truth.empty()) {
+      correct = "not counted: " + truth;
+    } else if (!JsonMember(a.metrics, "filters").is_object() ||
+               !JsonMember(x.metrics, "filters").is_object()) {
+      correct = "not counted (no filter states in <code>metrics.json</code>)";
+    } else {
+      int both = 0, only_a = 0, only_x = 0;
+      for (const TargetComparison& c : CompareTargets(a_targets, a.metrics, x.metrics, a.frames)) {
+        both += c.correct_a - c.only_a;
+        only_a += c.only_a;
+        only_x += c.only_b;
+      }
+      correct = fmt::format("{}, <b>{}</b>, <b>{}</b>", both, only_a, only_x);
+    }
+    h += fmt::format(
+        "<tr><td><b>{}</b></td><td class=\"k\">{}</td><td class=\"k\">{}</td><td "
+        "class=\"k\">{}</td></tr>\n",
+        RunLabel(k + 1), WhoIs(x), keys, correct);
   }
   return h + "</table>\n";
 }
@@ -2061,9 +2090,10 @@ ReportResult WriteRunReport(const ReportOptions& options) {
   // rows, and the targets' filters are compared frame by frame.
   std::vector<TimelineRow> timeline;
   const fs::path gt_txt = dir / "gt" / "gt.txt";
-  const std::string truth_difference = other ? TruthDifference(run, *other) : std::string();
+  const std::string truth_difference = other ? TruthDifference(run, *other, "B") : std::string();
   const bool same_truth = other && truth_difference.empty();
   std::set<int64_t> truth_targets;            // gt/gt.txt's, when the runs share it
+  std::set<int64_t> a_targets;                // gt/gt.txt's targets of run A
   std::vector<CentreErrorLine> centre_lines;  // A's then B's when compared over one truth
   std::string centre_note;                    // why a run's tracks.txt was left out of that plot
   std::string truncation_note;                // why gt.json's truncation was not used
@@ -2074,8 +2104,9 @@ ReportResult WriteRunReport(const ReportOptions& options) {
         metrics::ReadMotFile(gt_txt.string(), metrics::MotFileKind::kGroundTruth, run.frames);
     const auto truncation = TruncationOf(gt_json);
     const TimelineParts parts = ReadTimeline(gt, metrics, manifest, run.frames, truncation);
+    for (const auto& [id, row] : parts.truth) a_targets.insert(id);
     if (same_truth) {
-      for (const auto& [id, row] : parts.truth) truth_targets.insert(id);
+      truth_targets = a_targets;
       timeline = ComparedTimelineRows(
           parts, ReadTimeline(gt, other->metrics, other->manifest, run.frames, truncation));
     } else {
@@ -2197,7 +2228,7 @@ ReportResult WriteRunReport(const ReportOptions& options) {
   if (other) {
     h += ComparisonSection(run, *other, truth_difference, truth_targets, link, &result);
   }
-  h += MoreRunsSection(run, more);
+  h += MoreRunsSection(run, more, a_targets);
   result.more_runs = static_cast<int>(more.size());
   if (cell) {
     h += RunCellSection(*cell, headline, ReadRunBuild(dir.string()));

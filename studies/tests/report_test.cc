@@ -1300,6 +1300,27 @@ TEST(RunReport, MoreRunsAreSetBesideAInTheHeadlineMetrics) {
   set_da(b, 0.5);
   set_da(c, 0.875);
   set_da(d, 0.75);
+  // A's CORRECT target-frames, counted here: its filters map one to one on
+  // its targets. D's first of them made LOST: CORRECT in A alone there.
+  const auto a_metrics = nlohmann::json::parse(Read(a / "metrics.json"));
+  std::set<int64_t> mapped;
+  for (const auto& m : a_metrics["filters"]["mapping"]) mapped.insert(m["filter"].get<int64_t>());
+  ASSERT_EQ(mapped.size(), 2u);
+  int correct = 0;
+  for (const auto& s : a_metrics["filters"]["per_frame_states"]) {
+    correct += s["state"] == "CORRECT" && mapped.contains(s["filter"].get<int64_t>()) ? 1 : 0;
+  }
+  ASSERT_GT(correct, 10);
+  {
+    auto metrics = nlohmann::json::parse(Read(d / "metrics.json"));
+    for (auto& s : metrics["filters"]["per_frame_states"]) {
+      if (s["state"] == "CORRECT") {
+        s["state"] = "LOST";
+        break;
+      }
+    }
+    std::ofstream(d / "metrics.json", std::ios::trunc) << metrics.dump();
+  }
   // C's scenario differs from A's in one key.
   std::string resolved = Read(c / "scenario.resolved.yaml");
   ASSERT_TRUE(resolved.starts_with("name: \"minimal\"\n")) << resolved;
@@ -1326,6 +1347,20 @@ TEST(RunReport, MoreRunsAreSetBesideAInTheHeadlineMetrics) {
   EXPECT_NE(section.find("<code>name</code>: minimal → other-minimal"), std::string::npos)
       << section;
   EXPECT_NE(section.find("none: the same resolved scenario"), std::string::npos) << section;
+  // Target-frames CORRECT in both, in A alone, in it alone.
+  EXPECT_NE(section.find(fmt::format("<td class=\"k\">{}, <b>0</b>, <b>0</b></td></tr>", correct)),
+            std::string::npos)
+      << section;
+  EXPECT_NE(
+      section.find(fmt::format("<td class=\"k\">{}, <b>1</b>, <b>0</b></td></tr>", correct - 1)),
+      std::string::npos)
+      << section;
+  // Another ground truth: not counted, said why, with the run's letter.
+  std::ofstream(c / "gt" / "gt.txt", std::ios::app) << "20,3,1,1,5,5,1,1,1\n";
+  const std::string other_truth =
+      Read(WriteReport({.dir = a.string(), .against = b.string(), .more_against = {c.string()}})
+               .html_path);
+  EXPECT_NE(other_truth.find("not counted: Their ground truths differ"), std::string::npos);
   // Without more runs, neither the section nor their columns.
   const std::string two = Read(WriteReport({.dir = a.string(), .against = b.string()}).html_path);
   EXPECT_EQ(two.find("More runs beside A"), std::string::npos);

@@ -69,11 +69,27 @@ std::optional<std::string> ReadableResolved(const fs::path& sweep, const RunReco
   std::string text = ReadWholeFile(file);
   if (text.empty()) return std::nullopt;
   try {
-    (void)config::DifferingLeaves(text, text);
+    (void)YAML::Load(text)["seed"].as<uint64_t>();  // YAML with a whole-number seed
   } catch (const YAML::Exception&) {
     return std::nullopt;
   }
   return text;
+}
+
+// The `seeds.X` leaves of a resolved scenario, by key, as written.
+std::map<std::string, std::string> SeedLeaves(const std::string& text) {
+  std::map<std::string, std::string> out;
+  try {
+    const YAML::Node seeds = YAML::Load(text)["seeds"];
+    if (seeds && seeds.IsMap()) {
+      for (const auto& entry : seeds) {
+        if (entry.second.IsScalar()) out["seeds." + entry.first.Scalar()] = entry.second.Scalar();
+      }
+    }
+  } catch (const YAML::Exception&) {
+    out.clear();
+  }
+  return out;
 }
 
 // The leaves of a resolved scenario that are draws of its seed: `seed`,
@@ -147,36 +163,61 @@ RunCell FindRunCell(const std::string& sweep_dir, const std::string& run_dir,
       own = values;
     }
   }
-  // Each cell compared through the first of its runs whose folder holds a
-  // readable file.
+  // Each cell compared through the first two of its runs whose folders
+  // hold a readable file (one damaged file does not decide it).
   struct Compared {
     const std::vector<std::string>* values;
     std::vector<config::LeafDifference> differ;
-    std::set<std::string> drawn;  // seeds that both files derive from their `seed`
+    std::set<std::string> drawn;
     fs::path file;
+    // The drawn leaves A's scenario differs from `file` in: between two
+    // cells as near, the one that needs fewer of its draws to hold A's
+    // scenario is A's (a base pinning seeds.world beside one drawing it).
+    size_t by_draws = 0;
   };
   const std::set<std::string> run_drawn = DrawnLeaves(run_resolved);
   std::vector<Compared> compared;
   for (const std::vector<std::string>& values : order) {
-    std::optional<std::string> text;
-    fs::path file;
+    std::vector<std::pair<std::string, fs::path>> texts;
     for (const size_t i : rows_of[values]) {
-      if ((text = ReadableResolved(dir, runs[i]))) {
-        file = dir / runs[i].run_dir / "scenario.resolved.yaml";
-        break;
+      if (std::optional<std::string> text = ReadableResolved(dir, runs[i])) {
+        texts.emplace_back(std::move(*text), dir / runs[i].run_dir / "scenario.resolved.yaml");
+        if (texts.size() == 2) break;
       }
     }
-    if (!text) {
+    if (texts.empty()) {
       best.uncompared.push_back(ValuesText(best.keys, values));
       continue;
     }
-    // A seed pinned or swept in either counts like any other key.
-    Compared c{&values, config::DifferingLeaves(run_resolved, *text), {}, file};
-    for (const std::string& key : DrawnLeaves(*text)) {
-      if (run_drawn.contains(key)) c.drawn.insert(key);
+    // What the cell's seeds are drawn over: `seed`, and the seeds.X two of
+    // its runs differ in; with one run, the seeds.X it and A both derive
+    // from their `seed`. A seed pinned or swept counts like any other key.
+    Compared c{&values, {}, {"seed"}, {}};
+    if (texts.size() == 2) {
+      const std::map<std::string, std::string> one = SeedLeaves(texts[0].first);
+      const std::map<std::string, std::string> two = SeedLeaves(texts[1].first);
+      for (const auto& [key, value] : one) {
+        const auto it = two.find(key);
+        if (it != two.end() && it->second != value) c.drawn.insert(key);
+      }
+    } else {
+      for (const std::string& key : DrawnLeaves(texts[0].first)) {
+        if (run_drawn.contains(key)) c.drawn.insert(key);
+      }
     }
-    std::erase_if(c.differ,
-                  [&](const config::LeafDifference& d) { return c.drawn.contains(d.key); });
+    for (const auto& [text, file] : texts) {
+      std::vector<config::LeafDifference> differ = config::DifferingLeaves(run_resolved, text);
+      const size_t all = differ.size();
+      std::erase_if(differ,
+                    [&](const config::LeafDifference& d) { return c.drawn.contains(d.key); });
+      const size_t by_draws = all - differ.size();
+      if (c.file.empty() ||
+          std::pair(differ.size(), by_draws) < std::pair(c.differ.size(), c.by_draws)) {
+        c.differ = std::move(differ);
+        c.file = file;
+        c.by_draws = by_draws;
+      }
+    }
     compared.push_back(std::move(c));
   }
   if (compared.empty()) {
@@ -193,16 +234,23 @@ RunCell FindRunCell(const std::string& sweep_dir, const std::string& run_dir,
   best.cells = compared.size();
   // The run's own cell when it is one of the store's runs; else the first
   // of the fewest differences.
+  const auto nearness = [](const Compared& c) { return std::pair(c.differ.size(), c.by_draws); };
   auto chosen = std::min_element(
       compared.begin(), compared.end(),
-      [](const Compared& a, const Compared& b) { return a.differ.size() < b.differ.size(); });
+      [&](const Compared& a, const Compared& b) { return nearness(a) < nearness(b); });
   if (own) {
+    // A's own cell, whatever its other files hold: A is one of its runs.
     const auto it = std::find_if(compared.begin(), compared.end(),
                                  [&](const Compared& c) { return *c.values == *own; });
-    if (it != compared.end()) chosen = it;
+    if (it != compared.end()) {
+      chosen = it;
+      chosen->differ.clear();
+      chosen->by_draws = 0;
+      chosen->file = fs::path(run_dir) / "scenario.resolved.yaml";
+    }
   }
   for (const Compared& c : compared) {
-    if (&c != &*chosen && c.differ.size() == chosen->differ.size()) {
+    if (&c != &*chosen && nearness(c) == nearness(*chosen)) {
       best.as_near.push_back(ValuesText(best.keys, *c.values));
     }
   }
@@ -259,11 +307,11 @@ std::string RunCellSection(const RunCell& cell, const std::map<std::string, doub
                         EscapeMarkup(fmt::format("{}", fmt::join(cell.drawn, ", "))));
   std::string h = "<h2>Beside a sweep's cell</h2>\n";
   h += fmt::format(
-      "<p>Run A is set beside the cell {} of the sweep <code>{}</code> "
+      "<p>Run A is set beside {} of the sweep <code>{}</code> "
       "(<code>--against</code>): {} run{} of it, {} finished. Its seeds are drawn over {}.",
-      CellName(cell), EscapeMarkup(cell.sweep_dir), cell.runs.size(),
-      cell.runs.size() == 1 ? "" : "s", ok.size() + (cell.itself && cell.runs[*cell.itself].ok),
-      drawn);
+      cell.keys.empty() ? std::string("the one cell") : "the cell " + CellName(cell),
+      EscapeMarkup(cell.sweep_dir), cell.runs.size(), cell.runs.size() == 1 ? "" : "s",
+      ok.size() + (cell.itself && cell.runs[*cell.itself].ok), drawn);
   if (!cell.missing_runs.empty()) h += " " + CodeSpansToHtml(cell.missing_runs);
   const std::string uncompared =
       cell.uncompared.empty()

@@ -1486,7 +1486,7 @@ TEST(RunReport, AgainstASweepSetsTheRunBesideItsCell) {
                          "<code>tracker.resampling.method = charged</code> of the sweep"),
             std::string::npos)
       << section;
-  // The drawn leaves: those two runs of one cell differ in.
+  // The drawn leaves: `seed` and the seeds.X two runs of the cell differ in.
   EXPECT_NE(section.find("Its seeds are drawn over <code>seed, seeds.observation, "
                          "seeds.renderer, seeds.tracker, seeds.world</code>. Its resolved "
                          "scenario is A's but for those"),
@@ -1604,9 +1604,19 @@ TEST(RunReport, AgainstASweepSetsTheRunBesideItsCell) {
 
   // A cell whose first run's file is empty (cut short) is read from its
   // next run; a cell with no readable file is not compared, which is said.
-  std::ofstream(sweep / cell[0].run_dir / "scenario.resolved.yaml", std::ios::trunc) << "";
+  const fs::path first_file = sweep / cell[0].run_dir / "scenario.resolved.yaml";
+  const std::string first_text = Read(first_file);
+  std::ofstream(first_file, std::ios::trunc) << "";
   r = WriteReport({.dir = a.string(), .against = sweep.string()});
   EXPECT_EQ(r.cell_differing_keys, 0);
+  // Cut after its tenth line, still YAML: the cell's second file decides.
+  size_t cut = 0;
+  for (int line = 0; line < 10; ++line) cut = first_text.find('\n', cut) + 1;
+  std::ofstream(first_file, std::ios::trunc) << first_text.substr(0, cut);
+  r = WriteReport({.dir = a.string(), .against = sweep.string()});
+  EXPECT_EQ(r.cell_differing_keys, 0);
+  EXPECT_NE(Read(r.html_path).find("<code>tracker.resampling.method = charged</code> of the sweep"),
+            std::string::npos);
   for (const RunRecord& x : cell) fs::rename(sweep / x.run_dir, dir / x.key);
   r = WriteReport({.dir = a.string(), .against = sweep.string()});
   EXPECT_EQ(r.cell_differing_keys, 1);
@@ -1629,10 +1639,14 @@ TEST(RunReport, AgainstASweepSetsTheRunBesideItsCell) {
   EXPECT_NE(row(html).find("</td><td>2</td>"), std::string::npos) << row(html);
 }
 
-// The leaves a cell's seeds are drawn over are read from two of its runs: a
-// seed the grid sweeps, or the base pins, counts like any other key (a
-// review: `seed` and `seeds.*` were always set aside, so a swept seeds.world
-// matched the first cell and a pinned one called another terrain a draw).
+// The leaves a cell's seeds are drawn over are `seed` and the seeds.X two
+// of its runs differ in (with one run, those it and A derive from their
+// seed): a seed the grid sweeps, or the base pins, counts like any other key
+// (a review: `seed` and `seeds.*` were always set aside, so a swept
+// seeds.world matched the first cell and a pinned one called another terrain
+// a draw; later ones: a rule read from the first cell alone, or from one
+// file, was fooled by a base pinning seeds.world in one base only, a file
+// cut short, and a pin equal to what a seed derives).
 TEST(RunReport, AgainstASweepCountsTheSeedsItSweepsOrPins) {
   const auto dir = testing::SweepFolder("run-report-against-seeds");
   std::ofstream(dir / "pinned.yaml") << scenarios::testing::kMinimal << "seeds:\n  world: 5\n";
@@ -1730,6 +1744,26 @@ TEST(RunReport, AgainstASweepCountsTheSeedsItSweepsOrPins) {
   EXPECT_NE(html.find("the cell <code>tracker.particles = 100</code> of the sweep"),
             std::string::npos);
   EXPECT_NE(html.find("has A's seed 6 and A's whole resolved scenario"), std::string::npos);
+  EXPECT_NE(html.find("drawn over <code>seed, seeds.observation, seeds.renderer, seeds.tracker, "
+                      "seeds.world</code>"),
+            std::string::npos);
+
+  // A base that pins seeds.world to what seed 5 derives, swept over seeds 5,
+  // 6 and 7 (a third review: read from seed 5's file alone, the pin looked
+  // derived): A of seed 6 with its own terrain differs in seeds.world.
+  std::ofstream(dir / "pinned-5.yaml")
+      << scenarios::testing::kMinimal << "seeds:\n  world: " << scenarios::DeriveSeed(5, "world")
+      << "\n";
+  const fs::path pinned_5 = RunQuietly(
+      LoadSweepFile(testing::WriteSweep(dir, "base: pinned-5.yaml\ngrid:\n  seed: [5, 6, 7]\n",
+                                        "pinned-5-sweep.yaml")),
+      dir / "pinned-5");
+  const fs::path e = run(dir / "e", {{"seed", "6"}});
+  r = WriteReport({.dir = e.string(), .against = pinned_5.string()});
+  EXPECT_EQ(r.cell_differing_keys, 1);
+  html = Read(r.html_path);
+  EXPECT_NE(html.find("<code>seeds.world</code>: "), std::string::npos);
+  EXPECT_NE(html.find("Run A is set beside the one cell of the sweep"), std::string::npos);
 }
 
 TEST(RunReport, ModeNoneHasNoEssLine) {

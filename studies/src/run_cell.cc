@@ -58,9 +58,9 @@ std::string DifferenceLines(const std::vector<config::LeafDifference>& differ) {
   return rows;
 }
 
-// A run folder's scenario.resolved.yaml when it is there, not empty and
-// YAML (a truncated or damaged file is no file here: the cell's next run is
-// read).
+// A run folder's scenario.resolved.yaml when it is there, not empty, YAML
+// and with a whole-number `seed` (a damaged file is no file here: the
+// cell's next run is read).
 std::optional<std::string> ReadableResolved(const fs::path& sweep, const RunRecord& r) {
   std::error_code ec;
   if (r.run_dir.empty()) return std::nullopt;

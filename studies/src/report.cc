@@ -2359,8 +2359,9 @@ std::optional<bool> TakesText(const std::vector<std::string>& resolved, const st
 // scenario.resolved.yaml of this store's runs in `dir` (the key is swept
 // key `k`), the first that holds it; for each value, its runs (failed or
 // not) until one has a file (a run whose value leaves the key out holds
-// none). nullopt where none does (the run folders gone, or every value
-// leaves the key out); `files_read` counts the files read.
+// none; a file that is not YAML is passed over). nullopt where none does
+// (the run folders gone, or every value leaves the key out); `files_read`
+// counts the files read.
 std::optional<bool> TakesText(const std::vector<std::string>& resolved, const std::string& key,
                               size_t k, const fs::path& dir, const std::vector<RunRecord>& runs,
                               int& files_read) {
@@ -2368,9 +2369,15 @@ std::optional<bool> TakesText(const std::vector<std::string>& resolved, const st
   std::set<std::string> read;  // the values one of whose runs' files was read
   for (const RunRecord& run : runs) {
     if (run.run_dir.empty() || k >= run.values.size() || read.contains(run.values[k])) continue;
-    // A missing or unreadable file reads as "": the value's next run.
+    // A missing or unreadable file reads as "", a damaged one is no YAML:
+    // the value's next run.
     const std::string text = ReadWholeFile(dir / run.run_dir / "scenario.resolved.yaml");
     if (text.empty()) continue;
+    try {
+      (void)YAML::Load(text);
+    } catch (const YAML::Exception&) {
+      continue;
+    }
     read.insert(run.values[k]);
     ++files_read;
     if (const std::optional<bool> found = TakesText({text}, key)) return *found;

@@ -2819,6 +2819,23 @@ TEST(Report, AgainstAStoreSpellingItsValuesOtherwiseReplicates) {
                    .against = with_models("report-against-model-there", "1.10").string()});
   EXPECT_EQ(m.replication_comparisons, 1);  // mota, charged − systematic at 2
   EXPECT_EQ(m.replication_cells, 2);
+  // Only the runs at 1.1 name a model, and the first of them is damaged:
+  // the next is read (a review: a damaged file counted as read, so 1.1's
+  // other runs were not, and 1.1 and 1.10 were compared as numbers).
+  const auto first_damaged = [&](const std::string& name, const std::string& a) {
+    const fs::path dir = store(name, model, a, "2", no_model);
+    for (int i = 0; i < 40; ++i) {
+      std::ofstream file(dir / "runs" / fmt::format("run-{}", i) / "scenario.resolved.yaml");
+      file << "seed: 5\nframes: 10\ntargets:\n  - id: 1\n";
+      if (i == 0) file << "    model: [\"" << a << "\"\n";  // not YAML
+      if (i > 0 && i < 20) file << "    model: \"" << a << "\"\n";
+    }
+    return dir;
+  };
+  const ReportResult f =
+      WriteReport({.dir = first_damaged("report-against-damaged", "1.1").string(),
+                   .against = first_damaged("report-against-damaged-there", "1.10").string()});
+  EXPECT_EQ(f.replication_cells, 2);
 
   const std::string seed = "seeds.world";
   const fs::path big = store("report-against-big-seeds", seed, "1000", "18446744073709551614");

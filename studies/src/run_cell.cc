@@ -149,10 +149,11 @@ RunCell FindRunCell(const std::string& sweep_dir, const std::string& run_dir,
     return out;
   };
   best.keys = cell_values(swept);
-  // The cells in the order of their first run (the expansion's); the cell
-  // of the run's own folder when it is one of the store's.
+  // The cells in the order of their first run (the expansion's); the row
+  // of the run's own folder, and its cell, when it is one of the store's.
   std::vector<std::vector<std::string>> order;
   std::map<std::vector<std::string>, std::vector<size_t>> rows_of;
+  std::optional<size_t> own_row;
   std::optional<std::vector<std::string>> own;
   for (size_t i = 0; i < runs.size(); ++i) {
     const std::vector<std::string> values = cell_values(runs[i].values);
@@ -160,6 +161,7 @@ RunCell FindRunCell(const std::string& sweep_dir, const std::string& run_dir,
     if (inserted) order.push_back(values);
     it->second.push_back(i);
     if (!own && !runs[i].run_dir.empty() && fs::equivalent(dir / runs[i].run_dir, run_dir, ec)) {
+      own_row = i;
       own = values;
     }
   }
@@ -257,15 +259,15 @@ RunCell FindRunCell(const std::string& sweep_dir, const std::string& run_dir,
   best.values = *chosen->values;
   best.differences = chosen->differ;
   best.compared_file = chosen->file.string();
-  for (const size_t j : rows_of[best.values]) best.runs.push_back(runs[j]);
+  for (const size_t j : rows_of[best.values]) {
+    if (j == own_row) best.itself = best.runs.size();
+    best.runs.push_back(runs[j]);
+  }
   const std::set<std::string>& drawn = chosen->drawn;
   best.drawn.assign(drawn.begin(), drawn.end());
   for (size_t i = 0; i < best.runs.size(); ++i) {
     const RunRecord& r = best.runs[i];
-    if (!best.itself && !r.run_dir.empty() && fs::equivalent(dir / r.run_dir, run_dir, ec)) {
-      best.itself = i;
-      continue;
-    }
+    if (i == best.itself) continue;
     if (best.same_seed || r.seed != run_seed) continue;
     best.same_seed = i;
     if (const std::optional<std::string> text = ReadableResolved(dir, r)) {

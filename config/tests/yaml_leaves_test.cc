@@ -4,6 +4,7 @@
 #include "hcpf/config/yaml_leaves.h"
 
 #include <gtest/gtest.h>
+#include <yaml-cpp/yaml.h>
 
 namespace hcpf::config {
 namespace {
@@ -46,6 +47,38 @@ TEST(DifferingLeaves, AnEmptyTextIsNotAnAbsentKey) {
   EXPECT_EQ(differ[0].second, std::nullopt);
   EXPECT_EQ(differ[1].first, std::nullopt);
   EXPECT_EQ(differ[1].second, "1");
+}
+
+TEST(DifferingLeaves, FlattenedDocumentsCompareAsTheirTexts) {
+  // A document flattened once (FlattenYaml) and compared with many gives
+  // what its text gives.
+  const YamlLeaves first = FlattenYaml("a: [3, {b: ~}]\nc: []\nd: {e: x}\n");
+  ASSERT_EQ(first.size(), 4u);
+  auto it = first.begin();
+  EXPECT_EQ(it->first, "a[0]");
+  EXPECT_EQ((it++)->second, "3");
+  EXPECT_EQ(it->first, "a[1].b");
+  EXPECT_EQ((it++)->second, "null");
+  EXPECT_EQ(it->first, "c");
+  EXPECT_EQ((it++)->second, "[]");
+  EXPECT_EQ(it->first, "d.e");
+  EXPECT_EQ(it->second, "x");
+  for (const std::string second : {"a: [3, {b: 1}]\nc: []\n", "a: [4]\nd: {e: y}\nf: 1\n", ""}) {
+    const auto from_leaves = DifferingLeaves(first, FlattenYaml(second));
+    const auto from_texts = DifferingLeaves("a: [3, {b: ~}]\nc: []\nd: {e: x}\n", second);
+    ASSERT_EQ(from_leaves.size(), from_texts.size()) << second;
+    for (size_t i = 0; i < from_leaves.size(); ++i) {
+      EXPECT_EQ(from_leaves[i].key, from_texts[i].key);
+      EXPECT_EQ(from_leaves[i].first, from_texts[i].first);
+      EXPECT_EQ(from_leaves[i].second, from_texts[i].second);
+    }
+  }
+  // An empty text is a null document: the one leaf "" (the root).
+  EXPECT_EQ(FlattenYaml(""), (YamlLeaves{{"", "null"}}));
+  EXPECT_THROW(FlattenYaml("a: [1"), YAML::Exception);
+  // Keys in DifferingLeaves's order: list indices as numbers.
+  EXPECT_TRUE(LeafKeyLess()("t[2]", "t[10]"));
+  EXPECT_FALSE(LeafKeyLess()("t[10]", "t[2]"));
 }
 
 }  // namespace

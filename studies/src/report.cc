@@ -2321,6 +2321,28 @@ bool SameSpelledValue(const std::string& a, const std::string& b) {
   }
 }
 
+// Whether `key` (dotted, list items by index) holds a quoted scalar in one
+// parsed resolved scenario; nullopt where it is not there. Throws
+// std::out_of_range for an index past size_t.
+std::optional<bool> TakesText(YAML::Node node, const std::string& key) {
+  std::stringstream path(key);
+  for (std::string part; node && std::getline(path, part, '.');) {
+    // reset(), not =: assigning a node writes into the tree it was bound to.
+    if (node.IsSequence() && !part.empty() &&
+        part.find_first_not_of("0123456789") == std::string::npos) {
+      const size_t i = std::stoul(part);
+      node.reset(i < node.size() ? node[i] : YAML::Node());
+    } else if (node.IsMap()) {
+      node.reset(node[part]);
+    } else {
+      node.reset(YAML::Node());
+    }
+  }
+  // Found: text when a quoted scalar (a list or a mapping is not).
+  if (node && node.IsDefined() && !node.IsNull()) return node.IsScalar() && node.Tag() == "!";
+  return std::nullopt;
+}
+
 // Whether `key` holds text in a store's resolved base scenario(s)
 // (`resolved`: ResolvedBases' texts, else base_resolved): a quoted scalar
 // there (the resolved YAML quotes text and paths, docs/scenario.md). Its
@@ -2330,22 +2352,7 @@ bool SameSpelledValue(const std::string& a, const std::string& b) {
 std::optional<bool> TakesText(const std::vector<std::string>& resolved, const std::string& key) {
   for (const std::string& text : resolved) {
     try {
-      YAML::Node node = YAML::Load(text);
-      std::stringstream path(key);
-      for (std::string part; node && std::getline(path, part, '.');) {
-        // reset(), not =: assigning a node writes into the tree it was bound to.
-        if (node.IsSequence() && !part.empty() &&
-            part.find_first_not_of("0123456789") == std::string::npos) {
-          const size_t i = std::stoul(part);
-          node.reset(i < node.size() ? node[i] : YAML::Node());
-        } else if (node.IsMap()) {
-          node.reset(node[part]);
-        } else {
-          node.reset(YAML::Node());
-        }
-      }
-      // Found: text when a quoted scalar (a list or a mapping is not).
-      if (node && node.IsDefined() && !node.IsNull()) return node.IsScalar() && node.Tag() == "!";
+      if (const std::optional<bool> found = TakesText(YAML::Load(text), key)) return found;
     } catch (const std::exception&) {
       continue;  // text that is not YAML, an index past size_t: not found here
     }
@@ -2373,14 +2380,21 @@ std::optional<bool> TakesText(const std::vector<std::string>& resolved, const st
     // the value's next run.
     const std::string text = ReadWholeFile(dir / run.run_dir / "scenario.resolved.yaml");
     if (text.empty()) continue;
+    YAML::Node root;
     try {
-      (void)YAML::Load(text);
+      root = YAML::Load(text);
     } catch (const YAML::Exception&) {
       continue;
     }
     read.insert(run.values[k]);
     ++files_read;
-    if (const std::optional<bool> found = TakesText({text}, key)) return *found;
+    std::optional<bool> found;
+    try {
+      found = TakesText(root, key);
+    } catch (const std::exception&) {
+      continue;  // an index past size_t: not found in this file
+    }
+    if (found) return *found;
   }
   return std::nullopt;
 }

@@ -58,61 +58,66 @@ std::string DifferenceLines(const std::vector<config::LeafDifference>& differ) {
   return rows;
 }
 
-// A run folder's scenario.resolved.yaml when it is there, not empty, YAML
-// and with a whole-number `seed` (a damaged file is no file here: the
-// cell's next run is read).
-std::optional<std::string> ReadableResolved(const fs::path& sweep, const RunRecord& r) {
-  std::error_code ec;
-  if (r.run_dir.empty()) return std::nullopt;
-  const fs::path file = sweep / r.run_dir / "scenario.resolved.yaml";
-  if (!fs::is_regular_file(file, ec)) return std::nullopt;
-  std::string text = ReadWholeFile(file);
-  if (text.empty()) return std::nullopt;
+// The whole-number `seed` of a resolved scenario, nullopt without one.
+std::optional<uint64_t> SeedOf(const config::YamlLeaves& leaves) {
+  const auto it = leaves.find("seed");
+  if (it == leaves.end()) return std::nullopt;
   try {
-    (void)YAML::Load(text)["seed"].as<uint64_t>();  // YAML with a whole-number seed
+    return YAML::Node(it->second).as<uint64_t>();
   } catch (const YAML::Exception&) {
     return std::nullopt;
   }
-  return text;
+}
+
+// A resolved scenario read once: its file and its leaves.
+struct Resolved {
+  fs::path file;
+  config::YamlLeaves leaves;
+};
+
+// A run folder's scenario.resolved.yaml when it is there, not empty, YAML
+// and with a whole-number `seed` (a damaged file is no file here: the
+// cell's next run is read).
+std::optional<Resolved> ReadableResolved(const fs::path& sweep, const RunRecord& r) {
+  std::error_code ec;
+  if (r.run_dir.empty()) return std::nullopt;
+  Resolved out{sweep / r.run_dir / "scenario.resolved.yaml", {}};
+  if (!fs::is_regular_file(out.file, ec)) return std::nullopt;
+  const std::string text = ReadWholeFile(out.file);
+  if (text.empty()) return std::nullopt;
+  try {
+    out.leaves = config::FlattenYaml(text);
+  } catch (const YAML::Exception&) {
+    return std::nullopt;
+  }
+  if (!SeedOf(out.leaves)) return std::nullopt;
+  return out;
 }
 
 // The `seeds.X` leaves of a resolved scenario, by key, as written.
-std::map<std::string, std::string> SeedLeaves(const std::string& text) {
+std::map<std::string, std::string> SeedLeaves(const config::YamlLeaves& leaves) {
   std::map<std::string, std::string> out;
-  try {
-    const YAML::Node seeds = YAML::Load(text)["seeds"];
-    if (seeds && seeds.IsMap()) {
-      for (const auto& entry : seeds) {
-        if (entry.second.IsScalar()) out["seeds." + entry.first.Scalar()] = entry.second.Scalar();
-      }
+  constexpr std::string_view kPrefix = "seeds.";
+  for (auto it = leaves.lower_bound(std::string(kPrefix));
+       it != leaves.end() && it->first.starts_with(kPrefix); ++it) {
+    if (it->first.find_first_of(".[", kPrefix.size()) == std::string::npos) {
+      out.insert(*it);
     }
-  } catch (const YAML::Exception&) {
-    out.clear();
   }
   return out;
 }
 
 // The leaves of a resolved scenario that are draws of its seed: `seed`,
 // and each `seeds.X` equal to what `seed` derives for X (not pinned by the
-// scenario, not swept). Empty for text without a whole-number seed.
-std::set<std::string> DrawnLeaves(const std::string& text) {
+// scenario, not swept). Empty without a whole-number seed.
+std::set<std::string> DrawnLeaves(const config::YamlLeaves& leaves) {
   std::set<std::string> out;
-  try {
-    const YAML::Node root = YAML::Load(text);
-    const uint64_t seed = root["seed"].as<uint64_t>();
-    out.insert("seed");
-    const YAML::Node seeds = root["seeds"];
-    if (seeds && seeds.IsMap()) {
-      for (const auto& entry : seeds) {
-        const std::string name = entry.first.Scalar();
-        if (entry.second.IsScalar() &&
-            entry.second.Scalar() == std::to_string(scenarios::DeriveSeed(seed, name.c_str()))) {
-          out.insert("seeds." + name);
-        }
-      }
-    }
-  } catch (const YAML::Exception&) {
-    out.clear();
+  const std::optional<uint64_t> seed = SeedOf(leaves);
+  if (!seed) return out;
+  out.insert("seed");
+  for (const auto& [key, value] : SeedLeaves(leaves)) {
+    const std::string name = key.substr(std::string_view("seeds.").size());
+    if (value == std::to_string(scenarios::DeriveSeed(*seed, name.c_str()))) out.insert(key);
   }
   return out;
 }
@@ -177,13 +182,16 @@ RunCell FindRunCell(const std::string& sweep_dir, const std::string& run_dir,
     // scenario is A's (a base pinning seeds.world beside one drawing it).
     size_t by_draws = 0;
   };
-  const std::set<std::string> run_drawn = DrawnLeaves(run_resolved);
+  // A's leaves, flattened once for every comparison (its text is YAML with a
+  // seed: FindRunCellOf has read it).
+  const config::YamlLeaves run_leaves = config::FlattenYaml(run_resolved);
+  const std::set<std::string> run_drawn = DrawnLeaves(run_leaves);
   std::vector<Compared> compared;
   for (const std::vector<std::string>& values : order) {
-    std::vector<std::pair<std::string, fs::path>> texts;
+    std::vector<Resolved> texts;
     for (const size_t i : rows_of[values]) {
-      if (std::optional<std::string> text = ReadableResolved(dir, runs[i])) {
-        texts.emplace_back(std::move(*text), dir / runs[i].run_dir / "scenario.resolved.yaml");
+      if (std::optional<Resolved> text = ReadableResolved(dir, runs[i])) {
+        texts.push_back(std::move(*text));
         if (texts.size() == 2) break;
       }
     }
@@ -196,19 +204,19 @@ RunCell FindRunCell(const std::string& sweep_dir, const std::string& run_dir,
     // from their `seed`. A seed pinned or swept counts like any other key.
     Compared c{&values, {}, {"seed"}, {}};
     if (texts.size() == 2) {
-      const std::map<std::string, std::string> one = SeedLeaves(texts[0].first);
-      const std::map<std::string, std::string> two = SeedLeaves(texts[1].first);
+      const std::map<std::string, std::string> one = SeedLeaves(texts[0].leaves);
+      const std::map<std::string, std::string> two = SeedLeaves(texts[1].leaves);
       for (const auto& [key, value] : one) {
         const auto it = two.find(key);
         if (it != two.end() && it->second != value) c.drawn.insert(key);
       }
     } else {
-      for (const std::string& key : DrawnLeaves(texts[0].first)) {
+      for (const std::string& key : DrawnLeaves(texts[0].leaves)) {
         if (run_drawn.contains(key)) c.drawn.insert(key);
       }
     }
-    for (const auto& [text, file] : texts) {
-      std::vector<config::LeafDifference> differ = config::DifferingLeaves(run_resolved, text);
+    for (const auto& [file, leaves] : texts) {
+      std::vector<config::LeafDifference> differ = config::DifferingLeaves(run_leaves, leaves);
       const size_t all = differ.size();
       std::erase_if(differ,
                     [&](const config::LeafDifference& d) { return c.drawn.contains(d.key); });
@@ -270,8 +278,8 @@ RunCell FindRunCell(const std::string& sweep_dir, const std::string& run_dir,
     if (i == best.itself) continue;
     if (best.same_seed || r.seed != run_seed) continue;
     best.same_seed = i;
-    if (const std::optional<std::string> text = ReadableResolved(dir, r)) {
-      best.same_seed_differences = config::DifferingLeaves(run_resolved, *text);
+    if (const std::optional<Resolved> text = ReadableResolved(dir, r)) {
+      best.same_seed_differences = config::DifferingLeaves(run_leaves, text->leaves);
     }
   }
   return best;

@@ -3,6 +3,7 @@
 // refused rendering (observation.file.rendering) and `hcpf report RUN
 // --against OTHER` say changed between two resolved scenarios.
 
+#include <map>
 #include <optional>
 #include <string>
 #include <vector>
@@ -18,9 +19,24 @@ struct LeafDifference {
   std::optional<std::string> second;
 };
 
-// The scalar leaves that differ between two YAML texts, in key order (list
-// indices as numbers: "a[2]" before "a[10]"). A null
-// is the text "null". Throws YAML::Exception on text that is not YAML.
+// Dotted keys in order, with list indices as numbers: "a[2]" before "a[10]".
+struct LeafKeyLess {
+  bool operator()(const std::string& a, const std::string& b) const;
+};
+
+// Every scalar leaf of one YAML document: its text by dotted key (a null is
+// the text "null", an empty list the leaf "[]"). Flatten a document once
+// where it is compared with many.
+using YamlLeaves = std::map<std::string, std::string, LeafKeyLess>;
+
+// The leaves of a YAML text. Throws YAML::Exception on text that is not YAML.
+YamlLeaves FlattenYaml(const std::string& yaml);
+
+// The scalar leaves that differ between two documents, in key order.
+std::vector<LeafDifference> DifferingLeaves(const YamlLeaves& first, const YamlLeaves& second);
+
+// The same for two YAML texts. Throws YAML::Exception on text that is not
+// YAML.
 std::vector<LeafDifference> DifferingLeaves(const std::string& first_yaml,
                                             const std::string& second_yaml);
 

@@ -121,13 +121,6 @@ Command AddSweepCommand(CLI::App& parent) {
           if (ec) throw RunError("--isolate: cannot find the hcpf executable (/proc/self/exe)");
         }
         sweep_options.Validate();
-        // Rendered runs: llvmpipe's rasteriser threads (SweepOptions::
-        // RasteriserThreads). Must be set before the first GL context; an
-        // explicit setting is kept.
-        if (const std::optional<int> threads =
-                sweep_options.RasteriserThreads(studies::LaunchedRankCount())) {
-          ::setenv("LP_NUM_THREADS", std::to_string(*threads).c_str(), 0);
-        }
         studies::SweepSpec spec = studies::LoadSweepFile(options->file);
         if (seed_option->count() > 0) {
           studies::SetRootSeed(spec, options->seed, "--seed");
@@ -141,6 +134,30 @@ Command AddSweepCommand(CLI::App& parent) {
         // run is done (rank 0 under MPI), not by --isolate's children.
         const bool rendered = std::any_of(runs.begin(), runs.end(),
                                           [](const studies::SweepRun& r) { return r.rendered(); });
+        // Several rendered runs at once, outside MPI: each in a process of
+        // its own (SweepOptions::render_exe).
+        if (rendered && sweep_options.jobs > 1 && sweep_options.isolate_exe.empty() &&
+            studies::LaunchedRankCount() <= 1) {
+          std::error_code ec;
+          sweep_options.render_exe = std::filesystem::read_symlink("/proc/self/exe", ec).string();
+          if (ec) {
+            spdlog::warn(
+                "sweep: the hcpf executable was not found (/proc/self/exe): rendered runs share "
+                "this process, where llvmpipe's fences race between threads (docs/sweeps.md)");
+          } else {
+            spdlog::info(
+                "sweep: each rendered run in a process of its own (--jobs {}), rasterising on "
+                "its own thread: llvmpipe's fences race between threads (docs/sweeps.md)",
+                sweep_options.jobs);
+          }
+        }
+        // Rendered runs: llvmpipe's rasteriser threads (SweepOptions::
+        // RasteriserThreads). Must be set before the first GL context; an
+        // explicit setting is kept.
+        if (const std::optional<int> threads =
+                sweep_options.RasteriserThreads(studies::LaunchedRankCount())) {
+          ::setenv("LP_NUM_THREADS", std::to_string(*threads).c_str(), 0);
+        }
         const CacheLimit cache_limit(rendered ? sweep_options.frame_cache_dir : "");
         CacheLimit::HideFromChildren();
         // Said once: by rank 0 under an MPI launcher (the others make none).

@@ -252,7 +252,7 @@ SweepResult Coordinate(internal::SweepPlan& plan, const std::vector<SweepRun>& r
 
 // Ranks 1..R-1: ask, compute, send the record back, until told to stop.
 void Work(const std::vector<SweepRun>& runs, const SweepOptions& options) {
-  const std::unique_ptr<RunExecutor> executor = internal::MakeExecutor(options);
+  const internal::RunExecutors executors(options);
   std::string record;  // the previous run's, "" before the first
   for (;;) {
     SendText(record, kCoordinator, kTagReady);
@@ -267,7 +267,7 @@ void Work(const std::vector<SweepRun>& runs, const SweepOptions& options) {
     HCPF_CHECK(index >= 0 && static_cast<size_t>(index) < runs.size()) << "run " << index;
     const SweepRun& run = runs[static_cast<size_t>(index)];
     HCPF_CHECK(run.index == index);
-    record = RecordToJson(internal::ExecuteRun(run, options, *executor));
+    record = RecordToJson(internal::ExecuteRun(run, options, executors.For(run)));
   }
 }
 

@@ -70,8 +70,18 @@ SweepPlan PrepareSweep(const SweepSpec& spec, const std::vector<SweepRun>& runs,
 void CopyWhole(const std::filesystem::path& from, const std::filesystem::path& to,
                const std::vector<std::string>& files = {});
 
-// The executor options.isolate_exe asks for.
-std::unique_ptr<RunExecutor> MakeExecutor(const SweepOptions& options);
+// A sweep's executors: worker threads, and child processes for the runs
+// SweepOptions::InChildProcess names (options.ChildExe()).
+class RunExecutors {
+ public:
+  explicit RunExecutors(const SweepOptions& options);
+  const RunExecutor& For(const SweepRun& run) const;
+
+ private:
+  const SweepOptions& options_;
+  InProcessExecutor in_process_;
+  std::unique_ptr<ChildProcessExecutor> child_;
+};
 
 // The store record of `run` before it is computed: key, index, seed, values,
 // run_dir; ok = false.

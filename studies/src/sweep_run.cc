@@ -478,10 +478,16 @@ SweepPlan PrepareSweep(const SweepSpec& spec, const std::vector<SweepRun>& runs,
   return plan;
 }
 
-std::unique_ptr<RunExecutor> MakeExecutor(const SweepOptions& options) {
-  if (options.isolate_exe.empty()) return std::make_unique<InProcessExecutor>();
-  return std::make_unique<ChildProcessExecutor>(options.isolate_exe,
-                                                (fs::path(options.out_dir) / "runs").string());
+RunExecutors::RunExecutors(const SweepOptions& options) : options_(options) {
+  if (!options.ChildExe().empty()) {
+    child_ = std::make_unique<ChildProcessExecutor>(options.ChildExe(),
+                                                    (fs::path(options.out_dir) / "runs").string());
+  }
+}
+
+const RunExecutor& RunExecutors::For(const SweepRun& run) const {
+  if (child_ && options_.InChildProcess(run)) return *child_;
+  return in_process_;
 }
 
 RunRecord NewRecord(const SweepRun& run) {
@@ -527,12 +533,12 @@ SweepResult RunSweep(const SweepSpec& spec, const std::vector<SweepRun>& runs,
   SweepResult& result = plan.result;
   std::mutex mutex;  // guards result and progress
   Progress progress("sweep", plan.todo);
-  const std::unique_ptr<RunExecutor> executor = internal::MakeExecutor(options);
+  const internal::RunExecutors executors(options);
   // One run: compute it (a failure is recorded, not thrown), then store it. A
   // failure to store stops the sweep: ParallelFor starts no further run and
   // rethrows it once the runs in flight are done.
   const auto run_one = [&](const SweepRun& run) {
-    const RunRecord record = internal::ExecuteRun(run, options, *executor);
+    const RunRecord record = internal::ExecuteRun(run, options, executors.For(run));
     if (!record.ok) spdlog::warn("sweep: run {} ({}) failed: {}", run.index, run.key, record.error);
     plan.store->Put(record);
     std::lock_guard lock(mutex);

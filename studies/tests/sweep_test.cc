@@ -765,19 +765,53 @@ TEST(SweepOptions, EachRunGetsTheSweepsRunThreads) {
   }
 }
 
-TEST(SweepOptions, OneRasteriserThreadOnlyForRunsInProcessesOfTheirOwn) {
+TEST(SweepOptions, NoRasteriserThreadForRunsInProcessesOfTheirOwn) {
   SweepOptions o;
   o.out_dir = "x";
   o.jobs = 4;
   // Worker threads share the process's one rasteriser: Mesa's default.
   EXPECT_EQ(o.RasteriserThreads(1), std::nullopt);
-  // MPI ranks, and --isolate children side by side, fill the cores already.
-  EXPECT_EQ(o.RasteriserThreads(3), 1);
+  // MPI ranks, and --isolate children side by side, fill the cores already:
+  // each rasterises on its own thread.
+  EXPECT_EQ(o.RasteriserThreads(3), 0);
   o.isolate_exe = "/usr/bin/hcpf";
-  EXPECT_EQ(o.RasteriserThreads(1), 1);
+  EXPECT_EQ(o.RasteriserThreads(1), 0);
   // One child at a time may use every core.
   o.jobs = 1;
   EXPECT_EQ(o.RasteriserThreads(1), std::nullopt);
+  // Rendered runs side by side, each in a child of its own (render_exe).
+  o.isolate_exe.clear();
+  o.render_exe = "/usr/bin/hcpf";
+  EXPECT_EQ(o.RasteriserThreads(1), std::nullopt);
+  o.jobs = 2;
+  EXPECT_EQ(o.RasteriserThreads(1), 0);
+}
+
+// Two GL contexts on two threads of one process race inside llvmpipe: with
+// render_exe and several runs at once, a rendered run goes to a child
+// process, the others stay in worker threads; under isolate_exe every run.
+TEST(SweepOptions, RenderedRunsGoToChildProcessesWhenSeveralRunAtOnce) {
+  const auto dir = testing::SweepFolder("render-children");
+  const std::vector<SweepRun> runs = ExpandSweep(LoadSweepFile(testing::WriteSweep(
+      dir, "base: base.yaml\ngrid:\n  observation.source: [rendered, simulated]\n")));
+  ASSERT_EQ(runs.size(), 2u);
+  ASSERT_TRUE(runs[0].rendered());
+  ASSERT_FALSE(runs[1].rendered());
+  SweepOptions o;
+  o.out_dir = "x";
+  o.jobs = 2;
+  EXPECT_FALSE(o.InChildProcess(runs[0]));  // no executable: worker threads
+  EXPECT_EQ(o.ChildExe(), "");
+  o.render_exe = "/usr/bin/hcpf";
+  EXPECT_TRUE(o.InChildProcess(runs[0]));
+  EXPECT_FALSE(o.InChildProcess(runs[1]));
+  EXPECT_EQ(o.ChildExe(), "/usr/bin/hcpf");
+  o.jobs = 1;  // one run at a time: one context in the process
+  EXPECT_FALSE(o.InChildProcess(runs[0]));
+  o.isolate_exe = "/opt/hcpf";
+  EXPECT_TRUE(o.InChildProcess(runs[0]));
+  EXPECT_TRUE(o.InChildProcess(runs[1]));
+  EXPECT_EQ(o.ChildExe(), "/opt/hcpf");
 }
 
 }  // namespace

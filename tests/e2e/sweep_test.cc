@@ -462,6 +462,73 @@ TEST(SweepCli, IsolatedRunThatCrashesIsRecordedAndTheOthersFinish) {
   EXPECT_EQ(StoreRows(out / "results.sqlite"), StoreRows(dir / "threads" / "results.sqlite"));
 }
 
+// Two GL contexts on two threads of one process race inside llvmpipe (a
+// fence freed while a rasteriser thread signals it): with --jobs 2 each
+// rendered run is a child process of its own, without --isolate. Killing
+// one fails that run alone, as under --isolate, and the results are those
+// of --jobs 1, where the runs render in this process.
+TEST(SweepCli, RenderedRunsSideBySideEachRunInAProcessOfItsOwn) {
+  const fs::path dir = FreshDir("sweep-render-children");
+  std::ofstream(dir / "sweep.yaml") << "base: " << testing::LibraryScenario("crossing-dominant")
+                                    << "\nseeds: 4\n"
+                                       "grid:\n"
+                                       "  frames: [30]\n"
+                                       "  observation.source: [rendered]\n"
+                                       "  tracker.particles: [100, 300]\n";
+  const std::string sweep = (dir / "sweep.yaml").string();
+  const std::string cache = (dir / "cache").string();
+  const fs::path out = dir / "out";
+  const pid_t pid = Spawn({"sweep", sweep, "--out", out.string(), "--jobs", "2", "--cache", cache},
+                          dir / "sweep.log");
+  ASSERT_GT(pid, 0);
+  // Each child rasterises on its own thread: LP_NUM_THREADS=0 (kept when
+  // this test's environment sets it).
+  const char* lp = std::getenv("LP_NUM_THREADS");
+  const std::string lp_expected = std::string("LP_NUM_THREADS=") + (lp != nullptr ? lp : "0");
+  std::string child_environment;
+  bool crashed = false;
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(60);
+  while (!crashed && std::chrono::steady_clock::now() < deadline) {
+    for (const pid_t child : ChildrenOf(pid)) {
+      // Once it is `hcpf run` (exec'd): a child just forked shows the
+      // sweep's environment as it started.
+      const fs::path proc = fs::path("/proc") / std::to_string(child);
+      if (ReadFile(proc / "cmdline").find(std::string("\0run\0", 5)) == std::string::npos) {
+        continue;
+      }
+      child_environment = ReadFile(proc / "environ");
+      if (::kill(child, SIGSEGV) == 0) {
+        crashed = true;
+        break;
+      }
+    }
+  }
+  int status = 0;
+  ::waitpid(pid, &status, 0);
+  const std::string log = ReadFile(dir / "sweep.log");
+  ASSERT_TRUE(crashed) << "no child run was seen: " << log;
+  std::replace(child_environment.begin(), child_environment.end(), '\0', '\n');
+  EXPECT_NE(("\n" + child_environment + "\n").find("\n" + lp_expected + "\n"), std::string::npos)
+      << child_environment;
+  ASSERT_TRUE(WIFEXITED(status)) << log;
+  EXPECT_EQ(WEXITSTATUS(status), 1) << log;
+  EXPECT_NE(log.find("each rendered run in a process of its own (--jobs 2)"), std::string::npos)
+      << log;
+  EXPECT_NE(log.find("7 computed, 1 failed"), std::string::npos) << log;
+  EXPECT_NE(log.find("crashed: killed by signal 11"), std::string::npos) << log;
+  const auto again = RunCommand(kHcpf + " sweep " + sweep + " --out " + out.string() +
+                                " --jobs 2 --cache " + cache);
+  EXPECT_EQ(again.exit_code, 0) << again.output;
+  EXPECT_NE(again.output.find("7 reused, 1 computed, 0 failed"), std::string::npos) << again.output;
+  const auto one = RunCommand(kHcpf + " sweep " + sweep + " --out " + (dir / "one").string() +
+                              " --jobs 1 --cache " + cache);
+  ASSERT_EQ(one.exit_code, 0) << one.output;
+  EXPECT_EQ(one.output.find("process of its own"), std::string::npos) << one.output;
+  const auto rows = StoreRows(out / "results.sqlite");
+  EXPECT_EQ(rows.size(), 8U);
+  EXPECT_EQ(rows, StoreRows(dir / "one" / "results.sqlite"));
+}
+
 TEST(SweepCli, ShardsMergedEqualTheUnshardedSweepAndOtherSweepsAreRefused) {
   const fs::path dir = FreshDir("sweep-shards");
   const std::string sweep = WriteSweep(dir, 2);

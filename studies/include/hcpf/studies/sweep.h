@@ -215,6 +215,18 @@ struct SweepOptions {
   // (`hcpf run <resolved scenario>`), so a run that crashes is recorded as
   // failed and the sweep goes on. "" = runs in worker threads of this process.
   std::string isolate_exe;
+  // When set: the `hcpf` executable that runs each *rendered* run in a child
+  // process, as isolate_exe does, when several run at once (jobs > 1); the
+  // others stay in worker threads. `hcpf sweep` sets it outside MPI. Two GL
+  // contexts on two threads of one process share llvmpipe's one rasteriser,
+  // and a context can take and free a fence of the other's while a
+  // rasteriser thread still signals it (Mesa 22.3.6, seen by
+  // ThreadSanitizer; a sweep crashed once inside libOSMesa). A child renders
+  // with one context and no rasteriser thread (RasteriserThreads), where
+  // ThreadSanitizer reports nothing, and a run that crashes fails alone; it
+  // is also faster (docs/performance.md). "" = rendered runs in worker
+  // threads too (a library caller without the executable).
+  std::string render_exe;
   // Other sweep folders (`hcpf sweep --reuse`, any sweep's): a run this sweep
   // has not finished whose key (the resolved scenario's hash) one of them
   // holds finished, with its folder intact, is copied from there instead of
@@ -227,9 +239,15 @@ struct SweepOptions {
   // when the user has not, or nullopt for Mesa's default (one per core), given
   // how many MPI ranks were launched. A process has one llvmpipe rasteriser,
   // shared by every GL context in it: runs in worker threads leave it its
-  // threads; runs in processes of their own (MPI ranks, --isolate children
-  // with jobs > 1), which already fill the cores, get one each.
+  // threads; runs in processes of their own (MPI ranks, --isolate and
+  // render_exe children with jobs > 1), which already fill the cores, get 0:
+  // each rasterises on its own thread.
   std::optional<int> RasteriserThreads(int launched_ranks) const;
+  // Whether `run` is run in a child process: every run under isolate_exe;
+  // a rendered one under render_exe when jobs > 1.
+  bool InChildProcess(const SweepRun& run) const;
+  // The executable for InChildProcess's runs ("" when there are none).
+  const std::string& ChildExe() const { return isolate_exe.empty() ? render_exe : isolate_exe; }
 };
 
 struct SweepResult {

@@ -2322,16 +2322,17 @@ bool SameSpelledValue(const std::string& a, const std::string& b) {
 }
 
 // Whether `key` (dotted, list items by index) holds a quoted scalar in one
-// parsed resolved scenario; nullopt where it is not there. Throws
-// std::out_of_range for an index past size_t.
+// parsed resolved scenario; nullopt where it is not there (an index past
+// size_t included).
 std::optional<bool> TakesText(YAML::Node node, const std::string& key) {
   std::stringstream path(key);
   for (std::string part; node && std::getline(path, part, '.');) {
     // reset(), not =: assigning a node writes into the tree it was bound to.
     if (node.IsSequence() && !part.empty() &&
         part.find_first_not_of("0123456789") == std::string::npos) {
-      const size_t i = std::stoul(part);
-      node.reset(i < node.size() ? node[i] : YAML::Node());
+      size_t i = 0;
+      const auto [end, error] = std::from_chars(part.data(), part.data() + part.size(), i);
+      node.reset(error == std::errc() && i < node.size() ? node[i] : YAML::Node());
     } else if (node.IsMap()) {
       node.reset(node[part]);
     } else {
@@ -2353,8 +2354,8 @@ std::optional<bool> TakesText(const std::vector<std::string>& resolved, const st
   for (const std::string& text : resolved) {
     try {
       if (const std::optional<bool> found = TakesText(YAML::Load(text), key)) return found;
-    } catch (const std::exception&) {
-      continue;  // text that is not YAML, an index past size_t: not found here
+    } catch (const YAML::Exception&) {
+      continue;  // text that is not YAML: not found here
     }
   }
   return std::nullopt;
@@ -2388,13 +2389,7 @@ std::optional<bool> TakesText(const std::vector<std::string>& resolved, const st
     }
     read.insert(run.values[k]);
     ++files_read;
-    std::optional<bool> found;
-    try {
-      found = TakesText(root, key);
-    } catch (const std::exception&) {
-      continue;  // an index past size_t: not found in this file
-    }
-    if (found) return *found;
+    if (const std::optional<bool> found = TakesText(root, key)) return *found;
   }
   return std::nullopt;
 }

@@ -94,13 +94,15 @@ std::optional<Resolved> ReadableResolved(const fs::path& sweep, const RunRecord&
   return out;
 }
 
+// The dotted keys of the `seeds:` map.
+constexpr std::string_view kSeedsPrefix = "seeds.";
+
 // The `seeds.X` leaves of a resolved scenario, by key, as written.
 std::map<std::string, std::string> SeedLeaves(const config::YamlLeaves& leaves) {
   std::map<std::string, std::string> out;
-  constexpr std::string_view kPrefix = "seeds.";
-  for (auto it = leaves.lower_bound(std::string(kPrefix));
-       it != leaves.end() && it->first.starts_with(kPrefix); ++it) {
-    if (it->first.find_first_of(".[", kPrefix.size()) == std::string::npos) {
+  for (auto it = leaves.lower_bound(std::string(kSeedsPrefix));
+       it != leaves.end() && it->first.starts_with(kSeedsPrefix); ++it) {
+    if (it->first.find_first_of(".[", kSeedsPrefix.size()) == std::string::npos) {
       out.insert(*it);
     }
   }
@@ -116,7 +118,7 @@ std::set<std::string> DrawnLeaves(const config::YamlLeaves& leaves) {
   if (!seed) return out;
   out.insert("seed");
   for (const auto& [key, value] : SeedLeaves(leaves)) {
-    const std::string name = key.substr(std::string_view("seeds.").size());
+    const std::string name = key.substr(kSeedsPrefix.size());
     if (value == std::to_string(scenarios::DeriveSeed(*seed, name.c_str()))) out.insert(key);
   }
   return out;
@@ -155,19 +157,18 @@ RunCell FindRunCell(const std::string& sweep_dir, const std::string& run_dir,
   };
   best.keys = cell_values(swept);
   // The cells in the order of their first run (the expansion's); the row
-  // of the run's own folder, and its cell, when it is one of the store's.
+  // of the run's own folder when it is one of the store's.
   std::vector<std::vector<std::string>> order;
   std::map<std::vector<std::string>, std::vector<size_t>> rows_of;
   std::optional<size_t> own_row;
-  std::optional<std::vector<std::string>> own;
   for (size_t i = 0; i < runs.size(); ++i) {
     const std::vector<std::string> values = cell_values(runs[i].values);
     auto [it, inserted] = rows_of.try_emplace(values);
     if (inserted) order.push_back(values);
     it->second.push_back(i);
-    if (!own && !runs[i].run_dir.empty() && fs::equivalent(dir / runs[i].run_dir, run_dir, ec)) {
+    if (!own_row && !runs[i].run_dir.empty() &&
+        fs::equivalent(dir / runs[i].run_dir, run_dir, ec)) {
       own_row = i;
-      own = values;
     }
   }
   // Each cell compared through the first two of its runs whose folders
@@ -248,10 +249,12 @@ RunCell FindRunCell(const std::string& sweep_dir, const std::string& run_dir,
   auto chosen = std::min_element(
       compared.begin(), compared.end(),
       [&](const Compared& a, const Compared& b) { return nearness(a) < nearness(b); });
-  if (own) {
+  if (own_row) {
     // A's own cell, whatever its other files hold: A is one of its runs.
     const auto it = std::find_if(compared.begin(), compared.end(),
-                                 [&](const Compared& c) { return *c.values == *own; });
+                                 [&, own = cell_values(runs[*own_row].values)](const Compared& c) {
+                                   return *c.values == own;
+                                 });
     if (it != compared.end()) {
       chosen = it;
       chosen->differ.clear();

@@ -787,9 +787,9 @@ TEST(SweepOptions, NoRasteriserThreadForRunsInProcessesOfTheirOwn) {
   EXPECT_EQ(o.RasteriserThreads(1), 0);
 }
 
-// Two GL contexts on two threads of one process race inside llvmpipe: with
-// render_exe and several runs at once, a rendered run goes to a child
-// process, the others stay in worker threads; under isolate_exe every run.
+// llvmpipe's fences race between threads (docs/sweeps.md): with render_exe
+// and several runs at once, a rendered run goes to a child process, the
+// others stay in worker threads; under isolate_exe every run.
 TEST(SweepOptions, RenderedRunsGoToChildProcessesWhenSeveralRunAtOnce) {
   const auto dir = testing::SweepFolder("render-children");
   const std::vector<SweepRun> runs = ExpandSweep(LoadSweepFile(testing::WriteSweep(

@@ -2331,8 +2331,9 @@ std::optional<bool> TakesText(YAML::Node node, const std::string& key) {
     if (node.IsSequence() && !part.empty() &&
         part.find_first_not_of("0123456789") == std::string::npos) {
       size_t i = 0;
-      const auto [end, error] = std::from_chars(part.data(), part.data() + part.size(), i);
-      node.reset(error == std::errc() && i < node.size() ? node[i] : YAML::Node());
+      const bool read =
+          std::from_chars(part.data(), part.data() + part.size(), i).ec == std::errc();
+      node.reset(read && i < node.size() ? node[i] : YAML::Node());
     } else if (node.IsMap()) {
       node.reset(node[part]);
     } else {

@@ -143,20 +143,13 @@ Command AddSweepCommand(CLI::App& parent) {
           if (ec) {
             spdlog::warn(
                 "sweep: the hcpf executable was not found (/proc/self/exe): rendered runs share "
-                "this process, where llvmpipe's fences race between threads (docs/sweeps.md)");
+                "this process, where they render in turn (docs/sweeps.md)");
           } else {
             spdlog::info(
-                "sweep: each rendered run in a process of its own (--jobs {}), rasterising on "
-                "its own thread: llvmpipe's fences race between threads (docs/sweeps.md)",
+                "sweep: each rendered run in a process of its own (--jobs {}), so that they "
+                "render side by side (docs/sweeps.md)",
                 sweep_options.jobs);
           }
-        }
-        // Rendered runs: llvmpipe's rasteriser threads (SweepOptions::
-        // RasteriserThreads). Must be set before the first GL context; an
-        // explicit setting is kept.
-        if (const std::optional<int> threads =
-                sweep_options.RasteriserThreads(studies::LaunchedRankCount())) {
-          ::setenv("LP_NUM_THREADS", std::to_string(*threads).c_str(), 0);
         }
         const CacheLimit cache_limit(rendered ? sweep_options.frame_cache_dir : "");
         CacheLimit::HideFromChildren();

@@ -8,7 +8,9 @@
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
 
+#include <cstdlib>
 #include <cstring>
+#include <mutex>
 #include <type_traits>
 #include <vector>
 
@@ -345,6 +347,12 @@ std::vector<EglDeviceDescription> QueryEglDevices() {
 }
 
 std::unique_ptr<GlContext> GlContext::Create(GlBackend backend) {
+  // Before the first context: llvmpipe reads LP_NUM_THREADS once, when its
+  // screen is made (the header says why 0). Once, so that no later call
+  // writes the environment while another thread may read it.
+  static std::once_flag rasterise_on_the_calling_thread;
+  std::call_once(rasterise_on_the_calling_thread,
+                 [] { ::setenv("LP_NUM_THREADS", "0", /*overwrite=*/0); });
   // Enumerating EGL devices loads the EGL vendor libraries; OSMesa alone
   // needs none of that.
   const std::vector<EglDeviceDescription> devices =

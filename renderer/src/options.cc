@@ -38,8 +38,6 @@ std::span<const Field<RendererOptions>> RendererOptions::Fields() {
       NumberField("road_width_m", &O::road_width_m,
                   AboveUpTo(0, std::numeric_limits<double>::infinity()), "m",
                   "width of roads along target paths"),
-      IntegerField("lp_num_threads", &O::lp_num_threads, 0, 256, "",
-                   "llvmpipe rasteriser threads; 0 = leave as is"),
   };
   return fields;
 }

@@ -1396,12 +1396,7 @@ std::unique_ptr<SceneRenderer> SceneRenderer::Create(const WorldSpec& world,
   if (world.camera.path.empty()) {
     throw InputError(SourceLocation{.key = "camera.path"}, "at least one keyframe", "none");
   }
-  if (!context) {
-    if (options.lp_num_threads > 0 && std::getenv("LP_NUM_THREADS") == nullptr) {
-      setenv("LP_NUM_THREADS", std::to_string(options.lp_num_threads).c_str(), 0);
-    }
-    context = GlContext::Create(options.backend);
-  }
+  if (!context) context = GlContext::Create(options.backend);
   return std::make_unique<GlSceneRenderer>(world, options, rng, std::move(context));
 }
 

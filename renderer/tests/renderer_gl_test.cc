@@ -11,6 +11,7 @@
 #include <filesystem>
 #include <fstream>
 #include <numbers>
+#include <optional>
 #include <string>
 #include <thread>
 #include <vector>
@@ -30,6 +31,13 @@ namespace hcpf::renderer {
 namespace {
 
 std::shared_ptr<GlContext> g_context;
+
+// LP_NUM_THREADS as this process started (static initialisation, before the
+// environment below makes the first context), unset = nullopt.
+const std::optional<std::string> g_lp_num_threads_at_start =
+    std::getenv("LP_NUM_THREADS") != nullptr
+        ? std::optional<std::string>(std::getenv("LP_NUM_THREADS"))
+        : std::nullopt;
 
 class GlEnvironment final : public ::testing::Environment {
  public:
@@ -725,27 +733,59 @@ int LlvmpipeThreads() {
   return n;
 }
 
-// hcpf sweep leaves llvmpipe its rasteriser threads when runs share a process
-// (SweepOptions::RasteriserThreads), because a process has one rasteriser
-// for all its contexts: one thread there would render every worker's frames
-// in turn. This checks that premise on the Mesa in use: a second context,
-// drawing on a second thread, starts no rasteriser thread of its own.
+// llvmpipe's rasteriser threads race on fences (gl_context.h): the first
+// context of a process sets LP_NUM_THREADS=0, so frames are rasterised on
+// the thread that draws them, when the environment did not ask for threads.
+TEST_F(RendererGl, RasterisesOnTheDrawingThreadUnlessAskedForThreads) {
+  if (g_context->info().renderer.find("llvmpipe") == std::string::npos) {
+    GTEST_SKIP() << "not llvmpipe: " << g_context->info().renderer;
+  }
+  if (g_lp_num_threads_at_start) {
+    GTEST_SKIP() << "LP_NUM_THREADS=" << *g_lp_num_threads_at_start
+                 << " set for this test: kept (ContextsOfOneProcessShareOneRasteriser)";
+  }
+  const RenderedFrame f = Make(NadirWorld(50.0))->Render(0);
+  EXPECT_EQ(f.rgb.width, kWidth);
+  ASSERT_NE(std::getenv("LP_NUM_THREADS"), nullptr);
+  EXPECT_STREQ(std::getenv("LP_NUM_THREADS"), "0");
+  EXPECT_EQ(LlvmpipeThreads(), 0);
+}
+
+// A process has one llvmpipe rasteriser for all its GL contexts, so contexts
+// drawing on two threads render in turn, whence hcpf sweep's rendered runs in
+// processes of their own (SweepOptions::render_exe). This checks that
+// premise on the Mesa in use, in a child process asking for two rasteriser
+// threads (an explicit LP_NUM_THREADS is kept): a second context, drawing on
+// a second thread, starts no rasteriser thread of its own.
 TEST_F(RendererGl, ContextsOfOneProcessShareOneRasteriser) {
   if (g_context->info().renderer.find("llvmpipe") == std::string::npos) {
     GTEST_SKIP() << "not llvmpipe: " << g_context->info().renderer;
   }
-  Make(NadirWorld(50.0))->Render(0);
-  const int threads = LlvmpipeThreads();
-  if (threads == 0) GTEST_SKIP() << "LP_NUM_THREADS=0: llvmpipe rasterises on the calling thread";
-  std::thread second([&] {
-    const std::shared_ptr<GlContext> context =
-        GlContext::Create(ParseGlBackend(HCPF_TEST_GL_BACKEND));
-    const RenderedFrame f = SceneRenderer::Create(NadirWorld(50.0), {}, Rng(1), context)->Render(0);
-    EXPECT_EQ(f.rgb.width, kWidth);
-    EXPECT_EQ(LlvmpipeThreads(), threads);
-  });
-  second.join();
-  EXPECT_EQ(LlvmpipeThreads(), threads);
+  // The child is this binary run again with this environment: its first
+  // context (the test environment's) is made with two threads.
+  ::setenv("LP_NUM_THREADS", "2", /*overwrite=*/1);
+  GTEST_FLAG_SET(death_test_style, "threadsafe");
+  EXPECT_EXIT(
+      {
+        Make(NadirWorld(50.0))->Render(0);
+        const int first = LlvmpipeThreads();
+        int beside = -1;
+        std::thread second([&] {
+          const std::shared_ptr<GlContext> context =
+              GlContext::Create(ParseGlBackend(HCPF_TEST_GL_BACKEND));
+          SceneRenderer::Create(NadirWorld(50.0), {}, Rng(1), context)->Render(0);
+          beside = LlvmpipeThreads();
+        });
+        second.join();
+        std::fprintf(stderr, "rasteriser threads: %d %d\n", first, beside);
+        std::exit(0);
+      },
+      ::testing::ExitedWithCode(0), "rasteriser threads: 2 2\n");
+  if (g_lp_num_threads_at_start) {
+    ::setenv("LP_NUM_THREADS", g_lp_num_threads_at_start->c_str(), 1);
+  } else {
+    ::setenv("LP_NUM_THREADS", "0", 1);  // as the first context left it
+  }
 }
 
 using RendererGlDeathTest = RendererGl;

@@ -819,21 +819,6 @@ void SweepOptions::Validate() const {
   }
 }
 
-std::optional<int> SweepOptions::RasteriserThreads(int launched_ranks) const {
-  // One llvmpipe screen per process, and one rasteriser per screen: it takes
-  // every context's scenes in turn (with 0 threads each context rasterises on
-  // its own thread, but under the screen's lock). Worker threads of one
-  // process can only render in parallel through that rasteriser's threads.
-  // Runs in processes of their own, side by side, fill the cores already and
-  // rasterise on their own thread (0): no rasteriser thread signals a fence
-  // the run's thread may free after reading it signalled without its lock
-  // (llvmpipe 22.3.6; ThreadSanitizer reports that race with 1 thread and
-  // nothing with 0, docs/sweeps.md), and one core's work goes 5-15 % faster.
-  const bool own_processes = launched_ranks > 1 || (!ChildExe().empty() && jobs > 1);
-  if (own_processes) return 0;
-  return std::nullopt;
-}
-
 bool SweepOptions::InChildProcess(const SweepRun& run) const {
   if (!isolate_exe.empty()) return true;
   return !render_exe.empty() && jobs > 1 && run.rendered();

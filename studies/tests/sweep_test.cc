@@ -765,30 +765,8 @@ TEST(SweepOptions, EachRunGetsTheSweepsRunThreads) {
   }
 }
 
-TEST(SweepOptions, NoRasteriserThreadForRunsInProcessesOfTheirOwn) {
-  SweepOptions o;
-  o.out_dir = "x";
-  o.jobs = 4;
-  // Worker threads share the process's one rasteriser: Mesa's default.
-  EXPECT_EQ(o.RasteriserThreads(1), std::nullopt);
-  // MPI ranks, and --isolate children side by side, fill the cores already:
-  // each rasterises on its own thread.
-  EXPECT_EQ(o.RasteriserThreads(3), 0);
-  o.isolate_exe = "/usr/bin/hcpf";
-  EXPECT_EQ(o.RasteriserThreads(1), 0);
-  // One child at a time may use every core.
-  o.jobs = 1;
-  EXPECT_EQ(o.RasteriserThreads(1), std::nullopt);
-  // Rendered runs side by side, each in a child of its own (render_exe).
-  o.isolate_exe.clear();
-  o.render_exe = "/usr/bin/hcpf";
-  EXPECT_EQ(o.RasteriserThreads(1), std::nullopt);
-  o.jobs = 2;
-  EXPECT_EQ(o.RasteriserThreads(1), 0);
-}
-
-// llvmpipe's fences race between threads (docs/sweeps.md): with render_exe
-// and several runs at once, a rendered run goes to a child process, the
+// A process's GL contexts share llvmpipe's one rasteriser (docs/sweeps.md):
+// with render_exe and several runs at once, a rendered run goes to a child process, the
 // others stay in worker threads; under isolate_exe every run.
 TEST(SweepOptions, RenderedRunsGoToChildProcessesWhenSeveralRunAtOnce) {
   const auto dir = testing::SweepFolder("render-children");

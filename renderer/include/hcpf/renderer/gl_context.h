@@ -18,6 +18,15 @@
 // softpipe, which is about 20x slower than llvmpipe.
 //
 // One context per thread: MakeCurrent() binds it to the calling thread.
+//
+// llvmpipe (Mesa's software rasteriser, behind OSMesa and software EGL)
+// rasterises on the thread that draws: the first Create of a process sets
+// LP_NUM_THREADS=0 unless the environment sets it. With rasteriser threads,
+// Mesa 22.3.6 frees a scene's fence after reading it signalled without its
+// lock while the rasteriser thread that signalled it still holds that lock
+// (ThreadSanitizer reports it in every `hcpf run` on a busy machine; a sweep
+// crashed once inside libOSMesa), docs/renderer.md. LP_NUM_THREADS=N asks
+// for N threads anyway; a GPU's driver ignores the variable.
 
 #include <memory>
 #include <span>

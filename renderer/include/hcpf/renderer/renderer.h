@@ -74,12 +74,9 @@ struct RendererOptions {
   // the drawn mesh; the default (400 m / 48 = 8.3 m cells) stays within
   // ~0.1 x relief of the analytic field and keeps the terrain ~4.6k triangles.
   int terrain_grid = 48;
-  int texture_size = 256;        // procedural texture size (power of two, [16, 2048])
-  double texture_tile_m = 12.0;  // ground texture repeat length (m), > 0
-  double road_width_m = 7.0;     // width of roads along target paths (terrain.roads), > 0
-  // Hint for llvmpipe's rasteriser threads: sets LP_NUM_THREADS before the
-  // first context is created unless the environment already sets it; 0 = leave.
-  int lp_num_threads = 0;
+  int texture_size = 256;            // procedural texture size (power of two, [16, 2048])
+  double texture_tile_m = 12.0;      // ground texture repeat length (m), > 0
+  double road_width_m = 7.0;         // width of roads along target paths (terrain.roads), > 0
   bool ground_truth = true;          // run the instance-id / count passes
   bool output_depth = false;         // fill RenderedFrame::depth
   bool output_instance_ids = false;  // fill RenderedFrame::instance_ids

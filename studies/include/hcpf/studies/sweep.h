@@ -217,16 +217,13 @@ struct SweepOptions {
   std::string isolate_exe;
   // When set: the `hcpf` executable that runs each *rendered* run in a child
   // process, as isolate_exe does, when several run at once (jobs > 1); the
-  // others stay in worker threads. `hcpf sweep` sets it outside MPI. Two GL
-  // contexts on two threads of one process share llvmpipe's one rasteriser,
-  // and a context can take and free a fence of the other's while a
-  // rasteriser thread still signals it (Mesa 22.3.6, seen by
-  // ThreadSanitizer; a sweep crashed once inside libOSMesa). A child renders
-  // with one context and no rasteriser thread (RasteriserThreads), where
-  // ThreadSanitizer reports nothing, and a run that crashes fails alone;
-  // about 20 % faster where frames take the time, 20 % slower where
-  // detectors do (docs/performance.md). "" = rendered runs in worker threads
-  // too (a library caller without the executable).
+  // others stay in worker threads. `hcpf sweep` sets it outside MPI. The GL
+  // contexts of one process share llvmpipe's one rasteriser, which each
+  // process runs on the thread that draws (GlContext::Create: its threads
+  // race on fences), so contexts on two threads would render in turn under
+  // its lock; children render side by side, and a run that crashes fails
+  // alone (docs/sweeps.md, docs/performance.md). "" = rendered runs in
+  // worker threads too (a library caller without the executable).
   std::string render_exe;
   // Other sweep folders (`hcpf sweep --reuse`, any sweep's): a run this sweep
   // has not finished whose key (the resolved scenario's hash) one of them
@@ -236,14 +233,6 @@ struct SweepOptions {
   // tracker's runs are never copied (its program is in the key by path).
   std::vector<std::string> reuse_dirs;
   void Validate() const;
-  // Rendered runs: the llvmpipe rasteriser threads (LP_NUM_THREADS) to set
-  // when the user has not, or nullopt for Mesa's default (one per core), given
-  // how many MPI ranks were launched. A process has one llvmpipe rasteriser,
-  // shared by every GL context in it: runs in worker threads leave it its
-  // threads; runs in processes of their own (MPI ranks, --isolate and
-  // render_exe children with jobs > 1), which already fill the cores, get 0:
-  // each rasterises on its own thread.
-  std::optional<int> RasteriserThreads(int launched_ranks) const;
   // Whether `run` is run in a child process: every run under isolate_exe;
   // a rendered one under render_exe when jobs > 1.
   bool InChildProcess(const SweepRun& run) const;

@@ -54,9 +54,7 @@ Command AddRenderCommand(CLI::App& parent) {
         for (const auto& s : options->sets) overrides.push_back(scenarios::ParseOverride(s));
         const scenarios::Scenario scenario = scenarios::LoadScenarioFromCommandLine(
             options->file, overrides, scenarios::ScenarioUse::kRender);
-        if (const std::string note = scenarios::CameraTurnNote(scenario); !note.empty()) {
-          spdlog::warn("{}", note);
-        }
+        for (const std::string& note : scenarios::SceneNotes(scenario)) spdlog::warn("{}", note);
         scenarios::RenderFolderOptions render_options;
         render_options.out_dir = options->out;
         render_options.cache_dir =

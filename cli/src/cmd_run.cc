@@ -51,9 +51,11 @@ Command AddRunCommand(CLI::App& parent) {
             for (const auto& s : options->sets) overrides.push_back(scenarios::ParseOverride(s));
             const scenarios::Scenario scenario =
                 scenarios::LoadScenarioFromCommandLine(options->file, overrides);
-            for (const std::string& note :
-                 {scenarios::LargeScenarioNote(scenario), scenarios::CameraTurnNote(scenario)}) {
-              if (!note.empty()) spdlog::warn("{}", note);
+            if (const std::string note = scenarios::LargeScenarioNote(scenario); !note.empty()) {
+              spdlog::warn("{}", note);
+            }
+            for (const std::string& note : scenarios::SceneNotes(scenario)) {
+              spdlog::warn("{}", note);
             }
             scenarios::RunOptions run_options;
             run_options.out_dir = options->out;

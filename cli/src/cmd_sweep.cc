@@ -157,7 +157,7 @@ Command AddSweepCommand(CLI::App& parent) {
         if (studies::IsFirstLaunchedRank()) {
           for (const std::string& note :
                {studies::ZippedPoolNote(spec), studies::SeedsForHolmNote(spec),
-                studies::CameraTurnNote(spec, runs)}) {
+                studies::CameraTurnNote(spec, runs), studies::TargetOverlapNote(spec, runs)}) {
             if (!note.empty()) spdlog::warn("{}", note);
           }
         }

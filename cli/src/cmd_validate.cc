@@ -54,7 +54,7 @@ Command AddValidateCommand(CLI::App& parent) {
                            options->file, runs.size(), runs.size() / seeds, seeds);
               for (const std::string& note :
                    {studies::ZippedPoolNote(spec), studies::SeedsForHolmNote(spec),
-                    studies::CameraTurnNote(spec, runs)}) {
+                    studies::CameraTurnNote(spec, runs), studies::TargetOverlapNote(spec, runs)}) {
                 if (!note.empty()) spdlog::warn("{}", note);
               }
               return 0;
@@ -67,9 +67,11 @@ Command AddValidateCommand(CLI::App& parent) {
             spdlog::info("{}: valid scenario \"{}\" ({} frames, {} target{})", options->file,
                          scenario.name, scenario.world.frames, scenario.world.targets.size(),
                          scenario.world.targets.size() == 1 ? "" : "s");
-            for (const std::string& note :
-                 {scenarios::LargeScenarioNote(scenario), scenarios::CameraTurnNote(scenario)}) {
-              if (!note.empty()) spdlog::warn("{}", note);
+            if (const std::string note = scenarios::LargeScenarioNote(scenario); !note.empty()) {
+              spdlog::warn("{}", note);
+            }
+            for (const std::string& note : scenarios::SceneNotes(scenario)) {
+              spdlog::warn("{}", note);
             }
             return 0;
           }};

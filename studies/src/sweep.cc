@@ -532,6 +532,33 @@ std::string CameraTurnNote(const SweepSpec& spec, const std::vector<SweepRun>& r
       scenarios::CameraTurnReason());
 }
 
+std::string TargetOverlapNote(const SweepSpec& spec, const std::vector<SweepRun>& runs) {
+  int64_t cells = 0, overlapping = 0;
+  std::string first_note;  // the first overlapping cell's, and that cell
+  std::vector<std::string> first_cell;
+  for (const SweepRun& run : runs) {
+    if (run.seed_index != 0 || !run.cell) continue;  // a cell's seeds share its paths
+    ++cells;
+    std::string note = scenarios::TargetOverlapNote(*run.cell);
+    if (note.empty() || ++overlapping > 1) continue;
+    first_note = std::move(note);
+    const std::vector<std::string> keys = spec.SweptKeys();
+    for (size_t k = 0; k < keys.size() && k < run.values.size(); ++k) {
+      first_cell.push_back(fmt::format("{} = {}", keys[k], run.values[k]));
+    }
+  }
+  if (overlapping == 0) return {};
+  const std::string file = spec.file.empty() ? std::string("sweep") : spec.file;
+  if (overlapping == cells) {
+    return fmt::format("{}: in {}: {}", file,
+                       cells == 1 ? std::string("its cell") : fmt::format("all {} cells", cells),
+                       cells == 1 ? first_note : "the first says " + first_note);
+  }
+  return fmt::format(
+      "{}: in {} of {} cells two targets drive through each other; the first, {}: {}", file,
+      overlapping, cells, fmt::join(first_cell, ", "), first_note);
+}
+
 std::vector<std::string> SweepSpec::SweptKeys() const {
   std::vector<std::string> keys;
   for (const SweepAxis& a : grid) keys.push_back(a.key);

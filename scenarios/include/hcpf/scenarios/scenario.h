@@ -394,4 +394,34 @@ std::string CameraTurnNote(const Scenario& scenario);
 // CameraTurnNote, shared with the sweep's note.
 std::string CameraTurnReason();
 
+// Two targets whose ground footprints (length x width about the base, turned
+// to the heading: TargetSpec::dimensions_m, a model's bounds unless given)
+// interpenetrate by more than kTargetOverlapDepthM: vehicles driving through
+// each other. The depth is how far one must move to clear the other, the
+// least overlap of their projections on the rectangles' four edge normals.
+// `first_frame`..`last_frame` is the first stretch of such frames, `frames`
+// counts them all, `deepest_m` is the greatest depth.
+struct TargetOverlap {
+  ObjectId a{}, b{};  // in the order of `targets`
+  int first_frame = 0;
+  int last_frame = 0;
+  int frames = 0;
+  double deepest_m = 0.0;
+};
+// 10 cm: beyond the slack of a model's bounding box (mirrors, wheels), so
+// that a convoy bumper to bumper or neighbours in adjacent lanes are not
+// reported, while vehicles that cross within a car length of each other are.
+inline constexpr double kTargetOverlapDepthM = 0.1;
+// Every overlapping pair, ordered by the frame its overlap starts, then by
+// the targets' order.
+std::vector<TargetOverlap> TargetOverlaps(const WorldSpec& world);
+// A one-line note naming the first pair (and how many pairs overlap), or ""
+// when none does.
+std::string TargetOverlapNote(const Scenario& scenario);
+
+// The notes on the scene itself that `hcpf validate`, `hcpf run` and `hcpf
+// render` print as warnings, those that apply: CameraTurnNote,
+// TargetOverlapNote.
+std::vector<std::string> SceneNotes(const Scenario& scenario);
+
 }  // namespace hcpf::scenarios

@@ -185,6 +185,12 @@ std::string ZippedPoolNote(const SweepSpec& spec);
 // most; "" when none does. `hcpf validate` and `hcpf sweep` print it.
 std::string CameraTurnNote(const SweepSpec& spec, const std::vector<SweepRun>& runs);
 
+// Before anything runs: scenarios::TargetOverlapNote for a sweep, a warning
+// when two targets drive through each other in any cell, counting those
+// cells and naming the first with its note; "" when none. `hcpf validate`
+// and `hcpf sweep` print it.
+std::string TargetOverlapNote(const SweepSpec& spec, const std::vector<SweepRun>& runs);
+
 // The run list in expansion order (see top). Every run's scenario is loaded
 // and validated; a bad swept value throws InputError naming the sweep file
 // line of that value.

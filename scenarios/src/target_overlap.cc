@@ -4,10 +4,11 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
+#include <cstdint>
 #include <limits>
 #include <numbers>
-#include <optional>
 #include <tuple>
 #include <unordered_map>
 
@@ -53,8 +54,9 @@ double PenetrationDepth(const Footprint& a, const Footprint& b) {
   if ((b.centre - a.centre).norm() >= a.radius + b.radius) return 0.0;
   double depth = std::numeric_limits<double>::infinity();
   for (const Footprint* f : {&a, &b}) {
-    for (const Eigen::Vector2d& axis : f->axes)
+    for (const Eigen::Vector2d& axis : f->axes) {
       depth = std::min(depth, ProjectionOverlap(a, b, axis));
+    }
   }
   return depth;
 }
@@ -127,7 +129,7 @@ std::string TargetOverlapNote(const Scenario& scenario) {
   const TargetOverlap& o = overlaps.front();
   const std::string stretch = o.frames == o.last_frame - o.first_frame + 1
                                   ? fmt::format("at frames {}-{}", o.first_frame, o.last_frame)
-                                  : fmt::format("first at frames {}-{}, {} frames in all,",
+                                  : fmt::format("first at frames {}-{} ({} frames in all)",
                                                 o.first_frame, o.last_frame, o.frames);
   return fmt::format(
       "targets {} and {} drive through each other {}: their footprints (length x width about the "

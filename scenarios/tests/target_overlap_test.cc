@@ -117,14 +117,20 @@ TEST(TargetOverlaps, TurnedFootprintsAreTestedOnTheirOwnAxes) {
 TEST(TargetOverlaps, TheFirstStretchIsNamedAndEveryFrameCounted) {
   TargetSpec there_and_back = Moving(1, {-10, 0}, {10, 0}, 4, 2);
   there_and_back.path.waypoints_m.push_back({-10, 0});
-  const std::vector<TargetOverlap> overlaps =
-      TargetOverlaps(World(81, {there_and_back, Standing(2, {0, 0}, 90, 4, 2)}));
+  Scenario scenario;
+  scenario.world = World(81, {there_and_back, Standing(2, {0, 0}, 90, 4, 2)});
+  const std::vector<TargetOverlap> overlaps = TargetOverlaps(scenario.world);
   ASSERT_EQ(overlaps.size(), 1u);
   // Out: x = 0.5 f - 10, |x| < 2.9 for f in 15..25; back: x = 30 - 0.5 f for
   // f in 55..65.
   EXPECT_EQ(overlaps[0].first_frame, 15);
   EXPECT_EQ(overlaps[0].last_frame, 25);
   EXPECT_EQ(overlaps[0].frames, 22);
+  const std::string note = TargetOverlapNote(scenario);
+  EXPECT_NE(note.find("targets 1 and 2 drive through each other first at frames 15-25 (22 frames "
+                      "in all): "),
+            std::string::npos)
+      << note;
 }
 
 // The note names the pair and the frames; it is one of the scene's notes

@@ -495,6 +495,8 @@ RunSummary RunScenario(const Scenario& scenario, const RunOptions& options) {
   nlohmann::json manifest = ManifestProvenance("hcpf-run/1", scenario, scene);
   manifest["observation_source"] =
       scenario.observation.source == ObservationSource::kRendered ? "rendered" : "simulated";
+  // What hcpf validate, run and render warn of the scene, for the report.
+  manifest["scene_notes"] = SceneNotes(scenario);
   if (scenario.observation.oracle()) {
     manifest["detector"] = "oracle (noisy ground truth)";
   } else {

@@ -181,6 +181,17 @@ const json& JsonMember(const json& j, const char* key) {
   return j.is_object() && j.contains(key) ? j[key] : kNull;
 }
 
+// What hcpf validate, run and render warned of the scene (manifest.json
+// scene_notes: targets driving through each other, an image turning at
+// once), kept with the results; "" when nothing (or an older run's manifest).
+std::string SceneNotesSentence(const json& manifest) {
+  const json& notes = JsonMember(manifest, "scene_notes");
+  if (!notes.is_array() || notes.empty()) return "";
+  std::string h = "<p><strong>The scene:</strong></p>\n<ul>\n";
+  for (const json& note : notes) h += "<li>" + EscapeMarkup(note.get<std::string>()) + "</li>\n";
+  return h + "</ul>\n";
+}
+
 // Where a rendered run's frames came from (manifest.json frames_rendered,
 // gl_renderer, frames_from_cache, frame_cache_renderers): one sentence, or ""
 // for a run without rendered frames. Frames of different GL renderers may
@@ -1067,6 +1078,12 @@ void CheckRunManifest(const json& manifest, const fs::path& path) {
   }
   for (const char* key : {"timings", "files", "libraries", "seeds", "tracker", "video"}) {
     if (manifest.contains(key) && !manifest[key].is_object()) bad(key, "an object");
+  }
+  if (manifest.contains("scene_notes") &&
+      (!manifest["scene_notes"].is_array() ||
+       !std::all_of(manifest["scene_notes"].begin(), manifest["scene_notes"].end(),
+                    [](const json& note) { return note.is_string(); }))) {
+    bad("scene_notes", "a list of texts");
   }
 }
 
@@ -2221,6 +2238,7 @@ ReportResult WriteRunReport(const ReportOptions& options) {
       EscapeMarkup(JsonText(manifest, "detector")), EscapeMarkup(TrackerText(run)),
       EscapeMarkup(JsonText(manifest, "config_hash")));
   h += FramesSentence(manifest);
+  h += SceneNotesSentence(manifest);
 
   // Frame numbers link to the overlay videos where one plays in a browser.
   const bool videos_play = run.video_plays || (other && other->video_plays);

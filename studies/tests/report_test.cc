@@ -1969,6 +1969,42 @@ TEST(RunReport, ShowsTheOverlayVideoAndLinksItsFrames) {
 // rendered and by which GL renderer, how many read from the frame cache and
 // which renderers stored frames there, two of them in bold (they may mix).
 // A detection-level run (no frames) says nothing of frames.
+// What hcpf validate, run and render warn of the scene goes into the run's
+// manifest.json (scene_notes) and the report says it under the header: here
+// kMinimal's two vehicles, run long enough to meet at the crossing.
+TEST(RunReport, SaysWhatWasWarnedOfTheScene) {
+  const auto dir = testing::SweepFolder("run-report-scene-notes");
+  const fs::path quiet = RunMinimal(dir, "none");
+  EXPECT_EQ(nlohmann::json::parse(Read(quiet / "manifest.json"))["scene_notes"],
+            nlohmann::json::array());
+  EXPECT_EQ(Read(WriteReport({.dir = quiet.string()}).html_path).find("The scene:"),
+            std::string::npos);
+  const fs::path meeting = dir / "meeting";
+  const scenarios::Scenario scenario = scenarios::LoadScenarioText(
+      scenarios::testing::kMinimal, "base.yaml", {{"frames", "200"}, {"tracker.particles", "50"}});
+  scenarios::RunScenario(scenario, {.out_dir = meeting.string()});
+  const nlohmann::json notes =
+      nlohmann::json::parse(Read(meeting / "manifest.json"))["scene_notes"];
+  ASSERT_EQ(notes.size(), 1u) << notes.dump();
+  const std::string note = notes[0].get<std::string>();
+  EXPECT_EQ(note.rfind("targets 1 and 2 drive through each other at frames ", 0), 0u) << note;
+  const std::string html = Read(WriteReport({.dir = meeting.string()}).html_path);
+  EXPECT_NE(html.find("<p><strong>The scene:</strong></p>\n<ul>\n<li>" + note.substr(0, 60)),
+            std::string::npos)
+      << html.substr(0, 3000);
+  // A manifest whose notes are not texts is refused, naming the key.
+  nlohmann::json manifest = nlohmann::json::parse(Read(meeting / "manifest.json"));
+  manifest["scene_notes"] = {1, 2};
+  std::ofstream(meeting / "manifest.json") << manifest.dump(2);
+  try {
+    WriteReport({.dir = meeting.string()});
+    FAIL() << "scene_notes [1, 2] accepted";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("scene_notes"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("a list of texts"), std::string::npos) << e.what();
+  }
+}
+
 TEST(RunReport, SaysWhichRendererMadeTheFrames) {
   const auto dir = testing::SweepFolder("run-report-frames");
   const fs::path run = RunMinimal(dir, "none");

@@ -364,6 +364,21 @@ size_t ZipCells(const SweepSpec& spec) {
   return cells.size();
 }
 
+// What a sweep's notes begin with: its file, or "sweep" for one made in code.
+std::string NoteSubject(const SweepSpec& spec) {
+  return spec.file.empty() ? std::string("sweep") : spec.file;
+}
+
+// `run`'s cell, "key = value" for each swept key, in the sweep's order.
+std::vector<std::string> CellValues(const SweepSpec& spec, const SweepRun& run) {
+  const std::vector<std::string> keys = spec.SweptKeys();
+  std::vector<std::string> cell;
+  for (size_t k = 0; k < keys.size() && k < run.values.size(); ++k) {
+    cell.push_back(fmt::format("{} = {}", keys[k], run.values[k]));
+  }
+  return cell;
+}
+
 }  // namespace
 
 std::string SeedsForHolmNote(const SweepSpec& spec) {
@@ -409,7 +424,7 @@ std::string SeedsForHolmNote(const SweepSpec& spec) {
   const double floor = SignedRankFloor(n);
   if (floor < 0.05 / m) return {};
   const int needed = PairsForHolm(m, 0.05);
-  const std::string file = spec.file.empty() ? std::string("sweep") : spec.file;
+  const std::string file = NoteSubject(spec);
   const std::string reference =
       report.reference.empty() ? series->values.front() : report.reference;
   if (n == 1) {
@@ -482,8 +497,7 @@ std::string ZippedPoolNote(const SweepSpec& spec) {
       "{}: report.pool lists {} but not {}, zipped with {}: {}. {}weep {} as a key of grid: to "
       "pool {} within each cell (each cell then holds every value of {}, with every "
       "combination of the other keys)",
-      spec.file.empty() ? std::string("sweep") : spec.file, list(in), list(out),
-      one ? "it" : "them", what,
+      NoteSubject(spec), list(in), list(out), one ? "it" : "them", what,
       poolable ? fmt::format("Pool {} too, or s", list(out)) : std::string("S"), list(in),
       one ? "its values" : "their values", one ? "it" : "them");
 }
@@ -518,16 +532,12 @@ std::string CameraTurnNote(const SweepSpec& spec, const std::vector<SweepRun>& r
     }
   }
   if (!worst_run) return {};
-  const std::vector<std::string> keys = spec.SweptKeys();
-  std::vector<std::string> cell;
-  for (size_t k = 0; k < keys.size() && k < worst_run->values.size(); ++k) {
-    cell.push_back(fmt::format("{} = {}", keys[k], worst_run->values[k]));
-  }
+  const std::vector<std::string> cell = CellValues(spec, *worst_run);
   return fmt::format(
       "{}: in {} of {} cells the image turns by more than {:g} degrees about its centre between "
       "two frames; most, by {:.1f} degrees from frame {} to {} (camera.path), in the cell {}: {}",
-      spec.file.empty() ? std::string("sweep") : spec.file, turning, cells,
-      scenarios::kCameraTurnNoteDeg, worst.degrees, worst.frame - 1, worst.frame,
+      NoteSubject(spec), turning, cells, scenarios::kCameraTurnNoteDeg, worst.degrees,
+      worst.frame - 1, worst.frame,
       cell.empty() ? std::string("of the base scenario") : fmt::format("{}", fmt::join(cell, ", ")),
       scenarios::CameraTurnReason());
 }
@@ -542,13 +552,10 @@ std::string TargetOverlapNote(const SweepSpec& spec, const std::vector<SweepRun>
     std::string note = scenarios::TargetOverlapNote(*run.cell);
     if (note.empty() || ++overlapping > 1) continue;
     first_note = std::move(note);
-    const std::vector<std::string> keys = spec.SweptKeys();
-    for (size_t k = 0; k < keys.size() && k < run.values.size(); ++k) {
-      first_cell.push_back(fmt::format("{} = {}", keys[k], run.values[k]));
-    }
+    first_cell = CellValues(spec, run);
   }
   if (overlapping == 0) return {};
-  const std::string file = spec.file.empty() ? std::string("sweep") : spec.file;
+  const std::string file = NoteSubject(spec);
   if (overlapping == cells) {
     return fmt::format("{}: in {}: {}", file,
                        cells == 1 ? std::string("its cell") : fmt::format("all {} cells", cells),

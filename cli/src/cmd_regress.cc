@@ -6,6 +6,7 @@
 #include <spdlog/spdlog.h>
 
 #include <cstdio>
+#include <filesystem>
 #include <memory>
 #include <string>
 #include <vector>
@@ -67,6 +68,12 @@ Command AddRegressCommand(CLI::App& parent) {
             // says what is left (the outputs are written after every run).
             AnnounceInterrupts(RegressInterruptedMessage(*options));
             options->runs_done = StopAnnouncingInterrupts;
+            // Rendered scenes, several at once: each in a process of its own
+            // (RegressOptions::render_exe); without the executable they share
+            // this one, where they render in turn.
+            std::error_code ec;
+            options->render_exe = std::filesystem::read_symlink("/proc/self/exe", ec).string();
+            if (ec) options->render_exe.clear();
             const studies::RegressResult r = studies::RunRegress(*options);
             // With --junit, --markdown or --update-baseline naming standard
             // output, that file is all it carries: the table goes to stderr

@@ -30,6 +30,7 @@
 #include "hcpf/studies/file_keys.h"
 #include "hcpf/studies/metric_catalogue.h"
 #include "hcpf/studies/results_store.h"
+#include "hcpf/studies/run_queue.h"
 #include "hcpf/studies/statistics.h"
 #include "hcpf/studies/sweep.h"
 #include "text.h"
@@ -121,7 +122,9 @@ RegressSuite LoadRegressSuite(const std::string& path) {
     // Validate now, so a bad override is reported before anything runs.
     uint64_t scene_seed = 0;
     try {
-      scene_seed = LoadScenarioFile(scene.scenario_path, scene.overrides).seed;
+      const Scenario scenario = LoadScenarioFile(scene.scenario_path, scene.overrides);
+      scene_seed = scenario.seed;
+      scene.rendered = scenario.observation.source == scenarios::ObservationSource::kRendered;
     } catch (const InputError& e) {
       // A bad-input audit: "suite.yaml: scene "a": --set tracker.particle=5: ..."
       // named no line. An error in a `set:` value is reported where that
@@ -882,6 +885,19 @@ RegressResult RunRegress(const RegressOptions& options) {
   std::vector<std::map<std::string, double>> values(runs.size());
   std::vector<std::string> hashes(runs.size());
   std::vector<std::string> errors(runs.size());
+  // Several rendered runs at once: each in a child process (render_exe), so
+  // that they render side by side. Its input and log files go beside the run
+  // folders, named after the scene (and seed), which no folder of the suite is.
+  const bool any_rendered = std::any_of(suite.scenes.begin(), suite.scenes.end(),
+                                        [](const RegressScene& scene) { return scene.rendered; });
+  std::unique_ptr<ChildProcessExecutor> child;
+  if (!options.render_exe.empty() && options.jobs > 1 && any_rendered) {
+    child = std::make_unique<ChildProcessExecutor>(options.render_exe, work.string());
+    spdlog::info(
+        "regress: each rendered run in a process of its own (--jobs {}), so that they render "
+        "side by side (docs/sweeps.md)",
+        options.jobs);
+  }
   ParallelFor(runs.size(), options.jobs, [&](size_t i) {
     const RegressScene& scene = suite.scenes[runs[i].scene];
     try {
@@ -897,7 +913,14 @@ RegressResult RunRegress(const RegressOptions& options) {
       hashes[i] = ConfigHash(scenario);
       RunOptions run_options;
       run_options.out_dir = out_dir.string();
-      RunScenario(scenario, run_options);
+      if (child && scene.rendered) {
+        child->ExecuteScenario(
+            scenario,
+            scene.seeds > 0 ? fmt::format("{}.seed-{}", scene.name, runs[i].seed) : scene.name,
+            run_options);
+      } else {
+        RunScenario(scenario, run_options);
+      }
       values[i] = ReadRunMetrics(run_options.out_dir);
     } catch (const std::exception& e) {
       errors[i] = e.what();
@@ -908,9 +931,12 @@ RegressResult RunRegress(const RegressOptions& options) {
   for (size_t i = 0; i < runs.size(); ++i) {
     if (errors[i].empty()) continue;
     const RegressScene& scene = suite.scenes[runs[i].scene];
-    throw RunError(fmt::format("scene \"{}\"{} failed: {}", scene.name,
-                               scene.seeds > 0 ? fmt::format(" (seed {})", runs[i].seed) : "",
-                               errors[i]));
+    // A child's log was kept in the run folders, which a temporary one took.
+    const bool log_removed = child && scene.rendered && temporary;
+    throw RunError(fmt::format(
+        "scene \"{}\"{} failed: {}{}", scene.name,
+        scene.seeds > 0 ? fmt::format(" (seed {})", runs[i].seed) : "", errors[i],
+        log_removed ? " (its log went with the temporary run folder; --work DIR keeps it)" : ""));
   }
   // The runs of scene i: first[i] .. first[i] + max(1, seeds) − 1.
   std::vector<size_t> first(suite.scenes.size());

@@ -65,11 +65,17 @@ ChildProcessExecutor::ChildProcessExecutor(std::string hcpf_exe, std::string run
 // Throws RunError naming the exit status or signal with the end of the
 // child's log.
 void ChildProcessExecutor::Execute(const SweepRun& run, const RunOptions& run_options) const {
+  ExecuteScenario(run.scenario(), run.key, run_options);
+}
+
+void ChildProcessExecutor::ExecuteScenario(const scenarios::Scenario& scenario,
+                                           const std::string& name,
+                                           const RunOptions& run_options) const {
   const std::string& exe = exe_;
   const fs::path runs_dir(runs_dir_);
-  const fs::path input = runs_dir / (run.key + ".input.yaml");
-  const fs::path log = runs_dir / (run.key + ".log");
-  WriteTextFile(input.string(), ToResolvedYaml(run.scenario()));
+  const fs::path input = runs_dir / (name + ".input.yaml");
+  const fs::path log = runs_dir / (name + ".log");
+  WriteTextFile(input.string(), ToResolvedYaml(scenario));
   std::vector<std::string> args = {exe,
                                    "--log-level",
                                    "warn",

@@ -819,6 +819,60 @@ TEST(ReportInChromium, TheRunReportsScriptDrawsTheCursorAtTheFrameInTheAddress) 
   EXPECT_NEAR(cursor_at(""), left + (1 - 0.5) / 40 * (right - left), 1e-6) << "frame 1 at first";
 }
 
+// hcpf regress --jobs 2 runs each rendered scene as `hcpf run` in a child
+// process (a process's GL contexts render in turn, docs/sweeps.md): the log
+// says so, the baseline is that of --jobs 1, where every scene runs in this
+// process, the children's input and log files are gone, and a crashed child
+// fails its scene with the signal.
+TEST(RegressCli, RenderedScenesSideBySideEachInAProcessOfItsOwn) {
+  const fs::path dir = FreshDir("regress-render-children");
+  const std::string small = "frames: 30, camera.resolution: [160, 120]";
+  std::ofstream(dir / "suite.yaml")
+      << "scenes:\n"
+      << "  - {name: a, scenario: " << testing::LibraryScenario("crossing-dominant") << ", set: {"
+      << small << ", observation.source: rendered}}\n"
+      << "  - {name: b, scenario: " << testing::LibraryScenario("crossing") << ", seeds: 2, set: {"
+      << small << ", observation.source: rendered}}\n"
+      << "  - {name: c, scenario: " << testing::LibraryScenario("crossing-dominant")
+      << ", set: {frames: 30}}\n"
+      << "metrics:\n  idf1: {tolerance: 0.01}\n  da_accuracy: {tolerance: 0.01}\n";
+  const std::string suite = (dir / "suite.yaml").string();
+  const auto one = RunCommand(kHcpf + " regress " + suite + " --update-baseline --baseline " +
+                              (dir / "one.json").string() + " --jobs 1");
+  ASSERT_EQ(one.exit_code, 0) << one.output;
+  EXPECT_EQ(one.output.find("process of its own"), std::string::npos) << one.output;
+  const auto two =
+      RunCommand(kHcpf + " regress " + suite + " --update-baseline --baseline " +
+                 (dir / "two.json").string() + " --jobs 2 --work " + (dir / "work").string());
+  ASSERT_EQ(two.exit_code, 0) << two.output;
+  EXPECT_NE(two.output.find("regress: each rendered run in a process of its own (--jobs 2)"),
+            std::string::npos)
+      << two.output;
+  EXPECT_EQ(ReadFile(dir / "two.json"), ReadFile(dir / "one.json"));
+  std::vector<std::string> entries;
+  for (const auto& e : fs::directory_iterator(dir / "work"))
+    entries.push_back(e.path().filename().string());
+  std::sort(entries.begin(), entries.end());
+  EXPECT_EQ(entries, (std::vector<std::string>{"a", "b", "c"}));
+  EXPECT_TRUE(fs::exists(dir / "work" / "b" / "seed-1" / "metrics.json"));
+
+  const pid_t pid =
+      Spawn({"regress", suite, "--baseline", (dir / "one.json").string(), "--jobs", "2"},
+            dir / "crash.log");
+  ASSERT_GT(pid, 0);
+  const bool crashed = CrashOneChildRun(pid);
+  int status = 0;
+  ::waitpid(pid, &status, 0);
+  const std::string log = ReadFile(dir / "crash.log");
+  ASSERT_TRUE(crashed) << "no child run was seen: " << log;
+  ASSERT_TRUE(WIFEXITED(status)) << log;
+  EXPECT_EQ(WEXITSTATUS(status), 1) << log;
+  EXPECT_NE(log.find("failed: crashed: killed by signal 11"), std::string::npos) << log;
+  EXPECT_NE(log.find("(its log went with the temporary run folder; --work DIR keeps it)"),
+            std::string::npos)
+      << log;
+}
+
 TEST(RegressCli, ExitCodesOnTrueAndPlantedBaselines) {
   const fs::path dir = FreshDir("regress-cli");
   const fs::path suite = kSource / "scenarios" / "regress" / "suite.yaml";

@@ -33,6 +33,7 @@ struct RegressScene {
   // the scenario's own (the derivation sweeps use, sweep.h).
   int seeds = 0;
   std::vector<uint64_t> run_seeds;
+  bool rendered = false;  // observation.source: rendered
 };
 
 struct RegressTolerance {
@@ -100,6 +101,11 @@ struct RegressOptions {
   std::string markdown_path;     // optional Markdown summary
   std::string work_dir;          // run folders; "" = a temporary folder, removed afterwards
   int jobs = 1;                  // runs (scenes, seeds of seeded scenes) in parallel
+  // The hcpf executable. When set and jobs > 1, each rendered run is
+  // `hcpf run` in a child process of its own: a process's GL contexts share
+  // llvmpipe's one rasteriser, so rendered runs in worker threads render in
+  // turn (docs/sweeps.md, "Regression gate"). Runs at detection level stay in worker threads.
+  std::string render_exe;
   // Called once every run has ended and the temporary folder is removed,
   // before any file is written (hcpf regress stops announcing interrupts).
   std::function<void()> runs_done;

@@ -47,6 +47,11 @@ class ChildProcessExecutor final : public RunExecutor {
  public:
   ChildProcessExecutor(std::string hcpf_exe, std::string runs_dir);
   void Execute(const SweepRun& run, const scenarios::RunOptions& options) const override;
+  // The same for any scenario (hcpf regress's scenes); `name` names the input
+  // and log files in runs_dir, and must be a folder name no other concurrent
+  // run uses.
+  void ExecuteScenario(const scenarios::Scenario& scenario, const std::string& name,
+                       const scenarios::RunOptions& options) const;
   std::string_view name() const override { return "child processes"; }
 
  private:

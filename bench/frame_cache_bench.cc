@@ -10,7 +10,6 @@
 #include <benchmark/benchmark.h>
 #include <unistd.h>
 
-#include <cstdlib>
 #include <filesystem>
 #include <memory>
 #include <string>
@@ -67,7 +66,6 @@ const RenderedFrame& Frame(double noise_sigma) {
   static std::unique_ptr<RenderedFrame> frames[2];
   std::unique_ptr<RenderedFrame>& slot = frames[noise_sigma > 0 ? 1 : 0];
   if (!slot) {
-    setenv("LP_NUM_THREADS", "1", 0);
     hcpf::renderer::RendererOptions options;
     options.sensor.noise_sigma = noise_sigma;
     auto scene = hcpf::renderer::SceneRenderer::Create(Scene(), options, hcpf::Rng(1));

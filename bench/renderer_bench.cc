@@ -2,7 +2,11 @@
 // sun shadows, with and without the ground-truth passes; a realistic scene
 // end to end; and the sensor effects alone.
 //
-//   LP_NUM_THREADS=1 build/<dir>/bench/renderer_bench
+//   build/<dir>/bench/renderer_bench
+//
+// It rasterises on the thread that draws, as every hcpf process does
+// (GlContext::Create sets LP_NUM_THREADS=0 unless the environment sets it);
+// LP_NUM_THREADS=N asks for N llvmpipe threads (docs/renderer.md).
 //
 // "BM_RenderFrame/gt:1" is a full frame (colour + ground truth + readback);
 // "gt:0" skips the ground-truth passes, so the difference is their cost.
@@ -17,8 +21,8 @@
 // effects of several frames at once and eight store them. "BM_SensorEffects" times
 // ApplySensorEffects alone on a rendered 800x600 frame, all effects and each one by itself. The
 // label is the GL_RENDERER string of the backend that ran. cpu_ms_per_frame is the process CPU time
-// (all threads) per frame: with one llvmpipe thread it is the single-core cost even when other jobs
-// share the machine; fps is wall-clock.
+// (all threads) per frame: rasterising on the drawing thread it is the single-core cost even when
+// other jobs share the machine; fps is wall-clock.
 
 #include <benchmark/benchmark.h>
 #include <fmt/format.h>
@@ -26,7 +30,6 @@
 #include <unistd.h>
 
 #include <algorithm>
-#include <cstdlib>
 #include <filesystem>
 #include <memory>
 #include <optional>
@@ -179,12 +182,7 @@ double ProcessCpuMs() {
 }
 
 std::shared_ptr<hcpf::renderer::GlContext> Context() {
-  static std::shared_ptr<hcpf::renderer::GlContext> context = [] {
-    // One llvmpipe thread unless the caller chose otherwise (must be set
-    // before the first context is created).
-    setenv("LP_NUM_THREADS", "1", 0);
-    return std::shared_ptr<hcpf::renderer::GlContext>(hcpf::renderer::GlContext::Create());
-  }();
+  static std::shared_ptr<hcpf::renderer::GlContext> context(hcpf::renderer::GlContext::Create());
   return context;
 }
 

@@ -886,8 +886,9 @@ RegressResult RunRegress(const RegressOptions& options) {
   std::vector<std::string> hashes(runs.size());
   std::vector<std::string> errors(runs.size());
   // Several rendered runs at once: each in a child process (render_exe), so
-  // that they render side by side. Its input and log files go beside the run
-  // folders, named after the scene (and seed), which no folder of the suite is.
+  // that they render side by side. Its input and log files go beside its run
+  // folder (DIR/a.input.yaml, DIR/b/seed-1.input.yaml), as its staging folder
+  // does (DIR/a.partial-<pid>).
   const bool any_rendered = std::any_of(suite.scenes.begin(), suite.scenes.end(),
                                         [](const RegressScene& scene) { return scene.rendered; });
   std::unique_ptr<ChildProcessExecutor> child;
@@ -914,10 +915,8 @@ RegressResult RunRegress(const RegressOptions& options) {
       RunOptions run_options;
       run_options.out_dir = out_dir.string();
       if (child && scene.rendered) {
-        child->ExecuteScenario(
-            scenario,
-            scene.seeds > 0 ? fmt::format("{}.seed-{}", scene.name, runs[i].seed) : scene.name,
-            run_options);
+        fs::create_directories(out_dir.parent_path());  // DIR/b for DIR/b/seed-1.input.yaml
+        child->ExecuteScenario(scenario, out_dir.string(), run_options);
       } else {
         RunScenario(scenario, run_options);
       }

@@ -65,16 +65,15 @@ ChildProcessExecutor::ChildProcessExecutor(std::string hcpf_exe, std::string run
 // Throws RunError naming the exit status or signal with the end of the
 // child's log.
 void ChildProcessExecutor::Execute(const SweepRun& run, const RunOptions& run_options) const {
-  ExecuteScenario(run.scenario(), run.key, run_options);
+  ExecuteScenario(run.scenario(), (fs::path(runs_dir_) / run.key).string(), run_options);
 }
 
 void ChildProcessExecutor::ExecuteScenario(const scenarios::Scenario& scenario,
-                                           const std::string& name,
+                                           const std::string& files,
                                            const RunOptions& run_options) const {
   const std::string& exe = exe_;
-  const fs::path runs_dir(runs_dir_);
-  const fs::path input = runs_dir / (name + ".input.yaml");
-  const fs::path log = runs_dir / (name + ".log");
+  const fs::path input = files + ".input.yaml";
+  const fs::path log = files + ".log";
   WriteTextFile(input.string(), ToResolvedYaml(scenario));
   std::vector<std::string> args = {exe,
                                    "--log-level",

@@ -854,6 +854,11 @@ TEST(RegressCli, RenderedScenesSideBySideEachInAProcessOfItsOwn) {
     entries.push_back(e.path().filename().string());
   std::sort(entries.begin(), entries.end());
   EXPECT_EQ(entries, (std::vector<std::string>{"a", "b", "c"}));
+  entries.clear();
+  for (const auto& e : fs::directory_iterator(dir / "work" / "b"))
+    entries.push_back(e.path().filename().string());
+  std::sort(entries.begin(), entries.end());
+  EXPECT_EQ(entries, (std::vector<std::string>{"seed-0", "seed-1"}));
   EXPECT_TRUE(fs::exists(dir / "work" / "b" / "seed-1" / "metrics.json"));
 
   const pid_t pid =

@@ -47,10 +47,10 @@ class ChildProcessExecutor final : public RunExecutor {
  public:
   ChildProcessExecutor(std::string hcpf_exe, std::string runs_dir);
   void Execute(const SweepRun& run, const scenarios::RunOptions& options) const override;
-  // The same for any scenario (hcpf regress's scenes); `name` names the input
-  // and log files in runs_dir, and must be a folder name no other concurrent
-  // run uses.
-  void ExecuteScenario(const scenarios::Scenario& scenario, const std::string& name,
+  // The same for any scenario (hcpf regress's scenes), its input and log
+  // files named `files` + ".input.yaml" and ".log" (a path no other
+  // concurrent run uses; runs_dir is not used).
+  void ExecuteScenario(const scenarios::Scenario& scenario, const std::string& files,
                        const scenarios::RunOptions& options) const;
   std::string_view name() const override { return "child processes"; }
 

@@ -11,6 +11,7 @@
 #include "hcpf/core/error.h"
 #include "hcpf/scenarios/cache.h"
 #include "hcpf/scenarios/scenario.h"
+#include "hcpf/studies/regress.h"
 #include "hcpf/studies/sweep.h"
 
 namespace hcpf::cli {
@@ -24,9 +25,10 @@ Command AddValidateCommand(CLI::App& parent) {
   auto options = std::make_shared<Options>();
   CLI::App* app = parent.add_subcommand(
       "validate",
-      "Check a scenario file (every key, type and range) or a sweep file (and every scenario "
-      "it expands to); exit 0 if valid, 2 if not");
-  app->add_option("file", options->file, "Scenario or sweep YAML file")->required();
+      "Check a scenario file (every key, type and range), a sweep file or a regression suite "
+      "(and every scenario it names); exit 0 if valid, 2 if not");
+  app->add_option("file", options->file, "Scenario, sweep or regression suite YAML file")
+      ->required();
   app->add_option("--set", options->sets,
                   "Override a key before validating, e.g. --set tracker.particles=1000 "
                   "(repeatable; list items by index: targets.0.path.speed_mps=4)");
@@ -37,16 +39,42 @@ Command AddValidateCommand(CLI::App& parent) {
             // value before anything runs, so validate does too (it accepts
             // what they accept).
             scenarios::CacheMaxSizeFromEnvironment();
+            const bool sweep = studies::IsSweepFile(options->file);
+            const bool suite = !sweep && studies::IsRegressSuiteFile(options->file);
+            if ((sweep || suite) && (!options->sets.empty() || options->print)) {
+              throw InputError(
+                  SourceLocation{.file = "command line",
+                                 .key = options->sets.empty() ? "--print" : "--set"},
+                  "a scenario file (--set and --print apply to one scenario)",
+                  sweep ? fmt::format("the sweep file {} (it has base, grid or zip)", options->file)
+                        : fmt::format("the regression suite {} (it has scenes or metrics)",
+                                      options->file));
+            }
+            // A regression suite: the checks `hcpf regress` makes of it
+            // before it runs anything (every scene's scenario, with its
+            // `set:` and seed, loaded and validated), and what validate
+            // warns of each scene.
+            if (suite) {
+              const studies::RegressSuite s = studies::LoadRegressSuite(options->file);
+              size_t runs = 0;
+              for (const studies::RegressScene& scene : s.scenes)
+                runs += static_cast<size_t>(std::max(scene.seeds, 1));
+              spdlog::info(
+                  "{}: valid regression suite: {} scene{} ({} run{}), {} metric{}, every scenario "
+                  "valid",
+                  options->file, s.scenes.size(), s.scenes.size() == 1 ? "" : "s", runs,
+                  runs == 1 ? "" : "s", s.metrics.size(), s.metrics.size() == 1 ? "" : "s");
+              for (const studies::RegressScene& scene : s.scenes) {
+                const scenarios::Scenario scenario =
+                    scenarios::LoadScenarioFile(scene.scenario_path, scene.overrides);
+                for (const std::string& note : scenarios::SceneNotes(scenario))
+                  spdlog::warn("scene \"{}\": {}", scene.name, note);
+              }
+              return 0;
+            }
             // A sweep file: the same checks `hcpf sweep` makes before it runs
             // anything (every cell's scenario loaded and validated).
-            if (studies::IsSweepFile(options->file)) {
-              if (!options->sets.empty() || options->print) {
-                throw InputError(
-                    SourceLocation{.file = "command line",
-                                   .key = options->sets.empty() ? "--print" : "--set"},
-                    "a scenario file (--set and --print apply to one scenario)",
-                    fmt::format("the sweep file {} (it has base, grid or zip)", options->file));
-              }
+            if (sweep) {
               const studies::SweepSpec spec = studies::LoadSweepFile(options->file);
               const std::vector<studies::SweepRun> runs = studies::ExpandSweep(spec);
               const int seeds = std::max(spec.seeds, 1);

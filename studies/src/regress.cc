@@ -57,6 +57,19 @@ double FromJson(const json& j) { return j.is_number() ? j.get<double>() : kNaN; 
 
 }  // namespace
 
+bool IsRegressSuiteFile(const std::string& path) {
+  std::error_code ec;
+  if (!fs::is_regular_file(path, ec)) return false;
+  try {
+    const YAML::Node root = YamlReader::ParseFile(path);
+    if (!root.IsMap()) return false;
+    const YAML::Node scenes = root["scenes"];
+    return (scenes && scenes.IsSequence()) || root["metrics"];
+  } catch (const InputError&) {
+    return false;
+  }
+}
+
 RegressSuite LoadRegressSuite(const std::string& path) {
   YAML::Node root = YamlReader::ParseFile(path);
   auto context = std::make_shared<YamlContext>();

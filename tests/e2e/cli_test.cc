@@ -581,13 +581,6 @@ TEST(Cli, CacheReportsAndPrunesTheLeastRecentlyUsed) {
   EXPECT_TRUE(fs::exists(new_scene / "000000.frame"));
 }
 
-// hcpf validate takes a sweep file too (a mapping with base, grid or zip at
-// the top), with the checks hcpf sweep makes before running: 3 particle
-// counts x 2 resamplers = 6 cells x 2 seeds = 12 runs, every scenario valid.
-// A swept value a scenario cannot take is bad input naming its line (line 3:
-// "lots"); --set and --print, which apply to one scenario, are bad input.
-// (Read as a scenario, as before, the sweep's `seeds: 2` was "expected a
-// mapping of keys".)
 // A scenario saved as Latin-1: hcpf validate had accepted it and hcpf run
 // failed (exit 1) writing its JSON. Both now refuse it at the byte, exit 2,
 // and the run leaves no output folder.
@@ -613,6 +606,13 @@ TEST(Cli, ValidateAndRunRefuseTextThatIsNotUtf8) {
   EXPECT_FALSE(fs::exists(dir / "out"));
 }
 
+// hcpf validate takes a sweep file too (a mapping with base, grid or zip at
+// the top), with the checks hcpf sweep makes before running: 3 particle
+// counts x 2 resamplers = 6 cells x 2 seeds = 12 runs, every scenario valid.
+// A swept value a scenario cannot take is bad input naming its line (line 3:
+// "lots"); --set and --print, which apply to one scenario, are bad input.
+// (Read as a scenario, as before, the sweep's `seeds: 2` was "expected a
+// mapping of keys".)
 TEST(Cli, ValidateChecksSweepFilesToo) {
   const fs::path dir = FreshDir("validate-sweep");
   const auto write = [&](const std::string& name, const std::string& particles) {
@@ -654,6 +654,51 @@ TEST(Cli, ValidateChecksSweepFilesToo) {
   r = RunCommand(kHcpf + " validate " + LibraryScenario("crossing"));
   EXPECT_EQ(r.exit_code, 0) << r.output;
   EXPECT_NE(r.output.find("valid scenario \"crossing\""), std::string::npos) << r.output;
+}
+
+// hcpf validate takes a regression suite too (scenes: a list, or metrics: at
+// the top), with the checks hcpf regress makes before running: every scene's
+// scenario with its set: and seed, the seeded scene's runs counted (1 + 3),
+// and what validate warns of each scene (crossing's vehicles drive through
+// each other), named by the scene. A bad `set:` value is bad input at its
+// line; --print is bad input; a baseline is still refused as a scenario
+// (until 2026-12-07 a suite was refused as "a regression suite or baseline").
+TEST(Cli, ValidateChecksRegressionSuitesToo) {
+  const fs::path dir = FreshDir("validate-suite");
+  const auto write = [&](const std::string& name, const std::string& particles) {
+    std::ofstream(dir / name) << "scenes:\n"
+                              << "  - {name: a, scenario: " << LibraryScenario("crossing") << "}\n"
+                              << "  - {name: b, scenario: " << LibraryScenario("parallel")
+                              << ", seeds: 3,\n"
+                              << "     set: {tracker.particles: " << particles << "}}\n"
+                              << "metrics:\n  idf1: {tolerance: 0.02}\n";
+    return (dir / name).string();
+  };
+  const std::string good = write("good.yaml", "400");
+  auto r = RunCommand(kHcpf + " validate " + good);
+  EXPECT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("valid regression suite: 2 scenes (4 runs), 1 metric, every scenario "
+                          "valid"),
+            std::string::npos)
+      << r.output;
+  EXPECT_NE(r.output.find("scene \"a\": targets 1 and 2 drive through each other at frames "
+                          "184-222"),
+            std::string::npos)
+      << r.output;
+  EXPECT_EQ(r.output.find("scene \"b\""), std::string::npos) << r.output;
+  const std::string bad = write("bad.yaml", "lots");
+  r = RunCommand(kHcpf + " validate " + bad);
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_NE(r.output.find("bad.yaml:4"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("\"lots\""), std::string::npos) << r.output;
+  r = RunCommand(kHcpf + " validate " + good + " --print");
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_NE(r.output.find("--print: expected a scenario file"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("found the regression suite"), std::string::npos) << r.output;
+  std::ofstream(dir / "baseline.json") << R"({"format": "hcpf-regress-baseline/2", "scenes": {}})";
+  r = RunCommand(kHcpf + " validate " + (dir / "baseline.json").string());
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_NE(r.output.find("found a regression suite or baseline"), std::string::npos) << r.output;
 }
 
 TEST(Cli, RunWritesEveryOutputAndSucceeds) {

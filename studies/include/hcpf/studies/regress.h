@@ -51,6 +51,12 @@ struct RegressSuite {
 // Loads and validates a suite (InputError with file:line:col, key, expected, found).
 RegressSuite LoadRegressSuite(const std::string& path);
 
+// Whether `path` reads as a regression suite rather than a scenario or a
+// baseline: a YAML mapping whose `scenes:` is a list, or that has `metrics:`
+// at the top. False when it cannot be read as YAML (the scenario loader
+// reports why).
+bool IsRegressSuiteFile(const std::string& path);
+
 enum class RegressVerdict { kSame, kBetter, kWorse };
 const char* RegressVerdictName(RegressVerdict verdict);  // "ok" | "better" | "WORSE"
 // Worse when the change in the bad direction exceeds the tolerance; better when

@@ -47,7 +47,7 @@ Command AddValidateCommand(CLI::App& parent) {
                                  .key = options->sets.empty() ? "--print" : "--set"},
                   "a scenario file (--set and --print apply to one scenario)",
                   sweep ? fmt::format("the sweep file {} (it has base, grid or zip)", options->file)
-                        : fmt::format("the regression suite {} (it has scenes or metrics)",
+                        : fmt::format("the regression suite {} (its scenes: is a list)",
                                       options->file));
             }
             // A regression suite: the checks `hcpf regress` makes of it

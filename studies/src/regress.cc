@@ -64,7 +64,7 @@ bool IsRegressSuiteFile(const std::string& path) {
     const YAML::Node root = YamlReader::ParseFile(path);
     if (!root.IsMap()) return false;
     const YAML::Node scenes = root["scenes"];
-    return (scenes && scenes.IsSequence()) || root["metrics"];
+    return scenes && scenes.IsSequence();
   } catch (const InputError&) {
     return false;
   }

@@ -656,13 +656,12 @@ TEST(Cli, ValidateChecksSweepFilesToo) {
   EXPECT_NE(r.output.find("valid scenario \"crossing\""), std::string::npos) << r.output;
 }
 
-// hcpf validate takes a regression suite too (scenes: a list, or metrics: at
-// the top), with the checks hcpf regress makes before running: every scene's
-// scenario with its set: and seed, the seeded scene's runs counted (1 + 3),
-// and what validate warns of each scene (crossing's vehicles drive through
-// each other), named by the scene. A bad `set:` value is bad input at its
-// line; --print is bad input; a baseline is still refused as a scenario
-// (until 2026-12-07 a suite was refused as "a regression suite or baseline").
+// hcpf validate takes a regression suite too (its scenes: a list), with the checks hcpf regress
+// makes before running: every scene's scenario with its set: and seed, the seeded scene's runs
+// counted (1 + 3), and what validate warns of each scene (crossing's vehicles drive through each
+// other), named by the scene. A bad `set:` value is bad input at its line; --print is bad input; a
+// baseline is still refused as a scenario (until 2026-12-07 a suite was refused as "a regression
+// suite or baseline").
 TEST(Cli, ValidateChecksRegressionSuitesToo) {
   const fs::path dir = FreshDir("validate-suite");
   const auto write = [&](const std::string& name, const std::string& particles) {
@@ -699,6 +698,12 @@ TEST(Cli, ValidateChecksRegressionSuitesToo) {
   r = RunCommand(kHcpf + " validate " + (dir / "baseline.json").string());
   EXPECT_EQ(r.exit_code, 2) << r.output;
   EXPECT_NE(r.output.find("found a regression suite or baseline"), std::string::npos) << r.output;
+  // A scenario's own `metrics:` (its metric options) does not make it a suite.
+  std::ofstream(dir / "scenario.yaml")
+      << ReadFile(LibraryScenario("crossing")) << "metrics: {gospa_switching_penalty: 2}\n";
+  r = RunCommand(kHcpf + " validate " + (dir / "scenario.yaml").string());
+  EXPECT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("valid scenario \"crossing\""), std::string::npos) << r.output;
 }
 
 TEST(Cli, RunWritesEveryOutputAndSucceeds) {

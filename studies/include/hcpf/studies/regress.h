@@ -52,9 +52,9 @@ struct RegressSuite {
 RegressSuite LoadRegressSuite(const std::string& path);
 
 // Whether `path` reads as a regression suite rather than a scenario or a
-// baseline: a YAML mapping whose `scenes:` is a list, or that has `metrics:`
-// at the top. False when it cannot be read as YAML (the scenario loader
-// reports why).
+// baseline: a YAML mapping whose `scenes:` is a list (a scenario has no
+// `scenes:`, and may have `metrics:`; a baseline's `scenes:` is a mapping).
+// False when it cannot be read as YAML (the scenario loader reports why).
 bool IsRegressSuiteFile(const std::string& path);
 
 enum class RegressVerdict { kSame, kBetter, kWorse };

@@ -6,13 +6,16 @@
 #include <zstd.h>
 
 #include <algorithm>
+#include <cctype>
 #include <cerrno>
+#include <cstdint>
 #include <cstring>
 #include <exception>
 #include <filesystem>
 #include <fstream>
 #include <memory>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <sstream>
 #include <system_error>
 #include <vector>
@@ -48,14 +51,96 @@ constexpr int kRendererVersion = 10;
 // elsewhere) has the same hash, so `observation.file.rendering` can tell
 // frames apart by what they show, wherever they were rendered. The name stays
 // (its extension picks the loader).
+// A file's bytes, or nullopt when it cannot be read.
+std::optional<std::string> FileBytes(const std::filesystem::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) return std::nullopt;
+  std::ostringstream bytes;
+  bytes << in.rdbuf();
+  return bytes.str();
+}
+
+// A glTF URI as tinygltf reads it (dlib's urldecode: %XX is a byte, + a space).
+std::string UrlDecode(const std::string& uri) {
+  std::string out;
+  for (size_t i = 0; i < uri.size(); ++i) {
+    if (uri[i] == '+') {
+      out += ' ';
+    } else if (uri[i] == '%' && i + 2 < uri.size() &&
+               std::isxdigit(static_cast<unsigned char>(uri[i + 1])) &&
+               std::isxdigit(static_cast<unsigned char>(uri[i + 2]))) {
+      out += static_cast<char>(std::stoi(uri.substr(i + 1, 2), nullptr, 16));
+      i += 2;
+    } else {
+      out += uri[i];
+    }
+  }
+  return out;
+}
+
+// The files beside a model that its loader reads and that change its pixels:
+// a glTF's buffers named by URI (its geometry; a .glb's JSON chunk may name
+// some too), an .obj's material libraries (their colours). Images are not
+// read (the renderer shades by base colour). In the order the model names
+// them; a model that cannot be parsed names none (its loader says why).
+std::vector<std::filesystem::path> ModelSideFiles(const std::filesystem::path& path,
+                                                  const std::string& bytes) {
+  std::vector<std::filesystem::path> files;
+  std::string extension = path.extension().string();
+  std::transform(extension.begin(), extension.end(), extension.begin(),
+                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  const std::filesystem::path folder = path.parent_path();
+  if (extension == ".gltf" || extension == ".glb") {
+    std::string json_text = bytes;
+    if (extension == ".glb") {
+      // 12-byte header, then the JSON chunk: its length and type ("JSON").
+      if (bytes.size() < 20 || bytes.compare(16, 4, "JSON") != 0) return files;
+      uint32_t length = 0;
+      std::memcpy(&length, bytes.data() + 12, 4);
+      if (length > bytes.size() - 20) return files;
+      json_text = bytes.substr(20, length);
+    }
+    const nlohmann::json gltf =
+        nlohmann::json::parse(json_text, nullptr, /*allow_exceptions=*/false);
+    if (!gltf.is_object() || !gltf.contains("buffers") || !gltf["buffers"].is_array()) return files;
+    for (const nlohmann::json& buffer : gltf["buffers"]) {
+      if (!buffer.is_object() || !buffer.contains("uri") || !buffer["uri"].is_string()) continue;
+      const std::string uri = buffer["uri"].get<std::string>();
+      if (uri.rfind("data:", 0) == 0) continue;  // embedded: in the model's own bytes
+      files.push_back(folder / UrlDecode(uri));
+    }
+  } else if (extension == ".obj") {
+    std::istringstream lines(bytes);
+    std::string line;
+    while (std::getline(lines, line)) {
+      const size_t start = line.find_first_not_of(" \t");
+      if (start == std::string::npos || line.compare(start, 6, "mtllib") != 0 ||
+          line.find_first_of(" \t", start + 6) != start + 6) {
+        continue;
+      }
+      const size_t begin = line.find_first_not_of(" \t", start + 6);
+      const size_t end = line.find_last_not_of(" \t\r");
+      if (begin != std::string::npos && end >= begin)
+        files.push_back(folder / line.substr(begin, end - begin + 1));
+    }
+  }
+  return files;
+}
+
+// The model's name and bytes, then each side file's name and bytes (a glTF
+// whose .bin changed, or an .obj whose .mtl did, draws other pixels).
 std::string ModelKey(const std::string& path) {
   std::string key = std::filesystem::path(path).filename().string();
   key += '#';
-  std::ifstream in(path, std::ios::binary);
-  if (!in) return key + "missing";
-  std::ostringstream bytes;
-  bytes << in.rdbuf();
-  return key + fmt::format("{:016x}", HashName(bytes.str()));
+  const std::optional<std::string> bytes = FileBytes(path);
+  if (!bytes) return key + "missing";
+  key += fmt::format("{:016x}", HashName(*bytes));
+  for (const std::filesystem::path& side : ModelSideFiles(path, *bytes)) {
+    const std::optional<std::string> side_bytes = FileBytes(side);
+    key += fmt::format("+{}#{}", side.filename().string(),
+                       side_bytes ? fmt::format("{:016x}", HashName(*side_bytes)) : "missing");
+  }
+  return key;
 }
 
 void AppendVec(std::string& s, const Eigen::Vector2d& v) {

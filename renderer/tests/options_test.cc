@@ -389,6 +389,43 @@ TEST(PixelHash, KnowsAModelByItsNameAndContentNotItsFolder) {
   EXPECT_NE(PixelHash(w, o, 7), h);
 }
 
+// The files a model's loader reads beside it count as the model: a .gltf's
+// buffers by URI (a .bin edited in place, its bounds unchanged, had been
+// served from the cache as the old geometry) and an .obj's material
+// libraries (their colours). Embedded data: URIs are in the model's bytes.
+TEST(PixelHash, KnowsAModelByTheFilesItNamesBesideItToo) {
+  const auto root = hcpf::testing::FreshDir("pixel-hash-side-files");
+  WriteTextFile((root / "box.gltf").string(),
+                R"({"asset": {"version": "2.0"}, "buffers": [{"uri": "my%20box.bin", )"
+                R"("byteLength": 4}, {"uri": "data:application/octet-stream;base64,AAAAAA==", )"
+                R"("byteLength": 4}]})");
+  WriteTextFile((root / "my box.bin").string(), "abcd");
+  WriteTextFile((root / "car.obj").string(), "# a car\n  mtllib\tcar paint.mtl \r\nv 0 0 0\n");
+  WriteTextFile((root / "car paint.mtl").string(), "newmtl red\nKd 1 0 0\n");
+  WorldSpec w;
+  w.frames = 10;
+  w.camera.path.push_back({0, {0, 0, 100}, {0, 0, 0}});
+  TargetSpec t;
+  t.id = ObjectId(1);
+  t.model = (root / "box.gltf").string();
+  w.targets.push_back(t);
+  OccluderSpec car;
+  car.kind = OccluderKind::kMesh;
+  car.model = (root / "car.obj").string();
+  w.occluders.push_back(car);
+  const RendererOptions o;
+  const std::string h = PixelHash(w, o, 7);
+  EXPECT_EQ(PixelHash(w, o, 7), h);
+  WriteTextFile((root / "my box.bin").string(), "abce");
+  const std::string bin_edited = PixelHash(w, o, 7);
+  EXPECT_NE(bin_edited, h);
+  WriteTextFile((root / "car paint.mtl").string(), "newmtl red\nKd 0 1 0\n");
+  const std::string mtl_edited = PixelHash(w, o, 7);
+  EXPECT_NE(mtl_edited, bin_edited);
+  std::filesystem::remove(root / "car paint.mtl");
+  EXPECT_NE(PixelHash(w, o, 7), mtl_edited);
+}
+
 TEST(FrameCache, StoresAndLoadsFramesExactly) {
   const auto root = hcpf::testing::FreshDir("frame-cache");
   FrameCache cache(root, "abc");

@@ -46,11 +46,6 @@ namespace {
 // 11 on turn by up to 0.74 degrees).
 constexpr int kRendererVersion = 10;
 
-// A model file by its name and content, not its folder: the same scene
-// rendered from another clone or machine (whose model paths are absolute
-// elsewhere) has the same hash, so `observation.file.rendering` can tell
-// frames apart by what they show, wherever they were rendered. The name stays
-// (its extension picks the loader).
 // A file's bytes, or nullopt when it cannot be read.
 std::optional<std::string> FileBytes(const std::filesystem::path& path) {
   std::ifstream in(path, std::ios::binary);
@@ -127,8 +122,12 @@ std::vector<std::filesystem::path> ModelSideFiles(const std::filesystem::path& p
   return files;
 }
 
-// The model's name and bytes, then each side file's name and bytes (a glTF
-// whose .bin changed, or an .obj whose .mtl did, draws other pixels).
+// A model file by its name and content, not its folder: the same scene
+// rendered from another clone or machine (whose model paths are absolute
+// elsewhere) has the same hash, so `observation.file.rendering` can tell
+// frames apart by what they show, wherever they were rendered. The name stays
+// (its extension picks the loader). Then each side file's name and bytes (a
+// glTF whose .bin changed, or an .obj whose .mtl did, draws other pixels).
 std::string ModelKey(const std::string& path) {
   std::string key = std::filesystem::path(path).filename().string();
   key += '#';

@@ -229,6 +229,25 @@ bool CrashOneChildRun(pid_t parent) {
   return false;
 }
 
+// hcpf with `args` (its output in `log_file`), one of its `hcpf run` children
+// crashed (CrashOneChildRun), waited for: whether a child was crashed, how
+// hcpf ended, its log.
+struct CrashedChildRun {
+  bool crashed = false;
+  int status = 0;
+  std::string log;
+};
+CrashedChildRun RunAndCrashOneChild(const std::vector<std::string>& args,
+                                    const fs::path& log_file) {
+  CrashedChildRun result;
+  const pid_t pid = Spawn(args, log_file);
+  if (pid <= 0) return result;
+  result.crashed = CrashOneChildRun(pid);
+  ::waitpid(pid, &result.status, 0);
+  result.log = ReadFile(log_file);
+  return result;
+}
+
 // An --isolate sweep sent SIGTERM alone (not its process group: a batch
 // system's kill of the main process) takes its runs with it; they used to go
 // on writing into the folder after the sweep had gone.
@@ -437,17 +456,12 @@ TEST(SweepCli, IsolatedRunThatCrashesIsRecordedAndTheOthersFinish) {
   const fs::path dir = FreshDir("sweep-isolate-crash");
   const std::string sweep = WriteSweep(dir);  // 32 runs
   const fs::path out = dir / "out";
-  const pid_t pid =
-      Spawn({"sweep", sweep, "--out", out.string(), "--jobs", "2", "--isolate"}, dir / "sweep.log");
-  ASSERT_GT(pid, 0);
   // Crash one run: SIGSEGV to one of the sweep's `hcpf run` children.
-  const bool crashed = CrashOneChildRun(pid);
-  int status = 0;
-  ::waitpid(pid, &status, 0);
-  ASSERT_TRUE(crashed) << "no child run was seen";
-  ASSERT_TRUE(WIFEXITED(status)) << ReadFile(dir / "sweep.log");
-  EXPECT_EQ(WEXITSTATUS(status), 1) << ReadFile(dir / "sweep.log");  // some run failed
-  const std::string log = ReadFile(dir / "sweep.log");
+  const auto [crashed, status, log] = RunAndCrashOneChild(
+      {"sweep", sweep, "--out", out.string(), "--jobs", "2", "--isolate"}, dir / "sweep.log");
+  ASSERT_TRUE(crashed) << "no child run was seen: " << log;
+  ASSERT_TRUE(WIFEXITED(status)) << log;
+  EXPECT_EQ(WEXITSTATUS(status), 1) << log;  // some run failed
   EXPECT_NE(log.find("31 computed, 1 failed"), std::string::npos) << log;
   EXPECT_NE(log.find("crashed: killed by signal 11"), std::string::npos) << log;
   const auto rows = StoreRows(out / "results.sqlite");
@@ -486,13 +500,8 @@ TEST(SweepCli, RenderedRunsSideBySideEachRunInAProcessOfItsOwn) {
   const std::string sweep = (dir / "sweep.yaml").string();
   const std::string cache = (dir / "cache").string();
   const fs::path out = dir / "out";
-  const pid_t pid = Spawn({"sweep", sweep, "--out", out.string(), "--jobs", "2", "--cache", cache},
-                          dir / "sweep.log");
-  ASSERT_GT(pid, 0);
-  const bool crashed = CrashOneChildRun(pid);
-  int status = 0;
-  ::waitpid(pid, &status, 0);
-  const std::string log = ReadFile(dir / "sweep.log");
+  const auto [crashed, status, log] = RunAndCrashOneChild(
+      {"sweep", sweep, "--out", out.string(), "--jobs", "2", "--cache", cache}, dir / "sweep.log");
   ASSERT_TRUE(crashed) << "no child run was seen: " << log;
   ASSERT_TRUE(WIFEXITED(status)) << log;
   EXPECT_EQ(WEXITSTATUS(status), 1) << log;
@@ -861,14 +870,9 @@ TEST(RegressCli, RenderedScenesSideBySideEachInAProcessOfItsOwn) {
   EXPECT_EQ(entries, (std::vector<std::string>{"seed-0", "seed-1"}));
   EXPECT_TRUE(fs::exists(dir / "work" / "b" / "seed-1" / "metrics.json"));
 
-  const pid_t pid =
-      Spawn({"regress", suite, "--baseline", (dir / "one.json").string(), "--jobs", "2"},
-            dir / "crash.log");
-  ASSERT_GT(pid, 0);
-  const bool crashed = CrashOneChildRun(pid);
-  int status = 0;
-  ::waitpid(pid, &status, 0);
-  const std::string log = ReadFile(dir / "crash.log");
+  const auto [crashed, status, log] = RunAndCrashOneChild(
+      {"regress", suite, "--baseline", (dir / "one.json").string(), "--jobs", "2"},
+      dir / "crash.log");
   ASSERT_TRUE(crashed) << "no child run was seen: " << log;
   ASSERT_TRUE(WIFEXITED(status)) << log;
   EXPECT_EQ(WEXITSTATUS(status), 1) << log;

@@ -147,7 +147,8 @@ Command AddSweepCommand(CLI::App& parent) {
           } else {
             spdlog::info(
                 "sweep: each rendered run in a process of its own (--jobs {}), so that they "
-                "render side by side (docs/sweeps.md)",
+                "render side by side; one whose frames are all in the frame cache renders nothing "
+                "and stays in a worker thread (docs/sweeps.md)",
                 sweep_options.jobs);
           }
         }

@@ -15,6 +15,8 @@
 #include "hcpf/config/overrides.h"
 #include "hcpf/config/yaml_reader.h"
 #include "hcpf/core/rng.h"
+#include "hcpf/renderer/renderer.h"
+#include "hcpf/scenarios/frames.h"
 #include "hcpf/scenarios/output_folder.h"
 #include "hcpf/scenarios/progress.h"
 #include "hcpf/studies/file_keys.h"
@@ -855,7 +857,20 @@ void SweepOptions::Validate() const {
 
 bool SweepOptions::InChildProcess(const SweepRun& run) const {
   if (!isolate_exe.empty()) return true;
-  return !render_exe.empty() && jobs > 1 && run.rendered();
+  if (render_exe.empty() || jobs <= 1 || !run.rendered()) return false;
+  return !FramesAllCached(run);
+}
+
+bool SweepOptions::FramesAllCached(const SweepRun& run) const {
+  if (frame_cache_dir.empty() || !run.rendered()) return false;
+  const scenarios::Scenario scenario = run.scenario();
+  const renderer::FrameCache cache(
+      frame_cache_dir, renderer::PixelHash(scenario.world, scenarios::RendererOptionsOf(scenario),
+                                           scenario.seeds.renderer));
+  for (int f = 0; f < scenario.world.frames; ++f) {
+    if (!cache.Contains(f)) return false;
+  }
+  return true;
 }
 
 }  // namespace hcpf::studies

@@ -4,6 +4,7 @@
 // the first run (PrepareSweep), one run turned into its store record
 // (ExecuteRun) and the contact sheet at the end. Private to studies/.
 
+#include <atomic>
 #include <filesystem>
 #include <memory>
 #include <string>
@@ -75,12 +76,20 @@ void CopyWhole(const std::filesystem::path& from, const std::filesystem::path& t
 class RunExecutors {
  public:
   explicit RunExecutors(const SweepOptions& options);
+  // Called once per run, when it starts; counts the rendered runs it sends.
   const RunExecutor& For(const SweepRun& run) const;
+  // Rendered runs sent to child processes, and those kept in worker threads
+  // because their frames were all cached (SweepOptions::FramesAllCached),
+  // under render_exe.
+  int64_t rendered_in_children() const { return rendered_in_children_; }
+  int64_t cached_in_threads() const { return cached_in_threads_; }
 
  private:
   const SweepOptions& options_;
   InProcessExecutor in_process_;
   std::unique_ptr<ChildProcessExecutor> child_;
+  mutable std::atomic<int64_t> rendered_in_children_{0};
+  mutable std::atomic<int64_t> cached_in_threads_{0};
 };
 
 // The store record of `run` before it is computed: key, index, seed, values,

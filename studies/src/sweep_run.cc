@@ -486,7 +486,14 @@ RunExecutors::RunExecutors(const SweepOptions& options) : options_(options) {
 }
 
 const RunExecutor& RunExecutors::For(const SweepRun& run) const {
-  if (child_ && options_.InChildProcess(run)) return *child_;
+  if (child_ && options_.InChildProcess(run)) {
+    if (run.rendered()) ++rendered_in_children_;
+    return *child_;
+  }
+  if (child_ && !options_.render_exe.empty() && options_.isolate_exe.empty() && run.rendered() &&
+      options_.jobs > 1) {
+    ++cached_in_threads_;  // InChildProcess kept it here: FramesAllCached
+  }
   return in_process_;
 }
 
@@ -553,6 +560,12 @@ SweepResult RunSweep(const SweepSpec& spec, const std::vector<SweepRun>& runs,
     ParallelFor(wave.size(), options.jobs, [&](size_t i) { run_one(*wave[i]); });
   }
   if (options.progress) progress.Finish();
+  if (executors.cached_in_threads() > 0) {
+    spdlog::info(
+        "sweep: {} rendered run(s) in processes of their own, {} in worker threads (every frame "
+        "in the frame cache: nothing to render)",
+        executors.rendered_in_children(), executors.cached_in_threads());
+  }
   internal::WriteContactSheet(plan.out, runs, options.frame_cache_dir);
   return result;
 }

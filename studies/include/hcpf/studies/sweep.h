@@ -228,8 +228,10 @@ struct SweepOptions {
   // process runs on the thread that draws (GlContext::Create: its threads
   // race on fences), so contexts on two threads would render in turn under
   // its lock; children render side by side, and a run that crashes fails
-  // alone (docs/sweeps.md, docs/performance.md). "" = rendered runs in
-  // worker threads too (a library caller without the executable).
+  // alone (docs/sweeps.md, docs/performance.md). A run whose frames are all
+  // in the frame cache when it starts renders nothing (no GL context) and
+  // stays in a worker thread, sparing a process's start. "" = rendered runs
+  // in worker threads too (a library caller without the executable).
   std::string render_exe;
   // Other sweep folders (`hcpf sweep --reuse`, any sweep's): a run this sweep
   // has not finished whose key (the resolved scenario's hash) one of them
@@ -240,8 +242,13 @@ struct SweepOptions {
   std::vector<std::string> reuse_dirs;
   void Validate() const;
   // Whether `run` is run in a child process: every run under isolate_exe;
-  // a rendered one under render_exe when jobs > 1.
+  // a rendered one under render_exe when jobs > 1, unless FramesAllCached.
+  // Asked when the run starts (a first wave caches the frames later runs
+  // read).
   bool InChildProcess(const SweepRun& run) const;
+  // Whether frame_cache_dir holds a file for each frame of `run` (rendered):
+  // it then renders nothing, unless a file proves unreadable.
+  bool FramesAllCached(const SweepRun& run) const;
   // The executable for InChildProcess's runs ("" when there are none).
   const std::string& ChildExe() const { return isolate_exe.empty() ? render_exe : isolate_exe; }
 };

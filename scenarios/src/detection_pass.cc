@@ -64,9 +64,7 @@ DetectionPass::DetectionPass(const Scenario& scenario, const std::string& cache_
     // Labelled with the scene's frame folder (`hcpf cache` lists the
     // outputs under it) and the detector.
     cache_ = std::make_unique<DetectionCache>(
-        cache_dir, DetectionLabel(renderer::PixelHash(scenario.world, RendererOptionsOf(scenario),
-                                                      scenario.seeds.renderer),
-                                  scenario.observation.DetectorName()));
+        cache_dir, DetectionLabel(PixelHashOf(scenario), scenario.observation.DetectorName()));
   }
 }
 

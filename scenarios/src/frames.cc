@@ -36,6 +36,10 @@ renderer::RendererOptions RendererOptionsOf(const Scenario& s) {
   return o;
 }
 
+std::string PixelHashOf(const Scenario& scenario) {
+  return renderer::PixelHash(scenario.world, RendererOptionsOf(scenario), scenario.seeds.renderer);
+}
+
 namespace {
 
 // The default frame cache folder and where it came from, in one order for
@@ -87,7 +91,7 @@ SceneFrames ProduceFrames(const Scenario& scenario, const FrameSourceOptions& op
   }
   out.rendered = !options.analytic_truth;
   const renderer::RendererOptions ropts = RendererOptionsOf(scenario);
-  out.pixel_hash = renderer::PixelHash(scenario.world, ropts, scenario.seeds.renderer);
+  out.pixel_hash = PixelHashOf(scenario);
   // Depth and instance images are not cached (FrameCache holds colour + truth).
   std::unique_ptr<renderer::FrameCache> cache;
   if (!options.cache_dir.empty() && !ropts.output_depth && !ropts.output_instance_ids) {

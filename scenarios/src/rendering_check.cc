@@ -115,7 +115,7 @@ std::string ResolveRenderingFolder(const std::string& written, const std::string
 void CheckRendering(Scenario* s) {
   DetectionFileOptions& f = s->observation.file;
   if (f.rendering.empty() && f.pixel_hash.empty()) return;
-  const std::string ours = renderer::PixelHash(s->world, RendererOptionsOf(*s), s->seeds.renderer);
+  const std::string ours = PixelHashOf(*s);
   const std::string expected = fmt::format(
       "this scenario's frames, whose pixel hash is {} (a det.txt made on the frames of `hcpf "
       "render` of this scenario)",

@@ -12,12 +12,10 @@
 #include "hcpf/core/error.h"
 #include "hcpf/core/subprocess.h"
 #include "hcpf/core/text_file.h"
-#include "hcpf/renderer/renderer.h"
 #include "hcpf/scenarios/frames.h"
 
 namespace hcpf::studies {
 
-using scenarios::RendererOptionsOf;
 using scenarios::RunOptions;
 using scenarios::ToResolvedYaml;
 
@@ -32,10 +30,7 @@ std::vector<std::vector<const SweepRun*>> RunWaves(std::span<const SweepRun* con
     bool reuses_frames = false;
     if (rendered) {
       const scenarios::Scenario scenario = run->scenario();
-      reuses_frames = !scenes
-                           .insert(renderer::PixelHash(scenario.world, RendererOptionsOf(scenario),
-                                                       scenario.seeds.renderer))
-                           .second;
+      reuses_frames = !scenes.insert(scenarios::PixelHashOf(scenario)).second;
     }
     waves[reuses_frames ? 1 : 0].push_back(run);
   }

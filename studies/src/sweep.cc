@@ -864,9 +864,7 @@ bool SweepOptions::InChildProcess(const SweepRun& run) const {
 bool SweepOptions::FramesAllCached(const SweepRun& run) const {
   if (frame_cache_dir.empty() || !run.rendered()) return false;
   const scenarios::Scenario scenario = run.scenario();
-  const renderer::FrameCache cache(
-      frame_cache_dir, renderer::PixelHash(scenario.world, scenarios::RendererOptionsOf(scenario),
-                                           scenario.seeds.renderer));
+  const renderer::FrameCache cache(frame_cache_dir, scenarios::PixelHashOf(scenario));
   for (int f = 0; f < scenario.world.frames; ++f) {
     if (!cache.Contains(f)) return false;
   }

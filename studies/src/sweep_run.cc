@@ -41,7 +41,6 @@ using scenarios::LoadScenarioFile;
 using scenarios::ObservationSource;
 using scenarios::Progress;
 using scenarios::RemoveStaleStagingFolders;
-using scenarios::RendererOptionsOf;
 using scenarios::RunOptions;
 using scenarios::RunScenario;
 using scenarios::Scenario;
@@ -61,9 +60,7 @@ void WriteContactSheet(const fs::path& out, const std::vector<SweepRun>& runs,
   for (const SweepRun& run : runs) {
     const Scenario scenario = run.scenario();
     if (scenario.observation.source != ObservationSource::kRendered) continue;
-    const renderer::FrameCache cache(
-        cache_dir,
-        renderer::PixelHash(scenario.world, RendererOptionsOf(scenario), scenario.seeds.renderer));
+    const renderer::FrameCache cache(cache_dir, scenarios::PixelHashOf(scenario));
     constexpr int kSheetFrames = 8;
     const int frames = scenario.world.frames;
     std::vector<renderer::RenderedFrame> sheet;

@@ -23,6 +23,11 @@ namespace hcpf::scenarios {
 // The renderer's options from the scenario's `renderer.*` and `sensor.*` keys.
 renderer::RendererOptions RendererOptionsOf(const Scenario& scenario);
 
+// The identity of the scenario's frames: renderer::PixelHash of its world,
+// its RendererOptionsOf and its renderer seed (the frame cache's folder, a
+// rendered run's `pixel_hash`).
+std::string PixelHashOf(const Scenario& scenario);
+
 // $HCPF_CACHE_DIR, else $XDG_CACHE_HOME/hcpf/frames, else $HOME/.cache/hcpf/frames.
 std::string DefaultFrameCacheDir();
 // Where DefaultFrameCacheDir() came from, as an error names it:

@@ -928,7 +928,6 @@ RegressResult RunRegress(const RegressOptions& options) {
       RunOptions run_options;
       run_options.out_dir = out_dir.string();
       if (child && scene.rendered) {
-        fs::create_directories(out_dir.parent_path());  // DIR/b for DIR/b/seed-1.input.yaml
         child->ExecuteScenario(scenario, out_dir.string(), run_options);
       } else {
         RunScenario(scenario, run_options);

@@ -69,6 +69,7 @@ void ChildProcessExecutor::ExecuteScenario(const scenarios::Scenario& scenario,
   const std::string& exe = exe_;
   const fs::path input = files + ".input.yaml";
   const fs::path log = files + ".log";
+  fs::create_directories(input.parent_path());  // DIR/b of DIR/b/seed-1.input.yaml
   WriteTextFile(input.string(), ToResolvedYaml(scenario));
   std::vector<std::string> args = {exe,
                                    "--log-level",

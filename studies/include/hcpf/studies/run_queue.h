@@ -49,7 +49,7 @@ class ChildProcessExecutor final : public RunExecutor {
   void Execute(const SweepRun& run, const scenarios::RunOptions& options) const override;
   // The same for any scenario (hcpf regress's scenes), its input and log
   // files named `files` + ".input.yaml" and ".log" (a path no other
-  // concurrent run uses; runs_dir is not used).
+  // concurrent run uses, its folder made when missing; runs_dir is not used).
   void ExecuteScenario(const scenarios::Scenario& scenario, const std::string& files,
                        const scenarios::RunOptions& options) const;
   std::string_view name() const override { return "child processes"; }

@@ -73,11 +73,38 @@ std::string UrlDecode(const std::string& uri) {
   return out;
 }
 
-// The files beside a model that its loader reads and that change its pixels:
-// a glTF's buffers named by URI (its geometry; a .glb's JSON chunk may name
+// A model file by its name and content, not its folder: the same scene
+// rendered from another clone or machine (whose model paths are absolute
+// elsewhere) has the same hash, so `observation.file.rendering` can tell
+// frames apart by what they show, wherever they were rendered. The name stays
+// (its extension picks the loader). Then each side file's name and bytes (a
+// glTF whose .bin changed, or an .obj whose .mtl did, draws other pixels).
+std::string ModelKey(const std::string& path) {
+  std::string key = std::filesystem::path(path).filename().string();
+  key += '#';
+  const std::optional<std::string> bytes = FileBytes(path);
+  if (!bytes) return key + "missing";
+  key += fmt::format("{:016x}", HashName(*bytes));
+  for (const std::filesystem::path& side : ModelSideFiles(path, *bytes)) {
+    const std::optional<std::string> side_bytes = FileBytes(side);
+    key += fmt::format("+{}#{}", side.filename().string(),
+                       side_bytes ? fmt::format("{:016x}", HashName(*side_bytes)) : "missing");
+  }
+  return key;
+}
+
+void AppendVec(std::string& s, const Eigen::Vector2d& v) {
+  s += fmt::format("[{:.17g},{:.17g}]", v.x(), v.y());
+}
+void AppendVec(std::string& s, const Eigen::Vector3d& v) {
+  s += fmt::format("[{:.17g},{:.17g},{:.17g}]", v.x(), v.y(), v.z());
+}
+
+}  // namespace
+
+// A glTF's buffers named by URI (its geometry; a .glb's JSON chunk may name
 // some too), an .obj's material libraries (their colours). Images are not
-// read (the renderer shades by base colour). In the order the model names
-// them; a model that cannot be parsed names none (its loader says why).
+// read (the renderer shades by base colour).
 std::vector<std::filesystem::path> ModelSideFiles(const std::filesystem::path& path,
                                                   const std::string& bytes) {
   std::vector<std::filesystem::path> files;
@@ -121,35 +148,6 @@ std::vector<std::filesystem::path> ModelSideFiles(const std::filesystem::path& p
   }
   return files;
 }
-
-// A model file by its name and content, not its folder: the same scene
-// rendered from another clone or machine (whose model paths are absolute
-// elsewhere) has the same hash, so `observation.file.rendering` can tell
-// frames apart by what they show, wherever they were rendered. The name stays
-// (its extension picks the loader). Then each side file's name and bytes (a
-// glTF whose .bin changed, or an .obj whose .mtl did, draws other pixels).
-std::string ModelKey(const std::string& path) {
-  std::string key = std::filesystem::path(path).filename().string();
-  key += '#';
-  const std::optional<std::string> bytes = FileBytes(path);
-  if (!bytes) return key + "missing";
-  key += fmt::format("{:016x}", HashName(*bytes));
-  for (const std::filesystem::path& side : ModelSideFiles(path, *bytes)) {
-    const std::optional<std::string> side_bytes = FileBytes(side);
-    key += fmt::format("+{}#{}", side.filename().string(),
-                       side_bytes ? fmt::format("{:016x}", HashName(*side_bytes)) : "missing");
-  }
-  return key;
-}
-
-void AppendVec(std::string& s, const Eigen::Vector2d& v) {
-  s += fmt::format("[{:.17g},{:.17g}]", v.x(), v.y());
-}
-void AppendVec(std::string& s, const Eigen::Vector3d& v) {
-  s += fmt::format("[{:.17g},{:.17g},{:.17g}]", v.x(), v.y(), v.z());
-}
-
-}  // namespace
 
 std::string PixelHash(const WorldSpec& world, const RendererOptions& options, uint64_t seed) {
   std::string s = fmt::format("hcpf-renderer-v{};seed={};", kRendererVersion, seed);

@@ -6,8 +6,11 @@
 #include <map>
 #include <mutex>
 
+#include "detection_cache.h"
 #include "hcpf/config/file_lookup.h"
+#include "hcpf/core/text_file.h"
 #include "hcpf/renderer/mesh.h"
+#include "hcpf/renderer/renderer.h"
 
 namespace hcpf::scenarios {
 
@@ -57,6 +60,46 @@ Eigen::Vector3d ModelDimensions(const std::string& path, const SourceLocation& w
   std::lock_guard lock(mutex);
   cache[path] = dims;
   return dims;
+}
+
+namespace {
+
+// Read whole to be digested: a vehicle model is a few MiB (the glTF loader
+// caps a file at 256 MiB; assimp's formats have no cap of their own).
+constexpr uint64_t kMaxModelFileBytes = uint64_t{1} << 30;
+
+}  // namespace
+
+std::string ModelDigest(const std::string& path, const SourceLocation& where) {
+  const auto read = [&](const fs::path& file) {
+    try {
+      return ReadInputFile(file.string(), "a model file", kMaxModelFileBytes);
+    } catch (const InputError& e) {
+      throw InputError(where, "a readable model file", e.what());
+    }
+  };
+  const std::string bytes = read(path);
+  XXH3_state_t* state = XXH3_createState();
+  HCPF_CHECK(state != nullptr) << "XXH3_createState";
+  XXH3_128bits_reset(state);
+  const auto add = [&](const std::string& text) {
+    const uint64_t size = text.size();
+    XXH3_128bits_update(state, &size, sizeof(size));
+    XXH3_128bits_update(state, text.data(), text.size());
+  };
+  add(bytes);
+  try {
+    for (const fs::path& side : renderer::ModelSideFiles(path, bytes)) {
+      add(side.lexically_relative(fs::path(path).parent_path()).generic_string());
+      add(read(side));
+    }
+  } catch (...) {
+    XXH3_freeState(state);
+    throw;
+  }
+  const XXH128_hash_t digest = XXH3_128bits_digest(state);
+  XXH3_freeState(state);
+  return internal::DigestHex(digest);
 }
 
 }  // namespace hcpf::scenarios

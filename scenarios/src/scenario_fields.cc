@@ -43,6 +43,21 @@ Field<O> ModelField(std::string_view doc) {
   return FileField<&O::model>("model", doc);
 }
 
+// Its content, pinned by the resolved YAML (models.h, ModelDigest).
+template <class O>
+Field<O> ModelDigestField() {
+  Field<O> f = DefaultDoc(
+      TextField<&O::model_digest>(
+          "model_digest",
+          "XXH3-128 of the `model` file's content and of the files beside it that it names "
+          "(a glTF's buffers, an .obj's material libraries), 32 hex digits, written by the "
+          "resolved YAML; when given, the files must still have it (a `--set` of `model` "
+          "alone drops it)"),
+      "none (a model only)");
+  f.omitted_when_empty = true;
+  return f;
+}
+
 }  // namespace
 
 std::span<const Field<Scenario>> ScenarioFields() {
@@ -121,6 +136,7 @@ std::span<const Field<OccluderSpec>> OccluderFields(OccluderKind kind) {
   static const std::vector<Field<O>> mesh = {
       Required(ModelField<O>(
           "a model file, found as for `targets[i].model`; occludes as its bounding box")),
+      ModelDigestField<O>(),
       at(),
       yaw(),
       NumberField("scale", &O::scale, Closed(1e-3, 1e3), "", "uniform scale"),
@@ -203,6 +219,7 @@ std::span<const Field<TargetSpec>> TargetFields() {
     return std::vector<Field<O>>{
         id,
         model,
+        ModelDigestField<O>(),
         DefaultDoc(VectorField<&O::dimensions_m>("dimensions_m", "length, width, height",
                                                  Closed(0.05, 1000), "m", "box size"),
                    "from `model`'s bounds; required without a model"),

@@ -79,6 +79,28 @@ void CheckFrame(YamlReader& r, const char* key, int value, int lo, int frames) {
   }
 }
 
+// `model_digest` beside a model (models.h, ModelDigest): computed when not
+// given, else checked (a model edited since a resolved YAML pinned it, or a
+// digest copied from another model, is refused). A box has no file to digest.
+void ReadModelDigest(YamlReader& r, const std::string& model, std::string* digest) {
+  if (model.empty()) {
+    if (!digest->empty()) r.Child("model_digest").Fail("no model_digest without a `model`");
+    return;
+  }
+  const std::string now = ModelDigest(model, r.Child("model").Where());
+  if (!digest->empty() && !internal::IsDigestHex(*digest)) {
+    r.Child("model_digest")
+        .Fail("a digest: 32 lowercase hexadecimal digits, as the resolved YAML writes it");
+  }
+  if (!digest->empty() && *digest != now) {
+    r.Child("model_digest")
+        .Fail(fmt::format("{}, the digest of {} as it is now (the model or a file it names "
+                          "changed since this digest was written, or the digest is not its)",
+                          now, PortableModelPath(model)));
+  }
+  *digest = now;
+}
+
 OccluderSpec ReadOccluder(YamlReader r, const std::string& scenario_file) {
   r.ExpectMap();
   OccluderSpec o;
@@ -89,6 +111,7 @@ OccluderSpec ReadOccluder(YamlReader r, const std::string& scenario_file) {
     r.Child("to").Fail("an end point at least 0.1 m from \"from\"");
   }
   if (o.kind == OccluderKind::kMesh) o.size_m = ModelDimensions(o.model, r.Child("model").Where());
+  ReadModelDigest(r, o.model, &o.model_digest);
   r.Finish();
   return o;
 }
@@ -137,6 +160,7 @@ TargetSpec ReadTarget(YamlReader r, int frames, const std::string& scenario_file
     const Eigen::Vector3d dims = ModelDimensions(t.model, r.Child("model").Where());
     if (!dimensions_given) t.dimensions_m = dims;
   }
+  ReadModelDigest(r, t.model, &t.model_digest);
   t.path = ReadPath(r.Child("path"), frames);
   r.Finish();
   return t;
@@ -659,6 +683,47 @@ Scenario ReadScenario(YamlReader root, const std::string& file, ScenarioUse use)
   return s;
 }
 
+// A file named anew by an override drops the digest the scenario pinned for
+// the file it named before, unless an override sets that digest too: `--set
+// targets.0.model=...car.glb` on a run's scenario.resolved.yaml loads the
+// car, where the tank's model_digest would refuse it. Paths as
+// YamlContext::overrides keys them ("targets[0].model").
+void DropDigestsOfRenamedFiles(YAML::Node root, const YamlContext& context) {
+  const auto overridden = [&](const std::string& path) {
+    return context.overrides.count(path) > 0;
+  };
+  // Const lookups (a missing key reads as undefined, none is added).
+  const auto child = [](const YAML::Node& map, const char* key) {
+    return map.IsDefined() && map.IsMap() ? map[key] : YAML::Node(YAML::NodeType::Undefined);
+  };
+  const auto drop = [&](YAML::Node map, const char* key) {
+    if (child(map, key).IsDefined()) map.remove(key);
+  };
+  const YAML::Node top = root;
+  for (const auto& [path, origin] : context.overrides) {
+    for (const std::string list : {"targets", "world.occluders"}) {
+      const std::string head = list + "[";
+      const std::string tail = "].model";
+      if (path.size() <= head.size() + tail.size() || path.rfind(head, 0) != 0 ||
+          path.compare(path.size() - tail.size(), tail.size(), tail) != 0) {
+        continue;
+      }
+      const std::string digits = path.substr(head.size(), path.size() - head.size() - tail.size());
+      if (!std::all_of(digits.begin(), digits.end(), ::isdigit) || digits.size() > 9) continue;
+      if (overridden(path + "_digest")) continue;
+      const YAML::Node items =
+          list == "targets" ? child(top, "targets") : child(child(top, "world"), "occluders");
+      const size_t index = std::stoul(digits);
+      if (items.IsDefined() && items.IsSequence() && index < items.size()) {
+        drop(items[index], "model_digest");
+      }
+    }
+    if (path == "observation.file.path" && !overridden("observation.file.digest")) {
+      drop(child(child(top, "observation"), "file"), "digest");
+    }
+  }
+}
+
 Scenario LoadFromNode(YAML::Node root, const std::string& file,
                       const std::vector<Override>& overrides, ScenarioUse use) {
   auto context = std::make_shared<YamlContext>();
@@ -699,6 +764,7 @@ Scenario LoadFromNode(YAML::Node root, const std::string& file,
     }
   }
   ApplyOverrides(root, overrides, context.get());
+  DropDigestsOfRenamedFiles(root, *context);
   return ReadScenario(YamlReader(root, "", context), file, use);
 }
 

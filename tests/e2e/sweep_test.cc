@@ -690,6 +690,40 @@ TEST(SweepCli, ReuseCopiesTheRunsAnotherSweepFinishedAndEqualsAFreshSweep) {
   }
 }
 
+// A model edited in place (one byte of its geometry) is another run: the
+// resolved scenario pins its content (targets[i].model_digest), so resuming
+// the sweep into its folder is refused as another sweep, and --reuse copies
+// none of the old model's runs (until 2026-12-07 a run's key named a model
+// by its path alone, and both kept the old model's runs as this one's).
+TEST(SweepCli, AModelEditedInPlaceMakesAnotherSweepWhoseRunsAreComputedAgain) {
+  const fs::path dir = FreshDir("sweep-model-edited");
+  const fs::path model = dir / "tank.glb";
+  fs::copy_file(kSource / "assets" / "vehicles" / "tank.glb", model);
+  std::ofstream(dir / "sweep.yaml") << "base: " << testing::LibraryScenario("crossing-dominant")
+                                    << "\nseeds: 2\ngrid:\n  frames: [30]\n"
+                                    << "  targets.0.model: [\"" << model.string() << "\"]\n";
+  const std::string sweep = (dir / "sweep.yaml").string();
+  auto r = RunCommand(kHcpf + " sweep " + sweep + " --out " + (dir / "d1").string());
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  r = RunCommand(kHcpf + " sweep " + sweep + " --out " + (dir / "d1").string());
+  EXPECT_NE(r.output.find("2 runs, 2 reused, 0 computed"), std::string::npos) << r.output;
+
+  // One bit of a vertex coordinate in the binary chunk, the file still a
+  // good .glb of the same size.
+  std::string bytes = ReadFile(model);
+  ASSERT_GT(bytes.size(), 4000u);
+  bytes[bytes.size() - 3000] = static_cast<char>(bytes[bytes.size() - 3000] ^ 1);
+  std::ofstream(model, std::ios::binary | std::ios::trunc) << bytes;
+  r = RunCommand(kHcpf + " sweep " + sweep + " --out " + (dir / "d1").string());
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_NE(r.output.find("meta.sweep_hash: expected a store of this sweep"), std::string::npos)
+      << r.output;
+  r = RunCommand(kHcpf + " sweep " + sweep + " --out " + (dir / "d2").string() + " --reuse " +
+                 (dir / "d1").string());
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("2 runs, 0 reused, 2 computed"), std::string::npos) << r.output;
+}
+
 // Chromium on PATH, or "".
 std::string FindChromium() {
   for (const char* name : {"chromium", "chromium-browser"}) {

@@ -132,12 +132,14 @@ void ReadFields(YamlReader& r, O& o, std::span<const Field<O>> fields,
 }
 
 // Writes every field as `key: value` pairs into the open mapping of `out`,
-// in table order; an optional path that is not set is left out.
+// in table order; an optional path that is not set is left out, as is an
+// empty text marked omitted_when_empty.
 template <class O>
 void WriteFields(YAML::Emitter& out, const O& o, std::span<const Field<O>> fields) {
   for (const Field<O>& f : fields) {
     if (f.type == FieldType::kPath && !f.required && f.get_text(o).empty()) continue;
     if (f.type == FieldType::kWords && !f.required && (o.*f.words).empty()) continue;
+    if (f.type == FieldType::kText && f.omitted_when_empty && f.get_text(o).empty()) continue;
     out << YAML::Key << std::string(f.key) << YAML::Value;
     if (f.type == FieldType::kVector || f.type == FieldType::kPoints) {
       const std::vector<double> v = f.NumbersOf(o);

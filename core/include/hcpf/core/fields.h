@@ -99,6 +99,9 @@ struct Field {
   std::vector<std::string> O::*words = nullptr;  // kWords
   // No default: the key must be written (`default_doc` says when, if only sometimes).
   bool required = false;
+  // kText: left out of the resolved YAML when empty (a value that exists only
+  // with another key, e.g. a model's digest).
+  bool omitted_when_empty = false;
   // The default column of the docs when the member's in-class value is not
   // the default ("derived from `seed`", "file name without extension").
   std::string_view default_doc;

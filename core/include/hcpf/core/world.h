@@ -75,7 +75,11 @@ struct OccluderSpec {
   Eigen::Vector2d at_m = Eigen::Vector2d::Zero();
   Eigen::Vector3d size_m{10.0, 10.0, 10.0};
   double yaw_deg = 0.0;
-  std::string model;   // mesh occluders: path of the model file
+  std::string model;  // mesh occluders: path of the model file
+  // mesh occluders: XXH3-128 of the model's content (the loader fills it,
+  // scenarios/models.h, ModelDigest), so the resolved scenario names the
+  // model by what it holds as well as where it lies.
+  std::string model_digest;
   double scale = 1.0;  // mesh occluders: uniform scale
   // The boxes this occluder is made of, for analytic visibility (and the
   // renderer's own primitive meshes). Mesh occluders are their model's
@@ -113,6 +117,7 @@ struct TargetPathSpec {
 struct TargetSpec {
   ObjectId id{};
   std::string model;                            // vehicle model file ("" = plain box)
+  std::string model_digest;                     // its content (as OccluderSpec's)
   Eigen::Vector3d tint{0.5, 0.5, 0.5};          // RGB in [0, 1]
   Eigen::Vector3d dimensions_m{4.5, 2.0, 1.6};  // length, width, height
   TargetPathSpec path;

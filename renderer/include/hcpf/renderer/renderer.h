@@ -173,6 +173,14 @@ void ApplySensorEffects(const SensorOptions& options, Rng rng, RgbImage& image);
 // scene has the same hash in any clone, on any machine.
 std::string PixelHash(const WorldSpec& world, const RendererOptions& options, uint64_t seed);
 
+// The files beside the model file `path` (whose content is `bytes`) that its
+// loader reads and that change its pixels: a glTF's buffers, an .obj's
+// material libraries. In the order the model names them; a model that cannot
+// be parsed names none (its loader says why). PixelHash keys a model by its
+// bytes and theirs, as does the scenario's `targets[i].model_digest`.
+std::vector<std::filesystem::path> ModelSideFiles(const std::filesystem::path& path,
+                                                  const std::string& bytes);
+
 // "<platform>; <vendor>; <renderer>; <version>" of a GL context, e.g.
 // "osmesa; Mesa; llvmpipe (LLVM 15.0.6, 256 bits); 4.5 (Core Profile) Mesa
 // 22.3.6" (FrameCache::NoteRenderer).

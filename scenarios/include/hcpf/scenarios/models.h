@@ -36,4 +36,13 @@ std::string PortableModelPath(const std::string& resolved);
 // when the file cannot be read as a mesh.
 Eigen::Vector3d ModelDimensions(const std::string& path, const SourceLocation& where);
 
+// The content of a model file, as the resolved YAML's `model_digest` pins it:
+// XXH3-128 (32 lowercase hex digits) of its bytes, then of each file beside
+// it that its loader reads (renderer::ModelSideFiles: a glTF's buffers, an
+// .obj's material libraries), by its path relative to the model's folder and
+// its bytes. Read anew at each call (no cache: a sweep's child process checks
+// the file as it is then). Throws InputError at `where` when a file cannot be
+// read.
+std::string ModelDigest(const std::string& path, const SourceLocation& where);
+
 }  // namespace hcpf::scenarios

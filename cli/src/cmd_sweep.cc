@@ -1,5 +1,5 @@
 // hcpf sweep SWEEP.yaml --out DIR [--jobs N] [--threads T] [--seed S] [--shard i/n]
-// [--reuse OTHER ...]; under mpirun
+// [--reuse OTHER ...] [--move-aside]; under mpirun
 // -n R, the MPI executor (studies/include/hcpf/studies/mpi_sweep.h).
 
 #include <fmt/format.h>
@@ -59,6 +59,7 @@ Command AddSweepCommand(CLI::App& parent) {
     bool no_cache = false;
     bool video = false;
     bool isolate = false;
+    bool move_aside = false;
     std::vector<std::string> reuse;
   };
   auto options = std::make_shared<Options>();
@@ -95,6 +96,10 @@ Command AddSweepCommand(CLI::App& parent) {
                   "resolved scenario gives the same files), e.g. after raising seeds: or adding "
                   "a grid value")
       ->allow_extra_args(false);
+  app->add_flag("--move-aside", options->move_aside,
+                "When --out holds another sweep's store (runs keyed by another hcpf, or a sweep "
+                "file, scenario or model edited since), rename it DIR.before-<UTC time> and copy "
+                "its runs that are still this sweep's, instead of refusing");
   app->add_flag("--isolate", options->isolate,
                 "Run each run in a child process: a run that crashes is recorded as failed");
   app->add_flag("--no-cache", options->no_cache,
@@ -115,6 +120,7 @@ Command AddSweepCommand(CLI::App& parent) {
             FrameCacheFolder(options->cache, app->count("--cache") > 0, options->no_cache);
         sweep_options.video = options->video;
         sweep_options.reuse_dirs = options->reuse;
+        sweep_options.move_aside = options->move_aside;
         if (options->isolate) {
           std::error_code ec;
           sweep_options.isolate_exe = std::filesystem::read_symlink("/proc/self/exe", ec).string();

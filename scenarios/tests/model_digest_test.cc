@@ -78,11 +78,10 @@ TEST(ModelDigest, PinsTheModelAndItsMaterialsInTheResolvedYaml) {
   // The same files elsewhere: the same digest (content, not place).
   const fs::path copy = hcpf::testing::FreshDir("model-digest-copy");
   fs::copy(dir, copy, fs::copy_options::recursive | fs::copy_options::overwrite_existing);
-  EXPECT_EQ(
-      LoadScenarioText(kMinimal, "s.yaml", {{"targets.0.model", (copy / "box.obj").string()}})
-          .world.targets[0]
-          .model_digest,
-      s.world.targets[0].model_digest);
+  EXPECT_EQ(LoadScenarioText(kMinimal, "s.yaml", {{"targets.0.model", (copy / "box.obj").string()}})
+                .world.targets[0]
+                .model_digest,
+            s.world.targets[0].model_digest);
 
   // The material edited in place: another run (config hash), and the resolved
   // YAML of before refused where its digest is, with the digest now.
@@ -151,8 +150,7 @@ TEST(ModelDigest, ADigestIsCheckedAndGoesWithTheModelAnOverrideReplaces) {
                 .model_digest,
             other_digest);
   std::string error = ModelLoadError(
-      resolved, {{"targets.0.model", other},
-                 {"targets.0.model_digest", std::string(32, 'a')}});
+      resolved, {{"targets.0.model", other}, {"targets.0.model_digest", std::string(32, 'a')}});
   EXPECT_NE(error.find("targets[0].model_digest: expected " + other_digest), std::string::npos)
       << error;
 
@@ -180,8 +178,9 @@ TEST(ModelDigest, ADetectionFilesDigestGoesWithThePathAnOverrideReplaces) {
   const Scenario b =
       LoadScenarioText(resolved, "r.yaml", {{"observation.file.path", (dir / "b.txt").string()}});
   EXPECT_EQ(b.observation.file.frames->at(1).size(), 1u);
-  const std::string error = ModelLoadError(resolved, {{"observation.file.path", (dir / "b.txt").string()},
-                                                 {"observation.file.digest", std::string(32, 'a')}});
+  const std::string error =
+      ModelLoadError(resolved, {{"observation.file.path", (dir / "b.txt").string()},
+                                {"observation.file.digest", std::string(32, 'a')}});
   EXPECT_NE(error.find("observation.file.digest"), std::string::npos) << error;
 }
 

@@ -10,7 +10,9 @@
 
 #include <algorithm>
 #include <cerrno>
+#include <chrono>
 #include <cstring>
+#include <ctime>
 #include <exception>
 #include <filesystem>
 #include <map>
@@ -291,6 +293,49 @@ std::vector<const SweepRun*> CopyFromDonors(const std::vector<std::unique_ptr<Do
   return left;
 }
 
+// --move-aside: an --out folder holding another sweep's store is renamed
+// DIR.before-<UTC time> (the first free name) under its lock, so a sweep
+// writing there is refused as without the option. Returns the new name, or
+// "" when DIR holds no store or this sweep's.
+std::string MoveOtherSweepAside(const std::string& out_dir, const std::string& sweep_hash) {
+  fs::path out = fs::path(out_dir).lexically_normal();
+  if (!out.has_filename()) out = out.parent_path();  // "DIR/"
+  std::error_code ec;
+  if (!fs::is_regular_file(out / "results.sqlite", ec)) return "";
+  StoreMeta held;
+  {
+    const auto store =
+        ResultsStore::Open((out / "results.sqlite").string(), StoreAccess::kReadOnly);
+    held = store->meta();
+  }
+  if (held.sweep_hash == sweep_hash) return "";
+  const std::time_t now = std::chrono::system_clock::to_time_t(std::chrono::system_clock::now());
+  std::tm utc{};
+  gmtime_r(&now, &utc);
+  char stamp[32];
+  std::strftime(stamp, sizeof(stamp), "%Y%m%dT%H%M%SZ", &utc);
+  fs::path aside;
+  for (int k = 1;; ++k) {
+    aside = out.string() + ".before-" + stamp + (k > 1 ? fmt::format("-{}", k) : "");
+    if (!fs::exists(aside, ec)) break;
+  }
+  {
+    const FolderLock lock(out, out_dir);
+    fs::rename(out, aside, ec);
+  }
+  if (ec) {
+    throw RunError(fmt::format("--move-aside: cannot rename {} to {}: {}", out.string(),
+                               aside.string(), ec.message()));
+  }
+  spdlog::warn(
+      "sweep: {} held the store of another sweep (hash {}, from {}; this sweep's is {}: its runs "
+      "were keyed by another hcpf, or the sweep file, a scenario or a model it names was edited "
+      "since): moved to {} (--move-aside); its runs that are still this sweep's are copied from "
+      "there",
+      out_dir, held.sweep_hash, held.sweep_file, sweep_hash, aside.string());
+  return aside.string();
+}
+
 }  // namespace
 
 SweepPlan PrepareSweep(const SweepSpec& spec, const std::vector<SweepRun>& runs,
@@ -303,7 +348,13 @@ SweepPlan PrepareSweep(const SweepSpec& spec, const std::vector<SweepRun>& runs,
   if (options.video) {
     for (const SweepRun& run : runs) scenarios::CheckVideoFits(*run.cell, "--video");
   }
-  const std::vector<std::unique_ptr<Donor>> donors = OpenDonors(options);
+  // Moved aside first: it then gives its runs as a --reuse folder.
+  SweepOptions with_aside = options;
+  if (options.move_aside) {
+    if (std::string aside = MoveOtherSweepAside(options.out_dir, SweepHash(runs)); !aside.empty())
+      with_aside.reuse_dirs.insert(with_aside.reuse_dirs.begin(), std::move(aside));
+  }
+  const std::vector<std::unique_ptr<Donor>> donors = OpenDonors(with_aside);
   std::error_code ec;
   fs::create_directories(out / "runs", ec);
   if (ec)

@@ -695,18 +695,22 @@ TEST(SweepCli, ReuseCopiesTheRunsAnotherSweepFinishedAndEqualsAFreshSweep) {
 // the sweep into its folder is refused as another sweep, and --reuse copies
 // none of the old model's runs (until 2026-12-07 a run's key named a model
 // by its path alone, and both kept the old model's runs as this one's).
+// --move-aside renames the folder of the other sweep and copies what is
+// still this sweep's: the runs of the model not edited.
 TEST(SweepCli, AModelEditedInPlaceMakesAnotherSweepWhoseRunsAreComputedAgain) {
   const fs::path dir = FreshDir("sweep-model-edited");
   const fs::path model = dir / "tank.glb";
   fs::copy_file(kSource / "assets" / "vehicles" / "tank.glb", model);
-  std::ofstream(dir / "sweep.yaml") << "base: " << testing::LibraryScenario("crossing-dominant")
-                                    << "\nseeds: 2\ngrid:\n  frames: [30]\n"
-                                    << "  targets.0.model: [\"" << model.string() << "\"]\n";
+  std::ofstream(dir / "sweep.yaml")
+      << "base: " << testing::LibraryScenario("crossing-dominant")
+      << "\nseeds: 2\ngrid:\n  frames: [30]\n"
+      << "  targets.0.model: [\"" << model.string() << "\", assets/vehicles/car.glb]\n";
   const std::string sweep = (dir / "sweep.yaml").string();
   auto r = RunCommand(kHcpf + " sweep " + sweep + " --out " + (dir / "d1").string());
   ASSERT_EQ(r.exit_code, 0) << r.output;
-  r = RunCommand(kHcpf + " sweep " + sweep + " --out " + (dir / "d1").string());
-  EXPECT_NE(r.output.find("2 runs, 2 reused, 0 computed"), std::string::npos) << r.output;
+  r = RunCommand(kHcpf + " sweep " + sweep + " --out " + (dir / "d1").string() + " --move-aside");
+  EXPECT_NE(r.output.find("4 runs, 4 reused, 0 computed"), std::string::npos) << r.output;
+  EXPECT_EQ(r.output.find("moved to"), std::string::npos) << r.output;
 
   // One bit of a vertex coordinate in the binary chunk, the file still a
   // good .glb of the same size.
@@ -721,7 +725,28 @@ TEST(SweepCli, AModelEditedInPlaceMakesAnotherSweepWhoseRunsAreComputedAgain) {
   r = RunCommand(kHcpf + " sweep " + sweep + " --out " + (dir / "d2").string() + " --reuse " +
                  (dir / "d1").string());
   ASSERT_EQ(r.exit_code, 0) << r.output;
-  EXPECT_NE(r.output.find("2 runs, 0 reused, 2 computed"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("4 runs, 2 reused (2 copied from --reuse), 2 computed"),
+            std::string::npos)
+      << r.output;
+  const std::vector<std::string> fresh = StoreRows(dir / "d2" / "results.sqlite");
+
+  // --move-aside: d1 renamed, the car's runs copied from it, the tank's
+  // computed; the store is the one a fresh sweep writes.
+  r = RunCommand(kHcpf + " sweep " + sweep + " --out " + (dir / "d1").string() + "/ --move-aside");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  std::vector<fs::path> aside;
+  for (const auto& e : fs::directory_iterator(dir)) {
+    if (e.path().filename().string().rfind("d1.before-", 0) == 0) aside.push_back(e.path());
+  }
+  ASSERT_EQ(aside.size(), 1u) << r.output;
+  EXPECT_NE(r.output.find("held the store of another sweep"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("moved to " + aside[0].string() + " (--move-aside)"), std::string::npos)
+      << r.output;
+  EXPECT_NE(r.output.find("4 runs, 2 reused (2 copied from --reuse), 2 computed"),
+            std::string::npos)
+      << r.output;
+  EXPECT_EQ(StoreRows(dir / "d1" / "results.sqlite"), fresh);
+  EXPECT_TRUE(fs::exists(aside[0] / "results.sqlite"));
 }
 
 // Chromium on PATH, or "".

@@ -240,6 +240,11 @@ struct SweepOptions {
   // The first folder that holds the run whole gives it; an external
   // tracker's runs are never copied (its program is in the key by path).
   std::vector<std::string> reuse_dirs;
+  // `hcpf sweep --move-aside`: an out_dir holding another sweep's store (runs
+  // keyed by another hcpf, or a sweep file, scenario or model edited since)
+  // is renamed out_dir.before-<UTC time> and read as the first reuse_dirs
+  // folder, instead of being refused.
+  bool move_aside = false;
   void Validate() const;
   // Whether `run` is run in a child process: every run under isolate_exe;
   // a rendered one under render_exe when jobs > 1, unless FramesAllCached.

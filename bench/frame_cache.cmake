@@ -6,4 +6,6 @@ if(TARGET hcpf::renderer AND TARGET hcpf::scenarios)
     SOURCES ${CMAKE_CURRENT_LIST_DIR}/frame_cache_bench.cc
     DEPS hcpf::renderer hcpf::scenarios)
   target_compile_definitions(frame_cache_bench PRIVATE HCPF_SOURCE_DIR="${PROJECT_SOURCE_DIR}")
+  # BM_ProgramDigest reads the detection cache's private header.
+  target_include_directories(frame_cache_bench PRIVATE ${PROJECT_SOURCE_DIR}/scenarios/src)
 endif()

@@ -5,7 +5,9 @@
 // 3 grey levels; noise is what makes frames hard to compress).
 //   build/<dir>/bench/frame_cache_bench
 // Counters: bytes = file size, ratio = file size / raw RGB size. Also the
-// frame digest of the manifests' frame_digests (BM_FrameDigest).
+// frame digest of the manifests' frame_digests (BM_FrameDigest), and the
+// detection cache's digest of the code that detects (BM_ProgramDigest),
+// computed once by every process that detects with a cache.
 
 #include <benchmark/benchmark.h>
 #include <unistd.h>
@@ -14,7 +16,9 @@
 #include <memory>
 #include <string>
 #include <system_error>
+#include <vector>
 
+#include "detection_cache.h"
 #include "hcpf/renderer/renderer.h"
 #include "hcpf/scenarios/frames.h"
 
@@ -143,11 +147,31 @@ void BM_FrameDigest(benchmark::State& state) {
                           static_cast<int64_t>(f.rgb.pixels.size()));
 }
 
+// The program digest of the detection cache's keys: build_ids 1 as every
+// process computes it (each loaded object's build ID, from memory), 0 with
+// the build IDs left out, so each file is read and hashed as before
+// 2026-12-07 (this executable, where the modules are linked in, as
+// libhcpf_cli.so is under hcpf; then OpenCV's libraries and libm). Counter
+// bytes: what is read from disk.
+void BM_ProgramDigest(benchmark::State& state) {
+  namespace internal = hcpf::scenarios::internal;
+  std::vector<internal::CodeObject> objects = internal::CodeObjects();
+  int64_t bytes = 0;
+  for (internal::CodeObject& o : objects) {
+    if (state.range(0) == 0) o.build_id.clear();
+    std::error_code ec;
+    if (o.build_id.empty()) bytes += static_cast<int64_t>(std::filesystem::file_size(o.path, ec));
+  }
+  for (auto _ : state) benchmark::DoNotOptimize(internal::ComputeProgramDigest(objects));
+  state.counters["bytes"] = static_cast<double>(bytes);
+}
+
 BENCHMARK(BM_CacheStore)->Arg(0)->Arg(3)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_CacheLoad)->Arg(0)->Arg(3)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_PngWrite)->Arg(0)->Arg(3)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_PngRead)->Arg(0)->Arg(3)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_FrameDigest)->Arg(3)->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_ProgramDigest)->ArgName("build_ids")->Arg(1)->Arg(0)->Unit(benchmark::kMillisecond);
 
 }  // namespace
 

@@ -180,7 +180,40 @@ XXH128_hash_t PixelDigest(const ImageView& image) {
 
 std::string CpuFeatures() { return cv::getCPUFeaturesLine(); }
 
-std::vector<std::string> CodeFiles() {
+namespace {
+
+// The GNU build ID of a loaded object, read from its PT_NOTE segments in
+// memory (the linker's hash of the object's contents, 20 bytes of SHA-1 by
+// default): as lowercase hex, "" when it has none.
+std::string BuildIdOf(const dl_phdr_info& info) {
+  for (int i = 0; i < info.dlpi_phnum; ++i) {
+    const ElfW(Phdr)& ph = info.dlpi_phdr[i];
+    if (ph.p_type != PT_NOTE) continue;
+    const size_t align = ph.p_align >= 8 ? 8 : 4;
+    const auto pad = [align](size_t n) { return (n + align - 1) / align * align; };
+    const auto* at = reinterpret_cast<const unsigned char*>(info.dlpi_addr + ph.p_vaddr);
+    const unsigned char* end = at + ph.p_memsz;
+    while (at + sizeof(ElfW(Nhdr)) <= end) {
+      ElfW(Nhdr) note;
+      std::memcpy(&note, at, sizeof(note));
+      const unsigned char* name = at + sizeof(note);
+      const unsigned char* desc = name + pad(note.n_namesz);
+      if (desc + note.n_descsz > end) break;
+      if (note.n_type == NT_GNU_BUILD_ID && note.n_namesz == 4 &&
+          std::memcmp(name, "GNU", 4) == 0 && note.n_descsz > 0) {
+        std::string hex;
+        for (uint32_t k = 0; k < note.n_descsz; ++k) hex += fmt::format("{:02x}", desc[k]);
+        return hex;
+      }
+      at = desc + pad(note.n_descsz);
+    }
+  }
+  return "";
+}
+
+}  // namespace
+
+std::vector<CodeObject> CodeObjects() {
   // The loaded object whose segments hold this function: the executable
   // (dl_iterate_phdr names it "") or a shared library, by the path it was
   // loaded from. The `hcpf` launcher loads libhcpf_cli.so, which holds the
@@ -190,65 +223,76 @@ std::vector<std::string> CodeFiles() {
   // (another OpenCV build, or another libm's exp, can move a detection).
   struct Search {
     uintptr_t address = 0;
-    std::string code;
+    CodeObject code;
     bool found = false;
-    std::map<std::string, std::string> libraries;  // file name -> path, in name order
-  } search{.address = reinterpret_cast<uintptr_t>(&CodeFiles)};
+    std::map<std::string, CodeObject> libraries;  // by file name, in name order
+  } search{.address = reinterpret_cast<uintptr_t>(&CodeObjects)};
   dl_iterate_phdr(
       [](dl_phdr_info* info, size_t, void* data) -> int {
         auto* s = static_cast<Search*>(data);
         const std::string name = info->dlpi_name != nullptr ? info->dlpi_name : "";
         const std::string base = std::filesystem::path(name).filename().string();
         if (base.rfind("libopencv_", 0) == 0 || base.rfind("libm.so", 0) == 0) {
-          s->libraries.emplace(base, name);
+          s->libraries.emplace(base, CodeObject{name, BuildIdOf(*info)});
         }
         for (int i = 0; !s->found && i < info->dlpi_phnum; ++i) {
           const ElfW(Phdr)& ph = info->dlpi_phdr[i];
           if (ph.p_type != PT_LOAD) continue;
           const uintptr_t start = info->dlpi_addr + ph.p_vaddr;
           if (s->address >= start && s->address < start + ph.p_memsz) {
-            s->code = name;
+            s->code = CodeObject{name.empty() ? "/proc/self/exe" : name, BuildIdOf(*info)};
             s->found = true;
           }
         }
         return 0;
       },
       &search);
-  std::vector<std::string> files{search.code.empty() ? "/proc/self/exe" : search.code};
-  for (const auto& [base, path] : search.libraries) files.push_back(path);
-  return files;
+  if (!search.found) search.code = CodeObject{"/proc/self/exe", ""};
+  std::vector<CodeObject> objects{search.code};
+  for (const auto& [base, object] : search.libraries) objects.push_back(object);
+  return objects;
+}
+
+std::optional<XXH128_hash_t> ComputeProgramDigest(const std::vector<CodeObject>& objects) {
+  XXH3_state_t* state = XXH3_createState();
+  HCPF_CHECK(state != nullptr) << "XXH3_createState";
+  XXH3_128bits_reset(state);
+  std::vector<char> buffer(1 << 20);
+  bool ok = true;
+  for (const CodeObject& object : objects) {
+    if (!object.build_id.empty()) {
+      // Its build ID stands for its contents (nothing read from disk).
+      const std::string text = "build-id:" + object.build_id;
+      const uint64_t length = text.size();
+      XXH3_128bits_update(state, text.data(), text.size());
+      XXH3_128bits_update(state, &length, sizeof(length));
+      continue;
+    }
+    std::ifstream in(object.path, std::ios::binary);
+    uint64_t bytes = 0;
+    while (in) {
+      in.read(buffer.data(), static_cast<std::streamsize>(buffer.size()));
+      XXH3_128bits_update(state, buffer.data(), static_cast<size_t>(in.gcount()));
+      bytes += static_cast<uint64_t>(in.gcount());
+    }
+    // Each file's length after it: the concatenation is then unambiguous.
+    XXH3_128bits_update(state, &bytes, sizeof(bytes));
+    ok = ok && in.eof();
+  }
+  // The instruction sets OpenCV dispatches its kernels to on this CPU (as
+  // OPENCV_CPU_DISABLE leaves them): NCC's matchTemplate and the
+  // differencing's corners and optical flow round differently on another
+  // CPU, so a cache shared by unlike machines must not mix them.
+  const std::string cpu = CpuFeatures();
+  XXH3_128bits_update(state, cpu.data(), cpu.size());
+  const XXH128_hash_t h = XXH3_128bits_digest(state);
+  XXH3_freeState(state);
+  if (!ok) return std::nullopt;
+  return h;
 }
 
 const std::optional<XXH128_hash_t>& ProgramDigest() {
-  static const std::optional<XXH128_hash_t> digest = []() -> std::optional<XXH128_hash_t> {
-    XXH3_state_t* state = XXH3_createState();
-    HCPF_CHECK(state != nullptr) << "XXH3_createState";
-    XXH3_128bits_reset(state);
-    std::vector<char> buffer(1 << 20);
-    bool ok = true;
-    for (const std::string& file : CodeFiles()) {
-      std::ifstream in(file, std::ios::binary);
-      uint64_t bytes = 0;
-      while (in) {
-        in.read(buffer.data(), static_cast<std::streamsize>(buffer.size()));
-        XXH3_128bits_update(state, buffer.data(), static_cast<size_t>(in.gcount()));
-        bytes += static_cast<uint64_t>(in.gcount());
-      }
-      // Each file's length after it: the concatenation is then unambiguous.
-      XXH3_128bits_update(state, &bytes, sizeof(bytes));
-      ok = ok && in.eof();
-    }
-    // The instruction sets OpenCV dispatches its kernels to on this CPU (as
-    // OPENCV_CPU_DISABLE leaves them): NCC's matchTemplate and the
-    // differencing's corners and optical flow round differently on another
-    // CPU, so a cache shared by unlike machines must not mix them.
-    const std::string cpu = CpuFeatures();
-    XXH3_128bits_update(state, cpu.data(), cpu.size());
-    const XXH128_hash_t h = XXH3_128bits_digest(state);
-    XXH3_freeState(state);
-    if (!ok) return std::nullopt;
-    return h;
-  }();
+  static const std::optional<XXH128_hash_t> digest = ComputeProgramDigest(CodeObjects());
   return digest;
 }
 

@@ -29,7 +29,15 @@ bool IsDigestHex(std::string_view text);
 // XXH3-128 of an image's size and pixels.
 XXH128_hash_t PixelDigest(const ImageView& image);
 
-// The files of the code that detects, in the order ProgramDigest hashes
+// A loaded object of the code that detects: the path it was loaded from, and
+// its GNU build ID (lowercase hex, from its notes in memory; "" when it has
+// none).
+struct CodeObject {
+  std::string path;
+  std::string build_id;
+};
+
+// The objects of the code that detects, in the order ProgramDigest hashes
 // them: first the loaded object that holds the detection code (this
 // module's): the running executable when it is linked in (the tests;
 // "/proc/self/exe"), or the shared library that holds it (the `hcpf`
@@ -37,20 +45,27 @@ XXH128_hash_t PixelDigest(const ImageView& image);
 // loaded OpenCV library (libopencv_*) and the C maths library (libm.so.*),
 // in order of their file names (not paths: the same install reached through
 // /lib or /usr/lib hashes alike).
-std::vector<std::string> CodeFiles();
+std::vector<CodeObject> CodeObjects();
 
 // OpenCV's line of the CPU's instruction sets and which of them its kernels
 // dispatch to (cv::getCPUFeaturesLine: "SSE SSE2 *SSE4.1 ... *AVX2", with
 // "?" after those OPENCV_CPU_DISABLE turns off).
 std::string CpuFeatures();
 
-// XXH3-128 of the contents of CodeFiles() (each followed by its length) and
+// XXH3-128 of each of CodeObjects() (its build ID as the text "build-id:"
+// + hex; for one without, its file's contents followed by their length) and
 // CpuFeatures(), computed once: part of every key, so a rebuilt detector
-// (any code change relinks the first file: the modules are static
-// libraries), another OpenCV or libm, or another CPU's OpenCV kernels never
-// read outputs made by other code. nullopt when a file cannot be read: then
-// no detection is cached.
+// (any code change relinks the first object, whose linker-made build ID is a
+// hash of its contents: the modules are static libraries), another OpenCV or
+// libm, or another CPU's OpenCV kernels never read outputs made by other
+// code. The build ID is that of the code loaded, so a file rebuilt while the
+// process runs does not speak for it; and nothing is read from disk (the
+// `ci` build's libhcpf_cli.so is 166 MB). nullopt when a file that must be
+// read cannot be: then no detection is cached.
 const std::optional<XXH128_hash_t>& ProgramDigest();
+// ProgramDigest's computation, of `objects` (frame_cache_bench times it with
+// and without their build IDs).
+std::optional<XXH128_hash_t> ComputeProgramDigest(const std::vector<CodeObject>& objects);
 
 // Builds a key: feed every input, then Finish().
 class DetectionKey {

@@ -862,17 +862,40 @@ TEST(RenderedRun, TheDetectionCacheServesTrackerSweepsAndNeverMisreads) {
   EXPECT_EQ(run("d", " --set seed=99")["detections_from_cache"], 0);
   // Another build of the program never reads this build's detections. The
   // detectors live in libhcpf_cli.so, which the `hcpf` launcher loads from
-  // its own folder first: a launcher copied next to a rebuilt library (here:
-  // the same library with a byte appended, which still loads) misses every
-  // frame; next to an unchanged copy of the library it reads them all.
-  // (Keyed by the launcher's bytes, as it was, the rebuilt library's run
-  // read the old build's detections.)
-  const auto run_with = [&](const std::string& folder, bool rebuild) {
+  // its own folder first, and the key names it by its GNU build ID (the
+  // linker's hash of its contents, so a relink of changed code gives another):
+  // a launcher copied next to a rebuilt library (here: a copy whose build ID
+  // has one byte flipped, which still loads) misses every frame; next to an
+  // unchanged copy of the library it reads them all, and so it does next to
+  // a copy with a byte appended (the same code: keyed by the file's bytes, as
+  // until 2026-12-07, that missed too). (Keyed by the launcher's bytes, as
+  // until 2026-11-28, the rebuilt library's run read the old build's
+  // detections.)
+  const std::string build_id = [] {
+    const std::string out = RunCommand(std::string("readelf -n ") + HCPF_CLI_LIBRARY).output;
+    const size_t at = out.find("Build ID: ");
+    return at == std::string::npos ? std::string()
+                                   : out.substr(at + 10, out.find('\n', at) - at - 10);
+  }();
+  ASSERT_EQ(build_id.size(), 40u) << "libhcpf_cli.so has no SHA-1 build ID";
+  const auto run_with = [&](const std::string& folder, const std::string& change) {
     const fs::path bin = dir / folder;
     fs::create_directories(bin);
     fs::copy_file(HCPF_EXE, bin / "hcpf");
     fs::copy_file(HCPF_CLI_LIBRARY, bin / "libhcpf_cli.so");
-    if (rebuild) std::ofstream(bin / "libhcpf_cli.so", std::ios::app | std::ios::binary) << 'x';
+    if (change == "append") {
+      std::ofstream(bin / "libhcpf_cli.so", std::ios::app | std::ios::binary) << 'x';
+    } else if (change == "build-id") {
+      std::string bytes = ReadFile(bin / "libhcpf_cli.so");
+      std::string id;
+      for (size_t i = 0; i < build_id.size(); i += 2)
+        id += static_cast<char>(std::stoi(build_id.substr(i, 2), nullptr, 16));
+      const size_t at = bytes.find(id);
+      EXPECT_NE(at, std::string::npos);
+      EXPECT_EQ(bytes.find(id, at + 1), std::string::npos);
+      bytes[at + id.size() - 1] = static_cast<char>(bytes[at + id.size() - 1] ^ 1);
+      std::ofstream(bin / "libhcpf_cli.so", std::ios::binary | std::ios::trunc) << bytes;
+    }
     std::string command = common + " --out " + (bin / "out").string();
     command.replace(0, std::string(HCPF_EXE).size(), (bin / "hcpf").string());
     const auto r = RunCommand(command);
@@ -880,8 +903,9 @@ TEST(RenderedRun, TheDetectionCacheServesTrackerSweepsAndNeverMisreads) {
     EXPECT_EQ(ReadFile(dir / "a" / "det" / "det.txt"), ReadFile(bin / "out" / "det" / "det.txt"));
     return nlohmann::json::parse(ReadFile(bin / "out" / "manifest.json"))["detections_from_cache"];
   };
-  EXPECT_EQ(run_with("same-build", false), 30);
-  EXPECT_EQ(run_with("rebuilt", true), 0);
+  EXPECT_EQ(run_with("same-build", ""), 30);
+  EXPECT_EQ(run_with("byte-appended", "append"), 30);
+  EXPECT_EQ(run_with("rebuilt", "build-id"), 0);
   // Another CPU, whose OpenCV kernels (NCC's matchTemplate here) run on other
   // instruction sets, as OPENCV_CPU_DISABLE makes this one: misses too (a
   // review: the key covered the code but not the CPU it dispatches to).

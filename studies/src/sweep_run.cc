@@ -297,7 +297,8 @@ std::vector<const SweepRun*> CopyFromDonors(const std::vector<std::unique_ptr<Do
 // DIR.before-<UTC time> (the first free name) under its lock, so a sweep
 // writing there is refused as without the option. Returns the new name, or
 // "" when DIR holds no store or this sweep's.
-std::string MoveOtherSweepAside(const std::string& out_dir, const std::string& sweep_hash) {
+std::string MoveOtherSweepAside(const SweepSpec& spec, const std::string& out_dir,
+                                const std::string& sweep_hash) {
   fs::path out = fs::path(out_dir).lexically_normal();
   if (!out.has_filename()) out = out.parent_path();  // "DIR/"
   std::error_code ec;
@@ -327,12 +328,19 @@ std::string MoveOtherSweepAside(const std::string& out_dir, const std::string& s
     throw RunError(fmt::format("--move-aside: cannot rename {} to {}: {}", out.string(),
                                aside.string(), ec.message()));
   }
+  // Another root seed is said as the refusal says it; else what can change
+  // a sweep's runs without its file's keys.
+  StoreMeta mine;
+  SetRootSeedMeta(spec, mine);
+  const std::string why =
+      !held.root_seed.empty() && !mine.root_seed.empty() && held.root_seed != mine.root_seed
+          ? fmt::format("root seed {}, this sweep's {}", held.root_seed, mine.root_seed)
+          : "its runs keyed by another hcpf, or the sweep file, a scenario or a model it names "
+            "edited since";
   spdlog::warn(
-      "sweep: {} held the store of another sweep (hash {}, from {}; this sweep's is {}: its runs "
-      "were keyed by another hcpf, or the sweep file, a scenario or a model it names was edited "
-      "since): moved to {} (--move-aside); its runs that are still this sweep's are copied from "
-      "there",
-      out_dir, held.sweep_hash, held.sweep_file, sweep_hash, aside.string());
+      "sweep: {} held the store of another sweep ({}; its hash {}, from {}, this sweep's {}): "
+      "moved to {} (--move-aside); its runs that are still this sweep's are copied from there",
+      out_dir, why, held.sweep_hash, held.sweep_file, sweep_hash, aside.string());
   return aside.string();
 }
 
@@ -351,7 +359,8 @@ SweepPlan PrepareSweep(const SweepSpec& spec, const std::vector<SweepRun>& runs,
   // Moved aside first: it then gives its runs as a --reuse folder.
   SweepOptions with_aside = options;
   if (options.move_aside) {
-    if (std::string aside = MoveOtherSweepAside(options.out_dir, SweepHash(runs)); !aside.empty())
+    if (std::string aside = MoveOtherSweepAside(spec, options.out_dir, SweepHash(runs));
+        !aside.empty())
       with_aside.reuse_dirs.insert(with_aside.reuse_dirs.begin(), std::move(aside));
   }
   const std::vector<std::unique_ptr<Donor>> donors = OpenDonors(with_aside);

@@ -747,6 +747,18 @@ TEST(SweepCli, AModelEditedInPlaceMakesAnotherSweepWhoseRunsAreComputedAgain) {
       << r.output;
   EXPECT_EQ(StoreRows(dir / "d1" / "results.sqlite"), fresh);
   EXPECT_TRUE(fs::exists(aside[0] / "results.sqlite"));
+  EXPECT_NE(r.output.find("(its runs keyed by another hcpf, or the sweep file, a scenario or a "
+                          "model it names edited since; its hash "),
+            std::string::npos)
+      << r.output;
+  // Another root seed is said as such.
+  r = RunCommand(kHcpf + " sweep " + sweep + " --out " + (dir / "d1").string() +
+                 " --seed 9 --move-aside");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(
+      r.output.find("held the store of another sweep (root seed 1, this sweep's 9; its hash "),
+      std::string::npos)
+      << r.output;
 }
 
 // Chromium on PATH, or "".

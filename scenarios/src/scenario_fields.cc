@@ -342,7 +342,8 @@ std::span<const Field<DetectionFileOptions>> DetectionFileOptions::Fields() {
       DefaultDoc(TextField<&O::digest>(
                      "digest",
                      "XXH3-128 of the file's content (32 hex digits), written by the resolved "
-                     "YAML; when given, the file must still have it"),
+                     "YAML; when given, the file must still have it (a `--set` of `path` alone "
+                     "drops it)"),
                  "none"),
       DefaultDoc(FileField<&O::rendering>(
                      "rendering",

@@ -456,16 +456,6 @@ TEST(Cache, SizesAreBytesOrPowersOf1024) {
   EXPECT_EQ(FormatSize(3u * 1024u * 1024u * 1024u / 2u), "1.5 GiB");
 }
 
-// A file's GNU build ID as binutils' readelf prints it ("" when it has none).
-std::string ReadelfBuildId(const std::string& file) {
-  const std::string output = hcpf::testing::RunCommand("readelf -n '" + file + "'").output;
-  const std::string label = "Build ID: ";
-  const size_t at = output.find(label);
-  if (at == std::string::npos) return "";
-  const size_t begin = at + label.size();
-  return output.substr(begin, output.find_first_of(" \n", begin) - begin);
-}
-
 // The detection cache's key covers the code that detects: this test
 // executable (where the modules are linked in), then the libraries whose
 // arithmetic the detectors call, found independently of CodeObjects: the
@@ -501,7 +491,7 @@ TEST(DetectionCacheKey, CoversTheCodeOpenCvTheMathsLibraryAndTheCpu) {
   int with_build_id = 0;
   for (const std::string& file : files) {
     // readelf of /proc/self/exe would read readelf: this executable's path.
-    const std::string build_id = ReadelfBuildId(
+    const std::string build_id = hcpf::testing::ReadelfBuildId(
         file == "/proc/self/exe" ? std::filesystem::read_symlink(file).string() : file);
     if (!build_id.empty()) {
       ++with_build_id;

@@ -631,8 +631,7 @@ std::unique_ptr<ResultsStore> ResultsStore::OpenOrCreate(
           fmt::format("a store of another sweep (hash {}, from {}{})", store->meta().sweep_hash,
                       store->meta().sweep_file,
                       // Another root seed (hcpf sweep --seed) is another sweep: said.
-                      !store->meta().root_seed.empty() && !meta.root_seed.empty() &&
-                              store->meta().root_seed != meta.root_seed
+                      OfOtherRootSeeds(store->meta(), meta)
                           ? fmt::format(" with root seed {}, this sweep's is {}",
                                         store->meta().root_seed, meta.root_seed)
                           : std::string()));
@@ -1041,6 +1040,10 @@ void SetRootSeedMeta(const SweepSpec& spec, StoreMeta& meta) {
   meta.root_seed = std::to_string(spec.seed);
   meta.root_seed_from = spec.seed_from;
   meta.root_file_seed = std::to_string(spec.file_seed);
+}
+
+bool OfOtherRootSeeds(const StoreMeta& a, const StoreMeta& b) {
+  return !a.root_seed.empty() && !b.root_seed.empty() && a.root_seed != b.root_seed;
 }
 
 std::string MissingRunsSentence(const StoreMeta& meta, size_t stored_runs) {

@@ -297,8 +297,8 @@ std::vector<const SweepRun*> CopyFromDonors(const std::vector<std::unique_ptr<Do
 // DIR.before-<UTC time> (the first free name) under its lock, so a sweep
 // writing there is refused as without the option. Returns the new name, or
 // "" when DIR holds no store or this sweep's.
-std::string MoveOtherSweepAside(const SweepSpec& spec, const std::string& out_dir,
-                                const std::string& sweep_hash) {
+// `mine`: this sweep's hash and root seed.
+std::string MoveOtherSweepAside(const StoreMeta& mine, const std::string& out_dir) {
   fs::path out = fs::path(out_dir).lexically_normal();
   if (!out.has_filename()) out = out.parent_path();  // "DIR/"
   std::error_code ec;
@@ -309,7 +309,7 @@ std::string MoveOtherSweepAside(const SweepSpec& spec, const std::string& out_di
         ResultsStore::Open((out / "results.sqlite").string(), StoreAccess::kReadOnly);
     held = store->meta();
   }
-  if (held.sweep_hash == sweep_hash) return "";
+  if (held.sweep_hash == mine.sweep_hash) return "";
   const std::time_t now = std::chrono::system_clock::to_time_t(std::chrono::system_clock::now());
   std::tm utc{};
   gmtime_r(&now, &utc);
@@ -330,17 +330,15 @@ std::string MoveOtherSweepAside(const SweepSpec& spec, const std::string& out_di
   }
   // Another root seed is said as the refusal says it; else what can change
   // a sweep's runs without its file's keys.
-  StoreMeta mine;
-  SetRootSeedMeta(spec, mine);
   const std::string why =
-      !held.root_seed.empty() && !mine.root_seed.empty() && held.root_seed != mine.root_seed
+      OfOtherRootSeeds(held, mine)
           ? fmt::format("root seed {}, this sweep's {}", held.root_seed, mine.root_seed)
           : "its runs keyed by another hcpf, or the sweep file, a scenario or a model it names "
             "edited since";
   spdlog::warn(
       "sweep: {} held the store of another sweep ({}; its hash {}, from {}, this sweep's {}): "
       "moved to {} (--move-aside); its runs that are still this sweep's are copied from there",
-      out_dir, why, held.sweep_hash, held.sweep_file, sweep_hash, aside.string());
+      out_dir, why, held.sweep_hash, held.sweep_file, mine.sweep_hash, aside.string());
   return aside.string();
 }
 
@@ -356,11 +354,13 @@ SweepPlan PrepareSweep(const SweepSpec& spec, const std::vector<SweepRun>& runs,
   if (options.video) {
     for (const SweepRun& run : runs) scenarios::CheckVideoFits(*run.cell, "--video");
   }
+  StoreMeta meta;
+  meta.sweep_hash = SweepHash(runs);
+  SetRootSeedMeta(spec, meta);
   // Moved aside first: it then gives its runs as a --reuse folder.
   SweepOptions with_aside = options;
   if (options.move_aside) {
-    if (std::string aside = MoveOtherSweepAside(spec, options.out_dir, SweepHash(runs));
-        !aside.empty())
+    if (std::string aside = MoveOtherSweepAside(meta, options.out_dir); !aside.empty())
       with_aside.reuse_dirs.insert(with_aside.reuse_dirs.begin(), std::move(aside));
   }
   const std::vector<std::unique_ptr<Donor>> donors = OpenDonors(with_aside);
@@ -372,8 +372,6 @@ SweepPlan PrepareSweep(const SweepSpec& spec, const std::vector<SweepRun>& runs,
   // Staging folders of runs whose process was killed.
   RemoveStaleStagingFolders(out / "runs", "");
 
-  StoreMeta meta;
-  meta.sweep_hash = SweepHash(runs);
   // Relative to the project's folder when the file is inside it, else its
   // absolute path: the same file started from another folder (or a shard
   // started elsewhere) records the same name, so a merge does not take the
@@ -399,7 +397,6 @@ SweepPlan PrepareSweep(const SweepSpec& spec, const std::vector<SweepRun>& runs,
   }
   meta.run_count = static_cast<int64_t>(runs.size());
   meta.expansion = ExpansionOf(spec);
-  SetRootSeedMeta(spec, meta);
   // A run's key is its resolved scenario, so a row of a key says which run
   // it is (the store's reader holds its folder to runs/<key>); its index,
   // seeds and swept values are labels, which must say what the sweep's

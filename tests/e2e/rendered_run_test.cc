@@ -26,6 +26,7 @@ namespace {
 
 namespace fs = std::filesystem;
 using testing::FreshDir;
+using testing::ReadelfBuildId;
 using testing::ReadFile;
 using testing::RunCommand;
 
@@ -871,12 +872,7 @@ TEST(RenderedRun, TheDetectionCacheServesTrackerSweepsAndNeverMisreads) {
   // until 2026-12-07, that missed too). (Keyed by the launcher's bytes, as
   // until 2026-11-28, the rebuilt library's run read the old build's
   // detections.)
-  const std::string build_id = [] {
-    const std::string out = RunCommand(std::string("readelf -n ") + HCPF_CLI_LIBRARY).output;
-    const size_t at = out.find("Build ID: ");
-    return at == std::string::npos ? std::string()
-                                   : out.substr(at + 10, out.find('\n', at) - at - 10);
-  }();
+  const std::string build_id = ReadelfBuildId(HCPF_CLI_LIBRARY);
   ASSERT_EQ(build_id.size(), 40u) << "libhcpf_cli.so has no SHA-1 build ID";
   const auto run_with = [&](const std::string& folder, const std::string& change) {
     const fs::path bin = dir / folder;

@@ -46,6 +46,18 @@ inline ProcessResult RunCommand(const std::string& command) {
   return result;
 }
 
+// A file's GNU build ID as binutils' readelf prints it, lowercase hex (""
+// when it has none): what the detection cache's key takes from memory, read
+// here from the file by another program.
+inline std::string ReadelfBuildId(const std::string& file) {
+  const std::string output = RunCommand("readelf -n '" + file + "'").output;
+  const std::string label = "Build ID: ";
+  const size_t at = output.find(label);
+  if (at == std::string::npos) return "";
+  const size_t begin = at + label.size();
+  return output.substr(begin, output.find_first_of(" \n", begin) - begin);
+}
+
 inline std::string ReadFile(const std::filesystem::path& path) {
   std::ifstream in(path, std::ios::binary);
   std::stringstream s;

@@ -80,6 +80,9 @@ struct StoreMeta {
 
 // The meta of the sweep's seeds (StoreMeta::root_seed...), from its spec.
 void SetRootSeedMeta(const SweepSpec& spec, StoreMeta& meta);
+// Whether both stores name a root seed and they differ (another replication
+// of the sweep file: another sweep, said as such).
+bool OfOtherRootSeeds(const StoreMeta& a, const StoreMeta& b);
 // A sentence for reports on where the runs' seeds come from, e.g. "The runs'
 // seeds are derived from root seed 3, given by `hcpf sweep --seed 3` (the
 // sweep file's `seed:` is 1)." Markdown (backticks for code).
